@@ -1,0 +1,99 @@
+!> Kinds, status codes and their messages for the stickslip library.
+!!
+!! Every routine of the library that can fail returns an integer status:
+!! `SS_OK` (zero) on success, a negative code on failure. Codes from -100
+!! downwards name one bad input parameter each; codes -1 .. -9 are run-time
+!! outcomes of an integration (in the spirit of Hairer's IDID).
+module stickslip_kinds
+    use, intrinsic :: iso_fortran_env, only: dp => real64
+    implicit none
+    private
+
+    public :: dp, stickslip_message
+
+    ! -- success ----------------------------------------------------------------
+    integer, parameter, public :: SS_OK = 0                 !! finished normally
+
+    ! -- run-time outcomes of an integration ------------------------------------
+    integer, parameter, public :: SS_STEP_BUDGET = -2       !! step budget (max_steps) exhausted
+    integer, parameter, public :: SS_STEP_TOO_SMALL = -3    !! error test failed at h_min and forced steps are off
+    integer, parameter, public :: SS_STIFF = -4             !! problem judged stiff and stop_on_stiff is set
+    integer, parameter, public :: SS_NONFINITE = -5         !! the solution became NaN or infinite
+    integer, parameter, public :: SS_OUTPUT_FULL = -6       !! every-step output buffer is full
+
+    ! -- bad input, one code per parameter ---------------------------------------
+    integer, parameter, public :: SS_BAD_LAW = -100         !! unknown friction law code
+    integer, parameter, public :: SS_BAD_MU_S = -101        !! mu_s not finite or < 0
+    integer, parameter, public :: SS_BAD_MU_K = -102        !! mu_k not finite, < 0 or > mu_s
+    integer, parameter, public :: SS_BAD_V_S = -103         !! v_s not finite or <= 0
+    integer, parameter, public :: SS_BAD_V_D = -104         !! v_d not finite or <= v_s
+    integer, parameter, public :: SS_BAD_BETA = -105        !! beta not finite or <= 0
+    integer, parameter, public :: SS_BAD_A = -106           !! a not finite or <= 1
+    integer, parameter, public :: SS_BAD_SCENE = -110       !! unknown scene code
+    integer, parameter, public :: SS_BAD_M = -111           !! m not finite or <= 0
+    integer, parameter, public :: SS_BAD_G = -112           !! g not finite or < 0
+    integer, parameter, public :: SS_BAD_THETA = -113       !! theta not finite or outside [-90, 90] degrees
+    integer, parameter, public :: SS_BAD_K = -114           !! k not finite or < 0
+    integer, parameter, public :: SS_BAD_V_B = -115         !! v_b not finite
+    integer, parameter, public :: SS_BAD_METHOD = -120      !! unknown integration method code
+    integer, parameter, public :: SS_BAD_H = -121           !! h not finite or <= 0
+    integer, parameter, public :: SS_BAD_T_END = -122       !! t_end not finite or <= t0
+    integer, parameter, public :: SS_BAD_RTOL = -123        !! rtol not finite or outside [0, 1)
+    integer, parameter, public :: SS_BAD_ATOL = -124        !! atol not finite, < 0, or rtol = atol = 0
+    integer, parameter, public :: SS_BAD_HMIN = -125        !! h_min not finite or < 0
+    integer, parameter, public :: SS_BAD_HMAX = -126        !! h_max not finite, <= 0 or < h_min
+    integer, parameter, public :: SS_BAD_N_OUT = -127       !! output grid empty, unsorted or outside [t0, t_end]
+    integer, parameter, public :: SS_BAD_MAX_STEPS = -128   !! max_steps < 1
+    integer, parameter, public :: SS_BAD_Y0 = -129          !! initial state not finite
+    integer, parameter, public :: SS_BAD_H0 = -130          !! initial step h0 not finite or < 0
+    integer, parameter, public :: SS_BAD_CONTROL = -131     !! safety, fac1, fac2, beta_pi or nstiff out of range
+    integer, parameter, public :: SS_BAD_DIM = -132         !! array sizes do not agree
+
+contains
+
+    !> The message for a status code: what happened, and for bad input the
+    !! parameter and its accepted range.
+    pure function stickslip_message(status) result(msg)
+        integer, intent(in) :: status   !! a status code returned by the library
+        character(len=:), allocatable :: msg
+        select case (status)
+        case (SS_OK);             msg = 'success'
+        case (SS_STEP_BUDGET);    msg = 'step budget exhausted: max_steps attempted steps did not reach t_end'
+        case (SS_STEP_TOO_SMALL); msg = 'step size too small: the error test failed at h_min (or h underflowed)' // &
+                                        ' and forced steps are disabled'
+        case (SS_STIFF);          msg = 'problem judged stiff (DOPRI5 stiffness test) and stop_on_stiff is set'
+        case (SS_NONFINITE);      msg = 'the solution became NaN or infinite'
+        case (SS_OUTPUT_FULL);    msg = 'the every-step output buffer is full'
+        case (SS_BAD_LAW);        msg = 'law: unknown friction law (accepted: coulomb, recurdyn, proposed)'
+        case (SS_BAD_MU_S);       msg = 'mu_s: must be finite and >= 0'
+        case (SS_BAD_MU_K);       msg = 'mu_k: must be finite and in [0, mu_s]'
+        case (SS_BAD_V_S);        msg = 'v_s: must be finite and > 0 [m/s]'
+        case (SS_BAD_V_D);        msg = 'v_d: must be finite and > v_s [m/s]'
+        case (SS_BAD_BETA);       msg = 'beta: must be finite and > 0'
+        case (SS_BAD_A);          msg = 'a: must be finite and > 1'
+        case (SS_BAD_SCENE);      msg = 'scene: unknown scene (accepted: slope, belt)'
+        case (SS_BAD_M);          msg = 'm: must be finite and > 0 [kg]'
+        case (SS_BAD_G);          msg = 'g: must be finite and >= 0 [m/s^2]'
+        case (SS_BAD_THETA);      msg = 'theta_deg: must be finite and in [-90, 90] [deg]'
+        case (SS_BAD_K);          msg = 'k: must be finite and >= 0 [N/m]'
+        case (SS_BAD_V_B);        msg = 'v_b: must be finite [m/s]'
+        case (SS_BAD_METHOD);     msg = 'method: unknown integration method (accepted: rk4, dopri5)'
+        case (SS_BAD_H);          msg = 'h: must be finite and > 0 [s]'
+        case (SS_BAD_T_END);      msg = 't_end: must be finite and > t0 [s]'
+        case (SS_BAD_RTOL);       msg = 'rtol: must be finite and in [0, 1)'
+        case (SS_BAD_ATOL);       msg = 'atol: must be finite and >= 0, and rtol and atol not both 0'
+        case (SS_BAD_HMIN);       msg = 'hmin: must be finite and >= 0 [s]'
+        case (SS_BAD_HMAX);       msg = 'hmax: must be finite, > 0 and >= hmin [s]'
+        case (SS_BAD_N_OUT);      msg = 'n_out: output times must be finite, non-decreasing and in [t0, t_end]' // &
+                                        ' (n_out >= 1)'
+        case (SS_BAD_MAX_STEPS);  msg = 'max_steps: must be >= 1'
+        case (SS_BAD_Y0);         msg = 'x0, v0: the initial state must be finite'
+        case (SS_BAD_H0);         msg = 'h0: must be finite and >= 0 (0 = automatic initial step) [s]'
+        case (SS_BAD_CONTROL);    msg = 'step control: need 0 < safety < 1, 0 < fac1 <= 1 <= fac2,' // &
+                                        ' 0 <= beta_pi <= 0.2, nstiff >= 1'
+        case (SS_BAD_DIM);        msg = 'array sizes do not agree'
+        case default;             msg = 'unknown status code'
+        end select
+    end function stickslip_message
+
+end module stickslip_kinds

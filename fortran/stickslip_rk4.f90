@@ -1,0 +1,168 @@
+!> Classical fixed-step Runge-Kutta method of order 4, event-free.
+!!
+!! Steps are t_i = t0 + i h; the last one is shortened to end exactly at t_end.
+!! Output at requested times uses the cubic Hermite interpolant through (y, f) at both
+!! ends of the step (order 4, like the method), which costs no extra evaluation since
+!! f at the end of a step is the first stage of the next one (first same as last).
+!! Evaluations: 1 + 4 per step.
+module stickslip_rk4
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
+                               SS_NONFINITE, SS_OUTPUT_FULL
+    use stickslip_ode, only: ode_system, ode_stats, check_problem, all_finite
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    implicit none
+    private
+
+    public :: rk4_integrate, rk4_step_count
+
+    !> Butcher tableau of the classical method (exact fractions).
+    real(dp), parameter, public :: rk4_c(4) = [0.0_dp, 0.5_dp, 0.5_dp, 1.0_dp]
+    real(dp), parameter, public :: rk4_b(4) = [1.0_dp/6.0_dp, 1.0_dp/3.0_dp, 1.0_dp/3.0_dp, 1.0_dp/6.0_dp]
+
+contains
+
+    !> Number of steps of size h from t0 to t_end (the last one possibly shorter),
+    !! as a real number so that it cannot overflow.
+    pure function rk4_step_count(t0, t_end, h) result(nsteps)
+        real(dp), intent(in) :: t0, t_end, h    !! interval and step size [s]
+        real(dp) :: nsteps
+        ! A relative slack of 1e-12 keeps (t_end - t0)/h = 20000.000000001 at 20000 steps.
+        nsteps = (t_end - t0) / h * (1.0_dp - 1.0e-12_dp)
+        if (nsteps < 9.0e18_dp) nsteps = real(ceiling(nsteps, kind=8), dp)
+        nsteps = max(nsteps, 1.0_dp)
+    end function rk4_step_count
+
+    !> Integrate y' = f(t, y) from t0 to t_end with fixed step h.
+    !!
+    !! Grid mode (every_step = .false.): y_out(:, i) receives y(t_out(i)).
+    !! Every-step mode: (t_out, y_out) receive the initial state and each step.
+    !! stats%status: SS_OK, SS_STEP_BUDGET (more than max_steps steps needed; output
+    !! up to stats%t_reached is valid), SS_NONFINITE, SS_OUTPUT_FULL or a bad-input code.
+    subroutine rk4_integrate(sys, t0, y0, t_end, h, t_out, y_out, stats, every_step, max_steps)
+        class(ode_system), intent(inout) :: sys  !! the right-hand side
+        real(dp), intent(in)    :: t0            !! initial time [s]
+        real(dp), intent(in)    :: y0(:)         !! initial state
+        real(dp), intent(in)    :: t_end         !! final time, > t0 [s]
+        real(dp), intent(in)    :: h             !! step size, > 0 [s]
+        real(dp), intent(inout) :: t_out(:)      !! requested output times (grid) or step times (every step) [s]
+        real(dp), intent(inout) :: y_out(:, :)   !! (size(y0), size(t_out)) states at t_out
+        type(ode_stats), intent(out) :: stats    !! counters and status
+        logical, intent(in), optional :: every_step     !! output every step (default .false.)
+        integer(8), intent(in), optional :: max_steps   !! step budget (default: unlimited)
+
+        real(dp) :: y(size(y0)), y1(size(y0)), f0(size(y0)), f1(size(y0))
+        real(dp) :: k2(size(y0)), k3(size(y0)), k4(size(y0)), ytmp(size(y0))
+        real(dp) :: t, t1, hs, nsteps_real
+        integer(8) :: i, nsteps, n_total, budget
+        integer :: m, next
+        logical :: steps_mode
+
+        steps_mode = .false.
+        if (present(every_step)) steps_mode = every_step
+        budget = huge(budget)
+        if (present(max_steps)) budget = max_steps
+
+        stats%status = check_problem(t0, y0, t_end, t_out, y_out, steps_mode)
+        if (stats%status /= SS_OK) return
+        if (.not. ieee_is_finite(h) .or. h <= 0.0_dp) then
+            stats%status = SS_BAD_H
+            return
+        end if
+        if (budget < 1) then
+            stats%status = SS_BAD_MAX_STEPS
+            return
+        end if
+
+        m = size(t_out)
+        nsteps_real = rk4_step_count(t0, t_end, h)
+        n_total = huge(n_total)       ! more steps than an integer(8) holds: never reached
+        if (nsteps_real < 9.0e18_dp) n_total = int(nsteps_real, 8)
+        nsteps = min(n_total, budget)
+
+        y = y0
+        t = t0
+        call sys%rhs(t, y, f0)
+        stats%nfev = 1
+        next = 1
+        if (steps_mode) then
+            t_out(1) = t0
+            y_out(:, 1) = y0
+            next = 2
+        else
+            do while (next <= m)
+                if (t_out(next) > t0) exit
+                y_out(:, next) = y0
+                next = next + 1
+            end do
+        end if
+
+        do i = 1, nsteps
+            if (i == n_total) then
+                t1 = t_end
+            else
+                t1 = t0 + real(i, dp) * h
+            end if
+            hs = t1 - t
+            ytmp = y + (0.5_dp * hs) * f0
+            call sys%rhs(t + 0.5_dp * hs, ytmp, k2)
+            ytmp = y + (0.5_dp * hs) * k2
+            call sys%rhs(t + 0.5_dp * hs, ytmp, k3)
+            ytmp = y + hs * k3
+            call sys%rhs(t1, ytmp, k4)
+            y1 = y + (hs / 6.0_dp) * (f0 + 2.0_dp * (k2 + k3) + k4)
+            call sys%rhs(t1, y1, f1)
+            stats%nfev = stats%nfev + 4
+            stats%nstep = stats%nstep + 1
+            stats%naccept = stats%naccept + 1
+            stats%h_last = hs
+
+            if (.not. all_finite(y1)) then
+                stats%status = SS_NONFINITE
+                exit
+            end if
+
+            if (steps_mode) then
+                if (next > m) then
+                    stats%status = SS_OUTPUT_FULL
+                    exit
+                end if
+                t_out(next) = t1
+                y_out(:, next) = y1
+                next = next + 1
+            else
+                do while (next <= m)
+                    if (t_out(next) > t1) exit
+                    if (t_out(next) == t1) then
+                        y_out(:, next) = y1
+                    else
+                        y_out(:, next) = hermite(t_out(next))
+                    end if
+                    next = next + 1
+                end do
+            end if
+
+            y = y1
+            f0 = f1
+            t = t1
+        end do
+
+        stats%t_reached = t
+        stats%n_written = next - 1
+        if (stats%status == SS_OK .and. nsteps < n_total) stats%status = SS_STEP_BUDGET
+
+    contains
+
+        !> Cubic Hermite interpolant on [t, t1] at time tq.
+        function hermite(tq) result(yq)
+            real(dp), intent(in) :: tq
+            real(dp) :: yq(size(y0)), s, s2, s3
+            s = (tq - t) / hs
+            s2 = s * s
+            s3 = s2 * s
+            yq = (2.0_dp*s3 - 3.0_dp*s2 + 1.0_dp) * y + (s3 - 2.0_dp*s2 + s) * hs * f0 &
+               + (3.0_dp*s2 - 2.0_dp*s3) * y1 + (s3 - s2) * hs * f1
+        end function hermite
+
+    end subroutine rk4_integrate
+
+end module stickslip_rk4

@@ -1,0 +1,30 @@
+"""stickslip: friction laws under event-free numerical integration (Yoo & Lee 2008).
+
+The Fortran core integrates; this package validates input, calls it once per simulation
+and returns numpy arrays. See README.md for the laws, scenes and integrators.
+"""
+from .core import (
+    DEFAULTS,
+    LAW_PARAMS,
+    LAWS,
+    METHODS,
+    SCENES,
+    IntegrationError,
+    NonFiniteSolution,
+    OutputBufferFull,
+    Result,
+    StepBudgetExhausted,
+    StepSizeTooSmall,
+    StiffnessDetected,
+    friction_coefficient,
+    simulate,
+    status_message,
+)
+
+__all__ = [
+    "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError",
+    "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
+    "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
+    "status_message",
+]
+__version__ = "0.1.0"
