@@ -53,8 +53,7 @@ MAX_ROWS = 50_000_000
 
 def status_message(status: int) -> str:
     """The library's message for a status code."""
-    return bytes(_ext.message(status)).decode().strip() if isinstance(_ext.message(status), (bytes, np.ndarray)) \
-        else str(_ext.message(status)).strip()
+    return _ext.message(status).decode().strip()
 
 
 class IntegrationError(RuntimeError):

@@ -1,0 +1,44 @@
+"""Shared fixtures: a meson build of the native test programs (Fortran unit tests and
+the GSL reference), made once per session in build/native next to the Python build."""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _tool(name: str) -> str:
+    """A build tool from the running Python's environment, else from PATH."""
+    here = Path(sys.executable).parent / name
+    found = str(here) if here.exists() else shutil.which(name)
+    if found is None:
+        pytest.fail(f"{name} not found: run scripts/setup (README) first")
+    return found
+
+
+@pytest.fixture(scope="session")
+def native_build() -> Path:
+    """build/native, configured and with the test programs compiled."""
+    build = Path(os.environ.get("STICKSLIP_NATIVE_BUILD", ROOT / "build" / "native"))
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    if not (build / "build.ninja").exists():
+        subprocess.run([_tool("meson"), "setup", str(build), str(ROOT)], check=True, env=env,
+                       capture_output=True, text=True)
+    return build
+
+
+def compile_target(build: Path, target: str) -> Path:
+    """Compile one meson target of the native build and return the executable."""
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    proc = subprocess.run([_tool("meson"), "compile", "-C", str(build), target], env=env,
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    exe = build / target
+    assert exe.exists(), f"{exe} was not built"
+    return exe

@@ -1,0 +1,22 @@
+"""Run the Fortran unit tests (meson test) and check Hairer's Arenstorf run from their output."""
+from __future__ import annotations
+
+import re
+import subprocess
+
+from conftest import compile_target
+
+
+def test_fortran_integrator_suite(native_build):
+    exe = compile_target(native_build, "test_integrators")
+    proc = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "FAIL" not in proc.stdout
+    # Hairer's published run (dr_dopri5, rtol = atol = 1e-7): fcn 1442, step 240,
+    # accpt 216, rejct 22, y(xend) = (0.9940021016, 0.8911185692e-5).
+    m = re.search(r"arenstorf: nfev nstep naccept nreject y1 y2 =\s+(\d+) (\d+) (\d+) (\d+)\s+(\S+)\s+(\S+)",
+                  proc.stdout)
+    assert m, proc.stdout
+    assert tuple(int(g) for g in m.groups()[:4]) == (1442, 240, 216, 22)
+    assert abs(float(m.group(5)) - 0.9940021016) < 1e-10
+    assert abs(float(m.group(6)) - 0.8911185692e-5) < 1e-11
