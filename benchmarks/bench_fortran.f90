@@ -1,0 +1,2 @@
+program bench_fortran
+end program bench_fortran

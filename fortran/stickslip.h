@@ -1,0 +1,155 @@
+/* stickslip.h: the C interface of the stickslip library (Fortran module stickslip_capi).
+ *
+ * Friction laws of Yoo & Lee (2008), the two scenes (box on a slope, spring-mass on a moving
+ * belt), and the library's classical RK4 and Dormand-Prince 5(4) integrators, also for a
+ * user's own ODE. Units are SI: m, s, kg, m/s; angles in degrees.
+ *
+ * Every function except the *_default ones returns a status: SS_OK (0) on success, a
+ * negative code otherwise (-1 .. -9: the run ended early; <= -100: one bad input parameter).
+ * ss_message() explains a code.
+ *
+ * Arrays: states are stored row by row, y_out[i * n + j] = component j at t_out[i]
+ * (n = 2 for the scenes: x [m], v [m/s]).
+ *
+ * Link: cc prog.c $(pkg-config --cflags --libs stickslip)
+ */
+#ifndef STICKSLIP_H
+#define STICKSLIP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Friction laws, scenes, methods (the Fortran codes LAW_*, SCENE_*, METHOD_*). */
+#define SS_LAW_COULOMB 1    /* eq. 1: discontinuous */
+#define SS_LAW_RECURDYN 2   /* eqs. 2-3: haversine steps, v_d = dynamic threshold */
+#define SS_LAW_PROPOSED 3   /* eq. 5, Roh & Yoo (2007) */
+#define SS_SCENE_SLOPE 1    /* box on a plane inclined theta_deg */
+#define SS_SCENE_BELT 2     /* mass on a belt moving at v_b, spring k to a wall */
+#define SS_METHOD_RK4 1     /* classical RK4, fixed step h */
+#define SS_METHOD_DOPRI5 2  /* Dormand-Prince 5(4), adaptive */
+
+/* Status codes (stickslip_kinds.f90). */
+#define SS_OK 0
+#define SS_STEP_BUDGET (-2)      /* max_steps attempted steps did not reach t_end */
+#define SS_STEP_TOO_SMALL (-3)   /* error test failed at hmin and allow_forced = 0 */
+#define SS_STIFF (-4)            /* judged stiff and stop_on_stiff = 1 */
+#define SS_NONFINITE (-5)        /* the solution became NaN or infinite */
+#define SS_OUTPUT_FULL (-6)      /* every-step output ran out of rows */
+#define SS_BAD_LAW (-100)
+#define SS_BAD_MU_S (-101)
+#define SS_BAD_MU_K (-102)
+#define SS_BAD_V_S (-103)
+#define SS_BAD_V_D (-104)
+#define SS_BAD_BETA (-105)
+#define SS_BAD_A (-106)
+#define SS_BAD_SCENE (-110)
+#define SS_BAD_M (-111)
+#define SS_BAD_G (-112)
+#define SS_BAD_THETA (-113)
+#define SS_BAD_K (-114)
+#define SS_BAD_V_B (-115)
+#define SS_BAD_METHOD (-120)
+#define SS_BAD_H (-121)
+#define SS_BAD_T_END (-122)
+#define SS_BAD_RTOL (-123)
+#define SS_BAD_ATOL (-124)
+#define SS_BAD_HMIN (-125)
+#define SS_BAD_HMAX (-126)
+#define SS_BAD_N_OUT (-127)
+#define SS_BAD_MAX_STEPS (-128)
+#define SS_BAD_Y0 (-129)
+#define SS_BAD_H0 (-130)
+#define SS_BAD_CONTROL (-131)
+#define SS_BAD_DIM (-132)
+
+/* Physical parameters; ss_params_default() gives the paper's Table 1 values. */
+typedef struct {
+    double mu_s;       /* static coefficient [-] (0.35) */
+    double mu_k;       /* kinetic coefficient [-] (0.30) */
+    double v_s;        /* static threshold velocity [m/s] (0.01) */
+    double v_d;        /* dynamic threshold velocity, recurdyn law [m/s] (0.015) */
+    double beta;       /* exponent of the proposed law [-] (1/3) */
+    double a;          /* base of the proposed law, > 1 [-] (1.5) */
+    double m;          /* mass, belt [kg] (10) */
+    double g;          /* gravity [m/s^2] (9.81) */
+    double theta_deg;  /* slope inclination [deg] (10) */
+    double k;          /* spring stiffness, belt [N/m] (300) */
+    double v_b;        /* belt speed [m/s] (1.5) */
+} ss_params;
+
+/* Integration controls; ss_dopri5_options_default() gives Hairer's defaults. */
+typedef struct {
+    double hmin;          /* step floor; steps forced there when the error test fails (0: none) [s] */
+    double hmax;          /* largest step (0: t_end - t0) [s] */
+    double h0;            /* initial step (0: automatic) [s] */
+    double safety;        /* 0.9 */
+    double fac1;          /* smallest step ratio, 0.2 */
+    double fac2;          /* largest step ratio, 10 */
+    double beta;          /* PI stabilisation exponent, 0.04 */
+    int64_t max_steps;    /* budget of attempted steps (default 100000; RK4 uses it too) */
+    int nstiff;           /* stiffness test every nstiff accepted steps (1000) */
+    int allow_forced;     /* 1: take steps at hmin when the error test fails there (1) */
+    int stop_on_stiff;    /* 1: stop with SS_STIFF when judged stiff (0) */
+    int every_step;       /* 1: output every step into t_out/y_out instead of at t_out (0) */
+} ss_dopri5_options;
+
+/* Counters and outcome of one integration (names after Hairer's DOPRI5). */
+typedef struct {
+    int64_t nfev;      /* right-hand-side evaluations */
+    int64_t nstep;     /* attempted steps */
+    int64_t naccept;   /* accepted steps, forced ones included */
+    int64_t nreject;   /* rejected steps after the first accepted one */
+    int64_t nforced;   /* steps forced at hmin */
+    int64_t nstiff;    /* stiffness tests that fired */
+    int stiff;         /* 1: judged stiff */
+    int n_written;     /* output rows written */
+    double t_reached;  /* time reached [s] */
+    double h_last;     /* last step size tried [s] */
+    int status;        /* SS_OK or a negative code */
+} ss_stats;
+
+/* A user's right-hand side: dydt[0..n-1] = f(t, y[0..n-1]); data is passed through. */
+typedef void (*ss_rhs)(double t, const double *y, double *dydt, int n, void *data);
+
+void ss_params_default(ss_params *p);
+void ss_dopri5_options_default(ss_dopri5_options *o);
+
+/* Copy the message of a status code into buf (at most buflen - 1 characters, NUL-terminated);
+ * returns the message's full length. */
+int ss_message(int status, char *buf, size_t buflen);
+
+/* mu[i] = friction coefficient [-] of law at relative velocity v[i] [m/s], i < n.
+ * Only the parameters the law uses are checked (v_d: recurdyn; beta, a: proposed). */
+int ss_friction(int law, int64_t n, const double *v, double mu_s, double mu_k, double v_s,
+                double v_d, double beta, double a, double *mu);
+
+/* Simulate a scene with a law from (x0, v0) at t = 0 to t_end: RK4 with step h, or DOPRI5 with
+ * rtol, atol and opts (NULL: defaults; RK4 with NULL opts has no step budget).
+ * t_out[n_out]: requested output times in [0, t_end] (non-decreasing), or with
+ * opts->every_step room for every step (overwritten with the step times).
+ * y_out[2 * n_out]: (x, v) per row. stats may be NULL. */
+int ss_simulate(int scene, int law, int method, const ss_params *p, double x0, double v0,
+                double t_end, double h, double rtol, double atol, const ss_dopri5_options *opts,
+                int n_out, double *t_out, double *y_out, ss_stats *stats);
+
+/* Integrate the user's y' = f(t, y) of dimension n from t0 to t_end with the library's
+ * DOPRI5. rtol, atol: ntol = 1 (scalar) or n values. opts may be NULL (defaults).
+ * t_out, y_out[n * n_out], stats: as for ss_simulate. */
+int ss_dopri5(ss_rhs f, void *data, int n, double t0, const double *y0, double t_end, int ntol,
+              const double *rtol, const double *atol, const ss_dopri5_options *opts, int n_out,
+              double *t_out, double *y_out, ss_stats *stats);
+
+/* The same with the library's classical RK4, fixed step h (opts: max_steps and every_step
+ * only; NULL: no step budget). */
+int ss_rk4(ss_rhs f, void *data, int n, double t0, const double *y0, double t_end, double h,
+           const ss_dopri5_options *opts, int n_out, double *t_out, double *y_out, ss_stats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* STICKSLIP_H */

@@ -1,0 +1,382 @@
+!> The C interface of the library: `bind(C)` entry points over the Fortran core.
+!!
+!! Declared for C in `stickslip.h` (beside this file). Every function returns an
+!! integer status (`SS_OK` = 0, negative on failure; `ss_message` explains a code).
+!! Nothing here re-implements the physics or the integrators: the laws come from
+!! `stickslip_friction`, the scenes and both integrators from `stickslip_simulate`,
+!! and a C user's own ODE is integrated by `stickslip_dopri5` / `stickslip_rk4`
+!! through a thin `ode_system` extension that calls a C function pointer.
+!!
+!! Array layout: states are stored as C arrays `y_out[n_out][n]` (row i holds the state
+!! at t_out[i]), which is the Fortran array y_out(n, n_out).
+module stickslip_capi
+    use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_char, c_size_t, &
+                                           c_ptr, c_funptr, c_null_char, c_associated, c_f_procpointer, c_f_pointer
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_BAD_N_OUT, stickslip_message
+    use stickslip_friction, only: friction_law, friction_law_init, friction_mu
+    use stickslip_ode, only: ode_system, ode_stats
+    use stickslip_rk4, only: rk4_integrate
+    use stickslip_dopri5, only: dopri5_options, dopri5_integrate
+    use stickslip_simulate, only: scene_params, simulate, METHOD_RK4
+    implicit none
+    private
+
+    public :: ss_params, ss_dopri5_options, ss_stats
+    public :: ss_params_default, ss_dopri5_options_default, ss_message, ss_friction, ss_simulate, &
+              ss_dopri5, ss_rk4
+
+    !> Physical parameters of both scenes and all laws (C struct `ss_params`).
+    type, bind(C) :: ss_params
+        real(c_double) :: mu_s       !! static coefficient [-]
+        real(c_double) :: mu_k       !! kinetic coefficient [-]
+        real(c_double) :: v_s        !! static threshold velocity [m/s]
+        real(c_double) :: v_d        !! dynamic threshold velocity (recurdyn) [m/s]
+        real(c_double) :: beta       !! exponent of the proposed law [-]
+        real(c_double) :: a          !! base of the proposed law [-]
+        real(c_double) :: m          !! mass (belt) [kg]
+        real(c_double) :: g          !! gravity [m/s^2]
+        real(c_double) :: theta_deg  !! slope inclination [deg]
+        real(c_double) :: k          !! spring stiffness (belt) [N/m]
+        real(c_double) :: v_b        !! belt speed [m/s]
+    end type ss_params
+
+    !> Integration controls (C struct `ss_dopri5_options`); flags are 0/1.
+    type, bind(C) :: ss_dopri5_options
+        real(c_double) :: hmin          !! step size floor, forced steps there (0: none) [s]
+        real(c_double) :: hmax          !! largest step (0: t_end - t0) [s]
+        real(c_double) :: h0            !! initial step (0: automatic) [s]
+        real(c_double) :: safety        !! safety factor of the step control
+        real(c_double) :: fac1          !! smallest step ratio h_new/h
+        real(c_double) :: fac2          !! largest step ratio h_new/h
+        real(c_double) :: beta          !! PI (Lund) stabilisation exponent
+        integer(c_int64_t) :: max_steps !! budget of attempted steps (RK4 and DOPRI5)
+        integer(c_int) :: nstiff        !! stiffness test every nstiff accepted steps
+        integer(c_int) :: allow_forced  !! take steps at hmin when the error test fails there
+        integer(c_int) :: stop_on_stiff !! stop with SS_STIFF when the stiffness test fires
+        integer(c_int) :: every_step    !! output every step instead of at the given times
+    end type ss_dopri5_options
+
+    !> Counters and outcome of one integration (C struct `ss_stats`).
+    type, bind(C) :: ss_stats
+        integer(c_int64_t) :: nfev      !! right-hand-side evaluations
+        integer(c_int64_t) :: nstep     !! attempted steps
+        integer(c_int64_t) :: naccept   !! accepted steps (forced ones included)
+        integer(c_int64_t) :: nreject   !! rejected steps after the first accepted one
+        integer(c_int64_t) :: nforced   !! steps forced at hmin
+        integer(c_int64_t) :: nstiff    !! stiffness tests that fired
+        integer(c_int) :: stiff         !! 1 when the problem was judged stiff
+        integer(c_int) :: n_written     !! output rows written
+        real(c_double) :: t_reached     !! time reached [s]
+        real(c_double) :: h_last        !! last step size tried [s]
+        integer(c_int) :: status        !! SS_OK or a negative status code
+    end type ss_stats
+
+    !> A C user's ODE: dydt = f(t, y) through `void f(double t, const double *y,
+    !! double *dydt, int n, void *data)`.
+    type, extends(ode_system) :: c_system
+        type(c_funptr) :: f            !! the C function
+        type(c_ptr) :: data            !! the user's data, passed back unchanged
+        integer(c_int) :: n = 0        !! dimension of the state
+    contains
+        procedure :: rhs => c_system_rhs
+    end type c_system
+
+    abstract interface
+        !> The C right-hand side.
+        subroutine c_rhs(t, y, dydt, n, data) bind(C)
+            import :: c_double, c_int, c_ptr
+            real(c_double), value :: t          !! time
+            real(c_double), intent(in) :: y(*)  !! state (n)
+            real(c_double), intent(out) :: dydt(*)  !! derivative (n)
+            integer(c_int), value :: n          !! dimension
+            type(c_ptr), value :: data          !! user data
+        end subroutine c_rhs
+    end interface
+
+contains
+
+    !> Fill `p` with the paper's parameters (Table 1) and our defaults.
+    subroutine ss_params_default(p) bind(C, name='ss_params_default')
+        type(ss_params), intent(out) :: p   !! parameters to fill
+        type(scene_params) :: d
+        p = to_c_params(d)
+    end subroutine ss_params_default
+
+    !> Fill `o` with the library's default controls (Hairer's, max_steps = 10^5).
+    subroutine ss_dopri5_options_default(o) bind(C, name='ss_dopri5_options_default')
+        type(ss_dopri5_options), intent(out) :: o   !! controls to fill
+        type(dopri5_options) :: d
+        o%hmin = d%hmin
+        o%hmax = d%hmax
+        o%h0 = d%h0
+        o%safety = d%safety
+        o%fac1 = d%fac1
+        o%fac2 = d%fac2
+        o%beta = d%beta
+        o%max_steps = d%max_steps
+        o%nstiff = d%nstiff
+        o%allow_forced = merge(1_c_int, 0_c_int, d%allow_forced)
+        o%stop_on_stiff = merge(1_c_int, 0_c_int, d%stop_on_stiff)
+        o%every_step = merge(1_c_int, 0_c_int, d%every_step)
+    end subroutine ss_dopri5_options_default
+
+    !> Copy the message of a status code into buf (NUL-terminated, truncated to len - 1
+    !! characters). Returns the full length of the message (without the NUL).
+    function ss_message(status, buf, buflen) result(full) bind(C, name='ss_message')
+        integer(c_int), value :: status                !! a status code
+        character(kind=c_char), intent(out) :: buf(*)  !! room for len characters
+        integer(c_size_t), value :: buflen             !! size of buf [chars]
+        integer(c_int) :: full
+        character(len=:), allocatable :: msg
+        integer :: i, ncopy
+        msg = stickslip_message(status)
+        full = int(len_trim(msg), c_int)
+        if (buflen < 1) return
+        ncopy = int(min(int(full, c_size_t), buflen - 1))
+        do i = 1, ncopy
+            buf(i) = msg(i:i)
+        end do
+        buf(ncopy + 1) = c_null_char
+    end function ss_message
+
+    !> Friction coefficient mu(v) [-] of one law at n relative velocities v [m/s].
+    !! law: SS_LAW_COULOMB (1), SS_LAW_RECURDYN (2), SS_LAW_PROPOSED (3). Returns SS_OK
+    !! or the code of the bad parameter (mu is then left untouched).
+    function ss_friction(law, n, v, mu_s, mu_k, v_s, v_d, beta, a, mu) result(status) &
+            bind(C, name='ss_friction')
+        integer(c_int), value :: law           !! law code
+        integer(c_int64_t), value :: n         !! number of velocities, >= 0
+        real(c_double), intent(in) :: v(*)     !! relative velocities (n) [m/s]
+        real(c_double), value :: mu_s          !! static coefficient [-]
+        real(c_double), value :: mu_k          !! kinetic coefficient [-]
+        real(c_double), value :: v_s           !! static threshold velocity [m/s]
+        real(c_double), value :: v_d           !! dynamic threshold velocity (recurdyn) [m/s]
+        real(c_double), value :: beta          !! exponent (proposed) [-]
+        real(c_double), value :: a             !! base (proposed) [-]
+        real(c_double), intent(inout) :: mu(*) !! friction coefficients (n) [-]
+        integer(c_int) :: status
+        type(friction_law) :: fl
+        if (n < 0) then
+            status = SS_BAD_DIM
+            return
+        end if
+        status = friction_law_init(fl, int(law), mu_s, mu_k, v_s, v_d, beta, a)
+        if (status /= SS_OK) return
+        mu(1:n) = friction_mu(fl, v(1:n))
+    end function ss_friction
+
+    !> Simulate a scene from (x0, v0) at t = 0 to t_end; a wrapper of stickslip_simulate's
+    !! `simulate`. scene: SS_SCENE_SLOPE (1) / SS_SCENE_BELT (2); method: SS_METHOD_RK4 (1,
+    !! fixed step h) / SS_METHOD_DOPRI5 (2, rtol, atol and opts). opts may be NULL (defaults);
+    !! opts->max_steps and opts->every_step apply to both methods.
+    !! t_out(n_out): requested output times, or room for every step (overwritten);
+    !! y_out: n_out rows of (x [m], v [m/s]). stats may be NULL. Returns stats->status.
+    function ss_simulate(scene, law, method, p, x0, v0, t_end, h, rtol, atol, opts, n_out, &
+                         t_out, y_out, stats) result(status) bind(C, name='ss_simulate')
+        integer(c_int), value :: scene, law, method       !! scene, law and method codes
+        type(ss_params), intent(in) :: p                  !! physical parameters
+        real(c_double), value :: x0                       !! initial displacement [m]
+        real(c_double), value :: v0                       !! initial velocity [m/s]
+        real(c_double), value :: t_end                    !! final time [s]
+        real(c_double), value :: h                        !! RK4 step [s]
+        real(c_double), value :: rtol                     !! DOPRI5 relative tolerance
+        real(c_double), value :: atol                     !! DOPRI5 absolute tolerance
+        type(c_ptr), value :: opts                    !! const ss_dopri5_options * (NULL: defaults)
+        integer(c_int), value :: n_out                    !! rows of t_out and y_out, >= 1
+        real(c_double), intent(inout) :: t_out(*)         !! output times [s]
+        real(c_double), intent(inout) :: y_out(2, *)      !! output states
+        type(c_ptr), value :: stats                   !! ss_stats * (NULL: not returned)
+        integer(c_int) :: status
+        type(dopri5_options) :: fo
+        type(ode_stats) :: st
+        if (n_out < 1) then
+            status = SS_BAD_N_OUT
+            call put_stats(st, status, stats)
+            return
+        end if
+        call get_options(opts, fo, method == METHOD_RK4)
+        call simulate(int(scene), int(law), int(method), to_f_params(p), x0, v0, t_end, h, [rtol], [atol], &
+                      fo, t_out(1:n_out), y_out(:, 1:n_out), st)
+        status = int(st%status, c_int)
+        call put_stats(st, status, stats)
+    end function ss_simulate
+
+    !> Integrate a C user's ODE y' = f(t, y) (dimension n) from t0 to t_end with the
+    !! library's DOPRI5. rtol, atol: ntol = 1 (scalar) or n values. opts may be NULL.
+    !! t_out(n_out), y_out(n_out rows of n): as for ss_simulate. stats may be NULL.
+    function ss_dopri5(f, data, n, t0, y0, t_end, ntol, rtol, atol, opts, n_out, t_out, y_out, stats) &
+            result(status) bind(C, name='ss_dopri5')
+        type(c_funptr), value :: f                    !! void f(double t, const double *y, double *dydt, int n, void *data)
+        type(c_ptr), value :: data                    !! passed to f unchanged (may be NULL)
+        integer(c_int), value :: n                    !! dimension of the state, >= 1
+        real(c_double), value :: t0                   !! initial time
+        real(c_double), intent(in) :: y0(*)           !! initial state (n)
+        real(c_double), value :: t_end                !! final time, > t0
+        integer(c_int), value :: ntol                 !! 1 or n
+        real(c_double), intent(in) :: rtol(*)         !! relative tolerances (ntol)
+        real(c_double), intent(in) :: atol(*)         !! absolute tolerances (ntol)
+        type(c_ptr), value :: opts                    !! const ss_dopri5_options * (NULL: defaults)
+        integer(c_int), value :: n_out                !! rows of t_out and y_out, >= 1
+        real(c_double), intent(inout) :: t_out(*)     !! output times
+        real(c_double), intent(inout) :: y_out(*)     !! output states (n_out * n)
+        type(c_ptr), value :: stats                   !! ss_stats * (NULL: not returned)
+        integer(c_int) :: status
+        type(c_system) :: sys
+        type(dopri5_options) :: fo
+        type(ode_stats) :: st
+        status = check_user(f, n, ntol, n_out)
+        if (status == SS_OK) then
+            sys%f = f
+            sys%data = data
+            sys%n = n
+            call get_options(opts, fo, .false.)
+            call run(y_out)
+            status = int(st%status, c_int)
+        end if
+        call put_stats(st, status, stats)
+    contains
+        subroutine run(yo)
+            real(c_double), intent(inout) :: yo(n, *)
+            call dopri5_integrate(sys, t0, y0(1:n), t_end, rtol(1:ntol), atol(1:ntol), fo, &
+                                  t_out(1:n_out), yo(:, 1:n_out), st)
+        end subroutine run
+    end function ss_dopri5
+
+    !> Integrate a C user's ODE with the library's classical RK4, fixed step h.
+    !! opts may be NULL; only opts->max_steps and opts->every_step are used.
+    function ss_rk4(f, data, n, t0, y0, t_end, h, opts, n_out, t_out, y_out, stats) &
+            result(status) bind(C, name='ss_rk4')
+        type(c_funptr), value :: f                    !! the C right-hand side (see ss_dopri5)
+        type(c_ptr), value :: data                    !! passed to f unchanged
+        integer(c_int), value :: n                    !! dimension, >= 1
+        real(c_double), value :: t0                   !! initial time
+        real(c_double), intent(in) :: y0(*)           !! initial state (n)
+        real(c_double), value :: t_end                !! final time, > t0
+        real(c_double), value :: h                    !! step size, > 0
+        type(c_ptr), value :: opts                    !! const ss_dopri5_options * (NULL: defaults)
+        integer(c_int), value :: n_out                !! rows of t_out and y_out, >= 1
+        real(c_double), intent(inout) :: t_out(*)     !! output times
+        real(c_double), intent(inout) :: y_out(*)     !! output states (n_out * n)
+        type(c_ptr), value :: stats                   !! ss_stats * (NULL: not returned)
+        integer(c_int) :: status
+        type(c_system) :: sys
+        type(dopri5_options) :: fo
+        type(ode_stats) :: st
+        status = check_user(f, n, 1_c_int, n_out)
+        if (status == SS_OK) then
+            sys%f = f
+            sys%data = data
+            sys%n = n
+            call get_options(opts, fo, .true.)
+            call run(y_out)
+            status = int(st%status, c_int)
+        end if
+        call put_stats(st, status, stats)
+    contains
+        subroutine run(yo)
+            real(c_double), intent(inout) :: yo(n, *)
+            call rk4_integrate(sys, t0, y0(1:n), t_end, h, t_out(1:n_out), yo(:, 1:n_out), st, &
+                               every_step=fo%every_step, max_steps=fo%max_steps)
+        end subroutine run
+    end function ss_rk4
+
+    ! -- helpers -------------------------------------------------------------------
+
+    !> Dimensions and function pointer of a user problem.
+    pure function check_user(f, n, ntol, n_out) result(status)
+        type(c_funptr), intent(in) :: f
+        integer(c_int), intent(in) :: n, ntol, n_out
+        integer(c_int) :: status
+        status = SS_OK
+        if (.not. c_associated(f) .or. n < 1 .or. (ntol /= 1 .and. ntol /= n)) then
+            status = SS_BAD_DIM
+        else if (n_out < 1) then
+            status = SS_BAD_N_OUT
+        end if
+    end function check_user
+
+    !> Call the C right-hand side.
+    subroutine c_system_rhs(self, t, y, dydt)
+        class(c_system), intent(inout) :: self
+        real(dp), intent(in)  :: t          !! time
+        real(dp), intent(in)  :: y(:)       !! state
+        real(dp), intent(out) :: dydt(:)    !! derivative
+        procedure(c_rhs), pointer :: fp
+        call c_f_procpointer(self%f, fp)
+        call fp(t, y, dydt, self%n, self%data)
+    end subroutine c_system_rhs
+
+    pure function to_f_params(p) result(q)
+        type(ss_params), intent(in) :: p
+        type(scene_params) :: q
+        q = scene_params(mu_s=p%mu_s, mu_k=p%mu_k, v_s=p%v_s, v_d=p%v_d, beta=p%beta, a=p%a, &
+                         m=p%m, g=p%g, theta_deg=p%theta_deg, k=p%k, v_b=p%v_b)
+    end function to_f_params
+
+    pure function to_c_params(q) result(p)
+        type(scene_params), intent(in) :: q
+        type(ss_params) :: p
+        p = ss_params(mu_s=q%mu_s, mu_k=q%mu_k, v_s=q%v_s, v_d=q%v_d, beta=q%beta, a=q%a, &
+                      m=q%m, g=q%g, theta_deg=q%theta_deg, k=q%k, v_b=q%v_b)
+    end function to_c_params
+
+    !> Options from a C pointer (NULL: the defaults; for RK4 without a step budget).
+    subroutine get_options(opts, fo, rk4)
+        type(c_ptr), intent(in) :: opts
+        type(dopri5_options), intent(inout) :: fo
+        logical, intent(in) :: rk4     !! the options are for RK4
+        type(ss_dopri5_options), pointer :: o
+        if (c_associated(opts)) then
+            call c_f_pointer(opts, o)
+            call to_f_options(o, fo)
+        else if (rk4) then
+            fo%max_steps = huge(1_c_int64_t)
+        end if
+    end subroutine get_options
+
+    !> Stats to a C pointer (NULL: nothing).
+    subroutine put_stats(st, status, stats)
+        type(ode_stats), intent(in) :: st
+        integer(c_int), intent(in) :: status
+        type(c_ptr), intent(in) :: stats
+        type(ss_stats), pointer :: s
+        if (.not. c_associated(stats)) return
+        call c_f_pointer(stats, s)
+        call to_c_stats(st, status, s)
+    end subroutine put_stats
+
+    pure subroutine to_f_options(o, fo)
+        type(ss_dopri5_options), intent(in) :: o
+        type(dopri5_options), intent(inout) :: fo
+        fo%hmin = o%hmin
+        fo%hmax = o%hmax
+        fo%h0 = o%h0
+        fo%safety = o%safety
+        fo%fac1 = o%fac1
+        fo%fac2 = o%fac2
+        fo%beta = o%beta
+        fo%max_steps = o%max_steps
+        fo%nstiff = int(o%nstiff)
+        fo%allow_forced = o%allow_forced /= 0
+        fo%stop_on_stiff = o%stop_on_stiff /= 0
+        fo%every_step = o%every_step /= 0
+    end subroutine to_f_options
+
+    pure subroutine to_c_stats(st, status, s)
+        type(ode_stats), intent(in) :: st
+        integer(c_int), intent(in) :: status
+        type(ss_stats), intent(out) :: s
+        s%nfev = st%nfev
+        s%nstep = st%nstep
+        s%naccept = st%naccept
+        s%nreject = st%nreject
+        s%nforced = st%nforced
+        s%nstiff = st%nstiff
+        s%stiff = merge(1_c_int, 0_c_int, st%stiff)
+        s%n_written = int(st%n_written, c_int)
+        s%t_reached = st%t_reached
+        s%h_last = st%h_last
+        s%status = status
+    end subroutine to_c_stats
+
+end module stickslip_capi
