@@ -20,11 +20,12 @@ from .core import (
     simulate,
     status_message,
 )
+from .batch import BatchResult, simulate_batch
 
 __all__ = [
     "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError",
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
-    "status_message",
+    "status_message", "BatchResult", "simulate_batch",
 ]
 __version__ = "0.1.0"

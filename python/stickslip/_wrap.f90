@@ -90,3 +90,66 @@ subroutine run_simulation(scene, law, method, p, x0, v0, t_end, h, rtol, atol, h
     rstats = [st%t_reached, st%h_last]
     status = st%status
 end subroutine run_simulation
+
+!> Simulate nset parameter sets in one call (stickslip_batch), OpenMP over the sets.
+!! Per set: codes scene/law/method, p(:, i) = (mu_s, mu_k, v_s, v_d, beta, a, m, g,
+!! theta_deg, k, v_b), x0, v0, t_end, h (RK4), rtol, atol, hmin, hmax, h0, max_steps.
+!! n_grid: monitor grid points per set; nkeep = n_grid to return y_grid, 0 not to.
+!! istats(:, i) = (nfev, nstep, naccept, nreject, nforced, nstiff, stiff, n_flip, n_flip_tail);
+!! rstats(:, i) = (t_reached, h_last, t_last, x_end, v_end, v_max, vrel_min_tail,
+!! vrel_max_tail, seconds); sstatus(i) the status of set i; status the call's own.
+subroutine run_batch(nset, scene, law, method, p, x0, v0, t_end, h, rtol, atol, hmin, hmax, h0, &
+                     max_steps, allow_forced, stop_on_stiff, n_grid, nkeep, threads, &
+                     sstatus, istats, rstats, y_grid, status)
+    use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double
+    use stickslip_dopri5, only: dopri5_options
+    use stickslip_simulate, only: scene_params
+    use stickslip_batch, only: batch_summary, simulate_batch
+    implicit none
+    integer(c_int), intent(in) :: nset
+    integer(c_int), intent(in) :: scene(nset), law(nset), method(nset)
+    !f2py integer intent(hide), depend(scene) :: nset = len(scene)
+    real(c_double), intent(in) :: p(11, nset)
+    real(c_double), intent(in) :: x0(nset), v0(nset), t_end(nset), h(nset), rtol(nset), atol(nset)
+    real(c_double), intent(in) :: hmin(nset), hmax(nset), h0(nset)
+    integer(c_int64_t), intent(in) :: max_steps(nset)
+    integer(c_int), intent(in) :: allow_forced, stop_on_stiff, n_grid, nkeep, threads
+    integer(c_int), intent(out) :: sstatus(nset)
+    integer(c_int64_t), intent(out) :: istats(9, nset)
+    real(c_double), intent(out) :: rstats(9, nset)
+    real(c_double), intent(out) :: y_grid(2, nkeep, nset)
+    integer(c_int), intent(out) :: status
+    type(scene_params), allocatable :: sp(:)
+    type(dopri5_options), allocatable :: opts(:)
+    type(batch_summary), allocatable :: s(:)
+    integer :: i
+
+    allocate(sp(nset), opts(nset), s(nset))
+    do i = 1, nset
+        sp(i) = scene_params(mu_s=p(1, i), mu_k=p(2, i), v_s=p(3, i), v_d=p(4, i), beta=p(5, i), &
+                             a=p(6, i), m=p(7, i), g=p(8, i), theta_deg=p(9, i), k=p(10, i), &
+                             v_b=p(11, i))
+        opts(i)%hmin = hmin(i)
+        opts(i)%hmax = hmax(i)
+        opts(i)%h0 = h0(i)
+        opts(i)%max_steps = max_steps(i)
+        opts(i)%allow_forced = allow_forced /= 0
+        opts(i)%stop_on_stiff = stop_on_stiff /= 0
+    end do
+    y_grid = 0.0_c_double
+    if (nkeep > 0) then
+        call simulate_batch(scene, law, method, sp, x0, v0, t_end, h, rtol, atol, opts, &
+                            n_grid, threads, s, status, y_grid)
+    else
+        call simulate_batch(scene, law, method, sp, x0, v0, t_end, h, rtol, atol, opts, &
+                            n_grid, threads, s, status)
+    end if
+    do i = 1, nset
+        sstatus(i) = s(i)%status
+        istats(:, i) = [s(i)%nfev, s(i)%nstep, s(i)%naccept, s(i)%nreject, s(i)%nforced, &
+                        s(i)%nstiff, merge(1_c_int64_t, 0_c_int64_t, s(i)%stiff), &
+                        int(s(i)%n_flip, c_int64_t), int(s(i)%n_flip_tail, c_int64_t)]
+        rstats(:, i) = [s(i)%t_reached, s(i)%h_last, s(i)%t_last, s(i)%x_end, s(i)%v_end, &
+                        s(i)%v_max, s(i)%vrel_min_tail, s(i)%vrel_max_tail, s(i)%seconds]
+    end do
+end subroutine run_batch
