@@ -1,0 +1,360 @@
+"""Shared helpers of the figure drivers: atomic file writing, the CSV contract (a header row
+with units), common plot styling (Agg backend), argparse options and a parallel, de-duplicating
+simulation runner with progress on stderr.
+
+Every file a driver produces goes through `atomic_write`: it is written to a temporary file in
+the target directory and moved into place with `os.replace`, so a file is there whole or not at
+all (an interrupted run never leaves half a CSV or PNG behind).
+"""
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+import csv
+import multiprocessing
+import os
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Iterable, Mapping, Sequence
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
+
+#: Display names and colours of the three friction laws, shared by every plot.
+LAW_LABELS: dict[str, str] = {"coulomb": "Coulomb", "recurdyn": "RecurDyn (haversine)",
+                              "proposed": "Proposed (Roh & Yoo)"}
+LAW_COLORS: dict[str, str] = {"coulomb": "tab:red", "recurdyn": "tab:blue",
+                              "proposed": "tab:green"}
+#: Colours for the three variants (step sizes or tolerances) of one law.
+VARIANT_COLORS: tuple[str, ...] = ("black", "tab:orange", "tab:purple", "tab:cyan")
+VARIANT_STYLES: tuple[str, ...] = ("-", "--", ":", "-.")
+#: Size [in] and resolution [dpi] of every PNG: small enough to commit.
+FIGSIZE: tuple[float, float] = (6.4, 3.9)
+DPI: int = 90
+#: Float format of every CSV: 10 significant digits.
+FLOAT_FORMAT: str = "%.10g"
+
+
+# --------------------------------------------------------------------------------------------
+# Atomic writing
+# --------------------------------------------------------------------------------------------
+def atomic_write(path: str | os.PathLike[str], write: Callable[[Any], None], *,
+                 binary: bool = False) -> Path:
+    """Call `write(fileobj)` on a temporary file beside `path`, then `os.replace` it onto
+    `path`. On any exception the temporary file is removed and `path` is left untouched.
+    Returns `path` as a Path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else
+                                                        {"newline": "", "encoding": "utf-8"})) as f:
+            write(f)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    return path
+
+
+def write_text(path: str | os.PathLike[str], text: str) -> Path:
+    """Write `text` to `path` atomically."""
+    return atomic_write(path, lambda f: f.write(text))
+
+
+def write_csv(path: str | os.PathLike[str], header: Sequence[str],
+              rows: Iterable[Sequence[Any]]) -> Path:
+    """Write a CSV atomically: `header` (each name with its unit in brackets, e.g. "t [s]"),
+    then `rows`; floats are written with FLOAT_FORMAT, None as an empty cell."""
+    for name in header:
+        if "[" not in name or not name.endswith("]"):
+            raise ValueError(f"CSV column {name!r} has no unit in brackets")
+
+    def cell(value: Any) -> str:
+        if value is None:
+            return ""
+        if isinstance(value, (float, np.floating)):
+            return FLOAT_FORMAT % value
+        return str(value)
+
+    def write(f: Any) -> None:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(header)
+        for row in rows:
+            if len(row) != len(header):
+                raise ValueError(f"CSV row of {len(row)} cells for {len(header)} columns")
+            w.writerow([cell(v) for v in row])
+
+    return atomic_write(path, write)
+
+
+def write_columns(path: str | os.PathLike[str], columns: Mapping[str, np.ndarray]) -> Path:
+    """Write equal-length numeric columns {"name [unit]": array} as a CSV atomically."""
+    arrays = [np.asarray(a, dtype=float) for a in columns.values()]
+    if len({a.shape for a in arrays}) != 1:
+        raise ValueError("columns of different lengths")
+    return write_csv(path, list(columns), zip(*arrays))
+
+
+def read_csv(path: str | os.PathLike[str]) -> dict[str, list[str]]:
+    """Read a CSV into {header: list of cell strings} (in column order)."""
+    with open(path, newline="", encoding="utf-8") as f:
+        reader = csv.reader(f)
+        header = next(reader)
+        cols: dict[str, list[str]] = {name: [] for name in header}
+        for row in reader:
+            for name, value in zip(header, row):
+                cols[name].append(value)
+    return cols
+
+
+def read_numeric_csv(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
+    """Read an all-numeric CSV into {header: float array}."""
+    return {k: np.array(v, dtype=float) for k, v in read_csv(path).items()}
+
+
+def split_unit(name: str) -> tuple[str, str]:
+    """Split "x coulomb [m]" into ("x coulomb", "m")."""
+    base, _, unit = name.rpartition("[")
+    return base.strip(), unit.rstrip("]").strip()
+
+
+# --------------------------------------------------------------------------------------------
+# Plot styling
+# --------------------------------------------------------------------------------------------
+def new_figure(ncols: int = 1, *, width: float | None = None) -> tuple[Any, Any]:
+    """A figure in the common style with `ncols` axes side by side."""
+    plt.rcParams.update({"font.size": 9, "axes.grid": True, "grid.alpha": 0.3,
+                         "legend.fontsize": 8, "axes.titlesize": 9, "lines.linewidth": 1.2})
+    w = width if width is not None else FIGSIZE[0] * (1.0 if ncols == 1 else 0.8 * ncols)
+    fig, axes = plt.subplots(1, ncols, figsize=(w, FIGSIZE[1]), squeeze=False)
+    return fig, axes[0] if ncols > 1 else axes[0][0]
+
+
+def save_figure(fig: Any, path: str | os.PathLike[str]) -> Path:
+    """Save `fig` as PNG atomically (DPI dots per inch) and close it."""
+    fig.tight_layout()
+    try:
+        return atomic_write(path, lambda f: fig.savefig(f, format="png", dpi=DPI), binary=True)
+    finally:
+        plt.close(fig)
+
+
+def series_style(label: str, index: int) -> dict[str, Any]:
+    """Line colour and style of a series: the law's colour when `label` names a law,
+    else the index-th variant style."""
+    for law, color in LAW_COLORS.items():
+        if label.endswith(law):
+            return {"color": color, "linestyle": VARIANT_STYLES[index % len(VARIANT_STYLES)]}
+    return {"color": VARIANT_COLORS[index % len(VARIANT_COLORS)],
+            "linestyle": VARIANT_STYLES[index % len(VARIANT_STYLES)]}
+
+
+def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLike[str],
+                     title: str) -> Path:
+    """Render a CSV whose first column is time [s] and whose other columns are series of one
+    quantity (e.g. "x coulomb [m]") as lines against time. When the final values span more
+    than two decades the y axis is symmetric-logarithmic, so that all series stay visible."""
+    cols = read_numeric_csv(csv_path)
+    names = list(cols)
+    t = cols[names[0]]
+    fig, ax = new_figure()
+    finals = []
+    for i, name in enumerate(names[1:]):
+        label, unit = split_unit(name)
+        ax.plot(t, cols[name], label=label, **series_style(label, i))
+        finals.append(abs(cols[name][-1]))
+    positive = [f for f in finals if f > 0.0]
+    if len(positive) > 1 and max(positive) / min(positive) > 100.0:
+        ax.set_yscale("symlog", linthresh=min(positive) / 10.0)
+    ax.set_xlabel(names[0])
+    base, unit = split_unit(names[1])
+    ax.set_ylabel(f"{base.split()[0]} [{unit}]")
+    ax.set_title(title)
+    ax.legend(loc="best")
+    return save_figure(fig, png_path)
+
+
+def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
+    """A Markdown (GitHub) table of `rows` under `header`; None renders as an empty cell."""
+    def cell(v: Any) -> str:
+        if v is None or v == "":
+            return ""
+        if isinstance(v, (float, np.floating)):
+            return f"{v:.4g}"
+        return str(v)
+
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in rows]
+    return "\n".join(lines) + "\n"
+
+
+# --------------------------------------------------------------------------------------------
+# Command line
+# --------------------------------------------------------------------------------------------
+def positive_float(text: str) -> float:
+    """argparse type: a finite float > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not np.isfinite(value) or value <= 0.0:
+        raise argparse.ArgumentTypeError(f"must be finite and > 0, got {text}")
+    return value
+
+
+def positive_int(text: str) -> int:
+    """argparse type: an integer >= 2 (a number of output points)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"must be >= 2, got {text}")
+    return value
+
+
+def add_common_options(parser: argparse.ArgumentParser) -> None:
+    """--outdir, --workers and --quiet, shared by every driver."""
+    parser.add_argument("--outdir", type=Path, default=Path("out"),
+                        help="directory for CSV, PNG and Markdown files (default: out/)")
+    parser.add_argument("--workers", type=int, default=2,
+                        help="simulations run in parallel (default 2: the machine has 2 cores)")
+    parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+
+
+def add_law_options(parser: argparse.ArgumentParser) -> None:
+    """The friction-law parameters (Table 1 defaults come from stickslip.DEFAULTS)."""
+    from stickslip import DEFAULTS
+    g = parser.add_argument_group("friction-law parameters (paper's Table 1)")
+    g.add_argument("--mu-s", type=positive_float, default=DEFAULTS["mu_s"],
+                   help="static coefficient [-] (default %(default)s)")
+    g.add_argument("--mu-k", type=positive_float, default=DEFAULTS["mu_k"],
+                   help="kinetic coefficient [-] (default %(default)s)")
+    g.add_argument("--v-s", type=positive_float, default=DEFAULTS["v_s"],
+                   help="static threshold velocity [m/s] (default %(default)s)")
+    g.add_argument("--v-d", type=positive_float, default=None,
+                   help="dynamic threshold velocity of the RecurDyn law [m/s] (default 1.5 v_s)")
+    g.add_argument("--beta", type=positive_float, default=DEFAULTS["beta"],
+                   help="exponent of the proposed law [-] (default 1/3)")
+    g.add_argument("--a", type=positive_float, default=DEFAULTS["a"],
+                   help="base of the proposed law [-] (> 1, default %(default)s)")
+
+
+def law_params(args: argparse.Namespace) -> dict[str, float]:
+    """The law parameters from parsed options, for stickslip.simulate/friction_coefficient."""
+    p = {"mu_s": args.mu_s, "mu_k": args.mu_k, "v_s": args.v_s, "beta": args.beta, "a": args.a}
+    if args.v_d is not None:
+        p["v_d"] = args.v_d
+    return p
+
+
+def log(message: str, quiet: bool = False) -> None:
+    """A progress line on stderr."""
+    if not quiet:
+        print(message, file=sys.stderr, flush=True)
+
+
+# --------------------------------------------------------------------------------------------
+# Simulations: specification, de-duplication, parallel execution
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Run:
+    """One simulation, hashable so that equal runs are simulated once.
+
+    method "rk4" uses h [s]; "dopri5" uses rtol [-], atol [m or m/s], hmin, hmax [s]."""
+
+    scene: str
+    law: str
+    method: str
+    t_end: float
+    n_out: int
+    h: float | None = None
+    rtol: float | None = None
+    atol: float | None = None
+    hmin: float = 1e-6
+    hmax: float = 1e-2
+    params: tuple[tuple[str, float], ...] = ()
+
+    def kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of stickslip.simulate."""
+        kw: dict[str, Any] = dict(method=self.method, t_end=self.t_end, n_out=self.n_out,
+                                  **dict(self.params))
+        if self.method == "rk4":
+            kw["h"] = self.h
+        else:
+            kw.update(rtol=self.rtol, atol=self.atol, hmin=self.hmin, hmax=self.hmax)
+        return kw
+
+    def label(self) -> str:
+        """Short description for progress lines and tables."""
+        how = f"h={self.h:g}" if self.method == "rk4" else f"rtol={self.rtol:g}"
+        return f"{self.scene} {self.law} {self.method} {how}"
+
+    def cost_hint(self) -> float:
+        """A rough a-priori cost (larger first): Coulomb with an adaptive step is the one that
+        can fall to h_min; fixed steps cost t_end/h."""
+        if self.method == "rk4":
+            return self.t_end / float(self.h)
+        return self.t_end / self.hmin if self.law == "coulomb" else self.t_end / self.hmax
+
+
+@dataclass
+class Outcome:
+    """What a worker sends back: the output grid and the library's counters."""
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    stats: dict[str, Any] = field(default_factory=dict)
+    wall_seconds: float = 0.0
+
+
+def simulate_run(run: Run) -> Outcome:
+    """Run one simulation (in a worker process). Integration errors propagate."""
+    import stickslip
+    t0 = time.perf_counter()
+    r = stickslip.simulate(run.scene, run.law, **run.kwargs())
+    return Outcome(r.t, r.x, r.v, dict(r.stats), time.perf_counter() - t0)
+
+
+def run_all(runs: Iterable[Run], *, workers: int = 2, quiet: bool = False,
+            heartbeat: float = 3.0) -> dict[Run, Outcome]:
+    """Simulate every distinct run once, `workers` at a time, the expensive ones first.
+    Prints one line per finished run and, every `heartbeat` seconds while runs are pending,
+    a progress line (stderr)."""
+    unique = sorted(set(runs), key=lambda r: -r.cost_hint())
+    results: dict[Run, Outcome] = {}
+    start = time.perf_counter()
+    if workers <= 1 or len(unique) <= 1:
+        for i, run in enumerate(unique, 1):
+            results[run] = simulate_run(run)
+            log(f"  [{i}/{len(unique)}] {run.label()}: {results[run].wall_seconds:.2f} s", quiet)
+        return results
+    ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods()
+                                      else None)
+    with cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+        pending = {pool.submit(simulate_run, run): run for run in unique}
+        while pending:
+            done, _ = cf.wait(pending, timeout=heartbeat, return_when=cf.FIRST_COMPLETED)
+            for fut in done:
+                run = pending.pop(fut)
+                results[run] = fut.result()
+                log(f"  [{len(results)}/{len(unique)}] {run.label()}: "
+                    f"{results[run].wall_seconds:.2f} s", quiet)
+            if not done:
+                log(f"  ... {len(results)}/{len(unique)} done, "
+                    f"{time.perf_counter() - start:.0f} s elapsed", quiet)
+    return results
