@@ -46,6 +46,10 @@ module stickslip_batch
         real(dp)   :: v_max = 0.0_dp      !! max |v| over the initial state and the monitor grid [m/s]
         integer    :: n_flip = 0          !! sign changes of the relative velocity on the monitor grid
         integer    :: n_flip_tail = 0     !! the same, over the grid times >= t_end / 2
+        integer    :: n_rev = 0           !! reversals of the direction of v between grid points
+                                          !! (successive differences of opposite sign, both above
+                                          !! 64 eps max|v|): high-frequency content
+        integer    :: n_rev_tail = 0      !! the same, over the grid times >= t_end / 2
         real(dp)   :: vrel_min_tail = 0.0_dp  !! min relative velocity over times >= t_end / 2 [m/s]
         real(dp)   :: vrel_max_tail = 0.0_dp  !! max relative velocity over times >= t_end / 2 [m/s]
         real(dp)   :: seconds = 0.0_dp    !! wall-clock time of this set (one thread) [s]
@@ -177,9 +181,9 @@ contains
             real(dp), intent(in) :: t_out(:), y_out(:, :)
             real(dp), intent(in) :: v_ref   !! relative velocity = sgn * (v - v_ref) [m/s]
             real(dp), intent(in) :: sgn     !! +1 (slope) or -1 (belt)
-            real(dp) :: vr, vr_prev, t_half
+            real(dp) :: vr, vr_prev, t_half, dv, dv_prev, vscale
             integer :: j
-            logical :: have_prev
+            logical :: have_prev, have_dv
 
             if (n_ok >= 1) then
                 summary(i)%t_last = t_out(n_ok)
@@ -197,11 +201,27 @@ contains
             summary(i)%vrel_min_tail = huge(1.0_dp)
             summary(i)%vrel_max_tail = -huge(1.0_dp)
             t_half = 0.5_dp * t_end(i)
+            summary(i)%n_rev = 0
+            summary(i)%n_rev_tail = 0
             have_prev = .false.
+            have_dv = .false.
             vr_prev = 0.0_dp
+            dv_prev = 0.0_dp
             do j = 1, n_ok
                 if (.not. ieee_is_finite(y_out(2, j))) exit
                 summary(i)%v_max = max(summary(i)%v_max, abs(y_out(2, j)))
+                if (j > 1) then
+                    dv = y_out(2, j) - y_out(2, j - 1)
+                    vscale = max(abs(y_out(2, j)), abs(y_out(2, j - 1)), abs(v_ref))
+                    if (abs(dv) > 64.0_dp * epsilon(1.0_dp) * vscale) then
+                        if (have_dv .and. (dv > 0.0_dp .neqv. dv_prev > 0.0_dp)) then
+                            summary(i)%n_rev = summary(i)%n_rev + 1
+                            if (t_out(j) >= t_half) summary(i)%n_rev_tail = summary(i)%n_rev_tail + 1
+                        end if
+                        dv_prev = dv
+                        have_dv = .true.
+                    end if
+                end if
                 vr = sgn * (y_out(2, j) - v_ref)
                 if (t_out(j) >= t_half) then
                     summary(i)%vrel_min_tail = min(summary(i)%vrel_min_tail, vr)

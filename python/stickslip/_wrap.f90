@@ -95,7 +95,8 @@ end subroutine run_simulation
 !! Per set: codes scene/law/method, p(:, i) = (mu_s, mu_k, v_s, v_d, beta, a, m, g,
 !! theta_deg, k, v_b), x0, v0, t_end, h (RK4), rtol, atol, hmin, hmax, h0, max_steps.
 !! n_grid: monitor grid points per set; nkeep = n_grid to return y_grid, 0 not to.
-!! istats(:, i) = (nfev, nstep, naccept, nreject, nforced, nstiff, stiff, n_flip, n_flip_tail);
+!! istats(:, i) = (nfev, nstep, naccept, nreject, nforced, nstiff, stiff, n_flip, n_flip_tail,
+!! n_rev, n_rev_tail);
 !! rstats(:, i) = (t_reached, h_last, t_last, x_end, v_end, v_max, vrel_min_tail,
 !! vrel_max_tail, seconds); sstatus(i) the status of set i; status the call's own.
 subroutine run_batch(nset, scene, law, method, p, x0, v0, t_end, h, rtol, atol, hmin, hmax, h0, &
@@ -115,7 +116,7 @@ subroutine run_batch(nset, scene, law, method, p, x0, v0, t_end, h, rtol, atol, 
     integer(c_int64_t), intent(in) :: max_steps(nset)
     integer(c_int), intent(in) :: allow_forced, stop_on_stiff, n_grid, nkeep, threads
     integer(c_int), intent(out) :: sstatus(nset)
-    integer(c_int64_t), intent(out) :: istats(9, nset)
+    integer(c_int64_t), intent(out) :: istats(11, nset)
     real(c_double), intent(out) :: rstats(9, nset)
     real(c_double), intent(out) :: y_grid(2, nkeep, nset)
     integer(c_int), intent(out) :: status
@@ -148,7 +149,8 @@ subroutine run_batch(nset, scene, law, method, p, x0, v0, t_end, h, rtol, atol, 
         sstatus(i) = s(i)%status
         istats(:, i) = [s(i)%nfev, s(i)%nstep, s(i)%naccept, s(i)%nreject, s(i)%nforced, &
                         s(i)%nstiff, merge(1_c_int64_t, 0_c_int64_t, s(i)%stiff), &
-                        int(s(i)%n_flip, c_int64_t), int(s(i)%n_flip_tail, c_int64_t)]
+                        int(s(i)%n_flip, c_int64_t), int(s(i)%n_flip_tail, c_int64_t), &
+                        int(s(i)%n_rev, c_int64_t), int(s(i)%n_rev_tail, c_int64_t)]
         rstats(:, i) = [s(i)%t_reached, s(i)%h_last, s(i)%t_last, s(i)%x_end, s(i)%v_end, &
                         s(i)%v_max, s(i)%vrel_min_tail, s(i)%vrel_max_tail, s(i)%seconds]
     end do

@@ -32,7 +32,10 @@ class BatchResult:
     status: library status code (0 = reached t_end; see `message`). v_max: max |v| over the
     initial state and the monitor grid. n_flip / n_flip_tail: sign changes of the relative
     sliding velocity (v on the slope, v_b - v on the belt) between consecutive grid points,
-    over the whole run / over t >= t_end/2. vrel_min_tail, vrel_max_tail: its range over
+    over the whole run / over t >= t_end/2. n_rev / n_rev_tail: reversals of the direction of v
+    between grid points (successive differences of opposite sign, both above 64 eps max|v|),
+    a count of high-frequency content (a period-2 chatter sampled every odd number of steps
+    reverses at every grid point). vrel_min_tail, vrel_max_tail: its range over
     t >= t_end/2. x_end, v_end: state at t_last (the last grid time reached; t_end on success).
     seconds: wall-clock time of the row on its thread. t, x, v: (n_sets, n_grid) grids when
     keep_grid was set, else None.
@@ -56,6 +59,8 @@ class BatchResult:
     stiff: np.ndarray
     n_flip: np.ndarray
     n_flip_tail: np.ndarray
+    n_rev: np.ndarray
+    n_rev_tail: np.ndarray
     t_reached: np.ndarray
     h_last: np.ndarray
     t_last: np.ndarray
@@ -213,6 +218,7 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
         nfev=istats[0].copy(), nstep=istats[1].copy(), naccept=istats[2].copy(),
         nreject=istats[3].copy(), nforced=istats[4].copy(), nstiff=istats[5].copy(),
         stiff=istats[6].astype(bool), n_flip=istats[7].copy(), n_flip_tail=istats[8].copy(),
+        n_rev=istats[9].copy(), n_rev_tail=istats[10].copy(),
         t_reached=rstats[0].copy(), h_last=rstats[1].copy(), t_last=rstats[2].copy(),
         x_end=rstats[3].copy(), v_end=rstats[4].copy(), v_max=rstats[5].copy(),
         vrel_min_tail=rstats[6].copy(), vrel_max_tail=rstats[7].copy(), seconds=rstats[8].copy(),
