@@ -22,10 +22,11 @@ N_POINTS: int = 2001      # points on each of the two grids (full range and zoom
 
 
 def velocity_grid(v_max: float, v_s: float, n: int) -> np.ndarray:
-    """Relative velocities [m/s]: n points on [-v_max, v_max] merged with n points on
-    [-ZOOM v_s, ZOOM v_s], so that the transitions near v = 0 are resolved."""
-    return np.unique(np.concatenate([np.linspace(-v_max, v_max, n),
-                                     np.linspace(-ZOOM * v_s, ZOOM * v_s, n)]))
+    """Relative velocities [m/s], exactly symmetric about 0: n points on [0, v_max] merged
+    with n points on [0, ZOOM v_s] (so that the transitions near v = 0 are resolved), mirrored."""
+    pos = np.unique(np.concatenate([np.linspace(0.0, v_max, n), np.linspace(0.0, ZOOM * v_s, n)]))
+    pos = pos[pos > 0.0]
+    return np.concatenate([-pos[::-1], [0.0], pos])
 
 
 def run(outdir: str | Path, *, params: dict[str, float] | None = None, v_max: float = V_MAX,
