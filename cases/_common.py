@@ -173,8 +173,8 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
     fig, ax = new_figure()
     finals = []
     for i, name in enumerate(names[1:]):
-        label, unit = split_unit(name)
-        ax.plot(t, cols[name], label=label, **series_style(label, i))
+        label = split_unit(name)[0].split(" ", 1)[-1]         # "x coulomb" -> "coulomb"
+        ax.plot(t, cols[name], label=LAW_LABELS.get(label, label), **series_style(label, i))
         finals.append(abs(cols[name][-1]))
     positive = [f for f in finals if f > 0.0]
     if len(positive) > 1 and max(positive) / min(positive) > 100.0:

@@ -187,8 +187,8 @@ def plot_table(csv_path: Path, png_path: Path) -> Path:
     ax.axhline(1.0, color="k", linewidth=0.6)
     ax.set_xticks(x, labels, fontsize=7)
     ax.set_ylabel("cost relative to RK4 h = 1e-3 [-]")
-    ax.set_title(f"{csv_path.stem.split('_')[0].capitalize()} ({csv_path.stem.split('_')[1]}): "
-                 "relative cost per law and step mode")
+    number, scene = csv_path.stem.split("_")[:2]
+    ax.set_title(f"Table {number[5:]} ({scene}): cost relative to RK4 with h = 1e-3 s, per law")
     ax.legend(loc="upper left")
     return c.save_figure(fig, png_path)
 
