@@ -1,0 +1,59 @@
+"""Smoke test of the benchmark driver: `python -m benchmarks --quick` into tmp_path writes a
+complete CSV with finite, positive ratios, a PNG and a summary. No timing assertions."""
+from __future__ import annotations
+
+import csv
+import math
+import shutil
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    if shutil.which("gfortran") is None or shutil.which("cc") is None:
+        pytest.skip("compilers not found")
+    monkeypatch.syspath_prepend(str(ROOT))
+    monkeypatch.setenv("PATH", f"{Path(sys.executable).parent}:{__import__('os').environ['PATH']}")
+    from benchmarks.run import FIELDS, QUICK, main
+
+    assert main(["--quick", "--outdir", str(tmp_path)]) == 0
+    with (tmp_path / "benchmarks.csv").open() as fh:
+        reader = csv.DictReader(fh)
+        assert tuple(reader.fieldnames) == FIELDS
+        rows = list(reader)
+    assert (tmp_path / "benchmarks.png").stat().st_size > 0
+    text = (tmp_path / "summary.md").read_text()
+    assert "python -m benchmarks --quick" in text
+
+    fixed = [r for r in rows if r["section"] == "fixed"]
+    impls = {r["impl"] for r in fixed}
+    assert {"c_loop", "stickslip_fortran", "stickslip_python"} <= impls
+    assert len(fixed) >= 3 * len(QUICK.fixed)
+    for r in fixed:
+        for key in ("ratio_step", "ratio_eval", "ratio_time", "ns_per_step", "ns_per_eval"):
+            x = float(r[key])
+            assert math.isfinite(x) and x > 0, (r["impl"], key, r[key])
+        assert int(r["nfev"]) >= 4 * int(r["nstep"]) > 0
+    # Every implementation of the fixed section reaches the same state (same h, same method).
+    xs = [float(r["x_end_m"]) for r in fixed if r["impl"] != "gsl"]
+    assert max(xs) - min(xs) < 1e-10
+
+    adaptive = [r for r in rows if r["section"] == "adaptive"]
+    methods = {(r["impl"], r["method"]) for r in adaptive}
+    assert {("stickslip_fortran", "dopri5"), ("stickslip_python", "dopri5")} <= methods
+    assert {("scipy", m) for m in QUICK.scipy_methods} <= methods
+    assert len(adaptive) == len(methods) * len(QUICK.tols) * len(QUICK.adaptive)
+    for r in adaptive:
+        for key in ("ratio_step", "ratio_eval", "ratio_time", "err"):
+            x = float(r[key])
+            assert math.isfinite(x) and x > 0, (r["impl"], r["method"], key, r[key])
+
+    eq = [r for r in rows if r["section"] == "equal_accuracy"]
+    assert any(r["impl"] == "stickslip_fortran" for r in eq)
+    for r in eq:
+        x = float(r["ratio_time"])
+        assert math.isfinite(x) and x > 0
