@@ -287,6 +287,7 @@ class Run:
     hmin: float = 1e-6
     hmax: float = 1e-2
     params: tuple[tuple[str, float], ...] = ()
+    max_steps: int | None = None          # None: the library's default budget
 
     def kwargs(self) -> dict[str, Any]:
         """Keyword arguments of stickslip.simulate."""
@@ -296,6 +297,8 @@ class Run:
             kw["h"] = self.h
         else:
             kw.update(rtol=self.rtol, atol=self.atol, hmin=self.hmin, hmax=self.hmax)
+        if self.max_steps is not None:
+            kw["max_steps"] = self.max_steps
         return kw
 
     def label(self) -> str:
@@ -322,11 +325,19 @@ class Outcome:
     wall_seconds: float = 0.0
 
 
+class SimulationFailed(RuntimeError):
+    """A run ended before t_end; the message names the run and the library's reason.
+    (stickslip's IntegrationError carries a Result and does not cross process boundaries.)"""
+
+
 def simulate_run(run: Run) -> Outcome:
-    """Run one simulation (in a worker process). Integration errors propagate."""
+    """Run one simulation (in a worker process); raises SimulationFailed if it ends early."""
     import stickslip
     t0 = time.perf_counter()
-    r = stickslip.simulate(run.scene, run.law, **run.kwargs())
+    try:
+        r = stickslip.simulate(run.scene, run.law, **run.kwargs())
+    except stickslip.IntegrationError as exc:
+        raise SimulationFailed(f"{run.label()}, t_end = {run.t_end:g} s: {exc}") from None
     return Outcome(r.t, r.x, r.v, dict(r.stats), time.perf_counter() - t0)
 
 

@@ -255,9 +255,12 @@ def main(spec: SceneSpec, argv: Sequence[str] | None, *, description: str, t_end
     args = parser.parse_args(argv)
     params = {**c.law_params(args), **scene_params(args)}
     c.log(f"{spec.scene}: simulating ({args.workers} workers)", args.quiet)
-    files = run_scene(args.outdir, t_end=args.t_end, n_out=args.points, params=params,
-                      rtols=args.rtols, atol_ratio=args.atol_ratio, workers=args.workers,
-                      quiet=args.quiet)
+    try:
+        files = run_scene(args.outdir, t_end=args.t_end, n_out=args.points, params=params,
+                          rtols=args.rtols, atol_ratio=args.atol_ratio, workers=args.workers,
+                          quiet=args.quiet)
+    except c.SimulationFailed as exc:
+        parser.exit(1, f"{parser.prog}: simulation failed: {exc}\n")
     files += [plot(f, args.outdir) for f in files if f.suffix == ".csv"]
     for f in sorted(files):
         print(f)

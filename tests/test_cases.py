@@ -251,6 +251,14 @@ def test_belt_proposed_grows_into_stick_slip(belt_dir: Path) -> None:
         assert float(r["min_v_rel_last_period [m/s]"]) == pytest.approx(V_B - x_k * w, abs=1e-3)
 
 
+def test_failed_run_is_reported_across_processes() -> None:
+    """A run that exhausts its step budget in a worker surfaces as SimulationFailed naming it."""
+    ok = _common.Run("slope", "recurdyn", "rk4", 0.1, 11, h=1e-3)
+    bad = _common.Run("slope", "recurdyn", "rk4", 0.1, 11, h=1e-3, max_steps=10)
+    with pytest.raises(_common.SimulationFailed, match="slope recurdyn rk4 h=0.001"):
+        _common.run_all([ok, bad], workers=2, quiet=True)
+
+
 # ---------------------------------------------------------------- python -m cases, CLI errors
 def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     files = cases_main.main(["--outdir", str(tmp_path), "--only", "laws", "--quiet"])
