@@ -8,7 +8,7 @@
 module stickslip_rk4
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
                                SS_NONFINITE, SS_OUTPUT_FULL
-    use stickslip_ode, only: ode_system, ode_stats, check_problem, all_finite
+    use stickslip_ode, only: ode_system, ode_stats, check_problem
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -52,7 +52,7 @@ contains
 
         real(dp) :: y(size(y0)), y1(size(y0)), f0(size(y0)), f1(size(y0))
         real(dp) :: k2(size(y0)), k3(size(y0)), k4(size(y0)), ytmp(size(y0))
-        real(dp) :: t, t1, hs, nsteps_real
+        real(dp) :: t, t1, hs, nsteps_real, t_next
         integer(8) :: i, nsteps, n_total, budget
         integer :: m, next
         logical :: steps_mode
@@ -96,6 +96,8 @@ contains
             end do
         end if
 
+        t_next = huge(1.0_dp)
+        if (.not. steps_mode .and. next <= m) t_next = t_out(next)
         do i = 1, nsteps
             if (i == n_total) then
                 t1 = t_end
@@ -116,7 +118,7 @@ contains
             stats%naccept = stats%naccept + 1
             stats%h_last = hs
 
-            if (.not. all_finite(y1)) then
+            if (.not. all(ieee_is_finite(y1))) then   ! inline: no call in the hot loop
                 stats%status = SS_NONFINITE
                 exit
             end if
@@ -129,7 +131,7 @@ contains
                 t_out(next) = t1
                 y_out(:, next) = y1
                 next = next + 1
-            else
+            else if (t1 >= t_next) then   ! an output time in this step (t_next = huge: none left)
                 do while (next <= m)
                     if (t_out(next) > t1) exit
                     if (t_out(next) == t1) then
@@ -139,6 +141,8 @@ contains
                     end if
                     next = next + 1
                 end do
+                t_next = huge(1.0_dp)
+                if (next <= m) t_next = t_out(next)
             end if
 
             y = y1
