@@ -261,6 +261,20 @@ def law_params(args: argparse.Namespace) -> dict[str, float]:
     return p
 
 
+def checked_law_params(parser: argparse.ArgumentParser,
+                       args: argparse.Namespace) -> dict[str, float]:
+    """law_params(args), validated by the library (each law evaluated once): a bad value ends
+    the command with the library's message naming the parameter and its accepted range."""
+    import stickslip
+    params = law_params(args)
+    try:
+        for law in stickslip.LAWS:
+            stickslip.friction_coefficient(law, 0.0, **params)
+    except ValueError as exc:
+        parser.error(str(exc))
+    return params
+
+
 def log(message: str, quiet: bool = False) -> None:
     """A progress line on stderr."""
     if not quiet:

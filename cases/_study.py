@@ -253,7 +253,7 @@ def main(spec: SceneSpec, argv: Sequence[str] | None, *, description: str, t_end
     add_scene_options(parser)
     c.add_law_options(parser)
     args = parser.parse_args(argv)
-    params = {**c.law_params(args), **scene_params(args)}
+    params = {**c.checked_law_params(parser, args), **scene_params(args)}
     c.log(f"{spec.scene}: simulating ({args.workers} workers)", args.quiet)
     try:
         files = run_scene(args.outdir, t_end=args.t_end, n_out=args.points, params=params,
@@ -261,6 +261,8 @@ def main(spec: SceneSpec, argv: Sequence[str] | None, *, description: str, t_end
                           quiet=args.quiet)
     except c.SimulationFailed as exc:
         parser.exit(1, f"{parser.prog}: simulation failed: {exc}\n")
+    except ValueError as exc:                 # a scene parameter the library rejects
+        parser.error(str(exc))
     files += [plot(f, args.outdir) for f in files if f.suffix == ".csv"]
     for f in sorted(files):
         print(f)

@@ -77,7 +77,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="points per velocity grid (default %(default)s)")
     c.add_law_options(parser)
     args = parser.parse_args(argv)
-    files = run(args.outdir, params=c.law_params(args), v_max=args.v_max, n_points=args.points)
+    files = run(args.outdir, params=c.checked_law_params(parser, args), v_max=args.v_max, n_points=args.points)
     files += [plot(f, args.outdir) for f in files]
     for f in files:
         print(f)

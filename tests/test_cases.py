@@ -267,7 +267,16 @@ def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[
     assert str(tmp_path) in capsys.readouterr().out
 
 
-def test_cli_rejects_bad_duration(tmp_path: Path) -> None:
-    with pytest.raises(SystemExit):
-        slope.main(["--outdir", str(tmp_path), "--t-end", "-1"])
-    assert not list(tmp_path.iterdir())
+@pytest.mark.parametrize("driver,argv,named", [(slope, ["--t-end", "-1"], "--t-end"),
+                                               (laws, ["--a", "0.5"], "a: must be"),
+                                               (belt, ["--mu-k", "0.5"], "mu_k: must be"),
+                                               (slope, ["--theta-deg", "95"], "theta_deg: must be")])
+def test_cli_rejects_bad_input(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                               driver, argv: list[str], named: str) -> None:
+    """Bad values end the command with a usage error naming the parameter (exit 2) and write
+    nothing."""
+    with pytest.raises(SystemExit) as exit_info:
+        driver.main(["--outdir", str(tmp_path), *argv])
+    assert exit_info.value.code == 2
+    assert named in capsys.readouterr().err
+    assert not list(tmp_path.glob("*.csv"))
