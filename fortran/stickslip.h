@@ -90,7 +90,7 @@ typedef struct {
     double fac1;          /* smallest step ratio, 0.2 */
     double fac2;          /* largest step ratio, 10 */
     double beta;          /* PI stabilisation exponent, 0.04 */
-    int64_t max_steps;    /* budget of attempted steps (default 100000; RK4 uses it too) */
+    int64_t max_steps;    /* budget of attempted steps (default 10^8; RK4 uses it too) */
     int nstiff;           /* stiffness test every nstiff accepted steps (1000) */
     int allow_forced;     /* 1: take steps at hmin when the error test fails there (1) */
     int stop_on_stiff;    /* 1: stop with SS_STIFF when judged stiff (0) */

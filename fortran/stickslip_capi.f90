@@ -102,7 +102,7 @@ contains
         p = to_c_params(d)
     end subroutine ss_params_default
 
-    !> Fill `o` with the library's default controls (Hairer's, max_steps = 10^5).
+    !> Fill `o` with the library's default controls (Hairer's, h_min = 0, max_steps = 10^8).
     subroutine ss_dopri5_options_default(o) bind(C, name='ss_dopri5_options_default')
         type(ss_dopri5_options), intent(out) :: o   !! controls to fill
         type(dopri5_options) :: d
@@ -194,7 +194,7 @@ contains
             call put_stats(st, status, stats)
             return
         end if
-        call get_options(opts, fo, method == METHOD_RK4)
+        call get_options(opts, fo)
         call simulate(int(scene), int(law), int(method), to_f_params(p), x0, v0, t_end, h, [rtol], [atol], &
                       fo, t_out(1:n_out), y_out(:, 1:n_out), st)
         status = int(st%status, c_int)
@@ -229,7 +229,7 @@ contains
             sys%f = f
             sys%data = data
             sys%n = n
-            call get_options(opts, fo, .false.)
+            call get_options(opts, fo)
             call run(y_out)
             status = int(st%status, c_int)
         end if
@@ -267,7 +267,7 @@ contains
             sys%f = f
             sys%data = data
             sys%n = n
-            call get_options(opts, fo, .true.)
+            call get_options(opts, fo)
             call run(y_out)
             status = int(st%status, c_int)
         end if
@@ -320,17 +320,14 @@ contains
                       m=q%m, g=q%g, theta_deg=q%theta_deg, k=q%k, v_b=q%v_b)
     end function to_c_params
 
-    !> Options from a C pointer (NULL: the defaults; for RK4 without a step budget).
-    subroutine get_options(opts, fo, rk4)
+    !> Options from a C pointer (NULL: the defaults).
+    subroutine get_options(opts, fo)
         type(c_ptr), intent(in) :: opts
         type(dopri5_options), intent(inout) :: fo
-        logical, intent(in) :: rk4     !! the options are for RK4
         type(ss_dopri5_options), pointer :: o
         if (c_associated(opts)) then
             call c_f_pointer(opts, o)
             call to_f_options(o, fo)
-        else if (rk4) then
-            fo%max_steps = huge(1_c_int64_t)
         end if
     end subroutine get_options
 

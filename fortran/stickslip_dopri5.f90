@@ -60,7 +60,7 @@ module stickslip_dopri5
                            d4 = -10690763975.0_dp/1880347072.0_dp, d5 = 701980252875.0_dp/199316789632.0_dp, &
                            d6 = -1453857185.0_dp/822651844.0_dp, d7 = 69997945.0_dp/29380423.0_dp
 
-    !> Controls of the integration; defaults are Hairer's, except h_min and max_steps.
+    !> Controls of the integration; defaults are Hairer's, except h_min (a floor we add) and max_steps.
     type :: dopri5_options
         real(dp) :: hmin = 0.0_dp       !! step size floor; forced steps happen there (0: none) [s]
         real(dp) :: hmax = 0.0_dp       !! largest step (0: t_end - t0) [s]
@@ -69,7 +69,10 @@ module stickslip_dopri5
         real(dp) :: fac1 = 0.2_dp       !! smallest step ratio h_new/h
         real(dp) :: fac2 = 10.0_dp      !! largest step ratio h_new/h
         real(dp) :: beta = 0.04_dp      !! PI (Lund) stabilisation exponent (0: plain I control)
-        integer(8) :: max_steps = 100000_8  !! budget of attempted steps (NMAX)
+        !> Budget of attempted steps (NMAX). Hairer's default is 1e5; ours is 1e8 because
+        !! event-free runs through a friction jump take up to (t_end - t0)/h_min steps
+        !! (2e7 for 20 s at 1e-6 s), and stickslip_simulate applies it to RK4 as well.
+        integer(8) :: max_steps = 100000000_8
         integer  :: nstiff = 1000       !! test stiffness every nstiff accepted steps
         logical  :: allow_forced = .true.   !! take steps at h_min when the error test fails there
         logical  :: stop_on_stiff = .false. !! stop with SS_STIFF when the stiffness test fires
