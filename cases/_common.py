@@ -340,8 +340,8 @@ class Outcome:
 
 
 class SimulationFailed(RuntimeError):
-    """A run ended before t_end; the message names the run and the library's reason.
-    (stickslip's IntegrationError carries a Result and does not cross process boundaries.)"""
+    """A run ended before t_end; the message names the run and the library's reason
+    (without the partial Result, which the parent process has no use for)."""
 
 
 def simulate_run(run: Run) -> Outcome:

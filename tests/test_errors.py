@@ -100,3 +100,12 @@ def test_blow_up_is_reported_not_nan():
     with pytest.raises(ss.NonFiniteSolution) as err:
         sim(scene="belt", law="coulomb", method="rk4", h=0.5, t_end=1e4, k=1e6)
     assert np.all(np.isfinite(err.value.result.x))
+
+
+def test_integration_error_pickles():
+    import pickle
+    with pytest.raises(ss.StepBudgetExhausted) as err:
+        sim(max_steps=3)
+    back = pickle.loads(pickle.dumps(err.value))
+    assert type(back) is ss.StepBudgetExhausted and back.status == err.value.status
+    assert str(back) == str(err.value) and back.result.stats["nstep"] == 3

@@ -67,6 +67,10 @@ class IntegrationError(RuntimeError):
             f"{status_message(status)} (status {status}; reached t = {result.stats['t_reached']:.6g} s "
             f"of {result.t_end:.6g} s after {result.stats['nstep']} steps)")
 
+    def __reduce__(self):
+        # picklable (process pools re-raise it in the parent) despite the 2-argument __init__
+        return (type(self), (self.status, self.result))
+
 
 class StepBudgetExhausted(IntegrationError):
     """max_steps attempted steps did not reach t_end."""
