@@ -27,6 +27,9 @@ Classification of a run (from the batch summary, second half of the run = its "t
 - chattering: the relative velocity changes sign in the tail (the box moves uphill, the mass
   overtakes the belt), or the velocity reverses direction at >= 25% of the tail's monitor
   points (a numerical limit cycle);
+- spurious (slope only): the tail stays more than 0.1% away from the creep speed v*, steady or
+  not: beyond h_lin RK4 settles on a spurious fixed point of its map (a constant v != v*,
+  with x'' != 0: Yee, Sweby & Griffiths 1991), which looks smooth but is wrong;
 - stable otherwise.
 """
 from __future__ import annotations
@@ -45,7 +48,7 @@ SCENES: tuple[str, ...] = ("slope", "belt")
 LAWS: tuple[str, ...] = ("coulomb", "recurdyn", "proposed")
 RK4_LIMIT: float = 2.785293563405282     # RK4 stability interval on the negative real axis
 N_GRID: int = 2001
-CLASSES: tuple[str, ...] = ("stable", "chattering", "unstable")
+CLASSES: tuple[str, ...] = ("stable", "chattering", "spurious", "unstable")
 MAP_HEADER: list[str] = ["scene [-]", "law [-]", "v_s [m/s]", "h [s]", "h_lin [s]", "t_end [s]",
                          "status [-]", "nfev [-]", "v_max [m/s]", "n_flip_tail [-]",
                          "n_rev_tail [-]", "class [-]"]
@@ -109,12 +112,26 @@ def belt_stick_start(law: str, v_s: float) -> tuple[float, float]:
     return x0, p["v_b"] - stick_velocity(law, 0.5 * p["mu_s"], p)
 
 
+def creep_speed(law: str, v_s: float) -> float:
+    """Steady creep speed v* [m/s] of the box on the slope, mu(v*) = tan(theta); nan for
+    Coulomb (it has none: mu jumps from 0 to mu_s)."""
+    p = _params(v_s=v_s)
+    if law == "coulomb":
+        return math.nan
+    return stick_velocity(law, math.tan(math.radians(p["theta_deg"])), p)
+
+
 def classify(b: Any, i: int, v_bound: float, n_grid: int = N_GRID) -> str:
-    """stable / chattering / unstable for row i of a BatchResult (module docstring)."""
+    """stable / chattering / spurious / unstable for row i of a BatchResult (module docstring)."""
     if b.status[i] != 0 or not math.isfinite(b.v_max[i]) or b.v_max[i] > v_bound:
         return "unstable"
     if b.n_flip_tail[i] > 0 or b.n_rev_tail[i] >= 0.25 * (n_grid - 1) / 2:
         return "chattering"
+    if b.scene[i] == "slope":
+        v_star = creep_speed(str(b.law[i]), float(b.params["v_s"][i]))
+        if math.isfinite(v_star) and max(abs(b.vrel_min_tail[i] - v_star),
+                                         abs(b.vrel_max_tail[i] - v_star)) > 1e-3 * v_star:
+            return "spurious"
     return "stable"
 
 
@@ -233,7 +250,7 @@ def extremes(quick: bool = False, threads: int = 2) -> list[list[Any]]:
     # One batch per method keeps the per-row options simple; rows default to t_end = 20 s.
     for method in ("rk4", "dopri5"):
         sel = [(name, kw) for name, kw in cases if kw["method"] == method]
-        rows = [dict({"t_end": 20.0, "max_steps": 10**8, "v0": 0.0}, **kw) for _, kw in sel]
+        rows = [dict({"t_end": 20.0, "max_steps": 3 * 10**8, "v0": 0.0}, **kw) for _, kw in sel]
         keys = sorted({k for r in rows for k in r} - {"scene", "law", "method"})
         cols: dict[str, Any] = {}
         for k in keys:
@@ -330,7 +347,8 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
     cols = c.read_csv(csv)
     is_rk4 = "h [s]" in cols
     fig, axes = plt.subplots(len(SCENES), len(LAWS), figsize=(11.0, 6.6), squeeze=False)
-    colors = {"stable": "tab:green", "chattering": "tab:orange", "unstable": "tab:red"}
+    colors = {"stable": "tab:green", "chattering": "tab:orange", "spurious": "tab:purple",
+              "unstable": "tab:red"}
     for a, s in enumerate(SCENES):
         for b, l in enumerate(LAWS):
             ax = axes[a][b]
