@@ -267,6 +267,36 @@ def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[
     assert str(tmp_path) in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("argv,expected", [
+    ([], ["laws", "slope", "belt"]),
+    (["--all", "--threads", "1"], ["laws", "slope", "belt", "workprecision", "stability"]),
+    (["--only", "stability"], ["stability"]),
+])
+def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                              argv: list[str], expected: list[str]) -> None:
+    """The paper's drivers by default, the studies only with --all, each with its options."""
+    calls: list[tuple[str, list[str]]] = []
+
+    class Fake:
+        def __init__(self, name: str) -> None:
+            self.name = name
+
+        def main(self, args: list[str]) -> list[Path]:
+            calls.append((self.name, args))
+            return []
+
+    monkeypatch.setattr(cases_main.importlib, "import_module",
+                        lambda mod: Fake(mod.removeprefix("cases.")))
+    cases_main.main(["--outdir", str(tmp_path), "--quiet", *argv])
+    assert [name for name, _ in calls] == expected
+    for name, args in calls:
+        assert args[:2] == ["--outdir", str(tmp_path)]
+        if name in ("workprecision", "stability"):
+            assert "--threads" in args and "--workers" not in args
+        elif name != "laws":
+            assert "--workers" in args
+
+
 @pytest.mark.parametrize("driver,argv,named", [(slope, ["--t-end", "-1"], "--t-end"),
                                                (laws, ["--a", "0.5"], "a: must be"),
                                                (belt, ["--mu-k", "0.5"], "mu_k: must be"),
