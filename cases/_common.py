@@ -235,6 +235,23 @@ def add_common_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
+def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[Path]],
+               argv: Sequence[str] | None) -> list[Path]:
+    """The command line of a study driver (workprecision, stability): --outdir, --quick,
+    --threads (OpenMP threads of simulate_batch) and --quiet, then run(outdir, quick=,
+    threads=, quiet=)."""
+    parser = argparse.ArgumentParser(prog=f"python -m {module}", description=doc.split("\n\n")[0])
+    parser.add_argument("--outdir", type=Path, default=Path("out"),
+                        help="directory for CSV and PNG files (default: out/)")
+    parser.add_argument("--quick", action="store_true", help=quick_help)
+    parser.add_argument("--threads", type=int, default=2, help="OpenMP threads (default 2)")
+    parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    args = parser.parse_args(argv)
+    if args.threads < 1:
+        parser.error("--threads must be >= 1")
+    return run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet)
+
+
 def add_law_options(parser: argparse.ArgumentParser) -> None:
     """The friction-law parameters (Table 1 defaults come from stickslip.DEFAULTS)."""
     from stickslip import DEFAULTS

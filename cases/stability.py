@@ -34,7 +34,6 @@ Classification of a run (from the batch summary, second half of the run = its "t
 """
 from __future__ import annotations
 
-import argparse
 import math
 import time
 from pathlib import Path
@@ -390,18 +389,8 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Command line: python -m cases.stability [--outdir DIR] [--quick] [--threads N]."""
-    parser = argparse.ArgumentParser(prog="python -m cases.stability",
-                                     description=__doc__.split("\n\n")[0])
-    parser.add_argument("--outdir", type=Path, default=Path("out"),
-                        help="directory for CSV and PNG files (default: out/)")
-    parser.add_argument("--quick", action="store_true",
-                        help="coarser maps and no 2e8-step run (a few seconds)")
-    parser.add_argument("--threads", type=int, default=2, help="OpenMP threads (default 2)")
-    parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
-    args = parser.parse_args(argv)
-    if args.threads < 1:
-        parser.error("--threads must be >= 1")
-    return run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet)
+    return c.study_main("cases.stability", __doc__,
+                        "coarser maps and no 2e8-step run (a few seconds)", run, argv)
 
 
 if __name__ == "__main__":

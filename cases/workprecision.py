@@ -28,7 +28,6 @@ log(rtol) (1 = tolerance proportionality).
 """
 from __future__ import annotations
 
-import argparse
 import math
 from pathlib import Path
 from typing import Any, Sequence
@@ -206,18 +205,9 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Command line: python -m cases.workprecision [--outdir DIR] [--quick] [--threads N]."""
-    parser = argparse.ArgumentParser(prog="python -m cases.workprecision",
-                                     description=__doc__.split("\n\n")[0])
-    parser.add_argument("--outdir", type=Path, default=Path("out"),
-                        help="directory for CSV and PNG files (default: out/)")
-    parser.add_argument("--quick", action="store_true",
-                        help=f"t_end = {T_END_QUICK} s, h >= 1e-5 s, rtol >= 1e-10 (a few seconds)")
-    parser.add_argument("--threads", type=int, default=2, help="OpenMP threads (default 2)")
-    parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
-    args = parser.parse_args(argv)
-    if args.threads < 1:
-        parser.error("--threads must be >= 1")
-    return run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet)
+    return c.study_main("cases.workprecision", __doc__,
+                        f"t_end = {T_END_QUICK} s, h >= 1e-5 s, rtol >= 1e-10 (a few seconds)",
+                        run, argv)
 
 
 if __name__ == "__main__":

@@ -226,9 +226,7 @@ contains
         type(ode_stats) :: st
         status = check_user(f, n, ntol, n_out)
         if (status == SS_OK) then
-            sys%f = f
-            sys%data = data
-            sys%n = n
+            sys = c_system(f=f, data=data, n=n)
             call get_options(opts, fo)
             call run(y_out)
             status = int(st%status, c_int)
@@ -264,9 +262,7 @@ contains
         type(ode_stats) :: st
         status = check_user(f, n, 1_c_int, n_out)
         if (status == SS_OK) then
-            sys%f = f
-            sys%data = data
-            sys%n = n
+            sys = c_system(f=f, data=data, n=n)
             call get_options(opts, fo)
             call run(y_out)
             status = int(st%status, c_int)

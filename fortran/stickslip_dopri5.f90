@@ -16,7 +16,7 @@ module stickslip_dopri5
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_STIFF, &
                                SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, &
                                SS_BAD_HMAX, SS_BAD_MAX_STEPS, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM
-    use stickslip_ode, only: ode_system, ode_stats, check_problem, all_finite
+    use stickslip_ode, only: ode_system, ode_stats, check_problem, all_finite, output_start
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -149,18 +149,7 @@ contains
         h = min(max(h, opts%hmin), hmax)
         stats%t_reached = t
 
-        next = 1
-        if (opts%every_step) then
-            t_out(1) = t0
-            y_out(:, 1) = y0
-            next = 2
-        else
-            do while (next <= m)
-                if (t_out(next) > t0) exit
-                y_out(:, next) = y0
-                next = next + 1
-            end do
-        end if
+        call output_start(t0, y0, t_out, y_out, opts%every_step, next)
 
         do
             if (stats%nstep >= opts%max_steps) then

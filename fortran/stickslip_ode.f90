@@ -14,7 +14,7 @@ module stickslip_ode
     implicit none
     private
 
-    public :: ode_system, ode_stats, check_problem, all_finite
+    public :: ode_system, ode_stats, check_problem, all_finite, output_start
 
     !> A first-order system y' = f(t, y).
     type, abstract :: ode_system
@@ -82,6 +82,29 @@ contains
             end do
         end if
     end function check_problem
+
+    !> Write the rows due at t0: in every-step mode row 1 = (t0, y0); in grid mode y0 at every
+    !! requested time equal to t0. `next` is the index of the next row to write.
+    pure subroutine output_start(t0, y0, t_out, y_out, every_step, next)
+        real(dp), intent(in)    :: t0           !! initial time [s]
+        real(dp), intent(in)    :: y0(:)        !! initial state
+        real(dp), intent(inout) :: t_out(:)     !! output times (checked by check_problem) [s]
+        real(dp), intent(inout) :: y_out(:, :)  !! (size(y0), size(t_out)) output states
+        logical, intent(in)     :: every_step   !! every-step mode
+        integer, intent(out)    :: next         !! next row to write
+        next = 1
+        if (every_step) then
+            t_out(1) = t0
+            y_out(:, 1) = y0
+            next = 2
+        else
+            do while (next <= size(t_out))
+                if (t_out(next) > t0) exit
+                y_out(:, next) = y0
+                next = next + 1
+            end do
+        end if
+    end subroutine output_start
 
     !> .true. when every component of y is finite.
     pure logical function all_finite(y)

@@ -8,7 +8,7 @@
 module stickslip_rk4
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
                                SS_NONFINITE, SS_OUTPUT_FULL
-    use stickslip_ode, only: ode_system, ode_stats, check_problem
+    use stickslip_ode, only: ode_system, ode_stats, check_problem, output_start
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -83,18 +83,7 @@ contains
         t = t0
         call sys%rhs(t, y, f0)
         stats%nfev = 1
-        next = 1
-        if (steps_mode) then
-            t_out(1) = t0
-            y_out(:, 1) = y0
-            next = 2
-        else
-            do while (next <= m)
-                if (t_out(next) > t0) exit
-                y_out(:, next) = y0
-                next = next + 1
-            end do
-        end if
+        call output_start(t0, y0, t_out, y_out, steps_mode, next)
 
         t_next = huge(1.0_dp)
         if (.not. steps_mode .and. next <= m) t_next = t_out(next)
