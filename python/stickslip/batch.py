@@ -19,7 +19,7 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (DEFAULTS, LAWS, METHODS, SCENES, STATUS_OK, _CODES, _FIRST_INPUT_CODE,
-                   _PARAM_ORDER, status_message)
+                   _PARAM_ORDER, _check_names, _choice, _count, status_message)
 
 #: Largest n_sets * n_grid the facade allocates when the grid is kept (2 doubles each).
 MAX_GRID_VALUES = 20_000_000
@@ -104,8 +104,7 @@ def _real(name: str, value: Any, accepted: str) -> np.ndarray:
 def _codes(name: str, value: str | Sequence[str], accepted: tuple[str, ...]) -> np.ndarray:
     names = [value] if isinstance(value, str) else list(value)
     for v in names:
-        if v not in accepted:
-            raise ValueError(f"{name}: unknown value {v!r} (accepted: {', '.join(accepted)})")
+        _choice(name, v, accepted)
     return np.array(names, dtype=object)
 
 
@@ -131,13 +130,9 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     Raises ValueError for bad input (the message names the parameter, and the row when the
     library finds it).
     """
-    if isinstance(threads, bool) or int(threads) != threads or threads < 1:
-        raise ValueError(f"threads: must be an integer >= 1, got {threads!r}")
-    if isinstance(n_grid, bool) or int(n_grid) != n_grid or n_grid < 1:
-        raise ValueError(f"n_grid: must be an integer >= 1, got {n_grid!r}")
-    unknown = sorted(set(params) - set(_PARAM_ORDER))
-    if unknown:
-        raise ValueError(f"unknown parameter(s) {', '.join(unknown)} (accepted: {', '.join(_PARAM_ORDER)})")
+    threads = _count("threads", threads)
+    n_grid = _count("n_grid", n_grid)
+    _check_names(params, _PARAM_ORDER)
 
     cols: dict[str, np.ndarray] = {
         "scene": _codes("scene", scene, SCENES),

@@ -132,6 +132,24 @@ def _finite(name: str, value: Any, accepted: str) -> float:
     return x
 
 
+def _count(name: str, value: Any, low: int = 1, high: int | None = None) -> int:
+    """An integer in [low, high] (not a bool), or ValueError naming the parameter."""
+    ok = not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating)) \
+        and math.isfinite(value) and int(value) == value and value >= low \
+        and (high is None or value <= high)
+    if not ok:
+        bounds = f"in [{low}, {high}]" if high is not None else f">= {low}"
+        raise ValueError(f"{name}: must be an integer {bounds}, got {value!r}")
+    return int(value)
+
+
+def _check_names(params: Mapping[str, Any], allowed: tuple[str, ...]) -> None:
+    """ValueError naming the parameters that are not in `allowed`."""
+    unknown = sorted(set(params) - set(allowed))
+    if unknown:
+        raise ValueError(f"unknown parameter(s) {', '.join(unknown)} (accepted: {', '.join(allowed)})")
+
+
 def _check_code(status: int) -> None:
     """Raise ValueError for a bad-input status: the message names the parameter and range."""
     if status <= _FIRST_INPUT_CODE:
@@ -141,9 +159,7 @@ def _check_code(status: int) -> None:
 def resolve_params(params: Mapping[str, Any], allowed: tuple[str, ...] = _PARAM_ORDER) -> dict[str, float]:
     """Merge user parameters over DEFAULTS, reject unknown names, check finiteness.
     Range checks are the library's (it names the parameter and the accepted range)."""
-    unknown = sorted(set(params) - set(allowed))
-    if unknown:
-        raise ValueError(f"unknown parameter(s) {', '.join(unknown)} (accepted: {', '.join(allowed)})")
+    _check_names(params, allowed)
     merged = {name: DEFAULTS[name] for name in allowed}
     merged.update(params)
     if merged.get("v_d", 0.0) is None:
@@ -200,9 +216,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, h: float | None
 
     if max_steps is None:
         max_steps = 10**6 if (every_step and method == "dopri5") else 10**8
-    if isinstance(max_steps, bool) or int(max_steps) != max_steps or max_steps < 1:
-        raise ValueError(f"max_steps: must be an integer >= 1, got {max_steps!r}")
-    max_steps = int(max_steps)
+    max_steps = _count("max_steps", max_steps)
 
     if every_step:
         if n_out is not None:
@@ -216,10 +230,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, h: float | None
                              "lower max_steps or use n_out")
         t_grid = np.zeros(rows)
     else:
-        n_out = 1001 if n_out is None else n_out
-        if isinstance(n_out, bool) or int(n_out) != n_out or not 1 <= n_out <= MAX_ROWS:
-            raise ValueError(f"n_out: must be an integer in [1, {MAX_ROWS}], got {n_out!r}")
-        t_grid = np.linspace(0.0, t_end, int(n_out)) if n_out > 1 else np.array([t_end])
+        n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
+        t_grid = np.linspace(0.0, t_end, n_out) if n_out > 1 else np.array([t_end])
 
     cpu0 = time.process_time()
     y, istats, rstats, status = _ext.run_simulation(
