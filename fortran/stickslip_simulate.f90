@@ -10,7 +10,7 @@ module stickslip_simulate
     implicit none
     private
 
-    public :: scene_params, simulate, make_system
+    public :: scene_params, scene_params_from, simulate, make_system
 
     integer, parameter, public :: METHOD_RK4 = 1      !! classical RK4, fixed step
     integer, parameter, public :: METHOD_DOPRI5 = 2   !! Dormand-Prince 5(4), adaptive
@@ -32,6 +32,15 @@ module stickslip_simulate
     end type scene_params
 
 contains
+
+    !> Parameters from an array in the order (mu_s, mu_k, v_s, v_d, beta, a, m, g, theta_deg,
+    !! k, v_b): the layout the Python wrapper passes.
+    pure function scene_params_from(p) result(sp)
+        real(dp), intent(in) :: p(11)   !! parameters in the order above, SI units
+        type(scene_params) :: sp
+        sp = scene_params(mu_s=p(1), mu_k=p(2), v_s=p(3), v_d=p(4), beta=p(5), a=p(6), m=p(7), &
+                          g=p(8), theta_deg=p(9), k=p(10), v_b=p(11))
+    end function scene_params_from
 
     !> Build the right-hand side of a scene with a law; returns SS_OK or a bad-input code.
     function make_system(scene, law, p, sys) result(status)

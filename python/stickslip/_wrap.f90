@@ -56,7 +56,7 @@ subroutine run_simulation(scene, law, method, p, x0, v0, t_end, h, rtol, atol, h
     use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double
     use stickslip_ode, only: ode_stats
     use stickslip_dopri5, only: dopri5_options
-    use stickslip_simulate, only: scene_params, simulate
+    use stickslip_simulate, only: scene_params, scene_params_from, simulate
     implicit none
     integer(c_int), intent(in) :: scene, law, method
     real(c_double), intent(in) :: p(11)
@@ -74,8 +74,7 @@ subroutine run_simulation(scene, law, method, p, x0, v0, t_end, h, rtol, atol, h
     type(dopri5_options) :: opts
     type(ode_stats) :: st
 
-    sp = scene_params(mu_s=p(1), mu_k=p(2), v_s=p(3), v_d=p(4), beta=p(5), a=p(6), m=p(7), &
-                      g=p(8), theta_deg=p(9), k=p(10), v_b=p(11))
+    sp = scene_params_from(p)
     opts%hmin = hmin
     opts%hmax = hmax
     opts%h0 = h0
@@ -104,7 +103,7 @@ subroutine run_batch(nset, scene, law, method, p, x0, v0, t_end, h, rtol, atol, 
                      sstatus, istats, rstats, y_grid, status)
     use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double
     use stickslip_dopri5, only: dopri5_options
-    use stickslip_simulate, only: scene_params
+    use stickslip_simulate, only: scene_params, scene_params_from
     use stickslip_batch, only: batch_summary, simulate_batch
     implicit none
     integer(c_int), intent(in) :: nset
@@ -127,9 +126,7 @@ subroutine run_batch(nset, scene, law, method, p, x0, v0, t_end, h, rtol, atol, 
 
     allocate(sp(nset), opts(nset), s(nset))
     do i = 1, nset
-        sp(i) = scene_params(mu_s=p(1, i), mu_k=p(2, i), v_s=p(3, i), v_d=p(4, i), beta=p(5, i), &
-                             a=p(6, i), m=p(7, i), g=p(8, i), theta_deg=p(9, i), k=p(10, i), &
-                             v_b=p(11, i))
+        sp(i) = scene_params_from(p(:, i))
         opts(i)%hmin = hmin(i)
         opts(i)%hmax = hmax(i)
         opts(i)%h0 = h0(i)
