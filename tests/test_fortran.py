@@ -20,3 +20,12 @@ def test_fortran_integrator_suite(native_build):
     assert tuple(int(g) for g in m.groups()[:4]) == (1442, 240, 216, 22)
     assert abs(float(m.group(5)) - 0.9940021016) < 1e-10
     assert abs(float(m.group(6)) - 0.8911185692e-5) < 1e-11
+
+
+def test_meson_test_suite(native_build):
+    """`meson test`: the Fortran unit tests and both examples built in-tree from the core."""
+    from conftest import _tool
+    proc = subprocess.run([_tool("meson"), "test", "-C", str(native_build), "--print-errorlogs"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert re.search(r"Ok:\s+3\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
