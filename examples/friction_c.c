@@ -86,5 +86,11 @@ int main(void) {
         return 1;
     printf("decay_y_end=%.17g\ndecay_exact=%.17g\ndecay_nfev=%lld\ndecay_nstep=%lld\n", y1[0],
            exp(-lambda), (long long)st.nfev, (long long)st.nstep);
+
+    /* ... and with the library's RK4 at h = 0.01 (global error about lambda^5 h^4 t / 120 y). */
+    if (check("ss_rk4", ss_rk4(decay, &lambda, 1, 0.0, &y0, 1.0, 0.01, NULL, 1, t1, y1, &st)))
+        return 1;
+    printf("decay_rk4_y_end=%.17g\ndecay_rk4_nfev=%lld\ndecay_rk4_nstep=%lld\n", y1[0],
+           (long long)st.nfev, (long long)st.nstep);
     return 0;
 }

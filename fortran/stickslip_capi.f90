@@ -17,7 +17,7 @@ module stickslip_capi
     use stickslip_ode, only: ode_system, ode_stats
     use stickslip_rk4, only: rk4_integrate
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
-    use stickslip_simulate, only: scene_params, simulate, METHOD_RK4
+    use stickslip_simulate, only: scene_params, simulate, METHOD_RK4, METHOD_DOPRI5
     implicit none
     private
 
@@ -221,23 +221,8 @@ contains
         real(c_double), intent(inout) :: y_out(*)     !! output states (n_out * n)
         type(c_ptr), value :: stats                   !! ss_stats * (NULL: not returned)
         integer(c_int) :: status
-        type(c_system) :: sys
-        type(dopri5_options) :: fo
-        type(ode_stats) :: st
-        status = check_user(f, n, ntol, n_out)
-        if (status == SS_OK) then
-            sys = c_system(f=f, data=data, n=n)
-            call get_options(opts, fo)
-            call run(y_out)
-            status = int(st%status, c_int)
-        end if
-        call put_stats(st, status, stats)
-    contains
-        subroutine run(yo)
-            real(c_double), intent(inout) :: yo(n, *)
-            call dopri5_integrate(sys, t0, y0(1:n), t_end, rtol(1:ntol), atol(1:ntol), fo, &
-                                  t_out(1:n_out), yo(:, 1:n_out), st)
-        end subroutine run
+        status = integrate_user(METHOD_DOPRI5, f, data, n, t0, y0, t_end, 0.0_c_double, ntol, rtol, &
+                                atol, opts, n_out, t_out, y_out, stats)
     end function ss_dopri5
 
     !> Integrate a C user's ODE with the library's classical RK4, fixed step h.
@@ -257,10 +242,35 @@ contains
         real(c_double), intent(inout) :: y_out(*)     !! output states (n_out * n)
         type(c_ptr), value :: stats                   !! ss_stats * (NULL: not returned)
         integer(c_int) :: status
+        status = integrate_user(METHOD_RK4, f, data, n, t0, y0, t_end, h, 1_c_int, [0.0_c_double], &
+                                [0.0_c_double], opts, n_out, t_out, y_out, stats)
+    end function ss_rk4
+
+    ! -- helpers -------------------------------------------------------------------
+
+    !> What ss_dopri5 and ss_rk4 share: check the problem, wrap the C function as an
+    !! ode_system, run the integrator, report stats.
+    function integrate_user(method, f, data, n, t0, y0, t_end, h, ntol, rtol, atol, opts, n_out, &
+                            t_out, y_out, stats) result(status)
+        integer, intent(in) :: method                 !! METHOD_RK4 or METHOD_DOPRI5
+        type(c_funptr), intent(in) :: f               !! the C right-hand side
+        type(c_ptr), intent(in) :: data               !! passed to f unchanged
+        integer(c_int), intent(in) :: n               !! dimension, >= 1
+        real(c_double), intent(in) :: t0, t_end       !! interval [time unit of f]
+        real(c_double), intent(in) :: y0(*)           !! initial state (n)
+        real(c_double), intent(in) :: h               !! RK4 step size
+        integer(c_int), intent(in) :: ntol            !! 1 or n (DOPRI5)
+        real(c_double), intent(in) :: rtol(*), atol(*)  !! DOPRI5 tolerances (ntol)
+        type(c_ptr), intent(in) :: opts               !! const ss_dopri5_options * (NULL: defaults)
+        integer(c_int), intent(in) :: n_out           !! rows of t_out and y_out, >= 1
+        real(c_double), intent(inout) :: t_out(*)     !! output times
+        real(c_double), intent(inout) :: y_out(*)     !! output states (n_out * n)
+        type(c_ptr), intent(in) :: stats              !! ss_stats * (NULL: not returned)
+        integer(c_int) :: status
         type(c_system) :: sys
         type(dopri5_options) :: fo
         type(ode_stats) :: st
-        status = check_user(f, n, 1_c_int, n_out)
+        status = check_user(f, n, ntol, n_out)
         if (status == SS_OK) then
             sys = c_system(f=f, data=data, n=n)
             call get_options(opts, fo)
@@ -271,12 +281,15 @@ contains
     contains
         subroutine run(yo)
             real(c_double), intent(inout) :: yo(n, *)
-            call rk4_integrate(sys, t0, y0(1:n), t_end, h, t_out(1:n_out), yo(:, 1:n_out), st, &
-                               every_step=fo%every_step, max_steps=fo%max_steps)
+            if (method == METHOD_RK4) then
+                call rk4_integrate(sys, t0, y0(1:n), t_end, h, t_out(1:n_out), yo(:, 1:n_out), st, &
+                                   every_step=fo%every_step, max_steps=fo%max_steps)
+            else
+                call dopri5_integrate(sys, t0, y0(1:n), t_end, rtol(1:ntol), atol(1:ntol), fo, &
+                                      t_out(1:n_out), yo(:, 1:n_out), st)
+            end if
         end subroutine run
-    end function ss_rk4
-
-    ! -- helpers -------------------------------------------------------------------
+    end function integrate_user
 
     !> Dimensions and function pointer of a user problem.
     pure function check_user(f, n, ntol, n_out) result(status)
