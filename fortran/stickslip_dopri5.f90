@@ -5,7 +5,8 @@
 !! atol_i + rtol_i max(|y_i|, |y1_i|), PI (Lund) step control with beta = 0.04,
 !! safety 0.9, step ratio in [0.2, 10], automatic initial step (HINIT), first same as
 !! last, dense output of order 4 (Shampine), stiffness test h |lambda| > 3.25, and
-!! counters counted as DOPRI5 counts them (6 evaluations per attempted step plus 2;
+!! counters counted as DOPRI5 counts them (6 evaluations per attempted step plus 2, or plus 1
+!! when the initial step h0 is given;
 !! no rejection counted before the first accepted step).
 !!
 !! One addition for non-smooth right-hand sides: a step size floor h_min. When the error

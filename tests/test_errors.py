@@ -38,6 +38,7 @@ def sim(**kw):
     ({"atol": -1e-9}, "atol", ">= 0"),
     ({"rtol": 0.0, "atol": 0.0}, "atol", "not both 0"),
     ({"hmin": -1.0}, "hmin", ">= 0"),
+    ({"t_end": 1e-7}, "hmin", "<= t_end - t0"),
     ({"hmax": 1e-7}, "hmax", ">= hmin"),
     ({"hmax": -1.0}, "hmax", "> 0"),
     ({"h0": -1.0}, "h0", ">= 0"),
