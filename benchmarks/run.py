@@ -35,6 +35,8 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from cases._common import atomic_write, write_text   # one way to write a file whole or not at all
+
 ROOT = Path(__file__).resolve().parents[1]
 BIN = Path(sys.executable).parent
 
@@ -340,13 +342,12 @@ def equal_accuracy(adaptive: list[dict], cfg: Config) -> tuple[list[dict], list[
 # -- output -------------------------------------------------------------------------------------
 
 def write_csv(rows: list[dict], path: Path) -> None:
-    tmp = path.with_suffix(".csv.tmp")
-    with tmp.open("w", newline="") as fh:
+    def write(fh) -> None:
         w = csv.DictWriter(fh, fieldnames=FIELDS)
         w.writeheader()
         for r in rows:
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
-    tmp.replace(path)
+    atomic_write(path, write)
 
 
 def plot(rows: list[dict], path: Path) -> None:
@@ -380,10 +381,10 @@ def plot(rows: list[dict], path: Path) -> None:
         ax2.legend(fontsize=7)
         ax2.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
-    tmp = path.with_name(path.stem + ".tmp.png")
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    tmp.replace(path)
+    try:
+        atomic_write(path, lambda fh: fig.savefig(fh, format="png", dpi=110), binary=True)
+    finally:
+        plt.close(fig)
 
 
 def _fmt(x: float, digits: int = 2) -> str:
@@ -460,6 +461,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     write_csv(rows, args.outdir / "benchmarks.csv")
     plot(rows, args.outdir / "benchmarks.png")
     text = summary(rows, notes, cfg, args.quick, time.perf_counter() - t0)
-    (args.outdir / "summary.md").write_text(text + "\n")
+    write_text(args.outdir / "summary.md", text + "\n")
     print(text)
     return 0
