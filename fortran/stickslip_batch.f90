@@ -213,34 +213,38 @@ contains
                 if (j > 1) then
                     dv = y_out(2, j) - y_out(2, j - 1)
                     vscale = max(abs(y_out(2, j)), abs(y_out(2, j - 1)), abs(v_ref))
-                    if (abs(dv) > 64.0_dp * epsilon(1.0_dp) * vscale) then
-                        if (have_dv .and. (dv > 0.0_dp .neqv. dv_prev > 0.0_dp)) then
-                            summary(i)%n_rev = summary(i)%n_rev + 1
-                            if (t_out(j) >= t_half) summary(i)%n_rev_tail = summary(i)%n_rev_tail + 1
-                        end if
-                        dv_prev = dv
-                        have_dv = .true.
-                    end if
+                    if (abs(dv) > 64.0_dp * epsilon(1.0_dp) * vscale) &
+                        call count_sign_change(dv, t_out(j) >= t_half, dv_prev, have_dv, &
+                                               summary(i)%n_rev, summary(i)%n_rev_tail)
                 end if
                 vr = sgn * (y_out(2, j) - v_ref)
                 if (t_out(j) >= t_half) then
                     summary(i)%vrel_min_tail = min(summary(i)%vrel_min_tail, vr)
                     summary(i)%vrel_max_tail = max(summary(i)%vrel_max_tail, vr)
                 end if
-                if (vr /= 0.0_dp) then
-                    if (have_prev .and. (vr > 0.0_dp .neqv. vr_prev > 0.0_dp)) then
-                        summary(i)%n_flip = summary(i)%n_flip + 1
-                        if (t_out(j) >= t_half) summary(i)%n_flip_tail = summary(i)%n_flip_tail + 1
-                    end if
-                    vr_prev = vr
-                    have_prev = .true.
-                end if
+                if (vr /= 0.0_dp) call count_sign_change(vr, t_out(j) >= t_half, vr_prev, have_prev, &
+                                                         summary(i)%n_flip, summary(i)%n_flip_tail)
             end do
             if (summary(i)%vrel_min_tail > summary(i)%vrel_max_tail) then   ! no row in the tail
                 summary(i)%vrel_min_tail = 0.0_dp
                 summary(i)%vrel_max_tail = 0.0_dp
             end if
         end subroutine summarise
+
+        !> Count a change of sign of x against the previous nonzero value (in the tail too).
+        pure subroutine count_sign_change(x, in_tail, prev, have_prev, n, n_tail)
+            real(dp), intent(in) :: x           !! the new nonzero value
+            logical, intent(in) :: in_tail      !! its time is in the second half of the run
+            real(dp), intent(inout) :: prev     !! the previous value counted
+            logical, intent(inout) :: have_prev !! prev holds a value
+            integer, intent(inout) :: n, n_tail !! sign changes, overall and in the tail
+            if (have_prev .and. (x > 0.0_dp .neqv. prev > 0.0_dp)) then
+                n = n + 1
+                if (in_tail) n_tail = n_tail + 1
+            end if
+            prev = x
+            have_prev = .true.
+        end subroutine count_sign_change
 
     end subroutine simulate_batch
 
