@@ -15,9 +15,9 @@
 !! error (SS_STEP_TOO_SMALL) instead.
 module stickslip_dopri5
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_STIFF, &
-                               SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, &
-                               SS_BAD_HMAX, SS_BAD_MAX_STEPS, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM
-    use stickslip_ode, only: ode_system, ode_stats, check_problem, all_finite, output_start
+                               SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL
+    use stickslip_ode, only: ode_system, ode_stats, step_controls, check_problem, check_tolerances, &
+                             check_step_controls, all_finite, output_start, RTOL_MIN
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -25,7 +25,7 @@ module stickslip_dopri5
     public :: dopri5_options, dopri5_integrate
 
     !> Smallest accepted nonzero rtol: 100 units of round-off.
-    real(dp), parameter, public :: DOPRI5_RTOL_MIN = 100.0_dp * epsilon(1.0_dp)
+    real(dp), parameter, public :: DOPRI5_RTOL_MIN = RTOL_MIN
 
     ! Butcher tableau (exact fractions).
     real(dp), parameter, public :: dp5_c(7) = [0.0_dp, 1.0_dp/5.0_dp, 3.0_dp/10.0_dp, 4.0_dp/5.0_dp, &
@@ -61,23 +61,15 @@ module stickslip_dopri5
                            d4 = -10690763975.0_dp/1880347072.0_dp, d5 = 701980252875.0_dp/199316789632.0_dp, &
                            d6 = -1453857185.0_dp/822651844.0_dp, d7 = 69997945.0_dp/29380423.0_dp
 
-    !> Controls of the integration; defaults are Hairer's, except h_min (a floor we add) and max_steps.
-    type :: dopri5_options
-        real(dp) :: hmin = 0.0_dp       !! step size floor; forced steps happen there (0: none) [s]
-        real(dp) :: hmax = 0.0_dp       !! largest step (0: t_end - t0) [s]
-        real(dp) :: h0 = 0.0_dp         !! initial step (0: automatic, HINIT) [s]
+    !> Controls of DOPRI5: the shared ones (h_min, h_max, h0, max_steps, allow_forced,
+    !! every_step; h is not read) and Hairer's step-control constants with his defaults.
+    type, extends(step_controls) :: dopri5_options
         real(dp) :: safety = 0.9_dp     !! safety factor of the step control
         real(dp) :: fac1 = 0.2_dp       !! smallest step ratio h_new/h
         real(dp) :: fac2 = 10.0_dp      !! largest step ratio h_new/h
         real(dp) :: beta = 0.04_dp      !! PI (Lund) stabilisation exponent (0: plain I control)
-        !> Budget of attempted steps (NMAX). Hairer's default is 1e5; ours is 1e8 because
-        !! event-free runs through a friction jump take up to (t_end - t0)/h_min steps
-        !! (2e7 for 20 s at 1e-6 s), and stickslip_simulate applies it to RK4 as well.
-        integer(8) :: max_steps = 100000000_8
         integer  :: nstiff = 1000       !! test stiffness every nstiff accepted steps
-        logical  :: allow_forced = .true.   !! take steps at h_min when the error test fails there
         logical  :: stop_on_stiff = .false. !! stop with SS_STIFF when the stiffness test fires
-        logical  :: every_step = .false.    !! output every accepted step instead of a grid
     end type dopri5_options
 
 contains
@@ -329,38 +321,21 @@ contains
 
     end subroutine dopri5_integrate
 
-    !> Validate tolerances and controls.
+    !> Validate tolerances, the shared controls and DOPRI5's own.
     pure function check_options(n, t0, t_end, rtol, atol, opts) result(status)
         integer, intent(in) :: n
         real(dp), intent(in) :: t0, t_end, rtol(:), atol(:)
         type(dopri5_options), intent(in) :: opts
         integer :: status
-        status = SS_OK
-        if ((size(rtol) /= 1 .and. size(rtol) /= n) .or. (size(atol) /= 1 .and. size(atol) /= n)) then
-            status = SS_BAD_DIM
-        else if (.not. all(ieee_is_finite(rtol)) .or. any(rtol < 0.0_dp) .or. any(rtol >= 1.0_dp) &
-                 .or. any(rtol > 0.0_dp .and. rtol < DOPRI5_RTOL_MIN)) then
-            status = SS_BAD_RTOL
-        else if (.not. all(ieee_is_finite(atol)) .or. any(atol < 0.0_dp)) then
-            status = SS_BAD_ATOL
-        else if (minval(atol) == 0.0_dp .and. minval(rtol) == 0.0_dp) then
-            status = SS_BAD_ATOL
-        else if (.not. ieee_is_finite(opts%hmin) .or. opts%hmin < 0.0_dp) then
-            status = SS_BAD_HMIN
-        else if (.not. ieee_is_finite(opts%hmax) .or. opts%hmax < 0.0_dp .or. &
-                 (opts%hmax > 0.0_dp .and. opts%hmax < opts%hmin)) then
-            status = SS_BAD_HMAX
-        else if (.not. ieee_is_finite(opts%h0) .or. opts%h0 < 0.0_dp) then
-            status = SS_BAD_H0
-        else if (opts%max_steps < 1) then
-            status = SS_BAD_MAX_STEPS
-        else if (.not. (opts%safety > 0.0_dp .and. opts%safety < 1.0_dp) .or. &
-                 .not. (opts%fac1 > 0.0_dp .and. opts%fac1 <= 1.0_dp) .or. &
-                 .not. (opts%fac2 >= 1.0_dp .and. ieee_is_finite(opts%fac2)) .or. &
-                 .not. (opts%beta >= 0.0_dp .and. opts%beta <= 0.2_dp) .or. opts%nstiff < 1) then
+        status = check_tolerances(n, rtol, atol)
+        if (status == SS_OK) status = check_step_controls(opts, t0, t_end)
+        if (status /= SS_OK) return
+        if (.not. (opts%safety > 0.0_dp .and. opts%safety < 1.0_dp) .or. &
+            .not. (opts%fac1 > 0.0_dp .and. opts%fac1 <= 1.0_dp) .or. &
+            .not. (opts%fac2 >= 1.0_dp .and. ieee_is_finite(opts%fac2)) .or. &
+            .not. (opts%beta >= 0.0_dp .and. opts%beta <= 0.2_dp) .or. opts%nstiff < 1) then
             status = SS_BAD_CONTROL
         end if
-        if (t_end - t0 < opts%hmin .and. status == SS_OK) status = SS_BAD_HMIN
     end function check_options
 
 end module stickslip_dopri5

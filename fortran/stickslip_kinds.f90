@@ -39,7 +39,7 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_H = -121           !! h not finite or <= 0
     integer, parameter, public :: SS_BAD_T_END = -122       !! t_end not finite or <= t0
     integer, parameter, public :: SS_BAD_RTOL = -123        !! rtol not finite, outside [0, 1), or in (0, 100 eps)
-    integer, parameter, public :: SS_BAD_ATOL = -124        !! atol not finite, < 0, or rtol = atol = 0
+    integer, parameter, public :: SS_BAD_ATOL = -124        !! atol not finite or <= 0
     integer, parameter, public :: SS_BAD_HMIN = -125        !! h_min not finite, < 0 or > t_end - t0
     integer, parameter, public :: SS_BAD_HMAX = -126        !! h_max not finite, <= 0 or < h_min
     integer, parameter, public :: SS_BAD_N_OUT = -127       !! output grid empty, unsorted or outside [t0, t_end]
@@ -81,7 +81,7 @@ contains
         case (SS_BAD_H);          msg = 'h: must be finite and > 0 [s]'
         case (SS_BAD_T_END);      msg = 't_end: must be finite and > t0 [s]'
         case (SS_BAD_RTOL);       msg = 'rtol: must be finite and 0 or in [100 eps = 2.2e-14, 1)'
-        case (SS_BAD_ATOL);       msg = 'atol: must be finite and >= 0, and rtol and atol not both 0'
+        case (SS_BAD_ATOL);       msg = 'atol: must be finite and > 0 (0 would make the error scale 0/0 at a state component 0)'
         case (SS_BAD_HMIN);       msg = 'hmin: must be finite, >= 0 and <= t_end - t0 [s]'
         case (SS_BAD_HMAX);       msg = 'hmax: must be finite, > 0 and >= hmin [s]'
         case (SS_BAD_N_OUT);      msg = 'n_out: output times must be finite, non-decreasing and in [t0, t_end]' // &

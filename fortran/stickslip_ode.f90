@@ -1,26 +1,51 @@
-!> What the integrators share: the right-hand side of y' = f(t, y) as an abstract type,
-!! the counters of a run, and checks on output grids and states.
+!> What the integrators share: the right-hand side of y' = f(t, y) as an abstract type
+!! (with a Jacobian that defaults to finite differences), the controls every method reads,
+!! the counters of a run, and checks on output grids, states, tolerances and controls.
 !!
 !! Output convention of every integrator: arrays t_out(m) and y_out(n, m) owned by the
 !! caller. In grid mode t_out holds requested times (non-decreasing, in [t0, t_end]) and
 !! the integrator fills y_out at them by its dense output; in every-step mode it writes
 !! (t, y) of the initial state and of each accepted step, up to m rows.
 !!
-!! A user integrates their own ODE by extending `ode_system` and implementing `rhs`;
-!! their data travels in the extension, not through globals.
+!! A user integrates their own ODE by extending `ode_system` and implementing `rhs`
+!! (and, for the implicit methods, optionally `jacobian`); their data travels in the
+!! extension, not through globals.
 module stickslip_ode
-    use stickslip_kinds, only: dp, SS_OK, SS_BAD_N_OUT, SS_BAD_DIM, SS_BAD_Y0, SS_BAD_T_END
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_N_OUT, SS_BAD_DIM, SS_BAD_Y0, SS_BAD_T_END, &
+                               SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_H0, &
+                               SS_BAD_MAX_STEPS
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
-    public :: ode_system, ode_stats, check_problem, all_finite, output_start
+    public :: ode_system, ode_stats, step_controls, check_problem, check_tolerances, &
+              check_step_controls, all_finite, output_start
+
+    !> Smallest accepted nonzero rtol of the adaptive methods: 100 units of round-off.
+    real(dp), parameter, public :: RTOL_MIN = 100.0_dp * epsilon(1.0_dp)
 
     !> A first-order system y' = f(t, y).
     type, abstract :: ode_system
     contains
         procedure(rhs_iface), deferred :: rhs
+        !> df/dy; the default is forward differences (override it with the analytic one).
+        procedure :: jacobian => fd_jacobian
     end type ode_system
+
+    !> The controls every integrator shares; each method reads those its registry entry
+    !! lists and ignores the rest. Method-specific controls extend this type
+    !! (`dopri5_options`, ...).
+    type :: step_controls
+        real(dp) :: h = 0.0_dp          !! step size of the fixed-step methods [s]
+        real(dp) :: hmin = 0.0_dp       !! step size floor of the adaptive methods; forced steps happen there (0: none) [s]
+        real(dp) :: hmax = 0.0_dp       !! largest step of the adaptive methods (0: t_end - t0) [s]
+        real(dp) :: h0 = 0.0_dp         !! initial step of the adaptive methods (0: automatic) [s]
+        !> Budget of attempted steps (Hairer's NMAX, 1e5; ours is 1e8 because event-free
+        !! runs through a friction jump take up to (t_end - t0)/h_min steps).
+        integer(8) :: max_steps = 100000000_8
+        logical  :: allow_forced = .true.   !! take steps at h_min when the error test fails there
+        logical  :: every_step = .false.    !! output every accepted step instead of a grid
+    end type step_controls
 
     abstract interface
         !> Evaluate f(t, y) into dydt (same size as y).
@@ -41,6 +66,9 @@ module stickslip_ode
         integer(8) :: nreject = 0   !! rejected steps after the first accepted one (NREJCT)
         integer(8) :: nforced = 0   !! steps taken at h_min although the error test failed
         integer(8) :: nstiff = 0    !! stiffness tests with h*|lambda| > 3.25 (DOPRI5)
+        integer(8) :: njac = 0      !! Jacobian evaluations (NJAC; implicit methods)
+        integer(8) :: ndec = 0      !! LU decompositions (NDEC; implicit methods)
+        integer(8) :: nsol = 0      !! forward-backward substitutions (NSOL; implicit methods)
         logical    :: stiff = .false.   !! 15 such tests in a row: the problem is probably stiff
         integer    :: n_written = 0     !! output rows written
         real(dp)   :: t_reached = 0.0_dp  !! time reached when the run ended [s]
@@ -49,6 +77,65 @@ module stickslip_ode
     end type ode_stats
 
 contains
+
+    !> Forward-difference Jacobian df/dy(t, y) with Hairer's increments
+    !! sqrt(eps max(1e-5, |y_j|)): n evaluations of f, added to nfev.
+    subroutine fd_jacobian(self, t, y, f, dfdy, nfev)
+        class(ode_system), intent(inout) :: self
+        real(dp), intent(in)    :: t             !! time [s]
+        real(dp), intent(in)    :: y(:)          !! state
+        real(dp), intent(in)    :: f(:)          !! f(t, y), already evaluated
+        real(dp), intent(out)   :: dfdy(:, :)    !! (n, n) Jacobian, dfdy(i, j) = d f_i / d y_j
+        integer(8), intent(inout) :: nfev        !! evaluation counter (+ n here; + 0 when analytic)
+        real(dp) :: yy(size(y)), f1(size(y)), delt
+        integer :: j
+        yy = y
+        do j = 1, size(y)
+            delt = sqrt(epsilon(1.0_dp) * max(1.0e-5_dp, abs(y(j))))
+            yy(j) = y(j) + delt
+            call self%rhs(t, yy, f1)
+            dfdy(:, j) = (f1 - f) / delt
+            yy(j) = y(j)
+        end do
+        nfev = nfev + size(y)
+    end subroutine fd_jacobian
+
+    !> Check tolerances of the adaptive methods: size 1 or n each, rtol 0 or in
+    !! [RTOL_MIN, 1), atol > 0 (a zero atol makes the error scale 0/0 for a component
+    !! that is exactly 0 at both ends of a step, such as a body at rest).
+    pure function check_tolerances(n, rtol, atol) result(status)
+        integer, intent(in)  :: n           !! dimension of the state
+        real(dp), intent(in) :: rtol(:)     !! relative tolerances, size 1 or n [-]
+        real(dp), intent(in) :: atol(:)     !! absolute tolerances, size 1 or n [units of y]
+        integer :: status
+        status = SS_OK
+        if ((size(rtol) /= 1 .and. size(rtol) /= n) .or. (size(atol) /= 1 .and. size(atol) /= n)) then
+            status = SS_BAD_DIM
+        else if (.not. all(ieee_is_finite(rtol)) .or. any(rtol < 0.0_dp) .or. any(rtol >= 1.0_dp) &
+                 .or. any(rtol > 0.0_dp .and. rtol < RTOL_MIN)) then
+            status = SS_BAD_RTOL
+        else if (.not. all(ieee_is_finite(atol)) .or. any(atol <= 0.0_dp)) then
+            status = SS_BAD_ATOL
+        end if
+    end function check_tolerances
+
+    !> Check the shared controls an adaptive method reads: h_min, h_max, h0, max_steps.
+    pure function check_step_controls(ctl, t0, t_end) result(status)
+        class(step_controls), intent(in) :: ctl  !! the controls
+        real(dp), intent(in) :: t0, t_end       !! the interval [s]
+        integer :: status
+        status = SS_OK
+        if (.not. ieee_is_finite(ctl%hmin) .or. ctl%hmin < 0.0_dp .or. ctl%hmin > t_end - t0) then
+            status = SS_BAD_HMIN
+        else if (.not. ieee_is_finite(ctl%hmax) .or. ctl%hmax < 0.0_dp .or. &
+                 (ctl%hmax > 0.0_dp .and. ctl%hmax < ctl%hmin)) then
+            status = SS_BAD_HMAX
+        else if (.not. ieee_is_finite(ctl%h0) .or. ctl%h0 < 0.0_dp) then
+            status = SS_BAD_H0
+        else if (ctl%max_steps < 1) then
+            status = SS_BAD_MAX_STEPS
+        end if
+    end function check_step_controls
 
     !> Check what every integration needs: a finite y0, t_end > t0, and the output
     !! arrays (grid mode: requested times finite, non-decreasing, in [t0, t_end]).
