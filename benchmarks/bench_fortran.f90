@@ -7,11 +7,9 @@
 !! time of one integration [s]; each sample repeats it until it lasts MIN_SAMPLE_S.
 program bench_fortran
     use, intrinsic :: iso_fortran_env, only: int64, error_unit
-    use stickslip_kinds, only: dp, SS_OK, stickslip_message
-    use stickslip_friction, only: LAW_COULOMB, LAW_RECURDYN, LAW_PROPOSED
-    use stickslip_scenes, only: SCENE_SLOPE, SCENE_BELT
-    use stickslip_simulate, only: scene_params, simulate, METHOD_RK4, METHOD_DOPRI5
-    use stickslip_dopri5, only: dopri5_options
+    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_registry, only: stickslip_message, code_of
+    use stickslip_simulate, only: simulate
     use stickslip_ode, only: ode_stats
     implicit none
 
@@ -20,9 +18,9 @@ program bench_fortran
     integer(int64) :: inner, j
     real(dp) :: t_end, hp, min_sample, once, t0
     real(dp), allocatable :: samples(:)
-    type(scene_params) :: p
-    type(dopri5_options) :: opts
     type(ode_stats) :: st
+    character(len=16), allocatable :: ckeys(:)
+    real(dp), allocatable :: cvals(:)
     real(dp) :: t_out(1), y_out(2, 1)
 
     if (command_argument_count() /= 7) then
@@ -32,18 +30,20 @@ program bench_fortran
     do i = 1, 7
         call get_command_argument(i, arg(i))
     end do
-    scene = merge(SCENE_BELT, SCENE_SLOPE, arg(1) == 'belt')
-    law = LAW_PROPOSED
-    if (arg(2) == 'coulomb') law = LAW_COULOMB
-    if (arg(2) == 'recurdyn') law = LAW_RECURDYN
-    method = merge(METHOD_RK4, METHOD_DOPRI5, arg(3) == 'rk4')
+    scene = code_of('scene', trim(arg(1)))
+    law = code_of('law', trim(arg(2)))
+    method = code_of('method', trim(arg(3)))
     read (arg(4), *) t_end
     read (arg(5), *) hp
     read (arg(6), *) repeats
     read (arg(7), *) min_sample
-    opts%hmin = 0.0_dp
-    opts%hmax = t_end
-    opts%max_steps = huge(1_int64)
+    if (arg(3) == 'rk4') then
+        ckeys = [character(len=16) :: 'h', 'max_steps']
+        cvals = [hp, 9.0e18_dp]
+    else
+        ckeys = [character(len=16) :: 'hmin', 'hmax', 'max_steps']
+        cvals = [0.0_dp, t_end, 9.0e18_dp]
+    end if
     allocate(samples(repeats))
 
     t0 = now()
@@ -67,7 +67,8 @@ contains
 
     subroutine run()
         t_out(1) = t_end
-        call simulate(scene, law, method, p, 0.0_dp, 0.0_dp, t_end, hp, [hp], [hp], opts, t_out, y_out, st)
+        call simulate(scene, law, method, [character(len=16) ::], [real(dp) ::], [0.0_dp, 0.0_dp], t_end, &
+                      [hp], [hp], ckeys, cvals, t_out, y_out, st)
     end subroutine run
 
     !> Monotonic wall-clock time [s].

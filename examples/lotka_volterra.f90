@@ -46,7 +46,8 @@ contains
 end module lotka_volterra_model
 
 program lotka_volterra_example
-    use stickslip_kinds, only: dp, SS_OK, stickslip_message
+    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_registry, only: stickslip_message
     use stickslip_ode, only: ode_stats
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_rk4, only: rk4_integrate

@@ -110,6 +110,9 @@ typedef struct {
     double t_reached;  /* time reached [s] */
     double h_last;     /* last step size tried [s] */
     int status;        /* SS_OK or a negative code */
+    int64_t njac;      /* Jacobian evaluations (implicit methods) */
+    int64_t ndec;      /* LU decompositions (implicit methods) */
+    int64_t nsol;      /* forward-backward substitutions (implicit methods) */
 } ss_stats;
 
 /* A user's right-hand side: dydt[0..n-1] = f(t, y[0..n-1]); data is passed through. */
@@ -128,13 +131,31 @@ int ss_friction(int law, int64_t n, const double *v, double mu_s, double mu_k, d
                 double v_d, double beta, double a, double *mu);
 
 /* Simulate a scene with a law from (x0, v0) at t = 0 to t_end: RK4 with step h, or DOPRI5 with
- * rtol, atol and opts (NULL: defaults; RK4 with NULL opts has no step budget).
+ * rtol, atol and opts (NULL: defaults, for RK4 too: a budget of 10^8 steps).
+ * Laws with internal states need ss_run.
  * t_out[n_out]: requested output times in [0, t_end] (non-decreasing), or with
  * opts->every_step room for every step (overwritten with the step times).
  * y_out[2 * n_out]: (x, v) per row. stats may be NULL. */
 int ss_simulate(int scene, int law, int method, const ss_params *p, double x0, double v0,
                 double t_end, double h, double rtol, double atol, const ss_dopri5_options *opts,
                 int n_out, double *t_out, double *y_out, ss_stats *stats);
+
+/* Any law, scene and method of the registry, with parameters and controls by name.
+ * Codes: ss_code("law" | "scene" | "method", name), 0 for an unknown name.
+ * pkeys, ckeys: comma-separated names ("mu_s,v_s"; "" for none) valued by pvals[np], cvals[nc]
+ * (flags and counts as doubles); the others take their defaults. y0[n] = (x0 [m], v0 [m/s], then the
+ * law's internal states). rtol, atol: ntol = 1 or n values (adaptive methods).
+ * t_out, y_out[n * n_out], stats: as for ss_simulate. */
+int ss_code(const char *kind, const char *name);
+int ss_run(int scene, int law, int method, const char *pkeys, int np, const double *pvals, int n,
+           const double *y0, double t_end, int ntol, const double *rtol, const double *atol,
+           const char *ckeys, int nc, const double *cvals, int n_out, double *t_out, double *y_out,
+           ss_stats *stats);
+/* mu[i] of law (a code) at v[i] [m/s], i < n, parameters by name as in ss_run. */
+int ss_mu(int law, const char *pkeys, int np, const double *pvals, int64_t n, const double *v,
+          double *mu);
+/* The registry as text (one record per line, '|'-separated fields), copied as ss_message does. */
+int ss_registry(char *buf, size_t buflen);
 
 /* Integrate the user's y' = f(t, y) of dimension n from t0 to t_end with the library's
  * DOPRI5. rtol, atol: ntol = 1 (scalar) or n values. opts may be NULL (defaults).

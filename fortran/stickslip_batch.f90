@@ -17,42 +17,39 @@
 !! has no mutable module variables, so sets share nothing but their read-only inputs.
 module stickslip_batch
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_BAD_N_OUT
-    use stickslip_ode, only: ode_stats
-    use stickslip_dopri5, only: dopri5_options
-    use stickslip_scenes, only: SCENE_BELT
-    use stickslip_simulate, only: scene_params, simulate
-    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use stickslip_params, only: NAME_LEN
+    use stickslip_ode, only: ode_stats, stats_integers, stats_reals, STATS_INTEGER_NAMES, STATS_REAL_NAMES
+    use stickslip_scenes, only: friction_scene
+    use stickslip_simulate, only: simulate
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
 
-    public :: batch_summary, simulate_batch, batch_threads_available
+    public :: batch_summary, simulate_batch, batch_threads_available, batch_integers, batch_reals
+
+    !> Names of the integer and real fields of a summary, in the order of `batch_integers`
+    !! and `batch_reals`: the run's counters (ode_stats), then the monitor's.
+    character(len=*), parameter, public :: BATCH_INTEGER_NAMES = STATS_INTEGER_NAMES // &
+        ' n_flip n_flip_tail n_rev n_rev_tail'
+    character(len=*), parameter, public :: BATCH_REAL_NAMES = STATS_REAL_NAMES // &
+        ' t_last v_max vrel_min_tail vrel_max_tail seconds'
 
     !> The compact outcome of one parameter set.
     type :: batch_summary
-        integer    :: status = SS_OK   !! SS_OK or a negative status code of the run
-        integer(8) :: nfev = 0         !! right-hand-side evaluations
-        integer(8) :: nstep = 0        !! attempted steps
-        integer(8) :: naccept = 0      !! accepted steps (forced ones included)
-        integer(8) :: nreject = 0      !! rejected steps
-        integer(8) :: nforced = 0      !! steps forced at h_min (DOPRI5)
-        integer(8) :: nstiff = 0       !! positive stiffness tests (DOPRI5)
-        logical    :: stiff = .false.  !! DOPRI5 judged the problem stiff
-        real(dp)   :: t_reached = 0.0_dp  !! time reached [s]
-        real(dp)   :: h_last = 0.0_dp     !! last step size tried [s]
-        real(dp)   :: t_last = 0.0_dp     !! last monitor-grid time written (t_end on success) [s]
-        real(dp)   :: x_end = 0.0_dp      !! x at t_last [m]
-        real(dp)   :: v_end = 0.0_dp      !! v at t_last [m/s]
-        real(dp)   :: v_max = 0.0_dp      !! max |v| over the initial state and the monitor grid [m/s]
-        integer    :: n_flip = 0          !! sign changes of the relative velocity on the monitor grid
-        integer    :: n_flip_tail = 0     !! the same, over the grid times >= t_end / 2
-        integer    :: n_rev = 0           !! reversals of the direction of v between grid points
-                                          !! (successive differences of opposite sign, both above
-                                          !! 64 eps max|v|): high-frequency content
-        integer    :: n_rev_tail = 0      !! the same, over the grid times >= t_end / 2
+        type(ode_stats) :: stats              !! counters and status of the run
+        real(dp)   :: t_last = 0.0_dp         !! last monitor-grid time written (t_end on success) [s]
+        real(dp), allocatable :: y_end(:)     !! state at t_last (y0 when nothing was written)
+        real(dp)   :: v_max = 0.0_dp          !! max |v| over the initial state and the monitor grid [m/s]
+        integer    :: n_flip = 0              !! sign changes of the relative velocity on the monitor grid
+        integer    :: n_flip_tail = 0         !! the same, over the grid times >= t_end / 2
+        !> Reversals of the direction of v between grid points (successive differences of
+        !! opposite sign, both above 64 eps max|v|): high-frequency content.
+        integer    :: n_rev = 0
+        integer    :: n_rev_tail = 0          !! the same, over the grid times >= t_end / 2
         real(dp)   :: vrel_min_tail = 0.0_dp  !! min relative velocity over times >= t_end / 2 [m/s]
         real(dp)   :: vrel_max_tail = 0.0_dp  !! max relative velocity over times >= t_end / 2 [m/s]
-        real(dp)   :: seconds = 0.0_dp    !! wall-clock time of this set (one thread) [s]
+        real(dp)   :: seconds = 0.0_dp        !! wall-clock time of this set (one thread) [s]
     end type batch_summary
 
 contains
@@ -63,50 +60,71 @@ contains
         !$ n = omp_get_max_threads()
     end function batch_threads_available
 
+    !> The integer fields of s in the order of BATCH_INTEGER_NAMES.
+    pure function batch_integers(s) result(v)
+        type(batch_summary), intent(in) :: s
+        integer(8) :: v(size(stats_integers(s%stats)) + 4)
+        v = [stats_integers(s%stats), int([s%n_flip, s%n_flip_tail, s%n_rev, s%n_rev_tail], 8)]
+    end function batch_integers
+
+    !> The real fields of s in the order of BATCH_REAL_NAMES.
+    pure function batch_reals(s) result(v)
+        type(batch_summary), intent(in) :: s
+        real(dp) :: v(size(stats_reals(s%stats)) + 5)
+        v = [stats_reals(s%stats), s%t_last, s%v_max, s%vrel_min_tail, s%vrel_max_tail, s%seconds]
+    end function batch_reals
+
     !> Run every parameter set i = 1 .. size(scene) through `simulate` and summarise it.
     !!
-    !! All per-set arrays must have the same size; status = SS_BAD_DIM otherwise, and
-    !! SS_BAD_N_OUT when n_grid < 1. A bad input in one set (a negative code <= -100) or a
-    !! run that ends early is reported in that set's summary only.
-    !! Relative velocity: v for the slope, v_b - v for the belt.
-    subroutine simulate_batch(scene, law, method, p, x0, v0, t_end, h, rtol, atol, opts, &
-                              n_grid, threads, summary, status, y_grid)
-        integer, intent(in) :: scene(:)                 !! SCENE_SLOPE or SCENE_BELT, per set
+    !! Physical parameters and controls are named once (pkeys, ckeys) and valued per set
+    !! (columns of pvals, cvals); a NaN value means "not given" (the default), so that rows
+    !! of different methods can share one list of control names. y0(:, i) holds the initial
+    !! state of set i in its first nstate(i) = 2 + (its law's internal states) entries.
+    !! All per-set arrays must have the same number of sets; status = SS_BAD_DIM otherwise,
+    !! and SS_BAD_N_OUT when n_grid < 1. A bad input in one set (a code <= -100) or a run
+    !! that ends early is reported in that set's summary only.
+    subroutine simulate_batch(scene, law, method, pkeys, pvals, nstate, y0, t_end, rtol, atol, ckeys, &
+                              cvals, n_grid, threads, summary, status, y_grid)
+        integer, intent(in) :: scene(:)                 !! scene code, per set
         integer, intent(in) :: law(:)                   !! friction law code, per set
-        integer, intent(in) :: method(:)                !! METHOD_RK4 or METHOD_DOPRI5, per set
-        type(scene_params), intent(in) :: p(:)          !! physical parameters, per set
-        real(dp), intent(in) :: x0(:)                   !! initial displacement [m], per set
-        real(dp), intent(in) :: v0(:)                   !! initial velocity [m/s], per set
+        integer, intent(in) :: method(:)                !! method code, per set
+        character(len=*), intent(in) :: pkeys(:)        !! physical parameter names
+        real(dp), intent(in) :: pvals(:, :)             !! (size(pkeys), nset) values; NaN: default
+        integer, intent(in) :: nstate(:)                !! state size of each set (2 + the law's states)
+        real(dp), intent(in) :: y0(:, :)                !! (nmax, nset) initial states, first nstate(i) used
         real(dp), intent(in) :: t_end(:)                !! final time [s], per set
-        real(dp), intent(in) :: h(:)                    !! RK4 step size [s], per set
-        real(dp), intent(in) :: rtol(:)                 !! DOPRI5 relative tolerance, per set
-        real(dp), intent(in) :: atol(:)                 !! DOPRI5 absolute tolerance [m, m/s], per set
-        type(dopri5_options), intent(in) :: opts(:)     !! controls (max_steps for both methods), per set
+        real(dp), intent(in) :: rtol(:)                 !! relative tolerance, per set (adaptive methods)
+        real(dp), intent(in) :: atol(:)                 !! absolute tolerance, per set (adaptive methods)
+        character(len=*), intent(in) :: ckeys(:)        !! control names
+        real(dp), intent(in) :: cvals(:, :)             !! (size(ckeys), nset) values; NaN: not given
         integer, intent(in) :: n_grid                   !! monitor grid points per set, >= 1
         integer, intent(in) :: threads                  !! OpenMP threads (< 1: OpenMP's default)
         type(batch_summary), intent(out) :: summary(:)  !! one summary per set
         integer, intent(out) :: status                  !! SS_OK, SS_BAD_DIM or SS_BAD_N_OUT
-        real(dp), intent(out), optional :: y_grid(:, :, :)  !! (2, n_grid, nset) states on the grid
+        real(dp), intent(out), optional :: y_grid(:, :, :)  !! (nmax, n_grid, nset) states on the grid
 
         integer :: nset, i, nthr
         logical :: keep
 
         nset = size(scene)
         status = SS_OK
-        if (size(law) /= nset .or. size(method) /= nset .or. size(p) /= nset .or. &
-            size(x0) /= nset .or. size(v0) /= nset .or. size(t_end) /= nset .or. &
-            size(h) /= nset .or. size(rtol) /= nset .or. size(atol) /= nset .or. &
-            size(opts) /= nset .or. size(summary) /= nset) then
+        if (size(law) /= nset .or. size(method) /= nset .or. size(pvals, 2) /= nset .or. &
+            size(pvals, 1) /= size(pkeys) .or. size(y0, 2) /= nset .or. size(nstate) /= nset .or. size(t_end) /= nset .or. &
+            size(rtol) /= nset .or. size(atol) /= nset .or. size(cvals, 2) /= nset .or. &
+            size(cvals, 1) /= size(ckeys) .or. size(summary) /= nset) then
             status = SS_BAD_DIM
         else if (n_grid < 1) then
             status = SS_BAD_N_OUT
+        else if (any(nstate < 2) .or. any(nstate > size(y0, 1))) then
+            status = SS_BAD_DIM
         end if
         keep = present(y_grid)
         if (keep .and. status == SS_OK) then
-            if (size(y_grid, 1) /= 2 .or. size(y_grid, 2) /= n_grid .or. size(y_grid, 3) /= nset) &
-                status = SS_BAD_DIM
+            if (size(y_grid, 1) /= size(y0, 1) .or. size(y_grid, 2) /= n_grid .or. &
+                size(y_grid, 3) /= nset) status = SS_BAD_DIM
         end if
         if (status /= SS_OK) return
+        if (keep) y_grid = 0.0_dp
 
         nthr = threads
         if (nthr < 1) nthr = batch_threads_available()
@@ -126,14 +144,15 @@ contains
         !> One set: simulate on the monitor grid, then summarise.
         subroutine run_one(i, y_keep)
             integer, intent(in) :: i
-            real(dp), intent(out), optional :: y_keep(:, :)
+            real(dp), intent(inout), optional :: y_keep(:, :)
             real(dp), allocatable :: t_out(:), y_out(:, :)
-            type(ode_stats) :: st
+            class(friction_scene), allocatable :: sys
             integer(8) :: c0, c1, rate
-            integer :: j, n_ok
-            real(dp) :: dt, v_ref, sgn
+            integer :: j, n, n_ok
+            logical :: pset(size(pkeys)), cset(size(ckeys))
+            real(dp) :: dt
 
-            allocate(t_out(n_grid), y_out(2, n_grid))
+            allocate(t_out(n_grid))
             if (n_grid == 1) then
                 t_out(1) = t_end(i)
             else
@@ -143,109 +162,94 @@ contains
                 end do
                 t_out(n_grid) = t_end(i)
             end if
+            pset = .not. ieee_is_nan(pvals(:, i))
+            cset = .not. ieee_is_nan(cvals(:, i))
+
+            n = nstate(i)
+            allocate(y_out(n, n_grid))
             y_out = 0.0_dp
-
             call system_clock(c0, rate)
-            call simulate(scene(i), law(i), method(i), p(i), x0(i), v0(i), t_end(i), h(i), &
-                          [rtol(i)], [atol(i)], opts(i), t_out, y_out, st)
+            call simulate(scene(i), law(i), method(i), pack(pkeys, pset), pack(pvals(:, i), pset), &
+                          y0(1:n, i), t_end(i), [rtol(i)], [atol(i)], pack(ckeys, cset), &
+                          pack(cvals(:, i), cset), t_out, y_out, summary(i)%stats, sys_out=sys)
             call system_clock(c1)
-
-            summary(i)%status = st%status
-            summary(i)%nfev = st%nfev
-            summary(i)%nstep = st%nstep
-            summary(i)%naccept = st%naccept
-            summary(i)%nreject = st%nreject
-            summary(i)%nforced = st%nforced
-            summary(i)%nstiff = st%nstiff
-            summary(i)%stiff = st%stiff
-            summary(i)%t_reached = st%t_reached
-            summary(i)%h_last = st%h_last
             summary(i)%seconds = real(c1 - c0, dp) / real(max(rate, 1_8), dp)
 
-            ! Rows written are valid; the state at t_reached is the last of them, except
-            ! on an early stop between grid times, where the last written row is earlier.
-            n_ok = max(0, min(st%n_written, n_grid))
-            v_ref = 0.0_dp
-            sgn = 1.0_dp
-            if (scene(i) == SCENE_BELT) then
-                v_ref = p(i)%v_b
-                sgn = -1.0_dp
-            end if
-            call summarise(i, n_ok, t_out, y_out, v_ref, sgn)
-            if (present(y_keep)) y_keep = y_out
-        end subroutine run_one
-
-        !> Fill the monitor part of summary(i) from the first n_ok grid rows.
-        subroutine summarise(i, n_ok, t_out, y_out, v_ref, sgn)
-            integer, intent(in) :: i, n_ok
-            real(dp), intent(in) :: t_out(:), y_out(:, :)
-            real(dp), intent(in) :: v_ref   !! relative velocity = sgn * (v - v_ref) [m/s]
-            real(dp), intent(in) :: sgn     !! +1 (slope) or -1 (belt)
-            real(dp) :: vr, vr_prev, t_half, dv, dv_prev, vscale
-            integer :: j
-            logical :: have_prev, have_dv
-
+            n_ok = max(0, min(summary(i)%stats%n_written, n_grid))
+            allocate(summary(i)%y_end(size(y0, 1)))
+            summary(i)%y_end = 0.0_dp
             if (n_ok >= 1) then
                 summary(i)%t_last = t_out(n_ok)
-                summary(i)%x_end = y_out(1, n_ok)
-                summary(i)%v_end = y_out(2, n_ok)
+                summary(i)%y_end(1:n) = y_out(:, n_ok)
             else
-                summary(i)%x_end = x0(i)
-                summary(i)%v_end = v0(i)
+                summary(i)%y_end(1:n) = y0(1:n, i)
             end if
-            if (summary(i)%status <= -100) return      ! bad input: nothing ran
-
-            summary(i)%v_max = abs(v0(i))
-            summary(i)%n_flip = 0
-            summary(i)%n_flip_tail = 0
-            summary(i)%vrel_min_tail = huge(1.0_dp)
-            summary(i)%vrel_max_tail = -huge(1.0_dp)
-            t_half = 0.5_dp * t_end(i)
-            summary(i)%n_rev = 0
-            summary(i)%n_rev_tail = 0
-            have_prev = .false.
-            have_dv = .false.
-            vr_prev = 0.0_dp
-            dv_prev = 0.0_dp
-            do j = 1, n_ok
-                if (.not. ieee_is_finite(y_out(2, j))) exit
-                summary(i)%v_max = max(summary(i)%v_max, abs(y_out(2, j)))
-                if (j > 1) then
-                    dv = y_out(2, j) - y_out(2, j - 1)
-                    vscale = max(abs(y_out(2, j)), abs(y_out(2, j - 1)), abs(v_ref))
-                    if (abs(dv) > 64.0_dp * epsilon(1.0_dp) * vscale) &
-                        call count_sign_change(dv, t_out(j) >= t_half, dv_prev, have_dv, &
-                                               summary(i)%n_rev, summary(i)%n_rev_tail)
-                end if
-                vr = sgn * (y_out(2, j) - v_ref)
-                if (t_out(j) >= t_half) then
-                    summary(i)%vrel_min_tail = min(summary(i)%vrel_min_tail, vr)
-                    summary(i)%vrel_max_tail = max(summary(i)%vrel_max_tail, vr)
-                end if
-                if (vr /= 0.0_dp) call count_sign_change(vr, t_out(j) >= t_half, vr_prev, have_prev, &
-                                                         summary(i)%n_flip, summary(i)%n_flip_tail)
-            end do
-            if (summary(i)%vrel_min_tail > summary(i)%vrel_max_tail) then   ! no row in the tail
-                summary(i)%vrel_min_tail = 0.0_dp
-                summary(i)%vrel_max_tail = 0.0_dp
-            end if
-        end subroutine summarise
-
-        !> Count a change of sign of x against the previous nonzero value (in the tail too).
-        pure subroutine count_sign_change(x, in_tail, prev, have_prev, n, n_tail)
-            real(dp), intent(in) :: x           !! the new nonzero value
-            logical, intent(in) :: in_tail      !! its time is in the second half of the run
-            real(dp), intent(inout) :: prev     !! the previous value counted
-            logical, intent(inout) :: have_prev !! prev holds a value
-            integer, intent(inout) :: n, n_tail !! sign changes, overall and in the tail
-            if (have_prev .and. (x > 0.0_dp .neqv. prev > 0.0_dp)) then
-                n = n + 1
-                if (in_tail) n_tail = n_tail + 1
-            end if
-            prev = x
-            have_prev = .true.
-        end subroutine count_sign_change
+            if (summary(i)%stats%status > -100 .and. allocated(sys)) &
+                call summarise(summary(i), sys, t_end(i), abs(y0(2, i)), t_out(1:n_ok), y_out(:, 1:n_ok))
+            if (present(y_keep)) y_keep(1:n, :) = y_out
+        end subroutine run_one
 
     end subroutine simulate_batch
+
+    !> Fill the monitor part of s from the grid rows written (t(j), y(:, j)).
+    subroutine summarise(s, sys, t_end, v0_abs, t, y)
+        type(batch_summary), intent(inout) :: s
+        class(friction_scene), intent(in) :: sys   !! the scene run (relative velocity)
+        real(dp), intent(in) :: t_end              !! final time of the run [s]
+        real(dp), intent(in) :: v0_abs             !! |v0| [m/s]
+        real(dp), intent(in) :: t(:), y(:, :)      !! grid rows written
+        real(dp) :: vr, vr_prev, t_half, dv, dv_prev, vscale, v_prev, vr_b
+        integer :: j
+        logical :: have_prev, have_dv, in_tail
+
+        s%v_max = v0_abs
+        s%vrel_min_tail = huge(1.0_dp)
+        s%vrel_max_tail = -huge(1.0_dp)
+        t_half = 0.5_dp * t_end
+        have_prev = .false.
+        have_dv = .false.
+        vr_prev = 0.0_dp
+        dv_prev = 0.0_dp
+        v_prev = 0.0_dp
+        vr_b = abs(sys%relative_velocity(spread(0.0_dp, 1, size(y, 1))))   ! |v_ref|: belt speed or 0
+        do j = 1, size(t)
+            if (.not. ieee_is_finite(y(2, j))) exit
+            in_tail = t(j) >= t_half
+            s%v_max = max(s%v_max, abs(y(2, j)))
+            if (j > 1) then
+                dv = y(2, j) - v_prev
+                vscale = max(abs(y(2, j)), abs(v_prev), vr_b)
+                if (abs(dv) > 64.0_dp * epsilon(1.0_dp) * vscale) &
+                    call count_sign_change(dv, in_tail, dv_prev, have_dv, s%n_rev, s%n_rev_tail)
+            end if
+            v_prev = y(2, j)
+            vr = sys%relative_velocity(y(:, j))
+            if (in_tail) then
+                s%vrel_min_tail = min(s%vrel_min_tail, vr)
+                s%vrel_max_tail = max(s%vrel_max_tail, vr)
+            end if
+            if (abs(vr) > 0.0_dp) call count_sign_change(vr, in_tail, vr_prev, have_prev, s%n_flip, &
+                                                         s%n_flip_tail)
+        end do
+        if (s%vrel_min_tail > s%vrel_max_tail) then   ! no row in the tail
+            s%vrel_min_tail = 0.0_dp
+            s%vrel_max_tail = 0.0_dp
+        end if
+    end subroutine summarise
+
+    !> Count a change of sign of x against the previous nonzero value (in the tail too).
+    pure subroutine count_sign_change(x, in_tail, prev, have_prev, n, n_tail)
+        real(dp), intent(in) :: x           !! the new nonzero value
+        logical, intent(in) :: in_tail      !! its time is in the second half of the run
+        real(dp), intent(inout) :: prev     !! the previous value counted
+        logical, intent(inout) :: have_prev !! prev holds a value
+        integer, intent(inout) :: n, n_tail !! sign changes, overall and in the tail
+        if (have_prev .and. (x > 0.0_dp .neqv. prev > 0.0_dp)) then
+            n = n + 1
+            if (in_tail) n_tail = n_tail + 1
+        end if
+        prev = x
+        have_prev = .true.
+    end subroutine count_sign_change
 
 end module stickslip_batch

@@ -2,28 +2,34 @@
 !!
 !! Declared for C in `stickslip.h` (beside this file). Every function returns an
 !! integer status (`SS_OK` = 0, negative on failure; `ss_message` explains a code).
-!! Nothing here re-implements the physics or the integrators: the laws come from
-!! `stickslip_friction`, the scenes and both integrators from `stickslip_simulate`,
-!! and a C user's own ODE is integrated by `stickslip_dopri5` / `stickslip_rk4`
-!! through a thin `ode_system` extension that calls a C function pointer.
+!! Nothing here re-implements the physics or the integrators: laws, scenes and methods
+!! come from `stickslip_registry` by code, with parameters and controls by name
+!! (`ss_run`, `ss_mu`: any law, scene or method the registry lists, with no change here
+!! when one is added); `ss_simulate` and `ss_friction` are the fixed-struct entry points
+!! for the paper's laws, kept for existing C programs; a C user's own ODE is integrated by
+!! `stickslip_dopri5` / `stickslip_rk4` through a thin `ode_system` extension that calls
+!! a C function pointer.
 !!
 !! Array layout: states are stored as C arrays `y_out[n_out][n]` (row i holds the state
 !! at t_out[i]), which is the Fortran array y_out(n, n_out).
 module stickslip_capi
     use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_char, c_size_t, &
                                            c_ptr, c_funptr, c_null_char, c_associated, c_f_procpointer, c_f_pointer
-    use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_BAD_N_OUT, stickslip_message
-    use stickslip_friction, only: friction_law, friction_law_init, friction_mu
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_BAD_N_OUT, SS_BAD_METHOD
+    use stickslip_params, only: param_values, NAME_LEN
+    use stickslip_friction, only: friction_law
     use stickslip_ode, only: ode_system, ode_stats
     use stickslip_rk4, only: rk4_integrate
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
-    use stickslip_simulate, only: scene_params, simulate, METHOD_RK4, METHOD_DOPRI5
+    use stickslip_registry, only: stickslip_message, registry_text, make_law, split_names, code_of, &
+                                  PARAMS, METHOD_TABLE, METHOD_RK4, METHOD_DOPRI5
+    use stickslip_simulate, only: simulate
     implicit none
     private
 
     public :: ss_params, ss_dopri5_options, ss_stats
     public :: ss_params_default, ss_dopri5_options_default, ss_message, ss_friction, ss_simulate, &
-              ss_dopri5, ss_rk4
+              ss_dopri5, ss_rk4, ss_run, ss_mu, ss_code, ss_registry
 
     !> Physical parameters of both scenes and all laws (C struct `ss_params`).
     type, bind(C) :: ss_params
@@ -69,6 +75,9 @@ module stickslip_capi
         real(c_double) :: t_reached     !! time reached [s]
         real(c_double) :: h_last        !! last step size tried [s]
         integer(c_int) :: status        !! SS_OK or a negative status code
+        integer(c_int64_t) :: njac      !! Jacobian evaluations (implicit methods)
+        integer(c_int64_t) :: ndec      !! LU decompositions (implicit methods)
+        integer(c_int64_t) :: nsol      !! forward-backward substitutions (implicit methods)
     end type ss_stats
 
     !> A C user's ODE: dydt = f(t, y) through `void f(double t, const double *y,
@@ -98,8 +107,9 @@ contains
     !> Fill `p` with the paper's parameters (Table 1) and our defaults.
     subroutine ss_params_default(p) bind(C, name='ss_params_default')
         type(ss_params), intent(out) :: p   !! parameters to fill
-        type(scene_params) :: d
-        p = to_c_params(d)
+        real(c_double) :: v(size(PARAMS))
+        v = PARAMS%default
+        p = transfer(v(param_order()), p)
     end subroutine ss_params_default
 
     !> Fill `o` with the library's default controls (Hairer's, h_min = 0, max_steps = 10^8).
@@ -127,16 +137,7 @@ contains
         character(kind=c_char), intent(out) :: buf(*)  !! room for len characters
         integer(c_size_t), value :: buflen             !! size of buf [chars]
         integer(c_int) :: full
-        character(len=:), allocatable :: msg
-        integer :: i, ncopy
-        msg = stickslip_message(status)
-        full = int(len_trim(msg), c_int)
-        if (buflen < 1) return
-        ncopy = int(min(int(full, c_size_t), buflen - 1))
-        do i = 1, ncopy
-            buf(i) = msg(i:i)
-        end do
-        buf(ncopy + 1) = c_null_char
+        full = copy_out(stickslip_message(status), buf, buflen)
     end function ss_message
 
     !> Friction coefficient mu(v) [-] of one law at n relative velocities v [m/s].
@@ -155,14 +156,11 @@ contains
         real(c_double), value :: a             !! base (proposed) [-]
         real(c_double), intent(inout) :: mu(*) !! friction coefficients (n) [-]
         integer(c_int) :: status
-        type(friction_law) :: fl
         if (n < 0) then
             status = SS_BAD_DIM
             return
         end if
-        status = friction_law_init(fl, int(law), mu_s, mu_k, v_s, v_d, beta, a)
-        if (status /= SS_OK) return
-        mu(1:n) = friction_mu(fl, v(1:n))
+        status = mu_named(law, 'mu_s,mu_k,v_s,v_d,beta,a', [mu_s, mu_k, v_s, v_d, beta, a], n, v, mu)
     end function ss_friction
 
     !> Simulate a scene from (x0, v0) at t = 0 to t_end; a wrapper of stickslip_simulate's
@@ -189,14 +187,22 @@ contains
         integer(c_int) :: status
         type(dopri5_options) :: fo
         type(ode_stats) :: st
+        character(len=NAME_LEN), allocatable :: ckeys(:)
+        real(dp), allocatable :: cvals(:)
         if (n_out < 1) then
             status = SS_BAD_N_OUT
             call put_stats(st, status, stats)
             return
         end if
         call get_options(opts, fo)
-        call simulate(int(scene), int(law), int(method), to_f_params(p), x0, v0, t_end, h, [rtol], [atol], &
-                      fo, t_out(1:n_out), y_out(:, 1:n_out), st)
+        fo%h = h
+        if (method < 1 .or. method > size(METHOD_TABLE)) then
+            st%status = SS_BAD_METHOD
+        else
+            call struct_controls(fo, METHOD_TABLE(method)%controls, ckeys, cvals)
+            call simulate(int(scene), int(law), int(method), PARAMS(param_order())%name, transfer(p, [0.0_dp]), &
+                          [x0, v0], t_end, [rtol], [atol], ckeys, cvals, t_out(1:n_out), y_out(:, 1:n_out), st)
+        end if
         status = int(st%status, c_int)
         call put_stats(st, status, stats)
     end function ss_simulate
@@ -246,7 +252,176 @@ contains
                                 [0.0_c_double], opts, n_out, t_out, y_out, stats)
     end function ss_rk4
 
+    !> Simulate a scene with a law and a method, all by code (`ss_code`), with the
+    !! physical parameters and controls by name: pkeys and ckeys are comma-separated names
+    !! (NULL or "" for none) valued by pvals[np] and cvals[nc] (flags and counts as
+    !! doubles); the others take their defaults. y0[n]: (x0 [m], v0 [m/s], then the law's
+    !! internal states). rtol, atol: ntol = 1 or n values (adaptive methods).
+    !! t_out[n_out], y_out[n_out][n], stats: as for ss_simulate. Returns stats->status.
+    function ss_run(scene, law, method, pkeys, np, pvals, n, y0, t_end, ntol, rtol, atol, ckeys, nc, &
+                    cvals, n_out, t_out, y_out, stats) result(status) bind(C, name='ss_run')
+        integer(c_int), value :: scene, law, method       !! codes
+        character(kind=c_char), intent(in) :: pkeys(*)    !! parameter names, NUL-terminated
+        integer(c_int), value :: np                       !! number of parameter values
+        real(c_double), intent(in) :: pvals(*)            !! parameter values (np) [SI units]
+        integer(c_int), value :: n                        !! state size
+        real(c_double), intent(in) :: y0(*)               !! initial state (n)
+        real(c_double), value :: t_end                    !! final time [s]
+        integer(c_int), value :: ntol                     !! 1 or n
+        real(c_double), intent(in) :: rtol(*), atol(*)    !! tolerances (ntol)
+        character(kind=c_char), intent(in) :: ckeys(*)    !! control names, NUL-terminated
+        integer(c_int), value :: nc                       !! number of control values
+        real(c_double), intent(in) :: cvals(*)            !! control values (nc)
+        integer(c_int), value :: n_out                    !! rows of t_out and y_out, >= 1
+        real(c_double), intent(inout) :: t_out(*)         !! output times [s]
+        real(c_double), intent(inout) :: y_out(*)         !! output states (n_out * n)
+        type(c_ptr), value :: stats                       !! ss_stats * (NULL: not returned)
+        integer(c_int) :: status
+        type(ode_stats) :: st
+        if (n < 1 .or. np < 0 .or. nc < 0 .or. (ntol /= 1 .and. ntol /= n)) then
+            st%status = SS_BAD_DIM
+        else if (n_out < 1) then
+            st%status = SS_BAD_N_OUT
+        else
+            call run(y_out)
+        end if
+        status = int(st%status, c_int)
+        call put_stats(st, status, stats)
+    contains
+        subroutine run(yo)
+            real(c_double), intent(inout) :: yo(n, *)
+            call simulate(int(scene), int(law), int(method), split_names(c_string(pkeys)), pvals(1:np), &
+                          y0(1:n), t_end, rtol(1:ntol), atol(1:ntol), split_names(c_string(ckeys)), &
+                          cvals(1:nc), t_out(1:n_out), yo(:, 1:n_out), st)
+        end subroutine run
+    end function ss_run
+
+    !> mu[i] = friction coefficient [-] of law `law` (a code) at v[i] [m/s], i < n, with its
+    !! parameters by name as in ss_run. Returns SS_OK or the code of the bad input.
+    function ss_mu(law, pkeys, np, pvals, n, v, mu) result(status) bind(C, name='ss_mu')
+        integer(c_int), value :: law                     !! law code
+        character(kind=c_char), intent(in) :: pkeys(*)   !! parameter names, NUL-terminated
+        integer(c_int), value :: np                      !! number of parameter values
+        real(c_double), intent(in) :: pvals(*)           !! parameter values (np)
+        integer(c_int64_t), value :: n                   !! number of velocities, >= 0
+        real(c_double), intent(in) :: v(*)               !! relative velocities (n) [m/s]
+        real(c_double), intent(inout) :: mu(*)           !! friction coefficients (n) [-]
+        integer(c_int) :: status
+        if (n < 0 .or. np < 0) then
+            status = SS_BAD_DIM
+            return
+        end if
+        status = mu_named(law, c_string(pkeys), pvals(1:np), n, v, mu)
+    end function ss_mu
+
+    !> The code of a law, scene or method by name: kind is "law", "scene" or "method".
+    !! Returns 0 for an unknown name.
+    function ss_code(kind, name) result(code) bind(C, name='ss_code')
+        character(kind=c_char), intent(in) :: kind(*)   !! NUL-terminated
+        character(kind=c_char), intent(in) :: name(*)   !! NUL-terminated
+        integer(c_int) :: code
+        code = int(code_of(c_string(kind), c_string(name)), c_int)
+    end function ss_code
+
+    !> Copy the registry (laws, scenes, methods, parameters, status codes; one record per
+    !! line, fields separated by '|') into buf as ss_message does. Returns its full length.
+    function ss_registry(buf, buflen) result(full) bind(C, name='ss_registry')
+        character(kind=c_char), intent(out) :: buf(*)  !! room for buflen characters
+        integer(c_size_t), value :: buflen             !! size of buf [chars]
+        integer(c_int) :: full
+        full = copy_out(registry_text(), buf, buflen)
+    end function ss_registry
+
     ! -- helpers -------------------------------------------------------------------
+
+    !> Evaluate a law given by code with named parameters at n velocities.
+    function mu_named(law, keys, vals, n, v, mu) result(status)
+        integer(c_int), intent(in) :: law
+        character(len=*), intent(in) :: keys
+        real(dp), intent(in) :: vals(:)
+        integer(c_int64_t), intent(in) :: n
+        real(c_double), intent(in) :: v(*)
+        real(c_double), intent(inout) :: mu(*)
+        integer(c_int) :: status
+        class(friction_law), allocatable :: fl
+        type(param_values) :: p
+        status = int(make_law(int(law), split_names(keys), vals, fl, p), c_int)
+        if (status == SS_OK) mu(1:n) = fl%mu(v(1:n))
+    end function mu_named
+
+    !> A NUL-terminated C string as a Fortran string.
+    function c_string(s) result(f)
+        character(kind=c_char), intent(in) :: s(*)
+        character(len=:), allocatable :: f
+        integer :: i
+        i = 0
+        do
+            if (s(i + 1) == c_null_char) exit
+            i = i + 1
+        end do
+        allocate(character(len=i) :: f)
+        f = transfer(s(1:i), f)
+    end function c_string
+
+    !> Copy msg into buf (NUL-terminated, truncated to buflen - 1); its full length.
+    function copy_out(msg, buf, buflen) result(full)
+        character(len=*), intent(in) :: msg
+        character(kind=c_char), intent(out) :: buf(*)
+        integer(c_size_t), intent(in) :: buflen
+        integer(c_int) :: full
+        integer :: i, ncopy
+        full = int(len_trim(msg), c_int)
+        if (buflen < 1) return
+        ncopy = int(min(int(full, c_size_t), buflen - 1))
+        do i = 1, ncopy
+            buf(i) = msg(i:i)
+        end do
+        buf(ncopy + 1) = c_null_char
+    end function copy_out
+
+    !> Positions in PARAMS of the fields of ss_params, in the struct's order.
+    pure function param_order() result(idx)
+        integer :: idx(11)
+        character(len=NAME_LEN), parameter :: fields(11) = [character(len=NAME_LEN) :: 'mu_s', 'mu_k', &
+            'v_s', 'v_d', 'beta', 'a', 'm', 'g', 'theta_deg', 'k', 'v_b']
+        integer :: i
+        do i = 1, 11
+            idx(i) = findloc(PARAMS%name, fields(i), dim=1)
+        end do
+    end function param_order
+
+    !> The controls `names` (a method's list) valued from the options struct.
+    subroutine struct_controls(o, names, keys, vals)
+        type(dopri5_options), intent(in) :: o
+        character(len=*), intent(in) :: names
+        character(len=NAME_LEN), allocatable, intent(out) :: keys(:)
+        real(dp), allocatable, intent(out) :: vals(:)
+        character(len=NAME_LEN), allocatable :: all(:)
+        real(dp) :: x
+        integer :: i
+        all = split_names(names)
+        allocate(keys(0), vals(0))
+        do i = 1, size(all)
+            select case (all(i))
+            case ('h');             x = o%h
+            case ('hmin');          x = o%hmin
+            case ('hmax');          x = o%hmax
+            case ('h0');            x = o%h0
+            case ('max_steps');     x = real(o%max_steps, dp)
+            case ('allow_forced');  x = merge(1.0_dp, 0.0_dp, o%allow_forced)
+            case ('every_step');    x = merge(1.0_dp, 0.0_dp, o%every_step)
+            case ('safety');        x = o%safety
+            case ('fac1');          x = o%fac1
+            case ('fac2');          x = o%fac2
+            case ('beta_pi');       x = o%beta
+            case ('nstiff');        x = real(o%nstiff, dp)
+            case ('stop_on_stiff'); x = merge(1.0_dp, 0.0_dp, o%stop_on_stiff)
+            case default;           cycle     ! rtol, atol, and controls the struct has not
+            end select
+            keys = [keys, all(i)]
+            vals = [vals, x]
+        end do
+    end subroutine struct_controls
 
     !> What ss_dopri5 and ss_rk4 share: check the problem, wrap the C function as an
     !! ode_system, run the integrator, report stats.
@@ -315,20 +490,6 @@ contains
         call fp(t, y, dydt, self%n, self%data)
     end subroutine c_system_rhs
 
-    pure function to_f_params(p) result(q)
-        type(ss_params), intent(in) :: p
-        type(scene_params) :: q
-        q = scene_params(mu_s=p%mu_s, mu_k=p%mu_k, v_s=p%v_s, v_d=p%v_d, beta=p%beta, a=p%a, &
-                         m=p%m, g=p%g, theta_deg=p%theta_deg, k=p%k, v_b=p%v_b)
-    end function to_f_params
-
-    pure function to_c_params(q) result(p)
-        type(scene_params), intent(in) :: q
-        type(ss_params) :: p
-        p = ss_params(mu_s=q%mu_s, mu_k=q%mu_k, v_s=q%v_s, v_d=q%v_d, beta=q%beta, a=q%a, &
-                      m=q%m, g=q%g, theta_deg=q%theta_deg, k=q%k, v_b=q%v_b)
-    end function to_c_params
-
     !> Options from a C pointer (NULL: the defaults).
     subroutine get_options(opts, fo)
         type(c_ptr), intent(in) :: opts
@@ -383,6 +544,9 @@ contains
         s%t_reached = st%t_reached
         s%h_last = st%h_last
         s%status = status
+        s%njac = st%njac
+        s%ndec = st%ndec
+        s%nsol = st%nsol
     end subroutine to_c_stats
 
 end module stickslip_capi

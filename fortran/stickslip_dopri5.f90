@@ -16,7 +16,7 @@
 module stickslip_dopri5
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_STIFF, &
                                SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL
-    use stickslip_ode, only: ode_system, ode_stats, step_controls, check_problem, check_tolerances, &
+    use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
                              check_step_controls, all_finite, output_start, RTOL_MIN
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
@@ -70,9 +70,40 @@ module stickslip_dopri5
         real(dp) :: beta = 0.04_dp      !! PI (Lund) stabilisation exponent (0: plain I control)
         integer  :: nstiff = 1000       !! test stiffness every nstiff accepted steps
         logical  :: stop_on_stiff = .false. !! stop with SS_STIFF when the stiffness test fires
+    contains
+        procedure :: set => set_dopri5_option
     end type dopri5_options
 
+    !> What DOPRI5 is and which controls it reads (registry entry).
+    type(method_info), parameter, public :: DOPRI5_INFO = method_info(name='dopri5', order=5, &
+        adaptive=.true., implicit=.false., controls='rtol atol hmin hmax h0 max_steps allow_forced ' // &
+        'every_step safety fac1 fac2 beta_pi nstiff stop_on_stiff', &
+        doc='Dormand-Prince 5(4), adaptive, as Hairer''s DOPRI5')
+
 contains
+
+    !> Set one control by name: DOPRI5's own, then the shared ones.
+    function set_dopri5_option(self, name, value) result(status)
+        class(dopri5_options), intent(inout) :: self
+        character(len=*), intent(in) :: name    !! control name
+        real(dp), intent(in) :: value           !! its value (counts and flags as reals)
+        integer :: status
+        status = SS_OK
+        select case (name)
+        case ('safety');        self%safety = value
+        case ('fac1');          self%fac1 = value
+        case ('fac2');          self%fac2 = value
+        case ('beta_pi');       self%beta = value
+        case ('nstiff')
+            if (value >= 1.0_dp .and. value <= real(huge(1), dp)) then
+                self%nstiff = int(value)
+            else
+                status = SS_BAD_CONTROL
+            end if
+        case ('stop_on_stiff'); self%stop_on_stiff = value /= 0.0_dp
+        case default;           status = self%step_controls%set(name, value)
+        end select
+    end function set_dopri5_option
 
     !> Integrate y' = f(t, y) from t0 to t_end with error control.
     !!

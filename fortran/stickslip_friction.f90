@@ -1,107 +1,134 @@
-!> Friction-coefficient laws mu(v) of Yoo & Lee (2008), as elemental pure functions.
+!> The abstract friction law that every law of the library extends, one law per module
+!! (`stickslip_law_coulomb`, `stickslip_law_recurdyn`, `stickslip_law_proposed`, ...).
 !!
-!! v is the relative sliding velocity [m/s]; every law is odd in v, mu(-v) = -mu(v),
-!! so the friction force is mu(v_rel) * N with the sign already applied. The
-!! coefficients are dimensionless.
+!! Conventions. v is the relative sliding velocity [m/s]; a law returns the friction
+!! coefficient mu [-], odd in v, so that the friction force is mu(v) N with the sign
+!! already applied. A scene writes the rate of its relative velocity as
+!! dv/dt = c (mu_hold - mu), c > 0: `mu_hold` [-] is the coefficient that would hold the
+!! relative velocity constant (the non-friction force in units of the normal force). Laws
+!! with a stick band (Karnopp) need it; the others ignore it.
 !!
-!! Laws:
-!! - `coulomb`   (eq. 1): mu_s sign(v) for 0 < |v| < v_s, mu_k sign(v) beyond, 0 at v = 0.
-!! - `recurdyn`  (eqs. 2-3): haversine step 0 -> mu_s on [0, v_s], mu_s -> mu_k on [v_s, v_d].
-!! - `proposed`  (eq. 5, Roh & Yoo 2007): mu_s (|v|/v_s)^beta inside v_s,
-!!               a^-(|v|+b) + mu_k outside, b = -ln(mu_s - mu_k)/ln(a) - v_s (continuity).
+!! A law with internal states (a bristle deflection z, ...) reports how many it has,
+!! their names and units, and their rates; the scene appends them to its state vector
+!! (x, v, z...). A law without states adds nothing.
 !!
-!! `friction_law` holds the parameters of one law with the derived constants cached
-!! (ln a and b of the proposed law), and `friction_mu` evaluates it.
+!! A law reads its parameters by name from a resolved `param_values` set (see
+!! `stickslip_params`); the parameters every law shares (mu_s, mu_k, v_s) are declared
+!! here once.
 module stickslip_friction
-    use stickslip_kinds, only: dp, SS_OK, SS_BAD_LAW, SS_BAD_MU_S, SS_BAD_MU_K, SS_BAD_V_S, &
-                               SS_BAD_V_D, SS_BAD_BETA, SS_BAD_A
-    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_params, only: param_spec, param_values, param_read
     implicit none
     private
 
-    public :: friction_law, friction_law_init, friction_mu
-    public :: coulomb, recurdyn, proposed, havsin, proposed_b
-
-    integer, parameter, public :: LAW_COULOMB = 1     !! code of the Coulomb law
-    integer, parameter, public :: LAW_RECURDYN = 2    !! code of the commercial (RecurDyn/ADAMS) law
-    integer, parameter, public :: LAW_PROPOSED = 3    !! code of the Roh & Yoo (2007) law
+    public :: friction_law, havsin, havsin_slope
 
     real(dp), parameter :: pi = acos(-1.0_dp)
 
-    !> One friction law with its parameters and cached derived constants.
-    type :: friction_law
-        integer  :: law = LAW_PROPOSED  !! LAW_COULOMB, LAW_RECURDYN or LAW_PROPOSED
+    !> Parameter codes of the shared friction parameters (stable: the C header lists them).
+    integer, parameter, public :: SS_BAD_MU_S = -101   !! mu_s out of range
+    integer, parameter, public :: SS_BAD_MU_K = -102   !! mu_k out of range or > mu_s
+    integer, parameter, public :: SS_BAD_V_S = -103    !! v_s out of range
+
+    !> The parameters every law shares, with the paper's values (Table 1).
+    type(param_spec), parameter, public :: MU_S_SPEC = param_spec(name='mu_s', default=0.35_dp, &
+        lo=0.0_dp, code=SS_BAD_MU_S, doc='static friction coefficient')
+    type(param_spec), parameter, public :: MU_K_SPEC = param_spec(name='mu_k', default=0.30_dp, &
+        lo=0.0_dp, relation='<= mu_s', code=SS_BAD_MU_K, doc='kinetic friction coefficient')
+    type(param_spec), parameter, public :: V_S_SPEC = param_spec(name='v_s', default=0.01_dp, &
+        unit='m/s', lo=0.0_dp, lo_open=.true., code=SS_BAD_V_S, doc='static threshold velocity')
+
+    !> A friction law: mu as a function of the relative velocity (and of its internal
+    !! states, if it has any).
+    type, abstract :: friction_law
         real(dp) :: mu_s = 0.35_dp      !! static coefficient [-]
         real(dp) :: mu_k = 0.30_dp      !! kinetic coefficient [-]
         real(dp) :: v_s = 0.01_dp       !! static threshold velocity [m/s]
-        real(dp) :: v_d = 0.015_dp      !! dynamic threshold velocity of the recurdyn law [m/s]
-        real(dp) :: beta = 1.0_dp/3.0_dp  !! exponent of the proposed law inside v_s [-]
-        real(dp) :: a = 1.5_dp          !! base of the proposed law outside v_s (> 1) [-]
-        real(dp) :: ln_a = 0.0_dp       !! cached ln(a)
-        real(dp) :: b = 0.0_dp          !! cached continuity offset b of the proposed law [m/s]
+    contains
+        !> Read and check the parameters; SS_OK or the code naming the bad one.
+        procedure(init_iface), deferred :: init
+        !> Read and check the shared parameters (for `init`).
+        procedure, non_overridable :: read_shared
+        !> mu(v) [-] for a law without states; the steady-state curve of a law with states.
+        procedure(mu_iface), deferred :: mu
+        !> d mu / d v [s/m] (the default is a central difference of `mu`).
+        procedure :: dmu => central_dmu
+        !> Number of internal states (0: a static law).
+        procedure :: n_states => no_states
+        !> Name and unit of internal state i, as 'z [m]'.
+        procedure :: state_label => no_label
+        !> .true. when mu depends on v alone, so scenes may call `mu` instead of `evaluate`.
+        procedure :: is_static => static_law
+        !> mu and the rates of the internal states at (v, z) with the holding coefficient.
+        procedure :: evaluate => static_evaluate
     end type friction_law
+
+    abstract interface
+        function init_iface(self, p) result(status)
+            import :: friction_law, param_values
+            class(friction_law), intent(inout) :: self
+            type(param_values), intent(in) :: p  !! resolved parameter values
+            integer :: status
+        end function init_iface
+
+        elemental function mu_iface(self, v) result(mu)
+            import :: friction_law, dp
+            class(friction_law), intent(in) :: self
+            real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+            real(dp) :: mu                      !! friction coefficient, odd in v [-]
+        end function mu_iface
+    end interface
 
 contains
 
-    !> Validate the parameters of a law and fill `self`, caching ln a and b.
-    !! Only the parameters the chosen law uses are checked (v_d for recurdyn,
-    !! beta and a for proposed). Returns SS_OK or the code naming the bad parameter.
-    function friction_law_init(self, law, mu_s, mu_k, v_s, v_d, beta, a) result(status)
-        type(friction_law), intent(out) :: self
-        integer, intent(in)  :: law       !! LAW_COULOMB, LAW_RECURDYN or LAW_PROPOSED
-        real(dp), intent(in) :: mu_s      !! static coefficient, >= 0 [-]
-        real(dp), intent(in) :: mu_k      !! kinetic coefficient, 0 <= mu_k <= mu_s [-]
-        real(dp), intent(in) :: v_s       !! static threshold velocity, > 0 [m/s]
-        real(dp), intent(in) :: v_d       !! dynamic threshold velocity, > v_s (recurdyn) [m/s]
-        real(dp), intent(in) :: beta      !! exponent, > 0 (proposed) [-]
-        real(dp), intent(in) :: a         !! base, > 1 (proposed) [-]
+    !> Read and check mu_s, mu_k (<= mu_s) and v_s; extensions call it first from `init`.
+    function read_shared(self, p) result(status)
+        class(friction_law), intent(inout) :: self
+        type(param_values), intent(in) :: p   !! resolved parameter values
         integer :: status
-
         status = SS_OK
-        if (law < LAW_COULOMB .or. law > LAW_PROPOSED) then
-            status = SS_BAD_LAW
-        else if (.not. ieee_is_finite(mu_s) .or. mu_s < 0.0_dp) then
-            status = SS_BAD_MU_S
-        else if (.not. ieee_is_finite(mu_k) .or. mu_k < 0.0_dp .or. mu_k > mu_s) then
-            status = SS_BAD_MU_K
-        else if (.not. ieee_is_finite(v_s) .or. v_s <= 0.0_dp) then
-            status = SS_BAD_V_S
-        else if (law == LAW_RECURDYN .and. (.not. ieee_is_finite(v_d) .or. v_d <= v_s)) then
-            status = SS_BAD_V_D
-        else if (law == LAW_PROPOSED .and. (.not. ieee_is_finite(beta) .or. beta <= 0.0_dp)) then
-            status = SS_BAD_BETA
-        else if (law == LAW_PROPOSED .and. (.not. ieee_is_finite(a) .or. a <= 1.0_dp)) then
-            status = SS_BAD_A
-        end if
-        if (status /= SS_OK) return
+        call param_read(p, MU_S_SPEC, self%mu_s, status)
+        call param_read(p, MU_K_SPEC, self%mu_k, status)
+        call param_read(p, V_S_SPEC, self%v_s, status)
+        if (status == SS_OK .and. self%mu_k > self%mu_s) status = SS_BAD_MU_K
+    end function read_shared
 
-        self%law = law
-        self%mu_s = mu_s
-        self%mu_k = mu_k
-        self%v_s = v_s
-        self%v_d = v_d
-        self%beta = beta
-        self%a = a
-        if (law == LAW_PROPOSED) then
-            self%ln_a = log(a)
-            self%b = proposed_b(mu_s, mu_k, v_s, a)
-        end if
-    end function friction_law_init
+    elemental function central_dmu(self, v) result(d)
+        class(friction_law), intent(in) :: self
+        real(dp), intent(in) :: v          !! relative sliding velocity [m/s]
+        real(dp) :: d                      !! d mu / d v [s/m]
+        real(dp) :: dv
+        dv = 1.0e-6_dp * max(abs(v), self%v_s)
+        d = (self%mu(v + dv) - self%mu(v - dv)) / (2.0_dp * dv)
+    end function central_dmu
 
-    !> Friction coefficient of a validated law at relative velocity v [m/s].
-    elemental function friction_mu(self, v) result(mu)
-        type(friction_law), intent(in) :: self  !! a law filled by friction_law_init
-        real(dp), intent(in) :: v               !! relative sliding velocity [m/s]
-        real(dp) :: mu                          !! friction coefficient, odd in v [-]
-        select case (self%law)
-        case (LAW_COULOMB)
-            mu = coulomb(v, self%mu_s, self%mu_k, self%v_s)
-        case (LAW_RECURDYN)
-            mu = recurdyn(v, self%mu_s, self%mu_k, self%v_s, self%v_d)
-        case default
-            mu = proposed_cached(v, self%mu_s, self%mu_k, self%v_s, self%beta, self%ln_a, self%b)
-        end select
-    end function friction_mu
+    pure integer function no_states(self)
+        class(friction_law), intent(in) :: self
+        no_states = 0
+    end function no_states
+
+    pure function no_label(self, i) result(label)
+        class(friction_law), intent(in) :: self
+        integer, intent(in) :: i           !! state index, 1 .. n_states
+        character(len=:), allocatable :: label
+        label = ''
+    end function no_label
+
+    pure logical function static_law(self)
+        class(friction_law), intent(in) :: self
+        static_law = .true.
+    end function static_law
+
+    !> A static law: mu = mu(v), no states.
+    subroutine static_evaluate(self, v, z, mu_hold, mu, dz)
+        class(friction_law), intent(inout) :: self
+        real(dp), intent(in)  :: v          !! relative sliding velocity [m/s]
+        real(dp), intent(in)  :: z(:)       !! internal states (size n_states)
+        real(dp), intent(in)  :: mu_hold    !! coefficient that would hold v constant [-]
+        real(dp), intent(out) :: mu         !! friction coefficient [-]
+        real(dp), intent(out) :: dz(:)      !! rates of the internal states
+        mu = self%mu(v)
+    end subroutine static_evaluate
 
     !> Haversine step: h0 for x <= x0, h1 for x >= x1, and
     !! h0 + (h1 - h0) (1 - cos(pi (x - x0)/(x1 - x0)))/2 in between (needs x1 > x0).
@@ -117,75 +144,15 @@ contains
         end if
     end function havsin
 
-    !> Coulomb's law (eq. 1): discontinuous at 0 and at v_s.
-    elemental function coulomb(v, mu_s, mu_k, v_s) result(mu)
-        real(dp), intent(in) :: v      !! relative sliding velocity [m/s]
-        real(dp), intent(in) :: mu_s   !! static coefficient [-]
-        real(dp), intent(in) :: mu_k   !! kinetic coefficient [-]
-        real(dp), intent(in) :: v_s    !! static threshold velocity [m/s]
-        real(dp) :: mu
-        if (v == 0.0_dp) then
-            mu = 0.0_dp
-        else if (abs(v) < v_s) then
-            mu = sign(mu_s, v)
+    !> d havsin / d x.
+    elemental function havsin_slope(x, x0, h0, x1, h1) result(d)
+        real(dp), intent(in) :: x, x0, h0, x1, h1
+        real(dp) :: d
+        if (x <= x0 .or. x >= x1) then
+            d = 0.0_dp
         else
-            mu = sign(mu_k, v)
+            d = (h1 - h0) * 0.5_dp * sin(pi * (x - x0) / (x1 - x0)) * pi / (x1 - x0)
         end if
-    end function coulomb
-
-    !> The commercial (RecurDyn/ADAMS-style) law (eqs. 2-3): C1-continuous haversine
-    !! steps, mu -> 0 as v -> 0.
-    elemental function recurdyn(v, mu_s, mu_k, v_s, v_d) result(mu)
-        real(dp), intent(in) :: v      !! relative sliding velocity [m/s]
-        real(dp), intent(in) :: mu_s   !! static coefficient [-]
-        real(dp), intent(in) :: mu_k   !! kinetic coefficient [-]
-        real(dp), intent(in) :: v_s    !! static threshold velocity [m/s]
-        real(dp), intent(in) :: v_d    !! dynamic threshold velocity, > v_s [m/s]
-        real(dp) :: mu, s
-        s = abs(v)
-        if (s < v_s) then
-            mu = havsin(s, 0.0_dp, 0.0_dp, v_s, mu_s)
-        else
-            mu = havsin(s, v_s, mu_s, v_d, mu_k)
-        end if
-        mu = sign(mu, v)
-    end function recurdyn
-
-    !> Continuity offset b of the proposed law: a^-(v_s + b) = mu_s - mu_k [m/s].
-    !! For mu_s = mu_k the offset is +huge (the outer branch is mu_k).
-    elemental function proposed_b(mu_s, mu_k, v_s, a) result(b)
-        real(dp), intent(in) :: mu_s, mu_k, v_s, a
-        real(dp) :: b
-        if (mu_s > mu_k) then
-            b = -log(mu_s - mu_k) / log(a) - v_s
-        else
-            b = huge(1.0_dp)
-        end if
-    end function proposed_b
-
-    !> The proposed law of Roh & Yoo (2007) (eq. 5), velocities in m/s.
-    elemental function proposed(v, mu_s, mu_k, v_s, beta, a) result(mu)
-        real(dp), intent(in) :: v      !! relative sliding velocity [m/s]
-        real(dp), intent(in) :: mu_s   !! static coefficient [-]
-        real(dp), intent(in) :: mu_k   !! kinetic coefficient [-]
-        real(dp), intent(in) :: v_s    !! static threshold velocity [m/s]
-        real(dp), intent(in) :: beta   !! exponent inside v_s, > 0 [-]
-        real(dp), intent(in) :: a      !! base outside v_s, > 1 [-]
-        real(dp) :: mu
-        mu = proposed_cached(v, mu_s, mu_k, v_s, beta, log(a), proposed_b(mu_s, mu_k, v_s, a))
-    end function proposed
-
-    !> The proposed law with ln a and b precomputed.
-    elemental function proposed_cached(v, mu_s, mu_k, v_s, beta, ln_a, b) result(mu)
-        real(dp), intent(in) :: v, mu_s, mu_k, v_s, beta, ln_a, b
-        real(dp) :: mu, s
-        s = abs(v)
-        if (s <= v_s) then
-            mu = mu_s * (s / v_s)**beta
-        else
-            mu = exp(-ln_a * (s + b)) + mu_k
-        end if
-        mu = sign(mu, v)
-    end function proposed_cached
+    end function havsin_slope
 
 end module stickslip_friction

@@ -2,14 +2,15 @@
 !!
 !! Every routine of the library that can fail returns an integer status:
 !! `SS_OK` (zero) on success, a negative code on failure. Codes from -100
-!! downwards name one bad input parameter each; codes -1 .. -9 are run-time
-!! outcomes of an integration (in the spirit of Hairer's IDID).
+!! downwards name one bad input each (the physical parameters' codes are declared
+!! beside their specifications, in the law and scene modules); codes -1 .. -99 are
+!! run-time outcomes of an integration (in the spirit of Hairer's IDID).
 module stickslip_kinds
     use, intrinsic :: iso_fortran_env, only: dp => real64
     implicit none
     private
 
-    public :: dp, stickslip_message
+    public :: dp, status_text
 
     ! -- success ----------------------------------------------------------------
     integer, parameter, public :: SS_OK = 0                 !! finished normally
@@ -23,18 +24,7 @@ module stickslip_kinds
 
     ! -- bad input, one code per parameter ---------------------------------------
     integer, parameter, public :: SS_BAD_LAW = -100         !! unknown friction law code
-    integer, parameter, public :: SS_BAD_MU_S = -101        !! mu_s not finite or < 0
-    integer, parameter, public :: SS_BAD_MU_K = -102        !! mu_k not finite, < 0 or > mu_s
-    integer, parameter, public :: SS_BAD_V_S = -103         !! v_s not finite or <= 0
-    integer, parameter, public :: SS_BAD_V_D = -104         !! v_d not finite or <= v_s
-    integer, parameter, public :: SS_BAD_BETA = -105        !! beta not finite or <= 0
-    integer, parameter, public :: SS_BAD_A = -106           !! a not finite or <= 1
     integer, parameter, public :: SS_BAD_SCENE = -110       !! unknown scene code
-    integer, parameter, public :: SS_BAD_M = -111           !! m not finite or <= 0
-    integer, parameter, public :: SS_BAD_G = -112           !! g not finite or < 0
-    integer, parameter, public :: SS_BAD_THETA = -113       !! theta not finite or outside [-90, 90] degrees
-    integer, parameter, public :: SS_BAD_K = -114           !! k not finite or < 0
-    integer, parameter, public :: SS_BAD_V_B = -115         !! v_b not finite
     integer, parameter, public :: SS_BAD_METHOD = -120      !! unknown integration method code
     integer, parameter, public :: SS_BAD_H = -121           !! h not finite or <= 0
     integer, parameter, public :: SS_BAD_T_END = -122       !! t_end not finite or <= t0
@@ -48,12 +38,27 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_H0 = -130          !! initial step h0 not finite or < 0
     integer, parameter, public :: SS_BAD_CONTROL = -131     !! safety, fac1, fac2, beta_pi or nstiff out of range
     integer, parameter, public :: SS_BAD_DIM = -132         !! array sizes do not agree
+    integer, parameter, public :: SS_BAD_CONTROL_NAME = -133  !! a control the method does not read
+    integer, parameter, public :: SS_BAD_PARAM_NAME = -134  !! a parameter no law or scene has
+
+    !> Names of the status codes above, for the generated C header (`SS_` + name).
+    character(len=*), parameter, public :: STATUS_NAMES = 'OK STEP_BUDGET STEP_TOO_SMALL STIFF ' // &
+        'NONFINITE OUTPUT_FULL BAD_LAW BAD_SCENE BAD_METHOD BAD_H BAD_T_END BAD_RTOL BAD_ATOL ' // &
+        'BAD_HMIN BAD_HMAX BAD_N_OUT BAD_MAX_STEPS BAD_Y0 BAD_H0 BAD_CONTROL BAD_DIM ' // &
+        'BAD_CONTROL_NAME BAD_PARAM_NAME'
+    !> Their values, in the same order.
+    integer, parameter, public :: STATUS_CODES(23) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+        SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
+        SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
+        SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
+        SS_BAD_PARAM_NAME]
 
 contains
 
-    !> The message for a status code: what happened, and for bad input the
-    !! parameter and its accepted range.
-    pure function stickslip_message(status) result(msg)
+    !> The text of a run-time or generic input status code. The full message of any code,
+    !! with the parameters' ranges and the accepted names, is `stickslip_registry`'s
+    !! `stickslip_message`.
+    pure function status_text(status) result(msg)
         integer, intent(in) :: status   !! a status code returned by the library
         character(len=:), allocatable :: msg
         select case (status)
@@ -64,20 +69,9 @@ contains
         case (SS_STIFF);          msg = 'problem judged stiff (DOPRI5 stiffness test) and stop_on_stiff is set'
         case (SS_NONFINITE);      msg = 'the solution became NaN or infinite'
         case (SS_OUTPUT_FULL);    msg = 'the every-step output buffer is full'
-        case (SS_BAD_LAW);        msg = 'law: unknown friction law (accepted: coulomb, recurdyn, proposed)'
-        case (SS_BAD_MU_S);       msg = 'mu_s: must be finite and >= 0'
-        case (SS_BAD_MU_K);       msg = 'mu_k: must be finite and in [0, mu_s]'
-        case (SS_BAD_V_S);        msg = 'v_s: must be finite and > 0 [m/s]'
-        case (SS_BAD_V_D);        msg = 'v_d: must be finite and > v_s [m/s]'
-        case (SS_BAD_BETA);       msg = 'beta: must be finite and > 0'
-        case (SS_BAD_A);          msg = 'a: must be finite and > 1'
-        case (SS_BAD_SCENE);      msg = 'scene: unknown scene (accepted: slope, belt)'
-        case (SS_BAD_M);          msg = 'm: must be finite and > 0 [kg]'
-        case (SS_BAD_G);          msg = 'g: must be finite and >= 0 [m/s^2]'
-        case (SS_BAD_THETA);      msg = 'theta_deg: must be finite and in [-90, 90] [deg]'
-        case (SS_BAD_K);          msg = 'k: must be finite and >= 0 [N/m]'
-        case (SS_BAD_V_B);        msg = 'v_b: must be finite [m/s]'
-        case (SS_BAD_METHOD);     msg = 'method: unknown integration method (accepted: rk4, dopri5)'
+        case (SS_BAD_LAW);        msg = 'law: unknown friction law'
+        case (SS_BAD_SCENE);      msg = 'scene: unknown scene'
+        case (SS_BAD_METHOD);     msg = 'method: unknown integration method'
         case (SS_BAD_H);          msg = 'h: must be finite and > 0 [s]'
         case (SS_BAD_T_END);      msg = 't_end: must be finite and > t0 [s]'
         case (SS_BAD_RTOL);       msg = 'rtol: must be finite and 0 or in [100 eps = 2.2e-14, 1)'
@@ -92,8 +86,11 @@ contains
         case (SS_BAD_CONTROL);    msg = 'step control: need 0 < safety < 1, 0 < fac1 <= 1 <= fac2,' // &
                                         ' 0 <= beta_pi <= 0.2, nstiff >= 1'
         case (SS_BAD_DIM);        msg = 'array sizes do not agree'
+        case (SS_BAD_CONTROL_NAME); msg = 'control: not a control of the chosen method' // &
+                                          ' (each method lists its controls in the registry)'
+        case (SS_BAD_PARAM_NAME); msg = 'parameter: not a parameter of any friction law or scene'
         case default;             msg = 'unknown status code'
         end select
-    end function stickslip_message
+    end function status_text
 
 end module stickslip_kinds

@@ -13,13 +13,13 @@
 module stickslip_ode
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_N_OUT, SS_BAD_DIM, SS_BAD_Y0, SS_BAD_T_END, &
                                SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_H0, &
-                               SS_BAD_MAX_STEPS
+                               SS_BAD_MAX_STEPS, SS_BAD_CONTROL_NAME
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
-    public :: ode_system, ode_stats, step_controls, check_problem, check_tolerances, &
-              check_step_controls, all_finite, output_start
+    public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, &
+              check_step_controls, all_finite, output_start, stats_integers, stats_reals
 
     !> Smallest accepted nonzero rtol of the adaptive methods: 100 units of round-off.
     real(dp), parameter, public :: RTOL_MIN = 100.0_dp * epsilon(1.0_dp)
@@ -45,6 +45,10 @@ module stickslip_ode
         integer(8) :: max_steps = 100000000_8
         logical  :: allow_forced = .true.   !! take steps at h_min when the error test fails there
         logical  :: every_step = .false.    !! output every accepted step instead of a grid
+    contains
+        !> Set one control by name (flags: value /= 0); SS_OK or SS_BAD_CONTROL_NAME.
+        !! Method-specific options types override it and fall back to this one.
+        procedure :: set => set_step_control
     end type step_controls
 
     abstract interface
@@ -76,7 +80,63 @@ module stickslip_ode
         integer    :: status = SS_OK      !! SS_OK or a negative status code
     end type ode_stats
 
+    !> What a method is, for the registry: name, order, kind, and the controls it reads
+    !! (space-separated names; rtol and atol are passed as arrays beside the others).
+    type :: method_info
+        character(len=16) :: name = ''        !! method name, as users write it
+        integer :: order = 0                  !! order of convergence
+        logical :: adaptive = .false.         !! error-controlled step (else fixed step h)
+        logical :: implicit = .false.         !! implicit method (uses the Jacobian)
+        character(len=160) :: controls = ''   !! the controls it reads
+        character(len=64) :: doc = ''         !! one line on what it is
+    end type method_info
+
+    !> Names of the integer and real counters of ode_stats, in the order of
+    !! `stats_integers` and `stats_reals`: the Python and C layers read them by name.
+    character(len=*), parameter, public :: STATS_INTEGER_NAMES = &
+        'nfev nstep naccept nreject nforced nstiff stiff njac ndec nsol n_written status'
+    character(len=*), parameter, public :: STATS_REAL_NAMES = 't_reached h_last'
+
 contains
+
+    !> The integer counters of st in the order of STATS_INTEGER_NAMES.
+    pure function stats_integers(st) result(v)
+        type(ode_stats), intent(in) :: st   !! counters of a run
+        integer(8) :: v(12)
+        v = [st%nfev, st%nstep, st%naccept, st%nreject, st%nforced, st%nstiff, &
+             merge(1_8, 0_8, st%stiff), st%njac, st%ndec, st%nsol, int(st%n_written, 8), &
+             int(st%status, 8)]
+    end function stats_integers
+
+    !> The real counters of st in the order of STATS_REAL_NAMES.
+    pure function stats_reals(st) result(v)
+        type(ode_stats), intent(in) :: st   !! counters of a run
+        real(dp) :: v(2)
+        v = [st%t_reached, st%h_last]
+    end function stats_reals
+
+    function set_step_control(self, name, value) result(status)
+        class(step_controls), intent(inout) :: self
+        character(len=*), intent(in) :: name    !! control name
+        real(dp), intent(in) :: value           !! its value (counts and flags as reals)
+        integer :: status
+        status = SS_OK
+        select case (name)
+        case ('h');            self%h = value
+        case ('hmin');         self%hmin = value
+        case ('hmax');         self%hmax = value
+        case ('h0');           self%h0 = value
+        case ('max_steps')
+            if (value >= 1.0_dp .and. value <= 9.0e18_dp) then
+                self%max_steps = int(value, 8)
+            else
+                status = SS_BAD_MAX_STEPS
+            end if
+        case ('allow_forced'); self%allow_forced = value /= 0.0_dp
+        case ('every_step');   self%every_step = value /= 0.0_dp
+        case default;          status = SS_BAD_CONTROL_NAME
+        end select
+    end function set_step_control
 
     !> Forward-difference Jacobian df/dy(t, y) with Hairer's increments
     !! sqrt(eps max(1e-5, |y_j|)): n evaluations of f, added to nfev.

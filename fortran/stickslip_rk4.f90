@@ -8,12 +8,17 @@
 module stickslip_rk4
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
                                SS_NONFINITE, SS_OUTPUT_FULL
-    use stickslip_ode, only: ode_system, ode_stats, check_problem, output_start
+    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
     public :: rk4_integrate, rk4_step_count
+
+    !> What RK4 is and which controls it reads (registry entry).
+    type(method_info), parameter, public :: RK4_INFO = method_info(name='rk4', order=4, &
+        adaptive=.false., implicit=.false., controls='h max_steps every_step', &
+        doc='classical Runge-Kutta, fixed step')
 
     !> Butcher tableau of the classical method (exact fractions).
     real(dp), parameter, public :: rk4_c(4) = [0.0_dp, 0.5_dp, 0.5_dp, 1.0_dp]

@@ -1,106 +1,217 @@
-!> The two scenes of Yoo & Lee (2008) as first-order systems, state y = (x [m], v [m/s]).
+!> The two scenes of Yoo & Lee (2008) as first-order systems with any friction law.
+!! State y = (x [m], v [m/s], z...): position and velocity, then the law's internal
+!! states, if it has any (none for a static law: the scene is then exactly 2 states).
 !!
 !! - `slope_scene`: a box on a plane inclined theta, x along the slope (down positive),
 !!   x'' = g sin(theta) - mu(x') g cos(theta). The mass cancels, so the scene has none.
+!!   Relative velocity v; holding coefficient tan(theta).
 !! - `belt_scene`: a mass m on a belt moving at v_b, tied to a wall by a spring k,
-!!   m x'' = -k x + mu(v_b - x') m g.
+!!   m x'' = -k x + mu(v_b - x') m g. Relative velocity v_b - v; holding coefficient
+!!   k x / (m g).
+!! Both supply the analytic Jacobian for static laws (finite differences otherwise).
 module stickslip_scenes
-    use stickslip_kinds, only: dp, SS_OK, SS_BAD_M, SS_BAD_G, SS_BAD_THETA, SS_BAD_K, SS_BAD_V_B
-    use stickslip_friction, only: friction_law, friction_mu
-    use stickslip_ode, only: ode_system
-    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_params, only: param_spec, param_values, param_read
+    use stickslip_friction, only: friction_law
+    use stickslip_ode, only: ode_system, fd_jacobian
     implicit none
     private
 
-    public :: slope_scene, belt_scene, slope_init, belt_init
+    public :: friction_scene, slope_scene, belt_scene
 
-    integer, parameter, public :: SCENE_SLOPE = 1   !! code of the box on a slope
-    integer, parameter, public :: SCENE_BELT = 2    !! code of the spring-mass on a belt
+    integer, parameter, public :: SS_BAD_M = -111       !! m out of range
+    integer, parameter, public :: SS_BAD_G = -112       !! g out of range
+    integer, parameter, public :: SS_BAD_THETA = -113   !! theta_deg out of range
+    integer, parameter, public :: SS_BAD_K = -114       !! k out of range
+    integer, parameter, public :: SS_BAD_V_B = -115     !! v_b not finite
+
+    !> The scenes' parameters with the paper's values (Table 1) and ours where it is silent.
+    type(param_spec), parameter, public :: G_SPEC = param_spec(name='g', default=9.81_dp, &
+        unit='m/s^2', lo=0.0_dp, code=SS_BAD_G, doc='gravity')
+    type(param_spec), parameter, public :: THETA_SPEC = param_spec(name='theta_deg', default=10.0_dp, &
+        unit='deg', lo=-90.0_dp, hi=90.0_dp, code=SS_BAD_THETA, doc='slope inclination')
+    type(param_spec), parameter, public :: M_SPEC = param_spec(name='m', default=10.0_dp, &
+        unit='kg', lo=0.0_dp, lo_open=.true., code=SS_BAD_M, doc='mass')
+    type(param_spec), parameter, public :: K_SPEC = param_spec(name='k', default=300.0_dp, &
+        unit='N/m', lo=0.0_dp, code=SS_BAD_K, doc='spring stiffness')
+    type(param_spec), parameter, public :: V_B_SPEC = param_spec(name='v_b', default=1.5_dp, &
+        unit='m/s', code=SS_BAD_V_B, doc='belt speed')
 
     real(dp), parameter :: deg = acos(-1.0_dp) / 180.0_dp
 
+    !> What both scenes share: the law, its number of internal states, and the
+    !! relative velocity.
+    type, abstract, extends(ode_system) :: friction_scene
+        class(friction_law), allocatable :: law   !! friction between the body and its support
+        integer :: nz = 0                         !! internal states of the law
+        logical :: static_law = .true.            !! the law depends on v alone
+    contains
+        !> Dimension of the state: 2 + the law's internal states.
+        procedure :: n_states => scene_n_states
+        !> Relative sliding velocity [m/s] at state y.
+        procedure(vrel_iface), deferred :: relative_velocity
+    end type friction_scene
+
+    abstract interface
+        pure function vrel_iface(self, y) result(vr)
+            import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
+            real(dp), intent(in) :: y(:)    !! state (x, v, z...)
+            real(dp) :: vr                  !! relative sliding velocity [m/s]
+        end function vrel_iface
+    end interface
+
     !> Box on an inclined plane.
-    type, extends(ode_system) :: slope_scene
-        type(friction_law) :: law     !! friction between box and plane
+    type, extends(friction_scene) :: slope_scene
         real(dp) :: g_sin = 0.0_dp    !! g sin(theta) [m/s^2]
         real(dp) :: g_cos = 0.0_dp    !! g cos(theta) [m/s^2]
+        real(dp) :: mu_hold = 0.0_dp  !! tan(theta) [-]
     contains
+        procedure :: init => slope_init
         procedure :: rhs => slope_rhs
+        procedure :: jacobian => slope_jacobian
+        procedure :: relative_velocity => slope_vrel
     end type slope_scene
 
     !> Spring-mass on a moving belt.
-    type, extends(ode_system) :: belt_scene
-        type(friction_law) :: law     !! friction between mass and belt
+    type, extends(friction_scene) :: belt_scene
         real(dp) :: k_m = 0.0_dp      !! k / m [1/s^2]
         real(dp) :: g = 9.81_dp       !! gravity [m/s^2]
         real(dp) :: v_b = 1.5_dp      !! belt speed [m/s]
+        real(dp) :: k_mg = 0.0_dp     !! k / (m g), holding coefficient per metre [1/m]
     contains
+        procedure :: init => belt_init
         procedure :: rhs => belt_rhs
+        procedure :: jacobian => belt_jacobian
+        procedure :: relative_velocity => belt_vrel
     end type belt_scene
 
 contains
 
-    !> Fill a slope scene; returns SS_OK or the code of the bad parameter.
-    function slope_init(self, law, g, theta_deg) result(status)
-        type(slope_scene), intent(out) :: self
-        type(friction_law), intent(in) :: law   !! a validated friction law
-        real(dp), intent(in) :: g               !! gravity, >= 0 [m/s^2]
-        real(dp), intent(in) :: theta_deg       !! inclination, in [-90, 90] [deg]
+    pure integer function scene_n_states(self)
+        class(friction_scene), intent(in) :: self
+        scene_n_states = 2 + self%nz
+    end function scene_n_states
+
+    !> Take the law (a validated one) and record its states.
+    subroutine set_law(self, law)
+        class(friction_scene), intent(inout) :: self
+        class(friction_law), intent(in) :: law
+        if (allocated(self%law)) deallocate(self%law)
+        allocate(self%law, source=law)
+        self%nz = law%n_states()
+        self%static_law = law%is_static()
+    end subroutine set_law
+
+    !> Fill a slope scene from g and theta_deg in p; SS_OK or the code of the bad parameter.
+    function slope_init(self, law, p) result(status)
+        class(slope_scene), intent(inout) :: self
+        class(friction_law), intent(in) :: law  !! a validated friction law
+        type(param_values), intent(in) :: p     !! resolved parameter values
         integer :: status
+        real(dp) :: g, theta_deg
         status = SS_OK
-        if (.not. ieee_is_finite(g) .or. g < 0.0_dp) then
-            status = SS_BAD_G
-        else if (.not. ieee_is_finite(theta_deg) .or. abs(theta_deg) > 90.0_dp) then
-            status = SS_BAD_THETA
-        end if
+        call param_read(p, G_SPEC, g, status)
+        call param_read(p, THETA_SPEC, theta_deg, status)
         if (status /= SS_OK) return
-        self%law = law
+        call set_law(self, law)
         self%g_sin = g * sin(theta_deg * deg)
         self%g_cos = g * cos(theta_deg * deg)
+        self%mu_hold = 0.0_dp
+        if (self%g_cos > 0.0_dp) self%mu_hold = self%g_sin / self%g_cos
     end function slope_init
 
-    !> Fill a belt scene; returns SS_OK or the code of the bad parameter.
-    function belt_init(self, law, m, g, k, v_b) result(status)
-        type(belt_scene), intent(out) :: self
-        type(friction_law), intent(in) :: law   !! a validated friction law
-        real(dp), intent(in) :: m               !! mass, > 0 [kg]
-        real(dp), intent(in) :: g               !! gravity, >= 0 [m/s^2]
-        real(dp), intent(in) :: k               !! spring stiffness, >= 0 [N/m]
-        real(dp), intent(in) :: v_b             !! belt speed [m/s]
+    !> Fill a belt scene from m, g, k, v_b in p; SS_OK or the code of the bad parameter.
+    function belt_init(self, law, p) result(status)
+        class(belt_scene), intent(inout) :: self
+        class(friction_law), intent(in) :: law  !! a validated friction law
+        type(param_values), intent(in) :: p     !! resolved parameter values
         integer :: status
+        real(dp) :: m, k
         status = SS_OK
-        if (.not. ieee_is_finite(m) .or. m <= 0.0_dp) then
-            status = SS_BAD_M
-        else if (.not. ieee_is_finite(g) .or. g < 0.0_dp) then
-            status = SS_BAD_G
-        else if (.not. ieee_is_finite(k) .or. k < 0.0_dp) then
-            status = SS_BAD_K
-        else if (.not. ieee_is_finite(v_b)) then
-            status = SS_BAD_V_B
-        end if
+        call param_read(p, M_SPEC, m, status)
+        call param_read(p, G_SPEC, self%g, status)
+        call param_read(p, K_SPEC, k, status)
+        call param_read(p, V_B_SPEC, self%v_b, status)
         if (status /= SS_OK) return
-        self%law = law
+        call set_law(self, law)
         self%k_m = k / m
-        self%g = g
-        self%v_b = v_b
+        self%k_mg = 0.0_dp
+        if (self%g > 0.0_dp) self%k_mg = self%k_m / self%g
     end function belt_init
 
     subroutine slope_rhs(self, t, y, dydt)
         class(slope_scene), intent(inout) :: self
         real(dp), intent(in)  :: t          !! time [s] (unused: autonomous)
-        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
-        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z...)
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
+        real(dp) :: mu
+        if (self%static_law) then
+            mu = self%law%mu(y(2))
+        else
+            call self%law%evaluate(y(2), y(3:), self%mu_hold, mu, dydt(3:))
+        end if
         dydt(1) = y(2)
-        dydt(2) = self%g_sin - friction_mu(self%law, y(2)) * self%g_cos
+        dydt(2) = self%g_sin - mu * self%g_cos
     end subroutine slope_rhs
 
     subroutine belt_rhs(self, t, y, dydt)
         class(belt_scene), intent(inout) :: self
         real(dp), intent(in)  :: t          !! time [s] (unused: autonomous)
-        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
-        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z...)
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
+        real(dp) :: mu
+        if (self%static_law) then
+            mu = self%law%mu(self%v_b - y(2))
+        else
+            call self%law%evaluate(self%v_b - y(2), y(3:), self%k_mg * y(1), mu, dydt(3:))
+        end if
         dydt(1) = y(2)
-        dydt(2) = -self%k_m * y(1) + friction_mu(self%law, self%v_b - y(2)) * self%g
+        dydt(2) = -self%k_m * y(1) + mu * self%g
     end subroutine belt_rhs
+
+    !> Analytic Jacobian for a static law, finite differences otherwise.
+    subroutine slope_jacobian(self, t, y, f, dfdy, nfev)
+        class(slope_scene), intent(inout) :: self
+        real(dp), intent(in)    :: t             !! time [s]
+        real(dp), intent(in)    :: y(:)          !! state
+        real(dp), intent(in)    :: f(:)          !! f(t, y)
+        real(dp), intent(out)   :: dfdy(:, :)    !! (n, n) Jacobian
+        integer(8), intent(inout) :: nfev        !! evaluation counter
+        if (.not. self%static_law) then
+            call fd_jacobian(self, t, y, f, dfdy, nfev)
+            return
+        end if
+        dfdy = reshape([0.0_dp, 0.0_dp, 1.0_dp, -self%g_cos * self%law%dmu(y(2))], [2, 2])
+    end subroutine slope_jacobian
+
+    !> Analytic Jacobian for a static law, finite differences otherwise.
+    subroutine belt_jacobian(self, t, y, f, dfdy, nfev)
+        class(belt_scene), intent(inout) :: self
+        real(dp), intent(in)    :: t             !! time [s]
+        real(dp), intent(in)    :: y(:)          !! state
+        real(dp), intent(in)    :: f(:)          !! f(t, y)
+        real(dp), intent(out)   :: dfdy(:, :)    !! (n, n) Jacobian
+        integer(8), intent(inout) :: nfev        !! evaluation counter
+        if (.not. self%static_law) then
+            call fd_jacobian(self, t, y, f, dfdy, nfev)
+            return
+        end if
+        dfdy = reshape([0.0_dp, -self%k_m, 1.0_dp, -self%g * self%law%dmu(self%v_b - y(2))], [2, 2])
+    end subroutine belt_jacobian
+
+    pure function slope_vrel(self, y) result(vr)
+        class(slope_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state (x, v, z...)
+        real(dp) :: vr                  !! relative sliding velocity v [m/s]
+        vr = y(2)
+    end function slope_vrel
+
+    pure function belt_vrel(self, y) result(vr)
+        class(belt_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state (x, v, z...)
+        real(dp) :: vr                  !! relative sliding velocity v_b - v [m/s]
+        vr = self%v_b - y(2)
+    end function belt_vrel
 
 end module stickslip_scenes

@@ -254,8 +254,8 @@ def test_belt_proposed_grows_into_stick_slip(belt_dir: Path) -> None:
 def test_failed_run_is_reported_across_processes() -> None:
     """A run that exhausts its step budget in a worker surfaces as SimulationFailed naming it."""
     ok = _common.Run("slope", "recurdyn", "rk4", 0.1, 11, h=1e-3)
-    bad = _common.Run("slope", "recurdyn", "rk4", 0.1, 11, h=1e-3, max_steps=10)
-    with pytest.raises(_common.SimulationFailed, match="slope recurdyn rk4 h=0.001"):
+    bad = _common.Run("slope", "coulomb", "dopri5", 0.1, 11, rtol=1e-6, atol=1e-9, max_steps=10)
+    with pytest.raises(_common.SimulationFailed, match="slope coulomb dopri5 rtol=1e-06"):
         _common.run_all([ok, bad], workers=2, quiet=True)
 
 

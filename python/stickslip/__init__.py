@@ -4,7 +4,10 @@ The Fortran core integrates; this package validates input, calls it once per sim
 and returns numpy arrays. See README.md for the laws, scenes and integrators.
 """
 from .core import (
+    CONTROL_DEFAULTS,
+    CONTROLS,
     DEFAULTS,
+    REGISTRY,
     LAW_PARAMS,
     LAWS,
     METHODS,
@@ -23,7 +26,7 @@ from .core import (
 from .batch import BatchResult, simulate_batch
 
 __all__ = [
-    "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError",
+    "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError",
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch",

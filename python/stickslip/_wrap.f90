@@ -1,154 +1,169 @@
-! The thin layer f2py reads: plain subroutines with C kinds, names mapped to integer
-! codes, everything else delegated to the core modules. Never call these directly:
-! the Python facade (stickslip/core.py) validates input and raises on bad status.
+! The thin layer f2py reads: plain subroutines with C kinds, everything else delegated to
+! the core modules. Names (parameters, controls, counters) travel as comma-separated
+! strings and are matched by the core's registry, so adding a law, a method or a counter
+! changes nothing here. Never call these directly: the Python facade (stickslip/core.py)
+! validates input and raises on bad status.
 
-!> The integer codes of laws, scenes and methods, and the status codes, in one array:
-!! (coulomb, recurdyn, proposed, slope, belt, rk4, dopri5).
-subroutine codes(c)
-    use, intrinsic :: iso_c_binding, only: c_int
-    use stickslip_friction, only: LAW_COULOMB, LAW_RECURDYN, LAW_PROPOSED
-    use stickslip_scenes, only: SCENE_SLOPE, SCENE_BELT
-    use stickslip_simulate, only: METHOD_RK4, METHOD_DOPRI5
+!> The registry as text (stickslip_registry's registry_text), NUL-padded.
+subroutine registry(text)
+    use stickslip_registry, only: registry_text
     implicit none
-    integer(c_int), intent(out) :: c(7)
-    c = [LAW_COULOMB, LAW_RECURDYN, LAW_PROPOSED, SCENE_SLOPE, SCENE_BELT, METHOD_RK4, METHOD_DOPRI5]
-end subroutine codes
+    character(len=32768), intent(out) :: text
+    text = registry_text()
+end subroutine registry
 
 !> The library's message for a status code.
 subroutine message(status, msg)
     use, intrinsic :: iso_c_binding, only: c_int
-    use stickslip_kinds, only: stickslip_message
+    use stickslip_registry, only: stickslip_message
     implicit none
     integer(c_int), intent(in) :: status
-    character(len=200), intent(out) :: msg
+    character(len=400), intent(out) :: msg
     msg = stickslip_message(status)
 end subroutine message
 
-!> Friction coefficient mu(v) of one law at n velocities [m/s].
-subroutine friction(law, v, n, mu_s, mu_k, v_s, v_d, beta, a, mu, status)
+!> Friction coefficient mu(v) [-] of law `law` at n velocities [m/s], with the named
+!! parameters pkeys = 'name,name,...' valued by pvals (the others at their defaults).
+subroutine friction(law, pkeys, pvals, np, v, n, mu, status)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_OK
-    use stickslip_friction, only: friction_law, friction_law_init, friction_mu
+    use stickslip_params, only: param_values
+    use stickslip_friction, only: friction_law
+    use stickslip_registry, only: make_law, split_names
     implicit none
     integer(c_int), intent(in) :: law
+    character(len=*), intent(in) :: pkeys
+    integer(c_int), intent(in) :: np
+    real(c_double), intent(in) :: pvals(np)
+    !f2py integer intent(hide), depend(pvals) :: np = len(pvals)
     integer(c_int), intent(in) :: n
     real(c_double), intent(in) :: v(n)
     !f2py integer intent(hide), depend(v) :: n = len(v)
-    real(c_double), intent(in) :: mu_s, mu_k, v_s, v_d, beta, a
     real(c_double), intent(out) :: mu(n)
     integer(c_int), intent(out) :: status
-    type(friction_law) :: fl
-    status = friction_law_init(fl, law, mu_s, mu_k, v_s, v_d, beta, a)
-    if (status == SS_OK) then
-        mu = friction_mu(fl, v)
-    else
-        mu = 0.0_c_double
-    end if
+    class(friction_law), allocatable :: fl
+    type(param_values) :: p
+    mu = 0.0_c_double
+    status = make_law(law, split_names(pkeys), pvals, fl, p)
+    if (status == SS_OK) mu = fl%mu(v)
 end subroutine friction
 
-!> Simulate a scene. p = (mu_s, mu_k, v_s, v_d, beta, a, m, g, theta_deg, k, v_b).
-!! t_out: requested times (grid mode) or room for every step (overwritten with step times).
-!! istats = (nfev, nstep, naccept, nreject, nforced, nstiff, stiff, n_written);
-!! rstats = (t_reached, h_last).
-subroutine run_simulation(scene, law, method, p, x0, v0, t_end, h, rtol, atol, hmin, hmax, h0, &
-                    max_steps, every_step, allow_forced, stop_on_stiff, nrow, t_out, y_out, &
-                    istats, rstats, status)
-    use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double
-    use stickslip_ode, only: ode_stats
-    use stickslip_dopri5, only: dopri5_options
-    use stickslip_simulate, only: scene_params, scene_params_from, simulate
+!> Simulate a scene from y0 at t = 0 to t_end. Physical parameters pkeys/pvals and controls
+!! ckeys/cvals by name. t_out: requested times (grid mode) or room for every step
+!! (overwritten with step times). istats(ni) and rstats(nr) receive the counters named by
+!! the registry's 'stats' record, presolved(npar) every parameter as resolved (registry
+!! order); the caller gives the sizes, which must match the registry's.
+subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rtol, nrt, atol, nat, &
+                          ckeys, cvals, nc, nrow, t_out, y_out, ni, istats, nr, rstats, npar, presolved, &
+                          status)
+    use, intrinsic :: iso_c_binding, only: c_int, c_double
+    use stickslip_kinds, only: SS_BAD_DIM
+    use stickslip_params, only: param_values
+    use stickslip_ode, only: ode_stats, stats_integers, stats_reals
+    use stickslip_simulate, only: simulate
+    use stickslip_registry, only: split_names
     implicit none
     integer(c_int), intent(in) :: scene, law, method
-    real(c_double), intent(in) :: p(11)
-    real(c_double), intent(in) :: x0, v0, t_end, h, rtol, atol, hmin, hmax, h0
-    integer(c_int64_t), intent(in) :: max_steps
-    integer(c_int), intent(in) :: every_step, allow_forced, stop_on_stiff
-    integer(c_int), intent(in) :: nrow
+    character(len=*), intent(in) :: pkeys, ckeys
+    integer(c_int), intent(in) :: np, n, nrt, nat, nc, nrow, ni, nr, npar
+    real(c_double), intent(in) :: pvals(np)
+    !f2py integer intent(hide), depend(pvals) :: np = len(pvals)
+    real(c_double), intent(in) :: y0(n)
+    !f2py integer intent(hide), depend(y0) :: n = len(y0)
+    real(c_double), intent(in) :: t_end
+    real(c_double), intent(in) :: rtol(nrt)
+    !f2py integer intent(hide), depend(rtol) :: nrt = len(rtol)
+    real(c_double), intent(in) :: atol(nat)
+    !f2py integer intent(hide), depend(atol) :: nat = len(atol)
+    real(c_double), intent(in) :: cvals(nc)
+    !f2py integer intent(hide), depend(cvals) :: nc = len(cvals)
     real(c_double), intent(inout) :: t_out(nrow)
     !f2py integer intent(hide), depend(t_out) :: nrow = len(t_out)
-    real(c_double), intent(out) :: y_out(2, nrow)
-    integer(c_int64_t), intent(out) :: istats(8)
-    real(c_double), intent(out) :: rstats(2)
+    real(c_double), intent(out) :: y_out(n, nrow)
+    real(c_double), intent(out) :: istats(ni)
+    real(c_double), intent(out) :: rstats(nr)
+    real(c_double), intent(out) :: presolved(npar)
     integer(c_int), intent(out) :: status
-    type(scene_params) :: sp
-    type(dopri5_options) :: opts
     type(ode_stats) :: st
+    type(param_values) :: p
 
-    sp = scene_params_from(p)
-    opts%hmin = hmin
-    opts%hmax = hmax
-    opts%h0 = h0
-    opts%max_steps = max_steps
-    opts%every_step = every_step /= 0
-    opts%allow_forced = allow_forced /= 0
-    opts%stop_on_stiff = stop_on_stiff /= 0
     y_out = 0.0_c_double
-    call simulate(scene, law, method, sp, x0, v0, t_end, h, [rtol], [atol], opts, t_out, y_out, st)
-    istats = [st%nfev, st%nstep, st%naccept, st%nreject, st%nforced, st%nstiff, &
-              merge(1_c_int64_t, 0_c_int64_t, st%stiff), int(st%n_written, c_int64_t)]
-    rstats = [st%t_reached, st%h_last]
+    istats = 0.0_c_double
+    rstats = 0.0_c_double
+    presolved = 0.0_c_double
+    call simulate(scene, law, method, split_names(pkeys), pvals, y0, t_end, rtol, atol, &
+                  split_names(ckeys), cvals, t_out, y_out, st, p_out=p)
     status = st%status
+    if (ni /= size(stats_integers(st)) .or. nr /= size(stats_reals(st)) .or. npar /= size(p%values)) then
+        status = SS_BAD_DIM
+        return
+    end if
+    istats = real(stats_integers(st), c_double)   ! exact below 2^53
+    rstats = stats_reals(st)
+    presolved = p%values
 end subroutine run_simulation
 
 !> Simulate nset parameter sets in one call (stickslip_batch), OpenMP over the sets.
-!! Per set: codes scene/law/method, p(:, i) = (mu_s, mu_k, v_s, v_d, beta, a, m, g,
-!! theta_deg, k, v_b), x0, v0, t_end, h (RK4), rtol, atol, hmin, hmax, h0, max_steps.
-!! n_grid: monitor grid points per set; nkeep = n_grid to return y_grid, 0 not to.
-!! istats(:, i) = (nfev, nstep, naccept, nreject, nforced, nstiff, stiff, n_flip, n_flip_tail,
-!! n_rev, n_rev_tail);
-!! rstats(:, i) = (t_reached, h_last, t_last, x_end, v_end, v_max, vrel_min_tail,
-!! vrel_max_tail, seconds); sstatus(i) the status of set i; status the call's own.
-subroutine run_batch(nset, scene, law, method, p, x0, v0, t_end, h, rtol, atol, hmin, hmax, h0, &
-                     max_steps, allow_forced, stop_on_stiff, n_grid, nkeep, threads, &
-                     sstatus, istats, rstats, y_grid, status)
-    use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double
-    use stickslip_dopri5, only: dopri5_options
-    use stickslip_simulate, only: scene_params, scene_params_from
-    use stickslip_batch, only: batch_summary, simulate_batch
+!! Per set: codes scene/law/method, pvals(:, i) for the names pkeys (NaN: default),
+!! nstate(i) and y0(1:nstate(i), i), t_end, rtol, atol, cvals(:, i) for the names ckeys
+!! (NaN: not given). n_grid: monitor grid points per set; nkeep = n_grid to return
+!! y_grid, 0 not to. istats(:, i) / rstats(:, i): the summary fields named by the
+!! registry's 'batch' record; yend(:, i) the state at the last grid time written.
+subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y0, t_end, rtol, atol, &
+                     ckeys, nc, cvals, n_grid, nkeep, threads, ni, istats, nr, rstats, yend, y_grid, &
+                     status)
+    use, intrinsic :: iso_c_binding, only: c_int, c_double
+    use stickslip_kinds, only: SS_OK, SS_BAD_DIM
+    use stickslip_batch, only: batch_summary, simulate_batch, batch_integers, batch_reals
+    use stickslip_registry, only: split_names
     implicit none
-    integer(c_int), intent(in) :: nset
-    integer(c_int), intent(in) :: scene(nset), law(nset), method(nset)
+    integer(c_int), intent(in) :: nset, np, nmax, nc, n_grid, nkeep, threads, ni, nr
+    integer(c_int), intent(in) :: scene(nset), law(nset), method(nset), nstate(nset)
     !f2py integer intent(hide), depend(scene) :: nset = len(scene)
-    real(c_double), intent(in) :: p(11, nset)
-    real(c_double), intent(in) :: x0(nset), v0(nset), t_end(nset), h(nset), rtol(nset), atol(nset)
-    real(c_double), intent(in) :: hmin(nset), hmax(nset), h0(nset)
-    integer(c_int64_t), intent(in) :: max_steps(nset)
-    integer(c_int), intent(in) :: allow_forced, stop_on_stiff, n_grid, nkeep, threads
-    integer(c_int), intent(out) :: sstatus(nset)
-    integer(c_int64_t), intent(out) :: istats(11, nset)
-    real(c_double), intent(out) :: rstats(9, nset)
-    real(c_double), intent(out) :: y_grid(2, nkeep, nset)
+    character(len=*), intent(in) :: pkeys, ckeys
+    real(c_double), intent(in) :: pvals(np, nset)
+    !f2py integer intent(hide), depend(pvals) :: np = shape(pvals, 0)
+    real(c_double), intent(in) :: y0(nmax, nset)
+    !f2py integer intent(hide), depend(y0) :: nmax = shape(y0, 0)
+    real(c_double), intent(in) :: t_end(nset), rtol(nset), atol(nset)
+    real(c_double), intent(in) :: cvals(nc, nset)
+    !f2py integer intent(hide), depend(cvals) :: nc = shape(cvals, 0)
+    real(c_double), intent(out) :: istats(ni, nset)
+    real(c_double), intent(out) :: rstats(nr, nset)
+    real(c_double), intent(out) :: yend(nmax, nset)
+    real(c_double), intent(out) :: y_grid(nmax, nkeep, nset)
     integer(c_int), intent(out) :: status
-    type(scene_params), allocatable :: sp(:)
-    type(dopri5_options), allocatable :: opts(:)
     type(batch_summary), allocatable :: s(:)
     integer :: i
 
-    allocate(sp(nset), opts(nset), s(nset))
-    do i = 1, nset
-        sp(i) = scene_params_from(p(:, i))
-        opts(i)%hmin = hmin(i)
-        opts(i)%hmax = hmax(i)
-        opts(i)%h0 = h0(i)
-        opts(i)%max_steps = max_steps(i)
-        opts(i)%allow_forced = allow_forced /= 0
-        opts(i)%stop_on_stiff = stop_on_stiff /= 0
-    end do
+    allocate(s(nset))
+    istats = 0.0_c_double
+    rstats = 0.0_c_double
     y_grid = 0.0_c_double
+    yend = 0.0_c_double
     if (nkeep > 0) then
-        call simulate_batch(scene, law, method, sp, x0, v0, t_end, h, rtol, atol, opts, &
-                            n_grid, threads, s, status, y_grid)
+        call simulate_batch(scene, law, method, split_names(pkeys), pvals, nstate, y0, t_end, rtol, atol, &
+                            split_names(ckeys), cvals, n_grid, threads, s, status, y_grid)
     else
-        call simulate_batch(scene, law, method, sp, x0, v0, t_end, h, rtol, atol, opts, &
-                            n_grid, threads, s, status)
+        call simulate_batch(scene, law, method, split_names(pkeys), pvals, nstate, y0, t_end, rtol, atol, &
+                            split_names(ckeys), cvals, n_grid, threads, s, status)
+    end if
+    if (status /= SS_OK) return
+    if (ni /= size(batch_integers(s(1))) .or. nr /= size(batch_reals(s(1)))) then
+        status = SS_BAD_DIM
+        return
     end if
     do i = 1, nset
-        sstatus(i) = s(i)%status
-        istats(:, i) = [s(i)%nfev, s(i)%nstep, s(i)%naccept, s(i)%nreject, s(i)%nforced, &
-                        s(i)%nstiff, merge(1_c_int64_t, 0_c_int64_t, s(i)%stiff), &
-                        int(s(i)%n_flip, c_int64_t), int(s(i)%n_flip_tail, c_int64_t), &
-                        int(s(i)%n_rev, c_int64_t), int(s(i)%n_rev_tail, c_int64_t)]
-        rstats(:, i) = [s(i)%t_reached, s(i)%h_last, s(i)%t_last, s(i)%x_end, s(i)%v_end, &
-                        s(i)%v_max, s(i)%vrel_min_tail, s(i)%vrel_max_tail, s(i)%seconds]
+        istats(:, i) = real(batch_integers(s(i)), c_double)   ! exact below 2^53
+        rstats(:, i) = batch_reals(s(i))
+        yend(:, i) = s(i)%y_end
     end do
 end subroutine run_batch
+
+!> Names of the integer and real summary fields of run_batch, as 'ints|reals'.
+subroutine batch_names(text)
+    use stickslip_batch, only: BATCH_INTEGER_NAMES, BATCH_REAL_NAMES
+    implicit none
+    character(len=1024), intent(out) :: text
+    text = BATCH_INTEGER_NAMES // '|' // BATCH_REAL_NAMES
+end subroutine batch_names

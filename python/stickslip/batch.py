@@ -18,8 +18,11 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _stickslip as _ext
-from .core import (DEFAULTS, LAWS, METHODS, SCENES, STATUS_OK, _CODES, _FIRST_INPUT_CODE,
-                   _PARAM_ORDER, _check_names, _choice, _count, status_message)
+from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATUS_OK,
+                   _FIRST_INPUT_CODE, _PARAM_ORDER, _check_names, _choice, _count, status_message)
+
+#: Names of the integer and real summary fields, in the wrapper's order.
+_BATCH_INT, _BATCH_REAL = (tuple(x.split()) for x in _ext.batch_names().decode().strip().split("|"))
 
 #: Largest n_sets * n_grid the facade allocates when the grid is kept (2 doubles each).
 MAX_GRID_VALUES = 20_000_000
@@ -29,16 +32,18 @@ MAX_GRID_VALUES = 20_000_000
 class BatchResult:
     """One entry per parameter set (row). Times in s, x in m, velocities in m/s.
 
-    status: library status code (0 = reached t_end; see `message`). v_max: max |v| over the
+    status: library status code (0 = reached t_end; see `message`). The run's counters
+    (nfev, nstep, naccept, nreject, nforced, nstiff, stiff, njac, ndec, nsol, t_reached, h_last)
+    and the monitor's fields are in `fields` by name and as attributes. v_max: max |v| over the
     initial state and the monitor grid. n_flip / n_flip_tail: sign changes of the relative
-    sliding velocity (v on the slope, v_b - v on the belt) between consecutive grid points,
-    over the whole run / over t >= t_end/2. n_rev / n_rev_tail: reversals of the direction of v
-    between grid points (successive differences of opposite sign, both above 64 eps max|v|),
-    a count of high-frequency content (a period-2 chatter sampled every odd number of steps
-    reverses at every grid point). vrel_min_tail, vrel_max_tail: its range over
-    t >= t_end/2. x_end, v_end: state at t_last (the last grid time reached; t_end on success).
-    seconds: wall-clock time of the row on its thread. t, x, v: (n_sets, n_grid) grids when
-    keep_grid was set, else None.
+    sliding velocity (v on the slope, v_b - v on the belt) between consecutive grid points, over
+    the whole run / over t >= t_end/2. n_rev / n_rev_tail: reversals of the direction of v
+    between grid points (successive differences of opposite sign, both above 64 eps max|v|), a
+    count of high-frequency content. vrel_min_tail, vrel_max_tail: the relative velocity's
+    range over t >= t_end/2. y_end (n_sets, nmax): the state at t_last (the last grid time
+    reached; t_end on success), x_end and v_end its first two columns. seconds: wall-clock
+    time of the row on its thread. t, x, v: (n_sets, n_grid) grids when keep_grid was set, else
+    None (y_grid: (n_sets, nmax, n_grid) with the internal states).
     """
 
     scene: np.ndarray
@@ -50,30 +55,27 @@ class BatchResult:
     rtol: np.ndarray
     atol: np.ndarray
     status: np.ndarray
-    nfev: np.ndarray
-    nstep: np.ndarray
-    naccept: np.ndarray
-    nreject: np.ndarray
-    nforced: np.ndarray
-    nstiff: np.ndarray
-    stiff: np.ndarray
-    n_flip: np.ndarray
-    n_flip_tail: np.ndarray
-    n_rev: np.ndarray
-    n_rev_tail: np.ndarray
-    t_reached: np.ndarray
-    h_last: np.ndarray
-    t_last: np.ndarray
-    x_end: np.ndarray
-    v_end: np.ndarray
-    v_max: np.ndarray
-    vrel_min_tail: np.ndarray
-    vrel_max_tail: np.ndarray
-    seconds: np.ndarray
+    fields: dict[str, np.ndarray]
+    y_end: np.ndarray
     threads: int
     t: np.ndarray | None = None
     x: np.ndarray | None = None
     v: np.ndarray | None = None
+    y_grid: np.ndarray | None = None
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        fields = self.__dict__.get("fields", {})
+        if name in fields:
+            return fields[name]
+        raise AttributeError(name)
+
+    @property
+    def x_end(self) -> np.ndarray:
+        return self.y_end[:, 0]
+
+    @property
+    def v_end(self) -> np.ndarray:
+        return self.y_end[:, 1]
 
     def __len__(self) -> int:
         return int(self.status.size)
@@ -88,15 +90,17 @@ class BatchResult:
         return status_message(int(self.status[i]))
 
 
-def _real(name: str, value: Any, accepted: str) -> np.ndarray:
+def _real(name: str, value: Any, accepted: str, allow_nan: bool = False) -> np.ndarray:
+    """A scalar or 1-D array of finite reals (NaN too when allow_nan: "not given")."""
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
         raise ValueError(f"{name}: must be real numbers ({accepted})") from None
     if arr.ndim > 1:
         raise ValueError(f"{name}: must be a scalar or a 1-D sequence, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        bad = int(np.flatnonzero(~np.isfinite(arr.reshape(-1)))[0])
+    ok = np.isfinite(arr) | (np.isnan(arr) if allow_nan else False)
+    if not np.all(ok):
+        bad = int(np.flatnonzero(~ok.reshape(-1))[0])
         raise ValueError(f"{name}: must be finite ({accepted}); row {bad} is {arr.reshape(-1)[bad]!r}")
     return arr
 
@@ -109,19 +113,17 @@ def _codes(name: str, value: str | Sequence[str], accepted: tuple[str, ...]) -> 
 
 
 def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
-                   method: str | Sequence[str], t_end: Any, h: Any = None,
-                   rtol: Any = 1e-6, atol: Any = 1e-9, hmin: Any = 1e-6, hmax: Any = 1e-2,
-                   h0: Any = 0.0, max_steps: Any = 10**8, allow_forced: bool = True,
-                   stop_on_stiff: bool = False, x0: Any = 0.0, v0: Any = 0.0,
+                   method: str | Sequence[str], t_end: Any, x0: Any = 0.0, v0: Any = 0.0,
                    n_grid: int = 201, keep_grid: bool = False, threads: int = 1,
-                   **params: Any) -> BatchResult:
+                   **kwargs: Any) -> BatchResult:
     """Simulate many parameter sets in one Fortran call, `threads` OpenMP threads over the sets.
 
-    Every argument but allow_forced, stop_on_stiff, n_grid, keep_grid and threads is a scalar
-    or a 1-D sequence; they are broadcast to one row per parameter set. The meaning of each is
-    that of `stickslip.simulate` (scene, law, method names; t_end, h [s] for RK4 rows; rtol,
-    atol, hmin, hmax, h0 [s] for DOPRI5 rows; max_steps; x0 [m], v0 [m/s]; the physical
-    parameters of DEFAULTS, v_d = None meaning 1.5 v_s). h may be None or NaN on DOPRI5 rows.
+    scene, law, method, t_end, x0, v0 and every keyword argument (physical parameters of
+    DEFAULTS, v_d = None meaning 1.5 v_s; controls of the methods, e.g. h [s] for fixed-step
+    rows, rtol, atol, hmin, hmax, h0 [s] and max_steps for adaptive rows, allow_forced) are a
+    scalar or a 1-D sequence, broadcast to one row per parameter set, with the meaning they have
+    in `stickslip.simulate`. A control is passed only to the rows whose method reads it (h may be
+    None or NaN on adaptive rows); internal states of a law start at 0.
 
     Each row is integrated on the grid numpy.linspace(0, t_end, n_grid), so with
     keep_grid=True row i reproduces `simulate(..., n_out=n_grid)` exactly. The summary
@@ -132,98 +134,122 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     """
     threads = _count("threads", threads)
     n_grid = _count("n_grid", n_grid)
-    _check_names(params, _PARAM_ORDER)
+    unknown = sorted(set(kwargs) - set(_PARAM_ORDER) - set(CONTROLS))
+    if unknown:
+        _check_names({k: None for k in unknown}, _PARAM_ORDER + CONTROLS)
 
     cols: dict[str, np.ndarray] = {
         "scene": _codes("scene", scene, SCENES),
         "law": _codes("law", law, LAWS),
         "method": _codes("method", method, METHODS),
         "t_end": _real("t_end", t_end, "> 0 [s]"),
-        "rtol": _real("rtol", rtol, "0 or in [100 eps, 1)"),
-        "atol": _real("atol", atol, ">= 0"),
-        "hmin": _real("hmin", hmin, ">= 0 [s]"),
-        "hmax": _real("hmax", hmax, "> 0 [s]"),
-        "h0": _real("h0", h0, ">= 0 [s]"),
         "x0": _real("x0", x0, "[m]"),
         "v0": _real("v0", v0, "[m/s]"),
     }
-    h_arr = np.asarray(np.nan if h is None else h, dtype=np.float64)
-    if h_arr.ndim > 1:
-        raise ValueError(f"h: must be a scalar or a 1-D sequence, got shape {h_arr.shape}")
-    cols["h"] = h_arr
-    ms = np.asarray(max_steps)
-    if ms.dtype.kind not in "iu" or ms.ndim > 1 or np.any(ms < 1):
-        raise ValueError(f"max_steps: must be integers >= 1, got {max_steps!r}")
-    cols["max_steps"] = ms.astype(np.int64)
-    v_d_auto = params.get("v_d", DEFAULTS["v_d"]) is None
-    for name in _PARAM_ORDER:
-        if name == "v_d" and v_d_auto:
-            continue
-        cols[name] = _real(name, params.get(name, DEFAULTS[name]), "see stickslip.DEFAULTS")
+    pnames = [k for k in _PARAM_ORDER if k in kwargs and kwargs[k] is not None]
+    for k in pnames:
+        cols[k] = _real(k, kwargs[k], REGISTRY["param"][k]["rule"].split(": ", 1)[-1])
+    given_ctl = {k: v for k, v in kwargs.items() if k in CONTROLS}
+    if "max_steps" in given_ctl:
+        ms = np.asarray(given_ctl["max_steps"])
+        if ms.dtype.kind not in "iu" or ms.ndim > 1 or np.any(ms < 1):
+            raise ValueError(f"max_steps: must be integers >= 1, got {given_ctl['max_steps']!r}")
+    for k, value in given_ctl.items():
+        arr = np.asarray(np.nan if value is None else value)
+        if arr.dtype == bool:
+            arr = arr.astype(np.float64)
+        cols["c:" + k] = _real(k, arr, "see stickslip.simulate; NaN: not given", allow_nan=True)
 
     try:
         shape = np.broadcast_shapes(*(c.shape for c in cols.values()))
     except ValueError:
-        lengths = {k: c.size for k, c in cols.items() if c.ndim == 1 and c.size != 1}
+        lengths = {k.removeprefix("c:"): c.size for k, c in cols.items() if c.ndim == 1 and c.size != 1}
         raise ValueError(f"per-set arguments of different lengths: {lengths}") from None
     n = int(np.prod(shape)) if shape else 1
     if n < 1:
         raise ValueError("no parameter sets (a per-set argument is empty)")
     rows = {k: np.broadcast_to(c, (n,)).copy() for k, c in cols.items()}
-    if v_d_auto:
-        rows["v_d"] = 1.5 * rows["v_s"]
 
-    is_rk4 = rows["method"] == "rk4"
-    bad_h = is_rk4 & ~(np.isfinite(rows["h"]) & (rows["h"] > 0.0))
-    if np.any(bad_h):
-        i = int(np.flatnonzero(bad_h)[0])
-        raise ValueError(f"h: required for method 'rk4' rows (finite, > 0 [s]); row {i} has {rows['h'][i]!r}")
-    rows["h"] = np.where(is_rk4, rows["h"], 0.0)
+    # Controls: one column per control any row's method reads; NaN where a row's method does not.
+    methods = sorted(set(rows["method"]))
+    cnames = [c for c in CONTROLS if c not in ("rtol", "atol")
+              and any(c in REGISTRY["method"][m]["controls"] for m in methods)]
+    reads = {c: np.array([c in REGISTRY["method"][m]["controls"] for m in rows["method"]]) for c in CONTROLS}
+    cvals = np.full((len(cnames), n), np.nan)
+    for j, c in enumerate(cnames):
+        if "c:" + c in rows:
+            given = rows["c:" + c]
+            extra = ~reads[c] & np.isfinite(given)
+            if c != "h" and np.any(extra):
+                i = int(np.flatnonzero(extra)[0])
+                raise ValueError(f"{c}: not a control of method {rows['method'][i]!r} (row {i})")
+            cvals[j] = np.where(reads[c], given, np.nan)
+        elif c in CONTROL_DEFAULTS:
+            cvals[j] = np.where(reads[c], float(CONTROL_DEFAULTS[c]), np.nan)
+        elif c == "max_steps":
+            cvals[j] = np.where(reads[c], 1e8, np.nan)
+    if "h" in cnames:
+        hrow = cvals[cnames.index("h")]
+        bad_h = reads["h"] & ~(np.isfinite(hrow) & (hrow > 0.0))
+        if np.any(bad_h):
+            i = int(np.flatnonzero(bad_h)[0])
+            raise ValueError(f"h: required for method {rows['method'][i]!r} rows (finite, > 0 [s]); "
+                             f"row {i} has {hrow[i]!r}")
+    tol = {}
+    for k in ("rtol", "atol"):
+        tol[k] = rows["c:" + k] if "c:" + k in rows else np.full(n, float(CONTROL_DEFAULTS[k]))
+        tol[k] = np.where(reads[k], tol[k], 1.0)   # unread: any valid value
 
     keep = bool(keep_grid)
-    if keep and 2 * n * int(n_grid) > MAX_GRID_VALUES:
+    nstate = np.array([2 + REGISTRY["law"][l]["n_states"] for l in rows["law"]], dtype=np.int32)
+    nmax = int(nstate.max())
+    if keep and nmax * n * int(n_grid) > MAX_GRID_VALUES:
         raise ValueError(f"keep_grid: {n} rows x {n_grid} grid points exceed {MAX_GRID_VALUES // 2} "
                          "states; lower n_grid or drop keep_grid")
+    y0 = np.zeros((nmax, n), order="F")
+    y0[0], y0[1] = rows["x0"], rows["v0"]
 
-    def codes(key: str) -> np.ndarray:
-        return np.array([_CODES[s] for s in rows[key]], dtype=np.int32)
+    def codes(key: str, kind: str) -> np.ndarray:
+        return np.array([REGISTRY[kind][s]["code"] for s in rows[key]], dtype=np.int32)
 
-    p = np.asfortranarray(np.array([rows[k] for k in _PARAM_ORDER], dtype=np.float64))
-    sstatus, istats, rstats, y_grid, status = _ext.run_batch(
-        codes("scene"), codes("law"), codes("method"), p, rows["x0"], rows["v0"], rows["t_end"],
-        rows["h"], rows["rtol"], rows["atol"], rows["hmin"], rows["hmax"], rows["h0"],
-        rows["max_steps"], int(bool(allow_forced)), int(bool(stop_on_stiff)), int(n_grid),
-        int(n_grid) if keep else 0, int(threads))
+    pvals = np.asfortranarray(np.array([rows[k] for k in pnames], dtype=np.float64).reshape(len(pnames), n))
+    istats, rstats, yend, y_grid, status = _ext.run_batch(
+        codes("scene", "scene"), codes("law", "law"), codes("method", "method"), ",".join(pnames), pvals,
+        nstate, y0, rows["t_end"], tol["rtol"], tol["atol"], ",".join(cnames), np.asfortranarray(cvals),
+        int(n_grid), int(n_grid) if keep else 0, int(threads), len(_BATCH_INT), len(_BATCH_REAL))
     status = int(status)
     if status != STATUS_OK:
         raise ValueError(status_message(status))
-    sstatus = np.asarray(sstatus, dtype=np.int64)
+    fields = {k: istats[j].astype(np.int64) for j, k in enumerate(_BATCH_INT)}
+    fields.update({k: rstats[j].copy() for j, k in enumerate(_BATCH_REAL)})
+    sstatus = fields.pop("status")
+    fields.pop("n_written")
+    fields["stiff"] = fields["stiff"].astype(bool)
     bad = np.flatnonzero(sstatus <= _FIRST_INPUT_CODE)
     if bad.size:
         i = int(bad[0])
         raise ValueError(f"row {i} ({rows['scene'][i]}, {rows['law'][i]}, {rows['method'][i]}): "
                          f"{status_message(int(sstatus[i]))}")
 
-    istats = np.asarray(istats)
-    rstats = np.asarray(rstats)
+    resolved = {k: rows[k] for k in pnames}
+    for k in _PARAM_ORDER:
+        if k not in resolved:
+            info = REGISTRY["param"][k]
+            resolved[k] = (info["scale"] * resolved[info["default_of"]] if info["default_of"]
+                           else np.full(n, info["default"]))
+    h_col = cvals[cnames.index("h")] if "h" in cnames else np.full(n, np.nan)
     result = BatchResult(
         scene=rows["scene"].astype(str), law=rows["law"].astype(str), method=rows["method"].astype(str),
-        params={k: rows[k] for k in _PARAM_ORDER}, t_end=rows["t_end"], h=rows["h"],
-        rtol=rows["rtol"], atol=rows["atol"], status=sstatus,
-        nfev=istats[0].copy(), nstep=istats[1].copy(), naccept=istats[2].copy(),
-        nreject=istats[3].copy(), nforced=istats[4].copy(), nstiff=istats[5].copy(),
-        stiff=istats[6].astype(bool), n_flip=istats[7].copy(), n_flip_tail=istats[8].copy(),
-        n_rev=istats[9].copy(), n_rev_tail=istats[10].copy(),
-        t_reached=rstats[0].copy(), h_last=rstats[1].copy(), t_last=rstats[2].copy(),
-        x_end=rstats[3].copy(), v_end=rstats[4].copy(), v_max=rstats[5].copy(),
-        vrel_min_tail=rstats[6].copy(), vrel_max_tail=rstats[7].copy(), seconds=rstats[8].copy(),
-        threads=int(threads))
+        params=resolved, t_end=rows["t_end"], h=np.where(np.isfinite(h_col), h_col, 0.0),
+        rtol=tol["rtol"], atol=tol["atol"], status=sstatus, fields=fields,
+        y_end=np.asarray(yend).T.copy(), threads=int(threads))
     if keep:
         y = np.asarray(y_grid)
         t = np.empty((n, int(n_grid)))
         for i in range(n):   # the grid the Fortran side used (numpy.linspace's numbers)
             t[i] = np.linspace(0.0, rows["t_end"][i], int(n_grid)) if n_grid > 1 else rows["t_end"][i]
         result.t, result.x, result.v = t, y[0].T.copy(), y[1].T.copy()
+        result.y_grid = np.transpose(y, (2, 0, 1)).copy()
     return result
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
@@ -14,38 +15,65 @@ import numpy as np
 
 from . import _stickslip as _ext
 
-LAWS: tuple[str, ...] = ("coulomb", "recurdyn", "proposed")
-SCENES: tuple[str, ...] = ("slope", "belt")
-METHODS: tuple[str, ...] = ("rk4", "dopri5")
 
-_CODES: dict[str, int] = dict(zip(LAWS + SCENES + METHODS, (int(c) for c in _ext.codes())))
 
-#: The paper's parameters (Table 1) and our defaults where it is silent.
-#: v_d = None means 1.5 v_s (RecurDyn's threshold ratio).
+def _read_registry() -> dict[str, Any]:
+    """The core's registry (stickslip_registry::registry_text): laws, scenes, methods,
+    parameters, counters and status codes, one '|'-separated record per line."""
+    text = _ext.registry().decode().rstrip("\x00 \n")
+    reg: dict[str, Any] = {"law": {}, "scene": {}, "method": {}, "param": {}, "status": {}}
+    for line in text.splitlines():
+        kind, *f = line.split("|")
+        if kind == "law":
+            reg["law"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "n_states": int(f[3]),
+                                "states": tuple(x for x in f[4].split(";") if x), "doc": f[5]}
+        elif kind == "scene":
+            reg["scene"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "doc": f[3]}
+        elif kind == "method":
+            reg["method"][f[1]] = {"code": int(f[0]), "order": int(f[2]), "adaptive": f[3] == "1",
+                                   "implicit": f[4] == "1", "controls": tuple(f[5].split()), "doc": f[6]}
+        elif kind == "param":
+            reg["param"][f[0]] = {"code": int(f[1]), "default": float(f[2]), "unit": f[3],
+                                  "default_of": f[4] or None, "scale": float(f[5]), "rule": f[6],
+                                  "doc": f[7]}
+        elif kind == "stats":
+            reg["stats_int"], reg["stats_real"] = tuple(f[0].split()), tuple(f[1].split())
+        elif kind == "status":
+            reg["status"][f[0]] = int(f[1])
+    return reg
+
+
+#: Everything the core lists by name, read from the library at import (one source of truth).
+REGISTRY: dict[str, Any] = _read_registry()
+LAWS: tuple[str, ...] = tuple(REGISTRY["law"])
+SCENES: tuple[str, ...] = tuple(REGISTRY["scene"])
+METHODS: tuple[str, ...] = tuple(REGISTRY["method"])
+_PARAM_ORDER: tuple[str, ...] = tuple(REGISTRY["param"])
+#: Every parameter of a friction law, in the registry's order.
+LAW_PARAMS: tuple[str, ...] = tuple(n for n in _PARAM_ORDER
+                                    if any(n in info["params"] for info in REGISTRY["law"].values()))
+#: Every control some method reads (rtol and atol included).
+CONTROLS: tuple[str, ...] = tuple(dict.fromkeys(c for m in REGISTRY["method"].values() for c in m["controls"]))
+
+#: Defaults of the physical parameters (the paper's Table 1 and ours where it is silent).
+#: None means "derived": v_d defaults to 1.5 v_s (REGISTRY["param"]["v_d"]).
 DEFAULTS: dict[str, float | None] = {
-    "mu_s": 0.35,        # static coefficient [-]
-    "mu_k": 0.30,        # kinetic coefficient [-]
-    "v_s": 0.01,         # static threshold velocity [m/s]
-    "v_d": None,         # dynamic threshold velocity of the recurdyn law [m/s]
-    "beta": 1.0 / 3.0,   # exponent of the proposed law [-]
-    "a": 1.5,            # base of the proposed law [-]
-    "m": 10.0,           # mass (belt) [kg]
-    "g": 9.81,           # gravity [m/s^2]
-    "theta_deg": 10.0,   # slope inclination [deg]
-    "k": 300.0,          # spring stiffness (belt) [N/m]
-    "v_b": 1.5,          # belt speed [m/s]
-}
-LAW_PARAMS: tuple[str, ...] = ("mu_s", "mu_k", "v_s", "v_d", "beta", "a")
-_PARAM_ORDER: tuple[str, ...] = LAW_PARAMS + ("m", "g", "theta_deg", "k", "v_b")
+    n: (None if info["default_of"] else info["default"]) for n, info in REGISTRY["param"].items()}
 
-#: Status codes of the library (stickslip_kinds.f90).
-STATUS_OK = 0
-STATUS_STEP_BUDGET = -2
-STATUS_STEP_TOO_SMALL = -3
-STATUS_STIFF = -4
-STATUS_NONFINITE = -5
-STATUS_OUTPUT_FULL = -6
-_FIRST_INPUT_CODE = -100          # codes <= this name one bad input parameter
+#: Status codes of the library.
+_STATUS: dict[str, int] = REGISTRY["status"]
+STATUS_OK = _STATUS["OK"]
+STATUS_STEP_BUDGET = _STATUS["STEP_BUDGET"]
+STATUS_STEP_TOO_SMALL = _STATUS["STEP_TOO_SMALL"]
+STATUS_STIFF = _STATUS["STIFF"]
+STATUS_NONFINITE = _STATUS["NONFINITE"]
+STATUS_OUTPUT_FULL = _STATUS["OUTPUT_FULL"]
+_FIRST_INPUT_CODE = -100          # codes <= this name one bad input
+
+#: The facade's defaults of the shared controls (the paper's "automatic" step range
+#: [hmin, hmax] = [1e-6, 1e-2] s); each is passed only to the methods that read it.
+CONTROL_DEFAULTS: dict[str, Any] = {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 1e-2, "h0": 0.0,
+                                    "allow_forced": True, "stop_on_stiff": False}
 
 #: Largest every-step output the facade allocates [rows]: 3 arrays of 8-byte floats.
 MAX_ROWS = 50_000_000
@@ -103,7 +131,9 @@ _ERRORS: dict[int, type[IntegrationError]] = {
 
 @dataclass
 class Result:
-    """A simulation on its output grid: time t [s], displacement x [m], velocity v [m/s]."""
+    """A simulation on its output grid: time t [s], displacement x [m], velocity v [m/s],
+    and the law's internal states z (shape (n_states, len(t)), named in `state_labels`
+    with units; empty for a law without states)."""
 
     scene: str
     law: str
@@ -114,19 +144,34 @@ class Result:
     x: np.ndarray
     v: np.ndarray
     stats: dict[str, Any] = field(default_factory=dict)
+    z: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    state_labels: tuple[str, ...] = ()
+
+    @property
+    def y(self) -> np.ndarray:
+        """The whole state (x, v, z...) as an array of shape (2 + n_states, len(t))."""
+        return np.vstack([self.x, self.v, self.z.reshape(-1, self.t.size)])
 
 
-def _choice(name: str, value: str, accepted: tuple[str, ...]) -> int:
-    if value not in accepted:
+_KINDS = {"law": LAWS, "scene": SCENES, "method": METHODS}
+
+
+def _choice(name: str, value: Any, accepted: tuple[str, ...]) -> int:
+    """The registry code of a law, scene or method name, or ValueError naming `name`."""
+    if not isinstance(value, str) or value not in accepted:
         raise ValueError(f"{name}: unknown value {value!r} (accepted: {', '.join(accepted)})")
-    return _CODES[value]
+    return REGISTRY[name][value]["code"]
+
+
+def _is_real(value: Any) -> bool:
+    """A real number given as such (not a string, not a bool)."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
 
 
 def _finite(name: str, value: Any, accepted: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}: must be a real number ({accepted}), got {value!r}") from None
+    if not _is_real(value):
+        raise ValueError(f"{name}: must be a real number ({accepted}), got {value!r}")
+    x = float(value)
     if not math.isfinite(x):
         raise ValueError(f"{name}: must be finite ({accepted}), got {x!r}")
     return x
@@ -134,8 +179,7 @@ def _finite(name: str, value: Any, accepted: str) -> float:
 
 def _count(name: str, value: Any, low: int = 1, high: int | None = None) -> int:
     """An integer in [low, high] (not a bool), or ValueError naming the parameter."""
-    ok = not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating)) \
-        and math.isfinite(value) and int(value) == value and value >= low \
+    ok = _is_real(value) and math.isfinite(value) and int(value) == value and value >= low \
         and (high is None or value <= high)
     if not ok:
         bounds = f"in [{low}, {high}]" if high is not None else f">= {low}"
@@ -156,102 +200,167 @@ def _check_code(status: int) -> None:
         raise ValueError(status_message(status))
 
 
-def resolve_params(params: Mapping[str, Any], allowed: tuple[str, ...] = _PARAM_ORDER) -> dict[str, float]:
-    """Merge user parameters over DEFAULTS, reject unknown names, check finiteness.
-    Range checks are the library's (it names the parameter and the accepted range)."""
-    _check_names(params, allowed)
-    merged = {name: DEFAULTS[name] for name in allowed}
-    merged.update(params)
-    if merged.get("v_d", 0.0) is None:
-        merged["v_d"] = 1.5 * _finite("v_s", merged["v_s"], "> 0 [m/s]")
-    return {name: _finite(name, value, "see DEFAULTS for units") for name, value in merged.items()}
+def _physical(params: Mapping[str, Any]) -> dict[str, float]:
+    """The given physical parameters, names known and values real numbers (None for a
+    derived default means "not given"); ranges are checked by the library."""
+    _check_names(params, _PARAM_ORDER)
+    return {k: _finite(k, v, REGISTRY["param"][k]["rule"].split(": ", 1)[-1])
+            for k, v in params.items() if v is not None}
+
+
+def _keys(d: Mapping[str, Any]) -> tuple[str, np.ndarray]:
+    """Names as the comma-separated string the wrapper takes, and their values."""
+    return ",".join(d), np.array([float(x) for x in d.values()], dtype=np.float64)
 
 
 def friction_coefficient(law: str, v: Any, **params: float) -> np.ndarray:
-    """Friction coefficient mu(v) [-] of `law` at relative velocities v [m/s] (scalar or array).
+    """Friction coefficient mu(v) [-] of `law` at relative velocities v [m/s] (scalar or array);
+    for a law with internal states, its steady-state curve.
 
-    Parameters (defaults in DEFAULTS): mu_s, mu_k, v_s, v_d (recurdyn), beta, a (proposed).
+    Parameters: those of REGISTRY["law"][law]["params"] (defaults in DEFAULTS); any parameter of
+    another law or scene is range-checked too.
     """
     code = _choice("law", law, LAWS)
-    p = resolve_params(params, LAW_PARAMS)
-    vv = np.asarray(v, dtype=np.float64)
+    given = _physical(params)
+    try:
+        vv = np.asarray(v, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"v: must be real numbers [m/s], got {v!r}") from None
     if not np.all(np.isfinite(vv)):
         raise ValueError("v: must be finite [m/s]")
-    mu, status = _ext.friction(code, np.ascontiguousarray(vv.ravel()), *(p[k] for k in LAW_PARAMS))
+    keys, vals = _keys(given)
+    mu, status = _ext.friction(code, keys, vals, np.ascontiguousarray(vv.ravel()))
     _check_code(int(status))
     return np.asarray(mu).reshape(vv.shape)
 
 
-def simulate(scene: str, law: str, *, method: str, t_end: float, h: float | None = None,
-             rtol: float = 1e-6, atol: float = 1e-9, hmin: float = 1e-6, hmax: float = 1e-2,
-             h0: float = 0.0, n_out: int | None = None, every_step: bool = False,
-             max_steps: int | None = None, allow_forced: bool = True, stop_on_stiff: bool = False,
-             x0: float = 0.0, v0: float = 0.0, **params: float) -> Result:
-    """Simulate `scene` ("slope" or "belt") with friction `law` from (x0 [m], v0 [m/s]) at t = 0
-    to t_end [s], with `method` "rk4" (fixed step h [s]) or "dopri5" (adaptive: rtol, atol,
-    hmin, hmax [s], initial step h0 [s], 0 = automatic).
+def _controls(method: str, given: dict[str, Any]) -> dict[str, float]:
+    """The controls of `method`: those given (each must be one the method reads) over the
+    facade's defaults of those it reads. Flags become 0/1."""
+    reads = REGISTRY["method"][method]["controls"]
+    for name in given:
+        if name not in reads:
+            raise ValueError(f"{name}: not a control of method {method!r} "
+                             f"(its controls: {', '.join(reads)})")
+    out = {k: v for k, v in CONTROL_DEFAULTS.items() if k in reads}
+    out.update(given)
+    return {k: (float(bool(v)) if isinstance(v, (bool, np.bool_)) else v) for k, v in out.items()}
+
+
+def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | None = None,
+             every_step: bool = False, max_steps: int | None = None, x0: float = 0.0,
+             v0: float = 0.0, z0: Any = None, **kwargs: Any) -> Result:
+    """Simulate `scene` (SCENES: "slope", "belt") with friction `law` (LAWS) from
+    (x0 [m], v0 [m/s], z0 = the law's internal states, default 0) at t = 0 to t_end [s] with
+    `method` (METHODS).
+
+    Keyword arguments are physical parameters (DEFAULTS; each given value is range-checked
+    whatever the scene and law) or controls of the method (REGISTRY["method"][method]
+    ["controls"]): "rk4" needs h [s]; "dopri5" takes rtol (1e-6), atol (1e-9; scalars or one per
+    state component), hmin (1e-6 s), hmax (1e-2 s), h0 (0 = automatic), allow_forced,
+    stop_on_stiff, safety, fac1, fac2, beta_pi, nstiff. A control the method does not read is
+    an error.
 
     Output: a uniform grid of n_out points on [0, t_end] (default 1001), or every step when
-    every_step is set. max_steps bounds attempted steps (default 10**8; 10**6 for DOPRI5 with
-    every_step). When DOPRI5's error test fails at hmin the step is taken anyway and counted in
-    stats["nforced"]; allow_forced=False raises StepSizeTooSmall instead.
+    every_step is set. max_steps bounds attempted steps (default 10**8; 10**6 for an adaptive
+    method with every_step). When DOPRI5's error test fails at hmin the step is taken anyway and
+    counted in stats["nforced"]; allow_forced=False raises StepSizeTooSmall instead.
 
     Raises ValueError for bad input (naming the parameter and its accepted range) and an
     IntegrationError subclass when the run ends early (its `.result` holds the partial output).
+    Every value of a result returned is finite.
     """
     scene_code = _choice("scene", scene, SCENES)
     law_code = _choice("law", law, LAWS)
     method_code = _choice("method", method, METHODS)
-    p = resolve_params(params)
+    info = REGISTRY["method"][method]
+    unknown = sorted(set(kwargs) - set(_PARAM_ORDER) - set(CONTROLS))
+    if unknown:
+        raise ValueError(f"unknown parameter(s) {', '.join(unknown)} (physical parameters: "
+                         f"{', '.join(_PARAM_ORDER)}; controls: {', '.join(CONTROLS)})")
+    given = _physical({k: v for k, v in kwargs.items() if k in _PARAM_ORDER})
+    ctl = _controls(method, {k: v for k, v in kwargs.items() if k in CONTROLS})
     t_end = _finite("t_end", t_end, "> 0 [s]")
-    if method == "rk4":
-        if h is None:
-            raise ValueError("h: required for method 'rk4' (finite, > 0 [s])")
-        h = _finite("h", h, "> 0 [s]")
-    elif h is not None:
-        raise ValueError("h: only for method 'rk4'; DOPRI5 takes h0 (initial step), hmin, hmax")
-    tol = {name: _finite(name, value, "see simulate()") for name, value in
-           (("rtol", rtol), ("atol", atol), ("hmin", hmin), ("hmax", hmax), ("h0", h0),
-            ("x0", x0), ("v0", v0))}
+    n = 2 + REGISTRY["law"][law]["n_states"]
+    tol: dict[str, np.ndarray] = {}
+    for name in ("rtol", "atol"):
+        value = ctl.pop(name, 1.0)
+        arr = np.atleast_1d(np.asarray(value if not isinstance(value, str) else np.nan, dtype=np.float64))
+        if arr.ndim != 1 or arr.size not in (1, n) or not all(_is_real(x) for x in np.atleast_1d(value)):
+            raise ValueError(f"{name}: must be a real number or {n} of them (one per state component), "
+                             f"got {value!r}")
+        tol[name] = arr
+    for name, value in ctl.items():
+        ctl[name] = _finite(name, value, "see simulate()")
+    if "h" in info["controls"]:
+        if "h" not in ctl:
+            raise ValueError(f"h: required for method {method!r} (finite, > 0 [s])")
+        h = ctl["h"]
+        if h > t_end > 0.0:
+            warnings.warn(f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
+                          "shortened to t_end; the result is that single step (README: How to choose h)",
+                          stacklevel=2)
+    y0 = [_finite("x0", x0, "[m]"), _finite("v0", v0, "[m/s]")]
+    z = np.zeros(n - 2) if z0 is None else np.atleast_1d(np.asarray(z0, dtype=np.float64))
+    if z.shape != (n - 2,) or not np.all(np.isfinite(z)):
+        raise ValueError(f"z0: must be {n - 2} finite value(s), the initial internal states of {law!r}")
+    y0 = np.concatenate([np.array(y0), z])
 
     if max_steps is None:
-        max_steps = 10**6 if (every_step and method == "dopri5") else 10**8
+        max_steps = 10**6 if (every_step and info["adaptive"]) else 10**8
     max_steps = _count("max_steps", max_steps)
+    if not info["adaptive"] and ctl["h"] > 0.0 and t_end > 0.0:
+        needed = math.ceil(t_end / ctl["h"] * (1.0 - 1e-12))
+        if needed > max_steps:
+            raise ValueError(f"max_steps: {method} with h = {ctl['h']:g} s needs {needed:.4g} steps to reach "
+                             f"t_end = {t_end:g} s, more than max_steps = {max_steps} (raise max_steps or h)")
+    ctl["max_steps"] = float(max_steps)
 
     if every_step:
         if n_out is not None:
             raise ValueError("n_out: give either n_out or every_step, not both")
         rows = max_steps
-        if method == "rk4" and h > 0.0 and t_end > 0.0:
-            rows = min(rows, math.ceil(t_end / h * (1.0 - 1e-12)))
+        if not info["adaptive"] and ctl["h"] > 0.0 and t_end > 0.0:
+            rows = min(rows, math.ceil(t_end / ctl["h"] * (1.0 - 1e-12)))
         rows = max(rows, 1) + 1
         if rows > MAX_ROWS:
             raise ValueError(f"max_steps: every_step would allocate {rows} rows (limit {MAX_ROWS}); "
                              "lower max_steps or use n_out")
         t_grid = np.zeros(rows)
+        ctl["every_step"] = 1.0
     else:
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
         t_grid = np.linspace(0.0, t_end, n_out) if n_out > 1 else np.array([t_end])
 
+    pkeys, pvals = _keys(given)
+    ckeys, cvals = _keys(ctl)
     cpu0 = time.process_time()
-    y, istats, rstats, status = _ext.run_simulation(
-        scene_code, law_code, method_code, np.array([p[k] for k in _PARAM_ORDER]),
-        tol["x0"], tol["v0"], t_end, h if h is not None else 0.0, tol["rtol"], tol["atol"],
-        tol["hmin"], tol["hmax"], tol["h0"], max_steps, int(every_step), int(allow_forced),
-        int(stop_on_stiff), t_grid)
+    y, istats, rstats, resolved, status = _ext.run_simulation(
+        scene_code, law_code, method_code, pkeys, pvals, y0, t_end, tol["rtol"], tol["atol"], ckeys, cvals,
+        t_grid, len(REGISTRY["stats_int"]), len(REGISTRY["stats_real"]), len(_PARAM_ORDER))
     cpu = time.process_time() - cpu0
     status = int(status)
     _check_code(status)
 
-    n = int(istats[7])
-    stats: dict[str, Any] = {
-        "nfev": int(istats[0]), "nstep": int(istats[1]), "naccept": int(istats[2]),
-        "nreject": int(istats[3]), "nforced": int(istats[4]), "nstiff": int(istats[5]),
-        "stiff": bool(istats[6]), "status": status, "message": status_message(status),
-        "t_reached": float(rstats[0]), "h_last": float(rstats[1]), "cpu_seconds": cpu,
-    }
-    result = Result(scene=scene, law=law, method=method, t_end=t_end, params=p,
-                    t=t_grid[:n].copy(), x=np.array(y[0, :n]), v=np.array(y[1, :n]), stats=stats)
+    stats: dict[str, Any] = dict(zip(REGISTRY["stats_int"], (int(i) for i in istats)))
+    stats.update(zip(REGISTRY["stats_real"], (float(r) for r in rstats)))
+    stats["stiff"] = bool(stats["stiff"])
+    stats["message"] = status_message(status)
+    stats["cpu_seconds"] = cpu
+    rows_written = stats.pop("n_written")
+    used = set(REGISTRY["law"][law]["params"]) | set(REGISTRY["scene"][scene]["params"])
+    params = {k: float(v) for k, v in zip(_PARAM_ORDER, resolved) if k in used}
+    y = np.asarray(y)[:, :rows_written]
+    if status == STATUS_OK and not np.all(np.isfinite(y)):
+        status = STATUS_NONFINITE          # a dense-output or interpolation overflow
+        stats.update(status=status, message=status_message(status) + " (on the output grid)")
+        bad = int(np.flatnonzero(~np.all(np.isfinite(y), axis=0))[0])
+        stats["t_reached"] = float(t_grid[bad - 1]) if bad > 0 else 0.0
+        y = y[:, :bad]
+        rows_written = bad
+    result = Result(scene=scene, law=law, method=method, t_end=t_end, params=params,
+                    t=t_grid[:rows_written].copy(), x=np.array(y[0]), v=np.array(y[1]), stats=stats,
+                    z=np.array(y[2:]), state_labels=REGISTRY["law"][law]["states"])
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
     return result

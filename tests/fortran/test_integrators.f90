@@ -64,7 +64,8 @@ contains
 end module test_problems
 
 program test_integrators
-    use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_BAD_H, SS_BAD_RTOL, stickslip_message
+    use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_BAD_H, SS_BAD_RTOL
+    use stickslip_registry, only: stickslip_message
     use stickslip_ode, only: ode_stats
     use stickslip_rk4, only: rk4_integrate, rk4_b, rk4_c
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, dp5_a, dp5_b, dp5_bhat, dp5_c

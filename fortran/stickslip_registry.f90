@@ -1,0 +1,378 @@
+!> The one registry of the library: the friction laws, scenes and integration methods by
+!! name and code, every physical parameter with its default, unit, range and status
+!! code, and the dispatch from codes to objects and integrators.
+!!
+!! Everything that lists names comes from the tables here: the messages' "accepted: ..."
+!! lists (`stickslip_message`), the Python facade's tuples and defaults (it reads
+!! `registry_text` at import) and the C header's constants (generated from
+!! `registry_text` at build time). Adding a law: one module extending `friction_law`,
+!! plus its entry in LAW_TABLE, its parameters in PARAMS and a line in `new_law`.
+!! Adding a method: one module with its `method_info`, options type and
+!! `<method>_integrate`, plus its entry in METHOD_TABLE and a case in `integrate`.
+!!
+!! Codes are positions in the tables (1-based) and never change for a given name.
+module stickslip_registry
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, &
+                               SS_BAD_CONTROL_NAME, SS_BAD_PARAM_NAME, SS_BAD_DIM, status_text, &
+                               STATUS_NAMES, STATUS_CODES
+    use stickslip_params, only: param_spec, param_values, param_ok, param_rule, NAME_LEN
+    use stickslip_ode, only: ode_stats, step_controls, method_info, STATS_INTEGER_NAMES, &
+                             STATS_REAL_NAMES
+    use stickslip_friction, only: friction_law, MU_S_SPEC, MU_K_SPEC, V_S_SPEC
+    use stickslip_law_coulomb, only: coulomb_law
+    use stickslip_law_recurdyn, only: recurdyn_law, V_D_SPEC
+    use stickslip_law_proposed, only: proposed_law, BETA_SPEC, A_SPEC
+    use stickslip_scenes, only: friction_scene, slope_scene, belt_scene, G_SPEC, THETA_SPEC, M_SPEC, &
+                                K_SPEC, V_B_SPEC
+    use stickslip_rk4, only: rk4_integrate, RK4_INFO
+    use stickslip_dopri5, only: dopri5_options, dopri5_integrate, DOPRI5_INFO
+    implicit none
+    private
+
+    public :: entry_info, stickslip_message, registry_text, code_of, split_names
+    public :: resolve_params, new_law, make_law, new_system, integrate, apply_controls
+
+    !> A law or scene: its name, the parameters it reads (space-separated) and a line of doc.
+    type :: entry_info
+        character(len=16) :: name = ''
+        character(len=120) :: params = ''
+        character(len=80) :: doc = ''
+    end type entry_info
+
+    !> The friction laws; the code of a law is its position.
+    type(entry_info), parameter, public :: LAW_TABLE(*) = [ &
+        entry_info('coulomb', 'mu_s mu_k v_s', 'Coulomb (eq. 1), discontinuous'), &
+        entry_info('recurdyn', 'mu_s mu_k v_s v_d', 'RecurDyn/ADAMS haversine steps (eqs. 2-3)'), &
+        entry_info('proposed', 'mu_s mu_k v_s beta a', 'Roh & Yoo (2007) (eq. 5)')]
+    integer, parameter, public :: LAW_COULOMB = 1, LAW_RECURDYN = 2, LAW_PROPOSED = 3
+
+    !> The scenes; the code of a scene is its position.
+    type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
+        entry_info('slope', 'g theta_deg', 'box on a plane inclined theta_deg'), &
+        entry_info('belt', 'm g k v_b', 'mass on a belt moving at v_b, spring k to a wall')]
+    integer, parameter, public :: SCENE_SLOPE = 1, SCENE_BELT = 2
+
+    !> The integration methods; the code of a method is its position.
+    type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO]
+    integer, parameter, public :: METHOD_RK4 = 1, METHOD_DOPRI5 = 2
+
+    !> Every physical parameter of every law and scene, each once.
+    type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
+        BETA_SPEC, A_SPEC, M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC]
+
+contains
+
+    !> The law of code `code`, not yet initialised; SS_BAD_LAW for an unknown code.
+    function new_law(code, law) result(status)
+        integer, intent(in) :: code                          !! law code
+        class(friction_law), allocatable, intent(out) :: law !! the law
+        integer :: status
+        status = SS_OK
+        select case (code)
+        case (LAW_COULOMB);  allocate(coulomb_law :: law)
+        case (LAW_RECURDYN); allocate(recurdyn_law :: law)
+        case (LAW_PROPOSED); allocate(proposed_law :: law)
+        case default;        status = SS_BAD_LAW
+        end select
+    end function new_law
+
+    !> A law with its parameters given by name (the others at their defaults), checked
+    !! and ready; `p` returns every parameter as resolved.
+    function make_law(code, keys, vals, law, p) result(status)
+        integer, intent(in) :: code                           !! law code
+        character(len=*), intent(in) :: keys(:)               !! given parameter names
+        real(dp), intent(in) :: vals(:)                       !! their values [SI units]
+        class(friction_law), allocatable, intent(out) :: law  !! the law
+        type(param_values), intent(out) :: p                  !! every parameter, resolved
+        integer :: status
+        status = resolve_params(keys, vals, p)
+        if (status == SS_OK) status = new_law(code, law)
+        if (status == SS_OK) status = law%init(p)
+    end function make_law
+
+    !> Every parameter at its default, overridden by the given (name, value) pairs; each
+    !! given value is checked against its range whatever the law and scene.
+    function resolve_params(keys, vals, p) result(status)
+        character(len=*), intent(in) :: keys(:)   !! given parameter names
+        real(dp), intent(in) :: vals(:)           !! their values [SI units]
+        type(param_values), intent(out) :: p      !! every parameter, resolved
+        integer :: status
+        logical :: given(size(PARAMS))
+        integer :: i, j
+        status = SS_OK
+        p%names = PARAMS%name
+        p%values = PARAMS%default
+        given = .false.
+        if (size(keys) /= size(vals)) then
+            status = SS_BAD_DIM
+            return
+        end if
+        do i = 1, size(keys)
+            j = param_index(keys(i))
+            if (j == 0) then
+                status = SS_BAD_PARAM_NAME
+                return
+            end if
+            if (.not. param_ok(PARAMS(j), vals(i))) then
+                status = PARAMS(j)%code
+                return
+            end if
+            p%values(j) = vals(i)
+            given(j) = .true.
+        end do
+        do j = 1, size(PARAMS)
+            if (.not. given(j) .and. len_trim(PARAMS(j)%default_of) > 0) &
+                p%values(j) = PARAMS(j)%scale * p%values(param_index(PARAMS(j)%default_of))
+        end do
+    end function resolve_params
+
+    !> Build a scene with a law from named parameters (the others at their defaults).
+    !! `p` returns every parameter as resolved. SS_OK or the code of the bad input.
+    function new_system(scene, law, keys, vals, sys, p) result(status)
+        integer, intent(in) :: scene                            !! scene code
+        integer, intent(in) :: law                              !! law code
+        character(len=*), intent(in) :: keys(:)                 !! given parameter names
+        real(dp), intent(in) :: vals(:)                         !! their values [SI units]
+        class(friction_scene), allocatable, intent(out) :: sys  !! the scene, ready to integrate
+        type(param_values), intent(out) :: p                    !! every parameter, resolved
+        integer :: status
+        class(friction_law), allocatable :: fl
+        type(slope_scene) :: slope
+        type(belt_scene) :: belt
+
+        if (scene < 1 .or. scene > size(SCENE_TABLE)) then
+            status = resolve_params(keys, vals, p)
+            if (status == SS_OK) status = SS_BAD_SCENE
+            return
+        end if
+        status = make_law(law, keys, vals, fl, p)
+        if (status /= SS_OK) return
+        select case (scene)
+        case (SCENE_SLOPE)
+            status = slope%init(fl, p)
+            if (status == SS_OK) allocate(sys, source=slope)
+        case (SCENE_BELT)
+            status = belt%init(fl, p)
+            if (status == SS_OK) allocate(sys, source=belt)
+        end select
+    end function new_system
+
+    !> Set the named controls on ctl; each must be one the method reads.
+    function apply_controls(ctl, info, keys, vals) result(status)
+        class(step_controls), intent(inout) :: ctl  !! the method's options
+        type(method_info), intent(in) :: info       !! the method
+        character(len=*), intent(in) :: keys(:)     !! control names
+        real(dp), intent(in) :: vals(:)             !! their values (counts and flags as reals)
+        integer :: status
+        integer :: i
+        status = SS_OK
+        if (size(keys) /= size(vals)) status = SS_BAD_DIM
+        do i = 1, size(keys)
+            if (status /= SS_OK) exit
+            if (index(' ' // trim(info%controls) // ' ', ' ' // trim(keys(i)) // ' ') == 0 .or. &
+                keys(i) == 'rtol' .or. keys(i) == 'atol') then
+                status = SS_BAD_CONTROL_NAME
+            else
+                status = ctl%set(trim(keys(i)), vals(i))
+            end if
+        end do
+    end function apply_controls
+
+    !> Integrate sys with the method of code `method` and its named controls (rtol and atol
+    !! as arrays, read by the adaptive methods only). Output and status as for the methods'
+    !! `<method>_integrate`.
+    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats)
+        use stickslip_ode, only: ode_system
+        integer, intent(in) :: method                !! method code
+        class(ode_system), intent(inout) :: sys      !! the right-hand side
+        real(dp), intent(in) :: t0                   !! initial time [s]
+        real(dp), intent(in) :: y0(:)                !! initial state
+        real(dp), intent(in) :: t_end                !! final time [s]
+        real(dp), intent(in) :: rtol(:)              !! relative tolerances, size 1 or size(y0)
+        real(dp), intent(in) :: atol(:)              !! absolute tolerances, size 1 or size(y0)
+        character(len=*), intent(in) :: keys(:)      !! control names
+        real(dp), intent(in) :: vals(:)              !! their values
+        real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
+        real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
+        type(ode_stats), intent(out) :: stats        !! counters and status
+        type(step_controls) :: fixed
+        type(dopri5_options) :: d5
+
+        select case (method)
+        case (METHOD_RK4)
+            stats%status = apply_controls(fixed, RK4_INFO, keys, vals)
+            if (stats%status == SS_OK) call rk4_integrate(sys, t0, y0, t_end, fixed%h, t_out, y_out, &
+                stats, every_step=fixed%every_step, max_steps=fixed%max_steps)
+        case (METHOD_DOPRI5)
+            stats%status = apply_controls(d5, DOPRI5_INFO, keys, vals)
+            if (stats%status == SS_OK) call dopri5_integrate(sys, t0, y0, t_end, rtol, atol, d5, &
+                t_out, y_out, stats)
+        case default
+            stats%status = SS_BAD_METHOD
+        end select
+    end subroutine integrate
+
+    !> Position of a parameter in PARAMS (0: none).
+    pure integer function param_index(name) result(j)
+        character(len=*), intent(in) :: name
+        do j = 1, size(PARAMS)
+            if (PARAMS(j)%name == name) return
+        end do
+        j = 0
+    end function param_index
+
+    !> Code of a law, scene or method by name (kind 'law', 'scene' or 'method'); 0 if none.
+    pure integer function code_of(kind, name) result(code)
+        character(len=*), intent(in) :: kind   !! 'law', 'scene' or 'method'
+        character(len=*), intent(in) :: name   !! its name
+        code = 0
+        select case (kind)
+        case ('law')
+            code = findloc(LAW_TABLE%name, name, dim=1)
+        case ('scene')
+            code = findloc(SCENE_TABLE%name, name, dim=1)
+        case ('method')
+            code = findloc(METHOD_TABLE%name, name, dim=1)
+        end select
+    end function code_of
+
+    !> Split 'a,b c' (commas or blanks) into names.
+    pure function split_names(text) result(names)
+        character(len=*), intent(in) :: text          !! names separated by commas or blanks
+        character(len=NAME_LEN), allocatable :: names(:)
+        character(len=len(text)) :: t
+        integer :: i, start
+        t = text
+        do i = 1, len(t)
+            if (t(i:i) == ',') t(i:i) = ' '
+        end do
+        allocate(names(0))
+        start = 0
+        do i = 1, len(t) + 1
+            if (i <= len(t)) then
+                if (t(i:i) /= ' ') then
+                    if (start == 0) start = i
+                    cycle
+                end if
+            end if
+            if (start > 0) then
+                names = [names, t(start:i - 1)]
+                start = 0
+            end if
+        end do
+    end function split_names
+
+    !> The full message of a status code: what happened, and for bad input the parameter
+    !! and its accepted range, or the accepted names.
+    pure function stickslip_message(status) result(msg)
+        integer, intent(in) :: status   !! a status code returned by the library
+        character(len=:), allocatable :: msg
+        integer :: j
+        select case (status)
+        case (SS_BAD_LAW)
+            msg = status_text(status) // ' (accepted: ' // joined(LAW_TABLE%name) // ')'
+        case (SS_BAD_SCENE)
+            msg = status_text(status) // ' (accepted: ' // joined(SCENE_TABLE%name) // ')'
+        case (SS_BAD_METHOD)
+            msg = status_text(status) // ' (accepted: ' // joined(METHOD_TABLE%name) // ')'
+        case (SS_BAD_PARAM_NAME)
+            msg = status_text(status) // ' (accepted: ' // joined(PARAMS%name) // ')'
+        case default
+            do j = 1, size(PARAMS)
+                if (PARAMS(j)%code == status) then
+                    msg = param_rule(PARAMS(j))
+                    return
+                end if
+            end do
+            msg = status_text(status)
+        end select
+    contains
+        pure function joined(names) result(s)
+            character(len=*), intent(in) :: names(:)
+            character(len=:), allocatable :: s
+            integer :: i
+            s = trim(names(1))
+            do i = 2, size(names)
+                s = s // ', ' // trim(names(i))
+            end do
+        end function joined
+    end function stickslip_message
+
+    !> The registry as text, one record per line, fields separated by '|':
+    !!   law|code|name|params|n_states|state labels (';')|doc
+    !!   scene|code|name|params|doc
+    !!   method|code|name|order|adaptive|implicit|controls|doc
+    !!   param|name|code|default|unit|default_of|scale|message|doc
+    !!   stats|integer names|real names
+    !!   status|name|code|message
+    function registry_text() result(text)
+        character(len=:), allocatable :: text
+        character(len=32) :: a, b, c
+        character(len=NAME_LEN), allocatable :: snames(:)
+        class(friction_law), allocatable :: fl
+        type(param_values) :: p
+        integer :: i, k, status
+        character(len=:), allocatable :: labels
+        character(len=1), parameter :: nl = new_line('a')
+
+        text = ''
+        status = resolve_params([character(len=NAME_LEN) ::], [real(dp) ::], p)
+        do i = 1, size(LAW_TABLE)
+            status = new_law(i, fl)
+            status = fl%init(p)
+            labels = ''
+            do k = 1, fl%n_states()
+                labels = labels // merge(';', ' ', k > 1) // fl%state_label(k)
+            end do
+            write (a, '(i0)') i
+            write (b, '(i0)') fl%n_states()
+            text = text // 'law|' // trim(a) // '|' // trim(LAW_TABLE(i)%name) // '|' // &
+                   trim(LAW_TABLE(i)%params) // '|' // trim(b) // '|' // trim(adjustl(labels)) // '|' // &
+                   trim(LAW_TABLE(i)%doc) // nl
+        end do
+        do i = 1, size(SCENE_TABLE)
+            write (a, '(i0)') i
+            text = text // 'scene|' // trim(a) // '|' // trim(SCENE_TABLE(i)%name) // '|' // &
+                   trim(SCENE_TABLE(i)%params) // '|' // trim(SCENE_TABLE(i)%doc) // nl
+        end do
+        do i = 1, size(METHOD_TABLE)
+            write (a, '(i0)') i
+            write (b, '(i0)') METHOD_TABLE(i)%order
+            text = text // 'method|' // trim(a) // '|' // trim(METHOD_TABLE(i)%name) // '|' // trim(b) // &
+                   '|' // merge('1', '0', METHOD_TABLE(i)%adaptive) // '|' // &
+                   merge('1', '0', METHOD_TABLE(i)%implicit) // '|' // trim(METHOD_TABLE(i)%controls) // &
+                   '|' // trim(METHOD_TABLE(i)%doc) // nl
+        end do
+        do i = 1, size(PARAMS)
+            write (a, '(i0)') PARAMS(i)%code
+            write (b, '(es24.17)') PARAMS(i)%default
+            write (c, '(es24.17)') PARAMS(i)%scale
+            text = text // 'param|' // trim(PARAMS(i)%name) // '|' // trim(a) // '|' // trim(adjustl(b)) // &
+                   '|' // trim(PARAMS(i)%unit) // '|' // trim(PARAMS(i)%default_of) // '|' // &
+                   trim(adjustl(c)) // '|' // param_rule(PARAMS(i)) // '|' // trim(PARAMS(i)%doc) // nl
+        end do
+        text = text // 'stats|' // STATS_INTEGER_NAMES // '|' // STATS_REAL_NAMES // nl
+        snames = split_names(STATUS_NAMES)
+        do i = 1, size(STATUS_CODES)
+            write (a, '(i0)') STATUS_CODES(i)
+            text = text // 'status|' // trim(snames(i)) // '|' // trim(a) // '|' // &
+                   stickslip_message(STATUS_CODES(i)) // nl
+        end do
+        do i = 1, size(PARAMS)
+            write (a, '(i0)') PARAMS(i)%code
+            text = text // 'status|BAD_' // upper(trim(PARAMS(i)%name)) // '|' // trim(a) // '|' // &
+                   param_rule(PARAMS(i)) // nl
+        end do
+    contains
+        pure function upper(s) result(u)
+            character(len=*), intent(in) :: s
+            character(len=len(s)) :: u
+            integer :: k
+            u = s
+            do k = 1, len(s)
+                if (s(k:k) >= 'a' .and. s(k:k) <= 'z') u(k:k) = achar(iachar(s(k:k)) - 32)
+            end do
+        end function upper
+    end function registry_text
+
+end module stickslip_registry
