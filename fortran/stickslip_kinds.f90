@@ -20,6 +20,9 @@ module stickslip_kinds
     integer, parameter, public :: SS_STIFF = -4             !! problem judged stiff and stop_on_stiff is set
     integer, parameter, public :: SS_NONFINITE = -5         !! the solution became NaN or infinite
     integer, parameter, public :: SS_OUTPUT_FULL = -6       !! every-step output buffer is full
+    integer, parameter, public :: SS_NEWTON_FAILED = -7     !! Newton iteration did not converge
+    integer, parameter, public :: SS_SINGULAR = -8          !! the Newton matrix is singular
+    integer, parameter, public :: SS_JAC_NONFINITE = -9     !! the Jacobian has a NaN or infinite entry
 
     ! -- bad input, one code per parameter ---------------------------------------
     integer, parameter, public :: SS_BAD_LAW = -100         !! unknown friction law code
@@ -48,6 +51,11 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_H0 = -130          !! initial step h0 not finite or < 0
     integer, parameter, public :: SS_BAD_CONTROL = -131     !! safety, fac1, fac2, beta_pi or nstiff out of range
     integer, parameter, public :: SS_BAD_DIM = -132         !! array sizes do not agree
+    integer, parameter, public :: SS_BAD_RHO_INF = -133     !! rho_inf not finite or outside [0, 1]
+    integer, parameter, public :: SS_BAD_NIT = -134         !! Newton iteration limit (nit, newton_max_iter) < 1
+    integer, parameter, public :: SS_BAD_NEWTON_TOL = -135  !! newton_rtol, newton_atol or fnewt out of range
+    integer, parameter, public :: SS_BAD_RADAU5_CONTROL = -136 !! safety, thet, quot1/quot2 or facl/facr of RADAU5 out of range
+    integer, parameter, public :: SS_BAD_RTOL_POSITIVE = -137  !! rtol not in [100 eps, 1) where 0 is not allowed (RADAU5)
 
 contains
 
@@ -64,6 +72,10 @@ contains
         case (SS_STIFF);          msg = 'problem judged stiff (DOPRI5 stiffness test) and stop_on_stiff is set'
         case (SS_NONFINITE);      msg = 'the solution became NaN or infinite'
         case (SS_OUTPUT_FULL);    msg = 'the every-step output buffer is full'
+        case (SS_NEWTON_FAILED);  msg = 'Newton iteration did not converge (fixed-step method: within' // &
+                                        ' newton_max_iter iterations; RADAU5: at h_min)'
+        case (SS_SINGULAR);       msg = 'the Newton matrix is singular (RADAU5: 5 times, step halved in between)'
+        case (SS_JAC_NONFINITE);  msg = 'the Jacobian df/dy has a NaN or infinite entry'
         case (SS_BAD_LAW);        msg = 'law: unknown friction law (accepted: coulomb, recurdyn, proposed)'
         case (SS_BAD_MU_S);       msg = 'mu_s: must be finite and >= 0'
         case (SS_BAD_MU_K);       msg = 'mu_k: must be finite and in [0, mu_s]'
@@ -92,6 +104,14 @@ contains
         case (SS_BAD_CONTROL);    msg = 'step control: need 0 < safety < 1, 0 < fac1 <= 1 <= fac2,' // &
                                         ' 0 <= beta_pi <= 0.2, nstiff >= 1'
         case (SS_BAD_DIM);        msg = 'array sizes do not agree'
+        case (SS_BAD_RHO_INF);    msg = 'rho_inf: must be finite and in [0, 1]'
+        case (SS_BAD_NIT);        msg = 'nit, newton_max_iter: the Newton iteration limit must be >= 1'
+        case (SS_BAD_NEWTON_TOL); msg = 'newton_rtol, newton_atol: must be finite, newton_rtol >= 0, newton_atol > 0;' // &
+                                        ' fnewt: 0 (automatic) or > eps / rtol'
+        case (SS_BAD_RADAU5_CONTROL); msg = 'RADAU5 control: need 0.001 < safety < 1, 0 <= thet < 1,' // &
+                                        ' 0 < quot1 <= 1 <= quot2, 0 < facl <= 1 <= facr'
+        case (SS_BAD_RTOL_POSITIVE); msg = 'rtol: RADAU5 needs rtol finite and in [100 eps = 2.2e-14, 1)' // &
+                                        ' (its tolerance transformation divides by rtol; 0 is not allowed)'
         case default;             msg = 'unknown status code'
         end select
     end function stickslip_message
