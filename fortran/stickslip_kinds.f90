@@ -21,6 +21,9 @@ module stickslip_kinds
     integer, parameter, public :: SS_STIFF = -4             !! problem judged stiff and stop_on_stiff is set
     integer, parameter, public :: SS_NONFINITE = -5         !! the solution became NaN or infinite
     integer, parameter, public :: SS_OUTPUT_FULL = -6       !! every-step output buffer is full
+    integer, parameter, public :: SS_NEWTON_FAILED = -7     !! Newton iteration did not converge
+    integer, parameter, public :: SS_SINGULAR = -8          !! the Newton matrix is singular
+    integer, parameter, public :: SS_JAC_NONFINITE = -9     !! the Jacobian has a NaN or infinite entry
 
     ! -- bad input, one code per parameter ---------------------------------------
     integer, parameter, public :: SS_BAD_LAW = -100         !! unknown friction law code
@@ -38,20 +41,27 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_H0 = -130          !! initial step h0 not finite or < 0
     integer, parameter, public :: SS_BAD_CONTROL = -131     !! safety, fac1, fac2, beta_pi or nstiff out of range
     integer, parameter, public :: SS_BAD_DIM = -132         !! array sizes do not agree
-    integer, parameter, public :: SS_BAD_CONTROL_NAME = -133  !! a control the method does not read
-    integer, parameter, public :: SS_BAD_PARAM_NAME = -134  !! a parameter no law or scene has
+    integer, parameter, public :: SS_BAD_RHO_INF = -133     !! rho_inf not finite or outside [0, 1]
+    integer, parameter, public :: SS_BAD_NIT = -134         !! Newton iteration limit (nit, newton_max_iter) < 1
+    integer, parameter, public :: SS_BAD_NEWTON_TOL = -135  !! newton_rtol, newton_atol or fnewt out of range
+    integer, parameter, public :: SS_BAD_RADAU5_CONTROL = -136 !! safety, thet, quot1/quot2 or facl/facr of RADAU5 out of range
+    integer, parameter, public :: SS_BAD_RTOL_POSITIVE = -137  !! rtol not in [100 eps, 1) where 0 is not allowed (RADAU5)
+    integer, parameter, public :: SS_BAD_CONTROL_NAME = -138  !! a control the method does not read
+    integer, parameter, public :: SS_BAD_PARAM_NAME = -139  !! a parameter no law or scene has
 
     !> Names of the status codes above, for the generated C header (`SS_` + name).
     character(len=*), parameter, public :: STATUS_NAMES = 'OK STEP_BUDGET STEP_TOO_SMALL STIFF ' // &
         'NONFINITE OUTPUT_FULL BAD_LAW BAD_SCENE BAD_METHOD BAD_H BAD_T_END BAD_RTOL BAD_ATOL ' // &
         'BAD_HMIN BAD_HMAX BAD_N_OUT BAD_MAX_STEPS BAD_Y0 BAD_H0 BAD_CONTROL BAD_DIM ' // &
-        'BAD_CONTROL_NAME BAD_PARAM_NAME'
+        'BAD_CONTROL_NAME BAD_PARAM_NAME NEWTON_FAILED SINGULAR JAC_NONFINITE BAD_RHO_INF ' // &
+        'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(23) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(31) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
-        SS_BAD_PARAM_NAME]
+        SS_BAD_PARAM_NAME, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_BAD_RHO_INF, SS_BAD_NIT, &
+        SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE]
 
 contains
 
@@ -69,6 +79,10 @@ contains
         case (SS_STIFF);          msg = 'problem judged stiff (DOPRI5 stiffness test) and stop_on_stiff is set'
         case (SS_NONFINITE);      msg = 'the solution became NaN or infinite'
         case (SS_OUTPUT_FULL);    msg = 'the every-step output buffer is full'
+        case (SS_NEWTON_FAILED);  msg = 'Newton iteration did not converge (fixed-step method: within' // &
+                                        ' newton_max_iter iterations; RADAU5: at h_min)'
+        case (SS_SINGULAR);       msg = 'the Newton matrix is singular (RADAU5: 5 times, step halved in between)'
+        case (SS_JAC_NONFINITE);  msg = 'the Jacobian df/dy has a NaN or infinite entry'
         case (SS_BAD_LAW);        msg = 'law: unknown friction law'
         case (SS_BAD_SCENE);      msg = 'scene: unknown scene'
         case (SS_BAD_METHOD);     msg = 'method: unknown integration method'
@@ -89,6 +103,14 @@ contains
         case (SS_BAD_CONTROL_NAME); msg = 'control: not a control of the chosen method' // &
                                           ' (each method lists its controls in the registry)'
         case (SS_BAD_PARAM_NAME); msg = 'parameter: not a parameter of any friction law or scene'
+        case (SS_BAD_RHO_INF);    msg = 'rho_inf: must be finite and in [0, 1]'
+        case (SS_BAD_NIT);        msg = 'nit, newton_max_iter: the Newton iteration limit must be >= 1'
+        case (SS_BAD_NEWTON_TOL); msg = 'newton_rtol, newton_atol: must be finite, newton_rtol >= 0, newton_atol > 0;' // &
+                                        ' fnewt: 0 (automatic) or > eps / rtol'
+        case (SS_BAD_RADAU5_CONTROL); msg = 'RADAU5 control: need 0.001 < safety < 1, 0 <= thet < 1,' // &
+                                        ' 0 < quot1 <= 1 <= quot2, 0 < facl <= 1 <= facr'
+        case (SS_BAD_RTOL_POSITIVE); msg = 'rtol: RADAU5 needs rtol finite and in [100 eps = 2.2e-14, 1)' // &
+                                        ' (its tolerance transformation divides by rtol; 0 is not allowed)'
         case default;             msg = 'unknown status code'
         end select
     end function status_text

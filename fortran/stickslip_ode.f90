@@ -19,7 +19,7 @@ module stickslip_ode
     private
 
     public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, &
-              check_step_controls, all_finite, output_start, stats_integers, stats_reals
+              check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite
 
     !> Smallest accepted nonzero rtol of the adaptive methods: 100 units of round-off.
     real(dp), parameter, public :: RTOL_MIN = 100.0_dp * epsilon(1.0_dp)
@@ -252,6 +252,24 @@ contains
             end do
         end if
     end subroutine output_start
+
+    !> Cubic Hermite interpolant through (y0, f0) at t and (y1, f1) at t + hs, at time tq
+    !! (the dense output of the fixed-step methods).
+    pure function hermite(t, hs, y0, f0, y1, f1, tq) result(yq)
+        real(dp), intent(in) :: t           !! start of the step [s]
+        real(dp), intent(in) :: hs          !! step size [s]
+        real(dp), intent(in) :: y0(:)       !! state at t
+        real(dp), intent(in) :: f0(:)       !! f(t, y0)
+        real(dp), intent(in) :: y1(:)       !! state at t + hs
+        real(dp), intent(in) :: f1(:)       !! f(t + hs, y1)
+        real(dp), intent(in) :: tq          !! interpolation time, in [t, t + hs] [s]
+        real(dp) :: yq(size(y0)), s, s2, s3
+        s = (tq - t) / hs
+        s2 = s * s
+        s3 = s2 * s
+        yq = (2.0_dp*s3 - 3.0_dp*s2 + 1.0_dp) * y0 + (s3 - 2.0_dp*s2 + s) * hs * f0 &
+           + (3.0_dp*s2 - 2.0_dp*s3) * y1 + (s3 - s2) * hs * f1
+    end function hermite
 
     !> .true. when every component of y is finite.
     pure logical function all_finite(y)

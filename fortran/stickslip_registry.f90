@@ -26,6 +26,9 @@ module stickslip_registry
                                 K_SPEC, V_B_SPEC
     use stickslip_rk4, only: rk4_integrate, RK4_INFO
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, DOPRI5_INFO
+    use stickslip_radau5, only: radau5_options, radau5_integrate, RADAU5_INFO
+    use stickslip_implicit_euler, only: implicit_euler_options, implicit_euler_integrate, IMPLICIT_EULER_INFO
+    use stickslip_galpha, only: galpha_options, galpha_integrate, GALPHA_INFO
     implicit none
     private
 
@@ -53,8 +56,10 @@ module stickslip_registry
     integer, parameter, public :: SCENE_SLOPE = 1, SCENE_BELT = 2
 
     !> The integration methods; the code of a method is its position.
-    type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO]
-    integer, parameter, public :: METHOD_RK4 = 1, METHOD_DOPRI5 = 2
+    type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO, RADAU5_INFO, &
+        IMPLICIT_EULER_INFO, GALPHA_INFO]
+    integer, parameter, public :: METHOD_RK4 = 1, METHOD_DOPRI5 = 2, METHOD_RADAU5 = 3, &
+                                  METHOD_IMPLICIT_EULER = 4, METHOD_GALPHA = 5
 
     !> Every physical parameter of every law and scene, each once.
     type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
@@ -197,6 +202,9 @@ contains
         type(ode_stats), intent(out) :: stats        !! counters and status
         type(step_controls) :: fixed
         type(dopri5_options) :: d5
+        type(radau5_options) :: r5
+        type(implicit_euler_options) :: ie
+        type(galpha_options) :: ga
 
         select case (method)
         case (METHOD_RK4)
@@ -207,6 +215,16 @@ contains
             stats%status = apply_controls(d5, DOPRI5_INFO, keys, vals)
             if (stats%status == SS_OK) call dopri5_integrate(sys, t0, y0, t_end, rtol, atol, d5, &
                 t_out, y_out, stats)
+        case (METHOD_RADAU5)
+            stats%status = apply_controls(r5, RADAU5_INFO, keys, vals)
+            if (stats%status == SS_OK) call radau5_integrate(sys, t0, y0, t_end, rtol, atol, r5, &
+                t_out, y_out, stats)
+        case (METHOD_IMPLICIT_EULER)
+            stats%status = apply_controls(ie, IMPLICIT_EULER_INFO, keys, vals)
+            if (stats%status == SS_OK) call implicit_euler_integrate(sys, t0, y0, t_end, ie, t_out, y_out, stats)
+        case (METHOD_GALPHA)
+            stats%status = apply_controls(ga, GALPHA_INFO, keys, vals)
+            if (stats%status == SS_OK) call galpha_integrate(sys, t0, y0, t_end, ga, t_out, y_out, stats)
         case default
             stats%status = SS_BAD_METHOD
         end select

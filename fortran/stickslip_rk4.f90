@@ -8,7 +8,7 @@
 module stickslip_rk4
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
                                SS_NONFINITE, SS_OUTPUT_FULL
-    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start
+    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, hermite
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -131,7 +131,7 @@ contains
                     if (t_out(next) == t1) then
                         y_out(:, next) = y1
                     else
-                        y_out(:, next) = hermite(t_out(next))
+                        y_out(:, next) = hermite(t, hs, y, f0, y1, f1, t_out(next))
                     end if
                     next = next + 1
                 end do
@@ -147,19 +147,6 @@ contains
         stats%t_reached = t
         stats%n_written = next - 1
         if (stats%status == SS_OK .and. nsteps < n_total) stats%status = SS_STEP_BUDGET
-
-    contains
-
-        !> Cubic Hermite interpolant on [t, t1] at time tq.
-        function hermite(tq) result(yq)
-            real(dp), intent(in) :: tq
-            real(dp) :: yq(size(y0)), s, s2, s3
-            s = (tq - t) / hs
-            s2 = s * s
-            s3 = s2 * s
-            yq = (2.0_dp*s3 - 3.0_dp*s2 + 1.0_dp) * y + (s3 - 2.0_dp*s2 + s) * hs * f0 &
-               + (3.0_dp*s2 - 2.0_dp*s3) * y1 + (s3 - s2) * hs * f1
-        end function hermite
 
     end subroutine rk4_integrate
 

@@ -22,10 +22,29 @@ def test_fortran_integrator_suite(native_build):
     assert abs(float(m.group(6)) - 0.8911185692e-5) < 1e-11
 
 
+def test_fortran_implicit_suite(native_build):
+    exe = compile_target(native_build, "test_implicit")
+    proc = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout  # (labels name SS_NEWTON_FAILED)
+    # Hairer's radau5.f (1996/2002) on Van der Pol (eps 1e-6, y0 = (2, -0.66), x_end = 2,
+    # rtol = atol = 1e-4, analytic Jacobian): NFCN NJAC NSTEP NACCPT NREJCT NDEC NSOL
+    # = 2218 161 275 238 8 248 660 (also the published output of his dr1_radau5 example).
+    m = re.search(r"radau5 vdp tol 1.0E-04: nfev njac nstep naccept nreject ndec nsol y = ((?:\d+ ){6}\d+)\s+(\S+)",
+                  proc.stdout)
+    assert m, proc.stdout
+    assert tuple(int(g) for g in m.group(1).split()) == (2218, 161, 275, 238, 8, 248, 660)
+    assert abs(float(m.group(2)) - 1.70616110055875470) < 1e-9
+    for method, lo, hi in (("radau5", 4.7, 5.3), ("galpha", 1.9, 2.1), ("implicit euler", 0.95, 1.05)):
+        m = re.search(method + r" order: errors.*orders\s+(\S+)\s+(\S+)", proc.stdout)
+        assert m, proc.stdout
+        assert all(lo < float(g) < hi for g in m.groups()), m.group(0)
+
+
 def test_meson_test_suite(native_build):
     """`meson test`: the Fortran unit tests and both examples built in-tree from the core."""
     from conftest import _tool
     proc = subprocess.run([_tool("meson"), "test", "-C", str(native_build), "--print-errorlogs"],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert re.search(r"Ok:\s+3\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+    assert re.search(r"Ok:\s+4\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
