@@ -1,11 +1,16 @@
-"""The installed library: `meson install` with -Dinstall_lib=true into a temporary prefix, then
-the two programs of examples/ built OUTSIDE the meson tree with pkg-config, run, and checked
-against expectations that do not come from the library (the paper's formulas evaluated here,
-hand-computed values, a conserved quantity, exact solutions, counter identities)."""
+"""The installed library, exactly as README's "Using the library from Fortran and C" shows it:
+the section's shell commands, read from README.md, run in a copy of the repository with a
+temporary HOME (so `--prefix=$HOME/.local` is a temporary prefix) and an environment holding
+only PATH and HOME. They install the library and build the two programs of examples/ against it
+with pkg-config, shared and static; each program then runs in a clean environment (no
+LD_LIBRARY_PATH, no PKG_CONFIG_PATH) and is checked against expectations that do not come from
+the library (the paper's formulas evaluated here, hand-computed values, a conserved quantity,
+exact solutions, counter identities)."""
 from __future__ import annotations
 
 import math
-import os
+import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -14,18 +19,25 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-BIN = Path(sys.executable).parent
+SECTION = "## Using the library from Fortran and C"
+EXAMPLES = {"lotka_volterra.f90": "fortran", "friction_c.c": "c"}
+CLEAN_PATH = "/usr/local/bin:/usr/bin:/bin"
 
 
-def _need(name: str) -> str:
-    path = str(BIN / name) if (BIN / name).exists() else shutil.which(name)
-    if path is None:
-        pytest.skip(f"{name} not found")
-    return path
+def readme_commands(readme: Path = ROOT / "README.md") -> list[str]:
+    """The shell command lines of README's library section, in order."""
+    text = readme.read_text()
+    start = text.index(SECTION)
+    end = text.find("\n## ", start + len(SECTION))
+    section = text[start:end if end >= 0 else len(text)]
+    blocks = re.findall(r"^```sh\n(.*?)^```", section, re.S | re.M)
+    assert blocks, f"no sh blocks in README's section {SECTION!r}"
+    return [line for block in blocks for line in block.splitlines()
+            if line.strip() and not line.lstrip().startswith("#")]
 
 
 def _run(cmd: list[str], **kw) -> str:
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120, **kw)
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=300, **kw)
     assert proc.returncode == 0, f"{' '.join(cmd)}\nstdout:\n{proc.stdout}\nstderr:\n{proc.stderr}"
     return proc.stdout
 
@@ -34,41 +46,94 @@ def _keys(out: str) -> dict[str, str]:
     return dict(line.strip().split("=", 1) for line in out.splitlines() if "=" in line)
 
 
+def _needed(exe: Path) -> list[str]:
+    """The shared libraries an executable names (DT_NEEDED)."""
+    out = _run(["readelf", "-d", str(exe)])
+    return re.findall(r"\(NEEDED\)\s+Shared library: \[(.*?)\]", out)
+
+
 @pytest.fixture(scope="module")
-def installed(tmp_path_factory: pytest.TempPathFactory) -> dict:
-    """Configure, build and install into a fresh prefix; return paths and an environment."""
-    meson = _need("meson")
-    pkgconf = _need("pkg-config")
+def readme_builds(tmp_path_factory: pytest.TempPathFactory) -> dict:
+    """Run README's install and build commands in a copy of the repository; return the
+    program run lines by (example, "shared" or "static") and what the clean runs need."""
+    venv = Path(sys.prefix)
+    if not (venv / "bin" / "activate").exists() or shutil.which("readelf") is None:
+        pytest.skip("needs the scripts/setup venv (README activates it) and readelf")
     tmp = tmp_path_factory.mktemp("install")
-    build, prefix = tmp / "build", tmp / "prefix"
-    env = dict(os.environ, PATH=f"{BIN}{os.pathsep}{os.environ['PATH']}")
-    _run([meson, "setup", str(build), str(ROOT), f"--prefix={prefix}", "-Dinstall_lib=true"], env=env)
-    _run([meson, "install", "-C", str(build)], env=env)
-    pcs = sorted(prefix.glob("lib*/**/pkgconfig/stickslip.pc"))
-    assert pcs, f"no stickslip.pc under {prefix}"
-    libdir = pcs[0].parent.parent
-    assert (libdir / "libstickslip.a").exists()
-    assert any(libdir.glob("libstickslip.so*"))
-    inc = prefix / "include" / "stickslip"
-    assert (inc / "stickslip.h").exists()
+    repo, home = tmp / "repo", tmp / "home"
+    shutil.copytree(ROOT, repo, ignore=shutil.ignore_patterns(
+        ".git", ".venv", "build", "build-*", "out", "__pycache__", ".pytest_cache", "*.mod", "*.o"))
+    (repo / ".venv").symlink_to(venv, target_is_directory=True)
+    home.mkdir()
+    env = {"PATH": CLEAN_PATH, "HOME": str(home)}
+
+    lines = readme_commands()
+    outputs = {}                                    # -o target -> example
+    for line in lines:
+        words = shlex.split(line, posix=True)
+        if words[0] in ("gfortran", "cc") and "-o" in words:
+            src = Path(words[1]).name
+            assert src in EXAMPLES, line
+            outputs[words[words.index("-o") + 1]] = EXAMPLES[src]
+    runs = [line for line in lines if line.split()[0] in outputs]
+    script = "\n".join(line for line in lines if line not in runs)
+    # No set -u: README's export reads PKG_CONFIG_PATH, which a new user's shell may not set.
+    _run(["bash", "-e", "-o", "pipefail", "-c", script], cwd=repo, env=env)
+
+    prefix = home / ".local"
+    installed = sorted(str(p.relative_to(prefix)) for p in prefix.rglob("*") if not p.is_dir())
+    programs = {}
+    for line in runs:
+        exe = repo / line.split()[0]
+        link = "shared" if any(n.startswith("libstickslip.so") for n in _needed(exe)) else "static"
+        assert (outputs[line.split()[0]], link) not in programs, line
+        programs[outputs[line.split()[0]], link] = line
+    return {"repo": repo, "env": env, "programs": programs, "installed": installed}
+
+
+def _run_program(builds: dict, example: str, link: str) -> str:
+    """Run README's line for one program, as README shows it, in a clean environment."""
+    line = builds["programs"].get((example, link))
+    assert line is not None, f"README builds and runs no {link} {example} example"
+    return _run(["bash", "-c", line], cwd=builds["repo"], env=builds["env"])
+
+
+def test_readme_installs_the_library_alone(readme_builds: dict) -> None:
+    """The static and shared library, header, module files and .pc file; no Python."""
+    files = readme_builds["installed"]
+    for want in ("libstickslip.a", "libstickslip.so", "pkgconfig/stickslip.pc"):
+        assert any(f.startswith("lib") and f.endswith(want) for f in files), (want, files)
+    assert "include/stickslip/stickslip.h" in files
     for mod in ("kinds", "friction", "ode", "rk4", "dopri5", "scenes", "simulate", "capi"):
-        assert (inc / f"stickslip_{mod}.mod").exists(), mod
-    env = dict(env, PKG_CONFIG_PATH=str(pcs[0].parent),
-               LD_LIBRARY_PATH=f"{libdir}{os.pathsep}{os.environ.get('LD_LIBRARY_PATH', '')}")
-    flags = _run([pkgconf, "--cflags", "--libs", "stickslip"], env=env).split()
-    return {"tmp": tmp, "env": env, "flags": flags, "libdir": libdir, "pkgconf": pkgconf}
+        assert f"include/stickslip/stickslip_{mod}.mod" in files, mod
+    library = re.compile(r"include/stickslip/stickslip(_\w+\.mod|\.h)"
+                         r"|lib[^/]*/([^/]+/)?(libstickslip\.(a|so[.\d]*)|pkgconfig/stickslip\.pc)")
+    others = [f for f in files if not library.fullmatch(f)]
+    assert not others, f"installed besides the library: {others}"
 
 
-def test_fortran_example(installed: dict) -> None:
+def test_static_libs_name_every_runtime(readme_builds: dict) -> None:
+    """`pkg-config --static --libs` names each runtime libstickslip.a calls into, also those the
+    examples do not reach (OpenMP is only in the batch module)."""
+    files = readme_builds["installed"]
+    pc = next(f for f in files if f.endswith("pkgconfig/stickslip.pc"))
+    prefix = Path(readme_builds["env"]["HOME"]) / ".local"
+    env = dict(readme_builds["env"], PKG_CONFIG_PATH=str((prefix / pc).parent))
+    libs = _run(["pkg-config", "--static", "--libs", "stickslip"], env=env).split()
+    archive = prefix / next(f for f in files if f.endswith("libstickslip.a"))
+    undefined = set(_run(["nm", "-u", "--format=just-symbols", str(archive)]).split())
+    runtimes = {"-lgfortran": r"_gfortran_\w+", "-lgomp": r"GOMP_\w+|omp_\w+",
+                "-lm": r"(exp|log|pow|sqrt|sin|cos|tan|atan2?|cbrt|hypot)f?"}
+    for flag, pattern in runtimes.items():
+        if any(re.fullmatch(pattern, sym) for sym in undefined):
+            assert flag in libs[libs.index("-lstickslip"):], (flag, libs)
+
+
+@pytest.mark.parametrize("link", ["shared", "static"])
+def test_fortran_example(readme_builds: dict, link: str) -> None:
     """Lotka-Volterra with the library's DOPRI5 and RK4: V is conserved, the two agree,
     and the counters obey DOPRI5's and RK4's evaluation counts."""
-    fc = _need("gfortran")
-    exe = installed["tmp"] / "lotka_volterra"
-    work = installed["tmp"] / "fortran_example"
-    work.mkdir()
-    shutil.copy(ROOT / "examples" / "lotka_volterra.f90", work)   # outside the meson tree
-    _run([fc, "lotka_volterra.f90", *installed["flags"], "-o", str(exe)], cwd=work, env=installed["env"])
-    k = _keys(_run([str(exe)], env=installed["env"]))
+    k = _keys(_run_program(readme_builds, "fortran", link))
 
     for m in ("dopri5", "rk4"):
         assert float(k[f"{m}_t_end"]) == 15.0
@@ -111,24 +176,9 @@ def _mu_paper(law: str, v: float) -> float:
 
 
 @pytest.mark.parametrize("link", ["shared", "static"])
-def test_c_example(installed: dict, link: str) -> None:
+def test_c_example(readme_builds: dict, link: str) -> None:
     """Friction laws, scenes and a user's ODE through stickslip.h, linked both ways."""
-    cc = _need("cc")
-    work = installed["tmp"] / f"c_example_{link}"
-    work.mkdir()
-    shutil.copy(ROOT / "examples" / "friction_c.c", work)
-    exe = work / "friction_c"
-    if link == "shared":
-        cmd = [cc, "friction_c.c", *installed["flags"], "-lm", "-o", str(exe)]
-    else:
-        cflags = _run([installed["pkgconf"], "--cflags", "stickslip"], env=installed["env"]).split()
-        libs = _run([installed["pkgconf"], "--static", "--libs-only-l", "stickslip"],
-                    env=installed["env"]).split()
-        libs = [x for x in libs if x != "-lstickslip"]
-        cmd = [cc, "friction_c.c", *cflags, str(installed["libdir"] / "libstickslip.a"), *libs, "-lm",
-               "-o", str(exe)]
-    _run(cmd, cwd=work, env=installed["env"])
-    out = _run([str(exe)], env=installed["env"] if link == "shared" else None)
+    out = _run_program(readme_builds, "c", link)
     k = _keys(out)
 
     rows = [line.split() for line in out.splitlines() if line.startswith("mu ")]
