@@ -149,7 +149,7 @@ contains
         if (self%static_law) then
             mu = self%law%mu(y(2))
         else
-            call self%law%evaluate(y(2), y(3:), self%mu_hold, mu, dydt(3:))
+            call law_with_states(self, y(2), self%mu_hold, y, dydt, mu)
         end if
         dydt(1) = y(2)
         dydt(2) = self%g_sin - mu * self%g_cos
@@ -164,11 +164,23 @@ contains
         if (self%static_law) then
             mu = self%law%mu(self%v_b - y(2))
         else
-            call self%law%evaluate(self%v_b - y(2), y(3:), self%k_mg * y(1), mu, dydt(3:))
+            call law_with_states(self, self%v_b - y(2), self%k_mg * y(1), y, dydt, mu)
         end if
         dydt(1) = y(2)
         dydt(2) = -self%k_m * y(1) + mu * self%g
     end subroutine belt_rhs
+
+    !> mu and the internal-state rates dydt(3:) of a law that is not static (kept out of
+    !! the right-hand sides so that their static path stays short).
+    subroutine law_with_states(self, v, mu_hold, y, dydt, mu)
+        class(friction_scene), intent(inout) :: self
+        real(dp), intent(in)    :: v          !! relative sliding velocity [m/s]
+        real(dp), intent(in)    :: mu_hold    !! coefficient that would hold v constant [-]
+        real(dp), intent(in)    :: y(:)       !! state (x, v, z...)
+        real(dp), intent(inout) :: dydt(:)    !! derivative; dydt(3:) set here
+        real(dp), intent(out)   :: mu         !! friction coefficient [-]
+        call self%law%evaluate(v, y(3:), mu_hold, mu, dydt(3:))
+    end subroutine law_with_states
 
     !> Analytic Jacobian for a static law, finite differences otherwise.
     subroutine slope_jacobian(self, t, y, f, dfdy, nfev)
