@@ -13,8 +13,8 @@ import concurrent.futures as cf
 import csv
 import multiprocessing
 import os
+import secrets
 import sys
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -49,10 +49,17 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[Any], None], *,
                  binary: bool = False) -> Path:
     """Call `write(fileobj)` on a temporary file beside `path`, then `os.replace` it onto
     `path`. On any exception the temporary file is removed and `path` is left untouched.
-    Returns `path` as a Path."""
+    The file gets the permissions of any new file (0666 less the user's umask), not
+    mkstemp's 0600. Returns `path` as a Path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    while True:
+        tmp = path.parent / f".{path.name}.{secrets.token_hex(6)}.tmp"
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+            break
+        except FileExistsError:            # another writer drew the same name: draw again
+            continue
     try:
         with os.fdopen(fd, "wb" if binary else "w", **({} if binary else
                                                         {"newline": "", "encoding": "utf-8"})) as f:
