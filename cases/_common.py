@@ -9,12 +9,14 @@ all (an interrupted run never leaves half a CSV or PNG behind).
 from __future__ import annotations
 
 import argparse
-import concurrent.futures as cf
 import csv
+import math
 import multiprocessing
 import os
+import queue
 import secrets
 import sys
+import textwrap
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -211,34 +213,63 @@ def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
 # --------------------------------------------------------------------------------------------
 # Command line
 # --------------------------------------------------------------------------------------------
-def positive_float(text: str) -> float:
-    """argparse type: a finite float > 0."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not np.isfinite(value) or value <= 0.0:
-        raise argparse.ArgumentTypeError(f"must be finite and > 0, got {text}")
-    return value
+#: Smallest relative tolerance the library accepts: 100 units of round-off (2.2e-14).
+RTOL_MIN: float = 100.0 * float(np.finfo(float).eps)
 
 
-def positive_int(text: str) -> int:
-    """argparse type: an integer >= 2 (a number of output points)."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"must be >= 2, got {text}")
-    return value
+def float_in(low: float, high: float = math.inf, *, low_closed: bool = False,
+             what: str | None = None) -> Callable[[str], float]:
+    """argparse type: a finite float in (low, high), or [low, high) with low_closed. argparse
+    names the option in its error; the message states the accepted range (`what` replaces the
+    printed lower bound, e.g. "100 eps = 2.2e-14")."""
+    lo = what or f"{low:g}"
+    accepted = (f"> {lo}" if not low_closed else f">= {lo}") if math.isinf(high) else \
+        f"in {'[' if low_closed else '('}{lo}, {high:g})"
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+        ok = math.isfinite(value) and value < high and (value >= low if low_closed else value > low)
+        if not ok:
+            raise argparse.ArgumentTypeError(f"must be finite and {accepted}, got {text}")
+        return value
+
+    parse.__name__ = "float"        # argparse's "invalid float value" wording for other errors
+    return parse
+
+
+def int_at_least(minimum: int) -> Callable[[str], int]:
+    """argparse type: an integer >= minimum."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}, got {text}")
+        return value
+
+    parse.__name__ = "int"
+    return parse
+
+
+#: argparse types: a finite float > 0; a relative tolerance in [100 eps, 1); a number of output
+#: points (>= 2); a count of workers or threads (>= 1).
+positive_float = float_in(0.0)
+rtol_value = float_in(RTOL_MIN, 1.0, low_closed=True, what="100 eps = 2.2e-14")
+positive_int = int_at_least(2)
+count = int_at_least(1)
 
 
 def add_common_options(parser: argparse.ArgumentParser) -> None:
     """--outdir, --workers and --quiet, shared by every driver."""
     parser.add_argument("--outdir", type=Path, default=Path("out"),
                         help="directory for CSV, PNG and Markdown files (default: out/)")
-    parser.add_argument("--workers", type=int, default=2,
-                        help="simulations run in parallel (default 2: the machine has 2 cores)")
+    parser.add_argument("--workers", type=count, default=2,
+                        help="simulations run in parallel, >= 1 (default 2: the machine has 2 "
+                        "cores)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
@@ -251,12 +282,18 @@ def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[P
     parser.add_argument("--outdir", type=Path, default=Path("out"),
                         help="directory for CSV and PNG files (default: out/)")
     parser.add_argument("--quick", action="store_true", help=quick_help)
-    parser.add_argument("--threads", type=int, default=2, help="OpenMP threads (default 2)")
+    parser.add_argument("--threads", type=count, default=2, help="OpenMP threads, >= 1 (default 2)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
-    if args.threads < 1:
-        parser.error("--threads must be >= 1")
-    return run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet)
+    files = run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet)
+    print_files(files)
+    return files
+
+
+def print_files(files: Iterable[Path]) -> None:
+    """Print where every file went (stdout, one path a line, sorted)."""
+    for f in sorted(files):
+        print(f)
 
 
 def add_law_options(parser: argparse.ArgumentParser) -> None:
@@ -303,6 +340,11 @@ def log(message: str, quiet: bool = False) -> None:
     """A progress line on stderr."""
     if not quiet:
         print(message, file=sys.stderr, flush=True)
+
+
+def log_caption(text: str, quiet: bool = False) -> None:
+    """The caption of a console table (units, what each column means), wrapped, on stderr."""
+    log("\n".join(textwrap.fill(part, width=96) for part in text.split("\n")), quiet)
 
 
 # --------------------------------------------------------------------------------------------
@@ -379,31 +421,45 @@ def simulate_run(run: Run) -> Outcome:
     return Outcome(r.t, r.x, r.v, dict(r.stats), time.perf_counter() - t0)
 
 
+def _progress(results: dict[Run, Outcome], run: Run, total: int, quiet: bool) -> None:
+    log(f"  [{len(results)}/{total}] {run.label()}: {results[run].wall_seconds:.2f} s", quiet)
+
+
 def run_all(runs: Iterable[Run], *, workers: int = 2, quiet: bool = False,
             heartbeat: float = 3.0) -> dict[Run, Outcome]:
     """Simulate every distinct run once, `workers` at a time, the expensive ones first.
     Prints one line per finished run and, every `heartbeat` seconds while runs are pending,
-    a progress line (stderr)."""
+    a progress line (stderr).
+
+    The first failure ends everything at once: queued runs are dropped and running workers
+    terminated (multiprocessing.Pool.terminate), then SimulationFailed is raised; so a hopeless
+    command fails as soon as its first run does, not after every other run has finished."""
     unique = sorted(set(runs), key=lambda r: -r.cost_hint())
     results: dict[Run, Outcome] = {}
     start = time.perf_counter()
     if workers <= 1 or len(unique) <= 1:
-        for i, run in enumerate(unique, 1):
+        for run in unique:
             results[run] = simulate_run(run)
-            log(f"  [{i}/{len(unique)}] {run.label()}: {results[run].wall_seconds:.2f} s", quiet)
+            _progress(results, run, len(unique), quiet)
         return results
     ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods()
                                       else None)
-    with cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-        pending = {pool.submit(simulate_run, run): run for run in unique}
-        while pending:
-            done, _ = cf.wait(pending, timeout=heartbeat, return_when=cf.FIRST_COMPLETED)
-            for fut in done:
-                run = pending.pop(fut)
-                results[run] = fut.result()
-                log(f"  [{len(results)}/{len(unique)}] {run.label()}: "
-                    f"{results[run].wall_seconds:.2f} s", quiet)
-            if not done:
+    finished: queue.SimpleQueue[tuple[Run, Outcome | BaseException]] = queue.SimpleQueue()
+    # Pool.__exit__ calls terminate(): on an error (or Ctrl-C) no worker outlives this block.
+    with ctx.Pool(processes=min(workers, len(unique))) as pool:
+        for run in unique:
+            pool.apply_async(simulate_run, (run,),
+                             callback=lambda o, run=run: finished.put((run, o)),
+                             error_callback=lambda e, run=run: finished.put((run, e)))
+        while len(results) < len(unique):
+            try:
+                run, outcome = finished.get(timeout=heartbeat)
+            except queue.Empty:
                 log(f"  ... {len(results)}/{len(unique)} done, "
                     f"{time.perf_counter() - start:.0f} s elapsed", quiet)
+                continue
+            if isinstance(outcome, BaseException):
+                raise outcome
+            results[run] = outcome
+            _progress(results, run, len(unique), quiet)
     return results
