@@ -152,13 +152,46 @@ def new_figure(ncols: int = 1, *, width: float | None = None) -> tuple[Any, Any]
     return fig, axes[0] if ncols > 1 else axes[0][0]
 
 
+def figure_legend(fig: Any, axes: Iterable[Any], ncol: int = 3) -> Any:
+    """One legend for the whole figure, below the axes (where it covers no data), with every
+    distinct label of `axes` once: a marker shown in any panel is explained."""
+    handles: dict[str, Any] = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, handle)
+    return fig.legend(list(handles.values()), list(handles), loc="lower center",
+                      ncol=min(ncol, max(len(handles), 1)), frameon=False)
+
+
 def save_figure(fig: Any, path: str | os.PathLike[str]) -> Path:
-    """Save `fig` as PNG atomically (DPI dots per inch) and close it."""
-    fig.tight_layout()
+    """Save `fig` as PNG atomically (DPI dots per inch) and close it. A figure legend
+    (figure_legend) keeps a strip of its own height below the axes."""
+    bottom = 0.0
+    if fig.legends:
+        fig.canvas.draw()
+        bottom = max(leg.get_window_extent().transformed(fig.transFigure.inverted()).y1
+                     for leg in fig.legends)
+    fig.tight_layout(rect=(0.0, bottom, 1.0, 1.0))
     try:
         return atomic_write(path, lambda f: fig.savefig(f, format="png", dpi=DPI), binary=True)
     finally:
         plt.close(fig)
+
+
+def series_label(name: str) -> str:
+    """The legend entry of a figure CSV's column, with units: "x coulomb [m]" -> "Coulomb",
+    "x h=0.001 [m]" -> "RK4, h = 0.001 s", "x rtol=0.01 [m]" -> "DOPRI5, rtol = 0.01",
+    "x automatic [m]" -> "DOPRI5 automatic (h in [1e-6, 1e-2] s)"."""
+    key = split_unit(name)[0].split(" ", 1)[-1]
+    if key in LAW_LABELS:
+        return LAW_LABELS[key]
+    if key.startswith("h="):
+        return f"RK4, h = {key[2:]} s"
+    if key.startswith("rtol="):
+        return f"DOPRI5, rtol = {key[5:]}, atol = 1e-3 rtol"
+    if key == "automatic":
+        return "DOPRI5 automatic (h in [1e-6, 1e-2] s)"
+    return key
 
 
 def series_style(label: str, index: int) -> dict[str, Any]:
@@ -174,25 +207,36 @@ def series_style(label: str, index: int) -> dict[str, Any]:
 def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLike[str],
                      title: str) -> Path:
     """Render a CSV whose first column is time [s] and whose other columns are series of one
-    quantity (e.g. "x coulomb [m]") as lines against time. When the final values span more
-    than two decades the y axis is symmetric-logarithmic, so that all series stay visible."""
+    quantity (e.g. "x coulomb [m]") as lines against time. When the series' final values span
+    more than two decades a second panel shows |x| on a log axis, so that every series is
+    visible without the distortion of a symmetric-log axis (whose linear region bends curves
+    near 0); the legend sits below the panels."""
     cols = read_numeric_csv(csv_path)
     names = list(cols)
     t = cols[names[0]]
-    fig, ax = new_figure()
-    finals = []
-    for i, name in enumerate(names[1:]):
-        label = split_unit(name)[0].split(" ", 1)[-1]         # "x coulomb" -> "coulomb"
-        ax.plot(t, cols[name], label=LAW_LABELS.get(label, label), **series_style(label, i))
-        finals.append(abs(cols[name][-1]))
+    finals = [abs(cols[name][-1]) for name in names[1:]]
     positive = [f for f in finals if f > 0.0]
-    if len(positive) > 1 and max(positive) / min(positive) > 100.0:
-        ax.set_yscale("symlog", linthresh=min(positive) / 10.0)
-    ax.set_xlabel(names[0])
+    wide = len(positive) > 1 and max(positive) / min(positive) > 100.0
+    fig, axes = new_figure(2 if wide else 1)
+    axes = list(axes) if wide else [axes]
     base, unit = split_unit(names[1])
-    ax.set_ylabel(f"{base.split()[0]} [{unit}]")
-    ax.set_title(title)
-    ax.legend(loc="best")
+    quantity = base.split()[0]
+    for i, name in enumerate(names[1:]):
+        key = split_unit(name)[0].split(" ", 1)[-1]
+        style = series_style(key, i)
+        axes[0].plot(t, cols[name], label=series_label(name), **style)
+        if wide:
+            y = np.abs(cols[name])
+            axes[1].semilogy(t[y > 0.0], y[y > 0.0], **style)
+    axes[0].set_ylabel(f"{quantity} [{unit}]")
+    axes[0].set_title(title if not wide else f"{quantity} on a linear axis")
+    if wide:
+        axes[1].set_ylabel(f"|{quantity}| [{unit}], log axis")
+        axes[1].set_title("the same on a log axis (every series visible)")
+        fig.suptitle(title, fontsize=9)
+    for ax in axes:
+        ax.set_xlabel(names[0])
+    figure_legend(fig, axes)
     return save_figure(fig, png_path)
 
 

@@ -178,9 +178,11 @@ def plot_table(csv_path: Path, png_path: Path) -> Path:
     three modes: the paper's CPU time, our CPU time and our function evaluations."""
     cols = c.read_csv(csv_path)
     rows = [i for i, p in enumerate(cols["paper_cpu_seconds [s]"]) if p != ""]
-    labels = [f"{cols['law [-]'][i]}\n{cols['mode [-]'][i]}" for i in rows]
-    series = (("paper_ratio_to_h1e-3 [-]", "paper CPU"), ("cpu_ratio_to_h1e-3 [-]", "our CPU"),
-              ("nfev_ratio_to_h1e-3 [-]", "our f evaluations"))
+    labels = [f"{cols['law [-]'][i]}\n{cols['mode [-]'][i]}"
+              + (" s" if cols["mode [-]"][i].startswith("h=") else "") for i in rows]
+    series = (("paper_ratio_to_h1e-3 [-]", "paper's CPU time, ratio [-]"),
+              ("cpu_ratio_to_h1e-3 [-]", "our CPU time, ratio [-]"),
+              ("nfev_ratio_to_h1e-3 [-]", "our function evaluations, ratio [-]"))
     fig, ax = c.new_figure(width=7.5)
     x = np.arange(len(rows))
     for k, (name, label) in enumerate(series):
@@ -192,7 +194,7 @@ def plot_table(csv_path: Path, png_path: Path) -> Path:
     ax.set_ylabel("cost relative to RK4 h = 1e-3 [-]")
     number, scene = csv_path.stem.split("_")[:2]
     ax.set_title(f"Table {number[5:]} ({scene}): cost relative to RK4 with h = 1e-3 s, per law")
-    ax.legend(loc="upper left")
+    c.figure_legend(fig, [ax])
     return c.save_figure(fig, png_path)
 
 

@@ -384,11 +384,11 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                 for k in CLASSES:
                     m = np.array([q == k for q in cls])
                     if m.any():
-                        ax.loglog(vs[m], h[m], "s", color=colors[k], ms=4, label=k)
+                        ax.loglog(vs[m], h[m], "s", color=colors[k], ms=4, label=f"RK4 {k}")
                 v_line = np.geomspace(vs.min(), vs.max(), 50)
                 if l != "coulomb":
                     ax.loglog(v_line, [linear_bound(s, l, v)[1] for v in v_line], "k-", lw=1.2,
-                              label="h_lin = 2.785/|lambda|")
+                              label="linear bound h_lin = 2.785/|lambda| [s]")
                 ax.set_ylabel("h [s]")
             else:
                 rt = np.array([float(cols["rtol [-]"][i]) for i in sel])
@@ -398,15 +398,15 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                 sc = ax.scatter(vs, rt, c=nfev, norm=LogNorm(), cmap="viridis", marker="s", s=30)
                 ax.set_xscale("log")
                 ax.set_yscale("log")
-                fig.colorbar(sc, ax=ax, label="nfev")
+                fig.colorbar(sc, ax=ax, label="function evaluations nfev [-]")
                 ax.scatter(vs[forced > 0], rt[forced > 0], marker="x", color="red", s=14,
-                           label="forced steps")
+                           label="forced steps at h_min (nforced > 0)")
                 ax.scatter(vs[stiff], rt[stiff], marker="o", facecolors="none",
-                           edgecolors="white", s=40, label="stiff flag")
+                           edgecolors="tab:cyan", s=40, label="stiffness detected (stiff flag)")
                 ax.set_ylabel("rtol [-]")
             ax.set_title(f"{s}, {c.LAW_LABELS[l]}", fontsize=9)
             ax.set_xlabel("v_s [m/s]")
-    axes[0][1].legend(fontsize=7, loc="best")
+    c.figure_legend(fig, axes.ravel(), ncol=5)
     name = "stability_rk4.png" if is_rk4 else "stability_dopri5.png"
     return [c.save_figure(fig, Path(outdir) / name)]
 

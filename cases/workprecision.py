@@ -198,7 +198,7 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
     num = {k: np.array([float(v) if v != "" else np.nan for v in vals])
            for k, vals in cols.items() if k.split(" [")[0] not in ("scene", "law", "method", "ref_kind")}
     paths = []
-    for xkey, fname, xlabel in (("nfev [-]", "workprecision_nfev.png", "function evaluations"),
+    for xkey, fname, xlabel in (("nfev [-]", "workprecision_nfev.png", "function evaluations nfev [-]"),
                                 ("cpu [s]", "workprecision_cpu.png", "CPU time [s]")):
         import matplotlib.pyplot as plt
         fig, axes = plt.subplots(len(SCENES), len(LAWS), figsize=(11.0, 6.6), squeeze=False)
@@ -212,14 +212,15 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                     for key, style, lab in (("err_disc [m]", "o-", "discretisation"),
                                             ("err_model [m]", "x--", "model")):
                         y = np.maximum(num[key][sel], 1e-17)
-                        ax.loglog(x, y, style, color=color, ms=3, lw=1.0, label=f"{m} {lab}")
+                        ax.loglog(x, y, style, color=color, ms=3, lw=1.0,
+                                  label=f"{m.upper()} {lab} error [m]")
                 ax.set_title(f"{s}, {c.LAW_LABELS[l]}", fontsize=9)
                 ax.grid(True, which="both", alpha=0.3)
                 if a == len(SCENES) - 1:
                     ax.set_xlabel(xlabel)
                 if b == 0:
                     ax.set_ylabel("|x(t_end) - x_ref| [m]")
-        axes[0][0].legend(fontsize=7, loc="best")
+        c.figure_legend(fig, axes.ravel(), ncol=4)
         paths.append(c.save_figure(fig, Path(outdir) / fname))
     return paths
 
