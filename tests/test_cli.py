@@ -137,3 +137,24 @@ def test_stability_boundary_is_bracketed() -> None:
     rows.append(["slope", "coulomb", 1e-2, 1e-3, float("inf"), 1.0, 0, 0, 0.0, 0, 0, "chattering"])
     assert stability.boundary(rows) == [["slope", "recurdyn", 1e-2, 5e-3, 3.4e-3, 5e-3,
                                          pytest.approx(0.68), pytest.approx(1.0)]]
+
+
+# ---------------------------------------------------------------- scripts/setup on a fresh Debian
+@pytest.mark.parametrize("has_ensurepip", [True, False])
+def test_setup_detects_missing_python3_venv(tmp_path: Path, has_ensurepip: bool) -> None:
+    """scripts/setup asks apt-get for python3-venv exactly when `python3` cannot import
+    ensurepip (Debian's Python without python3-venv), shown with a stand-in python3 on PATH;
+    --print-missing installs nothing."""
+    import shutil
+    import subprocess
+    import sys
+    fake = tmp_path / "python3"
+    fail = "" if has_ensurepip else 'case "$*" in *ensurepip*) exit 1;; esac\n'
+    fake.write_text(f"#!/bin/sh\n{fail}exec {sys.executable} \"$@\"\n")
+    fake.chmod(0o755)
+    env = dict(os.environ, PATH=f"{tmp_path}{os.pathsep}{os.environ['PATH']}")
+    assert shutil.which("python3", path=env["PATH"]) == str(fake)
+    proc = subprocess.run([str(ROOT / "scripts" / "setup"), "--print-missing"], env=env,
+                          capture_output=True, text=True, timeout=30)
+    assert proc.returncode == 0, proc.stderr
+    assert ("python3-venv" in proc.stdout.split()) == (not has_ensurepip)
