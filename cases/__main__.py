@@ -19,6 +19,8 @@ import time
 from pathlib import Path
 from typing import Sequence
 
+from ._common import count
+
 #: Driver modules run by `python -m cases`, in order, and their kind: "laws" (no simulation),
 #: "paper" (a figure set of the paper, --workers/--quiet) or "study" (--all only, --threads/--quiet).
 DRIVERS: tuple[tuple[str, str], ...] = (("laws", "laws"), ("slope", "paper"), ("belt", "paper"),
@@ -36,11 +38,12 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser.add_argument("--only", nargs="+", choices=[name for name, _ in DRIVERS],
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
-                        help="also run the studies (work-precision, stability): about 2.5 min more")
-    parser.add_argument("--workers", type=int, default=2,
-                        help="parallel simulations per paper driver (default 2)")
-    parser.add_argument("--threads", type=int, default=2,
-                        help="OpenMP threads per study driver (default 2)")
+                        help="also run the studies (work-precision, stability): about 2 min more on "
+                        "2 cores (README)")
+    parser.add_argument("--workers", type=count, default=2,
+                        help="parallel simulations per paper driver, >= 1 (default 2)")
+    parser.add_argument("--threads", type=count, default=2,
+                        help="OpenMP threads per study driver, >= 1 (default 2)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
     outdir = DOCS_DIR if args.docs else args.outdir

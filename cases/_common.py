@@ -9,12 +9,14 @@ all (an interrupted run never leaves half a CSV or PNG behind).
 from __future__ import annotations
 
 import argparse
-import concurrent.futures as cf
 import csv
+import math
 import multiprocessing
 import os
+import queue
+import secrets
 import sys
-import tempfile
+import textwrap
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -49,10 +51,17 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[Any], None], *,
                  binary: bool = False) -> Path:
     """Call `write(fileobj)` on a temporary file beside `path`, then `os.replace` it onto
     `path`. On any exception the temporary file is removed and `path` is left untouched.
-    Returns `path` as a Path."""
+    The file gets the permissions of any new file (0666 less the user's umask), not
+    mkstemp's 0600. Returns `path` as a Path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    while True:
+        tmp = path.parent / f".{path.name}.{secrets.token_hex(6)}.tmp"
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+            break
+        except FileExistsError:            # another writer drew the same name: draw again
+            continue
     try:
         with os.fdopen(fd, "wb" if binary else "w", **({} if binary else
                                                         {"newline": "", "encoding": "utf-8"})) as f:
@@ -143,13 +152,46 @@ def new_figure(ncols: int = 1, *, width: float | None = None) -> tuple[Any, Any]
     return fig, axes[0] if ncols > 1 else axes[0][0]
 
 
+def figure_legend(fig: Any, axes: Iterable[Any], ncol: int = 3) -> Any:
+    """One legend for the whole figure, below the axes (where it covers no data), with every
+    distinct label of `axes` once: a marker shown in any panel is explained."""
+    handles: dict[str, Any] = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, handle)
+    return fig.legend(list(handles.values()), list(handles), loc="lower center",
+                      ncol=min(ncol, max(len(handles), 1)), frameon=False)
+
+
 def save_figure(fig: Any, path: str | os.PathLike[str]) -> Path:
-    """Save `fig` as PNG atomically (DPI dots per inch) and close it."""
-    fig.tight_layout()
+    """Save `fig` as PNG atomically (DPI dots per inch) and close it. A figure legend
+    (figure_legend) keeps a strip of its own height below the axes."""
+    bottom = 0.0
+    if fig.legends:
+        fig.canvas.draw()
+        bottom = max(leg.get_window_extent().transformed(fig.transFigure.inverted()).y1
+                     for leg in fig.legends)
+    fig.tight_layout(rect=(0.0, bottom, 1.0, 1.0))
     try:
         return atomic_write(path, lambda f: fig.savefig(f, format="png", dpi=DPI), binary=True)
     finally:
         plt.close(fig)
+
+
+def series_label(name: str) -> str:
+    """The legend entry of a figure CSV's column, with units: "x coulomb [m]" -> "Coulomb",
+    "x h=0.001 [m]" -> "RK4, h = 0.001 s", "x rtol=0.01 [m]" -> "DOPRI5, rtol = 0.01",
+    "x automatic [m]" -> "DOPRI5 automatic (h in [1e-6, 1e-2] s)"."""
+    key = split_unit(name)[0].split(" ", 1)[-1]
+    if key in LAW_LABELS:
+        return LAW_LABELS[key]
+    if key.startswith("h="):
+        return f"RK4, h = {key[2:]} s"
+    if key.startswith("rtol="):
+        return f"DOPRI5, rtol = {key[5:]}, atol = 1e-3 rtol"
+    if key == "automatic":
+        return "DOPRI5 automatic (h in [1e-6, 1e-2] s)"
+    return key
 
 
 def series_style(label: str, index: int) -> dict[str, Any]:
@@ -165,25 +207,36 @@ def series_style(label: str, index: int) -> dict[str, Any]:
 def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLike[str],
                      title: str) -> Path:
     """Render a CSV whose first column is time [s] and whose other columns are series of one
-    quantity (e.g. "x coulomb [m]") as lines against time. When the final values span more
-    than two decades the y axis is symmetric-logarithmic, so that all series stay visible."""
+    quantity (e.g. "x coulomb [m]") as lines against time. When the series' final values span
+    more than two decades a second panel shows |x| on a log axis, so that every series is
+    visible without the distortion of a symmetric-log axis (whose linear region bends curves
+    near 0); the legend sits below the panels."""
     cols = read_numeric_csv(csv_path)
     names = list(cols)
     t = cols[names[0]]
-    fig, ax = new_figure()
-    finals = []
-    for i, name in enumerate(names[1:]):
-        label = split_unit(name)[0].split(" ", 1)[-1]         # "x coulomb" -> "coulomb"
-        ax.plot(t, cols[name], label=LAW_LABELS.get(label, label), **series_style(label, i))
-        finals.append(abs(cols[name][-1]))
+    finals = [abs(cols[name][-1]) for name in names[1:]]
     positive = [f for f in finals if f > 0.0]
-    if len(positive) > 1 and max(positive) / min(positive) > 100.0:
-        ax.set_yscale("symlog", linthresh=min(positive) / 10.0)
-    ax.set_xlabel(names[0])
+    wide = len(positive) > 1 and max(positive) / min(positive) > 100.0
+    fig, axes = new_figure(2 if wide else 1)
+    axes = list(axes) if wide else [axes]
     base, unit = split_unit(names[1])
-    ax.set_ylabel(f"{base.split()[0]} [{unit}]")
-    ax.set_title(title)
-    ax.legend(loc="best")
+    quantity = base.split()[0]
+    for i, name in enumerate(names[1:]):
+        key = split_unit(name)[0].split(" ", 1)[-1]
+        style = series_style(key, i)
+        axes[0].plot(t, cols[name], label=series_label(name), **style)
+        if wide:
+            y = np.abs(cols[name])
+            axes[1].semilogy(t[y > 0.0], y[y > 0.0], **style)
+    axes[0].set_ylabel(f"{quantity} [{unit}]")
+    axes[0].set_title(title if not wide else f"{quantity} on a linear axis")
+    if wide:
+        axes[1].set_ylabel(f"|{quantity}| [{unit}], log axis")
+        axes[1].set_title("the same on a log axis (every series visible)")
+        fig.suptitle(title, fontsize=9)
+    for ax in axes:
+        ax.set_xlabel(names[0])
+    figure_legend(fig, axes)
     return save_figure(fig, png_path)
 
 
@@ -204,34 +257,63 @@ def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
 # --------------------------------------------------------------------------------------------
 # Command line
 # --------------------------------------------------------------------------------------------
-def positive_float(text: str) -> float:
-    """argparse type: a finite float > 0."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not np.isfinite(value) or value <= 0.0:
-        raise argparse.ArgumentTypeError(f"must be finite and > 0, got {text}")
-    return value
+#: Smallest relative tolerance the library accepts: 100 units of round-off (2.2e-14).
+RTOL_MIN: float = 100.0 * float(np.finfo(float).eps)
 
 
-def positive_int(text: str) -> int:
-    """argparse type: an integer >= 2 (a number of output points)."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"must be >= 2, got {text}")
-    return value
+def float_in(low: float, high: float = math.inf, *, low_closed: bool = False,
+             what: str | None = None) -> Callable[[str], float]:
+    """argparse type: a finite float in (low, high), or [low, high) with low_closed. argparse
+    names the option in its error; the message states the accepted range (`what` replaces the
+    printed lower bound, e.g. "100 eps = 2.2e-14")."""
+    lo = what or f"{low:g}"
+    accepted = (f"> {lo}" if not low_closed else f">= {lo}") if math.isinf(high) else \
+        f"in {'[' if low_closed else '('}{lo}, {high:g})"
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+        ok = math.isfinite(value) and value < high and (value >= low if low_closed else value > low)
+        if not ok:
+            raise argparse.ArgumentTypeError(f"must be finite and {accepted}, got {text}")
+        return value
+
+    parse.__name__ = "float"        # argparse's "invalid float value" wording for other errors
+    return parse
+
+
+def int_at_least(minimum: int) -> Callable[[str], int]:
+    """argparse type: an integer >= minimum."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}, got {text}")
+        return value
+
+    parse.__name__ = "int"
+    return parse
+
+
+#: argparse types: a finite float > 0; a relative tolerance in [100 eps, 1); a number of output
+#: points (>= 2); a count of workers or threads (>= 1).
+positive_float = float_in(0.0)
+rtol_value = float_in(RTOL_MIN, 1.0, low_closed=True, what="100 eps = 2.2e-14")
+positive_int = int_at_least(2)
+count = int_at_least(1)
 
 
 def add_common_options(parser: argparse.ArgumentParser) -> None:
     """--outdir, --workers and --quiet, shared by every driver."""
     parser.add_argument("--outdir", type=Path, default=Path("out"),
                         help="directory for CSV, PNG and Markdown files (default: out/)")
-    parser.add_argument("--workers", type=int, default=2,
-                        help="simulations run in parallel (default 2: the machine has 2 cores)")
+    parser.add_argument("--workers", type=count, default=2,
+                        help="simulations run in parallel, >= 1 (default 2: the machine has 2 "
+                        "cores)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
@@ -244,12 +326,18 @@ def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[P
     parser.add_argument("--outdir", type=Path, default=Path("out"),
                         help="directory for CSV and PNG files (default: out/)")
     parser.add_argument("--quick", action="store_true", help=quick_help)
-    parser.add_argument("--threads", type=int, default=2, help="OpenMP threads (default 2)")
+    parser.add_argument("--threads", type=count, default=2, help="OpenMP threads, >= 1 (default 2)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
-    if args.threads < 1:
-        parser.error("--threads must be >= 1")
-    return run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet)
+    files = run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet)
+    print_files(files)
+    return files
+
+
+def print_files(files: Iterable[Path]) -> None:
+    """Print where every file went (stdout, one path a line, sorted)."""
+    for f in sorted(files):
+        print(f)
 
 
 def add_law_options(parser: argparse.ArgumentParser) -> None:
@@ -296,6 +384,11 @@ def log(message: str, quiet: bool = False) -> None:
     """A progress line on stderr."""
     if not quiet:
         print(message, file=sys.stderr, flush=True)
+
+
+def log_caption(text: str, quiet: bool = False) -> None:
+    """The caption of a console table (units, what each column means), wrapped, on stderr."""
+    log("\n".join(textwrap.fill(part, width=96) for part in text.split("\n")), quiet)
 
 
 # --------------------------------------------------------------------------------------------
@@ -372,31 +465,45 @@ def simulate_run(run: Run) -> Outcome:
     return Outcome(r.t, r.x, r.v, dict(r.stats), time.perf_counter() - t0)
 
 
+def _progress(results: dict[Run, Outcome], run: Run, total: int, quiet: bool) -> None:
+    log(f"  [{len(results)}/{total}] {run.label()}: {results[run].wall_seconds:.2f} s", quiet)
+
+
 def run_all(runs: Iterable[Run], *, workers: int = 2, quiet: bool = False,
             heartbeat: float = 3.0) -> dict[Run, Outcome]:
     """Simulate every distinct run once, `workers` at a time, the expensive ones first.
     Prints one line per finished run and, every `heartbeat` seconds while runs are pending,
-    a progress line (stderr)."""
+    a progress line (stderr).
+
+    The first failure ends everything at once: queued runs are dropped and running workers
+    terminated (multiprocessing.Pool.terminate), then SimulationFailed is raised; so a hopeless
+    command fails as soon as its first run does, not after every other run has finished."""
     unique = sorted(set(runs), key=lambda r: -r.cost_hint())
     results: dict[Run, Outcome] = {}
     start = time.perf_counter()
     if workers <= 1 or len(unique) <= 1:
-        for i, run in enumerate(unique, 1):
+        for run in unique:
             results[run] = simulate_run(run)
-            log(f"  [{i}/{len(unique)}] {run.label()}: {results[run].wall_seconds:.2f} s", quiet)
+            _progress(results, run, len(unique), quiet)
         return results
     ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods()
                                       else None)
-    with cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-        pending = {pool.submit(simulate_run, run): run for run in unique}
-        while pending:
-            done, _ = cf.wait(pending, timeout=heartbeat, return_when=cf.FIRST_COMPLETED)
-            for fut in done:
-                run = pending.pop(fut)
-                results[run] = fut.result()
-                log(f"  [{len(results)}/{len(unique)}] {run.label()}: "
-                    f"{results[run].wall_seconds:.2f} s", quiet)
-            if not done:
+    finished: queue.SimpleQueue[tuple[Run, Outcome | BaseException]] = queue.SimpleQueue()
+    # Pool.__exit__ calls terminate(): on an error (or Ctrl-C) no worker outlives this block.
+    with ctx.Pool(processes=min(workers, len(unique))) as pool:
+        for run in unique:
+            pool.apply_async(simulate_run, (run,),
+                             callback=lambda o, run=run: finished.put((run, o)),
+                             error_callback=lambda e, run=run: finished.put((run, e)))
+        while len(results) < len(unique):
+            try:
+                run, outcome = finished.get(timeout=heartbeat)
+            except queue.Empty:
                 log(f"  ... {len(results)}/{len(unique)} done, "
                     f"{time.perf_counter() - start:.0f} s elapsed", quiet)
+                continue
+            if isinstance(outcome, BaseException):
+                raise outcome
+            results[run] = outcome
+            _progress(results, run, len(unique), quiet)
     return results

@@ -34,6 +34,7 @@ TOLERANCES: tuple[float, ...] = (1e-2, 1e-4, 1e-6)  # rtol of Figs. 9-11 / 17-19
 ATOL_RATIO: float = 1e-3                           # atol = ATOL_RATIO * rtol [m, m/s]
 HMIN: float = 1e-6                                 # automatic range [s]
 HMAX: float = 1e-2
+MAX_STEPS: int = 10**8                             # the library's default step budget
 
 Metrics = Callable[["c.Run", "c.Outcome", dict[str, float]], dict[str, float | None]]
 
@@ -61,17 +62,19 @@ def mode_label(run: c.Run) -> str:
 
 def build_runs(spec: SceneSpec, *, t_end: float, n_out: int, params: dict[str, float],
                rtols: Sequence[float], auto_rtol: float = AUTO_RTOL,
-               atol_ratio: float = ATOL_RATIO) -> dict[str, Any]:
+               atol_ratio: float = ATOL_RATIO, max_steps: int | None = None) -> dict[str, Any]:
     """The runs each figure needs: {"auto": {law: Run}, "steps": {law: [Run]},
     "tol": {law: [Run]}}. Equal runs are equal objects, so they are simulated once."""
     frozen = tuple(sorted(params.items()))
 
     def dopri(law: str, rtol: float) -> c.Run:
         return c.Run(spec.scene, law, "dopri5", t_end, n_out, rtol=rtol,
-                     atol=rtol * atol_ratio, hmin=HMIN, hmax=HMAX, params=frozen)
+                     atol=rtol * atol_ratio, hmin=HMIN, hmax=HMAX, params=frozen,
+                     max_steps=max_steps)
 
     def rk4(law: str, h: float) -> c.Run:
-        return c.Run(spec.scene, law, "rk4", t_end, n_out, h=h, params=frozen)
+        return c.Run(spec.scene, law, "rk4", t_end, n_out, h=h, params=frozen,
+                     max_steps=max_steps)
 
     return {"auto": {law: dopri(law, auto_rtol) for law in LAWS},
             "steps": {law: [dopri(law, auto_rtol)] + [rk4(law, h) for h in STEP_SIZES]
@@ -175,9 +178,11 @@ def plot_table(csv_path: Path, png_path: Path) -> Path:
     three modes: the paper's CPU time, our CPU time and our function evaluations."""
     cols = c.read_csv(csv_path)
     rows = [i for i, p in enumerate(cols["paper_cpu_seconds [s]"]) if p != ""]
-    labels = [f"{cols['law [-]'][i]}\n{cols['mode [-]'][i]}" for i in rows]
-    series = (("paper_ratio_to_h1e-3 [-]", "paper CPU"), ("cpu_ratio_to_h1e-3 [-]", "our CPU"),
-              ("nfev_ratio_to_h1e-3 [-]", "our f evaluations"))
+    labels = [f"{cols['law [-]'][i]}\n{cols['mode [-]'][i]}"
+              + (" s" if cols["mode [-]"][i].startswith("h=") else "") for i in rows]
+    series = (("paper_ratio_to_h1e-3 [-]", "paper's CPU time, ratio [-]"),
+              ("cpu_ratio_to_h1e-3 [-]", "our CPU time, ratio [-]"),
+              ("nfev_ratio_to_h1e-3 [-]", "our function evaluations, ratio [-]"))
     fig, ax = c.new_figure(width=7.5)
     x = np.arange(len(rows))
     for k, (name, label) in enumerate(series):
@@ -189,7 +194,7 @@ def plot_table(csv_path: Path, png_path: Path) -> Path:
     ax.set_ylabel("cost relative to RK4 h = 1e-3 [-]")
     number, scene = csv_path.stem.split("_")[:2]
     ax.set_title(f"Table {number[5:]} ({scene}): cost relative to RK4 with h = 1e-3 s, per law")
-    ax.legend(loc="upper left")
+    c.figure_legend(fig, [ax])
     return c.save_figure(fig, png_path)
 
 
@@ -217,12 +222,12 @@ def plot(csv_path: str | Path, outdir: str | Path) -> Path:
 def run(spec: SceneSpec, outdir: str | Path, *, t_end: float, n_out: int,
         params: dict[str, float], rtols: Sequence[float] = TOLERANCES,
         auto_rtol: float = AUTO_RTOL, atol_ratio: float = ATOL_RATIO, workers: int = 2,
-        quiet: bool = False) -> list[Path]:
+        quiet: bool = False, max_steps: int | None = None) -> list[Path]:
     """Simulate every distinct run of the study, write all CSVs and the table; returns the
     CSV and Markdown paths (PNGs come from `plot`)."""
     outdir = Path(outdir)
     plan = build_runs(spec, t_end=t_end, n_out=n_out, params=params, rtols=rtols,
-                      auto_rtol=auto_rtol, atol_ratio=atol_ratio)
+                      auto_rtol=auto_rtol, atol_ratio=atol_ratio, max_steps=max_steps)
     out = c.run_all(all_runs(plan), workers=workers, quiet=quiet)
     files = write_figure_csvs(spec, plan, out, outdir)
     files += write_table(spec, table_rows(spec, plan, out, params), outdir)
@@ -235,11 +240,30 @@ def add_study_options(parser: argparse.ArgumentParser, *, t_end: float, n_out: i
                         help="simulated time [s] (default %(default)s)")
     parser.add_argument("--points", type=c.positive_int, default=n_out,
                         help="output points on [0, t_end] (default %(default)s)")
-    parser.add_argument("--rtols", type=c.positive_float, nargs=3, default=list(TOLERANCES),
+    parser.add_argument("--rtols", type=c.rtol_value, nargs=3, default=list(TOLERANCES),
                         metavar="RTOL", help="the three relative tolerances of the tolerance "
-                        "figures [-] (default 1e-2 1e-4 1e-6)")
+                        "figures [-], each in [100 eps = 2.2e-14, 1) (default 1e-2 1e-4 1e-6)")
     parser.add_argument("--atol-ratio", type=c.positive_float, default=ATOL_RATIO,
                         help="atol = ratio * rtol [m, m/s] (default %(default)s)")
+    parser.add_argument("--max-steps", type=c.count, default=MAX_STEPS,
+                        help="step budget of every run, >= 1 (default 10^8, the library's); "
+                        "RK4's t_end/h steps must fit in it")
+
+
+def check_inputs(scene: str, params: dict[str, float], *, t_end: float, n_out: int,
+                 rtols: Sequence[float], atol_ratio: float) -> None:
+    """Let the library validate every input before the study starts: one step of each law
+    with the scene parameters, t_end, n_out and the tightest and loosest tolerance. Raises the
+    library's ValueError (naming the parameter and its accepted range) for a bad value."""
+    import stickslip
+    for law in LAWS:
+        for rtol in {min(*rtols, AUTO_RTOL), max(*rtols, AUTO_RTOL)}:
+            try:
+                stickslip.simulate(scene, law, method="dopri5", t_end=t_end, n_out=n_out,
+                                   rtol=rtol, atol=rtol * atol_ratio, hmin=HMIN, hmax=HMAX,
+                                   max_steps=1, **params)
+            except stickslip.IntegrationError:
+                pass                          # the one-step budget ran out: inputs are fine
 
 
 def main(spec: SceneSpec, argv: Sequence[str] | None, *, description: str, t_end: float,
@@ -254,16 +278,25 @@ def main(spec: SceneSpec, argv: Sequence[str] | None, *, description: str, t_end
     c.add_law_options(parser)
     args = parser.parse_args(argv)
     params = {**c.checked_law_params(parser, args), **scene_params(args)}
+    too_long = args.t_end / min(STEP_SIZES)
+    if too_long > args.max_steps:
+        parser.error(f"argument --t-end: must be <= {args.max_steps * min(STEP_SIZES):g} s with "
+                     f"--max-steps {args.max_steps}: RK4 with h = {min(STEP_SIZES):g} s would need "
+                     f"t_end/h = {too_long:.3g} steps, beyond the step budget")
+    try:
+        check_inputs(spec.scene, params, t_end=args.t_end, n_out=args.points, rtols=args.rtols,
+                     atol_ratio=args.atol_ratio)
+    except ValueError as exc:                 # a scene parameter the library rejects
+        parser.error(str(exc))
     c.log(f"{spec.scene}: simulating ({args.workers} workers)", args.quiet)
     try:
         files = run_scene(args.outdir, t_end=args.t_end, n_out=args.points, params=params,
                           rtols=args.rtols, atol_ratio=args.atol_ratio, workers=args.workers,
-                          quiet=args.quiet)
+                          quiet=args.quiet, max_steps=args.max_steps)
     except c.SimulationFailed as exc:
         parser.exit(1, f"{parser.prog}: simulation failed: {exc}\n")
     except ValueError as exc:                 # a scene parameter the library rejects
         parser.error(str(exc))
     files += [plot(f, args.outdir) for f in files if f.suffix == ".csv"]
-    for f in sorted(files):
-        print(f)
+    c.print_files(files)
     return files

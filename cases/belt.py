@@ -55,11 +55,12 @@ SPEC = s.SceneSpec(scene="belt", fig_auto=13, fig_steps=14, fig_tol=17, table=3,
 
 def run(outdir: str | Path, *, t_end: float = T_END, n_out: int = N_OUT,
         params: dict[str, float] | None = None, rtols: Sequence[float] = s.TOLERANCES,
-        atol_ratio: float = s.ATOL_RATIO, workers: int = 2, quiet: bool = False) -> list[Path]:
+        atol_ratio: float = s.ATOL_RATIO, workers: int = 2, quiet: bool = False,
+        max_steps: int | None = None) -> list[Path]:
     """Simulate and write every CSV (and the table's Markdown) of the belt into outdir."""
     params = {**SCENE_DEFAULTS, **(params or {})}
     return s.run(SPEC, outdir, t_end=t_end, n_out=n_out, params=params, rtols=rtols,
-                 atol_ratio=atol_ratio, workers=workers, quiet=quiet)
+                 atol_ratio=atol_ratio, workers=workers, quiet=quiet, max_steps=max_steps)
 
 
 def plot(csv: str | Path, outdir: str | Path) -> Path:

@@ -61,12 +61,13 @@ SPEC = s.SceneSpec(scene="slope", fig_auto=5, fig_steps=6, fig_tol=9, table=2,
 
 def run(outdir: str | Path, *, t_end: float = T_END, n_out: int = N_OUT,
         params: dict[str, float] | None = None, rtols: Sequence[float] = s.TOLERANCES,
-        atol_ratio: float = s.ATOL_RATIO, workers: int = 2, quiet: bool = False) -> list[Path]:
+        atol_ratio: float = s.ATOL_RATIO, workers: int = 2, quiet: bool = False,
+        max_steps: int | None = None) -> list[Path]:
     """Simulate and write every CSV (and the table's Markdown) of the slope into outdir."""
     params = dict(params or {})
     params.setdefault("theta_deg", 10.0)
     files = s.run(SPEC, outdir, t_end=t_end, n_out=n_out, params=params, rtols=rtols,
-                  atol_ratio=atol_ratio, workers=workers, quiet=quiet)
+                  atol_ratio=atol_ratio, workers=workers, quiet=quiet, max_steps=max_steps)
     return files
 
 

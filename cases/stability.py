@@ -307,7 +307,11 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2,
     ext = extremes(quick, threads)
     c.log(f"stability: extremes, {time.perf_counter() - t0:.1f} s", quiet)
     p_ext = c.write_csv(outdir / "stability_extremes.csv", EXTREME_HEADER, ext)
-    c.log(c.markdown_table(["case", "scene", "law", "method", "status", "outcome"],
+    c.log_caption("Extreme runs (stability_extremes.csv, with t_reached [s], nfev, x_end [m], "
+                  "v_end and v_max [m/s]): status [-] is the library's status code, 0 = reached "
+                  "t_end, negative = the error named in outcome (a ValueError is raised before "
+                  "any step).", quiet)
+    c.log(c.markdown_table(["case", "scene", "law", "method", "status [-]", "outcome"],
                            [r[:6] for r in ext]), quiet)
     t1, tn, ratio = speedup(threads)
     c.log(f"stability: batch speed-up {ratio:.2f} ({t1:.3f} s with 1 thread, {tn:.3f} s with "
@@ -315,26 +319,46 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2,
     p_speed = c.write_csv(outdir / "stability_speedup.csv",
                           ["threads [-]", "seconds [s]", "speedup [-]"],
                           [[1, t1, 1.0], [threads, tn, ratio]])
-    # The RK4 boundary against the linear bound: the smallest h that is not stable.
-    bnd = boundary(rk4)
-    c.log(c.markdown_table(["scene", "law", "v_s", "h_lin", "h_obs", "h_obs/h_lin"], bnd), quiet)
+    # The RK4 boundary against the linear bound, bracketed by the map's grid.
+    c.log_caption(boundary_caption(9 if quick else 17), quiet)
+    c.log(c.markdown_table(["scene", "law", "v_s [m/s]", "h_lin [s]", "h_obs [s]", "h_next [s]",
+                            "h_obs/h_lin", "h_next/h_lin"], boundary(rk4)), quiet)
     return [p_rk4, p_dop, p_ext, p_speed] + plot(p_rk4, outdir) + plot(p_dop, outdir)
 
 
+def boundary_caption(n_h: int) -> str:
+    """What the boundary table's columns mean and how finely the map resolves them."""
+    step = 400.0 ** (1.0 / (n_h - 1))
+    return (f"RK4 stability boundary on the map's grid: {n_h} step sizes from h_lin/20 to "
+            f"20 h_lin, a factor {step:.3g} apart.\n"
+            "h_lin = 2.785/|lambda| [s], the linear bound; h_obs [s] = the largest stable h below "
+            "the first non-stable one, h_next [s] = that first non-stable h (empty: none in the "
+            "window). The true boundary lies between h_obs and h_next, so h_obs/h_lin = "
+            f"{1 / step:.2f} with h_next/h_lin = 1 means a boundary in [{1 / step:.2f}, 1] h_lin: the grid's resolution, "
+            "not a miss of the bound (a 2%-step scan, tests/test_extremes.py, finds the RecurDyn slope "
+            "boundary within 2% of h_lin). Belt runs cover only the 0.03 s stick phase, so larger "
+            "steps may leave it before an instability shows. Coulomb has no linear bound (mu' = 0 "
+            "off its jump) and is left out.")
+
+
 def boundary(rk4_rows: list[list[Any]]) -> list[list[Any]]:
-    """Per (scene, law, v_s): the largest stable h below the first non-stable one, vs h_lin."""
+    """Per (scene, law, v_s) with a linear bound: h_lin, the largest stable h below the first
+    non-stable one (h_obs), that first non-stable h (h_next, None if every h was stable), and
+    both as ratios to h_lin."""
     out = []
-    keys = sorted({(r[0], r[1], r[2]) for r in rk4_rows}, key=lambda k: (k[0], k[1], -k[2]))
+    keys = sorted({(r[0], r[1], r[2]) for r in rk4_rows if math.isfinite(r[4])},
+                  key=lambda k: (k[0], k[1], -k[2]))
     for s, l, vs in keys:
         rows = sorted([r for r in rk4_rows if (r[0], r[1], r[2]) == (s, l, vs)], key=lambda r: r[3])
-        h_obs = None
+        h_obs = h_next = None
         for r in rows:
             if r[11] != "stable":
+                h_next = r[3]
                 break
             h_obs = r[3]
         h_lin = rows[0][4]
-        ratio = h_obs / h_lin if (h_obs and math.isfinite(h_lin)) else None
-        out.append([s, l, vs, h_lin if math.isfinite(h_lin) else None, h_obs, ratio])
+        out.append([s, l, vs, h_lin, h_obs, h_next, None if h_obs is None else h_obs / h_lin,
+                    None if h_next is None else h_next / h_lin])
     return out
 
 
@@ -360,11 +384,11 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                 for k in CLASSES:
                     m = np.array([q == k for q in cls])
                     if m.any():
-                        ax.loglog(vs[m], h[m], "s", color=colors[k], ms=4, label=k)
+                        ax.loglog(vs[m], h[m], "s", color=colors[k], ms=4, label=f"RK4 {k}")
                 v_line = np.geomspace(vs.min(), vs.max(), 50)
                 if l != "coulomb":
                     ax.loglog(v_line, [linear_bound(s, l, v)[1] for v in v_line], "k-", lw=1.2,
-                              label="h_lin = 2.785/|lambda|")
+                              label="linear bound h_lin = 2.785/|lambda| [s]")
                 ax.set_ylabel("h [s]")
             else:
                 rt = np.array([float(cols["rtol [-]"][i]) for i in sel])
@@ -374,15 +398,15 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                 sc = ax.scatter(vs, rt, c=nfev, norm=LogNorm(), cmap="viridis", marker="s", s=30)
                 ax.set_xscale("log")
                 ax.set_yscale("log")
-                fig.colorbar(sc, ax=ax, label="nfev")
+                fig.colorbar(sc, ax=ax, label="function evaluations nfev [-]")
                 ax.scatter(vs[forced > 0], rt[forced > 0], marker="x", color="red", s=14,
-                           label="forced steps")
+                           label="forced steps at h_min (nforced > 0)")
                 ax.scatter(vs[stiff], rt[stiff], marker="o", facecolors="none",
-                           edgecolors="white", s=40, label="stiff flag")
+                           edgecolors="tab:cyan", s=40, label="stiffness detected (stiff flag)")
                 ax.set_ylabel("rtol [-]")
             ax.set_title(f"{s}, {c.LAW_LABELS[l]}", fontsize=9)
             ax.set_xlabel("v_s [m/s]")
-    axes[0][1].legend(fontsize=7, loc="best")
+    c.figure_legend(fig, axes.ravel(), ncol=5)
     name = "stability_rk4.png" if is_rk4 else "stability_dopri5.png"
     return [c.save_figure(fig, Path(outdir) / name)]
 

@@ -37,7 +37,7 @@ def test_proposed_points():
     # outside: a^-(v + b) + mu_k with b = -ln(mu_s - mu_k)/ln a - v_s (a = 1.5)
     b = -math.log(MU_S - MU_K) / math.log(1.5) - V_S
     np.testing.assert_allclose(mu("proposed", 1.5), 1.5 ** (-(1.5 + b)) + MU_K, rtol=1e-14)
-    # the SUMMARY's figure: mu(1.5 m/s) is about 0.327
+    # docs/paper.md's figure: mu(1.5 m/s) is about 0.327
     assert abs(float(mu("proposed", 1.5)) - 0.327) < 5e-4
     np.testing.assert_allclose(mu("proposed", 0.001, beta=1.0), MU_S * 0.1, rtol=1e-14)
 

@@ -1,0 +1,160 @@
+"""Tests of the command lines in cases/ that need no full simulation: file permissions, argument
+validation before any simulation, fail-fast on the first failed run, the set-up script's
+detection of a missing python3-venv."""
+from __future__ import annotations
+
+import os
+import stat
+from pathlib import Path
+
+import pytest
+
+from cases import _common
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.mark.parametrize("umask,expected", [(0o022, 0o644), (0o077, 0o600), (0o002, 0o664)])
+def test_written_files_follow_umask(tmp_path: Path, umask: int, expected: int) -> None:
+    """CSV, text and PNG files get 0666 less the umask, like any new file (not mkstemp's 0600),
+    also when they replace an existing file."""
+    old = os.umask(umask)
+    try:
+        paths = [_common.write_csv(tmp_path / "a.csv", ["x [m]"], [[1.0]]),
+                 _common.write_text(tmp_path / "a.md", "text\n"),
+                 _common.atomic_write(tmp_path / "a.png", lambda f: f.write(b"\x89PNG"),
+                                      binary=True),
+                 _common.write_text(tmp_path / "a.md", "again\n")]
+    finally:
+        os.umask(old)
+    for p in paths:
+        assert stat.S_IMODE(p.stat().st_mode) == expected, p
+    assert (tmp_path / "a.md").read_text() == "again\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv", "a.md", "a.png"]
+
+
+# ---------------------------------------------------------------- arguments checked up front
+@pytest.mark.parametrize("module,argv,named", [
+    ("slope", ["--rtols", "1e-2", "1e-4", "1e-20"], "argument --rtols: must be finite and in [100 eps = 2.2e-14, 1)"),
+    ("slope", ["--rtols", "1e-2", "1e-4", "1"], "argument --rtols: must be finite and in [100 eps"),
+    ("belt", ["--workers", "0"], "argument --workers: must be an integer >= 1, got 0"),
+    ("belt", ["--workers", "-3"], "argument --workers: must be an integer >= 1, got -3"),
+    ("slope", ["--t-end", "inf"], "argument --t-end: must be finite and > 0"),
+    ("slope", ["--t-end", "0"], "argument --t-end: must be finite and > 0"),
+    ("slope", ["--t-end", "1e9"], "argument --t-end: must be <= 10000 s"),
+    ("belt", ["--t-end", "2", "--max-steps", "1000"], "argument --t-end: must be <= 0.1 s"),
+    ("belt", ["--points", "1"], "argument --points: must be an integer >= 2"),
+    ("slope", ["--atol-ratio", "nan"], "argument --atol-ratio: must be finite and > 0"),
+    ("slope", ["--theta-deg", "95"], "theta_deg: must be"),
+    ("workprecision", ["--threads", "0"], "argument --threads: must be an integer >= 1"),
+    ("stability", ["--threads", "-1"], "argument --threads: must be an integer >= 1"),
+])
+def test_bad_arguments_fail_before_any_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                           capsys: pytest.CaptureFixture[str], module: str,
+                                           argv: list[str], named: str) -> None:
+    """Each bad argument ends the command with a usage error (exit 2) naming the argument and
+    its accepted range, before the runner starts and without writing a file."""
+    import importlib
+    driver = importlib.import_module(f"cases.{module}")
+
+    def no_runs(*args: object, **kwargs: object) -> None:
+        raise AssertionError("a simulation started")
+
+    monkeypatch.setattr(_common, "run_all", no_runs)
+    with pytest.raises(SystemExit) as exit_info:
+        driver.main(["--outdir", str(tmp_path), *argv])
+    assert exit_info.value.code == 2
+    assert named in capsys.readouterr().err
+    assert not list(tmp_path.iterdir())
+
+
+def test_main_rejects_bad_counts(capsys: pytest.CaptureFixture[str]) -> None:
+    from cases import __main__ as cases_main
+    for argv in (["--workers", "0"], ["--threads", "0"]):
+        with pytest.raises(SystemExit):
+            cases_main.main(argv)
+        assert "must be an integer >= 1" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------- the first failure ends it all
+def test_first_failure_cancels_queued_and_running_runs() -> None:
+    """A run that fails at once, started beside a long run (about 10^8 steps) and ahead of
+    another queued long run, ends run_all within seconds and leaves no worker process."""
+    import multiprocessing
+    import time
+    long_a = _common.Run("slope", "recurdyn", "rk4", 1000.0, 11, h=1e-5)         # 1e8 steps
+    failing = _common.Run("slope", "coulomb", "dopri5", 50.0, 11, rtol=1e-6, atol=1e-9, max_steps=10)
+    long_c = _common.Run("slope", "recurdyn", "rk4", 400.0, 11, h=1e-5)          # 4e7 steps
+    assert long_a.cost_hint() > failing.cost_hint() > long_c.cost_hint()        # start order
+    t0 = time.perf_counter()
+    with pytest.raises(_common.SimulationFailed, match="step budget"):
+        _common.run_all([long_a, failing, long_c], workers=2, quiet=True)
+    assert time.perf_counter() - t0 < 3.0
+    assert multiprocessing.active_children() == []
+
+
+def test_cli_failure_exits_nonzero_quickly(tmp_path: Path) -> None:
+    """python -m cases.slope whose Coulomb DOPRI5 run cannot finish within its step budget
+    prints the failure and exits 1 without waiting for the other runs."""
+    import subprocess
+    import sys
+    proc = subprocess.run([sys.executable, "-m", "cases.slope", "--outdir", str(tmp_path),
+                           "--t-end", "100", "--max-steps", "2000000", "--quiet"],
+                          cwd=ROOT, capture_output=True, text=True, timeout=20)
+    assert proc.returncode == 1
+    assert "simulation failed: slope coulomb dopri5" in proc.stderr
+    assert "step budget exhausted" in proc.stderr
+
+
+# ---------------------------------------------------------------- console output of the studies
+def test_study_prints_every_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                 capsys: pytest.CaptureFixture[str]) -> None:
+    from cases import stability, workprecision
+    for module in (stability, workprecision):
+        written = [tmp_path / "b.csv", tmp_path / "a.png"]
+        monkeypatch.setattr(module, "run", lambda outdir, **kw: list(written))
+        assert module.main(["--outdir", str(tmp_path)]) == written
+        assert capsys.readouterr().out.split() == sorted(str(p) for p in written)
+
+
+def test_fit_order_refuses_round_off() -> None:
+    """An order is fitted only over >= 3 points above round-off: h^4 errors give 4, errors at
+    round-off or zero give None (not 858.8 or nan)."""
+    import numpy as np
+    from cases import workprecision
+    h = np.array([1e-2, 5e-3, 2.5e-3, 1.25e-3])
+    order, n = workprecision.fit_order(h, 1e-3 * (h / 1e-2) ** 4, 1e-13)
+    assert order == pytest.approx(4.0) and n == 4
+    assert workprecision.fit_order(h, np.array([3e-13, 1e-14, 2e-14, 0.0]), 1e-13) == (None, 1)
+
+
+def test_stability_boundary_is_bracketed() -> None:
+    """boundary() gives the last stable h and the first non-stable one around h_lin."""
+    from cases import stability
+    rows = [["slope", "recurdyn", 1e-2, h, 5e-3, 1.0, 0, 0, 0.0, 0, 0, cls]
+            for h, cls in ((2e-3, "stable"), (3.4e-3, "stable"), (5e-3, "spurious"),
+                           (7e-3, "stable"), (1e-2, "unstable"))]
+    rows.append(["slope", "coulomb", 1e-2, 1e-3, float("inf"), 1.0, 0, 0, 0.0, 0, 0, "chattering"])
+    assert stability.boundary(rows) == [["slope", "recurdyn", 1e-2, 5e-3, 3.4e-3, 5e-3,
+                                         pytest.approx(0.68), pytest.approx(1.0)]]
+
+
+# ---------------------------------------------------------------- scripts/setup on a fresh Debian
+@pytest.mark.parametrize("has_ensurepip", [True, False])
+def test_setup_detects_missing_python3_venv(tmp_path: Path, has_ensurepip: bool) -> None:
+    """scripts/setup asks apt-get for python3-venv exactly when `python3` cannot import
+    ensurepip (Debian's Python without python3-venv), shown with a stand-in python3 on PATH;
+    --print-missing installs nothing."""
+    import shutil
+    import subprocess
+    import sys
+    fake = tmp_path / "python3"
+    fail = "" if has_ensurepip else 'case "$*" in *ensurepip*) exit 1;; esac\n'
+    fake.write_text(f"#!/bin/sh\n{fail}exec {sys.executable} \"$@\"\n")
+    fake.chmod(0o755)
+    env = dict(os.environ, PATH=f"{tmp_path}{os.pathsep}{os.environ['PATH']}")
+    assert shutil.which("python3", path=env["PATH"]) == str(fake)
+    proc = subprocess.run([str(ROOT / "scripts" / "setup"), "--print-missing"], env=env,
+                          capture_output=True, text=True, timeout=30)
+    assert proc.returncode == 0, proc.stderr
+    assert ("python3-venv" in proc.stdout.split()) == (not has_ensurepip)
