@@ -29,6 +29,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
 
+#: The three friction laws of the paper (Figs. 1-19 and Tables 2-3 are about these; the
+#: library's full list is stickslip.LAWS).
+PAPER_LAWS: tuple[str, ...] = ("coulomb", "recurdyn", "proposed")
 #: Display names and colours of the three friction laws, shared by every plot.
 LAW_LABELS: dict[str, str] = {"coulomb": "Coulomb", "recurdyn": "RecurDyn (haversine)",
                               "proposed": "Proposed (Roh & Yoo)"}
@@ -398,7 +401,8 @@ def log_caption(text: str, quiet: bool = False) -> None:
 class Run:
     """One simulation, hashable so that equal runs are simulated once.
 
-    method "rk4" uses h [s]; "dopri5" uses rtol [-], atol [m or m/s], hmin, hmax [s]."""
+    A fixed-step method (one whose controls include h, e.g. "rk4") uses h [s]; an adaptive one
+    ("dopri5") uses rtol [-], atol [m or m/s], hmin, hmax [s]."""
 
     scene: str
     law: str
@@ -413,11 +417,17 @@ class Run:
     params: tuple[tuple[str, float], ...] = ()
     max_steps: int | None = None          # None: the library's default budget
 
+    @property
+    def fixed_step(self) -> bool:
+        """The method steps with a fixed h (the registry lists h among its controls)."""
+        from stickslip import REGISTRY
+        return "h" in REGISTRY["method"][self.method]["controls"]
+
     def kwargs(self) -> dict[str, Any]:
         """Keyword arguments of stickslip.simulate."""
         kw: dict[str, Any] = dict(method=self.method, t_end=self.t_end, n_out=self.n_out,
                                   **dict(self.params))
-        if self.method == "rk4":
+        if self.fixed_step:
             kw["h"] = self.h
         else:
             kw.update(rtol=self.rtol, atol=self.atol, hmin=self.hmin, hmax=self.hmax)
@@ -427,13 +437,13 @@ class Run:
 
     def label(self) -> str:
         """Short description for progress lines and tables."""
-        how = f"h={self.h:g}" if self.method == "rk4" else f"rtol={self.rtol:g}"
+        how = f"h={self.h:g}" if self.fixed_step else f"rtol={self.rtol:g}"
         return f"{self.scene} {self.law} {self.method} {how}"
 
     def cost_hint(self) -> float:
         """A rough a-priori cost (larger first): Coulomb with an adaptive step is the one that
         can fall to h_min; fixed steps cost t_end/h."""
-        if self.method == "rk4":
+        if self.fixed_step:
             return self.t_end / float(self.h)
         return self.t_end / self.hmin if self.law == "coulomb" else self.t_end / self.hmax
 

@@ -25,7 +25,7 @@ import numpy as np
 
 from . import _common as c
 
-LAWS: tuple[str, ...] = ("coulomb", "recurdyn", "proposed")
+LAWS: tuple[str, ...] = c.PAPER_LAWS
 #: The paper's figure order within Figs. 6-8 and 9-11 (and 14-16, 17-19).
 PAPER_LAW_ORDER: tuple[str, ...] = ("recurdyn", "proposed", "coulomb")
 STEP_SIZES: tuple[float, ...] = (1e-3, 1e-4)      # RK4 fixed steps [s]
@@ -55,7 +55,7 @@ class SceneSpec:
 
 def mode_label(run: c.Run) -> str:
     """'automatic', 'h=0.001' or 'rtol=0.0001' (the automatic run is the AUTO_RTOL one)."""
-    if run.method == "rk4":
+    if run.fixed_step:
         return f"h={run.h:g}"
     return f"rtol={run.rtol:g}"
 

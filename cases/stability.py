@@ -44,7 +44,7 @@ import numpy as np
 from . import _common as c
 
 SCENES: tuple[str, ...] = ("slope", "belt")
-LAWS: tuple[str, ...] = ("coulomb", "recurdyn", "proposed")
+LAWS: tuple[str, ...] = c.PAPER_LAWS
 RK4_LIMIT: float = 2.785293563405282     # RK4 stability interval on the negative real axis
 N_GRID: int = 2001
 CLASSES: tuple[str, ...] = ("stable", "chattering", "spurious", "unstable")

@@ -37,7 +37,7 @@ import numpy as np
 from . import _common as c
 
 SCENES: tuple[str, ...] = ("slope", "belt")
-LAWS: tuple[str, ...] = ("coulomb", "recurdyn", "proposed")
+LAWS: tuple[str, ...] = c.PAPER_LAWS
 METHODS: tuple[str, ...] = ("rk4", "dopri5")
 T_END: float = 20.0
 T_END_QUICK: float = 2.0
