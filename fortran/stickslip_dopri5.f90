@@ -242,25 +242,7 @@ contains
             end if
 
             if (err <= 1.0_dp .or. forced) then
-                lfacold = max(lerr, log(1.0e-4_dp))
-                stats%naccept = stats%naccept + 1
-                if (forced) stats%nforced = stats%nforced + 1
-
-                if (mod(stats%naccept, int(opts%nstiff, 8)) == 0 .or. iasti > 0) then
-                    stnum = sum((k7 - k6)**2)
-                    stden = sum((y1 - ysti)**2)
-                    if (stden > 0.0_dp) hlamb = h * sqrt(stnum / stden)
-                    if (stden > 0.0_dp .and. hlamb > 3.25_dp) then
-                        nonsti = 0
-                        iasti = iasti + 1
-                        stats%nstiff = stats%nstiff + 1
-                        if (iasti == 15) stats%stiff = .true.
-                    else
-                        nonsti = nonsti + 1
-                        if (nonsti == 6) iasti = 0
-                    end if
-                end if
-
+                ! Output first: a step that cannot be stored is neither counted nor committed.
                 dense_ready = .false.
                 if (opts%every_step) then
                     if (next > m) then
@@ -278,9 +260,36 @@ contains
                         else
                             if (.not. dense_ready) call prepare_dense()
                             y_out(:, next) = dense(t_out(next))
+                            if (.not. all_finite(y_out(:, next))) exit   ! dense output overflow
                         end if
                         next = next + 1
                     end do
+                    if (next <= m) then
+                        if (t_out(next) <= tph) then
+                            stats%status = SS_NONFINITE
+                            exit
+                        end if
+                    end if
+                end if
+
+
+                lfacold = max(lerr, log(1.0e-4_dp))
+                stats%naccept = stats%naccept + 1
+                if (forced) stats%nforced = stats%nforced + 1
+
+                if (mod(stats%naccept, int(opts%nstiff, 8)) == 0 .or. iasti > 0) then
+                    stnum = sum((k7 - k6)**2)
+                    stden = sum((y1 - ysti)**2)
+                    if (stden > 0.0_dp) hlamb = h * sqrt(stnum / stden)
+                    if (stden > 0.0_dp .and. hlamb > 3.25_dp) then
+                        nonsti = 0
+                        iasti = iasti + 1
+                        stats%nstiff = stats%nstiff + 1
+                        if (iasti == 15) stats%stiff = .true.
+                    else
+                        nonsti = nonsti + 1
+                        if (nonsti == 6) iasti = 0
+                    end if
                 end if
 
                 k1 = k7

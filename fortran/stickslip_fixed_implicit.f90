@@ -19,14 +19,14 @@ module stickslip_fixed_implicit
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
                                SS_NONFINITE, SS_OUTPUT_FULL, SS_NEWTON_FAILED, SS_SINGULAR, &
                                SS_JAC_NONFINITE, SS_BAD_NIT, SS_BAD_NEWTON_TOL
-    use stickslip_ode, only: ode_system, ode_stats, step_controls, check_problem, output_start, &
+    use stickslip_ode, only: ode_system, ode_stats, step_controls, check_problem, output_start, step_count, &
                              all_finite, hermite
     use stickslip_linalg, only: lu_decompose, lu_solve
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
-    public :: newton_controls, fixed_stepper, fixed_implicit_integrate, fixed_step_count, solve_stage
+    public :: newton_controls, fixed_stepper, fixed_implicit_integrate, solve_stage
 
     !> Controls of a fixed-step implicit method: the shared ones (h, max_steps, every_step;
     !! h_min, h_max, h0, allow_forced are not read) and those of its Newton iteration.
@@ -90,23 +90,6 @@ contains
         case default; status = self%step_controls%set(name, value)
         end select
     end function set_newton_control
-
-    !> Number of steps of the grid t0 + i h with the last step ending at t_end (never of
-    !! zero length), as a real number so that it cannot overflow.
-    pure function fixed_step_count(t0, t_end, h) result(nsteps)
-        real(dp), intent(in) :: t0, t_end, h    !! interval and step size [s]
-        real(dp) :: nsteps
-        ! A relative slack of 1e-12 keeps (t_end - t0)/h = 20000.000000001 at 20000 steps.
-        nsteps = max(1.0_dp, (t_end - t0) / h * (1.0_dp - 1.0e-12_dp))
-        if (nsteps >= 9.0e18_dp) return
-        nsteps = real(ceiling(nsteps, kind=8), dp)
-        ! The last grid point before t_end must lie strictly before it (cancellation in
-        ! t_end - t0 can make the quotient one too large).
-        do while (nsteps > 1.0_dp)
-            if (t0 + (nsteps - 1.0_dp) * h < t_end) exit
-            nsteps = nsteps - 1.0_dp
-        end do
-    end function fixed_step_count
 
     !> Check the controls of a fixed-step implicit method.
     pure function check_newton_controls(ctl) result(status)
@@ -197,7 +180,7 @@ contains
         if (stats%status /= SS_OK) return
 
         m = size(t_out)
-        nsteps_real = fixed_step_count(t0, t_end, ctl%h)
+        nsteps_real = step_count(t0, t_end, ctl%h)
         n_total = huge(n_total)
         if (nsteps_real < 9.0e18_dp) n_total = int(nsteps_real, 8)
         nsteps = min(n_total, ctl%max_steps)
@@ -226,7 +209,6 @@ contains
                 stats%status = SS_NONFINITE
                 exit
             end if
-            stats%naccept = stats%naccept + 1
 
             if (ctl%every_step) then
                 if (next > m) then
@@ -251,15 +233,23 @@ contains
                             y_out(:, next) = y1
                         else
                             y_out(:, next) = hermite(t, hs, y, f0, y1, f1, t_out(next))
+                            if (.not. all_finite(y_out(:, next))) exit   ! interpolant overflow
                         end if
                         next = next + 1
                     end do
+                    if (next <= m) then
+                        if (t_out(next) <= t1) then
+                            stats%status = SS_NONFINITE
+                            exit
+                        end if
+                    end if
                     f0 = f1
                     f0_valid = .true.
                 else
                     f0_valid = .false.
                 end if
             end if
+            stats%naccept = stats%naccept + 1   ! stored and committed
             y = y1
             t = t1
             stats%t_reached = t

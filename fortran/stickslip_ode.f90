@@ -19,7 +19,8 @@ module stickslip_ode
     private
 
     public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, &
-              check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite
+              check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite, &
+              step_count
 
     !> Smallest accepted nonzero rtol of the adaptive methods: 100 units of round-off.
     real(dp), parameter, public :: RTOL_MIN = 100.0_dp * epsilon(1.0_dp)
@@ -137,6 +138,23 @@ contains
         case default;          status = SS_BAD_CONTROL_NAME
         end select
     end function set_step_control
+
+    !> Number of steps of the grid t0 + i h with the last step ending at t_end (never of
+    !! zero length), as a real number so that it cannot overflow.
+    pure function step_count(t0, t_end, h) result(nsteps)
+        real(dp), intent(in) :: t0, t_end, h    !! interval and step size [s]
+        real(dp) :: nsteps
+        ! A relative slack of 1e-12 keeps (t_end - t0)/h = 20000.000000001 at 20000 steps.
+        nsteps = max(1.0_dp, (t_end - t0) / h * (1.0_dp - 1.0e-12_dp))
+        if (nsteps >= 9.0e18_dp) return
+        nsteps = real(ceiling(nsteps, kind=8), dp)
+        ! The last grid point before t_end must lie strictly before it (cancellation in
+        ! t_end - t0 can make the quotient one too large).
+        do while (nsteps > 1.0_dp)
+            if (t0 + (nsteps - 1.0_dp) * h < t_end) exit
+            nsteps = nsteps - 1.0_dp
+        end do
+    end function step_count
 
     !> Forward-difference Jacobian df/dy(t, y) with Hairer's increments
     !! sqrt(eps max(1e-5, |y_j|)): n evaluations of f, added to nfev.

@@ -32,7 +32,7 @@
 !! Linear algebra: stickslip_linalg's own dense LU (for n <= 10 it was measured as fast as
 !! LAPACK's dgetrf/dgetrs and zgetrf/zgetrs, and the library needs no LAPACK).
 module stickslip_radau5
-    use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_OUTPUT_FULL, &
+    use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_OUTPUT_FULL, SS_NONFINITE, &
                                SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_BAD_NIT, &
                                SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, &
                                SS_BAD_RTOL
@@ -505,8 +505,11 @@ contains
             real(dp) :: s
             ok = .true.
             if (opts%every_step) then
-                if (next > m) then
+                if (next > m) then   ! the step cannot be stored: neither count nor commit it
                     stats%status = SS_OUTPUT_FULL
+                    stats%naccept = stats%naccept - 1
+                    if (forced) stats%nforced = stats%nforced - 1
+                    stats%t_reached = told
                     ok = .false.
                     return
                 end if
@@ -521,6 +524,11 @@ contains
                     else
                         s = (t_out(next) - t) / hold
                         y_out(:, next) = y + s * (cont(:, 1) + (s - C2M1) * (cont(:, 2) + (s - C1M1) * cont(:, 3)))
+                        if (.not. all_finite(y_out(:, next))) then   ! collocation polynomial overflow
+                            stats%status = SS_NONFINITE
+                            ok = .false.
+                            return
+                        end if
                     end if
                     next = next + 1
                 end do

@@ -8,12 +8,12 @@
 module stickslip_rk4
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
                                SS_NONFINITE, SS_OUTPUT_FULL
-    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, hermite
+    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, hermite, step_count
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
-    public :: rk4_integrate, rk4_step_count
+    public :: rk4_integrate
 
     !> What RK4 is and which controls it reads (registry entry).
     type(method_info), parameter, public :: RK4_INFO = method_info(name='rk4', order=4, &
@@ -25,17 +25,6 @@ module stickslip_rk4
     real(dp), parameter, public :: rk4_b(4) = [1.0_dp/6.0_dp, 1.0_dp/3.0_dp, 1.0_dp/3.0_dp, 1.0_dp/6.0_dp]
 
 contains
-
-    !> Number of steps of size h from t0 to t_end (the last one possibly shorter),
-    !! as a real number so that it cannot overflow.
-    pure function rk4_step_count(t0, t_end, h) result(nsteps)
-        real(dp), intent(in) :: t0, t_end, h    !! interval and step size [s]
-        real(dp) :: nsteps
-        ! A relative slack of 1e-12 keeps (t_end - t0)/h = 20000.000000001 at 20000 steps.
-        nsteps = (t_end - t0) / h * (1.0_dp - 1.0e-12_dp)
-        if (nsteps < 9.0e18_dp) nsteps = real(ceiling(nsteps, kind=8), dp)
-        nsteps = max(nsteps, 1.0_dp)
-    end function rk4_step_count
 
     !> Integrate y' = f(t, y) from t0 to t_end with fixed step h.
     !!
@@ -79,7 +68,7 @@ contains
         end if
 
         m = size(t_out)
-        nsteps_real = rk4_step_count(t0, t_end, h)
+        nsteps_real = step_count(t0, t_end, h)
         n_total = huge(n_total)       ! more steps than an integer(8) holds: never reached
         if (nsteps_real < 9.0e18_dp) n_total = int(nsteps_real, 8)
         nsteps = min(n_total, budget)
@@ -109,7 +98,6 @@ contains
             call sys%rhs(t1, y1, f1)
             stats%nfev = stats%nfev + 4
             stats%nstep = stats%nstep + 1
-            stats%naccept = stats%naccept + 1
             stats%h_last = hs
 
             if (.not. all(ieee_is_finite(y1))) then   ! inline: no call in the hot loop
@@ -132,13 +120,21 @@ contains
                         y_out(:, next) = y1
                     else
                         y_out(:, next) = hermite(t, hs, y, f0, y1, f1, t_out(next))
+                        if (.not. all(ieee_is_finite(y_out(:, next)))) exit   ! interpolant overflow
                     end if
                     next = next + 1
                 end do
+                if (next <= m) then
+                    if (t_out(next) <= t1) then
+                        stats%status = SS_NONFINITE
+                        exit
+                    end if
+                end if
                 t_next = huge(1.0_dp)
                 if (next <= m) t_next = t_out(next)
             end if
 
+            stats%naccept = stats%naccept + 1   ! stored and committed
             y = y1
             f0 = f1
             t = t1

@@ -41,10 +41,19 @@ def test_fortran_implicit_suite(native_build):
         assert all(lo < float(g) < hi for g in m.groups()), m.group(0)
 
 
+def test_fortran_core_suite(native_build):
+    """Registry, laws' derivatives, scenes' Jacobians, controls by name, core regressions."""
+    exe = compile_target(native_build, "test_core")
+    proc = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout
+    assert "all core checks passed" in proc.stdout
+
+
 def test_meson_test_suite(native_build):
     """`meson test`: the Fortran unit tests and both examples built in-tree from the core."""
     from conftest import _tool
     proc = subprocess.run([_tool("meson"), "test", "-C", str(native_build), "--print-errorlogs"],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert re.search(r"Ok:\s+4\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+    assert re.search(r"Ok:\s+5\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout

@@ -172,7 +172,7 @@ program test_implicit
     use stickslip_radau5, only: radau5_options, radau5_integrate, radau5_t, radau5_ti
     use stickslip_galpha, only: galpha_options, galpha_integrate, galpha_parameters
     use stickslip_implicit_euler, only: implicit_euler_options, implicit_euler_integrate
-    use stickslip_fixed_implicit, only: fixed_step_count
+    use stickslip_ode, only: step_count
     use implicit_problems
     implicit none
 
@@ -578,9 +578,9 @@ contains
                    'radau5: allow_forced = .false. -> SS_STEP_TOO_SMALL')
 
         ! Fixed-step grid: t0 = 1e6, t_end = t0 + 0.3, h = 0.1 is 3 steps, none of zero length.
-        call check(fixed_step_count(1.0e6_dp, 1.0e6_dp + 0.3_dp, 0.1_dp) == 3.0_dp .and. &
-                   fixed_step_count(0.0_dp, 1.0_dp, 0.3_dp) == 4.0_dp .and. &
-                   fixed_step_count(0.0_dp, 1.0_dp, 2.0_dp) == 1.0_dp, 'fixed step count (no zero-length last step)')
+        call check(step_count(1.0e6_dp, 1.0e6_dp + 0.3_dp, 0.1_dp) == 3.0_dp .and. &
+                   step_count(0.0_dp, 1.0_dp, 0.3_dp) == 4.0_dp .and. &
+                   step_count(0.0_dp, 1.0_dp, 2.0_dp) == 1.0_dp, 'fixed step count (no zero-length last step)')
         eo%h = 0.1_dp
         eo%every_step = .true.
         call implicit_euler_integrate(s, 1.0e6_dp, [1.0_dp], 1.0e6_dp + 0.3_dp, eo, te, ye, st)

@@ -1,0 +1,248 @@
+!> Fortran tests of what Python does not reach: the registry's tables and messages, the
+!! laws' derivatives against finite differences, the scenes' analytic Jacobians against
+!! the finite-difference default, dispatch by name, and regressions of the core's defects
+!! (zero-length RK4 steps, counters on a full buffer).
+!! Prints one line per check; exits with status 1 if any check fails.
+module test_core_problems
+    use stickslip_kinds, only: dp
+    use stickslip_ode, only: ode_system
+    implicit none
+    private
+    public :: decay
+
+    !> y' = -y.
+    type, extends(ode_system) :: decay
+    contains
+        procedure :: rhs => decay_rhs
+    end type decay
+
+
+contains
+
+    subroutine decay_rhs(self, t, y, dydt)
+        class(decay), intent(inout) :: self
+        real(dp), intent(in) :: t, y(:)
+        real(dp), intent(out) :: dydt(:)
+        dydt = -y
+    end subroutine decay_rhs
+
+
+end module test_core_problems
+
+program test_core
+    use stickslip_kinds, only: dp, SS_OK, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_METHOD, &
+                               SS_BAD_CONTROL_NAME, SS_BAD_PARAM_NAME, SS_BAD_DIM, STATUS_CODES
+    use stickslip_params, only: param_values, param_rule, NAME_LEN
+    use stickslip_ode, only: ode_stats, step_controls, fd_jacobian, step_count
+    use stickslip_friction, only: friction_law, SS_BAD_MU_K
+    use stickslip_law_recurdyn, only: SS_BAD_V_D
+    use stickslip_scenes, only: friction_scene, SS_BAD_M
+    use stickslip_rk4, only: rk4_integrate
+    use stickslip_dopri5, only: dopri5_options, dopri5_integrate
+    use stickslip_registry, only: PARAMS, LAW_TABLE, SCENE_TABLE, METHOD_TABLE, stickslip_message, &
+                                  code_of, split_names, make_law, new_system, apply_controls, &
+                                  resolve_params
+    use stickslip_simulate, only: simulate
+    use test_core_problems, only: decay
+    implicit none
+
+    integer :: nfail = 0
+
+    call test_tables()
+    call test_messages()
+    call test_params()
+    call test_law_derivatives()
+    call test_scene_jacobians()
+    call test_controls_by_name()
+    call test_rk4_no_zero_step()
+    call test_output_full_counters()
+
+    if (nfail > 0) then
+        print '(a, i0, a)', 'FAILED: ', nfail, ' check(s)'
+        error stop 1
+    end if
+    print '(a)', 'all core checks passed'
+
+contains
+
+    subroutine check(ok, what)
+        logical, intent(in) :: ok
+        character(*), intent(in) :: what
+        if (ok) then
+            print '(a, a)', 'ok    ', what
+        else
+            print '(a, a)', 'FAIL  ', what
+            nfail = nfail + 1
+        end if
+    end subroutine check
+
+    !> Names and codes are unique; every law and scene parameter is in PARAMS.
+    subroutine test_tables()
+        integer :: i, j
+        logical :: unique, listed
+        character(len=NAME_LEN), allocatable :: names(:)
+        unique = .true.
+        do i = 1, size(PARAMS)
+            do j = i + 1, size(PARAMS)
+                if (PARAMS(i)%name == PARAMS(j)%name .or. PARAMS(i)%code == PARAMS(j)%code) unique = .false.
+            end do
+            if (any(STATUS_CODES == PARAMS(i)%code) .or. PARAMS(i)%code > -100) unique = .false.
+        end do
+        call check(unique, 'registry: parameter names and codes unique, <= -100, apart from the status codes')
+        listed = .true.
+        do i = 1, size(LAW_TABLE)
+            names = split_names(LAW_TABLE(i)%params)
+            do j = 1, size(names)
+                if (findloc(PARAMS%name, names(j), dim=1) == 0) listed = .false.
+            end do
+        end do
+        do i = 1, size(SCENE_TABLE)
+            names = split_names(SCENE_TABLE(i)%params)
+            do j = 1, size(names)
+                if (findloc(PARAMS%name, names(j), dim=1) == 0) listed = .false.
+            end do
+        end do
+        call check(listed, 'registry: every law and scene parameter has a specification')
+        call check(code_of('law', 'proposed') == 3 .and. code_of('method', 'dopri5') == 2 .and. &
+                   code_of('scene', 'belt') == 2 .and. code_of('law', 'nope') == 0, 'registry: codes by name')
+        names = split_names('a, b,,c  d')
+        call check(size(names) == 4 .and. names(4) == 'd', 'registry: split_names on commas and blanks')
+    end subroutine test_tables
+
+    !> Messages name the parameter, its range, and the accepted names.
+    subroutine test_messages()
+        call check(stickslip_message(SS_BAD_LAW) == &
+                   'law: unknown friction law (accepted: coulomb, recurdyn, proposed)', 'message: law list')
+        call check(index(stickslip_message(SS_BAD_METHOD), 'rk4, dopri5, radau5') > 0, 'message: method list')
+        call check(stickslip_message(SS_BAD_MU_K) == 'mu_k: must be finite and >= 0 and <= mu_s', &
+                   'message: mu_k range and relation')
+        call check(stickslip_message(SS_BAD_V_D) == 'v_d: must be finite and > v_s [m/s]', 'message: v_d')
+        call check(stickslip_message(SS_BAD_M) == 'm: must be finite and > 0 [kg]', 'message: m with unit')
+        call check(param_rule(PARAMS(findloc(PARAMS%name, 'theta_deg', dim=1))) == &
+                   'theta_deg: must be finite and in [-90, 90] [deg]', 'message: closed interval')
+    end subroutine test_messages
+
+    !> Defaults, derived defaults, range checks of unused parameters, unknown names.
+    subroutine test_params()
+        type(param_values) :: p
+        integer :: status, iv
+        status = resolve_params([character(len=NAME_LEN) :: 'v_s'], [0.02_dp], p)
+        iv = findloc(p%names, 'v_d', dim=1)
+        call check(status == SS_OK .and. abs(p%values(iv) - 0.03_dp) < 1e-17_dp, 'params: v_d defaults to 1.5 v_s')
+        status = resolve_params([character(len=NAME_LEN) :: 'm'], [-1.0_dp], p)
+        call check(status == SS_BAD_M, 'params: m = -1 rejected whatever the scene')
+        status = resolve_params([character(len=NAME_LEN) :: 'mass'], [1.0_dp], p)
+        call check(status == SS_BAD_PARAM_NAME, 'params: unknown name')
+        status = resolve_params([character(len=NAME_LEN) :: 'mu_s', 'mu_k'], [0.3_dp], p)
+        call check(status == SS_BAD_DIM, 'params: names and values of different sizes')
+    end subroutine test_params
+
+    !> Each law's dmu against a central difference of its mu, away from its kinks.
+    subroutine test_law_derivatives()
+        class(friction_law), allocatable :: fl
+        type(param_values) :: p
+        real(dp), parameter :: v(6) = [-0.3_dp, -0.012_dp, -0.004_dp, 0.003_dp, 0.0125_dp, 0.7_dp]
+        real(dp) :: d, fd, dv
+        integer :: law, i, status
+        logical :: ok
+        do law = 1, size(LAW_TABLE)
+            status = make_law(law, [character(len=NAME_LEN) ::], [real(dp) ::], fl, p)
+            ok = status == SS_OK
+            do i = 1, size(v)
+                dv = 1.0e-7_dp
+                fd = (fl%mu(v(i) + dv) - fl%mu(v(i) - dv)) / (2.0_dp * dv)
+                d = fl%dmu(v(i))
+                ok = ok .and. abs(d - fd) <= 1.0e-5_dp * max(1.0_dp, abs(fd))
+                ok = ok .and. fl%mu(-v(i)) == -fl%mu(v(i))
+            end do
+            call check(ok, 'law ' // trim(LAW_TABLE(law)%name) // ': dmu = central difference, mu odd')
+        end do
+        status = make_law(3, [character(len=NAME_LEN) ::], [real(dp) ::], fl, p)
+        call check(fl%dmu(0.0_dp) > 0.0_dp .and. fl%dmu(0.0_dp) < huge(1.0_dp) .and. &
+                   fl%dmu(0.0_dp) == fl%dmu(1.0e-12_dp), 'law proposed: dmu finite at rest (floor at 1e-6 v_s)')
+    end subroutine test_law_derivatives
+
+    !> The scenes' analytic Jacobians against the forward-difference default.
+    subroutine test_scene_jacobians()
+        class(friction_scene), allocatable :: sys
+        type(param_values) :: p
+        real(dp) :: y(2), f(2), ja(2, 2), jf(2, 2)
+        integer(8) :: nfev
+        integer :: scene, law, status
+        logical :: ok
+        do scene = 1, size(SCENE_TABLE)
+            do law = 2, 3
+                status = new_system(scene, law, [character(len=NAME_LEN) ::], [real(dp) ::], sys, p)
+                y = [0.01_dp, merge(0.004_dp, 1.5_dp - 0.004_dp, scene == 1)]
+                call sys%rhs(0.0_dp, y, f)
+                nfev = 0
+                call sys%jacobian(0.0_dp, y, f, ja, nfev)
+                ok = status == SS_OK .and. nfev == 0
+                call fd_jacobian(sys, 0.0_dp, y, f, jf, nfev)
+                ok = ok .and. nfev == 2 .and. all(abs(ja - jf) <= 1.0e-5_dp * max(1.0_dp, abs(jf)))
+                call check(ok, 'scene ' // trim(SCENE_TABLE(scene)%name) // ' / ' // trim(LAW_TABLE(law)%name) // &
+                           ': analytic Jacobian = finite differences, no evaluation counted')
+            end do
+        end do
+    end subroutine test_scene_jacobians
+
+    !> Every control a method lists is accepted by its options; others are refused.
+    subroutine test_controls_by_name()
+        type(dopri5_options) :: d5
+        type(step_controls) :: c
+        character(len=NAME_LEN), allocatable :: names(:)
+        real(dp) :: t_out(1), y_out(2, 1)
+        type(ode_stats) :: st
+        integer :: i, status
+        logical :: ok
+        ok = .true.
+        names = split_names(METHOD_TABLE(2)%controls)
+        do i = 1, size(names)
+            if (names(i) == 'rtol' .or. names(i) == 'atol') cycle
+            status = apply_controls(d5, METHOD_TABLE(2), names(i:i), [1.0_dp])
+            if (status /= SS_OK) ok = .false.
+        end do
+        call check(ok, 'controls: every control dopri5 lists is accepted by name')
+        call check(apply_controls(c, METHOD_TABLE(1), [character(len=NAME_LEN) :: 'hmin'], [1.0_dp]) == &
+                   SS_BAD_CONTROL_NAME, 'controls: rk4 refuses hmin (not one of its controls)')
+        call check(apply_controls(d5, METHOD_TABLE(2), [character(len=NAME_LEN) :: 'beta_pi'], [0.1_dp]) == SS_OK &
+                   .and. d5%beta == 0.1_dp, 'controls: beta_pi sets DOPRI5''s PI exponent')
+        t_out = 1.0_dp
+        call simulate(1, 2, 2, [character(len=NAME_LEN) ::], [real(dp) ::], [0.0_dp, 0.0_dp], 1.0_dp, &
+                      [1.0e-6_dp], [1.0e-9_dp], [character(len=NAME_LEN) :: 'hmin', 'hmax'], &
+                      [0.0_dp, 1.0_dp], t_out, y_out, st)
+        call check(st%status == SS_OK .and. y_out(1, 1) > 0.0_dp, 'simulate: slope/recurdyn/dopri5 by code and name')
+        call simulate(1, 2, 2, [character(len=NAME_LEN) ::], [real(dp) ::], [0.0_dp, 0.0_dp, 0.0_dp], 1.0_dp, &
+                      [1.0e-6_dp], [1.0e-9_dp], [character(len=NAME_LEN) ::], [real(dp) ::], t_out, y_out, st)
+        call check(st%status == SS_BAD_DIM, 'simulate: a state of the wrong size is refused')
+    end subroutine test_controls_by_name
+
+    !> RK4 from t0 /= 0: no zero-length last step (the count rounded up when t0 + n h == t_end).
+    subroutine test_rk4_no_zero_step()
+        type(decay) :: sys
+        type(ode_stats) :: st
+        real(dp) :: t_out(10), y_out(1, 10), t0
+        t0 = 1.0e6_dp
+        call rk4_integrate(sys, t0, [1.0_dp], t0 + 0.3_dp, 0.1_dp, t_out, y_out, st, every_step=.true.)
+        call check(st%status == SS_OK .and. st%nstep == 3 .and. st%n_written == 4 .and. &
+                   st%h_last > 0.05_dp .and. step_count(t0, t0 + 0.3_dp, 0.1_dp) == 3.0_dp, &
+                   'rk4: t0 = 1e6, 0.3 s at h = 0.1: 3 steps, no zero-length last step')
+    end subroutine test_rk4_no_zero_step
+
+    !> A full every-step buffer: the step that could not be stored is not counted accepted.
+    subroutine test_output_full_counters()
+        type(decay) :: sys
+        type(ode_stats) :: st
+        type(dopri5_options) :: o
+        real(dp) :: t_out(4), y_out(1, 4)
+        call rk4_integrate(sys, 0.0_dp, [1.0_dp], 1.0_dp, 0.1_dp, t_out, y_out, st, every_step=.true.)
+        call check(st%status == SS_OUTPUT_FULL .and. st%naccept == st%n_written - 1 .and. &
+                   st%t_reached == t_out(st%n_written), 'rk4: on OUTPUT_FULL naccept = rows stored - 1')
+        o%every_step = .true.
+        o%hmax = 0.05_dp
+        call dopri5_integrate(sys, 0.0_dp, [1.0_dp], 1.0_dp, [1.0e-6_dp], [1.0e-9_dp], o, t_out, y_out, st)
+        call check(st%status == SS_OUTPUT_FULL .and. st%naccept == st%n_written - 1 .and. &
+                   st%t_reached == t_out(st%n_written), 'dopri5: on OUTPUT_FULL naccept = rows stored - 1')
+    end subroutine test_output_full_counters
+
+end program test_core

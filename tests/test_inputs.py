@@ -1,0 +1,90 @@
+"""Input handling of the Python API: non-numbers rejected everywhere, every given value checked
+against its range whatever the scene, hopeless runs refused before they start, warnings for
+steps longer than the run, and no non-finite value in a result that reports success."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import stickslip as ss
+
+
+@pytest.mark.parametrize("kw, name", [
+    ({"t_end": "20"}, "t_end"),
+    ({"method": "rk4", "h": "1e-3"}, "h"),
+    ({"rtol": "1e-6"}, "rtol"),
+    ({"x0": "0"}, "x0"),
+    ({"mu_s": "0.3"}, "mu_s"),
+    ({"max_steps": "100"}, "max_steps"),
+    ({"t_end": True}, "t_end"),
+])
+def test_non_numbers_are_rejected_naming_the_parameter(kw, name):
+    args = {"scene": "slope", "law": "recurdyn", "method": "dopri5", "t_end": 1.0} | kw
+    with pytest.raises(ValueError, match=rf"^{name}: "):
+        ss.simulate(**args)
+
+
+def test_friction_coefficient_non_numbers_name_v():
+    with pytest.raises(ValueError, match=r"^v: must be real numbers"):
+        ss.friction_coefficient("coulomb", "abc")
+    with pytest.raises(ValueError, match=r"^mu_s: "):
+        ss.friction_coefficient("coulomb", 0.1, mu_s="x")
+
+
+@pytest.mark.parametrize("kw, name", [
+    ({"scene": "slope", "m": -1.0}, "m"),          # the slope has no mass, m is still checked
+    ({"scene": "slope", "k": -5.0}, "k"),
+    ({"scene": "belt", "theta_deg": 120.0}, "theta_deg"),
+    ({"law": "coulomb", "a": 0.5}, "a"),            # a parameter of another law
+])
+def test_unused_parameters_are_range_checked(kw, name):
+    args = {"scene": "slope", "law": "recurdyn", "method": "dopri5", "t_end": 1.0} | kw
+    with pytest.raises(ValueError, match=rf"^{name}: must be finite"):
+        ss.simulate(**args)
+
+
+def test_step_longer_than_the_run_warns_naming_h():
+    with pytest.warns(UserWarning, match=r"h = 5 s is longer than the whole run"):
+        ss.simulate("slope", "recurdyn", method="rk4", h=5.0, t_end=1.0)
+
+
+def test_hopeless_fixed_step_run_is_refused_before_it_starts():
+    import time
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=r"^max_steps: rk4 with h = 1e-09 s needs 1e\+15 steps"):
+        ss.simulate("slope", "recurdyn", method="rk4", h=1e-9, t_end=1e6)
+    assert time.perf_counter() - t0 < 1.0
+
+
+@pytest.mark.parametrize("kw", [
+    {"scene": "slope", "method": "dopri5", "v0": 1e308},
+    {"scene": "belt", "method": "rk4", "h": 1e-3, "k": 1e308},
+])
+def test_overflow_near_the_limit_is_never_a_success(kw):
+    """The issue's cases: each used to report success with infinite values on the grid."""
+    with pytest.raises(ss.NonFiniteSolution) as err:
+        ss.simulate(law="recurdyn", t_end=1.0, **kw)
+    res = err.value.result
+    assert np.all(np.isfinite(res.x)) and np.all(np.isfinite(res.v))
+
+
+def test_rtol_and_atol_per_component():
+    a = ss.simulate("belt", "proposed", method="dopri5", t_end=2.0, rtol=[1e-6, 1e-6], atol=[1e-9, 1e-9])
+    b = ss.simulate("belt", "proposed", method="dopri5", t_end=2.0, rtol=1e-6, atol=1e-9)
+    assert np.array_equal(a.x, b.x)
+    with pytest.raises(ValueError, match=r"^atol: must be a real number or 2 of them"):
+        ss.simulate("belt", "proposed", method="dopri5", t_end=2.0, atol=[1e-9, 1e-9, 1e-9])
+
+
+def test_controls_of_another_method_are_refused():
+    with pytest.raises(ValueError, match=r"^rho_inf: not a control of method 'rk4'"):
+        ss.simulate("slope", "recurdyn", method="rk4", h=1e-3, t_end=1.0, rho_inf=0.5)
+    with pytest.raises(ValueError, match=r"unknown parameter\(s\) bogus"):
+        ss.simulate("slope", "recurdyn", method="rk4", h=1e-3, t_end=1.0, bogus=1.0)
+
+
+def test_registry_is_the_source_of_names():
+    assert ss.LAWS == tuple(ss.REGISTRY["law"]) and "radau5" in ss.METHODS
+    assert ss.DEFAULTS["v_d"] is None and ss.REGISTRY["param"]["v_d"]["default_of"] == "v_s"
+    r = ss.simulate("slope", "recurdyn", method="rk4", h=1e-3, t_end=0.01, v_s=0.02)
+    assert r.params["v_d"] == pytest.approx(0.03) and "m" not in r.params
