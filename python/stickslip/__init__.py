@@ -13,6 +13,7 @@ from .core import (
     METHODS,
     SCENES,
     IntegrationError,
+    NewtonFailure,
     NonFiniteSolution,
     OutputBufferFull,
     Result,
@@ -26,7 +27,7 @@ from .core import (
 from .batch import BatchResult, simulate_batch
 
 __all__ = [
-    "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError",
+    "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch",

@@ -120,12 +120,20 @@ class OutputBufferFull(IntegrationError):
     """Every-step output ran out of rows."""
 
 
+class NewtonFailure(IntegrationError):
+    """An implicit method's Newton iteration did not converge, its matrix was singular, or the
+    Jacobian was not finite."""
+
+
 _ERRORS: dict[int, type[IntegrationError]] = {
     STATUS_STEP_BUDGET: StepBudgetExhausted,
     STATUS_STEP_TOO_SMALL: StepSizeTooSmall,
     STATUS_STIFF: StiffnessDetected,
     STATUS_NONFINITE: NonFiniteSolution,
     STATUS_OUTPUT_FULL: OutputBufferFull,
+    _STATUS["NEWTON_FAILED"]: NewtonFailure,
+    _STATUS["SINGULAR"]: NewtonFailure,
+    _STATUS["JAC_NONFINITE"]: NewtonFailure,
 }
 
 
@@ -211,6 +219,15 @@ def _physical(params: Mapping[str, Any]) -> dict[str, float]:
 def _keys(d: Mapping[str, Any]) -> tuple[str, np.ndarray]:
     """Names as the comma-separated string the wrapper takes, and their values."""
     return ",".join(d), np.array([float(x) for x in d.values()], dtype=np.float64)
+
+
+def _fixed_steps(t_end: float, h: float) -> float:
+    """Steps a fixed-step method takes from 0 to t_end (inf when uncountable; 0 for bad input,
+    which the library rejects by name)."""
+    if not (h > 0.0 and t_end > 0.0):
+        return 0.0
+    q = t_end / h * (1.0 - 1e-12)
+    return float(math.ceil(q)) if math.isfinite(q) else math.inf
 
 
 def friction_coefficient(law: str, v: Any, **params: float) -> np.ndarray:
@@ -310,19 +327,18 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     if max_steps is None:
         max_steps = 10**6 if (every_step and info["adaptive"]) else 10**8
     max_steps = _count("max_steps", max_steps)
-    if not info["adaptive"] and ctl["h"] > 0.0 and t_end > 0.0:
-        needed = math.ceil(t_end / ctl["h"] * (1.0 - 1e-12))
-        if needed > max_steps:
-            raise ValueError(f"max_steps: {method} with h = {ctl['h']:g} s needs {needed:.4g} steps to reach "
-                             f"t_end = {t_end:g} s, more than max_steps = {max_steps} (raise max_steps or h)")
+    needed = _fixed_steps(t_end, ctl["h"]) if not info["adaptive"] else 0.0
+    if needed > max_steps:
+        raise ValueError(f"max_steps: {method} with h = {ctl['h']:g} s needs {needed:.4g} steps to reach "
+                         f"t_end = {t_end:g} s, more than max_steps = {max_steps} (raise max_steps or h)")
     ctl["max_steps"] = float(max_steps)
 
     if every_step:
         if n_out is not None:
             raise ValueError("n_out: give either n_out or every_step, not both")
         rows = max_steps
-        if not info["adaptive"] and ctl["h"] > 0.0 and t_end > 0.0:
-            rows = min(rows, math.ceil(t_end / ctl["h"] * (1.0 - 1e-12)))
+        if needed > 0.0:
+            rows = min(rows, int(needed))
         rows = max(rows, 1) + 1
         if rows > MAX_ROWS:
             raise ValueError(f"max_steps: every_step would allocate {rows} rows (limit {MAX_ROWS}); "
