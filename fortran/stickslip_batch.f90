@@ -84,7 +84,7 @@ contains
     !! and SS_BAD_N_OUT when n_grid < 1. A bad input in one set (a code <= -100) or a run
     !! that ends early is reported in that set's summary only.
     subroutine simulate_batch(scene, law, method, pkeys, pvals, nstate, y0, t_end, rtol, atol, ckeys, &
-                              cvals, n_grid, threads, summary, status, y_grid)
+                              cvals, n_grid, threads, summary, status, y_grid, stop_flag)
         integer, intent(in) :: scene(:)                 !! scene code, per set
         integer, intent(in) :: law(:)                   !! friction law code, per set
         integer, intent(in) :: method(:)                !! method code, per set
@@ -102,6 +102,8 @@ contains
         type(batch_summary), intent(out) :: summary(:)  !! one summary per set
         integer, intent(out) :: status                  !! SS_OK, SS_BAD_DIM or SS_BAD_N_OUT
         real(dp), intent(out), optional :: y_grid(:, :, :)  !! (nmax, n_grid, nset) states on the grid
+        !> A flag another thread may set nonzero to stop every run (SS_INTERRUPTED).
+        integer, pointer, intent(in), optional :: stop_flag
 
         integer :: nset, i, nthr
         logical :: keep
@@ -171,7 +173,8 @@ contains
             call system_clock(c0, rate)
             call simulate(scene(i), law(i), method(i), pack(pkeys, pset), pack(pvals(:, i), pset), &
                           y0(1:n, i), t_end(i), [rtol(i)], [atol(i)], pack(ckeys, cset), &
-                          pack(cvals(:, i), cset), t_out, y_out, summary(i)%stats, sys_out=sys)
+                          pack(cvals(:, i), cset), t_out, y_out, summary(i)%stats, sys_out=sys, &
+                          stop_flag=stop_flag)
             call system_clock(c1)
             summary(i)%seconds = real(c1 - c0, dp) / real(max(rate, 1_8), dp)
 

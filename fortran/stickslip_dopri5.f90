@@ -15,9 +15,9 @@
 !! error (SS_STEP_TOO_SMALL) instead.
 module stickslip_dopri5
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_STIFF, &
-                               SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL
+                               SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL, SS_INTERRUPTED
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
-                             check_step_controls, all_finite, output_start, RTOL_MIN
+                             check_step_controls, all_finite, output_start, RTOL_MIN, stop_requested
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -178,6 +178,10 @@ contains
         do
             if (stats%nstep >= opts%max_steps) then
                 stats%status = SS_STEP_BUDGET
+                exit
+            end if
+            if (stop_requested(opts, stats%nstep)) then
+                stats%status = SS_INTERRUPTED
                 exit
             end if
             if (0.1_dp * abs(h) <= abs(t) * epsilon(1.0_dp)) then

@@ -16,10 +16,10 @@
 !! SS_NEWTON_FAILED (a fixed step is never reduced); a non-finite Jacobian gives
 !! SS_JAC_NONFINITE, a singular matrix SS_SINGULAR, non-finite iterates SS_NEWTON_FAILED.
 module stickslip_fixed_implicit
-    use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
+    use stickslip_kinds, only: dp, SS_INTERRUPTED, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
                                SS_NONFINITE, SS_OUTPUT_FULL, SS_NEWTON_FAILED, SS_SINGULAR, &
                                SS_JAC_NONFINITE, SS_BAD_NIT, SS_BAD_NEWTON_TOL
-    use stickslip_ode, only: ode_system, ode_stats, step_controls, check_problem, output_start, step_count, &
+    use stickslip_ode, only: ode_system, ode_stats, step_controls, check_problem, output_start, step_count, stop_requested, &
                              all_finite, hermite
     use stickslip_linalg, only: lu_decompose, lu_solve
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -201,6 +201,10 @@ contains
                 t1 = t0 + real(i, dp) * ctl%h
             end if
             hs = t1 - t
+            if (stop_requested(ctl, stats%nstep)) then
+                stats%status = SS_INTERRUPTED
+                exit
+            end if
             stats%h_last = hs
             stats%nstep = stats%nstep + 1
             call stepper%step(sys, t, hs, y, y1, ctl, stats)

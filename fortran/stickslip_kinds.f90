@@ -24,6 +24,7 @@ module stickslip_kinds
     integer, parameter, public :: SS_NEWTON_FAILED = -7     !! Newton iteration did not converge
     integer, parameter, public :: SS_SINGULAR = -8          !! the Newton matrix is singular
     integer, parameter, public :: SS_JAC_NONFINITE = -9     !! the Jacobian has a NaN or infinite entry
+    integer, parameter, public :: SS_INTERRUPTED = -10      !! the caller set the stop flag
 
     ! -- bad input, one code per parameter ---------------------------------------
     integer, parameter, public :: SS_BAD_LAW = -100         !! unknown friction law code
@@ -54,14 +55,14 @@ module stickslip_kinds
         'NONFINITE OUTPUT_FULL BAD_LAW BAD_SCENE BAD_METHOD BAD_H BAD_T_END BAD_RTOL BAD_ATOL ' // &
         'BAD_HMIN BAD_HMAX BAD_N_OUT BAD_MAX_STEPS BAD_Y0 BAD_H0 BAD_CONTROL BAD_DIM ' // &
         'BAD_CONTROL_NAME BAD_PARAM_NAME NEWTON_FAILED SINGULAR JAC_NONFINITE BAD_RHO_INF ' // &
-        'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE'
+        'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(31) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(32) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
         SS_BAD_PARAM_NAME, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_BAD_RHO_INF, SS_BAD_NIT, &
-        SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE]
+        SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_INTERRUPTED]
 
 contains
 
@@ -82,6 +83,7 @@ contains
         case (SS_NEWTON_FAILED);  msg = 'Newton iteration did not converge (fixed-step method: within' // &
                                         ' newton_max_iter iterations; RADAU5: at h_min)'
         case (SS_SINGULAR);       msg = 'the Newton matrix is singular (RADAU5: 5 times, step halved in between)'
+        case (SS_INTERRUPTED);    msg = 'interrupted: the caller set the stop flag (Ctrl-C)'
         case (SS_JAC_NONFINITE);  msg = 'the Jacobian df/dy has a NaN or infinite entry'
         case (SS_BAD_LAW);        msg = 'law: unknown friction law'
         case (SS_BAD_SCENE);      msg = 'scene: unknown scene'

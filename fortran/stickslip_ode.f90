@@ -20,7 +20,10 @@ module stickslip_ode
 
     public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, &
               check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite, &
-              step_count
+              step_count, stop_requested
+
+    !> Steps between two looks at a stop flag (a power of 2 minus 1, as a mask).
+    integer(8), parameter, public :: STOP_CHECK_MASK = 4095_8
 
     !> Smallest accepted nonzero rtol of the adaptive methods: 100 units of round-off.
     real(dp), parameter, public :: RTOL_MIN = 100.0_dp * epsilon(1.0_dp)
@@ -46,6 +49,9 @@ module stickslip_ode
         integer(8) :: max_steps = 100000000_8
         logical  :: allow_forced = .true.   !! take steps at h_min when the error test fails there
         logical  :: every_step = .false.    !! output every accepted step instead of a grid
+        !> When associated and nonzero (set by another thread: a Ctrl-C), the run stops
+        !! with SS_INTERRUPTED; checked every STOP_CHECK_STEPS steps.
+        integer, pointer :: stop_flag => null()
     contains
         !> Set one control by name (flags: value /= 0); SS_OK or SS_BAD_CONTROL_NAME.
         !! Method-specific options types override it and fall back to this one.
@@ -99,6 +105,17 @@ module stickslip_ode
     character(len=*), parameter, public :: STATS_REAL_NAMES = 't_reached h_last'
 
 contains
+
+    !> .true. when the caller has asked the run to stop: the flag is looked at only every
+    !! STOP_CHECK_MASK + 1 steps, so that the check costs nothing in the hot loop.
+    logical function stop_requested(ctl, nstep)
+        class(step_controls), intent(in) :: ctl   !! controls holding the optional flag
+        integer(8), intent(in) :: nstep           !! steps attempted so far
+        stop_requested = .false.
+        if (iand(nstep, STOP_CHECK_MASK) /= 0) return
+        if (.not. associated(ctl%stop_flag)) return
+        stop_requested = ctl%stop_flag /= 0
+    end function stop_requested
 
     !> The integer counters of st in the order of STATS_INTEGER_NAMES.
     pure function stats_integers(st) result(v)

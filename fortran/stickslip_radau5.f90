@@ -32,12 +32,12 @@
 !! Linear algebra: stickslip_linalg's own dense LU (for n <= 10 it was measured as fast as
 !! LAPACK's dgetrf/dgetrs and zgetrf/zgetrs, and the library needs no LAPACK).
 module stickslip_radau5
-    use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_OUTPUT_FULL, SS_NONFINITE, &
+    use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_OUTPUT_FULL, SS_NONFINITE, SS_INTERRUPTED, &
                                SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_BAD_NIT, &
                                SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, &
                                SS_BAD_RTOL
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
-                             check_step_controls, all_finite, output_start
+                             check_step_controls, all_finite, output_start, stop_requested
     use stickslip_linalg, only: lu_decompose, lu_solve
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
@@ -247,6 +247,10 @@ contains
 
             if (stats%nstep >= opts%max_steps) then
                 stats%status = SS_STEP_BUDGET
+                exit steps
+            end if
+            if (stop_requested(opts, stats%nstep)) then
+                stats%status = SS_INTERRUPTED
                 exit steps
             end if
             stats%nstep = stats%nstep + 1

@@ -186,7 +186,7 @@ contains
     !> Integrate sys with the method of code `method` and its named controls (rtol and atol
     !! as arrays, read by the adaptive methods only). Output and status as for the methods'
     !! `<method>_integrate`.
-    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats)
+    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats, stop_flag)
         use stickslip_ode, only: ode_system
         integer, intent(in) :: method                !! method code
         class(ode_system), intent(inout) :: sys      !! the right-hand side
@@ -200,17 +200,32 @@ contains
         real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
         real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
         type(ode_stats), intent(out) :: stats        !! counters and status
+        !> A flag another thread may set nonzero to stop the run (SS_INTERRUPTED).
+        integer, pointer, intent(in), optional :: stop_flag
         type(step_controls) :: fixed
         type(dopri5_options) :: d5
         type(radau5_options) :: r5
         type(implicit_euler_options) :: ie
         type(galpha_options) :: ga
 
+        if (present(stop_flag)) then
+            fixed%stop_flag => stop_flag
+            d5%stop_flag => stop_flag
+            r5%stop_flag => stop_flag
+            ie%stop_flag => stop_flag
+            ga%stop_flag => stop_flag
+        end if
         select case (method)
         case (METHOD_RK4)
             stats%status = apply_controls(fixed, RK4_INFO, keys, vals)
-            if (stats%status == SS_OK) call rk4_integrate(sys, t0, y0, t_end, fixed%h, t_out, y_out, &
-                stats, every_step=fixed%every_step, max_steps=fixed%max_steps)
+            if (stats%status /= SS_OK) return
+            if (associated(fixed%stop_flag)) then
+                call rk4_integrate(sys, t0, y0, t_end, fixed%h, t_out, y_out, stats, &
+                                   every_step=fixed%every_step, max_steps=fixed%max_steps, stop_flag=fixed%stop_flag)
+            else
+                call rk4_integrate(sys, t0, y0, t_end, fixed%h, t_out, y_out, stats, &
+                                   every_step=fixed%every_step, max_steps=fixed%max_steps)
+            end if
         case (METHOD_DOPRI5)
             stats%status = apply_controls(d5, DOPRI5_INFO, keys, vals)
             if (stats%status == SS_OK) call dopri5_integrate(sys, t0, y0, t_end, rtol, atol, d5, &

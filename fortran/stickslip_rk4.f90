@@ -7,8 +7,8 @@
 !! Evaluations: 1 + 4 per step.
 module stickslip_rk4
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
-                               SS_NONFINITE, SS_OUTPUT_FULL
-    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, hermite, step_count
+                               SS_NONFINITE, SS_OUTPUT_FULL, SS_INTERRUPTED
+    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, hermite, step_count, STOP_CHECK_MASK
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -32,7 +32,7 @@ contains
     !! Every-step mode: (t_out, y_out) receive the initial state and each step.
     !! stats%status: SS_OK, SS_STEP_BUDGET (more than max_steps steps needed; output
     !! up to stats%t_reached is valid), SS_NONFINITE, SS_OUTPUT_FULL or a bad-input code.
-    subroutine rk4_integrate(sys, t0, y0, t_end, h, t_out, y_out, stats, every_step, max_steps)
+    subroutine rk4_integrate(sys, t0, y0, t_end, h, t_out, y_out, stats, every_step, max_steps, stop_flag)
         class(ode_system), intent(inout) :: sys  !! the right-hand side
         real(dp), intent(in)    :: t0            !! initial time [s]
         real(dp), intent(in)    :: y0(:)         !! initial state
@@ -43,16 +43,21 @@ contains
         type(ode_stats), intent(out) :: stats    !! counters and status
         logical, intent(in), optional :: every_step     !! output every step (default .false.)
         integer(8), intent(in), optional :: max_steps   !! step budget (default: unlimited)
+        !> Stop with SS_INTERRUPTED once another thread sets it nonzero (looked at every
+        !! STOP_CHECK_MASK + 1 steps).
+        integer, pointer, intent(in), optional :: stop_flag
 
         real(dp) :: y(size(y0)), y1(size(y0)), f0(size(y0)), f1(size(y0))
         real(dp) :: k2(size(y0)), k3(size(y0)), k4(size(y0)), ytmp(size(y0))
         real(dp) :: t, t1, hs, nsteps_real, t_next
         integer(8) :: i, nsteps, n_total, budget
         integer :: m, next
-        logical :: steps_mode
+        logical :: steps_mode, watch
 
         steps_mode = .false.
         if (present(every_step)) steps_mode = every_step
+        watch = present(stop_flag)
+        if (watch) watch = associated(stop_flag)
         budget = huge(budget)
         if (present(max_steps)) budget = max_steps
 
@@ -88,6 +93,12 @@ contains
                 t1 = t0 + real(i, dp) * h
             end if
             hs = t1 - t
+            if (watch .and. iand(i, STOP_CHECK_MASK) == 0) then
+                if (stop_flag /= 0) then
+                    stats%status = SS_INTERRUPTED
+                    exit
+                end if
+            end if
             ytmp = y + (0.5_dp * hs) * f0
             call sys%rhs(t + 0.5_dp * hs, ytmp, k2)
             ytmp = y + (0.5_dp * hs) * k2

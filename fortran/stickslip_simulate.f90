@@ -18,7 +18,7 @@ contains
     !! Parameters not named in pkeys take their defaults; controls not named in ckeys take
     !! the method's defaults. Output and status as for the methods' `<method>_integrate`.
     subroutine simulate(scene, law, method, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals, &
-                        t_out, y_out, stats, p_out, sys_out)
+                        t_out, y_out, stats, p_out, sys_out, stop_flag)
         integer, intent(in) :: scene                !! scene code (registry)
         integer, intent(in) :: law                  !! law code (registry)
         integer, intent(in) :: method               !! method code (registry)
@@ -35,6 +35,8 @@ contains
         type(ode_stats), intent(out) :: stats       !! counters and status
         type(param_values), intent(out), optional :: p_out  !! every parameter as resolved
         class(friction_scene), allocatable, intent(out), optional :: sys_out  !! the scene run
+        !> A flag another thread may set nonzero to stop the run (SS_INTERRUPTED).
+        integer, pointer, intent(in), optional :: stop_flag
         class(friction_scene), allocatable :: sys
         type(param_values) :: p
 
@@ -45,7 +47,7 @@ contains
             stats%status = SS_BAD_DIM
             return
         end if
-        call integrate(method, sys, 0.0_dp, y0, t_end, rtol, atol, ckeys, cvals, t_out, y_out, stats)
+        call integrate(method, sys, 0.0_dp, y0, t_end, rtol, atol, ckeys, cvals, t_out, y_out, stats, stop_flag)
         if (present(sys_out)) call move_alloc(sys, sys_out)
     end subroutine simulate
 

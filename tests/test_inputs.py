@@ -88,3 +88,26 @@ def test_registry_is_the_source_of_names():
     assert ss.DEFAULTS["v_d"] is None and ss.REGISTRY["param"]["v_d"]["default_of"] == "v_s"
     r = ss.simulate("slope", "recurdyn", method="rk4", h=1e-3, t_end=0.01, v_s=0.02)
     assert r.params["v_d"] == pytest.approx(0.03) and "m" not in r.params
+
+
+@pytest.mark.parametrize("call", [
+    'ss.simulate("slope", "coulomb", method="dopri5", t_end=1000.0)',
+    'ss.simulate("slope", "recurdyn", method="rk4", h=1e-6, t_end=100.0)',
+    'ss.simulate_batch("slope", "coulomb", method="dopri5", t_end=[1000.0, 1000.0])',
+])
+def test_ctrl_c_stops_a_long_fortran_call_promptly(call):
+    """SIGINT half a second into a run of many seconds: KeyboardInterrupt within 0.5 s more."""
+    import subprocess
+    import sys
+    code = ("import os, signal, threading, time\n"
+            "import stickslip as ss\n"
+            "threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()\n"
+            "t = time.perf_counter()\n"
+            "try:\n"
+            f"    {call}\n"
+            "    print('finished')\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted after %.3f s' % (time.perf_counter() - t))\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert "interrupted after" in proc.stdout, proc.stdout + proc.stderr
+    assert float(proc.stdout.split()[-2]) < 1.0, proc.stdout

@@ -55,7 +55,7 @@ end subroutine friction
 !! order); the caller gives the sizes, which must match the registry's.
 subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rtol, nrt, atol, nat, &
                           ckeys, cvals, nc, nrow, t_out, y_out, ni, istats, nr, rstats, npar, presolved, &
-                          status)
+                          stop, status)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_BAD_DIM
     use stickslip_params, only: param_values
@@ -83,16 +83,20 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
     real(c_double), intent(out) :: istats(ni)
     real(c_double), intent(out) :: rstats(nr)
     real(c_double), intent(out) :: presolved(npar)
+    integer(c_int), intent(inout), target :: stop(1)
     integer(c_int), intent(out) :: status
+    !f2py threadsafe
     type(ode_stats) :: st
     type(param_values) :: p
+    integer, pointer :: flag
+    flag => stop(1)
 
     y_out = 0.0_c_double
     istats = 0.0_c_double
     rstats = 0.0_c_double
     presolved = 0.0_c_double
     call simulate(scene, law, method, split_names(pkeys), pvals, y0, t_end, rtol, atol, &
-                  split_names(ckeys), cvals, t_out, y_out, st, p_out=p)
+                  split_names(ckeys), cvals, t_out, y_out, st, p_out=p, stop_flag=flag)
     status = st%status
     if (ni /= size(stats_integers(st)) .or. nr /= size(stats_reals(st)) .or. npar /= size(p%values)) then
         status = SS_BAD_DIM
@@ -111,7 +115,7 @@ end subroutine run_simulation
 !! registry's 'batch' record; yend(:, i) the state at the last grid time written.
 subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y0, t_end, rtol, atol, &
                      ckeys, nc, cvals, n_grid, nkeep, threads, ni, istats, nr, rstats, yend, y_grid, &
-                     status)
+                     stop, status)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_OK, SS_BAD_DIM
     use stickslip_batch, only: batch_summary, simulate_batch, batch_integers, batch_reals
@@ -132,9 +136,13 @@ subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y
     real(c_double), intent(out) :: rstats(nr, nset)
     real(c_double), intent(out) :: yend(nmax, nset)
     real(c_double), intent(out) :: y_grid(nmax, nkeep, nset)
+    integer(c_int), intent(inout), target :: stop(1)
     integer(c_int), intent(out) :: status
+    !f2py threadsafe
     type(batch_summary), allocatable :: s(:)
     integer :: i
+    integer, pointer :: flag
+    flag => stop(1)
 
     allocate(s(nset))
     istats = 0.0_c_double
@@ -143,10 +151,10 @@ subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y
     yend = 0.0_c_double
     if (nkeep > 0) then
         call simulate_batch(scene, law, method, split_names(pkeys), pvals, nstate, y0, t_end, rtol, atol, &
-                            split_names(ckeys), cvals, n_grid, threads, s, status, y_grid)
+                            split_names(ckeys), cvals, n_grid, threads, s, status, y_grid, stop_flag=flag)
     else
         call simulate_batch(scene, law, method, split_names(pkeys), pvals, nstate, y0, t_end, rtol, atol, &
-                            split_names(ckeys), cvals, n_grid, threads, s, status)
+                            split_names(ckeys), cvals, n_grid, threads, s, status, stop_flag=flag)
     end if
     if (status /= SS_OK) return
     if (ni /= size(batch_integers(s(1))) .or. nr /= size(batch_reals(s(1)))) then

@@ -19,7 +19,8 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATUS_OK,
-                   _FIRST_INPUT_CODE, _PARAM_ORDER, _check_names, _choice, _count, status_message)
+                   _FIRST_INPUT_CODE, _PARAM_ORDER, _check_names, _choice, _count, interruptible,
+                   status_message)
 
 #: Names of the integer and real summary fields, in the wrapper's order.
 _BATCH_INT, _BATCH_REAL = (tuple(x.split()) for x in _ext.batch_names().decode().strip().split("|"))
@@ -213,10 +214,10 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
         return np.array([REGISTRY[kind][s]["code"] for s in rows[key]], dtype=np.int32)
 
     pvals = np.asfortranarray(np.array([rows[k] for k in pnames], dtype=np.float64).reshape(len(pnames), n))
-    istats, rstats, yend, y_grid, status = _ext.run_batch(
+    istats, rstats, yend, y_grid, status = interruptible(lambda stop: _ext.run_batch(
         codes("scene", "scene"), codes("law", "law"), codes("method", "method"), ",".join(pnames), pvals,
         nstate, y0, rows["t_end"], tol["rtol"], tol["atol"], ",".join(cnames), np.asfortranarray(cvals),
-        int(n_grid), int(n_grid) if keep else 0, int(threads), len(_BATCH_INT), len(_BATCH_REAL))
+        int(n_grid), int(n_grid) if keep else 0, int(threads), len(_BATCH_INT), len(_BATCH_REAL), stop))
     status = int(status)
     if status != STATUS_OK:
         raise ValueError(status_message(status))
