@@ -80,6 +80,24 @@ int main(void) {
         return 1;
     printf("slope_proposed_x_end=%.17g\n", y_out[2 * (NOUT - 1)]);
 
+    /* Any law, scene and method of the registry by name, parameters and controls by name:
+     * the same slope run through ss_run, then the implicit RADAU5 on the RecurDyn law. */
+    double x_struct = y_out[2 * (NOUT - 1)];
+    double y0s[2] = {0.0, 0.0}, rtol = 1e-8, atol = 1e-10;
+    double ctl[2] = {1e-6, 1e-2};
+    if (check("ss_run dopri5", ss_run(ss_code("scene", "slope"), ss_code("law", "proposed"),
+                                      ss_code("method", "dopri5"), "", 0, NULL, 2, y0s, 20.0, 1, &rtol,
+                                      &atol, "hmin,hmax", 2, ctl, NOUT, t_out, y_out, &st)))
+        return 1;
+    printf("slope_proposed_by_name_equal=%d\n", y_out[2 * (NOUT - 1)] == x_struct);
+    double vs = 0.02, rtol5 = 1e-6, atol5 = 1e-9;
+    if (check("ss_run radau5", ss_run(SS_SCENE_SLOPE, ss_code("law", "recurdyn"), SS_METHOD_RADAU5, "v_s", 1,
+                                      &vs, 2, y0s, 20.0, 1, &rtol5, &atol5, "", 0, NULL, NOUT, t_out, y_out, &st)))
+        return 1;
+    printf("slope_recurdyn_radau5_v_end=%.17g\nslope_recurdyn_radau5_njac=%lld\n", y_out[2 * (NOUT - 1) + 1],
+           (long long)st.njac);
+    printf("unknown_law_code=%d\n", ss_code("law", "no-such-law"));
+
     /* Your own ODE with the library's DOPRI5, through a C function pointer. */
     double lambda = 2.0, y0 = 1.0, t1[1] = {1.0}, y1[1], tol = 1e-10;
     if (check("ss_dopri5", ss_dopri5(decay, &lambda, 1, 0.0, &y0, 1.0, 1, &tol, &tol, NULL, 1, t1, y1, &st)))

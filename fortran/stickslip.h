@@ -1,15 +1,17 @@
 /* stickslip.h: the C interface of the stickslip library (Fortran module stickslip_capi).
  *
  * Friction laws of Yoo & Lee (2008), the two scenes (box on a slope, spring-mass on a moving
- * belt), and the library's classical RK4 and Dormand-Prince 5(4) integrators, also for a
- * user's own ODE. Units are SI: m, s, kg, m/s; angles in degrees.
+ * belt), and the library's integrators (classical RK4, Dormand-Prince 5(4), RADAU5, implicit
+ * Euler, generalized-alpha); RK4 and DOPRI5 also for a user's own ODE. Any law, scene and
+ * method by code (ss_code) with parameters and controls by name: ss_run, ss_mu.
+ * Units are SI: m, s, kg, m/s; angles in degrees.
  *
  * Every function except the *_default ones returns a status: SS_OK (0) on success, a
- * negative code otherwise (-1 .. -9: the run ended early; <= -100: one bad input parameter).
+ * negative code otherwise (-1 .. -99: the run ended early; <= -100: one bad input).
  * ss_message() explains a code.
  *
  * Arrays: states are stored row by row, y_out[i * n + j] = component j at t_out[i]
- * (n = 2 for the scenes: x [m], v [m/s]).
+ * (n = 2 for the scenes with a static law: x [m], v [m/s]; then the law's internal states).
  *
  * Link: cc prog.c $(pkg-config --cflags --libs stickslip)
  */
@@ -23,48 +25,10 @@
 extern "C" {
 #endif
 
-/* Friction laws, scenes, methods (the Fortran codes LAW_*, SCENE_*, METHOD_*). */
-#define SS_LAW_COULOMB 1    /* eq. 1: discontinuous */
-#define SS_LAW_RECURDYN 2   /* eqs. 2-3: haversine steps, v_d = dynamic threshold */
-#define SS_LAW_PROPOSED 3   /* eq. 5, Roh & Yoo (2007) */
-#define SS_SCENE_SLOPE 1    /* box on a plane inclined theta_deg */
-#define SS_SCENE_BELT 2     /* mass on a belt moving at v_b, spring k to a wall */
-#define SS_METHOD_RK4 1     /* classical RK4, fixed step h */
-#define SS_METHOD_DOPRI5 2  /* Dormand-Prince 5(4), adaptive */
-
-/* Status codes (stickslip_kinds.f90). */
-#define SS_OK 0
-#define SS_STEP_BUDGET (-2)      /* max_steps attempted steps did not reach t_end */
-#define SS_STEP_TOO_SMALL (-3)   /* error test failed at hmin and allow_forced = 0 */
-#define SS_STIFF (-4)            /* judged stiff and stop_on_stiff = 1 */
-#define SS_NONFINITE (-5)        /* the solution became NaN or infinite */
-#define SS_OUTPUT_FULL (-6)      /* every-step output ran out of rows */
-#define SS_BAD_LAW (-100)
-#define SS_BAD_MU_S (-101)
-#define SS_BAD_MU_K (-102)
-#define SS_BAD_V_S (-103)
-#define SS_BAD_V_D (-104)
-#define SS_BAD_BETA (-105)
-#define SS_BAD_A (-106)
-#define SS_BAD_SCENE (-110)
-#define SS_BAD_M (-111)
-#define SS_BAD_G (-112)
-#define SS_BAD_THETA (-113)
-#define SS_BAD_K (-114)
-#define SS_BAD_V_B (-115)
-#define SS_BAD_METHOD (-120)
-#define SS_BAD_H (-121)
-#define SS_BAD_T_END (-122)
-#define SS_BAD_RTOL (-123)
-#define SS_BAD_ATOL (-124)
-#define SS_BAD_HMIN (-125)
-#define SS_BAD_HMAX (-126)
-#define SS_BAD_N_OUT (-127)
-#define SS_BAD_MAX_STEPS (-128)
-#define SS_BAD_Y0 (-129)
-#define SS_BAD_H0 (-130)
-#define SS_BAD_CONTROL (-131)
-#define SS_BAD_DIM (-132)
+/* The codes of laws, scenes, methods and status codes: SS_LAW_COULOMB, SS_SCENE_SLOPE,
+ * SS_METHOD_RADAU5, SS_OK, SS_STEP_BUDGET, SS_BAD_MU_K, ... generated at build time from the
+ * library's registry (every law, scene, method and parameter it has). */
+#include "stickslip_codes.h"
 
 /* Physical parameters; ss_params_default() gives the paper's Table 1 values. */
 typedef struct {

@@ -103,10 +103,10 @@ def test_readme_installs_the_library_alone(readme_builds: dict) -> None:
     files = readme_builds["installed"]
     for want in ("libstickslip.a", "libstickslip.so", "pkgconfig/stickslip.pc"):
         assert any(f.startswith("lib") and f.endswith(want) for f in files), (want, files)
-    assert "include/stickslip/stickslip.h" in files
-    for mod in ("kinds", "friction", "ode", "rk4", "dopri5", "scenes", "simulate", "capi"):
+    assert "include/stickslip/stickslip.h" in files and "include/stickslip/stickslip_codes.h" in files
+    for mod in ("kinds", "friction", "ode", "rk4", "dopri5", "radau5", "scenes", "registry", "simulate", "capi"):
         assert f"include/stickslip/stickslip_{mod}.mod" in files, mod
-    library = re.compile(r"include/stickslip/stickslip(_\w+\.mod|\.h)"
+    library = re.compile(r"include/stickslip/stickslip(_\w+\.mod|_codes\.h|\.h)"
                          r"|lib[^/]*/([^/]+/)?(libstickslip\.(a|so[.\d]*)|pkgconfig/stickslip\.pc)")
     others = [f for f in files if not library.fullmatch(f)]
     assert not others, f"installed besides the library: {others}"
@@ -207,6 +207,12 @@ def test_c_example(readme_builds: dict, link: str) -> None:
     # Slope: tan(10 deg) < mu_k, the box should not move; the proposed law creeps far less
     # than the paper's 0.1 m of the RecurDyn law.
     assert 0.0 <= float(k["slope_proposed_x_end"]) < 0.1
+    # by name (ss_code, ss_run): the same run bit for bit; RADAU5 creeps at v* with
+    # mu(v*) = tan 10 deg, on the haversine's first branch: v* = (v_s/pi) acos(1 - 2 tan/mu_s)
+    assert int(k["slope_proposed_by_name_equal"]) == 1 and int(k["unknown_law_code"]) == 0
+    v_star = 0.02 / math.pi * math.acos(1.0 - 2.0 * math.tan(math.radians(10.0)) / 0.35)
+    assert float(k["slope_recurdyn_radau5_v_end"]) == pytest.approx(v_star, rel=1e-5)
+    assert int(k["slope_recurdyn_radau5_njac"]) >= 1
     # A user's ODE through a C function pointer: y' = -2 y, y(1) = exp(-2).
     assert abs(float(k["decay_y_end"]) - math.exp(-2.0)) < 1e-8
     assert int(k["decay_nfev"]) == 6 * int(k["decay_nstep"]) + 2
