@@ -399,7 +399,7 @@ contains
         character(len=NAME_LEN), allocatable :: all(:)
         real(dp) :: x
         integer :: i
-        all = split_names(names)
+        allocate(all, source=split_names(names))
         allocate(keys(0), vals(0))
         do i = 1, size(all)
             select case (all(i))

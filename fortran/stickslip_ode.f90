@@ -258,10 +258,9 @@ contains
                     status = SS_BAD_N_OUT
                 else if (t_out(i) < t0 .or. t_out(i) > t_end) then
                     status = SS_BAD_N_OUT
-                else if (i > 1) then
-                    if (t_out(i) < t_out(i - 1)) status = SS_BAD_N_OUT
                 end if
             end do
+            if (any(t_out(2:) < t_out(:size(t_out) - 1))) status = SS_BAD_N_OUT
         end if
     end function check_problem
 

@@ -385,7 +385,7 @@ contains
                    trim(adjustl(c)) // '|' // param_rule(PARAMS(i)) // '|' // trim(PARAMS(i)%doc) // nl
         end do
         text = text // 'stats|' // STATS_INTEGER_NAMES // '|' // STATS_REAL_NAMES // nl
-        snames = split_names(STATUS_NAMES)
+        allocate(snames, source=split_names(STATUS_NAMES))
         do i = 1, size(STATUS_CODES)
             write (a, '(i0)') STATUS_CODES(i)
             text = text // 'status|' // trim(snames(i)) // '|' // trim(a) // '|' // &
