@@ -152,7 +152,8 @@ contains
             call self%law%evaluate(y(2), y(3:), self%mu_hold, mu, dydt(3:))
         end if
         dydt(1) = y(2)
-        dydt(2) = self%g_sin - mu * self%g_cos
+        ! c (mu_hold - mu), so that mu = mu_hold (a stick band) holds v exactly, not to rounding
+        dydt(2) = merge(self%g_cos * (self%mu_hold - mu), self%g_sin - mu * self%g_cos, self%g_cos > 0.0_dp)
     end subroutine slope_rhs
 
     subroutine belt_rhs(self, t, y, dydt)
