@@ -11,6 +11,9 @@ import numpy as np
 import pytest
 
 import stickslip as ss
+from cases import _common
+from cases import laws_compare as lc
+from cases.laws_compare import coulomb_cycle, maxima
 
 MU_S, MU_K, V_S, G = 0.35, 0.30, 0.01, 9.81
 THETA = math.radians(10.0)
@@ -186,23 +189,6 @@ def test_stribeck_creeps_at_the_predicted_speed(method, kw, tol):
 # ---------------------------------------------------------------------------------------------
 # Belt
 # ---------------------------------------------------------------------------------------------
-def coulomb_cycle():
-    """The exact Coulomb stick-slip cycle of the belt: (x_max, x_min, period, first break-away)."""
-    d = X_S - X_K
-    amp = math.hypot(d, V_B / OMEGA)
-    phi0 = math.atan2(d, V_B / OMEGA)
-    period = (2 * math.pi - 2 * phi0) / OMEGA + 2 * d / V_B        # slip, then stick from X_K - d to X_S
-    return X_K + amp, X_K - amp, period, X_S / V_B
-
-
-def maxima(t, x):
-    """Times (parabolic interpolation) and values of the local maxima of x on a uniform grid."""
-    i = np.flatnonzero((x[1:-1] > x[:-2]) & (x[1:-1] >= x[2:])) + 1
-    a, b, c = x[i - 1], x[i], x[i + 1]
-    shift = 0.5 * (a - c) / (a - 2 * b + c)
-    return t[i] + shift * (t[1] - t[0]), b - 0.25 * (a - c) * shift
-
-
 def test_coulomb_cycle_numbers():
     x_max, x_min, period, t_break = coulomb_cycle()
     assert (round(x_max, 6), round(x_min, 6), round(period, 6), round(t_break, 4)) == \
@@ -278,3 +264,34 @@ def test_lugre_rk4_stability_limit_on_the_belt():
     assert np.max(np.abs(bad.z)) > 2 * z_lim
     with pytest.raises(ss.NonFiniteSolution):           # the paper's steps overflow
         ss.simulate("belt", "lugre", method="rk4", h=1e-4, t_end=1.0)
+
+
+# ---------------------------------------------------------------------------------------------
+# The study driver (reduced to three laws, no step search)
+# ---------------------------------------------------------------------------------------------
+def test_laws_compare_driver(tmp_path):
+    files = lc.run(tmp_path, quick=True, quiet=True, laws=("karnopp", "stribeck", "lugre"))
+    names = {f.name for f in files}
+    assert {"laws_compare_slope.csv", "laws_compare_belt.png", "laws_compare.md"} <= names
+    assert all(f.stat().st_size > 0 for f in files)
+    slope = _common.read_csv(tmp_path / "laws_compare_slope.csv")
+    assert all("[" in h for h in slope)
+    rows = list(zip(*slope.values()))
+    assert {r[1] for r in rows} == set(ss.METHODS)
+    for r in rows:
+        if r[0] == "karnopp":
+            assert float(r[4]) == 0.0 and float(r[5]) == 0.0          # truth: no creep
+        if r[0] == "stribeck":
+            assert float(r[5]) == pytest.approx(stribeck_creep_speed(), rel=1e-5)
+    belt = _common.read_csv(tmp_path / "laws_compare_belt.csv")
+    x_max = coulomb_cycle()[0]
+    brows = {(r[0], r[1], r[2]): r for r in zip(*belt.values())}
+    k = brows[("karnopp", "dopri5", "")]
+    # dv = 1e-3 m/s: the derived bound of test_karnopp_reproduces_the_coulomb_cycle, 7.6e-4 m
+    assert abs(float(k[4]) - x_max) < 7.6e-4 and abs(float(k[7])) < 7.6e-4
+    assert int(brows[("lugre", "rk4", "0.001")][3]) == ss.REGISTRY["status"]["NONFINITE"]
+    assert abs(float(brows[("lugre sigma2=0", "dopri5", "")][7])) < 1e-4
+    rest = {r[0]: r for r in zip(*_common.read_csv(tmp_path / "laws_compare_rest.csv").values())}
+    assert float(rest["lugre"][4]) == pytest.approx(-G * SIGMA2 / 2, rel=1e-3)
+    again = lc.plot(tmp_path / "laws_compare_rest.csv", tmp_path / "again")
+    assert again.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
