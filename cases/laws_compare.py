@@ -4,7 +4,8 @@ facade's default tolerances), against exact answers::
 
     python -m cases.laws_compare --outdir out/       # about 15 s
 
-Four tables (CSV with units, a PNG each, and laws_compare.md with all of them):
+Four tables (CSV with units, a PNG each, and laws_compare.md with all of them), and the
+presliding transients of the laws with internal states:
 
 - laws_compare_slope.csv: the box on the 10 degree slope from rest, 20 s. Truth: a box held by
   static friction (tan 10 deg = 0.176 < mu_s = 0.35) does not move, x(20 s) = 0. Regularised
@@ -27,6 +28,9 @@ Four tables (CSV with units, a PNG each, and laws_compare.md with all of them):
   and "1 %" (bounded, and v within 1 % of its largest value, + 1e-6 m/s, of a DOPRI5 run at
   rtol = 1e-9 over the second half: a step that also gets the answer right). 1e-2 means "not
   limited in the range", 0 "no step in the range".
+- laws_compare_presliding.csv: x and the internal states (named from Result.state_labels,
+  e.g. "z lugre [m]") of every law with states on the slope over the first 50 ms, DOPRI5 at
+  rtol = 1e-10: the bristle settles at sigma0 z = tan(theta).
 
 The bristle laws run with the 1995 paper's viscous term sigma2 (their defaults) and again
 with sigma2 = 0 on the belt ("lugre sigma2=0"): the viscous term damps the belt's
@@ -275,6 +279,23 @@ def hmax_rows(quiet: bool, laws: Sequence[str] | None = None) -> list[list[Any]]
     return rows
 
 
+def presliding(laws: Sequence[str] | None = None) -> dict[str, np.ndarray]:
+    """Columns {"t [s]", "x <law> [m]", "<state> <law> [unit]"...} of the slope's first 50 ms
+    for every law with internal states."""
+    import stickslip
+    cols: dict[str, np.ndarray] = {}
+    for _, law, _ in configs(belt=False, laws=laws):
+        if stickslip.REGISTRY["law"][law]["n_states"] == 0:
+            continue
+        r, _ = simulate("slope", law, "dopri5", None, 0.05, 501, rtol=1e-10, atol=1e-15)
+        cols["t [s]"] = r.t
+        cols[f"x {law} [m]"] = r.x
+        for label, z in zip(r.state_labels, r.z):
+            name, unit = c.split_unit(label)
+            cols[f"{name} {law} [{unit}]"] = z
+    return cols
+
+
 # --------------------------------------------------------------------------------------------
 # Driver
 # --------------------------------------------------------------------------------------------
@@ -294,6 +315,10 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: boo
         csv = c.write_csv(outdir / f"laws_compare_{name}.csv", header, rows)
         files += [csv, plot(csv, outdir)]
         md += [f"\n## {name}\n\n", c.markdown_table(header, rows)]
+    cols = presliding(laws)
+    if cols:
+        csv = c.write_columns(outdir / "laws_compare_presliding.csv", cols)
+        files += [csv, plot(csv, outdir)]
     files.append(c.write_text(outdir / "laws_compare.md", "".join(md)))
     c.log(f"laws_compare: {time.perf_counter() - t0:.1f} s", quiet)
     return files
@@ -312,6 +337,19 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     """Render one laws_compare CSV as a bar chart grouped by law (PNG, from the CSV alone)."""
     csv = Path(csv)
     kind = csv.stem.removeprefix("laws_compare_")
+    if kind == "presliding":
+        data = c.read_numeric_csv(csv)
+        names = list(data)
+        fig, ax = c.new_figure()
+        for i, name in enumerate(names[1:]):
+            ax.plot(data[names[0]] * 1e3, data[name] * 1e6, label=c.split_unit(name)[0],
+                    color=c.VARIANT_COLORS[i % len(c.VARIANT_COLORS)],
+                    linestyle=c.VARIANT_STYLES[i % len(c.VARIANT_STYLES)])
+        ax.set_xlabel("t [ms]")
+        ax.set_ylabel("[um]")
+        ax.set_title("Slope 10 deg from rest: presliding displacement x and bristle deflection z")
+        ax.legend(loc="best")
+        return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
     column, log, title = FIGURES[kind]
     cols = c.read_csv(csv)
     laws = list(dict.fromkeys(cols["law [-]"]))

@@ -293,5 +293,8 @@ def test_laws_compare_driver(tmp_path):
     assert abs(float(brows[("lugre sigma2=0", "dopri5", "")][7])) < 1e-4
     rest = {r[0]: r for r in zip(*_common.read_csv(tmp_path / "laws_compare_rest.csv").values())}
     assert float(rest["lugre"][4]) == pytest.approx(-G * SIGMA2 / 2, rel=1e-3)
+    pre = _common.read_numeric_csv(tmp_path / "laws_compare_presliding.csv")
+    assert list(pre) == ["t [s]", "x lugre [m]", "z lugre [m]"]          # named from state_labels
+    assert pre["z lugre [m]"][-1] == pytest.approx(TAN / SIGMA0, rel=2e-3)   # settling after 50 ms
     again = lc.plot(tmp_path / "laws_compare_rest.csv", tmp_path / "again")
     assert again.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
