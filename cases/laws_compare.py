@@ -2,7 +2,7 @@
 registry (fixed-step methods at the paper's steps h = 1e-3 s and 1e-4 s, adaptive ones at the
 facade's default tolerances), against exact answers::
 
-    python -m cases.laws_compare --outdir out/       # about 15 s
+    python -m cases.laws_compare --outdir out/       # about 20 s
 
 Four tables (CSV with units, a PNG each, and laws_compare.md with all of them), and the
 presliding transients of the laws with internal states:
