@@ -15,7 +15,7 @@
 !! defaults, so holding coefficients up to 0.8 mu_k = 0.24 stick elastically (the 10 degree
 !! slope, tan = 0.176, and its 17 % overshoot stay elastic).
 module stickslip_law_elastoplastic
-    use stickslip_kinds, only: dp
+    use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_spec, param_values, param_read
     use stickslip_law_lugre, only: lugre_law
     implicit none
@@ -48,7 +48,7 @@ contains
         real(dp) :: ratio
         status = self%lugre_law%init(p)
         call param_read(p, Z_BA_RATIO_SPEC, ratio, status)
-        self%z_ba = ratio * self%mu_k / self%sigma0
+        if (status == SS_OK) self%z_ba = ratio * self%mu_k / self%sigma0
     end function elastoplastic_init
 
     !> Dupont et al.'s alpha(z, v) (see the module notes).

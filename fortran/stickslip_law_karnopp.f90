@@ -88,8 +88,12 @@ contains
 
     !> Karnopp's law at v with holding coefficient mu_hold.
     elemental function karnopp(v, mu_hold, mu_s, mu_k, dv) result(mu)
-        real(dp), intent(in) :: v, mu_hold, mu_s, mu_k, dv
-        real(dp) :: mu
+        real(dp), intent(in) :: v          !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu_hold    !! coefficient that would hold v constant [-]
+        real(dp), intent(in) :: mu_s       !! static coefficient [-]
+        real(dp), intent(in) :: mu_k       !! kinetic coefficient [-]
+        real(dp), intent(in) :: dv         !! half-width of the stick band [m/s]
+        real(dp) :: mu                     !! friction coefficient [-]
         if (abs(v) < dv) then
             mu = max(-mu_s, min(mu_s, mu_hold))
         else

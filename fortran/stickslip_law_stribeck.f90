@@ -100,8 +100,12 @@ contains
 
     !> dg/ds [s/m] for s > 0 (infinite at s = 0 when delta < 1).
     elemental function stribeck_curve_slope(s, mu_s, mu_k, v_s, delta) result(d)
-        real(dp), intent(in) :: s, mu_s, mu_k, v_s, delta
-        real(dp) :: d
+        real(dp), intent(in) :: s       !! sliding speed |v| > 0 [m/s]
+        real(dp), intent(in) :: mu_s    !! static coefficient [-]
+        real(dp), intent(in) :: mu_k    !! kinetic coefficient [-]
+        real(dp), intent(in) :: v_s     !! Stribeck velocity [m/s]
+        real(dp), intent(in) :: delta   !! shape exponent [-]
+        real(dp) :: d                   !! dg/ds [s/m]
         d = -(mu_s - mu_k) * delta / v_s * (s / v_s)**(delta - 1.0_dp) * exp(-(s / v_s)**delta)
     end function stribeck_curve_slope
 
