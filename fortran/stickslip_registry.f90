@@ -22,6 +22,10 @@ module stickslip_registry
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_recurdyn, only: recurdyn_law, V_D_SPEC
     use stickslip_law_proposed, only: proposed_law, BETA_SPEC, A_SPEC
+    use stickslip_law_stribeck, only: stribeck_law, DELTA_SPEC, C_V_SPEC, V_EPS_SPEC
+    use stickslip_law_karnopp, only: karnopp_law, DV_SPEC
+    use stickslip_law_lugre, only: lugre_law, SIGMA0_SPEC, SIGMA1_SPEC, SIGMA2_SPEC
+    use stickslip_law_elastoplastic, only: elastoplastic_law, Z_BA_RATIO_SPEC
     use stickslip_scenes, only: friction_scene, slope_scene, belt_scene, G_SPEC, THETA_SPEC, M_SPEC, &
                                 K_SPEC, V_B_SPEC
     use stickslip_rk4, only: rk4_integrate, RK4_INFO
@@ -46,8 +50,14 @@ module stickslip_registry
     type(entry_info), parameter, public :: LAW_TABLE(*) = [ &
         entry_info('coulomb', 'mu_s mu_k v_s', 'Coulomb (eq. 1), discontinuous'), &
         entry_info('recurdyn', 'mu_s mu_k v_s v_d', 'RecurDyn/ADAMS haversine steps (eqs. 2-3)'), &
-        entry_info('proposed', 'mu_s mu_k v_s beta a', 'Roh & Yoo (2007) (eq. 5)')]
-    integer, parameter, public :: LAW_COULOMB = 1, LAW_RECURDYN = 2, LAW_PROPOSED = 3
+        entry_info('proposed', 'mu_s mu_k v_s beta a', 'Roh & Yoo (2007) (eq. 5)'), &
+        entry_info('stribeck', 'mu_s mu_k v_s delta c_v v_eps', 'Stribeck curve + viscous, tanh ramp at rest'), &
+        entry_info('karnopp', 'mu_s mu_k dv', 'Karnopp stick band |v| < dv, mu_k outside'), &
+        entry_info('lugre', 'mu_s mu_k v_s sigma0 sigma1 sigma2', 'LuGre bristle (Canudas de Wit et al. 1995)'), &
+        entry_info('elastoplastic', 'mu_s mu_k v_s sigma0 sigma1 sigma2 z_ba_ratio', &
+                   'elasto-plastic bristle (Dupont et al. 2002)')]
+    integer, parameter, public :: LAW_COULOMB = 1, LAW_RECURDYN = 2, LAW_PROPOSED = 3, &
+        LAW_STRIBECK = 4, LAW_KARNOPP = 5, LAW_LUGRE = 6, LAW_ELASTOPLASTIC = 7
 
     !> The scenes; the code of a scene is its position.
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
@@ -63,7 +73,8 @@ module stickslip_registry
 
     !> Every physical parameter of every law and scene, each once.
     type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
-        BETA_SPEC, A_SPEC, M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC]
+        BETA_SPEC, A_SPEC, DELTA_SPEC, C_V_SPEC, V_EPS_SPEC, DV_SPEC, SIGMA0_SPEC, SIGMA1_SPEC, &
+        SIGMA2_SPEC, Z_BA_RATIO_SPEC, M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC]
 
 contains
 
@@ -77,6 +88,10 @@ contains
         case (LAW_COULOMB);  allocate(coulomb_law :: law)
         case (LAW_RECURDYN); allocate(recurdyn_law :: law)
         case (LAW_PROPOSED); allocate(proposed_law :: law)
+        case (LAW_STRIBECK); allocate(stribeck_law :: law)
+        case (LAW_KARNOPP);  allocate(karnopp_law :: law)
+        case (LAW_LUGRE);    allocate(lugre_law :: law)
+        case (LAW_ELASTOPLASTIC); allocate(elastoplastic_law :: law)
         case default;        status = SS_BAD_LAW
         end select
     end function new_law
@@ -289,7 +304,7 @@ contains
                 end if
             end if
             if (start > 0) then
-                names = [names, t(start:i - 1)]
+                names = [character(len=NAME_LEN) :: names, t(start:i - 1)]
                 start = 0
             end if
         end do

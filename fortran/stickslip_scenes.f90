@@ -146,13 +146,14 @@ contains
         real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z...)
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
         real(dp) :: mu
+        dydt(1) = y(2)
         if (self%static_law) then
-            mu = self%law%mu(y(2))
+            dydt(2) = self%g_sin - self%law%mu(y(2)) * self%g_cos
         else
             call law_with_states(self, y(2), self%mu_hold, y, dydt, mu)
+            ! c (mu_hold - mu), so that mu = mu_hold (a stick band) holds v exactly, not to rounding
+            dydt(2) = merge(self%g_cos * (self%mu_hold - mu), self%g_sin - mu * self%g_cos, self%g_cos > 0.0_dp)
         end if
-        dydt(1) = y(2)
-        dydt(2) = self%g_sin - mu * self%g_cos
     end subroutine slope_rhs
 
     subroutine belt_rhs(self, t, y, dydt)

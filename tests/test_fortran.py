@@ -50,10 +50,18 @@ def test_fortran_core_suite(native_build):
     assert "all core checks passed" in proc.stdout
 
 
+def test_fortran_law_suite(native_build):
+    """tests/fortran/test_laws.f90: dmu, evaluate, alpha and the parameter table."""
+    exe = compile_target(native_build, "test_laws")
+    proc = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "FAIL" not in proc.stdout and "all law checks passed" in proc.stdout, proc.stdout
+
+
 def test_meson_test_suite(native_build):
-    """`meson test`: the Fortran unit tests and both examples built in-tree from the core."""
+    """`meson test`: the two Fortran unit tests and both examples built in-tree from the core."""
     from conftest import _tool
     proc = subprocess.run([_tool("meson"), "test", "-C", str(native_build), "--print-errorlogs"],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert re.search(r"Ok:\s+5\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+    assert re.search(r"Ok:\s+6\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout

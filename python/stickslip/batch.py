@@ -123,8 +123,9 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     DEFAULTS, v_d = None meaning 1.5 v_s; controls of the methods, e.g. h [s] for fixed-step
     rows, rtol, atol, hmin, hmax, h0 [s] and max_steps for adaptive rows, allow_forced) are a
     scalar or a 1-D sequence, broadcast to one row per parameter set, with the meaning they have
-    in `stickslip.simulate`. A control is passed only to the rows whose method reads it (h may be
-    None or NaN on adaptive rows); internal states of a law start at 0.
+    in `stickslip.simulate`. A control is passed only to the rows whose method reads it (so one
+    hmin can serve the adaptive rows of a sweep that also has RK4 rows; h may be None or NaN on
+    adaptive rows); a name no method reads is an error. Internal states of a law start at 0.
 
     Each row is integrated on the grid numpy.linspace(0, t_end, n_grid), so with
     keep_grid=True row i reproduces `simulate(..., n_out=n_grid)` exactly. The summary
@@ -179,12 +180,7 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     cvals = np.full((len(cnames), n), np.nan)
     for j, c in enumerate(cnames):
         if "c:" + c in rows:
-            given = rows["c:" + c]
-            extra = ~reads[c] & np.isfinite(given)
-            if c != "h" and np.any(extra):
-                i = int(np.flatnonzero(extra)[0])
-                raise ValueError(f"{c}: not a control of method {rows['method'][i]!r} (row {i})")
-            cvals[j] = np.where(reads[c], given, np.nan)
+            cvals[j] = np.where(reads[c], rows["c:" + c], np.nan)   # rows of other methods ignore it
         elif c in CONTROL_DEFAULTS:
             cvals[j] = np.where(reads[c], float(CONTROL_DEFAULTS[c]), np.nan)
         elif c == "max_steps":

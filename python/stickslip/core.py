@@ -284,7 +284,12 @@ def friction_coefficient(law: str, v: Any, **params: float) -> np.ndarray:
     keys, vals = _keys(given)
     mu, status = _ext.friction(code, keys, vals, np.ascontiguousarray(vv.ravel()))
     _check_code(int(status))
-    return np.asarray(mu).reshape(vv.shape)
+    mu = np.asarray(mu).reshape(vv.shape)
+    if not np.all(np.isfinite(mu)):
+        bad = vv.reshape(-1)[int(np.flatnonzero(~np.isfinite(mu.reshape(-1)))[0])]
+        raise ValueError(f"v: mu({bad!r}) overflows with these parameters (a viscous term times a huge "
+                         "velocity); use velocities and parameters whose product stays finite")
+    return mu
 
 
 def _controls(method: str, given: dict[str, Any]) -> dict[str, float]:

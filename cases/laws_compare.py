@@ -1,0 +1,397 @@
+"""Which friction law? Every law of the registry on both scenes, with every method of the
+registry (fixed-step methods at the paper's steps h = 1e-3 s and 1e-4 s, adaptive ones at the
+facade's default tolerances), against exact answers::
+
+    python -m cases.laws_compare --outdir out/       # about 20 s
+
+Four tables (CSV with units, a PNG each, and laws_compare.md with all of them), and the
+presliding transients of the laws with internal states:
+
+- laws_compare_slope.csv: the box on the 10 degree slope from rest, 20 s. Truth: a box held by
+  static friction (tan 10 deg = 0.176 < mu_s = 0.35) does not move, x(20 s) = 0. Regularised
+  laws creep at v* with mu(v*) = tan(theta); bristle laws settle at a presliding displacement
+  of order tan(theta)/sigma0 (2e-5 m) and stop.
+- laws_compare_belt.csv: the mass on the belt started stuck (x0 = 0, v0 = v_b), 10 s, against
+  the exact Coulomb stick-slip cycle (`coulomb_cycle`: stick until k x = mu_s m g, harmonic slip
+  about x_k = mu_k m g / k at w = sqrt(k/m) until the mass is back at belt speed, stick again):
+  extremes and period of the last cycle, and the time from which every maximum is within 1 mm
+  of the exact one ("reached the Coulomb cycle"), with the cost (right-hand-side evaluations,
+  CPU seconds).
+- laws_compare_rest.csv: the belt from rest, 30 s, adaptive method: the growth rate of the
+  oscillation, measured from its peaks, against -g mu'(v_b)/2 (the linearisation
+  m x'' + m g mu'(v_b) x' + k x = const), and the first time the mass sticks (v_rel < 1e-3 m/s).
+  Only a law whose steady curve falls at the belt speed (mu' < 0) grows from rest into stick-slip.
+- laws_compare_hmax.csv: the largest RK4 step (bisection in log h over [1e-6, 1e-2] s,
+  assuming one boundary; slope 2 s from rest, belt 3 s from stuck) by two criteria:
+  "bounded" (finite, |v| within the scene's physical bound, and for bristle laws
+  |z| <= mu_s/sigma0, an invariant of the exact solution: RK4's stability in the strict sense)
+  and "1 %" (bounded, and v within 1 % of its largest value, + 1e-6 m/s, of a DOPRI5 run at
+  rtol = 1e-9 over the second half: a step that also gets the answer right). 1e-2 means "not
+  limited in the range", 0 "no step in the range".
+- laws_compare_presliding.csv: x and the internal states (named from Result.state_labels,
+  e.g. "z lugre [m]") of every law with states on the slope over the first 50 ms, DOPRI5 at
+  rtol = 1e-10: the bristle settles at sigma0 z = tan(theta).
+
+The bristle laws run with the 1995 paper's viscous term sigma2 (their defaults) and again
+with sigma2 = 0 on the belt ("lugre sigma2=0"): the viscous term damps the belt's
+oscillation at g sigma2 / 2 = 0.2 1/s, which ends its stick-slip.
+
+Methods come from stickslip.METHODS, so methods added to the registry (implicit ones) join
+the study without a change here. --threads is accepted for `python -m cases`; the runs are
+serial (about 400 short simulations).
+"""
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from . import _common as c
+
+STEPS: tuple[float, ...] = (1e-3, 1e-4)      # the paper's RK4 steps [s]
+SLOPE_T: float = 20.0                        # [s]
+BELT_T: float = 10.0                         # [s]
+REST_T: float = 30.0                         # [s]
+BELT_N: int = 20001                          # output every 0.5 ms
+CYCLE_TOL: float = 1e-3                      # [m]: "reached the Coulomb cycle"
+STICK_V: float = 1e-3                        # [m/s]: v_rel below which the mass counts as stuck
+RK4_LIMIT: float = 2.785293563405282         # RK4 stability interval on the negative real axis
+P: dict[str, float] = {"m": 10.0, "k": 300.0, "v_b": 1.5, "g": 9.81, "theta_deg": 10.0}
+#: Extra configurations of the belt studies: (label, law, parameters).
+EXTRA: tuple[tuple[str, str, dict[str, float]], ...] = (
+    ("lugre sigma2=0", "lugre", {"sigma2": 0.0}),
+    ("elastoplastic sigma2=0", "elastoplastic", {"sigma2": 0.0}))
+
+SLOPE_HEADER = ["law [-]", "method [-]", "h [s]", "status [-]", "x_20 [m]", "v_20 [m/s]",
+                "z_20 [m]", "nfev [-]", "cpu [s]"]
+BELT_HEADER = ["law [-]", "method [-]", "h [s]", "status [-]", "x_max [m]", "x_min [m]",
+               "period [s]", "err_x_max [m]", "err_x_min [m]", "err_period [s]",
+               "t_coulomb [s]", "nfev [-]", "cpu [s]"]
+REST_HEADER = ["law [-]", "method [-]", "dmu_dv_at_v_b [s/m]", "rate_predicted [1/s]",
+               "rate_measured [1/s]", "t_first_stick [s]", "nfev [-]", "cpu [s]"]
+HMAX_HEADER = ["law [-]", "scene [-]", "h_bounded [s]", "h_1pct [s]", "runs [-]"]
+
+
+# --------------------------------------------------------------------------------------------
+# Exact answers and measurements
+# --------------------------------------------------------------------------------------------
+def coulomb_cycle(mu_s: float = 0.35, mu_k: float = 0.30, m: float = P["m"], k: float = P["k"],
+                  v_b: float = P["v_b"], g: float = P["g"]) -> tuple[float, float, float, float]:
+    """The belt's exact Coulomb stick-slip cycle: (x_max [m], x_min [m], period [s], first
+    break-away time from x0 = 0 stuck [s]). The slip starts at x_s = mu_s m g / k with the belt's
+    speed and is harmonic about x_k = mu_k m g / k, amplitude A = hypot(x_s - x_k, v_b/w); it
+    ends at belt speed at x_k - (x_s - x_k), after the phase 2 pi - 2 phi0 (tan phi0 =
+    (x_s - x_k) w / v_b); the stick then carries the mass back to x_s in 2 (x_s - x_k)/v_b."""
+    w = math.sqrt(k / m)
+    x_s, x_k = mu_s * m * g / k, mu_k * m * g / k
+    d = x_s - x_k
+    amp = math.hypot(d, v_b / w)
+    phi0 = math.atan2(d, v_b / w)
+    return x_k + amp, x_k - amp, (2 * math.pi - 2 * phi0) / w + 2 * d / v_b, x_s / v_b
+
+
+def maxima(t: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Times and values of the local maxima of x on a uniform grid t (parabolic interpolation
+    through each maximum and its neighbours)."""
+    i = np.flatnonzero((x[1:-1] > x[:-2]) & (x[1:-1] >= x[2:])) + 1
+    a, b, cc = x[i - 1], x[i], x[i + 1]
+    den = a - 2 * b + cc
+    shift = np.where(den != 0, 0.5 * (a - cc) / np.where(den != 0, den, 1.0), 0.0)
+    return t[i] + shift * (t[1] - t[0]), b - 0.25 * (a - cc) * shift
+
+
+def variants() -> list[tuple[str, float | None]]:
+    """(method, h) for every registered method: fixed-step ones at STEPS, adaptive ones once."""
+    import stickslip
+    out: list[tuple[str, float | None]] = []
+    for name in stickslip.METHODS:
+        if "h" in stickslip.REGISTRY["method"][name]["controls"]:
+            out += [(name, h) for h in STEPS]
+        else:
+            out.append((name, None))
+    return out
+
+
+def configs(belt: bool, laws: Sequence[str] | None = None) -> list[tuple[str, str, dict[str, float]]]:
+    """(label, law, parameters): every registered law (or those of `laws`) at its defaults,
+    plus the EXTRA configurations of those laws on the belt."""
+    import stickslip
+    chosen = tuple(stickslip.LAWS if laws is None else laws)
+    return [(law, law, {}) for law in chosen] + [e for e in EXTRA if belt and e[1] in chosen]
+
+
+def simulate(scene: str, law: str, method: str, h: float | None, t_end: float, n_out: int,
+             **kw: Any) -> tuple[Any, int]:
+    """One run: (Result or the partial Result of a run that ended early, status)."""
+    import stickslip
+    extra = {"h": h} if h is not None else {}
+    try:
+        r = stickslip.simulate(scene, law, method=method, t_end=t_end, n_out=n_out, **extra,
+                               **{**{k: v for k, v in P.items() if k != "theta_deg" or scene == "slope"},
+                                  **kw})
+        return r, 0
+    except stickslip.IntegrationError as exc:
+        return exc.result, exc.status
+
+
+def bounded(scene: str, law: str, r: Any, status: int, t_end: float) -> bool:
+    """Finite, |v| within the scene's physical bound, bristle deflection within mu_s/sigma0."""
+    import stickslip
+    if status != 0 or not np.all(np.isfinite(r.v)):
+        return False
+    mu_s = 0.35
+    if scene == "slope":
+        th = math.radians(P["theta_deg"])
+        v_lim = P["g"] * (math.sin(th) + mu_s * math.cos(th)) * t_end
+    else:
+        v_lim = 10 * (P["v_b"] + mu_s * P["g"] * math.sqrt(P["m"] / P["k"]))
+    ok = float(np.max(np.abs(r.v))) <= v_lim
+    if "sigma0" in stickslip.REGISTRY["law"][law]["params"] and r.z.size:
+        ok = ok and float(np.max(np.abs(r.z))) <= mu_s / stickslip.DEFAULTS["sigma0"] * (1 + 1e-9)
+    return ok
+
+
+# --------------------------------------------------------------------------------------------
+# The four studies
+# --------------------------------------------------------------------------------------------
+def slope_rows(quiet: bool, laws: Sequence[str] | None = None) -> list[list[Any]]:
+    rows = []
+    for _, law, _ in configs(belt=False, laws=laws):
+        for method, h in variants():
+            r, status = simulate("slope", law, method, h, SLOPE_T, 201)
+            done = status == 0
+            rows.append([law, method, h, status, float(r.x[-1]) if done else None,
+                         float(r.v[-1]) if done else None,
+                         float(r.z[0, -1]) if done and r.z.size else None,
+                         r.stats["nfev"], r.stats["cpu_seconds"]])
+        c.log(f"laws_compare: slope {law}", quiet)
+    return rows
+
+
+def belt_rows(quiet: bool, laws: Sequence[str] | None = None) -> list[list[Any]]:
+    x_max, x_min, period, _ = coulomb_cycle()
+    rows = []
+    for label, law, par in configs(belt=True, laws=laws):
+        for method, h in variants():
+            r, status = simulate("belt", law, method, h, BELT_T, BELT_N, v0=P["v_b"], **par)
+            row: list[Any] = [label, method, h, status] + [None] * 7
+            if status == 0:
+                tm, xm = maxima(r.t, r.x)
+                tn, xn = maxima(r.t, -r.x)
+                if len(tm) >= 3 and len(tn) >= 1:
+                    per = float(np.mean(np.diff(tm[-3:])))
+                    near = np.flatnonzero(np.abs(xm - x_max) <= CYCLE_TOL)
+                    # from this maximum on, every one stays within CYCLE_TOL of the exact one
+                    reached = None
+                    for i in near:
+                        if np.all(np.abs(xm[i:] - x_max) <= CYCLE_TOL):
+                            reached = float(tm[i])
+                            break
+                    row[4:11] = [float(xm[-1]), float(-xn[-1]), per, float(xm[-1] - x_max),
+                                 float(-xn[-1] - x_min), per - period, reached]
+            rows.append(row + [r.stats["nfev"], r.stats["cpu_seconds"]])
+        c.log(f"laws_compare: belt {label}", quiet)
+    return rows
+
+
+def rest_rows(quiet: bool, laws: Sequence[str] | None = None) -> list[list[Any]]:
+    import stickslip
+    adaptive = [m for m in stickslip.METHODS if stickslip.REGISTRY["method"][m]["adaptive"]]
+    method = adaptive[0]
+    rows = []
+    eps = 1e-6
+    for label, law, par in configs(belt=True, laws=laws):
+        slope = float((stickslip.friction_coefficient(law, P["v_b"] + eps, **par)
+                       - stickslip.friction_coefficient(law, P["v_b"] - eps, **par)) / (2 * eps))
+        r, status = simulate("belt", law, method, None, REST_T, 30001, rtol=1e-9, atol=1e-12, **par)
+        measured = stick = None
+        if status == 0:
+            tm, xm = maxima(r.t, r.x)
+            tn, xn = maxima(r.t, -r.x)
+            first = np.flatnonzero(P["v_b"] - r.v < STICK_V)
+            stick = float(r.t[first[0]]) if first.size else None
+            # the growth before any sticking: peaks 2 .. 9 (or up to the first stick)
+            n = min(len(tm), len(tn), 9)
+            if stick is not None:
+                n = min(n, int(np.sum(tm < stick)), int(np.sum(tn < stick)))
+            if n >= 4:
+                amp = (xm[:n] + xn[:n]) / 2
+                measured = math.log(amp[n - 1] / amp[1]) / (tm[n - 1] - tm[1])
+        rows.append([label, method, slope, -P["g"] * slope / 2, measured, stick, r.stats["nfev"],
+                     r.stats["cpu_seconds"]])
+        c.log(f"laws_compare: rest {label}", quiet)
+    return rows
+
+
+def largest_step(ok: Any, lo: float = 1e-6, hi: float = 1e-2, iterations: int = 8) -> tuple[float, int]:
+    """(largest h in [lo, hi] with ok(h) found by bisection in log h [s] (hi if ok(hi), 0 if
+    not ok(lo)), runs). Assumes ok holds below one boundary and fails above it."""
+    if ok(hi):
+        return hi, 1
+    if not ok(lo):
+        return 0.0, 2
+    for _ in range(iterations):
+        mid = math.sqrt(lo * hi)
+        if ok(mid):
+            lo = mid
+        else:
+            hi = mid
+    return lo, 2 + iterations
+
+
+def step_limits(scene: str, law: str, method: str = "rk4") -> tuple[float, float, int]:
+    """(largest bounded h, largest h within 1 % of the reference [s], runs)."""
+    t_end, n_out = (2.0, 201) if scene == "slope" else (3.0, 301)
+    kw = {} if scene == "slope" else {"v0": P["v_b"]}
+    ref, status = simulate(scene, law, "dopri5", None, t_end, n_out, rtol=1e-9, atol=1e-12, **kw)
+    tail = ref.t >= t_end / 2
+    tol = 0.01 * float(np.max(np.abs(ref.v))) + 1e-6
+
+    def run_h(h: float) -> tuple[Any, bool]:
+        r, st = simulate(scene, law, method, h, t_end, n_out, **kw)
+        return r, bounded(scene, law, r, st, t_end)
+
+    def is_bounded(h: float) -> bool:
+        return run_h(h)[1]
+
+    def is_close(h: float) -> bool:
+        r, ok = run_h(h)
+        return ok and status == 0 and float(np.max(np.abs(r.v[tail] - ref.v[tail]))) <= tol
+
+    h_b, n_b = largest_step(is_bounded)
+    h_c, n_c = largest_step(is_close, hi=h_b if h_b > 0 else 1e-6)
+    return h_b, h_c, 1 + n_b + n_c
+
+
+def hmax_rows(quiet: bool, laws: Sequence[str] | None = None) -> list[list[Any]]:
+    import stickslip
+    fixed = [m for m in stickslip.METHODS if "h" in stickslip.REGISTRY["method"][m]["controls"]]
+    rows = []
+    for _, law, _ in configs(belt=False, laws=laws):
+        for scene in ("slope", "belt"):
+            for method in fixed:
+                h_b, h_c, runs = step_limits(scene, law, method)
+                rows.append([law, scene + ("" if method == "rk4" else f" {method}"), h_b, h_c, runs])
+        c.log(f"laws_compare: h_max {law}", quiet)
+    return rows
+
+
+def presliding(laws: Sequence[str] | None = None) -> dict[str, np.ndarray]:
+    """Columns {"t [s]", "x <law> [m]", "<state> <law> [unit]"...} of the slope's first 50 ms
+    for every law with internal states."""
+    import stickslip
+    cols: dict[str, np.ndarray] = {}
+    for _, law, _ in configs(belt=False, laws=laws):
+        if stickslip.REGISTRY["law"][law]["n_states"] == 0:
+            continue
+        r, _ = simulate("slope", law, "dopri5", None, 0.05, 501, rtol=1e-10, atol=1e-15)
+        cols["t [s]"] = r.t
+        cols[f"x {law} [m]"] = r.x
+        for label, z in zip(r.state_labels, r.z):
+            name, unit = c.split_unit(label)
+            cols[f"{name} {law} [{unit}]"] = z
+    return cols
+
+
+# --------------------------------------------------------------------------------------------
+# Driver
+# --------------------------------------------------------------------------------------------
+def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: bool = False,
+        laws: Sequence[str] | None = None) -> list[Path]:
+    """All four tables as CSV, a PNG each, and laws_compare.md, for every law (or `laws`).
+    `quick` skips the h search."""
+    outdir = Path(outdir)
+    t0 = time.perf_counter()
+    tables = {"slope": (SLOPE_HEADER, slope_rows(quiet, laws)), "belt": (BELT_HEADER, belt_rows(quiet, laws)),
+              "rest": (REST_HEADER, rest_rows(quiet, laws))}
+    if not quick:
+        tables["hmax"] = (HMAX_HEADER, hmax_rows(quiet, laws))
+    files: list[Path] = []
+    md = [f"# Which friction law? (python -m cases.laws_compare; {time.perf_counter() - t0:.1f} s)\n"]
+    for name, (header, rows) in tables.items():
+        csv = c.write_csv(outdir / f"laws_compare_{name}.csv", header, rows)
+        files += [csv, plot(csv, outdir)]
+        md += [f"\n## {name}\n\n", c.markdown_table(header, rows)]
+    cols = presliding(laws)
+    if cols:
+        csv = c.write_columns(outdir / "laws_compare_presliding.csv", cols)
+        files += [csv, plot(csv, outdir)]
+    files.append(c.write_text(outdir / "laws_compare.md", "".join(md)))
+    c.log(f"laws_compare: {time.perf_counter() - t0:.1f} s", quiet)
+    return files
+
+
+#: What each CSV's figure shows: (column, log scale of its absolute value, title).
+FIGURES: dict[str, tuple[str, bool, str]] = {
+    "slope": ("x_20 [m]", True, "Slope 10 deg from rest: |x(20 s)| (truth 0; missing bar: 0 or failed)"),
+    "belt": ("err_x_max [m]", True, "Belt from stuck: |x_max - exact Coulomb x_max| (missing: none/failed)"),
+    "rest": ("rate_measured [1/s]", False, "Belt from rest: growth rate (bars) vs -g mu'(v_b)/2 (dots)"),
+    "hmax": ("h_bounded [s]", True, "Largest bounded RK4 step (bars) and within 1 % (dots); 1e-2: not limited"),
+}
+
+
+def plot(csv: str | Path, outdir: str | Path) -> Path:
+    """Render one laws_compare CSV as a bar chart grouped by law (PNG, from the CSV alone)."""
+    csv = Path(csv)
+    kind = csv.stem.removeprefix("laws_compare_")
+    if kind == "presliding":
+        data = c.read_numeric_csv(csv)
+        names = list(data)
+        fig, ax = c.new_figure()
+        for i, name in enumerate(names[1:]):
+            ax.plot(data[names[0]] * 1e3, data[name] * 1e6, label=c.split_unit(name)[0],
+                    color=c.VARIANT_COLORS[i % len(c.VARIANT_COLORS)],
+                    linestyle=c.VARIANT_STYLES[i % len(c.VARIANT_STYLES)])
+        ax.set_xlabel("t [ms]")
+        ax.set_ylabel("[um]")
+        ax.set_title("Slope 10 deg from rest: presliding displacement x and bristle deflection z")
+        ax.legend(loc="best")
+        return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
+    column, log, title = FIGURES[kind]
+    cols = c.read_csv(csv)
+    laws = list(dict.fromkeys(cols["law [-]"]))
+    second = "scene [-]" if kind == "hmax" else "method [-]"
+    tags = [f"{m}" + (f" h={h}" if h else "")
+            for m, h in zip(cols[second], cols.get("h [s]", [""] * len(cols[second])))]
+    series = list(dict.fromkeys(tags))
+    fig, ax = c.new_figure(width=9.0)
+    width = 0.8 / max(len(series), 1)
+    for j, s in enumerate(series):
+        xs, ys = [], []
+        for i, (law, tag) in enumerate(zip(cols["law [-]"], tags)):
+            if tag == s and cols[column][i] != "":
+                value = float(cols[column][i])
+                if not log or abs(value) > 0:
+                    xs.append(laws.index(law) + (j - (len(series) - 1) / 2) * width)
+                    ys.append(abs(value) if log else value)
+        ax.bar(xs, ys, width=width, label=s, color=c.VARIANT_COLORS[j % len(c.VARIANT_COLORS)])
+    if kind == "rest":
+        ax.plot(range(len(laws)), [float(v) for v in cols["rate_predicted [1/s]"]], "o", color="tab:red",
+                label="-g mu'(v_b)/2")
+    if kind == "hmax":
+        for j, s in enumerate(series):
+            pts = [(laws.index(law) + (j - (len(series) - 1) / 2) * width, float(v))
+                   for law, tag, v in zip(cols["law [-]"], tags, cols["h_1pct [s]"]) if tag == s and float(v) > 0]
+            if pts:
+                ax.plot(*zip(*pts), "o", color="tab:red", label="within 1 %" if j == 0 else None)
+    if log:
+        ax.set_yscale("log")
+    ax.set_xticks(range(len(laws)))
+    ax.set_xticklabels(laws, rotation=20)
+    ax.set_ylabel(column)
+    ax.set_title(title)
+    ax.legend(loc="best")
+    return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
+
+
+def main(argv: Sequence[str] | None = None) -> list[Path]:
+    """Command line: python -m cases.laws_compare [--outdir DIR] [--quick] [--quiet]."""
+    return c.study_main("cases.laws_compare", __doc__, "skip the RK4 step search (a few seconds)",
+                        run, argv)
+
+
+if __name__ == "__main__":
+    main()

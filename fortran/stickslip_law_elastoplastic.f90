@@ -1,0 +1,73 @@
+!> The elasto-plastic law (Dupont, Hayward, Armstrong & Altpeter, IEEE TAC 47(5), 2002): the
+!! LuGre bristle (`stickslip_law_lugre`, same sigma0, sigma1, sigma2, g(v) and scaling) whose
+!! relaxation term is switched on only past a break-away deflection z_ba,
+!!
+!!     z' = v - alpha(z, v) sigma0 |v| z / g(v),    mu = sigma0 z + sigma1 z' + sigma2 v,
+!!
+!! with z_ss(v) = g(v)/sigma0 the steady deflection and the published piecewise alpha:
+!! alpha = 0 when sign(z) /= sign(v) or |z| <= z_ba (purely elastic: z' = v); alpha = 1 for
+!! |z| >= z_ss(v); in between alpha = (1 + sin(pi (|z| - (z_ss + z_ba)/2) / (z_ss - z_ba)))/2.
+!! Under any holding coefficient below sigma0 z_ba the bristle is elastic, so the body sticks
+!! with no drift at all (LuGre drifts under such loads when they oscillate).
+!!
+!! z_ba must be below z_ss(v) for every v, i.e. below mu_k/sigma0; it is given as the ratio
+!! z_ba_ratio = z_ba / (mu_k/sigma0) in (0, 1), default 0.8: z_ba = 2.35e-5 m with the
+!! defaults, so holding coefficients up to 0.8 mu_k = 0.24 stick elastically (the 10 degree
+!! slope, tan = 0.176, and its 17 % overshoot stay elastic).
+module stickslip_law_elastoplastic
+    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_params, only: param_spec, param_values, param_read
+    use stickslip_law_lugre, only: lugre_law
+    implicit none
+    private
+
+    public :: elastoplastic_law
+
+    integer, parameter, public :: SS_BAD_Z_BA_RATIO = -147   !! z_ba_ratio out of range
+
+    type(param_spec), parameter, public :: Z_BA_RATIO_SPEC = param_spec(name='z_ba_ratio', default=0.8_dp, &
+        lo=0.0_dp, hi=1.0_dp, lo_open=.true., hi_open=.true., code=SS_BAD_Z_BA_RATIO, &
+        doc='break-away deflection z_ba in units of mu_k/sigma0')
+
+    real(dp), parameter :: pi = acos(-1.0_dp)
+
+    !> The elasto-plastic law; parameters mu_s, mu_k, v_s, sigma0, sigma1, sigma2, z_ba_ratio.
+    type, extends(lugre_law) :: elastoplastic_law
+        real(dp) :: z_ba = 0.0_dp   !! break-away deflection [m]
+    contains
+        procedure :: init => elastoplastic_init
+        procedure :: attachment => elastoplastic_attachment
+    end type elastoplastic_law
+
+contains
+
+    function elastoplastic_init(self, p) result(status)
+        class(elastoplastic_law), intent(inout) :: self
+        type(param_values), intent(in) :: p   !! resolved parameter values
+        integer :: status
+        real(dp) :: ratio
+        status = self%lugre_law%init(p)
+        call param_read(p, Z_BA_RATIO_SPEC, ratio, status)
+        if (status == SS_OK) self%z_ba = ratio * self%mu_k / self%sigma0
+    end function elastoplastic_init
+
+    !> Dupont et al.'s alpha(z, v) (see the module notes).
+    pure function elastoplastic_attachment(self, z, v, g) result(alpha)
+        class(elastoplastic_law), intent(in) :: self
+        real(dp), intent(in) :: z       !! bristle deflection [m]
+        real(dp), intent(in) :: v       !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: g       !! g(|v|) [-]
+        real(dp) :: alpha               !! [-]
+        real(dp) :: s, z_ss
+        s = abs(z)
+        z_ss = g / self%sigma0
+        if (.not. z * v > 0.0_dp .or. s <= self%z_ba) then
+            alpha = 0.0_dp
+        else if (s >= z_ss) then
+            alpha = 1.0_dp
+        else
+            alpha = 0.5_dp * (1.0_dp + sin(pi * (s - 0.5_dp * (z_ss + self%z_ba)) / (z_ss - self%z_ba)))
+        end if
+    end function elastoplastic_attachment
+
+end module stickslip_law_elastoplastic

@@ -1,0 +1,104 @@
+!> Karnopp's stick band (Karnopp, ASME J. Dyn. Sys. Meas. Control 107, 1985): inside the band
+!! |v| < dv the friction balances the other forces up to the static limit,
+!!
+!!     mu = clamp(mu_hold, -mu_s, mu_s)            for |v| < dv,
+!!     mu = mu_k sign(v)                           for |v| >= dv (Coulomb's kinetic level),
+!!
+!! so that while |mu_hold| <= mu_s the relative velocity is held constant (at zero if it
+!! entered the band at zero: true stick, no creep). Velocities in m/s. The kinetic law outside
+!! the band is the constant mu_k (not a Stribeck curve): with it a small band reproduces the
+!! exact piecewise Coulomb stick-slip solution.
+!!
+!! The law needs the holding coefficient mu_hold, so it is not static (`is_static` is
+!! .false.) although it has no internal state: a scene must call `evaluate` with mu_hold =
+!! its non-friction force in units of the normal force, writing dv/dt = c (mu_hold - mu),
+!! c > 0. The library's slope and belt do; a user's own scene can use the law the same way
+!! (e.g. a mass m pushed by a force F on a table: mu_hold = F / (m g), c = g).
+!!
+!! `mu(v)` alone is the curve at zero holding force: 0 inside the band, mu_k sign(v) outside.
+!! dv defaults to 1e-3 m/s: the band must catch the relative velocity in one step, so dv must
+!! exceed half the velocity change of a step, |a| h / 2 (2.5e-4 m/s on the belt re-sticking
+!! with a = g (mu_k - mu_hold) = 0.49 m/s^2 at the paper's coarser step h = 1e-3 s), while the
+!! stick velocity it allows (up to dv) perturbs the stick-slip cycle by O(dv / v_b).
+module stickslip_law_karnopp
+    use stickslip_kinds, only: dp
+    use stickslip_params, only: param_spec, param_values, param_read
+    use stickslip_friction, only: friction_law
+    implicit none
+    private
+
+    public :: karnopp_law
+
+    integer, parameter, public :: SS_BAD_DV = -143   !! dv out of range
+
+    type(param_spec), parameter, public :: DV_SPEC = param_spec(name='dv', default=0.001_dp, &
+        unit='m/s', lo=0.0_dp, lo_open=.true., code=SS_BAD_DV, doc='half-width of the stick band')
+
+    !> The Karnopp law; parameters mu_s, mu_k, dv.
+    type, extends(friction_law) :: karnopp_law
+        real(dp) :: dv = 0.001_dp   !! half-width of the stick band, > 0 [m/s]
+    contains
+        procedure :: init => karnopp_init
+        procedure :: mu => karnopp_mu
+        procedure :: dmu => karnopp_dmu
+        procedure :: is_static => karnopp_is_static
+        procedure :: evaluate => karnopp_evaluate
+    end type karnopp_law
+
+contains
+
+    function karnopp_init(self, p) result(status)
+        class(karnopp_law), intent(inout) :: self
+        type(param_values), intent(in) :: p   !! resolved parameter values
+        integer :: status
+        status = self%read_shared(p)
+        call param_read(p, DV_SPEC, self%dv, status)
+    end function karnopp_init
+
+    !> The curve at zero holding force: 0 inside the band, mu_k sign(v) outside.
+    elemental function karnopp_mu(self, v) result(mu)
+        class(karnopp_law), intent(in) :: self
+        real(dp), intent(in) :: v       !! relative sliding velocity [m/s]
+        real(dp) :: mu                  !! friction coefficient [-]
+        mu = karnopp(v, 0.0_dp, self%mu_s, self%mu_k, self%dv)
+    end function karnopp_mu
+
+    !> Zero: for a given mu_hold the law is piecewise constant in v.
+    elemental function karnopp_dmu(self, v) result(d)
+        class(karnopp_law), intent(in) :: self
+        real(dp), intent(in) :: v       !! relative sliding velocity [m/s]
+        real(dp) :: d                   !! d mu / d v [s/m]
+        d = 0.0_dp
+    end function karnopp_dmu
+
+    pure logical function karnopp_is_static(self)
+        class(karnopp_law), intent(in) :: self
+        karnopp_is_static = .false.
+    end function karnopp_is_static
+
+    subroutine karnopp_evaluate(self, v, z, mu_hold, mu, dz)
+        class(karnopp_law), intent(inout) :: self
+        real(dp), intent(in)  :: v          !! relative sliding velocity [m/s]
+        real(dp), intent(in)  :: z(:)       !! internal states (none)
+        real(dp), intent(in)  :: mu_hold    !! coefficient that would hold v constant [-]
+        real(dp), intent(out) :: mu         !! friction coefficient [-]
+        real(dp), intent(out) :: dz(:)      !! rates of the internal states (none)
+        mu = karnopp(v, mu_hold, self%mu_s, self%mu_k, self%dv)
+    end subroutine karnopp_evaluate
+
+    !> Karnopp's law at v with holding coefficient mu_hold.
+    elemental function karnopp(v, mu_hold, mu_s, mu_k, dv) result(mu)
+        real(dp), intent(in) :: v          !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu_hold    !! coefficient that would hold v constant [-]
+        real(dp), intent(in) :: mu_s       !! static coefficient [-]
+        real(dp), intent(in) :: mu_k       !! kinetic coefficient [-]
+        real(dp), intent(in) :: dv         !! half-width of the stick band [m/s]
+        real(dp) :: mu                     !! friction coefficient [-]
+        if (abs(v) < dv) then
+            mu = max(-mu_s, min(mu_s, mu_hold))
+        else
+            mu = sign(mu_k, v)
+        end if
+    end function karnopp
+
+end module stickslip_law_karnopp
