@@ -221,7 +221,7 @@ end module m
 """)
     found = undocumented(src, tmp_path)
     assert [f.split(": ", 1)[1] for f in found] == [
-        "module m", "K", "type t", "component t%b", "argument y of f", "subroutine g"]
+        "module m", "k", "type t", "component t%b", "argument y of f", "subroutine g"]
 
 
 def test_every_public_fortran_entity_is_documented() -> None:
