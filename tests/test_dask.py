@@ -3,6 +3,7 @@ The rows come back in order and bit-identical to the local run, a failing row ke
 status, and a worker process killed mid-sweep costs nothing but time."""
 from __future__ import annotations
 
+import logging
 import os
 import signal
 import threading
@@ -47,12 +48,13 @@ def test_failing_row_keeps_its_status(client) -> None:
                                  a=[1.5] * 7 + [0.5], client=client, chunk_rows=2)
 
 
-def test_worker_killed_mid_sweep(client) -> None:
+def test_worker_killed_mid_sweep(client, caplog) -> None:
     """SIGKILL one worker process while chunks run: the scheduler reruns its chunks on the
     other worker (and on the one its nanny restarts); the sweep returns every row."""
-    kw = dict(scene="belt", law="proposed", method="rk4", t_end=4.0, h=1e-3,
-              v_s=np.geomspace(1e-3, 1e-1, 600), n_grid=51, threads=1)
+    kw = dict(scene="belt", law="proposed", method="rk4", t_end=10.0, h=1e-3,
+              v_s=np.geomspace(1e-3, 1e-1, 400), n_grid=51, threads=1)   # about 2 s of work
     local = stickslip.simulate_batch(**kw)
+    caplog.set_level(logging.INFO, logger="distributed.scheduler")
     pids = client.run(os.getpid)                       # {worker address: pid}
     victim, pid = sorted(pids.items())[0]
     killed: dict[str, float] = {}
@@ -61,7 +63,7 @@ def test_worker_killed_mid_sweep(client) -> None:
         deadline = time.monotonic() + 20.0
         while time.monotonic() < deadline:             # the victim is running a chunk
             if client.processing(workers=[victim]).get(victim):
-                time.sleep(0.3)
+                time.sleep(0.1)
                 os.kill(pid, signal.SIGKILL)
                 killed["at"] = time.monotonic()
                 return
@@ -69,11 +71,26 @@ def test_worker_killed_mid_sweep(client) -> None:
 
     killer = threading.Thread(target=kill_when_busy)
     killer.start()
-    b = stickslip.simulate_batch(**kw, client=client, chunk_rows=15)
+    b = stickslip.simulate_batch(**kw, client=client, chunk_rows=10)
     done = time.monotonic()
     killer.join()
     assert "at" in killed and killed["at"] < done, "the worker was not killed during the sweep"
-    assert len(b) == 600
+    assert any(victim in r.getMessage() and "emov" in r.getMessage() for r in caplog.records), \
+        "the scheduler did not see the worker go"
+    assert len(b) == 400
     assert_same_rows(local, b)
     client.wait_for_workers(2, timeout=30)             # the nanny restarted it
     assert pid not in client.run(os.getpid).values()
+
+
+def test_study_rows_on_the_cluster(client) -> None:
+    """cases.stability's RK4 and DOPRI5 maps through connect(ADDRESS) (what --scheduler does)
+    equal the local ones."""
+    from cases import stability
+    from stickslip.distributed import connect
+    v_ss = [1e-2, 1e-4]
+    with connect(client.scheduler.address) as remote:
+        assert remote is not None
+        assert stability.rk4_map(v_ss, 3, 1, remote) == stability.rk4_map(v_ss, 3, 1)
+        assert stability.dopri5_map(v_ss, [1e-3, 1e-6], 1, remote) == \
+            stability.dopri5_map(v_ss, [1e-3, 1e-6], 1)

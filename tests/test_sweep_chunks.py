@@ -103,3 +103,39 @@ def test_local_sweep_imports_no_dask() -> None:
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert "2/2" in proc.stderr.replace(" ", "") or "2/2" in proc.stderr
+
+
+@pytest.mark.parametrize("tqdm_installed", [True, False])
+def test_progress_goes_to_stderr(capsys, monkeypatch, tqdm_installed) -> None:
+    """Per chunk: a tqdm bar, or without tqdm plain 'k/n' lines; stdout stays empty."""
+    from cases._progress import progress
+    if not tqdm_installed:
+        monkeypatch.setitem(sys.modules, "tqdm", None)      # import tqdm raises ImportError
+    else:
+        pytest.importorskip("tqdm")
+    stickslip.simulate_batch("slope", "proposed", method="rk4", t_end=0.1, h=1e-3,
+                             v_s=[1e-2, 1e-3, 1e-4], chunk_rows=1, progress=True)
+    assert list(progress(["a", "b"], desc="runs")) == ["a", "b"]
+    out, err = capsys.readouterr()
+    assert out == ""
+    if tqdm_installed:
+        assert "3/3" in err and "2/2" in err and "|" in err
+    else:
+        assert err.splitlines() == ["simulate_batch 3 rows: 1/3", "simulate_batch 3 rows: 2/3",
+                                    "simulate_batch 3 rows: 3/3", "runs: 1/2", "runs: 2/2"]
+    list(progress(["a"], quiet=True))
+    assert capsys.readouterr().err == ""
+
+
+def test_study_drivers_take_scheduler() -> None:
+    """--scheduler reaches the study's run (default: None, local)."""
+    from cases import _common as c
+    seen: list[dict] = []
+
+    def run(outdir, **kw):
+        seen.append(kw)
+        return []
+
+    c.study_main("cases.x", "doc", "quick", run, ["--scheduler", "tcp://127.0.0.1:8786"])
+    c.study_main("cases.x", "doc", "quick", run, [])
+    assert [kw["scheduler"] for kw in seen] == ["tcp://127.0.0.1:8786", None]
