@@ -1,6 +1,6 @@
 """Progress bars for the drivers, on stderr (stdout stays the report): tqdm when it is
 installed (pip install stickslip[progress]), else one plain line per step, nothing when quiet.
-The bar itself is stickslip.distributed.progress_bar, the one simulate_batch(progress=True)
+The bar itself is stickslip.distributed.ProgressBar, the one simulate_batch(progress=True)
 shows, so the package and the drivers look alike.
 
 Where it plugs in (cases/_common.py's run loop is being reworked; wire it there):
@@ -14,14 +14,14 @@ from __future__ import annotations
 
 from typing import Iterable, Iterator, TypeVar
 
-from stickslip.distributed import progress_bar
+from stickslip.distributed import ProgressBar
 
 T = TypeVar("T")
 
 
-def bar(total: int, desc: str = "", quiet: bool = False, unit: str = "run") -> progress_bar:
+def bar(total: int, desc: str = "", quiet: bool = False, unit: str = "run") -> ProgressBar:
     """A bar of `total` steps; `.update()` per step, `.close()` (or a with-block) at the end."""
-    return progress_bar(total, desc, unit=unit, enabled=not quiet)
+    return ProgressBar(total, desc, unit=unit, enabled=not quiet)
 
 
 def progress(items: Iterable[T], desc: str = "", quiet: bool = False, unit: str = "run",

@@ -52,7 +52,7 @@ _FORMAT = "stickslip-sweep-1"
 # --------------------------------------------------------------------------------------------
 # Progress
 # --------------------------------------------------------------------------------------------
-class progress_bar:
+class ProgressBar:
     """A progress bar on stderr: tqdm when it is installed, else one plain line per update
     ("desc: k/total"). `update(n)` advances it; use as a context manager."""
 
@@ -79,7 +79,7 @@ class progress_bar:
             self._bar.close()
             self._bar = None
 
-    def __enter__(self) -> "progress_bar":
+    def __enter__(self) -> "ProgressBar":
         return self
 
     def __exit__(self, *exc: Any) -> None:
@@ -297,7 +297,7 @@ def run_chunked(args: dict[str, Any], *, client: Any = None, chunk_rows: int | N
         bar.update(1)
 
     desc = f"simulate_batch {n} rows"
-    with progress_bar(len(starts), desc, enabled=bool(progress)) as bar:
+    with ProgressBar(len(starts), desc, enabled=bool(progress)) as bar:
         if len(todo) < len(starts):
             bar.update(len(starts) - len(todo))
         chunk_args = {k: _slice(args, starts[k], min(starts[k] + chunk_rows, n)) for k in todo}
@@ -313,7 +313,9 @@ def run_chunked(args: dict[str, Any], *, client: Any = None, chunk_rows: int | N
                     finish(futures[fut], fut.result())
                     fut.release()
             finally:
-                client.cancel([f for f in futures if not f.done()])
+                left = [f for f in futures if not f.done()]
+                if left:                       # an error or an interrupt: stop the rest
+                    client.cancel(left)
     if store is not None:
         return store
     return concat([results[k] for k in range(len(starts))])
@@ -334,5 +336,5 @@ def connect(scheduler: str | None) -> Iterator[Any]:
         yield client
 
 
-__all__ = ["SweepStore", "connect", "default_chunk_rows", "progress_bar", "run_chunked",
+__all__ = ["SweepStore", "connect", "default_chunk_rows", "ProgressBar", "run_chunked",
            "MAX_CHUNK_ROWS", "CHUNKS_PER_WORKER", "LOCAL_CHUNKS"]
