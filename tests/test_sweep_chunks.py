@@ -139,3 +139,22 @@ def test_study_drivers_take_scheduler() -> None:
     c.study_main("cases.x", "doc", "quick", run, ["--scheduler", "tcp://127.0.0.1:8786"])
     c.study_main("cases.x", "doc", "quick", run, [])
     assert [kw["scheduler"] for kw in seen] == ["tcp://127.0.0.1:8786", None]
+
+
+def test_out_keeps_memory_to_one_chunk(tmp_path) -> None:
+    """A sweep whose grids take 64 MB streams through out= with a peak of a few chunks."""
+    import tracemalloc
+    kw = dict(scene="slope", law="recurdyn", method="rk4", t_end=0.2, h=1e-3,
+              v_s=np.geomspace(1e-3, 1e-1, 2000), n_grid=2001, keep_grid=True)
+    whole = 2000 * 2001 * 8 * 2                      # y_grid alone, bytes
+    tracemalloc.start()
+    try:
+        store = stickslip.simulate_batch(**kw, out=tmp_path / "big", chunk_rows=100)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert store.complete() and store.n_chunks == 20
+    assert peak < whole / 4, f"peak {peak / 1e6:.1f} MB for {whole / 1e6:.1f} MB of grids"
+    last = list(store.chunks())[-1]
+    ref = stickslip.simulate_batch(**{**kw, "v_s": kw["v_s"][1900:]})
+    assert np.array_equal(last.y_grid, ref.y_grid) and np.array_equal(last.t, ref.t)
