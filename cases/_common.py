@@ -331,8 +331,12 @@ def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[P
     parser.add_argument("--quick", action="store_true", help=quick_help)
     parser.add_argument("--threads", type=count, default=2, help="OpenMP threads, >= 1 (default 2)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                        help="run the sweeps on the Dask cluster at ADDRESS, e.g. "
+                             "tcp://127.0.0.1:8786 (default: locally)")
     args = parser.parse_args(argv)
-    files = run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet)
+    files = run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet,
+                scheduler=args.scheduler)
     print_files(files)
     return files
 

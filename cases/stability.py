@@ -153,7 +153,7 @@ def rk4_grid(scene: str, h: float) -> tuple[float, int]:
     return n_int * k * h, n_int + 1
 
 
-def rk4_map(v_ss: Sequence[float], n_h: int, threads: int) -> list[list[Any]]:
+def rk4_map(v_ss: Sequence[float], n_h: int, threads: int, client: Any = None) -> list[list[Any]]:
     """RK4 runs over h in [h_lin/20, 20 h_lin] (Coulomb: the RecurDyn window) for each v_s,
     one batch per monitor-grid size."""
     import stickslip
@@ -177,7 +177,7 @@ def rk4_map(v_ss: Sequence[float], n_h: int, threads: int) -> list[list[Any]]:
                                      method="rk4", t_end=[r["t_end"] for r in sub],
                                      h=[r["h"] for r in sub], v_s=[r["v_s"] for r in sub],
                                      x0=[r["x0"] for r in sub], v0=[r["v0"] for r in sub],
-                                     n_grid=n_grid, threads=threads)
+                                     n_grid=n_grid, threads=threads, client=client)
         for j, (i, r) in enumerate(zip(idx, sub)):
             cls = classify(b, j, v_bound(r["scene"], r["t_end"], r["v0"]), n_grid)
             out[i] = [r["scene"], r["law"], r["v_s"], r["h"], r["h_lin"], r["t_end"],
@@ -186,7 +186,8 @@ def rk4_map(v_ss: Sequence[float], n_h: int, threads: int) -> list[list[Any]]:
     return out
 
 
-def dopri5_map(v_ss: Sequence[float], rtols: Sequence[float], threads: int) -> list[list[Any]]:
+def dopri5_map(v_ss: Sequence[float], rtols: Sequence[float], threads: int,
+               client: Any = None) -> list[list[Any]]:
     """DOPRI5 runs (paper's h_min = 1e-6 s, h_max = 1e-2 s, atol = 1e-3 rtol): slope from rest
     over 1 s, belt from the stick state over 0.5 s (stick, slip and the next stick)."""
     import stickslip
@@ -204,7 +205,7 @@ def dopri5_map(v_ss: Sequence[float], rtols: Sequence[float], threads: int) -> l
                                  atol=[1e-3 * r["rtol"] for r in rows], hmin=1e-6, hmax=1e-2,
                                  v_s=[r["v_s"] for r in rows], x0=[r["x0"] for r in rows],
                                  v0=[r["v0"] for r in rows], max_steps=10**7,
-                                 n_grid=N_GRID, threads=threads)
+                                 n_grid=N_GRID, threads=threads, client=client)
     out = []
     for i, r in enumerate(rows):
         cls = classify(b, i, v_bound(r["scene"], r["t_end"], r["v0"]))
@@ -215,7 +216,7 @@ def dopri5_map(v_ss: Sequence[float], rtols: Sequence[float], threads: int) -> l
     return out
 
 
-def extremes(quick: bool = False, threads: int = 2) -> list[list[Any]]:
+def extremes(quick: bool = False, threads: int = 2, client: Any = None) -> list[list[Any]]:
     """The extreme runs of issue 5, each with its status (or the ValueError it raises)."""
     import stickslip
     cases: list[tuple[str, dict[str, Any]]] = [
@@ -257,7 +258,8 @@ def extremes(quick: bool = False, threads: int = 2) -> list[list[Any]]:
         if method == "dopri5":
             cols.pop("h", None)
         b = stickslip.simulate_batch([r["scene"] for r in rows], [r["law"] for r in rows],
-                                     method=method, n_grid=201, threads=threads, **cols)
+                                     method=method, n_grid=201, threads=threads, client=client,
+                                     **cols)
         for i, (name, kw) in enumerate(sel):
             outcome = "ok" if b.status[i] == 0 else b.message(i)
             finite = bool(np.isfinite([b.x_end[i], b.v_end[i], b.v_max[i]]).all())
@@ -290,21 +292,29 @@ def speedup(threads: int = 2, repeats: int = 3) -> tuple[float, float, float]:
 
 
 def run(outdir: str | Path, *, quick: bool = False, threads: int = 2,
-        quiet: bool = False) -> list[Path]:
-    """Maps, extremes and the batch speed-up; CSV files, then plots."""
+        quiet: bool = False, scheduler: str | None = None) -> list[Path]:
+    """Maps, extremes and the batch speed-up; CSV files, then plots. The maps and extremes run
+    on the Dask cluster at `scheduler` when given (the speed-up is timed locally)."""
+    from stickslip.distributed import connect
+    with connect(scheduler) as client:
+        return _run(outdir, quick=quick, threads=threads, quiet=quiet, client=client)
+
+
+def _run(outdir: str | Path, *, quick: bool, threads: int, quiet: bool,
+         client: Any) -> list[Path]:
     outdir = Path(outdir)
     v_ss = [float(f"{v:.3g}") for v in np.geomspace(1e-1, 1e-6, 6 if quick else 11)]
     t0 = time.perf_counter()
-    rk4 = rk4_map(v_ss, 9 if quick else 17, threads)
+    rk4 = rk4_map(v_ss, 9 if quick else 17, threads, client)
     c.log(f"stability: RK4 map, {len(rk4)} runs, {time.perf_counter() - t0:.1f} s", quiet)
     p_rk4 = c.write_csv(outdir / "stability_rk4.csv", MAP_HEADER, rk4)
     t0 = time.perf_counter()
     rtols = [10.0 ** -e for e in (range(2, 11, 2) if quick else range(2, 11))]
-    dop = dopri5_map(v_ss, rtols, threads)
+    dop = dopri5_map(v_ss, rtols, threads, client)
     c.log(f"stability: DOPRI5 map, {len(dop)} runs, {time.perf_counter() - t0:.1f} s", quiet)
     p_dop = c.write_csv(outdir / "stability_dopri5.csv", DOPRI_HEADER, dop)
     t0 = time.perf_counter()
-    ext = extremes(quick, threads)
+    ext = extremes(quick, threads, client)
     c.log(f"stability: extremes, {time.perf_counter() - t0:.1f} s", quiet)
     p_ext = c.write_csv(outdir / "stability_extremes.csv", EXTREME_HEADER, ext)
     c.log_caption("Extreme runs (stability_extremes.csv, with t_reached [s], nfev, x_end [m], "
@@ -412,7 +422,8 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
-    """Command line: python -m cases.stability [--outdir DIR] [--quick] [--threads N]."""
+    """Command line: python -m cases.stability [--outdir DIR] [--quick] [--threads N]
+    [--scheduler ADDRESS]."""
     return c.study_main("cases.stability", __doc__,
                         "coarser maps and no 2e8-step run (a few seconds)", run, argv)
 

@@ -79,7 +79,8 @@ def harmonic_x(t: float, params: dict[str, float]) -> float:
     return x_k * (1.0 - math.cos(w * t))
 
 
-def references(t_end: float, threads: int) -> dict[tuple[str, str], dict[str, Any]]:
+def references(t_end: float, threads: int,
+               client: Any = None) -> dict[tuple[str, str], dict[str, Any]]:
     """The converged solution of each (scene, law) at t_end, and the physical truth."""
     import stickslip
     p = dict(stickslip.DEFAULTS)
@@ -92,7 +93,7 @@ def references(t_end: float, threads: int) -> dict[tuple[str, str], dict[str, An
                                  [l for _, l in need for _ in REF_RTOL], method="dopri5",
                                  t_end=t_end, rtol=list(REF_RTOL) * len(need),
                                  atol=[1e-16, 1e-15] * len(need), hmin=0.0, hmax=1e-2,
-                                 max_steps=10**7, n_grid=2, threads=threads)
+                                 max_steps=10**7, n_grid=2, threads=threads, client=client)
     if not np.all(r.ok):
         raise RuntimeError("a reference run failed: " + r.message(int(np.flatnonzero(~r.ok)[0])))
     for i, (s, l) in enumerate(need):
@@ -126,8 +127,16 @@ def fit_order(x: np.ndarray, err: np.ndarray, lo: float,
 
 
 def run(outdir: str | Path, *, quick: bool = False, threads: int = 2,
-        quiet: bool = False) -> list[Path]:
-    """Run the sweeps, write workprecision.csv and workprecision_orders.csv, then plot."""
+        quiet: bool = False, scheduler: str | None = None) -> list[Path]:
+    """Run the sweeps, write workprecision.csv and workprecision_orders.csv, then plot; on the
+    Dask cluster at `scheduler` when given."""
+    from stickslip.distributed import connect
+    with connect(scheduler) as client:
+        return _run(outdir, quick=quick, threads=threads, quiet=quiet, client=client)
+
+
+def _run(outdir: str | Path, *, quick: bool, threads: int, quiet: bool,
+         client: Any) -> list[Path]:
     import stickslip
     outdir = Path(outdir)
     t_end = T_END_QUICK if quick else T_END
@@ -135,7 +144,7 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2,
     rtols = [r for r in RTOLS if r >= (1e-10 if quick else 1e-12)]
 
     c.log(f"workprecision: references (t_end = {t_end} s)", quiet)
-    refs = references(t_end, threads)
+    refs = references(t_end, threads, client)
 
     rows: list[dict[str, Any]] = []
     for s in SCENES:
@@ -149,7 +158,7 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2,
         [q["scene"] for q in rows], [q["law"] for q in rows], method=[q["method"] for q in rows],
         t_end=t_end, h=[q["h"] for q in rows], rtol=[q["rtol"] or 1e-6 for q in rows],
         atol=[q["atol"] or 1e-9 for q in rows], hmin=HMIN, hmax=0.0, max_steps=10**8,
-        n_grid=2, threads=threads)
+        n_grid=2, threads=threads, client=client)
 
     table = []
     for i, q in enumerate(rows):
@@ -226,7 +235,8 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
-    """Command line: python -m cases.workprecision [--outdir DIR] [--quick] [--threads N]."""
+    """Command line: python -m cases.workprecision [--outdir DIR] [--quick] [--threads N]
+    [--scheduler ADDRESS]."""
     return c.study_main("cases.workprecision", __doc__,
                         f"t_end = {T_END_QUICK} s, h >= 1e-5 s, rtol >= 1e-10 (a few seconds)",
                         run, argv)

@@ -34,6 +34,7 @@ module stickslip_batch
         ' n_flip n_flip_tail n_rev n_rev_tail'
     character(len=*), parameter, public :: BATCH_REAL_NAMES = STATS_REAL_NAMES // &
         ' t_last v_max vrel_min_tail vrel_max_tail seconds'
+    !! names of the real fields of a summary, in the order of `batch_reals`
 
     !> The compact outcome of one parameter set.
     type :: batch_summary
@@ -63,6 +64,7 @@ contains
     !> The integer fields of s in the order of BATCH_INTEGER_NAMES.
     pure function batch_integers(s) result(v)
         type(batch_summary), intent(in) :: s
+        !! the summary of one parameter set
         integer(8) :: v(size(stats_integers(s%stats)) + 4)
         v = [stats_integers(s%stats), int([s%n_flip, s%n_flip_tail, s%n_rev, s%n_rev_tail], 8)]
     end function batch_integers
@@ -70,6 +72,7 @@ contains
     !> The real fields of s in the order of BATCH_REAL_NAMES.
     pure function batch_reals(s) result(v)
         type(batch_summary), intent(in) :: s
+        !! the summary of one parameter set
         real(dp) :: v(size(stats_reals(s%stats)) + 5)
         v = [stats_reals(s%stats), s%t_last, s%v_max, s%vrel_min_tail, s%vrel_max_tail, s%seconds]
     end function batch_reals

@@ -30,6 +30,7 @@ module stickslip_dopri5
     ! Butcher tableau (exact fractions).
     real(dp), parameter, public :: dp5_c(7) = [0.0_dp, 1.0_dp/5.0_dp, 3.0_dp/10.0_dp, 4.0_dp/5.0_dp, &
                                                8.0_dp/9.0_dp, 1.0_dp, 1.0_dp]
+    !! nodes c of the Dormand-Prince tableau
     real(dp), parameter :: a21 = 1.0_dp/5.0_dp
     real(dp), parameter :: a31 = 3.0_dp/40.0_dp, a32 = 9.0_dp/40.0_dp
     real(dp), parameter :: a41 = 44.0_dp/45.0_dp, a42 = -56.0_dp/15.0_dp, a43 = 32.0_dp/9.0_dp
@@ -44,6 +45,7 @@ module stickslip_dopri5
     real(dp), parameter, public :: dp5_bhat(7) = [5179.0_dp/57600.0_dp, 0.0_dp, 7571.0_dp/16695.0_dp, &
                                                   393.0_dp/640.0_dp, -92097.0_dp/339200.0_dp, &
                                                   187.0_dp/2100.0_dp, 1.0_dp/40.0_dp]
+    !! weights of the embedded 4th-order solution
     !> The full lower-triangular A, for tableau checks.
     real(dp), parameter, public :: dp5_a(7, 7) = reshape([ &
         0.0_dp, a21, a31, a41, a51, a61, a71, &
@@ -72,6 +74,7 @@ module stickslip_dopri5
         logical  :: stop_on_stiff = .false. !! stop with SS_STIFF when the stiffness test fires
     contains
         procedure :: set => set_dopri5_option
+        !! set a control by name (the step_controls ones and DOPRI5's own)
     end type dopri5_options
 
     !> What DOPRI5 is and which controls it reads (registry entry).

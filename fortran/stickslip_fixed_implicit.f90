@@ -35,6 +35,7 @@ module stickslip_fixed_implicit
         real(dp) :: newton_atol = 1.0e-12_dp    !! absolute Newton tolerance on the stage state [units of y], > 0
         integer  :: newton_max_iter = 10        !! Newton iterations allowed per step, >= 1
     contains
+        !> Set one control by name, then fall back to the parent types controls.
         procedure :: set => set_newton_control
     end type newton_controls
 
@@ -44,7 +45,9 @@ module stickslip_fixed_implicit
     !> One method: advances (t, y) by h.
     type, abstract :: fixed_stepper
     contains
+        !> Prepare the stepper from f(t0, y0).
         procedure(start_iface), deferred :: start
+        !> Advance (t, y) by one step of size h.
         procedure(step_iface), deferred :: step
     end type fixed_stepper
 

@@ -35,8 +35,10 @@ module stickslip_friction
         lo=0.0_dp, code=SS_BAD_MU_S, doc='static friction coefficient')
     type(param_spec), parameter, public :: MU_K_SPEC = param_spec(name='mu_k', default=0.30_dp, &
         lo=0.0_dp, relation='<= mu_s', code=SS_BAD_MU_K, doc='kinetic friction coefficient')
+    !! kinetic friction coefficient mu_k, <= mu_s [-]
     type(param_spec), parameter, public :: V_S_SPEC = param_spec(name='v_s', default=0.01_dp, &
         unit='m/s', lo=0.0_dp, lo_open=.true., code=SS_BAD_V_S, doc='static threshold velocity')
+    !! static threshold velocity v_s, > 0 [m/s]
 
     !> A friction law: mu as a function of the relative velocity (and of its internal
     !! states, if it has any).
@@ -134,6 +136,7 @@ contains
     !! h0 + (h1 - h0) (1 - cos(pi (x - x0)/(x1 - x0)))/2 in between (needs x1 > x0).
     elemental function havsin(x, x0, h0, x1, h1) result(h)
         real(dp), intent(in) :: x, x0, h0, x1, h1
+        !! x: abscissa; the step goes from h0 at x0 to h1 at x1 (x1 > x0)
         real(dp) :: h
         if (x <= x0) then
             h = h0
@@ -147,6 +150,7 @@ contains
     !> d havsin / d x.
     elemental function havsin_slope(x, x0, h0, x1, h1) result(d)
         real(dp), intent(in) :: x, x0, h0, x1, h1
+        !! x: abscissa; the step goes from h0 at x0 to h1 at x1 (x1 > x0)
         real(dp) :: d
         if (x <= x0 .or. x >= x1) then
             d = 0.0_dp

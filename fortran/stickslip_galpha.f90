@@ -27,6 +27,7 @@ module stickslip_galpha
     type, extends(newton_controls) :: galpha_options
         real(dp) :: rho_inf = 0.5_dp    !! spectral radius at h |lambda| -> infinity, in [0, 1] [-]
     contains
+        !> Set one control by name, then fall back to the parent types controls.
         procedure :: set => set_galpha_option
     end type galpha_options
 

@@ -13,8 +13,11 @@ module stickslip_law_coulomb
     type, extends(friction_law) :: coulomb_law
     contains
         procedure :: init => coulomb_init
+        !! validate and store the parameters
         procedure :: mu => coulomb_mu
+        !! friction coefficient at a sliding velocity
         procedure :: dmu => coulomb_dmu
+        !! its slope d mu / d v
     end type coulomb_law
 
 contains

@@ -25,6 +25,7 @@ module stickslip_law_elastoplastic
 
     integer, parameter, public :: SS_BAD_Z_BA_RATIO = -147   !! z_ba_ratio out of range
 
+    !> Specification of the parameter z_ba_ratio (default, unit, accepted range, status code).
     type(param_spec), parameter, public :: Z_BA_RATIO_SPEC = param_spec(name='z_ba_ratio', default=0.8_dp, &
         lo=0.0_dp, hi=1.0_dp, lo_open=.true., hi_open=.true., code=SS_BAD_Z_BA_RATIO, &
         doc='break-away deflection z_ba in units of mu_k/sigma0')
@@ -35,7 +36,9 @@ module stickslip_law_elastoplastic
     type, extends(lugre_law) :: elastoplastic_law
         real(dp) :: z_ba = 0.0_dp   !! break-away deflection [m]
     contains
+        !> Read and check the parameters; SS_OK or the code naming the bad one.
         procedure :: init => elastoplastic_init
+        !> Duponts attachment function alpha(z, v) [-].
         procedure :: attachment => elastoplastic_attachment
     end type elastoplastic_law
 

@@ -31,6 +31,7 @@ module stickslip_law_karnopp
 
     integer, parameter, public :: SS_BAD_DV = -143   !! dv out of range
 
+    !> Specification of the parameter dv (default, unit, accepted range, status code).
     type(param_spec), parameter, public :: DV_SPEC = param_spec(name='dv', default=0.001_dp, &
         unit='m/s', lo=0.0_dp, lo_open=.true., code=SS_BAD_DV, doc='half-width of the stick band')
 
@@ -38,10 +39,15 @@ module stickslip_law_karnopp
     type, extends(friction_law) :: karnopp_law
         real(dp) :: dv = 0.001_dp   !! half-width of the stick band, > 0 [m/s]
     contains
+        !> Read and check the parameters; SS_OK or the code naming the bad one.
         procedure :: init => karnopp_init
+        !> mu(v) [-]; for a law with states, its steady-state curve.
         procedure :: mu => karnopp_mu
+        !> d mu / d v [s/m].
         procedure :: dmu => karnopp_dmu
+        !> .true. when mu depends on v alone.
         procedure :: is_static => karnopp_is_static
+        !> mu and the internal-state rates at (v, z, mu_hold).
         procedure :: evaluate => karnopp_evaluate
     end type karnopp_law
 

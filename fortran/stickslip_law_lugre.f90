@@ -44,12 +44,15 @@ module stickslip_law_lugre
     !> The paper's normal force (m = 1 kg, g = 9.81 m/s^2) that scales its values [N].
     real(dp), parameter :: N_PAPER = 9.81_dp
 
+    !> Specification of the parameter sigma0 (default, unit, accepted range, status code).
     type(param_spec), parameter, public :: SIGMA0_SPEC = param_spec(name='sigma0', &
         default=1.0e5_dp / N_PAPER, unit='1/m', lo=0.0_dp, lo_open=.true., code=SS_BAD_SIGMA0, &
         doc='bristle stiffness (mu per m of deflection)')
+    !> Specification of the parameter sigma1 (default, unit, accepted range, status code).
     type(param_spec), parameter, public :: SIGMA1_SPEC = param_spec(name='sigma1', &
         default=sqrt(1.0e5_dp) / N_PAPER, unit='s/m', lo=0.0_dp, code=SS_BAD_SIGMA1, &
         doc='bristle damping (mu per m/s of deflection rate)')
+    !> Specification of the parameter sigma2 (default, unit, accepted range, status code).
     type(param_spec), parameter, public :: SIGMA2_SPEC = param_spec(name='sigma2', &
         default=0.4_dp / N_PAPER, unit='s/m', lo=0.0_dp, code=SS_BAD_SIGMA2, &
         doc='viscous coefficient (mu per m/s of sliding)')
@@ -63,12 +66,19 @@ module stickslip_law_lugre
         real(dp) :: sigma1 = sqrt(1.0e5_dp) / N_PAPER     !! bristle damping, >= 0 [s/m]
         real(dp) :: sigma2 = 0.4_dp / N_PAPER             !! viscous coefficient, >= 0 [s/m]
     contains
+        !> Read and check the parameters; SS_OK or the code naming the bad one.
         procedure :: init => lugre_init
+        !> mu(v) [-]; for a law with states, its steady-state curve.
         procedure :: mu => lugre_mu
+        !> d mu / d v [s/m].
         procedure :: dmu => lugre_dmu
+        !> Number of internal states.
         procedure :: n_states => lugre_n_states
+        !> Name and unit of internal state i.
         procedure :: state_label => lugre_label
+        !> .true. when mu depends on v alone.
         procedure :: is_static => lugre_is_static
+        !> mu and the internal-state rates at (v, z, mu_hold).
         procedure :: evaluate => lugre_evaluate
         !> Factor alpha in [0, 1] of the relaxation term of z' (1 for LuGre).
         procedure :: attachment => lugre_attachment

@@ -20,8 +20,10 @@ module stickslip_law_proposed
 
     type(param_spec), parameter, public :: BETA_SPEC = param_spec(name='beta', default=1.0_dp/3.0_dp, &
         lo=0.0_dp, lo_open=.true., code=SS_BAD_BETA, doc='exponent inside v_s')
+    !! exponent beta of the proposed law, > 0 [-]
     type(param_spec), parameter, public :: A_SPEC = param_spec(name='a', default=1.5_dp, &
         lo=1.0_dp, lo_open=.true., code=SS_BAD_A, doc='base of the decay outside v_s')
+    !! base a of the proposed law's decay, > 1 [-]
 
     !> Smallest |v| / v_s at which `dmu` evaluates the slope (see the module notes).
     real(dp), parameter :: DMU_FLOOR = 1.0e-6_dp
@@ -34,8 +36,11 @@ module stickslip_law_proposed
         real(dp) :: b = 0.0_dp              !! cached continuity offset [m/s]
     contains
         procedure :: init => proposed_init
+        !! validate and store the parameters (caches ln a and b)
         procedure :: mu => proposed_mu
+        !! friction coefficient at a sliding velocity
         procedure :: dmu => proposed_dmu
+        !! its slope d mu / d v
     end type proposed_law
 
 contains
@@ -76,6 +81,7 @@ contains
     !! For mu_s = mu_k the offset is +huge (the outer branch is mu_k).
     elemental function proposed_b(mu_s, mu_k, v_s, a) result(b)
         real(dp), intent(in) :: mu_s, mu_k, v_s, a
+        !! static and kinetic coefficients [-], v_s [m/s], base a [-]
         real(dp) :: b
         if (mu_s > mu_k .and. a > 1.0_dp) then
             b = -log(mu_s - mu_k) / log(a) - v_s

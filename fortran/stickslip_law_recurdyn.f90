@@ -22,8 +22,11 @@ module stickslip_law_recurdyn
         real(dp) :: v_d = 0.015_dp      !! dynamic threshold velocity, > v_s [m/s]
     contains
         procedure :: init => recurdyn_init
+        !! validate and store the parameters
         procedure :: mu => recurdyn_mu
+        !! friction coefficient at a sliding velocity
         procedure :: dmu => recurdyn_dmu
+        !! its slope d mu / d v
     end type recurdyn_law
 
 contains

@@ -30,8 +30,10 @@ module stickslip_law_stribeck
     integer, parameter, public :: SS_BAD_C_V = -141     !! c_v out of range
     integer, parameter, public :: SS_BAD_V_EPS = -142   !! v_eps out of range
 
+    !> Specification of the parameter delta (default, unit, accepted range, status code).
     type(param_spec), parameter, public :: DELTA_SPEC = param_spec(name='delta', default=2.0_dp, &
         lo=0.0_dp, lo_open=.true., code=SS_BAD_DELTA, doc='Stribeck shape exponent')
+    !> Specification of the parameter c_v (default, unit, accepted range, status code).
     type(param_spec), parameter, public :: C_V_SPEC = param_spec(name='c_v', default=0.0_dp, &
         unit='s/m', lo=0.0_dp, code=SS_BAD_C_V, doc='viscous coefficient (mu per m/s)')
     !> v_eps defaults to v_s/10 (see the module notes).
@@ -45,8 +47,11 @@ module stickslip_law_stribeck
         real(dp) :: c_v = 0.0_dp        !! viscous coefficient, >= 0 [s/m]
         real(dp) :: v_eps = 0.001_dp    !! regularisation velocity, > 0 [m/s]
     contains
+        !> Read and check the parameters; SS_OK or the code naming the bad one.
         procedure :: init => stribeck_init
+        !> mu(v) [-]; for a law with states, its steady-state curve.
         procedure :: mu => stribeck_mu
+        !> d mu / d v [s/m].
         procedure :: dmu => stribeck_dmu
     end type stribeck_law
 

@@ -32,6 +32,7 @@ module stickslip_ode
     type, abstract :: ode_system
     contains
         procedure(rhs_iface), deferred :: rhs
+        !! the right-hand side f(t, y)
         !> df/dy; the default is forward differences (override it with the analytic one).
         procedure :: jacobian => fd_jacobian
     end type ode_system
@@ -103,6 +104,7 @@ module stickslip_ode
     character(len=*), parameter, public :: STATS_INTEGER_NAMES = &
         'nfev nstep naccept nreject nforced nstiff stiff njac ndec nsol n_written status'
     character(len=*), parameter, public :: STATS_REAL_NAMES = 't_reached h_last'
+    !! names of the real counters, in the order of `stats_reals`
 
 contains
 
@@ -177,6 +179,7 @@ contains
     !! sqrt(eps max(1e-5, |y_j|)): n evaluations of f, added to nfev.
     subroutine fd_jacobian(self, t, y, f, dfdy, nfev)
         class(ode_system), intent(inout) :: self
+        !! the system (its rhs is evaluated)
         real(dp), intent(in)    :: t             !! time [s]
         real(dp), intent(in)    :: y(:)          !! state
         real(dp), intent(in)    :: f(:)          !! f(t, y), already evaluated
@@ -308,6 +311,7 @@ contains
     !> .true. when every component of y is finite.
     pure logical function all_finite(y)
         real(dp), intent(in) :: y(:)
+        !! the array to test
         all_finite = all(ieee_is_finite(y))
     end function all_finite
 

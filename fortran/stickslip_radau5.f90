@@ -50,6 +50,7 @@ module stickslip_radau5
 
     ! Nodes of Radau IIA (order 5): c1, c2 = (4 -+ sqrt 6)/10, c3 = 1.
     real(dp), parameter :: SQ6 = sqrt(6.0_dp)
+    !> Collocation nodes c of the 3-stage Radau IIA method (order 5) [-].
     real(dp), parameter, public :: radau5_c(3) = [(4.0_dp - SQ6) / 10.0_dp, (4.0_dp + SQ6) / 10.0_dp, 1.0_dp]
     real(dp), parameter :: C1 = radau5_c(1), C2 = radau5_c(2)
     real(dp), parameter :: C1M1 = C1 - 1.0_dp, C2M1 = C2 - 1.0_dp, C1MC2 = C1 - C2
@@ -68,6 +69,7 @@ module stickslip_radau5
         9.1232394870892942792e-02_dp, 0.24171793270710701896_dp, 0.96604818261509293619_dp, &
         -0.14125529502095420843_dp, 0.20412935229379993199_dp, 1.0_dp, &
         -3.0029194105147424492e-02_dp, 0.38294211275726193779_dp, 0.0_dp], [3, 3])
+    !> The inverse of radau5_t: the transformation to the real and complex systems [-].
     real(dp), parameter, public :: radau5_ti(3, 3) = reshape([ &
         4.3255798900631553510_dp, -4.1787185915519047273_dp, -0.50287263494578687595_dp, &
         0.33919925181580986954_dp, -0.32768282076106238708_dp, 2.5719269498556054292_dp, &
@@ -88,6 +90,7 @@ module stickslip_radau5
         real(dp) :: facl = 0.2_dp        !! smallest step ratio h_new/h (WORK(8))
         real(dp) :: facr = 8.0_dp        !! largest step ratio h_new/h (WORK(9))
     contains
+        !> Set one control by name, then fall back to the parent types controls.
         procedure :: set => set_radau5_option
     end type radau5_options
 

@@ -42,8 +42,11 @@ module stickslip_registry
     !> A law or scene: its name, the parameters it reads (space-separated) and a line of doc.
     type :: entry_info
         character(len=16) :: name = ''
+        !! name, as the Python and C layers spell it
         character(len=120) :: params = ''
+        !! the parameters it reads, space-separated
         character(len=80) :: doc = ''
+        !! one line of documentation
     end type entry_info
 
     !> The friction laws; the code of a law is its position.
@@ -58,18 +61,21 @@ module stickslip_registry
                    'elasto-plastic bristle (Dupont et al. 2002)')]
     integer, parameter, public :: LAW_COULOMB = 1, LAW_RECURDYN = 2, LAW_PROPOSED = 3, &
         LAW_STRIBECK = 4, LAW_KARNOPP = 5, LAW_LUGRE = 6, LAW_ELASTOPLASTIC = 7
+    !! law codes: positions in LAW_TABLE
 
     !> The scenes; the code of a scene is its position.
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
         entry_info('slope', 'g theta_deg', 'box on a plane inclined theta_deg'), &
         entry_info('belt', 'm g k v_b', 'mass on a belt moving at v_b, spring k to a wall')]
     integer, parameter, public :: SCENE_SLOPE = 1, SCENE_BELT = 2
+    !! scene codes: positions in SCENE_TABLE
 
     !> The integration methods; the code of a method is its position.
     type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO, RADAU5_INFO, &
         IMPLICIT_EULER_INFO, GALPHA_INFO]
     integer, parameter, public :: METHOD_RK4 = 1, METHOD_DOPRI5 = 2, METHOD_RADAU5 = 3, &
                                   METHOD_IMPLICIT_EULER = 4, METHOD_GALPHA = 5
+    !! method codes: positions in METHOD_TABLE
 
     !> Every physical parameter of every law and scene, each once.
     type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &

@@ -23,6 +23,7 @@ module stickslip_rk4
     !> Butcher tableau of the classical method (exact fractions).
     real(dp), parameter, public :: rk4_c(4) = [0.0_dp, 0.5_dp, 0.5_dp, 1.0_dp]
     real(dp), parameter, public :: rk4_b(4) = [1.0_dp/6.0_dp, 1.0_dp/3.0_dp, 1.0_dp/3.0_dp, 1.0_dp/6.0_dp]
+    !! weights b of the classical tableau
 
 contains
 

@@ -30,12 +30,16 @@ module stickslip_scenes
         unit='m/s^2', lo=0.0_dp, code=SS_BAD_G, doc='gravity')
     type(param_spec), parameter, public :: THETA_SPEC = param_spec(name='theta_deg', default=10.0_dp, &
         unit='deg', lo=-90.0_dp, hi=90.0_dp, code=SS_BAD_THETA, doc='slope inclination')
+    !! slope inclination theta_deg in [-90, 90] [deg]
     type(param_spec), parameter, public :: M_SPEC = param_spec(name='m', default=10.0_dp, &
         unit='kg', lo=0.0_dp, lo_open=.true., code=SS_BAD_M, doc='mass')
+    !! mass m, > 0 [kg]
     type(param_spec), parameter, public :: K_SPEC = param_spec(name='k', default=300.0_dp, &
         unit='N/m', lo=0.0_dp, code=SS_BAD_K, doc='spring stiffness')
+    !! spring stiffness k, >= 0 [N/m]
     type(param_spec), parameter, public :: V_B_SPEC = param_spec(name='v_b', default=1.5_dp, &
         unit='m/s', code=SS_BAD_V_B, doc='belt speed')
+    !! belt speed v_b, finite [m/s]
 
     real(dp), parameter :: deg = acos(-1.0_dp) / 180.0_dp
 
@@ -68,9 +72,13 @@ module stickslip_scenes
         real(dp) :: mu_hold = 0.0_dp  !! tan(theta) [-]
     contains
         procedure :: init => slope_init
+        !! validate and store the parameters and the law
         procedure :: rhs => slope_rhs
+        !! (x, v, law states)' at (t, y)
         procedure :: jacobian => slope_jacobian
+        !! the analytic Jacobian df/dy
         procedure :: relative_velocity => slope_vrel
+        !! the sliding velocity the law sees [m/s]
     end type slope_scene
 
     !> Spring-mass on a moving belt.
@@ -81,9 +89,13 @@ module stickslip_scenes
         real(dp) :: k_mg = 0.0_dp     !! k / (m g), holding coefficient per metre [1/m]
     contains
         procedure :: init => belt_init
+        !! validate and store the parameters and the law
         procedure :: rhs => belt_rhs
+        !! (x, v, law states)' at (t, y)
         procedure :: jacobian => belt_jacobian
+        !! the analytic Jacobian df/dy
         procedure :: relative_velocity => belt_vrel
+        !! the sliding velocity the law sees [m/s]
     end type belt_scene
 
 contains

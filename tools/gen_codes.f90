@@ -12,7 +12,7 @@ program gen_codes
     integer :: i
 
     print '(a)', '/* stickslip_codes.h: generated at build time from the registry (stickslip_registry.f90)'
-    print '(a)', ' * by fortran/gen_codes.f90. Do not edit; included by stickslip.h. */'
+    print '(a)', ' * by tools/gen_codes.f90. Do not edit; included by stickslip.h. */'
     print '(a)', '#ifndef STICKSLIP_CODES_H'
     print '(a)', '#define STICKSLIP_CODES_H'
     print '(a)', ''

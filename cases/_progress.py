@@ -1,0 +1,34 @@
+"""Progress bars for the drivers, on stderr (stdout stays the report): tqdm when it is
+installed (pip install stickslip[progress]), else one plain line per step, nothing when quiet.
+The bar itself is stickslip.distributed.ProgressBar, the one simulate_batch(progress=True)
+shows, so the package and the drivers look alike.
+
+Where it plugs in (cases/_common.py's run loop is being reworked; wire it there):
+- `_common.run_all`: wrap the serial loop as `for i, run in progress(unique, desc=..., quiet=quiet)`
+  and, in the process-pool branch, open `bar(len(unique), desc, quiet)` and call
+  `bar.update()` per finished future (in place of the "[k/n] label" log lines);
+- `cases/__main__.py`: `progress(selected drivers, desc="cases", unit="driver", quiet=...)`;
+- the study drivers: `simulate_batch(..., progress=not quiet)` per chunk.
+"""
+from __future__ import annotations
+
+from typing import Iterable, Iterator, TypeVar
+
+from stickslip.distributed import ProgressBar
+
+T = TypeVar("T")
+
+
+def bar(total: int, desc: str = "", quiet: bool = False, unit: str = "run") -> ProgressBar:
+    """A bar of `total` steps; `.update()` per step, `.close()` (or a with-block) at the end."""
+    return ProgressBar(total, desc, unit=unit, enabled=not quiet)
+
+
+def progress(items: Iterable[T], desc: str = "", quiet: bool = False, unit: str = "run",
+             total: int | None = None) -> Iterator[T]:
+    """Yield the items, advancing a bar after each one."""
+    items = list(items) if total is None and not hasattr(items, "__len__") else items
+    with bar(len(items) if total is None else total, desc, quiet, unit) as b:  # type: ignore[arg-type]
+        for item in items:
+            yield item
+            b.update()

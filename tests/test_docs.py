@@ -1,0 +1,248 @@
+"""Every public entity of the Fortran library carries a FORD doc comment, and FORD builds the
+API pages.
+
+The checker parses fortran/*.f90 (it is no compiler: it reads the code as this project writes
+it) and lists, as "file:line: what", each of these without a doc comment:
+
+- the module itself;
+- every name made public (a `public ::` list or the `public` attribute): derived types,
+  procedures, interfaces, constants and variables;
+- the components and type-bound procedures of a public derived type;
+- the dummy arguments of a public procedure (also inside an interface block).
+
+A doc comment is a `!>` block right before the declaration, or `!!` on the declaration (at its
+end, on a continuation line) or on the lines right after it. `python tests/test_docs.py`
+prints the list.
+"""
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SOURCES = sorted((ROOT / "fortran").glob("*.f90"))
+IDENT = r"[A-Za-z_]\w*"
+
+
+def strip_comment(line: str) -> str:
+    """The code of a line: everything before a `!` outside a string."""
+    quote = None
+    for i, ch in enumerate(line):
+        if quote:
+            if ch == quote:
+                quote = None
+        elif ch in "'\"":
+            quote = ch
+        elif ch == "!":
+            return line[:i]
+    return line
+
+
+@dataclass
+class Statement:
+    first: int   # 0-based index of the first physical line
+    last: int    # and of the last (continuations)
+    code: str    # the code, continuations joined, comments removed, lower case
+
+
+def statements(lines: list[str]) -> list[Statement]:
+    out, i = [], 0
+    while i < len(lines):
+        code = strip_comment(lines[i]).strip()
+        if not code:
+            i += 1
+            continue
+        first, parts = i, []
+        while True:
+            code = strip_comment(lines[i]).strip()
+            cont = code.endswith("&")
+            parts.append(code.rstrip("&").lstrip("&").strip())
+            if not cont or i + 1 >= len(lines):
+                break
+            i += 1
+        out.append(Statement(first, i, " ".join(p for p in parts if p).lower()))
+        i += 1
+    return out
+
+
+def documented(lines: list[str], st: Statement) -> bool:
+    """A `!>` block right before, `!!` on the statement's lines, or `!!` lines right after."""
+    if any("!!" in ln or "!>" in ln for ln in lines[st.first:st.last + 1]):
+        return True
+    if st.last + 1 < len(lines) and lines[st.last + 1].lstrip().startswith("!!"):
+        return True
+    j = st.first - 1
+    while j >= 0 and lines[j].lstrip().startswith("!!"):
+        j -= 1
+    return j >= 0 and lines[j].lstrip().startswith("!>")
+
+
+def declared_names(code: str) -> list[str]:
+    """Names declared by a `type-spec [, attrs] :: a = 1, b(3), c` statement."""
+    if "::" not in code:
+        return []
+    rest, depth, names, token = code.split("::", 1)[1], 0, [], ""
+    for ch in rest + ",":
+        if ch in "([":
+            depth += 1
+        elif ch in ")]":
+            depth -= 1
+        if ch == "," and depth == 0:
+            m = re.match(rf"\s*({IDENT})", token)
+            if m:
+                names.append(m.group(1))
+            token = ""
+        else:
+            token += ch
+    return names
+
+
+PROC = re.compile(rf"^(?!end\b)(?:[\w(),=*\s]*\s)?(function|subroutine)\s+({IDENT})\s*(\((.*?)\))?")
+TYPE = re.compile(rf"^type\s*(?:,[^:]*::|::|\s)\s*({IDENT})\s*$")
+
+
+def undocumented(path: Path, root: Path = ROOT) -> list[str]:
+    """'file:line: what' for each public entity of `path` without a doc comment."""
+    lines = path.read_text().splitlines()
+    sts = statements(lines)
+    name = path.relative_to(root).as_posix()
+    missing: list[str] = []
+
+    def miss(st: Statement, what: str) -> None:
+        if not documented(lines, st):
+            missing.append(f"{name}:{st.first + 1}: {what}")
+
+    public: set[str] = set()
+    for st in sts:
+        if re.match(r"^public\s*::", st.code):
+            public.update(n.strip() for n in st.code.split("::", 1)[1].split(","))
+        elif "::" in st.code and re.search(r",\s*public\b", st.code.split("::")[0]):
+            public.update(declared_names(st.code))
+
+    block: list[tuple[str, str]] = []         # (kind, name) of open type / interface / procedure
+    module_part = True                        # before the module's `contains`
+    for k, st in enumerate(sts):
+        c = st.code
+        if c.startswith("module ") and not c.startswith("module procedure"):
+            miss(st, f"module {c.split()[1]}")
+            continue
+        if re.match(r"^end\s*(type|interface|function|subroutine)\b", c):
+            if block:
+                block.pop()
+            continue
+        if c == "contains":
+            if not block:
+                module_part = False
+            continue
+        m = TYPE.match(c)
+        if m and not c.startswith("type("):
+            block.append(("type", m.group(1)))
+            if m.group(1) in public:
+                miss(st, f"type {m.group(1)}")
+            continue
+        m = re.match(rf"^(abstract\s+)?interface\s*({IDENT})?", c)
+        if m:
+            block.append(("interface", m.group(2) or ""))
+            if m.group(2) in public:
+                miss(st, f"interface {m.group(2)}")
+            continue
+        m = PROC.match(c)
+        if m:
+            proc = m.group(2)
+            block.append(("procedure", proc))
+            if proc in public:
+                miss(st, f"{m.group(1)} {proc}")
+                args = [a.strip() for a in (m.group(4) or "").split(",") if a.strip()]
+                check_arguments(sts, k, proc, args, miss)
+            continue
+        if block and block[-1][0] == "type" and block[-1][1] in public:
+            if c not in ("private", "sequence") and "::" in c:
+                for n in declared_names(c):
+                    miss(st, f"component {block[-1][1]}%{n}")
+            continue
+        if module_part and not block and "::" in c and not c.startswith(("public", "private", "use ")):
+            for n in declared_names(c):
+                if n in public:
+                    miss(st, f"{n}")
+    return missing
+
+
+def check_arguments(sts: list[Statement], k: int, proc: str, args: list[str], miss) -> None:
+    """Each dummy argument of the procedure whose header is sts[k] is declared with a doc."""
+    todo = set(args)
+    for st in sts[k + 1:]:
+        c = st.code
+        if c == "contains" or re.match(r"^end\s*(function|subroutine)\b", c) or PROC.match(c):
+            break
+        if "::" in c:
+            for n in declared_names(c):
+                if n in todo:
+                    todo.discard(n)
+                    miss(st, f"argument {n} of {proc}")
+
+
+def all_undocumented() -> list[str]:
+    return [m for p in SOURCES for m in undocumented(p)]
+
+
+def test_checker_finds_what_is_missing(tmp_path) -> None:
+    """The checker against a module with one entity of each kind, documented or not."""
+    src = tmp_path / "m.f90"
+    src.write_text("""module m
+    implicit none
+    private
+    public :: t, f, K, g
+    integer, parameter :: K = 1
+    !> doc
+    integer, parameter, public :: L = 2
+    type :: t
+        real :: a   !! doc
+        real :: b
+    end type t
+contains
+    !> doc
+    pure function f(x, y) result(z)
+        real, intent(in) :: x  !! doc
+        real, intent(in) :: y
+        real :: z
+        z = x + y
+    end function f
+    subroutine g(x)
+        real, intent(in) :: x
+            !! doc
+    end subroutine g
+end module m
+""")
+    found = undocumented(src, tmp_path)
+    assert [f.split(": ", 1)[1] for f in found] == [
+        "module m", "k", "type t", "component t%b", "argument y of f", "subroutine g"]
+
+
+def test_every_public_fortran_entity_is_documented() -> None:
+    missing = all_undocumented()
+    assert not missing, f"{len(missing)} public entities without a FORD doc comment:\n" + \
+        "\n".join(missing)
+
+
+def test_ford_builds_the_api_pages(tmp_path) -> None:
+    """scripts/docs (FORD) writes one HTML page per Fortran module."""
+    ford = Path(sys.executable).parent / "ford"
+    if not ford.exists() and shutil.which("ford") is None:
+        pytest.skip("FORD is not installed (scripts/setup installs it)")
+    out = tmp_path / "docs"
+    proc = subprocess.run([str(ROOT / "scripts" / "docs"), "--output_dir", str(out)],
+                          capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    pages = {p.stem for p in (out / "module").glob("*.html")}
+    modules = {p.stem for p in SOURCES}
+    assert modules <= pages, sorted(modules - pages)
+
+
+if __name__ == "__main__":
+    print("\n".join(all_undocumented()) or "every public entity is documented")
