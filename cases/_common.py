@@ -479,27 +479,31 @@ def simulate_run(run: Run) -> Outcome:
     return Outcome(r.t, r.x, r.v, dict(r.stats), time.perf_counter() - t0)
 
 
-def _progress(results: dict[Run, Outcome], run: Run, total: int, quiet: bool) -> None:
-    log(f"  [{len(results)}/{total}] {run.label()}: {results[run].wall_seconds:.2f} s", quiet)
-
-
 def run_all(runs: Iterable[Run], *, workers: int = 2, quiet: bool = False,
             heartbeat: float = 3.0) -> dict[Run, Outcome]:
     """Simulate every distinct run once, `workers` at a time, the expensive ones first.
-    Prints one line per finished run and, every `heartbeat` seconds while runs are pending,
-    a progress line (stderr).
+    Shows a progress bar on stderr (tqdm when installed; else one line per finished run and,
+    every `heartbeat` seconds while runs are pending, a line with the elapsed time).
 
     The first failure ends everything at once: queued runs are dropped and running workers
     terminated (multiprocessing.Pool.terminate), then SimulationFailed is raised; so a hopeless
     command fails as soon as its first run does, not after every other run has finished."""
+    from ._progress import bar
     unique = sorted(set(runs), key=lambda r: -r.cost_hint())
     results: dict[Run, Outcome] = {}
     start = time.perf_counter()
-    if workers <= 1 or len(unique) <= 1:
-        for run in unique:
-            results[run] = simulate_run(run)
-            _progress(results, run, len(unique), quiet)
-        return results
+    with bar(len(unique), "  runs", quiet) as shown:
+        if workers <= 1 or len(unique) <= 1:
+            for run in unique:
+                results[run] = simulate_run(run)
+                shown.update(note=f"{run.label()}: {results[run].wall_seconds:.2f} s")
+            return results
+        return _run_pool(unique, results, workers, quiet, heartbeat, start, shown)
+
+
+def _run_pool(unique: list[Run], results: dict[Run, Outcome], workers: int, quiet: bool,
+              heartbeat: float, start: float, shown: Any) -> dict[Run, Outcome]:
+    """run_all's parallel branch: a process pool, the first failure ends it."""
     ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods()
                                       else None)
     finished: queue.SimpleQueue[tuple[Run, Outcome | BaseException]] = queue.SimpleQueue()
@@ -513,11 +517,12 @@ def run_all(runs: Iterable[Run], *, workers: int = 2, quiet: bool = False,
             try:
                 run, outcome = finished.get(timeout=heartbeat)
             except queue.Empty:
-                log(f"  ... {len(results)}/{len(unique)} done, "
-                    f"{time.perf_counter() - start:.0f} s elapsed", quiet)
+                if shown._bar is None:     # tqdm shows the elapsed time itself
+                    log(f"  ... {len(results)}/{len(unique)} done, "
+                        f"{time.perf_counter() - start:.0f} s elapsed", quiet)
                 continue
             if isinstance(outcome, BaseException):
                 raise outcome
             results[run] = outcome
-            _progress(results, run, len(unique), quiet)
+            shown.update(note=f"{run.label()}: {outcome.wall_seconds:.2f} s")
     return results

@@ -3,12 +3,8 @@ installed (pip install stickslip[progress]), else one plain line per step, nothi
 The bar itself is stickslip.distributed.ProgressBar, the one simulate_batch(progress=True)
 shows, so the package and the drivers look alike.
 
-Where it plugs in (cases/_common.py's run loop is being reworked; wire it there):
-- `_common.run_all`: wrap the serial loop as `for i, run in progress(unique, desc=..., quiet=quiet)`
-  and, in the process-pool branch, open `bar(len(unique), desc, quiet)` and call
-  `bar.update()` per finished future (in place of the "[k/n] label" log lines);
-- `cases/__main__.py`: `progress(selected drivers, desc="cases", unit="driver", quiet=...)`;
-- the study drivers: `simulate_batch(..., progress=not quiet)` per chunk.
+Where it plugs in: `_common.run_all` (one bar over the distinct runs of a paper driver) and
+the study drivers' `simulate_batch(..., progress=not quiet)` (per chunk).
 """
 from __future__ import annotations
 

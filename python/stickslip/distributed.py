@@ -67,12 +67,16 @@ class ProgressBar:
             if tqdm is not None:
                 self._bar = tqdm(total=self.total, desc=desc, unit=unit, file=sys.stderr)
 
-    def update(self, n: int = 1) -> None:
+    def update(self, n: int = 1, note: str = "") -> None:
+        """Advance by n; `note` (what just finished) is shown beside the count."""
         self.done += n
         if self._bar is not None:
+            if note:
+                self._bar.set_postfix_str(note, refresh=False)
             self._bar.update(n)
         elif self.enabled:
-            print(f"{self.desc}: {self.done}/{self.total}", file=sys.stderr, flush=True)
+            print(f"{self.desc}: {self.done}/{self.total}" + (f" {note}" if note else ""),
+                  file=sys.stderr, flush=True)
 
     def close(self) -> None:
         if self._bar is not None:
