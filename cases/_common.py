@@ -335,8 +335,8 @@ def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[P
                         help="run the sweeps on the Dask cluster at ADDRESS, e.g. "
                              "tcp://127.0.0.1:8786 (default: locally)")
     args = parser.parse_args(argv)
-    files = run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet,
-                scheduler=args.scheduler)
+    where = {} if args.scheduler is None else {"scheduler": args.scheduler}   # drivers with sweeps
+    files = run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet, **where)
     print_files(files)
     return files
 

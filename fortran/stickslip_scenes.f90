@@ -54,6 +54,10 @@ module stickslip_scenes
         procedure :: n_states => scene_n_states
         !> Relative sliding velocity [m/s] at state y.
         procedure(vrel_iface), deferred :: relative_velocity
+        !> The analytic 2 x 2 Jacobian of the scene with a static law.
+        procedure(static_jacobian_iface), deferred :: static_jacobian
+        !> The Jacobian: analytic for a static law, finite differences otherwise.
+        procedure :: jacobian => scene_jacobian
     end type friction_scene
 
     abstract interface
@@ -63,6 +67,13 @@ module stickslip_scenes
             real(dp), intent(in) :: y(:)    !! state (x, v, z...)
             real(dp) :: vr                  !! relative sliding velocity [m/s]
         end function vrel_iface
+
+        pure function static_jacobian_iface(self, y) result(j)
+            import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
+            real(dp), intent(in) :: y(:)    !! state (x [m], v [m/s])
+            real(dp) :: j(2, 2)             !! d(v, a)/d(x, v)
+        end function static_jacobian_iface
     end interface
 
     !> Box on an inclined plane.
@@ -75,7 +86,7 @@ module stickslip_scenes
         !! validate and store the parameters and the law
         procedure :: rhs => slope_rhs
         !! (x, v, law states)' at (t, y)
-        procedure :: jacobian => slope_jacobian
+        procedure :: static_jacobian => slope_static_jacobian
         !! the analytic Jacobian df/dy
         procedure :: relative_velocity => slope_vrel
         !! the sliding velocity the law sees [m/s]
@@ -92,7 +103,7 @@ module stickslip_scenes
         !! validate and store the parameters and the law
         procedure :: rhs => belt_rhs
         !! (x, v, law states)' at (t, y)
-        procedure :: jacobian => belt_jacobian
+        procedure :: static_jacobian => belt_static_jacobian
         !! the analytic Jacobian df/dy
         procedure :: relative_velocity => belt_vrel
         !! the sliding velocity the law sees [m/s]
@@ -195,35 +206,35 @@ contains
         call self%law%evaluate(v, y(3:), mu_hold, mu, dydt(3:))
     end subroutine law_with_states
 
-    !> Analytic Jacobian for a static law, finite differences otherwise.
-    subroutine slope_jacobian(self, t, y, f, dfdy, nfev)
-        class(slope_scene), intent(inout) :: self
+    !> The analytic Jacobian for a static law (the scene's `static_jacobian`), finite
+    !! differences otherwise (a law with states or a stick band).
+    subroutine scene_jacobian(self, t, y, f, dfdy, nfev)
+        class(friction_scene), intent(inout) :: self
         real(dp), intent(in)    :: t             !! time [s]
         real(dp), intent(in)    :: y(:)          !! state
         real(dp), intent(in)    :: f(:)          !! f(t, y)
         real(dp), intent(out)   :: dfdy(:, :)    !! (n, n) Jacobian
-        integer(8), intent(inout) :: nfev        !! evaluation counter
-        if (.not. self%static_law) then
+        integer(8), intent(inout) :: nfev        !! evaluation counter (+ n for finite differences)
+        if (self%static_law) then
+            dfdy = self%static_jacobian(y)
+        else
             call fd_jacobian(self, t, y, f, dfdy, nfev)
-            return
         end if
-        dfdy = reshape([0.0_dp, 0.0_dp, 1.0_dp, -self%g_cos * self%law%dmu(y(2))], [2, 2])
-    end subroutine slope_jacobian
+    end subroutine scene_jacobian
 
-    !> Analytic Jacobian for a static law, finite differences otherwise.
-    subroutine belt_jacobian(self, t, y, f, dfdy, nfev)
-        class(belt_scene), intent(inout) :: self
-        real(dp), intent(in)    :: t             !! time [s]
-        real(dp), intent(in)    :: y(:)          !! state
-        real(dp), intent(in)    :: f(:)          !! f(t, y)
-        real(dp), intent(out)   :: dfdy(:, :)    !! (n, n) Jacobian
-        integer(8), intent(inout) :: nfev        !! evaluation counter
-        if (.not. self%static_law) then
-            call fd_jacobian(self, t, y, f, dfdy, nfev)
-            return
-        end if
-        dfdy = reshape([0.0_dp, -self%k_m, 1.0_dp, -self%g * self%law%dmu(self%v_b - y(2))], [2, 2])
-    end subroutine belt_jacobian
+    pure function slope_static_jacobian(self, y) result(j)
+        class(slope_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)     !! state (x [m], v [m/s])
+        real(dp) :: j(2, 2)              !! d(v, a)/d(x, v)
+        j = reshape([0.0_dp, 0.0_dp, 1.0_dp, -self%g_cos * self%law%dmu(y(2))], [2, 2])
+    end function slope_static_jacobian
+
+    pure function belt_static_jacobian(self, y) result(j)
+        class(belt_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)     !! state (x [m], v [m/s])
+        real(dp) :: j(2, 2)              !! d(v, a)/d(x, v)
+        j = reshape([0.0_dp, -self%k_m, 1.0_dp, -self%g * self%law%dmu(self%v_b - y(2))], [2, 2])
+    end function belt_static_jacobian
 
     pure function slope_vrel(self, y) result(vr)
         class(slope_scene), intent(in) :: self

@@ -30,6 +30,7 @@ contains
 end module test_core_problems
 
 program test_core
+    use test_support, only: check, finish
     use stickslip_kinds, only: dp, SS_OK, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_METHOD, &
                                SS_BAD_CONTROL_NAME, SS_BAD_PARAM_NAME, SS_BAD_DIM, STATUS_CODES
     use stickslip_params, only: param_values, param_rule, NAME_LEN
@@ -46,7 +47,6 @@ program test_core
     use test_core_problems, only: decay
     implicit none
 
-    integer :: nfail = 0
 
     call test_tables()
     call test_messages()
@@ -57,24 +57,9 @@ program test_core
     call test_rk4_no_zero_step()
     call test_output_full_counters()
 
-    if (nfail > 0) then
-        print '(a, i0, a)', 'FAILED: ', nfail, ' check(s)'
-        error stop 1
-    end if
-    print '(a)', 'all core checks passed'
+    call finish('core')
 
 contains
-
-    subroutine check(ok, what)
-        logical, intent(in) :: ok
-        character(*), intent(in) :: what
-        if (ok) then
-            print '(a, a)', 'ok    ', what
-        else
-            print '(a, a)', 'FAIL  ', what
-            nfail = nfail + 1
-        end if
-    end subroutine check
 
     !> Names and codes are unique; every law and scene parameter is in PARAMS.
     subroutine test_tables()

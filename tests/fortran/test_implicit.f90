@@ -163,6 +163,7 @@ contains
 end module implicit_problems
 
 program test_implicit
+    use test_support, only: check, finish
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_RHO_INF, SS_BAD_NIT, SS_BAD_NEWTON_TOL, &
                                SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_BAD_ATOL, SS_BAD_HMIN, &
                                SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_STEP_BUDGET, &
@@ -176,7 +177,6 @@ program test_implicit
     use implicit_problems
     implicit none
 
-    integer :: nfail = 0
 
     call test_radau5_hairer()
     call test_orders()
@@ -186,24 +186,9 @@ program test_implicit
     call test_failures()
     call test_output_and_budget()
 
-    if (nfail > 0) then
-        print '(a, i0, a)', 'test_implicit: ', nfail, ' FAILED'
-        error stop 1
-    end if
-    print '(a)', 'test_implicit: all passed'
+    call finish('implicit')
 
 contains
-
-    subroutine check(ok, what)
-        logical, intent(in) :: ok
-        character(*), intent(in) :: what
-        if (ok) then
-            print '(a, a)', 'ok    ', what
-        else
-            print '(a, a)', 'FAIL  ', what
-            nfail = nfail + 1
-        end if
-    end subroutine check
 
     !> Hairer's radau5.f (version of July 9, 1996, latest correction January 18, 2002;
     !! decsol.f and dc_decsol.f as distributed with it), built with gfortran 12 -O2 and run

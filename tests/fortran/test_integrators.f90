@@ -64,6 +64,7 @@ contains
 end module test_problems
 
 program test_integrators
+    use test_support, only: check, finish
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_BAD_H, SS_BAD_RTOL
     use stickslip_registry, only: stickslip_message
     use stickslip_ode, only: ode_stats
@@ -72,7 +73,6 @@ program test_integrators
     use test_problems, only: arenstorf, oscillator, polynomial
     implicit none
 
-    integer :: nfail = 0
 
     call test_tableaus()
     call test_arenstorf()
@@ -81,24 +81,9 @@ program test_integrators
     call test_dense_output()
     call test_status()
 
-    if (nfail > 0) then
-        print '(a, i0, a)', 'FAILED: ', nfail, ' check(s)'
-        error stop 1
-    end if
-    print '(a)', 'all integrator checks passed'
+    call finish('integrator')
 
 contains
-
-    subroutine check(ok, what)
-        logical, intent(in) :: ok
-        character(*), intent(in) :: what
-        if (ok) then
-            print '(a, a)', 'ok    ', what
-        else
-            print '(a, a)', 'FAIL  ', what
-            nfail = nfail + 1
-        end if
-    end subroutine check
 
     subroutine test_tableaus()
         integer :: i

@@ -5,13 +5,13 @@
 !! and status codes unique; the new laws' codes in -140 .. -199).
 !! Prints one line per check; exits with status 1 if any check fails.
 program test_laws
+    use test_support, only: check, finish
     use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_values
     use stickslip_friction, only: friction_law
     use stickslip_registry, only: PARAMS, LAW_TABLE, make_law, code_of, resolve_params
     implicit none
 
-    integer :: nfail = 0
     real(dp), parameter :: MU_S = 0.35_dp, MU_K = 0.30_dp, V_S = 0.01_dp
 
     call test_param_table()
@@ -20,24 +20,9 @@ program test_laws
     call test_lugre()
     call test_elastoplastic()
 
-    if (nfail > 0) then
-        print '(a, i0, a)', 'FAILED: ', nfail, ' check(s)'
-        error stop 1
-    end if
-    print '(a)', 'all law checks passed'
+    call finish('law')
 
 contains
-
-    subroutine check(ok, what)
-        logical, intent(in) :: ok
-        character(len=*), intent(in) :: what
-        if (ok) then
-            print '(a, a)', 'ok    ', what
-        else
-            print '(a, a)', 'FAIL  ', what
-            nfail = nfail + 1
-        end if
-    end subroutine check
 
     !> A law by name with the given parameters (the others at their defaults).
     function law(name, keys, vals) result(fl)
