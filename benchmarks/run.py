@@ -145,12 +145,16 @@ def machine() -> str:
 
 # -- the scenes in Python, for solve_ivp --------------------------------------------------------
 
-def python_rhs(scene: str, law: str) -> Callable[[float, np.ndarray], list[float]]:
-    """The scene's right-hand side in plain Python (the paper's formulas), as a scipy user
-    would write it; parameters of Table 1."""
-    mu_s, mu_k, v_s, v_d, beta, a = 0.35, 0.30, 0.01, 0.015, 1.0 / 3.0, 1.5
-    g, k_m, v_b, theta = 9.81, 300.0 / 10.0, 1.5, math.radians(10.0)
-    ln_a = math.log(a)
+PAPER = dict(mu_s=0.35, mu_k=0.30, v_s=0.01, v_d=0.015, beta=1.0 / 3.0, a=1.5, g=9.81, k_m=30.0,
+             v_b=1.5, theta=math.radians(10.0))
+
+
+def python_law(law: str) -> tuple[Callable[[float], float], Callable[[float], float]]:
+    """mu(v) and d mu/dv of a law in plain Python (the paper's formulas, Table 1); d mu/dv of
+    the proposed law is floored at |v| = 1e-6 v_s as in the library."""
+    p = PAPER
+    mu_s, mu_k, v_s, v_d, beta = p["mu_s"], p["mu_k"], p["v_s"], p["v_d"], p["beta"]
+    ln_a = math.log(p["a"])
     b = -math.log(mu_s - mu_k) / ln_a - v_s
 
     def hav(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
@@ -159,6 +163,11 @@ def python_rhs(scene: str, law: str) -> Callable[[float, np.ndarray], list[float
         if x >= x1:
             return h1
         return h0 + (h1 - h0) * 0.5 * (1.0 - math.cos(math.pi * (x - x0) / (x1 - x0)))
+
+    def dhav(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
+        if x <= x0 or x >= x1:
+            return 0.0
+        return (h1 - h0) * 0.5 * math.pi / (x1 - x0) * math.sin(math.pi * (x - x0) / (x1 - x0))
 
     def mu(v: float) -> float:
         s = abs(v)
@@ -172,10 +181,39 @@ def python_rhs(scene: str, law: str) -> Callable[[float, np.ndarray], list[float
             m = mu_s * (s / v_s) ** beta if s <= v_s else math.exp(-ln_a * (s + b)) + mu_k
         return math.copysign(m, v)
 
+    def dmu(v: float) -> float:
+        s = abs(v)
+        if law == "coulomb":
+            return 0.0
+        if law == "recurdyn":
+            return dhav(s, 0.0, 0.0, v_s, mu_s) if s < v_s else dhav(s, v_s, mu_s, v_d, mu_k)
+        if s <= v_s:
+            s = max(s, 1e-6 * v_s)
+            return mu_s * beta / v_s * (s / v_s) ** (beta - 1.0)
+        return -ln_a * math.exp(-ln_a * (s + b))
+
+    return mu, dmu
+
+
+def python_rhs(scene: str, law: str) -> Callable[[float, np.ndarray], list[float]]:
+    """The scene's right-hand side in plain Python (the paper's formulas), as a scipy user
+    would write it; parameters of Table 1."""
+    mu = python_law(law)[0]
+    g, k_m, v_b, theta = PAPER["g"], PAPER["k_m"], PAPER["v_b"], PAPER["theta"]
     if scene == "belt":
         return lambda t, y: [y[1], -k_m * y[0] + mu(v_b - y[1]) * g]
     g_sin, g_cos = g * math.sin(theta), g * math.cos(theta)
     return lambda t, y: [y[1], g_sin - mu(y[1]) * g_cos]
+
+
+def python_jac(scene: str, law: str) -> Callable[[float, np.ndarray], list[list[float]]]:
+    """The Jacobian of python_rhs (analytic, as the library's scenes give it)."""
+    dmu = python_law(law)[1]
+    g, k_m, v_b, theta = PAPER["g"], PAPER["k_m"], PAPER["v_b"], PAPER["theta"]
+    if scene == "belt":
+        return lambda t, y: [[0.0, 1.0], [-k_m, -g * dmu(v_b - y[1])]]
+    g_cos = g * math.cos(theta)
+    return lambda t, y: [[0.0, 1.0], [0.0, -g_cos * dmu(y[1])]]
 
 
 # -- rows ---------------------------------------------------------------------------------------
