@@ -22,7 +22,8 @@ from typing import Sequence
 #: Driver modules run by `python -m cases`, in order, and their kind: "laws" (no simulation),
 #: "paper" (a figure set of the paper, --workers/--quiet) or "study" (--all only, --threads/--quiet).
 DRIVERS: tuple[tuple[str, str], ...] = (("laws", "laws"), ("slope", "paper"), ("belt", "paper"),
-                                        ("workprecision", "study"), ("stability", "study"), ("implicit", "study"))
+                                        ("workprecision", "study"), ("stability", "study"),
+                                        ("implicit", "study"))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 

@@ -27,7 +27,7 @@ def test_slope_creep_speed(law, method, kw):
     is left is the Newton tolerance (newton_rtol = 1e-10) or RADAU5's rtol = 1e-8 on a step
     that starts at rest: 1e-7 relative bounds both. Started at 1.5 v*: from rest the
     fixed-step methods' Newton (Jacobian once per step, 10 iterations) does not converge for
-    the proposed law (README, "How to choose h")."""
+    the proposed law at h = 1e-3 (REPRODUCTION.md, implicit integrators)."""
     v_star = creep_speed_ref(law)
     v0 = 0.0 if method == "radau5" else 1.5 * v_star
     r = ss.simulate("slope", law, method=method, t_end=2.0, n_out=3, v0=v0, **kw)
