@@ -46,6 +46,10 @@ FIELDS: tuple[str, ...] = (
     "v_end_m_s", "err", "reference", "ratio_step", "ratio_eval", "ratio_time",
 )
 REFERENCE_TOL = 1e-13
+#: Fixed-step implicit methods timed beside RK4 (from Python, default controls).
+IMPLICIT_FIXED: tuple[str, ...] = ("implicit_euler", "galpha")
+#: scipy methods that take the analytic Jacobian (python_jac).
+SCIPY_IMPLICIT: tuple[str, ...] = ("Radau", "BDF", "LSODA")
 
 
 @dataclass
@@ -59,7 +63,7 @@ class Config:
     targets: list[float]                                 # error targets for equal accuracy
     repeats: int
     min_sample: float                                    # [s]
-    scipy_methods: list[str] = field(default_factory=lambda: ["RK45", "DOP853", "LSODA"])
+    scipy_methods: list[str] = field(default_factory=lambda: ["RK45", "DOP853", "LSODA", "Radau"])
 
 
 FULL = Config(
@@ -248,6 +252,12 @@ def run_fixed(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) ->
         group.append(_row("fixed", "stickslip_python", "rk4", scene, law, t_end, h=h, repeats=cfg.repeats,
                           median_s=med, nstep=res.stats["nstep"], nfev=res.stats["nfev"],
                           x=float(res.x[-1]), v=float(res.v[-1])))
+        for method in IMPLICIT_FIXED:     # per step: Newton with the analytic Jacobian and one LU
+            med, res = time_python(lambda: stickslip.simulate(scene, law, method=method, t_end=t_end, h=h,
+                                                              n_out=2), cfg)
+            group.append(_row("fixed", "stickslip_python", method, scene, law, t_end, h=h, repeats=cfg.repeats,
+                              median_s=med, nstep=res.stats["nstep"], nfev=res.stats["nfev"],
+                              x=float(res.x[-1]), v=float(res.v[-1])))
         if "bench_gsl" in exes:
             r = run_program(exes["bench_gsl"], scene, law, "rk4", t_end, h, cfg)
             group.append(_row("fixed", "gsl", "rk4 (step doubling)", scene, law, t_end, h=h,
@@ -299,17 +309,25 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
             group.append(_row("adaptive", "stickslip_python", "dopri5", scene, law, t_end, tol=tol,
                               repeats=cfg.repeats, median_s=med, nstep=res.stats["nstep"],
                               nfev=res.stats["nfev"], x=x, v=v, err=err_of(x, v)))
+            med, res = time_python(lambda: stickslip.simulate(
+                scene, law, method="radau5", t_end=t_end, rtol=tol, atol=tol, hmin=0.0, hmax=t_end,
+                n_out=2, max_steps=10**8), cfg)
+            x, v = float(res.x[-1]), float(res.v[-1])
+            group.append(_row("adaptive", "stickslip_python", "radau5", scene, law, t_end, tol=tol,
+                              repeats=cfg.repeats, median_s=med, nstep=res.stats["nstep"],
+                              nfev=res.stats["nfev"], x=x, v=v, err=err_of(x, v)))
             if "bench_gsl" in exes:
                 for m in ("rkf45", "rkck", "rk8pd"):
                     r = run_program(exes["bench_gsl"], scene, law, m, t_end, tol, cfg)
                     group.append(_row("adaptive", "gsl", m, scene, law, t_end, tol=tol, repeats=cfg.repeats,
                                       median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"],
                                       x=r["x"], v=r["v"], err=err_of(r["x"], r["v"])))
-            f = python_rhs(scene, law)
+            f, jac = python_rhs(scene, law), python_jac(scene, law)
             for m in cfg.scipy_methods:
                 sc = Config(**{**cfg.__dict__, "repeats": min(cfg.repeats, 3), "min_sample": 0.0})
+                kw = {"jac": jac} if m in SCIPY_IMPLICIT else {}
                 med, sol = time_python(lambda: solve_ivp(f, (0.0, t_end), [0.0, 0.0], method=m, rtol=tol,
-                                                         atol=tol), sc)
+                                                         atol=tol, **kw), sc)
                 x, v = float(sol.y[0, -1]), float(sol.y[1, -1])
                 nstep = len(sol.t) - 1
                 group.append(_row("adaptive", "scipy", m, scene, law, t_end, tol=tol, repeats=sc.repeats,
