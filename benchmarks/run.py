@@ -302,20 +302,14 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
             group.append(_row("adaptive", "stickslip_fortran", "dopri5", scene, law, t_end, tol=tol,
                               repeats=cfg.repeats, median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"],
                               x=r["x"], v=r["v"], err=err_of(r["x"], r["v"])))
-            med, res = time_python(lambda: stickslip.simulate(
-                scene, law, method="dopri5", t_end=t_end, rtol=tol, atol=tol, hmin=0.0, hmax=t_end,
-                n_out=2, max_steps=10**8), cfg)
-            x, v = float(res.x[-1]), float(res.v[-1])
-            group.append(_row("adaptive", "stickslip_python", "dopri5", scene, law, t_end, tol=tol,
-                              repeats=cfg.repeats, median_s=med, nstep=res.stats["nstep"],
-                              nfev=res.stats["nfev"], x=x, v=v, err=err_of(x, v)))
-            med, res = time_python(lambda: stickslip.simulate(
-                scene, law, method="radau5", t_end=t_end, rtol=tol, atol=tol, hmin=0.0, hmax=t_end,
-                n_out=2, max_steps=10**8), cfg)
-            x, v = float(res.x[-1]), float(res.v[-1])
-            group.append(_row("adaptive", "stickslip_python", "radau5", scene, law, t_end, tol=tol,
-                              repeats=cfg.repeats, median_s=med, nstep=res.stats["nstep"],
-                              nfev=res.stats["nfev"], x=x, v=v, err=err_of(x, v)))
+            for method in ("dopri5", "radau5"):
+                med, res = time_python(lambda: stickslip.simulate(
+                    scene, law, method=method, t_end=t_end, rtol=tol, atol=tol, hmin=0.0, hmax=t_end,
+                    n_out=2, max_steps=10**8), cfg)
+                x, v = float(res.x[-1]), float(res.v[-1])
+                group.append(_row("adaptive", "stickslip_python", method, scene, law, t_end, tol=tol,
+                                  repeats=cfg.repeats, median_s=med, nstep=res.stats["nstep"],
+                                  nfev=res.stats["nfev"], x=x, v=v, err=err_of(x, v)))
             if "bench_gsl" in exes:
                 for m in ("rkf45", "rkck", "rk8pd"):
                     r = run_program(exes["bench_gsl"], scene, law, m, t_end, tol, cfg)

@@ -136,29 +136,14 @@ contains
         class(newton_controls), intent(in) :: ctl   !! Newton controls
         type(ode_stats), intent(inout) :: stats     !! counters, status
         real(dp) :: ys(size(u)), fs(size(u)), dk(size(u)), a(size(u), size(u)), k0(size(u))
-        integer :: ipiv(size(u)), info, iter, j
+        integer :: ipiv(size(u)), iter
         real(dp) :: dnorm
 
         k0 = k
         ys = u + ch * k
         call sys%rhs(tau, ys, fs)
         stats%nfev = stats%nfev + 1
-        stats%njac = stats%njac + 1
-        call sys%jacobian(tau, ys, fs, a, stats%nfev)
-        if (.not. all(ieee_is_finite(a))) then
-            stats%status = SS_JAC_NONFINITE
-            return
-        end if
-        a = -ch * a
-        do j = 1, size(u)
-            a(j, j) = a(j, j) + 1.0_dp
-        end do
-        call lu_decompose(a, ipiv, info)
-        stats%ndec = stats%ndec + 1
-        if (info /= 0) then
-            stats%status = SS_SINGULAR
-            return
-        end if
+        if (.not. newton_matrix(sys, tau, ys, fs, ch, a, ipiv, stats)) return
         do iter = 1, ctl%newton_max_iter
             dk = fs - k
             call lu_solve(a, ipiv, dk)
@@ -175,11 +160,43 @@ contains
         call damped_newton(sys, tau, u, ch, k, ctl, stats)
     end subroutine solve_stage
 
+    !> The Newton matrix I - ch J at (tau, ys), J = sys%jacobian, LU-factorised into (a, ipiv)
+    !! and counted; .false. with stats%status = SS_JAC_NONFINITE or SS_SINGULAR.
+    logical function newton_matrix(sys, tau, ys, fs, ch, a, ipiv, stats) result(ok)
+        class(ode_system), intent(inout) :: sys     !! the right-hand side
+        real(dp), intent(in)  :: tau                !! time of the stage [s]
+        real(dp), intent(in)  :: ys(:)              !! stage state
+        real(dp), intent(in)  :: fs(:)              !! f(tau, ys)
+        real(dp), intent(in)  :: ch                 !! coefficient of k in the stage state [s]
+        real(dp), intent(out) :: a(:, :)            !! LU factors of I - ch J
+        integer, intent(out)  :: ipiv(:)            !! pivots
+        type(ode_stats), intent(inout) :: stats     !! counters, status
+        integer :: j, info
+        ok = .false.
+        stats%njac = stats%njac + 1
+        call sys%jacobian(tau, ys, fs, a, stats%nfev)
+        if (.not. all(ieee_is_finite(a))) then
+            stats%status = SS_JAC_NONFINITE
+            return
+        end if
+        a = -ch * a
+        do j = 1, size(ys)
+            a(j, j) = a(j, j) + 1.0_dp
+        end do
+        call lu_decompose(a, ipiv, info)
+        stats%ndec = stats%ndec + 1
+        if (info /= 0) then
+            stats%status = SS_SINGULAR
+            return
+        end if
+        ok = .true.
+    end function newton_matrix
+
     !> The fallback of solve_stage when its simplified iteration fails (far from the solution,
     !! or where f is not Lipschitz, e.g. mu ~ |v|^(1/3) at rest): Newton's method from the same
     !! guess with the Jacobian at every iterate and a backtracking line search (halving, at most
     !! 30 times) on the weighted RMS norm of the residual ch (k - f(tau, u + ch k)) (weights of the
-!! convergence test at the current iterate, fixed during its line search), at most
+    !! convergence test at the current iterate, fixed during its line search), at most
     !! 4 newton_max_iter iterations, converged by the same test. A run that solve_stage's own
     !! iteration completes never gets here, so its counts are unchanged. On failure
     !! stats%status = SS_NEWTON_FAILED (or SS_JAC_NONFINITE, SS_SINGULAR).
@@ -193,7 +210,7 @@ contains
         type(ode_stats), intent(inout) :: stats     !! counters, status
         real(dp) :: ys(size(u)), fs(size(u)), dk(size(u)), a(size(u), size(u))
         real(dp) :: kt(size(u)), yt(size(u)), ft(size(u))
-        integer :: ipiv(size(u)), info, iter, j, ls
+        integer :: ipiv(size(u)), iter, ls
         real(dp) :: rn, rtn, lam
 
         ys = u + ch * k
@@ -201,22 +218,7 @@ contains
         stats%nfev = stats%nfev + 1
         do iter = 1, 4 * ctl%newton_max_iter
             rn = wnorm(ch * (k - fs), ys)     ! weights fixed over the line search
-            stats%njac = stats%njac + 1
-            call sys%jacobian(tau, ys, fs, a, stats%nfev)
-            if (.not. all(ieee_is_finite(a))) then
-                stats%status = SS_JAC_NONFINITE
-                return
-            end if
-            a = -ch * a
-            do j = 1, size(u)
-                a(j, j) = a(j, j) + 1.0_dp
-            end do
-            call lu_decompose(a, ipiv, info)
-            stats%ndec = stats%ndec + 1
-            if (info /= 0) then
-                stats%status = SS_SINGULAR
-                return
-            end if
+            if (.not. newton_matrix(sys, tau, ys, fs, ch, a, ipiv, stats)) return
             dk = fs - k
             call lu_solve(a, ipiv, dk)
             stats%nsol = stats%nsol + 1
