@@ -1,6 +1,6 @@
 """The implicit integrators (RADAU5, implicit Euler, generalized-alpha) on the paper's scenes::
 
-    python -m cases.implicit --outdir out/           # about a minute on 2 cores
+    python -m cases.implicit --outdir out/           # about 35 s on 2 cores
     python -m cases.implicit --outdir out/ --quick   # t_end shortened, fewer tolerances
 
 Three studies, each a CSV (header with units) and a PNG rendered from it:
