@@ -37,7 +37,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser.add_argument("--only", nargs="+", choices=[name for name, _ in DRIVERS],
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
-                        help="also run the studies (work-precision, stability): about 2.5 min more")
+                        help="also run the studies (work-precision, stability, implicit): about 3 min more")
     parser.add_argument("--workers", type=int, default=2,
                         help="parallel simulations per paper driver (default 2)")
     parser.add_argument("--threads", type=int, default=2,
