@@ -102,3 +102,25 @@ def test_radau5_coulomb_slope_completes():
     r = ss.simulate("slope", "coulomb", method="radau5", t_end=0.01, n_out=2)
     assert r.stats["nforced"] > 0
     assert abs(r.x[-1]) < 1e-6
+
+
+def test_implicit_driver_quick(tmp_path):
+    """python -m cases.implicit --quick writes its CSVs and PNGs; RK4 with h = 1e-3 s makes
+    4 evaluations a step plus the first (the automatic column's reference), every run
+    reaches t_end, and RADAU5 unbounded is the cheapest stickslip solver on the slope."""
+    files = implicit.main(["--outdir", str(tmp_path), "--quick", "--threads", "1", "--quiet"])
+    names = {f.name for f in files}
+    assert {"implicit_slope.csv", "implicit_slope_equal.csv", "fig14_implicit.csv",
+            "fig14_implicit_amplitude.csv", "implicit_auto.csv", "implicit_slope.png",
+            "fig14_implicit.png"} <= names
+    from cases._common import read_csv
+    auto = read_csv(tmp_path / "implicit_auto.csv")
+    for i, mode in enumerate(auto["mode [-]"]):
+        assert auto["status [-]"][i] == "0"
+        if mode == "rk4 h=1e-3":
+            assert int(auto["nfev [-]"][i]) == 4 * round(float(auto["t_end [s]"][i]) / 1e-3) + 1
+    slope = read_csv(tmp_path / "implicit_slope.csv")
+    for law in ("recurdyn", "proposed"):
+        nfev = {s: int(n) for l, s, r, n in zip(slope["law [-]"], slope["solver [-]"], slope["rtol [-]"],
+                                               slope["nfev [-]"]) if l == law and float(r) == 1e-4}
+        assert nfev["radau5"] < min(nfev["dopri5"], nfev["radau5 hmax=1e-2"])
