@@ -14,7 +14,7 @@ Three studies, each a CSV (header with units) and a PNG rendered from it:
    median wall time of the whole Python call (`benchmarks.run.time_python`).
    ``implicit_slope_equal.csv``: for each solver the time to reach |error| <= 1e-8 m and 1e-10 m,
    interpolated in log-log along its curve (`benchmarks.run.time_at_error`).
-2. ``fig14_implicit.csv``, ``fig14_implicit_amplitude.csv``: Fig. 14 again (belt, RecurDyn law,
+2. ``fig14_implicit.csv``, ``implicit_fig14_amplitude.csv``: Fig. 14 again (belt, RecurDyn law,
    h = 1e-3 and 1e-4 s, T_END_BELT) with implicit Euler and generalized-alpha (rho_inf = 0, 0.5,
    0.9, 1). On this orbit mu = mu_k throughout (v_rel > v_d), so the motion is the linear
    oscillator x'' = -w^2 (x - x_k), w = sqrt(k/m), x_k = mu_k m g / k, whose exact amplitude
@@ -190,7 +190,7 @@ def fig14(outdir: Path, t_end: float, n_out: int) -> list[Path]:
         rows.append([method, rho, h, t_end, r.stats["nfev"], r.stats["njac"], amp, pred,
                      amp / pred - 1.0, amp / x_k, root])
     return [c.write_columns(outdir / "fig14_implicit.csv", cols),
-            c.write_csv(outdir / "fig14_implicit_amplitude.csv", AMP_HEADER, rows)]
+            c.write_csv(outdir / "implicit_fig14_amplitude.csv", AMP_HEADER, rows)]
 
 
 # --------------------------------------------------------------------------------------------

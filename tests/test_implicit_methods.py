@@ -111,7 +111,7 @@ def test_implicit_driver_quick(tmp_path):
     files = implicit.main(["--outdir", str(tmp_path), "--quick", "--threads", "1", "--quiet"])
     names = {f.name for f in files}
     assert {"implicit_slope.csv", "implicit_slope_equal.csv", "fig14_implicit.csv",
-            "fig14_implicit_amplitude.csv", "implicit_auto.csv", "implicit_slope.png",
+            "implicit_fig14_amplitude.csv", "implicit_auto.csv", "implicit_slope.png",
             "fig14_implicit.png"} <= names
     from cases._common import read_csv
     auto = read_csv(tmp_path / "implicit_auto.csv")
