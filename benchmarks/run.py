@@ -46,6 +46,10 @@ FIELDS: tuple[str, ...] = (
     "v_end_m_s", "err", "reference", "ratio_step", "ratio_eval", "ratio_time",
 )
 REFERENCE_TOL = 1e-13
+#: Fixed-step implicit methods timed beside RK4 (from Python, default controls).
+IMPLICIT_FIXED: tuple[str, ...] = ("implicit_euler", "galpha")
+#: scipy methods that take the analytic Jacobian (python_jac).
+SCIPY_IMPLICIT: tuple[str, ...] = ("Radau", "BDF", "LSODA")
 
 
 @dataclass
@@ -59,7 +63,7 @@ class Config:
     targets: list[float]                                 # error targets for equal accuracy
     repeats: int
     min_sample: float                                    # [s]
-    scipy_methods: list[str] = field(default_factory=lambda: ["RK45", "DOP853", "LSODA"])
+    scipy_methods: list[str] = field(default_factory=lambda: ["RK45", "DOP853", "LSODA", "Radau"])
 
 
 FULL = Config(
@@ -145,12 +149,16 @@ def machine() -> str:
 
 # -- the scenes in Python, for solve_ivp --------------------------------------------------------
 
-def python_rhs(scene: str, law: str) -> Callable[[float, np.ndarray], list[float]]:
-    """The scene's right-hand side in plain Python (the paper's formulas), as a scipy user
-    would write it; parameters of Table 1."""
-    mu_s, mu_k, v_s, v_d, beta, a = 0.35, 0.30, 0.01, 0.015, 1.0 / 3.0, 1.5
-    g, k_m, v_b, theta = 9.81, 300.0 / 10.0, 1.5, math.radians(10.0)
-    ln_a = math.log(a)
+PAPER = dict(mu_s=0.35, mu_k=0.30, v_s=0.01, v_d=0.015, beta=1.0 / 3.0, a=1.5, g=9.81, k_m=30.0,
+             v_b=1.5, theta=math.radians(10.0))
+
+
+def python_law(law: str) -> tuple[Callable[[float], float], Callable[[float], float]]:
+    """mu(v) and d mu/dv of a law in plain Python (the paper's formulas, Table 1); d mu/dv of
+    the proposed law is floored at |v| = 1e-6 v_s as in the library."""
+    p = PAPER
+    mu_s, mu_k, v_s, v_d, beta = p["mu_s"], p["mu_k"], p["v_s"], p["v_d"], p["beta"]
+    ln_a = math.log(p["a"])
     b = -math.log(mu_s - mu_k) / ln_a - v_s
 
     def hav(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
@@ -159,6 +167,11 @@ def python_rhs(scene: str, law: str) -> Callable[[float, np.ndarray], list[float
         if x >= x1:
             return h1
         return h0 + (h1 - h0) * 0.5 * (1.0 - math.cos(math.pi * (x - x0) / (x1 - x0)))
+
+    def dhav(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
+        if x <= x0 or x >= x1:
+            return 0.0
+        return (h1 - h0) * 0.5 * math.pi / (x1 - x0) * math.sin(math.pi * (x - x0) / (x1 - x0))
 
     def mu(v: float) -> float:
         s = abs(v)
@@ -172,10 +185,39 @@ def python_rhs(scene: str, law: str) -> Callable[[float, np.ndarray], list[float
             m = mu_s * (s / v_s) ** beta if s <= v_s else math.exp(-ln_a * (s + b)) + mu_k
         return math.copysign(m, v)
 
+    def dmu(v: float) -> float:
+        s = abs(v)
+        if law == "coulomb":
+            return 0.0
+        if law == "recurdyn":
+            return dhav(s, 0.0, 0.0, v_s, mu_s) if s < v_s else dhav(s, v_s, mu_s, v_d, mu_k)
+        if s <= v_s:
+            s = max(s, 1e-6 * v_s)
+            return mu_s * beta / v_s * (s / v_s) ** (beta - 1.0)
+        return -ln_a * math.exp(-ln_a * (s + b))
+
+    return mu, dmu
+
+
+def python_rhs(scene: str, law: str) -> Callable[[float, np.ndarray], list[float]]:
+    """The scene's right-hand side in plain Python (the paper's formulas), as a scipy user
+    would write it; parameters of Table 1."""
+    mu = python_law(law)[0]
+    g, k_m, v_b, theta = PAPER["g"], PAPER["k_m"], PAPER["v_b"], PAPER["theta"]
     if scene == "belt":
         return lambda t, y: [y[1], -k_m * y[0] + mu(v_b - y[1]) * g]
     g_sin, g_cos = g * math.sin(theta), g * math.cos(theta)
     return lambda t, y: [y[1], g_sin - mu(y[1]) * g_cos]
+
+
+def python_jac(scene: str, law: str) -> Callable[[float, np.ndarray], list[list[float]]]:
+    """The Jacobian of python_rhs (analytic, as the library's scenes give it)."""
+    dmu = python_law(law)[1]
+    g, k_m, v_b, theta = PAPER["g"], PAPER["k_m"], PAPER["v_b"], PAPER["theta"]
+    if scene == "belt":
+        return lambda t, y: [[0.0, 1.0], [-k_m, -g * dmu(v_b - y[1])]]
+    g_cos = g * math.cos(theta)
+    return lambda t, y: [[0.0, 1.0], [0.0, -g_cos * dmu(y[1])]]
 
 
 # -- rows ---------------------------------------------------------------------------------------
@@ -210,6 +252,12 @@ def run_fixed(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) ->
         group.append(_row("fixed", "stickslip_python", "rk4", scene, law, t_end, h=h, repeats=cfg.repeats,
                           median_s=med, nstep=res.stats["nstep"], nfev=res.stats["nfev"],
                           x=float(res.x[-1]), v=float(res.v[-1])))
+        for method in IMPLICIT_FIXED:     # per step: Newton with the analytic Jacobian and one LU
+            med, res = time_python(lambda: stickslip.simulate(scene, law, method=method, t_end=t_end, h=h,
+                                                              n_out=2), cfg)
+            group.append(_row("fixed", "stickslip_python", method, scene, law, t_end, h=h, repeats=cfg.repeats,
+                              median_s=med, nstep=res.stats["nstep"], nfev=res.stats["nfev"],
+                              x=float(res.x[-1]), v=float(res.v[-1])))
         if "bench_gsl" in exes:
             r = run_program(exes["bench_gsl"], scene, law, "rk4", t_end, h, cfg)
             group.append(_row("fixed", "gsl", "rk4 (step doubling)", scene, law, t_end, h=h,
@@ -254,24 +302,26 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
             group.append(_row("adaptive", "stickslip_fortran", "dopri5", scene, law, t_end, tol=tol,
                               repeats=cfg.repeats, median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"],
                               x=r["x"], v=r["v"], err=err_of(r["x"], r["v"])))
-            med, res = time_python(lambda: stickslip.simulate(
-                scene, law, method="dopri5", t_end=t_end, rtol=tol, atol=tol, hmin=0.0, hmax=t_end,
-                n_out=2, max_steps=10**8), cfg)
-            x, v = float(res.x[-1]), float(res.v[-1])
-            group.append(_row("adaptive", "stickslip_python", "dopri5", scene, law, t_end, tol=tol,
-                              repeats=cfg.repeats, median_s=med, nstep=res.stats["nstep"],
-                              nfev=res.stats["nfev"], x=x, v=v, err=err_of(x, v)))
+            for method in ("dopri5", "radau5"):
+                med, res = time_python(lambda: stickslip.simulate(
+                    scene, law, method=method, t_end=t_end, rtol=tol, atol=tol, hmin=0.0, hmax=t_end,
+                    n_out=2, max_steps=10**8), cfg)
+                x, v = float(res.x[-1]), float(res.v[-1])
+                group.append(_row("adaptive", "stickslip_python", method, scene, law, t_end, tol=tol,
+                                  repeats=cfg.repeats, median_s=med, nstep=res.stats["nstep"],
+                                  nfev=res.stats["nfev"], x=x, v=v, err=err_of(x, v)))
             if "bench_gsl" in exes:
                 for m in ("rkf45", "rkck", "rk8pd"):
                     r = run_program(exes["bench_gsl"], scene, law, m, t_end, tol, cfg)
                     group.append(_row("adaptive", "gsl", m, scene, law, t_end, tol=tol, repeats=cfg.repeats,
                                       median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"],
                                       x=r["x"], v=r["v"], err=err_of(r["x"], r["v"])))
-            f = python_rhs(scene, law)
+            f, jac = python_rhs(scene, law), python_jac(scene, law)
             for m in cfg.scipy_methods:
                 sc = Config(**{**cfg.__dict__, "repeats": min(cfg.repeats, 3), "min_sample": 0.0})
+                kw = {"jac": jac} if m in SCIPY_IMPLICIT else {}
                 med, sol = time_python(lambda: solve_ivp(f, (0.0, t_end), [0.0, 0.0], method=m, rtol=tol,
-                                                         atol=tol), sc)
+                                                         atol=tol, **kw), sc)
                 x, v = float(sol.y[0, -1]), float(sol.y[1, -1])
                 nstep = len(sol.t) - 1
                 group.append(_row("adaptive", "scipy", m, scene, law, t_end, tol=tol, repeats=sc.repeats,

@@ -1,5 +1,6 @@
 """Stability at the extremes: RK4 stability maps (step size h x v_s), DOPRI5 cost maps
-(tolerance x v_s), and a list of extreme runs that must each end with a clear status::
+(tolerance x v_s), maps of the fixed-step implicit methods on the slope (h up to 1e4 times
+RK4's bound, `implicit_map`), and a list of extreme runs that must each end with a clear status::
 
     python -m cases.stability --outdir out/          # about a minute on 2 cores
     python -m cases.stability --outdir out/ --quick  # coarser maps, no 2e8-step run
@@ -216,6 +217,76 @@ def dopri5_map(v_ss: Sequence[float], rtols: Sequence[float], threads: int,
     return out
 
 
+IMPLICIT_HEADER: list[str] = ["scene [-]", "law [-]", "method [-]", "rho_inf [-]", "v_s [m/s]", "h [s]",
+                              "h_lin [s]", "t_end [s]", "status [-]", "nfev [-]", "v_max [m/s]",
+                              "n_flip_tail [-]", "n_rev_tail [-]", "class [-]"]
+#: The fixed-step implicit methods of the map: (method, rho_inf or None).
+IMPLICIT_METHODS: tuple[tuple[str, float | None], ...] = (
+    ("implicit_euler", None), ("galpha", 0.0), ("galpha", 0.5), ("galpha", 1.0))
+
+
+def implicit_map(v_ss: Sequence[float], n_h: int, threads: int, client: Any = None) -> list[list[Any]]:
+    """Implicit Euler and generalized-alpha on the slope from rest over h in
+    [h_lin/10, 1e4 h_lin] (RK4's bound h_lin), with RK4's monitor grid (rk4_grid) and
+    classification; a run whose Newton iteration fails is classed "newton failed"."""
+    import stickslip
+    rows: list[dict[str, Any]] = []
+    for l in ("recurdyn", "proposed"):
+        for vs in v_ss:
+            h_lin = linear_bound("slope", l, vs)[1]
+            for m, rho in IMPLICIT_METHODS:
+                for h in np.geomspace(h_lin / 10.0, h_lin * 1e4, n_h):
+                    h = float(f"{h:.4g}")
+                    t_end, n_grid = rk4_grid("slope", h)
+                    rows.append({"law": l, "v_s": vs, "method": m, "rho": rho, "h": h, "h_lin": h_lin,
+                                 "t_end": t_end, "n_grid": n_grid})
+    out: list[list[Any]] = [[] for _ in rows]
+    failed = stickslip.REGISTRY["status"]["NEWTON_FAILED"]
+    for n_grid in sorted({r["n_grid"] for r in rows}):
+        idx = [i for i, r in enumerate(rows) if r["n_grid"] == n_grid]
+        sub = [rows[i] for i in idx]
+        b = stickslip.simulate_batch("slope", [r["law"] for r in sub], method=[r["method"] for r in sub],
+                                     t_end=[r["t_end"] for r in sub], h=[r["h"] for r in sub],
+                                     rho_inf=[np.nan if r["rho"] is None else r["rho"] for r in sub],
+                                     v_s=[r["v_s"] for r in sub], n_grid=n_grid, threads=threads,
+                                     client=client)
+        for j, (i, r) in enumerate(zip(idx, sub)):
+            cls = "newton failed" if b.status[j] == failed else classify(b, j, v_bound("slope", r["t_end"]),
+                                                                          n_grid)
+            out[i] = ["slope", r["law"], r["method"], r["rho"], r["v_s"], r["h"], r["h_lin"], r["t_end"],
+                      int(b.status[j]), int(b.nfev[j]), float(b.v_max[j]), int(b.n_flip_tail[j]),
+                      int(b.n_rev_tail[j]), cls]
+    return out
+
+
+def plot_implicit(csv: str | Path, outdir: str | Path) -> Path:
+    """Render stability_implicit.csv: class over h / h_lin per method, one panel per law and v_s."""
+    cols = c.read_csv(csv)
+    keys = list(dict.fromkeys((cols["law [-]"][i], cols["v_s [m/s]"][i]) for i in range(len(cols["law [-]"]))))
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, len(keys), figsize=(3.0 * len(keys) + 1.0, 3.4), squeeze=False)
+    colors = {"stable": "tab:green", "chattering": "tab:orange", "spurious": "tab:purple",
+              "unstable": "tab:red", "newton failed": "0.4"}
+    labels = [m if rho is None else f"{m} {rho:g}" for m, rho in IMPLICIT_METHODS]
+    for ax, (l, vs) in zip(axes[0], keys):
+        seen = set()
+        for i in range(len(cols["law [-]"])):
+            if (cols["law [-]"][i], cols["v_s [m/s]"][i]) != (l, vs):
+                continue
+            rho = cols["rho_inf [-]"][i]
+            lab = cols["method [-]"][i] + (f" {float(rho):g}" if rho else "")
+            k = cols["class [-]"][i]
+            ax.semilogx(float(cols["h [s]"][i]) / float(cols["h_lin [s]"][i]), labels.index(lab), "s",
+                        color=colors[k], ms=5, label=None if k in seen else k)
+            seen.add(k)
+        ax.axvline(1.0, color="k", lw=0.8)
+        ax.set_yticks(range(len(labels)), labels, fontsize=7)
+        ax.set_xlabel("h / h_lin (RK4's bound)")
+        ax.set_title(f"slope, {l}, v_s = {float(vs):g}", fontsize=8)
+        ax.legend(fontsize=6, loc="lower right")
+    return c.save_figure(fig, Path(outdir) / "stability_implicit.png")
+
+
 def extremes(quick: bool = False, threads: int = 2, client: Any = None) -> list[list[Any]]:
     """The extreme runs of issue 5, each with its status (or the ValueError it raises)."""
     import stickslip
@@ -314,6 +385,10 @@ def _run(outdir: str | Path, *, quick: bool, threads: int, quiet: bool,
     c.log(f"stability: DOPRI5 map, {len(dop)} runs, {time.perf_counter() - t0:.1f} s", quiet)
     p_dop = c.write_csv(outdir / "stability_dopri5.csv", DOPRI_HEADER, dop)
     t0 = time.perf_counter()
+    imp = implicit_map([1e-2, 1e-4], 7 if quick else 11, threads, client)
+    c.log(f"stability: implicit map, {len(imp)} runs, {time.perf_counter() - t0:.1f} s", quiet)
+    p_imp = c.write_csv(outdir / "stability_implicit.csv", IMPLICIT_HEADER, imp)
+    t0 = time.perf_counter()
     ext = extremes(quick, threads, client)
     c.log(f"stability: extremes, {time.perf_counter() - t0:.1f} s", quiet)
     p_ext = c.write_csv(outdir / "stability_extremes.csv", EXTREME_HEADER, ext)
@@ -333,7 +408,8 @@ def _run(outdir: str | Path, *, quick: bool, threads: int, quiet: bool,
     c.log_caption(boundary_caption(9 if quick else 17), quiet)
     c.log(c.markdown_table(["scene", "law", "v_s [m/s]", "h_lin [s]", "h_obs [s]", "h_next [s]",
                             "h_obs/h_lin", "h_next/h_lin"], boundary(rk4)), quiet)
-    return [p_rk4, p_dop, p_ext, p_speed] + plot(p_rk4, outdir) + plot(p_dop, outdir)
+    return [p_rk4, p_dop, p_imp, p_ext, p_speed] + plot(p_rk4, outdir) + plot(p_dop, outdir) \
+        + [plot_implicit(p_imp, outdir)]
 
 
 def boundary_caption(n_h: int) -> str:

@@ -1,5 +1,6 @@
 """Work-precision: error against a reference versus CPU time and function evaluations, for each
-scene x law x method, RK4 with h = 1e-2 .. 1e-6 s and DOPRI5 with rtol = 1e-2 .. 1e-12::
+scene x law x method, RK4 with h = 1e-2 .. 1e-6 s, DOPRI5 and RADAU5 with rtol = 1e-2 .. 1e-12
+(RADAU5 not on the Coulomb slope, where it forces about 1e7 steps at h_min per run)::
 
     python -m cases.workprecision --outdir out/          # about 30 s on 2 cores
     python -m cases.workprecision --outdir out/ --quick  # t_end = 2 s, h >= 1e-5, rtol >= 1e-10
@@ -17,10 +18,10 @@ Two errors, kept apart (both at t_end, on x, in m):
 - model error: against the physical truth: the box on the slope does not move (x = 0); the
   mass on the belt follows the Coulomb cycle (here the harmonic orbit above).
 
-DOPRI5 runs use atol = 1e-3 rtol, the paper's h_min = 1e-6 s (forced steps there) and no h_max
+DOPRI5 and RADAU5 runs use atol = 1e-3 rtol, the paper's h_min = 1e-6 s (forced steps there) and no h_max
 (so that loose tolerances cost little). t_end = 20 s (the paper's duration) for both scenes.
 Observed orders are least-squares slopes of log(discretisation error) against log(h) (RK4) and
-against -log(nfev) (DOPRI5), over the points whose error lies between 100x the reference's
+against -log(nfev) (DOPRI5, RADAU5), over the points whose error lies between 100x the reference's
 uncertainty (or 1e-13 m) and 1e-2 m, up to the smallest error (beyond it round-off rules);
 nfev_ratio is max/min nfev over the sweep (near 1: the cost is set by stability, not accuracy,
 and an order against nfev means nothing) and tol_slope the slope of log(error) against
@@ -38,7 +39,7 @@ from . import _common as c
 
 SCENES: tuple[str, ...] = ("slope", "belt")
 LAWS: tuple[str, ...] = c.PAPER_LAWS
-METHODS: tuple[str, ...] = ("rk4", "dopri5")
+METHODS: tuple[str, ...] = ("rk4", "dopri5", "radau5")
 T_END: float = 20.0
 T_END_QUICK: float = 2.0
 HS: tuple[float, ...] = tuple(float(f"{10.0 ** e:.3g}") for e in np.arange(-2.0, -6.01, -0.5))
@@ -153,6 +154,9 @@ def _run(outdir: str | Path, *, quick: bool, threads: int, quiet: bool,
                      for h in hs]
             rows += [{"scene": s, "law": l, "method": "dopri5", "h": float("nan"), "rtol": r,
                       "atol": 1e-3 * r} for r in rtols]
+            if (s, l) != ("slope", "coulomb"):     # RADAU5 forces 1e7 steps there: 20 s a run
+                rows += [{"scene": s, "law": l, "method": "radau5", "h": float("nan"), "rtol": r,
+                          "atol": 1e-3 * r} for r in rtols]
     c.log(f"workprecision: {len(rows)} runs in one batch, {threads} thread(s)", quiet)
     r = stickslip.simulate_batch(
         [q["scene"] for q in rows], [q["law"] for q in rows], method=[q["method"] for q in rows],
@@ -177,8 +181,10 @@ def _run(outdir: str | Path, *, quick: bool, threads: int, quiet: bool,
         for l in LAWS:
             ref = refs[(s, l)]
             lo = max(ERR_FLOOR, 100.0 * ref["unc"])
-            for m, expected in (("rk4", 4.0), ("dopri5", 5.0)):
+            for m, expected in (("rk4", 4.0), ("dopri5", 5.0), ("radau5", 5.0)):
                 sel = [row for row in table if row[0] == s and row[1] == l and row[2] == m]
+                if not sel:
+                    continue
                 err = np.array([row[16] for row in sel], dtype=float)
                 nfev = np.array([row[8] for row in sel], dtype=float)
                 tol_slope = None
@@ -214,7 +220,7 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
         for a, s in enumerate(SCENES):
             for b, l in enumerate(LAWS):
                 ax = axes[a][b]
-                for m, color in (("rk4", "tab:blue"), ("dopri5", "tab:red")):
+                for m, color in (("rk4", "tab:blue"), ("dopri5", "tab:red"), ("radau5", "tab:green")):
                     sel = np.array([cols["scene [-]"][i] == s and cols["law [-]"][i] == l and
                                     cols["method [-]"][i] == m for i in range(len(cols["law [-]"]))])
                     x = num[xkey][sel]

@@ -12,7 +12,9 @@
 !! is solved by Newton's method with the Jacobian evaluated once per step (at the starting
 !! guess) and the matrix I - c h J factorised once per step. Convergence: the weighted RMS
 !! norm of the change of u + c h k, with weights newton_atol + newton_rtol |u + c h k|, is
-!! <= 1. After newton_max_iter iterations without convergence the run ends with
+!! <= 1. After newton_max_iter iterations without convergence the stage is solved again from
+!! the same guess by Newton's method with the Jacobian at every iterate and a backtracking line
+!! search (at most 4 newton_max_iter iterations); if that fails too the run ends with
 !! SS_NEWTON_FAILED (a fixed step is never reduced); a non-finite Jacobian gives
 !! SS_JAC_NONFINITE, a singular matrix SS_SINGULAR, non-finite iterates SS_NEWTON_FAILED.
 module stickslip_fixed_implicit
@@ -121,13 +123,94 @@ contains
         real(dp), intent(inout) :: k(:)             !! stage derivative: guess in, solution out
         class(newton_controls), intent(in) :: ctl   !! Newton controls
         type(ode_stats), intent(inout) :: stats     !! counters, status
-        real(dp) :: ys(size(u)), fs(size(u)), dk(size(u)), a(size(u), size(u))
-        integer :: ipiv(size(u)), info, iter, j
+        real(dp) :: ys(size(u)), fs(size(u)), dk(size(u)), a(size(u), size(u)), k0(size(u))
+        integer :: ipiv(size(u)), iter
         real(dp) :: dnorm
 
+        k0 = k
         ys = u + ch * k
         call sys%rhs(tau, ys, fs)
         stats%nfev = stats%nfev + 1
+        if (.not. newton_matrix(sys, tau, ys, fs, ch, a, ipiv, stats)) return
+        do iter = 1, ctl%newton_max_iter
+            dk = fs - k
+            call lu_solve(a, ipiv, dk)
+            stats%nsol = stats%nsol + 1
+            k = k + dk
+            ys = u + ch * k
+            dnorm = wnorm(ch * dk, ys)
+            if (.not. ieee_is_finite(dnorm) .or. .not. all_finite(ys)) exit
+            if (dnorm <= 1.0_dp) return
+            call sys%rhs(tau, ys, fs)
+            stats%nfev = stats%nfev + 1
+        end do
+        k = k0
+        call damped_newton()
+
+    contains
+
+        !> The fallback of solve_stage when its simplified iteration fails (far from the solution,
+        !! or where f is not Lipschitz, e.g. mu ~ |v|^(1/3) at rest): Newton's method from the same
+        !! guess with the Jacobian at every iterate and a backtracking line search (halving, at most
+        !! 30 times) on the weighted RMS norm of the residual ch (k - f(tau, u + ch k)) (weights of the
+        !! convergence test at the current iterate, fixed during its line search), at most
+        !! 4 newton_max_iter iterations, converged by the same test. A run that solve_stage's own
+        !! iteration completes never gets here, so its counts are unchanged. On failure
+        !! stats%status = SS_NEWTON_FAILED (or SS_JAC_NONFINITE, SS_SINGULAR).
+        subroutine damped_newton()
+            real(dp) :: kt(size(u)), yt(size(u)), ft(size(u))
+            integer :: ls
+            real(dp) :: rn, rtn, lam
+
+            ys = u + ch * k
+            call sys%rhs(tau, ys, fs)
+            stats%nfev = stats%nfev + 1
+            do iter = 1, 4 * ctl%newton_max_iter
+                rn = wnorm(ch * (k - fs), ys)     ! weights fixed over the line search
+                if (.not. newton_matrix(sys, tau, ys, fs, ch, a, ipiv, stats)) return
+                dk = fs - k
+                call lu_solve(a, ipiv, dk)
+                stats%nsol = stats%nsol + 1
+                lam = 1.0_dp
+                do ls = 1, 30
+                    kt = k + lam * dk
+                    yt = u + ch * kt
+                    call sys%rhs(tau, yt, ft)
+                    stats%nfev = stats%nfev + 1
+                    rtn = wnorm(ch * (kt - ft), ys)
+                    if (ieee_is_finite(rtn) .and. rtn <= (1.0_dp - 1.0e-4_dp * lam) * rn) exit
+                    lam = 0.5_dp * lam
+                end do
+                if (ls > 30) exit
+                k = kt
+                ys = yt
+                fs = ft
+                if (wnorm(lam * ch * dk, ys) <= 1.0_dp) return
+            end do
+            stats%status = SS_NEWTON_FAILED
+        end subroutine damped_newton
+
+        !> Weighted RMS norm of x with the convergence test's weights at state y.
+        pure real(dp) function wnorm(x, y)
+            real(dp), intent(in) :: x(:), y(:)
+            wnorm = sqrt(sum((x / (ctl%newton_atol + ctl%newton_rtol * abs(y)))**2) / size(x))
+        end function wnorm
+
+    end subroutine solve_stage
+
+    !> The Newton matrix I - ch J at (tau, ys), J = sys%jacobian, LU-factorised into (a, ipiv)
+    !! and counted; .false. with stats%status = SS_JAC_NONFINITE or SS_SINGULAR.
+    logical function newton_matrix(sys, tau, ys, fs, ch, a, ipiv, stats) result(ok)
+        class(ode_system), intent(inout) :: sys     !! the right-hand side
+        real(dp), intent(in)  :: tau                !! time of the stage [s]
+        real(dp), intent(in)  :: ys(:)              !! stage state
+        real(dp), intent(in)  :: fs(:)              !! f(tau, ys)
+        real(dp), intent(in)  :: ch                 !! coefficient of k in the stage state [s]
+        real(dp), intent(out) :: a(:, :)            !! LU factors of I - ch J
+        integer, intent(out)  :: ipiv(:)            !! pivots
+        type(ode_stats), intent(inout) :: stats     !! counters, status
+        integer :: j, info
+        ok = .false.
         stats%njac = stats%njac + 1
         call sys%jacobian(tau, ys, fs, a, stats%nfev)
         if (.not. all(ieee_is_finite(a))) then
@@ -135,7 +218,7 @@ contains
             return
         end if
         a = -ch * a
-        do j = 1, size(u)
+        do j = 1, size(ys)
             a(j, j) = a(j, j) + 1.0_dp
         end do
         call lu_decompose(a, ipiv, info)
@@ -144,20 +227,8 @@ contains
             stats%status = SS_SINGULAR
             return
         end if
-        do iter = 1, ctl%newton_max_iter
-            dk = fs - k
-            call lu_solve(a, ipiv, dk)
-            stats%nsol = stats%nsol + 1
-            k = k + dk
-            ys = u + ch * k
-            dnorm = sqrt(sum((ch * dk / (ctl%newton_atol + ctl%newton_rtol * abs(ys)))**2) / size(u))
-            if (.not. ieee_is_finite(dnorm) .or. .not. all_finite(ys)) exit
-            if (dnorm <= 1.0_dp) return
-            call sys%rhs(tau, ys, fs)
-            stats%nfev = stats%nfev + 1
-        end do
-        stats%status = SS_NEWTON_FAILED
-    end subroutine solve_stage
+        ok = .true.
+    end function newton_matrix
 
     !> Integrate with a fixed-step implicit method (the driver behind implicit_euler_integrate
     !! and galpha_integrate; see those for the arguments and statuses).

@@ -26,8 +26,13 @@
 !!
 !! As in DOPRI5 there is a step size floor h_min: when the error test fails at h_min the step
 !! is accepted anyway and counted in nforced (`allow_forced = .false.`: SS_STEP_TOO_SMALL).
-!! A Newton failure at h_min cannot be forced (there is no converged stage value) and ends
-!! the run with SS_NEWTON_FAILED.
+!! At h_min, where the step cannot shrink, Newton is not abandoned on the prediction that it
+!! will converge too slowly (it iterates on up to `nit`); if it still fails (nit iterations,
+!! or a contraction rate >= 0.99), the last iterate is taken as a forced step, counted in
+!! nforced like a failed error test there (`allow_forced = .false.`: SS_NEWTON_FAILED).
+!! This happens where the stage equations have no smooth solution: Coulomb's jump at v = 0,
+!! and the proposed law's mu ~ |v|^beta from rest at tight tolerances. With h_min = 0
+!! (Hairer's code has none) none of this is reached.
 !!
 !! Linear algebra: stickslip_linalg's own dense LU (for n <= 10 it was measured as fast as
 !! LAPACK's dgetrf/dgetrs and zgetrf/zgetrs, and the library needs no LAPACK).
@@ -163,7 +168,7 @@ contains
         real(dp) :: faccon, theta, thq, thqold, dyno, dynold, dyth, qnewt, fnewt, cfac, fac1
         real(dp) :: ffacl, ffacr
         integer :: n, m, next, action, newt, nsing, ier, i
-        logical :: first, reject, last, caljac, forced, newton_ok
+        logical :: first, reject, last, caljac, forced, newton_ok, newton_forced
 
         n = size(y0)
         stats%status = check_problem(t0, y0, t_end, t_out, y_out, opts%every_step)
@@ -277,7 +282,7 @@ contains
             hnew = h / quot
 
             forced = .false.
-            if (err >= 1.0_dp .and. (h <= opts%hmin .or. (last .and. h <= 1.0001_dp * opts%hmin))) then
+            if ((err >= 1.0_dp .or. newton_forced) .and. (h <= opts%hmin .or. (last .and. h <= 1.0001_dp * opts%hmin))) then
                 if (.not. opts%allow_forced) then
                     stats%status = SS_STEP_TOO_SMALL
                     exit steps
@@ -418,11 +423,13 @@ contains
             logical, intent(out) :: ok
             real(dp) :: a1(n), a2(n), a3(n)
             ok = .false.
+            newton_forced = .false.
             newt = 0
             faccon = max(faccon, UROUND)**0.8_dp
             theta = abs(opts%thet)
             do
                 if (newt >= opts%nit) then
+                    if (force_newton()) exit
                     ier = 0
                     call unexpected_rejection()
                     return
@@ -461,11 +468,10 @@ contains
                     if (theta < 0.99_dp) then
                         faccon = theta / (1.0_dp - theta)
                         dyth = faccon * dyno * theta**(opts%nit - 1 - newt) / fnewt
-                        if (dyth >= 1.0_dp) then   ! predicted not to converge in time: shrink h
-                            if (h <= opts%hmin) then
-                                stats%status = SS_NEWTON_FAILED
-                                return
-                            end if
+                        ! Predicted not to converge in time: shrink h. At h_min, where h cannot
+                        ! shrink, iterate on instead (the prediction is only a guess; Newton
+                        ! can still converge, e.g. from rest under mu ~ |v|^(1/3)).
+                        if (dyth >= 1.0_dp .and. h > opts%hmin) then
                             qnewt = max(1.0e-4_dp, min(20.0_dp, dyth))
                             h = max(0.8_dp * qnewt**(-1.0_dp / (4.0_dp + opts%nit - 1 - newt)) * h, opts%hmin)
                             reject = .true.
@@ -475,6 +481,7 @@ contains
                             return
                         end if
                     else
+                        if (force_newton()) exit
                         ier = 0
                         call unexpected_rejection()
                         return
@@ -489,6 +496,16 @@ contains
             end do
             ok = .true.
         end subroutine newton
+
+        !> Newton failed at h_min (no smaller step to retry with): with allow_forced, take
+        !! the last iterate as the stage values of a forced step (as DOPRI5 forces a step
+        !! whose error test fails at h_min); .false. otherwise.
+        logical function force_newton() result(force)
+            force = h <= opts%hmin .and. opts%allow_forced
+            if (.not. force) return
+            call transform(radau5_t, w1, w2, w3, z1, z2, z3)
+            newton_forced = .true.
+        end function force_newton
 
         !> Embedded error estimate (with the filtered second solve on a first or rejected step).
         subroutine error_estimate()

@@ -269,7 +269,8 @@ def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[
 
 @pytest.mark.parametrize("argv,expected", [
     ([], ["laws", "slope", "belt"]),
-    (["--all", "--threads", "1"], ["laws", "slope", "belt", "workprecision", "stability", "laws_compare"]),
+    (["--all", "--threads", "1"], ["laws", "slope", "belt", "workprecision", "stability", "laws_compare",
+                                   "implicit"]),
     (["--only", "stability"], ["stability"]),
 ])
 def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
@@ -291,7 +292,7 @@ def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
     assert [name for name, _ in calls] == expected
     for name, args in calls:
         assert args[:2] == ["--outdir", str(tmp_path)]
-        if name in ("workprecision", "stability", "laws_compare"):
+        if name in ("workprecision", "stability", "laws_compare", "implicit"):
             assert "--threads" in args and "--workers" not in args
         elif name != "laws":
             assert "--workers" in args
