@@ -111,3 +111,21 @@ def test_ctrl_c_stops_a_long_fortran_call_promptly(call):
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert "interrupted after" in proc.stdout, proc.stdout + proc.stderr
     assert float(proc.stdout.split()[-2]) < 1.0, proc.stdout
+
+
+def test_rk4_beyond_its_stability_bound_on_the_slope_warns():
+    """The bound README derives, 2.785/(g cos(theta) mu'(v*)) with mu(v*) = tan(theta), computed
+    here independently from the haversine's derivative on its first branch."""
+    import math
+    g_cos, tan = 9.81 * math.cos(math.radians(10.0)), math.tan(math.radians(10.0))
+    v_s, mu_s = 0.01, 0.35
+    v_star = v_s / math.pi * math.acos(1.0 - 2.0 * tan / mu_s)
+    dmu = mu_s * 0.5 * math.pi / v_s * math.sin(math.pi * v_star / v_s)
+    assert ss.core.rk4_stability_bound("recurdyn") == pytest.approx(2.785293563405282 / (g_cos * dmu), rel=1e-6)
+    assert ss.core.rk4_stability_bound("coulomb") is None        # a jump: no linear bound
+    with pytest.warns(UserWarning, match=r"h = 0.01 s is beyond RK4's stability bound 2.785/\|lambda\| = 0.00524 s"):
+        ss.simulate("slope", "recurdyn", method="rk4", h=1e-2, t_end=0.1)
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ss.simulate("slope", "recurdyn", method="rk4", h=1e-3, t_end=0.1)

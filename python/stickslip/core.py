@@ -5,6 +5,7 @@ Units are SI throughout: m, s, kg, m/s; angles in degrees.
 """
 from __future__ import annotations
 
+import functools
 import math
 import threading
 import time
@@ -257,6 +258,42 @@ def interruptible(call: Callable[[np.ndarray], Any], steps: float = math.inf) ->
     return box["out"]
 
 
+#: RK4's stability interval on the negative real axis: |h lambda| < 2.785 (README).
+RK4_LIMIT = 2.785293563405282
+
+
+@functools.lru_cache(maxsize=256)
+def rk4_stability_bound(law: str, params: tuple[tuple[str, float], ...] = ()) -> float | None:
+    """RK4's stability bound 2.785/|lambda| [s] for the box on the slope creeping at v*, where
+    mu(v*) = tan(theta) and lambda = -g cos(theta) mu'(v*) (README, "How to choose h"); None
+    where no such bound exists (the box slides, or mu jumps across tan(theta) as Coulomb's does,
+    or the law has internal states). `params` are (name, value) pairs as for simulate."""
+    if REGISTRY["law"][law]["n_states"] > 0:
+        return None
+    p = {k: v for k, v in params if k in REGISTRY["law"][law]["params"]}
+    theta = math.radians(dict(params).get("theta_deg", REGISTRY["param"]["theta_deg"]["default"]))
+    g = dict(params).get("g", REGISTRY["param"]["g"]["default"])
+    target = math.tan(theta)
+    v_s = float(dict(params).get("v_s", REGISTRY["param"]["v_s"]["default"]))
+    if not (0.0 < target and g > 0.0):
+        return None
+    grid = np.concatenate([[0.0], np.geomspace(1e-8, 1e2, 400) * v_s])
+    mu = friction_coefficient(law, grid, **p)
+    above = np.flatnonzero(mu >= target)
+    if above.size == 0 or above[0] == 0:
+        return None
+    lo, hi = grid[above[0] - 1], grid[above[0]]
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if friction_coefficient(law, mid, **p) >= target else (mid, hi)
+    dv = 1e-6 * hi
+    m_lo, m_hi = friction_coefficient(law, [hi - dv, hi + dv], **p)
+    if m_hi - m_lo > 1e-6:          # a jump across tan(theta): no linear bound
+        return None
+    lam = g * math.cos(theta) * (m_hi - m_lo) / (2.0 * dv)
+    return RK4_LIMIT / lam if lam > 0.0 else None
+
+
 def _fixed_steps(t_end: float, h: float) -> float:
     """Steps a fixed-step method takes from 0 to t_end (inf when uncountable; 0 for bad input,
     which the library rejects by name)."""
@@ -359,6 +396,12 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
             warnings.warn(f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
                           "shortened to t_end; the result is that single step (README: How to choose h)",
                           stacklevel=2)
+        if method == "rk4" and scene == "slope" and h > 0.0:
+            bound = rk4_stability_bound(law, tuple(sorted(given.items())))
+            if bound is not None and h > bound:
+                warnings.warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
+                              f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
+                              "wrong creep speed (README: How to choose h)", stacklevel=2)
     y0 = [_finite("x0", x0, "[m]"), _finite("v0", v0, "[m/s]")]
     z = np.zeros(n - 2) if z0 is None else np.atleast_1d(np.asarray(z0, dtype=np.float64))
     if z.shape != (n - 2,) or not np.all(np.isfinite(z)):
