@@ -266,7 +266,7 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
             ax.set_title(f"Fig. 14 (belt, RecurDyn law), implicit methods, h = {h:g} s")
             ax.set_xlabel("t [s]")
             ax.set_ylabel("x [m]")
-            ax.legend(loc="lower left", fontsize=7)
+        c.figure_legend(fig, axes, ncol=5)
         return c.save_figure(fig, Path(outdir) / "fig14_implicit.png")
     cols = c.read_csv(csv)
     fig, axes = c.new_figure(2, width=11.0)
@@ -280,7 +280,7 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
         ax.set_title(f"slope, {c.LAW_LABELS[law]}, 20 s: error against CPU")
         ax.set_xlabel("CPU per run (wall, median) [s]")
         ax.set_ylabel("|x(t_end) - x_ref| [m]")
-        ax.legend(fontsize=7)
+    c.figure_legend(fig, axes, ncol=len(SOLVERS))
     return c.save_figure(fig, Path(outdir) / "implicit_slope.png")
 
 

@@ -367,7 +367,7 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
                 if not log or abs(value) > 0:
                     xs.append(laws.index(law) + (j - (len(series) - 1) / 2) * width)
                     ys.append(abs(value) if log else value)
-        ax.bar(xs, ys, width=width, label=s, color=c.VARIANT_COLORS[j % len(c.VARIANT_COLORS)])
+        ax.bar(xs, ys, width=width, label=s, color=f"C{j % 10}")
     if kind == "rest":
         ax.plot(range(len(laws)), [float(v) for v in cols["rate_predicted [1/s]"]], "o", color="tab:red",
                 label="-g mu'(v_b)/2")
@@ -383,7 +383,7 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     ax.set_xticklabels(laws, rotation=20)
     ax.set_ylabel(column)
     ax.set_title(title)
-    ax.legend(loc="best")
+    c.figure_legend(fig, [ax], ncol=4)
     return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
 
 

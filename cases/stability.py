@@ -282,8 +282,8 @@ def plot_implicit(csv: str | Path, outdir: str | Path) -> Path:
         ax.axvline(1.0, color="k", lw=0.8)
         ax.set_yticks(range(len(labels)), labels, fontsize=7)
         ax.set_xlabel("h / h_lin (RK4's bound)")
-        ax.set_title(f"slope, {l}, v_s = {float(vs):g}", fontsize=8)
-        ax.legend(fontsize=6, loc="lower right")
+        ax.set_title(f"slope, {l}, v_s = {float(vs):g} m/s", fontsize=8)
+    c.figure_legend(fig, axes.ravel(), ncol=5)
     return c.save_figure(fig, Path(outdir) / "stability_implicit.png")
 
 
