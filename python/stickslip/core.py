@@ -351,10 +351,10 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
 
     Keyword arguments are physical parameters (DEFAULTS; each given value is range-checked
     whatever the scene and law) or controls of the method (REGISTRY["method"][method]
-    ["controls"]): "rk4" needs h [s]; "dopri5" takes rtol (1e-6), atol (1e-9; scalars or one per
-    state component), hmin (1e-6 s), hmax (1e-2 s), h0 (0 = automatic), allow_forced,
-    stop_on_stiff, safety, fac1, fac2, beta_pi, nstiff. A control the method does not read is
-    an error.
+    ["controls"]): the fixed-step methods ("rk4", "implicit_euler", "galpha") need h [s]; the
+    adaptive ones ("dopri5", "radau5") take rtol (1e-6), atol (1e-9; scalars or one per state
+    component), hmin (1e-6 s), hmax (1e-2 s), h0 (0 = automatic), allow_forced and their own
+    (README, "Python"). A control the method does not read is an error.
 
     Output: a uniform grid of n_out points on [0, t_end] (default 1001), or every step when
     every_step is set. max_steps bounds attempted steps (default 10**8; 10**6 for an adaptive
@@ -380,12 +380,12 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     n = 2 + REGISTRY["law"][law]["n_states"]
     tol: dict[str, np.ndarray] = {}
     for name in ("rtol", "atol"):
-        value = ctl.pop(name, 1.0)
-        arr = np.atleast_1d(np.asarray(value if not isinstance(value, str) else np.nan, dtype=np.float64))
-        if arr.ndim != 1 or arr.size not in (1, n) or not all(_is_real(x) for x in np.atleast_1d(value)):
+        value = ctl.pop(name, 1.0)            # 1.0: a placeholder the fixed-step methods never read
+        items = np.atleast_1d(np.asarray(value, dtype=object))
+        if items.ndim != 1 or items.size not in (1, n) or not all(_is_real(x) for x in items):
             raise ValueError(f"{name}: must be a real number or {n} of them (one per state component), "
                              f"got {value!r}")
-        tol[name] = arr
+        tol[name] = items.astype(np.float64)
     for name, value in ctl.items():
         ctl[name] = _finite(name, value, "see simulate()")
     if "h" in info["controls"]:
