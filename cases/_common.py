@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import inspect
 import math
 import multiprocessing
 import os
@@ -331,11 +332,13 @@ def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[P
     parser.add_argument("--quick", action="store_true", help=quick_help)
     parser.add_argument("--threads", type=count, default=2, help="OpenMP threads, >= 1 (default 2)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
-    parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
-                        help="run the sweeps on the Dask cluster at ADDRESS, e.g. "
-                             "tcp://127.0.0.1:8786 (default: locally)")
+    sweeps = "scheduler" in inspect.signature(run).parameters   # the drivers built on sweeps
+    if sweeps:
+        parser.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                            help="run the sweeps on the Dask cluster at ADDRESS, e.g. "
+                                 "tcp://127.0.0.1:8786 (default: locally)")
     args = parser.parse_args(argv)
-    where = {} if args.scheduler is None else {"scheduler": args.scheduler}   # drivers with sweeps
+    where = {"scheduler": args.scheduler} if sweeps else {}
     files = run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet, **where)
     print_files(files)
     return files

@@ -132,8 +132,8 @@ def test_study_drivers_take_scheduler() -> None:
     from cases import _common as c
     seen: list[dict] = []
 
-    def run(outdir, **kw):
-        seen.append(kw)
+    def run(outdir, *, scheduler=None, **kw):
+        seen.append(dict(kw, scheduler=scheduler))
         return []
 
     c.study_main("cases.x", "doc", "quick", run, ["--scheduler", "tcp://127.0.0.1:8786"])
