@@ -134,7 +134,7 @@ contains
         real(dp) :: k1(size(y0)), k2(size(y0)), k3(size(y0)), k4(size(y0)), k5(size(y0)), &
                     k6(size(y0)), k7(size(y0))
         real(dp) :: r1(size(y0)), r2(size(y0)), r3(size(y0)), r4(size(y0)), r5(size(y0))
-        real(dp) :: t, tph, h, hnew, hmax, err, lerr, fac, lfacold, expo1, stnum, stden, hlamb
+        real(dp) :: t, tph, h, hnew, hmax, err, fac, fac11, facold, expo1, stnum, stden, hlamb
         integer :: n, m, next, iasti, nonsti
         logical :: last, reject, forced, dense_ready
 
@@ -156,7 +156,7 @@ contains
         hmax = opts%hmax
         if (hmax == 0.0_dp) hmax = t_end - t0
         expo1 = 0.2_dp - opts%beta * 0.75_dp
-        lfacold = log(1.0e-4_dp)   ! log of Hairer's FACOLD: one log and one exp a step, not two pows
+        facold = 1.0e-4_dp
         iasti = 0
         nonsti = 0
         hlamb = 0.0_dp
@@ -233,8 +233,9 @@ contains
             end if
 
             ! PI control: fac = err^expo1 / facold^beta, limited to [1/fac2, 1/fac1] after safety.
-            lerr = log(err)
-            fac = exp(expo1 * lerr - opts%beta * lfacold)
+            ! Hairer's two powers, bit for bit (exp/log of the same quantity moves the last bit).
+            fac11 = err**expo1
+            fac = fac11 / facold**opts%beta
             fac = max(1.0_dp / opts%fac2, min(1.0_dp / opts%fac1, fac / opts%safety))
             hnew = h / fac
 
@@ -280,7 +281,7 @@ contains
                 end if
 
 
-                lfacold = max(lerr, log(1.0e-4_dp))
+                facold = max(err, 1.0e-4_dp)
                 stats%naccept = stats%naccept + 1
                 if (forced) stats%nforced = stats%nforced + 1
 
@@ -312,7 +313,7 @@ contains
                 if (reject) hnew = min(abs(hnew), abs(h))
                 reject = .false.
             else
-                hnew = h / min(1.0_dp / opts%fac1, exp(expo1 * lerr) / opts%safety)
+                hnew = h / min(1.0_dp / opts%fac1, fac11 / opts%safety)
                 reject = .true.
                 if (stats%naccept >= 1) stats%nreject = stats%nreject + 1
                 last = .false.
