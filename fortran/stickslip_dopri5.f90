@@ -77,6 +77,9 @@ module stickslip_dopri5
         real(dp) :: beta = 0.04_dp      !! PI (Lund) stabilisation exponent (0: plain I control)
         integer  :: nstiff = 1000       !! test stiffness every nstiff accepted steps
         logical  :: stop_on_stiff = .false. !! stop with SS_STIFF when the stiffness test fires
+        !> Largest step ratio h_new/h after a forced step (ours: Hairer has no forced steps;
+        !! fac_forced = fac2 is the plain controller).
+        real(dp) :: fac_forced = 10.0_dp
     contains
         procedure :: set => set_dopri5_option
         !! set a control by name (the step_controls ones and DOPRI5's own)
@@ -85,7 +88,7 @@ module stickslip_dopri5
     !> What DOPRI5 is and which controls it reads (registry entry).
     type(method_info), parameter, public :: DOPRI5_INFO = method_info(name='dopri5', order=5, &
         adaptive=.true., implicit=.false., controls='rtol atol hmin hmax h0 max_steps allow_forced ' // &
-        'every_step safety fac1 fac2 beta_pi nstiff stop_on_stiff', &
+        'every_step safety fac1 fac2 beta_pi nstiff stop_on_stiff fac_forced', &
         doc='Dormand-Prince 5(4), adaptive, as Hairer''s DOPRI5')
 
 contains
@@ -109,6 +112,7 @@ contains
                 status = SS_BAD_CONTROL
             end if
         case ('stop_on_stiff'); self%stop_on_stiff = value /= 0.0_dp
+        case ('fac_forced');    self%fac_forced = value
         case default;           status = self%step_controls%set(name, value)
         end select
     end function set_dopri5_option
@@ -172,6 +176,7 @@ contains
         if (.not. (opts%safety > 0.0_dp .and. opts%safety < 1.0_dp) .or. &
             .not. (opts%fac1 > 0.0_dp .and. opts%fac1 <= 1.0_dp) .or. &
             .not. (opts%fac2 >= 1.0_dp .and. ieee_is_finite(opts%fac2)) .or. &
+            .not. (opts%fac_forced >= 1.0_dp .and. ieee_is_finite(opts%fac_forced)) .or. &
             .not. (opts%beta >= 0.0_dp .and. opts%beta <= 0.2_dp) .or. opts%nstiff < 1) then
             status = SS_BAD_CONTROL
         end if
