@@ -77,9 +77,11 @@ module stickslip_dopri5
         real(dp) :: beta = 0.04_dp      !! PI (Lund) stabilisation exponent (0: plain I control)
         integer  :: nstiff = 1000       !! test stiffness every nstiff accepted steps
         logical  :: stop_on_stiff = .false. !! stop with SS_STIFF when the stiffness test fires
-        !> Largest step ratio h_new/h after a forced step (ours: Hairer has no forced steps;
-        !! fac_forced = fac2 is the plain controller).
-        real(dp) :: fac_forced = 10.0_dp
+        !> Largest step ratio h_new/h after a forced step, until the controller itself asks
+        !! for less (ours: Hairer has no forced steps). 2 doubles the step back up from h_min
+        !! instead of trying fac2 = 10 h_min, which a discontinuity only rejects again;
+        !! fac_forced = fac2 is the plain controller.
+        real(dp) :: fac_forced = 2.0_dp
     contains
         procedure :: set => set_dopri5_option
         !! set a control by name (the step_controls ones and DOPRI5's own)

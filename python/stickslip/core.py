@@ -316,8 +316,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     whatever the scene and law) or controls of the method (REGISTRY["method"][method]
     ["controls"]): "rk4" needs h [s]; "dopri5" takes rtol (1e-6), atol (1e-9; scalars or one per
     state component), hmin (1e-6 s), hmax (1e-2 s), h0 (0 = automatic), allow_forced,
-    stop_on_stiff, safety, fac1, fac2, beta_pi, nstiff. A control the method does not read is
-    an error.
+    stop_on_stiff, safety, fac1, fac2, beta_pi, nstiff, fac_forced (2: the largest step ratio
+    after a forced step). A control the method does not read is an error.
 
     Output: a uniform grid of n_out points on [0, t_end] (default 1001), or every step when
     every_step is set. max_steps bounds attempted steps (default 10**8; 10**6 for an adaptive
