@@ -55,27 +55,11 @@ contains
 
 #define KERNEL_ARGS t0, y0, t_end, h, t_out, y_out, stats, every_step, max_steps, stop_flag
 #include "stickslip_kernel_dispatch.inc"
-        call rk4_generic(sys, KERNEL_ARGS)
 #undef KERNEL_ARGS
     end subroutine rk4_integrate
 
-    ! Any ode_system (a user's own): the right-hand side through its binding.
-#define KERNEL rk4_generic
-#define SYS_DECL class(ode_system), intent(inout) :: sys
-#define LAW_ARG
-#define LAW_DECL
-#define NSTATE size(y0)
-#define RHS(tt, yy, ff) call sys%rhs(tt, yy, ff)
-#include "stickslip_rk4_body.inc"
-#undef KERNEL
-#undef SYS_DECL
-#undef LAW_ARG
-#undef LAW_DECL
-#undef NSTATE
-#undef RHS
-
-    ! The built-in scenes with each static law: the law's coefficient and the scene's
-    ! physics called without dispatch, so that the compiler can inline both.
+    ! The integrator's instances: generic_kernel for any ode_system (a user's own), and one
+    ! for each built-in scene with each static law.
 #define KERNEL_BODY "stickslip_rk4_body.inc"
 #include "stickslip_kernel_instances.inc"
 #undef KERNEL_BODY
