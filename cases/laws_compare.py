@@ -300,9 +300,10 @@ def presliding(laws: Sequence[str] | None = None) -> dict[str, np.ndarray]:
 # Driver
 # --------------------------------------------------------------------------------------------
 def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: bool = False,
-        laws: Sequence[str] | None = None) -> list[Path]:
+        laws: Sequence[str] | None = None, scheduler: str | None = None) -> list[Path]:
     """All four tables as CSV, a PNG each, and laws_compare.md, for every law (or `laws`).
-    `quick` skips the h search."""
+    `quick` skips the h search. `scheduler` is accepted for the common study command line
+    (c.study_main passes it) and unused: these runs are single simulations, always local."""
     outdir = Path(outdir)
     t0 = time.perf_counter()
     tables = {"slope": (SLOPE_HEADER, slope_rows(quiet, laws)), "belt": (BELT_HEADER, belt_rows(quiet, laws)),

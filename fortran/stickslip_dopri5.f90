@@ -18,6 +18,11 @@ module stickslip_dopri5
                                SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL, SS_INTERRUPTED
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
                              check_step_controls, all_finite, output_start, RTOL_MIN, stop_requested
+    use stickslip_scenes, only: slope_scene, belt_scene
+    use stickslip_law_coulomb, only: coulomb_law
+    use stickslip_law_recurdyn, only: recurdyn_law
+    use stickslip_law_proposed, only: proposed_law
+    use stickslip_law_stribeck, only: stribeck_law
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -72,6 +77,11 @@ module stickslip_dopri5
         real(dp) :: beta = 0.04_dp      !! PI (Lund) stabilisation exponent (0: plain I control)
         integer  :: nstiff = 1000       !! test stiffness every nstiff accepted steps
         logical  :: stop_on_stiff = .false. !! stop with SS_STIFF when the stiffness test fires
+        !> Largest step ratio h_new/h after a forced step, until the controller itself asks
+        !! for less (ours: Hairer has no forced steps). 2 doubles the step back up from h_min
+        !! instead of trying fac2 = 10 h_min, which a discontinuity only rejects again;
+        !! fac_forced = fac2 is the plain controller.
+        real(dp) :: fac_forced = 2.0_dp
     contains
         procedure :: set => set_dopri5_option
         !! set a control by name (the step_controls ones and DOPRI5's own)
@@ -80,7 +90,7 @@ module stickslip_dopri5
     !> What DOPRI5 is and which controls it reads (registry entry).
     type(method_info), parameter, public :: DOPRI5_INFO = method_info(name='dopri5', order=5, &
         adaptive=.true., implicit=.false., controls='rtol atol hmin hmax h0 max_steps allow_forced ' // &
-        'every_step safety fac1 fac2 beta_pi nstiff stop_on_stiff', &
+        'every_step safety fac1 fac2 beta_pi nstiff stop_on_stiff fac_forced', &
         doc='Dormand-Prince 5(4), adaptive, as Hairer''s DOPRI5')
 
 contains
@@ -104,6 +114,7 @@ contains
                 status = SS_BAD_CONTROL
             end if
         case ('stop_on_stiff'); self%stop_on_stiff = value /= 0.0_dp
+        case ('fac_forced');    self%fac_forced = value
         case default;           status = self%step_controls%set(name, value)
         end select
     end function set_dopri5_option
@@ -128,245 +139,16 @@ contains
         real(dp), intent(inout) :: y_out(:, :)   !! (size(y0), size(t_out)) states at t_out
         type(ode_stats), intent(out) :: stats    !! counters and status
 
-        integer, parameter :: iord = 5
-        real(dp) :: rt(size(y0)), at(size(y0)), sk(size(y0))
-        real(dp) :: y(size(y0)), y1(size(y0)), ysti(size(y0)), yerr(size(y0))
-        real(dp) :: k1(size(y0)), k2(size(y0)), k3(size(y0)), k4(size(y0)), k5(size(y0)), &
-                    k6(size(y0)), k7(size(y0))
-        real(dp) :: r1(size(y0)), r2(size(y0)), r3(size(y0)), r4(size(y0)), r5(size(y0))
-        real(dp) :: t, tph, h, hnew, hmax, err, lerr, fac, lfacold, expo1, stnum, stden, hlamb
-        integer :: n, m, next, iasti, nonsti
-        logical :: last, reject, forced, dense_ready
-
-        n = size(y0)
-        stats%status = check_problem(t0, y0, t_end, t_out, y_out, opts%every_step)
-        if (stats%status == SS_OK) stats%status = check_options(n, t0, t_end, rtol, atol, opts)
-        if (stats%status /= SS_OK) return
-
-        if (size(rtol) == 1) then   ! broadcast a scalar tolerance, or copy per component
-            rt = rtol(1)
-        else
-            rt = rtol
-        end if
-        if (size(atol) == 1) then
-            at = atol(1)
-        else
-            at = atol
-        end if
-        hmax = opts%hmax
-        if (hmax == 0.0_dp) hmax = t_end - t0
-        expo1 = 0.2_dp - opts%beta * 0.75_dp
-        lfacold = log(1.0e-4_dp)   ! log of Hairer's FACOLD: one log and one exp a step, not two pows
-        iasti = 0
-        nonsti = 0
-        hlamb = 0.0_dp
-        last = .false.
-        reject = .false.
-        m = size(t_out)
-
-        t = t0
-        y = y0
-        call sys%rhs(t, y, k1)
-        stats%nfev = 1
-        h = opts%h0
-        if (h == 0.0_dp) then
-            h = initial_step()
-            stats%nfev = 2
-        end if
-        h = min(max(h, opts%hmin), hmax)
-        stats%t_reached = t
-
-        call output_start(t0, y0, t_out, y_out, opts%every_step, next)
-
-        do
-            if (stats%nstep >= opts%max_steps) then
-                stats%status = SS_STEP_BUDGET
-                exit
-            end if
-            if (stop_requested(opts, stats%nstep)) then
-                stats%status = SS_INTERRUPTED
-                exit
-            end if
-            if (0.1_dp * abs(h) <= abs(t) * epsilon(1.0_dp)) then
-                stats%status = SS_STEP_TOO_SMALL
-                exit
-            end if
-            if (t + 1.01_dp * h > t_end) then
-                h = t_end - t
-                last = .true.
-            end if
-            stats%nstep = stats%nstep + 1
-            stats%h_last = h
-
-            y1 = y + h * a21 * k1
-            call sys%rhs(t + dp5_c(2) * h, y1, k2)
-            y1 = y + h * (a31 * k1 + a32 * k2)
-            call sys%rhs(t + dp5_c(3) * h, y1, k3)
-            y1 = y + h * (a41 * k1 + a42 * k2 + a43 * k3)
-            call sys%rhs(t + dp5_c(4) * h, y1, k4)
-            y1 = y + h * (a51 * k1 + a52 * k2 + a53 * k3 + a54 * k4)
-            call sys%rhs(t + dp5_c(5) * h, y1, k5)
-            ysti = y + h * (a61 * k1 + a62 * k2 + a63 * k3 + a64 * k4 + a65 * k5)
-            tph = t + h
-            if (last) tph = t_end
-            call sys%rhs(tph, ysti, k6)
-            y1 = y + h * (a71 * k1 + a73 * k3 + a74 * k4 + a75 * k5 + a76 * k6)
-            call sys%rhs(tph, y1, k7)
-            stats%nfev = stats%nfev + 6
-
-            yerr = h * (e1 * k1 + e3 * k3 + e4 * k4 + e5 * k5 + e6 * k6 + e7 * k7)
-            sk = at + rt * max(abs(y), abs(y1))
-            err = sqrt(sum((yerr / sk)**2) / n)
-            forced = .false.
-
-            if (.not. ieee_is_finite(err) .or. .not. all_finite(y1)) then
-                ! An overflow or NaN in the stages: shrink hard, or give up at the floor.
-                if (h <= opts%hmin) then
-                    stats%status = SS_NONFINITE
-                    exit
-                end if
-                if (stats%naccept >= 1) stats%nreject = stats%nreject + 1
-                reject = .true.
-                last = .false.
-                h = max(h * opts%fac1, opts%hmin)
-                cycle
-            end if
-
-            ! PI control: fac = err^expo1 / facold^beta, limited to [1/fac2, 1/fac1] after safety.
-            lerr = log(err)
-            fac = exp(expo1 * lerr - opts%beta * lfacold)
-            fac = max(1.0_dp / opts%fac2, min(1.0_dp / opts%fac1, fac / opts%safety))
-            hnew = h / fac
-
-            ! At the floor, or on a last step that the 1.01 stretch made slightly longer than
-            ! the floor (rejecting it would only propose h_min and stretch it again).
-            if (err > 1.0_dp .and. (h <= opts%hmin .or. (last .and. h <= 1.01_dp * opts%hmin))) then
-                if (.not. opts%allow_forced) then
-                    stats%status = SS_STEP_TOO_SMALL
-                    exit
-                end if
-                forced = .true.
-            end if
-
-            if (err <= 1.0_dp .or. forced) then
-                ! Output first: a step that cannot be stored is neither counted nor committed.
-                dense_ready = .false.
-                if (opts%every_step) then
-                    if (next > m) then
-                        stats%status = SS_OUTPUT_FULL
-                        exit
-                    end if
-                    t_out(next) = tph
-                    y_out(:, next) = y1
-                    next = next + 1
-                else
-                    do while (next <= m)
-                        if (t_out(next) > tph) exit
-                        if (t_out(next) == tph) then
-                            y_out(:, next) = y1
-                        else
-                            if (.not. dense_ready) call prepare_dense()
-                            y_out(:, next) = dense(t_out(next))
-                            if (.not. all_finite(y_out(:, next))) exit   ! dense output overflow
-                        end if
-                        next = next + 1
-                    end do
-                    if (next <= m) then
-                        if (t_out(next) <= tph) then
-                            stats%status = SS_NONFINITE
-                            exit
-                        end if
-                    end if
-                end if
-
-
-                lfacold = max(lerr, log(1.0e-4_dp))
-                stats%naccept = stats%naccept + 1
-                if (forced) stats%nforced = stats%nforced + 1
-
-                if (mod(stats%naccept, int(opts%nstiff, 8)) == 0 .or. iasti > 0) then
-                    stnum = sum((k7 - k6)**2)
-                    stden = sum((y1 - ysti)**2)
-                    if (stden > 0.0_dp) hlamb = h * sqrt(stnum / stden)
-                    if (stden > 0.0_dp .and. hlamb > 3.25_dp) then
-                        nonsti = 0
-                        iasti = iasti + 1
-                        stats%nstiff = stats%nstiff + 1
-                        if (iasti == 15) stats%stiff = .true.
-                    else
-                        nonsti = nonsti + 1
-                        if (nonsti == 6) iasti = 0
-                    end if
-                end if
-
-                k1 = k7
-                y = y1
-                t = tph
-                stats%t_reached = t
-                if (stats%stiff .and. opts%stop_on_stiff) then
-                    stats%status = SS_STIFF
-                    exit
-                end if
-                if (last) exit
-                if (abs(hnew) > hmax) hnew = hmax
-                if (reject) hnew = min(abs(hnew), abs(h))
-                reject = .false.
-            else
-                hnew = h / min(1.0_dp / opts%fac1, exp(expo1 * lerr) / opts%safety)
-                reject = .true.
-                if (stats%naccept >= 1) stats%nreject = stats%nreject + 1
-                last = .false.
-            end if
-            h = max(hnew, opts%hmin)
-        end do
-        stats%n_written = next - 1
-
-    contains
-
-        !> Hairer's HINIT: a first step from the sizes of f and of its change.
-        real(dp) function initial_step() result(h1)
-            real(dp) :: dnf, dny, der2, der12, hh
-            sk = at + rt * abs(y)
-            dnf = sum((k1 / sk)**2)      ! Hairer's HINIT sums without dividing by n
-            dny = sum((y / sk)**2)
-            if (dnf <= 1.0e-10_dp .or. dny <= 1.0e-10_dp) then
-                hh = 1.0e-6_dp
-            else
-                hh = sqrt(dny / dnf) * 0.01_dp
-            end if
-            hh = min(hh, hmax)
-            y1 = y + hh * k1
-            call sys%rhs(t + hh, y1, k2)
-            der2 = sqrt(sum(((k2 - k1) / sk)**2)) / hh
-            der12 = max(abs(der2), sqrt(dnf))
-            if (der12 <= 1.0e-15_dp) then
-                h1 = max(1.0e-6_dp, abs(hh) * 1.0e-3_dp)
-            else
-                h1 = (0.01_dp / der12)**(1.0_dp / iord)
-            end if
-            h1 = min(100.0_dp * abs(hh), h1, hmax)
-        end function initial_step
-
-        !> Coefficients of the order-4 continuous extension on [t, tph].
-        subroutine prepare_dense()
-            r1 = y
-            r2 = y1 - y
-            r3 = h * k1 - r2
-            r4 = r2 - h * k7 - r3
-            r5 = h * (d1 * k1 + d3 * k3 + d4 * k4 + d5 * k5 + d6 * k6 + d7 * k7)
-            dense_ready = .true.
-        end subroutine prepare_dense
-
-        !> Dense output at time tq in [t, tph].
-        function dense(tq) result(yq)
-            real(dp), intent(in) :: tq
-            real(dp) :: yq(n), s, s1
-            s = (tq - t) / h
-            s1 = 1.0_dp - s
-            yq = r1 + s * (r2 + s1 * (r3 + s * (r4 + s1 * r5)))
-        end function dense
-
+#define KERNEL_ARGS t0, y0, t_end, rtol, atol, opts, t_out, y_out, stats
+#include "stickslip_kernel_dispatch.inc"
+#undef KERNEL_ARGS
     end subroutine dopri5_integrate
+
+    ! The integrator's instances: generic_kernel for any ode_system (a user's own), and one
+    ! for each built-in scene with each static law.
+#define KERNEL_BODY "stickslip_dopri5_body.inc"
+#include "stickslip_kernel_instances.inc"
+#undef KERNEL_BODY
 
     !> Validate tolerances, the shared controls and DOPRI5's own.
     pure function check_options(n, t0, t_end, rtol, atol, opts) result(status)
@@ -380,6 +162,7 @@ contains
         if (.not. (opts%safety > 0.0_dp .and. opts%safety < 1.0_dp) .or. &
             .not. (opts%fac1 > 0.0_dp .and. opts%fac1 <= 1.0_dp) .or. &
             .not. (opts%fac2 >= 1.0_dp .and. ieee_is_finite(opts%fac2)) .or. &
+            .not. (opts%fac_forced >= 1.0_dp .and. ieee_is_finite(opts%fac_forced)) .or. &
             .not. (opts%beta >= 0.0_dp .and. opts%beta <= 0.2_dp) .or. opts%nstiff < 1) then
             status = SS_BAD_CONTROL
         end if

@@ -74,7 +74,8 @@ contains
         else
             mu = havsin(s, v_s, mu_s, v_d, mu_k)
         end if
-        mu = sign(mu, v)
+        mu = abs(mu)                ! = sign(mu, v) but for a NaN v; see coulomb()
+        if (v < 0.0_dp) mu = -mu
     end function recurdyn
 
 end module stickslip_law_recurdyn

@@ -87,7 +87,9 @@ module stickslip_scenes
         procedure :: rhs => slope_rhs
         !! (x, v, law states)' at (t, y)
         procedure :: static_jacobian => slope_static_jacobian
-        !! the analytic Jacobian df/dy
+        !! the analytic 2 x 2 Jacobian with a static law
+        procedure :: static_rhs => slope_static_rhs
+        !! (x, v)' for a static law, given its coefficient at the relative velocity
         procedure :: relative_velocity => slope_vrel
         !! the sliding velocity the law sees [m/s]
     end type slope_scene
@@ -104,7 +106,9 @@ module stickslip_scenes
         procedure :: rhs => belt_rhs
         !! (x, v, law states)' at (t, y)
         procedure :: static_jacobian => belt_static_jacobian
-        !! the analytic Jacobian df/dy
+        !! the analytic 2 x 2 Jacobian with a static law
+        procedure :: static_rhs => belt_static_rhs
+        !! (x, v)' for a static law, given its coefficient at the relative velocity
         procedure :: relative_velocity => belt_vrel
         !! the sliding velocity the law sees [m/s]
     end type belt_scene
@@ -169,10 +173,10 @@ contains
         real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z...)
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
         real(dp) :: mu
-        dydt(1) = y(2)
         if (self%static_law) then
-            dydt(2) = self%g_sin - self%law%mu(y(2)) * self%g_cos
+            call self%static_rhs(y, self%law%mu(self%relative_velocity(y)), dydt)
         else
+            dydt(1) = y(2)
             call law_with_states(self, y(2), self%mu_hold, y, dydt, mu)
             ! c (mu_hold - mu), so that mu = mu_hold (a stick band) holds v exactly, not to rounding
             dydt(2) = merge(self%g_cos * (self%mu_hold - mu), self%g_sin - mu * self%g_cos, self%g_cos > 0.0_dp)
@@ -186,13 +190,35 @@ contains
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
         real(dp) :: mu
         if (self%static_law) then
-            mu = self%law%mu(self%v_b - y(2))
+            call self%static_rhs(y, self%law%mu(self%relative_velocity(y)), dydt)
         else
             call law_with_states(self, self%v_b - y(2), self%k_mg * y(1), y, dydt, mu)
+            dydt(1) = y(2)
+            dydt(2) = -self%k_m * y(1) + mu * self%g
         end if
+    end subroutine belt_rhs
+
+    !> The slope's (x, v)' for a static law: the one place of its physics that the
+    !! integrators' specialised kernels share with `rhs`.
+    pure subroutine slope_static_rhs(self, y, mu, dydt)
+        class(slope_scene), intent(in) :: self
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
+        real(dp), intent(in)  :: mu         !! the law's coefficient at the relative velocity [-]
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
+        dydt(1) = y(2)
+        dydt(2) = self%g_sin - mu * self%g_cos
+    end subroutine slope_static_rhs
+
+    !> The belt's (x, v)' for a static law: the one place of its physics that the
+    !! integrators' specialised kernels share with `rhs`.
+    pure subroutine belt_static_rhs(self, y, mu, dydt)
+        class(belt_scene), intent(in) :: self
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
+        real(dp), intent(in)  :: mu         !! the law's coefficient at the relative velocity [-]
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
         dydt(1) = y(2)
         dydt(2) = -self%k_m * y(1) + mu * self%g
-    end subroutine belt_rhs
+    end subroutine belt_static_rhs
 
     !> mu and the internal-state rates dydt(3:) of a law that is not static (kept out of
     !! the right-hand sides so that their static path stays short).

@@ -354,7 +354,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     ["controls"]): the fixed-step methods ("rk4", "implicit_euler", "galpha") need h [s]; the
     adaptive ones ("dopri5", "radau5") take rtol (1e-6), atol (1e-9; scalars or one per state
     component), hmin (1e-6 s), hmax (1e-2 s), h0 (0 = automatic), allow_forced and their own
-    (README, "Python"). A control the method does not read is an error.
+    (README, "Python"; DOPRI5's fac_forced = 2 is the largest step ratio after a forced step).
+    A control the method does not read is an error.
 
     Output: a uniform grid of n_out points on [0, t_end] (default 1001), or every step when
     every_step is set. max_steps bounds attempted steps (default 10**8; 10**6 for an adaptive
