@@ -62,6 +62,7 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
     use stickslip_ode, only: ode_stats, stats_integers, stats_reals
     use stickslip_simulate, only: simulate
     use stickslip_registry, only: split_names
+    use stickslip_wrap_interrupt, only: arm, disarm
     implicit none
     integer(c_int), intent(in) :: scene, law, method
     character(len=*), intent(in) :: pkeys, ckeys
@@ -89,7 +90,9 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
     type(ode_stats) :: st
     type(param_values) :: p
     integer, pointer :: flag
+    logical :: armed
     flag => stop(1)
+    call arm(stop(1), armed)
 
     y_out = 0.0_c_double
     istats = 0.0_c_double
@@ -97,6 +100,7 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
     presolved = 0.0_c_double
     call simulate(scene, law, method, split_names(pkeys), pvals, y0, t_end, rtol, atol, &
                   split_names(ckeys), cvals, t_out, y_out, st, p_out=p, stop_flag=flag)
+    call disarm(armed)
     status = st%status
     if (ni /= size(stats_integers(st)) .or. nr /= size(stats_reals(st)) .or. npar /= size(p%values)) then
         status = SS_BAD_DIM
@@ -120,6 +124,7 @@ subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y
     use stickslip_kinds, only: SS_OK, SS_BAD_DIM
     use stickslip_batch, only: batch_summary, simulate_batch, batch_integers, batch_reals
     use stickslip_registry, only: split_names
+    use stickslip_wrap_interrupt, only: arm, disarm
     implicit none
     integer(c_int), intent(in) :: nset, np, nmax, nc, n_grid, nkeep, threads, ni, nr
     integer(c_int), intent(in) :: scene(nset), law(nset), method(nset), nstate(nset)
@@ -142,7 +147,9 @@ subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y
     type(batch_summary), allocatable :: s(:)
     integer :: i
     integer, pointer :: flag
+    logical :: armed
     flag => stop(1)
+    call arm(stop(1), armed)
 
     allocate(s(nset))
     istats = 0.0_c_double
@@ -156,6 +163,7 @@ subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y
         call simulate_batch(scene, law, method, split_names(pkeys), pvals, nstate, y0, t_end, rtol, atol, &
                             split_names(ckeys), cvals, n_grid, threads, s, status, stop_flag=flag)
     end if
+    call disarm(armed)
     if (status /= SS_OK) return
     if (ni /= size(batch_integers(s(1))) .or. nr /= size(batch_reals(s(1)))) then
         status = SS_BAD_DIM

@@ -223,39 +223,17 @@ def _keys(d: Mapping[str, Any]) -> tuple[str, np.ndarray]:
     return ",".join(d), np.array([float(x) for x in d.values()], dtype=np.float64)
 
 
-#: Runs that may take more steps than this are made interruptible (a worker thread costs
-#: about 0.8 ms a call, which only short runs would notice).
-INTERRUPTIBLE_STEPS = 100_000
-
-
-def interruptible(call: Callable[[np.ndarray], Any], steps: float = math.inf) -> Any:
-    """Run call(stop) so that Ctrl-C stops it promptly: in the main thread, when the run may take
-    `steps` >= INTERRUPTIBLE_STEPS, the Fortran call runs in a worker thread (the wrapper
-    releases the GIL) while this thread waits; a KeyboardInterrupt sets stop[0] = 1, which the
-    integrators look at every 4096 steps (they then end with status INTERRUPTED), and is raised
-    again once the call has returned."""
-    stop = np.zeros(1, dtype=np.int32)
-    if steps < INTERRUPTIBLE_STEPS or threading.current_thread() is not threading.main_thread():
-        return call(stop)
-    box: dict[str, Any] = {}
-
-    def target() -> None:
-        try:
-            box["out"] = call(stop)
-        except BaseException as err:   # noqa: BLE001  (handed to the caller's thread)
-            box["err"] = err
-
-    worker = threading.Thread(target=target, name="stickslip", daemon=True)
-    worker.start()
-    try:
-        worker.join()          # a lock wait: Ctrl-C interrupts it (POSIX)
-    except KeyboardInterrupt:
-        stop[0] = 1
-        worker.join()
-        raise
-    if "err" in box:
-        raise box["err"]
-    return box["out"]
+def interruptible(call: Callable[[np.ndarray], Any]) -> Any:
+    """Run call(stop) so that Ctrl-C stops it promptly. In the main thread the wrapper arms a
+    SIGINT handler for the length of the Fortran call (stop[0] = -1 asks for it; _interrupt.c)
+    that sets stop[0] = 1, which the integrators look at every 4096 steps (they then end with
+    status INTERRUPTED); KeyboardInterrupt is raised once the call has returned. Elsewhere
+    (worker threads) Python's own handling stays in place."""
+    stop = np.array([-1 if threading.current_thread() is threading.main_thread() else 0], dtype=np.int32)
+    out = call(stop)
+    if stop[0] == 1:
+        raise KeyboardInterrupt
+    return out
 
 
 #: RK4's stability interval on the negative real axis: |h lambda| < 2.785 (README).
@@ -439,8 +417,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     cpu0 = time.process_time()
     y, istats, rstats, resolved, status = interruptible(lambda stop: _ext.run_simulation(
         scene_code, law_code, method_code, pkeys, pvals, y0, t_end, tol["rtol"], tol["atol"], ckeys, cvals,
-        t_grid, len(REGISTRY["stats_int"]), len(REGISTRY["stats_real"]), len(_PARAM_ORDER), stop),
-        steps=needed if not info["adaptive"] else t_end / max(ctl.get("hmin", 0.0), 1e-300))
+        t_grid, len(REGISTRY["stats_int"]), len(REGISTRY["stats_real"]), len(_PARAM_ORDER), stop))
     cpu = time.process_time() - cpu0
     status = int(status)
     _check_code(status)

@@ -1,0 +1,35 @@
+/* Ctrl-C during a long Fortran call of the extension: while a call runs, SIGINT sets the
+ * caller's stop flag (which the integrators look at every 4096 steps) instead of waiting for
+ * the interpreter, which cannot run its own handler until the call returns. The previous
+ * handler (Python's) is put back when the call ends; the facade then raises
+ * KeyboardInterrupt. Called from the f2py layer (_wrap.f90) through bind(C). */
+#include <signal.h>
+#include <stddef.h>
+
+static volatile int *stop_flag = NULL;
+
+#if defined(_POSIX_C_SOURCE) || defined(__unix__) || defined(__APPLE__)
+static struct sigaction previous;
+
+static void on_sigint(int sig) {
+    (void)sig;
+    if (stop_flag != NULL) *stop_flag = 1;
+}
+
+void ss_py_arm(int *flag) {
+    struct sigaction sa;
+    stop_flag = flag;
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = 0;
+    sigaction(SIGINT, &sa, &previous);
+}
+
+void ss_py_disarm(void) {
+    sigaction(SIGINT, &previous, NULL);
+    stop_flag = NULL;
+}
+#else
+void ss_py_arm(int *flag) { (void)flag; }   /* no POSIX signals: Ctrl-C waits for the call */
+void ss_py_disarm(void) {}
+#endif

@@ -1,0 +1,33 @@
+! Compiled into the extension beside _wrap.f90, but not read by f2py.
+
+!> Ctrl-C while a call runs (_interrupt.c): arm sets the stop flag on SIGINT, disarm puts the
+!! previous handler back. Only the main thread arms (stop(1) = -1 asks for it).
+module stickslip_wrap_interrupt
+    use, intrinsic :: iso_c_binding, only: c_int
+    implicit none
+    private
+    public :: arm, disarm
+    interface
+        subroutine ss_py_arm(flag) bind(C, name='ss_py_arm')
+            import :: c_int
+            integer(c_int), intent(inout) :: flag
+        end subroutine ss_py_arm
+        subroutine ss_py_disarm() bind(C, name='ss_py_disarm')
+        end subroutine ss_py_disarm
+    end interface
+contains
+    !> Arm when asked (flag = -1 on entry), leaving the flag at 0.
+    subroutine arm(flag, armed)
+        integer(c_int), intent(inout) :: flag   !! -1: arm; becomes 0, then 1 on SIGINT
+        logical, intent(out) :: armed           !! whether disarm must follow
+        armed = flag == -1
+        flag = 0
+        if (armed) call ss_py_arm(flag)
+    end subroutine arm
+    !> Put the previous SIGINT handler back.
+    subroutine disarm(armed)
+        logical, intent(in) :: armed            !! as returned by arm
+        if (armed) call ss_py_disarm()
+    end subroutine disarm
+end module stickslip_wrap_interrupt
+
