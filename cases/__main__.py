@@ -39,7 +39,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser.add_argument("--only", nargs="+", choices=[name for name, _ in DRIVERS],
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
-                        help="also run the studies (work-precision, stability, laws_compare, implicit): about 3 min more on "
+                        help="also run the studies (work-precision, stability, laws_compare, implicit): about 2.5 min more on "
                         "2 cores (README)")
     parser.add_argument("--workers", type=count, default=2,
                         help="parallel simulations per paper driver, >= 1 (default 2)")

@@ -21,7 +21,8 @@ presliding transients of the laws with internal states:
   oscillation, measured from its peaks, against -g mu'(v_b)/2 (the linearisation
   m x'' + m g mu'(v_b) x' + k x = const), and the first time the mass sticks (v_rel < 1e-3 m/s).
   Only a law whose steady curve falls at the belt speed (mu' < 0) grows from rest into stick-slip.
-- laws_compare_hmax.csv: the largest RK4 step (bisection in log h over [1e-6, 1e-2] s,
+- laws_compare_hmax.csv: the largest RK4 step (bisection in log h over [1e-6, 1e-2] s; for the
+  implicit methods over [1e-5, 1e-2] s,
   assuming one boundary; slope 2 s from rest, belt 3 s from stuck) by two criteria:
   "bounded" (finite, |v| within the scene's physical bound, and for bristle laws
   |z| <= mu_s/sigma0, an invariant of the exact solution: RK4's stability in the strict sense)
@@ -261,8 +262,11 @@ def step_limits(scene: str, law: str, method: str = "rk4") -> tuple[float, float
         r, ok = run_h(h)
         return ok and status == 0 and float(np.max(np.abs(r.v[tail] - ref.v[tail]))) <= tol
 
-    h_b, n_b = largest_step(is_bounded)
-    h_c, n_c = largest_step(is_close, hi=h_b if h_b > 0 else 1e-6)
+    import stickslip
+    # an implicit step (a Newton solve) costs about ten RK4 steps: search down to 1e-5 s only
+    lo = 1e-5 if stickslip.REGISTRY["method"][method]["implicit"] else 1e-6
+    h_b, n_b = largest_step(is_bounded, lo=lo)
+    h_c, n_c = largest_step(is_close, lo=lo, hi=h_b if h_b > 0 else lo)
     return h_b, h_c, 1 + n_b + n_c
 
 
