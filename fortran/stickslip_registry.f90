@@ -239,14 +239,9 @@ contains
         select case (method)
         case (METHOD_RK4)
             stats%status = apply_controls(fixed, RK4_INFO, keys, vals)
-            if (stats%status /= SS_OK) return
-            if (associated(fixed%stop_flag)) then
-                call rk4_integrate(sys, t0, y0, t_end, fixed%h, t_out, y_out, stats, &
-                                   every_step=fixed%every_step, max_steps=fixed%max_steps, stop_flag=fixed%stop_flag)
-            else
-                call rk4_integrate(sys, t0, y0, t_end, fixed%h, t_out, y_out, stats, &
-                                   every_step=fixed%every_step, max_steps=fixed%max_steps)
-            end if
+            ! rk4_integrate looks at the flag only when it is associated
+            if (stats%status == SS_OK) call rk4_integrate(sys, t0, y0, t_end, fixed%h, t_out, y_out, &
+                stats, every_step=fixed%every_step, max_steps=fixed%max_steps, stop_flag=fixed%stop_flag)
         case (METHOD_DOPRI5)
             stats%status = apply_controls(d5, DOPRI5_INFO, keys, vals)
             if (stats%status == SS_OK) call dopri5_integrate(sys, t0, y0, t_end, rtol, atol, d5, &

@@ -19,8 +19,8 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATUS_OK,
-                   _FIRST_INPUT_CODE, _PARAM_ORDER, _check_names, _choice, _count, interruptible,
-                   status_message)
+                   _FIRST_INPUT_CODE, _PARAM_ORDER, _check_names, _choice, _count, accepted_range,
+                   interruptible, status_message)
 
 #: Names of the integer and real summary fields, in the wrapper's order.
 _BATCH_INT, _BATCH_REAL = (tuple(x.split()) for x in _ext.batch_names().decode().strip().split("|"))
@@ -161,7 +161,7 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     }
     pnames = [k for k in _PARAM_ORDER if k in kwargs and kwargs[k] is not None]
     for k in pnames:
-        cols[k] = _real(k, kwargs[k], REGISTRY["param"][k]["rule"].split(": ", 1)[-1])
+        cols[k] = _real(k, kwargs[k], accepted_range(k))
     given_ctl = {k: v for k, v in kwargs.items() if k in CONTROLS}
     if "max_steps" in given_ctl:
         ms = np.asarray(given_ctl["max_steps"])

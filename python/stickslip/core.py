@@ -210,11 +210,16 @@ def _check_code(status: int) -> None:
         raise ValueError(status_message(status))
 
 
+def accepted_range(name: str) -> str:
+    """What the registry accepts for parameter `name`, e.g. 'must be finite and > 0 [m/s]'."""
+    return REGISTRY["param"][name]["rule"].split(": ", 1)[-1]
+
+
 def _physical(params: Mapping[str, Any]) -> dict[str, float]:
     """The given physical parameters, names known and values real numbers (None for a
     derived default means "not given"); ranges are checked by the library."""
     _check_names(params, _PARAM_ORDER)
-    return {k: _finite(k, v, REGISTRY["param"][k]["rule"].split(": ", 1)[-1])
+    return {k: _finite(k, v, accepted_range(k))
             for k, v in params.items() if v is not None}
 
 
