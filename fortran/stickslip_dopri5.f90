@@ -17,7 +17,8 @@ module stickslip_dopri5
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_STIFF, &
                                SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL, SS_INTERRUPTED
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
-                             check_step_controls, all_finite, output_start, RTOL_MIN, stop_requested
+                             check_step_controls, all_finite, output_start, RTOL_MIN, stop_requested, &
+                             limit_after_forced
     use stickslip_scenes, only: slope_scene, belt_scene
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_recurdyn, only: recurdyn_law
@@ -77,11 +78,6 @@ module stickslip_dopri5
         real(dp) :: beta = 0.04_dp      !! PI (Lund) stabilisation exponent (0: plain I control)
         integer  :: nstiff = 1000       !! test stiffness every nstiff accepted steps
         logical  :: stop_on_stiff = .false. !! stop with SS_STIFF when the stiffness test fires
-        !> Largest step ratio h_new/h after a forced step, until the controller itself asks
-        !! for less (ours: Hairer has no forced steps). 2 doubles the step back up from h_min
-        !! instead of trying fac2 = 10 h_min, which a discontinuity only rejects again;
-        !! fac_forced = fac2 is the plain controller.
-        real(dp) :: fac_forced = 2.0_dp
     contains
         procedure :: set => set_dopri5_option
         !! set a control by name (the step_controls ones and DOPRI5's own)
@@ -90,7 +86,7 @@ module stickslip_dopri5
     !> What DOPRI5 is and which controls it reads (registry entry).
     type(method_info), parameter, public :: DOPRI5_INFO = method_info(name='dopri5', order=5, &
         adaptive=.true., implicit=.false., controls='rtol atol hmin hmax h0 max_steps allow_forced ' // &
-        'every_step safety fac1 fac2 beta_pi nstiff stop_on_stiff fac_forced', &
+        'every_step safety fac1 fac2 beta_pi nstiff stop_on_stiff fac_forced calm_steps', &
         doc='Dormand-Prince 5(4), adaptive, as Hairer''s DOPRI5')
 
 contains
@@ -114,7 +110,6 @@ contains
                 status = SS_BAD_CONTROL
             end if
         case ('stop_on_stiff'); self%stop_on_stiff = value /= 0.0_dp
-        case ('fac_forced');    self%fac_forced = value
         case default;           status = self%step_controls%set(name, value)
         end select
     end function set_dopri5_option
@@ -162,7 +157,6 @@ contains
         if (.not. (opts%safety > 0.0_dp .and. opts%safety < 1.0_dp) .or. &
             .not. (opts%fac1 > 0.0_dp .and. opts%fac1 <= 1.0_dp) .or. &
             .not. (opts%fac2 >= 1.0_dp .and. ieee_is_finite(opts%fac2)) .or. &
-            .not. (opts%fac_forced >= 1.0_dp .and. ieee_is_finite(opts%fac_forced)) .or. &
             .not. (opts%beta >= 0.0_dp .and. opts%beta <= 0.2_dp) .or. opts%nstiff < 1) then
             status = SS_BAD_CONTROL
         end if

@@ -49,20 +49,22 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_RTOL_POSITIVE = -137  !! rtol not in [100 eps, 1) where 0 is not allowed (RADAU5)
     integer, parameter, public :: SS_BAD_CONTROL_NAME = -138  !! a control the method does not read
     integer, parameter, public :: SS_BAD_PARAM_NAME = -139  !! a parameter no law or scene has
+    integer, parameter, public :: SS_BAD_FORCED_GROWTH = -148 !! fac_forced not finite or <= 1, or calm_steps < 0
 
     !> Names of the status codes above, for the generated C header (`SS_` + name).
     character(len=*), parameter, public :: STATUS_NAMES = 'OK STEP_BUDGET STEP_TOO_SMALL STIFF ' // &
         'NONFINITE OUTPUT_FULL BAD_LAW BAD_SCENE BAD_METHOD BAD_H BAD_T_END BAD_RTOL BAD_ATOL ' // &
         'BAD_HMIN BAD_HMAX BAD_N_OUT BAD_MAX_STEPS BAD_Y0 BAD_H0 BAD_CONTROL BAD_DIM ' // &
         'BAD_CONTROL_NAME BAD_PARAM_NAME NEWTON_FAILED SINGULAR JAC_NONFINITE BAD_RHO_INF ' // &
-        'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED'
+        'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(32) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(33) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
         SS_BAD_PARAM_NAME, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_BAD_RHO_INF, SS_BAD_NIT, &
-        SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_INTERRUPTED]
+        SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_INTERRUPTED, &
+        SS_BAD_FORCED_GROWTH]
 
 contains
 
@@ -102,6 +104,7 @@ contains
         case (SS_BAD_CONTROL);    msg = 'step control: need 0 < safety < 1, 0 < fac1 <= 1 <= fac2,' // &
                                         ' 0 <= beta_pi <= 0.2, nstiff >= 1'
         case (SS_BAD_DIM);        msg = 'array sizes do not agree'
+        case (SS_BAD_FORCED_GROWTH); msg = 'fac_forced: must be finite and > 1; calm_steps: an integer >= 0'
         case (SS_BAD_CONTROL_NAME); msg = 'control: not a control of the chosen method' // &
                                           ' (each method lists its controls in the registry)'
         case (SS_BAD_PARAM_NAME); msg = 'parameter: not a parameter of any friction law or scene'

@@ -13,14 +13,14 @@
 module stickslip_ode
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_N_OUT, SS_BAD_DIM, SS_BAD_Y0, SS_BAD_T_END, &
                                SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_H0, &
-                               SS_BAD_MAX_STEPS, SS_BAD_CONTROL_NAME
+                               SS_BAD_MAX_STEPS, SS_BAD_CONTROL_NAME, SS_BAD_FORCED_GROWTH
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
     public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, &
               check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite, &
-              step_count, stop_requested
+              step_count, stop_requested, limit_after_forced
 
     !> Steps between two looks at a stop flag (a power of 2 minus 1, as a mask).
     integer(8), parameter, public :: STOP_CHECK_MASK = 4095_8
@@ -49,6 +49,17 @@ module stickslip_ode
         !! runs through a friction jump take up to (t_end - t0)/h_min steps).
         integer(8) :: max_steps = 100000000_8
         logical  :: allow_forced = .true.   !! take steps at h_min when the error test fails there
+        !> Largest step ratio h_new/h after a forced step, until the controller itself asks
+        !! for less (ours: Hairer has no forced steps). 2 doubles the step back up from h_min
+        !! instead of jumping by fac2 (DOPRI5: 10 h_min) into the discontinuity, which only
+        !! rejects it again. Must exceed 1 (1 would never grow again).
+        real(dp) :: fac_forced = 2.0_dp
+        !> After a forced step, h is held until this many steps in a row have passed the
+        !! error test unforced; only then may it grow (by fac_forced). In a chatter at h_min
+        !! the passes come singly between forced steps and each growth was rejected: 2
+        !! removes those rejections and costs one step where the motion turns smooth
+        !! (0: grow at once).
+        integer  :: calm_steps = 2
         logical  :: every_step = .false.    !! output every accepted step instead of a grid
         !> When associated and nonzero (set by another thread: a Ctrl-C), the run stops
         !! with SS_INTERRUPTED; checked every STOP_CHECK_STEPS steps.
@@ -153,6 +164,13 @@ contains
                 status = SS_BAD_MAX_STEPS
             end if
         case ('allow_forced'); self%allow_forced = value /= 0.0_dp
+        case ('fac_forced');   self%fac_forced = value
+        case ('calm_steps')
+            if (value >= 0.0_dp .and. value <= real(huge(1), dp)) then
+                self%calm_steps = int(value)
+            else
+                status = SS_BAD_FORCED_GROWTH
+            end if
         case ('every_step');   self%every_step = value /= 0.0_dp
         case default;          status = SS_BAD_CONTROL_NAME
         end select
@@ -232,8 +250,38 @@ contains
             status = SS_BAD_H0
         else if (ctl%max_steps < 1) then
             status = SS_BAD_MAX_STEPS
+        else if (.not. (ctl%fac_forced > 1.0_dp .and. ieee_is_finite(ctl%fac_forced)) .or. &
+                 ctl%calm_steps < 0) then
+            status = SS_BAD_FORCED_GROWTH
         end if
     end function check_step_controls
+
+    !> The step-size proposal hnew after an accepted step of size h, for the adaptive
+    !! methods' forced steps (controls fac_forced, calm_steps). Call it after a forced step
+    !! and while `slow` is set; slow and calm start .false. and 0.
+    pure subroutine limit_after_forced(ctl, forced, reject, h, slow, calm, hnew)
+        class(step_controls), intent(in) :: ctl  !! the controls
+        logical, intent(in)     :: forced        !! the step just taken was forced
+        logical, intent(in)     :: reject        !! the attempt before it was rejected
+        real(dp), intent(in)    :: h             !! its size [s]
+        logical, intent(inout)  :: slow          !! growth limited since the last forced step
+        integer, intent(inout)  :: calm          !! unforced steps in a row since then
+        real(dp), intent(inout) :: hnew          !! the controller's proposal, limited here [s]
+        if (forced) then
+            slow = .true.
+            calm = 0
+        else if (calm < huge(calm)) then
+            calm = calm + 1
+        end if
+        if (.not. slow) return
+        if (calm < ctl%calm_steps) then
+            hnew = min(abs(hnew), abs(h))
+        else if (abs(hnew) > ctl%fac_forced * abs(h)) then
+            hnew = ctl%fac_forced * abs(h)
+        else if (.not. (forced .or. reject)) then
+            slow = .false.
+        end if
+    end subroutine limit_after_forced
 
     !> Check what every integration needs: a finite y0, t_end > t0, and the output
     !! arrays (grid mode: requested times finite, non-decreasing, in [t0, t_end]).

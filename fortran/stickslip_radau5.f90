@@ -42,7 +42,7 @@ module stickslip_radau5
                                SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, &
                                SS_BAD_RTOL
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
-                             check_step_controls, all_finite, output_start, stop_requested
+                             check_step_controls, all_finite, output_start, stop_requested, limit_after_forced
     use stickslip_linalg, only: lu_decompose, lu_solve
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
@@ -81,7 +81,7 @@ module stickslip_radau5
         0.54177053993587487119_dp, 0.47662355450055045196_dp, -0.59603920482822492497_dp], [3, 3])
 
     !> Controls of RADAU5: the shared ones (h_min, h_max, h0 = Hairer's initial H with 0
-    !! meaning 1e-6, max_steps, allow_forced, every_step; h is not read) and Hairer's own,
+    !! meaning 1e-6, max_steps, allow_forced, fac_forced, calm_steps, every_step; h is not read) and Hairer's own,
     !! with his defaults (IWORK(3), IWORK(4), IWORK(8), WORK(2..9)).
     type, extends(step_controls) :: radau5_options
         integer  :: nit = 7              !! Newton iterations allowed per step (IWORK(3)), >= 1
@@ -102,7 +102,7 @@ module stickslip_radau5
     !> What RADAU5 is and which controls it reads (registry entry).
     type(method_info), parameter, public :: RADAU5_INFO = method_info(name='radau5', order=5, &
         adaptive=.true., implicit=.true., controls='rtol atol hmin hmax h0 max_steps allow_forced ' // &
-        'every_step nit startn pred safety thet fnewt quot1 quot2 facl facr', &
+        'fac_forced calm_steps every_step nit startn pred safety thet fnewt quot1 quot2 facl facr', &
         doc='Radau IIA order 5, adaptive, as Hairer''s RADAU5')
 
     ! What the main loop does next.
@@ -167,8 +167,8 @@ contains
         real(dp) :: t, tph, told, h, hold, hnew, hmaxn, hacc, erracc, err, fac, quot, facgus, qt
         real(dp) :: faccon, theta, thq, thqold, dyno, dynold, dyth, qnewt, fnewt, cfac, fac1
         real(dp) :: ffacl, ffacr
-        integer :: n, m, next, action, newt, nsing, ier, i
-        logical :: first, reject, last, caljac, forced, newton_ok, newton_forced
+        integer :: n, m, next, action, newt, nsing, ier, i, calm
+        logical :: first, reject, last, caljac, forced, newton_ok, newton_forced, slow
 
         n = size(y0)
         stats%status = check_problem(t0, y0, t_end, t_out, y_out, opts%every_step)
@@ -204,6 +204,8 @@ contains
         hacc = h
         erracc = 1.0_dp
         reject = .false.
+        slow = .false.
+        calm = 0
         first = .true.
         last = .false.
         t = t0
@@ -324,6 +326,8 @@ contains
                 stats%nfev = stats%nfev + 1
                 hnew = min(hnew, hmaxn)
                 if (reject) hnew = min(hnew, h)
+                ! After a forced step: hold, then grow gradually (limit_after_forced).
+                if (forced .or. slow) call limit_after_forced(opts, forced, reject, h, slow, calm, hnew)
                 reject = .false.
                 if (t + hnew / opts%quot1 >= t_end) then
                     h = t_end - t
