@@ -4,29 +4,117 @@
     python -m cases --all                                     # and the work-precision and stability studies
     python -m cases --docs        # the committed copies in docs/figures/ (used by REPRODUCTION.md)
 
-Runs each driver of DRIVERS in turn (the paper's drivers parallelise their simulations over
---workers processes, the studies over --threads OpenMP threads), prints where every file went
-and the total wall time. To add a driver, append (module name, kind) to DRIVERS: the module
-needs `main(argv)` accepting `--outdir`, plus `--workers` and `--quiet` for kind "paper" or
-`--threads` and `--quiet` for kind "study".
+Runs the drivers of DRIVERS, --jobs at a time (default: one per core, at most 2), each in its
+own process, the costliest first; prints where every file went and the total wall time. Each
+driver's report (stdout) is printed whole when it finishes. The paper's drivers parallelise
+their simulations over --workers processes, the studies over --threads OpenMP threads; both
+default to the cores left per job (1 on 2 cores with 2 jobs). With --jobs 1 the drivers run
+in turn in this process and show their progress bars.
+
+To add a driver, append (module name, kind, cost) to DRIVERS: the module needs `main(argv)`
+accepting `--outdir`, plus `--workers` and `--quiet` for kind "paper" or `--threads` and
+`--quiet` for kind "study"; cost (CPU seconds of a full run) only orders the jobs.
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
+import io
+import multiprocessing
+import os
+import queue
 import sys
 import time
+import traceback
 from pathlib import Path
-from typing import Sequence
+from typing import Any, Sequence
 
 from ._common import count
 
-#: Driver modules run by `python -m cases`, in order, and their kind: "laws" (no simulation),
-#: "paper" (a figure set of the paper, --workers/--quiet) or "study" (--all only, --threads/--quiet).
-DRIVERS: tuple[tuple[str, str], ...] = (("laws", "laws"), ("slope", "paper"), ("belt", "paper"),
-                                        ("workprecision", "study"), ("stability", "study"),
-                                        ("laws_compare", "study"), ("implicit", "study"))
+#: Driver modules run by `python -m cases`: (name, kind, cost). kind: "laws" (no simulation),
+#: "paper" (a figure set of the paper, --workers/--quiet) or "study" (--all only,
+#: --threads/--quiet). cost: CPU seconds of one full run on one core (measured 2026-11-23),
+#: used only to start the costliest jobs first.
+DRIVERS: tuple[tuple[str, str, float], ...] = (
+    ("laws", "laws", 1.0), ("slope", "paper", 10.0), ("belt", "paper", 3.0),
+    ("workprecision", "study", 27.0), ("stability", "study", 37.0),
+    ("laws_compare", "study", 36.0), ("implicit", "study", 23.0))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
+
+
+def _cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:          # not on Linux
+        return os.cpu_count() or 1
+
+
+def _run_driver(name: str, argv: list[str]) -> list[Path]:
+    return importlib.import_module(f"cases.{name}").main(argv)
+
+
+def _job(index: int, name: str, argv: list[str], results: Any) -> None:
+    """A job process: run one driver with its stdout captured; send (index, ok, payload)."""
+    out = io.StringIO()
+    t0 = time.perf_counter()
+    try:
+        with contextlib.redirect_stdout(out):
+            files = _run_driver(name, argv)
+        results.put((index, True, (files, out.getvalue(), time.perf_counter() - t0)))
+    except BaseException as exc:    # noqa: BLE001 - reported to the parent, which raises it
+        text = f"cases.{name} failed:\n{out.getvalue()}{traceback.format_exc()}"
+        results.put((index, False, (type(exc).__name__, str(exc), text)))
+
+
+class DriverFailed(RuntimeError):
+    """A driver of a parallel `python -m cases` run failed; the message holds its traceback."""
+
+
+def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
+             costs: Sequence[float]) -> list[Path]:
+    """Run the drivers `jobs` ((name, argv)) in up to n_jobs processes, the costliest first;
+    returns their files in the order of `jobs`. The first failure ends the run: the other
+    jobs are terminated and DriverFailed raised."""
+    ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods()
+                                      else None)
+    results = ctx.Queue()
+    running: dict[int, Any] = {}
+    done: dict[int, list[Path]] = {}
+    pending = sorted(range(len(jobs)), key=lambda i: -costs[i])
+    try:
+        while pending or running:
+            while pending and len(running) < n_jobs:
+                i = pending.pop(0)
+                # not a Pool: a Pool's workers are daemons, and the paper drivers start their own
+                running[i] = ctx.Process(target=_job, args=(i, *jobs[i], results), name=jobs[i][0])
+                running[i].start()
+                if not quiet:
+                    print(f"== cases.{jobs[i][0]} started", file=sys.stderr, flush=True)
+            try:
+                i, ok, payload = results.get(timeout=1.0)
+            except queue.Empty:
+                for i, proc in running.items():
+                    if not proc.is_alive() and i not in done:
+                        proc.join(0.5)      # its last message may still be in the pipe
+                        if results.empty():
+                            raise DriverFailed(f"cases.{jobs[i][0]} died (exit code {proc.exitcode})")
+                continue
+            running.pop(i).join()
+            if not ok:
+                kind, message, text = payload
+                raise DriverFailed(f"{kind}: {message}\n{text}")
+            files, report, seconds = payload
+            done[i] = files
+            sys.stdout.write(report)
+            sys.stdout.flush()
+            if not quiet:
+                print(f"== cases.{jobs[i][0]}: {seconds:.1f} s", file=sys.stderr, flush=True)
+    finally:
+        for proc in running.values():
+            proc.terminate()
+            proc.join()
+    return [f for i in sorted(done) for f in done[i]]
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
@@ -36,37 +124,47 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="directory for all files (default: out/)")
     parser.add_argument("--docs", action="store_true",
                         help=f"write into {DOCS_DIR} (the figures REPRODUCTION.md embeds)")
-    parser.add_argument("--only", nargs="+", choices=[name for name, _ in DRIVERS],
+    parser.add_argument("--only", nargs="+", choices=[name for name, _, _ in DRIVERS],
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
-                        help="also run the studies (work-precision, stability, laws_compare, implicit): about 2.5 min more on "
-                        "2 cores (README)")
-    parser.add_argument("--workers", type=count, default=2,
-                        help="parallel simulations per paper driver, >= 1 (default 2)")
-    parser.add_argument("--threads", type=count, default=2,
-                        help="OpenMP threads per study driver, >= 1 (default 2)")
+                        help="also run the studies (work-precision, stability, laws_compare, implicit): about "
+                        "1 min more on 2 cores (README)")
+    parser.add_argument("--jobs", type=count, default=min(2, _cores()),
+                        help="drivers run at once, each in its own process, >= 1 (default: cores, at most 2)")
+    parser.add_argument("--workers", type=count, default=None,
+                        help="parallel simulations per paper driver, >= 1 (default: cores / jobs)")
+    parser.add_argument("--threads", type=count, default=None,
+                        help="OpenMP threads per study driver, >= 1 (default: cores / jobs)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
     outdir = DOCS_DIR if args.docs else args.outdir
-    quiet = ["--quiet"] if args.quiet else []
-    extra = {"laws": [], "paper": ["--workers", str(args.workers), *quiet],
-             "study": ["--threads", str(args.threads), *quiet]}
+    chosen = [(name, kind, cost) for name, kind, cost in DRIVERS
+              if (name in args.only if args.only else (kind != "study" or args.all))]
+    n_jobs = min(args.jobs, len(chosen))
+    per_job = str(max(1, _cores() // n_jobs))
+    # in parallel, the reports are printed whole at the end of each driver: no bars
+    quiet = ["--quiet"] if args.quiet or n_jobs > 1 else []
+    extra = {"laws": [], "paper": ["--workers", str(args.workers or per_job), *quiet],
+             "study": ["--threads", str(args.threads or per_job), *quiet]}
+    jobs = [(name, ["--outdir", str(outdir), *extra[kind]]) for name, kind, _ in chosen]
     start = time.perf_counter()
-    files: list[Path] = []
-    for name, kind in DRIVERS:
-        wanted = name in args.only if args.only else (kind != "study" or args.all)
-        if not wanted:
-            continue
-        t0 = time.perf_counter()
-        if not args.quiet:
-            print(f"== cases.{name} -> {outdir}", file=sys.stderr, flush=True)
-        driver = importlib.import_module(f"cases.{name}")
-        files += driver.main(["--outdir", str(outdir), *extra[kind]])
-        if not args.quiet:
-            print(f"== cases.{name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
+    if n_jobs > 1:
+        files = run_jobs(jobs, n_jobs, args.quiet, [cost for _, _, cost in chosen])
+    else:
+        files = []
+        for name, driver_argv in jobs:
+            t0 = time.perf_counter()
+            if not args.quiet:
+                print(f"== cases.{name} -> {outdir}", file=sys.stderr, flush=True)
+            files += _run_driver(name, driver_argv)
+            if not args.quiet:
+                print(f"== cases.{name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
     print(f"{len(files)} files in {outdir}; wall time {time.perf_counter() - start:.1f} s")
     return files
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except DriverFailed as exc:
+        sys.exit(f"python -m cases: {exc}")

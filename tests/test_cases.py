@@ -275,7 +275,9 @@ def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[
 ])
 def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
                               argv: list[str], expected: list[str]) -> None:
-    """The paper's drivers by default, the studies only with --all, each with its options."""
+    """The paper's drivers by default, the studies only with --all, each with its options
+    (--jobs 1: in turn, in this process)."""
+    argv = ["--jobs", "1", *argv]
     calls: list[tuple[str, list[str]]] = []
 
     class Fake:
@@ -296,6 +298,60 @@ def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
             assert "--threads" in args and "--workers" not in args
         elif name != "laws":
             assert "--workers" in args
+
+
+class _FakeDriver:
+    """Stands in for a driver module in a job process: prints a report and writes one file
+    (or fails, or sleeps, by name)."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def main(self, args: list[str]) -> list[Path]:
+        import time
+        out = Path(args[args.index("--outdir") + 1])
+        if self.name == "implicit":
+            raise RuntimeError("implicit broke")
+        if self.name == "stability" and out.name == "fail":
+            time.sleep(60)          # must be terminated, not waited for
+        print(f"report of {self.name} {' '.join(args[2:])}")
+        path = out / f"{self.name}.txt"
+        path.write_text(self.name)
+        return [path]
+
+
+def test_main_runs_drivers_in_parallel_jobs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    """--jobs 2: each driver in its own process, the costliest first, one core each; the files
+    come back in DRIVERS order and every report is printed whole."""
+    monkeypatch.setattr(cases_main.importlib, "import_module",
+                        lambda mod: _FakeDriver(mod.removeprefix("cases.")))
+    monkeypatch.setattr(cases_main, "_cores", lambda: 2)
+    files = cases_main.main(["--outdir", str(tmp_path), "--jobs", "2", "--only", "laws", "belt",
+                             "workprecision", "stability"])
+    assert [f.name for f in files] == ["laws.txt", "belt.txt", "workprecision.txt", "stability.txt"]
+    assert all(f.read_text() + ".txt" == f.name for f in files)
+    captured = capsys.readouterr()
+    assert "report of belt --workers 1 --quiet\n" in captured.out
+    assert "report of stability --threads 1 --quiet\n" in captured.out
+    started = re.findall(r"== cases\.(\w+) started", captured.err)
+    assert started[:2] == ["stability", "workprecision"]      # DRIVERS' costs: 37 and 27 s
+
+
+def test_main_first_failed_job_ends_the_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A driver that fails ends `python -m cases` at once: the job still running is
+    terminated (it would sleep a minute), and the error names the exception and its message."""
+    import time
+    monkeypatch.setattr(cases_main.importlib, "import_module",
+                        lambda mod: _FakeDriver(mod.removeprefix("cases.")))
+    out = tmp_path / "fail"
+    out.mkdir()
+    t0 = time.perf_counter()
+    with pytest.raises(cases_main.DriverFailed, match="RuntimeError: implicit broke"):
+        cases_main.main(["--outdir", str(out), "--jobs", "2", "--quiet", "--only", "stability",
+                         "implicit"])
+    assert time.perf_counter() - t0 < 10.0
+    assert not list(out.iterdir())
 
 
 @pytest.mark.parametrize("driver,argv,named", [(slope, ["--t-end", "-1"], "--t-end"),

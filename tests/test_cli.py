@@ -70,7 +70,7 @@ def test_bad_arguments_fail_before_any_run(tmp_path: Path, monkeypatch: pytest.M
 
 def test_main_rejects_bad_counts(capsys: pytest.CaptureFixture[str]) -> None:
     from cases import __main__ as cases_main
-    for argv in (["--workers", "0"], ["--threads", "0"]):
+    for argv in (["--workers", "0"], ["--threads", "0"], ["--jobs", "0"]):
         with pytest.raises(SystemExit):
             cases_main.main(argv)
         assert "must be an integer >= 1" in capsys.readouterr().err
