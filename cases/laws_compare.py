@@ -244,16 +244,21 @@ def largest_step(ok: Any, lo: float = 1e-6, hi: float = 1e-2, iterations: int = 
 
 
 def step_limits(scene: str, law: str, method: str = "rk4") -> tuple[float, float, int]:
-    """(largest bounded h, largest h within 1 % of the reference [s], runs)."""
+    """(largest bounded h, largest h within 1 % of the reference [s], simulations run)."""
     t_end, n_out = (2.0, 201) if scene == "slope" else (3.0, 301)
     kw = {} if scene == "slope" else {"v0": P["v_b"]}
     ref, status = simulate(scene, law, "dopri5", None, t_end, n_out, rtol=1e-9, atol=1e-12, **kw)
     tail = ref.t >= t_end / 2
     tol = 0.01 * float(np.max(np.abs(ref.v))) + 1e-6
 
+    done: dict[float, tuple[Any, bool]] = {}
+
     def run_h(h: float) -> tuple[Any, bool]:
-        r, st = simulate(scene, law, method, h, t_end, n_out, **kw)
-        return r, bounded(scene, law, r, st, t_end)
+        # the second search starts at the first one's ends: each h is simulated once
+        if h not in done:
+            r, st = simulate(scene, law, method, h, t_end, n_out, **kw)
+            done[h] = r, bounded(scene, law, r, st, t_end)
+        return done[h]
 
     def is_bounded(h: float) -> bool:
         return run_h(h)[1]
@@ -265,9 +270,9 @@ def step_limits(scene: str, law: str, method: str = "rk4") -> tuple[float, float
     import stickslip
     # an implicit step (a Newton solve) costs about ten RK4 steps: search down to 1e-5 s only
     lo = 1e-5 if stickslip.REGISTRY["method"][method]["implicit"] else 1e-6
-    h_b, n_b = largest_step(is_bounded, lo=lo)
-    h_c, n_c = largest_step(is_close, lo=lo, hi=h_b if h_b > 0 else lo)
-    return h_b, h_c, 1 + n_b + n_c
+    h_b, _ = largest_step(is_bounded, lo=lo)
+    h_c, _ = largest_step(is_close, lo=lo, hi=h_b if h_b > 0 else lo)
+    return h_b, h_c, 1 + len(done)
 
 
 def hmax_rows(quiet: bool, laws: Sequence[str] | None = None) -> list[list[Any]]:
