@@ -337,7 +337,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     ["controls"]): the fixed-step methods ("rk4", "implicit_euler", "galpha") need h [s]; the
     adaptive ones ("dopri5", "radau5") take rtol (1e-6), atol (1e-9; scalars or one per state
     component), hmin (1e-6 s), hmax (1e-2 s), h0 (0 = automatic), allow_forced and their own
-    (README, "Python"; DOPRI5's fac_forced = 2 is the largest step ratio after a forced step).
+    (README, "Python"; after a forced step the step is held for calm_steps = 2 steps, then
+    grows by at most fac_forced = 2 a step).
     A control the method does not read is an error.
 
     Output: a uniform grid of n_out points on [0, t_end] (default 1001), or every step when
