@@ -203,9 +203,9 @@ def _count(name: str, value: Any, low: int = 1, high: int | None = None) -> int:
 
 def _check_names(params: Mapping[str, Any], allowed: tuple[str, ...]) -> None:
     """ValueError naming the parameters that are not in `allowed`."""
-    unknown = sorted(set(params) - set(allowed))
+    unknown = [k for k in params if k not in allowed]
     if unknown:
-        raise ValueError(f"unknown parameter(s) {', '.join(unknown)} (accepted: {', '.join(allowed)})")
+        raise ValueError(f"unknown parameter(s) {', '.join(sorted(unknown))} (accepted: {', '.join(allowed)})")
 
 
 def _check_code(status: int) -> None:
@@ -232,7 +232,7 @@ def _physical(params: Mapping[str, Any]) -> dict[str, float]:
 
 def _keys(d: Mapping[str, Any]) -> tuple[str, np.ndarray]:
     """Names as the comma-separated string the wrapper takes, and their values."""
-    return ",".join(d), np.array([float(x) for x in d.values()], dtype=np.float64)
+    return ",".join(d), np.fromiter(d.values(), dtype=np.float64, count=len(d))
 
 
 def interruptible(call: Callable[[np.ndarray], Any]) -> Any:
@@ -306,13 +306,13 @@ def friction_coefficient(law: str, v: Any, **params: float) -> np.ndarray:
         vv = np.asarray(v, dtype=np.float64)
     except (TypeError, ValueError):
         raise ValueError(f"v: must be real numbers [m/s], got {v!r}") from None
-    if not np.all(np.isfinite(vv)):
+    if not np.isfinite(vv).all():
         raise ValueError("v: must be finite [m/s]")
     keys, vals = _keys(given)
     mu, status = _ext.friction(code, keys, vals, np.ascontiguousarray(vv.ravel()))
     _check_code(int(status))
     mu = np.asarray(mu).reshape(vv.shape)
-    if not np.all(np.isfinite(mu)):
+    if not np.isfinite(mu).all():
         bad = vv.reshape(-1)[int(np.flatnonzero(~np.isfinite(mu.reshape(-1)))[0])]
         raise ValueError(f"v: mu({bad!r}) overflows with these parameters (a viscous term times a huge "
                          "velocity); use velocities and parameters whose product stays finite")
@@ -513,7 +513,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     status = int(status)
     _check_code(status)
 
-    stats: dict[str, Any] = dict(zip(_STATS_INT, [int(i) for i in istats.tolist()]))
+    stats: dict[str, Any] = dict(zip(_STATS_INT, istats.astype(np.int64).tolist()))   # exact: < 2**53
     stats.update(zip(_STATS_REAL, rstats.tolist()))
     stats["stiff"] = bool(stats["stiff"])
     stats["message"] = status_message(status)
