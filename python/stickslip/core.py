@@ -11,6 +11,7 @@ import threading
 import time
 import warnings
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any, Callable, Mapping
 
 import numpy as np
@@ -73,9 +74,11 @@ STATUS_OUTPUT_FULL = _STATUS["OUTPUT_FULL"]
 _FIRST_INPUT_CODE = -100          # codes <= this name one bad input
 
 #: The facade's defaults of the shared controls (the paper's "automatic" step range
-#: [hmin, hmax] = [1e-6, 1e-2] s); each is passed only to the methods that read it.
-CONTROL_DEFAULTS: dict[str, Any] = {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 1e-2, "h0": 0.0,
-                                    "allow_forced": True, "stop_on_stiff": False}
+#: [hmin, hmax] = [1e-6, 1e-2] s); each is passed only to the methods that read it. Read-only:
+#: simulate reads them once per method (_plan).
+CONTROL_DEFAULTS: Mapping[str, Any] = MappingProxyType(
+    {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 1e-2, "h0": 0.0, "allow_forced": True,
+     "stop_on_stiff": False})
 
 #: Largest every-step output the facade allocates [rows]: 3 arrays of 8-byte floats.
 MAX_ROWS = 50_000_000
