@@ -13,6 +13,8 @@ Sections (the ``section`` column of the CSV):
   from Fortran at the same tolerance.
 - ``equal_accuracy``: for each method the time to reach an error target, interpolated in
   log-log along its work-precision curve, as a ratio to stickslip DOPRI5 (Fortran).
+- ``overhead``: short runs (OVERHEAD) timed from Fortran and through ``stickslip.simulate``;
+  the difference is what the Python facade and f2py add per call.
 
 Times are medians of several samples; each sample repeats a run until it lasts long enough.
 Nothing asserts an absolute time: the machine is shared.
@@ -220,6 +222,12 @@ def python_jac(scene: str, law: str) -> Callable[[float, np.ndarray], list[list[
     return lambda t, y: [[0.0, 1.0], [0.0, -g_cos * dmu(y[1])]]
 
 
+#: Short runs for the facade's per-call overhead: scene, law, method, t_end [s], h or tol.
+OVERHEAD: tuple[tuple[str, str, str, float, float], ...] = (
+    ("belt", "recurdyn", "dopri5", 20.0, 1e-4), ("belt", "proposed", "dopri5", 20.0, 1e-4),
+    ("slope", "proposed", "radau5", 20.0, 1e-6), ("slope", "proposed", "rk4", 0.01, 1e-3))
+
+
 # -- rows ---------------------------------------------------------------------------------------
 
 def _row(section: str, impl: str, method: str, scene: str, law: str, t_end: float, *,
@@ -337,6 +345,33 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
                     f"{1e6 * row['median_s']:10.1f} us  err={row['err']:.1e}  {row['ns_per_eval']:8.1f} ns/eval "
                     f"x{row['ratio_eval']:.2f}/eval")
             rows += group
+    return rows
+
+
+def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -> list[dict]:
+    """Rows of the ``overhead`` section: each OVERHEAD run from Fortran and from Python (the
+    controls of bench_fortran: rtol = atol = tol, hmin = 0, hmax = t_end; output at t_end)."""
+    import stickslip
+
+    rows: list[dict] = []
+    for scene, law, method, t_end, hp in OVERHEAD:
+        fixed = method == "rk4"
+        kw = dict(h=hp) if fixed else dict(rtol=hp, atol=hp, hmin=0.0, hmax=t_end, max_steps=10**8)
+        step = dict(h=hp) if fixed else dict(tol=hp)
+        r = run_program(exes["bench_fortran"], scene, law, method, t_end, hp, cfg)
+        base = _row("overhead", "stickslip_fortran", method, scene, law, t_end, **step, repeats=cfg.repeats,
+                    median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"], x=r["x"], v=r["v"])
+        med, res = time_python(lambda: stickslip.simulate(scene, law, method=method, t_end=t_end, n_out=2,
+                                                          **kw), cfg)
+        row = _row("overhead", "stickslip_python", method, scene, law, t_end, **step, repeats=cfg.repeats,
+                   median_s=med, nstep=res.stats["nstep"], nfev=res.stats["nfev"], x=float(res.x[-1]),
+                   v=float(res.v[-1]))
+        for x in (base, row):
+            x["reference"] = "stickslip_fortran"
+            x["ratio_time"] = x["median_s"] / base["median_s"]
+        log(f"overhead {scene:5s} {law:8s} {method:7s} Fortran {1e6 * base['median_s']:7.1f} us, "
+            f"Python {1e6 * med:7.1f} us: +{1e6 * (med - base['median_s']):.1f} us per call")
+        rows += [base, row]
     return rows
 
 
@@ -479,6 +514,18 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
         out.append("")
     if notes:
         out += ["Not reached: " + "; ".join(notes) + ".", ""]
+    over = [r for r in rows if r["section"] == "overhead"]
+    if over:
+        out += ["**Facade overhead per call** (short runs, output at t_end: stickslip.simulate against "
+                "the same run from Fortran):", "",
+                "| scene / law | method | h or tol | steps | Fortran us | Python us | overhead us | ratio |",
+                "|---|---|---|---|---|---|---|---|"]
+        for f, p in zip(over[::2], over[1::2]):
+            hp = f["h_s"] if math.isfinite(f["h_s"]) else f["tol"]
+            out.append(f"| {f['scene']} / {f['law']} | {f['method']} | {hp:g} | {p['nstep']} | "
+                       f"{1e6 * f['median_s']:.1f} | {1e6 * p['median_s']:.1f} | "
+                       f"{1e6 * (p['median_s'] - f['median_s']):.1f} | {_fmt(p['ratio_time'])} |")
+        out.append("")
     return "\n".join(out)
 
 
@@ -508,6 +555,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     adaptive = run_adaptive(cfg, exes, log)
     eq, notes = equal_accuracy(adaptive, cfg)
     rows += adaptive + eq
+    rows += run_overhead(cfg, exes, log)
     write_csv(rows, args.outdir / "benchmarks.csv")
     plot(rows, args.outdir / "benchmarks.png")
     text = summary(rows, notes, cfg, args.quick, time.perf_counter() - t0)

@@ -11,6 +11,7 @@ import threading
 import time
 import warnings
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any, Callable, Mapping
 
 import numpy as np
@@ -73,16 +74,19 @@ STATUS_OUTPUT_FULL = _STATUS["OUTPUT_FULL"]
 _FIRST_INPUT_CODE = -100          # codes <= this name one bad input
 
 #: The facade's defaults of the shared controls (the paper's "automatic" step range
-#: [hmin, hmax] = [1e-6, 1e-2] s); each is passed only to the methods that read it.
-CONTROL_DEFAULTS: dict[str, Any] = {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 1e-2, "h0": 0.0,
-                                    "allow_forced": True, "stop_on_stiff": False}
+#: [hmin, hmax] = [1e-6, 1e-2] s); each is passed only to the methods that read it. Read-only:
+#: simulate reads them once per method (_plan).
+CONTROL_DEFAULTS: Mapping[str, Any] = MappingProxyType(
+    {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 1e-2, "h0": 0.0, "allow_forced": True,
+     "stop_on_stiff": False})
 
 #: Largest every-step output the facade allocates [rows]: 3 arrays of 8-byte floats.
 MAX_ROWS = 50_000_000
 
 
+@functools.lru_cache(maxsize=256)
 def status_message(status: int) -> str:
-    """The library's message for a status code."""
+    """The library's message for a status code (a constant per code: read once)."""
     return _ext.message(status).decode().strip()
 
 
@@ -175,6 +179,9 @@ def _choice(name: str, value: Any, accepted: tuple[str, ...]) -> int:
 
 def _is_real(value: Any) -> bool:
     """A real number given as such (not a string, not a bool)."""
+    kind = type(value)
+    if kind is float or kind is int:          # the common case, answered without isinstance
+        return True
     return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
 
 
@@ -199,9 +206,9 @@ def _count(name: str, value: Any, low: int = 1, high: int | None = None) -> int:
 
 def _check_names(params: Mapping[str, Any], allowed: tuple[str, ...]) -> None:
     """ValueError naming the parameters that are not in `allowed`."""
-    unknown = sorted(set(params) - set(allowed))
+    unknown = [k for k in params if k not in allowed]
     if unknown:
-        raise ValueError(f"unknown parameter(s) {', '.join(unknown)} (accepted: {', '.join(allowed)})")
+        raise ValueError(f"unknown parameter(s) {', '.join(sorted(unknown))} (accepted: {', '.join(allowed)})")
 
 
 def _check_code(status: int) -> None:
@@ -212,7 +219,10 @@ def _check_code(status: int) -> None:
 
 def accepted_range(name: str) -> str:
     """What the registry accepts for parameter `name`, e.g. 'must be finite and > 0 [m/s]'."""
-    return REGISTRY["param"][name]["rule"].split(": ", 1)[-1]
+    return _ACCEPTED[name]
+
+
+_ACCEPTED: dict[str, str] = {n: info["rule"].split(": ", 1)[-1] for n, info in REGISTRY["param"].items()}
 
 
 def _physical(params: Mapping[str, Any]) -> dict[str, float]:
@@ -225,7 +235,7 @@ def _physical(params: Mapping[str, Any]) -> dict[str, float]:
 
 def _keys(d: Mapping[str, Any]) -> tuple[str, np.ndarray]:
     """Names as the comma-separated string the wrapper takes, and their values."""
-    return ",".join(d), np.array([float(x) for x in d.values()], dtype=np.float64)
+    return ",".join(d), np.fromiter(d.values(), dtype=np.float64, count=len(d))
 
 
 def interruptible(call: Callable[[np.ndarray], Any]) -> Any:
@@ -299,30 +309,111 @@ def friction_coefficient(law: str, v: Any, **params: float) -> np.ndarray:
         vv = np.asarray(v, dtype=np.float64)
     except (TypeError, ValueError):
         raise ValueError(f"v: must be real numbers [m/s], got {v!r}") from None
-    if not np.all(np.isfinite(vv)):
+    if not np.isfinite(vv).all():
         raise ValueError("v: must be finite [m/s]")
     keys, vals = _keys(given)
     mu, status = _ext.friction(code, keys, vals, np.ascontiguousarray(vv.ravel()))
     _check_code(int(status))
     mu = np.asarray(mu).reshape(vv.shape)
-    if not np.all(np.isfinite(mu)):
+    if not np.isfinite(mu).all():
         bad = vv.reshape(-1)[int(np.flatnonzero(~np.isfinite(mu.reshape(-1)))[0])]
         raise ValueError(f"v: mu({bad!r}) overflows with these parameters (a viscous term times a huge "
                          "velocity); use velocities and parameters whose product stays finite")
     return mu
 
 
-def _controls(method: str, given: dict[str, Any]) -> dict[str, float]:
+@dataclass(frozen=True)
+class _Plan:
+    """What simulate reads from the registry for one (scene, law, method): worked out once
+    (_plan), so that a call only looks it up."""
+
+    codes: tuple[int, int, int]             # scene, law, method
+    n: int                                  # state components: x, v and the law's internal states
+    reads: frozenset[str]                   # the controls the method reads
+    defaults: Mapping[str, float]           # CONTROL_DEFAULTS of those, flags as 0/1, in that order
+    adaptive: bool
+    needs_h: bool
+    used: tuple[tuple[str, int], ...]       # parameters the scene and law read: (name, registry index)
+    state_labels: tuple[str, ...]
+
+
+_PLANS: dict[tuple[str, str, str], _Plan] = {}
+
+
+def _plan(scene: Any, law: Any, method: Any) -> _Plan:
+    """The plan of a scene, law and method, or ValueError naming the first unknown one."""
+    try:
+        plan = _PLANS.get((scene, law, method))
+    except TypeError:                       # an unhashable "name": _choice says what is accepted
+        plan = None
+    if plan is None:
+        codes = (_choice("scene", scene, SCENES), _choice("law", law, LAWS), _choice("method", method, METHODS))
+        info = REGISTRY["method"][method]
+        used = set(REGISTRY["law"][law]["params"]) | set(REGISTRY["scene"][scene]["params"])
+        plan = _Plan(
+            codes=codes, n=2 + REGISTRY["law"][law]["n_states"], reads=frozenset(info["controls"]),
+            defaults={k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]},
+            adaptive=info["adaptive"], needs_h="h" in info["controls"],
+            used=tuple((k, i) for i, k in enumerate(_PARAM_ORDER) if k in used),
+            state_labels=REGISTRY["law"][law]["states"])
+        _PLANS[scene, law, method] = plan   # only names that passed _choice get here
+    return plan
+
+
+def _flag(value: Any) -> Any:
+    """A flag (bool) as the 0.0/1.0 the library reads; anything else unchanged."""
+    return float(bool(value)) if isinstance(value, (bool, np.bool_)) else value
+
+
+def _controls(method: str, plan: _Plan, given: dict[str, Any]) -> dict[str, Any]:
     """The controls of `method`: those given (each must be one the method reads) over the
     facade's defaults of those it reads. Flags become 0/1."""
-    reads = REGISTRY["method"][method]["controls"]
-    for name in given:
-        if name not in reads:
+    out = dict(plan.defaults)
+    for name, value in given.items():
+        if name not in plan.reads:
             raise ValueError(f"{name}: not a control of method {method!r} "
-                             f"(its controls: {', '.join(reads)})")
-    out = {k: v for k, v in CONTROL_DEFAULTS.items() if k in reads}
-    out.update(given)
-    return {k: (float(bool(v)) if isinstance(v, (bool, np.bool_)) else v) for k, v in out.items()}
+                             f"(its controls: {', '.join(REGISTRY['method'][method]['controls'])})")
+        out[name] = _flag(value)
+    return out
+
+
+def _tolerance(name: str, value: Any, n: int) -> np.ndarray:
+    """rtol or atol as float64: a real number or n of them (one per state component)."""
+    if _is_real(value):
+        return np.array([value], dtype=np.float64)
+    items = np.atleast_1d(np.asarray(value, dtype=object))
+    if items.ndim != 1 or items.size not in (1, n) or not all(_is_real(x) for x in items):
+        raise ValueError(f"{name}: must be a real number or {n} of them (one per state component), "
+                         f"got {value!r}")
+    return items.astype(np.float64)
+
+
+#: Output grids up to this many points are kept (_grid): numpy.linspace costs microseconds.
+_GRID_CACHE_ROWS = 4096
+
+
+def _linspace(t_end: float, n_out: int) -> np.ndarray:
+    """The output grid numpy.linspace(0, t_end, n_out) (just t_end for one point)."""
+    return np.linspace(0.0, t_end, n_out) if n_out > 1 else np.array([t_end])
+
+
+@functools.lru_cache(maxsize=32)
+def _cached_linspace(t_end: float, n_out: int) -> np.ndarray:
+    grid = _linspace(t_end, n_out)
+    grid.setflags(write=False)
+    return grid
+
+
+def _grid(t_end: float, n_out: int) -> np.ndarray:
+    """A new array holding the output grid _linspace(t_end, n_out); small ones are copied
+    from a cache."""
+    return _cached_linspace(t_end, n_out).copy() if n_out <= _GRID_CACHE_ROWS else _linspace(t_end, n_out)
+
+
+_PARAM_SET = frozenset(_PARAM_ORDER)
+_CONTROL_SET = frozenset(CONTROLS)
+_STATS_INT: tuple[str, ...] = REGISTRY["stats_int"]
+_STATS_REAL: tuple[str, ...] = REGISTRY["stats_real"]
 
 
 def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | None = None,
@@ -351,29 +442,21 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     Every value of a result returned is finite: an overflow of the state, or of the dense output
     or interpolant between steps, ends the run with NonFiniteSolution.
     """
-    scene_code = _choice("scene", scene, SCENES)
-    law_code = _choice("law", law, LAWS)
-    method_code = _choice("method", method, METHODS)
-    info = REGISTRY["method"][method]
-    unknown = sorted(set(kwargs) - set(_PARAM_ORDER) - set(CONTROLS))
+    plan = _plan(scene, law, method)
+    unknown = kwargs.keys() - _PARAM_SET - _CONTROL_SET
     if unknown:
-        raise ValueError(f"unknown parameter(s) {', '.join(unknown)} (physical parameters: "
+        raise ValueError(f"unknown parameter(s) {', '.join(sorted(unknown))} (physical parameters: "
                          f"{', '.join(_PARAM_ORDER)}; controls: {', '.join(CONTROLS)})")
-    given = _physical({k: v for k, v in kwargs.items() if k in _PARAM_ORDER})
-    ctl = _controls(method, {k: v for k, v in kwargs.items() if k in CONTROLS})
+    given = _physical({k: v for k, v in kwargs.items() if k in _PARAM_SET})
+    ctl = _controls(method, plan, {k: v for k, v in kwargs.items() if k in _CONTROL_SET})
     t_end = _finite("t_end", t_end, "> 0 [s]")
-    n = 2 + REGISTRY["law"][law]["n_states"]
-    tol: dict[str, np.ndarray] = {}
-    for name in ("rtol", "atol"):
-        value = ctl.pop(name, 1.0)            # 1.0: a placeholder the fixed-step methods never read
-        items = np.atleast_1d(np.asarray(value, dtype=object))
-        if items.ndim != 1 or items.size not in (1, n) or not all(_is_real(x) for x in items):
-            raise ValueError(f"{name}: must be a real number or {n} of them (one per state component), "
-                             f"got {value!r}")
-        tol[name] = items.astype(np.float64)
+    n = plan.n
+    # 1.0: a placeholder the fixed-step methods never read
+    rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
+    atol = _tolerance("atol", ctl.pop("atol", 1.0), n)
     for name, value in ctl.items():
         ctl[name] = _finite(name, value, "see simulate()")
-    if "h" in info["controls"]:
+    if plan.needs_h:
         if "h" not in ctl:
             raise ValueError(f"h: required for method {method!r} (finite, > 0 [s])")
         h = ctl["h"]
@@ -387,16 +470,21 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
                 warnings.warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
                               f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
                               "wrong creep speed (README: How to choose h)", stacklevel=2)
-    y0 = [_finite("x0", x0, "[m]"), _finite("v0", v0, "[m/s]")]
-    z = np.zeros(n - 2) if z0 is None else np.atleast_1d(np.asarray(z0, dtype=np.float64))
-    if z.shape != (n - 2,) or not np.all(np.isfinite(z)):
-        raise ValueError(f"z0: must be {n - 2} finite value(s), the initial internal states of {law!r}")
-    y0 = np.concatenate([np.array(y0), z])
+    x0 = _finite("x0", x0, "[m]")
+    v0 = _finite("v0", v0, "[m/s]")
+    if z0 is None:
+        y0 = np.zeros(n)
+        y0[0], y0[1] = x0, v0
+    else:
+        z = np.atleast_1d(np.asarray(z0, dtype=np.float64))
+        if z.shape != (n - 2,) or not np.isfinite(z).all():
+            raise ValueError(f"z0: must be {n - 2} finite value(s), the initial internal states of {law!r}")
+        y0 = np.concatenate([np.array([x0, v0]), z])
 
     if max_steps is None:
-        max_steps = 10**6 if (every_step and info["adaptive"]) else 10**8
+        max_steps = 10**6 if (every_step and plan.adaptive) else 10**8
     max_steps = _count("max_steps", max_steps)
-    needed = _fixed_steps(t_end, ctl["h"]) if not info["adaptive"] else 0.0
+    needed = _fixed_steps(t_end, ctl["h"]) if not plan.adaptive else 0.0
     if needed > max_steps:
         raise ValueError(f"max_steps: {method} with h = {ctl['h']:g} s needs {needed:.4g} steps to reach "
                          f"t_end = {t_end:g} s, more than max_steps = {max_steps} (raise max_steps or h)")
@@ -416,30 +504,32 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         ctl["every_step"] = 1.0
     else:
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
-        t_grid = np.linspace(0.0, t_end, n_out) if n_out > 1 else np.array([t_end])
+        t_grid = _grid(t_end, n_out)
 
     pkeys, pvals = _keys(given)
     ckeys, cvals = _keys(ctl)
+    scene_code, law_code, method_code = plan.codes
     cpu0 = time.process_time()
     y, istats, rstats, resolved, status = interruptible(lambda stop: _ext.run_simulation(
-        scene_code, law_code, method_code, pkeys, pvals, y0, t_end, tol["rtol"], tol["atol"], ckeys, cvals,
-        t_grid, len(REGISTRY["stats_int"]), len(REGISTRY["stats_real"]), len(_PARAM_ORDER), stop))
+        scene_code, law_code, method_code, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals,
+        t_grid, len(_STATS_INT), len(_STATS_REAL), len(_PARAM_ORDER), stop))
     cpu = time.process_time() - cpu0
     status = int(status)
     _check_code(status)
 
-    stats: dict[str, Any] = dict(zip(REGISTRY["stats_int"], (int(i) for i in istats)))
-    stats.update(zip(REGISTRY["stats_real"], (float(r) for r in rstats)))
+    stats: dict[str, Any] = dict(zip(_STATS_INT, istats.astype(np.int64).tolist()))   # exact: < 2**53
+    stats.update(zip(_STATS_REAL, rstats.tolist()))
     stats["stiff"] = bool(stats["stiff"])
     stats["message"] = status_message(status)
     stats["cpu_seconds"] = cpu
     rows_written = stats.pop("n_written")
-    used = set(REGISTRY["law"][law]["params"]) | set(REGISTRY["scene"][scene]["params"])
-    params = {k: float(v) for k, v in zip(_PARAM_ORDER, resolved) if k in used}
-    y = np.asarray(y)[:, :rows_written]
+    resolved = resolved.tolist()
+    params = {k: resolved[i] for k, i in plan.used}
+    y = y[:, :rows_written]
     result = Result(scene=scene, law=law, method=method, t_end=t_end, params=params,
-                    t=t_grid[:rows_written].copy(), x=np.array(y[0]), v=np.array(y[1]), stats=stats,
-                    z=np.array(y[2:]), state_labels=REGISTRY["law"][law]["states"])
+                    t=t_grid if rows_written == t_grid.size else t_grid[:rows_written].copy(),
+                    x=np.array(y[0]), v=np.array(y[1]), stats=stats, z=np.array(y[2:]),
+                    state_labels=plan.state_labels)
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
     return result
