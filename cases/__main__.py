@@ -57,11 +57,12 @@ def _run_driver(name: str, argv: list[str]) -> list[Path]:
 def _job(index: int, name: str, argv: list[str], results: Any) -> None:
     """A job process: run one driver with its stdout captured; send (index, ok, payload)."""
     out = io.StringIO()
-    t0 = time.perf_counter()
+    t0, cpu0 = time.perf_counter(), time.process_time()
     try:
         with contextlib.redirect_stdout(out):
             files = _run_driver(name, argv)
-        results.put((index, True, (files, out.getvalue(), time.perf_counter() - t0)))
+        results.put((index, True, (files, out.getvalue(), time.perf_counter() - t0,
+                                   time.process_time() - cpu0)))
     except BaseException as exc:    # noqa: BLE001 - reported to the parent, which raises it
         text = f"cases.{name} failed:\n{out.getvalue()}{traceback.format_exc()}"
         results.put((index, False, (type(exc).__name__, str(exc), text)))
@@ -104,12 +105,12 @@ def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
             if not ok:
                 kind, message, text = payload
                 raise DriverFailed(f"{kind}: {message}\n{text}")
-            files, report, seconds = payload
+            files, report, seconds, cpu = payload
             done[i] = files
             sys.stdout.write(report)
             sys.stdout.flush()
             if not quiet:
-                print(f"== cases.{jobs[i][0]}: {seconds:.1f} s", file=sys.stderr, flush=True)
+                print(f"== cases.{jobs[i][0]}: {seconds:.1f} s (CPU {cpu:.1f} s)", file=sys.stderr, flush=True)
     finally:
         for proc in running.values():
             proc.terminate()
