@@ -5,15 +5,17 @@
     python -m cases --docs        # the committed copies in docs/figures/ (used by REPRODUCTION.md)
 
 Runs the drivers of DRIVERS, --jobs at a time (default: one per core, at most 2), each in its
-own process, the costliest first; prints where every file went and the total wall time. Each
-driver's report (stdout) is printed whole when it finishes. The paper's drivers parallelise
-their simulations over --workers processes, the studies over --threads OpenMP threads; both
-default to the cores left per job (1 on 2 cores with 2 jobs). With --jobs 1 the drivers run
-in turn in this process and show their progress bars.
+own process, the costliest first, then the timings of parallel speed alone; prints where every
+file went and the total wall time. Each driver's report (stdout) is printed whole when it
+finishes. The paper's drivers parallelise their simulations over --workers processes, the
+studies over --threads OpenMP threads; both default to the cores left per job (1 on 2 cores
+with 2 jobs; every core for a driver that runs alone). With --jobs 1 the drivers run in turn
+in this process and show their progress bars.
 
-To add a driver, append (module name, kind, cost) to DRIVERS: the module needs `main(argv)`
-accepting `--outdir`, plus `--workers` and `--quiet` for kind "paper" or `--threads` and
-`--quiet` for kind "study"; cost (CPU seconds of a full run) only orders the jobs.
+To add a driver, append (module name, kind, cost, alone) to DRIVERS: the module needs
+`main(argv)` accepting `--outdir`, plus `--workers` and `--quiet` for kind "paper" or
+`--threads` and `--quiet` for kind "study"; cost (CPU seconds of a full run) only orders the
+jobs.
 """
 from __future__ import annotations
 
@@ -32,14 +34,16 @@ from typing import Any, Sequence
 
 from ._common import count
 
-#: Driver modules run by `python -m cases`: (name, kind, cost). kind: "laws" (no simulation),
-#: "paper" (a figure set of the paper, --workers/--quiet) or "study" (--all only,
+#: Driver modules run by `python -m cases`: (name, kind, cost, alone). kind: "laws" (no
+#: simulation), "paper" (a figure set of the paper, --workers/--quiet) or "study" (--all only,
 #: --threads/--quiet). cost: CPU seconds of one full run on one core (measured 2026-11-23),
-#: used only to start the costliest jobs first.
-DRIVERS: tuple[tuple[str, str, float], ...] = (
-    ("laws", "laws", 1.0), ("slope", "paper", 10.0), ("belt", "paper", 3.0),
-    ("workprecision", "study", 27.0), ("stability", "study", 37.0),
-    ("laws_compare", "study", 36.0), ("implicit", "study", 23.0))
+#: used only to start the costliest jobs first. alone: a timing of parallel speed, run after
+#: the others with every core to itself.
+DRIVERS: tuple[tuple[str, str, float, bool], ...] = (
+    ("laws", "laws", 1.0, False), ("slope", "paper", 7.0, False), ("belt", "paper", 2.0, False),
+    ("workprecision", "study", 30.0, False), ("stability", "study", 42.0, False),
+    ("laws_compare", "study", 31.0, False), ("implicit", "study", 21.0, False),
+    ("speedup", "study", 3.0, True))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 
@@ -73,10 +77,10 @@ class DriverFailed(RuntimeError):
 
 
 def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
-             costs: Sequence[float]) -> list[Path]:
+             costs: Sequence[float]) -> list[list[Path]]:
     """Run the drivers `jobs` ((name, argv)) in up to n_jobs processes, the costliest first;
-    returns their files in the order of `jobs`. The first failure ends the run: the other
-    jobs are terminated and DriverFailed raised."""
+    returns each one's files, in the order of `jobs`. The first failure ends the run: the
+    other jobs are terminated and DriverFailed raised."""
     ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods()
                                       else None)
     results = ctx.Queue()
@@ -115,7 +119,7 @@ def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
         for proc in running.values():
             proc.terminate()
             proc.join()
-    return [f for i in sorted(done) for f in done[i]]
+    return [done[i] for i in range(len(jobs))]
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
@@ -125,7 +129,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="directory for all files (default: out/)")
     parser.add_argument("--docs", action="store_true",
                         help=f"write into {DOCS_DIR} (the figures REPRODUCTION.md embeds)")
-    parser.add_argument("--only", nargs="+", choices=[name for name, _, _ in DRIVERS],
+    parser.add_argument("--only", nargs="+", choices=[d[0] for d in DRIVERS],
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
                         help="also run the studies (work-precision, stability, laws_compare, implicit): about "
@@ -139,27 +143,33 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
     outdir = DOCS_DIR if args.docs else args.outdir
-    chosen = [(name, kind, cost) for name, kind, cost in DRIVERS
-              if (name in args.only if args.only else (kind != "study" or args.all))]
-    n_jobs = min(args.jobs, len(chosen))
-    per_job = str(max(1, _cores() // n_jobs))
-    # in parallel, the reports are printed whole at the end of each driver: no bars
-    quiet = ["--quiet"] if args.quiet or n_jobs > 1 else []
-    extra = {"laws": [], "paper": ["--workers", str(args.workers or per_job), *quiet],
-             "study": ["--threads", str(args.threads or per_job), *quiet]}
-    jobs = [(name, ["--outdir", str(outdir), *extra[kind]]) for name, kind, _ in chosen]
+    chosen = [d for d in DRIVERS if (d[0] in args.only if args.only else (d[1] != "study" or args.all))]
+    together = [d for d in chosen if not d[3]]
+    n_jobs = max(1, min(args.jobs, len(together)))
+
+    def driver_argv(kind: str, cores: int, quiet: bool) -> list[str]:
+        flags = ["--quiet"] if quiet else []
+        return {"laws": [], "paper": ["--workers", str(args.workers or cores), *flags],
+                "study": ["--threads", str(args.threads or cores), *flags]}[kind]
+
     start = time.perf_counter()
+    by_driver: dict[str, list[Path]] = {}
     if n_jobs > 1:
-        files = run_jobs(jobs, n_jobs, args.quiet, [cost for _, _, cost in chosen])
-    else:
-        files = []
-        for name, driver_argv in jobs:
-            t0 = time.perf_counter()
-            if not args.quiet:
-                print(f"== cases.{name} -> {outdir}", file=sys.stderr, flush=True)
-            files += _run_driver(name, driver_argv)
-            if not args.quiet:
-                print(f"== cases.{name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
+        # in parallel, the reports are printed whole at the end of each driver: no bars
+        jobs = [(name, ["--outdir", str(outdir), *driver_argv(kind, max(1, _cores() // n_jobs), True)])
+                for name, kind, _, _ in together]
+        found = run_jobs(jobs, n_jobs, args.quiet, [cost for _, _, cost, _ in together])
+        by_driver.update(zip([name for name, _, _, _ in together], found))
+    for name, kind, _, _ in chosen:        # with --jobs 1 all of them, else the "alone" ones
+        if name in by_driver:
+            continue
+        t0 = time.perf_counter()
+        if not args.quiet:
+            print(f"== cases.{name} -> {outdir}", file=sys.stderr, flush=True)
+        by_driver[name] = _run_driver(name, ["--outdir", str(outdir), *driver_argv(kind, _cores(), args.quiet)])
+        if not args.quiet:
+            print(f"== cases.{name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
+    files = [f for name, _, _, _ in chosen for f in by_driver[name]]
     print(f"{len(files)} files in {outdir}; wall time {time.perf_counter() - start:.1f} s")
     return files
 

@@ -348,24 +348,10 @@ def extremes(quick: bool = False, threads: int = 2, client: Any = None) -> list[
     return out
 
 
-def speedup(threads: int = 2, repeats: int = 3) -> tuple[float, float, float]:
-    """(median seconds with 1 thread, with `threads`, ratio) of one batch of 16 RK4 runs."""
-    import stickslip
-    kw = dict(method="rk4", t_end=20.0, h=1e-4, v_s=np.repeat([1e-2, 1e-3], 8))
-    times: dict[int, list[float]] = {1: [], threads: []}
-    for _ in range(repeats):
-        for n in (1, threads):
-            t0 = time.perf_counter()
-            stickslip.simulate_batch("belt", "proposed", threads=n, **kw)
-            times[n].append(time.perf_counter() - t0)
-    t1, tn = float(np.median(times[1])), float(np.median(times[threads]))
-    return t1, tn, t1 / tn
-
-
 def run(outdir: str | Path, *, quick: bool = False, threads: int = 2,
         quiet: bool = False, scheduler: str | None = None) -> list[Path]:
-    """Maps, extremes and the batch speed-up; CSV files, then plots. The maps and extremes run
-    on the Dask cluster at `scheduler` when given (the speed-up is timed locally)."""
+    """Maps and extremes; CSV files, then plots. They run on the Dask cluster at `scheduler`
+    when given. (The batch speed-up is cases.speedup.)"""
     from stickslip.distributed import connect
     with connect(scheduler) as client:
         return _run(outdir, quick=quick, threads=threads, quiet=quiet, client=client)
@@ -398,17 +384,11 @@ def _run(outdir: str | Path, *, quick: bool, threads: int, quiet: bool,
                   "any step).", quiet)
     c.log(c.markdown_table(["case", "scene", "law", "method", "status [-]", "outcome"],
                            [r[:6] for r in ext]), quiet)
-    t1, tn, ratio = speedup(threads)
-    c.log(f"stability: batch speed-up {ratio:.2f} ({t1:.3f} s with 1 thread, {tn:.3f} s with "
-          f"{threads})", quiet)
-    p_speed = c.write_csv(outdir / "stability_speedup.csv",
-                          ["threads [-]", "seconds [s]", "speedup [-]"],
-                          [[1, t1, 1.0], [threads, tn, ratio]])
     # The RK4 boundary against the linear bound, bracketed by the map's grid.
     c.log_caption(boundary_caption(9 if quick else 17), quiet)
     c.log(c.markdown_table(["scene", "law", "v_s [m/s]", "h_lin [s]", "h_obs [s]", "h_next [s]",
                             "h_obs/h_lin", "h_next/h_lin"], boundary(rk4)), quiet)
-    return [p_rk4, p_dop, p_imp, p_ext, p_speed] + plot(p_rk4, outdir) + plot(p_dop, outdir) \
+    return [p_rk4, p_dop, p_imp, p_ext] + plot(p_rk4, outdir) + plot(p_dop, outdir) \
         + [plot_implicit(p_imp, outdir)]
 
 

@@ -270,7 +270,7 @@ def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[
 @pytest.mark.parametrize("argv,expected", [
     ([], ["laws", "slope", "belt"]),
     (["--all", "--threads", "1"], ["laws", "slope", "belt", "workprecision", "stability", "laws_compare",
-                                   "implicit"]),
+                                   "implicit", "speedup"]),
     (["--only", "stability"], ["stability"]),
 ])
 def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
@@ -294,7 +294,7 @@ def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
     assert [name for name, _ in calls] == expected
     for name, args in calls:
         assert args[:2] == ["--outdir", str(tmp_path)]
-        if name in ("workprecision", "stability", "laws_compare", "implicit"):
+        if name in ("workprecision", "stability", "laws_compare", "implicit", "speedup"):
             assert "--threads" in args and "--workers" not in args
         elif name != "laws":
             assert "--workers" in args
@@ -328,14 +328,17 @@ def test_main_runs_drivers_in_parallel_jobs(tmp_path: Path, monkeypatch: pytest.
                         lambda mod: _FakeDriver(mod.removeprefix("cases.")))
     monkeypatch.setattr(cases_main, "_cores", lambda: 2)
     files = cases_main.main(["--outdir", str(tmp_path), "--jobs", "2", "--only", "laws", "belt",
-                             "workprecision", "stability"])
-    assert [f.name for f in files] == ["laws.txt", "belt.txt", "workprecision.txt", "stability.txt"]
+                             "workprecision", "stability", "speedup"])
+    assert [f.name for f in files] == ["laws.txt", "belt.txt", "workprecision.txt", "stability.txt",
+                                       "speedup.txt"]
     assert all(f.read_text() + ".txt" == f.name for f in files)
     captured = capsys.readouterr()
     assert "report of belt --workers 1 --quiet\n" in captured.out
     assert "report of stability --threads 1 --quiet\n" in captured.out
-    started = re.findall(r"== cases\.(\w+) started", captured.err)
-    assert started[:2] == ["stability", "workprecision"]      # DRIVERS' costs: 37 and 27 s
+    assert "report of speedup --threads 2\n" in captured.out          # alone: every core
+    started = re.findall(r"== cases\.(\w+) (?:started|->)", captured.err)
+    assert started[:2] == ["stability", "workprecision"]      # the costliest first (DRIVERS)
+    assert started[-1] == "speedup"                           # after every other job
 
 
 def test_main_first_failed_job_ends_the_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
