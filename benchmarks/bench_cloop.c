@@ -28,6 +28,13 @@ static long run(const bench_scene *s, double t_end, double h, double y[2]) {
     return n;
 }
 
+static double timed(void *ctx, long n) {
+    bench_args *a = (bench_args *)ctx;
+    double y[2], t0 = bench_now();
+    for (long j = 0; j < n; j++) run(&a->s, a->t_end, a->h_or_tol, y);
+    return bench_now() - t0;
+}
+
 int main(int argc, char **argv) {
     bench_args a;
     if (bench_parse(argc, argv, &a)) return 2;
@@ -40,8 +47,7 @@ int main(int argc, char **argv) {
     double t0 = bench_now();
     nstep = run(&a.s, a.t_end, a.h_or_tol, y); /* warm-up and calibration */
     double once = bench_now() - t0;
-    long inner = once > 0.0 ? (long)ceil(a.min_sample / once) : 1;
-    if (inner < 1) inner = 1;
+    long inner = bench_inner(once, a.min_sample, timed, &a);
     for (int r = 0; r < a.repeats; r++) {
         t0 = bench_now();
         for (long j = 0; j < inner; j++) run(&a.s, a.t_end, a.h_or_tol, y);

@@ -4,7 +4,9 @@
  *
  * Every program prints one line: "median_s nfev nstep x_end v_end", where median_s is the
  * median over REPEATS samples of the time of one integration [s]; each sample repeats the
- * integration until it lasts at least MIN_SAMPLE_S.
+ * integration until it lasts at least MIN_SAMPLE_S (bench_inner). With MIN_SAMPLE_S = 0 a
+ * program runs the integration exactly 1 + REPEATS times, which is how the benchmark driver
+ * counts instructions per integration under callgrind (the difference of two REPEATS).
  */
 #ifndef BENCH_COMMON_H
 #define BENCH_COMMON_H
@@ -94,6 +96,19 @@ static double bench_now(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* Runs per sample, so that a sample lasts at least min_sample seconds. `once` is the time of
+ * the first run, which is cold (page faults, lazy binding) and would make samples too short;
+ * a warm batch of about a tenth of a sample times one run again. timed(ctx, n) returns the
+ * seconds of n runs. min_sample = 0 (counting instructions): one run, no calibration. */
+static long bench_inner(double once, double min_sample, double (*timed)(void *, long), void *ctx) {
+    if (min_sample <= 0.0) return 1;
+    long n = once > 0.0 ? (long)ceil(0.1 * min_sample / once) : 1;
+    if (n < 1) n = 1;
+    double warm = timed(ctx, n) / n;
+    long inner = warm > 0.0 ? (long)ceil(min_sample / warm) : n;
+    return inner < 1 ? 1 : inner;
 }
 
 static int cmp_double(const void *a, const void *b) {

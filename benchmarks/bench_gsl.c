@@ -48,6 +48,13 @@ static int run(bench_args *a, double y[2], long *nstep) {
     return status;
 }
 
+static double timed(void *ctx, long n) {
+    double y[2], t0 = bench_now();
+    long nstep;
+    for (long j = 0; j < n; j++) run((bench_args *)ctx, y, &nstep);
+    return bench_now() - t0;
+}
+
 int main(int argc, char **argv) {
     bench_args a;
     if (bench_parse(argc, argv, &a)) return 2;
@@ -62,8 +69,7 @@ int main(int argc, char **argv) {
         return 1;
     }
     long nfev = a.s.nfev;
-    long inner = once > 0.0 ? (long)ceil(a.min_sample / once) : 1;
-    if (inner < 1) inner = 1;
+    long inner = bench_inner(once, a.min_sample, timed, &a);
     for (int r = 0; r < a.repeats; r++) {
         t0 = bench_now();
         for (long j = 0; j < inner; j++) run(&a, y, &nstep);

@@ -17,7 +17,10 @@ Sections (the ``section`` column of the CSV):
   the difference is what the Python facade and f2py add per call.
 
 Times are medians of several samples; each sample repeats a run until it lasts long enough.
-Nothing asserts an absolute time: the machine is shared.
+Nothing asserts an absolute time: the machine is shared. The compiled adaptive runs also get a
+deterministic measure, ``instr_per_eval``: instructions per right-hand-side evaluation counted
+by valgrind's callgrind (the difference between 3 runs and 1, so start-up cancels), when
+valgrind is installed (not with --quick unless --callgrind).
 """
 from __future__ import annotations
 
@@ -44,7 +47,7 @@ BIN = Path(sys.executable).parent
 
 FIELDS: tuple[str, ...] = (
     "section", "impl", "method", "scene", "law", "t_end_s", "h_s", "tol", "target_err",
-    "repeats", "median_s", "nstep", "nfev", "ns_per_step", "ns_per_eval", "x_end_m",
+    "repeats", "median_s", "nstep", "nfev", "ns_per_step", "ns_per_eval", "instr_per_eval", "x_end_m",
     "v_end_m_s", "err", "reference", "ratio_step", "ratio_eval", "ratio_time",
 )
 REFERENCE_TOL = 1e-13
@@ -66,6 +69,7 @@ class Config:
     repeats: int
     min_sample: float                                    # [s]
     scipy_methods: list[str] = field(default_factory=lambda: ["RK45", "DOP853", "LSODA", "Radau"])
+    callgrind: bool = False                              # count instructions of the compiled adaptive runs
 
 
 FULL = Config(
@@ -120,6 +124,22 @@ def run_program(exe: Path, scene: str, law: str, method: str, t_end: float, h_or
                           repr(cfg.min_sample)], check=True, capture_output=True, text=True).stdout
     med, nfev, nstep, x, v = out.split()
     return {"median_s": float(med), "nfev": int(nfev), "nstep": int(nstep), "x": float(x), "v": float(v)}
+
+
+def count_instructions(exe: Path, scene: str, law: str, method: str, t_end: float, h_or_tol: float) -> float:
+    """Instructions of one integration by a compiled benchmark, counted by callgrind: a program
+    given MIN_SAMPLE_S = 0 runs 1 + REPEATS integrations, so (I(REPEATS=3) - I(REPEATS=1)) / 2 is
+    one run without the start-up. Deterministic on a given build and machine."""
+    counts = []
+    for repeats in (1, 3):
+        proc = subprocess.run([_tool("valgrind"), "--tool=callgrind", "--callgrind-out-file=/dev/null", str(exe),
+                               scene, law, method, repr(t_end), repr(h_or_tol), str(repeats), "0"],
+                              check=True, capture_output=True, text=True)
+        found = [line for line in proc.stderr.splitlines() if "Collected :" in line]
+        if not found:
+            raise SystemExit(f"benchmarks: no callgrind count for {exe.name}\n{proc.stderr[-2000:]}")
+        counts.append(int(found[-1].split(":")[-1]))
+    return (counts[1] - counts[0]) / 2.0
 
 
 def time_python(fn: Callable[[], object], cfg: Config) -> tuple[float, object]:
@@ -238,7 +258,7 @@ def _row(section: str, impl: str, method: str, scene: str, law: str, t_end: floa
             "t_end_s": t_end, "h_s": h, "tol": tol, "target_err": target, "repeats": repeats,
             "median_s": median_s, "nstep": nstep, "nfev": nfev,
             "ns_per_step": 1e9 * median_s / nstep if nstep else float("nan"),
-            "ns_per_eval": 1e9 * median_s / nfev if nfev else float("nan"),
+            "ns_per_eval": 1e9 * median_s / nfev if nfev else float("nan"), "instr_per_eval": float("nan"),
             "x_end_m": x, "v_end_m_s": v, "err": err, "reference": "",
             "ratio_step": float("nan"), "ratio_eval": float("nan"), "ratio_time": float("nan")}
 
@@ -310,6 +330,9 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
             group.append(_row("adaptive", "stickslip_fortran", "dopri5", scene, law, t_end, tol=tol,
                               repeats=cfg.repeats, median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"],
                               x=r["x"], v=r["v"], err=err_of(r["x"], r["v"])))
+            if cfg.callgrind:
+                group[-1]["instr_per_eval"] = count_instructions(exes["bench_fortran"], scene, law, "dopri5",
+                                                                 t_end, tol) / r["nfev"]
             for method in ("dopri5", "radau5"):
                 med, res = time_python(lambda: stickslip.simulate(
                     scene, law, method=method, t_end=t_end, rtol=tol, atol=tol, hmin=0.0, hmax=t_end,
@@ -324,6 +347,9 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
                     group.append(_row("adaptive", "gsl", m, scene, law, t_end, tol=tol, repeats=cfg.repeats,
                                       median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"],
                                       x=r["x"], v=r["v"], err=err_of(r["x"], r["v"])))
+                    if cfg.callgrind:
+                        group[-1]["instr_per_eval"] = count_instructions(exes["bench_gsl"], scene, law, m,
+                                                                         t_end, tol) / r["nfev"]
             f, jac = python_rhs(scene, law), python_jac(scene, law)
             for m in cfg.scipy_methods:
                 sc = Config(**{**cfg.__dict__, "repeats": min(cfg.repeats, 3), "min_sample": 0.0})
@@ -503,6 +529,22 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
                        f"{r['nstep']} | {r['nfev']} | {1e6 * r['median_s']:.0f} | {r['ns_per_eval']:.0f} | "
                        f"{r['err']:.1e} | {_fmt(r['ratio_eval'])} |")
         out.append("")
+    counted = [r for r in adaptive if math.isfinite(r["instr_per_eval"])]
+    if counted:
+        others = [m for m in ("rkf45", "rkck", "rk8pd") if any(r["method"] == m for r in counted)]
+        out += ["**Instructions per evaluation** (callgrind, deterministic: the same build on the same machine "
+                "counts the same; everything a run executes, the right-hand side, libm and set-up included):", "",
+                "| scene / law | tol | stickslip DOPRI5 | " + " | ".join(f"GSL {m}" for m in others)
+                + " | DOPRI5 / " + " | DOPRI5 / ".join(others) + " |",
+                "|---|---|---|" + "---|" * (2 * len(others))]
+        for (scene, law, tol) in dict.fromkeys((r["scene"], r["law"], r["tol"]) for r in counted):
+            here = {r["method"]: r["instr_per_eval"] for r in counted
+                    if (r["scene"], r["law"], r["tol"]) == (scene, law, tol)}
+            ours = here.get("dopri5", float("nan"))
+            theirs = [here.get(m, float("nan")) for m in others]
+            out.append(f"| {scene} / {law} | {tol:.0e} | {ours:.0f} | " + " | ".join(f"{x:.0f}" for x in theirs)
+                       + " | " + " | ".join(_fmt(ours / x) for x in theirs) + " |")
+        out.append("")
     eq = [r for r in rows if r["section"] == "equal_accuracy"]
     if eq:
         out += ["**Equal accuracy**: time to reach the error target, as a ratio to stickslip DOPRI5 "
@@ -538,6 +580,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="a few seconds: tiny problems, one sample")
     parser.add_argument("--repeats", type=int, default=None, help="samples per median")
     parser.add_argument("--no-scipy", action="store_true", help="leave out solve_ivp")
+    parser.add_argument("--callgrind", action=argparse.BooleanOptionalAction, default=None,
+                        help="count instructions per evaluation of the compiled adaptive runs with valgrind "
+                             "(default: on when valgrind is installed, off with --quick)")
     args = parser.parse_args(argv)
 
     cfg = QUICK if args.quick else FULL
@@ -545,6 +590,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         cfg = Config(**{**cfg.__dict__, "repeats": max(1, args.repeats)})
     if args.no_scipy:
         cfg = Config(**{**cfg.__dict__, "scipy_methods": []})
+    callgrind = args.callgrind if args.callgrind is not None else (not args.quick and shutil.which("valgrind") is not None)
+    if callgrind and shutil.which("valgrind") is None:
+        raise SystemExit("benchmarks: --callgrind needs valgrind")
+    cfg = Config(**{**cfg.__dict__, "callgrind": callgrind})
     args.outdir.mkdir(parents=True, exist_ok=True)
     log = (lambda s: print(s, flush=True))
     t0 = time.perf_counter()
