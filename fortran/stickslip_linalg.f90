@@ -33,7 +33,7 @@ contains
         integer, intent(out)    :: ipiv(:)   !! (n) row interchanged with row k at step k
         integer, intent(out)    :: info      !! 0: success; k: zero or non-finite pivot in column k
         integer :: n, k, p, j
-        real(dp) :: piv, tmp(size(a, 2))
+        real(dp) :: piv, tmp
         n = size(a, 1)
         info = 0
         do k = 1, n
@@ -44,10 +44,12 @@ contains
                 info = k
                 return
             end if
-            if (p /= k) then
-                tmp = a(k, :)
-                a(k, :) = a(p, :)
-                a(p, :) = tmp
+            if (p /= k) then   ! (element by element: no temporary array, which gfortran would allocate)
+                do j = 1, size(a, 2)
+                    tmp = a(k, j)
+                    a(k, j) = a(p, j)
+                    a(p, j) = tmp
+                end do
             end if
             a(k+1:n, k) = a(k+1:n, k) / piv
             do j = k + 1, n
@@ -62,7 +64,7 @@ contains
         integer, intent(out)       :: ipiv(:)  !! (n) row interchanged with row k at step k
         integer, intent(out)       :: info     !! 0: success; k: zero or non-finite pivot in column k
         integer :: n, k, p, j
-        complex(dp) :: piv, tmp(size(a, 2))
+        complex(dp) :: piv, tmp
         n = size(a, 1)
         info = 0
         do k = 1, n
@@ -74,10 +76,12 @@ contains
                 info = k
                 return
             end if
-            if (p /= k) then
-                tmp = a(k, :)
-                a(k, :) = a(p, :)
-                a(p, :) = tmp
+            if (p /= k) then   ! (element by element: no temporary array, which gfortran would allocate)
+                do j = 1, size(a, 2)
+                    tmp = a(k, j)
+                    a(k, j) = a(p, j)
+                    a(p, j) = tmp
+                end do
             end if
             a(k+1:n, k) = a(k+1:n, k) / piv
             do j = k + 1, n

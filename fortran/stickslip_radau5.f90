@@ -44,6 +44,11 @@ module stickslip_radau5
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
                              check_step_controls, all_finite, output_start, stop_requested, limit_after_forced
     use stickslip_linalg, only: lu_decompose, lu_solve
+    use stickslip_scenes, only: slope_scene, belt_scene
+    use stickslip_law_coulomb, only: coulomb_law
+    use stickslip_law_recurdyn, only: recurdyn_law
+    use stickslip_law_proposed, only: proposed_law
+    use stickslip_law_stribeck, only: stribeck_law
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -140,7 +145,9 @@ contains
     !> Integrate y' = f(t, y) from t0 to t_end with Radau IIA (order 5) and error control.
     !!
     !! rtol and atol have size 1 (scalar) or size(y0) (per component); rtol must be > 0.
-    !! The Jacobian comes from sys%jacobian (finite differences unless the system overrides it).
+    !! The Jacobian comes from sys%jacobian (finite differences unless the system overrides it;
+    !! a built-in scene with a static law runs a specialised kernel with its analytic Jacobian,
+    !! which is what its jacobian binding returns).
     !! Grid mode: y_out(:, i) receives y(t_out(i)) from the collocation polynomial of the step
     !! containing it. Every-step mode: (t_out, y_out) receive the initial state and each
     !! accepted step. stats%status: SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_NEWTON_FAILED,
@@ -157,25 +164,18 @@ contains
         real(dp), intent(inout) :: t_out(:)      !! requested output times, or step times [s]
         real(dp), intent(inout) :: y_out(:, :)   !! (size(y0), size(t_out)) states at t_out
         type(ode_stats), intent(out) :: stats    !! counters and status
+        real(dp) :: rt(size(y0)), at(size(y0))
+        integer :: i
 
-        real(dp) :: rt(size(y0)), at(size(y0)), scal(size(y0)), y(size(y0)), f0(size(y0))
-        real(dp) :: z1(size(y0)), z2(size(y0)), z3(size(y0)), w1(size(y0)), w2(size(y0)), w3(size(y0))
-        real(dp) :: ytmp(size(y0)), ferr(size(y0)), cont(size(y0), 3)
-        real(dp) :: fjac(size(y0), size(y0)), e1(size(y0), size(y0))
-        complex(dp) :: e2(size(y0), size(y0)), zc(size(y0))
-        integer :: ip1(size(y0)), ip2(size(y0))
-        real(dp) :: t, tph, told, h, hold, hnew, hmaxn, hacc, erracc, err, fac, quot, facgus, qt
-        real(dp) :: faccon, theta, thq, thqold, dyno, dynold, dyth, qnewt, fnewt, cfac, fac1
-        real(dp) :: ffacl, ffacr
-        integer :: n, m, next, action, newt, nsing, ier, i, calm
-        logical :: first, reject, last, caljac, forced, newton_ok, newton_forced, slow
-
-        n = size(y0)
         stats%status = check_problem(t0, y0, t_end, t_out, y_out, opts%every_step)
-        if (stats%status == SS_OK) stats%status = check_options(n, t0, t_end, rtol, atol, opts)
+        if (stats%status == SS_OK) stats%status = check_options(size(y0), t0, t_end, rtol, atol, opts)
         if (stats%status /= SS_OK) return
 
-        ! Hairer's tolerance transformation (the error estimate is of lower order).
+        ! Hairer's tolerance transformation (the error estimate is of lower order), done here
+        ! for every kernel. rt**(2/3) is evaluated by the vectorised pow (libmvec; simd
+        ! directive), as the compiler had always chosen for this loop: libmvec's pow and
+        ! libm's differ in the last bit for some rtol (1e-4, 1e-8), and a loop of known size 2
+        ! would otherwise be unrolled into libm's calls.
         if (size(rtol) == 1) then
             rt = rtol(1)
         else
@@ -187,383 +187,22 @@ contains
             at = atol
         end if
         at = (at / rt)
-        rt = 0.1_dp * rt**(2.0_dp / 3.0_dp)
+        !$omp simd
+        do i = 1, size(y0)
+            rt(i) = 0.1_dp * rt(i)**(2.0_dp / 3.0_dp)
+        end do
         at = rt * at
-        fnewt = opts%fnewt
-        if (fnewt == 0.0_dp) fnewt = max(10.0_dp * UROUND / rt(1), min(0.03_dp, sqrt(rt(1))))
-        ffacl = 1.0_dp / opts%facl    ! largest h/h_new
-        ffacr = 1.0_dp / opts%facr    ! smallest h/h_new
 
-        m = size(t_out)
-        hmaxn = t_end - t0
-        if (opts%hmax > 0.0_dp) hmaxn = min(opts%hmax, hmaxn)
-        h = opts%h0
-        if (h <= 10.0_dp * UROUND) h = 1.0e-6_dp
-        h = max(min(h, hmaxn), opts%hmin)
-        hold = h
-        hacc = h
-        erracc = 1.0_dp
-        reject = .false.
-        slow = .false.
-        calm = 0
-        first = .true.
-        last = .false.
-        t = t0
-        told = t0
-        y = y0
-        if (t + h * 1.0001_dp >= t_end) then
-            h = t_end - t
-            last = .true.
-        end if
-        faccon = 1.0_dp
-        theta = abs(opts%thet)
-        thqold = 1.0_dp
-        dynold = 1.0_dp
-        newt = 0
-        cfac = opts%safety * (1 + 2 * opts%nit)
-        nsing = 0
-        ier = 0
-        caljac = .false.
-        cont = 0.0_dp
-        scal = at + rt * abs(y)
-        stats%t_reached = t
-        call output_start(t0, y0, t_out, y_out, opts%every_step, next)
-
-        call sys%rhs(t, y, f0)
-        stats%nfev = 1
-        action = DO_JAC
-
-        steps: do
-            if (action == DO_JAC) then
-                stats%njac = stats%njac + 1
-                call sys%jacobian(t, y, f0, fjac, stats%nfev)
-                if (.not. all(ieee_is_finite(fjac))) then
-                    stats%status = SS_JAC_NONFINITE
-                    exit steps
-                end if
-                caljac = .true.
-                action = DO_DEC
-            end if
-            if (action == DO_DEC) then
-                call decompose(ier)
-                if (ier /= 0) then
-                    call unexpected_rejection()
-                    if (stats%status /= SS_OK) exit steps
-                    cycle steps
-                end if
-                stats%ndec = stats%ndec + 1
-            end if
-            action = DO_STEP
-
-            if (stats%nstep >= opts%max_steps) then
-                stats%status = SS_STEP_BUDGET
-                exit steps
-            end if
-            if (stop_requested(opts, stats%nstep)) then
-                stats%status = SS_INTERRUPTED
-                exit steps
-            end if
-            stats%nstep = stats%nstep + 1
-            if (0.1_dp * abs(h) <= abs(t) * UROUND) then
-                stats%status = SS_STEP_TOO_SMALL
-                exit steps
-            end if
-            stats%h_last = h
-            tph = t + h
-
-            call starting_values()
-            call newton(newton_ok)
-            if (.not. newton_ok) then
-                if (stats%status /= SS_OK) exit steps
-                cycle steps
-            end if
-
-            call error_estimate()
-            fac = min(opts%safety, cfac / (newt + 2 * opts%nit))
-            quot = max(ffacr, min(ffacl, err**0.25_dp / fac))
-            hnew = h / quot
-
-            forced = .false.
-            if ((err >= 1.0_dp .or. newton_forced) .and. (h <= opts%hmin .or. (last .and. h <= 1.0001_dp * opts%hmin))) then
-                if (.not. opts%allow_forced) then
-                    stats%status = SS_STEP_TOO_SMALL
-                    exit steps
-                end if
-                forced = .true.
-            end if
-
-            if (err < 1.0_dp .or. forced) then
-                first = .false.
-                stats%naccept = stats%naccept + 1
-                if (forced) stats%nforced = stats%nforced + 1
-                if (opts%pred) then   ! Gustafsson's predictive controller
-                    if (stats%naccept > 1) then
-                        facgus = (hacc / h) * (err**2 / erracc)**0.25_dp / opts%safety
-                        facgus = max(ffacr, min(ffacl, facgus))
-                        quot = max(quot, facgus)
-                        hnew = h / quot
-                    end if
-                    hacc = h
-                    erracc = max(1.0e-2_dp, err)
-                end if
-                told = t
-                hold = h
-                t = tph
-                if (last) t = t_end
-                y = y + z3
-                ! Collocation polynomial on [told, t] in s = (tq - t)/hold, s in [-1, 0]:
-                ! y + s (cont1 + (s - c2 + 1) (cont2 + (s - c1 + 1) cont3)).
-                cont(:, 1) = (z2 - z3) / C2M1
-                ytmp = (z1 - z2) / C1MC2
-                cont(:, 2) = (ytmp - cont(:, 1)) / C1M1
-                cont(:, 3) = cont(:, 2) - (ytmp - z1 / C1) / C2
-                scal = at + rt * abs(y)
-                stats%t_reached = t
-                if (.not. write_output()) exit steps
-                caljac = .false.
-                if (last) exit steps
-                call sys%rhs(t, y, f0)
-                stats%nfev = stats%nfev + 1
-                hnew = min(hnew, hmaxn)
-                if (reject) hnew = min(hnew, h)
-                ! After a forced step: hold, then grow gradually (limit_after_forced).
-                if (forced .or. slow) call limit_after_forced(opts, forced, reject, h, slow, calm, hnew)
-                reject = .false.
-                if (t + hnew / opts%quot1 >= t_end) then
-                    h = t_end - t
-                    last = .true.
-                else
-                    qt = hnew / h
-                    if (theta <= opts%thet .and. qt >= opts%quot1 .and. qt <= opts%quot2) cycle steps
-                    h = max(hnew, opts%hmin)
-                    call clip_to_end()
-                end if
-                if (theta <= opts%thet) then
-                    action = DO_DEC
-                else
-                    action = DO_JAC
-                end if
-            else
-                reject = .true.
-                last = .false.
-                if (first) then
-                    h = h * 0.1_dp
-                else
-                    h = hnew
-                end if
-                h = max(h, opts%hmin)
-                call clip_to_end()
-                if (stats%naccept >= 1) stats%nreject = stats%nreject + 1
-                action = merge(DO_DEC, DO_JAC, caljac)
-            end if
-        end do steps
-        stats%n_written = next - 1
-
-    contains
-
-        !> E1 = gamma/h I - J (real) and E2 = (alpha + i beta)/h I - J (complex), factorised.
-        subroutine decompose(info)
-            integer, intent(out) :: info
-            fac1 = GAM0 / h
-            e1 = -fjac
-            e2 = cmplx(-fjac, 0.0_dp, kind=dp)
-            do i = 1, n
-                e1(i, i) = e1(i, i) + fac1
-                e2(i, i) = e2(i, i) + cmplx(ALPH / h, BETA / h, kind=dp)
-            end do
-            call lu_decompose(e1, ip1, info)
-            if (info == 0) call lu_decompose(e2, ip2, info)
-        end subroutine decompose
-
-        !> A step raised to h_min must not pass t_end (Hairer's own h never does).
-        subroutine clip_to_end()
-            if (t + h >= t_end) then
-                h = t_end - t
-                last = .true.
-            end if
-        end subroutine clip_to_end
-
-        !> Newton failed or a matrix was singular: halve h and retry (Hairer's label 78),
-        !! or end the run (stats%status set) after 5 singular matrices or at h_min.
-        subroutine unexpected_rejection()
-            if (ier /= 0) then
-                nsing = nsing + 1
-                if (nsing >= 5) then
-                    stats%status = SS_SINGULAR
-                    return
-                end if
-            end if
-            if (h <= opts%hmin) then
-                stats%status = merge(SS_SINGULAR, SS_NEWTON_FAILED, ier /= 0)
-                return
-            end if
-            h = max(0.5_dp * h, opts%hmin)
-            reject = .true.
-            last = .false.
-            call clip_to_end()
-            action = merge(DO_DEC, DO_JAC, caljac)
-        end subroutine unexpected_rejection
-
-        !> Starting values of the stage increments z (and of w = TI z).
-        subroutine starting_values()
-            real(dp) :: c3q, c1q, c2q
-            if (first .or. opts%startn) then
-                z1 = 0.0_dp; z2 = 0.0_dp; z3 = 0.0_dp
-                w1 = 0.0_dp; w2 = 0.0_dp; w3 = 0.0_dp
-            else
-                c3q = h / hold
-                c1q = C1 * c3q
-                c2q = C2 * c3q
-                z1 = c1q * (cont(:, 1) + (c1q - C2M1) * (cont(:, 2) + (c1q - C1M1) * cont(:, 3)))
-                z2 = c2q * (cont(:, 1) + (c2q - C2M1) * (cont(:, 2) + (c2q - C1M1) * cont(:, 3)))
-                z3 = c3q * (cont(:, 1) + (c3q - C2M1) * (cont(:, 2) + (c3q - C1M1) * cont(:, 3)))
-                call transform(radau5_ti, z1, z2, z3, w1, w2, w3)
-            end if
-        end subroutine starting_values
-
-        !> Simplified Newton iterations on the transformed stage system. ok = .false.: the step
-        !! was shrunk for a retry (or the run must end, then stats%status is set).
-        subroutine newton(ok)
-            logical, intent(out) :: ok
-            real(dp) :: a1(n), a2(n), a3(n)
-            ok = .false.
-            newton_forced = .false.
-            newt = 0
-            faccon = max(faccon, UROUND)**0.8_dp
-            theta = abs(opts%thet)
-            do
-                if (newt >= opts%nit) then
-                    if (force_newton()) exit
-                    ier = 0
-                    call unexpected_rejection()
-                    return
-                end if
-                ytmp = y + z1
-                call sys%rhs(t + C1 * h, ytmp, a1)
-                ytmp = y + z2
-                call sys%rhs(t + C2 * h, ytmp, a2)
-                ytmp = y + z3
-                call sys%rhs(tph, ytmp, a3)
-                stats%nfev = stats%nfev + 3
-                call transform(radau5_ti, a1, a2, a3, z1, z2, z3)
-                ! Right-hand sides of the real and the complex system, then the solves.
-                z1 = z1 - fac1 * w1
-                zc = cmplx(z2 - (ALPH / h) * w2 + (BETA / h) * w3, z3 - (ALPH / h) * w3 - (BETA / h) * w2, kind=dp)
-                call lu_solve(e1, ip1, z1)
-                call lu_solve(e2, ip2, zc)
-                z2 = zc%re
-                z3 = zc%im
-                stats%nsol = stats%nsol + 1
-                newt = newt + 1
-                dyno = sqrt(sum((z1 / scal)**2 + (z2 / scal)**2 + (z3 / scal)**2) / (3 * n))
-                if (.not. ieee_is_finite(dyno)) then   ! overflow in the stages: as divergence
-                    ier = 0
-                    call unexpected_rejection()
-                    return
-                end if
-                if (newt > 1 .and. newt < opts%nit) then
-                    thq = dyno / dynold
-                    if (newt == 2) then
-                        theta = thq
-                    else
-                        theta = sqrt(thq * thqold)
-                    end if
-                    thqold = thq
-                    if (theta < 0.99_dp) then
-                        faccon = theta / (1.0_dp - theta)
-                        dyth = faccon * dyno * theta**(opts%nit - 1 - newt) / fnewt
-                        ! Predicted not to converge in time: shrink h. At h_min, where h cannot
-                        ! shrink, iterate on instead (the prediction is only a guess; Newton
-                        ! can still converge, e.g. from rest under mu ~ |v|^(1/3)).
-                        if (dyth >= 1.0_dp .and. h > opts%hmin) then
-                            qnewt = max(1.0e-4_dp, min(20.0_dp, dyth))
-                            h = max(0.8_dp * qnewt**(-1.0_dp / (4.0_dp + opts%nit - 1 - newt)) * h, opts%hmin)
-                            reject = .true.
-                            last = .false.
-                            call clip_to_end()
-                            action = merge(DO_DEC, DO_JAC, caljac)
-                            return
-                        end if
-                    else
-                        if (force_newton()) exit
-                        ier = 0
-                        call unexpected_rejection()
-                        return
-                    end if
-                end if
-                dynold = max(dyno, UROUND)
-                w1 = w1 + z1
-                w2 = w2 + z2
-                w3 = w3 + z3
-                call transform(radau5_t, w1, w2, w3, z1, z2, z3)
-                if (faccon * dyno <= fnewt) exit
-            end do
-            ok = .true.
-        end subroutine newton
-
-        !> Newton failed at h_min (no smaller step to retry with): with allow_forced, take
-        !! the last iterate as the stage values of a forced step (as DOPRI5 forces a step
-        !! whose error test fails at h_min); .false. otherwise.
-        logical function force_newton() result(force)
-            force = h <= opts%hmin .and. opts%allow_forced
-            if (.not. force) return
-            call transform(radau5_t, w1, w2, w3, z1, z2, z3)
-            newton_forced = .true.
-        end function force_newton
-
-        !> Embedded error estimate (with the filtered second solve on a first or rejected step).
-        subroutine error_estimate()
-            ferr = (DD1 / h) * z1 + (DD2 / h) * z2 + (DD3 / h) * z3
-            ytmp = ferr + f0
-            call lu_solve(e1, ip1, ytmp)
-            err = max(sqrt(sum((ytmp / scal)**2) / n), 1.0e-10_dp)
-            if (err >= 1.0_dp .and. (first .or. reject)) then
-                ytmp = y + ytmp
-                call sys%rhs(t, ytmp, w1)   ! w (transformed increments) is no longer needed
-                stats%nfev = stats%nfev + 1
-                ytmp = w1 + ferr
-                call lu_solve(e1, ip1, ytmp)
-                err = max(sqrt(sum((ytmp / scal)**2) / n), 1.0e-10_dp)
-            end if
-            if (.not. ieee_is_finite(err)) err = huge(1.0_dp)
-        end subroutine error_estimate
-
-        !> Write the output due after an accepted step; .false. when the buffer is full.
-        logical function write_output() result(ok)
-            real(dp) :: s
-            ok = .true.
-            if (opts%every_step) then
-                if (next > m) then   ! the step cannot be stored: neither count nor commit it
-                    stats%status = SS_OUTPUT_FULL
-                    stats%naccept = stats%naccept - 1
-                    if (forced) stats%nforced = stats%nforced - 1
-                    stats%t_reached = told
-                    ok = .false.
-                    return
-                end if
-                t_out(next) = t
-                y_out(:, next) = y
-                next = next + 1
-            else
-                do while (next <= m)
-                    if (t_out(next) > t) exit
-                    if (t_out(next) == t) then
-                        y_out(:, next) = y
-                    else
-                        s = (t_out(next) - t) / hold
-                        y_out(:, next) = y + s * (cont(:, 1) + (s - C2M1) * (cont(:, 2) + (s - C1M1) * cont(:, 3)))
-                        if (.not. all_finite(y_out(:, next))) then   ! collocation polynomial overflow
-                            stats%status = SS_NONFINITE
-                            ok = .false.
-                            return
-                        end if
-                    end if
-                    next = next + 1
-                end do
-            end if
-        end function write_output
-
+#define KERNEL_ARGS t0, y0, t_end, rt, at, opts, t_out, y_out, stats
+#include "stickslip_kernel_dispatch.inc"
+#undef KERNEL_ARGS
     end subroutine radau5_integrate
+
+    ! The integrator's instances: generic_kernel for any ode_system (a user's own), and one
+    ! for each built-in scene with each static law (its analytic Jacobian inlined).
+#define KERNEL_BODY "stickslip_radau5_body.inc"
+#include "stickslip_kernel_instances.inc"
+#undef KERNEL_BODY
 
     !> (b1, b2, b3) = M (a1, a2, a3) componentwise, for the 3 x 3 transformations T and TI.
     pure subroutine transform(mat, a1, a2, a3, b1, b2, b3)

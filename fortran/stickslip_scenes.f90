@@ -252,14 +252,19 @@ contains
         class(slope_scene), intent(in) :: self
         real(dp), intent(in) :: y(:)     !! state (x [m], v [m/s])
         real(dp) :: j(2, 2)              !! d(v, a)/d(x, v)
-        j = reshape([0.0_dp, 0.0_dp, 1.0_dp, -self%g_cos * self%law%dmu(y(2))], [2, 2])
+        j(:, 1) = 0.0_dp
+        j(1, 2) = 1.0_dp
+        j(2, 2) = -self%g_cos * self%law%dmu(y(2))
     end function slope_static_jacobian
 
     pure function belt_static_jacobian(self, y) result(j)
         class(belt_scene), intent(in) :: self
         real(dp), intent(in) :: y(:)     !! state (x [m], v [m/s])
         real(dp) :: j(2, 2)              !! d(v, a)/d(x, v)
-        j = reshape([0.0_dp, -self%k_m, 1.0_dp, -self%g * self%law%dmu(self%v_b - y(2))], [2, 2])
+        j(1, 1) = 0.0_dp
+        j(2, 1) = -self%k_m
+        j(1, 2) = 1.0_dp
+        j(2, 2) = -self%g * self%law%dmu(self%v_b - y(2))
     end function belt_static_jacobian
 
     pure function slope_vrel(self, y) result(vr)
