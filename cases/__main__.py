@@ -32,7 +32,11 @@ import traceback
 from pathlib import Path
 from typing import Any, Sequence
 
-from ._common import count
+# numpy's OpenBLAS keeps worker threads spinning after each (tiny) BLAS call of the drivers,
+# on the core the other job needs: one BLAS thread, set before numpy is first imported.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+from ._common import count  # noqa: E402 - after the environment above
 
 #: Driver modules run by `python -m cases`: (name, kind, cost, alone). kind: "laws" (no
 #: simulation), "paper" (a figure set of the paper, --workers/--quiet) or "study" (--all only,
