@@ -10,12 +10,21 @@
 !! with ydot_0 = f(t0, y0). With k = ydot_{n+alpha_m} as unknown the equation is
 !! k = f(t_n + alpha_f h, u + (alpha_f gamma / alpha_m) h k), u = y_n + alpha_f h (1 - gamma/alpha_m) ydot_n,
 !! solved by Newton's method with the Jacobian once per step.
-!! Grid, output, Newton and statuses: see stickslip_fixed_implicit.
+!! Grid, output, Newton and statuses: see stickslip_fixed_implicit (the driver and the Newton
+!! solve are stickslip_fixed_implicit_body.inc, instantiated here around stage_setup and
+!! stage_finish).
 module stickslip_galpha
-    use stickslip_kinds, only: dp, SS_OK, SS_BAD_RHO_INF
-    use stickslip_ode, only: ode_system, ode_stats, method_info
-    use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, fixed_stepper, fixed_implicit_integrate, &
-                                        solve_stage
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_RHO_INF, SS_STEP_BUDGET, SS_NONFINITE, SS_OUTPUT_FULL, &
+                               SS_INTERRUPTED, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE
+    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, step_count, &
+                             stop_requested, all_finite, hermite
+    use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls
+    use stickslip_linalg, only: lu_decompose, lu_solve
+    use stickslip_scenes, only: slope_scene, belt_scene
+    use stickslip_law_coulomb, only: coulomb_law
+    use stickslip_law_recurdyn, only: recurdyn_law
+    use stickslip_law_proposed, only: proposed_law
+    use stickslip_law_stribeck, only: stribeck_law
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -35,15 +44,6 @@ module stickslip_galpha
     type(method_info), parameter, public :: GALPHA_INFO = method_info(name='galpha', order=2, &
         adaptive=.false., implicit=.true., controls='h max_steps every_step rho_inf ' // NEWTON_CONTROL_NAMES, &
         doc='generalized-alpha (Jansen, Whiting & Hulbert 2000), fixed step')
-
-    !> The method's state: its derivative variable ydot_n and its parameters.
-    type, extends(fixed_stepper) :: galpha_stepper
-        real(dp), allocatable :: ydot(:)    !! ydot_n [units of y / s]
-        real(dp) :: alpha_m = 0.0_dp, alpha_f = 0.0_dp, gamma = 0.0_dp
-    contains
-        procedure :: start => galpha_start
-        procedure :: step => galpha_step
-    end type galpha_stepper
 
 contains
 
@@ -79,6 +79,8 @@ contains
     !! stats%status: SS_OK, SS_STEP_BUDGET, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE,
     !! SS_NONFINITE, SS_OUTPUT_FULL or a bad-input code (SS_BAD_RHO_INF, SS_BAD_H, SS_BAD_NIT,
     !! SS_BAD_NEWTON_TOL, ...). On a run-time failure the rows up to stats%t_reached are valid.
+    !! A built-in scene with a static law runs a specialised kernel (its analytic Jacobian,
+    !! which is what its jacobian binding returns); any other system the generic one.
     subroutine galpha_integrate(sys, t0, y0, t_end, opts, t_out, y_out, stats)
         class(ode_system), intent(inout) :: sys          !! the right-hand side (and its Jacobian)
         real(dp), intent(in)    :: t0                    !! initial time [s]
@@ -88,43 +90,62 @@ contains
         real(dp), intent(inout) :: t_out(:)              !! requested output times, or step times [s]
         real(dp), intent(inout) :: y_out(:, :)           !! (size(y0), size(t_out)) states at t_out
         type(ode_stats), intent(out) :: stats            !! counters and status
-        type(galpha_stepper) :: stepper
+        real(dp) :: par(3)      ! alpha_m, alpha_f, gamma
         if (.not. ieee_is_finite(opts%rho_inf) .or. opts%rho_inf < 0.0_dp .or. opts%rho_inf > 1.0_dp) then
             stats%status = SS_BAD_RHO_INF
             return
         end if
-        call galpha_parameters(opts%rho_inf, stepper%alpha_m, stepper%alpha_f, stepper%gamma)
-        call fixed_implicit_integrate(sys, stepper, t0, y0, t_end, opts, t_out, y_out, stats)
+        stats%status = check_problem(t0, y0, t_end, t_out, y_out, opts%every_step)
+        if (stats%status == SS_OK) stats%status = check_newton_controls(opts)
+        if (stats%status /= SS_OK) return
+        call galpha_parameters(opts%rho_inf, par(1), par(2), par(3))
+
+#define KERNEL_ARGS t0, y0, t_end, opts, par, t_out, y_out, stats
+#include "stickslip_kernel_dispatch.inc"
+#undef KERNEL_ARGS
     end subroutine galpha_integrate
 
-    subroutine galpha_start(self, f0)
-        class(galpha_stepper), intent(inout) :: self
-        real(dp), intent(in) :: f0(:)       !! f(t0, y0)
-        self%ydot = f0
-    end subroutine galpha_start
+    ! The method's instances: generic_kernel for any ode_system (a user's own), and one for
+    ! each built-in scene with each static law (its analytic Jacobian inlined).
+#define KERNEL_BODY "stickslip_fixed_implicit_body.inc"
+#include "stickslip_kernel_instances.inc"
+#undef KERNEL_BODY
 
-    !> One step: solve for k = ydot_{n+alpha_m}, then ydot_{n+1} and y_{n+1}.
-    subroutine galpha_step(self, sys, t, h, y, y1, ctl, stats)
-        class(galpha_stepper), intent(inout) :: self
-        class(ode_system), intent(inout) :: sys
-        real(dp), intent(in)  :: t              !! time at the start of the step [s]
-        real(dp), intent(in)  :: h              !! step size [s]
-        real(dp), intent(in)  :: y(:)           !! state at t
-        real(dp), intent(out) :: y1(:)          !! state at t + h
-        class(newton_controls), intent(in) :: ctl   !! Newton controls
-        type(ode_stats), intent(inout) :: stats     !! counters, status
-        real(dp) :: k(size(y)), ydot1(size(y))
-        k = self%ydot
-        call solve_stage(sys, t + self%alpha_f * h, &
-                         y + (self%alpha_f * h * (1.0_dp - self%gamma / self%alpha_m)) * self%ydot, &
-                         self%alpha_f * self%gamma / self%alpha_m * h, k, ctl, stats)
-        if (stats%status /= SS_OK) then
-            y1 = y
-            return
-        end if
-        ydot1 = self%ydot + (k - self%ydot) / self%alpha_m
-        y1 = y + h * self%ydot + (self%gamma * h) * (ydot1 - self%ydot)
-        self%ydot = ydot1
-    end subroutine galpha_step
+    !> The stage of the step from (t, y) of size h: k = ydot_{n+alpha_m} solves
+    !! k = f(t + alpha_f h, u + (alpha_f gamma / alpha_m) h k), u = y + alpha_f h (1 - gamma/alpha_m) ydot.
+    pure subroutine stage_setup(par, t, h, y, ydot, tau, u, ch)
+        real(dp), intent(in)  :: par(:)     !! alpha_m, alpha_f, gamma (galpha_parameters)
+        real(dp), intent(in)  :: t          !! time at the start of the step [s]
+        real(dp), intent(in)  :: h          !! step size [s]
+        real(dp), intent(in)  :: y(:)       !! state at t, y_n
+        real(dp), intent(in)  :: ydot(:)    !! ydot_n
+        real(dp), intent(out) :: tau        !! time of the stage [s]
+        real(dp), intent(out) :: u(:)       !! the stage state is u + ch k
+        real(dp), intent(out) :: ch         !! coefficient of k in the stage state [s]
+        associate (alpha_m => par(1), alpha_f => par(2), gamma => par(3))
+            tau = t + alpha_f * h
+            u = y + (alpha_f * h * (1.0_dp - gamma / alpha_m)) * ydot
+            ch = alpha_f * gamma / alpha_m * h
+        end associate
+    end subroutine stage_setup
+
+    !> From the stage's solution k: ydot_{n+1} and y_{n+1}.
+    pure subroutine stage_finish(par, h, y, k, ydot, y1)
+        real(dp), intent(in)    :: par(:)   !! alpha_m, alpha_f, gamma (galpha_parameters)
+        real(dp), intent(in)    :: h        !! step size [s]
+        real(dp), intent(in)    :: y(:)     !! y_n
+        real(dp), intent(in)    :: k(:)     !! the stage's solution, ydot_{n+alpha_m}
+        real(dp), intent(inout) :: ydot(:)  !! ydot_n on entry, ydot_{n+1} on exit
+        real(dp), intent(out)   :: y1(:)    !! y_{n+1}
+        real(dp) :: ydot1
+        integer :: i
+        associate (alpha_m => par(1), gamma => par(3))
+            do i = 1, size(y)   ! (element by element: no temporary array)
+                ydot1 = ydot(i) + (k(i) - ydot(i)) / alpha_m
+                y1(i) = y(i) + h * ydot(i) + (gamma * h) * (ydot1 - ydot(i))
+                ydot(i) = ydot1
+            end do
+        end associate
+    end subroutine stage_finish
 
 end module stickslip_galpha

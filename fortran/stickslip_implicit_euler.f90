@@ -1,14 +1,23 @@
 !> Backward (implicit) Euler method, order 1, L-stable, fixed step:
 !! y1 = y + h f(t + h, y1), solved by Newton's method with the Jacobian once per step.
 !!
-!! Grid, output, Newton and statuses: see stickslip_fixed_implicit. Evaluations per step:
-!! 1 + Newton iterations (+ n for a finite-difference Jacobian), and 1-2 more in steps that
-!! contain a requested output time.
+!! Grid, output, Newton and statuses: see stickslip_fixed_implicit (the driver and the Newton
+!! solve are stickslip_fixed_implicit_body.inc, instantiated here around stage_setup and
+!! stage_finish). Evaluations per step: 1 + Newton iterations (+ n for a finite-difference
+!! Jacobian), and 1-2 more in steps that contain a requested output time.
 module stickslip_implicit_euler
-    use stickslip_kinds, only: dp
-    use stickslip_ode, only: ode_system, ode_stats, method_info
-    use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, fixed_stepper, fixed_implicit_integrate, &
-                                        solve_stage
+    use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_NONFINITE, SS_OUTPUT_FULL, SS_INTERRUPTED, &
+                               SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE
+    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, step_count, &
+                             stop_requested, all_finite, hermite
+    use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls
+    use stickslip_linalg, only: lu_decompose, lu_solve
+    use stickslip_scenes, only: slope_scene, belt_scene
+    use stickslip_law_coulomb, only: coulomb_law
+    use stickslip_law_recurdyn, only: recurdyn_law
+    use stickslip_law_proposed, only: proposed_law
+    use stickslip_law_stribeck, only: stribeck_law
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
@@ -24,18 +33,12 @@ module stickslip_implicit_euler
         order=1, adaptive=.false., implicit=.true., controls='h max_steps every_step ' // NEWTON_CONTROL_NAMES, &
         doc='backward (implicit) Euler, fixed step')
 
-    !> The method's state: the last stage derivative (the next Newton guess).
-    type, extends(fixed_stepper) :: euler_stepper
-        real(dp), allocatable :: k(:)   !! f(t, y) at the end of the last step [units of y / s]
-    contains
-        procedure :: start => euler_start
-        procedure :: step => euler_step
-    end type euler_stepper
-
 contains
 
     !> Integrate y' = f(t, y) from t0 to t_end with backward Euler and fixed step opts%h.
     !!
+    !! A built-in scene with a static law runs a specialised kernel (its analytic Jacobian,
+    !! which is what its jacobian binding returns); any other system the generic one.
     !! Grid mode: y_out(:, i) receives y(t_out(i)) (cubic Hermite inside a step). Every-step
     !! mode: (t_out, y_out) receive the initial state and each step. stats%status: SS_OK,
     !! SS_STEP_BUDGET, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_NONFINITE,
@@ -50,28 +53,49 @@ contains
         real(dp), intent(inout) :: t_out(:)              !! requested output times, or step times [s]
         real(dp), intent(inout) :: y_out(:, :)           !! (size(y0), size(t_out)) states at t_out
         type(ode_stats), intent(out) :: stats            !! counters and status
-        type(euler_stepper) :: stepper
-        call fixed_implicit_integrate(sys, stepper, t0, y0, t_end, opts, t_out, y_out, stats)
+        real(dp), parameter :: par(1) = [0.0_dp]         ! backward Euler has no parameter
+
+        stats%status = check_problem(t0, y0, t_end, t_out, y_out, opts%every_step)
+        if (stats%status == SS_OK) stats%status = check_newton_controls(opts)
+        if (stats%status /= SS_OK) return
+
+#define KERNEL_ARGS t0, y0, t_end, opts, par, t_out, y_out, stats
+#include "stickslip_kernel_dispatch.inc"
+#undef KERNEL_ARGS
     end subroutine implicit_euler_integrate
 
-    subroutine euler_start(self, f0)
-        class(euler_stepper), intent(inout) :: self
-        real(dp), intent(in) :: f0(:)       !! f(t0, y0)
-        self%k = f0
-    end subroutine euler_start
+    ! The method's instances: generic_kernel for any ode_system (a user's own), and one for
+    ! each built-in scene with each static law (its analytic Jacobian inlined).
+#define KERNEL_BODY "stickslip_fixed_implicit_body.inc"
+#include "stickslip_kernel_instances.inc"
+#undef KERNEL_BODY
 
-    !> y1 = y + h k with k = f(t + h, y + h k).
-    subroutine euler_step(self, sys, t, h, y, y1, ctl, stats)
-        class(euler_stepper), intent(inout) :: self
-        class(ode_system), intent(inout) :: sys
-        real(dp), intent(in)  :: t              !! time at the start of the step [s]
-        real(dp), intent(in)  :: h              !! step size [s]
-        real(dp), intent(in)  :: y(:)           !! state at t
-        real(dp), intent(out) :: y1(:)          !! state at t + h
-        class(newton_controls), intent(in) :: ctl   !! Newton controls
-        type(ode_stats), intent(inout) :: stats     !! counters, status
-        call solve_stage(sys, t + h, y, h, self%k, ctl, stats)
-        y1 = y + h * self%k
-    end subroutine euler_step
+    !> The stage of the step from (t, y) of size h: k = f(t + h, y + h k) (ydot not read:
+    !! it is the Newton guess, f at the end of the last step).
+    pure subroutine stage_setup(par, t, h, y, ydot, tau, u, ch)
+        real(dp), intent(in)  :: par(:)     !! (none)
+        real(dp), intent(in)  :: t          !! time at the start of the step [s]
+        real(dp), intent(in)  :: h          !! step size [s]
+        real(dp), intent(in)  :: y(:)       !! state at t
+        real(dp), intent(in)  :: ydot(:)    !! the last stage derivative
+        real(dp), intent(out) :: tau        !! time of the stage [s]
+        real(dp), intent(out) :: u(:)       !! the stage state is u + ch k
+        real(dp), intent(out) :: ch         !! coefficient of k in the stage state [s]
+        tau = t + h
+        u = y
+        ch = h
+    end subroutine stage_setup
+
+    !> y1 = y + h k; the next guess ydot = k.
+    pure subroutine stage_finish(par, h, y, k, ydot, y1)
+        real(dp), intent(in)    :: par(:)   !! (none)
+        real(dp), intent(in)    :: h        !! step size [s]
+        real(dp), intent(in)    :: y(:)     !! state at the start of the step
+        real(dp), intent(in)    :: k(:)     !! the stage's solution, f(t + h, y1)
+        real(dp), intent(inout) :: ydot(:)  !! k on exit
+        real(dp), intent(out)   :: y1(:)    !! state at the end of the step
+        y1 = y + h * k
+        ydot = k
+    end subroutine stage_finish
 
 end module stickslip_implicit_euler
