@@ -66,7 +66,7 @@ contains
 
     !> Check the controls of a fixed-step implicit method.
     pure function check_newton_controls(ctl) result(status)
-        class(newton_controls), intent(in) :: ctl
+        class(newton_controls), intent(in) :: ctl   !! the controls to check
         integer :: status
         status = SS_OK
         if (.not. ieee_is_finite(ctl%h) .or. ctl%h <= 0.0_dp) then
