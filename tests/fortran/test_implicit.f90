@@ -8,7 +8,7 @@ module implicit_problems
     use stickslip_ode, only: ode_system
     implicit none
     private
-    public :: vdp, robertson, linear, oscillator2, signum, nanjac, tjump
+    public :: vdp, robertson, linear, oscillator2, signum, nanjac, tjump, wrapped
 
     !> Van der Pol, eps y2' = (1 - y1^2) y2 - y1, with its analytic Jacobian (Hairer's dr1_radau5).
     type, extends(ode_system) :: vdp
@@ -59,6 +59,15 @@ module implicit_problems
     contains
         procedure :: rhs => tjump_rhs
     end type tjump
+
+    !> Another system's right-hand side and Jacobian through its bindings: a built-in scene
+    !! wrapped so that the integrators run their generic kernel on it.
+    type, extends(ode_system) :: wrapped
+        class(ode_system), allocatable :: inner
+    contains
+        procedure :: rhs => wrapped_rhs
+        procedure :: jacobian => wrapped_jac
+    end type wrapped
 
 contains
 
@@ -160,6 +169,21 @@ contains
         dydt = merge(1000.0_dp, 0.0_dp, t > 0.5_dp)
     end subroutine tjump_rhs
 
+    subroutine wrapped_rhs(self, t, y, dydt)
+        class(wrapped), intent(inout) :: self
+        real(dp), intent(in) :: t, y(:)
+        real(dp), intent(out) :: dydt(:)
+        call self%inner%rhs(t, y, dydt)
+    end subroutine wrapped_rhs
+
+    subroutine wrapped_jac(self, t, y, f, dfdy, nfev)
+        class(wrapped), intent(inout) :: self
+        real(dp), intent(in) :: t, y(:), f(:)
+        real(dp), intent(out) :: dfdy(:, :)
+        integer(8), intent(inout) :: nfev
+        call self%inner%jacobian(t, y, f, dfdy, nfev)
+    end subroutine wrapped_jac
+
 end module implicit_problems
 
 program test_implicit
@@ -168,7 +192,9 @@ program test_implicit
                                SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_BAD_ATOL, SS_BAD_HMIN, &
                                SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_STEP_BUDGET, &
                                SS_STEP_TOO_SMALL, SS_OUTPUT_FULL
-    use stickslip_registry, only: stickslip_message
+    use stickslip_registry, only: stickslip_message, new_system, SCENE_TABLE, LAW_TABLE, LAW_COULOMB, LAW_STRIBECK
+    use stickslip_params, only: param_values, NAME_LEN
+    use stickslip_scenes, only: friction_scene
     use stickslip_ode, only: ode_stats
     use stickslip_radau5, only: radau5_options, radau5_integrate, radau5_t, radau5_ti
     use stickslip_galpha, only: galpha_options, galpha_integrate, galpha_parameters
@@ -185,6 +211,7 @@ program test_implicit
     call test_bad_inputs()
     call test_failures()
     call test_output_and_budget()
+    call test_kernels_match_generic()
 
     call finish('implicit')
 
@@ -590,5 +617,58 @@ contains
         call check(st%status == SS_STEP_BUDGET .and. st%nstep == 5 .and. abs(st%t_reached - 0.05_dp) < 1.0e-15_dp, &
                    'galpha: max_steps = 5 -> SS_STEP_BUDGET at t = 5 h')
     end subroutine test_output_and_budget
+
+    !> The specialised kernels of backward Euler and generalized-alpha (a built-in scene with a
+    !! static law) give what the generic kernel gives on the same scene behind its bindings:
+    !! every output value and every counter identical, in grid and every-step mode.
+    subroutine test_kernels_match_generic()
+        class(friction_scene), allocatable :: scene
+        type(wrapped) :: wrap
+        type(param_values) :: p
+        type(implicit_euler_options) :: eo
+        type(galpha_options) :: go
+        type(ode_stats) :: s1, s2
+        real(dp) :: t1(301), y1(2, 301), t2(301), y2(2, 301), y0(2)
+        integer :: isc, law, mode, meth, status, i
+        logical :: ok
+        ok = .true.
+        do isc = 1, size(SCENE_TABLE)
+            do law = LAW_COULOMB, LAW_STRIBECK
+                status = new_system(isc, law, [character(len=NAME_LEN) ::], [real(dp) ::], scene, p)
+                if (status /= SS_OK) ok = .false.
+                if (allocated(wrap%inner)) deallocate(wrap%inner)
+                allocate(wrap%inner, source=scene)
+                y0 = [0.0_dp, 0.2_dp]
+                do mode = 1, 2
+                    do meth = 1, 2
+                        eo%h = 1.0e-3_dp
+                        go%h = 1.0e-3_dp
+                        eo%every_step = mode == 2
+                        go%every_step = mode == 2
+                        t1 = [(real(i, dp), i = 0, 300)] / 1000.0_dp
+                        t2 = t1
+                        y1 = 0.0_dp
+                        y2 = 0.0_dp
+                        if (meth == 1) then
+                            call implicit_euler_integrate(scene, 0.0_dp, y0, 0.3_dp, eo, t1, y1, s1)
+                            call implicit_euler_integrate(wrap, 0.0_dp, y0, 0.3_dp, eo, t2, y2, s2)
+                        else
+                            call galpha_integrate(scene, 0.0_dp, y0, 0.3_dp, go, t1, y1, s1)
+                            call galpha_integrate(wrap, 0.0_dp, y0, 0.3_dp, go, t2, y2, s2)
+                        end if
+                        if (.not. (all(t1 == t2) .and. all(y1 == y2) .and. s1%nfev == s2%nfev .and. &
+                                   s1%njac == s2%njac .and. s1%ndec == s2%ndec .and. s1%nsol == s2%nsol .and. &
+                                   s1%nstep == s2%nstep .and. s1%status == s2%status .and. &
+                                   s1%n_written == s2%n_written .and. s1%t_reached == s2%t_reached .and. &
+                                   s1%nstep > 0)) then
+                            ok = .false.
+                            print '(a, 3i3)', '  differs: scene, law, method ', isc, law, meth
+                        end if
+                    end do
+                end do
+            end do
+        end do
+        call check(ok, 'implicit_euler, galpha: specialised kernels = generic kernel (every value and counter)')
+    end subroutine test_kernels_match_generic
 
 end program test_implicit
