@@ -44,10 +44,10 @@ from ._common import count  # noqa: E402 - after the environment above
 #: used only to start the costliest jobs first. alone: a timing of parallel speed, run after
 #: the others with every core to itself.
 DRIVERS: tuple[tuple[str, str, float, bool], ...] = (
-    ("laws", "laws", 1.0, False), ("slope", "paper", 7.0, False), ("belt", "paper", 2.0, False),
-    ("workprecision", "study", 30.0, False), ("stability", "study", 42.0, False),
-    ("laws_compare", "study", 31.0, False), ("implicit", "study", 21.0, False),
-    ("speedup", "study", 3.0, True))
+    ("laws", "laws", 0.7, False), ("slope", "paper", 5.5, False), ("belt", "paper", 1.6, False),
+    ("workprecision", "study", 25.0, False), ("stability", "study", 37.6, False),
+    ("laws_compare", "study", 18.0, False), ("implicit", "study", 15.1, False),
+    ("speedup", "study", 1.1, True))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 
