@@ -268,7 +268,8 @@ def step_limits(scene: str, law: str, method: str = "rk4") -> tuple[float, float
         return ok and status == 0 and float(np.max(np.abs(r.v[tail] - ref.v[tail]))) <= tol
 
     import stickslip
-    # an implicit step (a Newton solve) costs about ten RK4 steps: search down to 1e-5 s only
+    # implicit methods: down to 1e-5 s only. On Coulomb's slope every step runs the damped
+    # Newton fallback (about 140 evaluations a step): 2 s at 1e-6 s would cost seconds a run.
     lo = 1e-5 if stickslip.REGISTRY["method"][method]["implicit"] else 1e-6
     h_b, _ = largest_step(is_bounded, lo=lo)
     h_c, _ = largest_step(is_close, lo=lo, hi=h_b if h_b > 0 else lo)
