@@ -12,7 +12,7 @@ studies over --threads OpenMP threads; both default to the cores left per job (1
 with 2 jobs; every core for a driver that runs alone). With --jobs 1 the drivers run in turn
 in this process and show their progress bars.
 
-To add a driver, append (module name, kind, cost, alone) to DRIVERS: the module needs
+To add a driver, append a Driver(module name, kind, cost, alone) to DRIVERS: the module needs
 `main(argv)` accepting `--outdir`, plus `--workers` and `--quiet` for kind "paper" or
 `--threads` and `--quiet` for kind "study"; cost (CPU seconds of a full run) only orders the
 jobs.
@@ -30,7 +30,7 @@ import sys
 import time
 import traceback
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, NamedTuple, Sequence
 
 # numpy's OpenBLAS keeps worker threads spinning after each (tiny) BLAS call of the drivers,
 # on the core the other job needs: one BLAS thread, set before numpy is first imported.
@@ -38,16 +38,22 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from ._common import count  # noqa: E402 - after the environment above
 
-#: Driver modules run by `python -m cases`: (name, kind, cost, alone). kind: "laws" (no
-#: simulation), "paper" (a figure set of the paper, --workers/--quiet) or "study" (--all only,
-#: --threads/--quiet). cost: CPU seconds of one full run on one core (measured 2026-11-23),
-#: used only to start the costliest jobs first. alone: a timing of parallel speed, run after
-#: the others with every core to itself.
-DRIVERS: tuple[tuple[str, str, float, bool], ...] = (
-    ("laws", "laws", 0.7, False), ("slope", "paper", 5.5, False), ("belt", "paper", 1.6, False),
-    ("workprecision", "study", 25.0, False), ("stability", "study", 37.6, False),
-    ("laws_compare", "study", 18.0, False), ("implicit", "study", 15.1, False),
-    ("speedup", "study", 1.1, True))
+class Driver(NamedTuple):
+    """A driver module run by `python -m cases`."""
+
+    name: str       #: module cases.<name>
+    kind: str       #: "laws" (no simulation), "paper" (a figure set of the paper,
+                    #: --workers/--quiet) or "study" (--all only, --threads/--quiet)
+    cost: float     #: CPU seconds of one full run on one core (measured 2026-11-23): only
+                    #: starts the costliest jobs first
+    alone: bool     #: a timing of parallel speed: runs after the others, every core its own
+
+
+DRIVERS: tuple[Driver, ...] = (
+    Driver("laws", "laws", 0.7, False), Driver("slope", "paper", 5.5, False),
+    Driver("belt", "paper", 1.6, False), Driver("workprecision", "study", 25.0, False),
+    Driver("stability", "study", 37.6, False), Driver("laws_compare", "study", 18.0, False),
+    Driver("implicit", "study", 15.1, False), Driver("speedup", "study", 1.1, True))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 
@@ -103,11 +109,11 @@ def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
             try:
                 i, ok, payload = results.get(timeout=1.0)
             except queue.Empty:
-                for i, proc in running.items():
-                    if not proc.is_alive() and i not in done:
+                for j, proc in running.items():
+                    if not proc.is_alive():
                         proc.join(0.5)      # its last message may still be in the pipe
                         if results.empty():
-                            raise DriverFailed(f"cases.{jobs[i][0]} died (exit code {proc.exitcode})")
+                            raise DriverFailed(f"cases.{jobs[j][0]} died (exit code {proc.exitcode})")
                 continue
             running.pop(i).join()
             if not ok:
@@ -133,7 +139,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="directory for all files (default: out/)")
     parser.add_argument("--docs", action="store_true",
                         help=f"write into {DOCS_DIR} (the figures REPRODUCTION.md embeds)")
-    parser.add_argument("--only", nargs="+", choices=[d[0] for d in DRIVERS],
+    parser.add_argument("--only", nargs="+", choices=[d.name for d in DRIVERS],
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
                         help="also run the studies (work-precision, stability, laws_compare, implicit): about "
@@ -147,8 +153,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
     outdir = DOCS_DIR if args.docs else args.outdir
-    chosen = [d for d in DRIVERS if (d[0] in args.only if args.only else (d[1] != "study" or args.all))]
-    together = [d for d in chosen if not d[3]]
+    chosen = [d for d in DRIVERS if (d.name in args.only if args.only else (d.kind != "study" or args.all))]
+    together = [d for d in chosen if not d.alone]
     n_jobs = max(1, min(args.jobs, len(together)))
 
     def driver_argv(kind: str, cores: int, quiet: bool) -> list[str]:
@@ -160,10 +166,10 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     by_driver: dict[str, list[Path]] = {}
     if n_jobs > 1:
         # in parallel, the reports are printed whole at the end of each driver: no bars
-        jobs = [(name, ["--outdir", str(outdir), *driver_argv(kind, max(1, _cores() // n_jobs), True)])
-                for name, kind, _, _ in together]
-        found = run_jobs(jobs, n_jobs, args.quiet, [cost for _, _, cost, _ in together])
-        by_driver.update(zip([name for name, _, _, _ in together], found))
+        jobs = [(d.name, ["--outdir", str(outdir), *driver_argv(d.kind, max(1, _cores() // n_jobs), True)])
+                for d in together]
+        found = run_jobs(jobs, n_jobs, args.quiet, [d.cost for d in together])
+        by_driver.update(zip([d.name for d in together], found))
     for name, kind, _, _ in chosen:        # with --jobs 1 all of them, else the "alone" ones
         if name in by_driver:
             continue
@@ -173,7 +179,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         by_driver[name] = _run_driver(name, ["--outdir", str(outdir), *driver_argv(kind, _cores(), args.quiet)])
         if not args.quiet:
             print(f"== cases.{name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
-    files = [f for name, _, _, _ in chosen for f in by_driver[name]]
+    files = [f for d in chosen for f in by_driver[d.name]]
     print(f"{len(files)} files in {outdir}; wall time {time.perf_counter() - start:.1f} s")
     return files
 
