@@ -33,6 +33,8 @@ module stickslip_registry
     use stickslip_radau5, only: radau5_options, radau5_integrate, RADAU5_INFO
     use stickslip_implicit_euler, only: implicit_euler_options, implicit_euler_integrate, IMPLICIT_EULER_INFO
     use stickslip_galpha, only: galpha_options, galpha_integrate, GALPHA_INFO
+    use stickslip_contact, only: contact_system
+    use stickslip_moreau, only: moreau_options, moreau_integrate, MOREAU_INFO
     implicit none
     private
 
@@ -72,10 +74,11 @@ module stickslip_registry
 
     !> The integration methods; the code of a method is its position.
     type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO, RADAU5_INFO, &
-        IMPLICIT_EULER_INFO, GALPHA_INFO]
+        IMPLICIT_EULER_INFO, GALPHA_INFO, MOREAU_INFO]
     integer, parameter, public :: METHOD_RK4 = 1, METHOD_DOPRI5 = 2, METHOD_RADAU5 = 3, &
                                   METHOD_IMPLICIT_EULER = 4, METHOD_GALPHA = 5
     !! method codes: positions in METHOD_TABLE
+    integer, parameter, public :: METHOD_MOREAU = 6   !! method code of moreau
 
     !> Every physical parameter of every law and scene, each once.
     type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
@@ -228,8 +231,11 @@ contains
         type(radau5_options) :: r5
         type(implicit_euler_options) :: ie
         type(galpha_options) :: ga
+        type(moreau_options) :: mj
+        class(contact_system), allocatable :: cs
 
         if (present(stop_flag)) then
+            mj%stop_flag => stop_flag
             fixed%stop_flag => stop_flag
             d5%stop_flag => stop_flag
             r5%stop_flag => stop_flag
@@ -256,10 +262,30 @@ contains
         case (METHOD_GALPHA)
             stats%status = apply_controls(ga, GALPHA_INFO, keys, vals)
             if (stats%status == SS_OK) call galpha_integrate(sys, t0, y0, t_end, ga, t_out, y_out, stats)
+        case (METHOD_MOREAU)
+            call contact_model_of(sys, cs, stats%status)
+            if (stats%status == SS_OK) stats%status = apply_controls(mj, MOREAU_INFO, keys, vals)
+            if (stats%status == SS_OK) call moreau_integrate(cs, t0, y0, t_end, mj, t_out, y_out, stats)
         case default
             stats%status = SS_BAD_METHOD
         end select
     end subroutine integrate
+
+    !> The contact model of a system for the nonsmooth methods: a scene's `contact_model`;
+    !! SS_NOT_SETVALUED for a law without a set-valued counterpart or another system.
+    subroutine contact_model_of(sys, cs, status)
+        use stickslip_ode, only: ode_system
+        use stickslip_kinds, only: SS_NOT_SETVALUED
+        class(ode_system), intent(in) :: sys                   !! the system
+        class(contact_system), allocatable, intent(out) :: cs  !! its contact model
+        integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
+        select type (sys)
+        class is (friction_scene)
+            call sys%contact_model(cs, status)
+        class default
+            status = SS_NOT_SETVALUED
+        end select
+    end subroutine contact_model_of
 
     !> Position of a parameter in PARAMS (0: none).
     pure integer function param_index(name) result(j)
