@@ -73,6 +73,8 @@ module stickslip_contact
         procedure(normal_iface), deferred :: normal_forces
         !> The offsets b_i(t) of the relative velocities [m/s] (default 0).
         procedure :: slip_offset => zero_offset
+        !> Their rates db_i/dt [m/s^2] (default 0; the event-driven method reads them).
+        procedure :: offset_rate => zero_offset
         !> w = H u + b(t) [m/s].
         procedure :: relative_velocities
         !> w = H x (no offset).
@@ -118,7 +120,7 @@ contains
     subroutine zero_offset(self, t, b)
         class(contact_system), intent(in) :: self
         real(dp), intent(in)  :: t          !! time [s]
-        real(dp), intent(out) :: b(:)       !! offset of each relative velocity [m/s]
+        real(dp), intent(out) :: b(:)       !! offset of each relative velocity [m/s] (or its rate [m/s^2])
         b = 0.0_dp
     end subroutine zero_offset
 

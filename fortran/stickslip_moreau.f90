@@ -34,7 +34,7 @@
 module stickslip_moreau
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_BAD_DIM, SS_NONFINITE, &
                                SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_INTERRUPTED, SS_BAD_THETA_MJ, &
-                               SS_BAD_CONTACT_CONTROL, SS_CONTACT_NOT_CONVERGED
+                               SS_BAD_CONTACT_CTL, SS_CONTACT_FAILED
     use stickslip_ode, only: ode_stats, step_controls, method_info, check_problem, output_start, &
                              step_count, stop_requested, all_finite
     use stickslip_contact, only: contact_system, local_solve
@@ -74,7 +74,7 @@ contains
             if (value >= 1.0_dp .and. value <= real(huge(1), dp)) then
                 self%contact_max_iter = int(value)
             else
-                status = SS_BAD_CONTACT_CONTROL
+                status = SS_BAD_CONTACT_CTL
             end if
         case default;         status = self%step_controls%set(name, value)
         end select
@@ -84,7 +84,7 @@ contains
     !! y0 = (q0, u0) of size 2 n_dof. Output as for the other fixed-step methods.
     !! stats: nfev counts force evaluations (2 a step), ncontact_iter the contact sweeps,
     !! contact_residual the largest final residual of a step [m/s]. Status: SS_OK,
-    !! SS_CONTACT_NOT_CONVERGED, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET,
+    !! SS_CONTACT_FAILED, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET,
     !! SS_INTERRUPTED or a bad-input code.
     subroutine moreau_integrate(cs, t0, y0, t_end, opts, t_out, y_out, stats)
         class(contact_system), intent(inout) :: cs   !! the system
@@ -114,7 +114,7 @@ contains
             stats%status = SS_BAD_THETA_MJ
         else if (.not. (ieee_is_finite(opts%contact_tol) .and. opts%contact_tol > 0.0_dp) .or. &
                  opts%contact_max_iter < 1) then
-            stats%status = SS_BAD_CONTACT_CONTROL
+            stats%status = SS_BAD_CONTACT_CTL
         else if (opts%max_steps < 1) then
             stats%status = SS_BAD_MAX_STEPS
         end if
@@ -193,7 +193,7 @@ contains
                 exit
             end if
             if (resid > opts%contact_tol) then
-                stats%status = SS_CONTACT_NOT_CONVERGED
+                stats%status = SS_CONTACT_FAILED
                 exit
             end if
             if (opts%every_step) then

@@ -35,6 +35,7 @@ module stickslip_registry
     use stickslip_galpha, only: galpha_options, galpha_integrate, GALPHA_INFO
     use stickslip_contact, only: contact_system
     use stickslip_moreau, only: moreau_options, moreau_integrate, MOREAU_INFO
+    use stickslip_event_driven, only: event_driven_options, event_driven_integrate, EVENT_DRIVEN_INFO
     implicit none
     private
 
@@ -74,11 +75,12 @@ module stickslip_registry
 
     !> The integration methods; the code of a method is its position.
     type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO, RADAU5_INFO, &
-        IMPLICIT_EULER_INFO, GALPHA_INFO, MOREAU_INFO]
+        IMPLICIT_EULER_INFO, GALPHA_INFO, MOREAU_INFO, EVENT_DRIVEN_INFO]
     integer, parameter, public :: METHOD_RK4 = 1, METHOD_DOPRI5 = 2, METHOD_RADAU5 = 3, &
                                   METHOD_IMPLICIT_EULER = 4, METHOD_GALPHA = 5
     !! method codes: positions in METHOD_TABLE
     integer, parameter, public :: METHOD_MOREAU = 6   !! method code of moreau
+    integer, parameter, public :: METHOD_EVENT_DRIVEN = 7   !! method code of event_driven
 
     !> Every physical parameter of every law and scene, each once.
     type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
@@ -210,7 +212,7 @@ contains
     !> Integrate sys with the method of code `method` and its named controls (rtol and atol
     !! as arrays, read by the adaptive methods only). Output and status as for the methods'
     !! `<method>_integrate`.
-    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats, stop_flag)
+    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats, stop_flag, events)
         use stickslip_ode, only: ode_system
         integer, intent(in) :: method                !! method code
         class(ode_system), intent(inout) :: sys      !! the right-hand side
@@ -226,16 +228,21 @@ contains
         type(ode_stats), intent(out) :: stats        !! counters and status
         !> A flag another thread may set nonzero to stop the run (SS_INTERRUPTED).
         integer, pointer, intent(in), optional :: stop_flag
+        !> (4, room): the events of event_driven, (t [s], kind, position [m], contact)
+        real(dp), intent(inout), optional :: events(:, :)
         type(step_controls) :: fixed
         type(dopri5_options) :: d5
         type(radau5_options) :: r5
         type(implicit_euler_options) :: ie
         type(galpha_options) :: ga
         type(moreau_options) :: mj
+        type(event_driven_options) :: ev
         class(contact_system), allocatable :: cs
+        real(dp), allocatable :: no_events(:, :)
 
         if (present(stop_flag)) then
             mj%stop_flag => stop_flag
+            ev%stop_flag => stop_flag
             fixed%stop_flag => stop_flag
             d5%stop_flag => stop_flag
             r5%stop_flag => stop_flag
@@ -266,6 +273,16 @@ contains
             call contact_model_of(sys, cs, stats%status)
             if (stats%status == SS_OK) stats%status = apply_controls(mj, MOREAU_INFO, keys, vals)
             if (stats%status == SS_OK) call moreau_integrate(cs, t0, y0, t_end, mj, t_out, y_out, stats)
+        case (METHOD_EVENT_DRIVEN)
+            call contact_model_of(sys, cs, stats%status)
+            if (stats%status == SS_OK) stats%status = apply_controls(ev, EVENT_DRIVEN_INFO, keys, vals)
+            if (stats%status /= SS_OK) return
+            if (present(events)) then
+                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, events)
+            else
+                allocate(no_events(4, 0))
+                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, no_events)
+            end if
         case default
             stats%status = SS_BAD_METHOD
         end select

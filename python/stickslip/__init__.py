@@ -7,6 +7,9 @@ from .core import (
     CONTROL_DEFAULTS,
     CONTROLS,
     DEFAULTS,
+    EVENT_DTYPE,
+    ContactSolverFailure,
+    EventAccumulation,
     REGISTRY,
     LAW_PARAMS,
     LAWS,
@@ -31,5 +34,6 @@ __all__ = [
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch",
+    "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation",
 ]
 __version__ = "0.1.0"

@@ -131,6 +131,16 @@ class NewtonFailure(IntegrationError):
     Jacobian was not finite."""
 
 
+class ContactSolverFailure(IntegrationError):
+    """moreau: a step's friction problem did not converge to contact_tol within
+    contact_max_iter sweeps of the contact solver."""
+
+
+class EventAccumulation(IntegrationError):
+    """event_driven: stick/slip events accumulate (Zeno or chatter): more than max_events, or
+    10 in a row closer than zeno_gap."""
+
+
 _ERRORS: dict[int, type[IntegrationError]] = {
     STATUS_STEP_BUDGET: StepBudgetExhausted,
     STATUS_STEP_TOO_SMALL: StepSizeTooSmall,
@@ -140,7 +150,27 @@ _ERRORS: dict[int, type[IntegrationError]] = {
     _STATUS["NEWTON_FAILED"]: NewtonFailure,
     _STATUS["SINGULAR"]: NewtonFailure,
     _STATUS["JAC_NONFINITE"]: NewtonFailure,
+    _STATUS["CONTACT_FAILED"]: ContactSolverFailure,
+    _STATUS["EVENT_ZENO"]: EventAccumulation,
 }
+
+#: The dtype of Result.events: time [s], kind ("stick": slip -> stick, "slip": stick -> slip,
+#: "reversal": the relative velocity reached 0 and the contact could not be held), position x
+#: of the contact's body [m], contact index (0-based).
+EVENT_DTYPE = np.dtype([("t", "f8"), ("kind", "U8"), ("x", "f8"), ("contact", "i4")])
+_EVENT_KINDS = ("stick", "slip", "reversal")
+#: Events the facade makes room for when max_events is not given (the library's default).
+_DEFAULT_MAX_EVENTS = 10000
+
+
+def _events(raw: np.ndarray, count: int) -> np.ndarray:
+    """The library's (4, room) event rows as a structured array of EVENT_DTYPE."""
+    rows = raw[:, :min(count, raw.shape[1])]
+    out = np.zeros(rows.shape[1], dtype=EVENT_DTYPE)
+    out["t"], out["x"] = rows[0], rows[2]
+    out["kind"] = [_EVENT_KINDS[int(k) - 1] for k in rows[1]]
+    out["contact"] = rows[3].astype(np.int32) - 1
+    return out
 
 
 @dataclass
@@ -160,6 +190,8 @@ class Result:
     stats: dict[str, Any] = field(default_factory=dict)
     z: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     state_labels: tuple[str, ...] = ()
+    #: event_driven's stick/slip transitions (EVENT_DTYPE), empty for the other methods.
+    events: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=EVENT_DTYPE))
 
     @property
     def y(self) -> np.ndarray:
@@ -509,10 +541,13 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     pkeys, pvals = _keys(given)
     ckeys, cvals = _keys(ctl)
     scene_code, law_code, method_code = plan.codes
+    # room for event_driven's events (max_events of them; range-checked by the library)
+    room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), 10**7)) if "max_events" in plan.reads else 0
+    raw_events = np.zeros((4, room), order="F")
     cpu0 = time.process_time()
     y, istats, rstats, resolved, status = interruptible(lambda stop: _ext.run_simulation(
         scene_code, law_code, method_code, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals,
-        t_grid, len(_STATS_INT), len(_STATS_REAL), len(_PARAM_ORDER), stop))
+        t_grid, len(_STATS_INT), len(_STATS_REAL), len(_PARAM_ORDER), stop, raw_events))
     cpu = time.process_time() - cpu0
     status = int(status)
     _check_code(status)
@@ -530,6 +565,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
                     t=t_grid if rows_written == t_grid.size else t_grid[:rows_written].copy(),
                     x=np.array(y[0]), v=np.array(y[1]), stats=stats, z=np.array(y[2:]),
                     state_labels=plan.state_labels)
+    if room:
+        result.events = _events(raw_events, stats["nevents"])
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
     return result
