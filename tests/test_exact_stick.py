@@ -167,3 +167,23 @@ def test_bad_controls_name_the_parameter_and_range(kwargs, words):
 def test_other_laws_are_refused_before_running(law, method, controls):
     with pytest.raises(ValueError, match="coulomb, stribeck"):
         ss.simulate("belt", law, method=method, t_end=1.0, **controls)
+
+
+def test_stick_study_quick(tmp_path):
+    """python -m cases.stick --quick writes the CSV, the tables and the figure; the set-valued
+    methods hold the slope exactly and a creeping law does not."""
+    from cases import stick
+    from cases._common import read_csv
+    files = stick.main(["--outdir", str(tmp_path), "--quick", "--threads", "1", "--quiet"])
+    assert {f.name for f in files} == {"stick.csv", "stick.md", "stick.png", "stick.pdf"}
+    cols = read_csv(tmp_path / "stick.csv")
+    rows = [dict(zip(cols, v)) for v in zip(*cols.values())]
+    rest = {(r["law [-]"], r["method [-]"]): r for r in rows if r["problem [-]"] == "slope_rest"}
+    for law in ("coulomb", "stribeck"):
+        for method in ("moreau", "event_driven"):
+            assert float(rest[law, method]["err_x [m]"]) == 0.0
+    assert float(rest["recurdyn", "rk4"]["err_x [m]"]) > 1e-3        # RecurDyn creeps
+    assert rest["lugre", "moreau"]["status [-]"] == "refused"
+    belt = {(r["law [-]"], r["method [-]"]): r for r in rows if r["problem [-]"] == "belt_stuck"}
+    assert float(belt["coulomb", "event_driven"]["err_path [m]"]) < 1e-4
+    assert "## (c)" in (tmp_path / "stick.md").read_text()
