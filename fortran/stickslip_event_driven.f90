@@ -260,7 +260,7 @@ contains
             if (st%status /= SS_OK .and. st%status /= SS_OUTPUT_FULL) then
                 stats%status = st%status
                 if (stats%status == SS_STEP_BUDGET .or. stats%nstep >= opts%max_steps) stats%status = SS_STEP_BUDGET
-                call output_to(tb(nrows))
+                if (nrows >= 1) call output_to(tb(nrows))
                 exit segment
             end if
             if (ms%singular) then
@@ -279,6 +279,7 @@ contains
             end do
             if (.not. hit) then
                 call output_to(tb(nrows))
+                if (stats%status /= SS_OK) exit segment
                 t = tb(nrows)
                 y = yb(:, nrows)
                 if (st%status == SS_OK) exit segment     ! reached t_end
@@ -294,7 +295,9 @@ contains
             do i = 1, nc
                 if (g_b(i) <= 0.0_dp) call locate(i, g_a(i), g_b(i))
             end do
+            if (stats%status /= SS_OK) exit segment
             call output_to(tstar)
+            if (stats%status /= SS_OK) exit segment
             t = tstar
             y = ystar
             call switch_mode()
@@ -345,7 +348,7 @@ contains
             end do
         end subroutine release
 
-        !> The state at time tq in [ta, tb(k)] from (ta, ya), into ystar-like yq.
+        !> The state at time tq in [ta, tb(k)] from (ta, ya); a failed run sets stats%status.
         subroutine advance(tq, yq)
             real(dp), intent(in)  :: tq
             real(dp), intent(out) :: yq(:)
@@ -362,6 +365,7 @@ contains
             call dopri5_integrate(ms, ta, ya, tq, rtol, atol, o, tt, yy, s1)
             stats%nfev = stats%nfev + s1%nfev
             yq = yy(:, 1)
+            if (s1%status /= SS_OK) stats%status = s1%status
         end subroutine advance
 
         !> Earliest crossing of contact i's event function in (ta, tstar]: shrink tstar.
@@ -388,6 +392,7 @@ contains
                 if (.not. (tm > lo .and. tm < hi)) tm = 0.5_dp * (lo + hi)
                 if (tm <= lo .or. tm >= hi) exit
                 call advance(tm, yq)
+                if (stats%status /= SS_OK) return
                 call event_values(ms, tm, yq, gv, rr)
                 gm = gv(i)
                 if (gm <= 0.0_dp) then
@@ -448,7 +453,8 @@ contains
         end subroutine record
 
         !> Grid rows with times in (t, t_to], by DOPRI5's dense output over the stretch
-        !! (a second run from (t, y) with the first run's initial step).
+        !! (a second run from (t, y) with the first run's initial step); a failed run sets
+        !! stats%status.
         subroutine output_to(t_to)
             real(dp), intent(in) :: t_to
             integer :: last
@@ -466,6 +472,7 @@ contains
             call dopri5_integrate(ms, t, y, t_to, rtol, atol, o, t_out(next:last), y_out(:, next:last), s2)
             stats%nfev = stats%nfev + s2%nfev
             next = next + s2%n_written
+            if (s2%status /= SS_OK) stats%status = s2%status
         end subroutine output_to
 
     end subroutine event_driven_integrate

@@ -161,6 +161,8 @@ EVENT_DTYPE = np.dtype([("t", "f8"), ("kind", "U8"), ("x", "f8"), ("contact", "i
 _EVENT_KINDS = ("stick", "slip", "reversal")
 #: Events the facade makes room for when max_events is not given (the library's default).
 _DEFAULT_MAX_EVENTS = 10000
+#: Most events Result.events holds (32 MB of rows); a run may count more (stats["nevents"]).
+_EVENT_ROOM = 1_000_000
 
 
 def _events(raw: np.ndarray, count: int) -> np.ndarray:
@@ -190,7 +192,8 @@ class Result:
     stats: dict[str, Any] = field(default_factory=dict)
     z: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     state_labels: tuple[str, ...] = ()
-    #: event_driven's stick/slip transitions (EVENT_DTYPE), empty for the other methods.
+    #: event_driven's stick/slip transitions (EVENT_DTYPE; the first 1,000,000), empty for the
+    #: other methods.
     events: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=EVENT_DTYPE))
 
     @property
@@ -462,7 +465,11 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     component), hmin (1e-6 s), hmax (1e-2 s), h0 (0 = automatic), allow_forced and their own
     (README, "Python"; after a forced step the step is held for calm_steps = 2 steps, then
     grows by at most fac_forced = 2 a step).
-    A control the method does not read is an error.
+    A control the method does not read is an error. The set-valued (exact-stick) methods take the
+    laws "coulomb" and "stribeck" only: "moreau" (Moreau-Jean time-stepping; h, theta = 0.5,
+    contact_tol, contact_max_iter) and "event_driven" (stick/slip switching with DOPRI5 in each
+    mode; rtol, atol, max_events, zeno_gap), whose transitions are in Result.events
+    (docs/guide/exact-stick.md).
 
     Output: a uniform grid of n_out points on [0, t_end] (default 1001), or every step when
     every_step is set. max_steps bounds attempted steps (default 10**8; 10**6 for an adaptive
@@ -541,8 +548,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     pkeys, pvals = _keys(given)
     ckeys, cvals = _keys(ctl)
     scene_code, law_code, method_code = plan.codes
-    # room for event_driven's events (max_events of them; range-checked by the library)
-    room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), 10**7)) if "max_events" in plan.reads else 0
+    # room for event_driven's events (max_events of them, range-checked by the library)
+    room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) if "max_events" in plan.reads else 0
     raw_events = np.zeros((4, room), order="F")
     cpu0 = time.process_time()
     y, istats, rstats, resolved, status = interruptible(lambda stop: _ext.run_simulation(
