@@ -111,6 +111,7 @@ module stickslip_ode
         logical :: implicit = .false.         !! implicit method (uses the Jacobian)
         character(len=160) :: controls = ''   !! the controls it reads
         character(len=64) :: doc = ''         !! one line on what it is
+        character(len=64) :: laws = ''        !! the laws it takes, space-separated (empty: every law)
     end type method_info
 
     !> Names of the integer and real counters of ode_stats, in the order of

@@ -393,7 +393,7 @@ contains
     !> The registry as text, one record per line, fields separated by '|':
     !!   law|code|name|params|n_states|state labels (';')|doc
     !!   scene|code|name|params|doc
-    !!   method|code|name|order|adaptive|implicit|controls|doc
+    !!   method|code|name|order|adaptive|implicit|controls|doc|laws (empty: every law)
     !!   param|name|code|default|unit|default_of|scale|message|doc
     !!   stats|integer names|real names
     !!   status|name|code|message
@@ -433,7 +433,7 @@ contains
             text = text // 'method|' // trim(a) // '|' // trim(METHOD_TABLE(i)%name) // '|' // trim(b) // &
                    '|' // merge('1', '0', METHOD_TABLE(i)%adaptive) // '|' // &
                    merge('1', '0', METHOD_TABLE(i)%implicit) // '|' // trim(METHOD_TABLE(i)%controls) // &
-                   '|' // trim(METHOD_TABLE(i)%doc) // nl
+                   '|' // trim(METHOD_TABLE(i)%doc) // '|' // trim(METHOD_TABLE(i)%laws) // nl
         end do
         do i = 1, size(PARAMS)
             write (a, '(i0)') PARAMS(i)%code

@@ -34,7 +34,9 @@ def _read_registry() -> dict[str, Any]:
             reg["scene"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "doc": f[3]}
         elif kind == "method":
             reg["method"][f[1]] = {"code": int(f[0]), "order": int(f[2]), "adaptive": f[3] == "1",
-                                   "implicit": f[4] == "1", "controls": tuple(f[5].split()), "doc": f[6]}
+                                   "implicit": f[4] == "1", "controls": tuple(f[5].split()), "doc": f[6],
+                                   # the laws the method takes (None: every law)
+                                   "laws": tuple(f[7].split()) or None}
         elif kind == "param":
             reg["param"][f[0]] = {"code": int(f[1]), "default": float(f[2]), "unit": f[3],
                                   "default_of": f[4] or None, "scale": float(f[5]), "rule": f[6],
