@@ -453,9 +453,56 @@ _STATS_INT: tuple[str, ...] = REGISTRY["stats_int"]
 _STATS_REAL: tuple[str, ...] = REGISTRY["stats_real"]
 
 
+#: Most output values (state components x rows) a run may fill: 2 GB of float64.
+_MAX_OUTPUT_VALUES = 250_000_000
+#: Most state components for the methods that factor dense n x n matrices (implicit_euler,
+#: galpha): 4000 components are 128 MB per matrix.
+_MAX_DENSE_STATES = 4000
+_DENSE_METHODS = ("implicit_euler", "galpha")
+
+
+#: Most blocks of the chain (the library's MAX_BLOCKS in stickslip_chain).
+_MAX_BLOCKS = 1_000_000
+
+
+def _n_blocks(given: Mapping[str, float], method: str, n_per_block: int) -> int:
+    """The chain's number of blocks (parameter n_blocks), checked: an integer in range, and
+    small enough for a method that factors dense matrices."""
+    nb = given.get("n_blocks", DEFAULTS["n_blocks"])
+    if not (float(nb).is_integer() and 1 <= nb <= _MAX_BLOCKS):
+        raise ValueError(f"n_blocks: must be an integer in [1, {_MAX_BLOCKS}], got {nb!r}")
+    if method in _DENSE_METHODS and nb * n_per_block > _MAX_DENSE_STATES:
+        raise ValueError(f"n_blocks: {method} factors dense matrices of the whole state, at most "
+                         f"{_MAX_DENSE_STATES} components ({_MAX_DENSE_STATES // n_per_block} blocks with this "
+                         f"law), got {int(nb)} blocks; use radau5 (banded), moreau or an explicit method")
+    return int(nb)
+
+
+def _chain_state(n_blocks: int, nz: int, x0: Any, v0: Any, z0: Any, law: str) -> np.ndarray:
+    """The chain's initial state (x_1..x_N, v_1..v_N, z block by block): x0 and v0 are one
+    value for every block or N values, z0 None (0), nz values for every block or N nz values."""
+    def per_block(name: str, value: Any, size: int, unit: str) -> np.ndarray:
+        a = np.atleast_1d(np.asarray(value, dtype=np.float64))
+        if a.ndim != 1 or a.size not in (1, size) or not np.isfinite(a).all():
+            raise ValueError(f"{name}: must be one finite value or {size} of them (one per block) {unit}, "
+                             f"got an array of shape {a.shape}")
+        return np.broadcast_to(a, (size,)) if a.size == 1 else a
+
+    y0 = np.zeros(n_blocks * (2 + nz))
+    y0[:n_blocks] = per_block("x0", x0, n_blocks, "[m]")
+    y0[n_blocks:2 * n_blocks] = per_block("v0", v0, n_blocks, "[m/s]")
+    if z0 is not None:
+        z = np.atleast_1d(np.asarray(z0, dtype=np.float64))
+        if z.ndim != 1 or z.size not in (nz, nz * n_blocks) or not np.isfinite(z).all():
+            raise ValueError(f"z0: must be {nz} finite value(s) (every block) or {nz * n_blocks} (block by "
+                             f"block), the initial internal states of {law!r}")
+        y0[2 * n_blocks:] = np.tile(z, n_blocks) if z.size == nz else z
+    return y0
+
+
 def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | None = None,
-             every_step: bool = False, max_steps: int | None = None, x0: float = 0.0,
-             v0: float = 0.0, z0: Any = None, **kwargs: Any) -> Result:
+             every_step: bool = False, max_steps: int | None = None, x0: Any = 0.0,
+             v0: Any = None, z0: Any = None, **kwargs: Any) -> Result:
     """Simulate `scene` (SCENES: "slope", "belt") with friction `law` (LAWS) from
     (x0 [m], v0 [m/s], z0 = the law's internal states, default 0) at t = 0 to t_end [s] with
     `method` (METHODS).
@@ -472,6 +519,12 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     contact_tol, contact_max_iter) and "event_driven" (stick/slip switching with DOPRI5 in each
     mode; rtol, atol, max_events, zeno_gap), whose transitions are in Result.events
     (docs/guide/exact-stick.md).
+
+    The scene "chain" (n_blocks blocks on the belt, block i tied to block i - 1 by k_c,
+    docs/guide/chain.md) has the state (x_1..x_N, v_1..v_N, the law's states block by block):
+    x0 and v0 are then one value for every block or N values (v0 defaults to v_b: every block
+    stuck on the belt), z0 the law's states for every block or block by block; Result.x and
+    Result.v have shape (N, n_t) (as the belt's (n_t,) for N = 1).
 
     Output: a uniform grid of n_out points on [0, t_end] (default 1001), or every step when
     every_step is set. max_steps bounds attempted steps (default 10**8; 10**6 for an adaptive
@@ -492,6 +545,10 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     ctl = _controls(method, plan, {k: v for k, v in kwargs.items() if k in _CONTROL_SET})
     t_end = _finite("t_end", t_end, "> 0 [s]")
     n = plan.n
+    n_blocks = 1
+    if scene == "chain":
+        n_blocks = _n_blocks(given, method, n)
+        n *= n_blocks
     # 1.0: a placeholder the fixed-step methods never read
     rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
     atol = _tolerance("atol", ctl.pop("atol", 1.0), n)
@@ -511,16 +568,21 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
                 warnings.warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
                               f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
                               "wrong creep speed (README: How to choose h)", stacklevel=2)
-    x0 = _finite("x0", x0, "[m]")
-    v0 = _finite("v0", v0, "[m/s]")
-    if z0 is None:
-        y0 = np.zeros(n)
-        y0[0], y0[1] = x0, v0
+    if scene == "chain":
+        if v0 is None:   # every block stuck on the belt
+            v0 = given.get("v_b", DEFAULTS["v_b"])
+        y0 = _chain_state(n_blocks, plan.n - 2, x0, v0, z0, law)
     else:
-        z = np.atleast_1d(np.asarray(z0, dtype=np.float64))
-        if z.shape != (n - 2,) or not np.isfinite(z).all():
-            raise ValueError(f"z0: must be {n - 2} finite value(s), the initial internal states of {law!r}")
-        y0 = np.concatenate([np.array([x0, v0]), z])
+        x0 = _finite("x0", x0, "[m]")
+        v0 = _finite("v0", 0.0 if v0 is None else v0, "[m/s]")
+        if z0 is None:
+            y0 = np.zeros(n)
+            y0[0], y0[1] = x0, v0
+        else:
+            z = np.atleast_1d(np.asarray(z0, dtype=np.float64))
+            if z.shape != (n - 2,) or not np.isfinite(z).all():
+                raise ValueError(f"z0: must be {n - 2} finite value(s), the initial internal states of {law!r}")
+            y0 = np.concatenate([np.array([x0, v0]), z])
 
     if max_steps is None:
         max_steps = 10**6 if (every_step and plan.adaptive) else 10**8
@@ -547,6 +609,10 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
         t_grid = _grid(t_end, n_out)
 
+    if n * t_grid.size > _MAX_OUTPUT_VALUES:
+        raise ValueError(f"n_blocks: {n_blocks} blocks ({n} state components) on {t_grid.size} output rows "
+                         f"need {8 * n * t_grid.size / 1e9:.3g} GB of output (limit "
+                         f"{8 * _MAX_OUTPUT_VALUES / 1e9:.3g} GB); lower n_blocks or n_out")
     pkeys, pvals = _keys(given)
     ckeys, cvals = _keys(ctl)
     scene_code, law_code, method_code = plan.codes
@@ -572,7 +638,9 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     y = y[:, :rows_written]
     result = Result(scene=scene, law=law, method=method, t_end=t_end, params=params,
                     t=t_grid if rows_written == t_grid.size else t_grid[:rows_written].copy(),
-                    x=np.array(y[0]), v=np.array(y[1]), stats=stats, z=np.array(y[2:]),
+                    x=np.array(y[0] if n_blocks == 1 else y[:n_blocks]),
+                    v=np.array(y[n_blocks] if n_blocks == 1 else y[n_blocks:2 * n_blocks]),
+                    stats=stats, z=np.array(y[2 * n_blocks:]),
                     state_labels=plan.state_labels)
     if room:
         result.events = _events(raw_events, stats["nevents"])

