@@ -354,7 +354,8 @@ contains
     end subroutine chain_contact_force
 
     !> W = I + b K: its diagonal d, sub-diagonal l (l(1) unused) and super-diagonal r (r(N)
-    !! unused); ok = .true.
+    !! unused); ok = .true. for N > 1 (one block keeps Moreau's one-contact closed form,
+    !! the belt's, result for result).
     subroutine chain_contact_w_tridiagonal(self, a, b, l, d, r, ok)
         class(chain_contact), intent(in) :: self
         real(dp), intent(in)  :: a          !! weight of C [s] (C = 0)
@@ -372,7 +373,7 @@ contains
             l(i) = -b * self%kc_m
             r(i) = -b * self%kc_m
         end do
-        ok = .true.
+        ok = n > 1
     end subroutine chain_contact_w_tridiagonal
 
     !> x := W^-1 x by the Thomas algorithm (W = I + b K is symmetric positive definite and

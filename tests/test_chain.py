@@ -142,3 +142,71 @@ def test_radau5_banded_with_law_states_agrees_with_dense():
     band = ss.simulate("chain", "lugre", method="radau5", banded=True, **kw)
     dense = ss.simulate("chain", "lugre", method="radau5", banded=False, **kw)
     np.testing.assert_allclose(band.x, dense.x, rtol=0, atol=1e-7)
+
+
+def test_moreau_solver_converges_on_a_thousand_blocks():
+    r = ss.simulate("chain", "coulomb", method="moreau", h=1e-3, n_blocks=1000, t_end=1.0, n_out=11,
+                    contact_tol=1e-12)
+    assert r.stats["contact_residual"] <= 1e-12
+    assert r.stats["ncontact_iter"] >= r.stats["nstep"] == 1000
+    assert r.x.shape == (1000, 11)
+    # stuck blocks ride the belt exactly: in 1 s the slip started at block 1 (when k x_1 =
+    # mu_s m g) has not reached block 20
+    np.testing.assert_array_equal(r.v[20:, :], r.params["v_b"])
+    assert (r.v[0] != r.params["v_b"]).any()
+
+
+def test_moreau_failed_solve_is_reported():
+    with pytest.raises(ss.ContactSolverFailure):
+        ss.simulate("chain", "coulomb", method="moreau", h=1e-2, n_blocks=50, t_end=5.0, v_b=0.2,
+                    x0=np.linspace(0.0, 0.05, 50), contact_max_iter=1, contact_tol=1e-15)
+
+
+CHAIN4 = dict(n_blocks=4, t_end=5.0, n_out=501, v_b=0.2, perturbation=0.1, x0=[0.0, 0.01, -0.01, 0.02])
+
+
+def test_event_driven_cascades_through_the_chain():
+    e = ss.simulate("chain", "coulomb", method="event_driven", rtol=1e-10, atol=1e-12, **CHAIN4)
+    # slip starts at block 1 (pulled by the wall) and reaches the others through the springs
+    assert e.events["contact"][0] == 0 and e.events["kind"][0] == "slip"
+    assert set(e.events["contact"]) >= {0, 1, 2}
+    assert {"slip", "stick"} <= set(e.events["kind"])
+
+
+def test_moreau_converges_to_event_driven_at_first_order_on_a_chain():
+    e = ss.simulate("chain", "coulomb", method="event_driven", rtol=1e-10, atol=1e-12, **CHAIN4)
+    errs = [np.abs(ss.simulate("chain", "coulomb", method="moreau", h=h, **CHAIN4).x - e.x).max()
+            for h in (1e-3, 1e-4)]
+    assert errs[0] < 2e-4
+    assert 5.0 < errs[0] / errs[1] < 20.0     # first order: about 10 for a tenfold step
+
+
+@pytest.mark.parametrize("method", ["moreau", "event_driven"])
+def test_energy_balance_of_a_coulomb_chain(method):
+    """Work of the belt = change of spring and kinetic energy + heat, each from its own
+    formula: the belt's work v_b * (friction impulse), the impulse from the momentum balance
+    (m sum dv_i + k int x_1 dt: the coupling springs cancel in the sum), the heat from the law
+    (mu_k m g_i |v_b - v_i| while slipping)."""
+    n, m, g, k, kc, v_b, mu_k, pert = 5, 2.0, 9.81, 300.0, 200.0, 0.3, 0.3, 0.2
+    kw = dict(n_blocks=n, m=m, g=g, k=k, k_c=kc, v_b=v_b, mu_k=mu_k, perturbation=pert, t_end=4.0,
+              x0=[0.0, 0.01, 0.0, -0.01, 0.02])
+    if method == "moreau":
+        r = ss.simulate("chain", "coulomb", method="moreau", h=2e-5, n_out=200001, **kw)
+    else:
+        r = ss.simulate("chain", "coulomb", method="event_driven", rtol=1e-11, atol=1e-13, n_out=200001, **kw)
+    x, v, t = r.x, r.v, r.t
+    phi = (np.sqrt(5.0) - 1.0) / 2.0
+    gi = g * (1.0 + pert * (2.0 * np.mod(0.5 + np.arange(n) * phi, 1.0) - 1.0))
+
+    def energy(j):
+        return (0.5 * m * (v[:, j] ** 2).sum() + 0.5 * k * x[0, j] ** 2
+                + 0.5 * kc * ((x[1:, j] - x[:-1, j]) ** 2).sum())
+
+    slip = np.abs(v_b - v)
+    heat = np.trapezoid((mu_k * m * gi[:, None] * slip).sum(axis=0), t)
+    impulse = m * (v[:, -1] - v[:, 0]).sum() + k * np.trapezoid(x[0], t)
+    work = v_b * impulse
+    d_energy = energy(-1) - energy(0)
+    assert heat > 0.05 * abs(work)                          # the balance is not trivial
+    # measured: 2.4e-10 (moreau), 3.3e-11 (event_driven) of the work (trapezoidal sums on 2e-5 s)
+    assert abs(work - (d_energy + heat)) <= 1e-8 * abs(work)
