@@ -102,9 +102,11 @@ def test_output_too_large_names_n_blocks():
         ss.simulate("chain", "coulomb", method="moreau", h=1e-3, t_end=1.0, n_blocks=1_000_000, n_out=200)
 
 
-def test_dense_method_refuses_a_huge_chain_before_running():
+@pytest.mark.parametrize("method", ["implicit_euler", "galpha", "radau5"])
+def test_dense_path_refuses_a_huge_chain_before_running(method):
+    kw = dict(h=1e-3) if method != "radau5" else {}
     with pytest.raises(ValueError, match="n_blocks.*dense"):
-        ss.simulate("chain", "coulomb", method="implicit_euler", h=1e-3, t_end=1.0, n_blocks=100_000, n_out=2)
+        ss.simulate("chain", "coulomb", method=method, t_end=1.0, n_blocks=100_000, n_out=2, banded=False, **kw)
 
 
 def test_bad_k_c_and_perturbation():
@@ -119,14 +121,16 @@ def test_x0_array_must_have_one_value_per_block():
         ss.simulate("chain", "coulomb", method="rk4", h=1e-3, t_end=1.0, n_blocks=3, x0=[0.0, 1.0])
 
 
+@pytest.mark.parametrize("method", ["radau5", "implicit_euler", "galpha"])
 @pytest.mark.parametrize("law", ["stribeck", "recurdyn"])
 @pytest.mark.parametrize("n_blocks", [2, 5, 12])
-def test_radau5_banded_and_dense_take_the_same_steps(law, n_blocks):
+def test_banded_and_dense_take_the_same_steps(method, law, n_blocks):
     # Static laws: both paths use the analytic Jacobian, so only the linear algebra differs
     # (band LU in block order against dense LU in state order): same steps, states to rounding.
-    kw = dict(t_end=3.0, n_out=31, n_blocks=n_blocks, rtol=1e-6, perturbation=0.2)
-    band = ss.simulate("chain", law, method="radau5", banded=True, **kw)
-    dense = ss.simulate("chain", law, method="radau5", banded=False, **kw)
+    kw = dict(t_end=3.0, n_out=31, n_blocks=n_blocks, perturbation=0.2)
+    kw.update(dict(rtol=1e-6) if method == "radau5" else dict(h=2e-3))
+    band = ss.simulate("chain", law, method=method, banded=True, **kw)
+    dense = ss.simulate("chain", law, method=method, banded=False, **kw)
     for key in ("nfev", "nstep", "naccept", "nreject", "njac", "ndec", "nsol"):
         assert band.stats[key] == dense.stats[key], key
     assert band.stats["nstep"] > 100

@@ -455,26 +455,25 @@ _STATS_REAL: tuple[str, ...] = REGISTRY["stats_real"]
 
 #: Most output values (state components x rows) a run may fill: 2 GB of float64.
 _MAX_OUTPUT_VALUES = 250_000_000
-#: Most state components for the methods that factor dense n x n matrices (implicit_euler,
-#: galpha): 4000 components are 128 MB per matrix.
+#: Most state components for an implicit method told to factor dense n x n matrices
+#: (banded=False): 4000 components are 256 MB for RADAU5's complex matrix.
 _MAX_DENSE_STATES = 4000
-_DENSE_METHODS = ("implicit_euler", "galpha")
 
 
 #: Most blocks of the chain (the library's MAX_BLOCKS in stickslip_chain).
 _MAX_BLOCKS = 1_000_000
 
 
-def _n_blocks(given: Mapping[str, float], method: str, n_per_block: int) -> int:
+def _n_blocks(given: Mapping[str, float], method: str, n_per_block: int, dense: bool) -> int:
     """The chain's number of blocks (parameter n_blocks), checked: an integer in range, and
-    small enough for a method that factors dense matrices."""
+    small enough when the method is told to factor dense matrices (banded=False)."""
     nb = given.get("n_blocks", DEFAULTS["n_blocks"])
     if not (float(nb).is_integer() and 1 <= nb <= _MAX_BLOCKS):
         raise ValueError(f"n_blocks: must be an integer in [1, {_MAX_BLOCKS}], got {nb!r}")
-    if method in _DENSE_METHODS and nb * n_per_block > _MAX_DENSE_STATES:
-        raise ValueError(f"n_blocks: {method} factors dense matrices of the whole state, at most "
-                         f"{_MAX_DENSE_STATES} components ({_MAX_DENSE_STATES // n_per_block} blocks with this "
-                         f"law), got {int(nb)} blocks; use radau5 (banded), moreau or an explicit method")
+    if dense and nb * n_per_block > _MAX_DENSE_STATES:
+        raise ValueError(f"n_blocks: {method} with banded=False factors dense matrices of the whole state, "
+                         f"at most {_MAX_DENSE_STATES} components ({_MAX_DENSE_STATES // n_per_block} blocks "
+                         f"with this law), got {int(nb)} blocks; leave banded on")
     return int(nb)
 
 
@@ -547,7 +546,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     n = plan.n
     n_blocks = 1
     if scene == "chain":
-        n_blocks = _n_blocks(given, method, n)
+        n_blocks = _n_blocks(given, method, n, "banded" in plan.reads and not ctl.get("banded", 1.0))
         n *= n_blocks
     # 1.0: a placeholder the fixed-step methods never read
     rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
