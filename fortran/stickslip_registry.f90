@@ -74,8 +74,8 @@ module stickslip_registry
         entry_info('chain', 'm g k v_b n_blocks k_c perturbation', &
                    'n_blocks masses on the belt, coupled by springs k_c (Burridge-Knopoff)')]
     integer, parameter, public :: SCENE_SLOPE = 1, SCENE_BELT = 2
-    integer, parameter, public :: SCENE_CHAIN = 3   !! scene code of the chain
     !! scene codes: positions in SCENE_TABLE
+    integer, parameter, public :: SCENE_CHAIN = 3   !! scene code of the chain
 
     !> The integration methods; the code of a method is its position.
     type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO, RADAU5_INFO, &

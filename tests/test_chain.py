@@ -214,3 +214,8 @@ def test_energy_balance_of_a_coulomb_chain(method):
     assert heat > 0.05 * abs(work)                          # the balance is not trivial
     # measured: 2.4e-10 (moreau), 3.3e-11 (event_driven) of the work (trapezoidal sums on 2e-5 s)
     assert abs(work - (d_energy + heat)) <= 1e-8 * abs(work)
+
+
+def test_batch_refuses_the_chain_clearly():
+    with pytest.raises(ValueError, match="scene: simulate_batch takes the one-body scenes"):
+        ss.simulate_batch("chain", "coulomb", method="moreau", t_end=1.0, h=1e-3, n_blocks=[1, 3])
