@@ -248,8 +248,8 @@ contains
 
     !> The Jacobian in block order in band storage, jb(mu + 1 + i - j, j) = J(perm(i), perm(j)):
     !! analytic for a static law; otherwise by finite differences that perturb every
-    !! (ml + mu + 1)-th position of the block order together (Curtis, Powell and Reid), s + ...
-    !! evaluations whatever N.
+    !! (ml + mu + 1)-th position of the block order together (Curtis, Powell and Reid):
+    !! ml + mu + 1 = 2 s + 1 evaluations whatever N.
     subroutine chain_band_jacobian(self, t, y, f, jb, nfev)
         class(chain_scene), intent(inout) :: self
         real(dp), intent(in)    :: t             !! time [s]
