@@ -130,7 +130,8 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
             continue
         p = fit_exponent(n[sel], cost[sel])
         color, marker = STYLE[m]
-        ax.loglog(n[sel], cost[sel] * 1e6, marker=marker, color=color, label=f"{m} (exponent {p:.2f})")
+        fit = f"exponent {p:.2f}" if math.isfinite(p) else "run to N = 100: no fit"
+        ax.loglog(n[sel], cost[sel] * 1e6, marker=marker, color=color, label=f"{m} ({fit})")
     ax.set_xlabel("number of blocks N [-]")
     ax.set_ylabel("CPU time per step [microseconds]")
     ax.set_title("Cost per step against the number of contacts (fit over N >= 100)")
