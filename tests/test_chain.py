@@ -219,3 +219,18 @@ def test_energy_balance_of_a_coulomb_chain(method):
 def test_batch_refuses_the_chain_clearly():
     with pytest.raises(ValueError, match="scene: simulate_batch takes the one-body scenes"):
         ss.simulate_batch("chain", "coulomb", method="moreau", t_end=1.0, h=1e-3, n_blocks=[1, 3])
+
+
+def test_cases_chain_fits_the_exponent_and_plots_from_the_csv(tmp_path):
+    from cases import _common, chain
+    n = np.array([1.0, 10.0, 100.0, 300.0, 1000.0])
+    assert chain.fit_exponent(n, 2e-7 * n**1.1) == pytest.approx(1.1, abs=1e-12)
+    assert np.isnan(chain.fit_exponent(n[:3], n[:3]))          # one point with N >= 100
+    rows = [[m, law, int(k), 1.0, 0, 100, 400, 0, 1e-6 * k, 1e-8 * k, 1e-6 * k, float("nan")]
+            for m, (law, _) in chain.METHODS.items() for k in n]
+    csv = _common.write_csv(tmp_path / "chain.csv", chain.HEADER, rows)
+    ev = _common.write_csv(tmp_path / "chain_events.csv", ["event [-]", "size [blocks]"],
+                           [[0, 1], [1, 3], [2, 3], [3, 40]])
+    files = chain.plot(csv, ev, tmp_path)
+    assert [f.name for f in files] == ["chain.png", "chain_events.png"]
+    assert all(f.stat().st_size > 0 and f.with_suffix(".pdf").exists() for f in files)
