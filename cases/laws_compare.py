@@ -129,6 +129,8 @@ def simulate(scene: str, law: str, method: str, h: float | None, t_end: float, n
     """One run: (Result or the partial Result of a run that ended early, status)."""
     import stickslip
     extra = {"h": h} if h is not None else {}
+    if stickslip.REGISTRY["method"][method]["adaptive"]:
+        extra.update(hmin=1e-6, hmax=1e-2)      # the paper's step range (simulate's hmax: t_end)
     try:
         r = stickslip.simulate(scene, law, method=method, t_end=t_end, n_out=n_out, **extra,
                                **{**{k: v for k, v in P.items() if k != "theta_deg" or scene == "slope"},

@@ -328,6 +328,7 @@ def extremes(quick: bool = False, threads: int = 2, client: Any = None) -> list[
             cols[k] = [r.get(k, _params().get(k)) for r in rows]
         if method == "dopri5":
             cols.pop("h", None)
+            cols.update(hmin=1e-6, hmax=1e-2)   # the paper's step range (simulate's hmax: t_end)
         b = stickslip.simulate_batch([r["scene"] for r in rows], [r["law"] for r in rows],
                                      method=method, n_grid=201, threads=threads, client=client,
                                      **cols)

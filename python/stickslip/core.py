@@ -73,11 +73,13 @@ STATUS_NONFINITE = _STATUS["NONFINITE"]
 STATUS_OUTPUT_FULL = _STATUS["OUTPUT_FULL"]
 _FIRST_INPUT_CODE = -100          # codes <= this name one bad input
 
-#: The facade's defaults of the shared controls (the paper's "automatic" step range
-#: [hmin, hmax] = [1e-6, 1e-2] s); each is passed only to the methods that read it. Read-only:
-#: simulate reads them once per method (_plan).
+#: The facade's defaults of the shared controls; each is passed only to the methods that read
+#: it. hmax = 0 lets a step span the whole run [0, t_end] (Hairer's default): the step is then
+#: limited by the error test alone. The paper's "automatic" range [hmin, hmax] = [1e-6, 1e-2] s
+#: is what its drivers (cases/) pass explicitly. Read-only: simulate reads them once per method
+#: (_plan).
 CONTROL_DEFAULTS: Mapping[str, Any] = MappingProxyType(
-    {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 1e-2, "h0": 0.0, "allow_forced": True,
+    {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 0.0, "h0": 0.0, "allow_forced": True,
      "stop_on_stiff": False})
 
 #: Largest every-step output the facade allocates [rows]: 3 arrays of 8-byte floats.
@@ -427,7 +429,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     whatever the scene and law) or controls of the method (REGISTRY["method"][method]
     ["controls"]): the fixed-step methods ("rk4", "implicit_euler", "galpha") need h [s]; the
     adaptive ones ("dopri5", "radau5") take rtol (1e-6), atol (1e-9; scalars or one per state
-    component), hmin (1e-6 s), hmax (1e-2 s), h0 (0 = automatic), allow_forced and their own
+    component), hmin (1e-6 s), hmax (0 = the whole interval t_end), h0 (0 = automatic),
+    allow_forced and their own
     (README, "Python"; after a forced step the step is held for calm_steps = 2 steps, then
     grows by at most fac_forced = 2 a step).
     A control the method does not read is an error.
