@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import functools
 import math
+import os
+import re
 import threading
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Callable, Mapping
 
@@ -145,28 +147,93 @@ _ERRORS: dict[int, type[IntegrationError]] = {
 }
 
 
-@dataclass
 class Result:
-    """A simulation on its output grid: time t [s], displacement x [m], velocity v [m/s],
-    and the law's internal states z (shape (n_states, len(t)), named in `state_labels`
-    with units; empty for a law without states)."""
+    """A simulation on its output grid (returned by `simulate`).
 
-    scene: str
-    law: str
-    method: str
-    t_end: float
-    params: dict[str, float]
-    t: np.ndarray
-    x: np.ndarray
-    v: np.ndarray
-    stats: dict[str, Any] = field(default_factory=dict)
-    z: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    state_labels: tuple[str, ...] = ()
+    Attributes
+    ----------
+    scene, law, method : str
+        What was simulated and how.
+    t_end : float
+        The requested end time [s].
+    params : dict of str to float
+        Every parameter the scene and the law read, as used (defaults and derived values
+        resolved, e.g. v_d = 1.5 v_s).
+    t : numpy.ndarray, shape (n_t,)
+        Output times [s]: the uniform grid, every accepted step (``every_step=True``), or the
+        part of either that was reached when the run ended early.
+    x : numpy.ndarray, shape (n_t,)
+        Displacement [m].
+    v : numpy.ndarray, shape (n_t,)
+        Velocity [m/s].
+    z : numpy.ndarray
+        The law's internal states: shape (n_t,) (like `x`) for a law with one state,
+        (n_states, n_t) for several, (0, n_t) for a law without states; named with units in
+        `state_labels`.
+    state_labels : tuple of str
+        Name and unit of each internal state, e.g. ``("z [m]",)``.
+    stats : dict
+        Counters and outcome of the run; its keys are listed under `simulate` (Returns).
+    y : numpy.ndarray, shape (2 + n_states, n_t)
+        The whole state (x, v, then the internal states), one row per component.
+
+    Notes
+    -----
+    The arrays of a Result are its own: no later call writes into them. `x`, `v` and `z` are
+    rows of one array the library filled (views, not copies).
+    """
+
+    __slots__ = ("scene", "law", "method", "t_end", "t", "x", "v", "z", "state_labels",
+                 "_params", "_stats", "_raw")
+
+    def __init__(self, scene: str, law: str, method: str, t_end: float, params: dict[str, float],
+                 t: np.ndarray, x: np.ndarray, v: np.ndarray, stats: dict[str, Any] | None = None,
+                 z: np.ndarray | None = None, state_labels: tuple[str, ...] = ()) -> None:
+        self.scene, self.law, self.method, self.t_end = scene, law, method, t_end
+        self.t, self.x, self.v = t, x, v
+        self.z = np.zeros((0, np.size(t))) if z is None else z
+        self.state_labels = state_labels
+        self._params, self._stats, self._raw = params, ({} if stats is None else stats), None
+
+    @property
+    def params(self) -> dict[str, float]:
+        """Every parameter the scene and the law read, as used [SI units]."""
+        if self._params is None:                  # built on first use (simulate's lean path)
+            resolved, used = self._raw[4], self._raw[5]
+            values = resolved.tolist()
+            self._params = {k: values[i] for k, i in used}
+        return self._params
+
+    @property
+    def stats(self) -> dict[str, Any]:
+        """Counters and outcome of the run (keys: see `simulate`, Returns)."""
+        if self._stats is None:                   # built on first use (simulate's lean path)
+            istats, rstats, status, cpu = self._raw[:4]
+            stats: dict[str, Any] = dict(zip(_STATS_INT, istats.astype(np.int64).tolist()))  # exact: < 2**53
+            stats.update(zip(_STATS_REAL, rstats.tolist()))
+            stats["stiff"] = bool(stats["stiff"])
+            stats["message"] = status_message(status)
+            stats["cpu_seconds"] = cpu
+            del stats["n_written"]
+            self._stats = stats
+        return self._stats
 
     @property
     def y(self) -> np.ndarray:
-        """The whole state (x, v, z...) as an array of shape (2 + n_states, len(t))."""
+        """The whole state (x, v, then the internal states), shape (2 + n_states, n_t)."""
         return np.vstack([self.x, self.v, self.z.reshape(-1, self.t.size)])
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {"scene": self.scene, "law": self.law, "method": self.method, "t_end": self.t_end,
+                "params": self.params, "t": self.t, "x": self.x, "v": self.v, "stats": self.stats,
+                "z": self.z, "state_labels": self.state_labels}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__init__(**state)
+
+    def __repr__(self) -> str:
+        return (f"Result(scene={self.scene!r}, law={self.law!r}, method={self.method!r}, "
+                f"t_end={self.t_end!r}, n_t={self.t.size}, message={self.stats['message']!r})")
 
 
 _KINDS = {"law": LAWS, "scene": SCENES, "method": METHODS}
@@ -390,7 +457,8 @@ def _tolerance(name: str, value: Any, n: int) -> np.ndarray:
     return items.astype(np.float64)
 
 
-#: Output grids up to this many points are kept (_grid): numpy.linspace costs microseconds.
+#: Output grids up to this many points are kept with their setting (_Call): numpy.linspace
+#: costs microseconds.
 _GRID_CACHE_ROWS = 4096
 
 
@@ -399,52 +467,199 @@ def _linspace(t_end: float, n_out: int) -> np.ndarray:
     return np.linspace(0.0, t_end, n_out) if n_out > 1 else np.array([t_end])
 
 
-@functools.lru_cache(maxsize=32)
-def _cached_linspace(t_end: float, n_out: int) -> np.ndarray:
-    grid = _linspace(t_end, n_out)
-    grid.setflags(write=False)
-    return grid
-
-
-def _grid(t_end: float, n_out: int) -> np.ndarray:
-    """A new array holding the output grid _linspace(t_end, n_out); small ones are copied
-    from a cache."""
-    return _cached_linspace(t_end, n_out).copy() if n_out <= _GRID_CACHE_ROWS else _linspace(t_end, n_out)
-
-
 _PARAM_SET = frozenset(_PARAM_ORDER)
 _CONTROL_SET = frozenset(CONTROLS)
 _STATS_INT: tuple[str, ...] = REGISTRY["stats_int"]
 _STATS_REAL: tuple[str, ...] = REGISTRY["stats_real"]
+_I_WRITTEN = _STATS_INT.index("n_written")
+#: The sizes run_simulation checks against the registry: counters, reals, parameters.
+_SIZES = (len(_STATS_INT), len(_STATS_REAL), len(_PARAM_ORDER))
+
+
+class UnusedParameterWarning(UserWarning):
+    """A physical parameter was given that the scene and the law do not read (it is
+    range-checked, then ignored)."""
+
+
+def _n_states(law: str, given: Mapping[str, float]) -> int:
+    """Internal states of `law` with the given parameters (the registry's count)."""
+    return REGISTRY["law"][law]["n_states"]
+
+
+def _show(value: Any) -> str:
+    """A value for an error message: 0.35, 1e-06, [1e-06, 0.99]."""
+    if isinstance(value, np.ndarray):
+        return _show(float(value[0])) if value.size == 1 else "[" + ", ".join(_show(float(x)) for x in value) + "]"
+    return f"{value:g}" if isinstance(value, float) else repr(value)
+
+
+def _with_values(message: str, known: Mapping[str, Any]) -> str:
+    """A library message about bad input, with the values of the parameters it names: the
+    one(s) before the colon and those it compares with, e.g. 'mu_k: must be finite and >= 0
+    and <= mu_s (got mu_k = 0.5, mu_s = 0.35)'."""
+    head, sep, rule = message.partition(":")
+    if not sep:
+        return message
+    names = [n.strip() for n in head.split(",")] + re.findall(r"[<>]=?\s*([A-Za-z_]\w*)", rule)
+    shown = [f"{n} = {_show(known[n])}" for n in dict.fromkeys(names) if n in known]
+    return f"{message} (got {', '.join(shown)})" if shown else message
+
+
+class _Call:
+    """One distinct setting of `simulate`, validated once (_prepare): the arguments of its
+    Fortran call and what its Result needs. Never changed after _prepare, except `checked`."""
+
+    __slots__ = ("scene", "law", "method", "t_end", "args", "grid", "n_out", "rows", "warnings",
+                 "n_states", "state_labels", "used", "known", "checked")
+
+    def __init__(self, **kw: Any) -> None:
+        for k, v in kw.items():
+            setattr(self, k, v)
+        self.checked = False                 # the library accepted the input (status > input codes)
+
+
+#: Settings simulate has validated (keyed on its arguments and their types), at most
+#: _CALLS_MAX; cleared when full. Only settings the library accepted are kept.
+_CALLS: dict[tuple, _Call] = {}
+_CALLS_MAX = 512
 
 
 def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | None = None,
              every_step: bool = False, max_steps: int | None = None, x0: float = 0.0,
-             v0: float = 0.0, z0: Any = None, **kwargs: Any) -> Result:
-    """Simulate `scene` (SCENES: "slope", "belt") with friction `law` (LAWS) from
-    (x0 [m], v0 [m/s], z0 = the law's internal states, default 0) at t = 0 to t_end [s] with
-    `method` (METHODS).
+             v0: float = 0.0, z0: Any = None, ignore_unused: bool = False, **kwargs: Any) -> Result:
+    """Simulate `scene` with friction `law` from t = 0 to `t_end` with `method`.
 
-    Keyword arguments are physical parameters (DEFAULTS; each given value is range-checked
-    whatever the scene and law) or controls of the method (REGISTRY["method"][method]
-    ["controls"]): the fixed-step methods ("rk4", "implicit_euler", "galpha") need h [s]; the
-    adaptive ones ("dopri5", "radau5") take rtol (1e-6), atol (1e-9; scalars or one per state
-    component), hmin (1e-6 s), hmax (0 = the whole interval t_end), h0 (0 = automatic),
-    allow_forced and their own
-    (README, "Python"; after a forced step the step is held for calm_steps = 2 steps, then
-    grows by at most fac_forced = 2 a step).
-    A control the method does not read is an error.
+    Parameters
+    ----------
+    scene : str
+        What is simulated, one of `SCENES`: "slope" (a box on a plane inclined theta_deg, x
+        down the slope) or "belt" (a mass m on a belt moving at v_b, tied to a wall by a
+        spring k).
+    law : str
+        The friction law, one of `LAWS` (parameters and defaults: `REGISTRY["law"][law]`,
+        `DEFAULTS`).
+    method : str
+        The integrator, one of `METHODS`; the controls it reads are
+        `REGISTRY["method"][method]["controls"]`.
+    t_end : float
+        End time [s], > 0.
+    n_out : int, optional
+        Points of the uniform output grid on [0, t_end] (default 1001); not with `every_step`.
+    every_step : bool, optional
+        Output every accepted step instead of a grid (default False).
+    max_steps : int, optional
+        Budget of attempted steps (default 10**8; 10**6 for an adaptive method with
+        `every_step`). A fixed-step run that needs more is refused before it starts.
+    x0, v0 : float, optional
+        Initial displacement [m] and velocity [m/s] (default 0).
+    z0 : float or sequence of float, optional
+        Initial internal states of the law (default all 0), one per state.
+    ignore_unused : bool, optional
+        False (default): a physical parameter that the scene and the law do not read is
+        range-checked, then ignored with an `UnusedParameterWarning`. True: ignored silently
+        (for one parameter set shared across laws and scenes).
+    **kwargs : float
+        Physical parameters (names in `DEFAULTS`, SI units; each value given is range-checked
+        whatever the scene and law) and controls of the method (every control, its default and
+        meaning: docs/guide/controls.md). The fixed-step methods ("rk4", "implicit_euler",
+        "galpha") need ``h`` [s]. The adaptive ones ("dopri5", "radau5") take ``rtol`` (default
+        1e-6; DOPRI5 accepts 0, a purely absolute error test, RADAU5 needs rtol >= 2.2e-14),
+        ``atol`` (1e-9; either may be one value or one per state component), ``hmin`` (1e-6 s:
+        where the error test fails at hmin the step is taken anyway and counted in
+        ``stats["nforced"]``; ``allow_forced=False`` raises StepSizeTooSmall instead),
+        ``hmax`` (0: the whole interval, so that only the error test limits the step; the
+        paper's drivers pass 1e-2 s), ``h0`` (0: automatic) and their own.
+        A control the method does not read is an error.
 
-    Output: a uniform grid of n_out points on [0, t_end] (default 1001), or every step when
-    every_step is set. max_steps bounds attempted steps (default 10**8; 10**6 for an adaptive
-    method with every_step). When DOPRI5's error test fails at hmin the step is taken anyway and
-    counted in stats["nforced"]; allow_forced=False raises StepSizeTooSmall instead.
+    Returns
+    -------
+    Result
+        The output: ``t`` [s], ``x`` [m], ``v`` [m/s] of shape (n_t,); ``z``, the internal
+        states, of shape (n_t,) for a law with one state and (n_states, n_t) for several;
+        ``y`` (2 + n_states, n_t); ``params`` (every parameter the scene and law read, as
+        used); ``state_labels``; and ``stats``, a dict with the keys:
 
-    Raises ValueError for bad input (naming the parameter and its accepted range) and an
-    IntegrationError subclass when the run ends early (its `.result` holds the partial output).
-    Every value of a result returned is finite: an overflow of the state, or of the dense output
-    or interpolant between steps, ends the run with NonFiniteSolution.
+        - ``nfev``: right-hand-side evaluations (Hairer's NFCN; finite-difference Jacobians
+          included).
+        - ``nstep``: attempted steps (NSTEP).
+        - ``naccept``: accepted steps, forced ones included (NACCPT).
+        - ``nreject``: rejected steps after the first accepted one (NREJCT).
+        - ``nforced``: steps taken at hmin although the error test failed there.
+        - ``nstiff``: DOPRI5's stiffness tests with h |lambda| > 3.25.
+        - ``stiff``: True once 15 such tests came in a row (the problem is probably stiff).
+        - ``njac``, ``ndec``, ``nsol``: Jacobian evaluations, LU decompositions and
+          forward-backward substitutions of the implicit methods (NJAC, NDEC, NSOL).
+        - ``status``: the library's status code (0: t_end reached).
+        - ``message``: the library's message for that status.
+        - ``t_reached``: the time the run reached [s] (t_end on success).
+        - ``h_last``: the last step size tried [s].
+        - ``cpu_seconds``: CPU time of the library call [s] (time.process_time).
+
+        All values of a returned Result are finite.
+
+    Raises
+    ------
+    ValueError
+        Bad input, before anything runs: an unknown name, a non-number, a value out of its
+        range (the message names the parameter, its accepted range and the values given), a
+        control the method does not read, a fixed-step run needing more than max_steps steps.
+    IntegrationError
+        The run ended before t_end; one of its subclasses StepBudgetExhausted,
+        StepSizeTooSmall, StiffnessDetected, NonFiniteSolution, OutputBufferFull,
+        NewtonFailure. Its ``result`` holds the output up to ``stats["t_reached"]`` and its
+        ``status`` the library's code.
+    KeyboardInterrupt
+        Ctrl-C during the run (the integrators look at a stop flag every 4096 steps).
+
+    Warns
+    -----
+    UnusedParameterWarning
+        A physical parameter the scene and the law do not read (unless ignore_unused).
+    UserWarning
+        A fixed step h longer than the whole run, or RK4 with h beyond its stability bound
+        at the creep speed on the slope (`rk4_stability_bound`).
+
+    Examples
+    --------
+    >>> import stickslip as ss
+    >>> r = ss.simulate("belt", "proposed", method="dopri5", t_end=20.0, rtol=1e-6, atol=1e-6)
+    >>> r.x.shape, r.stats["status"], r.stats["nfev"]
+    ((1001,), 0, 2822)
+    >>> ss.simulate("slope", "lugre", method="radau5", t_end=1.0, n_out=11).z.shape
+    (11,)
+    >>> r = ss.simulate("belt", "recurdyn", method="rk4", h=1e-3, t_end=0.01, n_out=2)
+    >>> r.stats["nstep"]
+    10
     """
+    try:
+        # A setting seen before (equal arguments of equal types) is not validated again.
+        # (The types keep True from meeting 1, which is valid where True is not.)
+        key = (scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused,
+               tuple(kwargs.items()), tuple(map(type, kwargs.values())), type(t_end), type(x0),
+               type(v0), type(n_out), type(max_steps))
+        call = _CALLS.get(key)
+    except TypeError:                        # an unhashable argument (a list): validated each time
+        key = call = None
+    if call is None:
+        call = _prepare(scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0,
+                        ignore_unused, kwargs)
+        try:
+            return _execute(call)
+        finally:
+            if call.checked and key is not None and not any(
+                    isinstance(v, tuple) for v in (z0, *kwargs.values())):   # tuples may hide bools
+                if len(_CALLS) >= _CALLS_MAX:
+                    _CALLS.clear()
+                _CALLS[key] = call
+    for message, category in call.warnings:
+        warnings.warn(message, category, stacklevel=2)
+    return _execute(call)
+
+
+def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_step: Any, max_steps: Any,
+             x0: Any, v0: Any, z0: Any, ignore_unused: bool, kwargs: Mapping[str, Any]) -> _Call:
+    """Validate one setting of simulate (ValueError naming the parameter and its range) and
+    issue its warnings; the _Call holds the arguments of its Fortran call."""
     plan = _plan(scene, law, method)
     unknown = kwargs.keys() - _PARAM_SET - _CONTROL_SET
     if unknown:
@@ -453,26 +668,38 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     given = _physical({k: v for k, v in kwargs.items() if k in _PARAM_SET})
     ctl = _controls(method, plan, {k: v for k, v in kwargs.items() if k in _CONTROL_SET})
     t_end = _finite("t_end", t_end, "> 0 [s]")
-    n = plan.n
+    n_states = _n_states(law, given)
+    n = 2 + n_states
     # 1.0: a placeholder the fixed-step methods never read
     rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
     atol = _tolerance("atol", ctl.pop("atol", 1.0), n)
     for name, value in ctl.items():
         ctl[name] = _finite(name, value, "see simulate()")
+    said: list[tuple[str, type[Warning]]] = []
+
+    def warn(message: str, category: type[Warning] = UserWarning) -> None:
+        warnings.warn(message, category, stacklevel=4)      # the caller of simulate
+        said.append((message, category))
+
+    used = {k for k, _ in plan.used}
+    unused = [k for k in given if k not in used]
+    if unused and not ignore_unused:
+        warn(f"{', '.join(unused)}: not read by scene {scene!r} with law {law!r}, ignored (range-checked "
+             "only; ignore_unused=True silences this for parameter sets shared across laws)",
+             UnusedParameterWarning)
     if plan.needs_h:
         if "h" not in ctl:
             raise ValueError(f"h: required for method {method!r} (finite, > 0 [s])")
         h = ctl["h"]
         if h > t_end > 0.0:
-            warnings.warn(f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
-                          "shortened to t_end; the result is that single step (README: How to choose h)",
-                          stacklevel=2)
+            warn(f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
+                 "shortened to t_end; the result is that single step (README: How to choose h)")
         if method == "rk4" and scene == "slope" and h > 0.0:
             bound = rk4_stability_bound(law, tuple(sorted(given.items())))
             if bound is not None and h > bound:
-                warnings.warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
-                              f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
-                              "wrong creep speed (README: How to choose h)", stacklevel=2)
+                warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
+                     f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
+                     "wrong creep speed (README: How to choose h)")
     x0 = _finite("x0", x0, "[m]")
     v0 = _finite("v0", v0, "[m/s]")
     if z0 is None:
@@ -480,8 +707,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         y0[0], y0[1] = x0, v0
     else:
         z = np.atleast_1d(np.asarray(z0, dtype=np.float64))
-        if z.shape != (n - 2,) or not np.isfinite(z).all():
-            raise ValueError(f"z0: must be {n - 2} finite value(s), the initial internal states of {law!r}")
+        if z.shape != (n_states,) or not np.isfinite(z).all():
+            raise ValueError(f"z0: must be {n_states} finite value(s), the initial internal states of {law!r}")
         y0 = np.concatenate([np.array([x0, v0]), z])
 
     if max_steps is None:
@@ -493,6 +720,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
                          f"t_end = {t_end:g} s, more than max_steps = {max_steps} (raise max_steps or h)")
     ctl["max_steps"] = float(max_steps)
 
+    grid, rows = None, 0
     if every_step:
         if n_out is not None:
             raise ValueError("n_out: give either n_out or every_step, not both")
@@ -503,36 +731,95 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         if rows > MAX_ROWS:
             raise ValueError(f"max_steps: every_step would allocate {rows} rows (limit {MAX_ROWS}); "
                              "lower max_steps or use n_out")
-        t_grid = np.zeros(rows)
         ctl["every_step"] = 1.0
     else:
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
-        t_grid = _grid(t_end, n_out)
+        if n_out <= _GRID_CACHE_ROWS:
+            grid = _linspace(t_end, n_out)
+            grid.setflags(write=False)       # copied for each call (_execute)
 
     pkeys, pvals = _keys(given)
     ckeys, cvals = _keys(ctl)
-    scene_code, law_code, method_code = plan.codes
-    cpu0 = time.process_time()
-    y, istats, rstats, resolved, status = interruptible(lambda stop: _ext.run_simulation(
-        scene_code, law_code, method_code, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals,
-        t_grid, len(_STATS_INT), len(_STATS_REAL), len(_PARAM_ORDER), stop))
-    cpu = time.process_time() - cpu0
-    status = int(status)
-    _check_code(status)
+    known = {**{k: v for k, v in DEFAULTS.items() if v is not None}, **given,
+             **CONTROL_DEFAULTS, **ctl, "rtol": rtol, "atol": atol, "t_end": t_end}
+    if "v_d" not in given:                   # a derived default: its rule in the registry
+        info = REGISTRY["param"]["v_d"]
+        known["v_d"] = info["scale"] * known[info["default_of"]]
+    return _Call(scene=scene, law=law, method=method, t_end=t_end,
+                 args=(*plan.codes, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals),
+                 grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
+                 state_labels=plan.state_labels, used=plan.used, known=known)
 
-    stats: dict[str, Any] = dict(zip(_STATS_INT, istats.astype(np.int64).tolist()))   # exact: < 2**53
-    stats.update(zip(_STATS_REAL, rstats.tolist()))
-    stats["stiff"] = bool(stats["stiff"])
-    stats["message"] = status_message(status)
-    stats["cpu_seconds"] = cpu
-    rows_written = stats.pop("n_written")
-    resolved = resolved.tolist()
-    params = {k: resolved[i] for k, i in plan.used}
-    y = y[:, :rows_written]
-    result = Result(scene=scene, law=law, method=method, t_end=t_end, params=params,
-                    t=t_grid if rows_written == t_grid.size else t_grid[:rows_written].copy(),
-                    x=np.array(y[0]), v=np.array(y[1]), stats=stats, z=np.array(y[2:]),
-                    state_labels=plan.state_labels)
+
+#: The main thread's stop flag (interruptible), reused: only the main thread writes it; read
+#: and written through a memoryview (faster than numpy's indexing).
+_MAIN_STOP = np.zeros(1, dtype=np.int32)
+_MAIN_FLAG = memoryview(_MAIN_STOP)
+_MAIN_IDENT = threading.main_thread().ident
+
+
+def _after_fork() -> None:
+    global _MAIN_IDENT
+    _MAIN_IDENT = threading.main_thread().ident
+
+
+os.register_at_fork(after_in_child=_after_fork)
+
+
+def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
+    """The library call that ``simulate(scene, law, **kwargs)`` makes, as a function that makes
+    it with the same arguments and does nothing else (for the benchmarks' overhead table: what
+    simulate adds beyond it). Main thread only (it arms the SIGINT handler as simulate does)."""
+    call = _prepare(scene, law, kwargs.pop("method"), kwargs.pop("t_end"), kwargs.pop("n_out", None),
+                    kwargs.pop("every_step", False), kwargs.pop("max_steps", None), kwargs.pop("x0", 0.0),
+                    kwargs.pop("v0", 0.0), kwargs.pop("z0", None), kwargs.pop("ignore_unused", False), kwargs)
+    t_grid = np.zeros(call.rows) if call.rows else _linspace(call.t_end, call.n_out)
+    stop = np.zeros(1, dtype=np.int32)
+    run, args, sizes = _ext.run_simulation, call.args, _SIZES
+
+    def bare() -> Any:
+        stop[0] = -1
+        return run(*args, t_grid, *sizes, stop)
+    return bare
+
+
+def _execute(call: _Call) -> Result:
+    """Run a validated setting: the one place `simulate` calls the library."""
+    if call.grid is not None:
+        t_grid = call.grid.copy()
+    elif call.rows:
+        t_grid = np.zeros(call.rows)
+    else:
+        t_grid = _linspace(call.t_end, call.n_out)
+    if threading.get_ident() == _MAIN_IDENT:
+        stop, flag = _MAIN_STOP, _MAIN_FLAG
+        flag[0] = -1                          # asks the wrapper for a SIGINT handler (interruptible)
+    else:
+        stop = np.zeros(1, dtype=np.int32)
+        flag = memoryview(stop)
+    cpu0 = time.process_time()
+    # ---- the Fortran call ---------------------------------------------------------------------
+    y, istats, rstats, resolved, status = _ext.run_simulation(*call.args, t_grid, *_SIZES, stop)
+    # -------------------------------------------------------------------------------------------
+    cpu = time.process_time() - cpu0
+    if flag[0] == 1:
+        raise KeyboardInterrupt
+    if status != STATUS_OK:
+        if status <= _FIRST_INPUT_CODE:
+            raise ValueError(_with_values(status_message(status), call.known))
+        rows = int(istats[_I_WRITTEN])
+        y, t_grid = y[:, :rows], t_grid[:rows].copy()
+    elif call.rows:                           # every step: the rows written
+        rows = int(istats[_I_WRITTEN])
+        y, t_grid = y[:, :rows], t_grid[:rows].copy()
+    call.checked = True
+    result = Result.__new__(Result)
+    result.scene, result.law, result.method, result.t_end = call.scene, call.law, call.method, call.t_end
+    result.t, result.x, result.v = t_grid, y[0], y[1]
+    result.z = y[2:]
+    result.state_labels = call.state_labels
+    result._params = result._stats = None     # built on first use from _raw
+    result._raw = (istats, rstats, status, cpu, resolved, call.used)
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
     return result
