@@ -432,8 +432,9 @@ class Run:
 
     def kwargs(self) -> dict[str, Any]:
         """Keyword arguments of stickslip.simulate."""
+        # one parameter set serves every law of a figure: what a law does not read is ignored
         kw: dict[str, Any] = dict(method=self.method, t_end=self.t_end, n_out=self.n_out,
-                                  **dict(self.params))
+                                  ignore_unused=True, **dict(self.params))
         if self.fixed_step:
             kw["h"] = self.h
         else:

@@ -2,6 +2,7 @@
 call (same numbers, same errors, same warnings), and no Result shares memory with another."""
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -93,3 +94,110 @@ def test_result_pickles_whole() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         repr(back)
+
+
+# -- the API's shapes, warnings and messages --------------------------------------------------
+
+def test_z_has_the_shape_of_x_for_one_state_and_y_stacks_every_component() -> None:
+    one = ss.simulate("belt", "lugre", **RK4)
+    assert one.z.shape == one.x.shape == (3,) and one.y.shape == (3, 3)
+    assert np.array_equal(one.y[2], one.z) and np.array_equal(one.y[0], one.x)
+    none = ss.simulate("belt", "recurdyn", **RK4)
+    assert none.z.shape == (0, 3) and none.y.shape == (2, 3)
+
+
+def test_a_parameter_nothing_reads_warns_and_ignore_unused_silences_it() -> None:
+    with pytest.warns(ss.UnusedParameterWarning, match=r"^a, k: not read by scene 'slope' with law 'coulomb'"):
+        r = ss.simulate("slope", "coulomb", method="rk4", h=1e-3, t_end=0.01, a=2.0, k=5.0)
+    assert "a" not in r.params
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ss.simulate("slope", "coulomb", method="rk4", h=1e-3, t_end=0.01, a=2.0, ignore_unused=True)
+        ss.simulate("slope", "proposed", method="rk4", h=1e-3, t_end=0.01, a=2.0)    # read: no warning
+        # a batch warns only about a parameter that no row reads
+        ss.simulate_batch("slope", ["coulomb", "proposed"], method="rk4", h=1e-3, t_end=0.01, a=2.0)
+    with pytest.warns(ss.UnusedParameterWarning, match=r"^k: not read by any row"):
+        ss.simulate_batch("slope", ["coulomb", "proposed"], method="rk4", h=1e-3, t_end=0.01, k=5.0)
+
+
+@pytest.mark.parametrize("kw, shown", [
+    (dict(mu_k=0.5), "(got mu_k = 0.5, mu_s = 0.35)"),
+    (dict(mu_k=0.5, mu_s=0.4), "(got mu_k = 0.5, mu_s = 0.4)"),
+    (dict(law="recurdyn", v_d=0.01), "(got v_d = 0.01, v_s = 0.01)"),
+    (dict(t_end=1e-7), "(got hmin = 1e-06, t_end = 1e-07)"),
+    (dict(hmin=1e-3, hmax=1e-4), "(got hmax = 0.0001, hmin = 0.001)"),
+])
+def test_a_range_error_shows_the_values_it_compares(kw, shown) -> None:
+    args = dict(law="proposed", method="dopri5", t_end=1.0) | kw
+    with pytest.raises(ValueError) as err:
+        ss.simulate("slope", args.pop("law"), **args)
+    assert str(err.value).endswith(shown), str(err.value)
+
+
+def test_rtol_zero_is_a_purely_absolute_error_test_for_dopri5_and_refused_by_radau5() -> None:
+    """From rest the Karnopp law's belt motion is x = x_k (1 - cos w t) exactly
+    (test_laws_more.test_constant_kinetic_from_rest_is_harmonic)."""
+    w, x_k = math.sqrt(300.0 / 10.0), 0.3 * 9.81 * 10.0 / 300.0
+    r = ss.simulate("belt", "karnopp", method="dopri5", t_end=10.0, rtol=0.0, atol=1e-10)
+    assert np.max(np.abs(r.x - x_k * (1 - np.cos(w * r.t)))) < 1e-8
+    relative = ss.simulate("belt", "karnopp", method="dopri5", t_end=10.0, rtol=1e-6, atol=1e-10)
+    assert r.stats["nfev"] != relative.stats["nfev"]               # 0 is not replaced by a default
+    b = ss.simulate_batch("belt", "karnopp", method="dopri5", t_end=10.0, rtol=0.0, atol=1e-10)
+    assert b.nfev[0] == r.stats["nfev"] and b.x_end[0] == r.x[-1]
+    with pytest.raises(ValueError, match=r"^rtol: RADAU5 needs rtol finite and in \[100 eps"):
+        ss.simulate("belt", "karnopp", method="radau5", t_end=1.0, rtol=0.0)
+
+
+def test_help_of_simulate_documents_every_key_of_stats_and_every_section() -> None:
+    doc = ss.simulate.__doc__
+    for section in ("Parameters\n    ----------", "Returns\n    -------", "Raises\n    ------",
+                    "Examples\n    --------"):
+        assert section in doc, section
+    for method in ("rk4", "dopri5"):
+        kw = dict(h=1e-3) if method == "rk4" else {}
+        for key in ss.simulate("belt", "proposed", method=method, t_end=0.01, **kw).stats:
+            assert f"``{key}``" in doc, key
+
+
+def test_the_controls_page_lists_every_control_with_its_default() -> None:
+    from pathlib import Path
+    page = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "controls.md").read_text()
+    rows = {line.split("|")[1].strip().strip("`") for line in page.splitlines() if line.startswith("| `")}
+    assert set(ss.CONTROLS) <= rows, set(ss.CONTROLS) - rows
+    for name, value in ss.CONTROL_DEFAULTS.items():
+        assert f"| `{name}` |" in page, name
+
+
+# -- honest batch rows ------------------------------------------------------------------------
+
+def test_rk4_bound_on_the_belt_matches_the_closed_forms() -> None:
+    """Sliding with Coulomb friction (mu' = 0) the belt is an undamped oscillator, lambda = i w:
+    RK4's bound is 2 sqrt(2) / w. Stuck (v0 = v_b - w0) with the RecurDyn law the stiff real
+    eigenvalue is about -g mu'(w0), the haversine's slope: the bound tends to 2.785 / (g mu')."""
+    w = math.sqrt(300.0 / 10.0)
+    assert core.rk4_stability_bound("coulomb", scene="belt", v0=0.0) == pytest.approx(2 * math.sqrt(2) / w, rel=1e-9)
+    assert core.rk4_stability_bound("coulomb", scene="belt", v0=1.5) is None          # mu jumps at rest
+    v_s, mu_s, w0 = 1e-3, 0.35, 2e-4
+    dmu = mu_s * 0.5 * math.pi / v_s * math.sin(math.pi * w0 / v_s)
+    bound = core.rk4_stability_bound("recurdyn", (("v_s", v_s),), scene="belt", v0=1.5 - w0)
+    assert bound == pytest.approx(2.785293563405282 / (9.81 * dmu), rel=1e-3)
+    assert core.rk4_stability_bound("lugre", scene="belt") is None                     # not derived
+
+
+def test_batch_warns_for_rk4_rows_beyond_the_bound_and_flags_chatter() -> None:
+    with pytest.warns(ss.core.UnstableStepWarning, match=r"^2 RK4 row\(s\) with h beyond"):
+        b = ss.simulate_batch("slope", "recurdyn", method="rk4", t_end=1.0, h=[1e-3, 1e-2, 2e-2])
+    assert list(b.ok) == [True, True, True]             # reached t_end, all of them ...
+    assert list(b.chattered) == [False, True, True]     # ... but two chattered
+    assert not b.forced.any()
+    # a reference the flag must agree with: the RK4 slope creeping at h = 1e-3 is smooth, the
+    # monitor grid of h = 1e-2 shows the velocity reversing on most intervals of the tail
+    assert b.n_rev_tail[0] == 0 and b.n_rev_tail[1] >= 0.25 * 200 / 2
+    c = ss.simulate_batch("slope", "coulomb", method="dopri5", t_end=1.0)
+    assert c.ok[0] and c.forced[0] and c.nforced[0] > 0
+
+
+def test_the_examples_of_the_docstrings_run_as_written() -> None:
+    import doctest
+    result = doctest.testmod(core, optionflags=doctest.ELLIPSIS)
+    assert result.attempted >= 5 and result.failed == 0

@@ -90,13 +90,37 @@ MAX_ROWS = 50_000_000
 
 @functools.lru_cache(maxsize=256)
 def status_message(status: int) -> str:
-    """The library's message for a status code (a constant per code: read once)."""
+    """The library's message for a status code.
+
+    Parameters
+    ----------
+    status : int
+        A status code of the library (0: success; negative: an error, see `REGISTRY["status"]`).
+
+    Returns
+    -------
+    str
+        Its message (a constant per code, read from the library once).
+
+    Examples
+    --------
+    >>> import stickslip as ss
+    >>> ss.status_message(0)
+    'success'
+    """
     return _ext.message(status).decode().strip()
 
 
 class IntegrationError(RuntimeError):
-    """An integration that ended before t_end. `result` holds the output up to
-    `result.stats["t_reached"]`, `status` the library's code."""
+    """An integration that ended before t_end.
+
+    Attributes
+    ----------
+    status : int
+        The library's status code (negative).
+    result : Result
+        The output up to ``result.stats["t_reached"]``, with the run's counters.
+    """
 
     def __init__(self, status: int, result: "Result") -> None:
         self.status = status
@@ -133,6 +157,11 @@ class OutputBufferFull(IntegrationError):
 class NewtonFailure(IntegrationError):
     """An implicit method's Newton iteration did not converge, its matrix was singular, or the
     Jacobian was not finite."""
+
+
+class UnstableStepWarning(UserWarning):
+    """A fixed step beyond the method's linear stability bound (`rk4_stability_bound`): the run
+    may chatter, settle on a wrong state or blow up."""
 
 
 _ERRORS: dict[int, type[IntegrationError]] = {
@@ -280,14 +309,19 @@ def _check_names(params: Mapping[str, Any], allowed: tuple[str, ...]) -> None:
         raise ValueError(f"unknown parameter(s) {', '.join(sorted(unknown))} (accepted: {', '.join(allowed)})")
 
 
-def _check_code(status: int) -> None:
-    """Raise ValueError for a bad-input status: the message names the parameter and range."""
-    if status <= _FIRST_INPUT_CODE:
-        raise ValueError(status_message(status))
-
-
 def accepted_range(name: str) -> str:
-    """What the registry accepts for parameter `name`, e.g. 'must be finite and > 0 [m/s]'."""
+    """What the library accepts for a physical parameter.
+
+    Parameters
+    ----------
+    name : str
+        A physical parameter of `DEFAULTS`.
+
+    Returns
+    -------
+    str
+        Its rule from the registry, e.g. ``'must be finite and > 0 [m/s]'`` for v_s.
+    """
     return _ACCEPTED[name]
 
 
@@ -308,11 +342,28 @@ def _keys(d: Mapping[str, Any]) -> tuple[str, np.ndarray]:
 
 
 def interruptible(call: Callable[[np.ndarray], Any]) -> Any:
-    """Run call(stop) so that Ctrl-C stops it promptly. In the main thread the wrapper arms a
-    SIGINT handler for the length of the Fortran call (stop[0] = -1 asks for it; _interrupt.c)
-    that sets stop[0] = 1, which the integrators look at every 4096 steps (they then end with
-    status INTERRUPTED); KeyboardInterrupt is raised once the call has returned. Elsewhere
-    (worker threads) Python's own handling stays in place."""
+    """Run ``call(stop)`` so that Ctrl-C stops it promptly.
+
+    In the main thread the wrapper arms a SIGINT handler for the length of the Fortran call
+    (stop[0] = -1 asks for it; _interrupt.c) that sets stop[0] = 1, which the integrators look
+    at every 4096 steps (they then end with status INTERRUPTED). Elsewhere (worker threads)
+    Python's own handling stays in place.
+
+    Parameters
+    ----------
+    call : callable
+        Makes the library call with the stop flag it is given (an int32 array of one element).
+
+    Returns
+    -------
+    object
+        What `call` returned.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        Once the call has returned, if Ctrl-C was pressed during it.
+    """
     stop = np.array([-1 if threading.current_thread() is threading.main_thread() else 0], dtype=np.int32)
     out = call(stop)
     if stop[0] == 1:
@@ -324,19 +375,57 @@ def interruptible(call: Callable[[np.ndarray], Any]) -> Any:
 RK4_LIMIT = 2.785293563405282
 
 
-@functools.lru_cache(maxsize=256)
-def rk4_stability_bound(law: str, params: tuple[tuple[str, float], ...] = ()) -> float | None:
-    """RK4's stability bound 2.785/|lambda| [s] for the box on the slope creeping at v*, where
-    mu(v*) = tan(theta) and lambda = -g cos(theta) mu'(v*) (README, "How to choose h"); None
-    where no such bound exists (the box slides, or mu jumps across tan(theta) as Coulomb's does,
-    or the law has internal states). `params` are (name, value) pairs as for simulate."""
+@functools.lru_cache(maxsize=1024)
+def rk4_stability_bound(law: str, params: tuple[tuple[str, float], ...] = (), scene: str = "slope",
+                        v0: float = 0.0) -> float | None:
+    """RK4's linear stability bound on the step [s] for `law` in `scene`.
+
+    Parameters
+    ----------
+    law : str
+        A friction law of `LAWS`.
+    params : tuple of (str, float) pairs
+        Physical parameters as for `simulate` (the others at their defaults).
+    scene : str
+        "slope": the bound 2.785/|lambda| at the creep speed v*, where mu(v*) = tan(theta) and
+        lambda = -g cos(theta) mu'(v*), the state the box settles in. "belt": the bound at the
+        start (relative velocity w = v_b - v0), from the eigenvalues of the Jacobian
+        [[0, 1], [-k/m, -g mu'(w)]]: the largest h with |R(h lambda)| <= 1 for both, where R is
+        RK4's amplification factor (2.785/|lambda| for a real lambda, 2.828/|lambda| for an
+        imaginary one).
+    v0 : float
+        Initial velocity [m/s] (belt only).
+
+    Returns
+    -------
+    float or None
+        The bound [s]; None where no linear bound exists: mu jumps at that velocity (Coulomb's
+        at rest), the linearised motion grows by itself (mu falling with the relative speed),
+        the box slides on the slope without creeping, or the law has internal states (their
+        Jacobian is not derived here).
+    """
     if REGISTRY["law"][law]["n_states"] > 0:
         return None
+    d = dict(params)
+
+    def value(name: str) -> float:
+        return float(d.get(name, REGISTRY["param"][name]["default"]))
+
     p = {k: v for k, v in params if k in REGISTRY["law"][law]["params"]}
-    theta = math.radians(dict(params).get("theta_deg", REGISTRY["param"]["theta_deg"]["default"]))
-    g = dict(params).get("g", REGISTRY["param"]["g"]["default"])
+    if scene == "belt":
+        w = value("v_b") - v0
+        dv = 1e-6 * max(abs(w), value("v_s"))
+        m = friction_coefficient(law, [w - dv, w + dv, w - 0.1 * dv, w + 0.1 * dv], **p)
+        wide, narrow = m[1] - m[0], m[3] - m[2]
+        if abs(wide) > 1e-12 and abs(wide) < 3.0 * abs(narrow):
+            return None                 # the difference does not shrink with dv: a jump or an unbounded slope
+        jac = np.array([[0.0, 1.0], [-value("k") / value("m"), -value("g") * wide / (2.0 * dv)]])
+        bounds = [_rk4_ray_bound(complex(lam)) for lam in np.linalg.eigvals(jac) if lam != 0.0]
+        return None if not bounds or None in bounds else min(bounds)
+    theta = math.radians(value("theta_deg"))
+    g = value("g")
     target = math.tan(theta)
-    v_s = float(dict(params).get("v_s", REGISTRY["param"]["v_s"]["default"]))
+    v_s = value("v_s")
     if not (0.0 < target and g > 0.0):
         return None
     grid = np.concatenate([[0.0], np.geomspace(1e-8, 1e2, 400) * v_s])
@@ -356,6 +445,26 @@ def rk4_stability_bound(law: str, params: tuple[tuple[str, float], ...] = ()) ->
     return RK4_LIMIT / lam if lam > 0.0 else None
 
 
+def _rk4_ray_bound(lam: complex) -> float | None:
+    """The largest h with |R(s lam)| <= 1 for every s in (0, h], R(z) = 1 + z + z^2/2 + z^3/6
+    + z^4/24 (RK4's amplification factor); None when |R| > 1 already for small h (Re lam > 0)."""
+    def grows(h: float) -> bool:
+        z = h * lam
+        return abs(1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))) > 1.0 + 1e-12
+    scale = 1.0 / abs(lam)
+    steps = np.linspace(0.0, 4.0, 4001)[1:] * scale        # RK4's region lies within |z| < 3
+    first = next((h for h in steps if grows(h)), None)
+    if first is None:
+        return None
+    if first == steps[0]:
+        return None
+    lo, hi = first - steps[0], first
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if not grows(mid) else (lo, mid)
+    return lo
+
+
 def _fixed_steps(t_end: float, h: float) -> float:
     """Steps a fixed-step method takes from 0 to t_end (inf when uncountable; 0 for bad input,
     which the library rejects by name)."""
@@ -366,11 +475,34 @@ def _fixed_steps(t_end: float, h: float) -> float:
 
 
 def friction_coefficient(law: str, v: Any, **params: float) -> np.ndarray:
-    """Friction coefficient mu(v) [-] of `law` at relative velocities v [m/s] (scalar or array);
-    for a law with internal states, its steady-state curve.
+    """Friction coefficient mu(v) [-] of `law` at relative velocities v [m/s].
 
-    Parameters: those of REGISTRY["law"][law]["params"] (defaults in DEFAULTS); any parameter of
-    another law or scene is range-checked too.
+    Parameters
+    ----------
+    law : str
+        A friction law of `LAWS`.
+    v : float or array_like
+        Relative sliding velocities [m/s], finite.
+    **params : float
+        Parameters of the law (``REGISTRY["law"][law]["params"]``; defaults in `DEFAULTS`); any
+        parameter of another law or of a scene is range-checked too.
+
+    Returns
+    -------
+    numpy.ndarray
+        mu(v) [-], of the shape of `v`; for a law with internal states, its steady-state curve.
+
+    Raises
+    ------
+    ValueError
+        An unknown law or parameter, a value out of its range (the message names it, its range
+        and the values), a non-finite v, or a mu that overflows.
+
+    Examples
+    --------
+    >>> import stickslip as ss
+    >>> ss.friction_coefficient("coulomb", [-1.0, 1.0]).tolist()
+    [-0.3, 0.3]
     """
     code = _choice("law", law, LAWS)
     given = _physical(params)
@@ -382,7 +514,8 @@ def friction_coefficient(law: str, v: Any, **params: float) -> np.ndarray:
         raise ValueError("v: must be finite [m/s]")
     keys, vals = _keys(given)
     mu, status = _ext.friction(code, keys, vals, np.ascontiguousarray(vv.ravel()))
-    _check_code(int(status))
+    if status <= _FIRST_INPUT_CODE:
+        raise ValueError(_with_values(status_message(status), _known(given)))
     mu = np.asarray(mu).reshape(vv.shape)
     if not np.isfinite(mu).all():
         bad = vv.reshape(-1)[int(np.flatnonzero(~np.isfinite(mu.reshape(-1)))[0])]
@@ -491,6 +624,16 @@ def _show(value: Any) -> str:
     if isinstance(value, np.ndarray):
         return _show(float(value[0])) if value.size == 1 else "[" + ", ".join(_show(float(x)) for x in value) + "]"
     return f"{value:g}" if isinstance(value, float) else repr(value)
+
+
+def _known(given: Mapping[str, float]) -> dict[str, float]:
+    """Every physical parameter as the library resolves it: given, else its default (a derived
+    one, v_d, from its registry rule)."""
+    known = {k: v for k, v in DEFAULTS.items() if v is not None} | dict(given)
+    for k, info in REGISTRY["param"].items():
+        if k not in given and info["default_of"]:
+            known[k] = info["scale"] * known[info["default_of"]]
+    return known
 
 
 def _with_values(message: str, known: Mapping[str, Any]) -> str:
@@ -699,7 +842,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
             if bound is not None and h > bound:
                 warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
                      f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
-                     "wrong creep speed (README: How to choose h)")
+                     "wrong creep speed (README: How to choose h)", UnstableStepWarning)
     x0 = _finite("x0", x0, "[m]")
     v0 = _finite("v0", v0, "[m/s]")
     if z0 is None:
@@ -740,11 +883,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
 
     pkeys, pvals = _keys(given)
     ckeys, cvals = _keys(ctl)
-    known = {**{k: v for k, v in DEFAULTS.items() if v is not None}, **given,
-             **CONTROL_DEFAULTS, **ctl, "rtol": rtol, "atol": atol, "t_end": t_end}
-    if "v_d" not in given:                   # a derived default: its rule in the registry
-        info = REGISTRY["param"]["v_d"]
-        known["v_d"] = info["scale"] * known[info["default_of"]]
+    known = {**_known(given), **CONTROL_DEFAULTS, **ctl, "rtol": rtol, "atol": atol, "t_end": t_end}
     return _Call(scene=scene, law=law, method=method, t_end=t_end,
                  args=(*plan.codes, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals),
                  grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
@@ -816,7 +955,7 @@ def _execute(call: _Call) -> Result:
     result = Result.__new__(Result)
     result.scene, result.law, result.method, result.t_end = call.scene, call.law, call.method, call.t_end
     result.t, result.x, result.v = t_grid, y[0], y[1]
-    result.z = y[2:]
+    result.z = y[2] if call.n_states == 1 else y[2:]
     result.state_labels = call.state_labels
     result._params = result._stats = None     # built on first use from _raw
     result._raw = (istats, rstats, status, cpu, resolved, call.used)
