@@ -17,6 +17,7 @@ from .core import (
     NonFiniteSolution,
     OutputBufferFull,
     Result,
+    UnstableStepWarning,
     UnusedParameterWarning,
     StepBudgetExhausted,
     StepSizeTooSmall,
@@ -32,5 +33,6 @@ __all__ = [
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch", "UnusedParameterWarning",
+    "UnstableStepWarning",
 ]
 __version__ = "0.1.0"

@@ -758,9 +758,11 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     -----
     UnusedParameterWarning
         A physical parameter the scene and the law do not read (unless ignore_unused).
+    UnstableStepWarning
+        RK4 with h beyond its stability bound at the creep speed on the slope
+        (`rk4_stability_bound`).
     UserWarning
-        A fixed step h longer than the whole run, or RK4 with h beyond its stability bound
-        at the creep speed on the slope (`rk4_stability_bound`).
+        A fixed step h longer than the whole run.
 
     Examples
     --------
