@@ -32,6 +32,7 @@ stepping converges at order 1 with chatter; a target below round-off), the Advic
 """
 from __future__ import annotations
 
+import functools
 import math
 import time
 import warnings
@@ -196,27 +197,28 @@ def _text_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
 # ---------------------------------------------------------------------------------------------
 # Stability of the explicit fixed-step methods
 # ---------------------------------------------------------------------------------------------
+@functools.lru_cache(maxsize=4096)
 def _stability_radius(order: int, phi: float) -> float:
     """Largest r with |R(r e^(i phi))| <= 1 on all of (0, r], R(z) = sum_{k<=order} z^k/k! (the
     stability polynomial of an explicit Runge-Kutta method with as many stages as its order,
     order <= 4). RK4 on the negative real axis: 2.785."""
-    coef = [1.0 / math.factorial(k) for k in range(order + 1)]
+    coef = np.array([1.0 / math.factorial(k) for k in range(order + 1)])
     direction = complex(math.cos(phi), math.sin(phi))
 
-    def stable(r: float) -> bool:
-        z = r * direction
-        return abs(sum(c * z ** k for k, c in enumerate(coef))) <= 1.0 + 1e-12
+    def gain(r: Any) -> Any:
+        z = np.asarray(r) * direction
+        return np.abs(np.polyval(coef[::-1], z))
 
     grid = np.linspace(1e-3, 6.0, 6000)
-    bad = next((r for r in grid if not stable(r)), None)
-    if bad is None:
+    bad = np.flatnonzero(gain(grid) > 1.0 + 1e-12)
+    if bad.size == 0:
         return 6.0
-    lo, hi = bad - grid[1] + grid[0], bad
-    if not stable(lo):
+    if bad[0] == 0:
         return 0.0
+    lo, hi = float(grid[bad[0] - 1]), float(grid[bad[0]])
     for _ in range(50):
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if stable(mid) else (lo, mid)
+        lo, hi = (mid, hi) if gain(mid) <= 1.0 + 1e-12 else (lo, mid)
     return lo
 
 
@@ -260,7 +262,7 @@ def stability_bound(order: int, eigenvalues: np.ndarray) -> float | None:
         if mag < 1e-9:
             continue
         phi = math.atan2(lam.imag, lam.real) if lam.real < 0 else math.copysign(math.pi / 2, lam.imag or 1.0)
-        bound = min(bound, _stability_radius(order, abs(phi)) / mag)
+        bound = min(bound, _stability_radius(order, max(round(abs(phi), 6), math.pi / 2)) / mag)
     return None if math.isinf(bound) else bound
 
 
