@@ -42,8 +42,9 @@ def _brute_force(scene: str, law: str, t_end: float, quantity: str, ref: float, 
                  bound: float | None, **kw: float) -> tuple[dict[str, float], dict[str, float]]:
     """The cheapest setting of each method that meets the target: fixed-step methods at
     h = t_end/N, N = 16, 32, ... (RK4 only within its stability bound), adaptive ones at
-    rtol = 10^(-k/2); returns (evaluations of the cheapest setting that meets it, seconds per
-    evaluation over all of the method's runs)."""
+    rtol = 10^(-k/2), atol = 1e-3 rtol; a setting counts when it and every tighter one of the
+    grid meet the target (not a lucky cancellation). Returns (evaluations of that setting,
+    seconds per evaluation over all of the method's runs: the cost weight of each method)."""
     found: dict[str, float] = {}
     weight: dict[str, float] = {}
     for m in ss.METHODS:
@@ -55,16 +56,20 @@ def _brute_force(scene: str, law: str, t_end: float, quantity: str, ref: float, 
                 settings = [s for s in settings if s["h"] <= bound]
         else:
             settings = [dict(rtol=10.0 ** (-k / 2), atol=10.0 ** (-k / 2 - 3), hmax=0.0) for k in range(4, 25)]
+        meets: list[tuple[bool, int]] = []
         for s in settings:
             try:
                 r = ss.simulate(scene, law, method=m, t_end=t_end, n_out=2, **s, **kw)
             except ss.IntegrationError:
+                meets.append((False, 0))
                 continue
             nfev_all += r.stats["nfev"]
             secs_all += r.stats["cpu_seconds"]
             q = float((r.x if quantity == "x" else r.v)[-1])
-            if abs(q - ref) <= target:
-                found[m] = r.stats["nfev"]
+            meets.append((abs(q - ref) <= target, r.stats["nfev"]))
+        for i in range(len(meets)):
+            if all(ok for ok, _ in meets[i:]):
+                found[m] = meets[i][1]
                 break
         weight[m] = secs_all / nfev_all if nfev_all else math.inf
     return found, weight
@@ -134,6 +139,20 @@ def test_slope_from_rest_stribeck_against_radau5() -> None:
     assert a.predicted_cost["nfev"] * weight[a.method] <= 3.0 * cheapest, (a, found, weight)
 
 
+def test_slope_creep_unseen_parameters() -> None:
+    """Slope at 12 deg with the RecurDyn law at v_s = 2 cm/s: the box creeps (stiff, |lambda| =
+    g cos(theta) mu'(v*)). Implicit Euler's large steps look converged here but are 1.6e-6 m off
+    (they skip the start-up transient); the advice must not follow them."""
+    t_end, target = 10.0, 1e-8
+    p = dict(theta_deg=12.0, v_s=0.02)
+    a = ss.advise("slope", "recurdyn", target, t_end, **p)
+    ref = _tight("slope", "recurdyn", t_end, "x", a.method, **p)
+    assert abs(_follow(a, t_end, "x", **p) - ref) <= target
+    found, weight = _brute_force("slope", "recurdyn", t_end, "x", ref, target, a.stability_bound, **p)
+    cheapest = min(found[m] * weight[m] for m in found)
+    assert a.predicted_cost["nfev"] * weight[a.method] <= 3.0 * cheapest, (a, found, weight)
+
+
 def test_belt_stick_slip_proposed_against_tight_reference() -> None:
     """Belt started stuck (v0 = v_b) with the proposed law and unseen belt parameters: stick-slip,
     mu with an infinite slope at v = 0. The advice meets the target against a tight run of a
@@ -160,7 +179,7 @@ def test_methods_come_from_the_registry() -> None:
 
 def test_report_lists_runs_and_pilot_cost() -> None:
     a = ss.advise("belt", "recurdyn", 1e-6, 5.0, **BELT)
-    assert a.runs and all(r.role in ("pilot", "verify", "survey") for r in a.runs)
+    assert a.runs and all(r.role in ("pilot", "verify", "survey", "check") for r in a.runs)
     assert a.pilot_cost["nfev"] == sum(r.nfev for r in a.runs)
     assert a.pilot_cost["ratio"] >= 1.0
     text = str(a)

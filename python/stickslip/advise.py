@@ -71,6 +71,8 @@ MAX_STEPS: float = 1e8
 #: of the methods piloted before it: it cannot win.
 PRUNE: float = 3.0
 PRUNED = "pruned: another method is predicted cheaper than its next pilot"
+#: Tolerance of the tie-breaking runs of a third method (_tiebreak).
+TIEBREAK_RTOL: float = 1e-10
 #: Points of a pilot's output grid (the trajectory the Jacobian is sampled on).
 N_GRID: int = 33
 #: Methods that step through a friction jump with set-valued friction (when registered).
@@ -317,6 +319,7 @@ def _fixed(method: str) -> bool:
 
 def _controls(method: str, s: float) -> dict[str, float]:
     """The controls of `method` at setting s (h [s] or rtol [-])."""
+    s = float(s)
     if _fixed(method):
         return {"h": s}
     return {"rtol": s, "atol": ATOL_RATIO * s, "hmax": 0.0}
@@ -343,7 +346,7 @@ def _orders(d: list[float], ratio: float, floor: float) -> list[float]:
 
 
 def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega: float,
-           budget_seconds: float, prior_sec_per_eval: float) -> _Ladder:
+           budget_seconds: float, prior_sec_per_eval: float, first: Run | None = None) -> _Ladder:
     """Run the pilot ladder of `method` (see the module's docstring) and estimate the error of
     each run. A fixed-step ladder of order p starts where an oscillation of `omega` [rad/s] (the
     fastest on the trajectory) accumulates an error of order one over the run, (omega h)^p omega
@@ -351,7 +354,8 @@ def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega:
     away (implicit Euler settles on the centre of the belt's orbit). An explicit method starts
     within STABILITY_MARGIN `bound`. The ladder stops before a run predicted to cost more than
     `budget_seconds` (a multiple of the cheapest prediction so far; the first run of a fixed-step
-    method is priced at `prior_sec_per_eval`, the lowest seconds per evaluation seen)."""
+    method is priced at `prior_sec_per_eval`, the lowest seconds per evaluation seen). `first`:
+    the adaptive ladder's first run, when made already (the probe that orders the ladders)."""
     fixed = _fixed(method)
     lad = _Ladder(method, ratio=2.0 if fixed else 10.0)
     if fixed:
@@ -374,15 +378,18 @@ def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega:
     else:
         setting = RTOL0
     sec_per_eval = None
-    for _ in range(MAX_LADDER):
+    for rung in range(MAX_LADDER):
         if fixed and prob.t_end / setting > MAX_STEPS:
             lad.stopped = "step count beyond max_steps"
             break
         if not fixed and setting < RTOL_MIN:
             lad.stopped = f"rtol below {RTOL_MIN:g}"
             break
-        run = prob.run("pilot", method, _controls(method, setting),
-                       None if fixed else PILOT_MAX_STEPS)
+        if rung == 0 and first is not None:
+            run = first
+        else:
+            run = prob.run("pilot", method, _controls(method, setting),
+                           None if fixed else PILOT_MAX_STEPS)
         lad.settings.append(setting)
         if run.q is None:
             lad.failed.append(run)
@@ -608,8 +615,18 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
     goal = target / SAFETY
     info = REGISTRY["method"]
     explicit_fixed = [m for m in methods if _fixed(m) and not info[m]["implicit"]]
-    # adaptive first, then the higher orders: the cheap predictions come early and prune
-    order = sorted(methods, key=lambda m: (m in explicit_fixed, not info[m]["adaptive"], -info[m]["order"]))
+    # The cheap predictions should come first, to prune the others: the adaptive methods first,
+    # in the order of the cost of their first rung (made here as a probe), then the fixed-step
+    # ones by decreasing order, the explicit last (they need the Jacobian along a trajectory).
+    probes: dict[str, Run] = {}
+    for m in methods:
+        if not _fixed(m):
+            try:
+                probes[m] = prob.run("pilot", m, _controls(m, RTOL0), PILOT_MAX_STEPS)
+            except ValueError:            # refused again, with its message, by _pilot below
+                pass
+    order = sorted(methods, key=lambda m: (m in explicit_fixed, _fixed(m),
+                                           probes[m].seconds if m in probes else 0.0, -info[m]["order"]))
     ladders: dict[str, _Ladder] = {}
     cands: dict[str, tuple[Candidate, float | None]] = {}
     refused: dict[str, str] = {}
@@ -627,7 +644,8 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
         b = bound if m in explicit_fixed else None
         try:
             lad = _pilot(prob, m, goal, b, omega, PRUNE * best_seconds,
-                         min((_seconds_per_eval(x.runs) for x in ladders.values() if x.runs), default=0.0))
+                         min((_seconds_per_eval(x.runs) for x in ladders.values() if x.runs), default=0.0),
+                         probes.get(m))
         except ValueError as exc:          # the method cannot take this law or these parameters
             refused[m] = str(exc)
             continue
@@ -690,7 +708,7 @@ def _verify(prob: _Problem, advice: Advice, cand: Candidate, setting: float | No
     p = cand.order if cand.order and cand.order > 0.2 else (REGISTRY["method"][method]["order"] if fixed else 1.0)
     if setting is None:                   # a pilot run, its error already estimated
         run = next(r for r in lad.runs if r.controls == cand.controls)
-        return _agrees(advice, cand, run, run.error, ladders, target)
+        return _agrees(prob, advice, cand, run, run.error, ladders, target)
     for _ in range(MAX_TIGHTEN):
         run = prob.run("verify", method, _controls(method, setting))
         if run.q is None:
@@ -712,7 +730,7 @@ def _verify(prob: _Problem, advice: Advice, cand: Candidate, setting: float | No
             err = d + ref.error
         run.error = err
         if err <= target:
-            return _agrees(advice, cand, run, err, ladders, target)
+            return _agrees(prob, advice, cand, run, err, ladders, target)
         new = setting * (target / SAFETY / err) ** (1.0 / p)
         if fixed:
             new = prob.t_end / math.ceil(prob.t_end / new * (1 - 1e-12))
@@ -724,16 +742,23 @@ def _verify(prob: _Problem, advice: Advice, cand: Candidate, setting: float | No
     return False
 
 
-def _agrees(advice: Advice, cand: Candidate, run: Run, err: float, ladders: dict[str, _Ladder],
-            target: float) -> bool:
+def _agrees(prob: _Problem, advice: Advice, cand: Candidate, run: Run, err: float,
+            ladders: dict[str, _Ladder], target: float) -> bool:
     """Accept `run` if it agrees with the most accurate run of at least one other method within
     target + that run's error (a method can converge to a wrong value: implicit Euler's large
     steps damp an oscillation to its centre, forced steps at h_min bias DOPRI5), and fill in the
-    advice; refuse it when it disagrees with every other method."""
+    advice; refuse it when it disagrees with every other method, unless a third, adaptive
+    method run tight (_tiebreak) sides with it."""
     refs = [min((r for r in lad.runs if r.error is not None), key=lambda r: r.error)
             for m, lad in ladders.items() if m != cand.method and any(r.error is not None for r in lad.runs)]
-    refs.sort(key=lambda r: r.error)
+    refs = sorted((r for r in refs if r.error <= target), key=lambda r: r.error)   # able to judge
     agree = [r for r in refs if abs(run.q - r.q) <= target + r.error]
+    if refs and not agree:                # a third method decides, where one can run tight
+        judge = _tiebreak(prob, ladders, {cand.method} | {r.method for r in refs}, target)
+        if judge is not None:
+            refs.append(judge)
+            if abs(run.q - judge.q) <= target + judge.error:
+                agree = [judge]
     if refs and not agree:
         ref = refs[0]
         cand.note += (f"; differs from every other method, e.g. {ref.method} ({ref.setting()}) by "
@@ -745,7 +770,7 @@ def _agrees(advice: Advice, cand: Candidate, run: Run, err: float, ladders: dict
         check = (f"; agrees with {ref.method} ({ref.setting()}, error {ref.error:.2g}) within "
                  f"{abs(run.q - ref.q):.2g}")
     else:
-        check = "; no other method's run to cross-check against"
+        check = "; no other method's run was accurate enough to cross-check against"
     advice.feasible = True
     advice.method = cand.method
     advice.controls = dict(run.controls)
@@ -755,6 +780,28 @@ def _agrees(advice: Advice, cand: Candidate, run: Run, err: float, ladders: dict
                       f"target/{SAFETY:g}, error estimated against a tighter run of the same method)"
                       + check)
     return True
+
+
+def _tiebreak(prob: _Problem, ladders: dict[str, _Ladder], exclude: set[str],
+              target: float) -> Run | None:
+    """A tight run of an adaptive method not in `exclude` (rtol = TIEBREAK_RTOL, its error
+    estimated against rtol/10 as in the ladders), added to that method's ladder; None when no
+    such method reaches an error within the target."""
+    for m, lad in ladders.items():
+        if m in exclude or _fixed(m):
+            continue
+        a = prob.run("check", m, _controls(m, TIEBREAK_RTOL), PILOT_MAX_STEPS)
+        b = prob.run("check", m, _controls(m, TIEBREAK_RTOL / 10.0), PILOT_MAX_STEPS)
+        if a.q is None or b.q is None:
+            continue
+        d = abs(a.q - b.q)
+        b.error = max(d * 0.1 / 0.9, prob.floor)
+        a.error = d + b.error
+        lad.runs += [a, b]
+        lad.runs.sort(key=lambda r: -_setting_of(r))
+        if b.error <= target:
+            return b
+    return None
 
 
 def _alternatives(law: str, params: dict[str, float], tried: Sequence[str]) -> str:
