@@ -71,6 +71,10 @@ MAX_STEPS: float = 1e8
 #: of the methods piloted before it: it cannot win.
 PRUNE: float = 3.0
 PRUNED = "pruned: another method is predicted cheaper than its next pilot"
+#: The probe (first rung) of each adaptive method stops after this many steps: a method that
+#: needs more (DOPRI5 on a stiff problem) is priced by its pace and run in full only if the
+#: others leave it a chance (PRUNE).
+PROBE_MAX_STEPS: int = 2_000
 #: Tolerance of the tie-breaking runs of a third method (_tiebreak).
 TIEBREAK_RTOL: float = 1e-10
 #: Points of a pilot's output grid (the trajectory the Jacobian is sampled on).
@@ -94,6 +98,7 @@ class Run:
     nfev: int
     seconds: float
     status: str = "ok"
+    t_reached: float = math.nan
 
     def setting(self) -> str:
         """The control that sets the accuracy, as text: 'h = 0.01 s' or 'rtol = 1e-06'."""
@@ -297,12 +302,12 @@ class _Problem:
         except IntegrationError as exc:
             s = exc.result.stats
             run = Run(role, method, dict(controls), None, None, int(s["nfev"]), float(s["cpu_seconds"]),
-                      status=s["message"])
+                      status=s["message"], t_reached=float(s["t_reached"]))
         else:
             qs = res.x if self.quantity == "x" else res.v
             self.scale = max(self.scale, float(np.max(np.abs(qs))))
             run = Run(role, method, dict(controls), float(qs[-1]), None, int(res.stats["nfev"]),
-                      float(res.stats["cpu_seconds"]) or (time.process_time() - t0))
+                      float(res.stats["cpu_seconds"]) or (time.process_time() - t0), t_reached=self.t_end)
             self.results[id(run)] = res
         self.runs.append(run)
         return run
@@ -385,6 +390,13 @@ def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega:
         if not fixed and setting < RTOL_MIN:
             lad.stopped = f"rtol below {RTOL_MIN:g}"
             break
+        if rung == 0 and first is not None and first.q is None and first.status.startswith("step budget"):
+            # the probe ran out of PROBE_MAX_STEPS: price the whole run by its pace, then rerun
+            full = first.seconds * prob.t_end / max(first.t_reached, 1e-300)
+            if full > budget_seconds:
+                lad.stopped = PRUNED
+                break
+            first = None
         if rung == 0 and first is not None:
             run = first
         else:
@@ -622,11 +634,14 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
     for m in methods:
         if not _fixed(m):
             try:
-                probes[m] = prob.run("pilot", m, _controls(m, RTOL0), PILOT_MAX_STEPS)
+                probes[m] = prob.run("pilot", m, _controls(m, RTOL0), PROBE_MAX_STEPS)
             except ValueError:            # refused again, with its message, by _pilot below
                 pass
-    order = sorted(methods, key=lambda m: (m in explicit_fixed, _fixed(m),
-                                           probes[m].seconds if m in probes else 0.0, -info[m]["order"]))
+    def pace(m: str) -> float:           # seconds for the whole run at the probe's pace
+        r = probes.get(m)
+        return r.seconds * prob.t_end / max(r.t_reached, 1e-300) if r is not None else 0.0
+
+    order = sorted(methods, key=lambda m: (m in explicit_fixed, _fixed(m), pace(m), -info[m]["order"]))
     ladders: dict[str, _Ladder] = {}
     cands: dict[str, tuple[Candidate, float | None]] = {}
     refused: dict[str, str] = {}
