@@ -31,10 +31,17 @@ def _param(text: str) -> tuple[str, float]:
 def parser() -> argparse.ArgumentParser:
     """The command line of python -m cases.advise."""
     import stickslip as ss
-    names = ", ".join(f"{k} ({'1.5 v_s' if v is None else f'{v:g}'} {ss.REGISTRY['param'][k]['unit']})"
-                      for k, v in ss.DEFAULTS.items())
-    p = argparse.ArgumentParser(prog="python -m cases.advise", description=__doc__.split("\n\n")[0],
-                                epilog=f"Physical parameters (NAME, default, unit): {names}.")
+    def default(name: str) -> str:
+        info = ss.REGISTRY["param"][name]
+        if info["default_of"]:
+            return f"{info['scale']:g} {info['default_of']}"
+        return f"{info['default']:g} {info['unit']}"
+
+    names = ", ".join(f"{k} ({default(k)})" for k in ss.DEFAULTS)
+    p = argparse.ArgumentParser(prog="python -m cases.advise",
+                                description=__doc__.split("\n\n")[0].rstrip(":") + ".",
+                                epilog=f"Physical parameters (NAME, default and unit): {names}. "
+                                       "Each is passed to every run and range-checked by the library.")
     p.add_argument("--scene", required=True, choices=ss.SCENES, help="the scene")
     p.add_argument("--law", required=True, choices=ss.LAWS, help="the friction law")
     p.add_argument("--target", required=True, type=c.positive_float,

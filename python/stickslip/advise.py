@@ -332,8 +332,9 @@ def _controls(method: str, s: float) -> dict[str, float]:
 
 @dataclass
 class _Ladder:
+    """One method's pilot runs."""
+
     method: str
-    settings: list[float] = field(default_factory=list)
     runs: list[Run] = field(default_factory=list)     # the successful ones, loose to tight
     failed: list[Run] = field(default_factory=list)
     ratio: float = 2.0                                 # setting ratio between rungs
@@ -402,7 +403,6 @@ def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega:
         else:
             run = prob.run("pilot", method, _controls(method, setting),
                            None if fixed else PILOT_MAX_STEPS)
-        lad.settings.append(setting)
         if run.q is None:
             lad.failed.append(run)
             if lad.runs or len(lad.failed) >= 3 or run.status.startswith("step budget"):
@@ -433,27 +433,27 @@ def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega:
             lad.stopped = PRUNED
             break
         setting /= lad.ratio
-    _estimate_errors(lad, prob.floor, REGISTRY["method"][method]["order"])
+    _estimate_errors(lad, prob.floor, float(REGISTRY["method"][method]["order"]) if fixed else 1.0)
     return lad
 
 
-def _rho(lad: _Ladder, floor: float, nominal_order: int) -> float:
+def _rho(lad: _Ladder, floor: float, exponent: float) -> float:
     """The ratio of successive differences (the error's shrink factor per rung), from the last
-    two differences when both are above round-off, else from the method's nominal order
-    (fixed step) or tolerance proportionality (adaptive); at most 0.5."""
+    two differences when both are above round-off, else ratio^-exponent (the method's order for
+    a fixed step, 1 for a tolerance); at most 0.5."""
     d = lad.diffs()
     if len(d) >= 2 and d[-1] > floor and d[-2] > floor:
         return min(d[-1] / d[-2], 0.5)
-    return min(lad.ratio ** -float(nominal_order if lad.ratio == 2.0 else 1), 0.5)
+    return min(lad.ratio ** -exponent, 0.5)
 
 
-def _estimate_errors(lad: _Ladder, floor: float, nominal_order: int) -> None:
+def _estimate_errors(lad: _Ladder, floor: float, exponent: float) -> None:
     """Set each pilot's error estimate: |q_k - q_K| + e_K, e_K = d rho/(1 - rho), the finest
     run's own (Richardson) error; the finest run of a one-run ladder gets none."""
     if len(lad.runs) < 2:
         return
     d_last = lad.diffs()[-1]
-    rho = _rho(lad, floor, nominal_order)
+    rho = _rho(lad, floor, exponent)
     e_fine = max(d_last * rho / (1.0 - rho), floor)
     finest = lad.runs[-1]
     finest.error = e_fine
