@@ -157,7 +157,7 @@ class Advice:
                 for c in self.candidates]
         runs = [[r.role, r.method, r.setting(), _fmt(r.q, ".12g"), _fmt(r.error), str(r.nfev),
                  _fmt(r.seconds), r.status] for r in self.runs]
-        return (_text_table(["method", "order", "setting", f"error [{unit}]", "nfev", "CPU [s]",
+        return (_text_table(["method", "p", "setting", f"error [{unit}]", "nfev", "CPU [s]",
                              "meets", "note"], cand) + "\n" +
                 _text_table(["role", "method", "setting", f"{self.quantity}(t_end) [{unit}]",
                              f"error [{unit}]", "nfev", "CPU [s]", "status"], runs))
