@@ -1,7 +1,8 @@
 """The advisor (stickslip.advise, issue 21): following its advice meets the target error on
-parameter sets no study used, checked against closed forms or a tight run of a different
-method; its cost is within a factor 3 of the cheapest setting a brute-force search finds; it
-says when no method can (Coulomb, a target below round-off); bad input is a clear ValueError."""
+parameter sets no study used, checked against closed forms or RADAU5 and DOPRI5 at rtol = 1e-12;
+its cost is within a factor 3 of the cheapest setting the grid search of cases.advise.brute_force
+finds; it says when no method can (Coulomb, a target below round-off); bad input is a clear
+ValueError."""
 from __future__ import annotations
 
 import math
@@ -17,6 +18,7 @@ from stickslip.core import rk4_stability_bound
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from cases import advise as advise_cli  # noqa: E402
+from cases.advise import brute_force, reference  # noqa: E402
 from cases.workprecision import harmonic_x  # noqa: E402
 
 BELT = dict(k=450.0, m=3.0, v_b=0.8)                      # no study used these
@@ -28,51 +30,14 @@ def _q(scene: str, law: str, method: str, t_end: float, quantity: str, **kw: flo
     return float((r.x if quantity == "x" else r.v)[-1])
 
 
-def _tight(scene: str, law: str, t_end: float, quantity: str, avoid: str | None, **kw: float) -> float:
-    """A reference from a method other than `avoid` at rtol = 1e-12 (RADAU5, else DOPRI5); the
-    two agree within 1e-10 (checked), so the reference is not one method's bias."""
-    tight = dict(rtol=1e-12, atol=1e-15, hmax=0.0)
-    a = _q(scene, law, "radau5", t_end, quantity, **tight, **kw)
-    b = _q(scene, law, "dopri5", t_end, quantity, **tight, **kw)
-    assert abs(a - b) < 1e-9 * max(1.0, abs(a))
-    return b if avoid == "radau5" else a
-
-
-def _brute_force(scene: str, law: str, t_end: float, quantity: str, ref: float, target: float,
-                 bound: float | None, **kw: float) -> tuple[dict[str, float], dict[str, float]]:
-    """The cheapest setting of each method that meets the target: fixed-step methods at
-    h = t_end/N, N = 16, 32, ... (RK4 only within its stability bound), adaptive ones at
-    rtol = 10^(-k/2), atol = 1e-3 rtol; a setting counts when it and every tighter one of the
-    grid meet the target (not a lucky cancellation). Returns (evaluations of that setting,
-    seconds per evaluation over all of the method's runs: the cost weight of each method)."""
-    found: dict[str, float] = {}
-    weight: dict[str, float] = {}
-    for m in ss.METHODS:
-        info = ss.REGISTRY["method"][m]
-        nfev_all = secs_all = 0.0
-        if "h" in info["controls"]:
-            settings = [dict(h=t_end / (16 * 2 ** k)) for k in range(14)]
-            if not info["implicit"] and bound is not None:
-                settings = [s for s in settings if s["h"] <= bound]
-        else:
-            settings = [dict(rtol=10.0 ** (-k / 2), atol=10.0 ** (-k / 2 - 3), hmax=0.0) for k in range(4, 25)]
-        meets: list[tuple[bool, int]] = []
-        for s in settings:
-            try:
-                r = ss.simulate(scene, law, method=m, t_end=t_end, n_out=2, **s, **kw)
-            except ss.IntegrationError:
-                meets.append((False, 0))
-                continue
-            nfev_all += r.stats["nfev"]
-            secs_all += r.stats["cpu_seconds"]
-            q = float((r.x if quantity == "x" else r.v)[-1])
-            meets.append((abs(q - ref) <= target, r.stats["nfev"]))
-        for i in range(len(meets)):
-            if all(ok for ok, _ in meets[i:]):
-                found[m] = meets[i][1]
-                break
-        weight[m] = secs_all / nfev_all if nfev_all else math.inf
-    return found, weight
+def _assert_near_cheapest(a: ss.Advice, ref: float, **kw: float) -> None:
+    """The advised run costs at most 3x the cheapest setting of any method that meets the target
+    in the grid search of cases.advise.brute_force (costs: evaluations weighted by each method's
+    seconds per evaluation measured over its grid runs)."""
+    found = brute_force(a.scene, a.law, a.t_end, a.target_error, ref, quantity=a.quantity,
+                        bound=a.stability_bound, **kw)
+    cheapest = min(f["cost"] for f in found.values())
+    assert a.predicted_cost["nfev"] * found[a.method]["weight"] <= 3.0 * cheapest, (a, found)
 
 
 def _follow(a: ss.Advice, t_end: float, quantity: str, **kw: float) -> float:
@@ -96,9 +61,7 @@ def test_belt_harmonic_orbit_unseen_parameters(target: float) -> None:
     exact = harmonic_x(t_end, dict(ss.DEFAULTS, **p))
     assert abs(_follow(a, t_end, "x", **p) - exact) <= target
     assert a.predicted_error <= target
-    found, weight = _brute_force("belt", "stribeck", t_end, "x", exact, target, a.stability_bound, **p)
-    cheapest = min(found[m] * weight[m] for m in found)
-    assert a.predicted_cost["nfev"] * weight[a.method] <= 3.0 * cheapest, (a, found, weight)
+    _assert_near_cheapest(a, exact, **p)
 
 
 def test_belt_velocity_target() -> None:
@@ -127,41 +90,37 @@ def test_slope_sliding_at_constant_friction() -> None:
 
 def test_slope_from_rest_stribeck_against_radau5() -> None:
     """Slope at 25 deg from rest with a Stribeck law of its own (the transition near v = 0 is
-    crossed): against RADAU5 / DOPRI5 at rtol = 1e-12 (a method other than the advised one), and
+    crossed): against RADAU5 at rtol = 1e-12 (checked against DOPRI5 at the same tolerance), and
     within 3x of the brute-force cheapest."""
     t_end, target = 3.0, 1e-8
     p = dict(STRIBECK, theta_deg=25.0)
     a = ss.advise("slope", "stribeck", target, t_end, **p)
-    ref = _tight("slope", "stribeck", t_end, "x", a.method, **p)
+    ref = reference("slope", "stribeck", t_end, "x", **p)
     assert abs(_follow(a, t_end, "x", **p) - ref) <= target
-    found, weight = _brute_force("slope", "stribeck", t_end, "x", ref, target, a.stability_bound, **p)
-    cheapest = min(found[m] * weight[m] for m in found)
-    assert a.predicted_cost["nfev"] * weight[a.method] <= 3.0 * cheapest, (a, found, weight)
+    _assert_near_cheapest(a, ref, **p)
 
 
 def test_slope_creep_unseen_parameters() -> None:
     """Slope at 8 deg with the RecurDyn law at v_s = 5 mm/s: the box creeps (stiff, |lambda| =
     g cos(theta) mu'(v*)). Implicit Euler's large steps look converged here (differences of
-    1e-11 m between h = 0.94, 0.47 and 0.23 s) but are 4.6e-7 m off: they skip the start-up
-    transient. The cross-check against the other methods must refuse them."""
+    3e-10 and 6e-10 m between h = 0.94, 0.47 and 0.23 s) but are 4.6e-7 m off: they skip the
+    start-up transient. The cross-check against the other methods must refuse them."""
     t_end, target = 15.0, 1e-8
     p = dict(theta_deg=8.0, v_s=0.005)
     a = ss.advise("slope", "recurdyn", target, t_end, **p)
-    assert "implicit_euler" not in a.method
-    ref = _tight("slope", "recurdyn", t_end, "x", a.method, **p)
+    assert a.method != "implicit_euler"
+    ref = reference("slope", "recurdyn", t_end, "x", **p)
     assert abs(_follow(a, t_end, "x", **p) - ref) <= target
-    found, weight = _brute_force("slope", "recurdyn", t_end, "x", ref, target, a.stability_bound, **p)
-    cheapest = min(found[m] * weight[m] for m in found)
-    assert a.predicted_cost["nfev"] * weight[a.method] <= 3.0 * cheapest, (a, found, weight)
+    _assert_near_cheapest(a, ref, **p)
 
 
 def test_belt_stick_slip_proposed_against_tight_reference() -> None:
     """Belt started stuck (v0 = v_b) with the proposed law and unseen belt parameters: stick-slip,
-    mu with an infinite slope at v = 0. The advice meets the target against a tight run of a
-    different method; RK4 is never advised beyond its (tiny, in stick) stability bound."""
+    mu with an infinite slope at v = 0. The advice meets the target against RADAU5 and DOPRI5 at
+    rtol = 1e-12; RK4 is never advised beyond its (tiny, in stick) stability bound."""
     t_end, target = 6.0, 1e-5
     a = ss.advise("belt", "proposed", target, t_end, v0=BELT["v_b"], **BELT)
-    ref = _tight("belt", "proposed", t_end, "x", a.method, v0=BELT["v_b"], **BELT)
+    ref = reference("belt", "proposed", t_end, "x", v0=BELT["v_b"], **BELT)
     assert abs(_follow(a, t_end, "x", v0=BELT["v_b"], **BELT) - ref) <= target
     if a.method == "rk4":
         assert a.controls["h"] <= a.stability_bound
@@ -265,6 +224,14 @@ def test_cli_prints_the_table(capsys: pytest.CaptureFixture[str]) -> None:
                      "--param", "k=450", "--param", "m=3", "--param", "v_b=0.8"])
     out = capsys.readouterr().out
     assert "use method=" in out and "role" in out and "pilot" in out
+
+
+def test_cli_brute_force_check(capsys: pytest.CaptureFixture[str]) -> None:
+    """--brute-force reports the advised run's true error and its cost against the grid."""
+    advise_cli.main(["--scene", "slope", "--law", "stribeck", "--target", "1e-7", "--t-end", "2",
+                     "--param", "theta_deg=25", "--brute-force"])
+    out = capsys.readouterr().out
+    assert "brute force: reference" in out and "x the cheapest grid setting" in out
 
 
 def test_cli_bad_input(capsys: pytest.CaptureFixture[str]) -> None:

@@ -157,9 +157,9 @@ class Advice:
                 for c in self.candidates]
         runs = [[r.role, r.method, r.setting(), _fmt(r.q, ".12g"), _fmt(r.error), str(r.nfev),
                  _fmt(r.seconds), r.status] for r in self.runs]
-        return (_text_table(["method", "p", "setting", f"error [{unit}]", "nfev", "CPU [s]",
+        return (format_table(["method", "p", "setting", f"error [{unit}]", "nfev", "CPU [s]",
                              "meets", "note"], cand) + "\n" +
-                _text_table(["role", "method", "setting", f"{self.quantity}(t_end) [{unit}]",
+                format_table(["role", "method", "setting", f"{self.quantity}(t_end) [{unit}]",
                              f"error [{unit}]", "nfev", "CPU [s]", "status"], runs))
 
     def __str__(self) -> str:
@@ -192,7 +192,7 @@ def _setting(controls: dict[str, float] | None) -> str:
     return f"h = {controls['h']:.4g} s" if "h" in controls else f"rtol = {controls['rtol']:.3g}"
 
 
-def _text_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
+def format_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
     """A plain text table, columns padded to their widest cell."""
     cells = [list(header)] + [list(r) for r in rows]
     width = [max(len(row[i]) for row in cells) for i in range(len(header))]
