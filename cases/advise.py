@@ -137,18 +137,18 @@ def main(argv: Sequence[str] | None = None) -> "object":
         p.error(str(exc))
     print(advice)
     if args.brute_force:
-        print(check(advice, args.x0, args.v0))
+        print(check(advice))
     sys.stdout.flush()
     return advice
 
 
-def check(advice: "object", x0: float, v0: float) -> str:
+def check(advice: "object") -> str:
     """The --brute-force report of an Advice: true error of the advised run and cost against the
     cheapest setting of the grid search, as text."""
     import stickslip as ss
     from stickslip.advise import format_table
     a = advice
-    kw = dict(x0=x0, v0=v0, **a.params)
+    kw = dict(x0=a.x0, v0=a.v0, **a.params)
     ref = reference(a.scene, a.law, a.t_end, a.quantity, **kw)
     found = brute_force(a.scene, a.law, a.t_end, a.target_error, ref, quantity=a.quantity,
                         bound=a.stability_bound, **kw)

@@ -6,7 +6,9 @@ study covered. For each candidate method (every entry of METHODS by default, rea
 registry, so a method added there joins without edits here):
 
 1. a ladder of pilot runs, loose to tight: fixed-step methods at h = t_end/N with N doubling,
-   adaptive ones at rtol = 1e-3, 1e-4, ... (atol = 1e-3 rtol, no h_max). The ladder stops when
+   adaptive ones at rtol = 1e-3, 1e-4, ... (atol = 1e-3 rtol, no h_max); the adaptive methods
+   first, in the order of the cost of their first run (a probe), so that the cheap predictions
+   come early and prune the others. The ladder stops when
    its differences show a consistent order (three in a row), when it has passed the target,
    when the differences reach round-off, or when the next run would cost more than another
    method is already predicted to need.
@@ -22,8 +24,12 @@ registry, so a method added there joins without edits here):
    per evaluation) that meets target/SAFETY, then one verifying run at that setting, whose
    error is estimated against a tighter run of the same method (a pilot, or one more run);
    if the estimate misses the target the setting is tightened (at most MAX_TIGHTEN times).
-5. a cross-check against the most accurate run of a different method, which catches a bias the
-   same method shares with its tighter runs (forced steps at h_min, a wrong creep speed).
+5. a cross-check: the advised run must agree with the most accurate run of at least one other
+   method (within the target plus that run's error, counting runs whose own estimate is within
+   the target), and when it disagrees with all, a third adaptive method run tight decides. This
+   catches a bias a method shares with its own tighter runs (implicit Euler's large steps skip
+   the start-up transient of a creeping box and agree with each other to 1e-10 m while being
+   5e-7 m off).
 
 The error is that of the position x [m] (quantity="x") or the velocity v [m/s] (quantity="v")
 at t_end, absolute. Where no method can reach the target (Coulomb's jump under event-free
@@ -86,7 +92,9 @@ QUANTITIES: dict[str, str] = {"x": "position x [m]", "v": "velocity v [m/s]"}
 
 @dataclass
 class Run:
-    """One run the advice rests on: its role ("pilot", "verify", "check"), method and controls,
+    """One run the advice rests on: its role ("pilot"; "survey", a trajectory for the Jacobian
+    when only fixed-step methods are candidates; "verify"; "check", a tie-breaker), method and
+    controls,
     the quantity at t_end (q), the error estimate (None where none could be made), and its cost
     (evaluations, CPU seconds of the integration)."""
 
@@ -109,12 +117,13 @@ class Run:
 
 @dataclass
 class Candidate:
-    """What the pilots say about one method: its observed order p (error ~ C s^p against its
-    setting s), the setting predicted for target/SAFETY, that setting's cost, and whether it
+    """What the pilots say about one method: the exponent p of error ~ C s^p against its setting
+    s (the observed order for a fixed step h; for an adaptive method the exponent of rtol, near
+    1), the setting predicted for target/SAFETY, its predicted error and cost, and whether it
     can reach the target (with the reason when not)."""
 
     method: str
-    order: float | None = None
+    exponent: float | None = None
     controls: dict[str, float] | None = None
     predicted_error: float | None = None
     nfev: float | None = None
@@ -126,7 +135,8 @@ class Candidate:
 @dataclass
 class Advice:
     """The advisor's answer. `method` and `controls` (None and {} when infeasible) go straight
-    into simulate(scene, law, method=a.method, t_end=a.t_end, **a.controls, **a.params);
+    into simulate(scene, law, method=a.method, t_end=a.t_end, x0=a.x0, v0=a.v0, **a.controls,
+    **a.params);
     predicted_error [m or m/s] is the estimate for that run (verified by running it);
     predicted_cost {"nfev", "seconds"}; runs every run made; candidates the per-method summary;
     pilot_cost the total cost of all runs and its ratio to the advised run's."""
@@ -137,6 +147,8 @@ class Advice:
     quantity: str
     target_error: float
     params: dict[str, float]
+    x0: float
+    v0: float
     feasible: bool
     message: str
     method: str | None = None
@@ -152,7 +164,7 @@ class Advice:
     def table(self) -> str:
         """The candidates and the runs as two text tables."""
         unit = "m" if self.quantity == "x" else "m/s"
-        cand = [[c.method, _fmt(c.order, ".2f"), _setting(c.controls), _fmt(c.predicted_error),
+        cand = [[c.method, _fmt(c.exponent, ".2f"), _setting(c.controls), _fmt(c.predicted_error),
                  _fmt(c.nfev, ".0f"), _fmt(c.seconds), "yes" if c.feasible else "no", c.note]
                 for c in self.candidates]
         runs = [[r.role, r.method, r.setting(), _fmt(r.q, ".12g"), _fmt(r.error), str(r.nfev),
@@ -493,7 +505,7 @@ def _candidate(prob: _Problem, lad: _Ladder, goal: float, bound: float | None,
         if rel.size >= 1:               # one point: the method's nominal exponent through it
             p = float(REGISTRY["method"][method]["order"]) if fixed else 1.0
             c = math.log(e[rel[-1]]) - p * math.log(s[rel[-1]])
-    cand.order = p if math.isfinite(p) else None
+    cand.exponent = p if math.isfinite(p) else None
     # cost model: log nfev against log s over the last three pilots
     q_cost, c_cost = _fit(s[-3:], nfev[-3:])
     if not math.isfinite(q_cost):
@@ -512,7 +524,7 @@ def _candidate(prob: _Problem, lad: _Ladder, goal: float, bound: float | None,
         best = (float(nfev[i]), None, float(e[i]))
         chosen_run = lad.runs[i]
     # an extrapolated setting
-    if cand.order is not None and cand.order > 0.2:
+    if cand.exponent is not None and cand.exponent > 0.2:
         target_s = math.exp((math.log(goal) - c) / p)
         target_s = min(target_s, s[rel[0]] if rel.size else s[0])      # no looser than the data
         if fixed:
@@ -672,7 +684,7 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
     if refused and not ladders:
         raise ValueError(next(iter(refused.values())))
     spe = {m: _seconds_per_eval(lad.runs) for m, lad in ladders.items()}
-    advice = Advice(scene, law, float(t_end), quantity, target, given, False, "",
+    advice = Advice(scene, law, float(t_end), quantity, target, given, float(x0), float(v0), False, "",
                     seconds_per_evaluation=spe, stability_bound=bound)
     for m, why in refused.items():
         advice.candidates.append(Candidate(m, note=f"refused: {why}"))
@@ -720,7 +732,7 @@ def _verify(prob: _Problem, advice: Advice, cand: Candidate, setting: float | No
     method = cand.method
     lad = ladders[method]
     fixed = _fixed(method)
-    p = cand.order if cand.order and cand.order > 0.2 else (REGISTRY["method"][method]["order"] if fixed else 1.0)
+    p = cand.exponent if cand.exponent and cand.exponent > 0.2 else (REGISTRY["method"][method]["order"] if fixed else 1.0)
     if setting is None:                   # a pilot run, its error already estimated
         run = next(r for r in lad.runs if r.controls == cand.controls)
         return _agrees(prob, advice, cand, run, run.error, ladders, target)
