@@ -179,7 +179,7 @@ class Advice:
         head = [f"advise: {self.scene}, {self.law}, t_end = {self.t_end:g} s, target |error of "
                 f"{QUANTITIES[self.quantity].split(' [')[0]} at t_end| <= {self.target_error:.3g} {unit}"]
         if self.feasible:
-            ctl = ", ".join(f"{k}={v:.6g}" for k, v in self.controls.items())
+            ctl = ", ".join(f"{k}={v:.10g}" for k, v in self.controls.items())
             head.append(f"use method={self.method!r}, {ctl}: estimated error {self.predicted_error:.3g} "
                         f"{unit}, {self.predicted_cost['nfev']:.0f} evaluations, "
                         f"{self.predicted_cost['seconds']:.3g} s CPU")
