@@ -541,8 +541,8 @@ def _candidate(prob: _Problem, lad: _Ladder, goal: float, bound: float | None,
             err = math.exp(c + p * math.log(target_s))
             best = (cost(target_s), target_s, max(err, prob.floor))
     elif best is None:
-        cand.note = ("error at round-off in every pilot" if e_fine <= prob.floor
-                     else f"no convergence seen (pilots {lad.stopped or 'ended'})")
+        cand.note = ("error at round-off in every pilot" if e_fine <= prob.floor else lad.stopped
+                     if lad.stopped == PRUNED else f"no convergence seen ({lad.stopped or 'ladder ended'})")
     if best is None:
         if not cand.note:
             cand.note = f"pilots stop at error {e.min():.2g} ({lad.stopped})"
