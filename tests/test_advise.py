@@ -181,6 +181,13 @@ def test_coulomb_cannot_and_says_what_can() -> None:
             assert m in a.message or a.feasible
 
 
+def test_order_one_method_alone_cannot_reach_a_tight_target() -> None:
+    """Implicit Euler alone cannot reach 1e-12 m on the belt within max_steps (order 1): the
+    advice says so and names the methods left out."""
+    a = ss.advise("belt", "stribeck", 1e-12, 5.0, methods=["implicit_euler"], **BELT)
+    assert not a.feasible and "dopri5" in a.message and "jumps" not in a.message
+
+
 def test_target_below_roundoff_cannot() -> None:
     a = ss.advise("slope", "recurdyn", 1e-16, 4.0, v0=0.5, theta_deg=25.0)
     assert not a.feasible and "round-off" in a.message

@@ -649,6 +649,7 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
                 probes[m] = prob.run("pilot", m, _controls(m, RTOL0), PROBE_MAX_STEPS)
             except ValueError:            # refused again, with its message, by _pilot below
                 pass
+
     def pace(m: str) -> float:           # seconds for the whole run at the probe's pace
         r = probes.get(m)
         return r.seconds * prob.t_end / max(r.t_reached, 1e-300) if r is not None else 0.0
@@ -832,12 +833,16 @@ def _tiebreak(prob: _Problem, ladders: dict[str, _Ladder], exclude: set[str],
 
 
 def _alternatives(law: str, params: dict[str, float], tried: Sequence[str]) -> str:
-    """What can reach a target the candidates cannot: the set-valued methods (when registered
-    and not tried) and a smooth or regularised law."""
-    parts = []
-    if _has_jump(law, params):
-        parts.append(f"{law}'s mu(v) jumps at v = 0, so event-free stepping converges at order 1 "
-                     "at best and chatters while the body should stick")
+    """What can reach a target the candidates cannot. For a law whose mu jumps at v = 0: the
+    set-valued methods (when registered and not tried) and a smooth or regularised law; else the
+    methods left out with `methods=`, or a looser target."""
+    if not _has_jump(law, params):
+        left = [m for m in METHODS if m not in tried]
+        return ("the candidates' notes say why each failed; "
+                + (f"the methods left out ({', '.join(left)}) may, " if left else "")
+                + "or a looser target")
+    parts = [f"{law}'s mu(v) jumps at v = 0, so event-free stepping converges at order 1 at best "
+             "and chatters while the body should stick"]
     nonsmooth = [m for m in NONSMOOTH_METHODS if m in METHODS]
     untried = [m for m in nonsmooth if m not in tried]
     if untried:
