@@ -27,12 +27,13 @@ from .core import (
     status_message,
 )
 from .batch import BatchResult, simulate_batch
+from .advise import Advice, advise
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch", "UnusedParameterWarning",
-    "UnstableStepWarning",
+    "UnstableStepWarning", "Advice", "advise",
 ]
 __version__ = "0.1.0"
