@@ -35,11 +35,11 @@ class BatchResult:
 
     status: library status code (0 = reached t_end; see `message`). The run's counters
     (nfev, nstep, naccept, nreject, nforced, nstiff, stiff, njac, ndec, nsol, t_reached, h_last)
-    and the monitor's fields are in `fields` by name and as attributes. v_max: max |v| over the
+    and the monitor's fields are in `fields` by name and as attributes. v_max: max abs(v) over the
     initial state and the monitor grid. n_flip / n_flip_tail: sign changes of the relative
     sliding velocity (v on the slope, v_b - v on the belt) between consecutive grid points, over
     the whole run / over t >= t_end/2. n_rev / n_rev_tail: reversals of the direction of v
-    between grid points (successive differences of opposite sign, both above 64 eps max|v|), a
+    between grid points (successive differences of opposite sign, both above 64 eps max abs(v)), a
     count of high-frequency content. vrel_min_tail, vrel_max_tail: the relative velocity's
     range over t >= t_end/2. y_end (n_sets, nmax): the state at t_last (the last grid time
     reached; t_end on success), x_end and v_end its first two columns. seconds: wall-clock
