@@ -29,7 +29,6 @@ import csv
 import datetime as _dt
 import math
 import os
-import platform
 import shutil
 import subprocess
 import sys
@@ -40,9 +39,12 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from cases._common import atomic_write, write_text   # one way to write a file whole or not at all
+from cases._common import atomic_write, check_writable, write_text   # one way to write a file whole or not at all
+from cases._provenance import machine, write_provenance
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The tracked results the documentation quotes (written only with --results).
+RESULTS_DIR = ROOT / "benchmarks" / "results"
 BIN = Path(sys.executable).parent
 
 FIELDS: tuple[str, ...] = (
@@ -155,18 +157,6 @@ def time_python(fn: Callable[[], object], cfg: Config) -> tuple[float, object]:
             result = fn()
         samples.append((time.perf_counter() - t0) / inner)
     return float(np.median(samples)), result
-
-
-def machine() -> str:
-    """lscpu's model name (or the platform's processor)."""
-    try:
-        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
-        for line in out.splitlines():
-            if line.startswith("Model name:"):
-                return line.split(":", 1)[1].strip()
-    except (OSError, subprocess.CalledProcessError):
-        pass
-    return platform.processor() or platform.machine()
 
 
 # -- the scenes in Python, for solve_ivp --------------------------------------------------------
@@ -505,7 +495,7 @@ def _fmt(x: float, digits: int = 2) -> str:
 def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, seconds: float) -> str:
     date = _dt.date.today().isoformat()
     cmd = "python -m benchmarks" + (" --quick" if quick else "")
-    out = [f"Measured {date} on {machine()} ({os.cpu_count()} cores, shared), `{cmd}` "
+    out = [f"Measured {date} on {machine()} (shared), `{cmd}` "
            f"({seconds:.0f} s); medians of {cfg.repeats} samples. Ratios > 1: slower than the reference.",
            ""]
     fixed = [r for r in rows if r["section"] == "fixed"]
@@ -573,8 +563,12 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--outdir", type=Path, default=ROOT / "benchmarks" / "results",
-                        help="where benchmarks.csv, benchmarks.png and summary.md go")
+    parser.add_argument("--outdir", type=Path, default=None,
+                        help="where benchmarks.csv, benchmarks.png and summary.md go "
+                             "(default: out/benchmarks/)")
+    parser.add_argument("--results", action="store_true",
+                        help=f"write into the tracked {RESULTS_DIR.relative_to(ROOT)}/ instead, the "
+                             "tables the documentation quotes (not with --quick)")
     parser.add_argument("--build-dir", type=Path, default=ROOT / "build" / "bench",
                         help="meson build directory of the compiled benchmarks")
     parser.add_argument("--quick", action="store_true", help="a few seconds: tiny problems, one sample")
@@ -584,6 +578,11 @@ def main(argv: Sequence[str] | None = None) -> int:
                         help="count instructions per evaluation of the compiled adaptive runs with valgrind "
                              "(default: on when valgrind is installed, off with --quick)")
     args = parser.parse_args(argv)
+    if args.results and (args.quick or args.outdir is not None):
+        parser.error("argument --results: not with --quick or --outdir (the tracked tables are "
+                     "those of a full run)")
+    args.outdir = RESULTS_DIR if args.results else (args.outdir or Path("out") / "benchmarks")
+    check_writable(parser, args.outdir)
 
     cfg = QUICK if args.quick else FULL
     if args.repeats is not None:
@@ -609,5 +608,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     plot(rows, args.outdir / "benchmarks.png")
     text = summary(rows, notes, cfg, args.quick, time.perf_counter() - t0)
     write_text(args.outdir / "summary.md", text + "\n")
+    names = ["benchmarks.csv", "benchmarks.png", "summary.md"]
+    write_provenance(args.outdir, "benchmarks", [args.outdir / n for n in names], argv)
     print(text)
     return 0

@@ -17,6 +17,7 @@ import os
 import queue
 import secrets
 import sys
+import tempfile
 import textwrap
 import time
 from dataclasses import dataclass, field
@@ -80,6 +81,28 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[Any], None], *,
             pass
         raise
     return path
+
+
+def writable_problem(outdir: str | os.PathLike[str]) -> str | None:
+    """Why files cannot be written into `outdir` (created if missing), or None if they can:
+    checked by creating and removing a file there, so permissions, read-only file systems and
+    a file in the way are all found before any work starts."""
+    outdir = Path(outdir)
+    try:
+        outdir.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".write-test-", dir=outdir)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        return f"cannot write into {outdir}: {exc.strerror or exc}"
+    return None
+
+
+def check_writable(parser: argparse.ArgumentParser, outdir: str | os.PathLike[str]) -> None:
+    """End the command with a usage error (exit 2, no traceback) if `outdir` is not writable."""
+    problem = writable_problem(outdir)
+    if problem:
+        parser.error(f"argument --outdir: {problem}")
 
 
 def write_text(path: str | os.PathLike[str], text: str) -> Path:
@@ -340,14 +363,24 @@ def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[P
     args = parser.parse_args(argv)
     where = {"scheduler": args.scheduler} if sweeps else {}
     files = run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet, **where)
-    print_files(files)
-    return files
+    return finish(module, argv, files)
 
 
 def print_files(files: Iterable[Path]) -> None:
     """Print where every file went (stdout, one path a line, sorted)."""
     for f in sorted(files):
         print(f)
+
+
+def finish(module: str, argv: Sequence[str] | None, files: list[Path]) -> list[Path]:
+    """The end of every driver: record the command, date and machine beside the files
+    (`<dir>/<module>.provenance.json` in each directory written, cases._provenance), print
+    where every file went, and return the files with their sidecars."""
+    from ._provenance import write_provenance
+    dirs = sorted({Path(f).parent for f in files})
+    files = list(files) + [write_provenance(d, module, files, argv) for d in dirs]
+    print_files(files)
+    return files
 
 
 def add_law_options(parser: argparse.ArgumentParser) -> None:

@@ -298,5 +298,4 @@ def main(spec: SceneSpec, argv: Sequence[str] | None, *, description: str, t_end
     except ValueError as exc:                 # a scene parameter the library rejects
         parser.error(str(exc))
     files += [plot(f, args.outdir) for f in files if f.suffix == ".csv"]
-    c.print_files(files)
-    return files
+    return c.finish(parser.prog.split()[-1], argv, files)

@@ -79,8 +79,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     args = parser.parse_args(argv)
     files = run(args.outdir, params=c.checked_law_params(parser, args), v_max=args.v_max, n_points=args.points)
     files += [plot(f, args.outdir) for f in files]
-    c.print_files(files)
-    return files
+    return c.finish("cases.laws", argv, files)
 
 
 if __name__ == "__main__":
