@@ -272,5 +272,50 @@ def test_a_new_guide_page_joins_the_site(tmp_path) -> None:
     assert 'href="guide/zz-new-topic.html"' in (tmp_path / "out" / "index.html").read_text()
 
 
+def _doctables():
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("doctables", ROOT / "tools" / "doctables.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["doctables"] = module           # dataclasses look their module up there
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_doc_tables_agree_with_their_results_files() -> None:
+    """Every marked table of README.md and docs/ is what tools/doctables.py makes from the
+    results file it names (and there are such tables: the benchmarks and the reproduction)."""
+    doctables = _doctables()
+    stale, count = [], 0
+    for page in doctables.pages():
+        new, changed = doctables.refresh(page)
+        count += len(doctables.BLOCK.findall(page.read_text()))
+        stale += [f"{page.relative_to(ROOT)}:{line}" for line in changed]
+    assert count >= 10
+    assert not stale, "tables that disagree with their results files (python tools/doctables.py " \
+        "refreshes them):\n" + "\n".join(stale)
+
+
+def test_doc_tables_notice_a_changed_number(tmp_path) -> None:
+    """A table of selected rows and columns is rendered from a CSV with its provenance; when a
+    number in the CSV changes, the check reports the table, and a refresh makes them agree."""
+    doctables = _doctables()
+    from cases import _common
+    from cases._provenance import write_provenance
+    csv = _common.write_csv(tmp_path / "r.csv", ["law [-]", "x [m]", "n [-]"],
+                            [["a", 0.123456789, 7], ["b", 2.5e-9, 8]])
+    write_provenance(tmp_path, "cases.demo", [csv], ["--outdir", "x"])
+    page = tmp_path / "page.md"
+    page.write_text("Text.\n\n<!-- table: r.csv\ncolumns: law [-] = law; x [m] = x [m]\n"
+                    "where: law [-] = a\ndigits: 3\n-->\n<!-- end table -->\n")
+    text, changed = doctables.refresh(page)
+    assert changed == [3]
+    assert "| law | x [m] |\n|---|---|\n| a | 0.123 |\n" in text and "| b |" not in text
+    assert "written by `python -m cases.demo --outdir x`" in text
+    page.write_text(text)
+    assert doctables.refresh(page)[1] == []
+    _common.write_csv(csv, ["law [-]", "x [m]", "n [-]"], [["a", 0.124, 7]])
+    assert doctables.refresh(page)[1] == [3]
+
+
 if __name__ == "__main__":
     print("\n".join(all_undocumented()) or "every public entity is documented")
