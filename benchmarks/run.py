@@ -452,40 +452,48 @@ def write_csv(rows: list[dict], path: Path) -> None:
 
 
 def plot(rows: list[dict], path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """The figure of a run (PNG at path, PDF beside it): RK4 time per evaluation of every tool
+    on the first scene and law, and the work-precision curves of the adaptive methods."""
+    from cases import _common, _style
+
+    def who(impl: str, method: str) -> str:       # "stickslip_fortran", "rk4" -> plain words
+        return f"{_style.name(impl)}: {_style.name(method.split()[0])}" + \
+            (f" {' '.join(method.split()[1:])}" if len(method.split()) > 1 else "")
 
     fixed = [r for r in rows if r["section"] == "fixed"]
     adaptive = [r for r in rows if r["section"] == "adaptive"]
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.8))
+    fig, (ax1, ax2) = _common.new_figure(2, width=12.0)
     if fixed:
         scene, law = fixed[0]["scene"], fixed[0]["law"]
         sel = [r for r in fixed if r["scene"] == scene and r["law"] == law]
-        ax1.barh([f"{r['impl']}\n{r['method']}" for r in sel], [r["ns_per_eval"] for r in sel], color="C0")
+        ax1.barh([who(r["impl"], r["method"]) for r in sel], [r["ns_per_eval"] for r in sel],
+                 color=_style.SEQUENCE[0])
         for i, r in enumerate(sel):
-            ax1.text(r["ns_per_eval"], i, f" {r['ns_per_eval']:.0f} ns/eval, x{r['ratio_eval']:.2f}",
-                     va="center", fontsize=8)
-        ax1.set_xlabel("ns per right-hand-side evaluation")
-        ax1.set_title(f"RK4, h = {sel[0]['h_s']:g} s, {scene}/{law}, {sel[0]['t_end_s']:g} s")
-        ax1.set_xlim(0, 1.4 * max(r["ns_per_eval"] for r in sel))
+            ax1.text(r["ns_per_eval"], i, f" {r['ns_per_eval']:.0f} ns, {r['ratio_eval']:.2f}x the C loop",
+                     va="center", fontsize=7)
+        ax1.set_xlabel("time per right-hand-side evaluation [ns]")
+        ax1.set_title(f"Fixed step h = {sel[0]['h_s']:g} s\n{_style.name(scene)}, "
+                      f"{_style.name(law)} law, {sel[0]['t_end_s']:g} s")
+        ax1.set_xlim(0, 1.6 * max(r["ns_per_eval"] for r in sel))
+        ax1.tick_params(axis="y", labelsize=7)
     if adaptive:
         scene, law = adaptive[0]["scene"], adaptive[0]["law"]
         sel = [r for r in adaptive if r["scene"] == scene and r["law"] == law]
         for i, im in enumerate(dict.fromkeys((r["impl"], r["method"]) for r in sel)):
             pts = sorted((r["err"], r["median_s"]) for r in sel if (r["impl"], r["method"]) == im)
-            ax2.loglog([p[1] for p in pts], [p[0] for p in pts], "o-", color=f"C{i}",
-                       label=f"{im[0]} {im[1]}")
+            ax2.loglog([p[1] for p in pts], [p[0] for p in pts], marker="o", ms=3,
+                       color=_style.SEQUENCE[i % len(_style.SEQUENCE)],
+                       linestyle=_style.VARIANT_STYLES[(i // len(_style.SEQUENCE)) % 4],
+                       label=who(*im))
         ax2.set_xlabel("time per integration [s]")
-        ax2.set_ylabel("max error of (x, v) at t_end")
-        ax2.set_title(f"work-precision, {scene}/{law}, {sel[0]['t_end_s']:g} s")
-        ax2.legend(fontsize=7)
+        ax2.set_ylabel("largest error of (x, v) at t_end [m, m/s]")
+        ax2.set_title(f"Adaptive methods, error against time\n{_style.name(scene)}, "
+                      f"{_style.name(law)} law, {sel[0]['t_end_s']:g} s")
         ax2.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    try:
-        atomic_write(path, lambda fh: fig.savefig(fh, format="png", dpi=110), binary=True)
-    finally:
-        plt.close(fig)
+    fig.suptitle("Benchmarks (python -m benchmarks): medians of repeated runs on one machine; "
+                 "compare ratios, not absolute times")
+    _common.figure_legend(fig, [ax2], ncol=4)
+    _common.save_figure(fig, path)
 
 
 def _fmt(x: float, digits: int = 2) -> str:
@@ -608,7 +616,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     plot(rows, args.outdir / "benchmarks.png")
     text = summary(rows, notes, cfg, args.quick, time.perf_counter() - t0)
     write_text(args.outdir / "summary.md", text + "\n")
-    names = ["benchmarks.csv", "benchmarks.png", "summary.md"]
+    names = ["benchmarks.csv", "benchmarks.png", "benchmarks.pdf", "summary.md"]
     write_provenance(args.outdir, "benchmarks", [args.outdir / n for n in names], argv)
     print(text)
     return 0

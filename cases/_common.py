@@ -26,25 +26,21 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
+from . import _style
+from ._style import plt  # the Agg backend and the common style, set once
 
 #: The three friction laws of the paper (Figs. 1-19 and Tables 2-3 are about these; the
 #: library's full list is stickslip.LAWS).
 PAPER_LAWS: tuple[str, ...] = ("coulomb", "recurdyn", "proposed")
-#: Display names and colours of the three friction laws, shared by every plot.
-LAW_LABELS: dict[str, str] = {"coulomb": "Coulomb", "recurdyn": "RecurDyn (haversine)",
-                              "proposed": "Proposed (Roh & Yoo)"}
-LAW_COLORS: dict[str, str] = {"coulomb": "tab:red", "recurdyn": "tab:blue",
-                              "proposed": "tab:green"}
-#: Colours for the three variants (step sizes or tolerances) of one law.
-VARIANT_COLORS: tuple[str, ...] = ("black", "tab:orange", "tab:purple", "tab:cyan")
-VARIANT_STYLES: tuple[str, ...] = ("-", "--", ":", "-.")
-#: Size [in] and resolution [dpi] of every PNG: small enough to commit.
-FIGSIZE: tuple[float, float] = (6.4, 3.9)
-DPI: int = 90
+#: Display names and colours of every friction law, shared by every plot (cases._style).
+LAW_LABELS: dict[str, str] = _style.LAW_NAMES
+LAW_COLORS: dict[str, str] = _style.LAW_COLORS
+#: Colours and line styles for the variants (step sizes or tolerances) of one law.
+VARIANT_COLORS: tuple[str, ...] = _style.VARIANT_COLORS
+VARIANT_STYLES: tuple[str, ...] = _style.VARIANT_STYLES
+#: Size [in] of a one-panel figure and resolution [dpi] of every PNG (a PDF copy beside it).
+FIGSIZE: tuple[float, float] = _style.FIGSIZE
+DPI: int = _style.DPI
 #: Float format of every CSV: 10 significant digits.
 FLOAT_FORMAT: str = "%.10g"
 
@@ -171,38 +167,39 @@ def split_unit(name: str) -> tuple[str, str]:
 # Plot styling
 # --------------------------------------------------------------------------------------------
 def new_figure(ncols: int = 1, *, width: float | None = None) -> tuple[Any, Any]:
-    """A figure in the common style with `ncols` axes side by side."""
-    plt.rcParams.update({"font.size": 9, "axes.grid": True, "grid.alpha": 0.3,
-                         "legend.fontsize": 8, "axes.titlesize": 9, "lines.linewidth": 1.2})
+    """A figure in the common style (cases._style) with `ncols` axes side by side."""
+    _style.apply()
     w = width if width is not None else FIGSIZE[0] * (1.0 if ncols == 1 else 0.8 * ncols)
     fig, axes = plt.subplots(1, ncols, figsize=(w, FIGSIZE[1]), squeeze=False)
     return fig, axes[0] if ncols > 1 else axes[0][0]
 
 
-def figure_legend(fig: Any, axes: Iterable[Any], ncol: int = 3) -> Any:
+def figure_legend(fig: Any, axes: Iterable[Any], ncol: int = 3, caption: str | None = None,
+                  width: int = 150) -> Any:
     """One legend for the whole figure, below the axes (where it covers no data), with every
-    distinct label of `axes` once: a marker shown in any panel is explained."""
+    distinct label of `axes` once: a marker shown in any panel is explained. `caption` (what the
+    figure shows, how to read it) is set above the entries, wrapped at `width` characters."""
     handles: dict[str, Any] = {}
     for ax in axes:
         for handle, label in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(label, handle)
+    title = textwrap.fill(caption, width=width) if caption else None
     return fig.legend(list(handles.values()), list(handles), loc="lower center",
-                      ncol=min(ncol, max(len(handles), 1)), frameon=False)
+                      ncol=min(ncol, max(len(handles), 1)), frameon=False, title=title,
+                      title_fontsize=8, alignment="left" if caption else "center")
 
 
 def save_figure(fig: Any, path: str | os.PathLike[str]) -> Path:
-    """Save `fig` as PNG atomically (DPI dots per inch) and close it. A figure legend
-    (figure_legend) keeps a strip of its own height below the axes."""
+    """Save `fig` as PNG (DPI dots per inch) and as a PDF beside it, each atomically, and close
+    it; returns the PNG's path. A figure legend (figure_legend) keeps a strip of its own height
+    below the axes."""
     bottom = 0.0
     if fig.legends:
         fig.canvas.draw()
         bottom = max(leg.get_window_extent().transformed(fig.transFigure.inverted()).y1
                      for leg in fig.legends)
     fig.tight_layout(rect=(0.0, bottom, 1.0, 1.0))
-    try:
-        return atomic_write(path, lambda f: fig.savefig(f, format="png", dpi=DPI), binary=True)
-    finally:
-        plt.close(fig)
+    return _style.save(fig, path, atomic_write)
 
 
 def series_label(name: str) -> str:
@@ -234,35 +231,56 @@ def series_style(label: str, index: int) -> dict[str, Any]:
 def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLike[str],
                      title: str) -> Path:
     """Render a CSV whose first column is time [s] and whose other columns are series of one
-    quantity (e.g. "x coulomb [m]") as lines against time. When the series' final values span
-    more than two decades a second panel shows |x| on a log axis, so that every series is
-    visible without the distortion of a symmetric-log axis (whose linear region bends curves
-    near 0); the legend sits below the panels."""
+    quantity (e.g. "x coulomb [m]") as lines against time, with a panel beside it when the
+    lines alone would hide something:
+
+    - when the series lie on each other (their spread is below 2% of their range), the
+      difference of each from the first one, so that a reader sees how close they are;
+    - when their final values span more than two decades, |x| on a log axis, so that every
+      series is visible (without the distortion of a symmetric-log axis).
+
+    The legend sits below the panels, where it covers no data."""
     cols = read_numeric_csv(csv_path)
     names = list(cols)
     t = cols[names[0]]
-    finals = [abs(cols[name][-1]) for name in names[1:]]
+    series = names[1:]
+    finals = [abs(cols[name][-1]) for name in series]
     positive = [f for f in finals if f > 0.0]
     wide = len(positive) > 1 and max(positive) / min(positive) > 100.0
-    fig, axes = new_figure(2 if wide else 1)
-    axes = list(axes) if wide else [axes]
-    base, unit = split_unit(names[1])
+    ys = np.array([cols[name] for name in series])
+    spread = float(np.ptp(ys, axis=0).max()) if len(series) > 1 else 0.0
+    scale = float(max(np.ptp(ys, axis=1).max(), np.abs(ys).max(), np.finfo(float).tiny))
+    close = len(series) > 1 and spread < 0.02 * scale and not wide
+    fig, axes = new_figure(2 if (wide or close) else 1, width=FIGSIZE[0] * 1.75 if (wide or close) else None)
+    axes = list(axes) if (wide or close) else [axes]
+    base, unit = split_unit(series[0])
     quantity = base.split()[0]
-    for i, name in enumerate(names[1:]):
+    first = series_label(series[0])
+    for i, name in enumerate(series):
         key = split_unit(name)[0].split(" ", 1)[-1]
         style = series_style(key, i)
         axes[0].plot(t, cols[name], label=series_label(name), **style)
         if wide:
             y = np.abs(cols[name])
             axes[1].semilogy(t[y > 0.0], y[y > 0.0], **style)
+        elif close and i > 0:
+            axes[1].plot(t, cols[name] - cols[series[0]], **style)
     axes[0].set_ylabel(f"{quantity} [{unit}]")
-    axes[0].set_title(title if not wide else f"{quantity} on a linear axis")
     if wide:
+        axes[0].set_title(f"{quantity} on a linear axis")
         axes[1].set_ylabel(f"|{quantity}| [{unit}], log axis")
         axes[1].set_title("the same on a log axis (every series visible)")
-        fig.suptitle(title, fontsize=9)
+    elif close:
+        axes[0].set_title(f"{quantity}: the curves lie on each other")
+        axes[1].set_ylabel(f"difference in {quantity} [{unit}]")
+        axes[1].set_title(f"each curve minus {first.split(' (')[0]}: at most {spread:.2g} {unit} apart")
+        axes[1].axhline(0.0, color="k", linewidth=0.6)
+    if wide or close:
+        fig.suptitle(title)
+    else:
+        axes[0].set_title(title)
     for ax in axes:
-        ax.set_xlabel(names[0])
+        ax.set_xlabel("time t [s]" if names[0] == "t [s]" else names[0])
     figure_legend(fig, axes)
     return save_figure(fig, png_path)
 
@@ -377,6 +395,9 @@ def finish(module: str, argv: Sequence[str] | None, files: list[Path]) -> list[P
     (`<dir>/<module>.provenance.json` in each directory written, cases._provenance), print
     where every file went, and return the files with their sidecars."""
     from ._provenance import write_provenance
+    files = list(files)
+    files += [f.with_suffix(".pdf") for f in files        # the vector copy of every figure
+              if f.suffix == ".png" and f.with_suffix(".pdf").exists() and f.with_suffix(".pdf") not in files]
     dirs = sorted({Path(f).parent for f in files})
     files = list(files) + [write_provenance(d, module, files, argv) for d in dirs]
     print_files(files)
