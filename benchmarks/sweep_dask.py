@@ -27,7 +27,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from cases._common import check_writable, markdown_table, write_text
+from cases._common import check_writable, cli_description, markdown_table, write_text
 from cases._provenance import machine, write_provenance
 
 #: The tracked results the documentation quotes (written only with --results).
@@ -42,7 +42,8 @@ def sweep(rows: int) -> dict[str, Any]:
 
 def main(argv: Sequence[str] | None = None) -> str:
     parser = argparse.ArgumentParser(prog="python -m benchmarks.sweep_dask",
-                                     description=__doc__.split("\n\n")[0])
+                                     description=cli_description(__doc__),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--rows", type=int, default=100_000, help="rows of the sweep")
     parser.add_argument("--repeats", type=int, default=3, help="runs per timing (median)")
     parser.add_argument("--chunk-rows", type=int, nargs="+", default=[1000, 2000, 50_000],

@@ -362,12 +362,60 @@ def add_common_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
+def cli_description(doc: str) -> str:
+    """The --help description of a command from its module docstring: the first paragraph and,
+    when it announces them with a colon, the paragraphs that follow (a usage block, a list),
+    whole; reST's "::" shown as ":". Use with argparse.RawDescriptionHelpFormatter."""
+    out = []
+    for paragraph in inspect.cleandoc(doc).split("\n\n"):
+        out.append(paragraph.replace("::\n", ":\n").rstrip(":") + (":" if paragraph.rstrip().endswith(":") else ""))
+        if not paragraph.rstrip().endswith(":"):
+            break
+    return "\n\n".join(out)
+
+
+def changed_options(parser: argparse.ArgumentParser, args: argparse.Namespace,
+                    ignore: Iterable[str] = ("outdir", "workers", "threads", "jobs", "quiet",
+                                             "max_steps", "scheduler")) -> dict[str, Any]:
+    """The options given a value other than their default, except those in `ignore` (where
+    the files go and how the work is spread, which do not change a result)."""
+    def same(a: Any, b: Any) -> bool:
+        if isinstance(a, (list, tuple)) or isinstance(b, (list, tuple)):
+            return list(a or []) == list(b or [])
+        return a == b
+
+    return {a.dest: getattr(args, a.dest) for a in parser._actions
+            if a.dest not in ("help", *ignore) and a.default is not argparse.SUPPRESS
+            and not same(getattr(args, a.dest), a.default)}
+
+
+def parameter_outdir(outdir: Path, changed: Mapping[str, Any]) -> tuple[Path, str]:
+    """Where a run with the non-default options `changed` writes, and the note its figure
+    titles carry: `outdir` itself and "" for the paper's parameters; else a subdirectory
+    named after them (e.g. out/theta_deg=90/, "theta_deg = 90"), so that such a run never
+    overwrites the paper's figures and its files say what made them."""
+    if not changed:
+        return outdir, ""
+
+    def text(v: Any) -> str:
+        if isinstance(v, bool):
+            return "yes" if v else "no"
+        if isinstance(v, (list, tuple)):
+            return "+".join(text(x) for x in v)
+        return f"{v:g}" if isinstance(v, float) else str(v)
+
+    parts = [(k, text(v)) for k, v in sorted(changed.items())]
+    name = "_".join(k if v == "yes" else f"{k}={v}" for k, v in parts).replace("/", "-")
+    return outdir / name, ", ".join(k if v == "yes" else f"{k} = {v}" for k, v in parts)
+
+
 def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[Path]],
                argv: Sequence[str] | None) -> list[Path]:
     """The command line of a study driver (workprecision, stability): --outdir, --quick,
     --threads (OpenMP threads of simulate_batch) and --quiet, then run(outdir, quick=,
     threads=, quiet=)."""
-    parser = argparse.ArgumentParser(prog=f"python -m {module}", description=doc.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog=f"python -m {module}", description=cli_description(doc),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--outdir", type=Path, default=Path("out"),
                         help="directory for CSV and PNG files (default: out/)")
     parser.add_argument("--quick", action="store_true", help=quick_help)
@@ -379,8 +427,10 @@ def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[P
                             help="run the sweeps on the Dask cluster at ADDRESS, e.g. "
                                  "tcp://127.0.0.1:8786 (default: locally)")
     args = parser.parse_args(argv)
+    outdir, _ = parameter_outdir(args.outdir, changed_options(parser, args))
+    check_writable(parser, outdir)
     where = {"scheduler": args.scheduler} if sweeps else {}
-    files = run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet, **where)
+    files = run(outdir, quick=args.quick, threads=args.threads, quiet=args.quiet, **where)
     return finish(module, argv, files)
 
 

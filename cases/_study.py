@@ -282,7 +282,8 @@ def main(spec: SceneSpec, argv: Sequence[str] | None, *, description: str, t_end
          scene_params: Callable[[argparse.Namespace], dict[str, float]],
          run_scene: Callable[..., list[Path]]) -> list[Path]:
     """The command line of a scene driver: parse, run, plot, print where files went."""
-    parser = argparse.ArgumentParser(prog=f"python -m cases.{spec.scene}", description=description)
+    parser = argparse.ArgumentParser(prog=f"python -m cases.{spec.scene}", description=description,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     c.add_common_options(parser)
     add_study_options(parser, t_end=t_end, n_out=n_out)
     add_scene_options(parser)
@@ -299,14 +300,16 @@ def main(spec: SceneSpec, argv: Sequence[str] | None, *, description: str, t_end
                      atol_ratio=args.atol_ratio)
     except ValueError as exc:                 # a scene parameter the library rejects
         parser.error(str(exc))
-    c.log(f"{spec.scene}: simulating ({args.workers} workers)", args.quiet)
+    outdir, note = c.parameter_outdir(args.outdir, c.changed_options(parser, args))
+    c.check_writable(parser, outdir)
+    c.log(f"{spec.scene}: simulating ({args.workers} workers) -> {outdir}", args.quiet)
     try:
-        files = run_scene(args.outdir, t_end=args.t_end, n_out=args.points, params=params,
+        files = run_scene(outdir, t_end=args.t_end, n_out=args.points, params=params,
                           rtols=args.rtols, atol_ratio=args.atol_ratio, workers=args.workers,
                           quiet=args.quiet, max_steps=args.max_steps)
     except c.SimulationFailed as exc:
         parser.exit(1, f"{parser.prog}: simulation failed: {exc}\n")
     except ValueError as exc:                 # a scene parameter the library rejects
         parser.error(str(exc))
-    files += [plot(f, args.outdir) for f in files if f.suffix == ".csv"]
+    files += [plot(f, outdir, note) for f in files if f.suffix == ".csv"]
     return c.finish(parser.prog.split()[-1], argv, files)

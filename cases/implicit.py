@@ -9,11 +9,11 @@ Three studies, each a CSV (header with units) and a PNG rendered from it:
    rest, rtol = 1e-3 .. 1e-10 (atol = 1e-3 rtol): evaluations, Jacobians, LU decompositions,
    steps and CPU time of stickslip's RADAU5 (h_max unbounded, and at the paper's automatic
    h_max = 1e-2 s) and DOPRI5 against scipy's solve_ivp Radau, BDF and LSODA with a Python
-   right-hand side and analytic Jacobian (`benchmarks.run.python_rhs`, `python_jac`). Error:
+   right-hand side and analytic Jacobian (`cases._timing.python_rhs`, `python_jac`). Error:
    |x(20 s) - x_ref| against DOPRI5 at rtol = 1e-13 (`cases.workprecision.references`). CPU:
-   median wall time of the whole Python call (`benchmarks.run.time_python`).
+   median wall time of the whole Python call (`cases._timing.median_time`).
    ``implicit_slope_equal.csv``: for each solver the time to reach |error| <= 1e-8 m and 1e-10 m,
-   interpolated in log-log along its curve (`benchmarks.run.time_at_error`).
+   interpolated in log-log along its curve (`cases._timing.time_at_error`).
 2. ``fig14_implicit.csv``, ``implicit_fig14_amplitude.csv``: Fig. 14 again (belt, RecurDyn law,
    h = 1e-3 and 1e-4 s, T_END_BELT) with implicit Euler and generalized-alpha (rho_inf = 0, 0.5,
    0.9, 1). On this orbit mu = mu_k throughout (v_rel > v_d), so the motion is the linear
@@ -113,11 +113,9 @@ def slope_runs(rtols: Sequence[float], t_end: float, repeats: int, quiet: bool) 
     """One row per (law, solver, rtol) (SLOPE_HEADER)."""
     import stickslip
     from scipy.integrate import solve_ivp
-    from benchmarks.run import Config, python_jac, python_rhs, time_python
     from . import workprecision
+    from ._timing import median_time, python_jac, python_rhs
     refs = workprecision.references(t_end, 1)
-    timing = Config(fixed=[], adaptive=[], t_end_adaptive=t_end, tols=[], targets=[],
-                    repeats=repeats, min_sample=0.02)
     rows = []
     for law in SMOOTH:
         x_ref = refs[("slope", law)]["x"]
@@ -127,18 +125,18 @@ def slope_runs(rtols: Sequence[float], t_end: float, repeats: int, quiet: bool) 
                 atol = 1e-3 * rtol
                 if solver.startswith("scipy"):
                     m = solver.split()[1]
-                    sc = Config(**{**timing.__dict__, "min_sample": 0.0, "repeats": min(repeats, 3)})
-                    cpu, sol = time_python(lambda: solve_ivp(f, (0.0, t_end), [0.0, 0.0], method=m,
-                                                             rtol=rtol, atol=atol, jac=jac), sc)
+                    cpu, sol = median_time(lambda: solve_ivp(f, (0.0, t_end), [0.0, 0.0], method=m,
+                                                             rtol=rtol, atol=atol, jac=jac),
+                                           min(repeats, 3), 0.0)
                     status = int(sol.status)
                     st = {"nfev": sol.nfev, "njac": sol.njev, "ndec": sol.nlu,
                           "nstep": len(sol.t) - 1, "nforced": 0}
                     x = float(sol.y[0, -1])
                 else:
                     method, kw = _stickslip_solver(solver)
-                    cpu, res = time_python(lambda: stickslip.simulate(
+                    cpu, res = median_time(lambda: stickslip.simulate(
                         "slope", law, method=method, t_end=t_end, rtol=rtol, atol=atol, n_out=2,
-                        **kw), timing)
+                        **kw), repeats, 0.02)
                     status, st, x = res.stats["status"], res.stats, float(res.x[-1])
                 rows.append([law, solver, rtol, atol, status, int(st["nfev"]), int(st["njac"]),
                              int(st["ndec"]), int(st["nstep"]), int(st["nforced"]), cpu, x, x_ref,
@@ -149,7 +147,7 @@ def slope_runs(rtols: Sequence[float], t_end: float, repeats: int, quiet: bool) 
 
 def equal_error(rows: list[list[Any]]) -> list[list[Any]]:
     """Time to reach each target error, per law and solver, and its ratio to RADAU5's."""
-    from benchmarks.run import time_at_error
+    from ._timing import time_at_error
     out = []
     for law in SMOOTH:
         for target in TARGETS:

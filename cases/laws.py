@@ -70,7 +70,8 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Command line: python -m cases.laws [--outdir DIR] [--v-max V] [law options]."""
     parser = argparse.ArgumentParser(prog="python -m cases.laws",
-                                     description=__doc__.split("\n\n")[0])
+                                     description=c.cli_description(__doc__),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--outdir", type=Path, default=Path("out"),
                         help="directory for CSV and PNG files (default: out/)")
     parser.add_argument("--v-max", type=c.positive_float, default=V_MAX,
@@ -79,8 +80,11 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="points per velocity grid (default %(default)s)")
     c.add_law_options(parser)
     args = parser.parse_args(argv)
-    files = run(args.outdir, params=c.checked_law_params(parser, args), v_max=args.v_max, n_points=args.points)
-    files += [plot(f, args.outdir) for f in files]
+    params = c.checked_law_params(parser, args)
+    outdir, _ = c.parameter_outdir(args.outdir, c.changed_options(parser, args))
+    c.check_writable(parser, outdir)
+    files = run(outdir, params=params, v_max=args.v_max, n_points=args.points)
+    files += [plot(f, outdir) for f in files]
     return c.finish("cases.laws", argv, files)
 
 

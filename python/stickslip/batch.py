@@ -116,8 +116,7 @@ def _codes(name: str, value: str | Sequence[str], accepted: tuple[str, ...]) -> 
 def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
                    method: str | Sequence[str], t_end: Any, x0: Any = 0.0, v0: Any = 0.0,
                    n_grid: int = 201, keep_grid: bool = False, threads: int = 1,
-                   client: Any = None, chunk_rows: int | None = None, out: Any = None,
-                   progress: bool = False, **kwargs: Any) -> Any:
+                   **kwargs: Any) -> Any:
     """Simulate many parameter sets in one Fortran call, `threads` OpenMP threads over the sets.
 
     scene, law, method, t_end, x0, v0 and every keyword argument (physical parameters of
@@ -135,16 +134,10 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     Raises ValueError for bad input (the message names the parameter, and the row when the
     library finds it).
 
-    Large sweeps (stickslip.distributed): client (a dask.distributed Client) runs the rows in
-    chunks of chunk_rows, one task each, on the cluster; out (a directory) writes each chunk to
-    disk as it finishes and returns a SweepStore (resumable: chunks on disk are not rerun);
-    progress=True shows a bar on stderr per chunk. The rows are the same, bit for bit.
+    This is the local batch: one call, all rows in memory. `stickslip.simulate_batch` (module
+    stickslip.sweep) adds client, chunk_rows, out and progress for large sweeps in chunks, on a
+    Dask cluster or streamed to disk (stickslip.distributed), with the same rows bit for bit.
     """
-    if client is not None or chunk_rows is not None or out is not None or progress:
-        from .distributed import run_chunked
-        return run_chunked(dict(scene=scene, law=law, method=method, t_end=t_end, x0=x0, v0=v0,
-                                n_grid=n_grid, keep_grid=keep_grid, threads=threads, **kwargs),
-                           client=client, chunk_rows=chunk_rows, out=out, progress=progress)
     threads = _count("threads", threads)
     n_grid = _count("n_grid", n_grid)
     unknown = sorted(set(kwargs) - set(_PARAM_ORDER) - set(CONTROLS))
