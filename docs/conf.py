@@ -38,6 +38,7 @@ html_title = "stickslip"
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
+    "header_links_before_dropdown": 4,
     "secondary_sidebar_items": ["page-toc"],
     "footer_start": ["copyright"],
     "footer_end": [],
@@ -47,7 +48,7 @@ html_static_path: list[str] = []
 
 
 class _NoEmptyGuideGlob(logging.Filter):
-    """The guide's toctree ends with the glob guide/*, so that a page added to docs/guide/ joins
+    """The guide's toctree (guide/index.md) ends with a glob, so that a page added to docs/guide/ joins
     the guide by itself; when every page there is listed by name the glob matches nothing, which
     is no fault. (Sphinx gives this warning no type, so suppress_warnings cannot name it.)"""
 
