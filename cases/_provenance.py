@@ -95,7 +95,8 @@ def provenance(module: str, argv: Sequence[str] | None = None) -> dict[str, Any]
         version = None
     return {"command": command_line(module, argv),
             "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-            "machine": machine(), "python": platform.python_version(),
+            "machine": machine(), "load_average": round(os.getloadavg()[0], 2),
+            "python": platform.python_version(),
             "stickslip": version, "commit": _commit()}
 
 

@@ -286,3 +286,18 @@ def test_help_is_complete(module: str) -> None:
         if line.startswith("  -") and "  " not in line.strip():     # option alone on its line
             nxt = options.splitlines()[options.splitlines().index(line) + 1]
             assert nxt.startswith(" " * 10), f"{module}: {line.strip()} has no help"
+
+
+def test_step_search_runs_beyond_the_bound_without_warnings() -> None:
+    """laws_compare probes RK4 beyond its stability bound on purpose: the facade's warning,
+    which tells a user calling simulate() directly, is handled there and not printed; any other
+    warning still is."""
+    import warnings
+    import stickslip
+    from cases import laws_compare
+    with pytest.warns(UserWarning, match="beyond RK4's stability bound"):
+        stickslip.simulate("slope", "recurdyn", method="rk4", h=0.01, t_end=0.1, n_out=11)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r, status = laws_compare.simulate("slope", "recurdyn", "rk4", 0.01, 0.1, 11)
+    assert status == 0 and len(r.x) == 11

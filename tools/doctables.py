@@ -106,8 +106,9 @@ def source_line(path: Path) -> str:
     run = provenance_of(path)
     if run is None:
         return f"*Source: `{where}`.*"
+    load = f", load average {run['load_average']:g}" if run.get("load_average") is not None else ""
     return (f"*Source: `{where}`, written by `{run['command']}` on {run['date']}, "
-            f"{run['machine']}.*")
+            f"{run['machine']}{load}.*")
 
 
 def render(spec: Spec) -> str:
