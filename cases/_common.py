@@ -231,11 +231,11 @@ def series_style(label: str, index: int) -> dict[str, Any]:
 def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLike[str],
                      title: str) -> Path:
     """Render a CSV whose first column is time [s] and whose other columns are series of one
-    quantity (e.g. "x coulomb [m]") as lines against time, with a panel beside it when the
+    quantity (e.g. "x coulomb [m]") as lines against time, with panels beside it when the
     lines alone would hide something:
 
-    - when the series lie on each other (their spread is below 2% of their range), the
-      difference of each from the first one, so that a reader sees how close they are;
+    - when series lie on another one (within 2% of the largest range), their difference from
+      it (the first series that has such company), so that a reader sees how close they are;
     - when their final values span more than two decades, |x| on a log axis, so that every
       series is visible (without the distortion of a symmetric-log axis).
 
@@ -248,34 +248,44 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
     positive = [f for f in finals if f > 0.0]
     wide = len(positive) > 1 and max(positive) / min(positive) > 100.0
     ys = np.array([cols[name] for name in series])
-    spread = float(np.ptp(ys, axis=0).max()) if len(series) > 1 else 0.0
     scale = float(max(np.ptp(ys, axis=1).max(), np.abs(ys).max(), np.finfo(float).tiny))
-    close = len(series) > 1 and spread < 0.02 * scale and not wide
-    fig, axes = new_figure(2 if (wide or close) else 1, width=FIGSIZE[0] * 1.75 if (wide or close) else None)
-    axes = list(axes) if (wide or close) else [axes]
+    ref, close = 0, []
+    for ref in range(len(series)):
+        close = [k for k in range(ref + 1, len(series))
+                 if np.abs(ys[k] - ys[ref]).max() < 0.02 * scale]
+        if close:
+            break
+    panels = 1 + wide + bool(close)
+    fig, axes = new_figure(panels, width=FIGSIZE[0] * (1.0 + 0.75 * (panels - 1)))
+    axes = list(axes) if panels > 1 else [axes]
     base, unit = split_unit(series[0])
     quantity = base.split()[0]
-    first = series_label(series[0])
+    first = series_label(series[ref]).split(" (")[0].split(", atol")[0]
+    log_ax = axes[1] if wide else None
+    diff_ax = axes[-1] if close else None
     for i, name in enumerate(series):
         key = split_unit(name)[0].split(" ", 1)[-1]
         style = series_style(key, i)
         axes[0].plot(t, cols[name], label=series_label(name), **style)
-        if wide:
+        if log_ax is not None:
             y = np.abs(cols[name])
-            axes[1].semilogy(t[y > 0.0], y[y > 0.0], **style)
-        elif close and i > 0:
-            axes[1].plot(t, cols[name] - cols[series[0]], **style)
+            log_ax.semilogy(t[y > 0.0], y[y > 0.0], **style)
+        if diff_ax is not None and i in close:
+            diff_ax.plot(t, cols[name] - cols[series[ref]], **style)
     axes[0].set_ylabel(f"{quantity} [{unit}]")
-    if wide:
+    if log_ax is not None:
         axes[0].set_title(f"{quantity} on a linear axis")
-        axes[1].set_ylabel(f"|{quantity}| [{unit}], log axis")
-        axes[1].set_title("the same on a log axis (every series visible)")
-    elif close:
-        axes[0].set_title(f"{quantity}: the curves lie on each other")
-        axes[1].set_ylabel(f"difference in {quantity} [{unit}]")
-        axes[1].set_title(f"each curve minus {first.split(' (')[0]}: at most {spread:.2g} {unit} apart")
-        axes[1].axhline(0.0, color="k", linewidth=0.6)
-    if wide or close:
+        log_ax.set_ylabel(f"|{quantity}| [{unit}], log axis")
+        log_ax.set_title("the same on a log axis (every series visible)")
+    if diff_ax is not None:
+        spread = max(float(np.abs(ys[k] - ys[ref]).max()) for k in close)
+        if log_ax is None:
+            axes[0].set_title(f"{quantity}: curves that lie on each other")
+        diff_ax.set_ylabel(f"difference in {quantity} [{unit}]")
+        diff_ax.set_title(f"minus {first}: at most {spread:.2g} {unit} apart" if spread > 0 else
+                          f"minus {first}: identical (difference exactly 0)", pad=14)
+        diff_ax.axhline(0.0, color="k", linewidth=0.6)
+    if panels > 1:
         fig.suptitle(title)
     else:
         axes[0].set_title(title)
