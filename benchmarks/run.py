@@ -351,6 +351,18 @@ def write_csv(rows: list[dict], path: Path) -> None:
     atomic_write(path, write)
 
 
+def read_rows(path: Path) -> list[dict]:
+    """The rows of a benchmarks.csv (write_csv), numbers as floats."""
+    def value(text: str) -> object:
+        try:
+            return float(text)
+        except ValueError:
+            return text
+
+    with open(path, newline="", encoding="utf-8") as fh:
+        return [{k: value(v) for k, v in row.items()} for row in csv.DictReader(fh)]
+
+
 def plot(rows: list[dict], path: Path) -> None:
     """The figure of a run (PNG at path, PDF beside it): RK4 time per evaluation of every tool
     on the first scene and law, and the work-precision curves of the adaptive methods."""
@@ -481,6 +493,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--build-dir", type=Path, default=ROOT / "build" / "bench",
                         help="meson build directory of the compiled benchmarks")
     parser.add_argument("--quick", action="store_true", help="a few seconds: tiny problems, one sample")
+    parser.add_argument("--replot", action="store_true",
+                        help="run nothing: draw benchmarks.png and .pdf again from the "
+                             "benchmarks.csv already in the output directory")
     parser.add_argument("--repeats", type=int, default=None, help="samples per median")
     parser.add_argument("--no-scipy", action="store_true", help="leave out solve_ivp")
     parser.add_argument("--callgrind", action=argparse.BooleanOptionalAction, default=None,
@@ -492,6 +507,14 @@ def main(argv: Sequence[str] | None = None) -> int:
                      "those of a full run)")
     args.outdir = RESULTS_DIR if args.results else (args.outdir or Path("out") / "benchmarks")
     check_writable(parser, args.outdir)
+    if args.replot:
+        if not (args.outdir / "benchmarks.csv").exists():
+            parser.error(f"argument --replot: no benchmarks.csv in {args.outdir}")
+        png = args.outdir / "benchmarks.png"
+        plot(read_rows(args.outdir / "benchmarks.csv"), png)
+        write_provenance(args.outdir, "benchmarks", [png, png.with_suffix(".pdf")], argv)
+        print(png)
+        return 0
 
     cfg = QUICK if args.quick else FULL
     if args.repeats is not None:

@@ -301,3 +301,17 @@ def test_step_search_runs_beyond_the_bound_without_warnings() -> None:
         warnings.simplefilter("error")
         r, status = laws_compare.simulate("slope", "recurdyn", "rk4", 0.01, 0.1, 11)
     assert status == 0 and len(r.x) == 11
+
+
+def test_benchmarks_replot_draws_from_the_csv_alone(tmp_path: Path) -> None:
+    """python -m benchmarks --replot runs nothing and draws the figure (PNG and PDF) from the
+    benchmarks.csv in the output directory; without one it is a usage error."""
+    import shutil
+    from benchmarks import run
+    with pytest.raises(SystemExit) as exit_info:
+        run.main(["--replot", "--outdir", str(tmp_path)])
+    assert exit_info.value.code == 2
+    shutil.copy(run.RESULTS_DIR / "benchmarks.csv", tmp_path / "benchmarks.csv")
+    assert run.main(["--replot", "--outdir", str(tmp_path)]) == 0
+    assert (tmp_path / "benchmarks.png").stat().st_size > 0
+    assert (tmp_path / "benchmarks.pdf").read_bytes().startswith(b"%PDF")
