@@ -13,8 +13,9 @@ Sections (the ``section`` column of the CSV):
   from Fortran at the same tolerance.
 - ``equal_accuracy``: for each method the time to reach an error target, interpolated in
   log-log along its work-precision curve, as a ratio to stickslip DOPRI5 (Fortran).
-- ``overhead``: short runs (OVERHEAD) timed from Fortran and through ``stickslip.simulate``;
-  the difference is what the Python facade and f2py add per call.
+- ``overhead``: short runs (OVERHEAD) through ``stickslip.simulate`` and through a bare call
+  of the f2py wrapper with the same arguments, interleaved; ``overhead_s`` is the median of the
+  per-call differences, what the Python facade adds per call.
 
 Times are medians of several samples; each sample repeats a run until it lasts long enough.
 Nothing asserts an absolute time: the machine is shared. The compiled adaptive runs also get a
@@ -51,7 +52,7 @@ BIN = Path(sys.executable).parent
 FIELDS: tuple[str, ...] = (
     "section", "impl", "method", "scene", "law", "t_end_s", "h_s", "tol", "target_err",
     "repeats", "median_s", "nstep", "nfev", "ns_per_step", "ns_per_eval", "instr_per_eval", "x_end_m",
-    "v_end_m_s", "err", "reference", "ratio_step", "ratio_eval", "ratio_time",
+    "v_end_m_s", "err", "reference", "ratio_step", "ratio_eval", "ratio_time", "overhead_s",
 )
 REFERENCE_TOL = 1e-13
 #: Fixed-step implicit methods timed beside RK4 (from Python, default controls).
@@ -168,7 +169,8 @@ def _row(section: str, impl: str, method: str, scene: str, law: str, t_end: floa
             "ns_per_step": 1e9 * median_s / nstep if nstep else float("nan"),
             "ns_per_eval": 1e9 * median_s / nfev if nfev else float("nan"), "instr_per_eval": float("nan"),
             "x_end_m": x, "v_end_m_s": v, "err": err, "reference": "",
-            "ratio_step": float("nan"), "ratio_eval": float("nan"), "ratio_time": float("nan")}
+            "ratio_step": float("nan"), "ratio_eval": float("nan"), "ratio_time": float("nan"),
+            "overhead_s": float("nan")}
 
 
 def run_fixed(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -> list[dict]:
@@ -282,29 +284,51 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
     return rows
 
 
+#: Calls of each OVERHEAD run, alternating with as many bare calls of the wrapper.
+OVERHEAD_CALLS = 3000
+
+
 def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -> list[dict]:
-    """Rows of the ``overhead`` section: each OVERHEAD run from Fortran and from Python (the
-    controls of bench_fortran: rtol = atol = tol, hmin = 0, hmax = t_end; output at t_end)."""
+    """Rows of the ``overhead`` section: for each OVERHEAD run (rtol = atol = tol, hmin = 0,
+    hmax = t_end; output at t_end), OVERHEAD_CALLS calls of ``stickslip.simulate`` interleaved
+    with as many bare calls of the f2py wrapper with the same arguments (the library call
+    simulate makes, and nothing else: stickslip.core._bare_call), alternating which goes first.
+    median_s: the median time of each; overhead_s (on the simulate row): the median of the
+    per-pair differences, what the facade adds per call."""
     import stickslip
+    from stickslip.core import _bare_call
 
     rows: list[dict] = []
+    clock = time.perf_counter
     for scene, law, method, t_end, hp in OVERHEAD:
         fixed = method == "rk4"
         kw = dict(h=hp) if fixed else dict(rtol=hp, atol=hp, hmin=0.0, hmax=t_end, max_steps=10**8)
         step = dict(h=hp) if fixed else dict(tol=hp)
-        r = run_program(exes["bench_fortran"], scene, law, method, t_end, hp, cfg)
-        base = _row("overhead", "stickslip_fortran", method, scene, law, t_end, **step, repeats=cfg.repeats,
-                    median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"], x=r["x"], v=r["v"])
-        med, res = time_python(lambda: stickslip.simulate(scene, law, method=method, t_end=t_end, n_out=2,
-                                                          **kw), cfg)
-        row = _row("overhead", "stickslip_python", method, scene, law, t_end, **step, repeats=cfg.repeats,
-                   median_s=med, nstep=res.stats["nstep"], nfev=res.stats["nfev"], x=float(res.x[-1]),
-                   v=float(res.v[-1]))
+        sim = lambda: stickslip.simulate(scene, law, method=method, t_end=t_end, n_out=2, **kw)  # noqa: E731
+        bare = _bare_call(scene, law, method=method, t_end=t_end, n_out=2, **kw)
+        res = sim()
+        t_bare, t_sim = np.empty(OVERHEAD_CALLS), np.empty(OVERHEAD_CALLS)
+        for i in range(OVERHEAD_CALLS):
+            if i % 2:
+                t0 = clock(); bare(); t1 = clock(); sim(); t2 = clock()          # noqa: E702
+                t_bare[i], t_sim[i] = t1 - t0, t2 - t1
+            else:
+                t0 = clock(); sim(); t1 = clock(); bare(); t2 = clock()          # noqa: E702
+                t_sim[i], t_bare[i] = t1 - t0, t2 - t1
+        over = float(np.median(t_sim - t_bare))
+        base = _row("overhead", "f2py_wrapper", method, scene, law, t_end, **step, repeats=OVERHEAD_CALLS,
+                    median_s=float(np.median(t_bare)), nstep=res.stats["nstep"], nfev=res.stats["nfev"],
+                    x=float(res.x[-1]), v=float(res.v[-1]))
+        row = _row("overhead", "stickslip_python", method, scene, law, t_end, **step, repeats=OVERHEAD_CALLS,
+                   median_s=float(np.median(t_sim)), nstep=res.stats["nstep"], nfev=res.stats["nfev"],
+                   x=float(res.x[-1]), v=float(res.v[-1]))
+        row["overhead_s"] = over
         for x in (base, row):
-            x["reference"] = "stickslip_fortran"
+            x["reference"] = "f2py_wrapper"
             x["ratio_time"] = x["median_s"] / base["median_s"]
-        log(f"overhead {scene:5s} {law:8s} {method:7s} Fortran {1e6 * base['median_s']:7.1f} us, "
-            f"Python {1e6 * med:7.1f} us: +{1e6 * (med - base['median_s']):.1f} us per call")
+        log(f"overhead {scene:5s} {law:8s} {method:7s} wrapper {1e6 * base['median_s']:7.1f} us, "
+            f"simulate {1e6 * row['median_s']:7.1f} us: +{1e6 * over:.2f} us per call "
+            f"(median of {OVERHEAD_CALLS} interleaved pairs)")
         rows += [base, row]
     return rows
 
@@ -469,14 +493,15 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
     over = [r for r in rows if r["section"] == "overhead"]
     if over:
         out += ["**Facade overhead per call** (short runs, output at t_end: stickslip.simulate against "
-                "the same run from Fortran):", "",
-                "| scene / law | method | h or tol | steps | Fortran us | Python us | overhead us | ratio |",
+                "a bare call of the f2py wrapper with the same arguments; medians of "
+                f"{over[0]['repeats']} interleaved calls each, overhead = median of the differences):", "",
+                "| scene / law | method | h or tol | steps | wrapper us | simulate us | overhead us | ratio |",
                 "|---|---|---|---|---|---|---|---|"]
         for f, p in zip(over[::2], over[1::2]):
             hp = f["h_s"] if math.isfinite(f["h_s"]) else f["tol"]
             out.append(f"| {f['scene']} / {f['law']} | {f['method']} | {hp:g} | {p['nstep']} | "
                        f"{1e6 * f['median_s']:.1f} | {1e6 * p['median_s']:.1f} | "
-                       f"{1e6 * (p['median_s'] - f['median_s']):.1f} | {_fmt(p['ratio_time'])} |")
+                       f"{1e6 * p['overhead_s']:.2f} | {_fmt(p['ratio_time'])} |")
         out.append("")
     return "\n".join(out)
 

@@ -9,6 +9,7 @@ all (an interrupted run never leaves half a CSV or PNG behind).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import inspect
 import math
@@ -20,9 +21,10 @@ import sys
 import tempfile
 import textwrap
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterable, Mapping, Sequence
+from typing import Any, Callable, Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
 
@@ -504,6 +506,18 @@ def checked_law_params(parser: argparse.ArgumentParser,
     return params
 
 
+
+@contextlib.contextmanager
+def steps_beyond_stability() -> Iterator[None]:
+    """Silence stickslip's UnstableStepWarning inside: for the studies that choose fixed steps
+    beyond RK4's stability bound on purpose (a stability map, a step sweep), where the warning
+    says nothing the study does not measure and report."""
+    import stickslip
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", stickslip.core.UnstableStepWarning)
+        yield
+
+
 def log(message: str, quiet: bool = False) -> None:
     """A progress line on stderr."""
     if not quiet:
@@ -546,8 +560,9 @@ class Run:
 
     def kwargs(self) -> dict[str, Any]:
         """Keyword arguments of stickslip.simulate."""
+        # one parameter set serves every law of a figure: what a law does not read is ignored
         kw: dict[str, Any] = dict(method=self.method, t_end=self.t_end, n_out=self.n_out,
-                                  **dict(self.params))
+                                  ignore_unused=True, **dict(self.params))
         if self.fixed_step:
             kw["h"] = self.h
         else:

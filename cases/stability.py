@@ -174,11 +174,12 @@ def rk4_map(v_ss: Sequence[float], n_h: int, threads: int, client: Any = None) -
     for n_grid in sorted({r["n_grid"] for r in rows}):
         idx = [i for i, r in enumerate(rows) if r["n_grid"] == n_grid]
         sub = [rows[i] for i in idx]
-        b = stickslip.simulate_batch([r["scene"] for r in sub], [r["law"] for r in sub],
-                                     method="rk4", t_end=[r["t_end"] for r in sub],
-                                     h=[r["h"] for r in sub], v_s=[r["v_s"] for r in sub],
-                                     x0=[r["x0"] for r in sub], v0=[r["v0"] for r in sub],
-                                     n_grid=n_grid, threads=threads, client=client)
+        with c.steps_beyond_stability():           # h spans [h_lin/20, 20 h_lin] on purpose
+            b = stickslip.simulate_batch([r["scene"] for r in sub], [r["law"] for r in sub],
+                                         method="rk4", t_end=[r["t_end"] for r in sub],
+                                         h=[r["h"] for r in sub], v_s=[r["v_s"] for r in sub],
+                                         x0=[r["x0"] for r in sub], v0=[r["v0"] for r in sub],
+                                         n_grid=n_grid, threads=threads, client=client)
         for j, (i, r) in enumerate(zip(idx, sub)):
             cls = classify(b, j, v_bound(r["scene"], r["t_end"], r["v0"]), n_grid)
             out[i] = [r["scene"], r["law"], r["v_s"], r["h"], r["h_lin"], r["t_end"],
@@ -331,9 +332,11 @@ def extremes(quick: bool = False, threads: int = 2, client: Any = None) -> list[
             cols[k] = [r.get(k, _params().get(k)) for r in rows]
         if method == "dopri5":
             cols.pop("h", None)
-        b = stickslip.simulate_batch([r["scene"] for r in rows], [r["law"] for r in rows],
-                                     method=method, n_grid=201, threads=threads, client=client,
-                                     **cols)
+            cols.update(hmin=1e-6, hmax=1e-2)   # the paper's step range (simulate's hmax: t_end)
+        with c.steps_beyond_stability():           # the extremes go beyond on purpose
+            b = stickslip.simulate_batch([r["scene"] for r in rows], [r["law"] for r in rows],
+                                         method=method, n_grid=201, threads=threads, client=client,
+                                         **cols)
         for i, (name, kw) in enumerate(sel):
             outcome = "ok" if b.status[i] == 0 else b.message(i)
             finite = bool(np.isfinite([b.x_end[i], b.v_end[i], b.v_max[i]]).all())

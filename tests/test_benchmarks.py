@@ -53,12 +53,13 @@ def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> No
             x = float(r[key])
             assert math.isfinite(x) and x > 0, (r["impl"], r["method"], key, r[key])
 
-    # The facade's overhead: each short run from Fortran, then the same run from Python.
+    # The facade's overhead: each short run through the bare f2py wrapper, then through simulate.
     over = [r for r in rows if r["section"] == "overhead"]
-    assert [r["impl"] for r in over] == ["stickslip_fortran", "stickslip_python"] * (len(over) // 2) != []
+    assert [r["impl"] for r in over] == ["f2py_wrapper", "stickslip_python"] * (len(over) // 2) != []
     for f, p in zip(over[::2], over[1::2]):
         assert (f["method"], f["nstep"], f["nfev"]) == (p["method"], p["nstep"], p["nfev"])
         assert float(f["median_s"]) > 0 and float(p["median_s"]) > 0
+        assert int(p["repeats"]) >= 2000 and math.isfinite(float(p["overhead_s"]))
 
     eq = [r for r in rows if r["section"] == "equal_accuracy"]
     assert any(r["impl"] == "stickslip_fortran" for r in eq)

@@ -18,6 +18,8 @@ from .core import (
     NonFiniteSolution,
     OutputBufferFull,
     Result,
+    UnstableStepWarning,
+    UnusedParameterWarning,
     StepBudgetExhausted,
     StepSizeTooSmall,
     StiffnessDetected,
@@ -32,6 +34,7 @@ __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
-    "status_message", "BatchResult", "simulate_batch",
+    "status_message", "BatchResult", "simulate_batch", "UnusedParameterWarning",
+    "UnstableStepWarning",
 ]
 __version__ = "0.1.0"

@@ -12,6 +12,7 @@ Units are SI: m, s, kg, m/s; angles in degrees.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Any, Sequence
 
@@ -19,14 +20,18 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATUS_OK,
-                   _FIRST_INPUT_CODE, _PARAM_ORDER, _check_names, _choice, _count, accepted_range,
-                   interruptible, status_message)
+                   UnstableStepWarning, UnusedParameterWarning, _FIRST_INPUT_CODE, _PARAM_ORDER,
+                   _check_names, _choice, _count, accepted_range, interruptible, rk4_stability_bound,
+                   status_message)
 
 #: Names of the integer and real summary fields, in the wrapper's order.
 _BATCH_INT, _BATCH_REAL = (tuple(x.split()) for x in _ext.batch_names().decode().strip().split("|"))
 
 #: Largest n_sets * n_grid the facade allocates when the grid is kept (2 doubles each).
 MAX_GRID_VALUES = 20_000_000
+#: A row chattered when the velocity reversed between at least this fraction of the monitor
+#: grid's intervals over t >= t_end/2 (BatchResult).
+CHATTER_FRACTION = 0.25
 
 
 @dataclass
@@ -45,6 +50,20 @@ class BatchResult:
     reached; t_end on success), x_end and v_end its first two columns. seconds: wall-clock
     time of the row on its thread. t, x, v: (n_sets, n_grid) grids when keep_grid was set, else
     None (y_grid: (n_sets, nmax, n_grid) with the internal states).
+
+    Flags (bool per row, in `fields` like the counters):
+
+    - chattered: the velocity reversed its direction between at least CHATTER_FRACTION = 1/4
+      of the monitor grid's intervals over t >= t_end/2 (n_rev_tail >= (n_grid - 1)/8): an
+      oscillation at the grid's scale, which a motion the grid resolves does not have (a
+      stick-slip cycle reverses twice a period). A run that chattered has a wrong velocity even
+      where its mean motion looks right. Its value depends on n_grid.
+    - forced: at least one step was taken at h_min although the error test failed there
+      (nforced > 0): the tolerance was not met on those steps.
+
+    `ok` is True where the row reached t_end (status 0), and nothing more: it says nothing of
+    accuracy. A row can be ok and chattered, ok and forced, or ok and far from the exact
+    solution (a fixed step beyond the stability bound that did not blow up, a loose tolerance).
     """
 
     scene: np.ndarray
@@ -83,7 +102,8 @@ class BatchResult:
 
     @property
     def ok(self) -> np.ndarray:
-        """True where the row reached t_end."""
+        """True where the row reached t_end (status 0). Not a measure of accuracy: see the
+        chattered and forced flags."""
         return self.status == STATUS_OK
 
     def message(self, i: int) -> str:
@@ -116,7 +136,7 @@ def _codes(name: str, value: str | Sequence[str], accepted: tuple[str, ...]) -> 
 def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
                    method: str | Sequence[str], t_end: Any, x0: Any = 0.0, v0: Any = 0.0,
                    n_grid: int = 201, keep_grid: bool = False, threads: int = 1,
-                   **kwargs: Any) -> Any:
+                   ignore_unused: bool = False, **kwargs: Any) -> Any:
     """Simulate many parameter sets in one Fortran call, `threads` OpenMP threads over the sets.
 
     scene, law, method, t_end, x0, v0 and every keyword argument (physical parameters of
@@ -132,7 +152,11 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     (BatchResult) is always returned; run-time failures are per-row status codes.
 
     Raises ValueError for bad input (the message names the parameter, and the row when the
-    library finds it).
+    library finds it). Warns (UnusedParameterWarning) about a physical parameter that no row's
+    scene or law reads, unless ignore_unused; and (UnstableStepWarning) when RK4 rows have h
+    beyond RK4's linear stability bound (stickslip.core.rk4_stability_bound: at the creep speed
+    on the slope, at the start on the belt; laws with internal states and the implicit methods
+    are not checked). Each row says whether it chattered or took forced steps (BatchResult).
 
     This is the local batch: one call, all rows in memory. `stickslip.simulate_batch` (module
     stickslip.sweep) adds client, chunk_rows, out and progress for large sweeps in chunks, on a
@@ -201,6 +225,13 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
         tol[k] = rows["c:" + k] if "c:" + k in rows else np.full(n, float(CONTROL_DEFAULTS[k]))
         tol[k] = np.where(reads[k], tol[k], 1.0)   # unread: any valid value
 
+    if not ignore_unused:
+        read = {k for s, l in set(zip(rows["scene"], rows["law"]))
+                for k in REGISTRY["law"][l]["params"] + REGISTRY["scene"][s]["params"]}
+        unused = [k for k in pnames if k not in read]
+        if unused:
+            warnings.warn(f"{', '.join(unused)}: not read by any row's scene and law, ignored (range-checked "
+                          "only; ignore_unused=True silences this)", UnusedParameterWarning, stacklevel=2)
     keep = bool(keep_grid)
     nstate = np.array([2 + REGISTRY["law"][l]["n_states"] for l in rows["law"]], dtype=np.int32)
     nmax = int(nstate.max())
@@ -226,11 +257,15 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     sstatus = fields.pop("status")
     fields.pop("n_written")
     fields["stiff"] = fields["stiff"].astype(bool)
+    fields["chattered"] = fields["n_rev_tail"] >= CHATTER_FRACTION * (int(n_grid) - 1) / 2
+    fields["forced"] = fields["nforced"] > 0
     bad = np.flatnonzero(sstatus <= _FIRST_INPUT_CODE)
     if bad.size:
         i = int(bad[0])
         raise ValueError(f"row {i} ({rows['scene'][i]}, {rows['law'][i]}, {rows['method'][i]}): "
                          f"{status_message(int(sstatus[i]))}")
+    if "h" in cnames:                       # the rows are valid: their bounds can be computed
+        _warn_unstable_rk4(rows, pnames, cvals[cnames.index("h")])
 
     resolved = {k: rows[k] for k in pnames}
     for k in _PARAM_ORDER:
@@ -254,4 +289,20 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     return result
 
 
-__all__ = ["BatchResult", "simulate_batch", "MAX_GRID_VALUES"]
+def _warn_unstable_rk4(rows: dict[str, np.ndarray], pnames: list[str], h: np.ndarray) -> None:
+    """One UnstableStepWarning for the RK4 rows whose h lies beyond rk4_stability_bound."""
+    beyond = []
+    for i in np.flatnonzero(rows["method"] == "rk4"):
+        params = tuple(sorted((k, float(rows[k][i])) for k in pnames))
+        bound = rk4_stability_bound(str(rows["law"][i]), params, str(rows["scene"][i]), float(rows["v0"][i]))
+        if bound is not None and h[i] > bound:
+            beyond.append((int(i), float(h[i]), bound))
+    if beyond:
+        i, hi, bound = beyond[0]
+        warnings.warn(f"{len(beyond)} RK4 row(s) with h beyond RK4's stability bound (row {i}: h = {hi:g} s > "
+                      f"{bound:.3g} s, for {rows['law'][i]!r} on the {rows['scene'][i]}): they may chatter, "
+                      "settle on a wrong state or blow up (see the chattered column)", UnstableStepWarning,
+                      stacklevel=3)
+
+
+__all__ = ["BatchResult", "simulate_batch", "MAX_GRID_VALUES", "CHATTER_FRACTION"]

@@ -39,8 +39,9 @@ def simulate_batch(scene: Any, law: Any, *, client: Any = None, chunk_rows: int 
     progress : bool
         Show a bar on stderr advancing per chunk (tqdm when installed, else plain lines).
     **kwargs
-        method, t_end, x0, v0, n_grid, keep_grid, threads, the physical parameters and the
-        controls: as in `stickslip.batch.simulate_batch`, each a scalar or a 1-D sequence.
+        method, t_end, x0, v0, n_grid, keep_grid, threads, ignore_unused, the physical
+        parameters and the controls: as in `stickslip.batch.simulate_batch`, each a scalar or a
+        1-D sequence.
 
     Returns
     -------
@@ -62,4 +63,6 @@ def simulate_batch(scene: Any, law: Any, *, client: Any = None, chunk_rows: int 
     bound.apply_defaults()
     args = {k: v for k, v in bound.arguments.items() if k != "kwargs"}
     args.update(bound.arguments.get("kwargs", {}))
+    if not args.get("ignore_unused"):
+        args.pop("ignore_unused", None)       # the sweep's fingerprint as before that option
     return run_chunked(args, client=client, chunk_rows=chunk_rows, out=out, progress=progress)
