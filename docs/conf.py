@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import datetime
 import logging
+import re
 
 project = "stickslip"
 author = "the stickslip authors"
@@ -56,6 +57,16 @@ class _NoEmptyGuideGlob(logging.Filter):
         return getattr(record, "subtype", None) != "empty_glob"
 
 
+_ABS = re.compile(r"(?<![\\|`])\|([A-Za-z_][\w.*()/^+-]*)\|(?![|`])")
+
+
+def _plain_absolute_values(app, what, name, obj, options, lines: list[str]) -> None:
+    """Docstrings write absolute values as plain text (|v|, |lambda|), as help() shows them;
+    reStructuredText would read |name| as a substitution, so the bars are escaped here."""
+    lines[:] = [_ABS.sub(r"\\|\1\\|", line) for line in lines]
+
+
 def setup(app) -> dict:
     logging.getLogger("sphinx.sphinx.directives.other").addFilter(_NoEmptyGuideGlob())
+    app.connect("autodoc-process-docstring", _plain_absolute_values, priority=400)
     return {"parallel_read_safe": True}
