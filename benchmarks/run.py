@@ -30,7 +30,6 @@ import csv
 import datetime as _dt
 import math
 import os
-import platform
 import shutil
 import subprocess
 import sys
@@ -41,9 +40,13 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from cases._common import atomic_write, write_text   # one way to write a file whole or not at all
+from cases._common import atomic_write, check_writable, cli_description, write_text   # one way to write a file whole or not at all
+from cases._provenance import machine, write_provenance
+from cases._timing import median_time, python_jac, python_rhs, time_at_error
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The tracked results the documentation quotes (written only with --results).
+RESULTS_DIR = ROOT / "benchmarks" / "results"
 BIN = Path(sys.executable).parent
 
 FIELDS: tuple[str, ...] = (
@@ -145,102 +148,7 @@ def count_instructions(exe: Path, scene: str, law: str, method: str, t_end: floa
 
 def time_python(fn: Callable[[], object], cfg: Config) -> tuple[float, object]:
     """Median seconds of fn() over cfg.repeats samples of at least cfg.min_sample each."""
-    t0 = time.perf_counter()
-    result = fn()
-    once = max(time.perf_counter() - t0, 1e-9)
-    inner = max(1, math.ceil(cfg.min_sample / once))
-    samples = []
-    for _ in range(cfg.repeats):
-        t0 = time.perf_counter()
-        for _ in range(inner):
-            result = fn()
-        samples.append((time.perf_counter() - t0) / inner)
-    return float(np.median(samples)), result
-
-
-def machine() -> str:
-    """lscpu's model name (or the platform's processor)."""
-    try:
-        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
-        for line in out.splitlines():
-            if line.startswith("Model name:"):
-                return line.split(":", 1)[1].strip()
-    except (OSError, subprocess.CalledProcessError):
-        pass
-    return platform.processor() or platform.machine()
-
-
-# -- the scenes in Python, for solve_ivp --------------------------------------------------------
-
-PAPER = dict(mu_s=0.35, mu_k=0.30, v_s=0.01, v_d=0.015, beta=1.0 / 3.0, a=1.5, g=9.81, k_m=30.0,
-             v_b=1.5, theta=math.radians(10.0))
-
-
-def python_law(law: str) -> tuple[Callable[[float], float], Callable[[float], float]]:
-    """mu(v) and d mu/dv of a law in plain Python (the paper's formulas, Table 1); d mu/dv of
-    the proposed law is floored at |v| = 1e-6 v_s as in the library."""
-    p = PAPER
-    mu_s, mu_k, v_s, v_d, beta = p["mu_s"], p["mu_k"], p["v_s"], p["v_d"], p["beta"]
-    ln_a = math.log(p["a"])
-    b = -math.log(mu_s - mu_k) / ln_a - v_s
-
-    def hav(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
-        if x <= x0:
-            return h0
-        if x >= x1:
-            return h1
-        return h0 + (h1 - h0) * 0.5 * (1.0 - math.cos(math.pi * (x - x0) / (x1 - x0)))
-
-    def dhav(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
-        if x <= x0 or x >= x1:
-            return 0.0
-        return (h1 - h0) * 0.5 * math.pi / (x1 - x0) * math.sin(math.pi * (x - x0) / (x1 - x0))
-
-    def mu(v: float) -> float:
-        s = abs(v)
-        if law == "coulomb":
-            if v == 0.0:
-                return 0.0
-            m = mu_s if s < v_s else mu_k
-        elif law == "recurdyn":
-            m = hav(s, 0.0, 0.0, v_s, mu_s) if s < v_s else hav(s, v_s, mu_s, v_d, mu_k)
-        else:
-            m = mu_s * (s / v_s) ** beta if s <= v_s else math.exp(-ln_a * (s + b)) + mu_k
-        return math.copysign(m, v)
-
-    def dmu(v: float) -> float:
-        s = abs(v)
-        if law == "coulomb":
-            return 0.0
-        if law == "recurdyn":
-            return dhav(s, 0.0, 0.0, v_s, mu_s) if s < v_s else dhav(s, v_s, mu_s, v_d, mu_k)
-        if s <= v_s:
-            s = max(s, 1e-6 * v_s)
-            return mu_s * beta / v_s * (s / v_s) ** (beta - 1.0)
-        return -ln_a * math.exp(-ln_a * (s + b))
-
-    return mu, dmu
-
-
-def python_rhs(scene: str, law: str) -> Callable[[float, np.ndarray], list[float]]:
-    """The scene's right-hand side in plain Python (the paper's formulas), as a scipy user
-    would write it; parameters of Table 1."""
-    mu = python_law(law)[0]
-    g, k_m, v_b, theta = PAPER["g"], PAPER["k_m"], PAPER["v_b"], PAPER["theta"]
-    if scene == "belt":
-        return lambda t, y: [y[1], -k_m * y[0] + mu(v_b - y[1]) * g]
-    g_sin, g_cos = g * math.sin(theta), g * math.cos(theta)
-    return lambda t, y: [y[1], g_sin - mu(y[1]) * g_cos]
-
-
-def python_jac(scene: str, law: str) -> Callable[[float, np.ndarray], list[list[float]]]:
-    """The Jacobian of python_rhs (analytic, as the library's scenes give it)."""
-    dmu = python_law(law)[1]
-    g, k_m, v_b, theta = PAPER["g"], PAPER["k_m"], PAPER["v_b"], PAPER["theta"]
-    if scene == "belt":
-        return lambda t, y: [[0.0, 1.0], [-k_m, -g * dmu(v_b - y[1])]]
-    g_cos = g * math.cos(theta)
-    return lambda t, y: [[0.0, 1.0], [0.0, -g_cos * dmu(y[1])]]
+    return median_time(fn, cfg.repeats, cfg.min_sample)
 
 
 #: Short runs for the facade's per-call overhead: scene, law, method, t_end [s], h or tol.
@@ -425,24 +333,6 @@ def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
     return rows
 
 
-def time_at_error(points: Sequence[tuple[float, float]], target: float) -> float:
-    """Time to reach error <= target along a work-precision curve [(err, time)], interpolated
-    linearly in log-log between the runs that bracket the target; NaN if never reached."""
-    pts = sorted((t, e) for e, t in points if math.isfinite(e) and math.isfinite(t) and t > 0)
-    env: list[tuple[float, float]] = []          # lower envelope: error only decreases with time
-    for t, e in pts:
-        if not env or e < env[-1][1]:
-            env.append((t, e))
-    for i, (t, e) in enumerate(env):
-        if e <= target:
-            if i == 0:
-                return t
-            t0, e0 = env[i - 1]
-            w = (math.log(target) - math.log(e0)) / (math.log(e) - math.log(e0))
-            return math.exp(math.log(t0) + w * (math.log(t) - math.log(t0)))
-    return float("nan")
-
-
 def equal_accuracy(adaptive: list[dict], cfg: Config) -> tuple[list[dict], list[str]]:
     """Rows of time-to-target ratios against stickslip DOPRI5 (Fortran); and notes on targets a
     method never reached."""
@@ -485,41 +375,61 @@ def write_csv(rows: list[dict], path: Path) -> None:
     atomic_write(path, write)
 
 
+def read_rows(path: Path) -> list[dict]:
+    """The rows of a benchmarks.csv (write_csv), numbers as floats."""
+    def value(text: str) -> object:
+        try:
+            return float(text)
+        except ValueError:
+            return text
+
+    with open(path, newline="", encoding="utf-8") as fh:
+        return [{k: value(v) for k, v in row.items()} for row in csv.DictReader(fh)]
+
+
 def plot(rows: list[dict], path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """The figure of a run (PNG at path, PDF beside it): RK4 time per evaluation of every tool
+    on the first scene and law, and the work-precision curves of the adaptive methods."""
+    from cases import _common, _style
+
+    def who(impl: str, method: str) -> str:       # "stickslip_fortran", "rk4" -> plain words
+        return f"{_style.name(impl)}: {_style.name(method.split()[0])}" + \
+            (f" {' '.join(method.split()[1:])}" if len(method.split()) > 1 else "")
 
     fixed = [r for r in rows if r["section"] == "fixed"]
     adaptive = [r for r in rows if r["section"] == "adaptive"]
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.8))
+    fig, (ax1, ax2) = _common.new_figure(2, width=12.0)
     if fixed:
         scene, law = fixed[0]["scene"], fixed[0]["law"]
         sel = [r for r in fixed if r["scene"] == scene and r["law"] == law]
-        ax1.barh([f"{r['impl']}\n{r['method']}" for r in sel], [r["ns_per_eval"] for r in sel], color="C0")
+        ax1.barh([who(r["impl"], r["method"]) for r in sel], [r["ns_per_eval"] for r in sel],
+                 color=_style.SEQUENCE[0])
         for i, r in enumerate(sel):
-            ax1.text(r["ns_per_eval"], i, f" {r['ns_per_eval']:.0f} ns/eval, x{r['ratio_eval']:.2f}",
-                     va="center", fontsize=8)
-        ax1.set_xlabel("ns per right-hand-side evaluation")
-        ax1.set_title(f"RK4, h = {sel[0]['h_s']:g} s, {scene}/{law}, {sel[0]['t_end_s']:g} s")
-        ax1.set_xlim(0, 1.4 * max(r["ns_per_eval"] for r in sel))
+            ax1.text(r["ns_per_eval"], i, f" {r['ns_per_eval']:.0f} ns, {r['ratio_eval']:.2f}x the C loop",
+                     va="center", fontsize=7)
+        ax1.set_xlabel("time per right-hand-side evaluation [ns]")
+        ax1.set_title(f"Fixed step h = {sel[0]['h_s']:g} s\n{_style.name(scene)}, "
+                      f"{_style.name(law)} law, {sel[0]['t_end_s']:g} s")
+        ax1.set_xlim(0, 1.6 * max(r["ns_per_eval"] for r in sel))
+        ax1.tick_params(axis="y", labelsize=7)
     if adaptive:
         scene, law = adaptive[0]["scene"], adaptive[0]["law"]
         sel = [r for r in adaptive if r["scene"] == scene and r["law"] == law]
         for i, im in enumerate(dict.fromkeys((r["impl"], r["method"]) for r in sel)):
             pts = sorted((r["err"], r["median_s"]) for r in sel if (r["impl"], r["method"]) == im)
-            ax2.loglog([p[1] for p in pts], [p[0] for p in pts], "o-", color=f"C{i}",
-                       label=f"{im[0]} {im[1]}")
+            ax2.loglog([p[1] for p in pts], [p[0] for p in pts], marker="o", ms=3,
+                       color=_style.SEQUENCE[i % len(_style.SEQUENCE)],
+                       linestyle=_style.VARIANT_STYLES[(i // len(_style.SEQUENCE)) % 4],
+                       label=who(*im))
         ax2.set_xlabel("time per integration [s]")
-        ax2.set_ylabel("max error of (x, v) at t_end")
-        ax2.set_title(f"work-precision, {scene}/{law}, {sel[0]['t_end_s']:g} s")
-        ax2.legend(fontsize=7)
+        ax2.set_ylabel("largest error of (x, v) at t_end [m, m/s]")
+        ax2.set_title(f"Adaptive methods, error against time\n{_style.name(scene)}, "
+                      f"{_style.name(law)} law, {sel[0]['t_end_s']:g} s")
         ax2.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    try:
-        atomic_write(path, lambda fh: fig.savefig(fh, format="png", dpi=110), binary=True)
-    finally:
-        plt.close(fig)
+    fig.suptitle("Benchmarks (python -m benchmarks): medians of repeated runs on one machine; "
+                 "compare ratios, not absolute times")
+    _common.figure_legend(fig, [ax2], ncol=4)
+    _common.save_figure(fig, path)
 
 
 def _fmt(x: float, digits: int = 2) -> str:
@@ -529,7 +439,7 @@ def _fmt(x: float, digits: int = 2) -> str:
 def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, seconds: float) -> str:
     date = _dt.date.today().isoformat()
     cmd = "python -m benchmarks" + (" --quick" if quick else "")
-    out = [f"Measured {date} on {machine()} ({os.cpu_count()} cores, shared), `{cmd}` "
+    out = [f"Measured {date} on {machine()} (shared), `{cmd}` "
            f"({seconds:.0f} s); medians of {cfg.repeats} samples. Ratios > 1: slower than the reference.",
            ""]
     fixed = [r for r in rows if r["section"] == "fixed"]
@@ -597,18 +507,39 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--outdir", type=Path, default=ROOT / "benchmarks" / "results",
-                        help="where benchmarks.csv, benchmarks.png and summary.md go")
+    parser = argparse.ArgumentParser(prog="python -m benchmarks", description=cli_description(__doc__),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--outdir", type=Path, default=None,
+                        help="where benchmarks.csv, benchmarks.png and summary.md go "
+                             "(default: out/benchmarks/)")
+    parser.add_argument("--results", action="store_true",
+                        help=f"write into the tracked {RESULTS_DIR.relative_to(ROOT)}/ instead, the "
+                             "tables the documentation quotes (not with --quick)")
     parser.add_argument("--build-dir", type=Path, default=ROOT / "build" / "bench",
                         help="meson build directory of the compiled benchmarks")
     parser.add_argument("--quick", action="store_true", help="a few seconds: tiny problems, one sample")
+    parser.add_argument("--replot", action="store_true",
+                        help="run nothing: draw benchmarks.png and .pdf again from the "
+                             "benchmarks.csv already in the output directory")
     parser.add_argument("--repeats", type=int, default=None, help="samples per median")
     parser.add_argument("--no-scipy", action="store_true", help="leave out solve_ivp")
     parser.add_argument("--callgrind", action=argparse.BooleanOptionalAction, default=None,
                         help="count instructions per evaluation of the compiled adaptive runs with valgrind "
                              "(default: on when valgrind is installed, off with --quick)")
     args = parser.parse_args(argv)
+    if args.results and (args.quick or args.outdir is not None):
+        parser.error("argument --results: not with --quick or --outdir (the tracked tables are "
+                     "those of a full run)")
+    args.outdir = RESULTS_DIR if args.results else (args.outdir or Path("out") / "benchmarks")
+    check_writable(parser, args.outdir)
+    if args.replot:
+        if not (args.outdir / "benchmarks.csv").exists():
+            parser.error(f"argument --replot: no benchmarks.csv in {args.outdir}")
+        png = args.outdir / "benchmarks.png"
+        plot(read_rows(args.outdir / "benchmarks.csv"), png)
+        write_provenance(args.outdir, "benchmarks", [png, png.with_suffix(".pdf")], argv)
+        print(png)
+        return 0
 
     cfg = QUICK if args.quick else FULL
     if args.repeats is not None:
@@ -634,5 +565,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     plot(rows, args.outdir / "benchmarks.png")
     text = summary(rows, notes, cfg, args.quick, time.perf_counter() - t0)
     write_text(args.outdir / "summary.md", text + "\n")
+    names = ["benchmarks.csv", "benchmarks.png", "benchmarks.pdf", "summary.md"]
+    write_provenance(args.outdir, "benchmarks", [args.outdir / n for n in names], argv)
     print(text)
     return 0

@@ -57,24 +57,24 @@ def creep_speed_ref(law: str) -> float:
 @pytest.fixture(scope="module")
 def slope_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("slope")
-    slope.main(["--outdir", str(out), "--t-end", str(SLOPE_T), "--points", str(SLOPE_POINTS),
-                "--quiet"])
-    return out
+    files = slope.main(["--outdir", str(out), "--t-end", str(SLOPE_T), "--points", str(SLOPE_POINTS),
+                        "--quiet"])
+    return files[0].parent           # a subdirectory named after the non-default options
 
 
 @pytest.fixture(scope="module")
 def belt_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("belt")
-    belt.main(["--outdir", str(out), "--t-end", str(BELT_T), "--points", str(BELT_POINTS),
-               "--quiet"])
-    return out
+    files = belt.main(["--outdir", str(out), "--t-end", str(BELT_T), "--points", str(BELT_POINTS),
+                       "--quiet"])
+    return files[0].parent           # a subdirectory named after the non-default options
 
 
 @pytest.fixture(scope="module")
 def laws_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("laws")
-    laws.main(["--outdir", str(out), "--points", "301"])
-    return out
+    files = laws.main(["--outdir", str(out), "--points", "301"])
+    return files[0].parent           # a subdirectory named after the non-default options
 
 
 def numeric(path: Path) -> dict[str, np.ndarray]:

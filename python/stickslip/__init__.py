@@ -1,7 +1,8 @@
 """stickslip: friction laws under event-free numerical integration (Yoo & Lee 2008).
 
 The Fortran core integrates; this package validates input, calls it once per simulation
-and returns numpy arrays. See README.md for the laws, scenes and integrators.
+and returns numpy arrays. The documentation (docs/, built by scripts/docs) explains the laws,
+scenes and integrators.
 """
 from .core import (
     CONTROL_DEFAULTS,
@@ -26,7 +27,8 @@ from .core import (
     simulate,
     status_message,
 )
-from .batch import BatchResult, simulate_batch
+from .batch import BatchResult
+from .sweep import simulate_batch
 from .advise import Advice, advise
 
 __all__ = [

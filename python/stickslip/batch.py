@@ -40,11 +40,11 @@ class BatchResult:
 
     status: library status code (0 = reached t_end; see `message`). The run's counters
     (nfev, nstep, naccept, nreject, nforced, nstiff, stiff, njac, ndec, nsol, t_reached, h_last)
-    and the monitor's fields are in `fields` by name and as attributes. v_max: max |v| over the
+    and the monitor's fields are in `fields` by name and as attributes. v_max: max abs(v) over the
     initial state and the monitor grid. n_flip / n_flip_tail: sign changes of the relative
     sliding velocity (v on the slope, v_b - v on the belt) between consecutive grid points, over
     the whole run / over t >= t_end/2. n_rev / n_rev_tail: reversals of the direction of v
-    between grid points (successive differences of opposite sign, both above 64 eps max|v|), a
+    between grid points (successive differences of opposite sign, both above 64 eps max abs(v)), a
     count of high-frequency content. vrel_min_tail, vrel_max_tail: the relative velocity's
     range over t >= t_end/2. y_end (n_sets, nmax): the state at t_last (the last grid time
     reached; t_end on success), x_end and v_end its first two columns. seconds: wall-clock
@@ -136,8 +136,7 @@ def _codes(name: str, value: str | Sequence[str], accepted: tuple[str, ...]) -> 
 def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
                    method: str | Sequence[str], t_end: Any, x0: Any = 0.0, v0: Any = 0.0,
                    n_grid: int = 201, keep_grid: bool = False, threads: int = 1,
-                   client: Any = None, chunk_rows: int | None = None, out: Any = None,
-                   progress: bool = False, ignore_unused: bool = False, **kwargs: Any) -> Any:
+                   ignore_unused: bool = False, **kwargs: Any) -> Any:
     """Simulate many parameter sets in one Fortran call, `threads` OpenMP threads over the sets.
 
     scene, law, method, t_end, x0, v0 and every keyword argument (physical parameters of
@@ -159,17 +158,10 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     on the slope, at the start on the belt; laws with internal states and the implicit methods
     are not checked). Each row says whether it chattered or took forced steps (BatchResult).
 
-    Large sweeps (stickslip.distributed): client (a dask.distributed Client) runs the rows in
-    chunks of chunk_rows, one task each, on the cluster; out (a directory) writes each chunk to
-    disk as it finishes and returns a SweepStore (resumable: chunks on disk are not rerun);
-    progress=True shows a bar on stderr per chunk. The rows are the same, bit for bit.
+    This is the local batch: one call, all rows in memory. `stickslip.simulate_batch` (module
+    stickslip.sweep) adds client, chunk_rows, out and progress for large sweeps in chunks, on a
+    Dask cluster or streamed to disk (stickslip.distributed), with the same rows bit for bit.
     """
-    if client is not None or chunk_rows is not None or out is not None or progress:
-        from .distributed import run_chunked
-        quiet = {"ignore_unused": True} if ignore_unused else {}     # (keeps old fingerprints)
-        return run_chunked(dict(scene=scene, law=law, method=method, t_end=t_end, x0=x0, v0=v0,
-                                n_grid=n_grid, keep_grid=keep_grid, threads=threads, **quiet, **kwargs),
-                           client=client, chunk_rows=chunk_rows, out=out, progress=progress)
     threads = _count("threads", threads)
     n_grid = _count("n_grid", n_grid)
     unknown = sorted(set(kwargs) - set(_PARAM_ORDER) - set(CONTROLS))
