@@ -134,12 +134,27 @@ class Candidate:
 
 @dataclass
 class Advice:
-    """The advisor's answer. `method` and `controls` (None and {} when infeasible) go straight
-    into simulate(scene, law, method=a.method, t_end=a.t_end, x0=a.x0, v0=a.v0, **a.controls,
-    **a.params);
-    predicted_error [m or m/s] is the estimate for that run (verified by running it);
-    predicted_cost {"nfev", "seconds"}; runs every run made; candidates the per-method summary;
-    pilot_cost the total cost of all runs and its ratio to the advised run's."""
+    """The advisor's answer.
+
+    ``method`` and ``controls`` go straight into
+    ``simulate(a.scene, a.law, method=a.method, t_end=a.t_end, x0=a.x0, v0=a.v0,
+    **a.controls, **a.params)``; they are None and ``{}`` when no method can meet the target
+    (``feasible`` is then False and ``message`` names what can).
+
+    Attributes
+    ----------
+    predicted_error : float or None
+        The error estimate of the advised run [m, or m/s for ``quantity="v"``], verified by
+        running it.
+    predicted_cost : dict
+        ``{"nfev": evaluations, "seconds": CPU seconds}`` of the advised run.
+    runs : list of Run
+        Every run the advisor made (pilots, verification, cross-checks).
+    candidates : list of Candidate
+        What the pilots say about each method.
+    pilot_cost : dict
+        The total cost of all runs and its ratio to the advised run's.
+    """
 
     scene: str
     law: str
@@ -600,9 +615,9 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
     Returns
     -------
     Advice
-        `method` and `controls` for simulate(scene, law, method=a.method, t_end=t_end,
-        **a.controls, **params), the estimated error and cost, every run made, and, when no
-        method reaches the target, `feasible` False and a `message` naming what can.
+        ``method`` and ``controls`` for ``simulate(scene, law, method=a.method, t_end=t_end,
+        **a.controls, **params)``, the estimated error and cost, every run made, and, when no
+        method reaches the target, ``feasible`` False and a ``message`` naming what can.
 
     Raises
     ------
