@@ -16,6 +16,11 @@ Sections (the ``section`` column of the CSV):
 - ``overhead``: short runs (OVERHEAD) through ``stickslip.simulate`` and through a bare call
   of the f2py wrapper with the same arguments, interleaved; ``overhead_s`` is the median of the
   per-call differences, what the Python facade adds per call.
+- ``exact_stick`` and ``exact_stick_equal``: set-valued Coulomb friction by ``moreau`` and
+  ``event_driven`` against the smooth laws (RK4, DOPRI5) on two problems with exact answers
+  (``cases.stick``: the slope sliding to a stop, error |x(t_end) - x_stop|; the belt started
+  stuck, error max |x - x_exact| on the output grid); then, per error target, the time of each
+  nonsmooth method as a ratio to the best smooth-law run that reaches it (none may).
 
 Times are medians of several samples; each sample repeats a run until it lasts long enough.
 Nothing asserts an absolute time: the machine is shared. The compiled adaptive runs also get a
@@ -74,6 +79,12 @@ class Config:
     min_sample: float                                    # [s]
     scipy_methods: list[str] = field(default_factory=lambda: ["RK45", "DOP853", "LSODA", "Radau"])
     callgrind: bool = False                              # count instructions of the compiled adaptive runs
+    # exact_stick (run_exact_stick): t_end [s], RK4/moreau steps [s], DOPRI5/event_driven tolerances,
+    # error targets [m]
+    t_end_stick: float = 5.0
+    stick_steps: tuple[float, ...] = (1e-2, 1e-3, 1e-4)
+    stick_tols: tuple[float, ...] = (1e-4, 1e-6, 1e-8, 1e-10)
+    stick_targets: tuple[float, ...] = (1e-2, 1e-3, 1e-5, 1e-8)
 
 
 FULL = Config(
@@ -86,7 +97,8 @@ QUICK = Config(
     fixed=[("belt", "proposed", 0.2, 1e-5)],
     adaptive=[("belt", "proposed")],
     t_end_adaptive=2.0, tols=[1e-4, 1e-7], targets=[1e-5],
-    repeats=1, min_sample=0.0)
+    repeats=1, min_sample=0.0, t_end_stick=2.5, stick_steps=(1e-3, 1e-4), stick_tols=(1e-4, 1e-8),
+    stick_targets=(1e-3, 1e-5))
 
 
 # -- helpers ----------------------------------------------------------------------------------
@@ -333,6 +345,88 @@ def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
     return rows
 
 
+def run_exact_stick(cfg: Config, log: Callable[[str], None]) -> tuple[list[dict], list[str]]:
+    """Rows of the ``exact_stick`` sections (see the module notes) and notes on targets that
+    no smooth-law run reached. Problems and exact answers from cases.stick."""
+    import warnings
+
+    import stickslip
+    from cases import stick
+
+    e = stick.exact()
+    t_end = cfg.t_end_stick
+    problems = {
+        "slope": (dict(theta_deg=stick.THETA_DEG, v0=stick.V0_SLOPE, mu_s=stick.MU_S, mu_k=stick.MU_K),
+                  lambda r: abs(float(r.x[-1]) - e["x_stop"])),
+        "belt": (dict(stick.BELT, v0=stick.BELT["v_b"], mu_s=stick.MU_S, mu_k=stick.MU_K),
+                 lambda r: float(np.max(np.abs(r.x - stick.belt_path(r.t)))))}
+    steps, tols = cfg.stick_steps, cfg.stick_tols
+    smooth = ("recurdyn", "proposed", "stribeck", "karnopp")
+    runs = [(law, "rk4", {"h": h}) for law in smooth for h in steps]
+    runs += [(law, "dopri5", {"rtol": tol, "atol": tol, "hmax": 1e-2}) for law in smooth for tol in tols]
+    runs += [("coulomb", "moreau", {"h": h}) for h in steps]
+    runs += [("coulomb", "event_driven", {"rtol": tol, "atol": tol}) for tol in tols]
+    targets = cfg.stick_targets
+    rows: list[dict] = []
+    notes: list[str] = []
+    for scene, (params, error) in problems.items():
+        here: list[dict] = []
+        for law, method, ctl in runs:
+            def once(law=law, method=method, ctl=ctl):
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", UserWarning)
+                    return stickslip.simulate(scene, law, method=method, t_end=t_end, n_out=1001,
+                                              max_steps=10**6, **params, **ctl)
+            try:
+                med, res = time_python(once, cfg)
+            except stickslip.IntegrationError as exc:
+                notes.append(f"{scene}/{law} {method} {ctl}: {type(exc).__name__}")
+                continue
+            row = _row("exact_stick", "stickslip_python", method, scene, law, t_end, h=ctl.get("h", float("nan")),
+                       tol=ctl.get("rtol", float("nan")), repeats=cfg.repeats, median_s=med,
+                       nstep=res.stats["nstep"], nfev=res.stats["nfev"], x=float(res.x[-1]), v=float(res.v[-1]),
+                       err=max(error(res), 1e-16))
+            row["reference"] = "exact (cases.stick)"
+            here.append(row)
+            log(f"exact_stick {scene:5s} {law:8s} {method:12s} {ctl} {1e6 * med:9.0f} us  err={row['err']:.1e}")
+        rows += here
+        curves: dict[tuple[str, str], list[tuple[float, float]]] = {}
+        for r in here:
+            curves.setdefault((r["law"], r["method"]), []).append((r["err"], r["median_s"]))
+        for target in targets:
+            finite = [(time_at_error(c, target), key) for key, c in curves.items() if key[0] in smooth]
+            finite = [f for f in finite if math.isfinite(f[0])]
+            best_t, best_key = min(finite) if finite else (float("nan"), None)
+            if best_key is None:
+                notes.append(f"{scene}: no smooth-law run reached {target:.0e} m")
+            for method in ("moreau", "event_driven"):
+                t = time_at_error(curves.get(("coulomb", method), []), target)
+                row = _row("exact_stick_equal", "stickslip_python", method, scene, "coulomb", t_end,
+                           target=target, median_s=t)
+                row["reference"] = f"best smooth: {best_key[0]} {best_key[1]}" if best_key else "no smooth run"
+                row["ratio_time"] = t / best_t if best_key else float("nan")
+                rows.append(row)
+    return rows, notes
+
+
+def time_at_error(points: Sequence[tuple[float, float]], target: float) -> float:
+    """Time to reach error <= target along a work-precision curve [(err, time)], interpolated
+    linearly in log-log between the runs that bracket the target; NaN if never reached."""
+    pts = sorted((t, e) for e, t in points if math.isfinite(e) and math.isfinite(t) and t > 0)
+    env: list[tuple[float, float]] = []          # lower envelope: error only decreases with time
+    for t, e in pts:
+        if not env or e < env[-1][1]:
+            env.append((t, e))
+    for i, (t, e) in enumerate(env):
+        if e <= target:
+            if i == 0:
+                return t
+            t0, e0 = env[i - 1]
+            w = (math.log(target) - math.log(e0)) / (math.log(e) - math.log(e0))
+            return math.exp(math.log(t0) + w * (math.log(t) - math.log(t0)))
+    return float("nan")
+
+
 def equal_accuracy(adaptive: list[dict], cfg: Config) -> tuple[list[dict], list[str]]:
     """Rows of time-to-target ratios against stickslip DOPRI5 (Fortran); and notes on targets a
     method never reached."""
@@ -488,6 +582,17 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
             out.append(f"| {r['scene']} / {r['law']} | {r['target_err']:.0e} | {r['impl']} {r['method']} | "
                        f"{_fmt(r['ratio_time'])} |")
         out.append("")
+    stick_eq = [r for r in rows if r["section"] == "exact_stick_equal"]
+    if stick_eq:
+        out += ["**Exact stick at equal error** (set-valued Coulomb by moreau and event_driven against the "
+                "fastest smooth-law run, RK4 or DOPRI5, reaching the same error on the exact problems of "
+                "cases.stick; n/a: not reached):", "",
+                "| scene | target error [m] | method | time [us] | best smooth run | time ratio |",
+                "|---|---|---|---|---|---|"]
+        for r in stick_eq:
+            out.append(f"| {r['scene']} | {r['target_err']:.0e} | {r['method']} | {_fmt(1e6 * r['median_s'], 0)} | "
+                       f"{r['reference']} | {_fmt(r['ratio_time'], 3)} |")
+        out.append("")
     if notes:
         out += ["Not reached: " + "; ".join(notes) + ".", ""]
     over = [r for r in rows if r["section"] == "overhead"]
@@ -561,6 +666,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     eq, notes = equal_accuracy(adaptive, cfg)
     rows += adaptive + eq
     rows += run_overhead(cfg, exes, log)
+    stick_rows, stick_notes = run_exact_stick(cfg, log)
+    rows += stick_rows
+    notes += stick_notes
     write_csv(rows, args.outdir / "benchmarks.csv")
     plot(rows, args.outdir / "benchmarks.png")
     text = summary(rows, notes, cfg, args.quick, time.perf_counter() - t0)

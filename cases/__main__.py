@@ -54,7 +54,8 @@ DRIVERS: tuple[Driver, ...] = (
     Driver("laws", "laws", 0.7, False), Driver("slope", "paper", 5.5, False),
     Driver("belt", "paper", 1.6, False), Driver("workprecision", "study", 25.0, False),
     Driver("stability", "study", 37.6, False), Driver("laws_compare", "study", 18.0, False),
-    Driver("implicit", "study", 15.1, False), Driver("speedup", "study", 1.1, True))
+    Driver("implicit", "study", 15.1, False), Driver("speedup", "study", 1.1, True),
+    Driver("stick", "study", 12.0, False))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 

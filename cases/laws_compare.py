@@ -38,7 +38,8 @@ with sigma2 = 0 on the belt ("lugre sigma2=0"): the viscous term damps the belt'
 oscillation at g sigma2 / 2 = 0.2 1/s, which ends its stick-slip.
 
 Methods come from stickslip.METHODS, so methods added to the registry (implicit ones) join
-the study without a change here. --threads is accepted for `python -m cases`; the runs are
+the study without a change here; a method that takes only some laws (the set-valued moreau and
+event_driven: REGISTRY["method"][m]["laws"]) runs those only. --threads is accepted for `python -m cases`; the runs are
 serial (about 400 short simulations).
 """
 from __future__ import annotations
@@ -104,11 +105,21 @@ def maxima(t: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return t[i] + shift * (t[1] - t[0]), b - 0.25 * (a - cc) * shift
 
 
-def variants() -> list[tuple[str, float | None]]:
-    """(method, h) for every registered method: fixed-step ones at STEPS, adaptive ones once."""
+def takes(method: str, law: str) -> bool:
+    """The method takes the law (the set-valued methods take only some: REGISTRY's "laws")."""
+    import stickslip
+    laws = stickslip.REGISTRY["method"][method]["laws"]
+    return laws is None or law in laws
+
+
+def variants(law: str | None = None) -> list[tuple[str, float | None]]:
+    """(method, h) for every registered method (that takes `law`, if given): fixed-step ones at
+    STEPS, adaptive ones once."""
     import stickslip
     out: list[tuple[str, float | None]] = []
     for name in stickslip.METHODS:
+        if law is not None and not takes(name, law):
+            continue
         if "h" in stickslip.REGISTRY["method"][name]["controls"]:
             out += [(name, h) for h in STEPS]
         else:
@@ -165,7 +176,7 @@ def bounded(scene: str, law: str, r: Any, status: int, t_end: float) -> bool:
 def slope_rows(quiet: bool, laws: Sequence[str] | None = None) -> list[list[Any]]:
     rows = []
     for _, law, _ in configs(belt=False, laws=laws):
-        for method, h in variants():
+        for method, h in variants(law):
             r, status = simulate("slope", law, method, h, SLOPE_T, 201)
             done = status == 0
             rows.append([law, method, h, status, float(r.x[-1]) if done else None,
@@ -180,7 +191,7 @@ def belt_rows(quiet: bool, laws: Sequence[str] | None = None) -> list[list[Any]]
     x_max, x_min, period, _ = coulomb_cycle()
     rows = []
     for label, law, par in configs(belt=True, laws=laws):
-        for method, h in variants():
+        for method, h in variants(law):
             r, status = simulate("belt", law, method, h, BELT_T, BELT_N, v0=P["v_b"], **par)
             row: list[Any] = [label, method, h, status] + [None] * 7
             if status == 0:
@@ -286,7 +297,7 @@ def hmax_rows(quiet: bool, laws: Sequence[str] | None = None) -> list[list[Any]]
     rows = []
     for _, law, _ in configs(belt=False, laws=laws):
         for scene in ("slope", "belt"):
-            for method in fixed:
+            for method in (m for m in fixed if takes(m, law)):
                 h_b, h_c, runs = step_limits(scene, law, method)
                 rows.append([law, scene + ("" if method == "rk4" else f" {method}"), h_b, h_c, runs])
         c.log(f"laws_compare: h_max {law}", quiet)

@@ -25,6 +25,8 @@ module stickslip_kinds
     integer, parameter, public :: SS_SINGULAR = -8          !! the Newton matrix is singular
     integer, parameter, public :: SS_JAC_NONFINITE = -9     !! the Jacobian has a NaN or infinite entry
     integer, parameter, public :: SS_INTERRUPTED = -10      !! the caller set the stop flag
+    integer, parameter, public :: SS_CONTACT_FAILED = -21 !! moreau's contact solver missed contact_tol
+    integer, parameter, public :: SS_EVENT_ZENO = -22    !! event_driven: events accumulate (Zeno, chatter)
 
     ! -- bad input, one code per parameter ---------------------------------------
     integer, parameter, public :: SS_BAD_LAW = -100         !! unknown friction law code
@@ -50,21 +52,28 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_CONTROL_NAME = -138  !! a control the method does not read
     integer, parameter, public :: SS_BAD_PARAM_NAME = -139  !! a parameter no law or scene has
     integer, parameter, public :: SS_BAD_FORCED_GROWTH = -148 !! fac_forced not finite or <= 1, or calm_steps < 0
+    integer, parameter, public :: SS_BAD_THETA_MJ = -160    !! moreau's theta outside [1/2, 1]
+    integer, parameter, public :: SS_BAD_CONTACT_CTL = -161 !! contact_tol or contact_max_iter out of range
+    integer, parameter, public :: SS_BAD_EVENT_CTL = -162   !! max_events or zeno_gap out of range
+    integer, parameter, public :: SS_NOT_SETVALUED = -163   !! the law (or system) has no set-valued contact
 
     !> Names of the status codes above, for the generated C header (`SS_` + name).
     character(len=*), parameter, public :: STATUS_NAMES = 'OK STEP_BUDGET STEP_TOO_SMALL STIFF ' // &
         'NONFINITE OUTPUT_FULL BAD_LAW BAD_SCENE BAD_METHOD BAD_H BAD_T_END BAD_RTOL BAD_ATOL ' // &
         'BAD_HMIN BAD_HMAX BAD_N_OUT BAD_MAX_STEPS BAD_Y0 BAD_H0 BAD_CONTROL BAD_DIM ' // &
         'BAD_CONTROL_NAME BAD_PARAM_NAME NEWTON_FAILED SINGULAR JAC_NONFINITE BAD_RHO_INF ' // &
-        'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH'
+        'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH' // &
+        ' CONTACT_FAILED EVENT_ZENO BAD_THETA_MJ BAD_CONTACT_CTL BAD_EVENT_CTL' // &
+        ' NOT_SETVALUED'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(33) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(39) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
         SS_BAD_PARAM_NAME, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_BAD_RHO_INF, SS_BAD_NIT, &
         SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_INTERRUPTED, &
-        SS_BAD_FORCED_GROWTH]
+        SS_BAD_FORCED_GROWTH, SS_CONTACT_FAILED, SS_EVENT_ZENO, SS_BAD_THETA_MJ, &
+        SS_BAD_CONTACT_CTL, SS_BAD_EVENT_CTL, SS_NOT_SETVALUED]
 
 contains
 
@@ -116,6 +125,16 @@ contains
                                         ' 0 < quot1 <= 1 <= quot2, 0 < facl <= 1 <= facr'
         case (SS_BAD_RTOL_POSITIVE); msg = 'rtol: RADAU5 needs rtol finite and in [100 eps = 2.2e-14, 1)' // &
                                         ' (its tolerance transformation divides by rtol; 0 is not allowed)'
+        case (SS_CONTACT_FAILED); msg = 'contact solver (moreau): a step''s friction problem did not' // &
+                                        ' converge to contact_tol within contact_max_iter sweeps'
+        case (SS_EVENT_ZENO); msg = 'events accumulate (Zeno or chatter, event_driven): more than' // &
+                                        ' max_events stick/slip transitions, or 10 in a row closer than zeno_gap'
+        case (SS_BAD_THETA_MJ);   msg = 'theta: must be in [0.5, 1] (the Moreau-Jean theta-method)'
+        case (SS_BAD_CONTACT_CTL); msg = 'contact_tol: must be finite and > 0 [m/s]; contact_max_iter:' // &
+                                        ' an integer >= 1'
+        case (SS_BAD_EVENT_CTL); msg = 'max_events: an integer >= 1; zeno_gap: finite and >= 0 [s]'
+        case (SS_NOT_SETVALUED);  msg = 'law: the methods moreau and event_driven take only the set-valued' // &
+                                        ' laws coulomb, stribeck (and a system with the contact interface)'
         case default;             msg = 'unknown status code'
         end select
     end function status_text

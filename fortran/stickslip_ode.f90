@@ -92,6 +92,9 @@ module stickslip_ode
         integer(8) :: njac = 0      !! Jacobian evaluations (NJAC; implicit methods)
         integer(8) :: ndec = 0      !! LU decompositions (NDEC; implicit methods)
         integer(8) :: nsol = 0      !! forward-backward substitutions (NSOL; implicit methods)
+        integer(8) :: nevents = 0   !! stick/slip transitions (event_driven)
+        integer(8) :: ncontact_iter = 0  !! sweeps of the contact solver, all steps together (moreau)
+        real(dp)   :: contact_residual = 0.0_dp  !! largest final residual of a step's contact solve (moreau) [m/s]
         logical    :: stiff = .false.   !! 15 such tests in a row: the problem is probably stiff
         integer    :: n_written = 0     !! output rows written
         real(dp)   :: t_reached = 0.0_dp  !! time reached when the run ended [s]
@@ -108,13 +111,14 @@ module stickslip_ode
         logical :: implicit = .false.         !! implicit method (uses the Jacobian)
         character(len=160) :: controls = ''   !! the controls it reads
         character(len=64) :: doc = ''         !! one line on what it is
+        character(len=64) :: laws = ''        !! the laws it takes, space-separated (empty: every law)
     end type method_info
 
     !> Names of the integer and real counters of ode_stats, in the order of
     !! `stats_integers` and `stats_reals`: the Python and C layers read them by name.
     character(len=*), parameter, public :: STATS_INTEGER_NAMES = &
-        'nfev nstep naccept nreject nforced nstiff stiff njac ndec nsol n_written status'
-    character(len=*), parameter, public :: STATS_REAL_NAMES = 't_reached h_last'
+        'nfev nstep naccept nreject nforced nstiff stiff njac ndec nsol n_written status nevents ncontact_iter'
+    character(len=*), parameter, public :: STATS_REAL_NAMES = 't_reached h_last contact_residual'
     !! names of the real counters, in the order of `stats_reals`
 
 contains
@@ -133,17 +137,17 @@ contains
     !> The integer counters of st in the order of STATS_INTEGER_NAMES.
     pure function stats_integers(st) result(v)
         type(ode_stats), intent(in) :: st   !! counters of a run
-        integer(8) :: v(12)
+        integer(8) :: v(14)
         v = [st%nfev, st%nstep, st%naccept, st%nreject, st%nforced, st%nstiff, &
              merge(1_8, 0_8, st%stiff), st%njac, st%ndec, st%nsol, int(st%n_written, 8), &
-             int(st%status, 8)]
+             int(st%status, 8), st%nevents, st%ncontact_iter]
     end function stats_integers
 
     !> The real counters of st in the order of STATS_REAL_NAMES.
     pure function stats_reals(st) result(v)
         type(ode_stats), intent(in) :: st   !! counters of a run
-        real(dp) :: v(2)
-        v = [st%t_reached, st%h_last]
+        real(dp) :: v(3)
+        v = [st%t_reached, st%h_last, st%contact_residual]
     end function stats_reals
 
     function set_step_control(self, name, value) result(status)

@@ -33,6 +33,9 @@ module stickslip_registry
     use stickslip_radau5, only: radau5_options, radau5_integrate, RADAU5_INFO
     use stickslip_implicit_euler, only: implicit_euler_options, implicit_euler_integrate, IMPLICIT_EULER_INFO
     use stickslip_galpha, only: galpha_options, galpha_integrate, GALPHA_INFO
+    use stickslip_contact, only: contact_system
+    use stickslip_moreau, only: moreau_options, moreau_integrate, MOREAU_INFO
+    use stickslip_event_driven, only: event_driven_options, event_driven_integrate, EVENT_DRIVEN_INFO
     implicit none
     private
 
@@ -72,10 +75,12 @@ module stickslip_registry
 
     !> The integration methods; the code of a method is its position.
     type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO, RADAU5_INFO, &
-        IMPLICIT_EULER_INFO, GALPHA_INFO]
+        IMPLICIT_EULER_INFO, GALPHA_INFO, MOREAU_INFO, EVENT_DRIVEN_INFO]
     integer, parameter, public :: METHOD_RK4 = 1, METHOD_DOPRI5 = 2, METHOD_RADAU5 = 3, &
                                   METHOD_IMPLICIT_EULER = 4, METHOD_GALPHA = 5
     !! method codes: positions in METHOD_TABLE
+    integer, parameter, public :: METHOD_MOREAU = 6   !! method code of moreau
+    integer, parameter, public :: METHOD_EVENT_DRIVEN = 7   !! method code of event_driven
 
     !> Every physical parameter of every law and scene, each once.
     type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
@@ -207,7 +212,7 @@ contains
     !> Integrate sys with the method of code `method` and its named controls (rtol and atol
     !! as arrays, read by the adaptive methods only). Output and status as for the methods'
     !! `<method>_integrate`.
-    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats, stop_flag)
+    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats, stop_flag, events)
         use stickslip_ode, only: ode_system
         integer, intent(in) :: method                !! method code
         class(ode_system), intent(inout) :: sys      !! the right-hand side
@@ -223,13 +228,21 @@ contains
         type(ode_stats), intent(out) :: stats        !! counters and status
         !> A flag another thread may set nonzero to stop the run (SS_INTERRUPTED).
         integer, pointer, intent(in), optional :: stop_flag
+        !> (4, room): the events of event_driven, (t [s], kind, position [m], contact)
+        real(dp), intent(inout), optional :: events(:, :)
         type(step_controls) :: fixed
         type(dopri5_options) :: d5
         type(radau5_options) :: r5
         type(implicit_euler_options) :: ie
         type(galpha_options) :: ga
+        type(moreau_options) :: mj
+        type(event_driven_options) :: ev
+        class(contact_system), allocatable :: cs
+        real(dp), allocatable :: no_events(:, :)
 
         if (present(stop_flag)) then
+            mj%stop_flag => stop_flag
+            ev%stop_flag => stop_flag
             fixed%stop_flag => stop_flag
             d5%stop_flag => stop_flag
             r5%stop_flag => stop_flag
@@ -256,10 +269,40 @@ contains
         case (METHOD_GALPHA)
             stats%status = apply_controls(ga, GALPHA_INFO, keys, vals)
             if (stats%status == SS_OK) call galpha_integrate(sys, t0, y0, t_end, ga, t_out, y_out, stats)
+        case (METHOD_MOREAU)
+            call contact_model_of(sys, cs, stats%status)
+            if (stats%status == SS_OK) stats%status = apply_controls(mj, MOREAU_INFO, keys, vals)
+            if (stats%status == SS_OK) call moreau_integrate(cs, t0, y0, t_end, mj, t_out, y_out, stats)
+        case (METHOD_EVENT_DRIVEN)
+            call contact_model_of(sys, cs, stats%status)
+            if (stats%status == SS_OK) stats%status = apply_controls(ev, EVENT_DRIVEN_INFO, keys, vals)
+            if (stats%status /= SS_OK) return
+            if (present(events)) then
+                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, events)
+            else
+                allocate(no_events(4, 0))
+                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, no_events)
+            end if
         case default
             stats%status = SS_BAD_METHOD
         end select
     end subroutine integrate
+
+    !> The contact model of a system for the nonsmooth methods: a scene's `contact_model`;
+    !! SS_NOT_SETVALUED for a law without a set-valued counterpart or another system.
+    subroutine contact_model_of(sys, cs, status)
+        use stickslip_ode, only: ode_system
+        use stickslip_kinds, only: SS_NOT_SETVALUED
+        class(ode_system), intent(in) :: sys                   !! the system
+        class(contact_system), allocatable, intent(out) :: cs  !! its contact model
+        integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
+        select type (sys)
+        class is (friction_scene)
+            call sys%contact_model(cs, status)
+        class default
+            status = SS_NOT_SETVALUED
+        end select
+    end subroutine contact_model_of
 
     !> Position of a parameter in PARAMS (0: none).
     pure integer function param_index(name) result(j)
@@ -350,7 +393,7 @@ contains
     !> The registry as text, one record per line, fields separated by '|':
     !!   law|code|name|params|n_states|state labels (';')|doc
     !!   scene|code|name|params|doc
-    !!   method|code|name|order|adaptive|implicit|controls|doc
+    !!   method|code|name|order|adaptive|implicit|controls|doc|laws (empty: every law)
     !!   param|name|code|default|unit|default_of|scale|message|doc
     !!   stats|integer names|real names
     !!   status|name|code|message
@@ -390,7 +433,7 @@ contains
             text = text // 'method|' // trim(a) // '|' // trim(METHOD_TABLE(i)%name) // '|' // trim(b) // &
                    '|' // merge('1', '0', METHOD_TABLE(i)%adaptive) // '|' // &
                    merge('1', '0', METHOD_TABLE(i)%implicit) // '|' // trim(METHOD_TABLE(i)%controls) // &
-                   '|' // trim(METHOD_TABLE(i)%doc) // nl
+                   '|' // trim(METHOD_TABLE(i)%doc) // '|' // trim(METHOD_TABLE(i)%laws) // nl
         end do
         do i = 1, size(PARAMS)
             write (a, '(i0)') PARAMS(i)%code

@@ -9,15 +9,20 @@
 !!   m x'' = -k x + mu(v_b - x') m g. Relative velocity v_b - v; holding coefficient
 !!   k x / (m g).
 !! Both supply the analytic Jacobian for static laws (finite differences otherwise).
+!!
+!! For the nonsmooth methods each scene also gives its contact model (`contact_model`, the
+!! interface of `stickslip_contact`), modelling only what it needs: `slope_contact`, one
+!! coordinate per unit mass (forces in N/kg), and `belt_contact`, the mass on the spring.
 module stickslip_scenes
     use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_spec, param_values, param_read
     use stickslip_friction, only: friction_law
     use stickslip_ode, only: ode_system, fd_jacobian
+    use stickslip_contact, only: contact_system, contact_law, contact_law_of
     implicit none
     private
 
-    public :: friction_scene, slope_scene, belt_scene
+    public :: friction_scene, slope_scene, belt_scene, slope_contact, belt_contact
 
     integer, parameter, public :: SS_BAD_M = -111       !! m out of range
     integer, parameter, public :: SS_BAD_G = -112       !! g out of range
@@ -58,7 +63,42 @@ module stickslip_scenes
         procedure(static_jacobian_iface), deferred :: static_jacobian
         !> The Jacobian: analytic for a static law, finite differences otherwise.
         procedure :: jacobian => scene_jacobian
+        !> The scene as a system with a set-valued contact (`stickslip_contact`); SS_NOT_SETVALUED
+        !! when its law has no set-valued counterpart.
+        procedure(contact_model_iface), deferred :: contact_model
     end type friction_scene
+
+    !> The slope with a set-valued contact, per unit mass: q = x [m], u = v [m/s], M = 1,
+    !! f = g sin(theta) [N/kg], N = g cos(theta) [N/kg], w = v.
+    type, extends(contact_system) :: slope_contact
+        real(dp) :: g_sin = 0.0_dp    !! g sin(theta) [m/s^2]
+        real(dp) :: g_cos = 0.0_dp    !! g cos(theta) [m/s^2]
+    contains
+        procedure :: force => slope_contact_force
+        !! f = g sin(theta)
+        procedure :: solve_w => slope_contact_solve_w
+        !! W = 1
+        procedure :: normal_forces => slope_contact_normal
+        !! N = g cos(theta)
+    end type slope_contact
+
+    !> The belt with a set-valued contact: q = x [m], u = v [m/s], M = m [kg], f = -k x [N],
+    !! N = m g [N], w = v - v_b (the body's velocity relative to the belt).
+    type, extends(contact_system) :: belt_contact
+        real(dp) :: m = 10.0_dp       !! mass [kg]
+        real(dp) :: k = 300.0_dp      !! spring stiffness [N/m]
+        real(dp) :: mg = 98.1_dp      !! normal force m g [N]
+        real(dp) :: v_b = 1.5_dp      !! belt speed [m/s]
+    contains
+        procedure :: force => belt_contact_force
+        !! f = -k x
+        procedure :: solve_w => belt_contact_solve_w
+        !! W = m + b k
+        procedure :: normal_forces => belt_contact_normal
+        !! N = m g
+        procedure :: slip_offset => belt_contact_offset
+        !! b = -v_b
+    end type belt_contact
 
     abstract interface
         pure function vrel_iface(self, y) result(vr)
@@ -67,6 +107,13 @@ module stickslip_scenes
             real(dp), intent(in) :: y(:)    !! state (x, v, z...)
             real(dp) :: vr                  !! relative sliding velocity [m/s]
         end function vrel_iface
+
+        subroutine contact_model_iface(self, cs, status)
+            import :: friction_scene, contact_system
+            class(friction_scene), intent(in) :: self
+            class(contact_system), allocatable, intent(out) :: cs  !! the contact model
+            integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
+        end subroutine contact_model_iface
 
         pure function static_jacobian_iface(self, y) result(j)
             import :: friction_scene, dp
@@ -92,6 +139,8 @@ module stickslip_scenes
         !! (x, v)' for a static law, given its coefficient at the relative velocity
         procedure :: relative_velocity => slope_vrel
         !! the sliding velocity the law sees [m/s]
+        procedure :: contact_model => slope_contact_model
+        !! the slope as a `slope_contact`
     end type slope_scene
 
     !> Spring-mass on a moving belt.
@@ -111,6 +160,8 @@ module stickslip_scenes
         !! (x, v)' for a static law, given its coefficient at the relative velocity
         procedure :: relative_velocity => belt_vrel
         !! the sliding velocity the law sees [m/s]
+        procedure :: contact_model => belt_contact_model
+        !! the belt as a `belt_contact`
     end type belt_scene
 
 contains
@@ -280,5 +331,109 @@ contains
         real(dp) :: vr                  !! relative sliding velocity v_b - v [m/s]
         vr = self%v_b - y(2)
     end function belt_vrel
+
+    !> One contact on coordinate 1 with H = [1] and the scene law's set-valued counterpart.
+    subroutine one_contact(cs, law, status)
+        class(contact_system), intent(inout) :: cs  !! the model being built
+        class(friction_law), intent(in) :: law      !! the scene's law
+        integer, intent(out) :: status              !! SS_OK or SS_NOT_SETVALUED
+        type(contact_law) :: cl
+        call contact_law_of(law, cl, status)
+        cs%n_dof = 1
+        cs%n_c = 1
+        cs%h_ptr = [1, 2]
+        cs%h_col = [1]
+        cs%h_val = [1.0_dp]
+        cs%laws = [cl]
+        cs%w_constant = .true.
+    end subroutine one_contact
+
+    subroutine slope_contact_model(self, cs, status)
+        class(slope_scene), intent(in) :: self
+        class(contact_system), allocatable, intent(out) :: cs  !! a slope_contact
+        integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
+        type(slope_contact) :: sc
+        sc%g_sin = self%g_sin
+        sc%g_cos = self%g_cos
+        call one_contact(sc, self%law, status)
+        if (status == SS_OK) allocate(cs, source=sc)
+    end subroutine slope_contact_model
+
+    subroutine belt_contact_model(self, cs, status)
+        class(belt_scene), intent(in) :: self
+        class(contact_system), allocatable, intent(out) :: cs  !! a belt_contact
+        integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
+        type(belt_contact) :: bc
+        ! The scene keeps k/m and g; with the mass set to 1 the model is per unit mass
+        ! (forces in N/kg), which changes nothing in the motion.
+        bc%m = 1.0_dp
+        bc%k = self%k_m
+        bc%mg = self%g
+        bc%v_b = self%v_b
+        call one_contact(bc, self%law, status)
+        if (status == SS_OK) allocate(cs, source=bc)
+    end subroutine belt_contact_model
+
+    subroutine slope_contact_force(self, t, q, u, f)
+        class(slope_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! position x [m]
+        real(dp), intent(in)  :: u(:)       !! velocity v [m/s]
+        real(dp), intent(out) :: f(:)       !! g sin(theta) [N/kg]
+        f(1) = self%g_sin
+    end subroutine slope_contact_force
+
+    subroutine slope_contact_solve_w(self, t, q, u, a, b, x)
+        class(slope_contact), intent(in) :: self
+        real(dp), intent(in)    :: t        !! time [s]
+        real(dp), intent(in)    :: q(:)     !! position [m]
+        real(dp), intent(in)    :: u(:)     !! velocity [m/s]
+        real(dp), intent(in)    :: a        !! weight of C [s] (C = 0)
+        real(dp), intent(in)    :: b        !! weight of K [s^2] (K = 0)
+        real(dp), intent(inout) :: x(:)     !! unchanged: W = M = 1
+    end subroutine slope_contact_solve_w
+
+    subroutine slope_contact_normal(self, t, q, n)
+        class(slope_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! position [m]
+        real(dp), intent(out) :: n(:)       !! g cos(theta) [N/kg]
+        n(1) = max(self%g_cos, 0.0_dp)
+    end subroutine slope_contact_normal
+
+    subroutine belt_contact_force(self, t, q, u, f)
+        class(belt_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! position x [m]
+        real(dp), intent(in)  :: u(:)       !! velocity v [m/s]
+        real(dp), intent(out) :: f(:)       !! spring force -k x [N]
+        f(1) = -self%k * q(1)
+    end subroutine belt_contact_force
+
+    subroutine belt_contact_solve_w(self, t, q, u, a, b, x)
+        class(belt_contact), intent(in) :: self
+        real(dp), intent(in)    :: t        !! time [s]
+        real(dp), intent(in)    :: q(:)     !! position [m]
+        real(dp), intent(in)    :: u(:)     !! velocity [m/s]
+        real(dp), intent(in)    :: a        !! weight of C [s] (C = 0)
+        real(dp), intent(in)    :: b        !! weight of K = k [s^2]
+        real(dp), intent(inout) :: x(:)     !! right-hand side [N s], then x / (m + b k) [m/s]
+        x(1) = x(1) / (self%m + b * self%k)
+    end subroutine belt_contact_solve_w
+
+    subroutine belt_contact_normal(self, t, q, n)
+        class(belt_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! position [m]
+        real(dp), intent(out) :: n(:)       !! m g [N]
+        n(1) = self%mg
+    end subroutine belt_contact_normal
+
+    subroutine belt_contact_offset(self, t, b)
+        class(belt_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(out) :: b(:)       !! -v_b [m/s]
+        b(1) = -self%v_b
+    end subroutine belt_contact_offset
 
 end module stickslip_scenes

@@ -18,7 +18,7 @@ contains
     !! Parameters not named in pkeys take their defaults; controls not named in ckeys take
     !! the method's defaults. Output and status as for the methods' `<method>_integrate`.
     subroutine simulate(scene, law, method, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals, &
-                        t_out, y_out, stats, p_out, sys_out, stop_flag)
+                        t_out, y_out, stats, p_out, sys_out, stop_flag, events)
         integer, intent(in) :: scene                !! scene code (registry)
         integer, intent(in) :: law                  !! law code (registry)
         integer, intent(in) :: method               !! method code (registry)
@@ -37,6 +37,8 @@ contains
         class(friction_scene), allocatable, intent(out), optional :: sys_out  !! the scene run
         !> A flag another thread may set nonzero to stop the run (SS_INTERRUPTED).
         integer, pointer, intent(in), optional :: stop_flag
+        !> (4, room): the stick/slip events of event_driven, (t [s], kind, position [m], contact)
+        real(dp), intent(inout), optional :: events(:, :)
         class(friction_scene), allocatable :: sys
         type(param_values) :: p
 
@@ -47,7 +49,8 @@ contains
             stats%status = SS_BAD_DIM
             return
         end if
-        call integrate(method, sys, 0.0_dp, y0, t_end, rtol, atol, ckeys, cvals, t_out, y_out, stats, stop_flag)
+        call integrate(method, sys, 0.0_dp, y0, t_end, rtol, atol, ckeys, cvals, t_out, y_out, stats, stop_flag, &
+                       events)
         if (present(sys_out)) call move_alloc(sys, sys_out)
     end subroutine simulate
 

@@ -59,9 +59,19 @@ def test_fortran_law_suite(native_build):
 
 
 def test_meson_test_suite(native_build):
-    """`meson test`: the two Fortran unit tests and both examples built in-tree from the core."""
+    """`meson test`: the Fortran unit tests (five programs) and both examples built in-tree from the core."""
     from conftest import _tool
     proc = subprocess.run([_tool("meson"), "test", "-C", str(native_build), "--print-errorlogs"],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert re.search(r"Ok:\s+6\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+    assert re.search(r"Ok:\s+7\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+
+
+def test_fortran_contact_suite(native_build):
+    """tests/fortran/test_contact.f90: two blocks on a belt (two coupled contacts) under
+    moreau and event_driven, and the one-contact Stribeck solve."""
+    exe = compile_target(native_build, "test_contact")
+    proc = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout
+    assert "all contact checks passed" in proc.stdout

@@ -8,6 +8,9 @@ from .core import (
     CONTROL_DEFAULTS,
     CONTROLS,
     DEFAULTS,
+    EVENT_DTYPE,
+    ContactSolverFailure,
+    EventAccumulation,
     REGISTRY,
     LAW_PARAMS,
     LAWS,
@@ -37,5 +40,6 @@ __all__ = [
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch", "UnusedParameterWarning",
     "UnstableStepWarning", "Advice", "advise",
+    "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation",
 ]
 __version__ = "0.1.0"

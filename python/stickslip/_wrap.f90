@@ -52,10 +52,11 @@ end subroutine friction
 !! ckeys/cvals by name. t_out: requested times (grid mode) or room for every step
 !! (overwritten with step times). istats(ni) and rstats(nr) receive the counters named by
 !! the registry's 'stats' record, presolved(npar) every parameter as resolved (registry
-!! order); the caller gives the sizes, which must match the registry's.
+!! order); the caller gives the sizes, which must match the registry's. events(4, nev):
+!! room for event_driven's events (t, kind, position, contact), nev = 0 for other methods.
 subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rtol, nrt, atol, nat, &
                           ckeys, cvals, nc, nrow, t_out, y_out, ni, istats, nr, rstats, npar, presolved, &
-                          stop, status)
+                          stop, events, nev, status)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_BAD_DIM
     use stickslip_params, only: param_values
@@ -85,6 +86,9 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
     real(c_double), intent(out) :: rstats(nr)
     real(c_double), intent(out) :: presolved(npar)
     integer(c_int), intent(inout), target :: stop(1)
+    integer(c_int), intent(in) :: nev
+    real(c_double), intent(inout) :: events(4, nev)
+    !f2py integer intent(hide), depend(events) :: nev = shape(events, 1)
     integer(c_int), intent(out) :: status
     !f2py threadsafe
     type(ode_stats) :: st
@@ -99,7 +103,7 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
     rstats = 0.0_c_double
     presolved = 0.0_c_double
     call simulate(scene, law, method, split_names(pkeys), pvals, y0, t_end, rtol, atol, &
-                  split_names(ckeys), cvals, t_out, y_out, st, p_out=p, stop_flag=flag)
+                  split_names(ckeys), cvals, t_out, y_out, st, p_out=p, stop_flag=flag, events=events)
     call disarm(armed)
     status = st%status
     if (ni /= size(stats_integers(st)) .or. nr /= size(stats_reals(st)) .or. npar /= size(p%values)) then

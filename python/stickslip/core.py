@@ -36,7 +36,9 @@ def _read_registry() -> dict[str, Any]:
             reg["scene"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "doc": f[3]}
         elif kind == "method":
             reg["method"][f[1]] = {"code": int(f[0]), "order": int(f[2]), "adaptive": f[3] == "1",
-                                   "implicit": f[4] == "1", "controls": tuple(f[5].split()), "doc": f[6]}
+                                   "implicit": f[4] == "1", "controls": tuple(f[5].split()), "doc": f[6],
+                                   # the laws the method takes (None: every law)
+                                   "laws": tuple(f[7].split()) or None}
         elif kind == "param":
             reg["param"][f[0]] = {"code": int(f[1]), "default": float(f[2]), "unit": f[3],
                                   "default_of": f[4] or None, "scale": float(f[5]), "rule": f[6],
@@ -164,6 +166,16 @@ class UnstableStepWarning(UserWarning):
     may chatter, settle on a wrong state or blow up."""
 
 
+class ContactSolverFailure(IntegrationError):
+    """moreau: a step's friction problem did not converge to contact_tol within
+    contact_max_iter sweeps of the contact solver."""
+
+
+class EventAccumulation(IntegrationError):
+    """event_driven: stick/slip events accumulate (Zeno or chatter): more than max_events, or
+    10 in a row closer than zeno_gap."""
+
+
 _ERRORS: dict[int, type[IntegrationError]] = {
     STATUS_STEP_BUDGET: StepBudgetExhausted,
     STATUS_STEP_TOO_SMALL: StepSizeTooSmall,
@@ -173,7 +185,33 @@ _ERRORS: dict[int, type[IntegrationError]] = {
     _STATUS["NEWTON_FAILED"]: NewtonFailure,
     _STATUS["SINGULAR"]: NewtonFailure,
     _STATUS["JAC_NONFINITE"]: NewtonFailure,
+    _STATUS["CONTACT_FAILED"]: ContactSolverFailure,
+    _STATUS["EVENT_ZENO"]: EventAccumulation,
 }
+
+#: The dtype of Result.events: time [s], kind ("stick": slip -> stick, "slip": stick -> slip,
+#: "reversal": the relative velocity reached 0 and the contact could not be held), position x
+#: of the contact's body [m], contact index (0-based).
+EVENT_DTYPE = np.dtype([("t", "f8"), ("kind", "U8"), ("x", "f8"), ("contact", "i4")])
+_EVENT_KINDS = ("stick", "slip", "reversal")
+#: Events the facade makes room for when max_events is not given (the library's default).
+_DEFAULT_MAX_EVENTS = 10000
+#: Most events Result.events holds (32 MB of rows); a run may count more (stats["nevents"]).
+_EVENT_ROOM = 1_000_000
+#: The events of a run without any (read-only, shared), and the library's empty event buffer.
+_NO_EVENTS = np.zeros(0, dtype=EVENT_DTYPE)
+_NO_EVENTS.setflags(write=False)
+_NO_EVENT_ROWS = np.zeros((4, 0), order="F")
+
+
+def _events(raw: np.ndarray, count: int) -> np.ndarray:
+    """The library's (4, room) event rows as a structured array of EVENT_DTYPE."""
+    rows = raw[:, :min(count, raw.shape[1])]
+    out = np.zeros(rows.shape[1], dtype=EVENT_DTYPE)
+    out["t"], out["x"] = rows[0], rows[2]
+    out["kind"] = [_EVENT_KINDS[int(k) - 1] for k in rows[1]]
+    out["contact"] = rows[3].astype(np.int32) - 1
+    return out
 
 
 class Result:
@@ -205,6 +243,10 @@ class Result:
         Counters and outcome of the run; its keys are listed under `simulate` (Returns).
     y : numpy.ndarray, shape (2 + n_states, n_t)
         The whole state (x, v, then the internal states), one row per component.
+    events : numpy.ndarray of EVENT_DTYPE
+        ``event_driven``'s stick/slip transitions (time, kind, position, contact; at most the
+        first 1,000,000, while ``stats["nevents"]`` counts them all); empty for the other
+        methods.
 
     Notes
     -----
@@ -213,15 +255,17 @@ class Result:
     """
 
     __slots__ = ("scene", "law", "method", "t_end", "t", "x", "v", "z", "state_labels",
-                 "_params", "_stats", "_raw")
+                 "events", "_params", "_stats", "_raw")
 
     def __init__(self, scene: str, law: str, method: str, t_end: float, params: dict[str, float],
                  t: np.ndarray, x: np.ndarray, v: np.ndarray, stats: dict[str, Any] | None = None,
-                 z: np.ndarray | None = None, state_labels: tuple[str, ...] = ()) -> None:
+                 z: np.ndarray | None = None, state_labels: tuple[str, ...] = (),
+                 events: np.ndarray | None = None) -> None:
         self.scene, self.law, self.method, self.t_end = scene, law, method, t_end
         self.t, self.x, self.v = t, x, v
         self.z = np.zeros((0, np.size(t))) if z is None else z
         self.state_labels = state_labels
+        self.events = _NO_EVENTS if events is None else events
         self._params, self._stats, self._raw = params, ({} if stats is None else stats), None
 
     @property
@@ -255,7 +299,7 @@ class Result:
     def __getstate__(self) -> dict[str, Any]:
         return {"scene": self.scene, "law": self.law, "method": self.method, "t_end": self.t_end,
                 "params": self.params, "t": self.t, "x": self.x, "v": self.v, "stats": self.stats,
-                "z": self.z, "state_labels": self.state_labels}
+                "z": self.z, "state_labels": self.state_labels, "events": self.events}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__init__(**state)
@@ -605,6 +649,7 @@ _CONTROL_SET = frozenset(CONTROLS)
 _STATS_INT: tuple[str, ...] = REGISTRY["stats_int"]
 _STATS_REAL: tuple[str, ...] = REGISTRY["stats_real"]
 _I_WRITTEN = _STATS_INT.index("n_written")
+_I_NEVENTS = _STATS_INT.index("nevents")
 #: The sizes run_simulation checks against the registry: counters, reals, parameters.
 _SIZES = (len(_STATS_INT), len(_STATS_REAL), len(_PARAM_ORDER))
 
@@ -653,7 +698,7 @@ class _Call:
     Fortran call and what its Result needs. Never changed after _prepare, except `checked`."""
 
     __slots__ = ("scene", "law", "method", "t_end", "args", "grid", "n_out", "rows", "warnings",
-                 "n_states", "state_labels", "used", "known", "checked")
+                 "n_states", "state_labels", "used", "known", "events_room", "checked")
 
     def __init__(self, **kw: Any) -> None:
         for k, v in kw.items():
@@ -713,6 +758,11 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         ``hmax`` (0: the whole interval, so that only the error test limits the step; the
         paper's drivers pass 1e-2 s), ``h0`` (0: automatic) and their own.
         A control the method does not read is an error.
+        The set-valued (exact-stick) methods take the laws "coulomb" and "stribeck" only:
+        "moreau" (Moreau-Jean time-stepping; ``h``, ``theta`` = 0.5, ``contact_tol``,
+        ``contact_max_iter``) and "event_driven" (stick/slip switching with DOPRI5 in each
+        mode; ``rtol``, ``atol``, ``max_events``, ``zeno_gap``), whose transitions are in
+        ``Result.events`` (docs/guide/exact-stick.md).
 
     Returns
     -------
@@ -886,10 +936,13 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     pkeys, pvals = _keys(given)
     ckeys, cvals = _keys(ctl)
     known = {**_known(given), **CONTROL_DEFAULTS, **ctl, "rtol": rtol, "atol": atol, "t_end": t_end}
+    # room for event_driven's events (max_events of them, range-checked by the library)
+    room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
+        if "max_events" in plan.reads else 0
     return _Call(scene=scene, law=law, method=method, t_end=t_end,
                  args=(*plan.codes, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals),
                  grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
-                 state_labels=plan.state_labels, used=plan.used, known=known)
+                 state_labels=plan.state_labels, used=plan.used, known=known, events_room=room)
 
 
 #: The main thread's stop flag (interruptible), reused: only the main thread writes it; read
@@ -918,9 +971,11 @@ def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
     stop = np.zeros(1, dtype=np.int32)
     run, args, sizes = _ext.run_simulation, call.args, _SIZES
 
+    events = np.zeros((4, call.events_room), order="F")
+
     def bare() -> Any:
         stop[0] = -1
-        return run(*args, t_grid, *sizes, stop)
+        return run(*args, t_grid, *sizes, stop, events)
     return bare
 
 
@@ -938,9 +993,11 @@ def _execute(call: _Call) -> Result:
     else:
         stop = np.zeros(1, dtype=np.int32)
         flag = memoryview(stop)
+    raw_events = np.zeros((4, call.events_room), order="F") if call.events_room else _NO_EVENT_ROWS
     cpu0 = time.process_time()
     # ---- the Fortran call ---------------------------------------------------------------------
-    y, istats, rstats, resolved, status = _ext.run_simulation(*call.args, t_grid, *_SIZES, stop)
+    y, istats, rstats, resolved, status = _ext.run_simulation(*call.args, t_grid, *_SIZES, stop,
+                                                              raw_events)
     # -------------------------------------------------------------------------------------------
     cpu = time.process_time() - cpu0
     if flag[0] == 1:
@@ -961,6 +1018,7 @@ def _execute(call: _Call) -> Result:
     result.state_labels = call.state_labels
     result._params = result._stats = None     # built on first use from _raw
     result._raw = (istats, rstats, status, cpu, resolved, call.used)
+    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if call.events_room else _NO_EVENTS
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
     return result

@@ -1,0 +1,288 @@
+"""Stick fidelity of every friction law and method against exact answers::
+
+    python -m cases.stick --outdir out/           # about 10 s
+    python -m cases.stick --outdir out/ --quick   # the paper's middle step and tolerance only
+
+Every law x method of the library at the paper's steps (h = 1e-2, 1e-3, 1e-4 s) and tolerances
+(rtol = 1e-2, 1e-4, 1e-6, atol = 1e-3 rtol, h in [1e-6, 1e-2] s for the adaptive methods) on
+three problems with exact answers (set-valued Coulomb friction, mu_s = 0.35, mu_k = 0.30):
+
+(a) ``slope_rest``: the slope at 10 deg from rest for 20 s. Below the friction angle the box
+    never moves: error |x(20 s)| [m].
+(b) ``slope_stop``: the slope at 10 deg started at v0 = 2 m/s, 5 s. It slides with deceleration
+    a = g (mu_k cos th - sin th) and stops for good at t_stop = v0/a, x_stop = v0^2/(2a):
+    errors |x(5 s) - x_stop| [m] and |t_stop - v0/a| [s], with t_stop where v first reaches 0:
+    the line through the two grid points (1 ms apart) before it, extended to v = 0 (exact for
+    the linear deceleration); empty when v never reaches 0 (a creeping law).
+(c) ``belt_stuck``: the belt (m = 10 kg, k = 300 N/m) slowed to v_b = 0.1 m/s so that a quarter
+    of each cycle is stick, started stuck (x = 0, v = v_b), 5 s. The Coulomb cycle: centre
+    x_k = mu_k m g/k, amplitude A = sqrt(((mu_s - mu_k) m g/k)^2 + (v_b/w)^2), w = sqrt(k/m),
+    period (pi + 2 asin(v_b/(A w)))/w + 2 (mu_s - mu_k) m g/(k v_b): errors of the amplitude
+    (half the range of x after the first slip, extremes refined by a parabola through three grid
+    points), of the period (up-crossings of x_k), and max |x - x_exact| over the run [m].
+
+The exact answers are those of set-valued Coulomb friction; a law with another slip curve
+(Stribeck: mu above mu_k at low speeds, the bristle laws) differs from them physically as well
+as numerically. Cost: right-hand-side (or force) evaluations, steps and CPU seconds of the library call.
+Transitions: changes between |v_rel| < 1e-4 m/s and above on the output grid (event_driven
+also reports its events). A run that fails (a step budget of 2e5 steps, a Newton failure) is a
+row with its status and no error. Writes ``stick.csv``, ``stick.md`` (the tables) and
+``stick.png`` / ``stick.pdf`` (error against CPU time per scene, one colour per method, one
+marker per law).
+"""
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from . import _common as c
+
+MU_S, MU_K, G = 0.35, 0.30, 9.81
+THETA_DEG = 10.0
+V0_SLOPE = 2.0                        # (b) initial speed [m/s]
+BELT = {"m": 10.0, "k": 300.0, "v_b": 0.1}
+T_END = {"slope_rest": 20.0, "slope_stop": 5.0, "belt_stuck": 5.0}
+N_OUT = {"slope_rest": 2001, "slope_stop": 5001, "belt_stuck": 50001}
+STEPS: tuple[float, ...] = (1e-2, 1e-3, 1e-4)       # [s]
+RTOLS: tuple[float, ...] = (1e-2, 1e-4, 1e-6)       # atol = 1e-3 rtol
+MAX_STEPS: int = 200_000
+STUCK_SPEED: float = 1e-4             # |v_rel| below this counts as stuck [m/s]
+FLOOR: float = 1e-16                  # exact zeros are drawn here on the log axes
+
+HEADER = ["problem [-]", "law [-]", "method [-]", "h [s]", "rtol [-]", "status [-]", "nfev [-]",
+          "nstep [-]", "cpu [s]", "transitions [-]", "nevents [-]", "err_x [m]", "err_t_stop [s]",
+          "err_amplitude [m]", "err_period [s]", "err_path [m]"]
+
+
+def exact() -> dict[str, float]:
+    """The exact answers of (b) and (c)."""
+    th = math.radians(THETA_DEG)
+    a = G * (MU_K * math.cos(th) - math.sin(th))
+    m, k, v_b = BELT["m"], BELT["k"], BELT["v_b"]
+    w = math.sqrt(k / m)
+    d = (MU_S - MU_K) * m * G / k
+    amp = math.hypot(d, v_b / w)
+    phi = math.asin(v_b / (amp * w))
+    return {"t_stop": V0_SLOPE / a, "x_stop": V0_SLOPE ** 2 / (2 * a), "x_k": MU_K * m * G / k,
+            "d": d, "A": amp, "w": w, "phi": phi, "t_slip": (math.pi + 2 * phi) / w,
+            "period": (math.pi + 2 * phi) / w + 2 * d / v_b, "t1": MU_S * m * G / k / v_b}
+
+
+def belt_path(t: np.ndarray) -> np.ndarray:
+    """The exact x(t) of (c): stuck until the spring holds mu_s m g, then the cycle."""
+    e = exact()
+    tau = np.mod(t - e["t1"], e["period"])
+    x = np.where(tau < e["t_slip"], e["x_k"] + e["A"] * np.cos(e["w"] * tau - e["phi"]),
+                 e["x_k"] - e["d"] + BELT["v_b"] * (tau - e["t_slip"]))
+    return np.where(t < e["t1"], BELT["v_b"] * t, x)
+
+
+def jobs(quick: bool = False) -> list[dict[str, Any]]:
+    """Every (problem, law, method, setting) as keyword arguments of stickslip.simulate."""
+    import stickslip as ss
+    steps, rtols = ((1e-3,), (1e-4,)) if quick else (STEPS, RTOLS)
+    out = []
+    for problem in T_END:
+        scene = "belt" if problem == "belt_stuck" else "slope"
+        start = {"v0": BELT["v_b"], **BELT} if scene == "belt" else \
+            {"theta_deg": THETA_DEG, "v0": V0_SLOPE if problem == "slope_stop" else 0.0}
+        for law in ss.LAWS:
+            for method in ss.METHODS:
+                controls = ss.REGISTRY["method"][method]["controls"]
+                settings = [{"h": h} for h in steps] if "h" in controls else \
+                    [{"rtol": r, "atol": 1e-3 * r, **({"hmin": 1e-6, "hmax": 1e-2} if "hmin" in controls else {})}
+                     for r in rtols]
+                for s in settings:
+                    out.append({"problem": problem, "scene": scene, "law": law, "method": method,
+                                "t_end": T_END[problem], "n_out": N_OUT[problem], "max_steps": MAX_STEPS,
+                                "mu_s": MU_S, "mu_k": MU_K, **start, **s})
+    return out
+
+
+def simulate_job(job: dict[str, Any]) -> dict[str, Any]:
+    """Run one job; the outcome with its status (a refusal or a run-time failure is a status,
+    not an exception)."""
+    import warnings
+
+    import stickslip as ss
+    kw = {k: v for k, v in job.items() if k not in ("problem", "scene", "law")}
+    out = {"job": job, "status": "ok"}
+    try:
+        with warnings.catch_warnings():     # RK4's stability warnings: the errors show it
+            warnings.simplefilter("ignore", UserWarning)
+            r = ss.simulate(job["scene"], job["law"], **kw)
+    except ss.IntegrationError as exc:
+        out["status"] = type(exc).__name__
+        r = exc.result
+    except ValueError as exc:
+        out["status"] = "refused"
+        out["reason"] = str(exc)
+        return out
+    out.update(t=r.t, x=r.x, v=r.v, stats=r.stats, nevents=len(r.events))
+    return out
+
+
+def _transitions(v_rel: np.ndarray) -> int:
+    stuck = np.abs(v_rel) < STUCK_SPEED
+    return int(np.count_nonzero(stuck[1:] != stuck[:-1]))
+
+
+def _extremes(t: np.ndarray, x: np.ndarray, sign: float) -> np.ndarray:
+    """Local maxima (sign 1) or minima (-1) of x on the grid, refined by a parabola."""
+    y = sign * x
+    i = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])) + 1
+    a, b, cc = y[i - 1], y[i], y[i + 1]
+    den = a - 2 * b + cc
+    with np.errstate(divide="ignore", invalid="ignore"):
+        peak = np.where(den < 0, b - 0.125 * (a - cc) ** 2 / den, b)
+    return sign * peak
+
+
+def measure(o: dict[str, Any]) -> list[Any]:
+    """One CSV row from an outcome."""
+    job = o["job"]
+    row: list[Any] = [job["problem"], job["law"], job["method"], job.get("h"), job.get("rtol"), o["status"]]
+    if "t" not in o:
+        return row + [None] * (len(HEADER) - len(row))
+    st, t, x, v = o["stats"], o["t"], o["x"], o["v"]
+    e = exact()
+    v_rel = v - BELT["v_b"] if job["scene"] == "belt" else v
+    row += [st["nfev"], st["nstep"], st["cpu_seconds"], _transitions(v_rel), o["nevents"]]
+    err_x = err_t = err_a = err_p = err_path = None
+    complete = o["status"] == "ok"
+    if job["problem"] == "slope_rest" and complete:
+        err_x = abs(x[-1])
+    elif job["problem"] == "slope_stop" and complete:
+        err_x = abs(x[-1] - e["x_stop"])
+        k = np.flatnonzero((v[:-1] > 0) & (v[1:] <= 0))
+        if k.size and k[0] >= 1 and v[k[0] - 1] > v[k[0]]:
+            i = k[0]
+            err_t = abs(t[i] + v[i] / (v[i - 1] - v[i]) * (t[i] - t[i - 1]) - e["t_stop"])
+    elif job["problem"] == "belt_stuck" and complete:
+        after = t > e["t1"] + 0.05
+        hi, lo = _extremes(t[after], x[after], 1.0), _extremes(t[after], x[after], -1.0)
+        if hi.size and lo.size:
+            err_a = abs(0.5 * (hi.max() - lo.min()) - e["A"])
+        up = np.flatnonzero((x[:-1] < e["x_k"]) & (x[1:] >= e["x_k"]))
+        if up.size >= 2:
+            tc = t[up] + (e["x_k"] - x[up]) / (x[up + 1] - x[up]) * (t[up + 1] - t[up])
+            err_p = abs(np.mean(np.diff(tc)) - e["period"])
+        err_path = float(np.max(np.abs(x - belt_path(t))))
+    return row + [err_x, err_t, err_a, err_p, err_path]
+
+
+def run(outdir: str | Path, *, quick: bool = False, threads: int = 1, quiet: bool = False) -> list[Path]:
+    """Simulate every job and write the CSV, tables and figure. The runs are serial (the whole
+    study takes seconds, less than a process pool costs to start): `threads` is accepted for
+    `python -m cases` and not used."""
+    outdir = Path(outdir)
+    todo = jobs(quick)
+    c.log(f"cases.stick: {len(todo)} runs", quiet)
+    start = time.perf_counter()
+    rows = [measure(simulate_job(job)) for job in todo]
+    c.log(f"cases.stick: {time.perf_counter() - start:.1f} s", quiet)
+    csv_path = c.write_csv(outdir / "stick.csv", HEADER, rows)
+    return [csv_path, write_tables(csv_path, outdir), *plot(csv_path, outdir)]
+
+
+def _rows(csv_path: Path) -> list[dict[str, str]]:
+    cols = c.read_csv(csv_path)
+    return [dict(zip(cols, vals)) for vals in zip(*cols.values())]
+
+
+def _num(s: str) -> float | None:
+    return float(s) if s not in ("", None) else None
+
+
+ERRORS = {"slope_rest": ("err_x [m]",), "slope_stop": ("err_x [m]", "err_t_stop [s]"),
+          "belt_stuck": ("err_amplitude [m]", "err_period [s]", "err_path [m]")}
+TITLES = {"slope_rest": "(a) slope at 10 deg from rest, 20 s: |x(20 s)|",
+          "slope_stop": "(b) slope, v0 = 2 m/s, sliding to a stop: |x(5 s) - x_stop|",
+          "belt_stuck": "(c) belt started stuck, v_b = 0.1 m/s: |amplitude - A|"}
+
+
+def write_tables(csv_path: Path, outdir: Path) -> Path:
+    """stick.md: one table per problem, a row per law x method x setting that ran."""
+    parts = ["# Stick fidelity: every law and method against exact answers\n",
+             "Made by `python -m cases.stick` (see its docstring for the problems). Errors in m "
+             "and s; 0 means exactly zero; CPU in ms; a failed run shows its status.\n"]
+    rows = _rows(csv_path)
+    for problem, errs in ERRORS.items():
+        parts.append(f"\n## {TITLES[problem]}\n\n")
+        header = ["law", "method", "h or rtol", "status", *[e.split(" ")[0] for e in errs],
+                  "nfev", "steps", "CPU [ms]", "transitions"]
+        body = []
+        for r in rows:
+            if r["problem [-]"] != problem or r["status [-]"] == "refused":
+                continue
+            setting = f"h = {r['h [s]']}" if r["h [s]"] else f"rtol = {r['rtol [-]']}"
+            cpu = _num(r["cpu [s]"])
+            body.append([r["law [-]"], r["method [-]"], setting, r["status [-]"],
+                         *[_num(r[e]) for e in errs], r["nfev [-]"], r["nstep [-]"],
+                         None if cpu is None else 1e3 * cpu, r["transitions [-]"]])
+        parts.append(c.markdown_table(header, body))
+    refused = sorted({(r["law [-]"], r["method [-]"]) for r in rows if r["status [-]"] == "refused"})
+    parts.append("\nRefused before running (the nonsmooth methods take the set-valued laws only): "
+                 + ", ".join(f"{law}/{m}" for law, m in refused) + ".\n")
+    return c.write_text(outdir / "stick.md", "".join(parts))
+
+
+#: Okabe-Ito colours (colour-blind safe), one per method, and a marker per law.
+COLORS = ("#000000", "#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#D55E00", "#CC79A7")
+MARKERS = ("o", "s", "^", "v", "D", "P", "X", "*")
+
+
+def plot(csv_path: str | Path, outdir: str | Path) -> list[Path]:
+    """stick.png and stick.pdf: for each problem its first error against CPU time, a line per
+    law x method through its settings."""
+    import matplotlib.pyplot as plt
+    rows = _rows(Path(csv_path))
+    methods = list(dict.fromkeys(r["method [-]"] for r in rows))
+    laws = list(dict.fromkeys(r["law [-]"] for r in rows))
+    fig, axes = c.new_figure(3, width=13.0)
+    fig.set_size_inches(13.0, 5.2)
+    for ax, (problem, errs) in zip(axes, ERRORS.items()):
+        for (mi, method) in enumerate(methods):
+            for (li, law) in enumerate(laws):
+                pts = [(_num(r["cpu [s]"]), _num(r[errs[0]])) for r in rows
+                       if r["problem [-]"] == problem and r["method [-]"] == method and r["law [-]"] == law
+                       and _num(r[errs[0]]) is not None]
+                if not pts:
+                    continue
+                cpu, err = zip(*sorted(pts))
+                ax.plot(cpu, np.maximum(err, FLOOR), color=COLORS[mi % len(COLORS)],
+                        marker=MARKERS[li % len(MARKERS)], markersize=4, linewidth=0.8,
+                        markerfacecolor="none" if method not in ("moreau", "event_driven") else None)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("CPU time of the run [s]")
+        ax.set_ylabel(f"error {errs[0].split(' ')[0].replace('err_', '')} [{errs[0].split('[')[1]}")
+        ax.set_title(TITLES[problem], fontsize=8)
+        ax.axhline(FLOOR, color="0.6", linewidth=0.6, linestyle=":")
+    handles = [plt.Line2D([], [], color=COLORS[i % len(COLORS)], label=m) for i, m in enumerate(methods)]
+    handles += [plt.Line2D([], [], color="0.3", marker=MARKERS[i % len(MARKERS)], linestyle="none",
+                           label=law) for i, law in enumerate(laws)]
+    fig.legend(handles=handles, loc="lower center", ncol=8, frameon=False, fontsize=7)
+    fig.text(0.5, 0.115, f"exact results (error 0) are drawn at {FLOOR:g} (dotted line); filled markers: "
+             "set-valued friction (moreau, event_driven); failed runs (step budget, Newton failure) are "
+             "not drawn (stick.md lists them)", ha="center", fontsize=7)
+    fig.tight_layout(rect=(0.0, 0.14, 1.0, 1.0))
+    outdir = Path(outdir)
+    png = c.atomic_write(outdir / "stick.png", lambda f: fig.savefig(f, format="png", dpi=200), binary=True)
+    pdf = c.atomic_write(outdir / "stick.pdf", lambda f: fig.savefig(f, format="pdf"), binary=True)
+    plt.close(fig)
+    return [png, pdf]
+
+
+def main(argv: Sequence[str] | None = None) -> list[Path]:
+    """Command line: python -m cases.stick [--outdir DIR] [--quick] [--threads N] [--quiet]."""
+    return c.study_main("cases.stick", __doc__, "one step size and one tolerance (h = 1e-3 s, rtol = 1e-4)",
+                        run, argv)
+
+
+if __name__ == "__main__":
+    main()

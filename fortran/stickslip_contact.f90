@@ -1,0 +1,264 @@
+!> Set-valued (exact-stick) friction: the interface of a mechanical system with frictional
+!! contacts, as the nonsmooth methods (`stickslip_moreau`, `stickslip_event_driven`) see it,
+!! and the set-valued laws with their one-contact solution.
+!!
+!! The system. Generalized coordinates q and velocities u (n_dof each; units per
+!! coordinate, [m] and [m/s] for the built-in scenes), a mass matrix M (n_dof x n_dof,
+!! symmetric positive definite, [kg]), non-friction generalized forces f(t, q, u) [N], and
+!! n_c frictional contacts. Contact i has
+!!   - a normal force N_i(t, q) >= 0 [N];
+!!   - a relative sliding velocity w_i = sum_j H(i, j) u_j + b_i(t) [m/s], a linear map of u
+!!     (H constant, stored by rows in compressed sparse form: a chain of blocks has one entry
+!!     per row) plus an offset (a belt: w = v - v_b, the body's velocity relative to the belt);
+!!   - a set-valued law (`contact_law`): the friction force r_i [N] opposes sliding,
+!!     r_i = -N_i mu(|w_i|) sign(w_i) when w_i /= 0, and any r_i with |r_i| <= mu_s N_i when
+!!     w_i = 0 (stick). The generalized friction force is H^T r.
+!! The equations of motion are M u' = f(t, q, u) + H^T r, q' = u.
+!!
+!! The methods need the system to solve with its iteration matrix
+!! W = M + a C + b K (K = -df/dq [N/m], C = -df/du [N s/m], a [s], b [s^2]):
+!! `solve_w` does it in place, so that a banded or block-diagonal system keeps its
+!! structure (the mass is never formed as a dense matrix here). With a = b = 0 it applies
+!! M^-1. `w_constant` tells that W depends on a and b only (a linear, time-invariant
+!! system): a method may then factor the contact problem once per step size.
+!!
+!! The set-valued laws (`contact_law`): Coulomb (stick up to mu_s N, slip at mu_k N at any
+!! speed) and the Stribeck curve mu(s) = mu_k + (mu_s - mu_k) exp(-(s/v_s)^delta) + c_v s
+!! (continuous at s = 0+ with the static limit mu_s, no tanh regularisation). The smooth
+!! law's band of the Coulomb law of the paper (mu_s for 0 < |v| < v_s) is a stand-in for the
+!! static set and has no counterpart here: v_s is not read by the set-valued Coulomb.
+module stickslip_contact
+    use stickslip_kinds, only: dp, SS_OK, SS_NOT_SETVALUED
+    use stickslip_friction, only: friction_law
+    use stickslip_law_coulomb, only: coulomb_law
+    use stickslip_law_stribeck, only: stribeck_law, stribeck_curve, stribeck_curve_slope
+    implicit none
+    private
+
+    public :: contact_law, contact_system, contact_law_of, local_solve
+
+    integer, parameter, public :: CONTACT_COULOMB = 1    !! set-valued Coulomb (mu_s, mu_k)
+    integer, parameter, public :: CONTACT_STRIBECK = 2   !! set-valued Stribeck curve
+
+    !> A set-valued friction law of one contact.
+    type :: contact_law
+        integer :: kind = CONTACT_COULOMB   !! CONTACT_COULOMB or CONTACT_STRIBECK
+        real(dp) :: mu_s = 0.35_dp          !! static coefficient: stick up to mu_s N [-]
+        real(dp) :: mu_k = 0.30_dp          !! kinetic coefficient [-]
+        real(dp) :: v_s = 0.01_dp           !! Stribeck velocity (Stribeck only) [m/s]
+        real(dp) :: delta = 2.0_dp          !! Stribeck shape exponent (Stribeck only) [-]
+        real(dp) :: c_v = 0.0_dp            !! viscous coefficient (Stribeck only) [s/m]
+    contains
+        !> Coefficient in slip at speed s > 0 [-].
+        procedure :: slip_mu
+        !> d(slip_mu)/ds at s > 0 [s/m].
+        procedure :: slip_dmu
+    end type contact_law
+
+    !> A mechanical system with frictional contacts (see the module notes for the model).
+    type, abstract :: contact_system
+        integer :: n_dof = 0                       !! generalized coordinates (and velocities)
+        integer :: n_c = 0                         !! frictional contacts
+        integer, allocatable :: h_ptr(:)           !! (n_c + 1) row starts of H in h_col/h_val
+        integer, allocatable :: h_col(:)           !! column (coordinate) of each entry of H
+        real(dp), allocatable :: h_val(:)          !! value of each entry of H [-]
+        type(contact_law), allocatable :: laws(:)  !! (n_c) the law of each contact
+        logical :: w_constant = .false.            !! W = M + a C + b K depends on a, b only
+    contains
+        !> f(t, q, u): the non-friction generalized forces [N].
+        procedure(force_iface), deferred :: force
+        !> x := (M + a C + b K)^-1 x, at (t, q, u).
+        procedure(solve_w_iface), deferred :: solve_w
+        !> The normal forces N_i(t, q) >= 0 [N] of every contact.
+        procedure(normal_iface), deferred :: normal_forces
+        !> The offsets b_i(t) of the relative velocities [m/s] (default 0).
+        procedure :: slip_offset => zero_offset
+        !> Their rates db_i/dt [m/s^2] (default 0; the event-driven method reads them).
+        procedure :: offset_rate => zero_offset
+        !> w = H u + b(t) [m/s].
+        procedure :: relative_velocities
+        !> w = H x (no offset).
+        procedure :: apply_h
+        !> g := g + H^T r [N] (or impulses [N s]).
+        procedure :: add_ht
+        !> The coordinate of contact i's first entry of H (where its position is read).
+        procedure :: contact_coordinate
+    end type contact_system
+
+    abstract interface
+        subroutine force_iface(self, t, q, u, f)
+            import :: contact_system, dp
+            class(contact_system), intent(in) :: self
+            real(dp), intent(in)  :: t          !! time [s]
+            real(dp), intent(in)  :: q(:)       !! coordinates [m]
+            real(dp), intent(in)  :: u(:)       !! velocities [m/s]
+            real(dp), intent(out) :: f(:)       !! non-friction forces [N]
+        end subroutine force_iface
+
+        subroutine solve_w_iface(self, t, q, u, a, b, x)
+            import :: contact_system, dp
+            class(contact_system), intent(in) :: self
+            real(dp), intent(in)    :: t        !! time [s]
+            real(dp), intent(in)    :: q(:)     !! coordinates [m]
+            real(dp), intent(in)    :: u(:)     !! velocities [m/s]
+            real(dp), intent(in)    :: a        !! weight of C = -df/du [s]
+            real(dp), intent(in)    :: b        !! weight of K = -df/dq [s^2]
+            real(dp), intent(inout) :: x(:)     !! right-hand side [N s], then the solution [m/s]
+        end subroutine solve_w_iface
+
+        subroutine normal_iface(self, t, q, n)
+            import :: contact_system, dp
+            class(contact_system), intent(in) :: self
+            real(dp), intent(in)  :: t          !! time [s]
+            real(dp), intent(in)  :: q(:)       !! coordinates [m]
+            real(dp), intent(out) :: n(:)       !! normal force of each contact, >= 0 [N]
+        end subroutine normal_iface
+    end interface
+
+contains
+
+    subroutine zero_offset(self, t, b)
+        class(contact_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(out) :: b(:)       !! offset of each relative velocity [m/s] (or its rate [m/s^2])
+        b = 0.0_dp
+    end subroutine zero_offset
+
+    subroutine relative_velocities(self, t, u, w)
+        class(contact_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: u(:)       !! velocities [m/s]
+        real(dp), intent(out) :: w(:)       !! relative sliding velocity of each contact [m/s]
+        real(dp) :: b(self%n_c)
+        call self%slip_offset(t, b)
+        call self%apply_h(u, w)
+        w = w + b
+    end subroutine relative_velocities
+
+    pure subroutine apply_h(self, x, w)
+        class(contact_system), intent(in) :: self
+        real(dp), intent(in)  :: x(:)       !! a vector of generalized velocities [m/s]
+        real(dp), intent(out) :: w(:)       !! H x [m/s]
+        integer :: i, k
+        do i = 1, self%n_c
+            w(i) = 0.0_dp
+            do k = self%h_ptr(i), self%h_ptr(i + 1) - 1
+                w(i) = w(i) + self%h_val(k) * x(self%h_col(k))
+            end do
+        end do
+    end subroutine apply_h
+
+    pure subroutine add_ht(self, r, g)
+        class(contact_system), intent(in) :: self
+        real(dp), intent(in)    :: r(:)     !! contact forces [N] (or impulses [N s])
+        real(dp), intent(inout) :: g(:)     !! generalized forces, H^T r added [N] (or [N s])
+        integer :: i, k
+        do i = 1, self%n_c
+            do k = self%h_ptr(i), self%h_ptr(i + 1) - 1
+                g(self%h_col(k)) = g(self%h_col(k)) + self%h_val(k) * r(i)
+            end do
+        end do
+    end subroutine add_ht
+
+    pure integer function contact_coordinate(self, i) result(j)
+        class(contact_system), intent(in) :: self
+        integer, intent(in) :: i            !! contact index, 1 .. n_c
+        j = self%h_col(self%h_ptr(i))
+    end function contact_coordinate
+
+    elemental function slip_mu(self, s) result(mu)
+        class(contact_law), intent(in) :: self
+        real(dp), intent(in) :: s           !! sliding speed |w| > 0 [m/s]
+        real(dp) :: mu                      !! friction coefficient in slip [-]
+        if (self%kind == CONTACT_STRIBECK) then
+            mu = stribeck_curve(s, self%mu_s, self%mu_k, self%v_s, self%delta) + self%c_v * s
+        else
+            mu = self%mu_k
+        end if
+    end function slip_mu
+
+    elemental function slip_dmu(self, s) result(d)
+        class(contact_law), intent(in) :: self
+        real(dp), intent(in) :: s           !! sliding speed |w| > 0 [m/s]
+        real(dp) :: d                       !! d mu / d s [s/m]
+        if (self%kind == CONTACT_STRIBECK) then
+            d = stribeck_curve_slope(s, self%mu_s, self%mu_k, self%v_s, self%delta) + self%c_v
+        else
+            d = 0.0_dp
+        end if
+    end function slip_dmu
+
+    !> The set-valued law of a library law: Coulomb and Stribeck have one (their slip curve
+    !! without the regularisation at rest); any other law gives SS_NOT_SETVALUED.
+    subroutine contact_law_of(law, cl, status)
+        class(friction_law), intent(in) :: law  !! a validated friction law
+        type(contact_law), intent(out) :: cl    !! its set-valued counterpart
+        integer, intent(out) :: status          !! SS_OK or SS_NOT_SETVALUED
+        status = SS_OK
+        cl%mu_s = law%mu_s
+        cl%mu_k = law%mu_k
+        cl%v_s = law%v_s
+        select type (law)
+        type is (coulomb_law)
+            cl%kind = CONTACT_COULOMB
+        type is (stribeck_law)
+            cl%kind = CONTACT_STRIBECK
+            cl%delta = law%delta
+            cl%c_v = law%c_v
+        class default
+            status = SS_NOT_SETVALUED
+        end select
+    end subroutine contact_law_of
+
+    !> The one-contact problem of an implicit step: w = wf + d p with the impulse
+    !! p in -hn F(w), F(w) = mu(|w|) sign(w) for w /= 0 and [-mu_s, mu_s] at w = 0.
+    !! Stick (w = 0 exactly, p = -wf/d) when |wf| <= d hn mu_s; otherwise slip in the
+    !! direction of wf with s = |w| > 0 solving s + d hn mu(s) = |wf|: in closed form for
+    !! Coulomb, by a bracketed Newton iteration to rounding for Stribeck (a root in
+    !! (0, |wf|) always exists; when d hn mu'(s) < -1 somewhere there may be several, and the
+    !! one found is the one the bracket leads to).
+    pure subroutine local_solve(cl, wf, d, hn, w, p)
+        type(contact_law), intent(in) :: cl   !! the contact's law
+        real(dp), intent(in)  :: wf           !! relative velocity without this contact's impulse [m/s]
+        real(dp), intent(in)  :: d            !! w per unit impulse, > 0 [1/kg]
+        real(dp), intent(in)  :: hn           !! step times normal force, >= 0 [N s]
+        real(dp), intent(out) :: w            !! relative velocity after the impulse [m/s]
+        real(dp), intent(out) :: p            !! friction impulse [N s]
+        real(dp) :: c, s, s_new, lo, hi, phi, dphi, sig
+        integer :: it
+        c = d * hn
+        if (abs(wf) <= c * cl%mu_s) then
+            p = -wf / d
+            w = 0.0_dp
+            return
+        end if
+        sig = sign(1.0_dp, wf)
+        if (cl%kind == CONTACT_COULOMB) then
+            s = abs(wf) - c * cl%mu_k
+        else
+            ! phi(s) = s + c mu(s) - |wf|: phi(0+) = c mu_s - |wf| < 0, phi(|wf|) > 0.
+            lo = 0.0_dp
+            hi = abs(wf)
+            s = max(abs(wf) - c * cl%mu_k, 0.5_dp * hi)
+            do it = 1, 200
+                phi = s + c * cl%slip_mu(s) - abs(wf)
+                if (phi == 0.0_dp) exit
+                if (phi > 0.0_dp) then
+                    hi = s
+                else
+                    lo = s
+                end if
+                dphi = 1.0_dp + c * cl%slip_dmu(s)
+                s_new = 0.5_dp * (lo + hi)
+                if (dphi > 0.0_dp) s_new = s - phi / dphi
+                if (.not. (s_new > lo .and. s_new < hi)) s_new = 0.5_dp * (lo + hi)
+                if (abs(s_new - s) <= 2.0_dp * epsilon(1.0_dp) * s .or. hi - lo <= 2.0_dp * epsilon(1.0_dp) * hi) &
+                    exit
+                s = s_new
+            end do
+        end if
+        w = sig * s
+        p = -sig * hn * cl%slip_mu(s)
+    end subroutine local_solve
+
+end module stickslip_contact

@@ -1,0 +1,292 @@
+!> Moreau-Jean time-stepping (velocity level, theta-method) for a system with set-valued
+!! friction (`stickslip_contact`). Fixed step h; each step solves its friction problem
+!! exactly, so a contact that should stick has relative velocity 0 and does not creep.
+!!
+!! One step from (t, q, u) to t1 = t + h, with f the non-friction forces:
+!!   W (u1 - u) = h [(1 - theta) f(t, q, u) + theta f(t1, q + h u, u)] + H^T p
+!!   q1 = q + h [(1 - theta) u + theta u1]
+!! with W = M + h theta C + (h theta)^2 K (C = -df/du, K = -df/dq; `solve_w`) and the
+!! friction impulses p (one per contact, [N s]) from the set-valued law at the end of the
+!! step: p_i in -h N_i F_i(w_i), w = H u1 + b(t1), with N_i at (t1, q + h u). For a linear f this is exactly the
+!! theta-method; otherwise it is its linearly implicit form (one Newton iteration).
+!!
+!! The friction problem w = w_free + D p, D = H W^-1 H^T (the Delassus matrix, n_c x n_c),
+!! is solved by projected Gauss-Seidel: contact by contact, the one-contact problem in closed
+!! form (`local_solve`) given the others' impulses, sweep after sweep until the largest
+!! change that a sweep's later updates make to an earlier contact's velocity is below
+!! contact_tol [m/s]. One contact needs one sweep (its residual is then 0). Impulses are
+!! warm-started from the previous step. When `w_constant` is set, D is formed once per step
+!! size (n_c solves with W), otherwise every step. Dense D: fine for a few hundred contacts;
+!! a chain of thousands of blocks wants a banded or matrix-free solver.
+!!
+!! A stuck contact whose row of H has a single entry has its coordinate's velocity set so
+!! that w = 0 exactly (the solve gives it to rounding otherwise).
+!!
+!! theta: 1/2 is the default. In slip the scheme is then the trapezoidal rule, second order
+!! and free of numerical damping, so the spring-mass oscillation of a slip phase keeps its
+!! amplitude; theta = 1 (backward Euler) damps it by a factor 1/(1 + (h w)^2) a step, which
+!! shortens the slip phases of the stick-slip cycle. At a stick-slip transition every theta
+!! is first order in position (the transition falls inside a step). theta > 1/2 adds
+!! dissipation where an energy-growing system needs it.
+!!
+!! Output: in grid mode linear interpolation between steps (q is piecewise linear in time
+!! in the scheme), in every-step mode the steps themselves. The state is y = (q, u).
+module stickslip_moreau
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_BAD_DIM, SS_NONFINITE, &
+                               SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_INTERRUPTED, SS_BAD_THETA_MJ, &
+                               SS_BAD_CONTACT_CTL, SS_CONTACT_FAILED
+    use stickslip_ode, only: ode_stats, step_controls, method_info, check_problem, output_start, &
+                             step_count, stop_requested, all_finite
+    use stickslip_contact, only: contact_system, local_solve
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    implicit none
+    private
+
+    public :: moreau_options, moreau_integrate, contact_sweeps
+
+    !> What the Moreau-Jean method is and which controls it reads (registry entry).
+    type(method_info), parameter, public :: MOREAU_INFO = method_info(name='moreau', order=1, &
+        adaptive=.false., implicit=.true., controls='h theta contact_tol contact_max_iter max_steps every_step', &
+        doc='Moreau-Jean theta time-stepping, set-valued friction', laws='coulomb stribeck')
+
+    !> Controls of the Moreau-Jean method: h, max_steps, every_step (shared) and its own.
+    type, extends(step_controls) :: moreau_options
+        real(dp) :: theta = 0.5_dp          !! theta of the theta-method, in [1/2, 1] [-]
+        real(dp) :: contact_tol = 1.0e-12_dp  !! tolerance of the contact solve [m/s]
+        integer  :: contact_max_iter = 1000   !! sweeps of the contact solve per step, >= 1
+    contains
+        procedure :: set => set_moreau_option
+        !! set a control by name (the step_controls ones and the method's own)
+    end type moreau_options
+
+contains
+
+    function set_moreau_option(self, name, value) result(status)
+        class(moreau_options), intent(inout) :: self
+        character(len=*), intent(in) :: name    !! control name
+        real(dp), intent(in) :: value           !! its value (counts as reals)
+        integer :: status
+        status = SS_OK
+        select case (name)
+        case ('theta');       self%theta = value
+        case ('contact_tol'); self%contact_tol = value
+        case ('contact_max_iter')
+            if (value >= 1.0_dp .and. value <= real(huge(1), dp)) then
+                self%contact_max_iter = int(value)
+            else
+                status = SS_BAD_CONTACT_CTL
+            end if
+        case default;         status = self%step_controls%set(name, value)
+        end select
+    end function set_moreau_option
+
+    !> Integrate M u' = f + H^T r, q' = u with set-valued friction from t0 to t_end.
+    !! y0 = (q0, u0) of size 2 n_dof. Output as for the other fixed-step methods.
+    !! stats: nfev counts force evaluations (2 a step), ncontact_iter the contact sweeps,
+    !! contact_residual the largest final residual of a step [m/s]. Status: SS_OK,
+    !! SS_CONTACT_FAILED, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET,
+    !! SS_INTERRUPTED or a bad-input code.
+    subroutine moreau_integrate(cs, t0, y0, t_end, opts, t_out, y_out, stats)
+        class(contact_system), intent(inout) :: cs   !! the system
+        real(dp), intent(in)    :: t0            !! initial time [s]
+        real(dp), intent(in)    :: y0(:)         !! initial state (q0, u0)
+        real(dp), intent(in)    :: t_end         !! final time, > t0 [s]
+        type(moreau_options), intent(in) :: opts !! controls
+        real(dp), intent(inout) :: t_out(:)      !! requested output times, or step times [s]
+        real(dp), intent(inout) :: y_out(:, :)   !! (size(y0), size(t_out)) states
+        type(ode_stats), intent(out) :: stats    !! counters and status
+
+        real(dp), allocatable :: q(:), u(:), qp(:), f0(:), f1(:), du(:), g(:), y1(:), y(:)
+        real(dp), allocatable :: wfree(:), p(:), hn(:), dmat(:, :), wloc(:)
+        real(dp) :: t, t1, hs, th, h_d, nsteps_real, resid, t_next
+        integer(8) :: i, nsteps, n_total
+        integer :: nd, nc, m, next, sweeps, c, k
+
+        stats%status = check_problem(t0, y0, t_end, t_out, y_out, opts%every_step)
+        if (stats%status /= SS_OK) return
+        nd = cs%n_dof
+        nc = cs%n_c
+        if (size(y0) /= 2 * nd) then
+            stats%status = SS_BAD_DIM
+        else if (.not. ieee_is_finite(opts%h) .or. opts%h <= 0.0_dp) then
+            stats%status = SS_BAD_H
+        else if (.not. (opts%theta >= 0.5_dp .and. opts%theta <= 1.0_dp)) then
+            stats%status = SS_BAD_THETA_MJ
+        else if (.not. (ieee_is_finite(opts%contact_tol) .and. opts%contact_tol > 0.0_dp) .or. &
+                 opts%contact_max_iter < 1) then
+            stats%status = SS_BAD_CONTACT_CTL
+        else if (opts%max_steps < 1) then
+            stats%status = SS_BAD_MAX_STEPS
+        end if
+        if (stats%status /= SS_OK) return
+
+        allocate(q(nd), u(nd), qp(nd), f0(nd), f1(nd), du(nd), g(nd), y(2 * nd), y1(2 * nd))
+        allocate(wfree(nc), p(nc), hn(nc), dmat(nc, nc), wloc(nc))
+        th = opts%theta
+        m = size(t_out)
+        nsteps_real = step_count(t0, t_end, opts%h)
+        n_total = huge(n_total)
+        if (nsteps_real < 9.0e18_dp) n_total = int(nsteps_real, 8)
+        nsteps = min(n_total, opts%max_steps)
+
+        y = y0
+        q = y0(:nd)
+        u = y0(nd + 1:)
+        t = t0
+        p = 0.0_dp
+        h_d = -1.0_dp      ! step size D was formed for (none yet)
+        call output_start(t0, y0, t_out, y_out, opts%every_step, next)
+        t_next = huge(1.0_dp)
+        if (.not. opts%every_step .and. next <= m) t_next = t_out(next)
+
+        do i = 1, nsteps
+            if (stop_requested(opts, i)) then
+                stats%status = SS_INTERRUPTED
+                exit
+            end if
+            if (i == n_total) then
+                t1 = t_end
+            else
+                t1 = t0 + real(i, dp) * opts%h
+            end if
+            hs = t1 - t
+            stats%nstep = stats%nstep + 1
+            stats%h_last = hs
+
+            ! The free step: no friction.
+            call cs%force(t, q, u, f0)
+            qp = q + hs * u
+            call cs%force(t1, qp, u, f1)
+            stats%nfev = stats%nfev + 2
+            du = hs * ((1.0_dp - th) * f0 + th * f1)
+            call cs%solve_w(t, q, u, hs * th, (hs * th)**2, du)
+            du = u + du
+            call cs%relative_velocities(t1, du, wfree)
+
+            ! The friction problem, with D formed where it may have changed.
+            call cs%normal_forces(t1, qp, hn)
+            hn = hs * hn
+            if (.not. (cs%w_constant .and. hs == h_d)) then
+                do c = 1, nc
+                    g = 0.0_dp
+                    call cs%add_ht(unit_vector(c), g)
+                    call cs%solve_w(t, q, u, hs * th, (hs * th)**2, g)
+                    call cs%apply_h(g, dmat(:, c))
+                end do
+                h_d = hs
+            end if
+            call contact_sweeps(cs, wfree, dmat, hn, opts%contact_tol, opts%contact_max_iter, p, wloc, sweeps, resid)
+            stats%ncontact_iter = stats%ncontact_iter + sweeps
+            stats%contact_residual = max(stats%contact_residual, resid)
+
+            ! u1 = u_free + W^-1 H^T p, and the exact stick of single-coordinate contacts.
+            g = 0.0_dp
+            call cs%add_ht(p, g)
+            call cs%solve_w(t, q, u, hs * th, (hs * th)**2, g)
+            g = du + g
+            call snap_stuck(g)
+            y1(:nd) = q + hs * ((1.0_dp - th) * u + th * g)
+            y1(nd + 1:) = g
+
+            if (.not. all_finite(y1)) then
+                stats%status = SS_NONFINITE
+                exit
+            end if
+            if (resid > opts%contact_tol) then
+                stats%status = SS_CONTACT_FAILED
+                exit
+            end if
+            if (opts%every_step) then
+                if (next > m) then
+                    stats%status = SS_OUTPUT_FULL
+                    exit
+                end if
+                t_out(next) = t1
+                y_out(:, next) = y1
+                next = next + 1
+            else
+                do while (t_next <= t1)
+                    y_out(:, next) = y + (t_next - t) / hs * (y1 - y)
+                    if (t_next == t1) y_out(:, next) = y1
+                    next = next + 1
+                    t_next = huge(1.0_dp)
+                    if (next <= m) t_next = t_out(next)
+                end do
+            end if
+            stats%naccept = stats%naccept + 1
+            y = y1
+            q = y1(:nd)
+            u = y1(nd + 1:)
+            t = t1
+        end do
+        stats%t_reached = t
+        stats%n_written = next - 1
+        if (stats%status == SS_OK .and. nsteps < n_total) stats%status = SS_STEP_BUDGET
+
+    contains
+
+        pure function unit_vector(j) result(e)
+            integer, intent(in) :: j
+            real(dp) :: e(nc)
+            e = 0.0_dp
+            e(j) = 1.0_dp
+        end function unit_vector
+
+        !> Velocities ui of stuck contacts (their one-contact solve gave w = 0) with a single
+        !! entry in H: w = 0 exactly.
+        subroutine snap_stuck(ui)
+            real(dp), intent(inout) :: ui(:)
+            real(dp) :: b(nc)
+            call cs%slip_offset(t1, b)
+            do c = 1, nc
+                k = cs%h_ptr(c)
+                if (cs%h_ptr(c + 1) - k == 1 .and. wloc(c) == 0.0_dp) ui(cs%h_col(k)) = -b(c) / cs%h_val(k)
+            end do
+        end subroutine snap_stuck
+
+    end subroutine moreau_integrate
+
+    !> Projected Gauss-Seidel on w = wfree + D p, p_i in -hn_i F_i(w_i): sweeps of the
+    !! one-contact solution (`local_solve`) until the residual (the largest change a sweep's
+    !! later updates made to an earlier contact's velocity, [m/s]) is <= tol or max_iter
+    !! sweeps are done. p: warm start in, impulses out [N s].
+    subroutine contact_sweeps(cs, wfree, dmat, hn, tol, max_iter, p, wloc, sweeps, resid)
+        class(contact_system), intent(in) :: cs  !! the system (its laws)
+        real(dp), intent(in)    :: wfree(:)      !! relative velocities without friction [m/s]
+        real(dp), intent(in)    :: dmat(:, :)    !! Delassus matrix D = H W^-1 H^T [1/kg]
+        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
+        real(dp), intent(in)    :: tol           !! tolerance on the residual [m/s]
+        integer, intent(in)     :: max_iter      !! sweep limit, >= 1
+        real(dp), intent(inout) :: p(:)          !! impulses [N s]
+        !> each contact's velocity from its last one-contact solve (exactly 0: stuck) [m/s]
+        real(dp), intent(out)   :: wloc(:)
+        integer, intent(out)    :: sweeps        !! sweeps done
+        real(dp), intent(out)   :: resid         !! final residual [m/s]
+        real(dp) :: dp_(size(p)), wf, pnew, r
+        integer :: i, j, nc
+        nc = size(p)
+        resid = 0.0_dp
+        do sweeps = 1, max_iter
+            do i = 1, nc
+                wf = wfree(i)
+                do j = 1, nc
+                    if (j /= i) wf = wf + dmat(i, j) * p(j)
+                end do
+                call local_solve(cs%laws(i), wf, dmat(i, i), hn(i), wloc(i), pnew)
+                dp_(i) = pnew - p(i)
+                p(i) = pnew
+            end do
+            resid = 0.0_dp
+            do i = 1, nc - 1
+                r = 0.0_dp
+                do j = i + 1, nc
+                    r = r + dmat(i, j) * dp_(j)
+                end do
+                resid = max(resid, abs(r))
+            end do
+            if (resid <= tol) exit
+        end do
+        sweeps = min(sweeps, max_iter)
+    end subroutine contact_sweeps
+
+end module stickslip_moreau
