@@ -57,15 +57,18 @@ def brute_force(scene: str, law: str, t_end: float, target: float, ref: float, *
     over all of the method's grid runs), "cost" (nfev x weight)}}; a method without one is left
     out. kw: x0, v0 and physical parameters."""
     import stickslip as ss
+    from stickslip.advise import controls_at, takes
     out: dict[str, dict[str, float]] = {}
     for m in ss.METHODS:
+        if not takes(m, law):
+            continue
         info = ss.REGISTRY["method"][m]
         if "h" in info["controls"]:
             grid = [dict(h=t_end / (16 * 2 ** k)) for k in range(14)]
             if not info["implicit"] and bound is not None:
                 grid = [g for g in grid if g["h"] <= bound]
         else:
-            grid = [dict(rtol=10.0 ** (-k / 2), atol=10.0 ** (-k / 2 - 3), hmax=0.0) for k in range(4, 25)]
+            grid = [controls_at(m, 10.0 ** (-k / 2), 1e-3) for k in range(4, 25)]
         rows: list[tuple[dict[str, float], bool, int, float]] = []
         nfev = secs = 0.0
         for g in grid:

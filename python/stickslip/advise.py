@@ -349,12 +349,26 @@ def _fixed(method: str) -> bool:
     return "h" in REGISTRY["method"][method]["controls"]
 
 
-def _controls(method: str, s: float) -> dict[str, float]:
-    """The controls of `method` at setting s (h [s] or rtol [-])."""
+def takes(method: str, law: str) -> bool:
+    """Whether `method` takes `law` (the registry's list of a method's laws; None: every law)."""
+    laws = REGISTRY["method"][method].get("laws")
+    return laws is None or law in laws
+
+
+def controls_at(method: str, s: float, atol_ratio: float = 0.0) -> dict[str, float]:
+    """The controls of `method` at setting s: h = s [s] for a fixed-step method; rtol = s,
+    atol = atol_ratio s (ATOL_RATIO when 0) and no step cap (hmax = 0, where the method reads
+    it) for an adaptive one."""
     s = float(s)
     if _fixed(method):
         return {"h": s}
-    return {"rtol": s, "atol": ATOL_RATIO * s, "hmax": 0.0}
+    ctl = {"rtol": s, "atol": (atol_ratio or ATOL_RATIO) * s}
+    if "hmax" in REGISTRY["method"][method]["controls"]:
+        ctl["hmax"] = 0.0
+    return ctl
+
+
+_controls = controls_at
 
 
 @dataclass
@@ -642,8 +656,8 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
                          "parameters (stickslip.DEFAULTS)")
     given = _physical(params)
     friction_coefficient(law, 0.0, **{k: v for k, v in given.items() if k in REGISTRY["law"][law]["params"]})
-    if methods is None:
-        methods = METHODS
+    if methods is None:                   # every method that takes the law
+        methods = [m for m in METHODS if takes(m, law)]
     methods = [m for m in dict.fromkeys(methods)]
     for m in methods:
         _choice("method", m, METHODS)

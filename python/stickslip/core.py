@@ -415,7 +415,7 @@ def interruptible(call: Callable[[np.ndarray], Any]) -> Any:
     return out
 
 
-#: RK4's stability interval on the negative real axis: |h lambda| < 2.785 (README).
+#: RK4's stability interval on the negative real axis: |h lambda| < 2.785 (docs/guide/choosing-h.md).
 RK4_LIMIT = 2.785293563405282
 
 
@@ -888,13 +888,13 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
         h = ctl["h"]
         if h > t_end > 0.0:
             warn(f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
-                 "shortened to t_end; the result is that single step (README: How to choose h)")
+                 "shortened to t_end; the result is that single step (docs/guide/choosing-h.md)")
         if method == "rk4" and scene == "slope" and h > 0.0:
             bound = rk4_stability_bound(law, tuple(sorted(given.items())))
             if bound is not None and h > bound:
                 warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
                      f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
-                     "wrong creep speed (README: How to choose h)", UnstableStepWarning)
+                     "wrong creep speed (docs/guide/choosing-h.md)", UnstableStepWarning)
     x0 = _finite("x0", x0, "[m]")
     v0 = _finite("v0", v0, "[m/s]")
     if z0 is None:
