@@ -140,7 +140,7 @@ def simulate(scene: str, law: str, method: str, h: float | None, t_end: float, n
     """One run: (Result or the partial Result of a run that ended early, status)."""
     import stickslip
     extra = {"h": h} if h is not None else {}
-    if stickslip.REGISTRY["method"][method]["adaptive"]:
+    if "hmax" in stickslip.REGISTRY["method"][method]["controls"]:
         extra.update(hmin=1e-6, hmax=1e-2)      # the paper's step range (simulate's hmax: t_end)
     try:
         with c.steps_beyond_stability():       # the RK4 step sweeps and bisections cross it on purpose

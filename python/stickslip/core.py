@@ -782,6 +782,10 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         - ``stiff``: True once 15 such tests came in a row (the problem is probably stiff).
         - ``njac``, ``ndec``, ``nsol``: Jacobian evaluations, LU decompositions and
           forward-backward substitutions of the implicit methods (NJAC, NDEC, NSOL).
+        - ``nevents``: stick/slip transitions of event_driven (``Result.events`` holds them;
+          0 for the other methods).
+        - ``ncontact_iter``: sweeps of moreau's contact solve, summed over the steps.
+        - ``contact_residual``: the largest final residual of moreau's contact solve [m/s].
         - ``status``: the library's status code (0: t_end reached).
         - ``message``: the library's message for that status.
         - ``t_reached``: the time the run reached [s] (t_end on success).
@@ -799,7 +803,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     IntegrationError
         The run ended before t_end; one of its subclasses StepBudgetExhausted,
         StepSizeTooSmall, StiffnessDetected, NonFiniteSolution, OutputBufferFull,
-        NewtonFailure. Its ``result`` holds the output up to ``stats["t_reached"]`` and its
+        NewtonFailure, ContactSolverFailure (moreau), EventAccumulation (event_driven). Its ``result`` holds the output up to ``stats["t_reached"]`` and its
         ``status`` the library's code.
     KeyboardInterrupt
         Ctrl-C during the run (the integrators look at a stop flag every 4096 steps).
