@@ -30,6 +30,7 @@ module stickslip_registry
                                 K_SPEC, V_B_SPEC
     use stickslip_rk4, only: rk4_integrate, RK4_INFO
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, DOPRI5_INFO
+    use stickslip_dop853, only: dop853_options, dop853_integrate, DOP853_INFO
     use stickslip_radau5, only: radau5_options, radau5_integrate, RADAU5_INFO
     use stickslip_implicit_euler, only: implicit_euler_options, implicit_euler_integrate, IMPLICIT_EULER_INFO
     use stickslip_galpha, only: galpha_options, galpha_integrate, GALPHA_INFO
@@ -72,9 +73,9 @@ module stickslip_registry
 
     !> The integration methods; the code of a method is its position.
     type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO, RADAU5_INFO, &
-        IMPLICIT_EULER_INFO, GALPHA_INFO]
+        IMPLICIT_EULER_INFO, GALPHA_INFO, DOP853_INFO]
     integer, parameter, public :: METHOD_RK4 = 1, METHOD_DOPRI5 = 2, METHOD_RADAU5 = 3, &
-                                  METHOD_IMPLICIT_EULER = 4, METHOD_GALPHA = 5
+                                  METHOD_IMPLICIT_EULER = 4, METHOD_GALPHA = 5, METHOD_DOP853 = 6
     !! method codes: positions in METHOD_TABLE
 
     !> Every physical parameter of every law and scene, each once.
@@ -228,6 +229,7 @@ contains
         type(radau5_options) :: r5
         type(implicit_euler_options) :: ie
         type(galpha_options) :: ga
+        type(dop853_options) :: d8
 
         if (present(stop_flag)) then
             fixed%stop_flag => stop_flag
@@ -235,6 +237,7 @@ contains
             r5%stop_flag => stop_flag
             ie%stop_flag => stop_flag
             ga%stop_flag => stop_flag
+            d8%stop_flag => stop_flag
         end if
         select case (method)
         case (METHOD_RK4)
@@ -256,6 +259,10 @@ contains
         case (METHOD_GALPHA)
             stats%status = apply_controls(ga, GALPHA_INFO, keys, vals)
             if (stats%status == SS_OK) call galpha_integrate(sys, t0, y0, t_end, ga, t_out, y_out, stats)
+        case (METHOD_DOP853)
+            stats%status = apply_controls(d8, DOP853_INFO, keys, vals)
+            if (stats%status == SS_OK) call dop853_integrate(sys, t0, y0, t_end, rtol, atol, d8, &
+                t_out, y_out, stats)
         case default
             stats%status = SS_BAD_METHOD
         end select

@@ -426,7 +426,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     Keyword arguments are physical parameters (DEFAULTS; each given value is range-checked
     whatever the scene and law) or controls of the method (REGISTRY["method"][method]
     ["controls"]): the fixed-step methods ("rk4", "implicit_euler", "galpha") need h [s]; the
-    adaptive ones ("dopri5", "radau5") take rtol (1e-6), atol (1e-9; scalars or one per state
+    adaptive ones (dopri5, dop853, radau5) take rtol (1e-6), atol (1e-9; scalars or one per state
     component), hmin (1e-6 s), hmax (1e-2 s), h0 (0 = automatic), allow_forced and their own
     (README, "Python"; after a forced step the step is held for calm_steps = 2 steps, then
     grows by at most fac_forced = 2 a step).
