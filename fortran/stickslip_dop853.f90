@@ -1,6 +1,6 @@
 !> Adaptive explicit Runge-Kutta method of Dormand and Prince, order 8(5,3), event-free.
 !!
-!! Hairer's DOP853 (Hairer, Norsett & Wanner, Solving ODEs I, 2nd ed., sec. II.10), with the
+!! Hairer's DOP853 (Hairer, Norsett & Wanner, Solving ODEs I, 2nd ed., 1993), with the
 !! meaning of every control kept: 12 stages a step plus one evaluation at the new point on
 !! acceptance (its derivative starts the next step), an error estimate that combines the
 !! 5th- and 3rd-order embedded solutions (err5^2 / sqrt(err5^2 + 0.01 err3^2), RMS over the
@@ -14,7 +14,8 @@
 !! As DOPRI5 (stickslip_dopri5): a step size floor h_min where a failed error test forces
 !! the step (event-free stepping through a friction discontinuity; `allow_forced = .false.`
 !! makes that SS_STEP_TOO_SMALL), with the growth after a forced step limited by
-!! `limit_after_forced`. Runs with h_min = 0 are Hairer's DOP853 step for step.
+!! `limit_after_forced`. Runs with h_min = 0 are Hairer's DOP853 step for step (a stop on
+!! stiffness commits the step his code returns before).
 !!
 !! The coefficients are Hairer's, as published in his dop853.f (30-digit decimals).
 module stickslip_dop853
