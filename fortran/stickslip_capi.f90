@@ -407,9 +407,10 @@ contains
         real(dp), allocatable, intent(out) :: vals(:)
         character(len=NAME_LEN), allocatable :: all(:)
         real(dp) :: x
-        integer :: i
+        integer :: i, k
         allocate(all, source=split_names(names))
-        allocate(keys(0), vals(0))
+        allocate(keys(size(all)), vals(size(all)))
+        k = 0
         do i = 1, size(all)
             select case (all(i))
             case ('h');             x = o%h
@@ -427,9 +428,12 @@ contains
             case ('stop_on_stiff'); x = merge(1.0_dp, 0.0_dp, o%stop_on_stiff)
             case default;           cycle     ! rtol, atol, and controls the struct has not
             end select
-            keys = [keys, all(i)]
-            vals = [vals, x]
+            k = k + 1
+            keys(k) = all(i)
+            vals(k) = x
         end do
+        keys = keys(:k)
+        vals = vals(:k)
     end subroutine struct_controls
 
     !> What ss_dopri5 and ss_rk4 share: check the problem, wrap the C function as an
