@@ -21,6 +21,11 @@ Sections (the ``section`` column of the CSV):
   (``cases.stick``: the slope sliding to a stop, error |x(t_end) - x_stop|; the belt started
   stuck, error max |x - x_exact| on the output grid); then, per error target, the time of each
   nonsmooth method as a ratio to the best smooth-law run that reaches it (none may).
+- ``dop853`` and ``dop853_equal_error``: stickslip DOP853 against stickslip DOPRI5 and GSL
+  rk8pd (all compiled, output at t_end) on the belt with the proposed law at the tolerances
+  ``dop853_tols``, then at the error targets ``dop853_targets``: time, evaluations and
+  instructions interpolated in log-log along each work-precision curve, as ratios to DOP853
+  (``median_s``, ``nfev`` and ``instr_per_eval`` of those rows are the interpolated values).
 
 Times are medians of several samples; each sample repeats a run until it lasts long enough.
 Nothing asserts an absolute time: the machine is shared. The compiled adaptive runs also get a
@@ -85,6 +90,9 @@ class Config:
     stick_steps: tuple[float, ...] = (1e-2, 1e-3, 1e-4)
     stick_tols: tuple[float, ...] = (1e-4, 1e-6, 1e-8, 1e-10)
     stick_targets: tuple[float, ...] = (1e-2, 1e-3, 1e-5, 1e-8)
+    dop853_tols: list[float] = field(default_factory=lambda: [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12,
+                                                              1e-13])
+    dop853_targets: list[float] = field(default_factory=lambda: [1e-7, 1e-8, 1e-9, 1e-10])
 
 
 FULL = Config(
@@ -98,7 +106,7 @@ QUICK = Config(
     adaptive=[("belt", "proposed")],
     t_end_adaptive=2.0, tols=[1e-4, 1e-7], targets=[1e-5],
     repeats=1, min_sample=0.0, t_end_stick=2.5, stick_steps=(1e-3, 1e-4), stick_tols=(1e-4, 1e-8),
-    stick_targets=(1e-3, 1e-5))
+    stick_targets=(1e-3, 1e-5), dop853_tols=[1e-6, 1e-9], dop853_targets=[1e-7])
 
 
 # -- helpers ----------------------------------------------------------------------------------
@@ -407,6 +415,54 @@ def run_exact_stick(cfg: Config, log: Callable[[str], None]) -> tuple[list[dict]
                 row["ratio_time"] = t / best_t if best_key else float("nan")
                 rows.append(row)
     return rows, notes
+#: The runs of the dop853 section: implementation, benchmark program, method.
+DOP853_RUNS: tuple[tuple[str, str, str], ...] = (
+    ("stickslip_fortran", "bench_fortran", "dop853"), ("stickslip_fortran", "bench_fortran", "dopri5"),
+    ("gsl", "bench_gsl", "rk8pd"))
+
+
+def run_dop853(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -> list[dict]:
+    """Rows of the ``dop853`` and ``dop853_equal_error`` sections: the belt with the proposed law
+    over cfg.t_end_adaptive, rtol = atol = tol (hmin = 0, hmax = t_end), error against the
+    section adaptive's reference (stickslip DOPRI5 at REFERENCE_TOL)."""
+    scene, law, t_end = "belt", "proposed", cfg.t_end_adaptive
+    once = Config(**{**cfg.__dict__, "repeats": 1, "min_sample": 0.0})
+    ref = run_program(exes["bench_fortran"], scene, law, "dopri5", t_end, REFERENCE_TOL, once)
+    yref = np.array([ref["x"], ref["v"]])
+    runs = [r for r in DOP853_RUNS if r[1] in exes]
+    rows: list[dict] = []
+    for tol in cfg.dop853_tols:
+        for impl, exe, method in runs:
+            r = run_program(exes[exe], scene, law, method, t_end, tol, cfg)
+            err = max(float(np.max(np.abs(np.array([r["x"], r["v"]]) - yref))), 1e-16)
+            row = _row("dop853", impl, method, scene, law, t_end, tol=tol, repeats=cfg.repeats,
+                       median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"], x=r["x"], v=r["v"], err=err)
+            if cfg.callgrind:
+                row["instr_per_eval"] = count_instructions(exes[exe], scene, law, method, t_end, tol) / r["nfev"]
+            row["reference"] = "stickslip_fortran dopri5 at 1e-13 (error)"
+            log(f"dop853 {scene}/{law} tol={tol:.0e} {impl:18s} {method:7s} {1e6 * r['median_s']:8.1f} us "
+                f"{r['nfev']:6d} evals  err={err:.1e}")
+            rows.append(row)
+    for target in cfg.dop853_targets:
+        group: list[dict] = []
+        for impl, _, method in runs:
+            sel = [r for r in rows if (r["impl"], r["method"]) == (impl, method)]
+            t = time_at_error([(r["err"], r["median_s"]) for r in sel], target)
+            nfev = time_at_error([(r["err"], float(r["nfev"])) for r in sel], target)
+            instr = time_at_error([(r["err"], r["instr_per_eval"] * r["nfev"]) for r in sel], target)
+            if not math.isfinite(t):
+                continue
+            row = _row("dop853_equal_error", impl, method, scene, law, t_end, target=target, median_s=t,
+                       nfev=round(nfev))
+            row["instr_per_eval"] = instr / nfev
+            group.append(row)
+        base = next((r for r in group if r["method"] == "dop853"), None)
+        for row in group if base else []:
+            row["reference"] = "stickslip_fortran dop853"
+            row["ratio_time"] = row["median_s"] / base["median_s"]
+            row["ratio_eval"] = row["ns_per_eval"] / base["ns_per_eval"]
+        rows += group
+    return rows
 
 
 def time_at_error(points: Sequence[tuple[float, float]], target: float) -> float:
@@ -595,6 +651,28 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
         out.append("")
     if notes:
         out += ["Not reached: " + "; ".join(notes) + ".", ""]
+    d8 = [r for r in rows if r["section"] == "dop853_equal_error"]
+    if d8:
+        out += [f"**DOP853 at equal error** ({d8[0]['scene']} / {d8[0]['law']}, {d8[0]['t_end_s']:g} s; "
+                "error = max |(x, v) - reference| at t_end; time, evaluations and instructions "
+                "interpolated in log-log between tolerances; reference: stickslip DOP853, ratios > 1: "
+                "costlier than DOP853):", "",
+                "| target error | implementation | us/run | evals | instructions | time ratio | "
+                "evals ratio | instructions ratio |", "|---|---|---|---|---|---|---|---|"]
+        for target in dict.fromkeys(r["target_err"] for r in d8):
+            here = [r for r in d8 if r["target_err"] == target]
+            base = next((r for r in here if r["method"] == "dop853"), None)
+            if base is None:
+                out.append(f"| {target:.0e} | stickslip_fortran dop853: not reached within the tolerances run "
+                           "| | | | | | |")
+                continue
+            for r in here:
+                instr, instr0 = r["instr_per_eval"] * r["nfev"], base["instr_per_eval"] * base["nfev"]
+                out.append(f"| {target:.0e} | {r['impl']} {r['method']} | {1e6 * r['median_s']:.0f} | "
+                           f"{r['nfev']} | {'n/a' if not math.isfinite(instr) else f'{instr:.3g}'} | "
+                           f"{_fmt(r['ratio_time'])} | {_fmt(r['nfev'] / base['nfev'])} | "
+                           f"{_fmt(instr / instr0)} |")
+        out.append("")
     over = [r for r in rows if r["section"] == "overhead"]
     if over:
         out += ["**Facade overhead per call** (short runs, output at t_end: stickslip.simulate against "
@@ -669,6 +747,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     stick_rows, stick_notes = run_exact_stick(cfg, log)
     rows += stick_rows
     notes += stick_notes
+    rows += run_dop853(cfg, exes, log)
     write_csv(rows, args.outdir / "benchmarks.csv")
     plot(rows, args.outdir / "benchmarks.png")
     text = summary(rows, notes, cfg, args.quick, time.perf_counter() - t0)

@@ -30,6 +30,7 @@ module stickslip_registry
                                 K_SPEC, V_B_SPEC
     use stickslip_rk4, only: rk4_integrate, RK4_INFO
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, DOPRI5_INFO
+    use stickslip_dop853, only: dop853_options, dop853_integrate, DOP853_INFO
     use stickslip_radau5, only: radau5_options, radau5_integrate, RADAU5_INFO
     use stickslip_implicit_euler, only: implicit_euler_options, implicit_euler_integrate, IMPLICIT_EULER_INFO
     use stickslip_galpha, only: galpha_options, galpha_integrate, GALPHA_INFO
@@ -75,12 +76,13 @@ module stickslip_registry
 
     !> The integration methods; the code of a method is its position.
     type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO, RADAU5_INFO, &
-        IMPLICIT_EULER_INFO, GALPHA_INFO, MOREAU_INFO, EVENT_DRIVEN_INFO]
+        IMPLICIT_EULER_INFO, GALPHA_INFO, MOREAU_INFO, EVENT_DRIVEN_INFO, DOP853_INFO]
     integer, parameter, public :: METHOD_RK4 = 1, METHOD_DOPRI5 = 2, METHOD_RADAU5 = 3, &
                                   METHOD_IMPLICIT_EULER = 4, METHOD_GALPHA = 5
     !! method codes: positions in METHOD_TABLE
     integer, parameter, public :: METHOD_MOREAU = 6   !! method code of moreau
     integer, parameter, public :: METHOD_EVENT_DRIVEN = 7   !! method code of event_driven
+    integer, parameter, public :: METHOD_DOP853 = 8   !! method code of dop853
 
     !> Every physical parameter of every law and scene, each once.
     type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
@@ -239,6 +241,7 @@ contains
         type(event_driven_options) :: ev
         class(contact_system), allocatable :: cs
         real(dp), allocatable :: no_events(:, :)
+        type(dop853_options) :: d8
 
         if (present(stop_flag)) then
             mj%stop_flag => stop_flag
@@ -248,6 +251,7 @@ contains
             r5%stop_flag => stop_flag
             ie%stop_flag => stop_flag
             ga%stop_flag => stop_flag
+            d8%stop_flag => stop_flag
         end if
         select case (method)
         case (METHOD_RK4)
@@ -283,6 +287,10 @@ contains
                 allocate(no_events(4, 0))
                 call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, no_events)
             end if
+        case (METHOD_DOP853)
+            stats%status = apply_controls(d8, DOP853_INFO, keys, vals)
+            if (stats%status == SS_OK) call dop853_integrate(sys, t0, y0, t_end, rtol, atol, d8, &
+                t_out, y_out, stats)
         case default
             stats%status = SS_BAD_METHOD
         end select

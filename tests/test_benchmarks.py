@@ -66,3 +66,14 @@ def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> No
     for r in eq:
         x = float(r["ratio_time"])
         assert math.isfinite(x) and x > 0
+
+    # DOP853 against DOPRI5 and GSL rk8pd: every tolerance run by each, then at equal error
+    # the interpolated costs as ratios to DOP853 (its own row 1).
+    d8 = [r for r in rows if r["section"] == "dop853"]
+    assert {r["method"] for r in d8} >= {"dop853", "dopri5"}
+    assert len(d8) == len({r["method"] for r in d8}) * len(QUICK.dop853_tols)
+    assert all(float(r["err"]) > 0 and int(r["nfev"]) > 0 for r in d8)
+    d8eq = [r for r in rows if r["section"] == "dop853_equal_error"]
+    assert [float(r["ratio_time"]) for r in d8eq if r["method"] == "dop853"] == [1.0] * len(QUICK.dop853_targets)
+    assert all(math.isfinite(float(r["ratio_time"])) and float(r["ratio_time"]) > 0 for r in d8eq)
+    assert "DOP853 at equal error" in text

@@ -750,7 +750,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         Physical parameters (names in `DEFAULTS`, SI units; each value given is range-checked
         whatever the scene and law) and controls of the method (every control, its default and
         meaning: docs/guide/controls.md). The fixed-step methods ("rk4", "implicit_euler",
-        "galpha") need ``h`` [s]. The adaptive ones ("dopri5", "radau5") take ``rtol`` (default
+        "galpha") need ``h`` [s]. The adaptive ones ("dopri5", "dop853", "radau5") take ``rtol`` (default
         1e-6; DOPRI5 accepts 0, a purely absolute error test, RADAU5 needs rtol >= 2.2e-14),
         ``atol`` (1e-9; either may be one value or one per state component), ``hmin`` (1e-6 s:
         where the error test fails at hmin the step is taken anyway and counted in
