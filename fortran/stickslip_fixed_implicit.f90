@@ -14,7 +14,11 @@
 !! is solved by Newton's method with the Jacobian evaluated once per step (at the starting
 !! guess) and the matrix I - c h J factorised once per step. Convergence: the weighted RMS
 !! norm of the change of u + c h k, with weights newton_atol + newton_rtol |u + c h k|, is
-!! <= 1. After newton_max_iter iterations without convergence the stage is solved again from
+!! <= 1, or every component of that change is at the rounding level of the sum u + c h k
+!! (newton_atol + ROUNDING_FLOOR (|u| + |c h k|)): on a stiff system started off its slow
+!! manifold the terms of the sum are far larger than the state and its rounding far larger
+!! than newton_rtol |u + c h k| (generalized-alpha on y' = -lambda (y - cos t) - sin t,
+!! lambda h = 1e10, needed that to converge at all). After newton_max_iter iterations without convergence the stage is solved again from
 !! the same guess by Newton's method with the Jacobian at every iterate and a backtracking line
 !! search (at most 4 newton_max_iter iterations); if that fails too the run ends with
 !! SS_NEWTON_FAILED (a fixed step is never reduced); a non-finite Jacobian gives
@@ -27,6 +31,11 @@ module stickslip_fixed_implicit
     private
 
     public :: newton_controls, check_newton_controls
+
+    !> Relative size of the rounding of a sum u + ch k that the Newton convergence test accepts
+    !! as converged (in units of |u| + |ch k|): 64 units of round-off, a few times what
+    !! forming the sum, evaluating f there and one substitution with the LU factors leave.
+    real(dp), parameter, public :: ROUNDING_FLOOR = 64.0_dp * epsilon(1.0_dp)
 
     !> Controls of a fixed-step implicit method: the shared ones (h, max_steps, every_step;
     !! h_min, h_max, h0, allow_forced are not read) and those of its Newton iteration.

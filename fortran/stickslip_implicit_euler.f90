@@ -10,7 +10,7 @@ module stickslip_implicit_euler
                                SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE
     use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, step_count, &
                              stop_requested, all_finite, hermite
-    use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls
+    use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls, ROUNDING_FLOOR
     use stickslip_linalg, only: lu_decompose, lu_solve
     use stickslip_scenes, only: slope_scene, belt_scene
     use stickslip_law_coulomb, only: coulomb_law
