@@ -58,6 +58,12 @@ module stickslip_scenes
         procedure(static_jacobian_iface), deferred :: static_jacobian
         !> The Jacobian: analytic for a static law, finite differences otherwise.
         procedure :: jacobian => scene_jacobian
+        !> (x, v)' given the friction coefficient mu (affine in mu).
+        procedure(static_rhs_iface), deferred :: static_rhs
+        !> Holding coefficient mu_hold [-] at state y (see `stickslip_friction`).
+        procedure(mu_hold_iface), deferred :: holding_coefficient
+        !> Set the velocity of state y so that its relative sliding velocity is w [m/s].
+        procedure(set_vrel_iface), deferred :: set_relative_velocity
     end type friction_scene
 
     abstract interface
@@ -67,6 +73,28 @@ module stickslip_scenes
             real(dp), intent(in) :: y(:)    !! state (x, v, z...)
             real(dp) :: vr                  !! relative sliding velocity [m/s]
         end function vrel_iface
+
+        pure subroutine static_rhs_iface(self, y, mu, dydt)
+            import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
+            real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
+            real(dp), intent(in)  :: mu         !! friction coefficient [-]
+            real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
+        end subroutine static_rhs_iface
+
+        pure function mu_hold_iface(self, y) result(mu_hold)
+            import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
+            real(dp), intent(in) :: y(:)    !! state (x, v, z...)
+            real(dp) :: mu_hold             !! coefficient that would hold the relative velocity [-]
+        end function mu_hold_iface
+
+        pure subroutine set_vrel_iface(self, y, w)
+            import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
+            real(dp), intent(inout) :: y(:) !! state (x, v, z...); v set on exit
+            real(dp), intent(in) :: w       !! the relative sliding velocity wanted [m/s]
+        end subroutine set_vrel_iface
 
         pure function static_jacobian_iface(self, y) result(j)
             import :: friction_scene, dp
@@ -92,6 +120,10 @@ module stickslip_scenes
         !! (x, v)' for a static law, given its coefficient at the relative velocity
         procedure :: relative_velocity => slope_vrel
         !! the sliding velocity the law sees [m/s]
+        procedure :: holding_coefficient => slope_mu_hold
+        !! tan(theta)
+        procedure :: set_relative_velocity => slope_set_vrel
+        !! v = w
     end type slope_scene
 
     !> Spring-mass on a moving belt.
@@ -111,6 +143,10 @@ module stickslip_scenes
         !! (x, v)' for a static law, given its coefficient at the relative velocity
         procedure :: relative_velocity => belt_vrel
         !! the sliding velocity the law sees [m/s]
+        procedure :: holding_coefficient => belt_mu_hold
+        !! k x / (m g)
+        procedure :: set_relative_velocity => belt_set_vrel
+        !! v = v_b - w
     end type belt_scene
 
 contains
@@ -177,7 +213,7 @@ contains
             call self%static_rhs(y, self%law%mu(self%relative_velocity(y)), dydt)
         else
             dydt(1) = y(2)
-            call law_with_states(self, y(2), self%mu_hold, y, dydt, mu)
+            call law_with_states(self, y(2), self%holding_coefficient(y), y, dydt, mu)
             ! c (mu_hold - mu), so that mu = mu_hold (a stick band) holds v exactly, not to rounding
             dydt(2) = merge(self%g_cos * (self%mu_hold - mu), self%g_sin - mu * self%g_cos, self%g_cos > 0.0_dp)
         end if
@@ -192,7 +228,7 @@ contains
         if (self%static_law) then
             call self%static_rhs(y, self%law%mu(self%relative_velocity(y)), dydt)
         else
-            call law_with_states(self, self%v_b - y(2), self%k_mg * y(1), y, dydt, mu)
+            call law_with_states(self, self%v_b - y(2), self%holding_coefficient(y), y, dydt, mu)
             dydt(1) = y(2)
             dydt(2) = -self%k_m * y(1) + mu * self%g
         end if
@@ -280,5 +316,33 @@ contains
         real(dp) :: vr                  !! relative sliding velocity v_b - v [m/s]
         vr = self%v_b - y(2)
     end function belt_vrel
+
+    pure function slope_mu_hold(self, y) result(mu_hold)
+        class(slope_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state (x, v, z...) (not read)
+        real(dp) :: mu_hold             !! tan(theta) [-]
+        mu_hold = self%mu_hold
+    end function slope_mu_hold
+
+    pure function belt_mu_hold(self, y) result(mu_hold)
+        class(belt_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state (x, v, z...)
+        real(dp) :: mu_hold             !! k x / (m g) [-]
+        mu_hold = self%k_mg * y(1)
+    end function belt_mu_hold
+
+    pure subroutine slope_set_vrel(self, y, w)
+        class(slope_scene), intent(in) :: self
+        real(dp), intent(inout) :: y(:) !! state; y(2) = w on exit
+        real(dp), intent(in) :: w       !! relative sliding velocity [m/s]
+        y(2) = w
+    end subroutine slope_set_vrel
+
+    pure subroutine belt_set_vrel(self, y, w)
+        class(belt_scene), intent(in) :: self
+        real(dp), intent(inout) :: y(:) !! state; y(2) = v_b - w on exit
+        real(dp), intent(in) :: w       !! relative sliding velocity [m/s]
+        y(2) = self%v_b - w
+    end subroutine belt_set_vrel
 
 end module stickslip_scenes

@@ -645,7 +645,8 @@ contains
 
     !> The specialised kernels of backward Euler and generalized-alpha (a built-in scene with a
     !! static law) give what the generic kernel gives on the same scene behind its bindings:
-    !! every output value and every counter identical, in grid and every-step mode.
+    !! every output value and every counter identical, in grid and every-step mode. (A law with
+    !! modes, Coulomb, runs nonsmooth_kernel on a scene: see test_nonsmooth.)
     subroutine test_kernels_match_generic()
         class(friction_scene), allocatable :: scene
         type(wrapped) :: wrap
@@ -661,6 +662,7 @@ contains
             do law = LAW_COULOMB, LAW_STRIBECK
                 status = new_system(isc, law, [character(len=NAME_LEN) ::], [real(dp) ::], scene, p)
                 if (status /= SS_OK) ok = .false.
+                if (scene%law%n_modes() > 0) cycle   ! (Coulomb: solved over its modes, no Newton kernel)
                 if (allocated(wrap%inner)) deallocate(wrap%inner)
                 allocate(wrap%inner, source=scene)
                 y0 = [0.0_dp, 0.2_dp]
