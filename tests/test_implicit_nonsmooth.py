@@ -18,7 +18,7 @@ G = 9.81
 FIXED = ("implicit_euler", "galpha")
 # v_s (Coulomb's mu_s band) and dv (Karnopp's stick band) far below any velocity change of a
 # step, so that the closed forms of plain Coulomb friction (mu_s in stick, mu_k in slip) apply.
-NARROW = {"coulomb": {"v_s": 1e-6}, "karnopp": {"dv": 1e-6}}
+NARROW = {"coulomb": {"v_s": 1e-10}, "karnopp": {"dv": 1e-10}}
 
 
 @pytest.mark.parametrize("law", ["coulomb", "karnopp"])
