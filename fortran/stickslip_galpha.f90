@@ -10,6 +10,8 @@
 !! with ydot_0 = f(t0, y0). With k = ydot_{n+alpha_m} as unknown the equation is
 !! k = f(t_n + alpha_f h, u + (alpha_f gamma / alpha_m) h k), u = y_n + alpha_f h (1 - gamma/alpha_m) ydot_n,
 !! solved by Newton's method with the Jacobian once per step.
+!! On Coulomb and Karnopp (laws with modes) each stage is solved over the law's modes
+!! instead of by Newton across the jump (stickslip_fixed_implicit).
 !! Grid, output, Newton and statuses: see stickslip_fixed_implicit (the driver and the Newton
 !! solve are stickslip_fixed_implicit_body.inc, instantiated here around stage_setup and
 !! stage_finish).

@@ -1,6 +1,8 @@
 !> Backward (implicit) Euler method, order 1, L-stable, fixed step:
 !! y1 = y + h f(t + h, y1), solved by Newton's method with the Jacobian once per step.
 !!
+!! On Coulomb and Karnopp (laws with modes) each stage is solved over the law's modes
+!! instead of by Newton across the jump (stickslip_fixed_implicit).
 !! Grid, output, Newton and statuses: see stickslip_fixed_implicit (the driver and the Newton
 !! solve are stickslip_fixed_implicit_body.inc, instantiated here around stage_setup and
 !! stage_finish). Evaluations per step: 1 + Newton iterations (+ n for a finite-difference
