@@ -136,3 +136,14 @@ def test_every_pair():
                         unexpected.append((key, outcome))
     assert not unexpected, unexpected
     assert seen == set(PREDICTED)
+
+
+@pytest.mark.parametrize("law", ["coulomb", "karnopp"])
+@pytest.mark.parametrize("method", FIXED)
+def test_no_normal_force_moves_freely(law, method):
+    """g = 0: no normal force, so friction has no effect whatever mu the modes pick: the box
+    keeps its speed (x = v0 t), from rest it stays (no mode is left without a solution)."""
+    for v0 in (0.0, 1.0, -0.5):
+        r = ss.simulate("slope", law, method=method, h=1e-2, t_end=2.0, n_out=5, g=0.0, v0=v0)
+        np.testing.assert_allclose(r.x, v0 * r.t, rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(r.v, v0, rtol=1e-12, atol=0.0)
