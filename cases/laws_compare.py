@@ -283,8 +283,10 @@ def step_limits(scene: str, law: str, method: str = "rk4") -> tuple[float, float
         return ok and status == 0 and float(np.max(np.abs(r.v[tail] - ref.v[tail]))) <= tol
 
     import stickslip
-    # implicit methods: down to 1e-5 s only. On Coulomb's slope every step runs the damped
-    # Newton fallback (about 140 evaluations a step): 2 s at 1e-6 s would cost seconds a run.
+    # implicit methods: down to 1e-5 s only. (Chosen when every step on Coulomb's slope ran the
+    # damped Newton fallback, about 140 evaluations a step; their stages on Coulomb are now
+    # solved over the law's modes at 2 evaluations a step, and the floor is kept so that the
+    # study's bisection, and its other rows, stay as they were.)
     lo = 1e-5 if stickslip.REGISTRY["method"][method]["implicit"] else 1e-6
     h_b, _ = largest_step(is_bounded, lo=lo)
     h_c, _ = largest_step(is_close, lo=lo, hi=h_b if h_b > 0 else lo)

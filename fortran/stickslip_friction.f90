@@ -12,6 +12,14 @@
 !! their names and units, and their rates; the scene appends them to its state vector
 !! (x, v, z...). A law without states adds nothing.
 !!
+!! A law whose graph mu(v) jumps (Coulomb's at v = 0 and v_s, Karnopp's at the band edges)
+!! can describe it as finitely many modes (`n_modes`, `mode`, `admits`): each a slip piece
+!! with a constant coefficient, or a point of the velocity axis where mu may take any value of
+!! an interval (the jump filled in: set-valued), or Karnopp's hold (mu = mu_hold, the relative
+!! velocity kept). The fixed-step implicit methods then solve each stage as a generalized
+!! equation over those modes instead of by Newton across the jump (see
+!! `stickslip_fixed_implicit`). A law with a Lipschitz graph has no modes (the default).
+!!
 !! A law reads its parameters by name from a resolved `param_values` set (see
 !! `stickslip_params`); the parameters every law shares (mu_s, mu_k, v_s) are declared
 !! here once.
@@ -21,7 +29,11 @@ module stickslip_friction
     implicit none
     private
 
-    public :: friction_law, havsin, havsin_slope
+    public :: friction_law, havsin, havsin_slope, between
+
+    !> Relative slack of a mode's bounds in `between` [-] (a million units of round-off: the
+    !! stage is solved to rounding, and a velocity or coefficient on a bound must count as on it).
+    real(dp), parameter, public :: MODE_SLACK = 1.0e6_dp * epsilon(1.0_dp)
 
     real(dp), parameter :: pi = acos(-1.0_dp)
 
@@ -29,6 +41,11 @@ module stickslip_friction
     integer, parameter, public :: SS_BAD_MU_S = -101   !! mu_s out of range
     integer, parameter, public :: SS_BAD_MU_K = -102   !! mu_k out of range or > mu_s
     integer, parameter, public :: SS_BAD_V_S = -103    !! v_s out of range
+
+    !> Kinds of a law's mode (see `mode`).
+    integer, parameter, public :: MODE_MU = 1     !! slip piece: mu = the mode's value
+    integer, parameter, public :: MODE_V = 2      !! set-valued point: v = the mode's value, mu in an interval
+    integer, parameter, public :: MODE_KEEP = 3   !! hold: the relative velocity kept, mu = mu_hold
 
     !> The parameters every law shares, with the paper's values (Table 1).
     type(param_spec), parameter, public :: MU_S_SPEC = param_spec(name='mu_s', default=0.35_dp, &
@@ -63,6 +80,15 @@ module stickslip_friction
         procedure :: is_static => static_law
         !> mu and the rates of the internal states at (v, z) with the holding coefficient.
         procedure :: evaluate => static_evaluate
+        !> Number of modes of a law with a discontinuous graph (0: none, the default).
+        procedure :: n_modes => no_modes
+        !> Kind (MODE_MU, MODE_V, MODE_KEEP) and value (mu [-] or v [m/s]) of mode i.
+        procedure :: mode => no_mode
+        !> .true. when (v, mu_hold, mu) lies on mode i (the law's graph, jumps filled in).
+        procedure :: admits => no_admits
+        !> The coefficient the law selects at v given the holding coefficient: the element of
+        !! its (filled-in) set at v nearest mu_hold (mu(v) where the law is single-valued).
+        procedure :: mu_select => static_select
     end type friction_law
 
     abstract interface
@@ -131,6 +157,47 @@ contains
         real(dp), intent(out) :: dz(:)      !! rates of the internal states
         mu = self%mu(v)
     end subroutine static_evaluate
+
+    pure integer function no_modes(self)
+        class(friction_law), intent(in) :: self
+        no_modes = 0
+    end function no_modes
+
+    pure subroutine no_mode(self, i, kind, value)
+        class(friction_law), intent(in) :: self
+        integer, intent(in) :: i            !! mode index, 1 .. n_modes
+        integer, intent(out) :: kind        !! MODE_MU, MODE_V or MODE_KEEP
+        real(dp), intent(out) :: value      !! mu [-] (MODE_MU), v [m/s] (MODE_V), 0 (MODE_KEEP)
+        kind = MODE_MU
+        value = 0.0_dp
+    end subroutine no_mode
+
+    pure logical function no_admits(self, i, v, mu_hold, mu)
+        class(friction_law), intent(in) :: self
+        integer, intent(in) :: i            !! mode index, 1 .. n_modes
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-]
+        real(dp), intent(in) :: mu          !! friction coefficient [-]
+        no_admits = .false.
+    end function no_admits
+
+    pure function static_select(self, v, mu_hold) result(mu)
+        class(friction_law), intent(in) :: self
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-]
+        real(dp) :: mu                      !! friction coefficient [-]
+        mu = self%mu(v)
+    end function static_select
+
+    !> .true. when x lies in the closed interval between a and b (either order), widened by
+    !! MODE_SLACK: the test of a law's `admits` (a stage solved to rounding lands on a mode's
+    !! edge to rounding).
+    elemental logical function between(x, a, b)
+        real(dp), intent(in) :: x, a, b
+        !! x: the value; a, b: the ends of the interval, either order
+        between = x >= min(a, b) - MODE_SLACK * (1.0_dp + abs(a)) .and. &
+                  x <= max(a, b) + MODE_SLACK * (1.0_dp + abs(b))
+    end function between
 
     !> Haversine step: h0 for x <= x0, h1 for x >= x1, and
     !! h0 + (h1 - h0) (1 - cos(pi (x - x0)/(x1 - x0)))/2 in between (needs x1 > x0).
