@@ -122,6 +122,7 @@ module stickslip_scenes
         end subroutine contact_model_iface
         pure subroutine static_rhs_iface(self, y, mu, dydt)
             import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
             real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
             real(dp), intent(in)  :: mu         !! friction coefficient [-]
             real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
@@ -129,12 +130,14 @@ module stickslip_scenes
 
         pure function mu_hold_iface(self, y) result(mu_hold)
             import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
             real(dp), intent(in) :: y(:)    !! state (x, v, z...)
             real(dp) :: mu_hold             !! coefficient that would hold the relative velocity [-]
         end function mu_hold_iface
 
         pure subroutine set_vrel_iface(self, y, w)
             import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
             real(dp), intent(inout) :: y(:) !! state (x, v, z...); v set on exit
             real(dp), intent(in) :: w       !! the relative sliding velocity wanted [m/s]
         end subroutine set_vrel_iface
@@ -468,21 +471,28 @@ contains
         b(1) = -self%v_b
     end subroutine belt_contact_offset
     pure function slope_mu_hold(self, y) result(mu_hold)
+        class(slope_scene), intent(in) :: self
         real(dp), intent(in) :: y(:)    !! state (x, v, z...) (not read)
         real(dp) :: mu_hold             !! tan(theta) [-]
         mu_hold = self%mu_hold
     end function slope_mu_hold
+
     pure function belt_mu_hold(self, y) result(mu_hold)
+        class(belt_scene), intent(in) :: self
         real(dp), intent(in) :: y(:)    !! state (x, v, z...)
         real(dp) :: mu_hold             !! k x / (m g) [-]
         mu_hold = self%k_mg * y(1)
     end function belt_mu_hold
+
     pure subroutine slope_set_vrel(self, y, w)
+        class(slope_scene), intent(in) :: self
         real(dp), intent(inout) :: y(:) !! state; y(2) = w on exit
         real(dp), intent(in) :: w       !! relative sliding velocity [m/s]
         y(2) = w
     end subroutine slope_set_vrel
+
     pure subroutine belt_set_vrel(self, y, w)
+        class(belt_scene), intent(in) :: self
         real(dp), intent(inout) :: y(:) !! state; y(2) = v_b - w on exit
         real(dp), intent(in) :: w       !! relative sliding velocity [m/s]
         y(2) = self%v_b - w
