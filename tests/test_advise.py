@@ -183,13 +183,15 @@ def test_coulomb_cannot_and_says_what_can() -> None:
 
 
 @pytest.mark.skipif("moreau" not in ss.METHODS, reason="no set-valued method registered")
-def test_coulomb_with_every_method_picks_a_set_valued_one() -> None:
-    """With every method that takes Coulomb, the advice is a set-valued method, and following it
-    holds the box exactly (the truth: x = 0)."""
+def test_coulomb_with_every_method_finds_one_that_holds() -> None:
+    """With every method that takes Coulomb (the set-valued ones, and the implicit fixed-step
+    methods, which solve each stage over the law's modes), the advice is feasible and following
+    it holds the box (the truth: x = 0) within the target; the event-free explicit and adaptive
+    methods are not advised."""
     a = ss.advise("slope", "coulomb", 1e-6, 5.0)
-    assert a.feasible and a.method in ("moreau", "event_driven")
+    assert a.feasible and a.method in ("moreau", "event_driven", "implicit_euler", "galpha")
     r = ss.simulate("slope", "coulomb", method=a.method, t_end=5.0, **a.controls)
-    assert r.x[-1] == 0.0
+    assert abs(r.x[-1]) <= 1e-6
 
 
 def test_order_one_method_alone_cannot_reach_a_tight_target() -> None:
