@@ -152,16 +152,19 @@ def test_states_against_scipy(law, p, rhs, method):
     np.testing.assert_allclose(r.z, z, rtol=0, atol=2e-7 * np.abs(z).max())
 
 
-@pytest.mark.parametrize("n,shape,c", [(1, 1.0, 50.0), (4, 1.0, 100.0), (6, 3.0, 20.0)])
-def test_gms_against_scipy(n, shape, c):
-    # the rates switch between stick and slip: an explicit method with a small step bound
-    t, x, v = sine(n=1001, amp=2e-3, freq=0.5)
-    p = dict(mu_s=MU_S, mu_k=MU_K, v_s=V_S, sigma0=3e3, sigma1=0.0, sigma2=0.02, n_elements=n,
-             gms_shape=shape, gms_c=c)
+@pytest.mark.parametrize("n,shape", [(1, 1.0), (4, 1.0), (6, 3.0)])
+def test_gms_against_scipy(n, shape):
+    # Without a Stribeck drop (mu_s = mu_k) the levels are constant: the elements switch from
+    # stick to slip once per stroke and then sit on their levels, a right-hand side an explicit
+    # adaptive method follows through the switches (the Stribeck dynamics and C are checked by
+    # the single-element test below)
+    t, x, v = sine(n=401, amp=2e-3, freq=0.5)
+    p = dict(mu_s=MU_K, mu_k=MU_K, v_s=V_S, sigma0=3e3, sigma1=0.0, sigma2=0.02, n_elements=n,
+             gms_shape=shape, gms_c=100.0)
     r = ss.prescribed_motion("gms", t, x, v, rtol=1e-10, **p)
-    mu, z = reference(gms_rhs(p), t, x, v, n, method="LSODA", max_step=2e-4)
+    mu, z = reference(gms_rhs(p), t, x, v, n, method="RK45", max_step=1e-3)
     assert r.z.shape == (n, t.size)
-    np.testing.assert_allclose(r.mu, mu, rtol=0, atol=2e-6 * np.abs(mu).max())
+    np.testing.assert_allclose(r.mu, mu, rtol=0, atol=1e-7 * np.abs(mu).max())
 
 
 # ---------------------------------------------------------------------------------------------
