@@ -199,8 +199,8 @@ contains
                     z1 = huge(1.0_dp)
                     cycle
                 end if
-                call end_mu(xc1, z1, mu1)
-                call end_mu(xc2, z2, mu2)
+                call end_mu(z1, mu1)
+                call end_mu(z2, mu2)
                 if (abs(mu2 - mu1) <= tol * (abs(mu2) + mu_ref)) exit
                 if (2 * m >= MAX_SUBSTEPS) then
                     stats%n_unconverged = stats%n_unconverged + 1
@@ -216,73 +216,73 @@ contains
             m = max(1, m / 2)
         end subroutine interval
 
-            !> States and contact at t(kk+1) from (xca, za) at t(kk), ms substeps per piece.
-            !> States and contact at t(kk+1) from (xca, za) at t(kk), ms substeps per piece. A
-            !! substep in which the play engages is cut where it does (bisection on the monotone
-            !! x): the contact rests before, moves at its mean velocity after.
-            subroutine sweep(ms, xca, za, xce, ze, st)
-                integer, intent(in) :: ms
-                real(dp), intent(in) :: xca, za(:)
-                real(dp), intent(out) :: xce, ze(:)
-                integer, intent(out) :: st
-                integer :: p, j, it
-                real(dp) :: s0, s1, sa, s, h, xs, xa, xnew, lo, hi, mid
-                st = SS_OK
-                xce = xca
-                ze = za
-                xa = x(kk)
-                do p = 1, np - 1
-                    s0 = tau(p)
-                    s1 = tau(p + 1)
-                    do j = 1, ms
-                        sa = s0 + (s1 - s0) * real(j - 1, dp) / real(ms, dp)
-                        s = s0 + (s1 - s0) * real(j, dp) / real(ms, dp)
-                        if (nz == 0) s = s1
-                        xs = hermite(s)
-                        if (j == ms .and. p == np - 1 .or. nz == 0 .and. p == np - 1) xs = x(kk + 1)
-                        xnew = min(max(xce, xs - half), xs + half)
-                        if (nz > 0) then
-                            if (xnew /= xce .and. abs(xa - xce) < half) then
-                                ! the play engages inside the substep: at |x(s) - xce| = half
-                                lo = sa
-                                hi = s
-                                do it = 1, 60
-                                    mid = 0.5_dp * (lo + hi)
-                                    if (abs(hermite(mid) - xce) < half) then
-                                        lo = mid
-                                    else
-                                        hi = mid
-                                    end if
-                                end do
-                                call law%advance(0.0_dp, (hi - sa) * dt, 0.0_dp, 0.0_dp, ze, st)
-                                if (st /= SS_OK) return
-                                sa = hi
-                                stats%n_advance = stats%n_advance + 1
-                            end if
-                            h = (s - sa) * dt
-                            if (h > 0.0_dp) then
-                                call law%advance(xnew - xce, h, merge(velocity(sa), 0.0_dp, xnew /= xce), &
-                                                 merge(velocity(s), 0.0_dp, xnew /= xce), ze, st)
-                                stats%n_advance = stats%n_advance + 1
-                                if (st /= SS_OK) return
-                            end if
+        !> States and contact at t(kk+1) from (xca, za) at t(kk), ms substeps per piece.
+        !> States and contact at t(kk+1) from (xca, za) at t(kk), ms substeps per piece. A
+        !! substep in which the play engages is cut where it does (bisection on the monotone
+        !! x): the contact rests before, moves at its mean velocity after.
+        subroutine sweep(ms, xca, za, xce, ze, st)
+            integer, intent(in) :: ms
+            real(dp), intent(in) :: xca, za(:)
+            real(dp), intent(out) :: xce, ze(:)
+            integer, intent(out) :: st
+            integer :: p, j, it
+            real(dp) :: s0, s1, sa, s, h, xs, xa, xnew, lo, hi, mid
+            st = SS_OK
+            xce = xca
+            ze = za
+            xa = x(kk)
+            do p = 1, np - 1
+                s0 = tau(p)
+                s1 = tau(p + 1)
+                do j = 1, ms
+                    sa = s0 + (s1 - s0) * real(j - 1, dp) / real(ms, dp)
+                    s = s0 + (s1 - s0) * real(j, dp) / real(ms, dp)
+                    if (nz == 0) s = s1
+                    xs = hermite(s)
+                    if (j == ms .and. p == np - 1 .or. nz == 0 .and. p == np - 1) xs = x(kk + 1)
+                    xnew = min(max(xce, xs - half), xs + half)
+                    if (nz > 0) then
+                        if (xnew /= xce .and. abs(xa - xce) < half) then
+                            ! the play engages inside the substep: at |x(s) - xce| = half
+                            lo = sa
+                            hi = s
+                            do it = 1, 60
+                                mid = 0.5_dp * (lo + hi)
+                                if (abs(hermite(mid) - xce) < half) then
+                                    lo = mid
+                                else
+                                    hi = mid
+                                end if
+                            end do
+                            call law%advance(0.0_dp, (hi - sa) * dt, 0.0_dp, 0.0_dp, ze, st)
+                            if (st /= SS_OK) return
+                            sa = hi
+                            stats%n_advance = stats%n_advance + 1
                         end if
-                        xce = xnew
-                        xa = xs
-                        if (nz == 0) exit
-                    end do
+                        h = (s - sa) * dt
+                        if (h > 0.0_dp) then
+                            call law%advance(xnew - xce, h, merge(velocity(sa), 0.0_dp, xnew /= xce), &
+                                             merge(velocity(s), 0.0_dp, xnew /= xce), ze, st)
+                            stats%n_advance = stats%n_advance + 1
+                            if (st /= SS_OK) return
+                        end if
+                    end if
+                    xce = xnew
+                    xa = xs
+                    if (nz == 0) exit
                 end do
-            end subroutine sweep
+            end do
+        end subroutine sweep
 
-            !> The coefficient the states ze would give at rest (the error test's measure: a
-            !! continuous function of the states, free of the rate terms that switch with a
-            !! stick-slip mode).
-            subroutine end_mu(xce, ze, mue)
-                real(dp), intent(in) :: xce, ze(:)
-                real(dp), intent(out) :: mue
-                real(dp) :: dz(nz)
-                call law%evaluate(0.0_dp, ze, 0.0_dp, mue, dz)
-            end subroutine end_mu
+        !> The coefficient the states ze would give at rest (the error test's measure: a
+        !! continuous function of the states, free of the rate terms that switch with a
+        !! stick-slip mode).
+        subroutine end_mu(ze, mue)
+            real(dp), intent(in) :: ze(:)
+            real(dp), intent(out) :: mue
+            real(dp) :: dz(nz)
+            call law%evaluate(0.0_dp, ze, 0.0_dp, mue, dz)
+        end subroutine end_mu
 
         !> x at the fraction s of the current interval (its Hermite cubic).
         pure real(dp) function hermite(s) result(xs)
