@@ -33,6 +33,7 @@ from .core import (
 from .batch import BatchResult
 from .sweep import simulate_batch
 from .advise import Advice, advise
+from .prescribed import PrescribedResult, law_n_states, law_state_labels, prescribed_motion
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
@@ -41,5 +42,6 @@ __all__ = [
     "status_message", "BatchResult", "simulate_batch", "UnusedParameterWarning",
     "UnstableStepWarning", "Advice", "advise",
     "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation",
+    "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
 ]
 __version__ = "0.1.0"

@@ -581,6 +581,12 @@ class _Plan:
     needs_h: bool
     used: tuple[tuple[str, int], ...]       # parameters the scene and law read: (name, registry index)
     state_labels: tuple[str, ...]
+    sized_by: tuple[str, ...] = ()          # the law's parameters that set its number of states
+
+
+#: Parameters that set a law's number of internal states (the generalized Maxwell-slip model's
+#: n_elements): for such a law simulate asks the library (prescribed._states).
+STATE_COUNT_PARAMS: tuple[str, ...] = ("n_elements",)
 
 
 _PLANS: dict[tuple[str, str, str], _Plan] = {}
@@ -601,7 +607,8 @@ def _plan(scene: Any, law: Any, method: Any) -> _Plan:
             defaults={k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]},
             adaptive=info["adaptive"], needs_h="h" in info["controls"],
             used=tuple((k, i) for i, k in enumerate(_PARAM_ORDER) if k in used),
-            state_labels=REGISTRY["law"][law]["states"])
+            state_labels=REGISTRY["law"][law]["states"],
+            sized_by=tuple(k for k in STATE_COUNT_PARAMS if k in REGISTRY["law"][law]["params"]))
         _PLANS[scene, law, method] = plan   # only names that passed _choice get here
     return plan
 
@@ -657,11 +664,6 @@ _SIZES = (len(_STATS_INT), len(_STATS_REAL), len(_PARAM_ORDER))
 class UnusedParameterWarning(UserWarning):
     """A physical parameter was given that the scene and the law do not read (it is
     range-checked, then ignored)."""
-
-
-def _n_states(law: str, given: Mapping[str, float]) -> int:
-    """Internal states of `law` with the given parameters (the registry's count)."""
-    return REGISTRY["law"][law]["n_states"]
 
 
 def _show(value: Any) -> str:
@@ -867,7 +869,10 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     given = _physical({k: v for k, v in kwargs.items() if k in _PARAM_SET})
     ctl = _controls(method, plan, {k: v for k, v in kwargs.items() if k in _CONTROL_SET})
     t_end = _finite("t_end", t_end, "> 0 [s]")
-    n_states = _n_states(law, given)
+    n_states, state_labels = plan.n - 2, plan.state_labels
+    if plan.sized_by:                        # a law whose number of states is a parameter (gms)
+        from .prescribed import _states     # (prescribed imports this module)
+        n_states, state_labels = _states(law, tuple((k, given[k]) for k in plan.sized_by if k in given))
     n = 2 + n_states
     # 1.0: a placeholder the fixed-step methods never read
     rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
@@ -946,7 +951,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     return _Call(scene=scene, law=law, method=method, t_end=t_end,
                  args=(*plan.codes, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals),
                  grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
-                 state_labels=plan.state_labels, used=plan.used, known=known, events_room=room)
+                 state_labels=state_labels, used=plan.used, known=known, events_room=room)
 
 
 #: The main thread's stop flag (interruptible), reused: only the main thread writes it; read
