@@ -25,11 +25,13 @@ from .core import (
     status_message,
 )
 from .batch import BatchResult, simulate_batch
+from .data import Record, damper_files, load_damper_record
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch",
+    "Record", "damper_files", "load_damper_record",
 ]
 __version__ = "0.1.0"
