@@ -26,12 +26,13 @@ from .core import (
 )
 from .batch import BatchResult, simulate_batch
 from .data import Record, damper_files, load_damper_record
+from .identify import FitResult, fit_friction
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch",
-    "Record", "damper_files", "load_damper_record",
+    "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction",
 ]
 __version__ = "0.1.0"
