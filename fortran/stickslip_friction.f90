@@ -16,12 +16,13 @@
 !! `stickslip_params`); the parameters every law shares (mu_s, mu_k, v_s) are declared
 !! here once.
 module stickslip_friction
-    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_kinds, only: dp, SS_OK, SS_NEWTON_FAILED, SS_SINGULAR
     use stickslip_params, only: param_spec, param_values, param_read
+    use stickslip_linalg, only: lu_decompose, lu_solve
     implicit none
     private
 
-    public :: friction_law, havsin, havsin_slope
+    public :: friction_law, havsin, havsin_slope, tr_bdf2_advance
 
     real(dp), parameter :: pi = acos(-1.0_dp)
 
@@ -63,6 +64,10 @@ module stickslip_friction
         procedure :: is_static => static_law
         !> mu and the rates of the internal states at (v, z) with the holding coefficient.
         procedure :: evaluate => static_evaluate
+        !> Advance the internal states over a time h at a constant relative velocity v (the
+        !! flow prescribed motion integrates with): exact where a law overrides it,
+        !! one TR-BDF2 step otherwise (`tr_bdf2_advance`).
+        procedure :: advance => tr_bdf2_advance
     end type friction_law
 
     abstract interface
@@ -131,6 +136,73 @@ contains
         real(dp), intent(out) :: dz(:)      !! rates of the internal states
         mu = self%mu(v)
     end subroutine static_evaluate
+
+    !> One step of TR-BDF2 (Bank et al. 1985; Hosea & Shampine 1996: a trapezoidal stage to
+    !! t + gamma h, gamma = 2 - sqrt(2), then BDF2; L-stable, order 2) on the internal states
+    !! z' = f(z) at the constant relative velocity v, f from `evaluate` (holding coefficient
+    !! 0). Each stage is solved by simplified Newton iterations with one forward-difference
+    !! Jacobian at the initial z (n evaluations) and one LU of I - (gamma/2) h J. A law
+    !! without states returns at once.
+    subroutine tr_bdf2_advance(self, v, h, z, status)
+        class(friction_law), intent(inout) :: self
+        real(dp), intent(in)    :: v        !! relative sliding velocity, constant over the step [m/s]
+        real(dp), intent(in)    :: h        !! step [s], >= 0
+        real(dp), intent(inout) :: z(:)     !! internal states at the start; at the end on return
+        integer, intent(out)    :: status   !! SS_OK, SS_NEWTON_FAILED or SS_SINGULAR
+        real(dp), parameter :: gam = 2.0_dp - sqrt(2.0_dp), d = 0.5_dp * gam
+        real(dp), parameter :: a_g = 1.0_dp / (gam * (2.0_dp - gam)), &
+                               a_0 = (1.0_dp - gam)**2 / (gam * (2.0_dp - gam))
+        integer, parameter :: max_iter = 12
+        real(dp) :: f0(size(z)), f1(size(z)), zg(size(z)), w(size(z)), r(size(z)), dz(size(z)), &
+                    jac(size(z), size(z)), zp(size(z)), delta, mu
+        integer :: ipiv(size(z)), n, j, it, info
+        logical :: converged
+        n = size(z)
+        status = SS_OK
+        if (n == 0 .or. h <= 0.0_dp) return
+        call self%evaluate(v, z, 0.0_dp, mu, f0)
+        do j = 1, n
+            zp = z
+            delta = sqrt(epsilon(1.0_dp) * max(1.0e-5_dp, abs(z(j))))
+            zp(j) = z(j) + delta
+            call self%evaluate(v, zp, 0.0_dp, mu, f1)
+            jac(:, j) = -d * h * (f1 - f0) / delta
+            jac(j, j) = jac(j, j) + 1.0_dp
+        end do
+        call lu_decompose(jac, ipiv, info)
+        if (info /= 0) then
+            status = SS_SINGULAR
+            return
+        end if
+        ! trapezoidal stage: zg = z + d h (f(z) + f(zg))
+        w = z + gam * h * f0
+        call solve_stage(z + d * h * f0, zg)
+        if (status /= SS_OK) return
+        ! BDF2 stage: z1 = a_g zg - a_0 z + d h f(z1)
+        call solve_stage(a_g * zg - a_0 * z, w)
+        if (status /= SS_OK) return
+        z = w
+    contains
+        !> w = rhs + d h f(w) by simplified Newton from the current w; the solution in out.
+        subroutine solve_stage(rhs, out)
+            real(dp), intent(in)  :: rhs(:)
+            real(dp), intent(out) :: out(:)
+            converged = .false.
+            do it = 1, max_iter
+                call self%evaluate(v, w, 0.0_dp, mu, f1)
+                r = rhs + d * h * f1 - w
+                dz = r
+                call lu_solve(jac, ipiv, dz)
+                w = w + dz
+                if (all(abs(dz) <= 1.0e-12_dp * max(abs(w), abs(rhs), h * abs(f0)))) then
+                    converged = .true.
+                    exit
+                end if
+            end do
+            out = w
+            if (.not. converged) status = SS_NEWTON_FAILED
+        end subroutine solve_stage
+    end subroutine tr_bdf2_advance
 
     !> Haversine step: h0 for x <= x0, h1 for x >= x1, and
     !! h0 + (h1 - h0) (1 - cos(pi (x - x0)/(x1 - x0)))/2 in between (needs x1 > x0).

@@ -50,21 +50,29 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_CONTROL_NAME = -138  !! a control the method does not read
     integer, parameter, public :: SS_BAD_PARAM_NAME = -139  !! a parameter no law or scene has
     integer, parameter, public :: SS_BAD_FORCED_GROWTH = -148 !! fac_forced not finite or <= 1, or calm_steps < 0
+    ! prescribed motion (stickslip_prescribed)
+    integer, parameter, public :: SS_BAD_TIMES = -175       !! sample times not finite or not strictly increasing
+    integer, parameter, public :: SS_BAD_MOTION = -176      !! displacement or velocity samples not finite
+    integer, parameter, public :: SS_BAD_BACKLASH = -177    !! backlash not finite or < 0
+    integer, parameter, public :: SS_BAD_ASYMMETRY = -178   !! asymmetry not finite or <= 0
+    integer, parameter, public :: SS_BAD_NORMAL_FORCE = -179 !! normal force not finite or < 0
 
     !> Names of the status codes above, for the generated C header (`SS_` + name).
     character(len=*), parameter, public :: STATUS_NAMES = 'OK STEP_BUDGET STEP_TOO_SMALL STIFF ' // &
         'NONFINITE OUTPUT_FULL BAD_LAW BAD_SCENE BAD_METHOD BAD_H BAD_T_END BAD_RTOL BAD_ATOL ' // &
         'BAD_HMIN BAD_HMAX BAD_N_OUT BAD_MAX_STEPS BAD_Y0 BAD_H0 BAD_CONTROL BAD_DIM ' // &
         'BAD_CONTROL_NAME BAD_PARAM_NAME NEWTON_FAILED SINGULAR JAC_NONFINITE BAD_RHO_INF ' // &
-        'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH'
+        'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH ' // &
+        'BAD_TIMES BAD_MOTION BAD_BACKLASH BAD_ASYMMETRY BAD_NORMAL_FORCE'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(33) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(38) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
         SS_BAD_PARAM_NAME, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_BAD_RHO_INF, SS_BAD_NIT, &
         SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_INTERRUPTED, &
-        SS_BAD_FORCED_GROWTH]
+        SS_BAD_FORCED_GROWTH, SS_BAD_TIMES, SS_BAD_MOTION, SS_BAD_BACKLASH, SS_BAD_ASYMMETRY, &
+        SS_BAD_NORMAL_FORCE]
 
 contains
 
@@ -116,6 +124,11 @@ contains
                                         ' 0 < quot1 <= 1 <= quot2, 0 < facl <= 1 <= facr'
         case (SS_BAD_RTOL_POSITIVE); msg = 'rtol: RADAU5 needs rtol finite and in [100 eps = 2.2e-14, 1)' // &
                                         ' (its tolerance transformation divides by rtol; 0 is not allowed)'
+        case (SS_BAD_TIMES);      msg = 't: must be finite and strictly increasing, one time per sample [s]'
+        case (SS_BAD_MOTION);     msg = 'x, v: must be finite, one value per sample [m, m/s]'
+        case (SS_BAD_BACKLASH);   msg = 'backlash: must be finite and >= 0 [m]'
+        case (SS_BAD_ASYMMETRY);  msg = 'asymmetry: must be finite and > 0 (negative-direction level / positive one) [-]'
+        case (SS_BAD_NORMAL_FORCE); msg = 'normal_force: must be finite and >= 0, a scalar or one value per sample [N]'
         case default;             msg = 'unknown status code'
         end select
     end function status_text

@@ -80,6 +80,8 @@ module stickslip_law_lugre
         procedure :: is_static => lugre_is_static
         !> mu and the internal-state rates at (v, z, mu_hold).
         procedure :: evaluate => lugre_evaluate
+        !> Exact flow of z at a constant relative velocity (z' is linear in z).
+        procedure :: advance => lugre_advance
         !> Factor alpha in [0, 1] of the relaxation term of z' (1 for LuGre).
         procedure :: attachment => lugre_attachment
         !> The Stribeck curve g(|v|) [-] of the steady state.
@@ -153,6 +155,22 @@ contains
         dz(1) = v - self%attachment(z(1), v, g) * self%sigma0 * abs(v) * z(1) / g
         mu = self%sigma0 * z(1) + self%sigma1 * dz(1) + self%sigma2 * v
     end subroutine lugre_evaluate
+
+    !> At a constant v /= 0, z' = v - a z with a = sigma0 |v| / g(v) is linear: z relaxes
+    !! to z_ss = g(v) sign(v)/sigma0 as exp(-a h), exactly (and stays put at v = 0).
+    subroutine lugre_advance(self, v, h, z, status)
+        class(lugre_law), intent(inout) :: self
+        real(dp), intent(in)    :: v        !! relative sliding velocity, constant over the step [m/s]
+        real(dp), intent(in)    :: h        !! step [s], >= 0
+        real(dp), intent(inout) :: z(:)     !! bristle deflection (z(1)) at the start; at the end [m]
+        integer, intent(out)    :: status   !! SS_OK
+        real(dp) :: g, z_ss
+        status = SS_OK
+        if (v == 0.0_dp) return
+        g = self%g(v)
+        z_ss = sign(g / self%sigma0, v)
+        z(1) = z_ss + (z(1) - z_ss) * exp(-self%sigma0 * abs(v) * h / g)
+    end subroutine lugre_advance
 
     pure function lugre_attachment(self, z, v, g) result(alpha)
         class(lugre_law), intent(in) :: self

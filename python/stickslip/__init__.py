@@ -25,6 +25,7 @@ from .core import (
     status_message,
 )
 from .batch import BatchResult, simulate_batch
+from .prescribed import PrescribedResult, law_n_states, law_state_labels, prescribed_motion
 from .data import Record, damper_files, load_damper_record
 from .identify import FitResult, fit_friction
 
@@ -33,6 +34,7 @@ __all__ = [
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch",
+    "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
     "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction",
 ]
 __version__ = "0.1.0"
