@@ -395,7 +395,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     params0 : dict, optional
         Starting values of fitted parameters (default: derived from the data).
     bounds : dict, optional
-        name -> (low, high) for fitted parameters (default: the range the library accepts).
+        name -> (low, high) for fitted parameters (default: the range the library accepts, and
+        for a stiffness [1/m] at most 1000 times its start).
         Not for mu_s (or v_d) while mu_k (v_s) is fitted too: the upper member of an ordered pair
         is then fitted as its excess over the lower one.
     backlash : float or "fit"
@@ -410,7 +411,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     seed : int
         Seed of the extra starts.
     max_nfev : int, optional
-        Largest number of model evaluations per start (default 100 per fitted parameter).
+        Largest number of model evaluations per start, Jacobian evaluations not counted
+        (default 30 per fitted parameter).
 
     Returns
     -------
@@ -479,6 +481,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     hi = np.empty(k)
     for i, n in enumerate(free):
         low, high, low_open, high_open = _range_of(n)
+        if n == "mu_k":
+            low_open = True     # the laws with states divide by the sliding level: keep it > 0
         if n in bounds:
             try:
                 b_lo, b_hi = (float(b) for b in bounds[n])
@@ -488,6 +492,11 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
                 raise ValueError(f"bounds[{n!r}]: must have low < high, got {bounds[n]!r}")
             low_open, high_open = low_open and b_lo <= low, high_open and b_hi >= high
             low, high = max(low, b_lo), min(high, b_hi)
+        if n not in bounds and REGISTRY["param"].get(n, {}).get("unit") == "1/m":
+            # a stiffness: at most 1000 times its start (a presliding travel of 5e-5 times the
+            # amplitude); beyond that the states are too stiff to integrate cheaply, and a static
+            # law describes the data as well
+            high = min(high, 1e3 * p0[i])
         # an open end of the library's range: stay a relative hair inside it
         margin = 1e-9 * max(abs(p0[i]), 1e-300)
         lo[i] = low + margin if low_open and math.isfinite(low) else low
@@ -529,24 +538,38 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         p = params_of(u)
         return np.concatenate([_model(law, d, p) for d in data]) - forces
 
+    # A trial point the model rejects (the state integration fails, e.g. an implicit law's
+    # Newton iteration far from the data, or a law's own limit beyond the registry's range,
+    # such as LuGre's mu_k > 0) counts as a very bad fit: the trust region shrinks away from it.
+    penalty = np.full(forces.size, 100.0 * float(np.ptp(forces)) + 1.0)
+
+    def trial_residuals(u: np.ndarray) -> np.ndarray:
+        try:
+            return residuals(u)
+        except (RuntimeError, ValueError):
+            return penalty
+
+    try:
+        residuals(u0)
+    except (RuntimeError, ValueError) as exc:
+        raise ValueError(f"params0: the model of {law!r} fails at the start "
+                         f"{dict(zip(free, space.to_params(u0).tolist()))} ({exc}); give other starting values") from None
+
     # starts: the data's, then log-uniform draws within x/10 .. x10 of it, inside the bounds
     rng = np.random.default_rng(seed)
     starts = [u0]
     for _ in range(int(n_starts) - 1):
         factor = np.exp(rng.uniform(-math.log(10.0), math.log(10.0), k))
         starts.append(np.clip(u0 * factor, q_lo + 1e-12 * np.abs(q_lo), q_hi))
-    max_nfev = max_nfev or 100 * k
+    max_nfev = max_nfev or 30 * k
     best = None
     costs = []
     nfev = 0
     for u_start in starts:
         # strictly inside the bounds (trf's requirement)
         u_start = np.minimum(np.maximum(u_start, np.nextafter(q_lo, np.inf)), np.nextafter(q_hi, -np.inf))
-        try:
-            sol = least_squares(residuals, u_start, bounds=(q_lo, q_hi), method="trf", x_scale=1.0,
-                                diff_step=1e-6, max_nfev=max_nfev)
-        except ValueError as exc:
-            raise ValueError(f"fit of {law!r}: the model rejected a trial point ({exc})") from None
+        sol = least_squares(trial_residuals, u_start, bounds=(q_lo, q_hi), method="trf", x_scale=1.0,
+                            diff_step=1e-6, max_nfev=max_nfev)
         nfev += int(sol.nfev)
         costs.append(float(sol.cost))
         if best is None or sol.cost < best.cost:
