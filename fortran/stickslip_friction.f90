@@ -22,7 +22,7 @@ module stickslip_friction
     implicit none
     private
 
-    public :: friction_law, havsin, havsin_slope, tr_bdf2_advance
+    public :: friction_law, havsin, havsin_slope, tr_bdf2_advance, relax_linear_target
 
     real(dp), parameter :: pi = acos(-1.0_dp)
 
@@ -64,9 +64,9 @@ module stickslip_friction
         procedure :: is_static => static_law
         !> mu and the rates of the internal states at (v, z) with the holding coefficient.
         procedure :: evaluate => static_evaluate
-        !> Advance the internal states over a time h at a constant relative velocity v (the
-        !! flow prescribed motion integrates with): exact where a law overrides it,
-        !! one TR-BDF2 step otherwise (`tr_bdf2_advance`).
+        !> Advance the internal states over a substep of prescribed motion: travel dx in a time
+        !! h, the relative velocity going from v0 to v1 (same sign as dx, or 0): exact or
+        !! exponential where a law overrides it, one TR-BDF2 step otherwise (`tr_bdf2_advance`).
         procedure :: advance => tr_bdf2_advance
     end type friction_law
 
@@ -139,70 +139,87 @@ contains
 
     !> One step of TR-BDF2 (Bank et al. 1985; Hosea & Shampine 1996: a trapezoidal stage to
     !! t + gamma h, gamma = 2 - sqrt(2), then BDF2; L-stable, order 2) on the internal states
-    !! z' = f(z) at the constant relative velocity v, f from `evaluate` (holding coefficient
-    !! 0). Each stage is solved by simplified Newton iterations with one forward-difference
-    !! Jacobian at the initial z (n evaluations) and one LU of I - (gamma/2) h J. A law
-    !! without states returns at once.
-    subroutine tr_bdf2_advance(self, v, h, z, status)
+    !! z' = f(v(t), z), f from `evaluate` (holding coefficient 0), with the velocity linear
+    !! from v0 to v1 over the step (dx is not used). Each stage is solved by Newton iterations
+    !! with a forward-difference Jacobian at every iterate (n evaluations each: the laws' rates
+    !! may bend sharply, as the elasto-plastic attachment does). A law without states returns
+    !! at once.
+    subroutine tr_bdf2_advance(self, dx, h, v0, v1, z, status)
         class(friction_law), intent(inout) :: self
-        real(dp), intent(in)    :: v        !! relative sliding velocity, constant over the step [m/s]
+        real(dp), intent(in)    :: dx       !! travel over the step [m] (unused)
         real(dp), intent(in)    :: h        !! step [s], >= 0
+        real(dp), intent(in)    :: v0       !! relative velocity at the start [m/s]
+        real(dp), intent(in)    :: v1       !! relative velocity at the end [m/s]
         real(dp), intent(inout) :: z(:)     !! internal states at the start; at the end on return
         integer, intent(out)    :: status   !! SS_OK, SS_NEWTON_FAILED or SS_SINGULAR
         real(dp), parameter :: gam = 2.0_dp - sqrt(2.0_dp), d = 0.5_dp * gam
         real(dp), parameter :: a_g = 1.0_dp / (gam * (2.0_dp - gam)), &
                                a_0 = (1.0_dp - gam)**2 / (gam * (2.0_dp - gam))
-        integer, parameter :: max_iter = 12
-        real(dp) :: f0(size(z)), f1(size(z)), zg(size(z)), w(size(z)), r(size(z)), dz(size(z)), &
-                    jac(size(z), size(z)), zp(size(z)), delta, mu
+        integer, parameter :: max_iter = 20
+        real(dp) :: f0(size(z)), f1(size(z)), fp(size(z)), zg(size(z)), w(size(z)), dz(size(z)), &
+                    jac(size(z), size(z)), zp(size(z)), delta, mu, v
         integer :: ipiv(size(z)), n, j, it, info
-        logical :: converged
         n = size(z)
         status = SS_OK
         if (n == 0 .or. h <= 0.0_dp) return
-        call self%evaluate(v, z, 0.0_dp, mu, f0)
-        do j = 1, n
-            zp = z
-            delta = sqrt(epsilon(1.0_dp) * max(1.0e-5_dp, abs(z(j))))
-            zp(j) = z(j) + delta
-            call self%evaluate(v, zp, 0.0_dp, mu, f1)
-            jac(:, j) = -d * h * (f1 - f0) / delta
-            jac(j, j) = jac(j, j) + 1.0_dp
-        end do
-        call lu_decompose(jac, ipiv, info)
-        if (info /= 0) then
-            status = SS_SINGULAR
-            return
-        end if
-        ! trapezoidal stage: zg = z + d h (f(z) + f(zg))
+        call self%evaluate(v0, z, 0.0_dp, mu, f0)
+        ! trapezoidal stage: zg = z + d h (f(z) + f(zg)), from the explicit Euler guess
         w = z + gam * h * f0
-        call solve_stage(z + d * h * f0, zg)
+        v = v0 + gam * (v1 - v0)
+        call solve_stage(z + d * h * f0)
         if (status /= SS_OK) return
+        zg = w
         ! BDF2 stage: z1 = a_g zg - a_0 z + d h f(z1)
-        call solve_stage(a_g * zg - a_0 * z, w)
+        v = v1
+        call solve_stage(a_g * zg - a_0 * z)
         if (status /= SS_OK) return
         z = w
     contains
-        !> w = rhs + d h f(w) by simplified Newton from the current w; the solution in out.
-        subroutine solve_stage(rhs, out)
-            real(dp), intent(in)  :: rhs(:)
-            real(dp), intent(out) :: out(:)
-            converged = .false.
+        !> w = rhs + d h f(v, w) by Newton from the current w.
+        subroutine solve_stage(rhs)
+            real(dp), intent(in) :: rhs(:)
             do it = 1, max_iter
                 call self%evaluate(v, w, 0.0_dp, mu, f1)
-                r = rhs + d * h * f1 - w
-                dz = r
+                do j = 1, n
+                    zp = w
+                    delta = sqrt(epsilon(1.0_dp) * max(1.0e-5_dp, abs(w(j))))
+                    zp(j) = w(j) + delta
+                    call self%evaluate(v, zp, 0.0_dp, mu, fp)
+                    jac(:, j) = -d * h * (fp - f1) / delta
+                    jac(j, j) = jac(j, j) + 1.0_dp
+                end do
+                call lu_decompose(jac, ipiv, info)
+                if (info /= 0) then
+                    status = SS_SINGULAR
+                    return
+                end if
+                dz = rhs + d * h * f1 - w
                 call lu_solve(jac, ipiv, dz)
                 w = w + dz
-                if (all(abs(dz) <= 1.0e-12_dp * max(abs(w), abs(rhs), h * abs(f0)))) then
-                    converged = .true.
-                    exit
-                end if
+                if (all(abs(dz) <= 1.0e-12_dp * max(abs(w), abs(rhs), h * abs(f0)))) return
             end do
-            out = w
-            if (.not. converged) status = SS_NEWTON_FAILED
+            status = SS_NEWTON_FAILED
         end subroutine solve_stage
     end subroutine tr_bdf2_advance
+
+    !> y(1) of y' = lambda (L(t) - y) from y(0) = y0 with the target L linear from L0 to L1
+    !! over the step and x = lambda h >= 0: L1 + (y0 - L0) e^-x - (L1 - L0)(1 - e^-x)/x (the
+    !! first-order-hold exponential step; y0 at x = 0, L1 as x -> infinity).
+    elemental function relax_linear_target(y0, l0, l1, x) result(y)
+        real(dp), intent(in) :: y0      !! initial value
+        real(dp), intent(in) :: l0      !! target at the start
+        real(dp), intent(in) :: l1      !! target at the end
+        real(dp), intent(in) :: x       !! lambda h, >= 0 [-]
+        real(dp) :: y                   !! value at the end
+        real(dp) :: e, phi
+        e = exp(-x)
+        if (x < 1.0e-4_dp) then
+            phi = 1.0_dp - x * (0.5_dp - x / 6.0_dp)     ! (1 - e^-x)/x, without cancellation
+        else
+            phi = (1.0_dp - e) / x
+        end if
+        y = l1 + (y0 - l0) * e - (l1 - l0) * phi
+    end function relax_linear_target
 
     !> Haversine step: h0 for x <= x0, h1 for x >= x1, and
     !! h0 + (h1 - h0) (1 - cos(pi (x - x0)/(x1 - x0)))/2 in between (needs x1 > x0).

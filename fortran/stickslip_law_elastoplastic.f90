@@ -41,7 +41,7 @@ module stickslip_law_elastoplastic
         procedure :: init => elastoplastic_init
         !> Duponts attachment function alpha(z, v) [-].
         procedure :: attachment => elastoplastic_attachment
-        !> The flow at a constant velocity: TR-BDF2 (alpha makes z' nonlinear in z).
+        !> The flow over a substep: TR-BDF2 (alpha makes z' nonlinear in z).
         procedure :: advance => elastoplastic_advance
     end type elastoplastic_law
 
@@ -58,13 +58,15 @@ contains
     end function elastoplastic_init
 
     !> One TR-BDF2 step (`tr_bdf2_advance`): LuGre's exact flow does not hold once alpha < 1.
-    subroutine elastoplastic_advance(self, v, h, z, status)
+    subroutine elastoplastic_advance(self, dx, h, v0, v1, z, status)
         class(elastoplastic_law), intent(inout) :: self
-        real(dp), intent(in)    :: v        !! relative sliding velocity, constant over the step [m/s]
-        real(dp), intent(in)    :: h        !! step [s], >= 0
+        real(dp), intent(in)    :: dx       !! travel over the substep [m]
+        real(dp), intent(in)    :: h        !! substep [s]
+        real(dp), intent(in)    :: v0       !! relative velocity at the start [m/s]
+        real(dp), intent(in)    :: v1       !! relative velocity at the end [m/s]
         real(dp), intent(inout) :: z(:)     !! bristle deflection (z(1)) at the start; at the end [m]
         integer, intent(out)    :: status   !! SS_OK, SS_NEWTON_FAILED or SS_SINGULAR
-        call tr_bdf2_advance(self, v, h, z, status)
+        call tr_bdf2_advance(self, dx, h, v0, v1, z, status)
     end subroutine elastoplastic_advance
 
     !> Dupont et al.'s alpha(z, v) (see the module notes).

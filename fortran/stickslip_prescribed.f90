@@ -13,14 +13,19 @@
 !!
 !! The states. Each sample interval is cut at the reversals of x (the roots of the quadratic
 !! velocity) into pieces where x is monotone, each piece into m equal substeps. Over a
-!! substep the contact moves by dx_c (the play applied to x at the substep's end) and the law
-!! advances its states at the constant velocity dx_c/h (its `advance`: the exact flow for
-!! LuGre, Dahl and the generalized Maxwell-slip model, one L-stable TR-BDF2 step otherwise).
-!! Freezing the velocity at its mean over a substep is second-order accurate in the substep
-!! where the states are not stiff, first order where they sit on a velocity-dependent steady
-!! state. m is chosen per interval by step doubling: the friction coefficient at the interval's
-!! end computed with m and with 2m substeps must agree within rtol (|mu| + mu_ref), mu_ref the
-!! law's steady level at the record's largest speed; the 2m result is kept and m doubles
+!! substep the contact travels dx_c (the play applied to x at the substep's end) while its
+!! velocity goes from v0 to v1 (the interpolant's, 0 while the play is open), and the law
+!! advances its states (its `advance`: exact in the travel for Dahl, an exponential step with
+!! a target linear over the substep for LuGre and the generalized Maxwell-slip model, exact
+!! for both at a constant velocity and in the stiff limit; one L-stable TR-BDF2 step with the
+!! velocity linear from v0 to v1 otherwise). The error of a substep is of second order in its
+!! length where the states are smooth, larger across a stick-slip switch of GMS or a kink of
+!! the elasto-plastic attachment; the step doubling below takes care of it.
+!! m is chosen per interval by step doubling: the coefficient the states give at rest
+!! (`evaluate` at v = 0: sigma0 z for the bristle laws, sum k_i z_i for GMS; continuous in
+!! the states, unlike the rate terms that switch with a stick-slip mode), computed at the
+!! interval's end with m and with 2m substeps, must agree within rtol (|mu| + mu_ref), mu_ref
+!! the law's steady level at the record's largest speed; the 2m result is kept and m doubles
 !! until it passes (at most 2^16; an interval that still fails is kept and counted in
 !! `n_unconverged`). The next interval starts from m/2.
 !!
@@ -212,48 +217,84 @@ contains
         end subroutine interval
 
             !> States and contact at t(kk+1) from (xca, za) at t(kk), ms substeps per piece.
+            !> States and contact at t(kk+1) from (xca, za) at t(kk), ms substeps per piece. A
+            !! substep in which the play engages is cut where it does (bisection on the monotone
+            !! x): the contact rests before, moves at its mean velocity after.
             subroutine sweep(ms, xca, za, xce, ze, st)
                 integer, intent(in) :: ms
                 real(dp), intent(in) :: xca, za(:)
                 real(dp), intent(out) :: xce, ze(:)
                 integer, intent(out) :: st
-                integer :: p, j
-                real(dp) :: s0, s1, s, h, xs, xnew
+                integer :: p, j, it
+                real(dp) :: s0, s1, sa, s, h, xs, xa, xnew, lo, hi, mid
                 st = SS_OK
                 xce = xca
                 ze = za
+                xa = x(kk)
                 do p = 1, np - 1
                     s0 = tau(p)
                     s1 = tau(p + 1)
                     do j = 1, ms
-                        if (nz == 0) then
-                            s = s1
-                            h = (s1 - s0) * dt
-                        else
-                            s = s0 + (s1 - s0) * real(j, dp) / real(ms, dp)
-                            h = (s1 - s0) * dt / real(ms, dp)
-                        end if
-                        xs = c(1) + s * (c(2) + s * (c(3) + s * c(4)))
-                        if (j == ms .and. p == np - 1) xs = x(kk + 1)
+                        sa = s0 + (s1 - s0) * real(j - 1, dp) / real(ms, dp)
+                        s = s0 + (s1 - s0) * real(j, dp) / real(ms, dp)
+                        if (nz == 0) s = s1
+                        xs = hermite(s)
+                        if (j == ms .and. p == np - 1 .or. nz == 0 .and. p == np - 1) xs = x(kk + 1)
                         xnew = min(max(xce, xs - half), xs + half)
                         if (nz > 0) then
-                            call law%advance((xnew - xce) / h, h, ze, st)
-                            stats%n_advance = stats%n_advance + 1
-                            if (st /= SS_OK) return
+                            if (xnew /= xce .and. abs(xa - xce) < half) then
+                                ! the play engages inside the substep: at |x(s) - xce| = half
+                                lo = sa
+                                hi = s
+                                do it = 1, 60
+                                    mid = 0.5_dp * (lo + hi)
+                                    if (abs(hermite(mid) - xce) < half) then
+                                        lo = mid
+                                    else
+                                        hi = mid
+                                    end if
+                                end do
+                                call law%advance(0.0_dp, (hi - sa) * dt, 0.0_dp, 0.0_dp, ze, st)
+                                if (st /= SS_OK) return
+                                sa = hi
+                                stats%n_advance = stats%n_advance + 1
+                            end if
+                            h = (s - sa) * dt
+                            if (h > 0.0_dp) then
+                                call law%advance(xnew - xce, h, merge(velocity(sa), 0.0_dp, xnew /= xce), &
+                                                 merge(velocity(s), 0.0_dp, xnew /= xce), ze, st)
+                                stats%n_advance = stats%n_advance + 1
+                                if (st /= SS_OK) return
+                            end if
                         end if
                         xce = xnew
+                        xa = xs
                         if (nz == 0) exit
                     end do
                 end do
             end subroutine sweep
 
-            !> The coefficient at t(kk+1) from the contact xce and states ze (for the test).
+            !> The coefficient the states ze would give at rest (the error test's measure: a
+            !! continuous function of the states, free of the rate terms that switch with a
+            !! stick-slip mode).
             subroutine end_mu(xce, ze, mue)
                 real(dp), intent(in) :: xce, ze(:)
                 real(dp), intent(out) :: mue
                 real(dp) :: dz(nz)
-                call law%evaluate(contact_velocity(kk + 1, xce), ze, 0.0_dp, mue, dz)
+                call law%evaluate(0.0_dp, ze, 0.0_dp, mue, dz)
             end subroutine end_mu
+
+        !> x at the fraction s of the current interval (its Hermite cubic).
+        pure real(dp) function hermite(s) result(xs)
+            real(dp), intent(in) :: s
+            xs = c(1) + s * (c(2) + s * (c(3) + s * c(4)))
+        end function hermite
+
+        !> dx/dt at the fraction s of the current interval (the Hermite cubic's derivative).
+        pure real(dp) function velocity(s) result(vs)
+            real(dp), intent(in) :: s
+            vs = (c(2) + s * (2.0_dp * c(3) + s * 3.0_dp * c(4))) / dt
+        end function velocity
 
         !> The contact velocity at sample k with the contact at xck: v(k) when the play is
         !! engaged, 0 inside the band.

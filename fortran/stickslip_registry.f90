@@ -26,6 +26,8 @@ module stickslip_registry
     use stickslip_law_karnopp, only: karnopp_law, DV_SPEC
     use stickslip_law_lugre, only: lugre_law, SIGMA0_SPEC, SIGMA1_SPEC, SIGMA2_SPEC
     use stickslip_law_elastoplastic, only: elastoplastic_law, Z_BA_RATIO_SPEC
+    use stickslip_law_dahl, only: dahl_law, DAHL_ALPHA_SPEC
+    use stickslip_law_gms, only: gms_law, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC
     use stickslip_scenes, only: friction_scene, slope_scene, belt_scene, G_SPEC, THETA_SPEC, M_SPEC, &
                                 K_SPEC, V_B_SPEC
     use stickslip_rk4, only: rk4_integrate, RK4_INFO
@@ -58,9 +60,14 @@ module stickslip_registry
         entry_info('karnopp', 'mu_s mu_k dv', 'Karnopp stick band |v| < dv, mu_k outside'), &
         entry_info('lugre', 'mu_s mu_k v_s sigma0 sigma1 sigma2', 'LuGre bristle (Canudas de Wit et al. 1995)'), &
         entry_info('elastoplastic', 'mu_s mu_k v_s sigma0 sigma1 sigma2 z_ba_ratio', &
-                   'elasto-plastic bristle (Dupont et al. 2002)')]
+                   'elasto-plastic bristle (Dupont et al. 2002)'), &
+        entry_info('dahl', 'mu_k sigma0 dahl_alpha', 'Dahl (1968, 1976), with its shape exponent'), &
+        entry_info('gms', 'mu_s mu_k v_s sigma0 sigma1 sigma2 n_elements gms_shape gms_c', &
+                   'generalized Maxwell-slip (Al-Bender, Lampaert & Swevers 2005)')]
     integer, parameter, public :: LAW_COULOMB = 1, LAW_RECURDYN = 2, LAW_PROPOSED = 3, &
         LAW_STRIBECK = 4, LAW_KARNOPP = 5, LAW_LUGRE = 6, LAW_ELASTOPLASTIC = 7
+    integer, parameter, public :: LAW_DAHL = 8, LAW_GMS = 9
+    !! law codes of the presliding-hysteresis laws
     !! law codes: positions in LAW_TABLE
 
     !> The scenes; the code of a scene is its position.
@@ -80,7 +87,8 @@ module stickslip_registry
     !> Every physical parameter of every law and scene, each once.
     type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
         BETA_SPEC, A_SPEC, DELTA_SPEC, C_V_SPEC, V_EPS_SPEC, DV_SPEC, SIGMA0_SPEC, SIGMA1_SPEC, &
-        SIGMA2_SPEC, Z_BA_RATIO_SPEC, M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC]
+        SIGMA2_SPEC, Z_BA_RATIO_SPEC, M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC, &
+        DAHL_ALPHA_SPEC, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC]
 
 contains
 
@@ -98,6 +106,8 @@ contains
         case (LAW_KARNOPP);  allocate(karnopp_law :: law)
         case (LAW_LUGRE);    allocate(lugre_law :: law)
         case (LAW_ELASTOPLASTIC); allocate(elastoplastic_law :: law)
+        case (LAW_DAHL);     allocate(dahl_law :: law)
+        case (LAW_GMS);      allocate(gms_law :: law)
         case default;        status = SS_BAD_LAW
         end select
     end function new_law

@@ -18,7 +18,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _stickslip as _ext
-from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATUS_OK,
+from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATE_COUNT_PARAMS, STATUS_OK,
                    _FIRST_INPUT_CODE, _PARAM_ORDER, _check_names, _choice, _count, accepted_range,
                    interruptible, status_message)
 
@@ -210,6 +210,12 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
 
     keep = bool(keep_grid)
     nstate = np.array([2 + REGISTRY["law"][l]["n_states"] for l in rows["law"]], dtype=np.int32)
+    for k in STATE_COUNT_PARAMS:            # laws whose state count is a parameter (gms: n_elements)
+        if k in rows:
+            from .prescribed import _states
+            for i, (l, val) in enumerate(zip(rows["law"], rows[k])):
+                if k in REGISTRY["law"][l]["params"] and np.isfinite(val):
+                    nstate[i] = 2 + _states(str(l), ((k, float(val)),))[0]
     nmax = int(nstate.max())
     if keep and nmax * n * int(n_grid) > MAX_GRID_VALUES:
         raise ValueError(f"keep_grid: {n} rows x {n_grid} grid points exceed {MAX_GRID_VALUES // 2} "

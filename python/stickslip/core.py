@@ -335,6 +335,12 @@ class _Plan:
     needs_h: bool
     used: tuple[tuple[str, int], ...]       # parameters the scene and law read: (name, registry index)
     state_labels: tuple[str, ...]
+    sized_by: tuple[str, ...] = ()          # the law's parameters that set its number of states
+
+
+#: Parameters that set a law's number of internal states (the generalized Maxwell-slip model's
+#: n_elements): for such a law simulate asks the library (prescribed._states).
+STATE_COUNT_PARAMS: tuple[str, ...] = ("n_elements",)
 
 
 _PLANS: dict[tuple[str, str, str], _Plan] = {}
@@ -355,7 +361,8 @@ def _plan(scene: Any, law: Any, method: Any) -> _Plan:
             defaults={k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]},
             adaptive=info["adaptive"], needs_h="h" in info["controls"],
             used=tuple((k, i) for i, k in enumerate(_PARAM_ORDER) if k in used),
-            state_labels=REGISTRY["law"][law]["states"])
+            state_labels=REGISTRY["law"][law]["states"],
+            sized_by=tuple(k for k in STATE_COUNT_PARAMS if k in REGISTRY["law"][law]["params"]))
         _PLANS[scene, law, method] = plan   # only names that passed _choice get here
     return plan
 
@@ -450,7 +457,11 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     given = _physical({k: v for k, v in kwargs.items() if k in _PARAM_SET})
     ctl = _controls(method, plan, {k: v for k, v in kwargs.items() if k in _CONTROL_SET})
     t_end = _finite("t_end", t_end, "> 0 [s]")
-    n = plan.n
+    n, state_labels = plan.n, plan.state_labels
+    if plan.sized_by:
+        from .prescribed import _states     # (prescribed imports this module)
+        nz, state_labels = _states(law, tuple((k, given[k]) for k in plan.sized_by if k in given))
+        n = 2 + nz
     # 1.0: a placeholder the fixed-step methods never read
     rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
     atol = _tolerance("atol", ctl.pop("atol", 1.0), n)
@@ -529,7 +540,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     result = Result(scene=scene, law=law, method=method, t_end=t_end, params=params,
                     t=t_grid if rows_written == t_grid.size else t_grid[:rows_written].copy(),
                     x=np.array(y[0]), v=np.array(y[1]), stats=stats, z=np.array(y[2:]),
-                    state_labels=plan.state_labels)
+                    state_labels=state_labels)
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
     return result
