@@ -20,8 +20,8 @@ and the error on held-out records is the honest measure of a law (cases/identify
 
 The normal force. A force measured without its normal force cannot separate the friction
 coefficient from N. `normal_force=None` (the default) sets N = 1 N: the "coefficients" and the
-parameters proportional to them (mu_s, mu_k, sigma0, sigma1, sigma2, c_v, ...) are then force
-levels in newtons (N/m, N s/m), which `FitResult.units` says and `FitResult.force_levels` flags.
+parameters proportional to them (mu_s, mu_k, sigma0, sigma1, sigma2, c_v, gms_c) are then force
+levels in newtons (N/m, N s/m, N/s), which `FitResult.units` says and `FitResult.force_levels` flags.
 """
 from __future__ import annotations
 
@@ -46,9 +46,14 @@ EXTRA_PARAMS: dict[str, tuple[str, str]] = {
 ORDERED_PAIRS: tuple[tuple[str, str], ...] = (("mu_k", "mu_s"), ("v_s", "v_d"))
 #: Units of the parameters proportional to the friction coefficient (the force is N mu, so a
 #: fit at N = 1 N reads them as force levels): unit as a coefficient -> unit as a force level.
-_FORCE_UNITS: dict[str, str] = {"-": "N", "1/m": "N/m", "s/m": "N s/m"}
+#: (GMS's gms_c [1/s] is a rate of mu per second.)
+_FORCE_UNITS: dict[str, str] = {"-": "N", "1/m": "N/m", "s/m": "N s/m", "1/s": "N/s"}
 #: Dimensionless parameters that are not proportional to mu (shape exponents, ratios).
-_SHAPE_PARAMS: frozenset[str] = frozenset({"beta", "a", "delta", "z_ba_ratio"})
+_SHAPE_PARAMS: frozenset[str] = frozenset({"beta", "a", "delta", "z_ba_ratio", "dahl_alpha", "gms_shape",
+                                           "n_elements"})
+#: Integer parameters: not fitted (least squares needs a continuum), held at the value given in
+#: `fixed` or at their default.
+DISCRETE_PARAMS: frozenset[str] = frozenset({"n_elements"})
 
 
 def _force_scaled(name: str) -> bool:
@@ -391,7 +396,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         measured; N = 1 N and the fitted "coefficients" (mu_s, mu_k, sigma0, ...) are force levels
         in N (N/m, N s/m): mu and N cannot be told apart. `FitResult.force_levels` says which.
     fixed : dict, optional
-        Law parameters held at the given values (not fitted).
+        Law parameters held at the given values (not fitted). An integer parameter (GMS's
+        n_elements) is never fitted: it stays at its default unless given here.
     params0 : dict, optional
         Starting values of fitted parameters (default: derived from the data).
     bounds : dict, optional
@@ -454,6 +460,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     _check_keys("bounds", bounds, names, law)
     extras = {"backlash": _extra_option("backlash", backlash), "asymmetry": _extra_option("asymmetry", asymmetry)}
     fixed_all = {k: _finite(f"fixed[{k!r}]", v, "a real number") for k, v in fixed.items()}
+    for k in DISCRETE_PARAMS.intersection(law_names) - fixed.keys():
+        fixed_all[k] = float(REGISTRY["param"][k]["default"])
     fixed_all.update({k: v for k, v in extras.items() if v is not None})
     free = tuple(n for n in names if n not in fixed_all)
     for what, given in (("params0", params0), ("bounds", bounds)):
