@@ -312,15 +312,17 @@ class FitResult:
     success: bool = True
     message: str = ""
     start_costs: tuple[float, ...] = field(default_factory=tuple)
+    rtol: float = 1e-6
 
     @property
     def law_params(self) -> dict[str, float]:
         """The law's parameters (without backlash and asymmetry)."""
         return {k: v for k, v in self.params.items() if k not in EXTRA_PARAMS}
 
-    def predict(self, t: Any, x: Any, v: Any = None, normal_force: Any = None) -> np.ndarray:
+    def predict(self, t: Any, x: Any = None, v: Any = None, normal_force: Any = None) -> np.ndarray:
         """The fitted model's force [N] along a motion x(t) [m] (v [m/s] measured, or derived
-        from x), internal states from 0. Several records (lists) give a list of forces.
+        from x), internal states from 0; `t` may be a Record (its x and v are used). Several
+        records (lists) give a list of forces.
         normal_force [N]: required when the fit was of coefficients with a per-sample normal
         force; by default the fit's own (1 N, i.e. force levels, when it was not given)."""
         if normal_force is None:
@@ -329,7 +331,7 @@ class FitResult:
                                  "this motion [N]")
             normal_force = None if self.force_levels else self.normal_force
         data = _records(t, x, None, v, normal_force, need_force=False)
-        out = [_model(self.law, d, self.params) for d in data]
+        out = [_model(self.law, d, self.params, self.rtol) for d in data]
         return out if isinstance(t, (list, tuple)) else out[0]
 
     def score(self, t: Any, x: Any = None, force: Any = None, v: Any = None,
@@ -338,7 +340,7 @@ class FitResult:
         the range of their measured force) [-], pooled over every sample given."""
         data = _records(t, x, force, v, normal_force if normal_force is not None else
                         (None if self.force_levels else self.normal_force))
-        r = np.concatenate([_model(self.law, d, self.params) - d.force for d in data])
+        r = np.concatenate([_model(self.law, d, self.params, self.rtol) - d.force for d in data])
         f = np.concatenate([d.force for d in data])
         rmse = float(np.sqrt(np.mean(r**2)))
         return {"rmse": rmse, "nrmse": rmse / float(np.ptp(f)), "n_samples": int(r.size)}
@@ -359,11 +361,11 @@ class FitResult:
         return "\n".join(lines)
 
 
-def _model(law: str, d: _Data, params: Mapping[str, float]) -> np.ndarray:
+def _model(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1e-8) -> np.ndarray:
     """The model's force [N] on one record: stickslip.prescribed_motion with the states at 0."""
     from . import prescribed_motion
     law_p = {k: v for k, v in params.items() if k not in EXTRA_PARAMS}
-    res = prescribed_motion(law, d.t, d.x, d.v, normal_force=d.normal_force,
+    res = prescribed_motion(law, d.t, d.x, d.v, normal_force=d.normal_force, rtol=rtol,
                             backlash=params["backlash"], asymmetry=params["asymmetry"], **law_p)
     return res.force
 
@@ -377,7 +379,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
                  bounds: Mapping[str, tuple[float, float]] | None = None,
                  backlash: float | str = 0.0, asymmetry: float | str = 1.0,
                  n_starts: int | None = None, seed: int = 0, max_nfev: int | None = None,
-                 ) -> FitResult:
+                 rtol: float = 1e-6, diff_step: float = 1e-4) -> FitResult:
     """Fit the parameters of friction `law` to measured forces along measured motions.
 
     Parameters
@@ -416,6 +418,11 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         law with internal states (whose stiffness makes the problem non-convex), else 2.
     seed : int
         Seed of the extra starts.
+    rtol : float
+        Relative tolerance of the state integration (`prescribed_motion`'s rtol), default 1e-6.
+    diff_step : float
+        Relative step of the finite-difference Jacobian (default 1e-4): well above rtol, whose
+        integration error would otherwise swamp the differences.
     max_nfev : int, optional
         Largest number of model evaluations per start, Jacobian evaluations not counted
         (default 30 per fitted parameter).
@@ -474,6 +481,9 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         n_starts = 3 if REGISTRY["law"][law]["n_states"] > 0 else 2
     if not (isinstance(n_starts, (int, np.integer)) and n_starts >= 1):
         raise ValueError(f"n_starts: must be an integer >= 1, got {n_starts!r}")
+    diff_step = _finite("diff_step", diff_step, "in (0, 0.1]")
+    if not 0.0 < diff_step <= 0.1:
+        raise ValueError(f"diff_step: must be in (0, 0.1], got {diff_step!r}")
     n_total = sum(d.t.size for d in data)
     k = len(free)
     if n_total < k + 2:
@@ -544,7 +554,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
 
     def residuals(u: np.ndarray) -> np.ndarray:
         p = params_of(u)
-        return np.concatenate([_model(law, d, p) for d in data]) - forces
+        return np.concatenate([_model(law, d, p, rtol) for d in data]) - forces
 
     # A trial point the model rejects (the state integration fails, e.g. an implicit law's
     # Newton iteration far from the data, or a law's own limit beyond the registry's range,
@@ -577,22 +587,25 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         # strictly inside the bounds (trf's requirement)
         u_start = np.minimum(np.maximum(u_start, np.nextafter(q_lo, np.inf)), np.nextafter(q_hi, -np.inf))
         sol = least_squares(trial_residuals, u_start, bounds=(q_lo, q_hi), method="trf", x_scale=1.0,
-                            diff_step=1e-6, max_nfev=max_nfev)
+                            diff_step=diff_step, max_nfev=max_nfev)
         nfev += int(sol.nfev)
         costs.append(float(sol.cost))
         if best is None or sol.cost < best.cost:
             best = sol
     assert best is not None
-    return _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
-                       force_levels, normal_force, nfev, tuple(costs))
+    result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
+                         force_levels, normal_force, nfev, tuple(costs), diff_step)
+    result.rtol = rtol
+    return result
 
 
-def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray) -> np.ndarray:
-    """d residuals / d u by central differences (one-sided at a bound), step 1e-5 |u|."""
+def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray,
+                      step: float) -> np.ndarray:
+    """d residuals / d u by central differences (one-sided at a bound), step `step` |u|."""
     r0 = residuals(u)
     jac = np.empty((r0.size, u.size))
     for i in range(u.size):
-        h = 1e-5 * max(abs(u[i]), 1e-3)
+        h = step * max(abs(u[i]), 1e-3)
         up, down = u.copy(), u.copy()
         up[i] = min(u[i] + h, q_hi[i])
         down[i] = max(u[i] - h, q_lo[i])
@@ -602,7 +615,7 @@ def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.
 
 def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: Any, forces: np.ndarray,
                 data: list[_Data], q_lo: np.ndarray, q_hi: np.ndarray, force_levels: bool,
-                normal_force: Any, nfev: int, costs: tuple[float, ...]) -> FitResult:
+                normal_force: Any, nfev: int, costs: tuple[float, ...], step: float) -> FitResult:
     """Covariance, intervals and scores at the optimum (see the module notes)."""
     from scipy import stats
 
@@ -614,7 +627,7 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     ssr = float(r @ r)
     dof = n - k
     s2 = ssr / dof
-    jac_u = _central_jacobian(residuals, u, q_lo, q_hi)
+    jac_u = _central_jacobian(residuals, u, q_lo, q_hi, 0.1 * step)
     # in the physical parameters: J_p = J_u (dp/du)^-1, cov_p = s2 (J_p^T J_p)^+
     jac_p = jac_u @ np.linalg.inv(space.matrix())
     col = np.linalg.norm(jac_p, axis=0)
