@@ -267,3 +267,25 @@ def test_damper_loader_rejects_bad_files(tmp_path):
         stickslip.load_damper_record(bad)
     with pytest.raises(ValueError, match="no such file"):
         stickslip.load_damper_record(tmp_path / "none.csv")
+
+
+def test_identify_driver_writes_scores_figures_and_report(tmp_path):
+    """cases.identify on two 36 lb records (one fitted, one held out by the checkerboard) and two
+    laws: every file is there, the CSV columns carry units, the report names a law to use."""
+    from cases import _common as c
+    from cases import identify
+    d = stickslip.data.DAMPER_DIR
+    files = identify.main(["--outdir", str(tmp_path), "--quiet", "--threads", "1", "--laws", "coulomb", "dahl",
+                           "--data", str(d / "sine_1Hz_0.5in_36lb.csv.gz"), str(d / "sine_2Hz_0.5in_36lb.csv.gz")])
+    names = {f.name for f in files}
+    for stem in ("identify_loops_36lb", "identify_residuals_36lb", "identify_correlation_36lb", "identify_scores"):
+        assert {stem + ".png", stem + ".pdf"} <= names
+    scores = c.read_csv(tmp_path / "identify_scores.csv")
+    assert scores["law [-]"] == ["coulomb", "dahl"]
+    held = [float(x) for x in scores["nrmse held out [-]"]]
+    assert held[1] < held[0]                       # presliding beats a jump, on the held-out record
+    records = c.read_csv(tmp_path / "identify_records.csv")
+    assert sorted(set(zip(records["record [-]"], records["split [-]"]))) == [
+        ("sine_1Hz_0.5in_36lb", "fitted"), ("sine_2Hz_0.5in_36lb", "held out")]
+    report = (tmp_path / "identify_report.md").read_text()
+    assert "**Use Dahl** (`dahl`)" in report
