@@ -35,6 +35,7 @@ import numpy as np
 
 from .core import DEFAULTS, LAWS, REGISTRY, _choice, _finite
 from .data import Record
+from .prescribed import _samples
 
 #: Parameters of the prescribed-motion model that are not the law's: unit, accepted range.
 EXTRA_PARAMS: dict[str, tuple[str, str]] = {
@@ -100,24 +101,10 @@ class _Data:
     normal_force: float | np.ndarray
 
 
-def _array(name: str, value: Any, unit: str, n: int | None) -> np.ndarray:
-    try:
-        a = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}: must be real numbers [{unit}], got {type(value).__name__}") from None
-    if a.ndim != 1 or (n is not None and a.size != n):
-        want = "a 1-d array" if n is None else f"{n} values (one per sample of t)"
-        raise ValueError(f"{name}: must be {want} [{unit}], got shape {a.shape}")
-    bad = np.flatnonzero(~np.isfinite(a))
-    if bad.size:
-        raise ValueError(f"{name}: must be finite [{unit}], got {a[bad[0]]!r} at sample {int(bad[0])}")
-    return np.ascontiguousarray(a)
-
-
 def _one_record(tag: str, t: Any, x: Any, force: Any, v: Any, normal_force: Any,
                 min_samples: int = 2) -> _Data:
     """Validate one record; `tag` ("" or "[i]") names it in messages."""
-    tt = _array(f"t{tag}", t, "s", None)
+    tt = _samples(f"t{tag}", t, None, "s")
     if tt.size < min_samples:
         raise ValueError(f"t{tag}: must hold at least {min_samples} samples [s], got {tt.size}")
     step = np.diff(tt)
@@ -126,9 +113,9 @@ def _one_record(tag: str, t: Any, x: Any, force: Any, v: Any, normal_force: Any,
         raise ValueError(f"t{tag}: must be strictly increasing [s], got t[{i}] = {tt[i]!r} and "
                          f"t[{i + 1}] = {tt[i + 1]!r}")
     n = tt.size
-    xx = _array(f"x{tag}", x, "m", n)
-    ff = None if force is None else _array(f"force{tag}", force, "N", n)
-    vv = None if v is None else _array(f"v{tag}", v, "m/s", n)
+    xx = _samples(f"x{tag}", x, n, "m")
+    ff = None if force is None else _samples(f"force{tag}", force, n, "N")
+    vv = None if v is None else _samples(f"v{tag}", v, n, "m/s")
     if normal_force is None:
         nf: float | np.ndarray = 1.0
     elif np.ndim(normal_force) == 0:
@@ -136,7 +123,7 @@ def _one_record(tag: str, t: Any, x: Any, force: Any, v: Any, normal_force: Any,
         if nf <= 0.0:
             raise ValueError(f"normal_force{tag}: must be > 0 [N], got {nf!r}")
     else:
-        nf = _array(f"normal_force{tag}", normal_force, "N", n)
+        nf = _samples(f"normal_force{tag}", normal_force, n, "N")
         if (nf <= 0.0).any():
             raise ValueError(f"normal_force{tag}: must be > 0 [N], got {nf[nf <= 0.0][0]!r}")
     return _Data(tt, xx, vv, ff, nf)
