@@ -30,9 +30,7 @@ its attraction constant at GMS_C (it barely changes the force on sines).
 from __future__ import annotations
 
 import argparse
-import math
 import multiprocessing
-import sys
 import time
 import warnings
 from pathlib import Path
@@ -250,7 +248,6 @@ def plot(outdir: str | Path) -> list[Path]:
     import matplotlib.pyplot as plt
     outdir = Path(outdir)
     scores = _rows(outdir / "identify_scores.csv")
-    params = _rows(outdir / "identify_params.csv")
     groups = sorted({r["group [-]"] for r in scores})
     files: list[Path] = []
     plt.rcParams.update({"font.size": 8, "axes.grid": True, "grid.alpha": 0.3, "legend.fontsize": 7})

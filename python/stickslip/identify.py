@@ -229,7 +229,6 @@ class _Space:
 
     def matrix(self) -> np.ndarray:
         """dp/du (constant)."""
-        k = len(self.free)
         m = np.diag(self.scale)
         for hi, lo in self.lower_of.items():
             m[hi, lo] = self.scale[lo]
