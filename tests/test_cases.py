@@ -270,7 +270,7 @@ def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[
 @pytest.mark.parametrize("argv,expected", [
     ([], ["laws", "slope", "belt"]),
     (["--all", "--threads", "1"], ["laws", "slope", "belt", "workprecision", "stability", "laws_compare",
-                                   "implicit", "speedup"]),
+                                   "implicit", "speedup", "identify"]),
     (["--only", "stability"], ["stability"]),
 ])
 def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
