@@ -294,7 +294,7 @@ def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
     assert [name for name, _ in calls] == expected
     for name, args in calls:
         assert args[:2] == ["--outdir", str(tmp_path)]
-        if name in ("workprecision", "stability", "laws_compare", "implicit", "speedup"):
+        if name in ("workprecision", "stability", "laws_compare", "implicit", "speedup", "identify"):
             assert "--threads" in args and "--workers" not in args
         elif name != "laws":
             assert "--workers" in args
