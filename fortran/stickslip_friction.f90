@@ -145,7 +145,7 @@ contains
     !! may bend sharply, as the elasto-plastic attachment does). A law without states returns
     !! at once.
     subroutine tr_bdf2_advance(self, dx, h, v0, v1, z, status)
-        class(friction_law), intent(inout) :: self
+        class(friction_law), intent(inout) :: self   !! the law (its `evaluate` gives the rates)
         real(dp), intent(in)    :: dx       !! travel over the step [m] (unused)
         real(dp), intent(in)    :: h        !! step [s], >= 0
         real(dp), intent(in)    :: v0       !! relative velocity at the start [m/s]

@@ -66,9 +66,9 @@ module stickslip_registry
                    'generalized Maxwell-slip (Al-Bender, Lampaert & Swevers 2005)')]
     integer, parameter, public :: LAW_COULOMB = 1, LAW_RECURDYN = 2, LAW_PROPOSED = 3, &
         LAW_STRIBECK = 4, LAW_KARNOPP = 5, LAW_LUGRE = 6, LAW_ELASTOPLASTIC = 7
+    !! law codes: positions in LAW_TABLE
     integer, parameter, public :: LAW_DAHL = 8, LAW_GMS = 9
     !! law codes of the presliding-hysteresis laws
-    !! law codes: positions in LAW_TABLE
 
     !> The scenes; the code of a scene is its position.
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
