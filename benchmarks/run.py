@@ -689,6 +689,83 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
     return "\n".join(out)
 
 
+def run_identify(log: Callable[[str], None], repeats: int = 3) -> str:
+    """Identification (issue 20): wall time of a LuGre and a GMS fit on the ten 36 lb damper
+    records (cases.identify's subsampling, backlash and asymmetry fitted, one start), and
+    stickslip.prescribed_motion's cost per sample for LuGre against two plain implementations
+    of the same law along the same record: a Python loop of the exact flow at each interval's
+    mean velocity (one substep per interval), and scipy's solve_ivp (LSODA, rtol 1e-8) on
+    dz/dt = v - sigma0 |v| z / g(v) with v interpolated linearly. Both plain versions move
+    along a coarser motion than prescribed_motion's cubic Hermite one: their forces differ from
+    it by under 1 %. Medians of `repeats`."""
+    import warnings
+    from scipy.integrate import solve_ivp
+    import stickslip
+    sys.path.insert(0, str(ROOT))
+    from cases import identify as ci
+    recs = [r for r, _ in ci.load_groups(stickslip.damper_files(36))["36lb"]]
+    lines = ["## Identification (python -m benchmarks --identify)", "",
+             f"Machine: {machine()}. Ten 36 lb damper records, {sum(len(r) for r in recs)} samples "
+             f"({ci.SAMPLES_PER_CYCLE} per cycle), rtol {ci.RTOL:g}.", "",
+             "| what | median wall time | notes |", "|---|---|---|"]
+    for law in ("lugre", "gms"):
+        times, fit = [], None
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                fit = stickslip.fit_friction(law, recs, fixed=ci.fixed_for(law), backlash="fit", asymmetry="fit",
+                                             n_starts=1, rtol=ci.RTOL, diff_step=ci.DIFF_STEP)
+            times.append(time.perf_counter() - t0)
+        lines.append(f"| {law} fit | {np.median(times):.2f} s | {fit.nfev} evaluations of the model "
+                     f"(Jacobians not counted), nrmse {fit.nrmse:.3f} |")
+        log(lines[-1])
+    rec = max(recs, key=len)
+    p = dict(mu_s=14500.0, mu_k=11600.0, v_s=0.096, sigma0=2.6e6, sigma1=0.0, sigma2=2100.0)
+
+    def g(v: np.ndarray) -> np.ndarray:
+        return p["mu_k"] + (p["mu_s"] - p["mu_k"]) * np.exp(-(v / p["v_s"]) ** 2)
+
+    def numpy_loop() -> np.ndarray:
+        z = np.zeros(rec.t.size)
+        dx, vm = np.diff(rec.x), 0.5 * (rec.v[1:] + rec.v[:-1])
+        gv = g(vm)
+        for k in range(dx.size):
+            zss = np.sign(dx[k]) * gv[k] / p["sigma0"]
+            z[k + 1] = zss + (z[k] - zss) * math.exp(-p["sigma0"] * abs(dx[k]) / gv[k])
+        return p["sigma0"] * z + p["sigma2"] * rec.v
+
+    def scipy_ivp() -> np.ndarray:
+        def rhs(t: float, z: np.ndarray) -> list[float]:
+            v = float(np.interp(t, rec.t, rec.v))
+            return [v - p["sigma0"] * abs(v) * z[0] / float(g(np.array(v)))]
+        sol = solve_ivp(rhs, (rec.t[0], rec.t[-1]), [0.0], method="LSODA", t_eval=rec.t, rtol=1e-8, atol=1e-12)
+        return p["sigma0"] * sol.y[0] + p["sigma2"] * rec.v
+
+    ref = {}
+    for name, fn in (("stickslip.prescribed_motion (Fortran, rtol 1e-8)",
+                      lambda: stickslip.prescribed_motion("lugre", rec.t, rec.x, rec.v, **p).force),
+                     (f"stickslip.prescribed_motion (Fortran, rtol {ci.RTOL:g})",
+                      lambda: stickslip.prescribed_motion("lugre", rec.t, rec.x, rec.v, rtol=ci.RTOL, **p).force),
+                     ("numpy loop, exact flow, 1 substep/interval", numpy_loop),
+                     ("scipy solve_ivp LSODA, rtol 1e-8", scipy_ivp)):
+        times = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            ref[name] = fn()
+            times.append(time.perf_counter() - t0)
+        ref[name + " time"] = float(np.median(times))
+    base = ref["stickslip.prescribed_motion (Fortran, rtol 1e-8) time"]
+    first = ref["stickslip.prescribed_motion (Fortran, rtol 1e-8)"]
+    for name in [k for k in ref if not k.endswith(" time")]:
+        dt = ref[name + " time"]
+        dev = float(np.abs(ref[name] - first).max())
+        lines.append(f"| LuGre along {rec.name}, {name} | {1e6 * dt / rec.t.size:.2f} us/sample | "
+                     f"{dt / base:.3g} x the time of the first row; max force difference from it {dev:.3g} N |")
+        log(lines[-1])
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=cli_description(__doc__),
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -706,6 +783,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                              "benchmarks.csv already in the output directory")
     parser.add_argument("--repeats", type=int, default=None, help="samples per median")
     parser.add_argument("--no-scipy", action="store_true", help="leave out solve_ivp")
+    parser.add_argument("--identify", action="store_true",
+                        help="only the identification benchmark (LuGre and GMS fits on the 36 lb damper "
+                             "records, prescribed motion per sample): writes identify.md")
     parser.add_argument("--callgrind", action=argparse.BooleanOptionalAction, default=None,
                         help="count instructions per evaluation of the compiled adaptive runs with valgrind "
                              "(default: on when valgrind is installed, off with --quick)")
@@ -735,6 +815,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     cfg = Config(**{**cfg.__dict__, "callgrind": callgrind})
     args.outdir.mkdir(parents=True, exist_ok=True)
     log = (lambda s: print(s, flush=True))
+    if args.identify:
+        write_text(args.outdir / "identify.md", run_identify(log, 1 if args.quick else 3))
+        return 0
     t0 = time.perf_counter()
     exes = build(args.build_dir)
     if "bench_gsl" not in exes:

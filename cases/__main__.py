@@ -55,7 +55,7 @@ DRIVERS: tuple[Driver, ...] = (
     Driver("belt", "paper", 1.6, False), Driver("workprecision", "study", 25.0, False),
     Driver("stability", "study", 37.6, False), Driver("laws_compare", "study", 18.0, False),
     Driver("implicit", "study", 15.1, False), Driver("speedup", "study", 1.1, True),
-    Driver("stick", "study", 12.0, False))
+    Driver("stick", "study", 12.0, False), Driver("identify", "study", 35.0, False))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 
@@ -156,8 +156,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser.add_argument("--only", nargs="+", choices=[d.name for d in DRIVERS],
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
-                        help="also run the studies (work-precision, stability, laws_compare, implicit): about "
-                        "1 min more on 2 cores")
+                        help="also run the studies (work-precision, stability, laws_compare, implicit, stick, "
+                        "identify): about 2 min more on 2 cores")
     parser.add_argument("--jobs", type=count, default=min(2, _cores()),
                         help="drivers run at once, each in its own process, >= 1 (default: cores, at most 2)")
     parser.add_argument("--workers", type=count, default=None,

@@ -34,6 +34,8 @@ from .batch import BatchResult
 from .sweep import simulate_batch
 from .advise import Advice, advise
 from .prescribed import PrescribedResult, law_n_states, law_state_labels, prescribed_motion
+from .data import Record, damper_files, load_damper_record
+from .identify import FitResult, fit_friction
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
@@ -43,5 +45,6 @@ __all__ = [
     "UnstableStepWarning", "Advice", "advise",
     "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation",
     "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
+    "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction",
 ]
 __version__ = "0.1.0"
