@@ -558,8 +558,7 @@ def friction_coefficient(law: str, v: Any, **params: float) -> np.ndarray:
         raise ValueError("v: must be finite [m/s]")
     keys, vals = _keys(given)
     mu, status = _ext.friction(code, keys, vals, np.ascontiguousarray(vv.ravel()))
-    if status <= _FIRST_INPUT_CODE:
-        raise ValueError(_with_values(status_message(status), _known(given)))
+    _check_code(status, given)
     mu = np.asarray(mu).reshape(vv.shape)
     if not np.isfinite(mu).all():
         bad = vv.reshape(-1)[int(np.flatnonzero(~np.isfinite(mu.reshape(-1)))[0])]
@@ -681,6 +680,14 @@ def _known(given: Mapping[str, float]) -> dict[str, float]:
         if k not in given and info["default_of"]:
             known[k] = info["scale"] * known[info["default_of"]]
     return known
+
+
+def _check_code(status: int, given: Mapping[str, Any] | None = None) -> None:
+    """Raise ValueError for a bad-input status: the library's message, which names the parameter
+    and its accepted range, with the values of the parameters it names (`given` over the
+    defaults)."""
+    if status <= _FIRST_INPUT_CODE:
+        raise ValueError(_with_values(status_message(status), _known(given or {})))
 
 
 def _with_values(message: str, known: Mapping[str, Any]) -> str:

@@ -64,7 +64,7 @@ def _states(law: str, params: tuple[tuple[str, float], ...]) -> tuple[int, tuple
     code = _choice("law", law, LAWS)
     keys, vals = _keys(dict(params))
     nz, labels, status = _ext.law_states(code, keys, vals)
-    _check_code(int(status))
+    _check_code(int(status), dict(params))
     text = labels.decode().rstrip("\x00 ")
     return int(nz), tuple(s for s in text.split(";") if s)
 
@@ -206,7 +206,7 @@ def prescribed_motion(law: str, t: Any, x: Any, v: Any = None, *, normal_force: 
     keys, vals = _keys(dict(given))
     force, mu, z, xc, vc, counters, status = _ext.prescribed(
         code, keys, vals, tt, xx, vv, nf, zz, backlash, asymmetry, rtol)
-    _check_code(int(status))
+    _check_code(int(status), dict(given))
     if int(status) != 0:
         raise RuntimeError(f"prescribed_motion: the state integration failed (status {int(status)})")
     stats = dict(zip(("n_advance", "n_unconverged", "max_substeps"), (int(c) for c in counters)))
