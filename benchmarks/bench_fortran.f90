@@ -1,11 +1,12 @@
 !> Timing of the stickslip core called directly from Fortran (no Python): one scene, law and
 !! method through stickslip_simulate's `simulate`, output only at t_end.
 !!
-!! usage: bench_fortran SCENE LAW rk4|dopri5 T_END H_OR_TOL REPEATS MIN_SAMPLE_S
-!! RK4 takes the step H; DOPRI5 takes rtol = atol = TOL, hmin = 0, hmax = t_end and no step
-!! budget. Prints "median_s nfev nstep x_end v_end": the median over REPEATS samples of the
-!! time of one integration [s]; each sample repeats it until it lasts MIN_SAMPLE_S (with
-!! MIN_SAMPLE_S = 0: exactly 1 + REPEATS runs, for instruction counts under callgrind).
+!! usage: bench_fortran SCENE LAW METHOD T_END H_OR_TOL REPEATS MIN_SAMPLE_S
+!! METHOD rk4 takes the step H; an adaptive method (dopri5, dop853, ...) takes
+!! rtol = atol = TOL, hmin = 0, hmax = t_end and no step budget. Prints "median_s nfev nstep
+!! x_end v_end": the median over REPEATS samples of the time of one integration [s]; each
+!! sample repeats it until it lasts MIN_SAMPLE_S (with MIN_SAMPLE_S = 0: exactly 1 + REPEATS
+!! runs, for instruction counts under callgrind).
 program bench_fortran
     use, intrinsic :: iso_fortran_env, only: int64, error_unit
     use stickslip_kinds, only: dp, SS_OK
@@ -25,7 +26,7 @@ program bench_fortran
     real(dp) :: t_out(1), y_out(2, 1)
 
     if (command_argument_count() /= 7) then
-        write (error_unit, '(a)') 'usage: bench_fortran SCENE LAW rk4|dopri5 T_END H_OR_TOL REPEATS MIN_SAMPLE_S'
+        write (error_unit, '(a)') 'usage: bench_fortran SCENE LAW METHOD T_END H_OR_TOL REPEATS MIN_SAMPLE_S'
         error stop 2
     end if
     do i = 1, 7

@@ -13,13 +13,19 @@ Sections (the ``section`` column of the CSV):
   from Fortran at the same tolerance.
 - ``equal_accuracy``: for each method the time to reach an error target, interpolated in
   log-log along its work-precision curve, as a ratio to stickslip DOPRI5 (Fortran).
-- ``overhead``: short runs (OVERHEAD) timed from Fortran and through ``stickslip.simulate``;
-  the difference is what the Python facade and f2py add per call.
+- ``overhead``: short runs (OVERHEAD) through ``stickslip.simulate`` and through a bare call
+  of the f2py wrapper with the same arguments, interleaved; ``overhead_s`` is the median of the
+  per-call differences, what the Python facade adds per call.
 - ``exact_stick`` and ``exact_stick_equal``: set-valued Coulomb friction by ``moreau`` and
   ``event_driven`` against the smooth laws (RK4, DOPRI5) on two problems with exact answers
   (``cases.stick``: the slope sliding to a stop, error |x(t_end) - x_stop|; the belt started
   stuck, error max |x - x_exact| on the output grid); then, per error target, the time of each
   nonsmooth method as a ratio to the best smooth-law run that reaches it (none may).
+- ``dop853`` and ``dop853_equal_error``: stickslip DOP853 against stickslip DOPRI5 and GSL
+  rk8pd (all compiled, output at t_end) on the belt with the proposed law at the tolerances
+  ``dop853_tols``, then at the error targets ``dop853_targets``: time, evaluations and
+  instructions interpolated in log-log along each work-precision curve, as ratios to DOP853
+  (``median_s``, ``nfev`` and ``instr_per_eval`` of those rows are the interpolated values).
 
 Times are medians of several samples; each sample repeats a run until it lasts long enough.
 Nothing asserts an absolute time: the machine is shared. The compiled adaptive runs also get a
@@ -34,7 +40,6 @@ import csv
 import datetime as _dt
 import math
 import os
-import platform
 import shutil
 import subprocess
 import sys
@@ -45,15 +50,19 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from cases._common import atomic_write, write_text   # one way to write a file whole or not at all
+from cases._common import atomic_write, check_writable, cli_description, write_text   # one way to write a file whole or not at all
+from cases._provenance import machine, write_provenance
+from cases._timing import median_time, python_jac, python_rhs, time_at_error
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The tracked results the documentation quotes (written only with --results).
+RESULTS_DIR = ROOT / "benchmarks" / "results"
 BIN = Path(sys.executable).parent
 
 FIELDS: tuple[str, ...] = (
     "section", "impl", "method", "scene", "law", "t_end_s", "h_s", "tol", "target_err",
     "repeats", "median_s", "nstep", "nfev", "ns_per_step", "ns_per_eval", "instr_per_eval", "x_end_m",
-    "v_end_m_s", "err", "reference", "ratio_step", "ratio_eval", "ratio_time",
+    "v_end_m_s", "err", "reference", "ratio_step", "ratio_eval", "ratio_time", "overhead_s",
 )
 REFERENCE_TOL = 1e-13
 #: Fixed-step implicit methods timed beside RK4 (from Python, default controls).
@@ -81,6 +90,9 @@ class Config:
     stick_steps: tuple[float, ...] = (1e-2, 1e-3, 1e-4)
     stick_tols: tuple[float, ...] = (1e-4, 1e-6, 1e-8, 1e-10)
     stick_targets: tuple[float, ...] = (1e-2, 1e-3, 1e-5, 1e-8)
+    dop853_tols: list[float] = field(default_factory=lambda: [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12,
+                                                              1e-13])
+    dop853_targets: list[float] = field(default_factory=lambda: [1e-7, 1e-8, 1e-9, 1e-10])
 
 
 FULL = Config(
@@ -94,7 +106,7 @@ QUICK = Config(
     adaptive=[("belt", "proposed")],
     t_end_adaptive=2.0, tols=[1e-4, 1e-7], targets=[1e-5],
     repeats=1, min_sample=0.0, t_end_stick=2.5, stick_steps=(1e-3, 1e-4), stick_tols=(1e-4, 1e-8),
-    stick_targets=(1e-3, 1e-5))
+    stick_targets=(1e-3, 1e-5), dop853_tols=[1e-6, 1e-9], dop853_targets=[1e-7])
 
 
 # -- helpers ----------------------------------------------------------------------------------
@@ -156,102 +168,7 @@ def count_instructions(exe: Path, scene: str, law: str, method: str, t_end: floa
 
 def time_python(fn: Callable[[], object], cfg: Config) -> tuple[float, object]:
     """Median seconds of fn() over cfg.repeats samples of at least cfg.min_sample each."""
-    t0 = time.perf_counter()
-    result = fn()
-    once = max(time.perf_counter() - t0, 1e-9)
-    inner = max(1, math.ceil(cfg.min_sample / once))
-    samples = []
-    for _ in range(cfg.repeats):
-        t0 = time.perf_counter()
-        for _ in range(inner):
-            result = fn()
-        samples.append((time.perf_counter() - t0) / inner)
-    return float(np.median(samples)), result
-
-
-def machine() -> str:
-    """lscpu's model name (or the platform's processor)."""
-    try:
-        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
-        for line in out.splitlines():
-            if line.startswith("Model name:"):
-                return line.split(":", 1)[1].strip()
-    except (OSError, subprocess.CalledProcessError):
-        pass
-    return platform.processor() or platform.machine()
-
-
-# -- the scenes in Python, for solve_ivp --------------------------------------------------------
-
-PAPER = dict(mu_s=0.35, mu_k=0.30, v_s=0.01, v_d=0.015, beta=1.0 / 3.0, a=1.5, g=9.81, k_m=30.0,
-             v_b=1.5, theta=math.radians(10.0))
-
-
-def python_law(law: str) -> tuple[Callable[[float], float], Callable[[float], float]]:
-    """mu(v) and d mu/dv of a law in plain Python (the paper's formulas, Table 1); d mu/dv of
-    the proposed law is floored at |v| = 1e-6 v_s as in the library."""
-    p = PAPER
-    mu_s, mu_k, v_s, v_d, beta = p["mu_s"], p["mu_k"], p["v_s"], p["v_d"], p["beta"]
-    ln_a = math.log(p["a"])
-    b = -math.log(mu_s - mu_k) / ln_a - v_s
-
-    def hav(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
-        if x <= x0:
-            return h0
-        if x >= x1:
-            return h1
-        return h0 + (h1 - h0) * 0.5 * (1.0 - math.cos(math.pi * (x - x0) / (x1 - x0)))
-
-    def dhav(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
-        if x <= x0 or x >= x1:
-            return 0.0
-        return (h1 - h0) * 0.5 * math.pi / (x1 - x0) * math.sin(math.pi * (x - x0) / (x1 - x0))
-
-    def mu(v: float) -> float:
-        s = abs(v)
-        if law == "coulomb":
-            if v == 0.0:
-                return 0.0
-            m = mu_s if s < v_s else mu_k
-        elif law == "recurdyn":
-            m = hav(s, 0.0, 0.0, v_s, mu_s) if s < v_s else hav(s, v_s, mu_s, v_d, mu_k)
-        else:
-            m = mu_s * (s / v_s) ** beta if s <= v_s else math.exp(-ln_a * (s + b)) + mu_k
-        return math.copysign(m, v)
-
-    def dmu(v: float) -> float:
-        s = abs(v)
-        if law == "coulomb":
-            return 0.0
-        if law == "recurdyn":
-            return dhav(s, 0.0, 0.0, v_s, mu_s) if s < v_s else dhav(s, v_s, mu_s, v_d, mu_k)
-        if s <= v_s:
-            s = max(s, 1e-6 * v_s)
-            return mu_s * beta / v_s * (s / v_s) ** (beta - 1.0)
-        return -ln_a * math.exp(-ln_a * (s + b))
-
-    return mu, dmu
-
-
-def python_rhs(scene: str, law: str) -> Callable[[float, np.ndarray], list[float]]:
-    """The scene's right-hand side in plain Python (the paper's formulas), as a scipy user
-    would write it; parameters of Table 1."""
-    mu = python_law(law)[0]
-    g, k_m, v_b, theta = PAPER["g"], PAPER["k_m"], PAPER["v_b"], PAPER["theta"]
-    if scene == "belt":
-        return lambda t, y: [y[1], -k_m * y[0] + mu(v_b - y[1]) * g]
-    g_sin, g_cos = g * math.sin(theta), g * math.cos(theta)
-    return lambda t, y: [y[1], g_sin - mu(y[1]) * g_cos]
-
-
-def python_jac(scene: str, law: str) -> Callable[[float, np.ndarray], list[list[float]]]:
-    """The Jacobian of python_rhs (analytic, as the library's scenes give it)."""
-    dmu = python_law(law)[1]
-    g, k_m, v_b, theta = PAPER["g"], PAPER["k_m"], PAPER["v_b"], PAPER["theta"]
-    if scene == "belt":
-        return lambda t, y: [[0.0, 1.0], [-k_m, -g * dmu(v_b - y[1])]]
-    g_cos = g * math.cos(theta)
-    return lambda t, y: [[0.0, 1.0], [0.0, -g_cos * dmu(y[1])]]
+    return median_time(fn, cfg.repeats, cfg.min_sample)
 
 
 #: Short runs for the facade's per-call overhead: scene, law, method, t_end [s], h or tol.
@@ -272,7 +189,8 @@ def _row(section: str, impl: str, method: str, scene: str, law: str, t_end: floa
             "ns_per_step": 1e9 * median_s / nstep if nstep else float("nan"),
             "ns_per_eval": 1e9 * median_s / nfev if nfev else float("nan"), "instr_per_eval": float("nan"),
             "x_end_m": x, "v_end_m_s": v, "err": err, "reference": "",
-            "ratio_step": float("nan"), "ratio_eval": float("nan"), "ratio_time": float("nan")}
+            "ratio_step": float("nan"), "ratio_eval": float("nan"), "ratio_time": float("nan"),
+            "overhead_s": float("nan")}
 
 
 def run_fixed(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -> list[dict]:
@@ -386,29 +304,51 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
     return rows
 
 
+#: Calls of each OVERHEAD run, alternating with as many bare calls of the wrapper.
+OVERHEAD_CALLS = 3000
+
+
 def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -> list[dict]:
-    """Rows of the ``overhead`` section: each OVERHEAD run from Fortran and from Python (the
-    controls of bench_fortran: rtol = atol = tol, hmin = 0, hmax = t_end; output at t_end)."""
+    """Rows of the ``overhead`` section: for each OVERHEAD run (rtol = atol = tol, hmin = 0,
+    hmax = t_end; output at t_end), OVERHEAD_CALLS calls of ``stickslip.simulate`` interleaved
+    with as many bare calls of the f2py wrapper with the same arguments (the library call
+    simulate makes, and nothing else: stickslip.core._bare_call), alternating which goes first.
+    median_s: the median time of each; overhead_s (on the simulate row): the median of the
+    per-pair differences, what the facade adds per call."""
     import stickslip
+    from stickslip.core import _bare_call
 
     rows: list[dict] = []
+    clock = time.perf_counter
     for scene, law, method, t_end, hp in OVERHEAD:
         fixed = method == "rk4"
         kw = dict(h=hp) if fixed else dict(rtol=hp, atol=hp, hmin=0.0, hmax=t_end, max_steps=10**8)
         step = dict(h=hp) if fixed else dict(tol=hp)
-        r = run_program(exes["bench_fortran"], scene, law, method, t_end, hp, cfg)
-        base = _row("overhead", "stickslip_fortran", method, scene, law, t_end, **step, repeats=cfg.repeats,
-                    median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"], x=r["x"], v=r["v"])
-        med, res = time_python(lambda: stickslip.simulate(scene, law, method=method, t_end=t_end, n_out=2,
-                                                          **kw), cfg)
-        row = _row("overhead", "stickslip_python", method, scene, law, t_end, **step, repeats=cfg.repeats,
-                   median_s=med, nstep=res.stats["nstep"], nfev=res.stats["nfev"], x=float(res.x[-1]),
-                   v=float(res.v[-1]))
+        sim = lambda: stickslip.simulate(scene, law, method=method, t_end=t_end, n_out=2, **kw)  # noqa: E731
+        bare = _bare_call(scene, law, method=method, t_end=t_end, n_out=2, **kw)
+        res = sim()
+        t_bare, t_sim = np.empty(OVERHEAD_CALLS), np.empty(OVERHEAD_CALLS)
+        for i in range(OVERHEAD_CALLS):
+            if i % 2:
+                t0 = clock(); bare(); t1 = clock(); sim(); t2 = clock()          # noqa: E702
+                t_bare[i], t_sim[i] = t1 - t0, t2 - t1
+            else:
+                t0 = clock(); sim(); t1 = clock(); bare(); t2 = clock()          # noqa: E702
+                t_sim[i], t_bare[i] = t1 - t0, t2 - t1
+        over = float(np.median(t_sim - t_bare))
+        base = _row("overhead", "f2py_wrapper", method, scene, law, t_end, **step, repeats=OVERHEAD_CALLS,
+                    median_s=float(np.median(t_bare)), nstep=res.stats["nstep"], nfev=res.stats["nfev"],
+                    x=float(res.x[-1]), v=float(res.v[-1]))
+        row = _row("overhead", "stickslip_python", method, scene, law, t_end, **step, repeats=OVERHEAD_CALLS,
+                   median_s=float(np.median(t_sim)), nstep=res.stats["nstep"], nfev=res.stats["nfev"],
+                   x=float(res.x[-1]), v=float(res.v[-1]))
+        row["overhead_s"] = over
         for x in (base, row):
-            x["reference"] = "stickslip_fortran"
+            x["reference"] = "f2py_wrapper"
             x["ratio_time"] = x["median_s"] / base["median_s"]
-        log(f"overhead {scene:5s} {law:8s} {method:7s} Fortran {1e6 * base['median_s']:7.1f} us, "
-            f"Python {1e6 * med:7.1f} us: +{1e6 * (med - base['median_s']):.1f} us per call")
+        log(f"overhead {scene:5s} {law:8s} {method:7s} wrapper {1e6 * base['median_s']:7.1f} us, "
+            f"simulate {1e6 * row['median_s']:7.1f} us: +{1e6 * over:.2f} us per call "
+            f"(median of {OVERHEAD_CALLS} interleaved pairs)")
         rows += [base, row]
     return rows
 
@@ -475,6 +415,54 @@ def run_exact_stick(cfg: Config, log: Callable[[str], None]) -> tuple[list[dict]
                 row["ratio_time"] = t / best_t if best_key else float("nan")
                 rows.append(row)
     return rows, notes
+#: The runs of the dop853 section: implementation, benchmark program, method.
+DOP853_RUNS: tuple[tuple[str, str, str], ...] = (
+    ("stickslip_fortran", "bench_fortran", "dop853"), ("stickslip_fortran", "bench_fortran", "dopri5"),
+    ("gsl", "bench_gsl", "rk8pd"))
+
+
+def run_dop853(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -> list[dict]:
+    """Rows of the ``dop853`` and ``dop853_equal_error`` sections: the belt with the proposed law
+    over cfg.t_end_adaptive, rtol = atol = tol (hmin = 0, hmax = t_end), error against the
+    section adaptive's reference (stickslip DOPRI5 at REFERENCE_TOL)."""
+    scene, law, t_end = "belt", "proposed", cfg.t_end_adaptive
+    once = Config(**{**cfg.__dict__, "repeats": 1, "min_sample": 0.0})
+    ref = run_program(exes["bench_fortran"], scene, law, "dopri5", t_end, REFERENCE_TOL, once)
+    yref = np.array([ref["x"], ref["v"]])
+    runs = [r for r in DOP853_RUNS if r[1] in exes]
+    rows: list[dict] = []
+    for tol in cfg.dop853_tols:
+        for impl, exe, method in runs:
+            r = run_program(exes[exe], scene, law, method, t_end, tol, cfg)
+            err = max(float(np.max(np.abs(np.array([r["x"], r["v"]]) - yref))), 1e-16)
+            row = _row("dop853", impl, method, scene, law, t_end, tol=tol, repeats=cfg.repeats,
+                       median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"], x=r["x"], v=r["v"], err=err)
+            if cfg.callgrind:
+                row["instr_per_eval"] = count_instructions(exes[exe], scene, law, method, t_end, tol) / r["nfev"]
+            row["reference"] = "stickslip_fortran dopri5 at 1e-13 (error)"
+            log(f"dop853 {scene}/{law} tol={tol:.0e} {impl:18s} {method:7s} {1e6 * r['median_s']:8.1f} us "
+                f"{r['nfev']:6d} evals  err={err:.1e}")
+            rows.append(row)
+    for target in cfg.dop853_targets:
+        group: list[dict] = []
+        for impl, _, method in runs:
+            sel = [r for r in rows if (r["impl"], r["method"]) == (impl, method)]
+            t = time_at_error([(r["err"], r["median_s"]) for r in sel], target)
+            nfev = time_at_error([(r["err"], float(r["nfev"])) for r in sel], target)
+            instr = time_at_error([(r["err"], r["instr_per_eval"] * r["nfev"]) for r in sel], target)
+            if not math.isfinite(t):
+                continue
+            row = _row("dop853_equal_error", impl, method, scene, law, t_end, target=target, median_s=t,
+                       nfev=round(nfev))
+            row["instr_per_eval"] = instr / nfev
+            group.append(row)
+        base = next((r for r in group if r["method"] == "dop853"), None)
+        for row in group if base else []:
+            row["reference"] = "stickslip_fortran dop853"
+            row["ratio_time"] = row["median_s"] / base["median_s"]
+            row["ratio_eval"] = row["ns_per_eval"] / base["ns_per_eval"]
+        rows += group
+    return rows
 
 
 def time_at_error(points: Sequence[tuple[float, float]], target: float) -> float:
@@ -537,41 +525,61 @@ def write_csv(rows: list[dict], path: Path) -> None:
     atomic_write(path, write)
 
 
+def read_rows(path: Path) -> list[dict]:
+    """The rows of a benchmarks.csv (write_csv), numbers as floats."""
+    def value(text: str) -> object:
+        try:
+            return float(text)
+        except ValueError:
+            return text
+
+    with open(path, newline="", encoding="utf-8") as fh:
+        return [{k: value(v) for k, v in row.items()} for row in csv.DictReader(fh)]
+
+
 def plot(rows: list[dict], path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """The figure of a run (PNG at path, PDF beside it): RK4 time per evaluation of every tool
+    on the first scene and law, and the work-precision curves of the adaptive methods."""
+    from cases import _common, _style
+
+    def who(impl: str, method: str) -> str:       # "stickslip_fortran", "rk4" -> plain words
+        return f"{_style.name(impl)}: {_style.name(method.split()[0])}" + \
+            (f" {' '.join(method.split()[1:])}" if len(method.split()) > 1 else "")
 
     fixed = [r for r in rows if r["section"] == "fixed"]
     adaptive = [r for r in rows if r["section"] == "adaptive"]
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.8))
+    fig, (ax1, ax2) = _common.new_figure(2, width=12.0)
     if fixed:
         scene, law = fixed[0]["scene"], fixed[0]["law"]
         sel = [r for r in fixed if r["scene"] == scene and r["law"] == law]
-        ax1.barh([f"{r['impl']}\n{r['method']}" for r in sel], [r["ns_per_eval"] for r in sel], color="C0")
+        ax1.barh([who(r["impl"], r["method"]) for r in sel], [r["ns_per_eval"] for r in sel],
+                 color=_style.SEQUENCE[0])
         for i, r in enumerate(sel):
-            ax1.text(r["ns_per_eval"], i, f" {r['ns_per_eval']:.0f} ns/eval, x{r['ratio_eval']:.2f}",
-                     va="center", fontsize=8)
-        ax1.set_xlabel("ns per right-hand-side evaluation")
-        ax1.set_title(f"RK4, h = {sel[0]['h_s']:g} s, {scene}/{law}, {sel[0]['t_end_s']:g} s")
-        ax1.set_xlim(0, 1.4 * max(r["ns_per_eval"] for r in sel))
+            ax1.text(r["ns_per_eval"], i, f" {r['ns_per_eval']:.0f} ns, {r['ratio_eval']:.2f}x the C loop",
+                     va="center", fontsize=7)
+        ax1.set_xlabel("time per right-hand-side evaluation [ns]")
+        ax1.set_title(f"Fixed step h = {sel[0]['h_s']:g} s\n{_style.name(scene)}, "
+                      f"{_style.name(law)} law, {sel[0]['t_end_s']:g} s")
+        ax1.set_xlim(0, 1.6 * max(r["ns_per_eval"] for r in sel))
+        ax1.tick_params(axis="y", labelsize=7)
     if adaptive:
         scene, law = adaptive[0]["scene"], adaptive[0]["law"]
         sel = [r for r in adaptive if r["scene"] == scene and r["law"] == law]
         for i, im in enumerate(dict.fromkeys((r["impl"], r["method"]) for r in sel)):
             pts = sorted((r["err"], r["median_s"]) for r in sel if (r["impl"], r["method"]) == im)
-            ax2.loglog([p[1] for p in pts], [p[0] for p in pts], "o-", color=f"C{i}",
-                       label=f"{im[0]} {im[1]}")
+            ax2.loglog([p[1] for p in pts], [p[0] for p in pts], marker="o", ms=3,
+                       color=_style.SEQUENCE[i % len(_style.SEQUENCE)],
+                       linestyle=_style.VARIANT_STYLES[(i // len(_style.SEQUENCE)) % 4],
+                       label=who(*im))
         ax2.set_xlabel("time per integration [s]")
-        ax2.set_ylabel("max error of (x, v) at t_end")
-        ax2.set_title(f"work-precision, {scene}/{law}, {sel[0]['t_end_s']:g} s")
-        ax2.legend(fontsize=7)
+        ax2.set_ylabel("largest error of (x, v) at t_end [m, m/s]")
+        ax2.set_title(f"Adaptive methods, error against time\n{_style.name(scene)}, "
+                      f"{_style.name(law)} law, {sel[0]['t_end_s']:g} s")
         ax2.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    try:
-        atomic_write(path, lambda fh: fig.savefig(fh, format="png", dpi=110), binary=True)
-    finally:
-        plt.close(fig)
+    fig.suptitle("Benchmarks (python -m benchmarks): medians of repeated runs on one machine; "
+                 "compare ratios, not absolute times")
+    _common.figure_legend(fig, [ax2], ncol=4)
+    _common.save_figure(fig, path)
 
 
 def _fmt(x: float, digits: int = 2) -> str:
@@ -581,7 +589,7 @@ def _fmt(x: float, digits: int = 2) -> str:
 def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, seconds: float) -> str:
     date = _dt.date.today().isoformat()
     cmd = "python -m benchmarks" + (" --quick" if quick else "")
-    out = [f"Measured {date} on {machine()} ({os.cpu_count()} cores, shared), `{cmd}` "
+    out = [f"Measured {date} on {machine()} (shared), `{cmd}` "
            f"({seconds:.0f} s); medians of {cfg.repeats} samples. Ratios > 1: slower than the reference.",
            ""]
     fixed = [r for r in rows if r["section"] == "fixed"]
@@ -643,34 +651,158 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
         out.append("")
     if notes:
         out += ["Not reached: " + "; ".join(notes) + ".", ""]
+    d8 = [r for r in rows if r["section"] == "dop853_equal_error"]
+    if d8:
+        out += [f"**DOP853 at equal error** ({d8[0]['scene']} / {d8[0]['law']}, {d8[0]['t_end_s']:g} s; "
+                "error = max |(x, v) - reference| at t_end; time, evaluations and instructions "
+                "interpolated in log-log between tolerances; reference: stickslip DOP853, ratios > 1: "
+                "costlier than DOP853):", "",
+                "| target error | implementation | us/run | evals | instructions | time ratio | "
+                "evals ratio | instructions ratio |", "|---|---|---|---|---|---|---|---|"]
+        for target in dict.fromkeys(r["target_err"] for r in d8):
+            here = [r for r in d8 if r["target_err"] == target]
+            base = next((r for r in here if r["method"] == "dop853"), None)
+            if base is None:
+                out.append(f"| {target:.0e} | stickslip_fortran dop853: not reached within the tolerances run "
+                           "| | | | | | |")
+                continue
+            for r in here:
+                instr, instr0 = r["instr_per_eval"] * r["nfev"], base["instr_per_eval"] * base["nfev"]
+                out.append(f"| {target:.0e} | {r['impl']} {r['method']} | {1e6 * r['median_s']:.0f} | "
+                           f"{r['nfev']} | {'n/a' if not math.isfinite(instr) else f'{instr:.3g}'} | "
+                           f"{_fmt(r['ratio_time'])} | {_fmt(r['nfev'] / base['nfev'])} | "
+                           f"{_fmt(instr / instr0)} |")
+        out.append("")
     over = [r for r in rows if r["section"] == "overhead"]
     if over:
         out += ["**Facade overhead per call** (short runs, output at t_end: stickslip.simulate against "
-                "the same run from Fortran):", "",
-                "| scene / law | method | h or tol | steps | Fortran us | Python us | overhead us | ratio |",
+                "a bare call of the f2py wrapper with the same arguments; medians of "
+                f"{over[0]['repeats']} interleaved calls each, overhead = median of the differences):", "",
+                "| scene / law | method | h or tol | steps | wrapper us | simulate us | overhead us | ratio |",
                 "|---|---|---|---|---|---|---|---|"]
         for f, p in zip(over[::2], over[1::2]):
             hp = f["h_s"] if math.isfinite(f["h_s"]) else f["tol"]
             out.append(f"| {f['scene']} / {f['law']} | {f['method']} | {hp:g} | {p['nstep']} | "
                        f"{1e6 * f['median_s']:.1f} | {1e6 * p['median_s']:.1f} | "
-                       f"{1e6 * (p['median_s'] - f['median_s']):.1f} | {_fmt(p['ratio_time'])} |")
+                       f"{1e6 * p['overhead_s']:.2f} | {_fmt(p['ratio_time'])} |")
         out.append("")
     return "\n".join(out)
 
 
+def run_identify(log: Callable[[str], None], repeats: int = 3) -> str:
+    """Identification (issue 20): wall time of a LuGre and a GMS fit on the ten 36 lb damper
+    records (cases.identify's subsampling, backlash and asymmetry fitted, one start), and
+    stickslip.prescribed_motion's cost per sample for LuGre against two plain implementations
+    of the same law along the same record: a Python loop of the exact flow at each interval's
+    mean velocity (one substep per interval), and scipy's solve_ivp (LSODA, rtol 1e-8) on
+    dz/dt = v - sigma0 |v| z / g(v) with v interpolated linearly. Both plain versions move
+    along a coarser motion than prescribed_motion's cubic Hermite one: their forces differ from
+    it by under 1 %. Medians of `repeats`."""
+    import warnings
+    from scipy.integrate import solve_ivp
+    import stickslip
+    sys.path.insert(0, str(ROOT))
+    from cases import identify as ci
+    recs = [r for r, _ in ci.load_groups(stickslip.damper_files(36))["36lb"]]
+    lines = ["## Identification (python -m benchmarks --identify)", "",
+             f"Machine: {machine()}. Ten 36 lb damper records, {sum(len(r) for r in recs)} samples "
+             f"({ci.SAMPLES_PER_CYCLE} per cycle), rtol {ci.RTOL:g}.", "",
+             "| what | median wall time | notes |", "|---|---|---|"]
+    for law in ("lugre", "gms"):
+        times, fit = [], None
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                fit = stickslip.fit_friction(law, recs, fixed=ci.fixed_for(law), backlash="fit", asymmetry="fit",
+                                             n_starts=1, rtol=ci.RTOL, diff_step=ci.DIFF_STEP)
+            times.append(time.perf_counter() - t0)
+        lines.append(f"| {law} fit | {np.median(times):.2f} s | {fit.nfev} evaluations of the model "
+                     f"(Jacobians not counted), nrmse {fit.nrmse:.3f} |")
+        log(lines[-1])
+    rec = max(recs, key=len)
+    p = dict(mu_s=14500.0, mu_k=11600.0, v_s=0.096, sigma0=2.6e6, sigma1=0.0, sigma2=2100.0)
+
+    def g(v: np.ndarray) -> np.ndarray:
+        return p["mu_k"] + (p["mu_s"] - p["mu_k"]) * np.exp(-(v / p["v_s"]) ** 2)
+
+    def numpy_loop() -> np.ndarray:
+        z = np.zeros(rec.t.size)
+        dx, vm = np.diff(rec.x), 0.5 * (rec.v[1:] + rec.v[:-1])
+        gv = g(vm)
+        for k in range(dx.size):
+            zss = np.sign(dx[k]) * gv[k] / p["sigma0"]
+            z[k + 1] = zss + (z[k] - zss) * math.exp(-p["sigma0"] * abs(dx[k]) / gv[k])
+        return p["sigma0"] * z + p["sigma2"] * rec.v
+
+    def scipy_ivp() -> np.ndarray:
+        def rhs(t: float, z: np.ndarray) -> list[float]:
+            v = float(np.interp(t, rec.t, rec.v))
+            return [v - p["sigma0"] * abs(v) * z[0] / float(g(np.array(v)))]
+        sol = solve_ivp(rhs, (rec.t[0], rec.t[-1]), [0.0], method="LSODA", t_eval=rec.t, rtol=1e-8, atol=1e-12)
+        return p["sigma0"] * sol.y[0] + p["sigma2"] * rec.v
+
+    ref = {}
+    for name, fn in (("stickslip.prescribed_motion (Fortran, rtol 1e-8)",
+                      lambda: stickslip.prescribed_motion("lugre", rec.t, rec.x, rec.v, **p).force),
+                     (f"stickslip.prescribed_motion (Fortran, rtol {ci.RTOL:g})",
+                      lambda: stickslip.prescribed_motion("lugre", rec.t, rec.x, rec.v, rtol=ci.RTOL, **p).force),
+                     ("numpy loop, exact flow, 1 substep/interval", numpy_loop),
+                     ("scipy solve_ivp LSODA, rtol 1e-8", scipy_ivp)):
+        times = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            ref[name] = fn()
+            times.append(time.perf_counter() - t0)
+        ref[name + " time"] = float(np.median(times))
+    base = ref["stickslip.prescribed_motion (Fortran, rtol 1e-8) time"]
+    first = ref["stickslip.prescribed_motion (Fortran, rtol 1e-8)"]
+    for name in [k for k in ref if not k.endswith(" time")]:
+        dt = ref[name + " time"]
+        dev = float(np.abs(ref[name] - first).max())
+        lines.append(f"| LuGre along {rec.name}, {name} | {1e6 * dt / rec.t.size:.2f} us/sample | "
+                     f"{dt / base:.3g} x the time of the first row; max force difference from it {dev:.3g} N |")
+        log(lines[-1])
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--outdir", type=Path, default=ROOT / "benchmarks" / "results",
-                        help="where benchmarks.csv, benchmarks.png and summary.md go")
+    parser = argparse.ArgumentParser(prog="python -m benchmarks", description=cli_description(__doc__),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--outdir", type=Path, default=None,
+                        help="where benchmarks.csv, benchmarks.png and summary.md go "
+                             "(default: out/benchmarks/)")
+    parser.add_argument("--results", action="store_true",
+                        help=f"write into the tracked {RESULTS_DIR.relative_to(ROOT)}/ instead, the "
+                             "tables the documentation quotes (not with --quick)")
     parser.add_argument("--build-dir", type=Path, default=ROOT / "build" / "bench",
                         help="meson build directory of the compiled benchmarks")
     parser.add_argument("--quick", action="store_true", help="a few seconds: tiny problems, one sample")
+    parser.add_argument("--replot", action="store_true",
+                        help="run nothing: draw benchmarks.png and .pdf again from the "
+                             "benchmarks.csv already in the output directory")
     parser.add_argument("--repeats", type=int, default=None, help="samples per median")
     parser.add_argument("--no-scipy", action="store_true", help="leave out solve_ivp")
+    parser.add_argument("--identify", action="store_true",
+                        help="only the identification benchmark (LuGre and GMS fits on the 36 lb damper "
+                             "records, prescribed motion per sample): writes identify.md")
     parser.add_argument("--callgrind", action=argparse.BooleanOptionalAction, default=None,
                         help="count instructions per evaluation of the compiled adaptive runs with valgrind "
                              "(default: on when valgrind is installed, off with --quick)")
     args = parser.parse_args(argv)
+    if args.results and (args.quick or args.outdir is not None):
+        parser.error("argument --results: not with --quick or --outdir (the tracked tables are "
+                     "those of a full run)")
+    args.outdir = RESULTS_DIR if args.results else (args.outdir or Path("out") / "benchmarks")
+    check_writable(parser, args.outdir)
+    if args.replot:
+        if not (args.outdir / "benchmarks.csv").exists():
+            parser.error(f"argument --replot: no benchmarks.csv in {args.outdir}")
+        png = args.outdir / "benchmarks.png"
+        plot(read_rows(args.outdir / "benchmarks.csv"), png)
+        write_provenance(args.outdir, "benchmarks", [png, png.with_suffix(".pdf")], argv)
+        print(png)
+        return 0
 
     cfg = QUICK if args.quick else FULL
     if args.repeats is not None:
@@ -683,6 +815,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     cfg = Config(**{**cfg.__dict__, "callgrind": callgrind})
     args.outdir.mkdir(parents=True, exist_ok=True)
     log = (lambda s: print(s, flush=True))
+    if args.identify:
+        write_text(args.outdir / "identify.md", run_identify(log, 1 if args.quick else 3))
+        return 0
     t0 = time.perf_counter()
     exes = build(args.build_dir)
     if "bench_gsl" not in exes:
@@ -695,9 +830,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     stick_rows, stick_notes = run_exact_stick(cfg, log)
     rows += stick_rows
     notes += stick_notes
+    rows += run_dop853(cfg, exes, log)
     write_csv(rows, args.outdir / "benchmarks.csv")
     plot(rows, args.outdir / "benchmarks.png")
     text = summary(rows, notes, cfg, args.quick, time.perf_counter() - t0)
     write_text(args.outdir / "summary.md", text + "\n")
+    names = ["benchmarks.csv", "benchmarks.png", "benchmarks.pdf", "summary.md"]
+    write_provenance(args.outdir, "benchmarks", [args.outdir / n for n in names], argv)
     print(text)
     return 0

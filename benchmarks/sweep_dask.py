@@ -14,22 +14,24 @@ local call, divided by their number (both workers busy: the cost a chunk adds to
 Times are medians of --repeats runs, interleaved so that a change of load (the machine may be
 shared) hits every configuration alike;
 every cluster run is checked equal to the local one. Prints a Markdown table; also writes it to
-benchmarks/results/sweep_dask.md.
+out/benchmarks/sweep_dask.md (with --results: the tracked
+benchmarks/results/sweep_dask.md).
 """
 from __future__ import annotations
 
 import argparse
 import os
-import platform
 import time
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from cases._common import markdown_table, write_text
+from cases._common import check_writable, cli_description, markdown_table, write_text
+from cases._provenance import machine, write_provenance
 
-RESULTS = Path(__file__).resolve().parent / "results" / "sweep_dask.md"
+#: The tracked results the documentation quotes (written only with --results).
+RESULTS_DIR = Path(__file__).resolve().parent / "results"
 
 
 def sweep(rows: int) -> dict[str, Any]:
@@ -40,14 +42,22 @@ def sweep(rows: int) -> dict[str, Any]:
 
 def main(argv: Sequence[str] | None = None) -> str:
     parser = argparse.ArgumentParser(prog="python -m benchmarks.sweep_dask",
-                                     description=__doc__.split("\n\n")[0])
+                                     description=cli_description(__doc__),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--rows", type=int, default=100_000, help="rows of the sweep")
     parser.add_argument("--repeats", type=int, default=3, help="runs per timing (median)")
     parser.add_argument("--chunk-rows", type=int, nargs="+", default=[1000, 2000, 50_000],
                         help="chunk sizes to time on the cluster (besides the default)")
     parser.add_argument("--overhead-chunks", type=int, default=200,
                         help="one-row chunks timed for the per-chunk overhead")
+    parser.add_argument("--outdir", type=Path, default=Path("out") / "benchmarks",
+                        help="where sweep_dask.md goes (default: out/benchmarks/)")
+    parser.add_argument("--results", action="store_true",
+                        help="write into the tracked benchmarks/results/ instead, the table the "
+                             "documentation quotes")
     args = parser.parse_args(argv)
+    outdir = RESULTS_DIR if args.results else args.outdir
+    check_writable(parser, outdir)
     import stickslip
     from distributed import Client, LocalCluster
     from stickslip.distributed import default_chunk_rows
@@ -99,13 +109,14 @@ def main(argv: Sequence[str] | None = None) -> str:
     header = ["run", "chunks", "wall [s]", "rows/s", "CPU [s]", "rows per CPU-s"]
     text = (f"{args.rows} rows ({kw['scene']}, {kw['law']}, RK4 h = {kw['h']} s, t_end = "
             f"{kw['t_end']} s, n_grid = {kw['n_grid']}), median of {args.repeats} interleaved runs; "
-            f"{platform.machine()}, {os.cpu_count()} cores, load average {load0:.2f} before and "
+            f"{machine()}, load average {load0:.2f} before and "
             f"{os.getloadavg()[0]:.2f} after\n\n"
             + markdown_table(header, table)
             + f"\nper-chunk overhead on the 2-worker cluster: {per_chunk_ms:.2f} ms wall, "
               f"{cpu_ms:.2f} ms CPU ({args.overhead_chunks} one-row chunks in {t_chunks:.3f} s)\n")
     print(text)
-    write_text(RESULTS, text)
+    path = write_text(outdir / "sweep_dask.md", text)
+    write_provenance(outdir, "benchmarks.sweep_dask", [path], argv)
     return text
 
 

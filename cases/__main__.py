@@ -2,7 +2,7 @@
 
     python -m cases [--outdir out/] [--only slope belt ...]   # the paper: Figs. 1-19, Tables 2-3
     python -m cases --all                                     # and the work-precision and stability studies
-    python -m cases --docs        # the committed copies in docs/figures/ (used by REPRODUCTION.md)
+    python -m cases --docs        # the committed copies in docs/figures/ (the documentation's figures)
 
 Runs the drivers of DRIVERS, --jobs at a time (default: one per core, at most 2), each in its
 own process, the costliest first, then the timings of parallel speed alone; prints where every
@@ -36,7 +36,8 @@ from typing import Any, NamedTuple, Sequence
 # on the core the other job needs: one BLAS thread, set before numpy is first imported.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from ._common import count  # noqa: E402 - after the environment above
+from ._common import check_writable, cli_description, count  # noqa: E402 - after the environment above
+from ._progress import bar  # noqa: E402
 
 class Driver(NamedTuple):
     """A driver module run by `python -m cases`."""
@@ -54,7 +55,8 @@ DRIVERS: tuple[Driver, ...] = (
     Driver("belt", "paper", 1.6, False), Driver("workprecision", "study", 25.0, False),
     Driver("stability", "study", 37.6, False), Driver("laws_compare", "study", 18.0, False),
     Driver("implicit", "study", 15.1, False), Driver("speedup", "study", 1.1, True),
-    Driver("stick", "study", 12.0, False), Driver("chain", "study", 8.0, False))
+    Driver("stick", "study", 12.0, False), Driver("identify", "study", 35.0, False),
+    Driver("chain", "study", 8.0, False))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 
@@ -98,6 +100,13 @@ def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
     running: dict[int, Any] = {}
     done: dict[int, list[Path]] = {}
     pending = sorted(range(len(jobs)), key=lambda i: -costs[i])
+    shown = bar(len(jobs), "drivers", quiet, unit="driver")   # its clock ticks every second
+
+    def say(line: str) -> None:                   # a line above the bar, not through it
+        if shown._bar is not None:
+            shown._bar.write(line, file=sys.stderr)
+        else:
+            print(line, file=sys.stderr, flush=True)
     try:
         while pending or running:
             while pending and len(running) < n_jobs:
@@ -106,10 +115,12 @@ def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
                 running[i] = ctx.Process(target=_job, args=(i, *jobs[i], results), name=jobs[i][0])
                 running[i].start()
                 if not quiet:
-                    print(f"== cases.{jobs[i][0]} started", file=sys.stderr, flush=True)
+                    say(f"== cases.{jobs[i][0]} started")
             try:
                 i, ok, payload = results.get(timeout=1.0)
             except queue.Empty:
+                if shown._bar is not None:
+                    shown._bar.refresh()
                 for j, proc in running.items():
                     if not proc.is_alive():
                         proc.join(0.5)      # its last message may still be in the pipe
@@ -125,8 +136,10 @@ def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
             sys.stdout.write(report)
             sys.stdout.flush()
             if not quiet:
-                print(f"== cases.{jobs[i][0]}: {seconds:.1f} s (CPU {cpu:.1f} s)", file=sys.stderr, flush=True)
+                say(f"== cases.{jobs[i][0]}: {seconds:.1f} s (CPU {cpu:.1f} s)")
+            shown.update()
     finally:
+        shown.close()
         for proc in running.values():
             proc.terminate()
             proc.join()
@@ -135,16 +148,17 @@ def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Run the drivers; returns every file written."""
-    parser = argparse.ArgumentParser(prog="python -m cases", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m cases", description=cli_description(__doc__),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--outdir", type=Path, default=Path("out"),
                         help="directory for all files (default: out/)")
     parser.add_argument("--docs", action="store_true",
-                        help=f"write into {DOCS_DIR} (the figures REPRODUCTION.md embeds)")
+                        help="write into docs/figures/ (the figures and tables the documentation shows)")
     parser.add_argument("--only", nargs="+", choices=[d.name for d in DRIVERS],
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
-                        help="also run the studies (work-precision, stability, laws_compare, implicit): about "
-                        "1 min more on 2 cores (README)")
+                        help="also run the studies (work-precision, stability, laws_compare, implicit, stick, "
+                        "identify): about 2 min more on 2 cores")
     parser.add_argument("--jobs", type=count, default=min(2, _cores()),
                         help="drivers run at once, each in its own process, >= 1 (default: cores, at most 2)")
     parser.add_argument("--workers", type=count, default=None,
@@ -154,6 +168,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
     outdir = DOCS_DIR if args.docs else args.outdir
+    check_writable(parser, outdir)
     chosen = [d for d in DRIVERS if (d.name in args.only if args.only else (d.kind != "study" or args.all))]
     together = [d for d in chosen if not d.alone]
     n_jobs = max(1, min(args.jobs, len(together)))

@@ -9,6 +9,7 @@ all (an interrupted run never leaves half a CSV or PNG behind).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import inspect
 import math
@@ -17,33 +18,31 @@ import os
 import queue
 import secrets
 import sys
+import tempfile
 import textwrap
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterable, Mapping, Sequence
+from typing import Any, Callable, Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
+from . import _style
+from ._style import plt  # the Agg backend and the common style, set once
 
 #: The three friction laws of the paper (Figs. 1-19 and Tables 2-3 are about these; the
 #: library's full list is stickslip.LAWS).
 PAPER_LAWS: tuple[str, ...] = ("coulomb", "recurdyn", "proposed")
-#: Display names and colours of the three friction laws, shared by every plot.
-LAW_LABELS: dict[str, str] = {"coulomb": "Coulomb", "recurdyn": "RecurDyn (haversine)",
-                              "proposed": "Proposed (Roh & Yoo)"}
-LAW_COLORS: dict[str, str] = {"coulomb": "tab:red", "recurdyn": "tab:blue",
-                              "proposed": "tab:green"}
-#: Colours for the three variants (step sizes or tolerances) of one law.
-VARIANT_COLORS: tuple[str, ...] = ("black", "tab:orange", "tab:purple", "tab:cyan")
-VARIANT_STYLES: tuple[str, ...] = ("-", "--", ":", "-.")
-#: Size [in] and resolution [dpi] of every PNG: small enough to commit.
-FIGSIZE: tuple[float, float] = (6.4, 3.9)
-DPI: int = 90
+#: Display names and colours of every friction law, shared by every plot (cases._style).
+LAW_LABELS: dict[str, str] = _style.LAW_NAMES
+LAW_COLORS: dict[str, str] = _style.LAW_COLORS
+#: Colours and line styles for the variants (step sizes or tolerances) of one law.
+VARIANT_COLORS: tuple[str, ...] = _style.VARIANT_COLORS
+VARIANT_STYLES: tuple[str, ...] = _style.VARIANT_STYLES
+#: Size [in] of a one-panel figure and resolution [dpi] of every PNG (a PDF copy beside it).
+FIGSIZE: tuple[float, float] = _style.FIGSIZE
+DPI: int = _style.DPI
 #: Float format of every CSV: 10 significant digits.
 FLOAT_FORMAT: str = "%.10g"
 
@@ -80,6 +79,28 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[Any], None], *,
             pass
         raise
     return path
+
+
+def writable_problem(outdir: str | os.PathLike[str]) -> str | None:
+    """Why files cannot be written into `outdir` (created if missing), or None if they can:
+    checked by creating and removing a file there, so permissions, read-only file systems and
+    a file in the way are all found before any work starts."""
+    outdir = Path(outdir)
+    try:
+        outdir.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".write-test-", dir=outdir)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        return f"cannot write into {outdir}: {exc.strerror or exc}"
+    return None
+
+
+def check_writable(parser: argparse.ArgumentParser, outdir: str | os.PathLike[str]) -> None:
+    """End the command with a usage error (exit 2, no traceback) if `outdir` is not writable."""
+    problem = writable_problem(outdir)
+    if problem:
+        parser.error(f"argument --outdir: {problem}")
 
 
 def write_text(path: str | os.PathLike[str], text: str) -> Path:
@@ -148,38 +169,39 @@ def split_unit(name: str) -> tuple[str, str]:
 # Plot styling
 # --------------------------------------------------------------------------------------------
 def new_figure(ncols: int = 1, *, width: float | None = None) -> tuple[Any, Any]:
-    """A figure in the common style with `ncols` axes side by side."""
-    plt.rcParams.update({"font.size": 9, "axes.grid": True, "grid.alpha": 0.3,
-                         "legend.fontsize": 8, "axes.titlesize": 9, "lines.linewidth": 1.2})
+    """A figure in the common style (cases._style) with `ncols` axes side by side."""
+    _style.apply()
     w = width if width is not None else FIGSIZE[0] * (1.0 if ncols == 1 else 0.8 * ncols)
     fig, axes = plt.subplots(1, ncols, figsize=(w, FIGSIZE[1]), squeeze=False)
     return fig, axes[0] if ncols > 1 else axes[0][0]
 
 
-def figure_legend(fig: Any, axes: Iterable[Any], ncol: int = 3) -> Any:
+def figure_legend(fig: Any, axes: Iterable[Any], ncol: int = 3, caption: str | None = None,
+                  width: int = 150) -> Any:
     """One legend for the whole figure, below the axes (where it covers no data), with every
-    distinct label of `axes` once: a marker shown in any panel is explained."""
+    distinct label of `axes` once: a marker shown in any panel is explained. `caption` (what the
+    figure shows, how to read it) is set above the entries, wrapped at `width` characters."""
     handles: dict[str, Any] = {}
     for ax in axes:
         for handle, label in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(label, handle)
+    title = textwrap.fill(caption, width=width) if caption else None
     return fig.legend(list(handles.values()), list(handles), loc="lower center",
-                      ncol=min(ncol, max(len(handles), 1)), frameon=False)
+                      ncol=min(ncol, max(len(handles), 1)), frameon=False, title=title,
+                      title_fontsize=8, alignment="left" if caption else "center")
 
 
 def save_figure(fig: Any, path: str | os.PathLike[str]) -> Path:
-    """Save `fig` as PNG atomically (DPI dots per inch) and close it. A figure legend
-    (figure_legend) keeps a strip of its own height below the axes."""
+    """Save `fig` as PNG (DPI dots per inch) and as a PDF beside it, each atomically, and close
+    it; returns the PNG's path. A figure legend (figure_legend) keeps a strip of its own height
+    below the axes."""
     bottom = 0.0
     if fig.legends:
         fig.canvas.draw()
         bottom = max(leg.get_window_extent().transformed(fig.transFigure.inverted()).y1
                      for leg in fig.legends)
     fig.tight_layout(rect=(0.0, bottom, 1.0, 1.0))
-    try:
-        return atomic_write(path, lambda f: fig.savefig(f, format="png", dpi=DPI), binary=True)
-    finally:
-        plt.close(fig)
+    return _style.save(fig, path, atomic_write)
 
 
 def series_label(name: str) -> str:
@@ -211,35 +233,66 @@ def series_style(label: str, index: int) -> dict[str, Any]:
 def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLike[str],
                      title: str) -> Path:
     """Render a CSV whose first column is time [s] and whose other columns are series of one
-    quantity (e.g. "x coulomb [m]") as lines against time. When the series' final values span
-    more than two decades a second panel shows |x| on a log axis, so that every series is
-    visible without the distortion of a symmetric-log axis (whose linear region bends curves
-    near 0); the legend sits below the panels."""
+    quantity (e.g. "x coulomb [m]") as lines against time, with panels beside it when the
+    lines alone would hide something:
+
+    - when series lie on another one (within 2% of the largest range), their difference from
+      it (the first series that has such company), so that a reader sees how close they are;
+    - when their final values span more than two decades, |x| on a log axis, so that every
+      series is visible (without the distortion of a symmetric-log axis).
+
+    The legend sits below the panels, where it covers no data."""
     cols = read_numeric_csv(csv_path)
     names = list(cols)
     t = cols[names[0]]
-    finals = [abs(cols[name][-1]) for name in names[1:]]
+    series = names[1:]
+    finals = [abs(cols[name][-1]) for name in series]
     positive = [f for f in finals if f > 0.0]
     wide = len(positive) > 1 and max(positive) / min(positive) > 100.0
-    fig, axes = new_figure(2 if wide else 1)
-    axes = list(axes) if wide else [axes]
-    base, unit = split_unit(names[1])
+    ys = np.array([cols[name] for name in series])
+    scale = float(max(np.ptp(ys, axis=1).max(), np.abs(ys).max(), np.finfo(float).tiny))
+    ref, close = 0, []
+    for ref in range(len(series)):
+        close = [k for k in range(ref + 1, len(series))
+                 if np.abs(ys[k] - ys[ref]).max() < 0.02 * scale]
+        if close:
+            break
+    panels = 1 + wide + bool(close)
+    fig, axes = new_figure(panels, width=FIGSIZE[0] * (1.0 + 0.75 * (panels - 1)))
+    axes = list(axes) if panels > 1 else [axes]
+    base, unit = split_unit(series[0])
     quantity = base.split()[0]
-    for i, name in enumerate(names[1:]):
+    first = series_label(series[ref]).split(" (")[0].split(", atol")[0]
+    log_ax = axes[1] if wide else None
+    diff_ax = axes[-1] if close else None
+    for i, name in enumerate(series):
         key = split_unit(name)[0].split(" ", 1)[-1]
         style = series_style(key, i)
         axes[0].plot(t, cols[name], label=series_label(name), **style)
-        if wide:
+        if log_ax is not None:
             y = np.abs(cols[name])
-            axes[1].semilogy(t[y > 0.0], y[y > 0.0], **style)
+            log_ax.semilogy(t[y > 0.0], y[y > 0.0], **style)
+        if diff_ax is not None and i in close:
+            diff_ax.plot(t, cols[name] - cols[series[ref]], **style)
     axes[0].set_ylabel(f"{quantity} [{unit}]")
-    axes[0].set_title(title if not wide else f"{quantity} on a linear axis")
-    if wide:
-        axes[1].set_ylabel(f"|{quantity}| [{unit}], log axis")
-        axes[1].set_title("the same on a log axis (every series visible)")
-        fig.suptitle(title, fontsize=9)
+    if log_ax is not None:
+        axes[0].set_title(f"{quantity} on a linear axis")
+        log_ax.set_ylabel(f"|{quantity}| [{unit}], log axis")
+        log_ax.set_title("the same on a log axis (every series visible)")
+    if diff_ax is not None:
+        spread = max(float(np.abs(ys[k] - ys[ref]).max()) for k in close)
+        if log_ax is None:
+            axes[0].set_title(f"{quantity}: curves that lie on each other")
+        diff_ax.set_ylabel(f"difference in {quantity} [{unit}]")
+        diff_ax.set_title(f"minus {first}: at most {spread:.2g} {unit} apart" if spread > 0 else
+                          f"minus {first}: identical (difference exactly 0)", pad=14)
+        diff_ax.axhline(0.0, color="k", linewidth=0.6)
+    if panels > 1:
+        fig.suptitle(title)
+    else:
+        axes[0].set_title(title)
     for ax in axes:
-        ax.set_xlabel(names[0])
+        ax.set_xlabel("time t [s]" if names[0] == "t [s]" else names[0])
     figure_legend(fig, axes)
     return save_figure(fig, png_path)
 
@@ -321,12 +374,60 @@ def add_common_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
 
 
+def cli_description(doc: str) -> str:
+    """The --help description of a command from its module docstring: the first paragraph and,
+    when it announces them with a colon, the paragraphs that follow (a usage block, a list),
+    whole; reST's "::" shown as ":". Use with argparse.RawDescriptionHelpFormatter."""
+    out = []
+    for paragraph in inspect.cleandoc(doc).split("\n\n"):
+        out.append(paragraph.replace("::\n", ":\n").rstrip(":") + (":" if paragraph.rstrip().endswith(":") else ""))
+        if not paragraph.rstrip().endswith(":"):
+            break
+    return "\n\n".join(out)
+
+
+def changed_options(parser: argparse.ArgumentParser, args: argparse.Namespace,
+                    ignore: Iterable[str] = ("outdir", "workers", "threads", "jobs", "quiet",
+                                             "max_steps", "scheduler")) -> dict[str, Any]:
+    """The options given a value other than their default, except those in `ignore` (where
+    the files go and how the work is spread, which do not change a result)."""
+    def same(a: Any, b: Any) -> bool:
+        if isinstance(a, (list, tuple)) or isinstance(b, (list, tuple)):
+            return list(a or []) == list(b or [])
+        return a == b
+
+    return {a.dest: getattr(args, a.dest) for a in parser._actions
+            if a.dest not in ("help", *ignore) and a.default is not argparse.SUPPRESS
+            and not same(getattr(args, a.dest), a.default)}
+
+
+def parameter_outdir(outdir: Path, changed: Mapping[str, Any]) -> tuple[Path, str]:
+    """Where a run with the non-default options `changed` writes, and the note its figure
+    titles carry: `outdir` itself and "" for the paper's parameters; else a subdirectory
+    named after them (e.g. out/theta_deg=90/, "theta_deg = 90"), so that such a run never
+    overwrites the paper's figures and its files say what made them."""
+    if not changed:
+        return outdir, ""
+
+    def text(v: Any) -> str:
+        if isinstance(v, bool):
+            return "yes" if v else "no"
+        if isinstance(v, (list, tuple)):
+            return "+".join(text(x) for x in v)
+        return f"{v:g}" if isinstance(v, float) else str(v)
+
+    parts = [(k, text(v)) for k, v in sorted(changed.items())]
+    name = "_".join(k if v == "yes" else f"{k}={v}" for k, v in parts).replace("/", "-")
+    return outdir / name, ", ".join(k if v == "yes" else f"{k} = {v}" for k, v in parts)
+
+
 def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[Path]],
                argv: Sequence[str] | None) -> list[Path]:
     """The command line of a study driver (workprecision, stability): --outdir, --quick,
     --threads (OpenMP threads of simulate_batch) and --quiet, then run(outdir, quick=,
     threads=, quiet=)."""
-    parser = argparse.ArgumentParser(prog=f"python -m {module}", description=doc.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog=f"python -m {module}", description=cli_description(doc),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--outdir", type=Path, default=Path("out"),
                         help="directory for CSV and PNG files (default: out/)")
     parser.add_argument("--quick", action="store_true", help=quick_help)
@@ -338,16 +439,31 @@ def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[P
                             help="run the sweeps on the Dask cluster at ADDRESS, e.g. "
                                  "tcp://127.0.0.1:8786 (default: locally)")
     args = parser.parse_args(argv)
+    outdir, _ = parameter_outdir(args.outdir, changed_options(parser, args))
+    check_writable(parser, outdir)
     where = {"scheduler": args.scheduler} if sweeps else {}
-    files = run(args.outdir, quick=args.quick, threads=args.threads, quiet=args.quiet, **where)
-    print_files(files)
-    return files
+    files = run(outdir, quick=args.quick, threads=args.threads, quiet=args.quiet, **where)
+    return finish(module, argv, files)
 
 
 def print_files(files: Iterable[Path]) -> None:
     """Print where every file went (stdout, one path a line, sorted)."""
     for f in sorted(files):
         print(f)
+
+
+def finish(module: str, argv: Sequence[str] | None, files: list[Path]) -> list[Path]:
+    """The end of every driver: record the command, date and machine beside the files
+    (`<dir>/<module>.provenance.json` in each directory written, cases._provenance), print
+    where every file went, and return the files with their sidecars."""
+    from ._provenance import write_provenance
+    files = list(files)
+    files += [f.with_suffix(".pdf") for f in files        # the vector copy of every figure
+              if f.suffix == ".png" and f.with_suffix(".pdf").exists() and f.with_suffix(".pdf") not in files]
+    dirs = sorted({Path(f).parent for f in files})
+    files = list(files) + [write_provenance(d, module, files, argv) for d in dirs]
+    print_files(files)
+    return files
 
 
 def add_law_options(parser: argparse.ArgumentParser) -> None:
@@ -388,6 +504,18 @@ def checked_law_params(parser: argparse.ArgumentParser,
     except ValueError as exc:
         parser.error(str(exc))
     return params
+
+
+
+@contextlib.contextmanager
+def steps_beyond_stability() -> Iterator[None]:
+    """Silence stickslip's UnstableStepWarning inside: for the studies that choose fixed steps
+    beyond RK4's stability bound on purpose (a stability map, a step sweep), where the warning
+    says nothing the study does not measure and report."""
+    import stickslip
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", stickslip.core.UnstableStepWarning)
+        yield
 
 
 def log(message: str, quiet: bool = False) -> None:
@@ -432,8 +560,9 @@ class Run:
 
     def kwargs(self) -> dict[str, Any]:
         """Keyword arguments of stickslip.simulate."""
+        # one parameter set serves every law of a figure: what a law does not read is ignored
         kw: dict[str, Any] = dict(method=self.method, t_end=self.t_end, n_out=self.n_out,
-                                  **dict(self.params))
+                                  ignore_unused=True, **dict(self.params))
         if self.fixed_step:
             kw["h"] = self.h
         else:

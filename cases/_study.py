@@ -173,50 +173,61 @@ def table_markdown(csv_path: Path) -> str:
     return c.markdown_table(keep, ([value(k, i) for k in keep] for i in range(n)))
 
 
-def plot_table(csv_path: Path, png_path: Path) -> Path:
+def plot_table(csv_path: Path, png_path: Path, note: str = "") -> Path:
     """Bar chart of the relative cost (to RK4 with h = 1e-3 of the same law) of the paper's
     three modes: the paper's CPU time, our CPU time and our function evaluations."""
     cols = c.read_csv(csv_path)
     rows = [i for i, p in enumerate(cols["paper_cpu_seconds [s]"]) if p != ""]
-    labels = [f"{cols['law [-]'][i]}\n{cols['mode [-]'][i]}"
-              + (" s" if cols["mode [-]"][i].startswith("h=") else "") for i in rows]
+    def mode(text: str) -> str:
+        if text == "automatic":
+            return "DOPRI5\nautomatic"
+        return f"RK4\nh = {float(text[2:]):.0e} s".replace("e-0", "e-")
+
+    labels = [f"{c.LAW_LABELS[cols['law [-]'][i]].split(' (')[0]}\n{mode(cols['mode [-]'][i])}"
+              for i in rows]
     series = (("paper_ratio_to_h1e-3 [-]", "paper's CPU time, ratio [-]"),
               ("cpu_ratio_to_h1e-3 [-]", "our CPU time, ratio [-]"),
               ("nfev_ratio_to_h1e-3 [-]", "our function evaluations, ratio [-]"))
-    fig, ax = c.new_figure(width=7.5)
+    fig, ax = c.new_figure(width=8.5)
     x = np.arange(len(rows))
     for k, (name, label) in enumerate(series):
         ax.bar(x + (k - 1) * 0.27, [float(cols[name][i]) for i in rows], width=0.27, label=label,
-               color=c.VARIANT_COLORS[k + 1] if k else "0.6")
+               color=c._style.SEQUENCE[k])
     ax.set_yscale("log")
     ax.axhline(1.0, color="k", linewidth=0.6)
     ax.set_xticks(x, labels, fontsize=7)
-    ax.set_ylabel("cost relative to RK4 h = 1e-3 [-]")
+    ax.set_ylabel("cost relative to RK4 with h = 1e-3 s [-]")
     number, scene = csv_path.stem.split("_")[:2]
-    ax.set_title(f"Table {number[5:]} ({scene}): cost relative to RK4 with h = 1e-3 s, per law")
+    ax.set_title(f"Table {number[5:]}: {c._style.name(scene)}, cost of each law's runs relative to "
+                 f"its RK4 run with h = 1e-3 s" + (f" ({note})" if note else ""))
     c.figure_legend(fig, [ax])
     return c.save_figure(fig, png_path)
 
 
-def title_for(stem: str) -> str:
-    """A plot title from a file stem such as fig06_slope_steps_recurdyn."""
+def title_for(stem: str, note: str = "") -> str:
+    """A plot title from a file stem such as fig06_slope_steps_recurdyn: the figure, the scene,
+    the law and the runs shown (their parameters are in the legend); `note` names parameters
+    that differ from the paper's."""
     parts = stem.split("_")
     number = int(parts[0][3:])
-    scene = parts[1]
+    scene = c._style.name(parts[1])
+    tail = f" ({note})" if note else ""
     if parts[2] == "automatic":
-        return f"Fig. {number} ({scene}): x(t) of the three laws, automatic step size"
+        return f"Fig. {number}: {scene}, the three laws, DOPRI5 with automatic step size{tail}"
     law = c.LAW_LABELS[parts[3]]
-    what = "three step sizes" if parts[2] == "steps" else "three error tolerances"
-    return f"Fig. {number} ({scene}): {law} law, {what}"
+    what = ("RK4 at two step sizes and DOPRI5 automatic" if parts[2] == "steps"
+            else "DOPRI5 at three error tolerances")
+    return f"Fig. {number}: {scene}, {law} law, {what}{tail}"
 
 
-def plot(csv_path: str | Path, outdir: str | Path) -> Path:
-    """Render one CSV of this study (a figure or the table) as PNG in outdir."""
+def plot(csv_path: str | Path, outdir: str | Path, note: str = "") -> Path:
+    """Render one CSV of this study (a figure or the table) as PNG and PDF in outdir; `note`
+    (parameters that differ from the paper's) goes into the title."""
     csv_path = Path(csv_path)
     png = Path(outdir) / f"{csv_path.stem}.png"
     if csv_path.stem.startswith("table"):
-        return plot_table(csv_path, png)
-    return c.plot_time_series(csv_path, png, title_for(csv_path.stem))
+        return plot_table(csv_path, png, note)
+    return c.plot_time_series(csv_path, png, title_for(csv_path.stem, note))
 
 
 def run(spec: SceneSpec, outdir: str | Path, *, t_end: float, n_out: int,
@@ -261,7 +272,7 @@ def check_inputs(scene: str, params: dict[str, float], *, t_end: float, n_out: i
             try:
                 stickslip.simulate(scene, law, method="dopri5", t_end=t_end, n_out=n_out,
                                    rtol=rtol, atol=rtol * atol_ratio, hmin=HMIN, hmax=HMAX,
-                                   max_steps=1, **params)
+                                   max_steps=1, ignore_unused=True, **params)
             except stickslip.IntegrationError:
                 pass                          # the one-step budget ran out: inputs are fine
 
@@ -271,7 +282,8 @@ def main(spec: SceneSpec, argv: Sequence[str] | None, *, description: str, t_end
          scene_params: Callable[[argparse.Namespace], dict[str, float]],
          run_scene: Callable[..., list[Path]]) -> list[Path]:
     """The command line of a scene driver: parse, run, plot, print where files went."""
-    parser = argparse.ArgumentParser(prog=f"python -m cases.{spec.scene}", description=description)
+    parser = argparse.ArgumentParser(prog=f"python -m cases.{spec.scene}", description=description,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     c.add_common_options(parser)
     add_study_options(parser, t_end=t_end, n_out=n_out)
     add_scene_options(parser)
@@ -288,15 +300,16 @@ def main(spec: SceneSpec, argv: Sequence[str] | None, *, description: str, t_end
                      atol_ratio=args.atol_ratio)
     except ValueError as exc:                 # a scene parameter the library rejects
         parser.error(str(exc))
-    c.log(f"{spec.scene}: simulating ({args.workers} workers)", args.quiet)
+    outdir, note = c.parameter_outdir(args.outdir, c.changed_options(parser, args))
+    c.check_writable(parser, outdir)
+    c.log(f"{spec.scene}: simulating ({args.workers} workers) -> {outdir}", args.quiet)
     try:
-        files = run_scene(args.outdir, t_end=args.t_end, n_out=args.points, params=params,
+        files = run_scene(outdir, t_end=args.t_end, n_out=args.points, params=params,
                           rtols=args.rtols, atol_ratio=args.atol_ratio, workers=args.workers,
                           quiet=args.quiet, max_steps=args.max_steps)
     except c.SimulationFailed as exc:
         parser.exit(1, f"{parser.prog}: simulation failed: {exc}\n")
     except ValueError as exc:                 # a scene parameter the library rejects
         parser.error(str(exc))
-    files += [plot(f, args.outdir) for f in files if f.suffix == ".csv"]
-    c.print_files(files)
-    return files
+    files += [plot(f, outdir, note) for f in files if f.suffix == ".csv"]
+    return c.finish(parser.prog.split()[-1], argv, files)

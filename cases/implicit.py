@@ -9,11 +9,11 @@ Three studies, each a CSV (header with units) and a PNG rendered from it:
    rest, rtol = 1e-3 .. 1e-10 (atol = 1e-3 rtol): evaluations, Jacobians, LU decompositions,
    steps and CPU time of stickslip's RADAU5 (h_max unbounded, and at the paper's automatic
    h_max = 1e-2 s) and DOPRI5 against scipy's solve_ivp Radau, BDF and LSODA with a Python
-   right-hand side and analytic Jacobian (`benchmarks.run.python_rhs`, `python_jac`). Error:
+   right-hand side and analytic Jacobian (`cases._timing.python_rhs`, `python_jac`). Error:
    |x(20 s) - x_ref| against DOPRI5 at rtol = 1e-13 (`cases.workprecision.references`). CPU:
-   median wall time of the whole Python call (`benchmarks.run.time_python`).
+   median wall time of the whole Python call (`cases._timing.median_time`).
    ``implicit_slope_equal.csv``: for each solver the time to reach |error| <= 1e-8 m and 1e-10 m,
-   interpolated in log-log along its curve (`benchmarks.run.time_at_error`).
+   interpolated in log-log along its curve (`cases._timing.time_at_error`).
 2. ``fig14_implicit.csv``, ``implicit_fig14_amplitude.csv``: Fig. 14 again (belt, RecurDyn law,
    h = 1e-3 and 1e-4 s, T_END_BELT) with implicit Euler and generalized-alpha (rho_inf = 0, 0.5,
    0.9, 1). On this orbit mu = mu_k throughout (v_rel > v_d), so the motion is the linear
@@ -113,11 +113,9 @@ def slope_runs(rtols: Sequence[float], t_end: float, repeats: int, quiet: bool) 
     """One row per (law, solver, rtol) (SLOPE_HEADER)."""
     import stickslip
     from scipy.integrate import solve_ivp
-    from benchmarks.run import Config, python_jac, python_rhs, time_python
     from . import workprecision
+    from ._timing import median_time, python_jac, python_rhs
     refs = workprecision.references(t_end, 1)
-    timing = Config(fixed=[], adaptive=[], t_end_adaptive=t_end, tols=[], targets=[],
-                    repeats=repeats, min_sample=0.02)
     rows = []
     for law in SMOOTH:
         x_ref = refs[("slope", law)]["x"]
@@ -127,18 +125,18 @@ def slope_runs(rtols: Sequence[float], t_end: float, repeats: int, quiet: bool) 
                 atol = 1e-3 * rtol
                 if solver.startswith("scipy"):
                     m = solver.split()[1]
-                    sc = Config(**{**timing.__dict__, "min_sample": 0.0, "repeats": min(repeats, 3)})
-                    cpu, sol = time_python(lambda: solve_ivp(f, (0.0, t_end), [0.0, 0.0], method=m,
-                                                             rtol=rtol, atol=atol, jac=jac), sc)
+                    cpu, sol = median_time(lambda: solve_ivp(f, (0.0, t_end), [0.0, 0.0], method=m,
+                                                             rtol=rtol, atol=atol, jac=jac),
+                                           min(repeats, 3), 0.0)
                     status = int(sol.status)
                     st = {"nfev": sol.nfev, "njac": sol.njev, "ndec": sol.nlu,
                           "nstep": len(sol.t) - 1, "nforced": 0}
                     x = float(sol.y[0, -1])
                 else:
                     method, kw = _stickslip_solver(solver)
-                    cpu, res = time_python(lambda: stickslip.simulate(
+                    cpu, res = median_time(lambda: stickslip.simulate(
                         "slope", law, method=method, t_end=t_end, rtol=rtol, atol=atol, n_out=2,
-                        **kw), timing)
+                        **kw), repeats, 0.02)
                     status, st, x = res.stats["status"], res.stats, float(res.x[-1])
                 rows.append([law, solver, rtol, atol, status, int(st["nfev"]), int(st["njac"]),
                              int(st["ndec"]), int(st["nstep"]), int(st["nforced"]), cpu, x, x_ref,
@@ -149,7 +147,7 @@ def slope_runs(rtols: Sequence[float], t_end: float, repeats: int, quiet: bool) 
 
 def equal_error(rows: list[list[Any]]) -> list[list[Any]]:
     """Time to reach each target error, per law and solver, and its ratio to RADAU5's."""
-    from benchmarks.run import time_at_error
+    from ._timing import time_at_error
     out = []
     for law in SMOOTH:
         for target in TARGETS:
@@ -196,12 +194,14 @@ def fig14(outdir: Path, t_end: float, n_out: int) -> list[Path]:
 # --------------------------------------------------------------------------------------------
 # 3. Tables 2-3, automatic column
 # --------------------------------------------------------------------------------------------
+#: The paper's step range of the automatic runs (stickslip.simulate's default hmax is t_end).
+PAPER_STEPS: dict[str, float] = {"hmin": 1e-6, "hmax": 1e-2}
 AUTO_MODES: dict[str, dict[str, Any]] = {
     "rk4 h=1e-3": {"method": "rk4", "h": 1e-3},
-    "radau5 automatic": {"method": "radau5"},
-    "dopri5 automatic": {"method": "dopri5"},
-    "dopri5 position-only": {"method": "dopri5", "rtol": [1e-6, 0.99], "atol": [1e-9, 1e9]},
-    "radau5 position-only": {"method": "radau5", "rtol": [1e-6, 0.99], "atol": [1e-9, 1e9]},
+    "radau5 automatic": {"method": "radau5", **PAPER_STEPS},
+    "dopri5 automatic": {"method": "dopri5", **PAPER_STEPS},
+    "dopri5 position-only": {"method": "dopri5", "rtol": [1e-6, 0.99], "atol": [1e-9, 1e9], **PAPER_STEPS},
+    "radau5 position-only": {"method": "radau5", "rtol": [1e-6, 0.99], "atol": [1e-9, 1e9], **PAPER_STEPS},
 }
 
 
@@ -248,26 +248,22 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: boo
     return files + pngs
 
 
+#: Colours of generalized-alpha's rho_inf variants (implicit Euler keeps its method colour).
+GALPHA_COLORS: tuple[str, ...] = (c._style.OKABE_ITO["blue"], c._style.OKABE_ITO["vermillion"],
+                                  c._style.OKABE_ITO["bluish green"], c._style.OKABE_ITO["reddish purple"])
+#: Legend names of the solvers of implicit_slope.csv.
+SOLVER_NAMES: dict[str, str] = {"radau5": "stickslip RADAU5 (h_max unbounded)",
+                                "radau5 hmax=1e-2": "stickslip RADAU5, h_max = 1e-2 s",
+                                "dopri5": "stickslip DOPRI5", "scipy Radau": "scipy Radau",
+                                "scipy BDF": "scipy BDF", "scipy LSODA": "scipy LSODA"}
+
+
 def plot(csv: str | Path, outdir: str | Path) -> Path:
     """implicit_slope.csv: error against evaluations and CPU per law and solver;
     fig14_implicit.csv: x(t) of every variant."""
     csv = Path(csv)
     if csv.stem == "fig14_implicit":
-        cols = c.read_numeric_csv(csv)
-        names = list(cols)
-        fig, axes = c.new_figure(2, width=11.0)
-        colors = (*c.VARIANT_COLORS, "tab:green")
-        for i, name in enumerate(names[1:]):
-            label, h = c.split_unit(name)[0][2:].rsplit(" h=", 1)
-            j = i % (len(RHO_INF) + 1)
-            axes[FIG14_H.index(float(h))].plot(cols[names[0]], cols[name], label=label, lw=0.8,
-                                               color=colors[j], linestyle=c.VARIANT_STYLES[j % 4])
-        for ax, h in zip(axes, FIG14_H):
-            ax.set_title(f"Fig. 14 (belt, RecurDyn law), implicit methods, h = {h:g} s")
-            ax.set_xlabel("t [s]")
-            ax.set_ylabel("x [m]")
-        c.figure_legend(fig, axes, ncol=5)
-        return c.save_figure(fig, Path(outdir) / "fig14_implicit.png")
+        return plot_fig14(csv, outdir)
     cols = c.read_csv(csv)
     fig, axes = c.new_figure(2, width=11.0)
     for b, law in enumerate(SMOOTH):
@@ -276,12 +272,47 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
             sel = [i for i in range(len(cols["law [-]"])) if cols["law [-]"][i] == law and cols["solver [-]"][i] == s]
             x = [float(cols["cpu [s]"][i]) for i in sel]
             y = [max(float(cols["err [m]"][i]), 1e-16) for i in sel]
-            ax.loglog(x, y, "o-", ms=3, color=f"C{k}", label=s)
-        ax.set_title(f"slope, {c.LAW_LABELS[law]}, 20 s: error against CPU")
-        ax.set_xlabel("CPU per run (wall, median) [s]")
-        ax.set_ylabel("|x(t_end) - x_ref| [m]")
+            ax.loglog(x, y, "o-", ms=3, color=c._style.SEQUENCE[k], label=SOLVER_NAMES.get(s, s))
+        ax.set_title(f"box on a 10° slope, {c.LAW_LABELS[law]} law, 20 s from rest")
+        ax.set_xlabel("time per run (median wall time of the Python call) [s]")
+        ax.set_ylabel("error |x(20 s) - reference| [m]")
+    fig.suptitle("Error against cost, tolerances rtol = 1e-3 .. 1e-10 (atol = 1e-3 rtol); reference: "
+                 "DOPRI5 at rtol = 1e-13; errors below 1e-16 m drawn at 1e-16 m")
     c.figure_legend(fig, axes, ncol=len(SOLVERS))
     return c.save_figure(fig, Path(outdir) / "implicit_slope.png")
+
+
+def plot_fig14(csv: Path, outdir: str | Path) -> Path:
+    """fig14_implicit.csv: for each step size, x(t) of implicit Euler and generalized-alpha
+    beside the exact harmonic solution x_k (1 - cos w t) (top), and each method's distance from
+    it on a log axis (bottom), where the variants that lie on each other on top separate."""
+    cols = c.read_numeric_csv(csv)
+    t = cols["t [s]"]
+    w, x_k = harmonic(_belt_params())
+    exact = x_k * (1.0 - np.cos(w * t))
+    c._style.apply()
+    fig, axes = c.plt.subplots(2, len(FIG14_H), figsize=(11.0, 6.4), sharex=True, squeeze=False)
+    for col, h in enumerate(FIG14_H):
+        top, bottom = axes[0][col], axes[1][col]
+        top.plot(t, exact, color="0.6", lw=2.4, label="exact: x_k (1 - cos ωt)")
+        for j, (label, method, rho, hh) in enumerate(v for v in fig14_variants() if v[3] == h):
+            x = cols[f"x {label} [m]"]
+            name = c._style.name(method) + ("" if rho is None else f", ρ∞ = {rho:g}")
+            palette = (c._style.color("implicit_euler"), *GALPHA_COLORS)
+            style = dict(color=palette[j], linestyle=c.VARIANT_STYLES[j % 4], lw=1.2)
+            if rho is None or rho == 0.0:          # the other rho_inf lie on this one on top
+                top.plot(t, x, label=name, **style)
+            worst = np.maximum.accumulate(np.abs(x - exact))
+            bottom.semilogy(t[worst > 0], worst[worst > 0], label=name, **style)
+        top.set_title(f"h = {h:g} s: position (generalized-α with ρ∞ = 0.5, 0.9, 1 lies on ρ∞ = 0)")
+        top.set_ylabel("x [m]")
+        bottom.set_title(f"h = {h:g} s: largest distance from the exact solution so far")
+        bottom.set_ylabel("max |x - exact| up to t [m]")
+        bottom.set_xlabel("time t [s]")
+    fig.suptitle("Fig. 14 again: mass on a moving belt, RecurDyn law (μ = μ_k throughout: a linear "
+                 "oscillator), implicit methods at the paper's two step sizes")
+    c.figure_legend(fig, [ax for row in axes for ax in row], ncol=3)
+    return c.save_figure(fig, Path(outdir) / "fig14_implicit.png")
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:

@@ -55,20 +55,23 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     fig, (ax_full, ax_zoom) = c.new_figure(2)
     zoom = np.abs(ratio) <= ZOOM
     for ax, sel, title in ((ax_full, slice(None), "full range"),
-                           (ax_zoom, zoom, f"|v| <= {ZOOM:g} v_s")):
+                           (ax_zoom, zoom, f"near zero: |v| <= {ZOOM:g} v_s")):
         ax.plot(v[sel], mu[sel], color=c.LAW_COLORS[law])
         ax.axhline(0.0, color="k", linewidth=0.5)
         ax.axvline(0.0, color="k", linewidth=0.5)
         ax.set_xlabel("relative velocity v [m/s]")
-        ax.set_ylabel("friction coefficient mu [-]")
-        ax.set_title(f"Fig. {FIGURES[law]}: {c.LAW_LABELS[law]}, {title}")
+        ax.set_ylabel("friction coefficient μ [-]")
+        ax.set_title(title)
+    fig.suptitle(f"Fig. {FIGURES[law]}: friction coefficient of the {c.LAW_LABELS[law]} law against "
+                 f"the relative velocity (v_s = {v[np.argmax(ratio)] / ratio.max():g} m/s)")
     return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Command line: python -m cases.laws [--outdir DIR] [--v-max V] [law options]."""
     parser = argparse.ArgumentParser(prog="python -m cases.laws",
-                                     description=__doc__.split("\n\n")[0])
+                                     description=c.cli_description(__doc__),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--outdir", type=Path, default=Path("out"),
                         help="directory for CSV and PNG files (default: out/)")
     parser.add_argument("--v-max", type=c.positive_float, default=V_MAX,
@@ -77,10 +80,12 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="points per velocity grid (default %(default)s)")
     c.add_law_options(parser)
     args = parser.parse_args(argv)
-    files = run(args.outdir, params=c.checked_law_params(parser, args), v_max=args.v_max, n_points=args.points)
-    files += [plot(f, args.outdir) for f in files]
-    c.print_files(files)
-    return files
+    params = c.checked_law_params(parser, args)
+    outdir, _ = c.parameter_outdir(args.outdir, c.changed_options(parser, args))
+    c.check_writable(parser, outdir)
+    files = run(outdir, params=params, v_max=args.v_max, n_points=args.points)
+    files += [plot(f, outdir) for f in files]
+    return c.finish("cases.laws", argv, files)
 
 
 if __name__ == "__main__":

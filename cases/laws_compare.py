@@ -140,10 +140,14 @@ def simulate(scene: str, law: str, method: str, h: float | None, t_end: float, n
     """One run: (Result or the partial Result of a run that ended early, status)."""
     import stickslip
     extra = {"h": h} if h is not None else {}
+    if "hmax" in stickslip.REGISTRY["method"][method]["controls"]:
+        extra.update(hmin=1e-6, hmax=1e-2)      # the paper's step range (simulate's hmax: t_end)
     try:
-        r = stickslip.simulate(scene, law, method=method, t_end=t_end, n_out=n_out, **extra,
-                               **{**{k: v for k, v in P.items() if k != "theta_deg" or scene == "slope"},
-                                  **kw})
+        with c.steps_beyond_stability():       # the RK4 step sweeps and bisections cross it on purpose
+            r = stickslip.simulate(scene, law, method=method, t_end=t_end, n_out=n_out, ignore_unused=True,
+                                   **extra,
+                                   **{**{k: v for k, v in P.items() if k != "theta_deg" or scene == "slope"},
+                                      **kw})
         return r, 0
     except stickslip.IntegrationError as exc:
         return exc.result, exc.status
@@ -177,7 +181,7 @@ def slope_rows(quiet: bool, laws: Sequence[str] | None = None) -> list[list[Any]
             done = status == 0
             rows.append([law, method, h, status, float(r.x[-1]) if done else None,
                          float(r.v[-1]) if done else None,
-                         float(r.z[0, -1]) if done and r.z.size else None,
+                         float(r.y[2, -1]) if done and r.z.size else None,
                          r.stats["nfev"], r.stats["cpu_seconds"]])
         c.log(f"laws_compare: slope {law}", quiet)
     return rows
@@ -279,8 +283,10 @@ def step_limits(scene: str, law: str, method: str = "rk4") -> tuple[float, float
         return ok and status == 0 and float(np.max(np.abs(r.v[tail] - ref.v[tail]))) <= tol
 
     import stickslip
-    # implicit methods: down to 1e-5 s only. On Coulomb's slope every step runs the damped
-    # Newton fallback (about 140 evaluations a step): 2 s at 1e-6 s would cost seconds a run.
+    # implicit methods: down to 1e-5 s only. (Chosen when every step on Coulomb's slope ran the
+    # damped Newton fallback, about 140 evaluations a step; their stages on Coulomb are now
+    # solved over the law's modes at 2 evaluations a step, and the floor is kept so that the
+    # study's bisection, and its other rows, stay as they were.)
     lo = 1e-5 if stickslip.REGISTRY["method"][method]["implicit"] else 1e-6
     h_b, _ = largest_step(is_bounded, lo=lo)
     h_c, _ = largest_step(is_close, lo=lo, hi=h_b if h_b > 0 else lo)
@@ -311,7 +317,7 @@ def presliding(laws: Sequence[str] | None = None) -> dict[str, np.ndarray]:
         r, _ = simulate("slope", law, "dopri5", None, 0.05, 501, rtol=1e-10, atol=1e-15)
         cols["t [s]"] = r.t
         cols[f"x {law} [m]"] = r.x
-        for label, z in zip(r.state_labels, r.z):
+        for label, z in zip(r.state_labels, r.y[2:]):
             name, unit = c.split_unit(label)
             cols[f"{name} {law} [{unit}]"] = z
     return cols
@@ -346,17 +352,37 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: boo
     return files
 
 
-#: What each CSV's figure shows: (column, log scale of its absolute value, title).
-FIGURES: dict[str, tuple[str, bool, str]] = {
-    "slope": ("x_20 [m]", True, "Slope 10 deg from rest: |x(20 s)| (truth 0; missing bar: 0 or failed)"),
-    "belt": ("err_x_max [m]", True, "Belt from stuck: |x_max - exact Coulomb x_max| (missing: none/failed)"),
-    "rest": ("rate_measured [1/s]", False, "Belt from rest: growth rate (bars) vs -g mu'(v_b)/2 (dots)"),
-    "hmax": ("h_bounded [s]", True, "Largest bounded RK4 step (bars) and within 1 % (dots); 1e-2: not limited"),
+#: What each CSV's figure shows: (column, log scale of its absolute value, y label, title).
+FIGURES: dict[str, tuple[str, bool, str, str]] = {
+    "slope": ("x_20 [m]", True, "distance slid |x(20 s)| [m] (truth: 0)",
+              "Box on a 10° slope from rest (static friction holds it): how far each law lets it "
+              "slide in 20 s"),
+    "belt": ("err_x_max [m]", True, "|x_max - exact Coulomb x_max| [m]",
+             "Mass on a moving belt, started stuck: error of the stick-slip cycle's largest "
+             "excursion"),
+    "rest": ("rate_measured [1/s]", False, "growth rate of the oscillation [1/s]",
+             "Mass on a moving belt from rest: growth rate (bars) against -g μ'(v_b)/2 (dots)"),
+    "hmax": ("h_bounded [s]", True, "RK4 step [s] (1e-2: the largest tried)",
+             "Largest step that stays bounded (bars) and within 1 % of a DOPRI5 reference (dots)"),
 }
 
 
+def series_name(tag: str) -> str:
+    """A legend entry from a row's method (and step) or scene (and method): "rk4 h=0.001" ->
+    "RK4, h = 0.001 s", "slope implicit_euler" -> "slope: implicit Euler"."""
+    words = tag.split()
+    if words and words[0] in c._style.SCENE_NAMES:
+        return f"{words[0]}: {c._style.name(words[1]) if len(words) > 1 else 'RK4'}"
+    text = c._style.name(words[0]) if words else tag
+    return text + "".join(f", h = {w[2:]} s" for w in words[1:] if w.startswith("h="))
+
+
 def plot(csv: str | Path, outdir: str | Path) -> Path:
-    """Render one laws_compare CSV as a bar chart grouped by law (PNG, from the CSV alone)."""
+    """Render one laws_compare CSV as a bar chart grouped by law (PNG and PDF, from the CSV
+    alone). A run that failed (status != 0, or no value) is marked with a cross at the foot of
+    its bar's place, a value of exactly 0 on a log axis with a circle there: never a bar of
+    height 0."""
+    from matplotlib.transforms import blended_transform_factory
     csv = Path(csv)
     kind = csv.stem.removeprefix("laws_compare_")
     if kind == "presliding":
@@ -364,46 +390,69 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
         names = list(data)
         fig, ax = c.new_figure()
         for i, name in enumerate(names[1:]):
-            ax.plot(data[names[0]] * 1e3, data[name] * 1e6, label=c.split_unit(name)[0],
-                    color=c.VARIANT_COLORS[i % len(c.VARIANT_COLORS)],
-                    linestyle=c.VARIANT_STYLES[i % len(c.VARIANT_STYLES)])
-        ax.set_xlabel("t [ms]")
-        ax.set_ylabel("[um]")
-        ax.set_title("Slope 10 deg from rest: presliding displacement x and bristle deflection z")
-        ax.legend(loc="best")
+            what, law = c.split_unit(name)[0].split()
+            ax.plot(data[names[0]] * 1e3, data[name] * 1e6,
+                    label=f"{'position x' if what == 'x' else 'bristle deflection z'}, {c._style.name(law)}",
+                    color=c._style.color(law), linestyle=c.VARIANT_STYLES[i % len(c.VARIANT_STYLES)])
+        ax.set_xlabel("time t [ms]")
+        ax.set_ylabel("displacement [µm]")
+        ax.set_title("Box on a 10° slope from rest: presliding displacement and bristle deflection")
+        c.figure_legend(fig, [ax], ncol=2)
         return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
-    column, log, title = FIGURES[kind]
+    column, log, ylabel, title = FIGURES[kind]
     cols = c.read_csv(csv)
     laws = list(dict.fromkeys(cols["law [-]"]))
     second = "scene [-]" if kind == "hmax" else "method [-]"
     tags = [f"{m}" + (f" h={h}" if h else "")
             for m, h in zip(cols[second], cols.get("h [s]", [""] * len(cols[second])))]
     series = list(dict.fromkeys(tags))
-    fig, ax = c.new_figure(width=9.0)
+    fig, ax = c.new_figure(width=10.0)
+    foot = blended_transform_factory(ax.transData, ax.transAxes)
     width = 0.8 / max(len(series), 1)
+    failed, zero = [], []
     for j, s in enumerate(series):
         xs, ys = [], []
         for i, (law, tag) in enumerate(zip(cols["law [-]"], tags)):
-            if tag == s and cols[column][i] != "":
-                value = float(cols[column][i])
-                if not log or abs(value) > 0:
-                    xs.append(laws.index(law) + (j - (len(series) - 1) / 2) * width)
-                    ys.append(abs(value) if log else value)
-        ax.bar(xs, ys, width=width, label=s, color=f"C{j % 10}")
+            if tag != s:
+                continue
+            x = laws.index(law) + (j - (len(series) - 1) / 2) * width
+            status = cols.get("status [-]", ["0"] * len(tags))[i]
+            if cols[column][i] == "" or status not in ("", "0") or (kind == "hmax" and float(cols[column][i]) == 0):
+                failed.append(x)
+                continue
+            value = float(cols[column][i])
+            if log and value == 0.0:
+                zero.append(x)
+                continue
+            xs.append(x)
+            ys.append(abs(value) if log else value)
+        ax.bar(xs, ys, width=width, label=series_name(s), color=c._style.SEQUENCE[j % len(c._style.SEQUENCE)])
+    if failed:
+        ax.plot(failed, [0.04] * len(failed), "x", color="k", ms=6, mew=1.5, transform=foot,
+                label="failed run (no bar)" if kind != "hmax" else "no bounded step (no bar)")
+    if zero:
+        ax.plot(zero, [0.04] * len(zero), "o", mfc="none", color="k", ms=6, transform=foot,
+                label="exactly 0 (no bar on a log axis)")
     if kind == "rest":
-        ax.plot(range(len(laws)), [float(v) for v in cols["rate_predicted [1/s]"]], "o", color="tab:red",
-                label="-g mu'(v_b)/2")
+        ax.plot(range(len(laws)), [float(v) for v in cols["rate_predicted [1/s]"]], "o",
+                color="k", label="predicted: -g μ'(v_b)/2")
+        ax.axhline(0.0, color="k", linewidth=0.6)
     if kind == "hmax":
         for j, s in enumerate(series):
             pts = [(laws.index(law) + (j - (len(series) - 1) / 2) * width, float(v))
                    for law, tag, v in zip(cols["law [-]"], tags, cols["h_1pct [s]"]) if tag == s and float(v) > 0]
             if pts:
-                ax.plot(*zip(*pts), "o", color="tab:red", label="within 1 %" if j == 0 else None)
+                ax.plot(*zip(*pts), "o", color="k", ms=3, label="within 1 % of the reference" if j == 0 else None)
     if log:
         ax.set_yscale("log")
     ax.set_xticks(range(len(laws)))
-    ax.set_xticklabels(laws, rotation=20)
-    ax.set_ylabel(column)
+    def tick(law: str) -> str:           # "lugre sigma2=0" -> "LuGre\nσ2 = 0"
+        base, _, variant = law.partition(" ")
+        name = c._style.name(base).split(" (")[0]
+        return name + ("\n" + variant.replace("sigma", "σ").replace("=", " = ") if variant else "")
+
+    ax.set_xticklabels([tick(law) for law in laws], fontsize=8)
+    ax.set_ylabel(ylabel)
     ax.set_title(title)
     c.figure_legend(fig, [ax], ncol=4)
     return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")

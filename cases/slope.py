@@ -90,7 +90,7 @@ def _params(args: argparse.Namespace) -> dict[str, float]:
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Command line: python -m cases.slope [--outdir DIR] [--t-end S] [law options]."""
-    return s.main(SPEC, argv, description=__doc__.split("\n\n")[0], t_end=T_END, n_out=N_OUT,
+    return s.main(SPEC, argv, description=c.cli_description(__doc__), t_end=T_END, n_out=N_OUT,
                   add_scene_options=_options, scene_params=_params, run_scene=run)
 
 

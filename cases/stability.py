@@ -174,11 +174,12 @@ def rk4_map(v_ss: Sequence[float], n_h: int, threads: int, client: Any = None) -
     for n_grid in sorted({r["n_grid"] for r in rows}):
         idx = [i for i, r in enumerate(rows) if r["n_grid"] == n_grid]
         sub = [rows[i] for i in idx]
-        b = stickslip.simulate_batch([r["scene"] for r in sub], [r["law"] for r in sub],
-                                     method="rk4", t_end=[r["t_end"] for r in sub],
-                                     h=[r["h"] for r in sub], v_s=[r["v_s"] for r in sub],
-                                     x0=[r["x0"] for r in sub], v0=[r["v0"] for r in sub],
-                                     n_grid=n_grid, threads=threads, client=client)
+        with c.steps_beyond_stability():           # h spans [h_lin/20, 20 h_lin] on purpose
+            b = stickslip.simulate_batch([r["scene"] for r in sub], [r["law"] for r in sub],
+                                         method="rk4", t_end=[r["t_end"] for r in sub],
+                                         h=[r["h"] for r in sub], v_s=[r["v_s"] for r in sub],
+                                         x0=[r["x0"] for r in sub], v0=[r["v0"] for r in sub],
+                                         n_grid=n_grid, threads=threads, client=client)
         for j, (i, r) in enumerate(zip(idx, sub)):
             cls = classify(b, j, v_bound(r["scene"], r["t_end"], r["v0"]), n_grid)
             out[i] = [r["scene"], r["law"], r["v_s"], r["h"], r["h_lin"], r["t_end"],
@@ -263,11 +264,12 @@ def plot_implicit(csv: str | Path, outdir: str | Path) -> Path:
     """Render stability_implicit.csv: class over h / h_lin per method, one panel per law and v_s."""
     cols = c.read_csv(csv)
     keys = list(dict.fromkeys((cols["law [-]"][i], cols["v_s [m/s]"][i]) for i in range(len(cols["law [-]"]))))
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, len(keys), figsize=(3.0 * len(keys) + 1.0, 3.4), squeeze=False)
-    colors = {"stable": "tab:green", "chattering": "tab:orange", "spurious": "tab:purple",
-              "unstable": "tab:red", "newton failed": "0.4"}
+    c._style.apply()
+    fig, axes = c.plt.subplots(1, len(keys), figsize=(2.6 * len(keys) + 1.8, 3.6), squeeze=False)
+    colors = c._style.CLASS_COLORS
     labels = [m if rho is None else f"{m} {rho:g}" for m, rho in IMPLICIT_METHODS]
+    shown = [c._style.name(m) if rho is None else f"{c._style.name(m)}, ρ∞ = {rho:g}"
+             for m, rho in IMPLICIT_METHODS]
     for ax, (l, vs) in zip(axes[0], keys):
         seen = set()
         for i in range(len(cols["law [-]"])):
@@ -277,12 +279,14 @@ def plot_implicit(csv: str | Path, outdir: str | Path) -> Path:
             lab = cols["method [-]"][i] + (f" {float(rho):g}" if rho else "")
             k = cols["class [-]"][i]
             ax.semilogx(float(cols["h [s]"][i]) / float(cols["h_lin [s]"][i]), labels.index(lab), "s",
-                        color=colors[k], ms=5, label=None if k in seen else k)
+                        color=colors[k], ms=5, label=None if k in seen else c._style.name(k))
             seen.add(k)
         ax.axvline(1.0, color="k", lw=0.8)
-        ax.set_yticks(range(len(labels)), labels, fontsize=7)
-        ax.set_xlabel("h / h_lin (RK4's bound)")
-        ax.set_title(f"slope, {l}, v_s = {float(vs):g} m/s", fontsize=8)
+        ax.set_yticks(range(len(labels)), shown if ax is axes[0][0] else [""] * len(labels), fontsize=7)
+        ax.set_xlabel("step h / RK4's stability bound h_lin [-]")
+        ax.set_title(f"{c.LAW_LABELS[l].split(' (')[0]} law, v_s = {float(vs):g} m/s", fontsize=8)
+    fig.suptitle("Fixed-step implicit methods on the box on a 10° slope, from rest: outcome by step "
+                 "size (vertical line: RK4's linear stability bound)")
     c.figure_legend(fig, axes.ravel(), ncol=5)
     return c.save_figure(fig, Path(outdir) / "stability_implicit.png")
 
@@ -328,9 +332,11 @@ def extremes(quick: bool = False, threads: int = 2, client: Any = None) -> list[
             cols[k] = [r.get(k, _params().get(k)) for r in rows]
         if method == "dopri5":
             cols.pop("h", None)
-        b = stickslip.simulate_batch([r["scene"] for r in rows], [r["law"] for r in rows],
-                                     method=method, n_grid=201, threads=threads, client=client,
-                                     **cols)
+            cols.update(hmin=1e-6, hmax=1e-2)   # the paper's step range (simulate's hmax: t_end)
+        with c.steps_beyond_stability():           # the extremes go beyond on purpose
+            b = stickslip.simulate_batch([r["scene"] for r in rows], [r["law"] for r in rows],
+                                         method=method, n_grid=201, threads=threads, client=client,
+                                         **cols)
         for i, (name, kw) in enumerate(sel):
             outcome = "ok" if b.status[i] == 0 else b.message(i)
             finite = bool(np.isfinite([b.x_end[i], b.v_end[i], b.v_max[i]]).all())
@@ -431,13 +437,12 @@ def boundary(rk4_rows: list[list[Any]]) -> list[list[Any]]:
 def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
     """Render stability_rk4.csv (class over h x v_s with h_lin) or stability_dopri5.csv
     (nfev over rtol x v_s, forced steps and stiffness marked): one panel per scene and law."""
-    import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
     cols = c.read_csv(csv)
     is_rk4 = "h [s]" in cols
-    fig, axes = plt.subplots(len(SCENES), len(LAWS), figsize=(11.0, 6.6), squeeze=False)
-    colors = {"stable": "tab:green", "chattering": "tab:orange", "spurious": "tab:purple",
-              "unstable": "tab:red"}
+    c._style.apply()
+    fig, axes = c.plt.subplots(len(SCENES), len(LAWS), figsize=(11.0, 6.6), squeeze=False)
+    colors = c._style.CLASS_COLORS
     for a, s in enumerate(SCENES):
         for b, l in enumerate(LAWS):
             ax = axes[a][b]
@@ -450,12 +455,12 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                 for k in CLASSES:
                     m = np.array([q == k for q in cls])
                     if m.any():
-                        ax.loglog(vs[m], h[m], "s", color=colors[k], ms=4, label=f"RK4 {k}")
+                        ax.loglog(vs[m], h[m], "s", color=colors[k], ms=4, label=f"RK4: {c._style.name(k)}")
                 v_line = np.geomspace(vs.min(), vs.max(), 50)
                 if l != "coulomb":
                     ax.loglog(v_line, [linear_bound(s, l, v)[1] for v in v_line], "k-", lw=1.2,
-                              label="linear bound h_lin = 2.785/|lambda| [s]")
-                ax.set_ylabel("h [s]")
+                              label="linear stability bound h_lin = 2.785/|λ| [s]")
+                ax.set_ylabel("RK4 step h [s]")
             else:
                 rt = np.array([float(cols["rtol [-]"][i]) for i in sel])
                 nfev = np.array([float(cols["nfev [-]"][i]) for i in sel])
@@ -465,14 +470,16 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                 ax.set_xscale("log")
                 ax.set_yscale("log")
                 fig.colorbar(sc, ax=ax, label="function evaluations nfev [-]")
-                ax.scatter(vs[forced > 0], rt[forced > 0], marker="x", color="red", s=14,
+                ax.scatter(vs[forced > 0], rt[forced > 0], marker="x", color=c._style.OKABE_ITO["vermillion"], s=14,
                            label="forced steps at h_min (nforced > 0)")
                 ax.scatter(vs[stiff], rt[stiff], marker="o", facecolors="none",
-                           edgecolors="tab:cyan", s=40, label="stiffness detected (stiff flag)")
-                ax.set_ylabel("rtol [-]")
-            ax.set_title(f"{s}, {c.LAW_LABELS[l]}", fontsize=9)
-            ax.set_xlabel("v_s [m/s]")
-    c.figure_legend(fig, axes.ravel(), ncol=5)
+                           edgecolors=c._style.OKABE_ITO["sky blue"], s=40, label="stiffness detected (stiff flag)")
+                ax.set_ylabel("relative tolerance rtol [-]")
+            ax.set_title(f"{c._style.name(s)}, {c.LAW_LABELS[l]} law", fontsize=9)
+            ax.set_xlabel("static threshold velocity v_s [m/s]")
+    fig.suptitle("RK4 from rest: outcome over step size and v_s" if is_rk4 else
+                 "DOPRI5 from rest: cost over tolerance and v_s (h_min = 1e-6 s, atol = 1e-3 rtol)")
+    c.figure_legend(fig, axes.ravel(), ncol=3)
     name = "stability_rk4.png" if is_rk4 else "stability_dopri5.png"
     return [c.save_figure(fig, Path(outdir) / name)]
 

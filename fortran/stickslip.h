@@ -95,7 +95,9 @@ int ss_friction(int law, int64_t n, const double *v, double mu_s, double mu_k, d
                 double v_d, double beta, double a, double *mu);
 
 /* Simulate a scene with a law from (x0, v0) at t = 0 to t_end: RK4 with step h, or DOPRI5 with
- * rtol, atol and opts (NULL: defaults, for RK4 too: a budget of 10^8 steps).
+ * rtol, atol and opts (NULL: defaults, for RK4 too: a budget of 10^8 steps). SS_METHOD_DOP853
+ * reads opts but keeps its own safety, fac1, fac2 and beta (Hairer's 0.9, 0.333, 6, 0: the
+ * struct's are DOPRI5's); ss_run sets them by name.
  * Laws with internal states need ss_run.
  * t_out[n_out]: requested output times in [0, t_end] (non-decreasing), or with
  * opts->every_step room for every step (overwritten with the step times).

@@ -22,7 +22,7 @@ module stickslip_capi
     use stickslip_rk4, only: rk4_integrate
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_registry, only: stickslip_message, registry_text, make_law, split_names, code_of, &
-                                  PARAMS, METHOD_TABLE, METHOD_RK4, METHOD_DOPRI5
+                                  PARAMS, METHOD_TABLE, METHOD_RK4, METHOD_DOPRI5, METHOD_DOP853
     use stickslip_simulate, only: simulate
     implicit none
     private
@@ -165,7 +165,9 @@ contains
 
     !> Simulate a scene from (x0, v0) at t = 0 to t_end; a wrapper of stickslip_simulate's
     !! `simulate`. scene: SS_SCENE_SLOPE (1) / SS_SCENE_BELT (2); method: SS_METHOD_RK4 (1,
-    !! fixed step h) / SS_METHOD_DOPRI5 (2, rtol, atol and opts). opts may be NULL (defaults);
+    !! fixed step h) / SS_METHOD_DOPRI5 (2, rtol, atol and opts) / any other method of the
+    !! registry (SS_METHOD_DOP853 reads opts but not its safety, fac1, fac2 and beta, which are
+    !! DOPRI5's). opts may be NULL (defaults);
     !! opts->max_steps and opts->every_step apply to both methods.
     !! t_out(n_out): requested output times, or room for every step (overwritten);
     !! y_out: n_out rows of (x [m], v [m/s]). stats may be NULL. Returns stats->status.
@@ -189,6 +191,7 @@ contains
         type(ode_stats) :: st
         character(len=NAME_LEN), allocatable :: ckeys(:)
         real(dp), allocatable :: cvals(:)
+        logical, allocatable :: keep(:)
         if (n_out < 1) then
             status = SS_BAD_N_OUT
             call put_stats(st, status, stats)
@@ -200,6 +203,12 @@ contains
             st%status = SS_BAD_METHOD
         else
             call struct_controls(fo, METHOD_TABLE(method)%controls, ckeys, cvals)
+            ! The struct's safety, fac1, fac2 and beta are DOPRI5's constants: DOP853 keeps
+            ! its own (Hairer's 0.9, 0.333, 6, 0; ss_run sets them by name).
+            keep = .not. (method == METHOD_DOP853 .and. (ckeys == 'safety' .or. ckeys == 'fac1' .or. &
+                                                          ckeys == 'fac2' .or. ckeys == 'beta_pi'))
+            ckeys = pack(ckeys, keep)
+            cvals = pack(cvals, keep)
             call simulate(int(scene), int(law), int(method), PARAMS(param_order())%name, transfer(p, [0.0_dp]), &
                           [x0, v0], t_end, [rtol], [atol], ckeys, cvals, t_out(1:n_out), y_out(:, 1:n_out), st)
         end if
@@ -398,9 +407,10 @@ contains
         real(dp), allocatable, intent(out) :: vals(:)
         character(len=NAME_LEN), allocatable :: all(:)
         real(dp) :: x
-        integer :: i
+        integer :: i, k
         allocate(all, source=split_names(names))
-        allocate(keys(0), vals(0))
+        allocate(keys(size(all)), vals(size(all)))
+        k = 0
         do i = 1, size(all)
             select case (all(i))
             case ('h');             x = o%h
@@ -418,9 +428,12 @@ contains
             case ('stop_on_stiff'); x = merge(1.0_dp, 0.0_dp, o%stop_on_stiff)
             case default;           cycle     ! rtol, atol, and controls the struct has not
             end select
-            keys = [keys, all(i)]
-            vals = [vals, x]
+            k = k + 1
+            keys(k) = all(i)
+            vals(k) = x
         end do
+        keys = keys(:k)
+        vals = vals(:k)
     end subroutine struct_controls
 
     !> What ss_dopri5 and ss_rk4 share: check the problem, wrap the C function as an

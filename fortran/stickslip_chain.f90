@@ -82,6 +82,12 @@ module stickslip_chain
         !! block 1's relative velocity v_b - v_1 [m/s]
         procedure :: contact_model => chain_contact_model
         !! the chain as a `chain_contact`
+        procedure :: static_rhs => chain_static_rhs
+        !! (x_1, v_1)' of the one-block chain for a static law, given its coefficient
+        procedure :: holding_coefficient => chain_mu_hold
+        !! block 1's holding coefficient [-]
+        procedure :: set_relative_velocity => chain_set_vrel
+        !! v_1 = v_b - w
     end type chain_scene
 
     !> The chain with set-valued contacts, per unit mass: q = x [m], u = v [m/s], M = I,
@@ -311,6 +317,35 @@ contains
         real(dp) :: vr                  !! block 1's relative sliding velocity v_b - v_1 [m/s]
         vr = self%v_b - y(self%nb + 1)
     end function chain_vrel
+
+    !> (x, v)' of the one-block chain (the belt) for a static law whose coefficient at the
+    !! relative velocity is mu (as chain_static_jacobian: the modes' stage solve of the
+    !! implicit methods reads it for a two-component state only).
+    pure subroutine chain_static_rhs(self, y, mu, dydt)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(in)  :: y(:)       !! (x_1 [m], v_1 [m/s])
+        real(dp), intent(in)  :: mu         !! the law's coefficient at the relative velocity [-]
+        real(dp), intent(out) :: dydt(:)    !! (v_1 [m/s], acceleration [m/s^2])
+        dydt(1) = y(2)
+        dydt(2) = -self%k_m * y(1) + mu * self%g(1)
+    end subroutine chain_static_rhs
+
+    !> Block 1's holding coefficient: its spring force over its normal force [-].
+    pure function chain_mu_hold(self, y) result(mu_hold)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state (x_1..x_N [m], v_1..v_N [m/s], z)
+        real(dp) :: mu_hold             !! coefficient that would hold block 1 on the belt [-]
+        real(dp) :: a
+        call spring(self, y(1:self%nb), 1, a, mu_hold)
+    end function chain_mu_hold
+
+    !> Set block 1's velocity so that its relative sliding velocity is w: v_1 = v_b - w.
+    pure subroutine chain_set_vrel(self, y, w)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(inout) :: y(:) !! state; y(N + 1) = v_b - w on exit
+        real(dp), intent(in) :: w       !! relative sliding velocity [m/s]
+        y(self%nb + 1) = self%v_b - w
+    end subroutine chain_set_vrel
 
     subroutine chain_contact_model(self, cs, status)
         class(chain_scene), intent(in) :: self

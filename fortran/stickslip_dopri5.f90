@@ -15,10 +15,10 @@
 !! error (SS_STEP_TOO_SMALL) instead.
 module stickslip_dopri5
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_STIFF, &
-                               SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL, SS_INTERRUPTED
+                               SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL_NAME, SS_INTERRUPTED
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
                              check_step_controls, all_finite, output_start, RTOL_MIN, stop_requested, &
-                             limit_after_forced
+                             limit_after_forced, set_erk_constant, check_erk_constants
     use stickslip_scenes, only: slope_scene, belt_scene
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_recurdyn, only: recurdyn_law
@@ -97,21 +97,9 @@ contains
         character(len=*), intent(in) :: name    !! control name
         real(dp), intent(in) :: value           !! its value (counts and flags as reals)
         integer :: status
-        status = SS_OK
-        select case (name)
-        case ('safety');        self%safety = value
-        case ('fac1');          self%fac1 = value
-        case ('fac2');          self%fac2 = value
-        case ('beta_pi');       self%beta = value
-        case ('nstiff')
-            if (value >= 1.0_dp .and. value <= real(huge(1), dp)) then
-                self%nstiff = int(value)
-            else
-                status = SS_BAD_CONTROL
-            end if
-        case ('stop_on_stiff'); self%stop_on_stiff = value /= 0.0_dp
-        case default;           status = self%step_controls%set(name, value)
-        end select
+        status = set_erk_constant(name, value, self%safety, self%fac1, self%fac2, self%beta, self%nstiff, &
+                                  self%stop_on_stiff)
+        if (status == SS_BAD_CONTROL_NAME) status = self%step_controls%set(name, value)
     end function set_dopri5_option
 
     !> Integrate y' = f(t, y) from t0 to t_end with error control.
@@ -153,13 +141,8 @@ contains
         integer :: status
         status = check_tolerances(n, rtol, atol)
         if (status == SS_OK) status = check_step_controls(opts, t0, t_end)
-        if (status /= SS_OK) return
-        if (.not. (opts%safety > 0.0_dp .and. opts%safety < 1.0_dp) .or. &
-            .not. (opts%fac1 > 0.0_dp .and. opts%fac1 <= 1.0_dp) .or. &
-            .not. (opts%fac2 >= 1.0_dp .and. ieee_is_finite(opts%fac2)) .or. &
-            .not. (opts%beta >= 0.0_dp .and. opts%beta <= 0.2_dp) .or. opts%nstiff < 1) then
-            status = SS_BAD_CONTROL
-        end if
+        if (status == SS_OK) status = check_erk_constants(opts%safety, opts%fac1, opts%fac2, opts%beta, &
+                                                          opts%nstiff)
     end function check_options
 
 end module stickslip_dopri5

@@ -14,11 +14,30 @@
 !! is solved by Newton's method with the Jacobian evaluated once per step (at the starting
 !! guess) and the matrix I - c h J factorised once per step. Convergence: the weighted RMS
 !! norm of the change of u + c h k, with weights newton_atol + newton_rtol |u + c h k|, is
-!! <= 1. After newton_max_iter iterations without convergence the stage is solved again from
-!! the same guess by Newton's method with the Jacobian at every iterate and a backtracking line
+!! <= 1, or every component of that change is at the rounding level of the sum u + c h k
+!! (newton_atol + ROUNDING_FLOOR (|u| + |c h k|)): on a stiff system started off its slow
+!! manifold the terms of the sum are far larger than the state and its rounding far larger
+!! than newton_rtol |u + c h k| (generalized-alpha on y' = -lambda (y - cos t) - sin t,
+!! lambda h = 1e10, needed that to converge at all). After newton_max_iter iterations without
+!! convergence the stage is solved again from the same guess by Newton's method with the Jacobian at every iterate and a backtracking line
 !! search (at most 4 newton_max_iter iterations); if that fails too the run ends with
 !! SS_NEWTON_FAILED (a fixed step is never reduced); a non-finite Jacobian gives
 !! SS_JAC_NONFINITE, a singular matrix SS_SINGULAR, non-finite iterates SS_NEWTON_FAILED.
+!!
+!! Laws with jumps. On a friction scene (x, v) whose law has modes (`friction_law%n_modes`
+!! > 0: Coulomb, Karnopp) the methods run their nonsmooth instance instead: no Newton across
+!! a jump, the stage is a generalized equation on the law's graph with its jumps filled in.
+!! A step is the method's own stage in the current slip mode (mu fixed, Newton as above) when
+!! that mode still holds at the stage and at the step's end, or a backward Euler step in the
+!! current stick or band mode when the friction it needs is admissible; otherwise a backward
+!! Euler step (Moreau's catching-up scheme) solved in every mode, keeping the admissible
+!! solution whose relative velocity is nearest that at the step's start. A slip mode is
+!! solved with mu fixed; a set-valued point or Karnopp's hold fixes the stage's relative
+!! velocity (v from it, x = u_x + c h v) and takes mu from the scene's force (affine in mu),
+!! so that a stuck body keeps its relative velocity exactly. Generalized-alpha's derivative
+!! restarts from the stage of a backward Euler step (order 2 within a slip phase, a
+!! first-order step at each switch and through stick). No admissible mode at all (not seen:
+!! the filled-in graph always has one) ends the run with SS_NEWTON_FAILED.
 module stickslip_fixed_implicit
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_BAD_NIT, SS_BAD_NEWTON_TOL
     use stickslip_ode, only: step_controls
@@ -27,6 +46,11 @@ module stickslip_fixed_implicit
     private
 
     public :: newton_controls, check_newton_controls
+
+    !> Relative size of the rounding of a sum u + ch k that the Newton convergence test accepts
+    !! as converged (in units of |u| + |ch k|): 64 units of round-off, a few times what
+    !! forming the sum, evaluating f there and one substitution with the LU factors leave.
+    real(dp), parameter, public :: ROUNDING_FLOOR = 64.0_dp * epsilon(1.0_dp)
 
     !> Controls of a fixed-step implicit method: the shared ones (h, max_steps, every_step;
     !! h_min, h_max, h0, allow_forced are not read) and those of its Newton iteration.

@@ -12,16 +12,29 @@
 !! their names and units, and their rates; the scene appends them to its state vector
 !! (x, v, z...). A law without states adds nothing.
 !!
+!! A law whose graph mu(v) jumps (Coulomb's at v = 0 and v_s, Karnopp's at the band edges)
+!! can describe it as finitely many modes (`n_modes`, `mode`, `admits`): each a slip piece
+!! with a constant coefficient, or a point of the velocity axis where mu may take any value of
+!! an interval (the jump filled in: set-valued), or Karnopp's hold (mu = mu_hold, the relative
+!! velocity kept). The fixed-step implicit methods then solve each stage as a generalized
+!! equation over those modes instead of by Newton across the jump (see
+!! `stickslip_fixed_implicit`). A law with a Lipschitz graph has no modes (the default).
+!!
 !! A law reads its parameters by name from a resolved `param_values` set (see
 !! `stickslip_params`); the parameters every law shares (mu_s, mu_k, v_s) are declared
 !! here once.
 module stickslip_friction
-    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_kinds, only: dp, SS_OK, SS_NEWTON_FAILED, SS_SINGULAR
     use stickslip_params, only: param_spec, param_values, param_read
+    use stickslip_linalg, only: lu_decompose, lu_solve
     implicit none
     private
 
-    public :: friction_law, havsin, havsin_slope
+    public :: friction_law, havsin, havsin_slope, between, tr_bdf2_advance, relax_linear_target
+
+    !> Relative slack of a mode's bounds in `between` [-] (a million units of round-off: the
+    !! stage is solved to rounding, and a velocity or coefficient on a bound must count as on it).
+    real(dp), parameter, public :: MODE_SLACK = 1.0e6_dp * epsilon(1.0_dp)
 
     real(dp), parameter :: pi = acos(-1.0_dp)
 
@@ -29,6 +42,11 @@ module stickslip_friction
     integer, parameter, public :: SS_BAD_MU_S = -101   !! mu_s out of range
     integer, parameter, public :: SS_BAD_MU_K = -102   !! mu_k out of range or > mu_s
     integer, parameter, public :: SS_BAD_V_S = -103    !! v_s out of range
+
+    !> Kinds of a law's mode (see `mode`).
+    integer, parameter, public :: MODE_MU = 1     !! slip piece: mu = the mode's value
+    integer, parameter, public :: MODE_V = 2      !! set-valued point: v = the mode's value, mu in an interval
+    integer, parameter, public :: MODE_KEEP = 3   !! hold: the relative velocity kept, mu = mu_hold
 
     !> The parameters every law shares, with the paper's values (Table 1).
     type(param_spec), parameter, public :: MU_S_SPEC = param_spec(name='mu_s', default=0.35_dp, &
@@ -63,6 +81,19 @@ module stickslip_friction
         procedure :: is_static => static_law
         !> mu and the rates of the internal states at (v, z) with the holding coefficient.
         procedure :: evaluate => static_evaluate
+        !> Number of modes of a law with a discontinuous graph (0: none, the default).
+        procedure :: n_modes => no_modes
+        !> Kind (MODE_MU, MODE_V, MODE_KEEP) and value (mu [-] or v [m/s]) of mode i.
+        procedure :: mode => no_mode
+        !> .true. when (v, mu_hold, mu) lies on mode i (the law's graph, jumps filled in).
+        procedure :: admits => no_admits
+        !> The coefficient the law selects at v given the holding coefficient: the element of
+        !! its (filled-in) set at v nearest mu_hold (mu(v) where the law is single-valued).
+        procedure :: mu_select => static_select
+        !> Advance the internal states over a substep of prescribed motion: travel dx in a time
+        !! h, the relative velocity going from v0 to v1 (same sign as dx, or 0): exact or
+        !! exponential where a law overrides it, one TR-BDF2 step otherwise (`tr_bdf2_advance`).
+        procedure :: advance => tr_bdf2_advance
     end type friction_law
 
     abstract interface
@@ -131,6 +162,131 @@ contains
         real(dp), intent(out) :: dz(:)      !! rates of the internal states
         mu = self%mu(v)
     end subroutine static_evaluate
+
+    pure integer function no_modes(self)
+        class(friction_law), intent(in) :: self
+        no_modes = 0
+    end function no_modes
+
+    pure subroutine no_mode(self, i, kind, value)
+        class(friction_law), intent(in) :: self
+        integer, intent(in) :: i            !! mode index, 1 .. n_modes
+        integer, intent(out) :: kind        !! MODE_MU, MODE_V or MODE_KEEP
+        real(dp), intent(out) :: value      !! mu [-] (MODE_MU), v [m/s] (MODE_V), 0 (MODE_KEEP)
+        kind = MODE_MU
+        value = 0.0_dp
+    end subroutine no_mode
+
+    pure logical function no_admits(self, i, v, mu_hold, mu)
+        class(friction_law), intent(in) :: self
+        integer, intent(in) :: i            !! mode index, 1 .. n_modes
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-]
+        real(dp), intent(in) :: mu          !! friction coefficient [-]
+        no_admits = .false.
+    end function no_admits
+
+    pure function static_select(self, v, mu_hold) result(mu)
+        class(friction_law), intent(in) :: self
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-]
+        real(dp) :: mu                      !! friction coefficient [-]
+        mu = self%mu(v)
+    end function static_select
+
+    !> .true. when x lies in the closed interval between a and b (either order), widened by
+    !! MODE_SLACK: the test of a law's `admits` (a stage solved to rounding lands on a mode's
+    !! edge to rounding).
+    elemental logical function between(x, a, b)
+        real(dp), intent(in) :: x, a, b
+        !! x: the value; a, b: the ends of the interval, either order
+        between = x >= min(a, b) - MODE_SLACK * (1.0_dp + abs(a)) .and. &
+                  x <= max(a, b) + MODE_SLACK * (1.0_dp + abs(b))
+    end function between
+
+    !> One step of TR-BDF2 (Bank et al. 1985; Hosea & Shampine 1996: a trapezoidal stage to
+    !! t + gamma h, gamma = 2 - sqrt(2), then BDF2; L-stable, order 2) on the internal states
+    !! z' = f(v(t), z), f from `evaluate` (holding coefficient 0), with the velocity linear
+    !! from v0 to v1 over the step (dx is not used). Each stage is solved by Newton iterations
+    !! with a forward-difference Jacobian at every iterate (n evaluations each: the laws' rates
+    !! may bend sharply, as the elasto-plastic attachment does). A law without states returns
+    !! at once.
+    subroutine tr_bdf2_advance(self, dx, h, v0, v1, z, status)
+        class(friction_law), intent(inout) :: self   !! the law (its `evaluate` gives the rates)
+        real(dp), intent(in)    :: dx       !! travel over the step [m] (unused)
+        real(dp), intent(in)    :: h        !! step [s], >= 0
+        real(dp), intent(in)    :: v0       !! relative velocity at the start [m/s]
+        real(dp), intent(in)    :: v1       !! relative velocity at the end [m/s]
+        real(dp), intent(inout) :: z(:)     !! internal states at the start; at the end on return
+        integer, intent(out)    :: status   !! SS_OK, SS_NEWTON_FAILED or SS_SINGULAR
+        real(dp), parameter :: gam = 2.0_dp - sqrt(2.0_dp), d = 0.5_dp * gam
+        real(dp), parameter :: a_g = 1.0_dp / (gam * (2.0_dp - gam)), &
+                               a_0 = (1.0_dp - gam)**2 / (gam * (2.0_dp - gam))
+        integer, parameter :: max_iter = 20
+        real(dp) :: f0(size(z)), f1(size(z)), fp(size(z)), zg(size(z)), w(size(z)), dz(size(z)), &
+                    jac(size(z), size(z)), zp(size(z)), delta, mu, v
+        integer :: ipiv(size(z)), n, j, it, info
+        n = size(z)
+        status = SS_OK
+        if (n == 0 .or. h <= 0.0_dp) return
+        call self%evaluate(v0, z, 0.0_dp, mu, f0)
+        ! trapezoidal stage: zg = z + d h (f(z) + f(zg)), from the explicit Euler guess
+        w = z + gam * h * f0
+        v = v0 + gam * (v1 - v0)
+        call solve_stage(z + d * h * f0)
+        if (status /= SS_OK) return
+        zg = w
+        ! BDF2 stage: z1 = a_g zg - a_0 z + d h f(z1)
+        v = v1
+        call solve_stage(a_g * zg - a_0 * z)
+        if (status /= SS_OK) return
+        z = w
+    contains
+        !> w = rhs + d h f(v, w) by Newton from the current w.
+        subroutine solve_stage(rhs)
+            real(dp), intent(in) :: rhs(:)
+            do it = 1, max_iter
+                call self%evaluate(v, w, 0.0_dp, mu, f1)
+                do j = 1, n
+                    zp = w
+                    delta = sqrt(epsilon(1.0_dp) * max(1.0e-5_dp, abs(w(j))))
+                    zp(j) = w(j) + delta
+                    call self%evaluate(v, zp, 0.0_dp, mu, fp)
+                    jac(:, j) = -d * h * (fp - f1) / delta
+                    jac(j, j) = jac(j, j) + 1.0_dp
+                end do
+                call lu_decompose(jac, ipiv, info)
+                if (info /= 0) then
+                    status = SS_SINGULAR
+                    return
+                end if
+                dz = rhs + d * h * f1 - w
+                call lu_solve(jac, ipiv, dz)
+                w = w + dz
+                if (all(abs(dz) <= 1.0e-12_dp * max(abs(w), abs(rhs), h * abs(f0)))) return
+            end do
+            status = SS_NEWTON_FAILED
+        end subroutine solve_stage
+    end subroutine tr_bdf2_advance
+
+    !> y(1) of y' = lambda (L(t) - y) from y(0) = y0 with the target L linear from L0 to L1
+    !! over the step and x = lambda h >= 0: L1 + (y0 - L0) e^-x - (L1 - L0)(1 - e^-x)/x (the
+    !! first-order-hold exponential step; y0 at x = 0, L1 as x -> infinity).
+    elemental function relax_linear_target(y0, l0, l1, x) result(y)
+        real(dp), intent(in) :: y0      !! initial value
+        real(dp), intent(in) :: l0      !! target at the start
+        real(dp), intent(in) :: l1      !! target at the end
+        real(dp), intent(in) :: x       !! lambda h, >= 0 [-]
+        real(dp) :: y                   !! value at the end
+        real(dp) :: e, phi
+        e = exp(-x)
+        if (x < 1.0e-4_dp) then
+            phi = 1.0_dp - x * (0.5_dp - x / 6.0_dp)     ! (1 - e^-x)/x, without cancellation
+        else
+            phi = (1.0_dp - e) / x
+        end if
+        y = l1 + (y0 - l0) * e - (l1 - l0) * phi
+    end function relax_linear_target
 
     !> Haversine step: h0 for x <= x0, h1 for x >= x1, and
     !! h0 + (h1 - h0) (1 - cos(pi (x - x0)/(x1 - x0)))/2 in between (needs x1 > x0).

@@ -10,6 +10,8 @@
 !! with ydot_0 = f(t0, y0). With k = ydot_{n+alpha_m} as unknown the equation is
 !! k = f(t_n + alpha_f h, u + (alpha_f gamma / alpha_m) h k), u = y_n + alpha_f h (1 - gamma/alpha_m) ydot_n,
 !! solved by Newton's method with the Jacobian once per step.
+!! On Coulomb and Karnopp (laws with modes) each stage is solved over the law's modes
+!! instead of by Newton across the jump (stickslip_fixed_implicit).
 !! Grid, output, Newton and statuses: see stickslip_fixed_implicit (the driver and the Newton
 !! solve are stickslip_fixed_implicit_body.inc, instantiated here around stage_setup and
 !! stage_finish).
@@ -18,9 +20,10 @@ module stickslip_galpha
                                SS_INTERRUPTED, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE
     use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, step_count, &
                              stop_requested, all_finite, hermite
-    use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls
+    use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls, ROUNDING_FLOOR
     use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
-    use stickslip_scenes, only: slope_scene, belt_scene
+    use stickslip_scenes, only: friction_scene, slope_scene, belt_scene
+    use stickslip_friction, only: MODE_MU, MODE_V, between
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_recurdyn, only: recurdyn_law
     use stickslip_law_proposed, only: proposed_law
@@ -101,14 +104,18 @@ contains
         call galpha_parameters(opts%rho_inf, par(1), par(2), par(3))
 
 #define KERNEL_ARGS t0, y0, t_end, opts, par, t_out, y_out, stats
+#define NONSMOOTH_KERNEL
 #include "stickslip_kernel_dispatch.inc"
+#undef NONSMOOTH_KERNEL
 #undef KERNEL_ARGS
     end subroutine galpha_integrate
 
     ! The method's instances: generic_kernel for any ode_system (a user's own), and one for
     ! each built-in scene with each static law (its analytic Jacobian inlined).
 #define KERNEL_BODY "stickslip_fixed_implicit_body.inc"
+#define NONSMOOTH_KERNEL
 #include "stickslip_kernel_instances.inc"
+#undef NONSMOOTH_KERNEL
 #undef KERNEL_BODY
 
     !> The stage of the step from (t, y) of size h: k = ydot_{n+alpha_m} solves

@@ -1,6 +1,8 @@
 !> Backward (implicit) Euler method, order 1, L-stable, fixed step:
 !! y1 = y + h f(t + h, y1), solved by Newton's method with the Jacobian once per step.
 !!
+!! On Coulomb and Karnopp (laws with modes) each stage is solved over the law's modes
+!! instead of by Newton across the jump (stickslip_fixed_implicit).
 !! Grid, output, Newton and statuses: see stickslip_fixed_implicit (the driver and the Newton
 !! solve are stickslip_fixed_implicit_body.inc, instantiated here around stage_setup and
 !! stage_finish). Evaluations per step: 1 + Newton iterations (+ n for a finite-difference
@@ -10,9 +12,10 @@ module stickslip_implicit_euler
                                SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE
     use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, step_count, &
                              stop_requested, all_finite, hermite
-    use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls
+    use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls, ROUNDING_FLOOR
     use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
-    use stickslip_scenes, only: slope_scene, belt_scene
+    use stickslip_scenes, only: friction_scene, slope_scene, belt_scene
+    use stickslip_friction, only: MODE_MU, MODE_V, between
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_recurdyn, only: recurdyn_law
     use stickslip_law_proposed, only: proposed_law
@@ -60,14 +63,18 @@ contains
         if (stats%status /= SS_OK) return
 
 #define KERNEL_ARGS t0, y0, t_end, opts, par, t_out, y_out, stats
+#define NONSMOOTH_KERNEL
 #include "stickslip_kernel_dispatch.inc"
+#undef NONSMOOTH_KERNEL
 #undef KERNEL_ARGS
     end subroutine implicit_euler_integrate
 
     ! The method's instances: generic_kernel for any ode_system (a user's own), and one for
     ! each built-in scene with each static law (its analytic Jacobian inlined).
 #define KERNEL_BODY "stickslip_fixed_implicit_body.inc"
+#define NONSMOOTH_KERNEL
 #include "stickslip_kernel_instances.inc"
+#undef NONSMOOTH_KERNEL
 #undef KERNEL_BODY
 
     !> The stage of the step from (t, y) of size h: k = f(t + h, y + h k) (ydot not read:

@@ -56,6 +56,12 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_CONTACT_CTL = -161 !! contact_tol or contact_max_iter out of range
     integer, parameter, public :: SS_BAD_EVENT_CTL = -162   !! max_events or zeno_gap out of range
     integer, parameter, public :: SS_NOT_SETVALUED = -163   !! the law (or system) has no set-valued contact
+    ! prescribed motion (stickslip_prescribed)
+    integer, parameter, public :: SS_BAD_TIMES = -175       !! sample times not finite or not strictly increasing
+    integer, parameter, public :: SS_BAD_MOTION = -176      !! displacement or velocity samples not finite
+    integer, parameter, public :: SS_BAD_BACKLASH = -177    !! backlash not finite or < 0
+    integer, parameter, public :: SS_BAD_ASYMMETRY = -178   !! asymmetry not finite or <= 0
+    integer, parameter, public :: SS_BAD_NORMAL_FORCE = -179 !! normal force not finite or < 0
 
     !> Names of the status codes above, for the generated C header (`SS_` + name).
     character(len=*), parameter, public :: STATUS_NAMES = 'OK STEP_BUDGET STEP_TOO_SMALL STIFF ' // &
@@ -64,16 +70,17 @@ module stickslip_kinds
         'BAD_CONTROL_NAME BAD_PARAM_NAME NEWTON_FAILED SINGULAR JAC_NONFINITE BAD_RHO_INF ' // &
         'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH' // &
         ' CONTACT_FAILED EVENT_ZENO BAD_THETA_MJ BAD_CONTACT_CTL BAD_EVENT_CTL' // &
-        ' NOT_SETVALUED'
+        ' NOT_SETVALUED BAD_TIMES BAD_MOTION BAD_BACKLASH BAD_ASYMMETRY BAD_NORMAL_FORCE'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(39) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(44) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
         SS_BAD_PARAM_NAME, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_BAD_RHO_INF, SS_BAD_NIT, &
         SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_INTERRUPTED, &
         SS_BAD_FORCED_GROWTH, SS_CONTACT_FAILED, SS_EVENT_ZENO, SS_BAD_THETA_MJ, &
-        SS_BAD_CONTACT_CTL, SS_BAD_EVENT_CTL, SS_NOT_SETVALUED]
+        SS_BAD_CONTACT_CTL, SS_BAD_EVENT_CTL, SS_NOT_SETVALUED, SS_BAD_TIMES, SS_BAD_MOTION, &
+        SS_BAD_BACKLASH, SS_BAD_ASYMMETRY, SS_BAD_NORMAL_FORCE]
 
 contains
 
@@ -135,6 +142,11 @@ contains
         case (SS_BAD_EVENT_CTL); msg = 'max_events: an integer >= 1; zeno_gap: finite and >= 0 [s]'
         case (SS_NOT_SETVALUED);  msg = 'law: the methods moreau and event_driven take only the set-valued' // &
                                         ' laws coulomb, stribeck (and a system with the contact interface)'
+        case (SS_BAD_TIMES);      msg = 't: must be finite and strictly increasing, one time per sample [s]'
+        case (SS_BAD_MOTION);     msg = 'x, v: must be finite, one value per sample [m, m/s]'
+        case (SS_BAD_BACKLASH);   msg = 'backlash: must be finite and >= 0 [m]'
+        case (SS_BAD_ASYMMETRY);  msg = 'asymmetry: must be finite and > 0 (negative-direction level / positive one) [-]'
+        case (SS_BAD_NORMAL_FORCE); msg = 'normal_force: must be finite and >= 0, a scalar or one value per sample [N]'
         case default;             msg = 'unknown status code'
         end select
     end function status_text

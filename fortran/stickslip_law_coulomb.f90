@@ -1,9 +1,14 @@
 !> Coulomb's law (Yoo & Lee 2008, eq. 1): mu_s sign(v) for 0 < |v| < v_s, mu_k sign(v)
 !! beyond, 0 at v = 0. Discontinuous at 0 and at v_s; no internal state.
+!!
+!! Its modes (for the implicit methods' generalized equation): the graph with its jumps filled
+!! in, so set-valued at v = 0 (any mu in [-mu_s, mu_s]: stick) and at v = +-v_s (mu between
+!! mu_k and mu_s): seven modes, -mu_k (v <= -v_s), the point -v_s, -mu_s (-v_s <= v <= 0),
+!! the point 0, mu_s (0 <= v <= v_s), the point v_s, mu_k (v >= v_s).
 module stickslip_law_coulomb
     use stickslip_kinds, only: dp
     use stickslip_params, only: param_values
-    use stickslip_friction, only: friction_law
+    use stickslip_friction, only: friction_law, MODE_MU, MODE_V, between
     implicit none
     private
 
@@ -18,6 +23,14 @@ module stickslip_law_coulomb
         !! friction coefficient at a sliding velocity
         procedure :: dmu => coulomb_dmu
         !! its slope d mu / d v
+        procedure :: n_modes => coulomb_n_modes
+        !! seven modes: four slip pieces and three set-valued points
+        procedure :: mode => coulomb_mode
+        !! kind and value of a mode
+        procedure :: admits => coulomb_admits
+        !! whether (v, mu) lies on a mode
+        procedure :: mu_select => coulomb_select
+        !! mu(v), and at v = 0 mu_hold clamped to [-mu_s, mu_s]
     end type coulomb_law
 
 contains
@@ -43,6 +56,56 @@ contains
         real(dp) :: d                   !! d mu / d v [s/m]
         d = 0.0_dp
     end function coulomb_dmu
+
+    pure integer function coulomb_n_modes(self)
+        class(coulomb_law), intent(in) :: self
+        coulomb_n_modes = 7
+    end function coulomb_n_modes
+
+    !> Modes 1 .. 7 from v = -infinity to +infinity: slip at -mu_k, the point -v_s, slip at
+    !! -mu_s, the point 0 (stick), slip at mu_s, the point v_s, slip at mu_k.
+    pure subroutine coulomb_mode(self, i, kind, value)
+        class(coulomb_law), intent(in) :: self
+        integer, intent(in) :: i            !! mode index, 1 .. 7
+        integer, intent(out) :: kind        !! MODE_MU or MODE_V
+        real(dp), intent(out) :: value      !! mu [-] (MODE_MU) or v [m/s] (MODE_V)
+        real(dp) :: values(7)
+        values = [-self%mu_k, -self%v_s, -self%mu_s, 0.0_dp, self%mu_s, self%v_s, self%mu_k]
+        kind = merge(MODE_V, MODE_MU, mod(i, 2) == 0)
+        value = values(i)
+    end subroutine coulomb_mode
+
+    pure logical function coulomb_admits(self, i, v, mu_hold, mu)
+        class(coulomb_law), intent(in) :: self
+        integer, intent(in) :: i            !! mode index, 1 .. 7
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-] (not read)
+        real(dp), intent(in) :: mu          !! friction coefficient [-]
+        real(dp), parameter :: inf = 0.25_dp * huge(1.0_dp)   ! (an open end; room for the slack)
+        select case (i)
+        case (1); coulomb_admits = between(v, -inf, -self%v_s)
+        case (2); coulomb_admits = between(mu, -self%mu_s, -self%mu_k)
+        case (3); coulomb_admits = between(v, -self%v_s, 0.0_dp)
+        case (4); coulomb_admits = between(mu, -self%mu_s, self%mu_s)
+        case (5); coulomb_admits = between(v, 0.0_dp, self%v_s)
+        case (6); coulomb_admits = between(mu, self%mu_k, self%mu_s)
+        case (7); coulomb_admits = between(v, self%v_s, inf)
+        case default; coulomb_admits = .false.
+        end select
+    end function coulomb_admits
+
+    !> mu(v); at v = 0, the stick force: mu_hold clamped to [-mu_s, mu_s].
+    pure function coulomb_select(self, v, mu_hold) result(mu)
+        class(coulomb_law), intent(in) :: self
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-]
+        real(dp) :: mu                      !! friction coefficient [-]
+        if (v == 0.0_dp) then
+            mu = max(-self%mu_s, min(self%mu_s, mu_hold))
+        else
+            mu = coulomb(v, self%mu_s, self%mu_k, self%v_s)
+        end if
+    end function coulomb_select
 
     !> Coulomb's law (eq. 1).
     elemental function coulomb(v, mu_s, mu_k, v_s) result(mu)

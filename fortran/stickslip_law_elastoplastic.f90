@@ -18,6 +18,7 @@ module stickslip_law_elastoplastic
     use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_spec, param_values, param_read
     use stickslip_law_lugre, only: lugre_law
+    use stickslip_friction, only: tr_bdf2_advance
     implicit none
     private
 
@@ -40,6 +41,8 @@ module stickslip_law_elastoplastic
         procedure :: init => elastoplastic_init
         !> Duponts attachment function alpha(z, v) [-].
         procedure :: attachment => elastoplastic_attachment
+        !> The flow over a substep: TR-BDF2 (alpha makes z' nonlinear in z).
+        procedure :: advance => elastoplastic_advance
     end type elastoplastic_law
 
 contains
@@ -53,6 +56,18 @@ contains
         call param_read(p, Z_BA_RATIO_SPEC, ratio, status)
         if (status == SS_OK) self%z_ba = ratio * self%mu_k / self%sigma0
     end function elastoplastic_init
+
+    !> One TR-BDF2 step (`tr_bdf2_advance`): LuGre's exact flow does not hold once alpha < 1.
+    subroutine elastoplastic_advance(self, dx, h, v0, v1, z, status)
+        class(elastoplastic_law), intent(inout) :: self
+        real(dp), intent(in)    :: dx       !! travel over the substep [m]
+        real(dp), intent(in)    :: h        !! substep [s]
+        real(dp), intent(in)    :: v0       !! relative velocity at the start [m/s]
+        real(dp), intent(in)    :: v1       !! relative velocity at the end [m/s]
+        real(dp), intent(inout) :: z(:)     !! bristle deflection (z(1)) at the start; at the end [m]
+        integer, intent(out)    :: status   !! SS_OK, SS_NEWTON_FAILED or SS_SINGULAR
+        call tr_bdf2_advance(self, dx, h, v0, v1, z, status)
+    end subroutine elastoplastic_advance
 
     !> Dupont et al.'s alpha(z, v) (see the module notes).
     pure function elastoplastic_attachment(self, z, v, g) result(alpha)

@@ -15,6 +15,11 @@
 !! c > 0. The library's slope and belt do; a user's own scene can use the law the same way
 !! (e.g. a mass m pushed by a force F on a table: mu_hold = F / (m g), c = g).
 !!
+!! Its modes (for the implicit methods' generalized equation, see `stickslip_friction`):
+!! slip at -mu_k (v <= -dv), the band edge -dv (mu between -mu_k and the band's value), the
+!! hold (|v| <= dv, the relative velocity kept, |mu_hold| <= mu_s), the band saturated at
+!! -mu_s or mu_s (|v| <= dv, mu_hold beyond the limit), the band edge dv, slip at mu_k.
+!!
 !! `mu(v)` alone is the curve at zero holding force: 0 inside the band, mu_k sign(v) outside.
 !! dv defaults to 1e-3 m/s: the band must catch the relative velocity in one step, so dv must
 !! exceed half the velocity change of a step, |a| h / 2 (2.5e-4 m/s on the belt re-sticking
@@ -23,7 +28,7 @@
 module stickslip_law_karnopp
     use stickslip_kinds, only: dp
     use stickslip_params, only: param_spec, param_values, param_read
-    use stickslip_friction, only: friction_law
+    use stickslip_friction, only: friction_law, MODE_MU, MODE_V, MODE_KEEP, between
     implicit none
     private
 
@@ -49,6 +54,14 @@ module stickslip_law_karnopp
         procedure :: is_static => karnopp_is_static
         !> mu and the internal-state rates at (v, z, mu_hold).
         procedure :: evaluate => karnopp_evaluate
+        !> Seven modes: two slip pieces, two band edges, the hold and the saturated band.
+        procedure :: n_modes => karnopp_n_modes
+        !> Kind and value of a mode.
+        procedure :: mode => karnopp_mode
+        !> Whether (v, mu_hold, mu) lies on a mode.
+        procedure :: admits => karnopp_admits
+        !> The law itself (it is single-valued given mu_hold).
+        procedure :: mu_select => karnopp_select
     end type karnopp_law
 
 contains
@@ -91,6 +104,54 @@ contains
         real(dp), intent(out) :: dz(:)      !! rates of the internal states (none)
         mu = karnopp(v, mu_hold, self%mu_s, self%mu_k, self%dv)
     end subroutine karnopp_evaluate
+
+    pure integer function karnopp_n_modes(self)
+        class(karnopp_law), intent(in) :: self
+        karnopp_n_modes = 7
+    end function karnopp_n_modes
+
+    !> Modes 1 .. 7: slip at -mu_k, the edge -dv, saturated at -mu_s, the hold, saturated at
+    !! mu_s, the edge dv, slip at mu_k.
+    pure subroutine karnopp_mode(self, i, kind, value)
+        class(karnopp_law), intent(in) :: self
+        integer, intent(in) :: i            !! mode index, 1 .. 7
+        integer, intent(out) :: kind        !! MODE_MU, MODE_V or MODE_KEEP
+        real(dp), intent(out) :: value      !! mu [-] (MODE_MU), v [m/s] (MODE_V), 0 (MODE_KEEP)
+        integer, parameter :: kinds(7) = [MODE_MU, MODE_V, MODE_MU, MODE_KEEP, MODE_MU, MODE_V, MODE_MU]
+        real(dp) :: values(7)
+        values = [-self%mu_k, -self%dv, -self%mu_s, 0.0_dp, self%mu_s, self%dv, self%mu_k]
+        kind = kinds(i)
+        value = values(i)
+    end subroutine karnopp_mode
+
+    pure logical function karnopp_admits(self, i, v, mu_hold, mu)
+        class(karnopp_law), intent(in) :: self
+        integer, intent(in) :: i            !! mode index, 1 .. 7
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-]
+        real(dp), intent(in) :: mu          !! friction coefficient [-]
+        real(dp), parameter :: inf = 0.25_dp * huge(1.0_dp)   ! (an open end; room for the slack)
+        real(dp) :: band
+        band = max(-self%mu_s, min(self%mu_s, mu_hold))   ! the band's value at mu_hold
+        select case (i)
+        case (1); karnopp_admits = between(v, -inf, -self%dv)
+        case (2); karnopp_admits = between(mu, -self%mu_k, band)
+        case (3); karnopp_admits = between(v, -self%dv, self%dv) .and. mu_hold <= -self%mu_s
+        case (4); karnopp_admits = between(v, -self%dv, self%dv) .and. between(mu, -self%mu_s, self%mu_s)
+        case (5); karnopp_admits = between(v, -self%dv, self%dv) .and. mu_hold >= self%mu_s
+        case (6); karnopp_admits = between(mu, self%mu_k, band)
+        case (7); karnopp_admits = between(v, self%dv, inf)
+        case default; karnopp_admits = .false.
+        end select
+    end function karnopp_admits
+
+    pure function karnopp_select(self, v, mu_hold) result(mu)
+        class(karnopp_law), intent(in) :: self
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-]
+        real(dp) :: mu                      !! friction coefficient [-]
+        mu = karnopp(v, mu_hold, self%mu_s, self%mu_k, self%dv)
+    end function karnopp_select
 
     !> Karnopp's law at v with holding coefficient mu_hold.
     elemental function karnopp(v, mu_hold, mu_s, mu_k, dv) result(mu)

@@ -30,7 +30,7 @@
 module stickslip_law_lugre
     use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_spec, param_values, param_read
-    use stickslip_friction, only: friction_law, SS_BAD_MU_K
+    use stickslip_friction, only: friction_law, SS_BAD_MU_K, relax_linear_target
     use stickslip_law_stribeck, only: stribeck_curve, stribeck_curve_slope
     implicit none
     private
@@ -80,6 +80,8 @@ module stickslip_law_lugre
         procedure :: is_static => lugre_is_static
         !> mu and the internal-state rates at (v, z, mu_hold).
         procedure :: evaluate => lugre_evaluate
+        !> Exponential flow of z over a substep of prescribed motion (z' is linear in z).
+        procedure :: advance => lugre_advance
         !> Factor alpha in [0, 1] of the relaxation term of z' (1 for LuGre).
         procedure :: attachment => lugre_attachment
         !> The Stribeck curve g(|v|) [-] of the steady state.
@@ -153,6 +155,29 @@ contains
         dz(1) = v - self%attachment(z(1), v, g) * self%sigma0 * abs(v) * z(1) / g
         mu = self%sigma0 * z(1) + self%sigma1 * dz(1) + self%sigma2 * v
     end subroutine lugre_evaluate
+
+    !> In the travel u (du = |v| dt) the state equation is dz/du = sgn(v) - z/z_g(v), z_g =
+    !! g(v)/sigma0: a relaxation over the length z_g to the steady deflection z_ss = z_g sgn(v).
+    !! Over the substep: the rate 1/z_g at the mean of z_g(v0) and z_g(v1), the target
+    !! z_ss linear in u from z_ss(v0) to z_ss(v1) (the first-order-hold exponential step: exact
+    !! when g is constant, second order otherwise, and exact in the stiff limit, where z sits
+    !! on z_ss(v1)). No travel, no change.
+    subroutine lugre_advance(self, dx, h, v0, v1, z, status)
+        class(lugre_law), intent(inout) :: self
+        real(dp), intent(in)    :: dx       !! travel over the substep [m]
+        real(dp), intent(in)    :: h        !! substep [s] (unused: the flow depends on the travel)
+        real(dp), intent(in)    :: v0       !! relative velocity at the start [m/s]
+        real(dp), intent(in)    :: v1       !! relative velocity at the end [m/s]
+        real(dp), intent(inout) :: z(:)     !! bristle deflection (z(1)) at the start; at the end [m]
+        integer, intent(out)    :: status   !! SS_OK
+        real(dp) :: zg0, zg1, sg
+        status = SS_OK
+        if (dx == 0.0_dp) return
+        sg = sign(1.0_dp, dx)
+        zg0 = self%g(v0) / self%sigma0
+        zg1 = self%g(v1) / self%sigma0
+        z(1) = relax_linear_target(z(1), sg * zg0, sg * zg1, abs(dx) * 2.0_dp / (zg0 + zg1))
+    end subroutine lugre_advance
 
     pure function lugre_attachment(self, z, v, g) result(alpha)
         class(lugre_law), intent(in) :: self

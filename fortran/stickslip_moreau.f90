@@ -7,7 +7,7 @@
 !!   q1 = q + h [(1 - theta) u + theta u1]
 !! with W = M + h theta C + (h theta)^2 K (C = -df/du, K = -df/dq; `solve_w`) and the
 !! friction impulses p (one per contact, [N s]) from the set-valued law at the end of the
-!! step: p_i in -h N_i F_i(w_i), w = H u1 + b(t1). For a linear f this is exactly the
+!! step: p_i in -h N_i F_i(w_i), w = H u1 + b(t1), with N_i at (t1, q + h u). For a linear f this is exactly the
 !! theta-method; otherwise it is its linearly implicit form (one Newton iteration).
 !!
 !! The friction problem w = w_free + D p, D = H W^-1 H^T (the Delassus matrix, n_c x n_c),

@@ -13,14 +13,14 @@
 module stickslip_ode
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_N_OUT, SS_BAD_DIM, SS_BAD_Y0, SS_BAD_T_END, &
                                SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_H0, &
-                               SS_BAD_MAX_STEPS, SS_BAD_CONTROL_NAME, SS_BAD_FORCED_GROWTH
+                               SS_BAD_MAX_STEPS, SS_BAD_CONTROL_NAME, SS_BAD_FORCED_GROWTH, SS_BAD_CONTROL
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
     public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, &
               check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite, &
-              step_count, stop_requested, limit_after_forced
+              step_count, stop_requested, limit_after_forced, set_erk_constant, check_erk_constants
 
     !> Steps between two looks at a stop flag (a power of 2 minus 1, as a mask).
     integer(8), parameter, public :: STOP_CHECK_MASK = 4095_8
@@ -410,5 +410,52 @@ contains
         !! the array to test
         all_finite = all(ieee_is_finite(y))
     end function all_finite
+
+    !> Set one of the step-control constants of Hairer's explicit codes (DOPRI5, DOP853) by
+    !! name; SS_BAD_CONTROL_NAME for any other name (the caller then tries the shared ones).
+    function set_erk_constant(name, value, safety, fac1, fac2, beta, nstiff, stop_on_stiff) result(status)
+        character(len=*), intent(in) :: name    !! control name
+        real(dp), intent(in) :: value           !! its value (counts and flags as reals)
+        real(dp), intent(inout) :: safety       !! safety factor of the step control
+        real(dp), intent(inout) :: fac1         !! smallest step ratio h_new/h
+        real(dp), intent(inout) :: fac2         !! largest step ratio h_new/h
+        real(dp), intent(inout) :: beta         !! Lund stabilisation exponent (control 'beta_pi')
+        integer, intent(inout) :: nstiff        !! stiffness test every nstiff accepted steps
+        logical, intent(inout) :: stop_on_stiff !! stop with SS_STIFF when the test fires
+        integer :: status
+        status = SS_OK
+        select case (name)
+        case ('safety');        safety = value
+        case ('fac1');          fac1 = value
+        case ('fac2');          fac2 = value
+        case ('beta_pi');       beta = value
+        case ('nstiff')
+            if (value >= 1.0_dp .and. value <= real(huge(1), dp)) then
+                nstiff = int(value)
+            else
+                status = SS_BAD_CONTROL
+            end if
+        case ('stop_on_stiff'); stop_on_stiff = value /= 0.0_dp
+        case default;           status = SS_BAD_CONTROL_NAME
+        end select
+    end function set_erk_constant
+
+    !> Check the step-control constants of Hairer's explicit codes: 0 < safety < 1,
+    !! 0 < fac1 <= 1 <= fac2 (finite), 0 <= beta <= 0.2, nstiff >= 1; SS_OK or SS_BAD_CONTROL.
+    pure function check_erk_constants(safety, fac1, fac2, beta, nstiff) result(status)
+        real(dp), intent(in) :: safety      !! safety factor of the step control
+        real(dp), intent(in) :: fac1        !! smallest step ratio h_new/h
+        real(dp), intent(in) :: fac2        !! largest step ratio h_new/h
+        real(dp), intent(in) :: beta        !! Lund stabilisation exponent
+        integer, intent(in)  :: nstiff      !! stiffness test every nstiff accepted steps
+        integer :: status
+        status = SS_OK
+        if (.not. (safety > 0.0_dp .and. safety < 1.0_dp) .or. &
+            .not. (fac1 > 0.0_dp .and. fac1 <= 1.0_dp) .or. &
+            .not. (fac2 >= 1.0_dp .and. ieee_is_finite(fac2)) .or. &
+            .not. (beta >= 0.0_dp .and. beta <= 0.2_dp) .or. nstiff < 1) then
+            status = SS_BAD_CONTROL
+        end if
+    end function check_erk_constants
 
 end module stickslip_ode

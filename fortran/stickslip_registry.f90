@@ -26,11 +26,14 @@ module stickslip_registry
     use stickslip_law_karnopp, only: karnopp_law, DV_SPEC
     use stickslip_law_lugre, only: lugre_law, SIGMA0_SPEC, SIGMA1_SPEC, SIGMA2_SPEC
     use stickslip_law_elastoplastic, only: elastoplastic_law, Z_BA_RATIO_SPEC
+    use stickslip_law_dahl, only: dahl_law, DAHL_ALPHA_SPEC
+    use stickslip_law_gms, only: gms_law, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC
     use stickslip_scenes, only: friction_scene, slope_scene, belt_scene, G_SPEC, THETA_SPEC, M_SPEC, &
                                 K_SPEC, V_B_SPEC
     use stickslip_chain, only: chain_scene, N_BLOCKS_SPEC, K_C_SPEC, PERTURBATION_SPEC
     use stickslip_rk4, only: rk4_integrate, RK4_INFO
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, DOPRI5_INFO
+    use stickslip_dop853, only: dop853_options, dop853_integrate, DOP853_INFO
     use stickslip_radau5, only: radau5_options, radau5_integrate, RADAU5_INFO
     use stickslip_implicit_euler, only: implicit_euler_options, implicit_euler_integrate, IMPLICIT_EULER_INFO
     use stickslip_galpha, only: galpha_options, galpha_integrate, GALPHA_INFO
@@ -62,10 +65,15 @@ module stickslip_registry
         entry_info('karnopp', 'mu_s mu_k dv', 'Karnopp stick band |v| < dv, mu_k outside'), &
         entry_info('lugre', 'mu_s mu_k v_s sigma0 sigma1 sigma2', 'LuGre bristle (Canudas de Wit et al. 1995)'), &
         entry_info('elastoplastic', 'mu_s mu_k v_s sigma0 sigma1 sigma2 z_ba_ratio', &
-                   'elasto-plastic bristle (Dupont et al. 2002)')]
+                   'elasto-plastic bristle (Dupont et al. 2002)'), &
+        entry_info('dahl', 'mu_k sigma0 dahl_alpha', 'Dahl (1968, 1976), with its shape exponent'), &
+        entry_info('gms', 'mu_s mu_k v_s sigma0 sigma1 sigma2 n_elements gms_shape gms_c', &
+                   'generalized Maxwell-slip (Al-Bender, Lampaert & Swevers 2005)')]
     integer, parameter, public :: LAW_COULOMB = 1, LAW_RECURDYN = 2, LAW_PROPOSED = 3, &
         LAW_STRIBECK = 4, LAW_KARNOPP = 5, LAW_LUGRE = 6, LAW_ELASTOPLASTIC = 7
     !! law codes: positions in LAW_TABLE
+    integer, parameter, public :: LAW_DAHL = 8, LAW_GMS = 9
+    !! law codes of the presliding-hysteresis laws
 
     !> The scenes; the code of a scene is its position.
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
@@ -79,18 +87,19 @@ module stickslip_registry
 
     !> The integration methods; the code of a method is its position.
     type(method_info), parameter, public :: METHOD_TABLE(*) = [RK4_INFO, DOPRI5_INFO, RADAU5_INFO, &
-        IMPLICIT_EULER_INFO, GALPHA_INFO, MOREAU_INFO, EVENT_DRIVEN_INFO]
+        IMPLICIT_EULER_INFO, GALPHA_INFO, MOREAU_INFO, EVENT_DRIVEN_INFO, DOP853_INFO]
     integer, parameter, public :: METHOD_RK4 = 1, METHOD_DOPRI5 = 2, METHOD_RADAU5 = 3, &
                                   METHOD_IMPLICIT_EULER = 4, METHOD_GALPHA = 5
     !! method codes: positions in METHOD_TABLE
     integer, parameter, public :: METHOD_MOREAU = 6   !! method code of moreau
     integer, parameter, public :: METHOD_EVENT_DRIVEN = 7   !! method code of event_driven
+    integer, parameter, public :: METHOD_DOP853 = 8   !! method code of dop853
 
     !> Every physical parameter of every law and scene, each once.
     type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
         BETA_SPEC, A_SPEC, DELTA_SPEC, C_V_SPEC, V_EPS_SPEC, DV_SPEC, SIGMA0_SPEC, SIGMA1_SPEC, &
         SIGMA2_SPEC, Z_BA_RATIO_SPEC, M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC, &
-        N_BLOCKS_SPEC, K_C_SPEC, PERTURBATION_SPEC]
+        DAHL_ALPHA_SPEC, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC, N_BLOCKS_SPEC, K_C_SPEC, PERTURBATION_SPEC]
 
 contains
 
@@ -108,6 +117,8 @@ contains
         case (LAW_KARNOPP);  allocate(karnopp_law :: law)
         case (LAW_LUGRE);    allocate(lugre_law :: law)
         case (LAW_ELASTOPLASTIC); allocate(elastoplastic_law :: law)
+        case (LAW_DAHL);     allocate(dahl_law :: law)
+        case (LAW_GMS);      allocate(gms_law :: law)
         case default;        status = SS_BAD_LAW
         end select
     end function new_law
@@ -248,6 +259,7 @@ contains
         type(event_driven_options) :: ev
         class(contact_system), allocatable :: cs
         real(dp), allocatable :: no_events(:, :)
+        type(dop853_options) :: d8
 
         if (present(stop_flag)) then
             mj%stop_flag => stop_flag
@@ -257,6 +269,7 @@ contains
             r5%stop_flag => stop_flag
             ie%stop_flag => stop_flag
             ga%stop_flag => stop_flag
+            d8%stop_flag => stop_flag
         end if
         select case (method)
         case (METHOD_RK4)
@@ -292,6 +305,10 @@ contains
                 allocate(no_events(4, 0))
                 call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, no_events)
             end if
+        case (METHOD_DOP853)
+            stats%status = apply_controls(d8, DOP853_INFO, keys, vals)
+            if (stats%status == SS_OK) call dop853_integrate(sys, t0, y0, t_end, rtol, atol, d8, &
+                t_out, y_out, stats)
         case default
             stats%status = SS_BAD_METHOD
         end select

@@ -66,6 +66,12 @@ module stickslip_scenes
         !> The scene as a system with a set-valued contact (`stickslip_contact`); SS_NOT_SETVALUED
         !! when its law has no set-valued counterpart.
         procedure(contact_model_iface), deferred :: contact_model
+        !> (x, v)' given the friction coefficient mu (affine in mu).
+        procedure(static_rhs_iface), deferred :: static_rhs
+        !> Holding coefficient mu_hold [-] at state y (see `stickslip_friction`).
+        procedure(mu_hold_iface), deferred :: holding_coefficient
+        !> Set the velocity of state y so that its relative sliding velocity is w [m/s].
+        procedure(set_vrel_iface), deferred :: set_relative_velocity
     end type friction_scene
 
     !> The slope with a set-valued contact, per unit mass: q = x [m], u = v [m/s], M = 1,
@@ -114,6 +120,27 @@ module stickslip_scenes
             class(contact_system), allocatable, intent(out) :: cs  !! the contact model
             integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
         end subroutine contact_model_iface
+        pure subroutine static_rhs_iface(self, y, mu, dydt)
+            import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
+            real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
+            real(dp), intent(in)  :: mu         !! friction coefficient [-]
+            real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
+        end subroutine static_rhs_iface
+
+        pure function mu_hold_iface(self, y) result(mu_hold)
+            import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
+            real(dp), intent(in) :: y(:)    !! state (x, v, z...)
+            real(dp) :: mu_hold             !! coefficient that would hold the relative velocity [-]
+        end function mu_hold_iface
+
+        pure subroutine set_vrel_iface(self, y, w)
+            import :: friction_scene, dp
+            class(friction_scene), intent(in) :: self
+            real(dp), intent(inout) :: y(:) !! state (x, v, z...); v set on exit
+            real(dp), intent(in) :: w       !! the relative sliding velocity wanted [m/s]
+        end subroutine set_vrel_iface
 
         pure function static_jacobian_iface(self, y) result(j)
             import :: friction_scene, dp
@@ -141,6 +168,10 @@ module stickslip_scenes
         !! the sliding velocity the law sees [m/s]
         procedure :: contact_model => slope_contact_model
         !! the slope as a `slope_contact`
+        procedure :: holding_coefficient => slope_mu_hold
+        !! tan(theta)
+        procedure :: set_relative_velocity => slope_set_vrel
+        !! v = w
     end type slope_scene
 
     !> Spring-mass on a moving belt.
@@ -162,6 +193,10 @@ module stickslip_scenes
         !! the sliding velocity the law sees [m/s]
         procedure :: contact_model => belt_contact_model
         !! the belt as a `belt_contact`
+        procedure :: holding_coefficient => belt_mu_hold
+        !! k x / (m g)
+        procedure :: set_relative_velocity => belt_set_vrel
+        !! v = v_b - w
     end type belt_scene
 
 contains
@@ -228,7 +263,7 @@ contains
             call self%static_rhs(y, self%law%mu(self%relative_velocity(y)), dydt)
         else
             dydt(1) = y(2)
-            call law_with_states(self, y(2), self%mu_hold, y, dydt, mu)
+            call law_with_states(self, y(2), self%holding_coefficient(y), y, dydt, mu)
             ! c (mu_hold - mu), so that mu = mu_hold (a stick band) holds v exactly, not to rounding
             dydt(2) = merge(self%g_cos * (self%mu_hold - mu), self%g_sin - mu * self%g_cos, self%g_cos > 0.0_dp)
         end if
@@ -243,7 +278,7 @@ contains
         if (self%static_law) then
             call self%static_rhs(y, self%law%mu(self%relative_velocity(y)), dydt)
         else
-            call law_with_states(self, self%v_b - y(2), self%k_mg * y(1), y, dydt, mu)
+            call law_with_states(self, self%v_b - y(2), self%holding_coefficient(y), y, dydt, mu)
             dydt(1) = y(2)
             dydt(2) = -self%k_m * y(1) + mu * self%g
         end if
@@ -435,5 +470,32 @@ contains
         real(dp), intent(out) :: b(:)       !! -v_b [m/s]
         b(1) = -self%v_b
     end subroutine belt_contact_offset
+    pure function slope_mu_hold(self, y) result(mu_hold)
+        class(slope_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state (x, v, z...) (not read)
+        real(dp) :: mu_hold             !! tan(theta) [-]
+        mu_hold = self%mu_hold
+    end function slope_mu_hold
+
+    pure function belt_mu_hold(self, y) result(mu_hold)
+        class(belt_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state (x, v, z...)
+        real(dp) :: mu_hold             !! k x / (m g) [-]
+        mu_hold = self%k_mg * y(1)
+    end function belt_mu_hold
+
+    pure subroutine slope_set_vrel(self, y, w)
+        class(slope_scene), intent(in) :: self
+        real(dp), intent(inout) :: y(:) !! state; y(2) = w on exit
+        real(dp), intent(in) :: w       !! relative sliding velocity [m/s]
+        y(2) = w
+    end subroutine slope_set_vrel
+
+    pure subroutine belt_set_vrel(self, y, w)
+        class(belt_scene), intent(in) :: self
+        real(dp), intent(inout) :: y(:) !! state; y(2) = v_b - w on exit
+        real(dp), intent(in) :: w       !! relative sliding velocity [m/s]
+        y(2) = self%v_b - w
+    end subroutine belt_set_vrel
 
 end module stickslip_scenes

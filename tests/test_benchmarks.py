@@ -53,15 +53,27 @@ def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> No
             x = float(r[key])
             assert math.isfinite(x) and x > 0, (r["impl"], r["method"], key, r[key])
 
-    # The facade's overhead: each short run from Fortran, then the same run from Python.
+    # The facade's overhead: each short run through the bare f2py wrapper, then through simulate.
     over = [r for r in rows if r["section"] == "overhead"]
-    assert [r["impl"] for r in over] == ["stickslip_fortran", "stickslip_python"] * (len(over) // 2) != []
+    assert [r["impl"] for r in over] == ["f2py_wrapper", "stickslip_python"] * (len(over) // 2) != []
     for f, p in zip(over[::2], over[1::2]):
         assert (f["method"], f["nstep"], f["nfev"]) == (p["method"], p["nstep"], p["nfev"])
         assert float(f["median_s"]) > 0 and float(p["median_s"]) > 0
+        assert int(p["repeats"]) >= 2000 and math.isfinite(float(p["overhead_s"]))
 
     eq = [r for r in rows if r["section"] == "equal_accuracy"]
     assert any(r["impl"] == "stickslip_fortran" for r in eq)
     for r in eq:
         x = float(r["ratio_time"])
         assert math.isfinite(x) and x > 0
+
+    # DOP853 against DOPRI5 and GSL rk8pd: every tolerance run by each, then at equal error
+    # the interpolated costs as ratios to DOP853 (its own row 1).
+    d8 = [r for r in rows if r["section"] == "dop853"]
+    assert {r["method"] for r in d8} >= {"dop853", "dopri5"}
+    assert len(d8) == len({r["method"] for r in d8}) * len(QUICK.dop853_tols)
+    assert all(float(r["err"]) > 0 and int(r["nfev"]) > 0 for r in d8)
+    d8eq = [r for r in rows if r["section"] == "dop853_equal_error"]
+    assert [float(r["ratio_time"]) for r in d8eq if r["method"] == "dop853"] == [1.0] * len(QUICK.dop853_targets)
+    assert all(math.isfinite(float(r["ratio_time"])) and float(r["ratio_time"]) > 0 for r in d8eq)
+    assert "DOP853 at equal error" in text

@@ -57,24 +57,24 @@ def creep_speed_ref(law: str) -> float:
 @pytest.fixture(scope="module")
 def slope_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("slope")
-    slope.main(["--outdir", str(out), "--t-end", str(SLOPE_T), "--points", str(SLOPE_POINTS),
-                "--quiet"])
-    return out
+    files = slope.main(["--outdir", str(out), "--t-end", str(SLOPE_T), "--points", str(SLOPE_POINTS),
+                        "--quiet"])
+    return files[0].parent           # a subdirectory named after the non-default options
 
 
 @pytest.fixture(scope="module")
 def belt_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("belt")
-    belt.main(["--outdir", str(out), "--t-end", str(BELT_T), "--points", str(BELT_POINTS),
-               "--quiet"])
-    return out
+    files = belt.main(["--outdir", str(out), "--t-end", str(BELT_T), "--points", str(BELT_POINTS),
+                       "--quiet"])
+    return files[0].parent           # a subdirectory named after the non-default options
 
 
 @pytest.fixture(scope="module")
 def laws_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("laws")
-    laws.main(["--outdir", str(out), "--points", "301"])
-    return out
+    files = laws.main(["--outdir", str(out), "--points", "301"])
+    return files[0].parent           # a subdirectory named after the non-default options
 
 
 def numeric(path: Path) -> dict[str, np.ndarray]:
@@ -270,7 +270,7 @@ def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[
 @pytest.mark.parametrize("argv,expected", [
     ([], ["laws", "slope", "belt"]),
     (["--all", "--threads", "1"], ["laws", "slope", "belt", "workprecision", "stability", "laws_compare",
-                                   "implicit", "speedup", "stick", "chain"]),
+                                   "implicit", "speedup", "stick", "identify", "chain"]),
     (["--only", "stability"], ["stability"]),
 ])
 def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
@@ -294,7 +294,7 @@ def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
     assert [name for name, _ in calls] == expected
     for name, args in calls:
         assert args[:2] == ["--outdir", str(tmp_path)]
-        if name in ("workprecision", "stability", "laws_compare", "implicit", "speedup", "stick", "chain"):
+        if name in ("workprecision", "stability", "laws_compare", "implicit", "speedup", "stick", "identify", "chain"):
             assert "--threads" in args and "--workers" not in args
         elif name != "laws":
             assert "--workers" in args

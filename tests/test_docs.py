@@ -1,5 +1,5 @@
-"""Every public entity of the Fortran library carries a FORD doc comment, and FORD builds the
-API pages.
+"""Every public entity of the Fortran library carries a FORD doc comment; scripts/docs builds the
+documentation site (Sphinx, warnings as errors) with FORD's Fortran API pages in it.
 
 The checker parses fortran/*.f90 (it is no compiler: it reads the code as this project writes
 it) and lists, as "file:line: what", each of these without a doc comment:
@@ -230,18 +230,92 @@ def test_every_public_fortran_entity_is_documented() -> None:
         "\n".join(missing)
 
 
-def test_ford_builds_the_api_pages(tmp_path) -> None:
-    """scripts/docs (FORD) writes one HTML page per Fortran module."""
-    ford = Path(sys.executable).parent / "ford"
-    if not ford.exists() and shutil.which("ford") is None:
-        pytest.skip("FORD is not installed (scripts/setup installs it)")
-    out = tmp_path / "docs"
-    proc = subprocess.run([str(ROOT / "scripts" / "docs"), "--output_dir", str(out)],
+def _tool(name: str) -> str | None:
+    exe = Path(sys.executable).parent / name
+    return str(exe) if exe.exists() else shutil.which(name)
+
+
+def test_scripts_docs_builds_the_site_and_the_fortran_pages(tmp_path) -> None:
+    """scripts/docs builds the Sphinx site with warnings as errors (any warning fails it) and
+    FORD's pages, one per Fortran module, into its fortran/ folder; the site links to them and
+    its API reference documents every name the package exports."""
+    if _tool("ford") is None or _tool("sphinx-build") is None:
+        pytest.skip("FORD or Sphinx is not installed (scripts/setup installs them)")
+    out = tmp_path / "site"
+    proc = subprocess.run([str(ROOT / "scripts" / "docs"), str(out)],
                           capture_output=True, text=True, cwd=ROOT)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    pages = {p.stem for p in (out / "module").glob("*.html")}
+    pages = {p.stem for p in (out / "fortran" / "module").glob("*.html")}
     modules = {p.stem for p in SOURCES}
     assert modules <= pages, sorted(modules - pages)
+    assert 'href="fortran/index.html"' in (out / "fortran-api.html").read_text()
+    import stickslip
+    api = (out / "api.html").read_text()
+    missing = [name for name in stickslip.__all__ if f'id="stickslip.{name}"' not in api]
+    assert not missing, f"exported but not in the API reference: {missing}"
+    for page in sorted((ROOT / "docs" / "guide").glob("*.md")):
+        assert f'href="guide/{page.stem}.html"' in (out / "index.html").read_text(), page.name
+
+
+def test_a_new_guide_page_joins_the_site(tmp_path) -> None:
+    """A page dropped into docs/guide/ appears in the guide's table of contents, with no edit
+    of any other file and no warning."""
+    sphinx = _tool("sphinx-build")
+    if sphinx is None:
+        pytest.skip("Sphinx is not installed (scripts/setup installs it)")
+    src = tmp_path / "docs"
+    shutil.copytree(ROOT / "docs", src, ignore=shutil.ignore_patterns("_build"))
+    shutil.copytree(ROOT / "benchmarks" / "results", tmp_path / "benchmarks" / "results")  # a figure
+    (src / "guide" / "zz-new-topic.md").write_text("# A new topic\n\nText.\n")
+    proc = subprocess.run([sphinx, "-b", "html", "-W", "--keep-going", "-q", str(src),
+                           str(tmp_path / "out")], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert 'href="guide/zz-new-topic.html"' in (tmp_path / "out" / "index.html").read_text()
+
+
+def _doctables():
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("doctables", ROOT / "tools" / "doctables.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["doctables"] = module           # dataclasses look their module up there
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_doc_tables_agree_with_their_results_files() -> None:
+    """Every marked table of README.md and docs/ is what tools/doctables.py makes from the
+    results file it names (and there are such tables: the benchmarks and the reproduction)."""
+    doctables = _doctables()
+    stale, count = [], 0
+    for page in doctables.pages():
+        new, changed = doctables.refresh(page)
+        count += len(doctables.BLOCK.findall(page.read_text()))
+        stale += [f"{page.relative_to(ROOT)}:{line}" for line in changed]
+    assert count >= 10
+    assert not stale, "tables that disagree with their results files (python tools/doctables.py " \
+        "refreshes them):\n" + "\n".join(stale)
+
+
+def test_doc_tables_notice_a_changed_number(tmp_path) -> None:
+    """A table of selected rows and columns is rendered from a CSV with its provenance; when a
+    number in the CSV changes, the check reports the table, and a refresh makes them agree."""
+    doctables = _doctables()
+    from cases import _common
+    from cases._provenance import write_provenance
+    csv = _common.write_csv(tmp_path / "r.csv", ["law [-]", "x [m]", "n [-]"],
+                            [["a", 0.123456789, 7], ["b", 2.5e-9, 8]])
+    write_provenance(tmp_path, "cases.demo", [csv], ["--outdir", "x"])
+    page = tmp_path / "page.md"
+    page.write_text("Text.\n\n<!-- table: r.csv\ncolumns: law [-] = law; x [m] = x [m]\n"
+                    "where: law [-] = a\ndigits: 3\n-->\n<!-- end table -->\n")
+    text, changed = doctables.refresh(page)
+    assert changed == [3]
+    assert "| law | x [m] |\n|---|---|\n| a | 0.123 |\n" in text and "| b |" not in text
+    assert "written by `python -m cases.demo --outdir x`" in text
+    page.write_text(text)
+    assert doctables.refresh(page)[1] == []
+    _common.write_csv(csv, ["law [-]", "x [m]", "n [-]"], [["a", 0.124, 7]])
+    assert doctables.refresh(page)[1] == [3]
 
 
 if __name__ == "__main__":

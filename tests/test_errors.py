@@ -53,7 +53,7 @@ def sim(**kw):
     ({"scene": "belt", "v_b": NAN}, "v_b", "finite"),
     ({"g": -9.81}, "g", ">= 0"),
     ({"scene": "ramp"}, "scene", "slope, belt"),
-    ({"law": "dahl"}, "law", "coulomb, recurdyn, proposed"),
+    ({"law": "bristle"}, "law", "coulomb, recurdyn, proposed"),
     ({"method": "euler"}, "method", "rk4, dopri5"),
     ({"mass": 1.0}, "mass", "unknown parameter"),
     ({"every_step": True, "n_out": 10}, "n_out", "not both"),

@@ -176,8 +176,12 @@ def test_stick_study_quick(tmp_path):
     from cases import stick
     from cases._common import read_csv
     files = stick.main(["--outdir", str(tmp_path), "--quick", "--threads", "1", "--quiet"])
-    assert {f.name for f in files} == {"stick.csv", "stick.md", "stick.png", "stick.pdf"}
-    cols = read_csv(tmp_path / "stick.csv")
+    # --quick writes into its own subdirectory, beside the run's provenance record
+    assert {f.name for f in files} == {"stick.csv", "stick.md", "stick.png", "stick.pdf",
+                                       "cases.stick.provenance.json"}
+    out = files[0].parent
+    assert out == tmp_path / "quick" and all(f.parent == out for f in files)
+    cols = read_csv(out / "stick.csv")
     rows = [dict(zip(cols, v)) for v in zip(*cols.values())]
     rest = {(r["law [-]"], r["method [-]"]): r for r in rows if r["problem [-]"] == "slope_rest"}
     for law in ("coulomb", "stribeck"):
@@ -187,4 +191,4 @@ def test_stick_study_quick(tmp_path):
     assert rest["lugre", "moreau"]["status [-]"] == "refused"
     belt = {(r["law [-]"], r["method [-]"]): r for r in rows if r["problem [-]"] == "belt_stuck"}
     assert float(belt["coulomb", "event_driven"]["err_path [m]"]) < 1e-4
-    assert "## (c)" in (tmp_path / "stick.md").read_text()
+    assert "## (c)" in (out / "stick.md").read_text()

@@ -109,6 +109,8 @@ def test_implicit_driver_quick(tmp_path):
     4 evaluations a step plus the first (the automatic column's reference), every run
     reaches t_end, and RADAU5 unbounded is the cheapest stickslip solver on the slope."""
     files = implicit.main(["--outdir", str(tmp_path), "--quick", "--threads", "1", "--quiet"])
+    assert {f.parent for f in files} == {tmp_path / "quick"}     # not the full run's files
+    tmp_path = tmp_path / "quick"
     names = {f.name for f in files}
     assert {"implicit_slope.csv", "implicit_slope_equal.csv", "fig14_implicit.csv",
             "implicit_fig14_amplitude.csv", "implicit_auto.csv", "implicit_slope.png",

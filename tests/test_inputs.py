@@ -114,7 +114,7 @@ def test_ctrl_c_stops_a_long_fortran_call_promptly(call):
 
 
 def test_rk4_beyond_its_stability_bound_on_the_slope_warns():
-    """The bound README derives, 2.785/(g cos(theta) mu'(v*)) with mu(v*) = tan(theta), computed
+    """The bound docs/guide/choosing-h.md derives, 2.785/(g cos(theta) mu'(v*)) with mu(v*) = tan(theta), computed
     here independently from the haversine's derivative on its first branch."""
     import math
     g_cos, tan = 9.81 * math.cos(math.radians(10.0)), math.tan(math.radians(10.0))

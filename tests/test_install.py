@@ -1,5 +1,6 @@
-"""The installed library, exactly as README's "Using the library from Fortran and C" shows it:
-the section's shell commands, read from README.md, run in a copy of the repository with a
+"""The installed library, exactly as the guide page "Using the library from Fortran and C"
+(docs/guide/fortran-c.md) shows it: the page's shell commands, read from it, run in a copy of
+the repository with a
 temporary HOME (so `--prefix=$HOME/.local` is a temporary prefix) and an environment holding
 only PATH and HOME. They install the library and build the two programs of examples/ against it
 with pkg-config, shared and static; each program then runs in a clean environment (no
@@ -19,19 +20,15 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-SECTION = "## Using the library from Fortran and C"
+GUIDE = ROOT / "docs" / "guide" / "fortran-c.md"
 EXAMPLES = {"lotka_volterra.f90": "fortran", "friction_c.c": "c"}
 CLEAN_PATH = "/usr/local/bin:/usr/bin:/bin"
 
 
-def readme_commands(readme: Path = ROOT / "README.md") -> list[str]:
-    """The shell command lines of README's library section, in order."""
-    text = readme.read_text()
-    start = text.index(SECTION)
-    end = text.find("\n## ", start + len(SECTION))
-    section = text[start:end if end >= 0 else len(text)]
-    blocks = re.findall(r"^```sh\n(.*?)^```", section, re.S | re.M)
-    assert blocks, f"no sh blocks in README's section {SECTION!r}"
+def guide_commands(page: Path = GUIDE) -> list[str]:
+    """The shell command lines of the guide page's sh blocks, in order."""
+    blocks = re.findall(r"^```sh\n(.*?)^```", page.read_text(), re.S | re.M)
+    assert blocks, f"no sh blocks in {page}"
     return [line for block in blocks for line in block.splitlines()
             if line.strip() and not line.lstrip().startswith("#")]
 
@@ -53,12 +50,12 @@ def _needed(exe: Path) -> list[str]:
 
 
 @pytest.fixture(scope="module")
-def readme_builds(tmp_path_factory: pytest.TempPathFactory) -> dict:
-    """Run README's install and build commands in a copy of the repository; return the
+def guide_builds(tmp_path_factory: pytest.TempPathFactory) -> dict:
+    """Run the guide's install and build commands in a copy of the repository; return the
     program run lines by (example, "shared" or "static") and what the clean runs need."""
     venv = Path(sys.prefix)
     if not (venv / "bin" / "activate").exists() or shutil.which("readelf") is None:
-        pytest.skip("needs the scripts/setup venv (README activates it) and readelf")
+        pytest.skip("needs the scripts/setup venv (the guide activates it) and readelf")
     tmp = tmp_path_factory.mktemp("install")
     repo, home = tmp / "repo", tmp / "home"
     shutil.copytree(ROOT, repo, ignore=shutil.ignore_patterns(
@@ -67,7 +64,7 @@ def readme_builds(tmp_path_factory: pytest.TempPathFactory) -> dict:
     home.mkdir()
     env = {"PATH": CLEAN_PATH, "HOME": str(home)}
 
-    lines = readme_commands()
+    lines = guide_commands()
     outputs = {}                                    # -o target -> example
     for line in lines:
         words = shlex.split(line, posix=True)
@@ -77,7 +74,7 @@ def readme_builds(tmp_path_factory: pytest.TempPathFactory) -> dict:
             outputs[words[words.index("-o") + 1]] = EXAMPLES[src]
     runs = [line for line in lines if line.split()[0] in outputs]
     script = "\n".join(line for line in lines if line not in runs)
-    # No set -u: README's export reads PKG_CONFIG_PATH, which a new user's shell may not set.
+    # No set -u: the guide's export reads PKG_CONFIG_PATH, which a new user's shell may not set.
     _run(["bash", "-e", "-o", "pipefail", "-c", script], cwd=repo, env=env)
 
     prefix = home / ".local"
@@ -92,15 +89,15 @@ def readme_builds(tmp_path_factory: pytest.TempPathFactory) -> dict:
 
 
 def _run_program(builds: dict, example: str, link: str) -> str:
-    """Run README's line for one program, as README shows it, in a clean environment."""
+    """Run the guide's line for one program, as the guide shows it, in a clean environment."""
     line = builds["programs"].get((example, link))
-    assert line is not None, f"README builds and runs no {link} {example} example"
+    assert line is not None, f"the guide builds and runs no {link} {example} example"
     return _run(["bash", "-c", line], cwd=builds["repo"], env=builds["env"])
 
 
-def test_readme_installs_the_library_alone(readme_builds: dict) -> None:
+def test_readme_installs_the_library_alone(guide_builds: dict) -> None:
     """The static and shared library, header, module files and .pc file; no Python."""
-    files = readme_builds["installed"]
+    files = guide_builds["installed"]
     for want in ("libstickslip.a", "libstickslip.so", "pkgconfig/stickslip.pc"):
         assert any(f.startswith("lib") and f.endswith(want) for f in files), (want, files)
     assert "include/stickslip/stickslip.h" in files and "include/stickslip/stickslip_codes.h" in files
@@ -112,13 +109,13 @@ def test_readme_installs_the_library_alone(readme_builds: dict) -> None:
     assert not others, f"installed besides the library: {others}"
 
 
-def test_static_libs_name_every_runtime(readme_builds: dict) -> None:
+def test_static_libs_name_every_runtime(guide_builds: dict) -> None:
     """`pkg-config --static --libs` names each runtime libstickslip.a calls into, also those the
     examples do not reach (OpenMP is only in the batch module)."""
-    files = readme_builds["installed"]
+    files = guide_builds["installed"]
     pc = next(f for f in files if f.endswith("pkgconfig/stickslip.pc"))
-    prefix = Path(readme_builds["env"]["HOME"]) / ".local"
-    env = dict(readme_builds["env"], PKG_CONFIG_PATH=str((prefix / pc).parent))
+    prefix = Path(guide_builds["env"]["HOME"]) / ".local"
+    env = dict(guide_builds["env"], PKG_CONFIG_PATH=str((prefix / pc).parent))
     libs = _run(["pkg-config", "--static", "--libs", "stickslip"], env=env).split()
     archive = prefix / next(f for f in files if f.endswith("libstickslip.a"))
     undefined = set(_run(["nm", "-u", "--format=just-symbols", str(archive)]).split())
@@ -130,10 +127,10 @@ def test_static_libs_name_every_runtime(readme_builds: dict) -> None:
 
 
 @pytest.mark.parametrize("link", ["shared", "static"])
-def test_fortran_example(readme_builds: dict, link: str) -> None:
+def test_fortran_example(guide_builds: dict, link: str) -> None:
     """Lotka-Volterra with the library's DOPRI5 and RK4: V is conserved, the two agree,
     and the counters obey DOPRI5's and RK4's evaluation counts."""
-    k = _keys(_run_program(readme_builds, "fortran", link))
+    k = _keys(_run_program(guide_builds, "fortran", link))
 
     for m in ("dopri5", "rk4"):
         assert float(k[f"{m}_t_end"]) == 15.0
@@ -176,9 +173,9 @@ def _mu_paper(law: str, v: float) -> float:
 
 
 @pytest.mark.parametrize("link", ["shared", "static"])
-def test_c_example(readme_builds: dict, link: str) -> None:
+def test_c_example(guide_builds: dict, link: str) -> None:
     """Friction laws, scenes and a user's ODE through stickslip.h, linked both ways."""
-    out = _run_program(readme_builds, "c", link)
+    out = _run_program(guide_builds, "c", link)
     k = _keys(out)
 
     rows = [line.split() for line in out.splitlines() if line.startswith("mu ")]

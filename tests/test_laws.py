@@ -96,6 +96,6 @@ def test_bad_law_parameters(law, params, name):
 
 def test_bad_law_name_and_velocity():
     with pytest.raises(ValueError, match="law"):
-        mu("dahl", 0.1)
+        mu("bristle", 0.1)
     with pytest.raises(ValueError, match="v"):
         mu("coulomb", [0.1, float("nan")])

@@ -4,8 +4,8 @@ in one of three ways: a ValueError whose message starts with the name of a param
 which names are unknown), an IntegrationError whose partial result is finite, or a finite
 result on the requested grid.
 
-The default run explores STICKSLIP_PROPERTY_EXAMPLES examples per test (300); the long run of
-README ("Property tests") sets it to 10000.
+The default run explores STICKSLIP_PROPERTY_EXAMPLES examples per test (300); a long run sets
+it higher: STICKSLIP_PROPERTY_EXAMPLES=10000 .venv/bin/python -m pytest tests/test_properties.py
 """
 from __future__ import annotations
 

@@ -1,7 +1,8 @@
 """stickslip: friction laws under event-free numerical integration (Yoo & Lee 2008).
 
 The Fortran core integrates; this package validates input, calls it once per simulation
-and returns numpy arrays. See README.md for the laws, scenes and integrators.
+and returns numpy arrays. The documentation (docs/, built by scripts/docs) explains the laws,
+scenes and integrators.
 """
 from .core import (
     CONTROL_DEFAULTS,
@@ -20,6 +21,8 @@ from .core import (
     NonFiniteSolution,
     OutputBufferFull,
     Result,
+    UnstableStepWarning,
+    UnusedParameterWarning,
     StepBudgetExhausted,
     StepSizeTooSmall,
     StiffnessDetected,
@@ -27,13 +30,21 @@ from .core import (
     simulate,
     status_message,
 )
-from .batch import BatchResult, simulate_batch
+from .batch import BatchResult
+from .sweep import simulate_batch
+from .advise import Advice, advise
+from .prescribed import PrescribedResult, law_n_states, law_state_labels, prescribed_motion
+from .data import Record, damper_files, load_damper_record
+from .identify import FitResult, fit_friction
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
     "NonFiniteSolution", "OutputBufferFull", "Result", "StepBudgetExhausted",
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
-    "status_message", "BatchResult", "simulate_batch",
+    "status_message", "BatchResult", "simulate_batch", "UnusedParameterWarning",
+    "UnstableStepWarning", "Advice", "advise",
     "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation",
+    "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
+    "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction",
 ]
 __version__ = "0.1.0"

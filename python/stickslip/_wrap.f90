@@ -187,3 +187,86 @@ subroutine batch_names(text)
     character(len=1024), intent(out) :: text
     text = BATCH_INTEGER_NAMES // '|' // BATCH_REAL_NAMES
 end subroutine batch_names
+
+!> Number of internal states of law `law` with the named parameters (pkeys/pvals as for
+!! friction), and their names with units joined by ';' (NUL-padded).
+subroutine law_states(law, pkeys, pvals, np, nz, labels, status)
+    use, intrinsic :: iso_c_binding, only: c_int, c_double
+    use stickslip_kinds, only: SS_OK
+    use stickslip_params, only: param_values
+    use stickslip_friction, only: friction_law
+    use stickslip_registry, only: make_law, split_names
+    implicit none
+    integer(c_int), intent(in) :: law
+    character(len=*), intent(in) :: pkeys
+    integer(c_int), intent(in) :: np
+    real(c_double), intent(in) :: pvals(np)
+    !f2py integer intent(hide), depend(pvals) :: np = len(pvals)
+    integer(c_int), intent(out) :: nz
+    character(len=4096), intent(out) :: labels
+    integer(c_int), intent(out) :: status
+    class(friction_law), allocatable :: fl
+    type(param_values) :: p
+    character(len=:), allocatable :: joined
+    integer :: k
+    nz = 0
+    labels = ''
+    status = make_law(law, split_names(pkeys), pvals, fl, p)
+    if (status /= SS_OK) return
+    nz = fl%n_states()
+    joined = ''
+    do k = 1, nz
+        joined = joined // merge(';', ' ', k > 1) // fl%state_label(k)
+    end do
+    labels = adjustl(joined)
+end subroutine law_states
+
+!> The friction force of law `law` (parameters pkeys/pvals) along the sampled motion (t, x, v)
+!! with normal force nf (1 value or n), initial states z0(nz) (nz must be the law's count),
+!! backlash [m], asymmetry [-] and rtol (stickslip_prescribed). counters: n_advance,
+!! n_unconverged, max_substeps.
+subroutine prescribed(law, pkeys, pvals, np, t, x, v, n, nf, nnf, z0, nz, backlash, asymmetry, rtol, &
+                      force, mu, z, xc, vc, counters, status)
+    use, intrinsic :: iso_c_binding, only: c_int, c_double
+    use stickslip_kinds, only: SS_OK, SS_BAD_DIM
+    use stickslip_params, only: param_values
+    use stickslip_friction, only: friction_law
+    use stickslip_registry, only: make_law, split_names
+    use stickslip_prescribed, only: prescribed_motion, prescribed_stats
+    implicit none
+    integer(c_int), intent(in) :: law
+    character(len=*), intent(in) :: pkeys
+    integer(c_int), intent(in) :: np, n, nnf, nz
+    real(c_double), intent(in) :: pvals(np)
+    !f2py integer intent(hide), depend(pvals) :: np = len(pvals)
+    real(c_double), intent(in) :: t(n), x(n), v(n)
+    !f2py integer intent(hide), depend(t) :: n = len(t)
+    real(c_double), intent(in) :: nf(nnf)
+    !f2py integer intent(hide), depend(nf) :: nnf = len(nf)
+    real(c_double), intent(in) :: z0(nz)
+    !f2py integer intent(hide), depend(z0) :: nz = len(z0)
+    real(c_double), intent(in) :: backlash, asymmetry, rtol
+    real(c_double), intent(out) :: force(n), mu(n), xc(n), vc(n)
+    real(c_double), intent(out) :: z(nz, n)
+    real(c_double), intent(out) :: counters(3)
+    integer(c_int), intent(out) :: status
+    !f2py threadsafe
+    class(friction_law), allocatable :: fl
+    type(param_values) :: p
+    type(prescribed_stats) :: st
+    force = 0.0_c_double
+    mu = 0.0_c_double
+    xc = 0.0_c_double
+    vc = 0.0_c_double
+    z = 0.0_c_double
+    counters = 0.0_c_double
+    status = make_law(law, split_names(pkeys), pvals, fl, p)
+    if (status /= SS_OK) return
+    if (fl%n_states() /= nz) then
+        status = SS_BAD_DIM
+        return
+    end if
+    call prescribed_motion(fl, t, x, v, nf, z0, backlash, asymmetry, rtol, force, mu, z, xc, vc, st)
+    status = st%status
+    counters = [real(st%n_advance, c_double), real(st%n_unconverged, c_double), real(st%max_substeps, c_double)]
+end subroutine prescribed

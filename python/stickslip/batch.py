@@ -12,21 +12,27 @@ Units are SI: m, s, kg, m/s; angles in degrees.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Any, Sequence
 
 import numpy as np
 
 from . import _stickslip as _ext
-from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATUS_OK,
-                   _FIRST_INPUT_CODE, _PARAM_ORDER, _check_names, _choice, _count, accepted_range,
-                   interruptible, status_message)
+from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATE_COUNT_PARAMS,
+                   STATUS_OK,
+                   UnstableStepWarning, UnusedParameterWarning, _FIRST_INPUT_CODE, _PARAM_ORDER,
+                   _check_names, _choice, _count, accepted_range, interruptible, rk4_stability_bound,
+                   status_message)
 
 #: Names of the integer and real summary fields, in the wrapper's order.
 _BATCH_INT, _BATCH_REAL = (tuple(x.split()) for x in _ext.batch_names().decode().strip().split("|"))
 
 #: Largest n_sets * n_grid the facade allocates when the grid is kept (2 doubles each).
 MAX_GRID_VALUES = 20_000_000
+#: A row chattered when the velocity reversed between at least this fraction of the monitor
+#: grid's intervals over t >= t_end/2 (BatchResult).
+CHATTER_FRACTION = 0.25
 
 
 @dataclass
@@ -35,16 +41,30 @@ class BatchResult:
 
     status: library status code (0 = reached t_end; see `message`). The run's counters
     (nfev, nstep, naccept, nreject, nforced, nstiff, stiff, njac, ndec, nsol, t_reached, h_last)
-    and the monitor's fields are in `fields` by name and as attributes. v_max: max |v| over the
+    and the monitor's fields are in `fields` by name and as attributes. v_max: max abs(v) over the
     initial state and the monitor grid. n_flip / n_flip_tail: sign changes of the relative
     sliding velocity (v on the slope, v_b - v on the belt) between consecutive grid points, over
     the whole run / over t >= t_end/2. n_rev / n_rev_tail: reversals of the direction of v
-    between grid points (successive differences of opposite sign, both above 64 eps max|v|), a
+    between grid points (successive differences of opposite sign, both above 64 eps max abs(v)), a
     count of high-frequency content. vrel_min_tail, vrel_max_tail: the relative velocity's
     range over t >= t_end/2. y_end (n_sets, nmax): the state at t_last (the last grid time
     reached; t_end on success), x_end and v_end its first two columns. seconds: wall-clock
     time of the row on its thread. t, x, v: (n_sets, n_grid) grids when keep_grid was set, else
     None (y_grid: (n_sets, nmax, n_grid) with the internal states).
+
+    Flags (bool per row, in `fields` like the counters):
+
+    - chattered: the velocity reversed its direction between at least CHATTER_FRACTION = 1/4
+      of the monitor grid's intervals over t >= t_end/2 (n_rev_tail >= (n_grid - 1)/8): an
+      oscillation at the grid's scale, which a motion the grid resolves does not have (a
+      stick-slip cycle reverses twice a period). A run that chattered has a wrong velocity even
+      where its mean motion looks right. Its value depends on n_grid.
+    - forced: at least one step was taken at h_min although the error test failed there
+      (nforced > 0): the tolerance was not met on those steps.
+
+    `ok` is True where the row reached t_end (status 0), and nothing more: it says nothing of
+    accuracy. A row can be ok and chattered, ok and forced, or ok and far from the exact
+    solution (a fixed step beyond the stability bound that did not blow up, a loose tolerance).
     """
 
     scene: np.ndarray
@@ -83,7 +103,8 @@ class BatchResult:
 
     @property
     def ok(self) -> np.ndarray:
-        """True where the row reached t_end."""
+        """True where the row reached t_end (status 0). Not a measure of accuracy: see the
+        chattered and forced flags."""
         return self.status == STATUS_OK
 
     def message(self, i: int) -> str:
@@ -116,8 +137,7 @@ def _codes(name: str, value: str | Sequence[str], accepted: tuple[str, ...]) -> 
 def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
                    method: str | Sequence[str], t_end: Any, x0: Any = 0.0, v0: Any = 0.0,
                    n_grid: int = 201, keep_grid: bool = False, threads: int = 1,
-                   client: Any = None, chunk_rows: int | None = None, out: Any = None,
-                   progress: bool = False, **kwargs: Any) -> Any:
+                   ignore_unused: bool = False, **kwargs: Any) -> Any:
     """Simulate many parameter sets in one Fortran call, `threads` OpenMP threads over the sets.
 
     scene, law, method, t_end, x0, v0 and every keyword argument (physical parameters of
@@ -133,18 +153,16 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     (BatchResult) is always returned; run-time failures are per-row status codes.
 
     Raises ValueError for bad input (the message names the parameter, and the row when the
-    library finds it).
+    library finds it). Warns (UnusedParameterWarning) about a physical parameter that no row's
+    scene or law reads, unless ignore_unused; and (UnstableStepWarning) when RK4 rows have h
+    beyond RK4's linear stability bound (stickslip.core.rk4_stability_bound: at the creep speed
+    on the slope, at the start on the belt; laws with internal states and the implicit methods
+    are not checked). Each row says whether it chattered or took forced steps (BatchResult).
 
-    Large sweeps (stickslip.distributed): client (a dask.distributed Client) runs the rows in
-    chunks of chunk_rows, one task each, on the cluster; out (a directory) writes each chunk to
-    disk as it finishes and returns a SweepStore (resumable: chunks on disk are not rerun);
-    progress=True shows a bar on stderr per chunk. The rows are the same, bit for bit.
+    This is the local batch: one call, all rows in memory. `stickslip.simulate_batch` (module
+    stickslip.sweep) adds client, chunk_rows, out and progress for large sweeps in chunks, on a
+    Dask cluster or streamed to disk (stickslip.distributed), with the same rows bit for bit.
     """
-    if client is not None or chunk_rows is not None or out is not None or progress:
-        from .distributed import run_chunked
-        return run_chunked(dict(scene=scene, law=law, method=method, t_end=t_end, x0=x0, v0=v0,
-                                n_grid=n_grid, keep_grid=keep_grid, threads=threads, **kwargs),
-                           client=client, chunk_rows=chunk_rows, out=out, progress=progress)
     threads = _count("threads", threads)
     n_grid = _count("n_grid", n_grid)
     unknown = sorted(set(kwargs) - set(_PARAM_ORDER) - set(CONTROLS))
@@ -211,8 +229,21 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
         tol[k] = rows["c:" + k] if "c:" + k in rows else np.full(n, float(CONTROL_DEFAULTS[k]))
         tol[k] = np.where(reads[k], tol[k], 1.0)   # unread: any valid value
 
+    if not ignore_unused:
+        read = {k for s, l in set(zip(rows["scene"], rows["law"]))
+                for k in REGISTRY["law"][l]["params"] + REGISTRY["scene"][s]["params"]}
+        unused = [k for k in pnames if k not in read]
+        if unused:
+            warnings.warn(f"{', '.join(unused)}: not read by any row's scene and law, ignored (range-checked "
+                          "only; ignore_unused=True silences this)", UnusedParameterWarning, stacklevel=2)
     keep = bool(keep_grid)
     nstate = np.array([2 + REGISTRY["law"][l]["n_states"] for l in rows["law"]], dtype=np.int32)
+    for k in STATE_COUNT_PARAMS:            # laws whose state count is a parameter (gms: n_elements)
+        if k in rows:
+            from .prescribed import _states
+            for i, (l, val) in enumerate(zip(rows["law"], rows[k])):
+                if k in REGISTRY["law"][l]["params"] and np.isfinite(val):
+                    nstate[i] = 2 + _states(str(l), ((k, float(val)),))[0]
     nmax = int(nstate.max())
     if keep and nmax * n * int(n_grid) > MAX_GRID_VALUES:
         raise ValueError(f"keep_grid: {n} rows x {n_grid} grid points exceed {MAX_GRID_VALUES // 2} "
@@ -236,11 +267,15 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     sstatus = fields.pop("status")
     fields.pop("n_written")
     fields["stiff"] = fields["stiff"].astype(bool)
+    fields["chattered"] = fields["n_rev_tail"] >= CHATTER_FRACTION * (int(n_grid) - 1) / 2
+    fields["forced"] = fields["nforced"] > 0
     bad = np.flatnonzero(sstatus <= _FIRST_INPUT_CODE)
     if bad.size:
         i = int(bad[0])
         raise ValueError(f"row {i} ({rows['scene'][i]}, {rows['law'][i]}, {rows['method'][i]}): "
                          f"{status_message(int(sstatus[i]))}")
+    if "h" in cnames:                       # the rows are valid: their bounds can be computed
+        _warn_unstable_rk4(rows, pnames, cvals[cnames.index("h")])
 
     resolved = {k: rows[k] for k in pnames}
     for k in _PARAM_ORDER:
@@ -264,4 +299,20 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     return result
 
 
-__all__ = ["BatchResult", "simulate_batch", "MAX_GRID_VALUES"]
+def _warn_unstable_rk4(rows: dict[str, np.ndarray], pnames: list[str], h: np.ndarray) -> None:
+    """One UnstableStepWarning for the RK4 rows whose h lies beyond rk4_stability_bound."""
+    beyond = []
+    for i in np.flatnonzero(rows["method"] == "rk4"):
+        params = tuple(sorted((k, float(rows[k][i])) for k in pnames))
+        bound = rk4_stability_bound(str(rows["law"][i]), params, str(rows["scene"][i]), float(rows["v0"][i]))
+        if bound is not None and h[i] > bound:
+            beyond.append((int(i), float(h[i]), bound))
+    if beyond:
+        i, hi, bound = beyond[0]
+        warnings.warn(f"{len(beyond)} RK4 row(s) with h beyond RK4's stability bound (row {i}: h = {hi:g} s > "
+                      f"{bound:.3g} s, for {rows['law'][i]!r} on the {rows['scene'][i]}): they may chatter, "
+                      "settle on a wrong state or blow up (see the chattered column)", UnstableStepWarning,
+                      stacklevel=3)
+
+
+__all__ = ["BatchResult", "simulate_batch", "MAX_GRID_VALUES", "CHATTER_FRACTION"]

@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import functools
 import math
+import os
+import re
 import threading
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Callable, Mapping
 
@@ -75,11 +77,13 @@ STATUS_NONFINITE = _STATUS["NONFINITE"]
 STATUS_OUTPUT_FULL = _STATUS["OUTPUT_FULL"]
 _FIRST_INPUT_CODE = -100          # codes <= this name one bad input
 
-#: The facade's defaults of the shared controls (the paper's "automatic" step range
-#: [hmin, hmax] = [1e-6, 1e-2] s); each is passed only to the methods that read it. Read-only:
-#: simulate reads them once per method (_plan).
+#: The facade's defaults of the shared controls; each is passed only to the methods that read
+#: it. hmax = 0 lets a step span the whole run [0, t_end] (Hairer's default): the step is then
+#: limited by the error test alone. The paper's "automatic" range [hmin, hmax] = [1e-6, 1e-2] s
+#: is what its drivers (cases/) pass explicitly. Read-only: simulate reads them once per method
+#: (_plan).
 CONTROL_DEFAULTS: Mapping[str, Any] = MappingProxyType(
-    {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 1e-2, "h0": 0.0, "allow_forced": True,
+    {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 0.0, "h0": 0.0, "allow_forced": True,
      "stop_on_stiff": False})
 
 #: Largest every-step output the facade allocates [rows]: 3 arrays of 8-byte floats.
@@ -88,13 +92,37 @@ MAX_ROWS = 50_000_000
 
 @functools.lru_cache(maxsize=256)
 def status_message(status: int) -> str:
-    """The library's message for a status code (a constant per code: read once)."""
+    """The library's message for a status code.
+
+    Parameters
+    ----------
+    status : int
+        A status code of the library (0: success; negative: an error, see `REGISTRY["status"]`).
+
+    Returns
+    -------
+    str
+        Its message (a constant per code, read from the library once).
+
+    Examples
+    --------
+    >>> import stickslip as ss
+    >>> ss.status_message(0)
+    'success'
+    """
     return _ext.message(status).decode().strip()
 
 
 class IntegrationError(RuntimeError):
-    """An integration that ended before t_end. `result` holds the output up to
-    `result.stats["t_reached"]`, `status` the library's code."""
+    """An integration that ended before t_end.
+
+    Attributes
+    ----------
+    status : int
+        The library's status code (negative).
+    result : Result
+        The output up to ``result.stats["t_reached"]``, with the run's counters.
+    """
 
     def __init__(self, status: int, result: "Result") -> None:
         self.status = status
@@ -133,6 +161,11 @@ class NewtonFailure(IntegrationError):
     Jacobian was not finite."""
 
 
+class UnstableStepWarning(UserWarning):
+    """A fixed step beyond the method's linear stability bound (`rk4_stability_bound`): the run
+    may chatter, settle on a wrong state or blow up."""
+
+
 class ContactSolverFailure(IntegrationError):
     """moreau: a step's friction problem did not converge to contact_tol within
     contact_max_iter sweeps of the contact solver."""
@@ -165,6 +198,10 @@ _EVENT_KINDS = ("stick", "slip", "reversal")
 _DEFAULT_MAX_EVENTS = 10000
 #: Most events Result.events holds (32 MB of rows); a run may count more (stats["nevents"]).
 _EVENT_ROOM = 1_000_000
+#: The events of a run without any (read-only, shared), and the library's empty event buffer.
+_NO_EVENTS = np.zeros(0, dtype=EVENT_DTYPE)
+_NO_EVENTS.setflags(write=False)
+_NO_EVENT_ROWS = np.zeros((4, 0), order="F")
 
 
 def _events(raw: np.ndarray, count: int) -> np.ndarray:
@@ -177,31 +214,99 @@ def _events(raw: np.ndarray, count: int) -> np.ndarray:
     return out
 
 
-@dataclass
 class Result:
-    """A simulation on its output grid: time t [s], displacement x [m], velocity v [m/s],
-    and the law's internal states z (shape (n_states, len(t)), named in `state_labels`
-    with units; empty for a law without states)."""
+    """A simulation on its output grid (returned by `simulate`).
 
-    scene: str
-    law: str
-    method: str
-    t_end: float
-    params: dict[str, float]
-    t: np.ndarray
-    x: np.ndarray
-    v: np.ndarray
-    stats: dict[str, Any] = field(default_factory=dict)
-    z: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    state_labels: tuple[str, ...] = ()
-    #: event_driven's stick/slip transitions (EVENT_DTYPE; the first 1,000,000), empty for the
-    #: other methods.
-    events: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=EVENT_DTYPE))
+    Attributes
+    ----------
+    scene, law, method : str
+        What was simulated and how.
+    t_end : float
+        The requested end time [s].
+    params : dict of str to float
+        Every parameter the scene and the law read, as used (defaults and derived values
+        resolved, e.g. v_d = 1.5 v_s).
+    t : numpy.ndarray, shape (n_t,)
+        Output times [s]: the uniform grid, every accepted step (``every_step=True``), or the
+        part of either that was reached when the run ended early.
+    x : numpy.ndarray, shape (n_t,)
+        Displacement [m].
+    v : numpy.ndarray, shape (n_t,)
+        Velocity [m/s].
+    z : numpy.ndarray
+        The law's internal states: shape (n_t,) (like `x`) for a law with one state,
+        (n_states, n_t) for several, (0, n_t) for a law without states; named with units in
+        `state_labels`.
+    state_labels : tuple of str
+        Name and unit of each internal state, e.g. ``("z [m]",)``.
+    stats : dict
+        Counters and outcome of the run; its keys are listed under `simulate` (Returns).
+    y : numpy.ndarray, shape (2 + n_states, n_t)
+        The whole state (x, v, then the internal states), one row per component.
+    events : numpy.ndarray of EVENT_DTYPE
+        ``event_driven``'s stick/slip transitions (time, kind, position, contact; at most the
+        first 1,000,000, while ``stats["nevents"]`` counts them all); empty for the other
+        methods.
+
+    Notes
+    -----
+    The arrays of a Result are its own: no later call writes into them. `x`, `v` and `z` are
+    rows of one array the library filled (views, not copies).
+    """
+
+    __slots__ = ("scene", "law", "method", "t_end", "t", "x", "v", "z", "state_labels",
+                 "events", "_params", "_stats", "_raw")
+
+    def __init__(self, scene: str, law: str, method: str, t_end: float, params: dict[str, float],
+                 t: np.ndarray, x: np.ndarray, v: np.ndarray, stats: dict[str, Any] | None = None,
+                 z: np.ndarray | None = None, state_labels: tuple[str, ...] = (),
+                 events: np.ndarray | None = None) -> None:
+        self.scene, self.law, self.method, self.t_end = scene, law, method, t_end
+        self.t, self.x, self.v = t, x, v
+        self.z = np.zeros((0, np.size(t))) if z is None else z
+        self.state_labels = state_labels
+        self.events = _NO_EVENTS if events is None else events
+        self._params, self._stats, self._raw = params, ({} if stats is None else stats), None
+
+    @property
+    def params(self) -> dict[str, float]:
+        """Every parameter the scene and the law read, as used [SI units]."""
+        if self._params is None:                  # built on first use (simulate's lean path)
+            resolved, used = self._raw[4], self._raw[5]
+            values = resolved.tolist()
+            self._params = {k: values[i] for k, i in used}
+        return self._params
+
+    @property
+    def stats(self) -> dict[str, Any]:
+        """Counters and outcome of the run (keys: see `simulate`, Returns)."""
+        if self._stats is None:                   # built on first use (simulate's lean path)
+            istats, rstats, status, cpu = self._raw[:4]
+            stats: dict[str, Any] = dict(zip(_STATS_INT, istats.astype(np.int64).tolist()))  # exact: < 2**53
+            stats.update(zip(_STATS_REAL, rstats.tolist()))
+            stats["stiff"] = bool(stats["stiff"])
+            stats["message"] = status_message(status)
+            stats["cpu_seconds"] = cpu
+            del stats["n_written"]
+            self._stats = stats
+        return self._stats
 
     @property
     def y(self) -> np.ndarray:
-        """The whole state (x, v, z...) as an array of shape (2 + n_states, len(t))."""
+        """The whole state (x, v, then the internal states), shape (2 + n_states, n_t)."""
         return np.vstack([self.x, self.v, self.z.reshape(-1, self.t.size)])
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {"scene": self.scene, "law": self.law, "method": self.method, "t_end": self.t_end,
+                "params": self.params, "t": self.t, "x": self.x, "v": self.v, "stats": self.stats,
+                "z": self.z, "state_labels": self.state_labels, "events": self.events}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__init__(**state)
+
+    def __repr__(self) -> str:
+        return (f"Result(scene={self.scene!r}, law={self.law!r}, method={self.method!r}, "
+                f"t_end={self.t_end!r}, n_t={self.t.size}, message={self.stats['message']!r})")
 
 
 _KINDS = {"law": LAWS, "scene": SCENES, "method": METHODS}
@@ -248,14 +353,19 @@ def _check_names(params: Mapping[str, Any], allowed: tuple[str, ...]) -> None:
         raise ValueError(f"unknown parameter(s) {', '.join(sorted(unknown))} (accepted: {', '.join(allowed)})")
 
 
-def _check_code(status: int) -> None:
-    """Raise ValueError for a bad-input status: the message names the parameter and range."""
-    if status <= _FIRST_INPUT_CODE:
-        raise ValueError(status_message(status))
-
-
 def accepted_range(name: str) -> str:
-    """What the registry accepts for parameter `name`, e.g. 'must be finite and > 0 [m/s]'."""
+    """What the library accepts for a physical parameter.
+
+    Parameters
+    ----------
+    name : str
+        A physical parameter of `DEFAULTS`.
+
+    Returns
+    -------
+    str
+        Its rule from the registry, e.g. ``'must be finite and > 0 [m/s]'`` for v_s.
+    """
     return _ACCEPTED[name]
 
 
@@ -276,11 +386,28 @@ def _keys(d: Mapping[str, Any]) -> tuple[str, np.ndarray]:
 
 
 def interruptible(call: Callable[[np.ndarray], Any]) -> Any:
-    """Run call(stop) so that Ctrl-C stops it promptly. In the main thread the wrapper arms a
-    SIGINT handler for the length of the Fortran call (stop[0] = -1 asks for it; _interrupt.c)
-    that sets stop[0] = 1, which the integrators look at every 4096 steps (they then end with
-    status INTERRUPTED); KeyboardInterrupt is raised once the call has returned. Elsewhere
-    (worker threads) Python's own handling stays in place."""
+    """Run ``call(stop)`` so that Ctrl-C stops it promptly.
+
+    In the main thread the wrapper arms a SIGINT handler for the length of the Fortran call
+    (stop[0] = -1 asks for it; _interrupt.c) that sets stop[0] = 1, which the integrators look
+    at every 4096 steps (they then end with status INTERRUPTED). Elsewhere (worker threads)
+    Python's own handling stays in place.
+
+    Parameters
+    ----------
+    call : callable
+        Makes the library call with the stop flag it is given (an int32 array of one element).
+
+    Returns
+    -------
+    object
+        What `call` returned.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        Once the call has returned, if Ctrl-C was pressed during it.
+    """
     stop = np.array([-1 if threading.current_thread() is threading.main_thread() else 0], dtype=np.int32)
     out = call(stop)
     if stop[0] == 1:
@@ -288,23 +415,61 @@ def interruptible(call: Callable[[np.ndarray], Any]) -> Any:
     return out
 
 
-#: RK4's stability interval on the negative real axis: |h lambda| < 2.785 (README).
+#: RK4's stability interval on the negative real axis: |h lambda| < 2.785 (docs/guide/choosing-h.md).
 RK4_LIMIT = 2.785293563405282
 
 
-@functools.lru_cache(maxsize=256)
-def rk4_stability_bound(law: str, params: tuple[tuple[str, float], ...] = ()) -> float | None:
-    """RK4's stability bound 2.785/|lambda| [s] for the box on the slope creeping at v*, where
-    mu(v*) = tan(theta) and lambda = -g cos(theta) mu'(v*) (README, "How to choose h"); None
-    where no such bound exists (the box slides, or mu jumps across tan(theta) as Coulomb's does,
-    or the law has internal states). `params` are (name, value) pairs as for simulate."""
+@functools.lru_cache(maxsize=1024)
+def rk4_stability_bound(law: str, params: tuple[tuple[str, float], ...] = (), scene: str = "slope",
+                        v0: float = 0.0) -> float | None:
+    """RK4's linear stability bound on the step [s] for `law` in `scene`.
+
+    Parameters
+    ----------
+    law : str
+        A friction law of `LAWS`.
+    params : tuple of (str, float) pairs
+        Physical parameters as for `simulate` (the others at their defaults).
+    scene : str
+        "slope": the bound 2.785/|lambda| at the creep speed v*, where mu(v*) = tan(theta) and
+        lambda = -g cos(theta) mu'(v*), the state the box settles in. "belt": the bound at the
+        start (relative velocity w = v_b - v0), from the eigenvalues of the Jacobian
+        [[0, 1], [-k/m, -g mu'(w)]]: the largest h with |R(h lambda)| <= 1 for both, where R is
+        RK4's amplification factor (2.785/|lambda| for a real lambda, 2.828/|lambda| for an
+        imaginary one).
+    v0 : float
+        Initial velocity [m/s] (belt only).
+
+    Returns
+    -------
+    float or None
+        The bound [s]; None where no linear bound exists: mu jumps at that velocity (Coulomb's
+        at rest), the linearised motion grows by itself (mu falling with the relative speed),
+        the box slides on the slope without creeping, or the law has internal states (their
+        Jacobian is not derived here).
+    """
     if REGISTRY["law"][law]["n_states"] > 0:
         return None
+    d = dict(params)
+
+    def value(name: str) -> float:
+        return float(d.get(name, REGISTRY["param"][name]["default"]))
+
     p = {k: v for k, v in params if k in REGISTRY["law"][law]["params"]}
-    theta = math.radians(dict(params).get("theta_deg", REGISTRY["param"]["theta_deg"]["default"]))
-    g = dict(params).get("g", REGISTRY["param"]["g"]["default"])
+    if scene == "belt":
+        w = value("v_b") - v0
+        dv = 1e-6 * max(abs(w), value("v_s"))
+        m = friction_coefficient(law, [w - dv, w + dv, w - 0.1 * dv, w + 0.1 * dv], **p)
+        wide, narrow = m[1] - m[0], m[3] - m[2]
+        if abs(wide) > 1e-12 and abs(wide) < 3.0 * abs(narrow):
+            return None                 # the difference does not shrink with dv: a jump or an unbounded slope
+        jac = np.array([[0.0, 1.0], [-value("k") / value("m"), -value("g") * wide / (2.0 * dv)]])
+        bounds = [_rk4_ray_bound(complex(lam)) for lam in np.linalg.eigvals(jac) if lam != 0.0]
+        return None if not bounds or None in bounds else min(bounds)
+    theta = math.radians(value("theta_deg"))
+    g = value("g")
     target = math.tan(theta)
-    v_s = float(dict(params).get("v_s", REGISTRY["param"]["v_s"]["default"]))
+    v_s = value("v_s")
     if not (0.0 < target and g > 0.0):
         return None
     grid = np.concatenate([[0.0], np.geomspace(1e-8, 1e2, 400) * v_s])
@@ -324,6 +489,26 @@ def rk4_stability_bound(law: str, params: tuple[tuple[str, float], ...] = ()) ->
     return RK4_LIMIT / lam if lam > 0.0 else None
 
 
+def _rk4_ray_bound(lam: complex) -> float | None:
+    """The largest h with |R(s lam)| <= 1 for every s in (0, h], R(z) = 1 + z + z^2/2 + z^3/6
+    + z^4/24 (RK4's amplification factor); None when |R| > 1 already for small h (Re lam > 0)."""
+    def grows(h: float) -> bool:
+        z = h * lam
+        return abs(1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))) > 1.0 + 1e-12
+    scale = 1.0 / abs(lam)
+    steps = np.linspace(0.0, 4.0, 4001)[1:] * scale        # RK4's region lies within |z| < 3
+    first = next((h for h in steps if grows(h)), None)
+    if first is None:
+        return None
+    if first == steps[0]:
+        return None
+    lo, hi = first - steps[0], first
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if not grows(mid) else (lo, mid)
+    return lo
+
+
 def _fixed_steps(t_end: float, h: float) -> float:
     """Steps a fixed-step method takes from 0 to t_end (inf when uncountable; 0 for bad input,
     which the library rejects by name)."""
@@ -334,11 +519,34 @@ def _fixed_steps(t_end: float, h: float) -> float:
 
 
 def friction_coefficient(law: str, v: Any, **params: float) -> np.ndarray:
-    """Friction coefficient mu(v) [-] of `law` at relative velocities v [m/s] (scalar or array);
-    for a law with internal states, its steady-state curve.
+    """Friction coefficient mu(v) [-] of `law` at relative velocities v [m/s].
 
-    Parameters: those of REGISTRY["law"][law]["params"] (defaults in DEFAULTS); any parameter of
-    another law or scene is range-checked too.
+    Parameters
+    ----------
+    law : str
+        A friction law of `LAWS`.
+    v : float or array_like
+        Relative sliding velocities [m/s], finite.
+    **params : float
+        Parameters of the law (``REGISTRY["law"][law]["params"]``; defaults in `DEFAULTS`); any
+        parameter of another law or of a scene is range-checked too.
+
+    Returns
+    -------
+    numpy.ndarray
+        mu(v) [-], of the shape of `v`; for a law with internal states, its steady-state curve.
+
+    Raises
+    ------
+    ValueError
+        An unknown law or parameter, a value out of its range (the message names it, its range
+        and the values), a non-finite v, or a mu that overflows.
+
+    Examples
+    --------
+    >>> import stickslip as ss
+    >>> ss.friction_coefficient("coulomb", [-1.0, 1.0]).tolist()
+    [-0.3, 0.3]
     """
     code = _choice("law", law, LAWS)
     given = _physical(params)
@@ -350,7 +558,7 @@ def friction_coefficient(law: str, v: Any, **params: float) -> np.ndarray:
         raise ValueError("v: must be finite [m/s]")
     keys, vals = _keys(given)
     mu, status = _ext.friction(code, keys, vals, np.ascontiguousarray(vv.ravel()))
-    _check_code(int(status))
+    _check_code(status, given)
     mu = np.asarray(mu).reshape(vv.shape)
     if not np.isfinite(mu).all():
         bad = vv.reshape(-1)[int(np.flatnonzero(~np.isfinite(mu.reshape(-1)))[0])]
@@ -372,6 +580,12 @@ class _Plan:
     needs_h: bool
     used: tuple[tuple[str, int], ...]       # parameters the scene and law read: (name, registry index)
     state_labels: tuple[str, ...]
+    sized_by: tuple[str, ...] = ()          # the law's parameters that set its number of states
+
+
+#: Parameters that set a law's number of internal states (the generalized Maxwell-slip model's
+#: n_elements): for such a law simulate asks the library (prescribed._states).
+STATE_COUNT_PARAMS: tuple[str, ...] = ("n_elements",)
 
 
 _PLANS: dict[tuple[str, str, str], _Plan] = {}
@@ -392,7 +606,8 @@ def _plan(scene: Any, law: Any, method: Any) -> _Plan:
             defaults={k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]},
             adaptive=info["adaptive"], needs_h="h" in info["controls"],
             used=tuple((k, i) for i, k in enumerate(_PARAM_ORDER) if k in used),
-            state_labels=REGISTRY["law"][law]["states"])
+            state_labels=REGISTRY["law"][law]["states"],
+            sized_by=tuple(k for k in STATE_COUNT_PARAMS if k in REGISTRY["law"][law]["params"]))
         _PLANS[scene, law, method] = plan   # only names that passed _choice get here
     return plan
 
@@ -425,7 +640,8 @@ def _tolerance(name: str, value: Any, n: int) -> np.ndarray:
     return items.astype(np.float64)
 
 
-#: Output grids up to this many points are kept (_grid): numpy.linspace costs microseconds.
+#: Output grids up to this many points are kept with their setting (_Call): numpy.linspace
+#: costs microseconds.
 _GRID_CACHE_ROWS = 4096
 
 
@@ -434,23 +650,75 @@ def _linspace(t_end: float, n_out: int) -> np.ndarray:
     return np.linspace(0.0, t_end, n_out) if n_out > 1 else np.array([t_end])
 
 
-@functools.lru_cache(maxsize=32)
-def _cached_linspace(t_end: float, n_out: int) -> np.ndarray:
-    grid = _linspace(t_end, n_out)
-    grid.setflags(write=False)
-    return grid
-
-
-def _grid(t_end: float, n_out: int) -> np.ndarray:
-    """A new array holding the output grid _linspace(t_end, n_out); small ones are copied
-    from a cache."""
-    return _cached_linspace(t_end, n_out).copy() if n_out <= _GRID_CACHE_ROWS else _linspace(t_end, n_out)
-
-
 _PARAM_SET = frozenset(_PARAM_ORDER)
 _CONTROL_SET = frozenset(CONTROLS)
 _STATS_INT: tuple[str, ...] = REGISTRY["stats_int"]
 _STATS_REAL: tuple[str, ...] = REGISTRY["stats_real"]
+_I_WRITTEN = _STATS_INT.index("n_written")
+_I_NEVENTS = _STATS_INT.index("nevents")
+#: The sizes run_simulation checks against the registry: counters, reals, parameters.
+_SIZES = (len(_STATS_INT), len(_STATS_REAL), len(_PARAM_ORDER))
+
+
+class UnusedParameterWarning(UserWarning):
+    """A physical parameter was given that the scene and the law do not read (it is
+    range-checked, then ignored)."""
+
+
+def _show(value: Any) -> str:
+    """A value for an error message: 0.35, 1e-06, [1e-06, 0.99]."""
+    if isinstance(value, np.ndarray):
+        return _show(float(value[0])) if value.size == 1 else "[" + ", ".join(_show(float(x)) for x in value) + "]"
+    return f"{value:g}" if isinstance(value, float) else repr(value)
+
+
+def _known(given: Mapping[str, float]) -> dict[str, float]:
+    """Every physical parameter as the library resolves it: given, else its default (a derived
+    one, v_d, from its registry rule)."""
+    known = {k: v for k, v in DEFAULTS.items() if v is not None} | dict(given)
+    for k, info in REGISTRY["param"].items():
+        if k not in given and info["default_of"]:
+            known[k] = info["scale"] * known[info["default_of"]]
+    return known
+
+
+def _check_code(status: int, given: Mapping[str, Any] | None = None) -> None:
+    """Raise ValueError for a bad-input status: the library's message, which names the parameter
+    and its accepted range, with the values of the parameters it names (`given` over the
+    defaults)."""
+    if status <= _FIRST_INPUT_CODE:
+        raise ValueError(_with_values(status_message(status), _known(given or {})))
+
+
+def _with_values(message: str, known: Mapping[str, Any]) -> str:
+    """A library message about bad input, with the values of the parameters it names: the
+    one(s) before the colon and those it compares with, e.g. 'mu_k: must be finite and >= 0
+    and <= mu_s (got mu_k = 0.5, mu_s = 0.35)'."""
+    head, sep, rule = message.partition(":")
+    if not sep:
+        return message
+    names = [n.strip() for n in head.split(",")] + re.findall(r"[<>]=?\s*([A-Za-z_]\w*)", rule)
+    shown = [f"{n} = {_show(known[n])}" for n in dict.fromkeys(names) if n in known]
+    return f"{message} (got {', '.join(shown)})" if shown else message
+
+
+class _Call:
+    """One distinct setting of `simulate`, validated once (_prepare): the arguments of its
+    Fortran call and what its Result needs. Never changed after _prepare, except `checked`."""
+
+    __slots__ = ("scene", "law", "method", "t_end", "args", "grid", "n_out", "rows", "warnings",
+                 "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "checked")
+
+    def __init__(self, **kw: Any) -> None:
+        for k, v in kw.items():
+            setattr(self, k, v)
+        self.checked = False                 # the library accepted the input (status > input codes)
+
+
+#: Settings simulate has validated (keyed on its arguments and their types), at most
+#: _CALLS_MAX; cleared when full. Only settings the library accepted are kept.
+_CALLS: dict[tuple, _Call] = {}
+_CALLS_MAX = 512
 
 
 #: Most output values (state components x rows) a run may fill: 2 GB of float64.
@@ -501,40 +769,157 @@ def _chain_state(n_blocks: int, nz: int, x0: Any, v0: Any, z0: Any, law: str) ->
 
 def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | None = None,
              every_step: bool = False, max_steps: int | None = None, x0: Any = 0.0,
-             v0: Any = None, z0: Any = None, **kwargs: Any) -> Result:
-    """Simulate `scene` (SCENES: "slope", "belt") with friction `law` (LAWS) from
-    (x0 [m], v0 [m/s], z0 = the law's internal states, default 0) at t = 0 to t_end [s] with
-    `method` (METHODS).
+             v0: Any = None, z0: Any = None, ignore_unused: bool = False, **kwargs: Any) -> Result:
+    """Simulate `scene` with friction `law` from t = 0 to `t_end` with `method`.
 
-    Keyword arguments are physical parameters (DEFAULTS; each given value is range-checked
-    whatever the scene and law) or controls of the method (REGISTRY["method"][method]
-    ["controls"]): the fixed-step methods ("rk4", "implicit_euler", "galpha") need h [s]; the
-    adaptive ones ("dopri5", "radau5") take rtol (1e-6), atol (1e-9; scalars or one per state
-    component), hmin (1e-6 s), hmax (1e-2 s), h0 (0 = automatic), allow_forced and their own
-    (README, "Python"; after a forced step the step is held for calm_steps = 2 steps, then
-    grows by at most fac_forced = 2 a step).
-    A control the method does not read is an error. The set-valued (exact-stick) methods take the
-    laws "coulomb" and "stribeck" only: "moreau" (Moreau-Jean time-stepping; h, theta = 0.5,
-    contact_tol, contact_max_iter) and "event_driven" (stick/slip switching with DOPRI5 in each
-    mode; rtol, atol, max_events, zeno_gap), whose transitions are in Result.events
-    (docs/guide/exact-stick.md).
+    Parameters
+    ----------
+    scene : str
+        What is simulated, one of `SCENES`: "slope" (a box on a plane inclined theta_deg, x
+        down the slope), "belt" (a mass m on a belt moving at v_b, tied to a wall by a
+        spring k) or "chain" (n_blocks such blocks on the belt, block i tied to block i - 1 by
+        k_c; docs/guide/chain.md).
+    law : str
+        The friction law, one of `LAWS` (parameters and defaults: `REGISTRY["law"][law]`,
+        `DEFAULTS`).
+    method : str
+        The integrator, one of `METHODS`; the controls it reads are
+        `REGISTRY["method"][method]["controls"]`.
+    t_end : float
+        End time [s], > 0.
+    n_out : int, optional
+        Points of the uniform output grid on [0, t_end] (default 1001); not with `every_step`.
+    every_step : bool, optional
+        Output every accepted step instead of a grid (default False).
+    max_steps : int, optional
+        Budget of attempted steps (default 10**8; 10**6 for an adaptive method with
+        `every_step`). A fixed-step run that needs more is refused before it starts.
+    x0, v0 : float or sequence of float, optional
+        Initial displacement [m] (default 0) and velocity [m/s] (default 0; v_b on the chain:
+        every block stuck on the belt). On the chain either is one value for every block or
+        n_blocks values.
+    z0 : float or sequence of float, optional
+        Initial internal states of the law (default all 0), one per state; on the chain the
+        law's states for every block or block by block.
+    ignore_unused : bool, optional
+        False (default): a physical parameter that the scene and the law do not read is
+        range-checked, then ignored with an `UnusedParameterWarning`. True: ignored silently
+        (for one parameter set shared across laws and scenes).
+    **kwargs : float
+        Physical parameters (names in `DEFAULTS`, SI units; each value given is range-checked
+        whatever the scene and law) and controls of the method (every control, its default and
+        meaning: docs/guide/controls.md). The fixed-step methods ("rk4", "implicit_euler",
+        "galpha") need ``h`` [s]. The adaptive ones ("dopri5", "dop853", "radau5") take ``rtol`` (default
+        1e-6; DOPRI5 accepts 0, a purely absolute error test, RADAU5 needs rtol >= 2.2e-14),
+        ``atol`` (1e-9; either may be one value or one per state component), ``hmin`` (1e-6 s:
+        where the error test fails at hmin the step is taken anyway and counted in
+        ``stats["nforced"]``; ``allow_forced=False`` raises StepSizeTooSmall instead),
+        ``hmax`` (0: the whole interval, so that only the error test limits the step; the
+        paper's drivers pass 1e-2 s), ``h0`` (0: automatic) and their own.
+        A control the method does not read is an error.
+        The set-valued (exact-stick) methods take the laws "coulomb" and "stribeck" only:
+        "moreau" (Moreau-Jean time-stepping; ``h``, ``theta`` = 0.5, ``contact_tol``,
+        ``contact_max_iter``) and "event_driven" (stick/slip switching with DOPRI5 in each
+        mode; ``rtol``, ``atol``, ``max_events``, ``zeno_gap``), whose transitions are in
+        ``Result.events`` (docs/guide/exact-stick.md).
 
-    The scene "chain" (n_blocks blocks on the belt, block i tied to block i - 1 by k_c,
-    docs/guide/chain.md) has the state (x_1..x_N, v_1..v_N, the law's states block by block):
-    x0 and v0 are then one value for every block or N values (v0 defaults to v_b: every block
-    stuck on the belt), z0 the law's states for every block or block by block; Result.x and
-    Result.v have shape (N, n_t) (as the belt's (n_t,) for N = 1).
+    Returns
+    -------
+    Result
+        The output: ``t`` [s], ``x`` [m], ``v`` [m/s] of shape (n_t,) (on the chain with
+        n_blocks > 1: (n_blocks, n_t), and ``z`` (n_blocks n_states, n_t), block by block);
+        ``z``, the internal states, of shape (n_t,) for a law with one state and
+        (n_states, n_t) for several;
+        ``y`` (2 + n_states, n_t); ``params`` (every parameter the scene and law read, as
+        used); ``state_labels``; and ``stats``, a dict with the keys:
 
-    Output: a uniform grid of n_out points on [0, t_end] (default 1001), or every step when
-    every_step is set. max_steps bounds attempted steps (default 10**8; 10**6 for an adaptive
-    method with every_step). When DOPRI5's error test fails at hmin the step is taken anyway and
-    counted in stats["nforced"]; allow_forced=False raises StepSizeTooSmall instead.
+        - ``nfev``: right-hand-side evaluations (Hairer's NFCN; finite-difference Jacobians
+          included).
+        - ``nstep``: attempted steps (NSTEP).
+        - ``naccept``: accepted steps, forced ones included (NACCPT).
+        - ``nreject``: rejected steps after the first accepted one (NREJCT).
+        - ``nforced``: steps taken at hmin although the error test failed there.
+        - ``nstiff``: DOPRI5's stiffness tests with h |lambda| > 3.25.
+        - ``stiff``: True once 15 such tests came in a row (the problem is probably stiff).
+        - ``njac``, ``ndec``, ``nsol``: Jacobian evaluations, LU decompositions and
+          forward-backward substitutions of the implicit methods (NJAC, NDEC, NSOL).
+        - ``nevents``: stick/slip transitions of event_driven (``Result.events`` holds them;
+          0 for the other methods).
+        - ``ncontact_iter``: sweeps of moreau's contact solve, summed over the steps.
+        - ``contact_residual``: the largest final residual of moreau's contact solve [m/s].
+        - ``status``: the library's status code (0: t_end reached).
+        - ``message``: the library's message for that status.
+        - ``t_reached``: the time the run reached [s] (t_end on success).
+        - ``h_last``: the last step size tried [s].
+        - ``cpu_seconds``: CPU time of the library call [s] (time.process_time).
 
-    Raises ValueError for bad input (naming the parameter and its accepted range) and an
-    IntegrationError subclass when the run ends early (its `.result` holds the partial output).
-    Every value of a result returned is finite: an overflow of the state, or of the dense output
-    or interpolant between steps, ends the run with NonFiniteSolution.
+        All values of a returned Result are finite.
+
+    Raises
+    ------
+    ValueError
+        Bad input, before anything runs: an unknown name, a non-number, a value out of its
+        range (the message names the parameter, its accepted range and the values given), a
+        control the method does not read, a fixed-step run needing more than max_steps steps.
+    IntegrationError
+        The run ended before t_end; one of its subclasses StepBudgetExhausted,
+        StepSizeTooSmall, StiffnessDetected, NonFiniteSolution, OutputBufferFull,
+        NewtonFailure, ContactSolverFailure (moreau), EventAccumulation (event_driven). Its ``result`` holds the output up to ``stats["t_reached"]`` and its
+        ``status`` the library's code.
+    KeyboardInterrupt
+        Ctrl-C during the run (the integrators look at a stop flag every 4096 steps).
+
+    Warns
+    -----
+    UnusedParameterWarning
+        A physical parameter the scene and the law do not read (unless ignore_unused).
+    UnstableStepWarning
+        RK4 with h beyond its stability bound at the creep speed on the slope
+        (`rk4_stability_bound`).
+    UserWarning
+        A fixed step h longer than the whole run.
+
+    Examples
+    --------
+    >>> import stickslip as ss
+    >>> r = ss.simulate("belt", "proposed", method="dopri5", t_end=20.0, rtol=1e-6, atol=1e-6)
+    >>> r.x.shape, r.stats["status"], r.stats["nfev"]
+    ((1001,), 0, 2822)
+    >>> ss.simulate("slope", "lugre", method="radau5", t_end=1.0, n_out=11).z.shape
+    (11,)
+    >>> r = ss.simulate("belt", "recurdyn", method="rk4", h=1e-3, t_end=0.01, n_out=2)
+    >>> r.stats["nstep"]
+    10
     """
+    try:
+        # A setting seen before (equal arguments of equal types) is not validated again.
+        # (The types keep True from meeting 1, which is valid where True is not.)
+        key = (scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused,
+               tuple(kwargs.items()), tuple(map(type, kwargs.values())), type(t_end), type(x0),
+               type(v0), type(n_out), type(max_steps))
+        call = _CALLS.get(key)
+    except TypeError:                        # an unhashable argument (a list): validated each time
+        key = call = None
+    if call is None:
+        call = _prepare(scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0,
+                        ignore_unused, kwargs)
+        try:
+            return _execute(call)
+        finally:
+            if call.checked and key is not None and not any(
+                    isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):   # tuples may hide bools
+                if len(_CALLS) >= _CALLS_MAX:
+                    _CALLS.clear()
+                _CALLS[key] = call
+    for message, category in call.warnings:
+        warnings.warn(message, category, stacklevel=2)
+    return _execute(call)
+
+
+def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_step: Any, max_steps: Any,
+             x0: Any, v0: Any, z0: Any, ignore_unused: bool, kwargs: Mapping[str, Any]) -> _Call:
+    """Validate one setting of simulate (ValueError naming the parameter and its range) and
+    issue its warnings; the _Call holds the arguments of its Fortran call."""
     plan = _plan(scene, law, method)
     unknown = kwargs.keys() - _PARAM_SET - _CONTROL_SET
     if unknown:
@@ -543,7 +928,11 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     given = _physical({k: v for k, v in kwargs.items() if k in _PARAM_SET})
     ctl = _controls(method, plan, {k: v for k, v in kwargs.items() if k in _CONTROL_SET})
     t_end = _finite("t_end", t_end, "> 0 [s]")
-    n = plan.n
+    n_states, state_labels = plan.n - 2, plan.state_labels
+    if plan.sized_by:                        # a law whose number of states is a parameter (gms)
+        from .prescribed import _states     # (prescribed imports this module)
+        n_states, state_labels = _states(law, tuple((k, given[k]) for k in plan.sized_by if k in given))
+    n = 2 + n_states
     n_blocks = 1
     if scene == "chain":
         n_blocks = _n_blocks(given, method, n, "banded" in plan.reads and not ctl.get("banded", 1.0))
@@ -553,24 +942,35 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     atol = _tolerance("atol", ctl.pop("atol", 1.0), n)
     for name, value in ctl.items():
         ctl[name] = _finite(name, value, "see simulate()")
+    said: list[tuple[str, type[Warning]]] = []
+
+    def warn(message: str, category: type[Warning] = UserWarning) -> None:
+        warnings.warn(message, category, stacklevel=4)      # the caller of simulate
+        said.append((message, category))
+
+    used = {k for k, _ in plan.used}
+    unused = [k for k in given if k not in used]
+    if unused and not ignore_unused:
+        warn(f"{', '.join(unused)}: not read by scene {scene!r} with law {law!r}, ignored (range-checked "
+             "only; ignore_unused=True silences this for parameter sets shared across laws)",
+             UnusedParameterWarning)
     if plan.needs_h:
         if "h" not in ctl:
             raise ValueError(f"h: required for method {method!r} (finite, > 0 [s])")
         h = ctl["h"]
         if h > t_end > 0.0:
-            warnings.warn(f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
-                          "shortened to t_end; the result is that single step (README: How to choose h)",
-                          stacklevel=2)
+            warn(f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
+                 "shortened to t_end; the result is that single step (docs/guide/choosing-h.md)")
         if method == "rk4" and scene == "slope" and h > 0.0:
             bound = rk4_stability_bound(law, tuple(sorted(given.items())))
             if bound is not None and h > bound:
-                warnings.warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
-                              f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
-                              "wrong creep speed (README: How to choose h)", stacklevel=2)
+                warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
+                     f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
+                     "wrong creep speed (docs/guide/choosing-h.md)", UnstableStepWarning)
     if scene == "chain":
         if v0 is None:   # every block stuck on the belt
             v0 = given.get("v_b", DEFAULTS["v_b"])
-        y0 = _chain_state(n_blocks, plan.n - 2, x0, v0, z0, law)
+        y0 = _chain_state(n_blocks, n_states, x0, v0, z0, law)
     else:
         x0 = _finite("x0", x0, "[m]")
         v0 = _finite("v0", 0.0 if v0 is None else v0, "[m/s]")
@@ -579,8 +979,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
             y0[0], y0[1] = x0, v0
         else:
             z = np.atleast_1d(np.asarray(z0, dtype=np.float64))
-            if z.shape != (n - 2,) or not np.isfinite(z).all():
-                raise ValueError(f"z0: must be {n - 2} finite value(s), the initial internal states of {law!r}")
+            if z.shape != (n_states,) or not np.isfinite(z).all():
+                raise ValueError(f"z0: must be {n_states} finite value(s), the initial internal states of {law!r}")
             y0 = np.concatenate([np.array([x0, v0]), z])
 
     if max_steps is None:
@@ -592,6 +992,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
                          f"t_end = {t_end:g} s, more than max_steps = {max_steps} (raise max_steps or h)")
     ctl["max_steps"] = float(max_steps)
 
+    grid, rows = None, 0
     if every_step:
         if n_out is not None:
             raise ValueError("n_out: give either n_out or every_step, not both")
@@ -602,47 +1003,110 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         if rows > MAX_ROWS:
             raise ValueError(f"max_steps: every_step would allocate {rows} rows (limit {MAX_ROWS}); "
                              "lower max_steps or use n_out")
-        t_grid = np.zeros(rows)
         ctl["every_step"] = 1.0
     else:
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
-        t_grid = _grid(t_end, n_out)
+        if n_out <= _GRID_CACHE_ROWS:
+            grid = _linspace(t_end, n_out)
+            grid.setflags(write=False)       # copied for each call (_execute)
 
-    if scene == "chain" and n * t_grid.size > _MAX_OUTPUT_VALUES:
-        raise ValueError(f"n_blocks: {n_blocks} blocks ({n} state components) on {t_grid.size} output rows "
-                         f"need {8 * n * t_grid.size / 1e9:.3g} GB of output (limit "
+    n_rows = rows if every_step else n_out
+    if scene == "chain" and n * n_rows > _MAX_OUTPUT_VALUES:
+        raise ValueError(f"n_blocks: {n_blocks} blocks ({n} state components) on {n_rows} output rows "
+                         f"need {8 * n * n_rows / 1e9:.3g} GB of output (limit "
                          f"{8 * _MAX_OUTPUT_VALUES / 1e9:.3g} GB); lower n_blocks or n_out")
     pkeys, pvals = _keys(given)
     ckeys, cvals = _keys(ctl)
-    scene_code, law_code, method_code = plan.codes
+    known = {**_known(given), **CONTROL_DEFAULTS, **ctl, "rtol": rtol, "atol": atol, "t_end": t_end}
     # room for event_driven's events (max_events of them, range-checked by the library)
-    room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) if "max_events" in plan.reads else 0
-    raw_events = np.zeros((4, room), order="F")
-    cpu0 = time.process_time()
-    y, istats, rstats, resolved, status = interruptible(lambda stop: _ext.run_simulation(
-        scene_code, law_code, method_code, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals,
-        t_grid, len(_STATS_INT), len(_STATS_REAL), len(_PARAM_ORDER), stop, raw_events))
-    cpu = time.process_time() - cpu0
-    status = int(status)
-    _check_code(status)
+    room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
+        if "max_events" in plan.reads else 0
+    return _Call(scene=scene, law=law, method=method, t_end=t_end,
+                 args=(*plan.codes, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals),
+                 grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
+                 state_labels=state_labels, used=plan.used, known=known, events_room=room,
+                 n_blocks=n_blocks)
 
-    stats: dict[str, Any] = dict(zip(_STATS_INT, istats.astype(np.int64).tolist()))   # exact: < 2**53
-    stats.update(zip(_STATS_REAL, rstats.tolist()))
-    stats["stiff"] = bool(stats["stiff"])
-    stats["message"] = status_message(status)
-    stats["cpu_seconds"] = cpu
-    rows_written = stats.pop("n_written")
-    resolved = resolved.tolist()
-    params = {k: resolved[i] for k, i in plan.used}
-    y = y[:, :rows_written]
-    result = Result(scene=scene, law=law, method=method, t_end=t_end, params=params,
-                    t=t_grid if rows_written == t_grid.size else t_grid[:rows_written].copy(),
-                    x=np.array(y[0] if n_blocks == 1 else y[:n_blocks]),
-                    v=np.array(y[n_blocks] if n_blocks == 1 else y[n_blocks:2 * n_blocks]),
-                    stats=stats, z=np.array(y[2 * n_blocks:]),
-                    state_labels=plan.state_labels)
-    if room:
-        result.events = _events(raw_events, stats["nevents"])
+
+#: The main thread's stop flag (interruptible), reused: only the main thread writes it; read
+#: and written through a memoryview (faster than numpy's indexing).
+_MAIN_STOP = np.zeros(1, dtype=np.int32)
+_MAIN_FLAG = memoryview(_MAIN_STOP)
+_MAIN_IDENT = threading.main_thread().ident
+
+
+def _after_fork() -> None:
+    global _MAIN_IDENT
+    _MAIN_IDENT = threading.main_thread().ident
+
+
+os.register_at_fork(after_in_child=_after_fork)
+
+
+def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
+    """The library call that ``simulate(scene, law, **kwargs)`` makes, as a function that makes
+    it with the same arguments and does nothing else (for the benchmarks' overhead table: what
+    simulate adds beyond it). Main thread only (it arms the SIGINT handler as simulate does)."""
+    call = _prepare(scene, law, kwargs.pop("method"), kwargs.pop("t_end"), kwargs.pop("n_out", None),
+                    kwargs.pop("every_step", False), kwargs.pop("max_steps", None), kwargs.pop("x0", 0.0),
+                    kwargs.pop("v0", None), kwargs.pop("z0", None), kwargs.pop("ignore_unused", False), kwargs)
+    t_grid = np.zeros(call.rows) if call.rows else _linspace(call.t_end, call.n_out)
+    stop = np.zeros(1, dtype=np.int32)
+    run, args, sizes = _ext.run_simulation, call.args, _SIZES
+
+    events = np.zeros((4, call.events_room), order="F")
+
+    def bare() -> Any:
+        stop[0] = -1
+        return run(*args, t_grid, *sizes, stop, events)
+    return bare
+
+
+def _execute(call: _Call) -> Result:
+    """Run a validated setting: the one place `simulate` calls the library."""
+    if call.grid is not None:
+        t_grid = call.grid.copy()
+    elif call.rows:
+        t_grid = np.zeros(call.rows)
+    else:
+        t_grid = _linspace(call.t_end, call.n_out)
+    if threading.get_ident() == _MAIN_IDENT:
+        stop, flag = _MAIN_STOP, _MAIN_FLAG
+        flag[0] = -1                          # asks the wrapper for a SIGINT handler (interruptible)
+    else:
+        stop = np.zeros(1, dtype=np.int32)
+        flag = memoryview(stop)
+    raw_events = np.zeros((4, call.events_room), order="F") if call.events_room else _NO_EVENT_ROWS
+    cpu0 = time.process_time()
+    # ---- the Fortran call ---------------------------------------------------------------------
+    y, istats, rstats, resolved, status = _ext.run_simulation(*call.args, t_grid, *_SIZES, stop,
+                                                              raw_events)
+    # -------------------------------------------------------------------------------------------
+    cpu = time.process_time() - cpu0
+    if flag[0] == 1:
+        raise KeyboardInterrupt
+    if status != STATUS_OK:
+        if status <= _FIRST_INPUT_CODE:
+            raise ValueError(_with_values(status_message(status), call.known))
+        rows = int(istats[_I_WRITTEN])
+        y, t_grid = y[:, :rows], t_grid[:rows].copy()
+    elif call.rows:                           # every step: the rows written
+        rows = int(istats[_I_WRITTEN])
+        y, t_grid = y[:, :rows], t_grid[:rows].copy()
+    call.checked = True
+    result = Result.__new__(Result)
+    result.scene, result.law, result.method, result.t_end = call.scene, call.law, call.method, call.t_end
+    nb = call.n_blocks
+    if nb == 1:
+        result.t, result.x, result.v = t_grid, y[0], y[1]
+        result.z = y[2] if call.n_states == 1 else y[2:]
+    else:                                     # the chain: one row per block
+        result.t, result.x, result.v = t_grid, y[:nb], y[nb:2 * nb]
+        result.z = y[2 * nb:]
+    result.state_labels = call.state_labels
+    result._params = result._stats = None     # built on first use from _raw
+    result._raw = (istats, rstats, status, cpu, resolved, call.used)
+    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if call.events_room else _NO_EVENTS
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
     return result

@@ -19,7 +19,7 @@ ran: the result is bit-identical to one local call (except the wall-clock `secon
 Default chunk_rows (`default_chunk_rows`): about 4 chunks per worker (Dask) so that a slow
 chunk does not leave the other workers idle, at most MAX_CHUNK_ROWS rows; locally 20 chunks
 (for the progress bar and the files) of at most MAX_CHUNK_ROWS rows. A chunk costs the cluster
-a few milliseconds (README: "Sweeps on a Dask cluster"), so chunks should hold at least
+a few milliseconds (docs/guide/dask.md), so chunks should hold at least
 a second of work.
 """
 from __future__ import annotations

@@ -56,7 +56,8 @@ contains
             end select
         end do
         call check(new_in_range, 'PARAMS: the new laws'' codes in -140 .. -199')
-        call check(size(LAW_TABLE) == 7 .and. code_of('law', 'elastoplastic') == 7, 'LAW_TABLE: seven laws')
+        call check(size(LAW_TABLE) == 9 .and. code_of('law', 'elastoplastic') == 7 .and. &
+                   code_of('law', 'dahl') == 8 .and. code_of('law', 'gms') == 9, 'LAW_TABLE: nine laws')
     end subroutine test_param_table
 
     !> dmu against a central difference of mu (relative 1e-6) away from kinks and jumps.

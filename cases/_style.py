@@ -1,0 +1,107 @@
+"""One style for every figure of cases/ and benchmarks/: the colour-blind-safe palette of Okabe
+& Ito (2008), the plain-language names of the library's codes, and how figures are saved.
+
+- `name(code)` turns a law, method or scene code ("recurdyn", "implicit_euler", "belt") into
+  the words a figure shows ("RecurDyn (haversine)", "implicit Euler", "mass on a moving
+  belt"); a code it does not know is shown as it is, so a new law still plots.
+- `LAW_COLORS`, `METHOD_COLORS`, `SEQUENCE`: colours by code, and the default colour cycle.
+- `apply()` sets matplotlib's parameters (Agg backend, fonts, the colour cycle); `save(fig,
+  path)` writes a PNG at `DPI` (>= 200) and a vector PDF beside it, each whole or not at all.
+
+Use it through `cases._common` (`new_figure`, `save_figure`, `LAW_LABELS`, ...) or directly.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any, Callable
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
+from cycler import cycler  # noqa: E402
+
+#: Okabe & Ito's eight colours, named (https://jfly.uni-koeln.de/color/).
+OKABE_ITO: dict[str, str] = {"black": "#000000", "orange": "#E69F00", "sky blue": "#56B4E9",
+                             "bluish green": "#009E73", "yellow": "#F0E442", "blue": "#0072B2",
+                             "vermillion": "#D55E00", "reddish purple": "#CC79A7"}
+_C = OKABE_ITO
+#: The colour cycle of every axes (yellow last: it is faint on white).
+SEQUENCE: tuple[str, ...] = (_C["blue"], _C["vermillion"], _C["bluish green"], _C["orange"],
+                             _C["reddish purple"], _C["sky blue"], _C["black"], _C["yellow"])
+
+#: Display names of the library's codes, in one place.
+LAW_NAMES: dict[str, str] = {
+    "coulomb": "Coulomb", "recurdyn": "RecurDyn (haversine)", "proposed": "proposed (Roh & Yoo)",
+    "stribeck": "Stribeck", "karnopp": "Karnopp", "lugre": "LuGre", "elastoplastic": "elasto-plastic"}
+METHOD_NAMES: dict[str, str] = {
+    "rk4": "RK4", "dopri5": "DOPRI5", "dop853": "DOP853", "radau5": "RADAU5",
+    "implicit_euler": "implicit Euler", "galpha": "generalized-α",
+    # other tools of the comparisons
+    "c_loop": "plain C loop", "stickslip_fortran": "stickslip from Fortran",
+    "stickslip_python": "stickslip from Python", "gsl": "GSL", "scipy": "scipy"}
+SCENE_NAMES: dict[str, str] = {"slope": "box on a 10° slope", "belt": "mass on a moving belt"}
+#: Status words of the stability maps and the law comparison.
+CLASS_NAMES: dict[str, str] = {"stable": "stable", "chattering": "chattering",
+                               "spurious": "spurious (smooth but wrong)", "unstable": "unstable",
+                               "newton failed": "Newton failed"}
+
+LAW_COLORS: dict[str, str] = {
+    "coulomb": _C["vermillion"], "recurdyn": _C["blue"], "proposed": _C["bluish green"],
+    "stribeck": _C["orange"], "karnopp": _C["reddish purple"], "lugre": _C["sky blue"],
+    "elastoplastic": _C["black"]}
+METHOD_COLORS: dict[str, str] = {
+    "rk4": _C["blue"], "dopri5": _C["vermillion"], "radau5": _C["bluish green"],
+    "implicit_euler": _C["orange"], "galpha": _C["reddish purple"], "dop853": _C["sky blue"]}
+CLASS_COLORS: dict[str, str] = {
+    "stable": _C["bluish green"], "chattering": _C["orange"], "spurious": _C["reddish purple"],
+    "unstable": _C["vermillion"], "newton failed": "0.45"}
+#: Colours and line styles of the variants (step sizes, tolerances) of one law.
+VARIANT_COLORS: tuple[str, ...] = (_C["black"], _C["orange"], _C["sky blue"], _C["reddish purple"],
+                                   _C["bluish green"])
+VARIANT_STYLES: tuple[str, ...] = ("-", "--", ":", "-.")
+
+#: Resolution of every PNG [dots per inch]; a PDF copy is written beside it.
+DPI: int = 200
+#: Size of a one-panel figure [in].
+FIGSIZE: tuple[float, float] = (6.4, 3.9)
+
+
+def name(code: str) -> str:
+    """The display name of a law, method, scene or status code (the code itself if unknown)."""
+    for table in (LAW_NAMES, METHOD_NAMES, SCENE_NAMES, CLASS_NAMES):
+        if code in table:
+            return table[code]
+    return code
+
+
+def color(code: str, index: int = 0) -> str:
+    """The colour of a law, method or status code; else the index-th colour of the cycle."""
+    for table in (LAW_COLORS, METHOD_COLORS, CLASS_COLORS):
+        if code in table:
+            return table[code]
+    return SEQUENCE[index % len(SEQUENCE)]
+
+
+def apply() -> None:
+    """matplotlib's parameters for every figure: fonts, grid, the Okabe-Ito colour cycle."""
+    plt.rcParams.update({"font.size": 9, "axes.grid": True, "grid.alpha": 0.3,
+                         "legend.fontsize": 8, "axes.titlesize": 9, "figure.titlesize": 10,
+                         "lines.linewidth": 1.2, "axes.prop_cycle": cycler(color=list(SEQUENCE)),
+                         "savefig.dpi": DPI, "pdf.fonttype": 42})
+
+
+def save(fig: Any, path: str | os.PathLike[str],
+         atomic_write: Callable[..., Path]) -> Path:
+    """Write `fig` as `path` (PNG, DPI dots per inch) and as the same name with .pdf, each
+    through `atomic_write` (whole or not at all); close it; return the PNG's path."""
+    path = Path(path)
+    try:
+        atomic_write(path.with_suffix(".pdf"), lambda f: fig.savefig(f, format="pdf"), binary=True)
+        return atomic_write(path, lambda f: fig.savefig(f, format="png", dpi=DPI), binary=True)
+    finally:
+        plt.close(fig)
+
+
+apply()

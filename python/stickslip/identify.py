@@ -1,0 +1,658 @@
+"""Identify a friction law from measurements: fit its parameters to measured forces along
+measured motions (`fit_friction`), with standard errors, 95 % confidence intervals and
+information criteria to compare laws.
+
+The model of a record is `stickslip.prescribed_motion`: the law's force along the measured
+displacement x(t) (velocity v(t) measured or derived from x), its internal states starting at 0
+in every record, with the two options of the prescribed-motion model that a real device may
+need: a backlash (a play of total width b [m] after each reversal) and an asymmetry (the ratio
+of the negative-direction sliding level to the positive one). Both are fixed unless given as
+"fit".
+
+Statistics. The fit minimises the sum of squared force residuals over all samples of all
+records (scipy.optimize.least_squares, trust-region reflective, with bounds). With Gaussian
+noise of constant variance and independent samples, the covariance of the parameters is
+s^2 (J^T J)^-1 (J the Jacobian of the residuals at the optimum, s^2 = SSR / (n - k)), the
+intervals are estimate +- t(0.975, n - k) stderr, and AIC and BIC are those of the Gaussian
+likelihood with the noise variance counted as a parameter. Measured noise is rarely
+independent from sample to sample (the damper's is not): the intervals are then too narrow,
+and the error on held-out records is the honest measure of a law (cases/identify.py).
+
+The normal force. A force measured without its normal force cannot separate the friction
+coefficient from N. `normal_force=None` (the default) sets N = 1 N: the "coefficients" and the
+parameters proportional to them (mu_s, mu_k, sigma0, sigma1, sigma2, c_v, gms_c) are then force
+levels in newtons (N/m, N s/m, N/s), which `FitResult.units` says and `FitResult.force_levels` flags.
+"""
+from __future__ import annotations
+
+import math
+import re
+import warnings
+from dataclasses import dataclass, field
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from .core import DEFAULTS, LAWS, REGISTRY, _choice, _finite
+from .data import Record
+from .prescribed import _samples
+
+#: Parameters of the prescribed-motion model that are not the law's: unit, accepted range.
+EXTRA_PARAMS: dict[str, tuple[str, str]] = {
+    "backlash": ("m", ">= 0"),
+    "asymmetry": ("-", "> 0"),
+}
+#: Pairs (lower, upper) of parameters the library requires ordered (mu_k <= mu_s, v_s < v_d):
+#: when both are fitted, the upper one is fitted as its excess over the lower (>= 0).
+ORDERED_PAIRS: tuple[tuple[str, str], ...] = (("mu_k", "mu_s"), ("v_s", "v_d"))
+#: Units of the parameters proportional to the friction coefficient (the force is N mu, so a
+#: fit at N = 1 N reads them as force levels): unit as a coefficient -> unit as a force level.
+#: (GMS's gms_c [1/s] is a rate of mu per second.)
+_FORCE_UNITS: dict[str, str] = {"-": "N", "1/m": "N/m", "s/m": "N s/m", "1/s": "N/s"}
+#: Dimensionless parameters that are not proportional to mu (shape exponents, ratios).
+_SHAPE_PARAMS: frozenset[str] = frozenset({"beta", "a", "delta", "z_ba_ratio", "dahl_alpha", "gms_shape",
+                                           "n_elements"})
+#: Integer parameters: not fitted (least squares needs a continuum), held at the value given in
+#: `fixed` or at their default.
+DISCRETE_PARAMS: frozenset[str] = frozenset({"n_elements"})
+
+
+def _force_scaled(name: str) -> bool:
+    """Whether parameter `name` of a law scales with the friction coefficient."""
+    if name in EXTRA_PARAMS or name in _SHAPE_PARAMS:
+        return False
+    return REGISTRY["param"][name]["unit"] in _FORCE_UNITS
+
+
+def parameter_unit(name: str, force_levels: bool) -> str:
+    """The unit of parameter `name` in a fit: as a coefficient, or as a force level when the
+    normal force was not given (force_levels)."""
+    if name in EXTRA_PARAMS:
+        return EXTRA_PARAMS[name][0]
+    unit = REGISTRY["param"][name]["unit"]
+    return _FORCE_UNITS[unit] if force_levels and _force_scaled(name) else unit
+
+
+def _range_of(name: str) -> tuple[float, float, bool, bool]:
+    """(low, high, low_open, high_open) that the library accepts for a parameter, read from the
+    registry's rule ("must be finite and > 0", "in (0, 1)", ...); an order constraint with another
+    parameter (mu_k <= mu_s, v_d > v_s) is handled by ORDERED_PAIRS."""
+    rule = EXTRA_PARAMS[name][1] if name in EXTRA_PARAMS else REGISTRY["param"][name]["rule"]
+    m = re.search(r"in ([(\[])\s*(-?[0-9.eE+]+),\s*(-?[0-9.eE+]+)\s*([)\]])", rule)
+    if m:
+        return float(m[2]), float(m[3]), m[1] == "(", m[4] == ")"
+    m = re.search(r"(>=|>)\s*(-?[0-9.eE+]+)", rule)
+    if m:
+        return float(m[2]), math.inf, m[1] == ">", True
+    return -math.inf, math.inf, True, True
+
+
+# --------------------------------------------------------------------------------------------
+# Input
+# --------------------------------------------------------------------------------------------
+@dataclass
+class _Data:
+    """One record as the fit uses it."""
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray | None
+    force: np.ndarray | None
+    normal_force: float | np.ndarray
+
+
+def _one_record(tag: str, t: Any, x: Any, force: Any, v: Any, normal_force: Any,
+                min_samples: int = 2) -> _Data:
+    """Validate one record; `tag` ("" or "[i]") names it in messages."""
+    tt = _samples(f"t{tag}", t, None, "s")
+    if tt.size < min_samples:
+        raise ValueError(f"t{tag}: must hold at least {min_samples} samples [s], got {tt.size}")
+    step = np.diff(tt)
+    if not (step > 0.0).all():
+        i = int(np.flatnonzero(~(step > 0.0))[0])
+        raise ValueError(f"t{tag}: must be strictly increasing [s], got t[{i}] = {tt[i]!r} and "
+                         f"t[{i + 1}] = {tt[i + 1]!r}")
+    n = tt.size
+    xx = _samples(f"x{tag}", x, n, "m")
+    ff = None if force is None else _samples(f"force{tag}", force, n, "N")
+    vv = None if v is None else _samples(f"v{tag}", v, n, "m/s")
+    if normal_force is None:
+        nf: float | np.ndarray = 1.0
+    elif np.ndim(normal_force) == 0:
+        nf = _finite(f"normal_force{tag}", normal_force, "> 0, a scalar or one value per sample [N]")
+        if nf <= 0.0:
+            raise ValueError(f"normal_force{tag}: must be > 0 [N], got {nf!r}")
+    else:
+        nf = _samples(f"normal_force{tag}", normal_force, n, "N")
+        if (nf <= 0.0).any():
+            raise ValueError(f"normal_force{tag}: must be > 0 [N], got {nf[nf <= 0.0][0]!r}")
+    return _Data(tt, xx, vv, ff, nf)
+
+
+def _is_list(value: Any) -> bool:
+    """Several records: a list or tuple of arrays (not a flat list of numbers)."""
+    return isinstance(value, (list, tuple)) and len(value) > 0 and np.ndim(value[0]) == 1
+
+
+def _records(t: Any, x: Any, force: Any, v: Any, normal_force: Any, *, need_force: bool = True) -> list[_Data]:
+    """One record or several (lists of arrays, or Record objects) as a list of _Data."""
+    if isinstance(t, Record) or (isinstance(t, (list, tuple)) and t and all(isinstance(r, Record) for r in t)):
+        recs = [t] if isinstance(t, Record) else list(t)
+        if x is not None or force is not None or v is not None:
+            raise ValueError("x, force, v: give either Record objects (as t) or the arrays t, x, force, v, not both")
+        t, x, force, v = ([r.t for r in recs], [r.x for r in recs], [r.force for r in recs],
+                          [r.v for r in recs])
+        if all(a is None for a in v):
+            v = None
+    if need_force and force is None:
+        raise ValueError("force: the measured force [N] is required")
+    if not _is_list(t):
+        return [_one_record("", t, x, force, v, normal_force)]
+    m = len(t)
+    for name, value in (("x", x), ("force", force), ("v", v), ("normal_force", normal_force)):
+        if value is None or (name == "normal_force" and np.ndim(value) == 0):
+            continue
+        if not isinstance(value, (list, tuple)) or len(value) != m:
+            raise ValueError(f"{name}: t is a list of {m} records, so {name} must be a list of {m} too")
+    pick = lambda value, i: value[i] if isinstance(value, (list, tuple)) else value  # noqa: E731
+    return [_one_record(f"[{i}]", t[i], pick(x, i), pick(force, i), pick(v, i), pick(normal_force, i))
+            for i in range(m)]
+
+
+# --------------------------------------------------------------------------------------------
+# Parameters: names, starts, bounds, the scaled coordinates of the optimiser
+# --------------------------------------------------------------------------------------------
+def law_fit_params(law: str) -> tuple[str, ...]:
+    """The parameters a fit of `law` can adjust: the law's (registry order), then backlash and
+    asymmetry."""
+    return REGISTRY["law"][law]["params"] + tuple(EXTRA_PARAMS)
+
+
+def _data_scales(data: list[_Data]) -> dict[str, float]:
+    """Scales read from the records: sliding levels in each direction (the median of mu N over
+    the samples moving faster than a quarter of the top speed), top speed, amplitude."""
+    v = np.concatenate([d.v if d.v is not None else np.gradient(d.x, d.t) for d in data])
+    x = np.concatenate([d.x - np.median(d.x) for d in data])
+    mu = np.concatenate([d.force / d.normal_force for d in data])
+    v_max = float(np.max(np.abs(v))) or 1.0
+    pos, neg = mu[v > 0.25 * v_max], mu[v < -0.25 * v_max]
+    level_pos = float(np.median(pos)) if pos.size else float(np.max(np.abs(mu)))
+    level_neg = float(-np.median(neg)) if neg.size else level_pos
+    level_pos = level_pos if level_pos > 0.0 else float(np.max(np.abs(mu))) or 1.0
+    level_neg = level_neg if level_neg > 0.0 else level_pos
+    amp = 0.5 * float(np.ptp(x)) or 1.0
+    return {"level_pos": level_pos, "level_neg": level_neg, "v_max": v_max, "amplitude": amp}
+
+
+def _start(name: str, s: dict[str, float], asym_free: bool) -> float:
+    """A starting value of parameter `name` from the data's scales (see _data_scales)."""
+    level = s["level_pos"] if asym_free else 0.5 * (s["level_pos"] + s["level_neg"])
+    presliding = 0.05 * s["amplitude"]          # travel over which the force turns round [m]
+    starts = {
+        "mu_k": level, "mu_s": 1.2 * level, "v_s": 0.1 * s["v_max"], "v_d": 0.15 * s["v_max"],
+        "dv": 0.01 * s["v_max"], "v_eps": 0.01 * s["v_max"],
+        "sigma0": level / presliding, "sigma1": 0.01 * level / s["v_max"],
+        "sigma2": 0.05 * level / s["v_max"], "c_v": 0.05 * level / s["v_max"],
+        "backlash": 0.02 * s["amplitude"], "asymmetry": s["level_neg"] / s["level_pos"],
+    }
+    if name in starts:
+        return starts[name]
+    default = DEFAULTS.get(name)
+    if default is None or default == 0.0:
+        raise ValueError(f"params0: no starting value of {name!r} can be derived from the data; "
+                         "give one in params0")
+    return float(default) * (level if _force_scaled(name) else 1.0)
+
+
+@dataclass
+class _Space:
+    """The optimiser's coordinates u of the free parameters: u_i = q_i / scale_i, with q_i the
+    parameter itself or, for the upper member of an ordered pair whose lower member is free
+    too, its excess over the lower one. p = P u + p_fixed (P linear)."""
+
+    free: tuple[str, ...]
+    scale: np.ndarray
+    lower_of: dict[int, int]          # index of an upper member -> index of its lower member
+
+    def to_params(self, u: np.ndarray) -> np.ndarray:
+        q = u * self.scale
+        p = q.copy()
+        for hi, lo in self.lower_of.items():
+            p[hi] = q[hi] + q[lo]
+        return p
+
+    def from_params(self, p: np.ndarray) -> np.ndarray:
+        q = np.array(p, dtype=float)
+        for hi, lo in self.lower_of.items():
+            q[hi] = p[hi] - p[lo]
+        return q / self.scale
+
+    def matrix(self) -> np.ndarray:
+        """dp/du (constant)."""
+        m = np.diag(self.scale)
+        for hi, lo in self.lower_of.items():
+            m[hi, lo] = self.scale[lo]
+        return m
+
+
+def _check_keys(what: str, given: Mapping[str, Any], allowed: Sequence[str], law: str) -> None:
+    unknown = [k for k in given if k not in allowed]
+    if unknown:
+        raise ValueError(f"{what}: unknown parameter(s) {', '.join(map(repr, unknown))} of law {law!r} "
+                         f"(accepted: {', '.join(allowed)})")
+
+
+def _extra_option(name: str, value: Any) -> float | None:
+    """backlash/asymmetry: a fixed value (range-checked) or None for "fit"."""
+    if isinstance(value, str):
+        if value != "fit":
+            raise ValueError(f"{name}: must be a number or 'fit', got {value!r}")
+        return None
+    x = _finite(name, value, EXTRA_PARAMS[name][1])
+    lo, _, lo_open, _ = _range_of(name)
+    if x < lo or (lo_open and x == lo):
+        raise ValueError(f"{name}: must be {EXTRA_PARAMS[name][1]} [{EXTRA_PARAMS[name][0]}], got {x!r}")
+    return x
+
+
+# --------------------------------------------------------------------------------------------
+# Result
+# --------------------------------------------------------------------------------------------
+@dataclass
+class FitResult:
+    """A fitted friction law.
+
+    `params` holds every parameter of the model (the law's, backlash and asymmetry), fitted or
+    fixed; `units` their units (force levels in N, N/m, N s/m when `force_levels`); `free` the
+    fitted ones, in the order of the rows and columns of `covariance` and `correlation`.
+    `stderr` and `ci95` (95 % interval, Student t with n - k degrees of freedom) cover the
+    fitted parameters; a parameter the data does not determine (a zero direction of the
+    Jacobian) has stderr inf. `at_bound` names fitted parameters that ended on a bound of
+    their range, whose intervals mean little.
+
+    Scores over the fitted samples: `rmse` [N], `nrmse` (rmse over the range of the measured
+    force) [-], `aic`, `bic` (Gaussian likelihood; k = len(free) + 1, the noise variance
+    included), `n_samples`, `n_records`.
+    """
+
+    law: str
+    params: dict[str, float]
+    units: dict[str, str]
+    free: tuple[str, ...]
+    stderr: dict[str, float]
+    ci95: dict[str, tuple[float, float]]
+    covariance: np.ndarray
+    correlation: np.ndarray
+    rmse: float
+    nrmse: float
+    aic: float
+    bic: float
+    n_samples: int
+    n_records: int
+    force_levels: bool
+    normal_force: Any
+    at_bound: tuple[str, ...] = ()
+    cost: float = 0.0
+    nfev: int = 0
+    n_starts: int = 1
+    success: bool = True
+    message: str = ""
+    start_costs: tuple[float, ...] = field(default_factory=tuple)
+    rtol: float = 1e-6
+
+    @property
+    def law_params(self) -> dict[str, float]:
+        """The law's parameters (without backlash and asymmetry)."""
+        return {k: v for k, v in self.params.items() if k not in EXTRA_PARAMS}
+
+    def predict(self, t: Any, x: Any = None, v: Any = None, normal_force: Any = None) -> np.ndarray:
+        """The fitted model's force [N] along a motion x(t) [m] (v [m/s] measured, or derived
+        from x), internal states from 0; `t` may be a Record (its x and v are used). Several
+        records (lists) give a list of forces.
+        normal_force [N]: required when the fit was of coefficients with a per-sample normal
+        force; by default the fit's own (1 N, i.e. force levels, when it was not given)."""
+        if normal_force is None:
+            if np.ndim(self.normal_force) != 0:
+                raise ValueError("normal_force: the fit had a normal force per sample; give the one of "
+                                 "this motion [N]")
+            normal_force = None if self.force_levels else self.normal_force
+        data = _records(t, x, None, v, normal_force, need_force=False)
+        out = [_model(self.law, d, self.params, self.rtol) for d in data]
+        return out if isinstance(t, (list, tuple)) else out[0]
+
+    def score(self, t: Any, x: Any = None, force: Any = None, v: Any = None,
+              normal_force: Any = None) -> dict[str, float]:
+        """The error of the fitted model on other records (held out): rmse [N] and nrmse (over
+        the range of their measured force) [-], pooled over every sample given."""
+        data = _records(t, x, force, v, normal_force if normal_force is not None else
+                        (None if self.force_levels else self.normal_force))
+        r = np.concatenate([_model(self.law, d, self.params, self.rtol) - d.force for d in data])
+        f = np.concatenate([d.force for d in data])
+        rmse = float(np.sqrt(np.mean(r**2)))
+        return {"rmse": rmse, "nrmse": rmse / float(np.ptp(f)), "n_samples": int(r.size)}
+
+    def summary(self) -> str:
+        """A plain-text table of the parameters with their intervals, and the scores."""
+        what = "force levels (normal force not given: N = 1 N)" if self.force_levels else "coefficients"
+        lines = [f"{self.law}: {self.n_records} record(s), {self.n_samples} samples, {what}",
+                 f"  rmse {self.rmse:.4g} N, nrmse {self.nrmse:.4g}, AIC {self.aic:.6g}, BIC {self.bic:.6g}"]
+        for name, value in self.params.items():
+            unit = self.units[name]
+            if name in self.ci95:
+                lo, hi = self.ci95[name]
+                flag = " (at a bound)" if name in self.at_bound else ""
+                lines.append(f"  {name:>10} = {value:.6g} {unit}  95% CI [{lo:.6g}, {hi:.6g}]{flag}")
+            else:
+                lines.append(f"  {name:>10} = {value:.6g} {unit}  (fixed)")
+        return "\n".join(lines)
+
+
+def _model(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1e-8) -> np.ndarray:
+    """The model's force [N] on one record: stickslip.prescribed_motion with the states at 0."""
+    from . import prescribed_motion
+    law_p = {k: v for k, v in params.items() if k not in EXTRA_PARAMS}
+    res = prescribed_motion(law, d.t, d.x, d.v, normal_force=d.normal_force, rtol=rtol,
+                            backlash=params["backlash"], asymmetry=params["asymmetry"], **law_p)
+    return res.force
+
+
+# --------------------------------------------------------------------------------------------
+# The fit
+# --------------------------------------------------------------------------------------------
+def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = None, *,
+                 normal_force: Any = None, fixed: Mapping[str, float] | None = None,
+                 params0: Mapping[str, float] | None = None,
+                 bounds: Mapping[str, tuple[float, float]] | None = None,
+                 backlash: float | str = 0.0, asymmetry: float | str = 1.0,
+                 n_starts: int | None = None, seed: int = 0, max_nfev: int | None = None,
+                 rtol: float = 1e-6, diff_step: float = 1e-4) -> FitResult:
+    """Fit the parameters of friction `law` to measured forces along measured motions.
+
+    Parameters
+    ----------
+    law : str
+        A law of `stickslip.LAWS`.
+    t, x, force : array_like or list of array_like
+        Sample times [s] (strictly increasing), displacement [m] and measured force [N] of one
+        record, or lists of them for several records fitted jointly (the internal states start
+        at 0 in each). `t` may instead be a `stickslip.Record` or a list of them (x, force and v
+        then come from the records and must not be given).
+    v : array_like or list, optional
+        Measured velocity [m/s]; by default derived from x (`prescribed_motion`).
+    normal_force : float, array_like or list, optional
+        Normal force N [N], > 0 (scalar, per sample, or per record). None (the default): not
+        measured; N = 1 N and the fitted "coefficients" (mu_s, mu_k, sigma0, ...) are force levels
+        in N (N/m, N s/m): mu and N cannot be told apart. `FitResult.force_levels` says which.
+    fixed : dict, optional
+        Law parameters held at the given values (not fitted). An integer parameter (GMS's
+        n_elements) is never fitted: it stays at its default unless given here.
+    params0 : dict, optional
+        Starting values of fitted parameters (default: derived from the data).
+    bounds : dict, optional
+        name -> (low, high) for fitted parameters (default: the range the library accepts, and
+        for a stiffness [1/m] at most 1000 times its start).
+        Not for mu_s (or v_d) while mu_k (v_s) is fitted too: the upper member of an ordered pair
+        is then fitted as its excess over the lower one.
+    backlash : float or "fit"
+        Total width of the play after each reversal [m] (default 0): a value fixes it, "fit"
+        fits it.
+    asymmetry : float or "fit"
+        Negative-direction sliding level over the positive one [-] (default 1).
+    n_starts : int, optional
+        Starts of the local optimiser: the data-derived start, then starts drawn log-uniformly
+        within a factor of 10 of it (seeded by `seed`); the best fit is kept. Default 3 for a
+        law with internal states (whose stiffness makes the problem non-convex), else 2.
+    seed : int
+        Seed of the extra starts.
+    rtol : float
+        Relative tolerance of the state integration (`prescribed_motion`'s rtol), default 1e-6.
+    diff_step : float
+        Relative step of the finite-difference Jacobian (default 1e-4): well above rtol, whose
+        integration error would otherwise swamp the differences.
+    max_nfev : int, optional
+        Largest number of model evaluations per start, Jacobian evaluations not counted
+        (default 30 per fitted parameter).
+
+    Returns
+    -------
+    FitResult
+
+    Raises
+    ------
+    ValueError
+        Bad input, naming it: an unknown law or parameter, NaN or infinite samples, records of
+        mismatched lengths, t not strictly increasing, a value out of its range, fewer samples
+        than fitted parameters + 2.
+
+    Examples
+    --------
+    >>> import numpy as np, stickslip
+    >>> t = np.linspace(0.0, 4.0, 801)
+    >>> x = 0.01 * np.sin(np.pi * t)
+    >>> f = stickslip.prescribed_motion("lugre", t, x, mu_s=1200.0, mu_k=1000.0, v_s=0.005,
+    ...                                 sigma0=2e6, sigma1=0.0, sigma2=500.0).force
+    >>> fit = stickslip.fit_friction("lugre", t, x, f, fixed={"sigma1": 0.0})
+    >>> round(fit.params["mu_k"])
+    1000
+    """
+    from scipy.optimize import least_squares
+
+    _choice("law", law, LAWS)
+    data = _records(t, x, force, v, normal_force)
+    force_levels = normal_force is None
+    names = law_fit_params(law)
+    law_names = REGISTRY["law"][law]["params"]
+    fixed = dict(fixed or {})
+    params0 = dict(params0 or {})
+    bounds = dict(bounds or {})
+    for key in fixed:
+        if key in EXTRA_PARAMS:
+            raise ValueError(f"fixed: give {key} as its own argument ({key}=value), not in fixed")
+    _check_keys("fixed", fixed, law_names, law)
+    _check_keys("params0", params0, names, law)
+    _check_keys("bounds", bounds, names, law)
+    extras = {"backlash": _extra_option("backlash", backlash), "asymmetry": _extra_option("asymmetry", asymmetry)}
+    fixed_all = {k: _finite(f"fixed[{k!r}]", v, "a real number") for k, v in fixed.items()}
+    for k in DISCRETE_PARAMS.intersection(law_names) - fixed.keys():
+        fixed_all[k] = float(REGISTRY["param"][k]["default"])
+    fixed_all.update({k: v for k, v in extras.items() if v is not None})
+    free = tuple(n for n in names if n not in fixed_all)
+    for what, given in (("params0", params0), ("bounds", bounds)):
+        clash = [k for k in given if k in fixed_all]
+        if clash:
+            raise ValueError(f"{what}: {', '.join(map(repr, clash))} is fixed, so it has no {what}")
+    if not free:
+        raise ValueError("fixed: every parameter is fixed; nothing to fit")
+    if n_starts is None:
+        n_starts = 3 if REGISTRY["law"][law]["n_states"] > 0 else 2
+    if not (isinstance(n_starts, (int, np.integer)) and n_starts >= 1):
+        raise ValueError(f"n_starts: must be an integer >= 1, got {n_starts!r}")
+    diff_step = _finite("diff_step", diff_step, "in (0, 0.1]")
+    if not 0.0 < diff_step <= 0.1:
+        raise ValueError(f"diff_step: must be in (0, 0.1], got {diff_step!r}")
+    n_total = sum(d.t.size for d in data)
+    k = len(free)
+    if n_total < k + 2:
+        raise ValueError(f"t: {n_total} samples cannot determine {k} parameters and the noise "
+                         f"(at least {k + 2} needed)")
+
+    # starts, bounds and the scaled coordinates
+    scales = _data_scales(data)
+    asym_free = "asymmetry" in free
+    p0 = np.array([_finite(f"params0[{n!r}]", params0[n], "a real number") if n in params0
+                   else _start(n, scales, asym_free) for n in free])
+    lo = np.empty(k)
+    hi = np.empty(k)
+    for i, n in enumerate(free):
+        low, high, low_open, high_open = _range_of(n)
+        if n == "mu_k":
+            low_open = True     # the laws with states divide by the sliding level: keep it > 0
+        if n in bounds:
+            try:
+                b_lo, b_hi = (float(b) for b in bounds[n])
+            except (TypeError, ValueError):
+                raise ValueError(f"bounds[{n!r}]: must be a pair (low, high), got {bounds[n]!r}") from None
+            if not (b_lo < b_hi) or math.isnan(b_lo) or math.isnan(b_hi):
+                raise ValueError(f"bounds[{n!r}]: must have low < high, got {bounds[n]!r}")
+            low_open, high_open = low_open and b_lo <= low, high_open and b_hi >= high
+            low, high = max(low, b_lo), min(high, b_hi)
+        if n not in bounds and REGISTRY["param"].get(n, {}).get("unit") == "1/m":
+            # a stiffness: at most 1000 times its start (a presliding travel of 5e-5 times the
+            # amplitude); beyond that the states are too stiff to integrate cheaply, and a static
+            # law describes the data as well
+            high = min(high, 1e3 * p0[i])
+        # an open end of the library's range: stay a relative hair inside it
+        margin = 1e-9 * max(abs(p0[i]), 1e-300)
+        lo[i] = low + margin if low_open and math.isfinite(low) else low
+        hi[i] = high - margin if high_open and math.isfinite(high) else high
+    lower_of: dict[int, int] = {}
+    for a, b in ORDERED_PAIRS:
+        if a in free and b in free:
+            ia, ib = free.index(a), free.index(b)
+            if b in bounds:
+                raise ValueError(f"bounds: {b!r} cannot be bounded while {a!r} is fitted too "
+                                 f"({b} is fitted as {b} - {a} >= 0); fix {a} or drop the bounds")
+            lower_of[ib] = ia
+            strict = REGISTRY["param"][b]["rule"].split(a)[0].rstrip().endswith(">")
+            lo[ib], hi[ib] = (1e-9 * abs(p0[ib]) if strict else 0.0), math.inf
+            p0[ib] = max(p0[ib], p0[ia] * (1.0 + 1e-3))
+        elif a in fixed_all and b in free:
+            lo[free.index(b)] = max(lo[free.index(b)], fixed_all[a])
+        elif b in fixed_all and a in free:
+            hi[free.index(a)] = min(hi[free.index(a)], fixed_all[b])
+    scale = np.where(np.abs(p0) > 0.0, np.abs(p0), 1.0)
+    for hi_i, lo_i in lower_of.items():     # the excess is scaled like the parameter itself
+        scale[hi_i] = max(abs(p0[hi_i]), scale[lo_i])
+    space = _Space(free, scale, lower_of)
+    q_lo, q_hi = lo / scale, hi / scale
+    u0 = np.clip(space.from_params(p0), q_lo, q_hi)
+    bad = [free[i] for i in range(k) if not (q_lo[i] <= u0[i] <= q_hi[i]) or q_lo[i] >= q_hi[i]]
+    if bad:
+        raise ValueError(f"bounds: empty range for {', '.join(bad)}")
+
+    fixed_params = dict(fixed_all)
+    forces = np.concatenate([d.force for d in data])
+
+    def params_of(u: np.ndarray) -> dict[str, float]:
+        p = dict(fixed_params)
+        p.update(zip(free, space.to_params(u).tolist()))
+        return {name: p[name] for name in names}
+
+    def residuals(u: np.ndarray) -> np.ndarray:
+        p = params_of(u)
+        return np.concatenate([_model(law, d, p, rtol) for d in data]) - forces
+
+    # A trial point the model rejects (the state integration fails, e.g. an implicit law's
+    # Newton iteration far from the data, or a law's own limit beyond the registry's range,
+    # such as LuGre's mu_k > 0) counts as a very bad fit: the trust region shrinks away from it.
+    penalty = np.full(forces.size, 100.0 * float(np.ptp(forces)) + 1.0)
+
+    def trial_residuals(u: np.ndarray) -> np.ndarray:
+        try:
+            return residuals(u)
+        except (RuntimeError, ValueError):
+            return penalty
+
+    try:
+        residuals(u0)
+    except (RuntimeError, ValueError) as exc:
+        raise ValueError(f"params0: the model of {law!r} fails at the start "
+                         f"{dict(zip(free, space.to_params(u0).tolist()))} ({exc}); give other starting values") from None
+
+    # starts: the data's, then log-uniform draws within x/10 .. x10 of it, inside the bounds
+    rng = np.random.default_rng(seed)
+    starts = [u0]
+    for _ in range(int(n_starts) - 1):
+        factor = np.exp(rng.uniform(-math.log(10.0), math.log(10.0), k))
+        starts.append(np.clip(u0 * factor, q_lo + 1e-12 * np.abs(q_lo), q_hi))
+    max_nfev = max_nfev or 30 * k
+    best = None
+    costs = []
+    nfev = 0
+    for u_start in starts:
+        # strictly inside the bounds (trf's requirement)
+        u_start = np.minimum(np.maximum(u_start, np.nextafter(q_lo, np.inf)), np.nextafter(q_hi, -np.inf))
+        sol = least_squares(trial_residuals, u_start, bounds=(q_lo, q_hi), method="trf", x_scale=1.0,
+                            diff_step=diff_step, max_nfev=max_nfev)
+        nfev += int(sol.nfev)
+        costs.append(float(sol.cost))
+        if best is None or sol.cost < best.cost:
+            best = sol
+    assert best is not None
+    result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
+                         force_levels, normal_force, nfev, tuple(costs), diff_step)
+    result.rtol = rtol
+    return result
+
+
+def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray,
+                      step: float) -> np.ndarray:
+    """d residuals / d u by central differences (one-sided at a bound), step `step` |u|."""
+    r0 = residuals(u)
+    jac = np.empty((r0.size, u.size))
+    for i in range(u.size):
+        h = step * max(abs(u[i]), 1e-3)
+        up, down = u.copy(), u.copy()
+        up[i] = min(u[i] + h, q_hi[i])
+        down[i] = max(u[i] - h, q_lo[i])
+        jac[:, i] = (residuals(up) - residuals(down)) / (up[i] - down[i])
+    return jac
+
+
+def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: Any, forces: np.ndarray,
+                data: list[_Data], q_lo: np.ndarray, q_hi: np.ndarray, force_levels: bool,
+                normal_force: Any, nfev: int, costs: tuple[float, ...], step: float) -> FitResult:
+    """Covariance, intervals and scores at the optimum (see the module notes)."""
+    from scipy import stats
+
+    u = sol.x
+    free = space.free
+    k = len(free)
+    r = residuals(u)
+    n = r.size
+    ssr = float(r @ r)
+    dof = n - k
+    s2 = ssr / dof
+    jac_u = _central_jacobian(residuals, u, q_lo, q_hi, 0.1 * step)
+    # in the physical parameters: J_p = J_u (dp/du)^-1, cov_p = s2 (J_p^T J_p)^+
+    jac_p = jac_u @ np.linalg.inv(space.matrix())
+    col = np.linalg.norm(jac_p, axis=0)
+    col[col == 0.0] = 1.0
+    jn = jac_p / col
+    _, sv, vt = np.linalg.svd(jn, full_matrices=False)
+    keep = sv > sv[0] * 1e-10 if sv.size and sv[0] > 0.0 else np.zeros(k, bool)
+    cov_n = (vt[keep].T / sv[keep] ** 2) @ vt[keep]
+    cov = s2 * cov_n / np.outer(col, col)
+    var = np.diag(cov).copy()
+    # a direction the data does not see: the parameters in it have no finite error
+    null = vt[~keep]
+    undetermined = (np.abs(null) > 1e-6).any(axis=0) if null.size else np.zeros(k, bool)
+    var[undetermined] = np.inf
+    sd = np.sqrt(np.maximum(var, 0.0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(np.sqrt(np.diag(cov)), np.sqrt(np.diag(cov)))
+    corr[undetermined, :] = np.nan
+    corr[:, undetermined] = np.nan
+    tq = float(stats.t.ppf(0.975, dof))
+    p = params_of(u)
+    pv = space.to_params(u)
+    ci = {name: (pv[i] - tq * sd[i], pv[i] + tq * sd[i]) for i, name in enumerate(free)}
+    tol = 1e-6
+    at_bound = tuple(name for i, name in enumerate(free)
+                     if (math.isfinite(q_lo[i]) and u[i] - q_lo[i] <= tol * max(1.0, abs(q_lo[i])))
+                     or (math.isfinite(q_hi[i]) and q_hi[i] - u[i] <= tol * max(1.0, abs(q_hi[i]))))
+    if undetermined.any():
+        warnings.warn(f"fit of {law!r}: the data do not determine {', '.join(np.array(free)[undetermined])} "
+                      "(stderr inf); fix them or use records that excite them", stacklevel=3)
+    loglik_term = n * math.log(2.0 * math.pi * ssr / n) + n     # -2 ln L at the ML variance
+    n_par = k + 1
+    rmse = math.sqrt(ssr / n)
+    units = {name: parameter_unit(name, force_levels) for name in p}
+    return FitResult(
+        law=law, params=p, units=units, free=free,
+        stderr={name: float(sd[i]) for i, name in enumerate(free)}, ci95=ci,
+        covariance=cov, correlation=corr, rmse=rmse, nrmse=rmse / float(np.ptp(forces)),
+        aic=loglik_term + 2.0 * n_par, bic=loglik_term + n_par * math.log(n), n_samples=n,
+        n_records=len(data), force_levels=force_levels, normal_force=1.0 if force_levels else normal_force,
+        at_bound=at_bound, cost=float(sol.cost), nfev=nfev, n_starts=len(costs), success=bool(sol.success),
+        message=str(sol.message), start_costs=costs)

@@ -1,0 +1,203 @@
+"""The facade's lean call: a setting validated once and cached must behave exactly as a first
+call (same numbers, same errors, same warnings), and no Result shares memory with another."""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import stickslip as ss
+from stickslip import core
+
+RK4 = dict(method="rk4", t_end=1e-4, h=1e-5, n_out=3)
+
+
+def test_a_repeated_call_gives_the_same_numbers_in_arrays_of_its_own() -> None:
+    core._CALLS.clear()
+    a = ss.simulate("belt", "lugre", **RK4)                   # validated, then cached
+    b = ss.simulate("belt", "lugre", **RK4)                   # from the cache
+    assert len(core._CALLS) == 1
+    for name in ("t", "x", "v", "z"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+        assert not np.shares_memory(getattr(a, name), getattr(b, name)), name
+    same = lambda st: {k: v for k, v in st.items() if k != "cpu_seconds"}      # noqa: E731
+    assert same(a.stats) == same(b.stats) and a.stats["nstep"] == 10 and a.params == b.params
+    a.x[:] = 1.0
+    a.t[:] = 1.0
+    c = ss.simulate("belt", "lugre", **RK4)
+    assert np.array_equal(c.x, b.x) and np.array_equal(c.t, b.t) and c.t[-1] == 1e-4
+
+
+@pytest.mark.parametrize("name, good, bad", [
+    ("t_end", 1, True), ("x0", 0, False), ("v0", 1, True), ("n_out", 1, True), ("max_steps", 10**4, True),
+    ("h", 1e-3, "1e-3"), ("mu_s", 1, True),
+])
+def test_a_value_equal_to_a_cached_one_but_of_another_type_is_still_checked(name, good, bad) -> None:
+    """True == 1 and hash(True) == hash(1): the cache must not let True through where 1 passed."""
+    args = dict(method="rk4", t_end=1.0, h=1e-3, n_out=2)
+    ss.simulate("slope", "recurdyn", **(args | {name: good}))
+    with pytest.raises(ValueError, match=rf"^{name}: "):
+        ss.simulate("slope", "recurdyn", **(args | {name: bad}))
+
+
+def test_warnings_come_on_every_call_not_only_the_first() -> None:
+    for _ in range(3):
+        with pytest.warns(UserWarning, match=r"h = 5 s is longer than the whole run"):
+            ss.simulate("slope", "recurdyn", method="rk4", h=5.0, t_end=1.0)
+
+
+def test_an_input_the_library_rejects_is_never_cached() -> None:
+    core._CALLS.clear()
+    for _ in range(2):
+        with pytest.raises(ValueError, match=r"^mu_k: "):
+            ss.simulate("slope", "proposed", method="rk4", h=1e-3, t_end=0.01, mu_k=0.5)
+    assert not core._CALLS
+
+
+def test_a_run_that_ends_early_raises_on_every_call() -> None:
+    for _ in range(2):
+        with pytest.raises(ss.StepBudgetExhausted) as err:
+            ss.simulate("belt", "proposed", method="dopri5", t_end=20.0, max_steps=50)
+        assert err.value.result.stats["nstep"] == 50 and err.value.result.t.size < 1001
+
+
+def test_every_step_output_is_trimmed_to_the_steps_taken() -> None:
+    for _ in range(2):
+        r = ss.simulate("belt", "proposed", method="dopri5", t_end=1.0, every_step=True)
+        assert r.t.size == r.stats["naccept"] + 1 and r.x.size == r.t.size and r.t[-1] == 1.0
+
+
+def test_calls_from_another_thread_work_and_match() -> None:
+    from concurrent.futures import ThreadPoolExecutor
+    ref = ss.simulate("belt", "recurdyn", **RK4)
+    with ThreadPoolExecutor(2) as pool:
+        out = list(pool.map(lambda _: ss.simulate("belt", "recurdyn", **RK4), range(4)))
+    assert all(np.array_equal(r.x, ref.x) for r in out)
+
+
+def test_bare_call_is_the_call_simulate_makes() -> None:
+    """The benchmarks' reference: the same arguments, hence the same numbers."""
+    bare = core._bare_call("belt", "proposed", **RK4)
+    y, istats, rstats, resolved, status = bare()
+    r = ss.simulate("belt", "proposed", **RK4)
+    assert status == 0 and np.array_equal(y[0], r.x) and np.array_equal(y[1], r.v)
+
+
+def test_result_pickles_whole() -> None:
+    import pickle
+    r = ss.simulate("belt", "lugre", **RK4)
+    back = pickle.loads(pickle.dumps(r))
+    assert np.array_equal(back.x, r.x) and back.stats == r.stats and back.params == r.params
+    assert back.state_labels == r.state_labels and back.law == "lugre"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        repr(back)
+
+
+# -- the API's shapes, warnings and messages --------------------------------------------------
+
+def test_z_has_the_shape_of_x_for_one_state_and_y_stacks_every_component() -> None:
+    one = ss.simulate("belt", "lugre", **RK4)
+    assert one.z.shape == one.x.shape == (3,) and one.y.shape == (3, 3)
+    assert np.array_equal(one.y[2], one.z) and np.array_equal(one.y[0], one.x)
+    none = ss.simulate("belt", "recurdyn", **RK4)
+    assert none.z.shape == (0, 3) and none.y.shape == (2, 3)
+
+
+def test_a_parameter_nothing_reads_warns_and_ignore_unused_silences_it() -> None:
+    with pytest.warns(ss.UnusedParameterWarning, match=r"^a, k: not read by scene 'slope' with law 'coulomb'"):
+        r = ss.simulate("slope", "coulomb", method="rk4", h=1e-3, t_end=0.01, a=2.0, k=5.0)
+    assert "a" not in r.params
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ss.simulate("slope", "coulomb", method="rk4", h=1e-3, t_end=0.01, a=2.0, ignore_unused=True)
+        ss.simulate("slope", "proposed", method="rk4", h=1e-3, t_end=0.01, a=2.0)    # read: no warning
+        # a batch warns only about a parameter that no row reads
+        ss.simulate_batch("slope", ["coulomb", "proposed"], method="rk4", h=1e-3, t_end=0.01, a=2.0)
+    with pytest.warns(ss.UnusedParameterWarning, match=r"^k: not read by any row"):
+        ss.simulate_batch("slope", ["coulomb", "proposed"], method="rk4", h=1e-3, t_end=0.01, k=5.0)
+
+
+@pytest.mark.parametrize("kw, shown", [
+    (dict(mu_k=0.5), "(got mu_k = 0.5, mu_s = 0.35)"),
+    (dict(mu_k=0.5, mu_s=0.4), "(got mu_k = 0.5, mu_s = 0.4)"),
+    (dict(law="recurdyn", v_d=0.01), "(got v_d = 0.01, v_s = 0.01)"),
+    (dict(t_end=1e-7), "(got hmin = 1e-06, t_end = 1e-07)"),
+    (dict(hmin=1e-3, hmax=1e-4), "(got hmax = 0.0001, hmin = 0.001)"),
+])
+def test_a_range_error_shows_the_values_it_compares(kw, shown) -> None:
+    args = dict(law="proposed", method="dopri5", t_end=1.0) | kw
+    with pytest.raises(ValueError) as err:
+        ss.simulate("slope", args.pop("law"), **args)
+    assert str(err.value).endswith(shown), str(err.value)
+
+
+def test_rtol_zero_is_a_purely_absolute_error_test_for_dopri5_and_refused_by_radau5() -> None:
+    """From rest the Karnopp law's belt motion is x = x_k (1 - cos w t) exactly
+    (test_laws_more.test_constant_kinetic_from_rest_is_harmonic)."""
+    w, x_k = math.sqrt(300.0 / 10.0), 0.3 * 9.81 * 10.0 / 300.0
+    r = ss.simulate("belt", "karnopp", method="dopri5", t_end=10.0, rtol=0.0, atol=1e-10)
+    assert np.max(np.abs(r.x - x_k * (1 - np.cos(w * r.t)))) < 1e-8
+    relative = ss.simulate("belt", "karnopp", method="dopri5", t_end=10.0, rtol=1e-6, atol=1e-10)
+    assert r.stats["nfev"] != relative.stats["nfev"]               # 0 is not replaced by a default
+    b = ss.simulate_batch("belt", "karnopp", method="dopri5", t_end=10.0, rtol=0.0, atol=1e-10)
+    assert b.nfev[0] == r.stats["nfev"] and b.x_end[0] == r.x[-1]
+    with pytest.raises(ValueError, match=r"^rtol: RADAU5 needs rtol finite and in \[100 eps"):
+        ss.simulate("belt", "karnopp", method="radau5", t_end=1.0, rtol=0.0)
+
+
+def test_help_of_simulate_documents_every_key_of_stats_and_every_section() -> None:
+    doc = ss.simulate.__doc__
+    for section in ("Parameters\n    ----------", "Returns\n    -------", "Raises\n    ------",
+                    "Examples\n    --------"):
+        assert section in doc, section
+    for method in ("rk4", "dopri5"):
+        kw = dict(h=1e-3) if method == "rk4" else {}
+        for key in ss.simulate("belt", "proposed", method=method, t_end=0.01, **kw).stats:
+            assert f"``{key}``" in doc, key
+
+
+def test_the_controls_page_lists_every_control_with_its_default() -> None:
+    from pathlib import Path
+    page = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "controls.md").read_text()
+    rows = {line.split("|")[1].strip().strip("`") for line in page.splitlines() if line.startswith("| `")}
+    assert set(ss.CONTROLS) <= rows, set(ss.CONTROLS) - rows
+    for name, value in ss.CONTROL_DEFAULTS.items():
+        assert f"| `{name}` |" in page, name
+
+
+# -- honest batch rows ------------------------------------------------------------------------
+
+def test_rk4_bound_on_the_belt_matches_the_closed_forms() -> None:
+    """Sliding with Coulomb friction (mu' = 0) the belt is an undamped oscillator, lambda = i w:
+    RK4's bound is 2 sqrt(2) / w. Stuck (v0 = v_b - w0) with the RecurDyn law the stiff real
+    eigenvalue is about -g mu'(w0), the haversine's slope: the bound tends to 2.785 / (g mu')."""
+    w = math.sqrt(300.0 / 10.0)
+    assert core.rk4_stability_bound("coulomb", scene="belt", v0=0.0) == pytest.approx(2 * math.sqrt(2) / w, rel=1e-9)
+    assert core.rk4_stability_bound("coulomb", scene="belt", v0=1.5) is None          # mu jumps at rest
+    v_s, mu_s, w0 = 1e-3, 0.35, 2e-4
+    dmu = mu_s * 0.5 * math.pi / v_s * math.sin(math.pi * w0 / v_s)
+    bound = core.rk4_stability_bound("recurdyn", (("v_s", v_s),), scene="belt", v0=1.5 - w0)
+    assert bound == pytest.approx(2.785293563405282 / (9.81 * dmu), rel=1e-3)
+    assert core.rk4_stability_bound("lugre", scene="belt") is None                     # not derived
+
+
+def test_batch_warns_for_rk4_rows_beyond_the_bound_and_flags_chatter() -> None:
+    with pytest.warns(ss.core.UnstableStepWarning, match=r"^2 RK4 row\(s\) with h beyond"):
+        b = ss.simulate_batch("slope", "recurdyn", method="rk4", t_end=1.0, h=[1e-3, 1e-2, 2e-2])
+    assert list(b.ok) == [True, True, True]             # reached t_end, all of them ...
+    assert list(b.chattered) == [False, True, True]     # ... but two chattered
+    assert not b.forced.any()
+    # a reference the flag must agree with: the RK4 slope creeping at h = 1e-3 is smooth, the
+    # monitor grid of h = 1e-2 shows the velocity reversing on most intervals of the tail
+    assert b.n_rev_tail[0] == 0 and b.n_rev_tail[1] >= 0.25 * 200 / 2
+    c = ss.simulate_batch("slope", "coulomb", method="dopri5", t_end=1.0)
+    assert c.ok[0] and c.forced[0] and c.nforced[0] > 0
+
+
+def test_the_examples_of_the_docstrings_run_as_written() -> None:
+    import doctest
+    result = doctest.testmod(core, optionflags=doctest.ELLIPSIS)
+    assert result.attempted >= 5 and result.failed == 0

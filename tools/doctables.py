@@ -1,0 +1,165 @@
+"""Tables of measured numbers in the documentation, generated from the results files.
+
+A page marks each such table with an HTML comment that names its source (a path relative to the
+page), and the table sits between that comment and `<!-- end table -->`:
+
+    <!-- table: figures/table2_slope_cpu.csv
+    columns: law [-] = law; mode [-] = mode; nfev [-] = evaluations
+    where: law [-] = recurdyn, proposed
+    digits: 4
+    -->
+    | law | mode | evaluations |
+    ...
+    *Source: `docs/figures/table2_slope_cpu.csv`, written by `python -m cases --docs` ...*
+    <!-- end table -->
+
+A Markdown source (`.md`) is embedded whole. A CSV source is rendered as a table of the chosen
+`columns` (the CSV header as written, then `= label` for the column's title in the page; all
+columns when omitted), keeping the rows whose cells match every `where` line (any of the listed
+values), numbers to `digits` significant digits (default 4; integers whole). Under each table
+a line names the file and, from its provenance sidecar (cases/_provenance.py), the command,
+date and machine that wrote it. HTML comments show in neither GitHub's rendering nor the site.
+
+    python tools/doctables.py            # refresh every marked table of README.md and docs/
+    python tools/doctables.py --check    # list the tables that disagree with their sources (exit 1)
+
+scripts/docs refreshes before it builds; tests/test_docs.py runs the check.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import re
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+from cases._provenance import provenance_of  # noqa: E402 - after the path above
+
+BLOCK = re.compile(r"(?P<open><!-- table: (?P<spec>.*?)-->\n)(?P<body>.*?)(?P<close><!-- end table -->)",
+                   re.S)
+
+
+@dataclass
+class Spec:
+    """What a marker asks for."""
+
+    source: Path
+    columns: list[tuple[str, str]] = field(default_factory=list)   # (CSV header, label)
+    where: list[tuple[str, set[str]]] = field(default_factory=list)
+    digits: int = 4
+
+
+def parse_spec(text: str, page: Path) -> Spec:
+    lines = [ln.strip() for ln in text.strip().splitlines() if ln.strip()]
+    spec = Spec((page.parent / lines[0]).resolve())
+    for line in lines[1:]:
+        key, _, value = line.partition(":")
+        key = key.strip()
+        if key == "columns":
+            for item in value.split(";"):
+                name, _, label = item.partition("=")
+                spec.columns.append((name.strip(), (label or name).strip()))
+        elif key == "where":
+            name, _, values = value.partition("=")
+            spec.where.append((name.strip(), {v.strip() for v in values.split(",")}))
+        elif key == "digits":
+            spec.digits = int(value)
+        else:
+            raise ValueError(f"{page}: unknown table option {key!r} (columns, where, digits)")
+    return spec
+
+
+def cell(text: str, digits: int) -> str:
+    """A CSV cell for the page: integers whole, other numbers to `digits` significant digits."""
+    text = text.strip()
+    if re.fullmatch(r"[+-]?\d+", text):
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        return text.replace("|", "\\|")
+    return f"{value:.{digits}g}"
+
+
+def render_csv(spec: Spec) -> str:
+    with open(spec.source, newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    header, data = rows[0], rows[1:]
+    index = {name: i for i, name in enumerate(header)}
+    columns = spec.columns or [(h, h) for h in header]
+    for name in [c for c, _ in columns] + [w for w, _ in spec.where]:
+        if name not in index:
+            raise ValueError(f"{spec.source.name} has no column {name!r} (it has: {', '.join(header)})")
+    kept = [r for r in data if all(r[index[w]] in values for w, values in spec.where)]
+    out = ["| " + " | ".join(label for _, label in columns) + " |",
+           "|" + "---|" * len(columns)]
+    out += ["| " + " | ".join(cell(r[index[c]], spec.digits) for c, _ in columns) + " |"
+            for r in kept]
+    return "\n".join(out)
+
+
+def source_line(path: Path) -> str:
+    where = path.relative_to(ROOT).as_posix() if path.is_relative_to(ROOT) else path.name
+    run = provenance_of(path)
+    if run is None:
+        return f"*Source: `{where}`.*"
+    load = f", load average {run['load_average']:g}" if run.get("load_average") is not None else ""
+    return (f"*Source: `{where}`, written by `{run['command']}` on {run['date']}, "
+            f"{run['machine']}{load}.*")
+
+
+def render(spec: Spec) -> str:
+    if not spec.source.exists():
+        raise FileNotFoundError(f"table source {spec.source} does not exist")
+    table = spec.source.read_text().strip() if spec.source.suffix == ".md" else render_csv(spec)
+    return f"{table}\n\n{source_line(spec.source)}\n"
+
+
+def refresh(page: Path) -> tuple[str, list[int]]:
+    """The page's text with every marked table regenerated, and the line numbers of the
+    tables that changed."""
+    text = page.read_text()
+    changed: list[int] = []
+
+    def fill(m: re.Match[str]) -> str:
+        body = render(parse_spec(m.group("spec"), page))
+        if body != m.group("body"):
+            changed.append(text.count("\n", 0, m.start()) + 1)
+        return m.group("open") + body + m.group("close")
+
+    return BLOCK.sub(fill, text), changed
+
+
+def pages() -> list[Path]:
+    return [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python tools/doctables.py",
+                                     description="Refresh (or --check) the documentation's "
+                                                 "tables of measured numbers from their results files.")
+    parser.add_argument("--check", action="store_true",
+                        help="change nothing; list the tables that disagree with their sources "
+                             "and exit 1 if any does")
+    args = parser.parse_args(argv)
+    stale = []
+    for page in pages():
+        new, changed = refresh(page)
+        rel = page.relative_to(ROOT).as_posix()
+        stale += [f"{rel}:{line}" for line in changed]
+        if changed and not args.check:
+            page.write_text(new)
+    if args.check and stale:
+        print("tables that disagree with their results files (python tools/doctables.py "
+              "refreshes them):\n" + "\n".join(stale), file=sys.stderr)
+        return 1
+    if stale:
+        print("refreshed: " + ", ".join(stale))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
