@@ -34,10 +34,12 @@ SEQUENCE: tuple[str, ...] = (_C["blue"], _C["vermillion"], _C["bluish green"], _
 #: Display names of the library's codes, in one place.
 LAW_NAMES: dict[str, str] = {
     "coulomb": "Coulomb", "recurdyn": "RecurDyn (haversine)", "proposed": "proposed (Roh & Yoo)",
-    "stribeck": "Stribeck", "karnopp": "Karnopp", "lugre": "LuGre", "elastoplastic": "elasto-plastic"}
+    "stribeck": "Stribeck", "karnopp": "Karnopp", "lugre": "LuGre", "elastoplastic": "elasto-plastic",
+    "dahl": "Dahl", "gms": "generalized Maxwell-slip"}
 METHOD_NAMES: dict[str, str] = {
     "rk4": "RK4", "dopri5": "DOPRI5", "dop853": "DOP853", "radau5": "RADAU5",
     "implicit_euler": "implicit Euler", "galpha": "generalized-α",
+    "moreau": "Moreau-Jean (set-valued)", "event_driven": "event-driven (set-valued)",
     # other tools of the comparisons
     "c_loop": "plain C loop", "stickslip_fortran": "stickslip from Fortran",
     "stickslip_python": "stickslip from Python", "gsl": "GSL", "scipy": "scipy"}
@@ -53,7 +55,8 @@ LAW_COLORS: dict[str, str] = {
     "elastoplastic": _C["black"]}
 METHOD_COLORS: dict[str, str] = {
     "rk4": _C["blue"], "dopri5": _C["vermillion"], "radau5": _C["bluish green"],
-    "implicit_euler": _C["orange"], "galpha": _C["reddish purple"], "dop853": _C["sky blue"]}
+    "implicit_euler": _C["orange"], "galpha": _C["reddish purple"], "dop853": _C["sky blue"],
+    "moreau": _C["black"], "event_driven": _C["yellow"]}
 CLASS_COLORS: dict[str, str] = {
     "stable": _C["bluish green"], "chattering": _C["orange"], "spurious": _C["reddish purple"],
     "unstable": _C["vermillion"], "newton failed": "0.45"}

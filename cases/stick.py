@@ -40,6 +40,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _common as c
+from . import _style as style
 
 MU_S, MU_K, G = 0.35, 0.30, 9.81
 THETA_DEG = 10.0
@@ -231,9 +232,8 @@ def write_tables(csv_path: Path, outdir: Path) -> Path:
     return c.write_text(outdir / "stick.md", "".join(parts))
 
 
-#: Okabe-Ito colours (colour-blind safe), one per method, and a marker per law.
-COLORS = ("#000000", "#E69F00", "#56B4E9", "#009E73", "#F0E442", "#0072B2", "#D55E00", "#CC79A7")
-MARKERS = ("o", "s", "^", "v", "D", "P", "X", "*")
+#: A marker per law (the colours are the methods', cases/_style.py).
+MARKERS = ("o", "s", "^", "v", "D", "P", "X", "*", "h", "<", ">", "p")
 
 
 def plot(csv_path: str | Path, outdir: str | Path) -> list[Path]:
@@ -254,7 +254,7 @@ def plot(csv_path: str | Path, outdir: str | Path) -> list[Path]:
                 if not pts:
                     continue
                 cpu, err = zip(*sorted(pts))
-                ax.plot(cpu, np.maximum(err, FLOOR), color=COLORS[mi % len(COLORS)],
+                ax.plot(cpu, np.maximum(err, FLOOR), color=style.color(method, mi),
                         marker=MARKERS[li % len(MARKERS)], markersize=4, linewidth=0.8,
                         markerfacecolor="none" if method not in ("moreau", "event_driven") else None)
         ax.set_xscale("log")
@@ -263,9 +263,9 @@ def plot(csv_path: str | Path, outdir: str | Path) -> list[Path]:
         ax.set_ylabel(f"error {errs[0].split(' ')[0].replace('err_', '')} [{errs[0].split('[')[1]}")
         ax.set_title(TITLES[problem], fontsize=8)
         ax.axhline(FLOOR, color="0.6", linewidth=0.6, linestyle=":")
-    handles = [plt.Line2D([], [], color=COLORS[i % len(COLORS)], label=m) for i, m in enumerate(methods)]
+    handles = [plt.Line2D([], [], color=style.color(m, i), label=style.name(m)) for i, m in enumerate(methods)]
     handles += [plt.Line2D([], [], color="0.3", marker=MARKERS[i % len(MARKERS)], linestyle="none",
-                           label=law) for i, law in enumerate(laws)]
+                           label=style.name(law)) for i, law in enumerate(laws)]
     fig.legend(handles=handles, loc="lower center", ncol=8, frameon=False, fontsize=7)
     fig.text(0.5, 0.115, f"exact results (error 0) are drawn at {FLOOR:g} (dotted line); filled markers: "
              "set-valued friction (moreau, event_driven); failed runs (step budget, Newton failure) are "

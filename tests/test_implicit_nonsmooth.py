@@ -104,7 +104,18 @@ PREDICTED = {
     ("belt", "lugre", "rk4", "h=1e-3"): "NONFINITE",
     ("belt", "lugre", "rk4", "h=1e-4"): "NONFINITE",
     ("belt", "elastoplastic", "rk4", "h=1e-3"): "NONFINITE",
+    ("belt", "dahl", "rk4", "h=1e-3"): "NONFINITE",
+    ("belt", "dahl", "rk4", "h=1e-4"): "NONFINITE",
     ("belt", "lugre", "galpha", "h=1e-3"): "NEWTON_FAILED",
+    # gms: an element's switch between stick and slip is a jump of its rate that the Newton
+    # iteration of the fixed-step implicit methods does not solve (RADAU5, with its step control,
+    # and the explicit methods run it)
+    ("slope", "gms", "implicit_euler", "h=1e-4"): "NEWTON_FAILED",
+    ("slope", "gms", "galpha", "h=1e-4"): "NEWTON_FAILED",
+    ("belt", "gms", "implicit_euler", "h=1e-3"): "NEWTON_FAILED",
+    ("belt", "gms", "implicit_euler", "h=1e-4"): "NEWTON_FAILED",
+    ("belt", "gms", "galpha", "h=1e-3"): "NEWTON_FAILED",
+    ("belt", "gms", "galpha", "h=1e-4"): "NEWTON_FAILED",
 }
 FIXED_CONTROLS = {"h=1e-3": {"h": 1e-3}, "h=1e-4": {"h": 1e-4}}
 ADAPTIVE_CONTROLS = {"rtol=1e-4": {"rtol": 1e-4, "atol": 1e-7}, "rtol=1e-6": {"rtol": 1e-6, "atol": 1e-9}}

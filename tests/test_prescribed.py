@@ -390,7 +390,7 @@ def test_dahl_in_a_scene_is_lugre_without_stribeck_and_damping():
     for scene, extra in [("slope", dict(theta_deg=20.0)), ("belt", {})]:
         d = ss.simulate(scene, "dahl", mu_k=0.3, sigma0=2e3, **extra, **kw)
         lg = ss.simulate(scene, "lugre", mu_s=0.3, mu_k=0.3, sigma0=2e3, sigma1=0.0, sigma2=0.0, **extra, **kw)
-        assert d.state_labels == ("z [m]",) and d.z.shape == (1, 501)
+        assert d.state_labels == ("z [m]",) and d.z.shape == (501,)   # one state: the shape of x
         np.testing.assert_allclose(d.x, lg.x, rtol=0, atol=1e-8 * np.abs(lg.x).max())
         np.testing.assert_allclose(d.z, lg.z, rtol=0, atol=1e-8 * np.abs(lg.z).max())
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATE_COUNT_PARAMS,
-                   STATUS_OK,
+                   STATUS_OK, _states,
                    UnstableStepWarning, UnusedParameterWarning, _FIRST_INPUT_CODE, _PARAM_ORDER,
                    _check_names, _choice, _count, accepted_range, interruptible, rk4_stability_bound,
                    status_message)
@@ -240,7 +240,6 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     nstate = np.array([2 + REGISTRY["law"][l]["n_states"] for l in rows["law"]], dtype=np.int32)
     for k in STATE_COUNT_PARAMS:            # laws whose state count is a parameter (gms: n_elements)
         if k in rows:
-            from .prescribed import _states
             for i, (l, val) in enumerate(zip(rows["law"], rows[k])):
                 if k in REGISTRY["law"][l]["params"] and np.isfinite(val):
                     nstate[i] = 2 + _states(str(l), ((k, float(val)),))[0]

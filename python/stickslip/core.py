@@ -584,7 +584,7 @@ class _Plan:
 
 
 #: Parameters that set a law's number of internal states (the generalized Maxwell-slip model's
-#: n_elements): for such a law simulate asks the library (prescribed._states).
+#: n_elements): for such a law simulate asks the library (_states).
 STATE_COUNT_PARAMS: tuple[str, ...] = ("n_elements",)
 
 
@@ -680,6 +680,18 @@ def _known(given: Mapping[str, float]) -> dict[str, float]:
         if k not in given and info["default_of"]:
             known[k] = info["scale"] * known[info["default_of"]]
     return known
+
+
+@functools.lru_cache(maxsize=1024)
+def _states(law: str, params: tuple[tuple[str, float], ...]) -> tuple[int, tuple[str, ...]]:
+    """The number of internal states of `law` and their labels, for the given (name, value)
+    parameters (a law such as gms has as many as its n_elements), as the library reports them."""
+    code = _choice("law", law, LAWS)
+    keys, vals = _keys(dict(params))
+    nz, labels, status = _ext.law_states(code, keys, vals)
+    _check_code(int(status), dict(params))
+    text = labels.decode().rstrip("\x00 ")
+    return int(nz), tuple(s for s in text.split(";") if s)
 
 
 def _check_code(status: int, given: Mapping[str, Any] | None = None) -> None:
@@ -930,7 +942,6 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     t_end = _finite("t_end", t_end, "> 0 [s]")
     n_states, state_labels = plan.n - 2, plan.state_labels
     if plan.sized_by:                        # a law whose number of states is a parameter (gms)
-        from .prescribed import _states     # (prescribed imports this module)
         n_states, state_labels = _states(law, tuple((k, given[k]) for k in plan.sized_by if k in given))
     n = 2 + n_states
     n_blocks = 1

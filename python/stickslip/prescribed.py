@@ -4,14 +4,13 @@ internal states integrated by the Fortran core in one call per record
 """
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from . import _stickslip as _ext
-from .core import LAWS, REGISTRY, _check_code, _choice, _finite, _keys, _physical
+from .core import LAWS, REGISTRY, _check_code, _choice, _finite, _keys, _physical, _states
 
 __all__ = ["PrescribedResult", "prescribed_motion", "law_n_states", "law_state_labels"]
 
@@ -57,16 +56,6 @@ class PrescribedResult:
     v_contact: np.ndarray
     state_labels: tuple[str, ...] = ()
     stats: dict[str, int] = field(default_factory=dict)
-
-
-@functools.lru_cache(maxsize=1024)
-def _states(law: str, params: tuple[tuple[str, float], ...]) -> tuple[int, tuple[str, ...]]:
-    code = _choice("law", law, LAWS)
-    keys, vals = _keys(dict(params))
-    nz, labels, status = _ext.law_states(code, keys, vals)
-    _check_code(int(status), dict(params))
-    text = labels.decode().rstrip("\x00 ")
-    return int(nz), tuple(s for s in text.split(";") if s)
 
 
 def _law_params(law: str, params: dict[str, Any]) -> tuple[tuple[str, float], ...]:
