@@ -104,7 +104,8 @@ def parser() -> argparse.ArgumentParser:
                                 description=__doc__.split("\n\n")[0].rstrip(":") + ".",
                                 epilog=f"Physical parameters (NAME, default and unit): {names}. "
                                        "Each is passed to every run and range-checked by the library.")
-    p.add_argument("--scene", required=True, choices=ss.SCENES, help="the scene")
+    p.add_argument("--scene", required=True, choices=[s for s in ss.SCENES if s != "chain"],
+                   help="the scene (one body: the chain is not advised)")
     p.add_argument("--law", required=True, choices=ss.LAWS, help="the friction law")
     p.add_argument("--target", required=True, type=c.positive_float,
                    help="largest acceptable absolute error of the quantity at t_end [m or m/s], > 0")

@@ -83,6 +83,9 @@ module stickslip_contact
         procedure :: add_ht
         !> The coordinate of contact i's first entry of H (where its position is read).
         procedure :: contact_coordinate
+        !> W = M + a C + b K as three diagonals when it is tridiagonal (ok); the default says
+        !! it is not (ok = .false.). Moreau's solver then works on W itself, O(n) a sweep.
+        procedure :: w_tridiagonal => not_tridiagonal
     end type contact_system
 
     abstract interface
@@ -159,6 +162,17 @@ contains
             end do
         end do
     end subroutine add_ht
+
+    subroutine not_tridiagonal(self, a, b, l, d, r, ok)
+        class(contact_system), intent(in) :: self
+        real(dp), intent(in)  :: a          !! weight of C [s]
+        real(dp), intent(in)  :: b          !! weight of K [s^2]
+        real(dp), intent(out) :: l(:)       !! W(i, i - 1), not set here
+        real(dp), intent(out) :: d(:)       !! W(i, i), not set here
+        real(dp), intent(out) :: r(:)       !! W(i, i + 1), not set here
+        logical, intent(out)  :: ok         !! .false.: W is not known to be tridiagonal
+        ok = .false.
+    end subroutine not_tridiagonal
 
     pure integer function contact_coordinate(self, i) result(j)
         class(contact_system), intent(in) :: self

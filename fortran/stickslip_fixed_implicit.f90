@@ -58,13 +58,16 @@ module stickslip_fixed_implicit
         real(dp) :: newton_rtol = 1.0e-10_dp    !! relative Newton tolerance on the stage state [-], >= 0
         real(dp) :: newton_atol = 1.0e-12_dp    !! absolute Newton tolerance on the stage state [units of y], > 0
         integer  :: newton_max_iter = 10        !! Newton iterations allowed per step, >= 1
+        !> Factor a band matrix when the system says its Jacobian is banded (`bandwidth`), O(n)
+        !! a step; .false.: the dense n x n matrix whatever the system says.
+        logical  :: banded = .true.
     contains
         !> Set one control by name, then fall back to the parent types controls.
         procedure :: set => set_newton_control
     end type newton_controls
 
     !> Names of the Newton controls, for the methods' registry entries.
-    character(len=*), parameter, public :: NEWTON_CONTROL_NAMES = 'newton_rtol newton_atol newton_max_iter'
+    character(len=*), parameter, public :: NEWTON_CONTROL_NAMES = 'newton_rtol newton_atol newton_max_iter banded'
 
 contains
 
@@ -78,6 +81,7 @@ contains
         select case (name)
         case ('newton_rtol'); self%newton_rtol = value
         case ('newton_atol'); self%newton_atol = value
+        case ('banded');      self%banded = value /= 0.0_dp
         case ('newton_max_iter')
             if (value >= 1.0_dp .and. value <= 1.0e6_dp) then
                 self%newton_max_iter = int(value)

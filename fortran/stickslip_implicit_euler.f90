@@ -13,7 +13,7 @@ module stickslip_implicit_euler
     use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, step_count, &
                              stop_requested, all_finite, hermite
     use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls, ROUNDING_FLOOR
-    use stickslip_linalg, only: lu_decompose, lu_solve
+    use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
     use stickslip_scenes, only: friction_scene, slope_scene, belt_scene
     use stickslip_friction, only: MODE_MU, MODE_V, between
     use stickslip_law_coulomb, only: coulomb_law

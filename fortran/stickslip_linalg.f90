@@ -13,7 +13,17 @@ module stickslip_linalg
     implicit none
     private
 
-    public :: lu_decompose, lu_solve
+    public :: lu_decompose, lu_solve, band_decompose, band_solve
+
+    !> A = P L U of a band matrix in LAPACK's band storage, in place (partial pivoting).
+    interface band_decompose
+        module procedure band_decompose_real, band_decompose_complex
+    end interface band_decompose
+
+    !> Solve A x = b with the factors of band_decompose; b is overwritten by x.
+    interface band_solve
+        module procedure band_solve_real, band_solve_complex
+    end interface band_solve
 
     !> A = P L U in place; info = 0 on success, k > 0 when column k has no usable pivot.
     interface lu_decompose
@@ -35,6 +45,11 @@ contains
 #define LU_MAG(x) abs(x)
 #define LU_BAD(p) (p == 0.0_dp .or. .not. ieee_is_finite(p))
 #include "stickslip_linalg_body.inc"
+#define BAND_DECOMPOSE band_decompose_real
+#define BAND_SOLVE band_solve_real
+#include "stickslip_linalg_band_body.inc"
+#undef BAND_DECOMPOSE
+#undef BAND_SOLVE
 #undef LU_DECOMPOSE
 #undef LU_SOLVE
 #undef LU_SCALAR
@@ -48,6 +63,11 @@ contains
 #define LU_MAG(x) abs(x%re) + abs(x%im)
 #define LU_BAD(p) (p == (0.0_dp, 0.0_dp) .or. .not. ieee_is_finite(p%re) .or. .not. ieee_is_finite(p%im))
 #include "stickslip_linalg_body.inc"
+#define BAND_DECOMPOSE band_decompose_complex
+#define BAND_SOLVE band_solve_complex
+#include "stickslip_linalg_band_body.inc"
+#undef BAND_DECOMPOSE
+#undef BAND_SOLVE
 #undef LU_DECOMPOSE
 #undef LU_SOLVE
 #undef LU_SCALAR

@@ -16,8 +16,16 @@
 !! change that a sweep's later updates make to an earlier contact's velocity is below
 !! contact_tol [m/s]. One contact needs one sweep (its residual is then 0). Impulses are
 !! warm-started from the previous step. When `w_constant` is set, D is formed once per step
-!! size (n_c solves with W), otherwise every step. Dense D: fine for a few hundred contacts;
-!! a chain of thousands of blocks wants a banded or matrix-free solver.
+!! size (n_c solves with W), otherwise every step. Dense D: fine for a few hundred contacts.
+!!
+!! When W is tridiagonal (`w_tridiagonal`, e.g. a chain of blocks) and every contact acts on
+!! one coordinate of its own, the same problem is solved on W itself (`tridiagonal_sweeps`):
+!! W u1 = W u_free + H^T p, coordinate by coordinate, each contact's one-contact problem in
+!! closed form given its neighbours' velocities (nonsmooth Gauss-Seidel; W is symmetric
+!! positive definite, so the sweeps converge). A sweep costs O(n) instead of O(n_c^2), and D
+!! is never formed. Its residual is the same quantity: the largest change that a sweep's
+!! later update of coordinate i + 1 makes to coordinate i's velocity, |W(i, i+1) du_{i+1} /
+!! W(i, i)| [m/s].
 !!
 !! A stuck contact whose row of H has a single entry has its coordinate's velocity set so
 !! that w = 0 exactly (the solve gives it to rounding otherwise).
@@ -98,6 +106,9 @@ contains
 
         real(dp), allocatable :: q(:), u(:), qp(:), f0(:), f1(:), du(:), g(:), y1(:), y(:)
         real(dp), allocatable :: wfree(:), p(:), hn(:), dmat(:, :), wloc(:)
+        real(dp), allocatable :: wl(:), wd(:), wr(:), boff(:)
+        integer, allocatable :: coord_contact(:)
+        logical :: tri
         real(dp) :: t, t1, hs, th, h_d, nsteps_real, resid, t_next
         integer(8) :: i, nsteps, n_total
         integer :: nd, nc, m, next, sweeps, c, k
@@ -121,8 +132,23 @@ contains
         if (stats%status /= SS_OK) return
 
         allocate(q(nd), u(nd), qp(nd), f0(nd), f1(nd), du(nd), g(nd), y(2 * nd), y1(2 * nd))
-        allocate(wfree(nc), p(nc), hn(nc), dmat(nc, nc), wloc(nc))
         th = opts%theta
+        allocate(wfree(nc), p(nc), hn(nc), wloc(nc), wl(nd), wd(nd), wr(nd), boff(nc), coord_contact(nd))
+        call cs%w_tridiagonal(opts%h * th, (opts%h * th)**2, wl, wd, wr, tri)
+        ! the tridiagonal solver needs each contact on one coordinate of its own
+        coord_contact = 0
+        do c = 1, nc
+            if (.not. tri) exit
+            k = cs%h_ptr(c)
+            tri = cs%h_ptr(c + 1) - k == 1
+            if (tri) tri = coord_contact(cs%h_col(k)) == 0
+            if (tri) coord_contact(cs%h_col(k)) = c
+        end do
+        if (tri) then
+            allocate(dmat(0, 0))
+        else
+            allocate(dmat(nc, nc))
+        end if
         m = size(t_out)
         nsteps_real = step_count(t0, t_end, opts%h)
         n_total = huge(n_total)
@@ -166,6 +192,17 @@ contains
             ! The friction problem, with D formed where it may have changed.
             call cs%normal_forces(t1, qp, hn)
             hn = hs * hn
+            if (tri) then   ! on W itself: u1 from W u1 = W u_free + H^T p
+                call cs%w_tridiagonal(hs * th, (hs * th)**2, wl, wd, wr, tri)
+                call cs%slip_offset(t1, boff)
+                g = u
+                call tridiagonal_sweeps(cs, wl, wd, wr, du, coord_contact, boff, hn, opts%contact_tol, &
+                                        opts%contact_max_iter, g, wloc, sweeps, resid)
+                stats%ncontact_iter = stats%ncontact_iter + sweeps
+                stats%contact_residual = max(stats%contact_residual, resid)
+                y1(:nd) = q + hs * ((1.0_dp - th) * u + th * g)
+                y1(nd + 1:) = g
+            else
             if (.not. (cs%w_constant .and. hs == h_d)) then
                 do c = 1, nc
                     g = 0.0_dp
@@ -187,6 +224,7 @@ contains
             call snap_stuck(g)
             y1(:nd) = q + hs * ((1.0_dp - th) * u + th * g)
             y1(nd + 1:) = g
+            end if
 
             if (.not. all_finite(y1)) then
                 stats%status = SS_NONFINITE
@@ -245,6 +283,65 @@ contains
         end subroutine snap_stuck
 
     end subroutine moreau_integrate
+
+    !> Nonsmooth Gauss-Seidel on W u1 = W uf + H^T p with W tridiagonal (l, d, r) and each
+    !! contact on one coordinate of its own: coordinate by coordinate, u1_i from its row given
+    !! the neighbours, through the contact's one-contact solution (`local_solve`) where it has
+    !! one; a stuck contact gets w = 0 exactly. Sweeps until the residual (the largest change
+    !! that the update of coordinate i + 1 made to coordinate i's velocity, [m/s]) is <= tol
+    !! or max_iter sweeps are done. u1: starting guess in, velocities out [m/s].
+    subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid)
+        class(contact_system), intent(in) :: cs  !! the system (its laws and H)
+        real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
+        real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
+        real(dp), intent(in)    :: r(:)          !! W(i, i + 1) [-]
+        real(dp), intent(in)    :: uf(:)         !! velocities without friction [m/s]
+        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
+        real(dp), intent(in)    :: boff(:)       !! offsets of the relative velocities [m/s]
+        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
+        real(dp), intent(in)    :: tol           !! tolerance on the residual [m/s]
+        integer, intent(in)     :: max_iter      !! sweep limit, >= 1
+        real(dp), intent(inout) :: u1(:)         !! velocities [m/s]
+        real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
+        integer, intent(out)    :: sweeps        !! sweeps done
+        real(dp), intent(out)   :: resid         !! final residual [m/s]
+        real(dp) :: b(size(u1)), du(size(u1)), s, ufree, hv, w, pnew
+        integer :: i, n, c
+        n = size(u1)
+        ! b = W uf
+        do i = 1, n
+            b(i) = d(i) * uf(i)
+            if (i > 1) b(i) = b(i) + l(i) * uf(i - 1)
+            if (i < n) b(i) = b(i) + r(i) * uf(i + 1)
+        end do
+        do sweeps = 1, max_iter
+            do i = 1, n
+                s = b(i)
+                if (i > 1) s = s - l(i) * u1(i - 1)
+                if (i < n) s = s - r(i) * u1(i + 1)
+                ufree = s / d(i)
+                c = coord_contact(i)
+                if (c > 0) then
+                    hv = cs%h_val(cs%h_ptr(c))
+                    call local_solve(cs%laws(c), hv * ufree + boff(c), hv * hv / d(i), hn(c), w, pnew)
+                    wloc(c) = w
+                    if (w == 0.0_dp) then
+                        ufree = -boff(c) / hv
+                    else
+                        ufree = ufree + hv * pnew / d(i)
+                    end if
+                end if
+                du(i) = ufree - u1(i)
+                u1(i) = ufree
+            end do
+            resid = 0.0_dp
+            do i = 1, n - 1
+                resid = max(resid, abs(r(i) * du(i + 1) / d(i)))
+            end do
+            if (resid <= tol) exit
+        end do
+        sweeps = min(sweeps, max_iter)
+    end subroutine tridiagonal_sweeps
 
     !> Projected Gauss-Seidel on w = wfree + D p, p_i in -hn_i F_i(w_i): sweeps of the
     !! one-contact solution (`local_solve`) until the residual (the largest change a sweep's

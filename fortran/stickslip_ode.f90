@@ -35,6 +35,12 @@ module stickslip_ode
         !! the right-hand side f(t, y)
         !> df/dy; the default is forward differences (override it with the analytic one).
         procedure :: jacobian => fd_jacobian
+        !> The state order perm in which df/dy is banded, and its band (ml lower, mu upper
+        !! diagonals); the default ml = mu = -1 says "dense" (the implicit methods then factor
+        !! n x n matrices). A banded system lets RADAU5 factor band matrices: O(n) a step.
+        procedure :: bandwidth => dense_bandwidth
+        !> df/dy in the order of `bandwidth`, in band storage; the default packs `jacobian`.
+        procedure :: band_jacobian => packed_band_jacobian
     end type ode_system
 
     !> The controls every integrator shares; each method reads those its registry entry
@@ -196,6 +202,44 @@ contains
             nsteps = nsteps - 1.0_dp
         end do
     end function step_count
+
+    !> The default band: none (ml = mu = -1, perm the identity).
+    subroutine dense_bandwidth(self, perm, ml, mu)
+        class(ode_system), intent(in) :: self
+        !! the system
+        integer, intent(out) :: perm(:)     !! (n) state index at each position of the banded order
+        integer, intent(out) :: ml          !! lower bandwidth (-1: dense)
+        integer, intent(out) :: mu          !! upper bandwidth (-1: dense)
+        integer :: i
+        perm = [(i, i = 1, size(perm))]
+        ml = -1
+        mu = -1
+    end subroutine dense_bandwidth
+
+    !> df/dy in the order of `bandwidth` in band storage, jb(mu + 1 + i - j, j) =
+    !! J(perm(i), perm(j)) for max(1, j - mu) <= i <= min(n, j + ml), from the dense
+    !! `jacobian` (a banded system overrides it with an O(n) one).
+    subroutine packed_band_jacobian(self, t, y, f, jb, nfev)
+        class(ode_system), intent(inout) :: self
+        !! the system
+        real(dp), intent(in)    :: t             !! time [s]
+        real(dp), intent(in)    :: y(:)          !! state
+        real(dp), intent(in)    :: f(:)          !! f(t, y), already evaluated
+        real(dp), intent(out)   :: jb(:, :)      !! (ml + mu + 1, n) band of the reordered Jacobian
+        integer(8), intent(inout) :: nfev        !! evaluation counter
+        real(dp), allocatable :: dfdy(:, :)
+        integer :: perm(size(y)), ml, mu, i, j, n
+        n = size(y)
+        call self%bandwidth(perm, ml, mu)
+        allocate(dfdy(n, n))
+        call self%jacobian(t, y, f, dfdy, nfev)
+        jb = 0.0_dp
+        do j = 1, n
+            do i = max(1, j - mu), min(n, j + ml)
+                jb(mu + 1 + i - j, j) = dfdy(perm(i), perm(j))
+            end do
+        end do
+    end subroutine packed_band_jacobian
 
     !> Forward-difference Jacobian df/dy(t, y) with Hairer's increments
     !! sqrt(eps max(1e-5, |y_j|)): n evaluations of f, added to nfev.

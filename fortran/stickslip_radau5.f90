@@ -34,6 +34,12 @@
 !! and the proposed law's mu ~ |v|^beta from rest at tight tolerances. With h_min = 0
 !! (Hairer's code has none) none of this is reached.
 !!
+!! Banded systems (Hairer's MLJAC < N): when the system's `bandwidth` gives a band (ml lower,
+!! mu upper diagonals in a state order of its choosing) and `banded` is set, the Jacobian
+!! comes from `band_jacobian` and both matrices are factored as band matrices in that order
+!! (storage and work O(n ml (ml + mu)) instead of O(n^2) and O(n^3)); the steps are those of
+!! the dense path up to rounding.
+!!
 !! Linear algebra: stickslip_linalg's own dense LU (for n <= 10 it was measured as fast as
 !! LAPACK's dgetrf/dgetrs and zgetrf/zgetrs, and the library needs no LAPACK).
 module stickslip_radau5
@@ -43,7 +49,7 @@ module stickslip_radau5
                                SS_BAD_RTOL
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
                              check_step_controls, all_finite, output_start, stop_requested, limit_after_forced
-    use stickslip_linalg, only: lu_decompose, lu_solve
+    use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
     use stickslip_scenes, only: slope_scene, belt_scene
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_recurdyn, only: recurdyn_law
@@ -99,6 +105,10 @@ module stickslip_radau5
         real(dp) :: quot2 = 1.2_dp       !! see quot1 (WORK(6))
         real(dp) :: facl = 0.2_dp        !! smallest step ratio h_new/h (WORK(8))
         real(dp) :: facr = 8.0_dp        !! largest step ratio h_new/h (WORK(9))
+        !> Factor band matrices when the system says its Jacobian is banded (`bandwidth`:
+        !! Hairer's MLJAC/MUJAC, with the system's own state order), O(n) a step; .false.:
+        !! dense n x n matrices whatever the system says.
+        logical  :: banded = .true.
     contains
         !> Set one control by name, then fall back to the parent types controls.
         procedure :: set => set_radau5_option
@@ -107,7 +117,7 @@ module stickslip_radau5
     !> What RADAU5 is and which controls it reads (registry entry).
     type(method_info), parameter, public :: RADAU5_INFO = method_info(name='radau5', order=5, &
         adaptive=.true., implicit=.true., controls='rtol atol hmin hmax h0 max_steps allow_forced ' // &
-        'fac_forced calm_steps every_step nit startn pred safety thet fnewt quot1 quot2 facl facr', &
+        'fac_forced calm_steps every_step nit startn pred safety thet fnewt quot1 quot2 facl facr banded', &
         doc='Radau IIA order 5, adaptive, as Hairer''s RADAU5')
 
     ! What the main loop does next.
@@ -138,6 +148,7 @@ contains
         case ('quot2');  self%quot2 = value
         case ('facl');   self%facl = value
         case ('facr');   self%facr = value
+        case ('banded'); self%banded = value /= 0.0_dp
         case default;    status = self%step_controls%set(name, value)
         end select
     end function set_radau5_option

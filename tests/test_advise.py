@@ -234,6 +234,8 @@ def test_bad_scene_or_law() -> None:
         ss.advise("ramp", "stribeck", 1e-6, 1.0)
     with pytest.raises(ValueError, match="law: unknown value"):
         ss.advise("belt", "viscous", 1e-6, 1.0)
+    with pytest.raises(ValueError, match="scene: advise takes the one-body scenes"):
+        ss.advise("chain", "stribeck", 1e-6, 1.0)
 
 
 # --------------------------------------------------------------------------------------------

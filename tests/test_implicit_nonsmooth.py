@@ -125,7 +125,7 @@ def test_every_pair():
     """Every law x method (from the registry, so new ones join) on both scenes for 1 s at the
     paper's steps (fixed-step methods) or tolerances (adaptive ones)."""
     seen, unexpected = set(), []
-    for scene in ss.SCENES:
+    for scene in ("slope", "belt"):   # the one-body scenes of the table (the chain: test_chain.py)
         for law in ss.LAWS:
             for method in ss.METHODS:
                 adaptive = ss.REGISTRY["method"][method].get("adaptive", False)

@@ -612,7 +612,7 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
     Parameters
     ----------
     scene, law : str
-        As for `simulate` (SCENES, LAWS).
+        As for `simulate` (SCENES but the chain, LAWS).
     target_error : float
         Largest acceptable absolute error of `quantity` at t_end [m or m/s], > 0.
     t_end : float
@@ -639,6 +639,9 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
         A bad name, number or parameter (the message names it and the accepted range).
     """
     _choice("scene", scene, SCENES)
+    if scene == "chain":
+        raise ValueError("scene: advise takes the one-body scenes (slope, belt); on the chain choose the "
+                         "method with docs/guide/chain.md and run stickslip.simulate")
     _choice("law", law, LAWS)
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity: unknown value {quantity!r} (accepted: x for the position [m], "

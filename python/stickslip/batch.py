@@ -169,6 +169,9 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     if unknown:
         _check_names({k: None for k in unknown}, _PARAM_ORDER + CONTROLS)
 
+    if "chain" in np.atleast_1d(np.asarray(scene, dtype=object)).tolist():
+        raise ValueError("scene: simulate_batch takes the one-body scenes (slope, belt); the chain's state "
+                         "size varies with n_blocks: run each chain with stickslip.simulate")
     cols: dict[str, np.ndarray] = {
         "scene": _codes("scene", scene, SCENES),
         "law": _codes("law", law, LAWS),

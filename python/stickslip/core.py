@@ -719,7 +719,7 @@ class _Call:
     Fortran call and what its Result needs. Never changed after _prepare, except `checked`."""
 
     __slots__ = ("scene", "law", "method", "t_end", "args", "grid", "n_out", "rows", "warnings",
-                 "n_states", "state_labels", "used", "known", "events_room", "checked")
+                 "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "checked")
 
     def __init__(self, **kw: Any) -> None:
         for k, v in kw.items():
@@ -733,17 +733,64 @@ _CALLS: dict[tuple, _Call] = {}
 _CALLS_MAX = 512
 
 
+#: Most output values (state components x rows) a run may fill: 2 GB of float64.
+_MAX_OUTPUT_VALUES = 250_000_000
+#: Most state components for an implicit method told to factor dense n x n matrices
+#: (banded=False): 4000 components are 256 MB for RADAU5's complex matrix.
+_MAX_DENSE_STATES = 4000
+
+
+#: Most blocks of the chain (the library's MAX_BLOCKS in stickslip_chain).
+_MAX_BLOCKS = 1_000_000
+
+
+def _n_blocks(given: Mapping[str, float], method: str, n_per_block: int, dense: bool) -> int:
+    """The chain's number of blocks (parameter n_blocks), checked: an integer in range, and
+    small enough when the method is told to factor dense matrices (banded=False)."""
+    nb = given.get("n_blocks", DEFAULTS["n_blocks"])
+    if not (float(nb).is_integer() and 1 <= nb <= _MAX_BLOCKS):
+        raise ValueError(f"n_blocks: must be an integer in [1, {_MAX_BLOCKS}], got {nb!r}")
+    if dense and nb * n_per_block > _MAX_DENSE_STATES:
+        raise ValueError(f"n_blocks: {method} with banded=False factors dense matrices of the whole state, "
+                         f"at most {_MAX_DENSE_STATES} components ({_MAX_DENSE_STATES // n_per_block} blocks "
+                         f"with this law), got {int(nb)} blocks; leave banded on")
+    return int(nb)
+
+
+def _chain_state(n_blocks: int, nz: int, x0: Any, v0: Any, z0: Any, law: str) -> np.ndarray:
+    """The chain's initial state (x_1..x_N, v_1..v_N, z block by block): x0 and v0 are one
+    value for every block or N values, z0 None (0), nz values for every block or N nz values."""
+    def per_block(name: str, value: Any, size: int, unit: str) -> np.ndarray:
+        a = np.atleast_1d(np.asarray(value, dtype=np.float64))
+        if a.ndim != 1 or a.size not in (1, size) or not np.isfinite(a).all():
+            raise ValueError(f"{name}: must be one finite value or {size} of them (one per block) {unit}, "
+                             f"got an array of shape {a.shape}")
+        return np.broadcast_to(a, (size,)) if a.size == 1 else a
+
+    y0 = np.zeros(n_blocks * (2 + nz))
+    y0[:n_blocks] = per_block("x0", x0, n_blocks, "[m]")
+    y0[n_blocks:2 * n_blocks] = per_block("v0", v0, n_blocks, "[m/s]")
+    if z0 is not None:
+        z = np.atleast_1d(np.asarray(z0, dtype=np.float64))
+        if z.ndim != 1 or z.size not in (nz, nz * n_blocks) or not np.isfinite(z).all():
+            raise ValueError(f"z0: must be {nz} finite value(s) (every block) or {nz * n_blocks} (block by "
+                             f"block), the initial internal states of {law!r}")
+        y0[2 * n_blocks:] = np.tile(z, n_blocks) if z.size == nz else z
+    return y0
+
+
 def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | None = None,
-             every_step: bool = False, max_steps: int | None = None, x0: float = 0.0,
-             v0: float = 0.0, z0: Any = None, ignore_unused: bool = False, **kwargs: Any) -> Result:
+             every_step: bool = False, max_steps: int | None = None, x0: Any = 0.0,
+             v0: Any = None, z0: Any = None, ignore_unused: bool = False, **kwargs: Any) -> Result:
     """Simulate `scene` with friction `law` from t = 0 to `t_end` with `method`.
 
     Parameters
     ----------
     scene : str
         What is simulated, one of `SCENES`: "slope" (a box on a plane inclined theta_deg, x
-        down the slope) or "belt" (a mass m on a belt moving at v_b, tied to a wall by a
-        spring k).
+        down the slope), "belt" (a mass m on a belt moving at v_b, tied to a wall by a
+        spring k) or "chain" (n_blocks such blocks on the belt, block i tied to block i - 1 by
+        k_c; docs/guide/chain.md).
     law : str
         The friction law, one of `LAWS` (parameters and defaults: `REGISTRY["law"][law]`,
         `DEFAULTS`).
@@ -759,10 +806,13 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     max_steps : int, optional
         Budget of attempted steps (default 10**8; 10**6 for an adaptive method with
         `every_step`). A fixed-step run that needs more is refused before it starts.
-    x0, v0 : float, optional
-        Initial displacement [m] and velocity [m/s] (default 0).
+    x0, v0 : float or sequence of float, optional
+        Initial displacement [m] (default 0) and velocity [m/s] (default 0; v_b on the chain:
+        every block stuck on the belt). On the chain either is one value for every block or
+        n_blocks values.
     z0 : float or sequence of float, optional
-        Initial internal states of the law (default all 0), one per state.
+        Initial internal states of the law (default all 0), one per state; on the chain the
+        law's states for every block or block by block.
     ignore_unused : bool, optional
         False (default): a physical parameter that the scene and the law do not read is
         range-checked, then ignored with an `UnusedParameterWarning`. True: ignored silently
@@ -788,8 +838,10 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     Returns
     -------
     Result
-        The output: ``t`` [s], ``x`` [m], ``v`` [m/s] of shape (n_t,); ``z``, the internal
-        states, of shape (n_t,) for a law with one state and (n_states, n_t) for several;
+        The output: ``t`` [s], ``x`` [m], ``v`` [m/s] of shape (n_t,) (on the chain with
+        n_blocks > 1: (n_blocks, n_t), and ``z`` (n_blocks n_states, n_t), block by block);
+        ``z``, the internal states, of shape (n_t,) for a law with one state and
+        (n_states, n_t) for several;
         ``y`` (2 + n_states, n_t); ``params`` (every parameter the scene and law read, as
         used); ``state_labels``; and ``stats``, a dict with the keys:
 
@@ -867,7 +919,7 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
             return _execute(call)
         finally:
             if call.checked and key is not None and not any(
-                    isinstance(v, tuple) for v in (z0, *kwargs.values())):   # tuples may hide bools
+                    isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):   # tuples may hide bools
                 if len(_CALLS) >= _CALLS_MAX:
                     _CALLS.clear()
                 _CALLS[key] = call
@@ -892,6 +944,10 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     if plan.sized_by:                        # a law whose number of states is a parameter (gms)
         n_states, state_labels = _states(law, tuple((k, given[k]) for k in plan.sized_by if k in given))
     n = 2 + n_states
+    n_blocks = 1
+    if scene == "chain":
+        n_blocks = _n_blocks(given, method, n, "banded" in plan.reads and not ctl.get("banded", 1.0))
+        n *= n_blocks
     # 1.0: a placeholder the fixed-step methods never read
     rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
     atol = _tolerance("atol", ctl.pop("atol", 1.0), n)
@@ -922,16 +978,21 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
                 warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
                      f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
                      "wrong creep speed (docs/guide/choosing-h.md)", UnstableStepWarning)
-    x0 = _finite("x0", x0, "[m]")
-    v0 = _finite("v0", v0, "[m/s]")
-    if z0 is None:
-        y0 = np.zeros(n)
-        y0[0], y0[1] = x0, v0
+    if scene == "chain":
+        if v0 is None:   # every block stuck on the belt
+            v0 = given.get("v_b", DEFAULTS["v_b"])
+        y0 = _chain_state(n_blocks, n_states, x0, v0, z0, law)
     else:
-        z = np.atleast_1d(np.asarray(z0, dtype=np.float64))
-        if z.shape != (n_states,) or not np.isfinite(z).all():
-            raise ValueError(f"z0: must be {n_states} finite value(s), the initial internal states of {law!r}")
-        y0 = np.concatenate([np.array([x0, v0]), z])
+        x0 = _finite("x0", x0, "[m]")
+        v0 = _finite("v0", 0.0 if v0 is None else v0, "[m/s]")
+        if z0 is None:
+            y0 = np.zeros(n)
+            y0[0], y0[1] = x0, v0
+        else:
+            z = np.atleast_1d(np.asarray(z0, dtype=np.float64))
+            if z.shape != (n_states,) or not np.isfinite(z).all():
+                raise ValueError(f"z0: must be {n_states} finite value(s), the initial internal states of {law!r}")
+            y0 = np.concatenate([np.array([x0, v0]), z])
 
     if max_steps is None:
         max_steps = 10**6 if (every_step and plan.adaptive) else 10**8
@@ -960,6 +1021,11 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
             grid = _linspace(t_end, n_out)
             grid.setflags(write=False)       # copied for each call (_execute)
 
+    n_rows = rows if every_step else n_out
+    if scene == "chain" and n * n_rows > _MAX_OUTPUT_VALUES:
+        raise ValueError(f"n_blocks: {n_blocks} blocks ({n} state components) on {n_rows} output rows "
+                         f"need {8 * n * n_rows / 1e9:.3g} GB of output (limit "
+                         f"{8 * _MAX_OUTPUT_VALUES / 1e9:.3g} GB); lower n_blocks or n_out")
     pkeys, pvals = _keys(given)
     ckeys, cvals = _keys(ctl)
     known = {**_known(given), **CONTROL_DEFAULTS, **ctl, "rtol": rtol, "atol": atol, "t_end": t_end}
@@ -969,7 +1035,8 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     return _Call(scene=scene, law=law, method=method, t_end=t_end,
                  args=(*plan.codes, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals),
                  grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
-                 state_labels=state_labels, used=plan.used, known=known, events_room=room)
+                 state_labels=state_labels, used=plan.used, known=known, events_room=room,
+                 n_blocks=n_blocks)
 
 
 #: The main thread's stop flag (interruptible), reused: only the main thread writes it; read
@@ -993,7 +1060,7 @@ def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
     simulate adds beyond it). Main thread only (it arms the SIGINT handler as simulate does)."""
     call = _prepare(scene, law, kwargs.pop("method"), kwargs.pop("t_end"), kwargs.pop("n_out", None),
                     kwargs.pop("every_step", False), kwargs.pop("max_steps", None), kwargs.pop("x0", 0.0),
-                    kwargs.pop("v0", 0.0), kwargs.pop("z0", None), kwargs.pop("ignore_unused", False), kwargs)
+                    kwargs.pop("v0", None), kwargs.pop("z0", None), kwargs.pop("ignore_unused", False), kwargs)
     t_grid = np.zeros(call.rows) if call.rows else _linspace(call.t_end, call.n_out)
     stop = np.zeros(1, dtype=np.int32)
     run, args, sizes = _ext.run_simulation, call.args, _SIZES
@@ -1040,8 +1107,13 @@ def _execute(call: _Call) -> Result:
     call.checked = True
     result = Result.__new__(Result)
     result.scene, result.law, result.method, result.t_end = call.scene, call.law, call.method, call.t_end
-    result.t, result.x, result.v = t_grid, y[0], y[1]
-    result.z = y[2] if call.n_states == 1 else y[2:]
+    nb = call.n_blocks
+    if nb == 1:
+        result.t, result.x, result.v = t_grid, y[0], y[1]
+        result.z = y[2] if call.n_states == 1 else y[2:]
+    else:                                     # the chain: one row per block
+        result.t, result.x, result.v = t_grid, y[:nb], y[nb:2 * nb]
+        result.z = y[2 * nb:]
     result.state_labels = call.state_labels
     result._params = result._stats = None     # built on first use from _raw
     result._raw = (istats, rstats, status, cpu, resolved, call.used)

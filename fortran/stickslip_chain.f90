@@ -1,0 +1,460 @@
+!> The chain scene: N blocks on the belt (the Burridge-Knopoff model of stick-slip with a
+!! belt as the driver). Block i (mass m) lies on the belt moving at v_b with its own contact
+!! (normal force m g_i) and the chosen friction law; block 1 is tied to the wall by a spring
+!! k, block i to block i - 1 by a coupling spring k_c:
+!!   m x_i'' = -k x_1 [i = 1] - k_c (x_i - x_{i-1}) [i > 1] - k_c (x_i - x_{i+1}) [i < N]
+!!             + mu(v_b - x_i') m g_i,
+!! x_i measured from block i's rest position (all springs at rest length when every x_i = 0).
+!! The blocks' normal forces carry a small deterministic perturbation so that they do not
+!! move in lockstep: g_i = g (1 + perturbation r_i), r_i = 2 frac(1/2 + (i - 1) phi) - 1 in
+!! [-1, 1) with phi the golden ratio's fractional part (an equidistributed sequence; r_1 = 0,
+!! so block 1, and a one-block chain, has m g exactly).
+!!
+!! State y (size N (2 + nz)): x_1..x_N [m], v_1..v_N [m/s], then the law's internal states
+!! block by block (z of block 1, then of block 2, ...). With N = 1 this is the belt scene's
+!! (x, v, z), and every expression reduces to the belt's, operation for operation.
+!!
+!! The Jacobian: analytic for a static law, finite differences otherwise. In the state's
+!! order it is not banded (x_i' = v_i couples i and N + i), but in the order of the blocks,
+!! (x_1, v_1, z_1, x_2, v_2, z_2, ...), it is, with ml = s + 1 lower and mu = s - 1 upper
+!! diagonals (s = 2 + nz states per block): `bandwidth` gives that order and
+!! `band_jacobian` the Jacobian in band storage, so that an implicit method costs O(N) a step.
+!!
+!! For the nonsmooth methods the chain is a `contact_system` with q = x, u = v, M = m I,
+!! f = -K x (K tridiagonal), N_i = m g_i, w_i = v_i - v_b (per unit mass, as the belt's).
+module stickslip_chain
+    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_params, only: param_spec, param_values, param_read
+    use stickslip_friction, only: friction_law
+    use stickslip_ode, only: fd_jacobian
+    use stickslip_scenes, only: friction_scene, M_SPEC, G_SPEC, K_SPEC, V_B_SPEC
+    use stickslip_contact, only: contact_system, contact_law, contact_law_of
+    implicit none
+    private
+
+    public :: chain_scene, chain_contact, chain_r
+
+    integer, parameter, public :: SS_BAD_N_BLOCKS = -116      !! n_blocks not an integer in range
+    integer, parameter, public :: SS_BAD_K_C = -117           !! k_c out of range
+    integer, parameter, public :: SS_BAD_PERTURBATION = -118  !! perturbation out of range
+
+    !> Largest number of blocks: the state (N (2 + nz) values) and the work arrays of every
+    !! method grow linearly in N; 10^6 blocks keep one state under 50 MB for the largest law.
+    integer, parameter, public :: MAX_BLOCKS = 1000000
+
+    type(param_spec), parameter, public :: N_BLOCKS_SPEC = param_spec(name='n_blocks', default=1.0_dp, &
+        unit='-', lo=1.0_dp, hi=real(MAX_BLOCKS, dp), relation='an integer', code=SS_BAD_N_BLOCKS, &
+        doc='number of blocks of the chain')
+    !! number of blocks N, an integer in [1, MAX_BLOCKS] [-]
+    type(param_spec), parameter, public :: K_C_SPEC = param_spec(name='k_c', default=300.0_dp, &
+        unit='N/m', lo=0.0_dp, default_of='k', code=SS_BAD_K_C, doc='coupling spring between blocks')
+    !! coupling spring stiffness k_c, >= 0, default k [N/m]
+    type(param_spec), parameter, public :: PERTURBATION_SPEC = param_spec(name='perturbation', &
+        default=0.01_dp, unit='-', lo=0.0_dp, hi=0.5_dp, code=SS_BAD_PERTURBATION, &
+        doc='relative spread of the blocks'' normal forces')
+    !! amplitude of the deterministic spread of the normal forces, in [0, 0.5] [-]
+
+    !> The chain as a first-order system with any friction law.
+    type, extends(friction_scene) :: chain_scene
+        integer :: nb = 1                 !! number of blocks N
+        real(dp) :: k_m = 0.0_dp          !! k / m [1/s^2]
+        real(dp) :: kc_m = 0.0_dp         !! k_c / m [1/s^2]
+        real(dp) :: v_b = 1.5_dp          !! belt speed [m/s]
+        real(dp), allocatable :: g(:)     !! (N) normal force per unit mass of each block [m/s^2]
+        real(dp), allocatable :: k_mg(:)  !! (N) k / (m g_i) [1/m]
+        real(dp), allocatable :: kc_mg(:) !! (N) k_c / (m g_i) [1/m]
+    contains
+        procedure :: init => chain_init
+        !! validate and store the parameters and the law
+        procedure :: n_states => chain_n_states
+        !! N (2 + nz)
+        procedure :: rhs => chain_rhs
+        !! (x, v, z)' at (t, y)
+        procedure :: jacobian => chain_jacobian
+        !! dense Jacobian (analytic for a static law)
+        procedure :: bandwidth => chain_bandwidth
+        !! the block order and its band
+        procedure :: band_jacobian => chain_band_jacobian
+        !! the Jacobian in block order, band storage
+        procedure :: static_jacobian => chain_static_jacobian
+        !! block 1's 2 x 2 Jacobian with a static law (of the one-block chain)
+        procedure :: relative_velocity => chain_vrel
+        !! block 1's relative velocity v_b - v_1 [m/s]
+        procedure :: contact_model => chain_contact_model
+        !! the chain as a `chain_contact`
+        procedure :: static_rhs => chain_static_rhs
+        !! (x_1, v_1)' of the one-block chain for a static law, given its coefficient
+        procedure :: holding_coefficient => chain_mu_hold
+        !! block 1's holding coefficient [-]
+        procedure :: set_relative_velocity => chain_set_vrel
+        !! v_1 = v_b - w
+    end type chain_scene
+
+    !> The chain with set-valued contacts, per unit mass: q = x [m], u = v [m/s], M = I,
+    !! f = -K x [N/kg], N_i = g_i [N/kg], w_i = v_i - v_b.
+    type, extends(contact_system) :: chain_contact
+        real(dp) :: k_m = 0.0_dp          !! k / m [1/s^2]
+        real(dp) :: kc_m = 0.0_dp         !! k_c / m [1/s^2]
+        real(dp) :: v_b = 1.5_dp          !! belt speed [m/s]
+        real(dp), allocatable :: g(:)     !! (N) normal force per unit mass [m/s^2]
+    contains
+        procedure :: force => chain_contact_force
+        !! f = -K x
+        procedure :: solve_w => chain_contact_solve_w
+        !! W = I + b K, tridiagonal
+        procedure :: normal_forces => chain_contact_normal
+        !! N_i = g_i
+        procedure :: slip_offset => chain_contact_offset
+        !! b_i = -v_b
+        procedure :: w_tridiagonal => chain_contact_w_tridiagonal
+        !! W's three diagonals
+    end type chain_contact
+
+contains
+
+    !> The perturbation sequence r_i in [-1, 1), r_1 = 0 [-].
+    elemental real(dp) function chain_r(i) result(r)
+        integer, intent(in) :: i    !! block index, >= 1
+        real(dp), parameter :: PHI = 0.6180339887498948482_dp
+        r = 0.5_dp + real(i - 1, dp) * PHI
+        r = 2.0_dp * (r - aint(r)) - 1.0_dp
+    end function chain_r
+
+    !> Fill the chain from n_blocks, k_c, perturbation, m, g, k, v_b in p.
+    function chain_init(self, law, p) result(status)
+        class(chain_scene), intent(inout) :: self
+        class(friction_law), intent(in) :: law  !! a validated friction law
+        type(param_values), intent(in) :: p     !! resolved parameter values
+        integer :: status
+        real(dp) :: m, g, k, kc, pert, nbr
+        integer :: i
+        status = SS_OK
+        call param_read(p, N_BLOCKS_SPEC, nbr, status)
+        call param_read(p, K_C_SPEC, kc, status)
+        call param_read(p, PERTURBATION_SPEC, pert, status)
+        call param_read(p, M_SPEC, m, status)
+        call param_read(p, G_SPEC, g, status)
+        call param_read(p, K_SPEC, k, status)
+        call param_read(p, V_B_SPEC, self%v_b, status)
+        if (status == SS_OK .and. nbr /= aint(nbr)) status = SS_BAD_N_BLOCKS
+        if (status /= SS_OK) return
+        if (allocated(self%law)) deallocate(self%law)
+        allocate(self%law, source=law)
+        self%nz = law%n_states()
+        self%static_law = law%is_static()
+        self%nb = int(nbr)
+        self%k_m = k / m
+        self%kc_m = kc / m
+        allocate(self%g(self%nb), self%k_mg(self%nb), self%kc_mg(self%nb))
+        do i = 1, self%nb
+            self%g(i) = g
+            if (i > 1) self%g(i) = g * (1.0_dp + pert * chain_r(i))
+        end do
+        self%k_mg = 0.0_dp
+        self%kc_mg = 0.0_dp
+        where (self%g > 0.0_dp)
+            self%k_mg = self%k_m / self%g
+            self%kc_mg = self%kc_m / self%g
+        end where
+    end function chain_init
+
+    pure integer function chain_n_states(self)
+        class(chain_scene), intent(in) :: self
+        chain_n_states = self%nb * (2 + self%nz)
+    end function chain_n_states
+
+    !> Spring acceleration of block i [m/s^2] and the coefficient that would hold it [-].
+    pure subroutine spring(self, x, i, a, mu_hold)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(in)  :: x(:)       !! positions x_1..x_N [m]
+        integer, intent(in)   :: i          !! block
+        real(dp), intent(out) :: a          !! spring force per unit mass on block i [m/s^2]
+        real(dp), intent(out) :: mu_hold    !! its holding coefficient [-]
+        ! Operation for operation the belt's (-k_m x, k_mg x) when N = 1.
+        if (i == 1) then
+            a = -self%k_m * x(1)
+            mu_hold = self%k_mg(1) * x(1)
+        else
+            a = -self%kc_m * (x(i) - x(i - 1))
+            mu_hold = self%kc_mg(i) * (x(i) - x(i - 1))
+        end if
+        if (i < self%nb) then
+            a = a - self%kc_m * (x(i) - x(i + 1))
+            mu_hold = mu_hold + self%kc_mg(i) * (x(i) - x(i + 1))
+        end if
+    end subroutine spring
+
+    subroutine chain_rhs(self, t, y, dydt)
+        class(chain_scene), intent(inout) :: self
+        real(dp), intent(in)  :: t          !! time [s] (unused: autonomous)
+        real(dp), intent(in)  :: y(:)       !! (x_1..x_N [m], v_1..v_N [m/s], z block by block)
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], accelerations [m/s^2], z rates)
+        real(dp) :: a, mu_hold, mu
+        integer :: i, n, nz, iz
+        n = self%nb
+        nz = self%nz
+        do i = 1, n
+            call spring(self, y(1:n), i, a, mu_hold)
+            if (self%static_law) then
+                mu = self%law%mu(self%v_b - y(n + i))
+            else
+                iz = 2 * n + (i - 1) * nz
+                call self%law%evaluate(self%v_b - y(n + i), y(iz + 1:iz + nz), mu_hold, mu, dydt(iz + 1:iz + nz))
+            end if
+            dydt(i) = y(n + i)
+            dydt(n + i) = a + mu * self%g(i)
+        end do
+    end subroutine chain_rhs
+
+    !> The dense Jacobian: analytic for a static law, finite differences otherwise.
+    subroutine chain_jacobian(self, t, y, f, dfdy, nfev)
+        class(chain_scene), intent(inout) :: self
+        real(dp), intent(in)    :: t             !! time [s]
+        real(dp), intent(in)    :: y(:)          !! state
+        real(dp), intent(in)    :: f(:)          !! f(t, y)
+        real(dp), intent(out)   :: dfdy(:, :)    !! (n, n) Jacobian in the state's order
+        integer(8), intent(inout) :: nfev        !! evaluation counter (+ n for finite differences)
+        integer :: i, n
+        if (.not. self%static_law) then
+            call fd_jacobian(self, t, y, f, dfdy, nfev)
+            return
+        end if
+        n = self%nb
+        dfdy = 0.0_dp
+        do i = 1, n
+            dfdy(i, n + i) = 1.0_dp
+            dfdy(n + i, i) = -merge(self%k_m, 0.0_dp, i == 1) - merge(self%kc_m, 0.0_dp, i > 1) &
+                             - merge(self%kc_m, 0.0_dp, i < n)
+            if (i > 1) dfdy(n + i, i - 1) = self%kc_m
+            if (i < n) dfdy(n + i, i + 1) = self%kc_m
+            dfdy(n + i, n + i) = -self%g(i) * self%law%dmu(self%v_b - y(n + i))
+        end do
+    end subroutine chain_jacobian
+
+    !> The block order perm (state index of each position: x_1, v_1, z_1, x_2, ...) and the
+    !! band of the Jacobian in that order: ml = s + 1, mu = s - 1 (s = 2 + nz).
+    subroutine chain_bandwidth(self, perm, ml, mu)
+        class(chain_scene), intent(in) :: self
+        integer, intent(out) :: perm(:)     !! (n) state index at each position of the block order
+        integer, intent(out) :: ml          !! lower bandwidth
+        integer, intent(out) :: mu          !! upper bandwidth
+        integer :: i, k, s, n
+        n = self%nb
+        s = 2 + self%nz
+        do i = 1, n
+            perm((i - 1) * s + 1) = i
+            perm((i - 1) * s + 2) = n + i
+            do k = 1, self%nz
+                perm((i - 1) * s + 2 + k) = 2 * n + (i - 1) * self%nz + k
+            end do
+        end do
+        ml = min(s + 1, n * s - 1)
+        mu = min(s - 1, n * s - 1)
+    end subroutine chain_bandwidth
+
+    !> The Jacobian in block order in band storage, jb(mu + 1 + i - j, j) = J(perm(i), perm(j)):
+    !! analytic for a static law; otherwise by finite differences that perturb every
+    !! (ml + mu + 1)-th position of the block order together (Curtis, Powell and Reid):
+    !! ml + mu + 1 = 2 s + 1 evaluations whatever N.
+    subroutine chain_band_jacobian(self, t, y, f, jb, nfev)
+        class(chain_scene), intent(inout) :: self
+        real(dp), intent(in)    :: t             !! time [s]
+        real(dp), intent(in)    :: y(:)          !! state
+        real(dp), intent(in)    :: f(:)          !! f(t, y)
+        real(dp), intent(out)   :: jb(:, :)      !! (ml + mu + 1, n) band of the reordered Jacobian
+        integer(8), intent(inout) :: nfev        !! evaluation counter (+ evaluations made here)
+        integer :: perm(size(y)), ml, mu, i, j, n, s, nn, grp
+        real(dp) :: yy(size(y)), f1(size(y)), delt(size(y))
+        call self%bandwidth(perm, ml, mu)
+        n = self%nb
+        s = 2 + self%nz
+        nn = size(y)
+        jb = 0.0_dp
+        if (self%static_law) then
+            ! position (i-1) s + 1 is x_i, (i-1) s + 2 is v_i
+            do i = 1, n
+                j = (i - 1) * s
+                jb(mu + 1 + (j + 1) - (j + 2), j + 2) = 1.0_dp                      ! d x_i' / d v_i
+                jb(mu + 1 + 1, j + 1) = -merge(self%k_m, 0.0_dp, i == 1) - merge(self%kc_m, 0.0_dp, i > 1) &
+                                        - merge(self%kc_m, 0.0_dp, i < n)             ! d v_i' / d x_i
+                if (i > 1) jb(mu + 1 + (j + 2) - (j + 1 - s), j + 1 - s) = self%kc_m   ! d v_i' / d x_{i-1}
+                if (i < n) jb(mu + 1 + (j + 2) - (j + 1 + s), j + 1 + s) = self%kc_m   ! d v_i' / d x_{i+1}
+                jb(mu + 1, j + 2) = -self%g(i) * self%law%dmu(self%v_b - y(n + i))     ! d v_i' / d v_i
+            end do
+            return
+        end if
+        ! Grouped forward differences (Hairer's increments): positions in the same group lie
+        ! more than ml + mu apart, so their columns do not overlap in any row.
+        do grp = 1, min(ml + mu + 1, nn)
+            yy = y
+            do j = grp, nn, ml + mu + 1
+                delt(j) = sqrt(epsilon(1.0_dp) * max(1.0e-5_dp, abs(y(perm(j)))))
+                yy(perm(j)) = y(perm(j)) + delt(j)
+            end do
+            call self%rhs(t, yy, f1)
+            nfev = nfev + 1
+            do j = grp, nn, ml + mu + 1
+                do i = max(1, j - mu), min(nn, j + ml)
+                    jb(mu + 1 + i - j, j) = (f1(perm(i)) - f(perm(i))) / delt(j)
+                end do
+            end do
+        end do
+    end subroutine chain_band_jacobian
+
+    pure function chain_static_jacobian(self, y) result(j)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)     !! state
+        real(dp) :: j(2, 2)              !! d(v_1, a_1)/d(x_1, v_1) of the one-block chain
+        j(1, 1) = 0.0_dp
+        j(2, 1) = -self%k_m
+        j(1, 2) = 1.0_dp
+        j(2, 2) = -self%g(1) * self%law%dmu(self%v_b - y(self%nb + 1))
+    end function chain_static_jacobian
+
+    pure function chain_vrel(self, y) result(vr)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state
+        real(dp) :: vr                  !! block 1's relative sliding velocity v_b - v_1 [m/s]
+        vr = self%v_b - y(self%nb + 1)
+    end function chain_vrel
+
+    !> (x, v)' of the one-block chain (the belt) for a static law whose coefficient at the
+    !! relative velocity is mu (as chain_static_jacobian: the modes' stage solve of the
+    !! implicit methods reads it for a two-component state only).
+    pure subroutine chain_static_rhs(self, y, mu, dydt)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(in)  :: y(:)       !! (x_1 [m], v_1 [m/s])
+        real(dp), intent(in)  :: mu         !! the law's coefficient at the relative velocity [-]
+        real(dp), intent(out) :: dydt(:)    !! (v_1 [m/s], acceleration [m/s^2])
+        dydt(1) = y(2)
+        dydt(2) = -self%k_m * y(1) + mu * self%g(1)
+    end subroutine chain_static_rhs
+
+    !> Block 1's holding coefficient: its spring force over its normal force [-].
+    pure function chain_mu_hold(self, y) result(mu_hold)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state (x_1..x_N [m], v_1..v_N [m/s], z)
+        real(dp) :: mu_hold             !! coefficient that would hold block 1 on the belt [-]
+        real(dp) :: a
+        call spring(self, y(1:self%nb), 1, a, mu_hold)
+    end function chain_mu_hold
+
+    !> Set block 1's velocity so that its relative sliding velocity is w: v_1 = v_b - w.
+    pure subroutine chain_set_vrel(self, y, w)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(inout) :: y(:) !! state; y(N + 1) = v_b - w on exit
+        real(dp), intent(in) :: w       !! relative sliding velocity [m/s]
+        y(self%nb + 1) = self%v_b - w
+    end subroutine chain_set_vrel
+
+    subroutine chain_contact_model(self, cs, status)
+        class(chain_scene), intent(in) :: self
+        class(contact_system), allocatable, intent(out) :: cs  !! a chain_contact
+        integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
+        type(chain_contact) :: cc
+        type(contact_law) :: cl
+        integer :: i
+        call contact_law_of(self%law, cl, status)
+        if (status /= SS_OK) return
+        cc%n_dof = self%nb
+        cc%n_c = self%nb
+        cc%h_ptr = [(i, i = 1, self%nb + 1)]
+        cc%h_col = [(i, i = 1, self%nb)]
+        allocate(cc%h_val(self%nb), source=1.0_dp)
+        allocate(cc%laws(self%nb), source=cl)
+        cc%w_constant = .true.
+        cc%k_m = self%k_m
+        cc%kc_m = self%kc_m
+        cc%v_b = self%v_b
+        cc%g = self%g
+        allocate(cs, source=cc)
+    end subroutine chain_contact_model
+
+    subroutine chain_contact_force(self, t, q, u, f)
+        class(chain_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! positions [m]
+        real(dp), intent(in)  :: u(:)       !! velocities [m/s]
+        real(dp), intent(out) :: f(:)       !! spring forces per unit mass [N/kg]
+        integer :: i, n
+        n = self%n_dof
+        do i = 1, n
+            if (i == 1) then
+                f(1) = -self%k_m * q(1)
+            else
+                f(i) = -self%kc_m * (q(i) - q(i - 1))
+            end if
+            if (i < n) f(i) = f(i) - self%kc_m * (q(i) - q(i + 1))
+        end do
+    end subroutine chain_contact_force
+
+    !> W = I + b K: its diagonal d, sub-diagonal l (l(1) unused) and super-diagonal r (r(N)
+    !! unused); ok = .true. for N > 1 (one block keeps Moreau's one-contact closed form,
+    !! the belt's, result for result).
+    subroutine chain_contact_w_tridiagonal(self, a, b, l, d, r, ok)
+        class(chain_contact), intent(in) :: self
+        real(dp), intent(in)  :: a          !! weight of C [s] (C = 0)
+        real(dp), intent(in)  :: b          !! weight of K [s^2]
+        real(dp), intent(out) :: l(:)       !! W(i, i - 1) [-]
+        real(dp), intent(out) :: d(:)       !! W(i, i) [-]
+        real(dp), intent(out) :: r(:)       !! W(i, i + 1) [-]
+        logical, intent(out)  :: ok         !! .true.: W is tridiagonal
+        integer :: i, n
+        n = self%n_dof
+        do i = 1, n
+            d(i) = merge(self%k_m, 0.0_dp, i == 1) + merge(self%kc_m, 0.0_dp, i > 1) &
+                   + merge(self%kc_m, 0.0_dp, i < n)
+            d(i) = 1.0_dp + b * d(i)
+            l(i) = -b * self%kc_m
+            r(i) = -b * self%kc_m
+        end do
+        ok = n > 1
+    end subroutine chain_contact_w_tridiagonal
+
+    !> x := W^-1 x by the Thomas algorithm (W = I + b K is symmetric positive definite and
+    !! diagonally dominant: no pivoting needed), O(N).
+    subroutine chain_contact_solve_w(self, t, q, u, a, b, x)
+        class(chain_contact), intent(in) :: self
+        real(dp), intent(in)    :: t        !! time [s]
+        real(dp), intent(in)    :: q(:)     !! positions [m]
+        real(dp), intent(in)    :: u(:)     !! velocities [m/s]
+        real(dp), intent(in)    :: a        !! weight of C [s] (C = 0)
+        real(dp), intent(in)    :: b        !! weight of K [s^2]
+        real(dp), intent(inout) :: x(:)     !! right-hand side [N s/kg], then the solution [m/s]
+        real(dp) :: l(self%n_dof), d(self%n_dof), r(self%n_dof), c(self%n_dof), w
+        logical :: ok
+        integer :: i, n
+        n = self%n_dof
+        if (n == 1) then    ! the belt's x / (m + b k) with m = 1
+            x(1) = x(1) / (1.0_dp + b * self%k_m)
+            return
+        end if
+        call self%w_tridiagonal(a, b, l, d, r, ok)
+        c(1) = r(1) / d(1)
+        x(1) = x(1) / d(1)
+        do i = 2, n
+            w = d(i) - l(i) * c(i - 1)
+            c(i) = r(i) / w
+            x(i) = (x(i) - l(i) * x(i - 1)) / w
+        end do
+        do i = n - 1, 1, -1
+            x(i) = x(i) - c(i) * x(i + 1)
+        end do
+    end subroutine chain_contact_solve_w
+
+    subroutine chain_contact_normal(self, t, q, n)
+        class(chain_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! positions [m]
+        real(dp), intent(out) :: n(:)       !! g_i [N/kg]
+        n = self%g
+    end subroutine chain_contact_normal
+
+    subroutine chain_contact_offset(self, t, b)
+        class(chain_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(out) :: b(:)       !! -v_b [m/s]
+        b = -self%v_b
+    end subroutine chain_contact_offset
+
+end module stickslip_chain
