@@ -33,6 +33,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _common as c
+from . import _style as style
 
 METHODS: dict[str, tuple[str, dict[str, float]]] = {
     "rk4": ("stribeck", {"h": 1e-3}),
@@ -131,12 +132,12 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
         p = fit_exponent(n[sel], cost[sel])
         color, marker = STYLE[m]
         fit = f"exponent {p:.2f}" if math.isfinite(p) else "run to N = 100: no fit"
-        ax.loglog(n[sel], cost[sel] * 1e6, marker=marker, color=color, label=f"{m} ({fit})")
+        ax.loglog(n[sel], cost[sel] * 1e6, marker=marker, color=color, label=f"{style.name(m)} ({fit})")
     ax.set_xlabel("number of blocks N [-]")
     ax.set_ylabel("CPU time per step [microseconds]")
     ax.set_title("Cost per step against the number of contacts (fit over N >= 100)")
     ax.legend()
-    out = [save_both(fig, outdir / "chain.png")]
+    out = [c.save_figure(fig, outdir / "chain.png")]
     sizes = np.array(c.read_csv(ev_path)["size [blocks]"], dtype=int)
     fig, ax = c.new_figure()
     if sizes.size:
@@ -150,14 +151,8 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
     ax.set_xlabel("event size: blocks that slip together [-]")
     ax.set_ylabel("events per unit size [-]")
     ax.set_title(f"Slip-event sizes, {EVENT_BLOCKS} blocks, moreau h = 1e-3 s ({sizes.size} events)")
-    out.append(save_both(fig, outdir / "chain_events.png"))
+    out.append(c.save_figure(fig, outdir / "chain_events.png"))
     return out
-
-
-def save_both(fig: Any, png: Path) -> Path:
-    """Save the figure as PDF, then as PNG (c.save_figure closes it)."""
-    c.atomic_write(png.with_suffix(".pdf"), lambda f: fig.savefig(f, format="pdf"), binary=True)
-    return c.save_figure(fig, png)
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
