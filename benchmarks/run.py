@@ -465,24 +465,6 @@ def run_dop853(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -
     return rows
 
 
-def time_at_error(points: Sequence[tuple[float, float]], target: float) -> float:
-    """Time to reach error <= target along a work-precision curve [(err, time)], interpolated
-    linearly in log-log between the runs that bracket the target; NaN if never reached."""
-    pts = sorted((t, e) for e, t in points if math.isfinite(e) and math.isfinite(t) and t > 0)
-    env: list[tuple[float, float]] = []          # lower envelope: error only decreases with time
-    for t, e in pts:
-        if not env or e < env[-1][1]:
-            env.append((t, e))
-    for i, (t, e) in enumerate(env):
-        if e <= target:
-            if i == 0:
-                return t
-            t0, e0 = env[i - 1]
-            w = (math.log(target) - math.log(e0)) / (math.log(e) - math.log(e0))
-            return math.exp(math.log(t0) + w * (math.log(t) - math.log(t0)))
-    return float("nan")
-
-
 def equal_accuracy(adaptive: list[dict], cfg: Config) -> tuple[list[dict], list[str]]:
     """Rows of time-to-target ratios against stickslip DOPRI5 (Fortran); and notes on targets a
     method never reached."""
