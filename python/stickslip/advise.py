@@ -368,9 +368,6 @@ def controls_at(method: str, s: float, atol_ratio: float = 0.0) -> dict[str, flo
     return ctl
 
 
-_controls = controls_at
-
-
 @dataclass
 class _Ladder:
     """One method's pilot runs."""
@@ -442,7 +439,7 @@ def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega:
         if rung == 0 and first is not None:
             run = first
         else:
-            run = prob.run("pilot", method, _controls(method, setting),
+            run = prob.run("pilot", method, controls_at(method, setting),
                            None if fixed else PILOT_MAX_STEPS)
         if run.q is None:
             lad.failed.append(run)
@@ -579,7 +576,7 @@ def _candidate(prob: _Problem, lad: _Ladder, goal: float, bound: float | None,
     cand.feasible = True
     cand.nfev, setting, cand.predicted_error = best
     cand.seconds = cand.nfev * sec_per_eval
-    cand.controls = _controls(method, setting) if setting is not None else dict(chosen_run.controls)
+    cand.controls = controls_at(method, setting) if setting is not None else dict(chosen_run.controls)
     cand.note = "a pilot run" if setting is None else f"fit over {rel.size} pilots ({lad.stopped})"
     return cand, setting
 
@@ -678,7 +675,7 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
     for m in methods:
         if not _fixed(m):
             try:
-                probes[m] = prob.run("pilot", m, _controls(m, RTOL0), PROBE_MAX_STEPS)
+                probes[m] = prob.run("pilot", m, controls_at(m, RTOL0), PROBE_MAX_STEPS)
             except ValueError:            # refused again, with its message, by _pilot below
                 pass
 
@@ -749,7 +746,7 @@ def _eigenvalues(prob: _Problem, ladders: dict[str, _Ladder], info: dict[str, An
     runs = [r for lad in ladders.values() for r in lad.runs if id(r) in prob.results]
     if not runs:                          # only fixed-step candidates: one survey run
         survey = next((m for m in METHODS if info[m]["adaptive"]), None)
-        run = prob.run("survey", survey, _controls(survey, 1e-6), PILOT_MAX_STEPS) if survey else None
+        run = prob.run("survey", survey, controls_at(survey, 1e-6), PILOT_MAX_STEPS) if survey else None
         if run is None or run.q is None:
             return np.zeros(0, dtype=complex)
         runs = [run]
@@ -770,7 +767,7 @@ def _verify(prob: _Problem, advice: Advice, cand: Candidate, setting: float | No
         run = next(r for r in lad.runs if r.controls == cand.controls)
         return _agrees(prob, advice, cand, run, run.error, ladders, target)
     for _ in range(MAX_TIGHTEN):
-        run = prob.run("verify", method, _controls(method, setting))
+        run = prob.run("verify", method, controls_at(method, setting))
         if run.q is None:
             cand.note += f"; verifying run failed: {run.status}"
             return False
@@ -780,7 +777,7 @@ def _verify(prob: _Problem, advice: Advice, cand: Candidate, setting: float | No
             err = abs(run.q - ref.q) + ref.error
         else:                             # one tighter run: a factor 2 in h, 10 in rtol
             s2 = max(setting / lad.ratio, RTOL_MIN) if not fixed else setting / lad.ratio
-            ref = prob.run("verify", method, _controls(method, s2))
+            ref = prob.run("verify", method, controls_at(method, s2))
             if ref.q is None:
                 cand.note += f"; tighter verifying run failed: {ref.status}"
                 return False
@@ -850,8 +847,8 @@ def _tiebreak(prob: _Problem, ladders: dict[str, _Ladder], exclude: set[str],
     for m, lad in ladders.items():
         if m in exclude or _fixed(m):
             continue
-        a = prob.run("check", m, _controls(m, TIEBREAK_RTOL), PILOT_MAX_STEPS)
-        b = prob.run("check", m, _controls(m, TIEBREAK_RTOL / 10.0), PILOT_MAX_STEPS)
+        a = prob.run("check", m, controls_at(m, TIEBREAK_RTOL), PILOT_MAX_STEPS)
+        b = prob.run("check", m, controls_at(m, TIEBREAK_RTOL / 10.0), PILOT_MAX_STEPS)
         if a.q is None or b.q is None:
             continue
         d = abs(a.q - b.q)
