@@ -105,6 +105,16 @@ int main(void) {
     printf("decay_y_end=%.17g\ndecay_exact=%.17g\ndecay_nfev=%lld\ndecay_nstep=%lld\n", y1[0],
            exp(-lambda), (long long)st.nfev, (long long)st.nstep);
 
+    /* ... with the library's DOP853, at its defaults and with a struct at the same defaults */
+    ss_dopri5_options o8;
+    ss_dop853_options_default(&o8);
+    double y8[1];
+    if (check("ss_dop853", ss_dop853(decay, &lambda, 1, 0.0, &y0, 1.0, 1, &tol, &tol, NULL, 1, t1, y1, &st)) ||
+        check("ss_dop853 opts", ss_dop853(decay, &lambda, 1, 0.0, &y0, 1.0, 1, &tol, &tol, &o8, 1, t1, y8, NULL)))
+        return 1;
+    printf("decay_dop853_y_end=%.17g\ndecay_dop853_nfev=%lld\ndecay_dop853_nstep=%lld\n"
+           "decay_dop853_opts_equal=%d\n", y1[0], (long long)st.nfev, (long long)st.nstep, y8[0] == y1[0]);
+
     /* ... and with the library's RK4 at h = 0.01 (global error about lambda^5 h^4 t / 120 y). */
     if (check("ss_rk4", ss_rk4(decay, &lambda, 1, 0.0, &y0, 1.0, 0.01, NULL, 1, t1, y1, &st)))
         return 1;

@@ -45,7 +45,8 @@ typedef struct {
     double v_b;        /* belt speed [m/s] (1.5) */
 } ss_params;
 
-/* Integration controls; ss_dopri5_options_default() gives Hairer's defaults. */
+/* Integration controls of the explicit adaptive methods: ss_dopri5_options_default() gives
+ * Hairer's DOPRI5 defaults, ss_dop853_options_default() his DOP853 ones (for ss_dop853). */
 typedef struct {
     double hmin;          /* step floor; steps forced there when the error test fails (0: none) [s] */
     double hmax;          /* largest step (0: t_end - t0) [s] */
@@ -84,6 +85,7 @@ typedef void (*ss_rhs)(double t, const double *y, double *dydt, int n, void *dat
 
 void ss_params_default(ss_params *p);
 void ss_dopri5_options_default(ss_dopri5_options *o);
+void ss_dop853_options_default(ss_dopri5_options *o);
 
 /* Copy the message of a status code into buf (at most buflen - 1 characters, NUL-terminated);
  * returns the message's full length. */
@@ -127,6 +129,13 @@ int ss_registry(char *buf, size_t buflen);
  * DOPRI5. rtol, atol: ntol = 1 (scalar) or n values. opts may be NULL (defaults).
  * t_out, y_out[n * n_out], stats: as for ss_simulate. */
 int ss_dopri5(ss_rhs f, void *data, int n, double t0, const double *y0, double t_end, int ntol,
+              const double *rtol, const double *atol, const ss_dopri5_options *opts, int n_out,
+              double *t_out, double *y_out, ss_stats *stats);
+
+/* The same with the library's DOP853 (Hairer's 8(5,3) pair, dense output of order 7). opts
+ * may be NULL (DOP853's defaults: safety 0.9, fac1 0.333, fac2 6, beta 0); otherwise fill it
+ * with ss_dop853_options_default() first and change what you need. */
+int ss_dop853(ss_rhs f, void *data, int n, double t0, const double *y0, double t_end, int ntol,
               const double *rtol, const double *atol, const ss_dopri5_options *opts, int n_out,
               double *t_out, double *y_out, ss_stats *stats);
 

@@ -7,7 +7,7 @@
 !! (`ss_run`, `ss_mu`: any law, scene or method the registry lists, with no change here
 !! when one is added); `ss_simulate` and `ss_friction` are the fixed-struct entry points
 !! for the paper's laws, kept for existing C programs; a C user's own ODE is integrated by
-!! `stickslip_dopri5` / `stickslip_rk4` through a thin `ode_system` extension that calls
+!! `stickslip_dopri5`, `stickslip_dop853` or `stickslip_rk4` through a thin `ode_system` extension that calls
 !! a C function pointer.
 !!
 !! Array layout: states are stored as C arrays `y_out[n_out][n]` (row i holds the state
@@ -18,9 +18,10 @@ module stickslip_capi
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_BAD_N_OUT, SS_BAD_METHOD
     use stickslip_params, only: param_values, NAME_LEN
     use stickslip_friction, only: friction_law
-    use stickslip_ode, only: ode_system, ode_stats
+    use stickslip_ode, only: ode_system, ode_stats, step_controls
     use stickslip_rk4, only: rk4_integrate
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
+    use stickslip_dop853, only: dop853_options, dop853_integrate
     use stickslip_registry, only: stickslip_message, registry_text, make_law, split_names, code_of, &
                                   PARAMS, METHOD_TABLE, METHOD_RK4, METHOD_DOPRI5, METHOD_DOP853
     use stickslip_simulate, only: simulate
@@ -28,8 +29,8 @@ module stickslip_capi
     private
 
     public :: ss_params, ss_dopri5_options, ss_stats
-    public :: ss_params_default, ss_dopri5_options_default, ss_message, ss_friction, ss_simulate, &
-              ss_dopri5, ss_rk4, ss_run, ss_mu, ss_code, ss_registry
+    public :: ss_params_default, ss_dopri5_options_default, ss_dop853_options_default, ss_message, &
+              ss_friction, ss_simulate, ss_dopri5, ss_dop853, ss_rk4, ss_run, ss_mu, ss_code, ss_registry
 
     !> Physical parameters of both scenes and all laws (C struct `ss_params`).
     type, bind(C) :: ss_params
@@ -112,23 +113,21 @@ contains
         p = transfer(v(param_order()), p)
     end subroutine ss_params_default
 
-    !> Fill `o` with the library's default controls (Hairer's, h_min = 0, max_steps = 10^8).
+    !> Fill `o` with DOPRI5's default controls (Hairer's: safety 0.9, fac1 0.2, fac2 10,
+    !! beta 0.04; h_min = 0, max_steps = 10^8).
     subroutine ss_dopri5_options_default(o) bind(C, name='ss_dopri5_options_default')
         type(ss_dopri5_options), intent(out) :: o   !! controls to fill
         type(dopri5_options) :: d
-        o%hmin = d%hmin
-        o%hmax = d%hmax
-        o%h0 = d%h0
-        o%safety = d%safety
-        o%fac1 = d%fac1
-        o%fac2 = d%fac2
-        o%beta = d%beta
-        o%max_steps = d%max_steps
-        o%nstiff = d%nstiff
-        o%allow_forced = merge(1_c_int, 0_c_int, d%allow_forced)
-        o%stop_on_stiff = merge(1_c_int, 0_c_int, d%stop_on_stiff)
-        o%every_step = merge(1_c_int, 0_c_int, d%every_step)
+        call from_f_options(d%step_controls, d%safety, d%fac1, d%fac2, d%beta, d%nstiff, d%stop_on_stiff, o)
     end subroutine ss_dopri5_options_default
+
+    !> Fill `o` with DOP853's default controls (Hairer's: safety 0.9, fac1 0.333, fac2 6,
+    !! beta 0; h_min = 0, max_steps = 10^8), for `ss_dop853`.
+    subroutine ss_dop853_options_default(o) bind(C, name='ss_dop853_options_default')
+        type(ss_dopri5_options), intent(out) :: o   !! controls to fill
+        type(dop853_options) :: d
+        call from_f_options(d%step_controls, d%safety, d%fac1, d%fac2, d%beta, d%nstiff, d%stop_on_stiff, o)
+    end subroutine ss_dop853_options_default
 
     !> Copy the message of a status code into buf (NUL-terminated, truncated to len - 1
     !! characters). Returns the full length of the message (without the NUL).
@@ -239,6 +238,30 @@ contains
         status = integrate_user(METHOD_DOPRI5, f, data, n, t0, y0, t_end, 0.0_c_double, ntol, rtol, &
                                 atol, opts, n_out, t_out, y_out, stats)
     end function ss_dopri5
+
+    !> Integrate a C user's ODE with the library's DOP853 (Hairer's 8(5,3) pair); the
+    !! arguments are those of ss_dopri5. opts may be NULL (DOP853's defaults); fill a struct
+    !! with ss_dop853_options_default before changing some of its fields.
+    function ss_dop853(f, data, n, t0, y0, t_end, ntol, rtol, atol, opts, n_out, t_out, y_out, stats) &
+            result(status) bind(C, name='ss_dop853')
+        type(c_funptr), value :: f                    !! the C right-hand side (see ss_dopri5)
+        type(c_ptr), value :: data                    !! passed to f unchanged (may be NULL)
+        integer(c_int), value :: n                    !! dimension of the state, >= 1
+        real(c_double), value :: t0                   !! initial time
+        real(c_double), intent(in) :: y0(*)           !! initial state (n)
+        real(c_double), value :: t_end                !! final time, > t0
+        integer(c_int), value :: ntol                 !! 1 or n
+        real(c_double), intent(in) :: rtol(*)         !! relative tolerances (ntol)
+        real(c_double), intent(in) :: atol(*)         !! absolute tolerances (ntol)
+        type(c_ptr), value :: opts                    !! const ss_dopri5_options * (NULL: DOP853's defaults)
+        integer(c_int), value :: n_out                !! rows of t_out and y_out, >= 1
+        real(c_double), intent(inout) :: t_out(*)     !! output times
+        real(c_double), intent(inout) :: y_out(*)     !! output states (n_out * n)
+        type(c_ptr), value :: stats                   !! ss_stats * (NULL: not returned)
+        integer(c_int) :: status
+        status = integrate_user(METHOD_DOP853, f, data, n, t0, y0, t_end, 0.0_c_double, ntol, rtol, &
+                                atol, opts, n_out, t_out, y_out, stats)
+    end function ss_dop853
 
     !> Integrate a C user's ODE with the library's classical RK4, fixed step h.
     !! opts may be NULL; only opts->max_steps and opts->every_step are used.
@@ -436,11 +459,11 @@ contains
         vals = vals(:k)
     end subroutine struct_controls
 
-    !> What ss_dopri5 and ss_rk4 share: check the problem, wrap the C function as an
+    !> What ss_dopri5, ss_dop853 and ss_rk4 share: check the problem, wrap the C function as an
     !! ode_system, run the integrator, report stats.
     function integrate_user(method, f, data, n, t0, y0, t_end, h, ntol, rtol, atol, opts, n_out, &
                             t_out, y_out, stats) result(status)
-        integer, intent(in) :: method                 !! METHOD_RK4 or METHOD_DOPRI5
+        integer, intent(in) :: method                 !! METHOD_RK4, METHOD_DOPRI5 or METHOD_DOP853
         type(c_funptr), intent(in) :: f               !! the C right-hand side
         type(c_ptr), intent(in) :: data               !! passed to f unchanged
         integer(c_int), intent(in) :: n               !! dimension, >= 1
@@ -448,7 +471,7 @@ contains
         real(c_double), intent(in) :: y0(*)           !! initial state (n)
         real(c_double), intent(in) :: h               !! RK4 step size
         integer(c_int), intent(in) :: ntol            !! 1 or n (DOPRI5)
-        real(c_double), intent(in) :: rtol(*), atol(*)  !! DOPRI5 tolerances (ntol)
+        real(c_double), intent(in) :: rtol(*), atol(*)  !! tolerances of the adaptive methods (ntol)
         type(c_ptr), intent(in) :: opts               !! const ss_dopri5_options * (NULL: defaults)
         integer(c_int), intent(in) :: n_out           !! rows of t_out and y_out, >= 1
         real(c_double), intent(inout) :: t_out(*)     !! output times
@@ -457,11 +480,21 @@ contains
         integer(c_int) :: status
         type(c_system) :: sys
         type(dopri5_options) :: fo
+        type(dop853_options) :: fo8
         type(ode_stats) :: st
         status = check_user(f, n, ntol, n_out)
         if (status == SS_OK) then
             sys = c_system(f=f, data=data, n=n)
             call get_options(opts, fo)
+            if (c_associated(opts)) then   ! NULL keeps DOP853's own defaults in fo8
+                fo8%step_controls = fo%step_controls
+                fo8%safety = fo%safety
+                fo8%fac1 = fo%fac1
+                fo8%fac2 = fo%fac2
+                fo8%beta = fo%beta
+                fo8%nstiff = fo%nstiff
+                fo8%stop_on_stiff = fo%stop_on_stiff
+            end if
             call run(y_out)
             status = int(st%status, c_int)
         end if
@@ -472,6 +505,9 @@ contains
             if (method == METHOD_RK4) then
                 call rk4_integrate(sys, t0, y0(1:n), t_end, h, t_out(1:n_out), yo(:, 1:n_out), st, &
                                    every_step=fo%every_step, max_steps=fo%max_steps)
+            else if (method == METHOD_DOP853) then
+                call dop853_integrate(sys, t0, y0(1:n), t_end, rtol(1:ntol), atol(1:ntol), fo8, &
+                                      t_out(1:n_out), yo(:, 1:n_out), st)
             else
                 call dopri5_integrate(sys, t0, y0(1:n), t_end, rtol(1:ntol), atol(1:ntol), fo, &
                                       t_out(1:n_out), yo(:, 1:n_out), st)
@@ -524,6 +560,27 @@ contains
         call c_f_pointer(stats, s)
         call to_c_stats(st, status, s)
     end subroutine put_stats
+
+    !> A C struct from the shared controls and an explicit method's constants.
+    pure subroutine from_f_options(c, safety, fac1, fac2, beta, nstiff, stop_on_stiff, o)
+        type(step_controls), intent(in) :: c
+        real(dp), intent(in) :: safety, fac1, fac2, beta
+        integer, intent(in) :: nstiff
+        logical, intent(in) :: stop_on_stiff
+        type(ss_dopri5_options), intent(out) :: o
+        o%hmin = c%hmin
+        o%hmax = c%hmax
+        o%h0 = c%h0
+        o%safety = safety
+        o%fac1 = fac1
+        o%fac2 = fac2
+        o%beta = beta
+        o%max_steps = c%max_steps
+        o%nstiff = int(nstiff, c_int)
+        o%allow_forced = merge(1_c_int, 0_c_int, c%allow_forced)
+        o%stop_on_stiff = merge(1_c_int, 0_c_int, stop_on_stiff)
+        o%every_step = merge(1_c_int, 0_c_int, c%every_step)
+    end subroutine from_f_options
 
     pure subroutine to_f_options(o, fo)
         type(ss_dopri5_options), intent(in) :: o

@@ -213,6 +213,13 @@ def test_c_example(guide_builds: dict, link: str) -> None:
     # A user's ODE through a C function pointer: y' = -2 y, y(1) = exp(-2).
     assert abs(float(k["decay_y_end"]) - math.exp(-2.0)) < 1e-8
     assert int(k["decay_nfev"]) == 6 * int(k["decay_nstep"]) + 2
+    # ... and with the library's DOP853: Hairer's count, 12 evaluations a step (11 stages and
+    # f at the new point, the next step's first stage) + 2 (the first f and HINIT's); a struct filled with
+    # DOP853's defaults gives the same run as NULL.
+    assert abs(float(k["decay_dop853_y_end"]) - math.exp(-2.0)) < 1e-9
+    assert int(k["decay_dop853_nfev"]) == 12 * int(k["decay_dop853_nstep"]) + 2
+    assert int(k["decay_dop853_nstep"]) < int(k["decay_nstep"])
+    assert int(k["decay_dop853_opts_equal"]) == 1
     # ... and with the library's RK4 at h = 0.01: 100 steps, 1 + 4 evaluations each,
     # global error lambda^5 h^4 t / 120 exp(-2 t), about 3.6e-10 at t = 1 (order h^4).
     assert int(k["decay_rk4_nstep"]) == 100 and int(k["decay_rk4_nfev"]) == 401
