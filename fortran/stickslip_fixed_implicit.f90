@@ -19,8 +19,11 @@
 !! manifold the terms of the sum are far larger than the state and its rounding far larger
 !! than newton_rtol |u + c h k| (generalized-alpha on y' = -lambda (y - cos t) - sin t,
 !! lambda h = 1e10, needed that to converge at all). After newton_max_iter iterations without
-!! convergence the stage is solved again from the same guess by Newton's method with the Jacobian at every iterate and a backtracking line
-!! search (at most 4 newton_max_iter iterations); if that fails too the run ends with
+!! convergence the stage is solved again from the same guess by Newton's method with the
+!! Jacobian at every iterate and a backtracking line search (at most 4 newton_max_iter
+!! iterations), and if that fails, by the same from the rest guess k = 0 (a guess carrying a
+!! large rate, LuGre's bristle from rest on the belt, can draw the iteration onto a kink of
+!! |v_rel| where no descent direction is left); if that fails too the run ends with
 !! SS_NEWTON_FAILED (a fixed step is never reduced); a non-finite Jacobian gives
 !! SS_JAC_NONFINITE, a singular matrix SS_SINGULAR, non-finite iterates SS_NEWTON_FAILED.
 !!
