@@ -26,9 +26,10 @@ The exact answers are those of set-valued Coulomb friction; a law with another s
 as numerically. Cost: right-hand-side (or force) evaluations, steps and CPU seconds of the library call.
 Transitions: changes between |v_rel| < 1e-4 m/s and above on the output grid (event_driven
 also reports its events). A run that fails (a step budget of 2e5 steps, a Newton failure) is a
-row with its status and no error. Writes ``stick.csv``, ``stick.md`` (the tables) and
-``stick.png`` / ``stick.pdf`` (error against CPU time per scene, one colour per method, one
-marker per law).
+row with its status and no error. Writes ``stick.csv``, ``stick.md`` (the tables),
+``stick_best.png`` / ``.pdf`` (per problem, a law x method grid of the smallest error any
+setting reached, with the CPU time it took) and ``stick.png`` / ``.pdf`` (every run: error
+against CPU time per problem, one colour per method, one marker per law).
 """
 from __future__ import annotations
 
@@ -187,7 +188,7 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 1, quiet: boo
     rows = [measure(simulate_job(job)) for job in todo]
     c.log(f"cases.stick: {time.perf_counter() - start:.1f} s", quiet)
     csv_path = c.write_csv(outdir / "stick.csv", HEADER, rows)
-    return [csv_path, write_tables(csv_path, outdir), *plot(csv_path, outdir)]
+    return [csv_path, write_tables(csv_path, outdir), *plot_best(csv_path, outdir), *plot(csv_path, outdir)]
 
 
 def _rows(csv_path: Path) -> list[dict[str, str]]:
@@ -276,6 +277,86 @@ def plot(csv_path: str | Path, outdir: str | Path) -> list[Path]:
     pdf = c.atomic_write(outdir / "stick.pdf", lambda f: fig.savefig(f, format="pdf"), binary=True)
     plt.close(fig)
     return [png, pdf]
+
+
+def best_runs(rows: list[dict[str, str]], problem: str) -> dict[tuple[str, str], dict[str, str]]:
+    """For each (law, method) of `problem`: its run with the smallest first error (ties: the
+    cheaper), or, when no setting finished, one of its failed or refused rows."""
+    err_col = ERRORS[problem][0]
+    best: dict[tuple[str, str], dict[str, str]] = {}
+    for r in rows:
+        if r["problem [-]"] != problem:
+            continue
+        key = (r["law [-]"], r["method [-]"])
+        err = _num(r[err_col])
+        old = best.get(key)
+        if old is None:
+            best[key] = r
+            continue
+        old_err = _num(old[err_col])
+        if err is not None and (old_err is None or (err, _num(r["cpu [s]"]) or 0.0)
+                                < (old_err, _num(old["cpu [s]"]) or 0.0)):
+            best[key] = r
+    return best
+
+
+def plot_best(csv_path: str | Path, outdir: str | Path) -> list[Path]:
+    """stick_best.png and .pdf: per problem a grid of laws (rows) x methods (columns), coloured by
+    log10 of the smallest error any setting reached, annotated with that error and the CPU time
+    of its run; "exact" where it is 0, the status where no setting finished, a grey cell where the
+    method refuses the law."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import Normalize
+    rows = _rows(Path(csv_path))
+    methods = list(dict.fromkeys(r["method [-]"] for r in rows))
+    laws = list(dict.fromkeys(r["law [-]"] for r in rows))
+    style.apply()
+    fig, axes = plt.subplots(1, len(ERRORS), figsize=(15.0, 0.42 * len(laws) + 2.6), layout="constrained")
+    fig.get_layout_engine().set(rect=(0.0, 0.05, 1.0, 0.95))
+    norm = Normalize(vmin=-16.0, vmax=1.0)
+    cmap = plt.get_cmap("cividis_r")
+    short = {"NewtonFailure": "Newton\nfailed", "NonFiniteSolution": "blew\nup",
+             "StepBudgetExhausted": "step\nbudget"}
+    for ax, (problem, errs) in zip(axes, ERRORS.items()):
+        best = best_runs(rows, problem)
+        grid = np.full((len(laws), len(methods)), np.nan)
+        for (li, law) in enumerate(laws):
+            for (mi, method) in enumerate(methods):
+                r = best.get((law, method))
+                if r is None:
+                    continue
+                err = _num(r[errs[0]])
+                status = r["status [-]"]
+                if err is not None:
+                    grid[li, mi] = math.log10(max(err, FLOOR))
+                    cpu = _num(r["cpu [s]"]) or 0.0
+                    label = ("exact" if err == 0.0 else f"{err:.0e}".replace("e-0", "e-").replace("e+0", "e+"))
+                    label += f"\n{1e3 * cpu:.2g} ms"
+                    colour = "black" if grid[li, mi] < -8.0 else "white"
+                else:
+                    label = "refused" if status == "refused" else short.get(status, status)
+                    colour = "0.25"
+                ax.text(mi, li, label, ha="center", va="center", fontsize=5.5, color=colour)
+        masked = np.ma.masked_invalid(grid)
+        im = ax.imshow(masked, cmap=cmap, norm=norm, aspect="auto")
+        ax.set_facecolor("0.88")
+        ax.set_xticks(range(len(methods)), [style.name(m) for m in methods], rotation=40, ha="right",
+                      fontsize=7)
+        ax.set_yticks(range(len(laws)), [style.name(law) for law in laws], fontsize=7)
+        ax.set_xticks(np.arange(-0.5, len(methods)), minor=True)
+        ax.set_yticks(np.arange(-0.5, len(laws)), minor=True)
+        ax.grid(which="minor", color="white", linewidth=1.0)
+        ax.grid(which="major", visible=False)
+        ax.tick_params(which="minor", length=0)
+        ax.set_title(TITLES[problem], fontsize=8)
+    bar = fig.colorbar(im, ax=list(axes), fraction=0.015, pad=0.01)
+    bar.set_label("log10 of the smallest error [m] over the settings run")
+    fig.text(0.45, 0.01, "Each cell: the smallest error of that law and method over the paper's steps "
+             "(1e-2, 1e-3, 1e-4 s) or tolerances (1e-2, 1e-4, 1e-6), and the CPU time of that run; "
+             "'exact': error 0; grey: no setting finished (its failure named) or the method refuses the law.",
+             ha="center", fontsize=7)
+    png = style.save(fig, Path(outdir) / "stick_best.png", c.atomic_write)
+    return [png, png.with_suffix(".pdf")]
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:

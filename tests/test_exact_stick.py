@@ -170,6 +170,27 @@ def test_other_laws_are_refused_before_running(law, method, controls):
         ss.simulate("belt", law, method=method, t_end=1.0, **controls)
 
 
+def test_stick_best_runs_picks_the_smallest_error():
+    """The summary figure's cell: the smallest error over the settings (ties: the cheaper run), a
+    failure only where no setting finished."""
+    from cases.stick import best_runs
+
+    def row(law, method, err, cpu, status="ok"):
+        return {"problem [-]": "slope_rest", "law [-]": law, "method [-]": method, "err_x [m]": err,
+                "cpu [s]": cpu, "status [-]": status}
+    rows = [row("coulomb", "rk4", "0.2", "0.001"), row("coulomb", "rk4", "0.002", "0.01"),
+            row("coulomb", "rk4", "", "", "NewtonFailure"), row("coulomb", "rk4", "0.002", "0.005"),
+            row("lugre", "rk4", "", "", "NonFiniteSolution"), row("lugre", "moreau", "", "", "refused"),
+            row("coulomb", "moreau", "0", "0.02"), row("coulomb", "moreau", "1e-3", "0.001"),
+            {**row("coulomb", "rk4", "1e-9", "0.1"), "problem [-]": "slope_stop"}]
+    best = best_runs(rows, "slope_rest")
+    assert best["coulomb", "rk4"]["err_x [m]"] == "0.002" and best["coulomb", "rk4"]["cpu [s]"] == "0.005"
+    assert best["coulomb", "moreau"]["err_x [m]"] == "0"
+    assert best["lugre", "rk4"]["status [-]"] == "NonFiniteSolution"
+    assert best["lugre", "moreau"]["status [-]"] == "refused"
+    assert set(best) == {("coulomb", "rk4"), ("lugre", "rk4"), ("lugre", "moreau"), ("coulomb", "moreau")}
+
+
 def test_stick_study_quick(tmp_path):
     """python -m cases.stick --quick writes the CSV, the tables and the figure; the set-valued
     methods hold the slope exactly and a creeping law does not."""
@@ -177,8 +198,8 @@ def test_stick_study_quick(tmp_path):
     from cases._common import read_csv
     files = stick.main(["--outdir", str(tmp_path), "--quick", "--threads", "1", "--quiet"])
     # --quick writes into its own subdirectory, beside the run's provenance record
-    assert {f.name for f in files} == {"stick.csv", "stick.md", "stick.png", "stick.pdf",
-                                       "cases.stick.provenance.json"}
+    assert {f.name for f in files} == {"stick.csv", "stick.md", "stick.png", "stick.pdf", "stick_best.png",
+                                       "stick_best.pdf", "cases.stick.provenance.json"}
     out = files[0].parent
     assert out == tmp_path / "quick" and all(f.parent == out for f in files)
     cols = read_csv(out / "stick.csv")
