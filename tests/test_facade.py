@@ -3,7 +3,9 @@ call (same numbers, same errors, same warnings), and no Result shares memory wit
 from __future__ import annotations
 
 import math
+import time
 import warnings
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -60,7 +62,6 @@ def test_no_two_results_of_one_setting_share_memory(kind, kw, scene, law, extra)
 def test_cpu_seconds_is_the_cpu_time_of_the_library_call() -> None:
     """Read by the wrapper around the run on the process's CPU clock: positive, and within what
     time.process_time (the same clock) sees around the whole simulate call."""
-    import time
     for _ in range(3):                                     # the first call validates, the others not
         before = time.process_time()
         r = ss.simulate("belt", "proposed", method="dopri5", t_end=20.0, rtol=1e-8, atol=1e-8)
@@ -71,7 +72,7 @@ def test_cpu_seconds_is_the_cpu_time_of_the_library_call() -> None:
 @pytest.mark.parametrize("name, good, bad", [
     ("t_end", 1, True), ("x0", 0, False), ("v0", 1, True), ("n_out", 1, True), ("max_steps", 10**4, True),
     ("h", 1e-3, "1e-3"), ("mu_s", 1, True), ("t_end", 1, np.True_), ("h", 1e-3, complex(1e-3, 0.0)),
-    ("mu_s", 1, __import__("fractions").Fraction(1)),
+    ("mu_s", 1, Fraction(1)),
 ])
 def test_a_value_equal_to_a_cached_one_but_of_another_type_is_still_checked(name, good, bad) -> None:
     """True == 1 and hash(True) == hash(1): the cache must not let True through where 1 passed."""
