@@ -312,7 +312,8 @@ def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
     """Rows of the ``overhead`` section: for each OVERHEAD run (rtol = atol = tol, hmin = 0,
     hmax = t_end; output at t_end), OVERHEAD_CALLS calls of ``stickslip.simulate`` interleaved
     with as many bare calls of the f2py wrapper with the same arguments (the library call
-    simulate makes, and nothing else: stickslip.core._bare_call), alternating which goes first.
+    simulate makes, and nothing else: stickslip.core._bare_call; the wrapper reads the CPU clock
+    for stats["cpu_seconds"] itself), alternating which goes first.
     median_s: the median time of each; overhead_s (on the simulate row): the median of the
     per-pair differences, what the facade adds per call."""
     import stickslip
@@ -658,7 +659,8 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
     over = [r for r in rows if r["section"] == "overhead"]
     if over:
         out += ["**Facade overhead per call** (short runs, output at t_end: stickslip.simulate against "
-                "a bare call of the f2py wrapper with the same arguments; medians of "
+                "a bare call of the f2py wrapper with the same arguments, which includes its two reads "
+                "of the CPU clock for `stats['cpu_seconds']`; medians of "
                 f"{over[0]['repeats']} interleaved calls each, overhead = median of the differences):", "",
                 "| scene / law | method | h or tol | steps | wrapper us | simulate us | overhead us | ratio |",
                 "|---|---|---|---|---|---|---|---|"]

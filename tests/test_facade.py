@@ -3,7 +3,9 @@ call (same numbers, same errors, same warnings), and no Result shares memory wit
 from __future__ import annotations
 
 import math
+import time
 import warnings
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -30,9 +32,47 @@ def test_a_repeated_call_gives_the_same_numbers_in_arrays_of_its_own() -> None:
     assert np.array_equal(c.x, b.x) and np.array_equal(c.t, b.t) and c.t[-1] == 1e-4
 
 
+@pytest.mark.parametrize("kind, kw", [
+    ("grid", dict(method="rk4", t_end=1e-4, h=1e-5, n_out=3)),
+    ("every step", dict(method="dopri5", t_end=0.05, every_step=True)),
+    ("ended early", dict(method="dopri5", t_end=0.5, n_out=501, max_steps=100)),
+])
+@pytest.mark.parametrize("scene, law, extra", [
+    ("belt", "gms", {}),                                   # several internal states: z is 2-d
+    ("chain", "lugre", dict(n_blocks=3)),                  # rows per block
+])
+def test_no_two_results_of_one_setting_share_memory(kind, kw, scene, law, extra) -> None:
+    """Every output array of a cached setting is new on each call, whatever its shape, also
+    when the run ends early (the IntegrationError's result)."""
+    def run() -> ss.Result:
+        try:
+            return ss.simulate(scene, law, **kw, **extra)
+        except ss.IntegrationError as err:
+            assert kind == "ended early"
+            return err.result
+    a, b = run(), run()
+    assert a.t.size == b.t.size > 1 and a.stats == {**b.stats, "cpu_seconds": a.stats["cpu_seconds"]}
+    for name in ("t", "x", "v", "z", "events"):
+        x, y = getattr(a, name), getattr(b, name)
+        assert np.array_equal(x, y), name
+        assert x.size == 0 or not np.shares_memory(x, y), name
+    assert a.stats is not b.stats and dict(a.stats) == a.stats and str(a.stats["message"]) in repr(a)
+
+
+def test_cpu_seconds_is_the_cpu_time_of_the_library_call() -> None:
+    """Read by the wrapper around the run on the process's CPU clock: positive, and within what
+    time.process_time (the same clock) sees around the whole simulate call."""
+    for _ in range(3):                                     # the first call validates, the others not
+        before = time.process_time()
+        r = ss.simulate("belt", "proposed", method="dopri5", t_end=20.0, rtol=1e-8, atol=1e-8)
+        outer = time.process_time() - before
+        assert 0.0 < r.stats["cpu_seconds"] <= outer
+
+
 @pytest.mark.parametrize("name, good, bad", [
     ("t_end", 1, True), ("x0", 0, False), ("v0", 1, True), ("n_out", 1, True), ("max_steps", 10**4, True),
-    ("h", 1e-3, "1e-3"), ("mu_s", 1, True),
+    ("h", 1e-3, "1e-3"), ("mu_s", 1, True), ("t_end", 1, np.True_), ("h", 1e-3, complex(1e-3, 0.0)),
+    ("mu_s", 1, Fraction(1)),
 ])
 def test_a_value_equal_to_a_cached_one_but_of_another_type_is_still_checked(name, good, bad) -> None:
     """True == 1 and hash(True) == hash(1): the cache must not let True through where 1 passed."""
@@ -40,6 +80,18 @@ def test_a_value_equal_to_a_cached_one_but_of_another_type_is_still_checked(name
     ss.simulate("slope", "recurdyn", **(args | {name: good}))
     with pytest.raises(ValueError, match=rf"^{name}: "):
         ss.simulate("slope", "recurdyn", **(args | {name: bad}))
+
+
+def test_a_bad_value_after_a_cached_call_of_the_same_shape_raises_as_on_a_first_call() -> None:
+    core._CALLS.clear()
+    with pytest.raises(ValueError) as first:
+        ss.simulate("slope", "proposed", method="rk4", t_end=1.0, h=-1e-3, n_out=2)
+    core._CALLS.clear()
+    ss.simulate("slope", "proposed", method="rk4", t_end=1.0, h=1e-3, n_out=2)    # cached
+    with pytest.raises(ValueError) as again:
+        ss.simulate("slope", "proposed", method="rk4", t_end=1.0, h=-1e-3, n_out=2)
+    assert str(again.value) == str(first.value) and str(first.value).startswith("h: ")
+    assert len(core._CALLS) == 1
 
 
 def test_warnings_come_on_every_call_not_only_the_first() -> None:
@@ -80,7 +132,7 @@ def test_calls_from_another_thread_work_and_match() -> None:
 def test_bare_call_is_the_call_simulate_makes() -> None:
     """The benchmarks' reference: the same arguments, hence the same numbers."""
     bare = core._bare_call("belt", "proposed", **RK4)
-    y, istats, rstats, resolved, status = bare()
+    y, istats, rstats, resolved, status, cpu = bare()
     r = ss.simulate("belt", "proposed", **RK4)
     assert status == 0 and np.array_equal(y[0], r.x) and np.array_equal(y[1], r.v)
 

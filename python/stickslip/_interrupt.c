@@ -2,9 +2,21 @@
  * caller's stop flag (which the integrators look at every 4096 steps) instead of waiting for
  * the interpreter, which cannot run its own handler until the call returns. The previous
  * handler (Python's) is put back when the call ends; the facade then raises
- * KeyboardInterrupt. Called from the f2py layer (_wrap.f90) through bind(C). */
+ * KeyboardInterrupt. Also the process's CPU clock that times a call (stats["cpu_seconds"]).
+ * Called from the f2py layer (_wrap.f90) through bind(C). */
 #include <signal.h>
 #include <stddef.h>
+#include <time.h>
+
+/* The process's CPU time [s]: the clock of Python's time.process_time (clock() where there is
+ * no CLOCK_PROCESS_CPUTIME_ID). */
+double ss_py_cpu_seconds(void) {
+#if defined(CLOCK_PROCESS_CPUTIME_ID)
+    struct timespec ts;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) == 0) return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+#endif
+    return (double)clock() / CLOCKS_PER_SEC;
+}
 
 static volatile int *stop_flag = NULL;
 

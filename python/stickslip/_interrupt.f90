@@ -1,13 +1,19 @@
 ! Compiled into the extension beside _wrap.f90, but not read by f2py.
 
 !> Ctrl-C while a call runs (_interrupt.c): arm sets the stop flag on SIGINT, disarm puts the
-!! previous handler back. Only the main thread arms (stop(1) = -1 asks for it).
+!! previous handler back. Only the main thread arms (stop(1) = -1 asks for it). cpu_seconds:
+!! the process's CPU clock that times a call.
 module stickslip_wrap_interrupt
-    use, intrinsic :: iso_c_binding, only: c_int
+    use, intrinsic :: iso_c_binding, only: c_int, c_double
     implicit none
     private
-    public :: arm, disarm
+    public :: arm, disarm, cpu_seconds
     interface
+        !> The process's CPU time [s] (CLOCK_PROCESS_CPUTIME_ID, as time.process_time).
+        function cpu_seconds() bind(C, name='ss_py_cpu_seconds')
+            import :: c_double
+            real(c_double) :: cpu_seconds
+        end function cpu_seconds
         subroutine ss_py_arm(flag) bind(C, name='ss_py_arm')
             import :: c_int
             integer(c_int), intent(inout) :: flag

@@ -54,16 +54,17 @@ end subroutine friction
 !! the registry's 'stats' record, presolved(npar) every parameter as resolved (registry
 !! order); the caller gives the sizes, which must match the registry's. events(4, nev):
 !! room for event_driven's events (t, kind, position, contact), nev = 0 for other methods.
+!! cpu: the process's CPU time spent in the library's simulate [s].
 subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rtol, nrt, atol, nat, &
                           ckeys, cvals, nc, nrow, t_out, y_out, ni, istats, nr, rstats, npar, presolved, &
-                          stop, events, nev, status)
+                          stop, events, nev, status, cpu)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_BAD_DIM
     use stickslip_params, only: param_values
     use stickslip_ode, only: ode_stats, stats_integers, stats_reals
     use stickslip_simulate, only: simulate
     use stickslip_registry, only: split_names
-    use stickslip_wrap_interrupt, only: arm, disarm
+    use stickslip_wrap_interrupt, only: arm, disarm, cpu_seconds
     implicit none
     integer(c_int), intent(in) :: scene, law, method
     character(len=*), intent(in) :: pkeys, ckeys
@@ -90,6 +91,7 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
     real(c_double), intent(inout) :: events(4, nev)
     !f2py integer intent(hide), depend(events) :: nev = shape(events, 1)
     integer(c_int), intent(out) :: status
+    real(c_double), intent(out) :: cpu
     !f2py threadsafe
     type(ode_stats) :: st
     type(param_values) :: p
@@ -102,8 +104,10 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
     istats = 0.0_c_double
     rstats = 0.0_c_double
     presolved = 0.0_c_double
+    cpu = cpu_seconds()
     call simulate(scene, law, method, split_names(pkeys), pvals, y0, t_end, rtol, atol, &
                   split_names(ckeys), cvals, t_out, y_out, st, p_out=p, stop_flag=flag, events=events)
+    cpu = cpu_seconds() - cpu
     call disarm(armed)
     status = st%status
     if (ni /= size(stats_integers(st)) .or. nr /= size(stats_reals(st)) .or. npar /= size(p%values)) then

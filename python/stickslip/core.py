@@ -10,7 +10,6 @@ import math
 import os
 import re
 import threading
-import time
 import warnings
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -716,15 +715,14 @@ def _with_values(message: str, known: Mapping[str, Any]) -> str:
 
 class _Call:
     """One distinct setting of `simulate`, validated once (_prepare): the arguments of its
-    Fortran call and what its Result needs. Never changed after _prepare, except `checked`."""
+    Fortran call and what its Result needs. Never changed after _prepare."""
 
     __slots__ = ("scene", "law", "method", "t_end", "args", "grid", "n_out", "rows", "warnings",
-                 "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "checked")
+                 "n_states", "state_labels", "used", "known", "events_room", "n_blocks")
 
     def __init__(self, **kw: Any) -> None:
         for k, v in kw.items():
             setattr(self, k, v)
-        self.checked = False                 # the library accepted the input (status > input codes)
 
 
 #: Settings simulate has validated (keyed on its arguments and their types), at most
@@ -863,7 +861,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         - ``message``: the library's message for that status.
         - ``t_reached``: the time the run reached [s] (t_end on success).
         - ``h_last``: the last step size tried [s].
-        - ``cpu_seconds``: CPU time of the library call [s] (time.process_time).
+        - ``cpu_seconds``: CPU time of the library call [s]: the process's CPU clock (that of
+          time.process_time), read by the compiled wrapper before and after the run.
 
         All values of a returned Result are finite.
 
@@ -907,25 +906,21 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         # A setting seen before (equal arguments of equal types) is not validated again.
         # (The types keep True from meeting 1, which is valid where True is not.)
         key = (scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused,
-               tuple(kwargs.items()), tuple(map(type, kwargs.values())), type(t_end), type(x0),
-               type(v0), type(n_out), type(max_steps))
-        call = _CALLS.get(key)
+               tuple(kwargs.items()), tuple(map(type, kwargs.values())), type(t_end), type(n_out),
+               type(max_steps), type(x0), type(v0))
+        call = _CALLS[key]
+    except KeyError:
+        call = None
     except TypeError:                        # an unhashable argument (a list): validated each time
         key = call = None
-    if call is None:
-        call = _prepare(scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0,
-                        ignore_unused, kwargs)
-        try:
-            return _execute(call)
-        finally:
-            if call.checked and key is not None and not any(
-                    isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):   # tuples may hide bools
-                if len(_CALLS) >= _CALLS_MAX:
-                    _CALLS.clear()
-                _CALLS[key] = call
-    for message, category in call.warnings:
-        warnings.warn(message, category, stacklevel=2)
-    return _execute(call)
+    if call is not None:
+        for message, category in call.warnings:
+            warnings.warn(message, category, stacklevel=2)
+        return _execute(call)
+    call = _prepare(scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused, kwargs)
+    if key is not None and any(isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):
+        key = None                           # tuples may hide bools: validated each time
+    return _execute(call, key)
 
 
 def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_step: Any, max_steps: Any,
@@ -1044,6 +1039,8 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
 _MAIN_STOP = np.zeros(1, dtype=np.int32)
 _MAIN_FLAG = memoryview(_MAIN_STOP)
 _MAIN_IDENT = threading.main_thread().ident
+#: What simulate's call path looks up on every call, bound once.
+_run_simulation, _get_ident, _new_result = _ext.run_simulation, threading.get_ident, Result.__new__
 
 
 def _after_fork() -> None:
@@ -1063,49 +1060,49 @@ def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
                     kwargs.pop("v0", None), kwargs.pop("z0", None), kwargs.pop("ignore_unused", False), kwargs)
     t_grid = np.zeros(call.rows) if call.rows else _linspace(call.t_end, call.n_out)
     stop = np.zeros(1, dtype=np.int32)
-    run, args, sizes = _ext.run_simulation, call.args, _SIZES
-
+    flag = memoryview(stop)
+    run, args, sizes = _run_simulation, call.args, _SIZES
     events = np.zeros((4, call.events_room), order="F")
 
     def bare() -> Any:
-        stop[0] = -1
+        flag[0] = -1
         return run(*args, t_grid, *sizes, stop, events)
     return bare
 
 
-def _execute(call: _Call) -> Result:
-    """Run a validated setting: the one place `simulate` calls the library."""
-    if call.grid is not None:
-        t_grid = call.grid.copy()
+def _execute(call: _Call, key: tuple | None = None) -> Result:
+    """Run a validated setting: the one place `simulate` calls the library. A new setting
+    (`key` not None) is kept in _CALLS once the library has accepted its input."""
+    grid = call.grid
+    if grid is not None:
+        t_grid = grid.copy()
     elif call.rows:
         t_grid = np.zeros(call.rows)
     else:
         t_grid = _linspace(call.t_end, call.n_out)
-    if threading.get_ident() == _MAIN_IDENT:
+    if _get_ident() == _MAIN_IDENT:
         stop, flag = _MAIN_STOP, _MAIN_FLAG
         flag[0] = -1                          # asks the wrapper for a SIGINT handler (interruptible)
     else:
         stop = np.zeros(1, dtype=np.int32)
         flag = memoryview(stop)
-    raw_events = np.zeros((4, call.events_room), order="F") if call.events_room else _NO_EVENT_ROWS
-    cpu0 = time.process_time()
-    # ---- the Fortran call ---------------------------------------------------------------------
-    y, istats, rstats, resolved, status = _ext.run_simulation(*call.args, t_grid, *_SIZES, stop,
-                                                              raw_events)
-    # -------------------------------------------------------------------------------------------
-    cpu = time.process_time() - cpu0
+    room = call.events_room
+    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
+    # the wrapper measures the CPU time of its library call itself (cpu)
+    y, istats, rstats, resolved, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, stop, raw_events)
     if flag[0] == 1:
         raise KeyboardInterrupt
-    if status != STATUS_OK:
+    if status != STATUS_OK or call.rows:
         if status <= _FIRST_INPUT_CODE:
             raise ValueError(_with_values(status_message(status), call.known))
-        rows = int(istats[_I_WRITTEN])
+        rows = int(istats[_I_WRITTEN])        # an early end, or every step: the rows written
         y, t_grid = y[:, :rows], t_grid[:rows].copy()
-    elif call.rows:                           # every step: the rows written
-        rows = int(istats[_I_WRITTEN])
-        y, t_grid = y[:, :rows], t_grid[:rows].copy()
-    call.checked = True
-    result = Result.__new__(Result)
+    if key is not None:
+        if len(_CALLS) >= _CALLS_MAX:
+            _CALLS.clear()
+        _CALLS[key] = call
+
+    result = _new_result(Result)
     result.scene, result.law, result.method, result.t_end = call.scene, call.law, call.method, call.t_end
     nb = call.n_blocks
     if nb == 1:
@@ -1117,7 +1114,7 @@ def _execute(call: _Call) -> Result:
     result.state_labels = call.state_labels
     result._params = result._stats = None     # built on first use from _raw
     result._raw = (istats, rstats, status, cpu, resolved, call.used)
-    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if call.events_room else _NO_EVENTS
+    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
     return result
