@@ -1,7 +1,7 @@
 """Every public entity of the Fortran library carries a FORD doc comment; scripts/docs builds the
 documentation site (Sphinx, warnings as errors) with FORD's Fortran API pages in it.
 
-The checker parses fortran/*.f90 (it is no compiler: it reads the code as this project writes
+The checker parses fortran/*/*.f90 (it is no compiler: it reads the code as this project writes
 it) and lists, as "file:line: what", each of these without a doc comment:
 
 - the module itself;
@@ -26,7 +26,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-SOURCES = sorted((ROOT / "fortran").glob("*.f90"))
+SOURCES = sorted((ROOT / "fortran").glob("*/*.f90"))
 IDENT = r"[A-Za-z_]\w*"
 
 

@@ -37,7 +37,7 @@ def test_slope_implicit_euler_any_h(law, h):
     """Implicit Euler is L-stable: from rest it reaches v* (to the Newton tolerance, as above)
     at any step, up to h = 1 s = 540 / |lambda|, where RK4 needs h < 5e-3 s. From rest at
     h >= 1e-2 the simplified Newton iteration fails and the damped Newton fallback
-    (damped_newton in fortran/stickslip_fixed_implicit_body.inc) solves the first steps."""
+    (damped_newton in fortran/integrators/stickslip_fixed_implicit_body.inc) solves the first steps."""
     v_star = creep_speed_ref(law)
     r = ss.simulate("slope", law, method="implicit_euler", h=h, t_end=20.0, n_out=3)
     assert abs(r.v[-1] / v_star - 1.0) < 1e-7, (r.v[-1], v_star)

@@ -1,5 +1,5 @@
 """Implicit Euler and generalized-alpha on the laws with jumps (Coulomb, Karnopp), whose stages
-are solved as generalized equations over the law's modes (fortran/stickslip_fixed_implicit_body.inc,
+are solved as generalized equations over the law's modes (fortran/integrators/stickslip_fixed_implicit_body.inc,
 docs/guide/implicit-nonsmooth.md), against closed forms of Coulomb friction: the slope below the
 friction angle from rest (x = 0 exactly), the box sliding to a stop, and the belt's stick-slip
 cycle, for parameter sets other than the paper's. Then every law x method pair on both scenes:
