@@ -46,7 +46,8 @@ module stickslip_registry
     public :: entry_info, stickslip_message, registry_text, code_of, split_names
     public :: resolve_params, new_law, make_law, new_system, integrate, apply_controls
 
-    !> A law or scene: its name, the parameters it reads (space-separated) and a line of doc.
+    !> A law or scene: its name, the parameters it reads (space-separated), a line of doc, and
+    !! whether the integrators have kernels specialised to it.
     type :: entry_info
         character(len=16) :: name = ''
         !! name, as the Python and C layers spell it
@@ -54,14 +55,19 @@ module stickslip_registry
         !! the parameters it reads, space-separated
         character(len=80) :: doc = ''
         !! one line of documentation
+        logical :: kernel = .false.
+        !! .true.: every integrator has a kernel for each scene x law pair marked so (a law
+        !! with a static mu(v), type NAME_law; a scene of two states, type NAME_scene, with
+        !! static_rhs and static_jacobian). tools/gen_kernels.py writes them from this table
+        !! into fortran/integrators/stickslip_kernel_instances.inc and _dispatch.inc.
     end type entry_info
 
     !> The friction laws; the code of a law is its position.
     type(entry_info), parameter, public :: LAW_TABLE(*) = [ &
-        entry_info('coulomb', 'mu_s mu_k v_s', 'Coulomb (eq. 1), discontinuous'), &
-        entry_info('recurdyn', 'mu_s mu_k v_s v_d', 'RecurDyn/ADAMS haversine steps (eqs. 2-3)'), &
-        entry_info('proposed', 'mu_s mu_k v_s beta a', 'Roh & Yoo (2007) (eq. 5)'), &
-        entry_info('stribeck', 'mu_s mu_k v_s delta c_v v_eps', 'Stribeck curve + viscous, tanh ramp at rest'), &
+        entry_info('coulomb', 'mu_s mu_k v_s', 'Coulomb (eq. 1), discontinuous', kernel=.true.), &
+        entry_info('recurdyn', 'mu_s mu_k v_s v_d', 'RecurDyn/ADAMS haversine steps (eqs. 2-3)', kernel=.true.), &
+        entry_info('proposed', 'mu_s mu_k v_s beta a', 'Roh & Yoo (2007) (eq. 5)', kernel=.true.), &
+        entry_info('stribeck', 'mu_s mu_k v_s delta c_v v_eps', 'Stribeck curve + viscous, tanh ramp at rest', kernel=.true.), &
         entry_info('karnopp', 'mu_s mu_k dv', 'Karnopp stick band |v| < dv, mu_k outside'), &
         entry_info('lugre', 'mu_s mu_k v_s sigma0 sigma1 sigma2', 'LuGre bristle (Canudas de Wit et al. 1995)'), &
         entry_info('elastoplastic', 'mu_s mu_k v_s sigma0 sigma1 sigma2 z_ba_ratio', &
@@ -77,8 +83,8 @@ module stickslip_registry
 
     !> The scenes; the code of a scene is its position.
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
-        entry_info('slope', 'g theta_deg', 'box on a plane inclined theta_deg'), &
-        entry_info('belt', 'm g k v_b', 'mass on a belt moving at v_b, spring k to a wall'), &
+        entry_info('slope', 'g theta_deg', 'box on a plane inclined theta_deg', kernel=.true.), &
+        entry_info('belt', 'm g k v_b', 'mass on a belt moving at v_b, spring k to a wall', kernel=.true.), &
         entry_info('chain', 'm g k v_b n_blocks k_c perturbation', &
                    'n_blocks masses on the belt, coupled by springs k_c (Burridge-Knopoff)')]
     integer, parameter, public :: SCENE_SLOPE = 1, SCENE_BELT = 2
