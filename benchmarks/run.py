@@ -26,6 +26,10 @@ Sections (the ``section`` column of the CSV):
   ``dop853_tols``, then at the error targets ``dop853_targets``: time, evaluations and
   instructions interpolated in log-log along each work-precision curve, as ratios to DOP853
   (``median_s``, ``nfev`` and ``instr_per_eval`` of those rows are the interpolated values).
+- ``chain`` and ``chain_banded``: time per step on the chain of ``n_blocks`` blocks (CHAIN_RUNS,
+  N in ``chain_sizes``) with the fitted exponent of time per step against N, and RADAU5 with
+  its banded Jacobian and LU against the dense path (``banded=False``) at ``chain_dense_sizes``
+  (``ratio_time`` = dense / banded).
 
 Times are medians of several samples; each sample repeats a run until it lasts long enough.
 Nothing asserts an absolute time: the machine is shared. The compiled adaptive runs also get a
@@ -62,7 +66,7 @@ BIN = Path(sys.executable).parent
 FIELDS: tuple[str, ...] = (
     "section", "impl", "method", "scene", "law", "t_end_s", "h_s", "tol", "target_err",
     "repeats", "median_s", "nstep", "nfev", "ns_per_step", "ns_per_eval", "instr_per_eval", "x_end_m",
-    "v_end_m_s", "err", "reference", "ratio_step", "ratio_eval", "ratio_time", "overhead_s",
+    "v_end_m_s", "err", "reference", "ratio_step", "ratio_eval", "ratio_time", "overhead_s", "n_blocks",
 )
 REFERENCE_TOL = 1e-13
 #: Fixed-step implicit methods timed beside RK4 (from Python, default controls).
@@ -93,6 +97,9 @@ class Config:
     dop853_tols: list[float] = field(default_factory=lambda: [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12,
                                                               1e-13])
     dop853_targets: list[float] = field(default_factory=lambda: [1e-7, 1e-8, 1e-9, 1e-10])
+    # chain (run_chain): block counts of the per-step cost, those of RADAU5 banded against dense
+    chain_sizes: tuple[int, ...] = (10, 100, 1000)
+    chain_dense_sizes: tuple[int, ...] = (50, 100, 200)
 
 
 FULL = Config(
@@ -106,7 +113,8 @@ QUICK = Config(
     adaptive=[("belt", "proposed")],
     t_end_adaptive=2.0, tols=[1e-4, 1e-7], targets=[1e-5],
     repeats=1, min_sample=0.0, t_end_stick=2.5, stick_steps=(1e-3, 1e-4), stick_tols=(1e-4, 1e-8),
-    stick_targets=(1e-3, 1e-5), dop853_tols=[1e-6, 1e-9], dop853_targets=[1e-7])
+    stick_targets=(1e-3, 1e-5), dop853_tols=[1e-6, 1e-9], dop853_targets=[1e-7], chain_sizes=(10, 100),
+    chain_dense_sizes=(20, 40))
 
 
 # -- helpers ----------------------------------------------------------------------------------
@@ -190,7 +198,7 @@ def _row(section: str, impl: str, method: str, scene: str, law: str, t_end: floa
             "ns_per_eval": 1e9 * median_s / nfev if nfev else float("nan"), "instr_per_eval": float("nan"),
             "x_end_m": x, "v_end_m_s": v, "err": err, "reference": "",
             "ratio_step": float("nan"), "ratio_eval": float("nan"), "ratio_time": float("nan"),
-            "overhead_s": float("nan")}
+            "overhead_s": float("nan"), "n_blocks": 1}
 
 
 def run_fixed(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -> list[dict]:
@@ -466,6 +474,68 @@ def run_dop853(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -
     return rows
 
 
+#: The chain section's runs: method, law, controls, t_end [s], largest N (event_driven's holding
+#: forces are a dense solve: its cost grows as N^3).
+CHAIN_RUNS: tuple[tuple[str, str, dict, float, int], ...] = (
+    ("rk4", "stribeck", {"h": 1e-4}, 0.02, 10**6), ("dopri5", "stribeck", {"rtol": 1e-6, "atol": 1e-9}, 0.5, 10**6),
+    ("dop853", "stribeck", {"rtol": 1e-6, "atol": 1e-9}, 0.5, 10**6),
+    ("radau5", "stribeck", {"rtol": 1e-6, "atol": 1e-9}, 0.5, 10**6),
+    ("implicit_euler", "stribeck", {"h": 1e-3}, 0.2, 10**6), ("galpha", "stribeck", {"h": 1e-3}, 0.2, 10**6),
+    ("moreau", "coulomb", {"h": 1e-3}, 0.2, 10**6),
+    ("event_driven", "coulomb", {"rtol": 1e-6, "atol": 1e-9}, 0.2, 100))
+
+
+def fitted_exponent(n: Sequence[float], cost: Sequence[float]) -> float:
+    """Least-squares slope of log(cost) against log(n) (nan with fewer than two points)."""
+    pts = [(math.log(a), math.log(b)) for a, b in zip(n, cost) if a > 0 and b > 0 and math.isfinite(b)]
+    if len(pts) < 2:
+        return float("nan")
+    x, y = np.array(pts).T
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def run_chain(cfg: Config, log: Callable[[str], None]) -> list[dict]:
+    """Rows of the ``chain`` section (time per step of every method on a chain of N blocks,
+    stribeck for the smooth methods, coulomb for moreau and event_driven, started stuck) and of
+    ``chain_banded`` (RADAU5 with the banded Jacobian and LU against banded=False, the dense
+    path, same steps; ratio_time = dense / banded)."""
+    import warnings
+
+    import stickslip
+
+    def timed(method: str, law: str, ctl: dict, t_end: float, n: int) -> tuple[float, object]:
+        def once():
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)
+                return stickslip.simulate("chain", law, method=method, t_end=t_end, n_out=2, n_blocks=n, **ctl)
+        return time_python(once, cfg)
+
+    rows: list[dict] = []
+    for method, law, ctl, t_end, n_max in CHAIN_RUNS:
+        for n in (n for n in cfg.chain_sizes if n <= n_max):
+            med, res = timed(method, law, ctl, t_end, n)
+            row = _row("chain", "stickslip_python", method, "chain", law, t_end, h=ctl.get("h", float("nan")),
+                       tol=ctl.get("rtol", float("nan")), repeats=cfg.repeats, median_s=med,
+                       nstep=res.stats["nstep"], nfev=res.stats["nfev"])
+            row["n_blocks"] = n
+            rows.append(row)
+            log(f"chain {method:14s} N={n:5d} {1e6 * med / max(res.stats['nstep'], 1):9.1f} us/step")
+    ctl = {"rtol": 1e-6, "atol": 1e-9}
+    for n in cfg.chain_dense_sizes:
+        pair = []
+        for banded in (True, False):
+            med, res = timed("radau5", "stribeck", {**ctl, "banded": banded}, 0.5, n)
+            row = _row("chain_banded", "stickslip_python", "radau5", "chain", "stribeck", 0.5, tol=1e-6,
+                       repeats=cfg.repeats, median_s=med, nstep=res.stats["nstep"], nfev=res.stats["nfev"])
+            row["n_blocks"] = n
+            row["reference"] = "banded" if banded else "dense"
+            pair.append(row)
+        pair[1]["ratio_time"] = pair[1]["median_s"] / pair[0]["median_s"]
+        rows += pair
+        log(f"chain radau5 N={n:4d} dense/banded time {pair[1]['ratio_time']:.1f}")
+    return rows
+
+
 def equal_accuracy(adaptive: list[dict], cfg: Config) -> tuple[list[dict], list[str]]:
     """Rows of time-to-target ratios against stickslip DOPRI5 (Fortran); and notes on targets a
     method never reached."""
@@ -656,6 +726,34 @@ def summary(rows: list[dict], notes: list[str], cfg: Config, quick: bool, second
                            f"{_fmt(r['ratio_time'])} | {_fmt(r['nfev'] / base['nfev'])} | "
                            f"{_fmt(instr / instr0)} |")
         out.append("")
+    chain = [r for r in rows if r["section"] == "chain"]
+    if chain:
+        sizes = sorted({int(r["n_blocks"]) for r in chain})
+        out += ["**The chain: time per step against the number of blocks N** (started stuck on the belt; "
+                "stribeck for the smooth methods, coulomb for the set-valued ones; microseconds per step, "
+                "median run time / steps; exponent: least-squares slope of log(time per step) over the N "
+                "run from 100 on, or all N when fewer):", "",
+                "| method (law) | " + " | ".join(f"N = {n}" for n in sizes) + " | exponent |",
+                "|---|" + "---|" * (len(sizes) + 1)]
+        for method in dict.fromkeys(r["method"] for r in chain):
+            here = {int(r["n_blocks"]): r for r in chain if r["method"] == method}
+            law = next(iter(here.values()))["law"]
+            per = {n: r["ns_per_step"] / 1e3 for n, r in here.items()}
+            fit = [n for n in per if n >= 100]
+            fit = fit if len(fit) >= 2 else list(per)
+            cells = [(f"{per[n]:.3g}" if n in per else "not run") for n in sizes]
+            out.append(f"| {method} ({law}) | " + " | ".join(cells) + " | "
+                       f"{_fmt(fitted_exponent(fit, [per[n] for n in fit]))} |")
+        out.append("")
+    banded = [r for r in rows if r["section"] == "chain_banded"]
+    if banded:
+        out += ["**RADAU5 on the chain: banded against dense Jacobian and LU** (stribeck, rtol = 1e-6, "
+                "0.5 s; the same steps; ratio = dense time / banded time):", "",
+                "| N | steps | banded us/step | dense us/step | ratio |", "|---|---|---|---|---|"]
+        for b, d in zip(banded[::2], banded[1::2]):
+            out.append(f"| {int(b['n_blocks'])} | {int(b['nstep'])} | {b['ns_per_step'] / 1e3:.3g} | "
+                       f"{d['ns_per_step'] / 1e3:.3g} | {_fmt(d['ratio_time'])} |")
+        out.append("")
     over = [r for r in rows if r["section"] == "overhead"]
     if over:
         out += ["**Facade overhead per call** (short runs, output at t_end: stickslip.simulate against "
@@ -815,6 +913,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     rows += stick_rows
     notes += stick_notes
     rows += run_dop853(cfg, exes, log)
+    rows += run_chain(cfg, log)
     write_csv(rows, args.outdir / "benchmarks.csv")
     plot(rows, args.outdir / "benchmarks.png")
     text = summary(rows, notes, cfg, args.quick, time.perf_counter() - t0)

@@ -77,3 +77,19 @@ def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> No
     assert [float(r["ratio_time"]) for r in d8eq if r["method"] == "dop853"] == [1.0] * len(QUICK.dop853_targets)
     assert all(math.isfinite(float(r["ratio_time"])) and float(r["ratio_time"]) > 0 for r in d8eq)
     assert "DOP853 at equal error" in text
+
+    # The chain: every method of CHAIN_RUNS at every quick N it takes; RADAU5 banded and dense
+    # take the same steps (a different path to the same Newton matrices), and the fitted
+    # exponent recovers a known power law.
+    from benchmarks.run import CHAIN_RUNS, fitted_exponent
+    chain = [r for r in rows if r["section"] == "chain"]
+    expected = {(m, n) for m, _, _, _, n_max in CHAIN_RUNS for n in QUICK.chain_sizes if n <= n_max}
+    assert {(r["method"], int(r["n_blocks"])) for r in chain} == expected
+    assert all(float(r["ns_per_step"]) > 0 and int(r["nstep"]) > 0 for r in chain)
+    banded = [r for r in rows if r["section"] == "chain_banded"]
+    assert [r["reference"] for r in banded] == ["banded", "dense"] * len(QUICK.chain_dense_sizes)
+    for b, d in zip(banded[::2], banded[1::2]):
+        assert (b["n_blocks"], b["nstep"], b["nfev"]) == (d["n_blocks"], d["nstep"], d["nfev"])
+    assert "time per step against the number of blocks" in text
+    assert fitted_exponent([10, 100, 1000], [3e-6, 3e-5, 3e-4]) == pytest.approx(1.0)
+    assert math.isnan(fitted_exponent([10], [1.0]))
