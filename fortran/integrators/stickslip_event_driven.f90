@@ -126,7 +126,41 @@ contains
             ns = count(self%stuck)
             if (ns == 0) return
             idx = pack([(i, i = 1, nc)], self%stuck)
-            allocate(amat(ns, ns), rs(ns), ipiv(ns))
+            call cs%apply_h(a, ha)
+            call cs%offset_rate(t, bd)
+            if (diagonal_delassus(cs, idx)) then
+                ! H M^-1 H^T is diagonal on the stuck set: its diagonal from one solve with
+                ! H^T 1_S (the stuck contacts' columns do not mix), the same arithmetic as the
+                ! dense columns below and so the same forces, bit for bit, in O(n).
+                col = 0.0_dp
+                col(idx) = 1.0_dp
+                g = 0.0_dp
+                call cs%add_ht(col, g)
+                call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, g)
+                call cs%apply_h(g, col)
+                if (any(col(idx) == 0.0_dp)) then
+                    self%singular = .true.
+                    return
+                end if
+                rs = -(ha(idx) + bd(idx)) / col(idx)
+            else
+                call dense_holding_forces()
+                if (self%singular) return
+            end if
+            col = 0.0_dp
+            col(idx) = rs
+            r(idx) = rs
+            g = 0.0_dp
+            call cs%add_ht(col, g)
+            call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, g)
+            a = a + g
+        end associate
+    contains
+        !> rs: the holding forces of the stuck set from the dense Delassus matrix (n_s columns,
+        !! each a solve with W, and an LU: O(n n_s + n_s^3)).
+        subroutine dense_holding_forces()
+            associate (cs => self%cs)
+            allocate(amat(ns, ns), ipiv(ns))
             do j = 1, ns
                 col = 0.0_dp
                 col(idx(j)) = 1.0_dp
@@ -136,8 +170,6 @@ contains
                 call cs%apply_h(g, col)
                 amat(:, j) = col(idx)
             end do
-            call cs%apply_h(a, ha)
-            call cs%offset_rate(t, bd)
             rs = -(ha(idx) + bd(idx))
             call lu_decompose(amat, ipiv, info)
             if (info /= 0) then
@@ -145,15 +177,32 @@ contains
                 return
             end if
             call lu_solve(amat, ipiv, rs)
-            col = 0.0_dp
-            col(idx) = rs
-            r(idx) = rs
-            g = 0.0_dp
-            call cs%add_ht(col, g)
-            call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, g)
-            a = a + g
-        end associate
+            end associate
+        end subroutine dense_holding_forces
     end subroutine mode_forces
+
+    !> .true. when H M^-1 H^T restricted to the contacts idx is diagonal: the system's mass
+    !! matrix is diagonal (w_tridiagonal with a = b = 0 has no off-diagonal), and each of these
+    !! contacts has one entry of H, on a coordinate of its own.
+    function diagonal_delassus(cs, idx) result(diag)
+        class(contact_system), intent(in) :: cs
+        integer, intent(in) :: idx(:)           !! contacts (stuck set)
+        logical :: diag
+        real(dp) :: wl(cs%n_dof), wd(cs%n_dof), wr(cs%n_dof)
+        logical :: taken(cs%n_dof)
+        integer :: j, k
+        call cs%w_tridiagonal(0.0_dp, 0.0_dp, wl, wd, wr, diag)
+        if (.not. diag) return
+        diag = all(wl(2:) == 0.0_dp) .and. all(wr(:cs%n_dof - 1) == 0.0_dp)
+        taken = .false.
+        do j = 1, size(idx)
+            if (.not. diag) return
+            k = cs%h_ptr(idx(j))
+            diag = cs%h_ptr(idx(j) + 1) - k == 1
+            if (diag) diag = .not. taken(cs%h_col(k))
+            if (diag) taken(cs%h_col(k)) = .true.
+        end do
+    end function diagonal_delassus
 
     subroutine mode_rhs(self, t, y, dydt)
         class(mode_system), intent(inout) :: self

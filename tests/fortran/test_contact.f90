@@ -10,7 +10,7 @@ module test_contact_chain
     use stickslip_contact, only: contact_system, contact_law
     implicit none
     private
-    public :: two_blocks, make_two_blocks
+    public :: two_blocks, make_two_blocks, two_blocks_tridiagonal
 
     !> Two blocks on a belt at v_b, springs k1 (wall - block 1) and kc (block 1 - block 2).
     type, extends(contact_system) :: two_blocks
@@ -25,6 +25,13 @@ module test_contact_chain
         procedure :: normal_forces => tb_normal
         procedure :: slip_offset => tb_offset
     end type two_blocks
+
+    !> The same system saying that its W = M + a C + b K is tridiagonal (as the scene chain
+    !! does), which lets event_driven take the holding forces from a diagonal Delassus matrix.
+    type, extends(two_blocks) :: two_blocks_tridiagonal
+    contains
+        procedure :: w_tridiagonal => tb_w_tridiagonal
+    end type two_blocks_tridiagonal
 
 contains
 
@@ -75,6 +82,17 @@ contains
         b = -self%v_b
     end subroutine tb_offset
 
+    subroutine tb_w_tridiagonal(self, a, b, l, d, r, ok)
+        class(two_blocks_tridiagonal), intent(in) :: self
+        real(dp), intent(in)  :: a, b
+        real(dp), intent(out) :: l(:), d(:), r(:)
+        logical, intent(out)  :: ok
+        d = [self%m(1) + b * (self%k1 + self%kc), self%m(2) + b * self%kc]
+        l = -b * self%kc
+        r = -b * self%kc
+        ok = .true.
+    end subroutine tb_w_tridiagonal
+
 end module test_contact_chain
 
 program test_contact
@@ -84,10 +102,11 @@ program test_contact
     use stickslip_contact, only: contact_law, local_solve, CONTACT_STRIBECK
     use stickslip_moreau, only: moreau_options, moreau_integrate
     use stickslip_event_driven, only: event_driven_options, event_driven_integrate
-    use test_contact_chain, only: two_blocks, make_two_blocks
+    use test_contact_chain, only: two_blocks, make_two_blocks, two_blocks_tridiagonal
     implicit none
 
     call test_two_blocks()
+    call test_diagonal_delassus()
     call test_stribeck_local_solve()
     call finish('contact')
 
@@ -135,6 +154,30 @@ contains
         write (line, '(a, 3es10.2)') 'two blocks: moreau position errors against event_driven ', err
         call check(err(3) < 2.0e-3_dp .and. err(1) / err(3) > 2.5_dp, trim(line))
     end subroutine test_two_blocks
+
+    !> event_driven's holding forces from the diagonal of the Delassus matrix (a system whose
+    !! mass matrix is diagonal, contacts on coordinates of their own: O(n)) equal those of
+    !! the dense solve bit for bit: the same run, every output value and counter.
+    subroutine test_diagonal_delassus()
+        type(two_blocks) :: dense
+        type(two_blocks_tridiagonal) :: diag
+        type(event_driven_options) :: eo
+        type(ode_stats) :: s1, s2
+        integer, parameter :: nout = 101
+        real(dp) :: t1(nout), y1(4, nout), t2(nout), y2(4, nout), e1(4, 1000), e2(4, 1000), y0(4)
+        integer :: i
+        dense = make_two_blocks()
+        diag%two_blocks = make_two_blocks()
+        y0 = [0.0_dp, 0.0_dp, dense%v_b, dense%v_b]
+        t1 = [(5.0_dp * (i - 1) / (nout - 1), i = 1, nout)]
+        t2 = t1
+        call event_driven_integrate(dense, 0.0_dp, y0, 5.0_dp, [1.0e-9_dp], [1.0e-11_dp], eo, t1, y1, s1, e1)
+        call event_driven_integrate(diag, 0.0_dp, y0, 5.0_dp, [1.0e-9_dp], [1.0e-11_dp], eo, t2, y2, s2, e2)
+        call check(s1%status == SS_OK .and. s2%status == SS_OK .and. s1%nevents > 4, &
+                   'diagonal Delassus: both runs complete, with events')
+        call check(all(y1 == y2) .and. s1%nfev == s2%nfev .and. s1%nstep == s2%nstep .and. &
+                   s1%nevents == s2%nevents, 'diagonal Delassus: the same run as the dense solve, bit for bit')
+    end subroutine test_diagonal_delassus
 
     subroutine test_stribeck_local_solve()
         type(contact_law) :: cl
