@@ -125,13 +125,19 @@ def dispatch(scenes: list[str], laws: list[str]) -> str:
     """The text of stickslip_kernel_dispatch.inc."""
     out = [HEADER, "!\n", """! Run a built-in scene with a static law through its specialised kernel (see
 ! stickslip_kernel_instances.inc) and return; any other system runs generic_kernel. The
-! includer defines KERNEL_ARGS, the arguments after sys (and the law).
+! includer defines KERNEL_ARGS, the arguments after sys (and the law), and its counters are
+! `stats`.
 #ifdef NONSMOOTH_KERNEL
-        ! A scene (x, v) whose law has modes (a jump): the stage solved over the modes.
+        ! A scene (x, v) whose law has modes (a jump): the stage solved over the modes; the
+        ! same law on a scene of more states (several contacts) is refused before running.
         select type (sys)
         class is (friction_scene)
             if (sys%law%n_modes() > 0 .and. sys%nz == 0 .and. size(y0) == 2) then
                 call nonsmooth_kernel(sys, KERNEL_ARGS)
+                return
+            end if
+            if (sys%law%n_modes() > 0) then   ! jumps on a scene of several contacts: refused
+                stats%status = SS_JUMP_MANY_CONTACTS
                 return
             end if
         end select

@@ -56,6 +56,8 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_CONTACT_CTL = -161 !! contact_tol or contact_max_iter out of range
     integer, parameter, public :: SS_BAD_EVENT_CTL = -162   !! max_events or zeno_gap out of range
     integer, parameter, public :: SS_NOT_SETVALUED = -163   !! the law (or system) has no set-valued contact
+    !> implicit_euler/galpha and a law with jumps (modes) on a scene of more than one contact
+    integer, parameter, public :: SS_JUMP_MANY_CONTACTS = -164
     ! prescribed motion (stickslip_prescribed)
     integer, parameter, public :: SS_BAD_TIMES = -175       !! sample times not finite or not strictly increasing
     integer, parameter, public :: SS_BAD_MOTION = -176      !! displacement or velocity samples not finite
@@ -70,16 +72,17 @@ module stickslip_kinds
         'BAD_CONTROL_NAME BAD_PARAM_NAME NEWTON_FAILED SINGULAR JAC_NONFINITE BAD_RHO_INF ' // &
         'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH' // &
         ' CONTACT_FAILED EVENT_ZENO BAD_THETA_MJ BAD_CONTACT_CTL BAD_EVENT_CTL' // &
-        ' NOT_SETVALUED BAD_TIMES BAD_MOTION BAD_BACKLASH BAD_ASYMMETRY BAD_NORMAL_FORCE'
+        ' NOT_SETVALUED JUMP_MANY_CONTACTS BAD_TIMES BAD_MOTION BAD_BACKLASH BAD_ASYMMETRY BAD_NORMAL_FORCE'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(44) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(45) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
         SS_BAD_PARAM_NAME, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_BAD_RHO_INF, SS_BAD_NIT, &
         SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_INTERRUPTED, &
         SS_BAD_FORCED_GROWTH, SS_CONTACT_FAILED, SS_EVENT_ZENO, SS_BAD_THETA_MJ, &
-        SS_BAD_CONTACT_CTL, SS_BAD_EVENT_CTL, SS_NOT_SETVALUED, SS_BAD_TIMES, SS_BAD_MOTION, &
+        SS_BAD_CONTACT_CTL, SS_BAD_EVENT_CTL, SS_NOT_SETVALUED, SS_JUMP_MANY_CONTACTS, SS_BAD_TIMES, &
+        SS_BAD_MOTION, &
         SS_BAD_BACKLASH, SS_BAD_ASYMMETRY, SS_BAD_NORMAL_FORCE]
 
 contains
@@ -142,6 +145,9 @@ contains
         case (SS_BAD_EVENT_CTL); msg = 'max_events: an integer >= 1; zeno_gap: finite and >= 0 [s]'
         case (SS_NOT_SETVALUED);  msg = 'law: the methods moreau and event_driven take only the set-valued' // &
                                         ' laws coulomb, stribeck (and a system with the contact interface)'
+        case (SS_JUMP_MANY_CONTACTS); msg = 'law: implicit_euler and galpha solve a law with jumps' // &
+                                        ' (coulomb, karnopp) on scenes of one contact only; on the chain' // &
+                                        ' use moreau or event_driven (coulomb), or a regularised law'
         case (SS_BAD_TIMES);      msg = 't: must be finite and strictly increasing, one time per sample [s]'
         case (SS_BAD_MOTION);     msg = 'x, v: must be finite, one value per sample [m, m/s]'
         case (SS_BAD_BACKLASH);   msg = 'backlash: must be finite and >= 0 [m]'

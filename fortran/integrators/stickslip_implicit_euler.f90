@@ -9,7 +9,7 @@
 !! Jacobian), and 1-2 more in steps that contain a requested output time.
 module stickslip_implicit_euler
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_NONFINITE, SS_OUTPUT_FULL, SS_INTERRUPTED, &
-                               SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE
+                               SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_JUMP_MANY_CONTACTS
     use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, step_count, &
                              stop_requested, all_finite, hermite
     use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls, ROUNDING_FLOOR
