@@ -196,7 +196,8 @@ contains
             call put_stats(st, status, stats)
             return
         end if
-        call get_options(opts, fo)
+        call get_options(opts, fo%step_controls, fo%safety, fo%fac1, fo%fac2, fo%beta, fo%nstiff, &
+                         fo%stop_on_stiff)
         fo%h = h
         if (method < 1 .or. method > size(METHOD_TABLE)) then
             st%status = SS_BAD_METHOD
@@ -485,16 +486,11 @@ contains
         status = check_user(f, n, ntol, n_out)
         if (status == SS_OK) then
             sys = c_system(f=f, data=data, n=n)
-            call get_options(opts, fo)
-            if (c_associated(opts)) then   ! NULL keeps DOP853's own defaults in fo8
-                fo8%step_controls = fo%step_controls
-                fo8%safety = fo%safety
-                fo8%fac1 = fo%fac1
-                fo8%fac2 = fo%fac2
-                fo8%beta = fo%beta
-                fo8%nstiff = fo%nstiff
-                fo8%stop_on_stiff = fo%stop_on_stiff
-            end if
+            ! NULL keeps each method's own defaults
+            call get_options(opts, fo%step_controls, fo%safety, fo%fac1, fo%fac2, fo%beta, fo%nstiff, &
+                             fo%stop_on_stiff)
+            call get_options(opts, fo8%step_controls, fo8%safety, fo8%fac1, fo8%fac2, fo8%beta, fo8%nstiff, &
+                             fo8%stop_on_stiff)
             call run(y_out)
             status = int(st%status, c_int)
         end if
@@ -540,13 +536,16 @@ contains
     end subroutine c_system_rhs
 
     !> Options from a C pointer (NULL: the defaults).
-    subroutine get_options(opts, fo)
+    subroutine get_options(opts, c, safety, fac1, fac2, beta, nstiff, stop_on_stiff)
         type(c_ptr), intent(in) :: opts
-        type(dopri5_options), intent(inout) :: fo
+        type(step_controls), intent(inout) :: c             !! the shared controls
+        real(dp), intent(inout) :: safety, fac1, fac2, beta  !! the method's constants
+        integer, intent(inout) :: nstiff
+        logical, intent(inout) :: stop_on_stiff
         type(ss_dopri5_options), pointer :: o
         if (c_associated(opts)) then
             call c_f_pointer(opts, o)
-            call to_f_options(o, fo)
+            call to_f_options(o, c, safety, fac1, fac2, beta, nstiff, stop_on_stiff)
         end if
     end subroutine get_options
 
@@ -582,21 +581,26 @@ contains
         o%every_step = merge(1_c_int, 0_c_int, c%every_step)
     end subroutine from_f_options
 
-    pure subroutine to_f_options(o, fo)
+    !> The shared controls and an explicit method's constants from a C struct (the inverse of
+    !! from_f_options).
+    pure subroutine to_f_options(o, c, safety, fac1, fac2, beta, nstiff, stop_on_stiff)
         type(ss_dopri5_options), intent(in) :: o
-        type(dopri5_options), intent(inout) :: fo
-        fo%hmin = o%hmin
-        fo%hmax = o%hmax
-        fo%h0 = o%h0
-        fo%safety = o%safety
-        fo%fac1 = o%fac1
-        fo%fac2 = o%fac2
-        fo%beta = o%beta
-        fo%max_steps = o%max_steps
-        fo%nstiff = int(o%nstiff)
-        fo%allow_forced = o%allow_forced /= 0
-        fo%stop_on_stiff = o%stop_on_stiff /= 0
-        fo%every_step = o%every_step /= 0
+        type(step_controls), intent(inout) :: c
+        real(dp), intent(out) :: safety, fac1, fac2, beta
+        integer, intent(out) :: nstiff
+        logical, intent(out) :: stop_on_stiff
+        c%hmin = o%hmin
+        c%hmax = o%hmax
+        c%h0 = o%h0
+        safety = o%safety
+        fac1 = o%fac1
+        fac2 = o%fac2
+        beta = o%beta
+        c%max_steps = o%max_steps
+        nstiff = int(o%nstiff)
+        c%allow_forced = o%allow_forced /= 0
+        stop_on_stiff = o%stop_on_stiff /= 0
+        c%every_step = o%every_step /= 0
     end subroutine to_f_options
 
     pure subroutine to_c_stats(st, status, s)

@@ -72,6 +72,9 @@ module stickslip_event_driven
         real(dp), allocatable :: sig(:)            !! (n_c) slip direction of a slipping contact, +-1
         integer :: nfev = 0                        !! evaluations outside DOPRI5 (event checks)
         logical :: singular = .false.              !! the stuck set's matrix was singular
+        !> H M^-1 H^T is diagonal (diagonal_delassus over every contact): the holding forces of
+        !! any stuck set come from its diagonal
+        logical :: diagonal = .false.
     contains
         procedure :: rhs => mode_rhs
         !! (u, acceleration) in the current mode
@@ -128,7 +131,7 @@ contains
             idx = pack([(i, i = 1, nc)], self%stuck)
             call cs%apply_h(a, ha)
             call cs%offset_rate(t, bd)
-            if (diagonal_delassus(cs, idx)) then
+            if (self%diagonal) then
                 ! H M^-1 H^T is diagonal on the stuck set: its diagonal from one solve with
                 ! H^T 1_S (the stuck contacts' columns do not mix), the same arithmetic as the
                 ! dense columns below and so the same forces, bit for bit, in O(n).
@@ -181,24 +184,23 @@ contains
         end subroutine dense_holding_forces
     end subroutine mode_forces
 
-    !> .true. when H M^-1 H^T restricted to the contacts idx is diagonal: the system's mass
-    !! matrix is diagonal (w_tridiagonal with a = b = 0 has no off-diagonal), and each of these
-    !! contacts has one entry of H, on a coordinate of its own.
-    function diagonal_delassus(cs, idx) result(diag)
+    !> .true. when H M^-1 H^T is diagonal: the system's mass matrix is diagonal (w_tridiagonal
+    !! with a = b = 0 has no off-diagonal), and each contact has one entry of H, on a coordinate
+    !! of its own. Then so is its restriction to any stuck set.
+    function diagonal_delassus(cs) result(diag)
         class(contact_system), intent(in) :: cs
-        integer, intent(in) :: idx(:)           !! contacts (stuck set)
         logical :: diag
         real(dp) :: wl(cs%n_dof), wd(cs%n_dof), wr(cs%n_dof)
         logical :: taken(cs%n_dof)
-        integer :: j, k
+        integer :: i, k
         call cs%w_tridiagonal(0.0_dp, 0.0_dp, wl, wd, wr, diag)
         if (.not. diag) return
         diag = all(wl(2:) == 0.0_dp) .and. all(wr(:cs%n_dof - 1) == 0.0_dp)
         taken = .false.
-        do j = 1, size(idx)
+        do i = 1, cs%n_c
             if (.not. diag) return
-            k = cs%h_ptr(idx(j))
-            diag = cs%h_ptr(idx(j) + 1) - k == 1
+            k = cs%h_ptr(i)
+            diag = cs%h_ptr(i + 1) - k == 1
             if (diag) diag = .not. taken(cs%h_col(k))
             if (diag) taken(cs%h_col(k)) = .true.
         end do
@@ -278,6 +280,7 @@ contains
         if (stats%status /= SS_OK) return
 
         allocate(ms%cs, source=cs)
+        ms%diagonal = diagonal_delassus(cs)
         allocate(ms%stuck(nc), ms%sig(nc), g_a(nc), g_b(nc), r(nc))
         allocate(tb(CHUNK), yb(n, CHUNK), y(n), ya(n), ystar(n))
         d5%every_step = .true.
