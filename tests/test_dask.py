@@ -15,7 +15,7 @@ import pytest
 distributed = pytest.importorskip("distributed")
 
 import stickslip  # noqa: E402
-from test_sweep_chunks import SWEEP, assert_same_rows  # noqa: E402
+from test_sweep_chunks import CHAIN_SWEEP, SWEEP, assert_same_rows  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -34,6 +34,12 @@ def test_cluster_rows_equal_local(client, tmp_path) -> None:
     store = stickslip.simulate_batch(**SWEEP, client=client, chunk_rows=9, out=tmp_path / "s",
                                      progress=True)
     assert_same_rows(local, store.load())
+
+
+def test_chain_rows_on_the_cluster(client) -> None:
+    """Chains of different n_blocks in chunks of different state widths: as the local run."""
+    local = stickslip.simulate_batch(**CHAIN_SWEEP)
+    assert_same_rows(local, stickslip.simulate_batch(**CHAIN_SWEEP, client=client, chunk_rows=4))
 
 
 def test_failing_row_keeps_its_status(client) -> None:

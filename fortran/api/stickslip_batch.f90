@@ -41,7 +41,9 @@ module stickslip_batch
         type(ode_stats) :: stats              !! counters and status of the run
         real(dp)   :: t_last = 0.0_dp         !! last monitor-grid time written (t_end on success) [s]
         real(dp), allocatable :: y_end(:)     !! state at t_last (y0 when nothing was written)
-        real(dp)   :: v_max = 0.0_dp          !! max |v| over the initial state and the monitor grid [m/s]
+        !> max |v| of the monitored body (block 1 on the chain) over the initial state and the
+        !! monitor grid [m/s]
+        real(dp)   :: v_max = 0.0_dp
         integer    :: n_flip = 0              !! sign changes of the relative velocity on the monitor grid
         integer    :: n_flip_tail = 0         !! the same, over the grid times >= t_end / 2
         !> Reversals of the direction of v between grid points (successive differences of
@@ -82,7 +84,8 @@ contains
     !! Physical parameters and controls are named once (pkeys, ckeys) and valued per set
     !! (columns of pvals, cvals); a NaN value means "not given" (the default), so that rows
     !! of different methods can share one list of control names. y0(:, i) holds the initial
-    !! state of set i in its first nstate(i) = 2 + (its law's internal states) entries.
+    !! state of set i in its first nstate(i) entries: 2 + (its law's internal states), times
+    !! n_blocks on the chain (rows of several sizes share y0; the rest is not read).
     !! All per-set arrays must have the same number of sets; status = SS_BAD_DIM otherwise,
     !! and SS_BAD_N_OUT when n_grid < 1. A bad input in one set (a code <= -100) or a run
     !! that ends early is reported in that set's summary only.
@@ -93,7 +96,7 @@ contains
         integer, intent(in) :: method(:)                !! method code, per set
         character(len=*), intent(in) :: pkeys(:)        !! physical parameter names
         real(dp), intent(in) :: pvals(:, :)             !! (size(pkeys), nset) values; NaN: default
-        integer, intent(in) :: nstate(:)                !! state size of each set (2 + the law's states)
+        integer, intent(in) :: nstate(:)                !! state size of each set (n_blocks (2 + the law's states))
         real(dp), intent(in) :: y0(:, :)                !! (nmax, nset) initial states, first nstate(i) used
         real(dp), intent(in) :: t_end(:)                !! final time [s], per set
         real(dp), intent(in) :: rtol(:)                 !! relative tolerance, per set (adaptive methods)
@@ -191,24 +194,26 @@ contains
                 summary(i)%y_end(1:n) = y0(1:n, i)
             end if
             if (summary(i)%stats%status > -100 .and. allocated(sys)) &
-                call summarise(summary(i), sys, t_end(i), abs(y0(2, i)), t_out(1:n_ok), y_out(:, 1:n_ok))
+                call summarise(summary(i), sys, t_end(i), y0(1:n, i), t_out(1:n_ok), y_out(:, 1:n_ok))
             if (present(y_keep)) y_keep(1:n, :) = y_out
         end subroutine run_one
 
     end subroutine simulate_batch
 
-    !> Fill the monitor part of s from the grid rows written (t(j), y(:, j)).
-    subroutine summarise(s, sys, t_end, v0_abs, t, y)
+    !> Fill the monitor part of s from the grid rows written (t(j), y(:, j)). The velocity
+    !! monitored is the scene's `monitored_body` (block 1 on the chain).
+    subroutine summarise(s, sys, t_end, y0, t, y)
         type(batch_summary), intent(inout) :: s
         class(friction_scene), intent(in) :: sys   !! the scene run (relative velocity)
         real(dp), intent(in) :: t_end              !! final time of the run [s]
-        real(dp), intent(in) :: v0_abs             !! |v0| [m/s]
+        real(dp), intent(in) :: y0(:)              !! initial state
         real(dp), intent(in) :: t(:), y(:, :)      !! grid rows written
-        real(dp) :: vr, vr_prev, t_half, dv, dv_prev, vscale, v_prev, vr_b
+        real(dp) :: vr, vr_prev, t_half, dv, dv_prev, vscale, v_prev, vr_b, xv(2), v
         integer :: j
         logical :: have_prev, have_dv, in_tail
 
-        s%v_max = v0_abs
+        xv = sys%monitored_body(y0)
+        s%v_max = abs(xv(2))
         s%vrel_min_tail = huge(1.0_dp)
         s%vrel_max_tail = -huge(1.0_dp)
         t_half = 0.5_dp * t_end
@@ -219,16 +224,18 @@ contains
         v_prev = 0.0_dp
         vr_b = abs(sys%relative_velocity(spread(0.0_dp, 1, size(y, 1))))   ! |v_ref|: belt speed or 0
         do j = 1, size(t)
-            if (.not. ieee_is_finite(y(2, j))) exit
+            xv = sys%monitored_body(y(:, j))
+            v = xv(2)
+            if (.not. ieee_is_finite(v)) exit
             in_tail = t(j) >= t_half
-            s%v_max = max(s%v_max, abs(y(2, j)))
+            s%v_max = max(s%v_max, abs(v))
             if (j > 1) then
-                dv = y(2, j) - v_prev
-                vscale = max(abs(y(2, j)), abs(v_prev), vr_b)
+                dv = v - v_prev
+                vscale = max(abs(v), abs(v_prev), vr_b)
                 if (abs(dv) > 64.0_dp * epsilon(1.0_dp) * vscale) &
                     call count_sign_change(dv, in_tail, dv_prev, have_dv, s%n_rev, s%n_rev_tail)
             end if
-            v_prev = y(2, j)
+            v_prev = v
             vr = sys%relative_velocity(y(:, j))
             if (in_tail) then
                 s%vrel_min_tail = min(s%vrel_min_tail, vr)

@@ -80,6 +80,8 @@ module stickslip_chain
         !! block 1's 2 x 2 Jacobian with a static law (of the one-block chain)
         procedure :: relative_velocity => chain_vrel
         !! block 1's relative velocity v_b - v_1 [m/s]
+        procedure :: monitored_body => chain_monitored_body
+        !! block 1's position [m] and velocity [m/s]
         procedure :: contact_model => chain_contact_model
         !! the chain as a `chain_contact`
         procedure :: static_rhs => chain_static_rhs
@@ -317,6 +319,13 @@ contains
         real(dp) :: vr                  !! block 1's relative sliding velocity v_b - v_1 [m/s]
         vr = self%v_b - y(self%nb + 1)
     end function chain_vrel
+
+    pure function chain_monitored_body(self, y) result(xv)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state (x_1..x_N [m], v_1..v_N [m/s], z)
+        real(dp) :: xv(2)               !! (x_1 [m], v_1 [m/s])
+        xv = [y(1), y(self%nb + 1)]
+    end function chain_monitored_body
 
     !> (x, v)' of the one-block chain (the belt) for a static law whose coefficient at the
     !! relative velocity is mu (as chain_static_jacobian: the modes' stage solve of the

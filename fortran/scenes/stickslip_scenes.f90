@@ -59,6 +59,9 @@ module stickslip_scenes
         procedure :: n_states => scene_n_states
         !> Relative sliding velocity [m/s] at state y.
         procedure(vrel_iface), deferred :: relative_velocity
+        !> Position [m] and velocity [m/s] of the monitored body: the one whose contact
+        !! `relative_velocity` reads (the only body; block 1 on the chain).
+        procedure :: monitored_body => scene_monitored_body
         !> The analytic 2 x 2 Jacobian of the scene with a static law.
         procedure(static_jacobian_iface), deferred :: static_jacobian
         !> The Jacobian: analytic for a static law, finite differences otherwise.
@@ -205,6 +208,13 @@ contains
         class(friction_scene), intent(in) :: self
         scene_n_states = 2 + self%nz
     end function scene_n_states
+
+    pure function scene_monitored_body(self, y) result(xv)
+        class(friction_scene), intent(in) :: self
+        real(dp), intent(in) :: y(:)    !! state (x [m], v [m/s], internal states)
+        real(dp) :: xv(2)               !! (x [m], v [m/s]) of the body
+        xv = y(1:2)
+    end function scene_monitored_body
 
     !> Take the law (a validated one) and record its states.
     subroutine set_law(self, law)

@@ -22,14 +22,17 @@ from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATE_COUNT_PARAMS,
                    STATUS_OK, _states,
                    UnstableStepWarning, UnusedParameterWarning, _FIRST_INPUT_CODE, _PARAM_ORDER,
-                   _check_names, _choice, _count, accepted_range, interruptible, rk4_stability_bound,
+                   _check_names, _choice, _count, _n_blocks, accepted_range, interruptible, rk4_stability_bound,
                    status_message)
 
 #: Names of the integer and real summary fields, in the wrapper's order.
 _BATCH_INT, _BATCH_REAL = (tuple(x.split()) for x in _ext.batch_names().decode().strip().split("|"))
 
-#: Largest n_sets * n_grid the facade allocates when the grid is kept (2 doubles each).
+#: Most values (doubles) of kept grids: rows x grid points x state components.
 MAX_GRID_VALUES = 20_000_000
+#: Most values (doubles) a batch allocates in all: initial and final states, each thread's grid
+#: of its row, and the kept grids (2 GB).
+MAX_BATCH_VALUES = 250_000_000
 #: A row chattered when the velocity reversed between at least this fraction of the monitor
 #: grid's intervals over t >= t_end/2 (BatchResult).
 CHATTER_FRACTION = 0.25
@@ -47,10 +50,13 @@ class BatchResult:
     the whole run / over t >= t_end/2. n_rev / n_rev_tail: reversals of the direction of v
     between grid points (successive differences of opposite sign, both above 64 eps max abs(v)), a
     count of high-frequency content. vrel_min_tail, vrel_max_tail: the relative velocity's
-    range over t >= t_end/2. y_end (n_sets, nmax): the state at t_last (the last grid time
-    reached; t_end on success), x_end and v_end its first two columns. seconds: wall-clock
-    time of the row on its thread. t, x, v: (n_sets, n_grid) grids when keep_grid was set, else
-    None (y_grid: (n_sets, nmax, n_grid) with the internal states).
+    range over t >= t_end/2. The velocity monitored is the body's, block 1's on the chain.
+    y_end (n_sets, nmax): the state at t_last (the last grid time reached; t_end on success),
+    n_state (a field) components per row and NaN beyond them (rows of several state sizes:
+    laws with internal states, chains of several n_blocks); x_end and v_end: the monitored
+    body's position and velocity (columns 0 and `v_column`). seconds: wall-clock time of the row
+    on its thread. t, x, v: (n_sets, n_grid) grids of the monitored body when keep_grid was
+    set, else None (y_grid: (n_sets, nmax, n_grid), the whole state, NaN-padded like y_end).
 
     Flags (bool per row, in `fields` like the counters):
 
@@ -91,12 +97,21 @@ class BatchResult:
         raise AttributeError(name)
 
     @property
+    def v_column(self) -> np.ndarray:
+        """Each row's column of the monitored body's velocity in y_end and y_grid: 1, or
+        n_blocks on the chain (its state is x_1..x_N, v_1..v_N, then the internal states)."""
+        nb = self.params["n_blocks"].astype(np.int64)
+        return np.where(self.scene == "chain", nb, 1)
+
+    @property
     def x_end(self) -> np.ndarray:
+        """The monitored body's final position [m] (block 1 on the chain)."""
         return self.y_end[:, 0]
 
     @property
     def v_end(self) -> np.ndarray:
-        return self.y_end[:, 1]
+        """The monitored body's final velocity [m/s] (block 1 on the chain)."""
+        return self.y_end[np.arange(len(self)), self.v_column]
 
     def __len__(self) -> int:
         return int(self.status.size)
@@ -135,7 +150,7 @@ def _codes(name: str, value: str | Sequence[str], accepted: tuple[str, ...]) -> 
 
 
 def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
-                   method: str | Sequence[str], t_end: Any, x0: Any = 0.0, v0: Any = 0.0,
+                   method: str | Sequence[str], t_end: Any, x0: Any = 0.0, v0: Any = None,
                    n_grid: int = 201, keep_grid: bool = False, threads: int = 1,
                    ignore_unused: bool = False, **kwargs: Any) -> Any:
     """Simulate many parameter sets in one Fortran call, `threads` OpenMP threads over the sets.
@@ -147,6 +162,14 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     in `stickslip.simulate`. A control is passed only to the rows whose method reads it (so one
     hmin can serve the adaptive rows of a sweep that also has RK4 rows; h may be None or NaN on
     adaptive rows); a name no method reads is an error. Internal states of a law start at 0.
+
+    Chain rows (scene "chain") may have different n_blocks: a row's x0 and v0 apply to every
+    block, and v0 not given (None or NaN) means every block stuck on the belt (v0 = v_b), as in
+    `simulate`; elsewhere v0 not given is 0. The summary's velocity is block 1's (the block
+    whose contact `relative_velocity` reads); y_end and y_grid hold each row's whole state
+    (n_state columns: x_1..x_N, v_1..v_N, then the internal states block by block), padded with
+    NaN to the widest row. A batch that would allocate more than MAX_BATCH_VALUES doubles
+    (states, each thread's grid, kept grids) is refused before running.
 
     Each row is integrated on the grid numpy.linspace(0, t_end, n_grid), so with
     keep_grid=True row i reproduces `simulate(..., n_out=n_grid)` exactly. The summary
@@ -169,16 +192,13 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     if unknown:
         _check_names({k: None for k in unknown}, _PARAM_ORDER + CONTROLS)
 
-    if "chain" in np.atleast_1d(np.asarray(scene, dtype=object)).tolist():
-        raise ValueError("scene: simulate_batch takes the one-body scenes (slope, belt); the chain's state "
-                         "size varies with n_blocks: run each chain with stickslip.simulate")
     cols: dict[str, np.ndarray] = {
         "scene": _codes("scene", scene, SCENES),
         "law": _codes("law", law, LAWS),
         "method": _codes("method", method, METHODS),
         "t_end": _real("t_end", t_end, "> 0 [s]"),
         "x0": _real("x0", x0, "[m]"),
-        "v0": _real("v0", v0, "[m/s]"),
+        "v0": _real("v0", np.nan if v0 is None else v0, "[m/s]; NaN: the scene's default", allow_nan=True),
     }
     pnames = [k for k in _PARAM_ORDER if k in kwargs and kwargs[k] is not None]
     for k in pnames:
@@ -237,18 +257,18 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
             warnings.warn(f"{', '.join(unused)}: not read by any row's scene and law, ignored (range-checked "
                           "only; ignore_unused=True silences this)", UnusedParameterWarning, stacklevel=2)
     keep = bool(keep_grid)
-    nstate = np.array([2 + REGISTRY["law"][l]["n_states"] for l in rows["law"]], dtype=np.int32)
-    for k in STATE_COUNT_PARAMS:            # laws whose state count is a parameter (gms: n_elements)
-        if k in rows:
-            for i, (l, val) in enumerate(zip(rows["law"], rows[k])):
-                if k in REGISTRY["law"][l]["params"] and np.isfinite(val):
-                    nstate[i] = 2 + _states(str(l), ((k, float(val)),))[0]
+    nstate, n_blocks = _state_sizes(rows, cvals, cnames)
     nmax = int(nstate.max())
-    if keep and nmax * n * int(n_grid) > MAX_GRID_VALUES:
-        raise ValueError(f"keep_grid: {n} rows x {n_grid} grid points exceed {MAX_GRID_VALUES // 2} "
-                         "states; lower n_grid or drop keep_grid")
+    _check_memory(nstate, n, int(n_grid), keep, threads)
+    # the initial states: x0 and v0 for every block (v0 not given: 0, every block stuck on the
+    # belt on the chain), the internal states 0
+    chain = rows["scene"] == "chain"
+    v_b = rows["v_b"] if "v_b" in rows else np.full(n, float(REGISTRY["param"]["v_b"]["default"]))
+    v0_row = np.where(np.isnan(rows["v0"]), np.where(chain, v_b, 0.0), rows["v0"])
     y0 = np.zeros((nmax, n), order="F")
-    y0[0], y0[1] = rows["x0"], rows["v0"]
+    for i in range(n):
+        nb = n_blocks[i]
+        y0[:nb, i], y0[nb:2 * nb, i] = rows["x0"][i], v0_row[i]
 
     def codes(key: str, kind: str) -> np.ndarray:
         return np.array([REGISTRY[kind][s]["code"] for s in rows[key]], dtype=np.int32)
@@ -256,7 +276,7 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     pvals = np.asfortranarray(np.array([rows[k] for k in pnames], dtype=np.float64).reshape(len(pnames), n))
     istats, rstats, yend, y_grid, status = interruptible(lambda stop: _ext.run_batch(
         codes("scene", "scene"), codes("law", "law"), codes("method", "method"), ",".join(pnames), pvals,
-        nstate, y0, rows["t_end"], tol["rtol"], tol["atol"], ",".join(cnames), np.asfortranarray(cvals),
+        nstate.astype(np.int32), y0, rows["t_end"], tol["rtol"], tol["atol"], ",".join(cnames), np.asfortranarray(cvals),
         int(n_grid), int(n_grid) if keep else 0, int(threads), len(_BATCH_INT), len(_BATCH_REAL), stop))
     status = int(status)
     if status != STATUS_OK:
@@ -274,7 +294,7 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
         raise ValueError(f"row {i} ({rows['scene'][i]}, {rows['law'][i]}, {rows['method'][i]}): "
                          f"{status_message(int(sstatus[i]))}")
     if "h" in cnames:                       # the rows are valid: their bounds can be computed
-        _warn_unstable_rk4(rows, pnames, cvals[cnames.index("h")])
+        _warn_unstable_rk4(rows, v0_row, pnames, cvals[cnames.index("h")])
 
     resolved = {k: rows[k] for k in pnames}
     for k in _PARAM_ORDER:
@@ -282,28 +302,72 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
             info = REGISTRY["param"][k]
             resolved[k] = (info["scale"] * resolved[info["default_of"]] if info["default_of"]
                            else np.full(n, info["default"]))
+    fields["n_state"] = nstate.astype(np.int64)
+    resolved["n_blocks"] = n_blocks.astype(np.float64)
+    padding = np.arange(nmax)[None, :] >= nstate[:, None]          # (n, nmax): beyond a row's state
+    y_end = np.asarray(yend).T.copy()
+    y_end[padding] = np.nan
     h_col = cvals[cnames.index("h")] if "h" in cnames else np.full(n, np.nan)
     result = BatchResult(
         scene=rows["scene"].astype(str), law=rows["law"].astype(str), method=rows["method"].astype(str),
         params=resolved, t_end=rows["t_end"], h=np.where(np.isfinite(h_col), h_col, 0.0),
-        rtol=tol["rtol"], atol=tol["atol"], status=sstatus, fields=fields,
-        y_end=np.asarray(yend).T.copy(), threads=int(threads))
+        rtol=tol["rtol"], atol=tol["atol"], status=sstatus, fields=fields, y_end=y_end, threads=int(threads))
     if keep:
-        y = np.asarray(y_grid)
+        y_grid_rows = np.transpose(np.asarray(y_grid), (2, 0, 1)).copy()   # (n, nmax, n_grid)
+        y_grid_rows[padding] = np.nan
         t = np.empty((n, int(n_grid)))
         for i in range(n):   # the grid the Fortran side used (numpy.linspace's numbers)
             t[i] = np.linspace(0.0, rows["t_end"][i], int(n_grid)) if n_grid > 1 else rows["t_end"][i]
-        result.t, result.x, result.v = t, y[0].T.copy(), y[1].T.copy()
-        result.y_grid = np.transpose(y, (2, 0, 1)).copy()
+        rows_i = np.arange(n)
+        result.t, result.y_grid = t, y_grid_rows
+        result.x, result.v = y_grid_rows[rows_i, 0], y_grid_rows[rows_i, result.v_column]
     return result
 
 
-def _warn_unstable_rk4(rows: dict[str, np.ndarray], pnames: list[str], h: np.ndarray) -> None:
-    """One UnstableStepWarning for the RK4 rows whose h lies beyond rk4_stability_bound."""
+def _state_sizes(rows: dict[str, np.ndarray], cvals: np.ndarray, cnames: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Each row's state size and number of blocks (1 off the chain), n_blocks checked as in
+    `stickslip.simulate`."""
+    n = rows["law"].size
+    nstate = np.array([2 + REGISTRY["law"][l]["n_states"] for l in rows["law"]], dtype=np.int64)
+    for k in STATE_COUNT_PARAMS:            # laws whose state count is a parameter (gms: n_elements)
+        if k in rows:
+            for i, (l, val) in enumerate(zip(rows["law"], rows[k])):
+                if k in REGISTRY["law"][l]["params"] and np.isfinite(val):
+                    nstate[i] = 2 + _states(str(l), ((k, float(val)),))[0]
+    n_blocks = np.ones(n, dtype=np.int64)
+    banded = cvals[cnames.index("banded")] if "banded" in cnames else np.full(n, np.nan)
+    for i in np.flatnonzero(rows["scene"] == "chain"):
+        given = {"n_blocks": float(rows["n_blocks"][i])} if "n_blocks" in rows else {}
+        method = str(rows["method"][i])
+        try:
+            n_blocks[i] = _n_blocks(given, method, int(nstate[i]), banded[i] == 0.0)
+        except ValueError as exc:
+            raise ValueError(f"row {i}: {exc}") from None
+    return nstate * n_blocks, n_blocks
+
+
+def _check_memory(nstate: np.ndarray, n: int, n_grid: int, keep: bool, threads: int) -> None:
+    """Refuse a batch whose arrays would exceed MAX_BATCH_VALUES doubles: the initial and final
+    states (n rows of the widest state), each thread's grid of its row, and the kept grids."""
+    nmax = int(nstate.max())
+    values = 2 * nmax * n + min(threads, n) * nmax * n_grid + (nmax * n * n_grid if keep else 0)
+    if keep and nmax * n * n_grid > MAX_GRID_VALUES:
+        raise ValueError(f"keep_grid: {n} rows x {n_grid} grid points x {nmax} state components exceed "
+                         f"{MAX_GRID_VALUES} values; lower n_grid or drop keep_grid")
+    if values > MAX_BATCH_VALUES:
+        raise ValueError(f"n_blocks: the batch needs {values:.3g} values ({8 * values / 1e9:.3g} GB: rows of up "
+                         f"to {nmax} state components, {n} rows, {n_grid} grid points), more than "
+                         f"{MAX_BATCH_VALUES:.3g}; lower n_blocks, the rows or n_grid, or split the sweep "
+                         "(stickslip.simulate_batch with chunk_rows)")
+
+
+def _warn_unstable_rk4(rows: dict[str, np.ndarray], v0: np.ndarray, pnames: list[str], h: np.ndarray) -> None:
+    """One UnstableStepWarning for the RK4 rows whose h lies beyond rk4_stability_bound (the
+    chain's rows are not checked)."""
     beyond = []
-    for i in np.flatnonzero(rows["method"] == "rk4"):
+    for i in np.flatnonzero((rows["method"] == "rk4") & (rows["scene"] != "chain")):
         params = tuple(sorted((k, float(rows[k][i])) for k in pnames))
-        bound = rk4_stability_bound(str(rows["law"][i]), params, str(rows["scene"][i]), float(rows["v0"][i]))
+        bound = rk4_stability_bound(str(rows["law"][i]), params, str(rows["scene"][i]), float(v0[i]))
         if bound is not None and h[i] > bound:
             beyond.append((int(i), float(h[i]), bound))
     if beyond:
@@ -314,4 +378,4 @@ def _warn_unstable_rk4(rows: dict[str, np.ndarray], pnames: list[str], h: np.nda
                       stacklevel=3)
 
 
-__all__ = ["BatchResult", "simulate_batch", "MAX_GRID_VALUES", "CHATTER_FRACTION"]
+__all__ = ["BatchResult", "simulate_batch", "MAX_GRID_VALUES", "MAX_BATCH_VALUES", "CHATTER_FRACTION"]

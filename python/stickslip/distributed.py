@@ -134,7 +134,7 @@ def run_chunk(args: dict[str, Any], start: int) -> BatchResult:
 
 
 def concat(parts: list[BatchResult]) -> BatchResult:
-    """Rows of several results in order; y_end and y_grid padded with zeros to the widest
+    """Rows of several results in order; y_end and y_grid padded with NaN to the widest
     state (as one batch call pads them)."""
     first = parts[0]
     nmax = max(p.y_end.shape[1] for p in parts)
@@ -142,7 +142,7 @@ def concat(parts: list[BatchResult]) -> BatchResult:
     def pad(a: np.ndarray) -> np.ndarray:
         width = [(0, 0)] * a.ndim
         width[1] = (0, nmax - a.shape[1])
-        return np.pad(a, width)
+        return np.pad(a, width, constant_values=np.nan)
 
     def cat(get: Any) -> np.ndarray:
         return np.concatenate([get(p) for p in parts])
