@@ -30,7 +30,7 @@ module stickslip_registry
     use stickslip_law_gms, only: gms_law, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC
     use stickslip_scenes, only: friction_scene, slope_scene, belt_scene, G_SPEC, THETA_SPEC, M_SPEC, &
                                 K_SPEC, V_B_SPEC
-    use stickslip_chain, only: chain_scene, N_BLOCKS_SPEC, K_C_SPEC, PERTURBATION_SPEC
+    use stickslip_chain, only: chain_scene, N_BLOCKS_SPEC, K_C_SPEC, K_P_SPEC, PERTURBATION_SPEC
     use stickslip_rk4, only: rk4_integrate, RK4_INFO
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, DOPRI5_INFO
     use stickslip_dop853, only: dop853_options, dop853_integrate, DOP853_INFO
@@ -85,8 +85,8 @@ module stickslip_registry
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
         entry_info('slope', 'g theta_deg', 'box on a plane inclined theta_deg', kernel=.true.), &
         entry_info('belt', 'm g k v_b', 'mass on a belt moving at v_b, spring k to a wall', kernel=.true.), &
-        entry_info('chain', 'm g k v_b n_blocks k_c perturbation', &
-                   'n_blocks masses on the belt, coupled by springs k_c (Burridge-Knopoff)')]
+        entry_info('chain', 'm g k v_b n_blocks k_c perturbation k_p', &
+                   'n_blocks masses on the belt, springs k_c and k_p (Burridge-Knopoff)')]
     integer, parameter, public :: SCENE_SLOPE = 1, SCENE_BELT = 2
     !! scene codes: positions in SCENE_TABLE
     integer, parameter, public :: SCENE_CHAIN = 3   !! scene code of the chain
@@ -105,7 +105,8 @@ module stickslip_registry
     type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
         BETA_SPEC, A_SPEC, DELTA_SPEC, C_V_SPEC, V_EPS_SPEC, DV_SPEC, SIGMA0_SPEC, SIGMA1_SPEC, &
         SIGMA2_SPEC, Z_BA_RATIO_SPEC, M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC, &
-        DAHL_ALPHA_SPEC, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC, N_BLOCKS_SPEC, K_C_SPEC, PERTURBATION_SPEC]
+        DAHL_ALPHA_SPEC, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC, N_BLOCKS_SPEC, K_C_SPEC, PERTURBATION_SPEC, &
+        K_P_SPEC]
 
 contains
 

@@ -1,10 +1,14 @@
 !> The chain scene: N blocks on the belt (the Burridge-Knopoff model of stick-slip with a
 !! belt as the driver). Block i (mass m) lies on the belt moving at v_b with its own contact
 !! (normal force m g_i) and the chosen friction law; block 1 is tied to the wall by a spring
-!! k, block i to block i - 1 by a coupling spring k_c:
-!!   m x_i'' = -k x_1 [i = 1] - k_c (x_i - x_{i-1}) [i > 1] - k_c (x_i - x_{i+1}) [i < N]
+!! k, block i to block i - 1 by a coupling spring k_c, and every block to the wall by a
+!! loading spring k_p (default 0; Burridge and Knopoff's leaf springs to the driver plate, here
+!! fixed while the belt moves):
+!!   m x_i'' = -k x_1 [i = 1] - k_p x_i - k_c (x_i - x_{i-1}) [i > 1] - k_c (x_i - x_{i+1}) [i < N]
 !!             + mu(v_b - x_i') m g_i,
 !! x_i measured from block i's rest position (all springs at rest length when every x_i = 0).
+!! Block 1's two springs to the wall act as one of stiffness k + k_p, so a one-block chain is
+!! the belt with k + k_p (bit for bit).
 !! The blocks' normal forces carry a small deterministic perturbation so that they do not
 !! move in lockstep: g_i = g (1 + perturbation r_i), r_i = 2 frac(1/2 + (i - 1) phi) - 1 in
 !! [-1, 1) with phi the golden ratio's fractional part (an equidistributed sequence; r_1 = 0,
@@ -37,6 +41,7 @@ module stickslip_chain
     integer, parameter, public :: SS_BAD_N_BLOCKS = -116      !! n_blocks not an integer in range
     integer, parameter, public :: SS_BAD_K_C = -117           !! k_c out of range
     integer, parameter, public :: SS_BAD_PERTURBATION = -118  !! perturbation out of range
+    integer, parameter, public :: SS_BAD_K_P = -119           !! k_p out of range
 
     !> Largest number of blocks: the state (N (2 + nz) values) and the work arrays of every
     !! method grow linearly in N; 10^6 blocks keep one state under 50 MB for the largest law.
@@ -53,15 +58,19 @@ module stickslip_chain
         default=0.01_dp, unit='-', lo=0.0_dp, hi=0.5_dp, code=SS_BAD_PERTURBATION, &
         doc='relative spread of the blocks'' normal forces')
     !! amplitude of the deterministic spread of the normal forces, in [0, 0.5] [-]
+    type(param_spec), parameter, public :: K_P_SPEC = param_spec(name='k_p', default=0.0_dp, &
+        unit='N/m', lo=0.0_dp, code=SS_BAD_K_P, doc='loading spring from each block to the wall')
+    !! loading spring stiffness k_p from every block to the wall, >= 0 [N/m]
 
     !> The chain as a first-order system with any friction law.
     type, extends(friction_scene) :: chain_scene
         integer :: nb = 1                 !! number of blocks N
-        real(dp) :: k_m = 0.0_dp          !! k / m [1/s^2]
+        real(dp) :: k_m = 0.0_dp          !! (k + k_p) / m: block 1's springs to the wall [1/s^2]
+        real(dp) :: kp_m = 0.0_dp         !! k_p / m [1/s^2]
         real(dp) :: kc_m = 0.0_dp         !! k_c / m [1/s^2]
         real(dp) :: v_b = 1.5_dp          !! belt speed [m/s]
         real(dp), allocatable :: g(:)     !! (N) normal force per unit mass of each block [m/s^2]
-        real(dp), allocatable :: k_mg(:)  !! (N) k / (m g_i) [1/m]
+        real(dp), allocatable :: k_mg(:)  !! (N) wall springs over m g_i: (k + k_p) / (m g_1), k_p / (m g_i) [1/m]
         real(dp), allocatable :: kc_mg(:) !! (N) k_c / (m g_i) [1/m]
     contains
         procedure :: init => chain_init
@@ -95,7 +104,8 @@ module stickslip_chain
     !> The chain with set-valued contacts, per unit mass: q = x [m], u = v [m/s], M = I,
     !! f = -K x [N/kg], N_i = g_i [N/kg], w_i = v_i - v_b.
     type, extends(contact_system) :: chain_contact
-        real(dp) :: k_m = 0.0_dp          !! k / m [1/s^2]
+        real(dp) :: k_m = 0.0_dp          !! (k + k_p) / m: block 1's springs to the wall [1/s^2]
+        real(dp) :: kp_m = 0.0_dp         !! k_p / m [1/s^2]
         real(dp) :: kc_m = 0.0_dp         !! k_c / m [1/s^2]
         real(dp) :: v_b = 1.5_dp          !! belt speed [m/s]
         real(dp), allocatable :: g(:)     !! (N) normal force per unit mass [m/s^2]
@@ -122,17 +132,18 @@ contains
         r = 2.0_dp * (r - aint(r)) - 1.0_dp
     end function chain_r
 
-    !> Fill the chain from n_blocks, k_c, perturbation, m, g, k, v_b in p.
+    !> Fill the chain from n_blocks, k_c, k_p, perturbation, m, g, k, v_b in p.
     function chain_init(self, law, p) result(status)
         class(chain_scene), intent(inout) :: self
         class(friction_law), intent(in) :: law  !! a validated friction law
         type(param_values), intent(in) :: p     !! resolved parameter values
         integer :: status
-        real(dp) :: m, g, k, kc, pert, nbr
+        real(dp) :: m, g, k, kc, kp, pert, nbr
         integer :: i
         status = SS_OK
         call param_read(p, N_BLOCKS_SPEC, nbr, status)
         call param_read(p, K_C_SPEC, kc, status)
+        call param_read(p, K_P_SPEC, kp, status)
         call param_read(p, PERTURBATION_SPEC, pert, status)
         call param_read(p, M_SPEC, m, status)
         call param_read(p, G_SPEC, g, status)
@@ -145,7 +156,8 @@ contains
         self%nz = law%n_states()
         self%static_law = law%is_static()
         self%nb = int(nbr)
-        self%k_m = k / m
+        self%k_m = (k + kp) / m
+        self%kp_m = kp / m
         self%kc_m = kc / m
         allocate(self%g(self%nb), self%k_mg(self%nb), self%kc_mg(self%nb))
         do i = 1, self%nb
@@ -155,9 +167,10 @@ contains
         self%k_mg = 0.0_dp
         self%kc_mg = 0.0_dp
         where (self%g > 0.0_dp)
-            self%k_mg = self%k_m / self%g
+            self%k_mg = self%kp_m / self%g
             self%kc_mg = self%kc_m / self%g
         end where
+        if (self%g(1) > 0.0_dp) self%k_mg(1) = self%k_m / self%g(1)
     end function chain_init
 
     pure integer function chain_n_states(self)
@@ -179,6 +192,10 @@ contains
         else
             a = -self%kc_m * (x(i) - x(i - 1))
             mu_hold = self%kc_mg(i) * (x(i) - x(i - 1))
+            if (self%kp_m /= 0.0_dp) then     ! without loading springs, the chain's own numbers
+                a = a - self%kp_m * x(i)
+                mu_hold = mu_hold + self%k_mg(i) * x(i)
+            end if
         end if
         if (i < self%nb) then
             a = a - self%kc_m * (x(i) - x(i + 1))
@@ -225,7 +242,7 @@ contains
         dfdy = 0.0_dp
         do i = 1, n
             dfdy(i, n + i) = 1.0_dp
-            dfdy(n + i, i) = -merge(self%k_m, 0.0_dp, i == 1) - merge(self%kc_m, 0.0_dp, i > 1) &
+            dfdy(n + i, i) = -merge(self%k_m, self%kp_m, i == 1) - merge(self%kc_m, 0.0_dp, i > 1) &
                              - merge(self%kc_m, 0.0_dp, i < n)
             if (i > 1) dfdy(n + i, i - 1) = self%kc_m
             if (i < n) dfdy(n + i, i + 1) = self%kc_m
@@ -277,7 +294,7 @@ contains
             do i = 1, n
                 j = (i - 1) * s
                 jb(mu + 1 + (j + 1) - (j + 2), j + 2) = 1.0_dp                      ! d x_i' / d v_i
-                jb(mu + 1 + 1, j + 1) = -merge(self%k_m, 0.0_dp, i == 1) - merge(self%kc_m, 0.0_dp, i > 1) &
+                jb(mu + 1 + 1, j + 1) = -merge(self%k_m, self%kp_m, i == 1) - merge(self%kc_m, 0.0_dp, i > 1) &
                                         - merge(self%kc_m, 0.0_dp, i < n)             ! d v_i' / d x_i
                 if (i > 1) jb(mu + 1 + (j + 2) - (j + 1 - s), j + 1 - s) = self%kc_m   ! d v_i' / d x_{i-1}
                 if (i < n) jb(mu + 1 + (j + 2) - (j + 1 + s), j + 1 + s) = self%kc_m   ! d v_i' / d x_{i+1}
@@ -373,6 +390,7 @@ contains
         allocate(cc%laws(self%nb), source=cl)
         cc%w_constant = .true.
         cc%k_m = self%k_m
+        cc%kp_m = self%kp_m
         cc%kc_m = self%kc_m
         cc%v_b = self%v_b
         cc%g = self%g
@@ -392,6 +410,7 @@ contains
                 f(1) = -self%k_m * q(1)
             else
                 f(i) = -self%kc_m * (q(i) - q(i - 1))
+                if (self%kp_m /= 0.0_dp) f(i) = f(i) - self%kp_m * q(i)
             end if
             if (i < n) f(i) = f(i) - self%kc_m * (q(i) - q(i + 1))
         end do
@@ -411,7 +430,7 @@ contains
         integer :: i, n
         n = self%n_dof
         do i = 1, n
-            d(i) = merge(self%k_m, 0.0_dp, i == 1) + merge(self%kc_m, 0.0_dp, i > 1) &
+            d(i) = merge(self%k_m, self%kp_m, i == 1) + merge(self%kc_m, 0.0_dp, i > 1) &
                    + merge(self%kc_m, 0.0_dp, i < n)
             d(i) = 1.0_dp + b * d(i)
             l(i) = -b * self%kc_m
