@@ -1,94 +1,211 @@
-"""Scaling of every method with the number of contacts on the chain scene::
+"""Cost of every method against the number of contacts, at one accuracy, on a Burridge-Knopoff
+chain; and the sizes of its slip events::
 
-    python -m cases.chain --outdir out/          # quick: t_end = 1 s, N = 1, 10, 100, 1000
-    python -m cases.chain --outdir out/ --full   # t_end = 10 s, N up to 10,000 (LIMIT)
+    python -m cases.chain --outdir out/          # quick: t_end = 0.5 s, N up to 1,000, 1e-3 m
+    python -m cases.chain --outdir out/ --full   # t_end = 1 s, N up to 10,000, 1e-4 m
 
-The chain (issue 23): N blocks of 10 kg on the belt (v_b = 1.5 m/s), block 1 tied to the wall
-by k = 300 N/m, neighbours by k_c = k, normal forces spread by 1 % (perturbation = 0.01), all
-blocks started stuck on the belt at rest length. Every method at one setting, the paper's
-middle step and tolerance: h = 1e-3 s (rk4, implicit_euler, galpha, moreau), rtol = 1e-6,
-atol = 1e-9 (dopri5, radau5, event_driven). The smooth methods run the regularised Stribeck law
-(the smooth law whose set-valued counterpart the nonsmooth methods take), moreau and
-event_driven set-valued Coulomb. The settings are fixed, not tuned to one accuracy: the
-figure compares how the cost of each method grows with N, not the methods with each other.
+The chain (`SCENE`): N blocks of 10 kg on a slow belt (v_b = 0.01 m/s), block 1 tied to the
+wall by k = 300 N/m, neighbours by k_c = 300 N/m, every block to the wall by a loading spring
+k_p = 10 N/m (Burridge and Knopoff's leaf springs), normal forces spread by 20 %
+(perturbation = 0.2), Coulomb mu_s = 0.35, mu_k = 0.3. Every block starts stuck on the belt
+with its wall springs preloaded (`preload`) between the kinetic and the static level, so that
+slip starts everywhere at once and the number of stick-slip events grows with N.
 
-Per run: CPU seconds of the library call, steps, CPU per step and per simulated second;
-event_driven's events per simulated second. Fitted exponent: the slope of log(CPU per step)
-against log(N) over the runs with N >= 100. Slip-event sizes (moreau, N = 100, t_end = 20 s
-quick / 100 s full, output every step): the slipping set {(t, i): |v_i - v_b| > 1e-6 m/s}
-split into connected pieces in (time step, block) (neighbours in time or along the chain);
-the size of an event is the number of distinct blocks in its piece.
+**Scaling at one accuracy.** For each method and N the study walks the method's ladder of
+settings (`FIXED_STEPS` h [s] for the fixed-step methods, `TOLERANCES` rtol, with atol = 1e-3
+rtol [m, m/s], for the adaptive ones) from coarse to fine and keeps the first setting whose
+position error, and that of the next finer setting, are at most the target (max over blocks
+and the 51 output times of |x_i - x_i,ref|). The references: RADAU5 at rtol = 1e-10 for the
+smooth methods (regularised Stribeck law), event_driven at rtol = 1e-10 for moreau and
+event_driven (set-valued Coulomb). Where N is beyond a reference's reach (`REFERENCE_LIMIT`)
+the method runs at the setting kept for the largest N that had one, and its error is not
+measured (hollow markers). The cost is the CPU time of the kept run's library call.
 
-Writes ``chain.csv`` (one row per run), ``chain_events.csv`` (event sizes),
-``chain.png``/``chain.pdf`` (CPU per step against N, log-log, with the exponents) and
-``chain_events.png``/``chain_events.pdf`` (the distribution of event sizes).
+**Slip events** (N = 100, 1,000 s quick, 5,000 s full, the first 10 % dropped): the slipping set
+{(t, i): |v_i - v_b| > 1e-6 m/s} of a moreau run (h = 1e-3 s) on a 0.05 s output grid, split
+into connected pieces in (time, block); the size of an event is the number of blocks in its
+piece.
+
+Writes ``chain.csv`` (one row per method and N), ``chain_events.csv`` (event sizes and start
+times), ``chain.png``/``.pdf`` (cost per simulated second at the target and cost per step
+against N, log-log, with fitted exponents) and ``chain_events.png``/``.pdf``.
 """
 from __future__ import annotations
 
 import argparse
 import math
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, NamedTuple, Sequence
 
 import numpy as np
 
 from . import _common as c
 from . import _style as style
 
-METHODS: dict[str, tuple[str, dict[str, float]]] = {
-    "rk4": ("stribeck", {"h": 1e-3}),
-    "dopri5": ("stribeck", {"rtol": 1e-6, "atol": 1e-9}),
-    "radau5": ("stribeck", {"rtol": 1e-6, "atol": 1e-9}),
-    "implicit_euler": ("stribeck", {"h": 1e-3}),
-    "galpha": ("stribeck", {"h": 1e-3}),
-    "moreau": ("coulomb", {"h": 1e-3}),
-    "event_driven": ("coulomb", {"rtol": 1e-6, "atol": 1e-9}),
-}
-SIZES_QUICK = (1, 10, 100, 1000)
-SIZES_FULL = (1, 10, 100, 1000, 10000)
-#: The largest N each method is run at: event_driven's and DOPRI5's steps at N = 10,000 (the
-#: --full study) add nothing the exponent does not show.
-LIMIT = {"event_driven": 1000, "dopri5": 1000}
-#: Okabe-Ito colours (colour-blind safe) and a marker per method.
-STYLE = {"rk4": ("#000000", "o"), "dopri5": ("#E69F00", "s"), "radau5": ("#56B4E9", "^"),
-         "implicit_euler": ("#009E73", "v"), "galpha": ("#CC79A7", "D"), "moreau": ("#0072B2", "P"),
-         "event_driven": ("#D55E00", "X")}
+#: The study's chain: the scene's parameters that differ from the defaults.
+SCENE: dict[str, float] = {"k_p": 10.0, "k_c": 300.0, "perturbation": 0.2, "v_b": 0.01}
+#: Law of each method: the smooth ones take the regularised Stribeck law, the set-valued ones
+#: its set-valued counterpart, Coulomb.
+METHODS: dict[str, str] = {"rk4": "stribeck", "dopri5": "stribeck", "dop853": "stribeck",
+                           "radau5": "stribeck", "implicit_euler": "stribeck", "galpha": "stribeck",
+                           "moreau": "coulomb", "event_driven": "coulomb"}
+FIXED_STEPS = (1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5)    # h [s]
+TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9)                       # rtol [-]
+#: The reference of each law's family.
+REFERENCE: dict[str, tuple[str, dict[str, float]]] = {
+    "stribeck": ("radau5", {"rtol": 1e-10, "atol": 1e-13}),
+    "coulomb": ("event_driven", {"rtol": 1e-10, "atol": 1e-13})}
+
+
+class Plan(NamedTuple):
+    """What one version of the study runs."""
+
+    t_end: float                   #: simulated time of each scaling run [s]
+    sizes: tuple[int, ...]         #: numbers of blocks N
+    target: float                  #: position error the settings must meet [m]
+    limit: dict[str, int]          #: largest N each method runs at (default: every N)
+    reference_limit: dict[str, int]   #: largest N each law's reference runs at
+    events_t_end: float            #: simulated time of the slip-event run [s]
+
+
+#: event_driven's events, and so its cost, grow with N on this chain (its cost per simulated
+#: second goes as N^2): it stops at 100 blocks in the quick study, 1,000 in the full one.
+#: Implicit Euler needs h <= 1e-5 s for 1e-4 m (first order, a large error constant): it stops
+#: at 1,000 blocks in the full study.
+QUICK = Plan(0.5, (1, 10, 100, 1000), 1e-3, {"event_driven": 100}, {"stribeck": 1000, "coulomb": 100},
+             1000.0)
+FULL = Plan(1.0, (1, 10, 100, 1000, 10000), 1e-4, {"event_driven": 1000, "implicit_euler": 1000},
+            {"stribeck": 10000, "coulomb": 1000}, 5000.0)
+N_OUT = 51
+MARKERS = {"rk4": "o", "dopri5": "s", "dop853": "<", "radau5": "^", "implicit_euler": "v", "galpha": "D",
+           "moreau": "P", "event_driven": "X"}
 SLIP_SPEED = 1e-6        # |v - v_b| above this is slipping [m/s]
 EVENT_BLOCKS = 100
+EVENT_DT = 0.05          # output grid of the slip-event run [s]
 
-HEADER = ["method [-]", "law [-]", "n_blocks [-]", "t_end [s]", "status [-]", "nstep [-]", "nfev [-]",
-          "nevents [-]", "cpu [s]", "cpu_per_step [s]", "cpu_per_simulated_second [-]",
-          "events_per_second [1/s]"]
+HEADER = ["method [-]", "law [-]", "n_blocks [-]", "t_end [s]", "control [-]", "setting [-]",
+          "error [m]", "target [m]", "status [-]", "nstep [-]", "nfev [-]", "nevents [-]", "cpu [s]",
+          "cpu_per_step [s]", "cpu_per_simulated_second [-]", "events_per_second [1/s]"]
 
 
-def measure(method: str, n_blocks: int, t_end: float) -> list[Any]:
-    """One run of `method` on a chain of n_blocks (output: 11 points)."""
+def preload(n_blocks: int) -> np.ndarray:
+    """Initial positions [m]: block i's springs to the wall hold mu_i m g, mu_i = mu_k + (mu_s -
+    mu_k) u_i between the kinetic and the static level, u_i = frac(i (sqrt 2 - 1)) (a sequence
+    unrelated to the normal forces' spread; m, g, k, mu_s, mu_k at their defaults)."""
     import stickslip as ss
-    law, ctl = METHODS[method]
+    d = ss.DEFAULTS
+    u = np.mod(np.arange(n_blocks) * (math.sqrt(2.0) - 1.0), 1.0)
+    wall = np.full(n_blocks, SCENE["k_p"])
+    wall[0] += d["k"]
+    return (d["mu_k"] + (d["mu_s"] - d["mu_k"]) * u) * d["m"] * d["g"] / wall
+
+
+def _run(method: str, law: str, n_blocks: int, t_end: float, **ctl: float) -> Any:
+    """The chain run (a Result; the partial one of a run that ended early)."""
+    import stickslip as ss
     try:
-        r = ss.simulate("chain", law, method=method, n_blocks=n_blocks, t_end=t_end, n_out=11, **ctl)
+        return ss.simulate("chain", law, method=method, n_blocks=n_blocks, t_end=t_end, n_out=N_OUT,
+                           x0=preload(n_blocks), **SCENE, **ctl)
     except ss.IntegrationError as e:
-        r = e.result
+        return e.result
+
+
+def _controls(method: str, setting: float) -> tuple[str, dict[str, float]]:
+    import stickslip as ss
+    if "h" in ss.REGISTRY["method"][method]["controls"]:
+        return "h", {"h": setting}
+    return "rtol", {"rtol": setting, "atol": 1e-3 * setting}
+
+
+def _error(r: Any, ref: Any) -> float:
+    """Max over blocks and output times of |x - x_ref| [m]; inf for a run that ended early."""
+    if r.stats["status"] != 0:
+        return math.inf
+    return float(np.max(np.abs(np.atleast_2d(r.x) - np.atleast_2d(ref.x))))
+
+
+def ladder(method: str) -> tuple[float, ...]:
+    """The method's settings from coarse to fine: FIXED_STEPS or TOLERANCES."""
+    return FIXED_STEPS if _controls(method, 1.0)[0] == "h" else TOLERANCES
+
+
+def at_target(method: str, n_blocks: int, plan: Plan, ref: Any | None,
+              carried: float | None) -> list[Any]:
+    """The CSV row of `method` on N blocks at the plan's target (see the module notes). With a
+    reference the ladder starts one setting coarser than `carried` (the setting kept at the
+    previous N; a larger chain rarely allows a coarser one); without, `carried` is run."""
+    law = METHODS[method]
+    kind = _controls(method, 1.0)[0]
+    settings = ladder(method)
+    if ref is None:                               # no reference here: the setting carried over
+        setting = carried if carried is not None else settings[-1]
+        r, err = _run(method, law, n_blocks, plan.t_end, **_controls(method, setting)[1]), math.nan
+    else:
+        first = max(0, settings.index(carried) - 1) if carried is not None else 0
+        tried: list[tuple[float, Any, float]] = []
+        chosen = None
+        for setting in settings[first:]:
+            r = _run(method, law, n_blocks, plan.t_end, **_controls(method, setting)[1])
+            tried.append((setting, r, _error(r, ref)))
+            if len(tried) >= 2 and tried[-2][2] <= plan.target and tried[-1][2] <= plan.target:
+                chosen = tried[-2]
+                break
+        if chosen is None:                        # not met, or met only by the finest setting
+            chosen = tried[-1]
+        setting, r, err = chosen
     s = r.stats
     cpu = s["cpu_seconds"]
-    return [method, law, n_blocks, t_end, s["status"], s["nstep"], s["nfev"], s["nevents"], cpu,
-            cpu / max(s["nstep"], 1), cpu / s["t_reached"] if s["t_reached"] > 0 else math.nan,
-            s["nevents"] / t_end if method == "event_driven" else math.nan]
+    return [method, law, n_blocks, plan.t_end, kind, setting, err, plan.target, s["status"], s["nstep"],
+            s["nfev"], s["nevents"], cpu, cpu / max(s["nstep"], 1),
+            cpu / s["t_reached"] if s["t_reached"] > 0 else math.nan,
+            s["nevents"] / plan.t_end if method == "event_driven" else math.nan]
 
 
-def event_sizes(t_end: float) -> np.ndarray:
-    """Sizes of the slip events of a moreau run on EVENT_BLOCKS blocks (see the module notes)."""
-    import stickslip as ss
+def scaling(plan: Plan, quiet: bool = False) -> list[list[Any]]:
+    """Every method at every N of the plan (the rows of chain.csv)."""
+    rows: list[list[Any]] = []
+    carried: dict[str, float] = {}
+    for n_blocks in plan.sizes:
+        refs = {}
+        for law, (method, ctl) in REFERENCE.items():
+            if n_blocks <= plan.reference_limit[law]:
+                c.log(f"cases.chain: reference {method} ({law}), N = {n_blocks}", quiet)
+                refs[law] = _run(method, law, n_blocks, plan.t_end, **ctl)
+        for method, law in METHODS.items():
+            if n_blocks > plan.limit.get(method, n_blocks):
+                continue
+            c.log(f"cases.chain: {method}, N = {n_blocks}", quiet)
+            row = at_target(method, n_blocks, plan, refs.get(law), carried.get(method))
+            if law in refs and row[6] <= plan.target:
+                carried[method] = row[5]
+            rows.append(row)
+    return rows
+
+
+def slip_events(slipping: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The connected pieces of a (blocks, times) boolean array, neighbours along the chain or
+    in time (not diagonal): each piece's number of distinct blocks and its first time index,
+    in the order of their first element (block-major)."""
     from scipy import ndimage
-    r = ss.simulate("chain", "coulomb", method="moreau", h=1e-3, n_blocks=EVENT_BLOCKS, t_end=t_end,
-                    every_step=True)
-    slipping = np.abs(r.v - r.params["v_b"]) > SLIP_SPEED          # (blocks, steps)
-    labels, count = ndimage.label(slipping)
-    sizes = np.zeros(count, dtype=np.int64)
+    labels, _ = ndimage.label(slipping)
+    sizes, starts = [], []
     for k, piece in enumerate(ndimage.find_objects(labels)):
-        rows = np.any(labels[piece] == k + 1, axis=1)
-        sizes[k] = int(rows.sum())
-    return sizes
+        mine = labels[piece] == k + 1
+        sizes.append(int(np.any(mine, axis=1).sum()))
+        starts.append(int(piece[1].start + np.flatnonzero(np.any(mine, axis=0))[0]))
+    return np.array(sizes, dtype=np.int64), np.array(starts, dtype=np.int64)
+
+
+def event_sizes(t_end: float) -> tuple[np.ndarray, np.ndarray]:
+    """Sizes [blocks] and start times [s] of the slip events of a moreau run on EVENT_BLOCKS
+    blocks (see the module notes)."""
+    import stickslip as ss
+    n_out = int(round(t_end / EVENT_DT)) + 1
+    r = ss.simulate("chain", "coulomb", method="moreau", h=1e-3, n_blocks=EVENT_BLOCKS, t_end=t_end,
+                    n_out=n_out, x0=preload(EVENT_BLOCKS), **SCENE)
+    skip = n_out // 10
+    sizes, first = slip_events(np.abs(r.v[:, skip:] - SCENE["v_b"]) > SLIP_SPEED)
+    return sizes, r.t[skip + first]
 
 
 def fit_exponent(n: np.ndarray, cost: np.ndarray) -> float:
@@ -99,21 +216,28 @@ def fit_exponent(n: np.ndarray, cost: np.ndarray) -> float:
     return float(np.polyfit(np.log(n[keep]), np.log(cost[keep]), 1)[0])
 
 
+def size_fit(sizes: np.ndarray, largest: int = 10) -> tuple[float, float]:
+    """(b, a) of counts = a size^-b fitted (least squares in log-log) to the counts of sizes
+    1 .. `largest` that occur (nan, nan with fewer than 3 such sizes): a description of the
+    small events, not a claim of a power law."""
+    counts = np.bincount(sizes, minlength=largest + 1)[1:largest + 1]
+    s = np.arange(1, largest + 1)
+    keep = counts > 0
+    if keep.sum() < 3:
+        return math.nan, math.nan
+    slope, log_a = np.polyfit(np.log(s[keep]), np.log(counts[keep]), 1)
+    return float(-slope), float(math.exp(log_a))
+
+
 def run(outdir: str | Path, *, full: bool = False, quiet: bool = False) -> list[Path]:
     """Run the study and write its CSV files and figures."""
     outdir = Path(outdir)
-    t_end = 10.0 if full else 1.0
-    rows = []
-    for method in METHODS:
-        for nb in SIZES_FULL if full else SIZES_QUICK:
-            if nb > LIMIT.get(method, nb):
-                continue
-            c.log(f"cases.chain: {method}, N = {nb}", quiet)
-            rows.append(measure(method, nb, t_end))
-    csv_path = c.write_csv(outdir / "chain.csv", HEADER, rows)
-    sizes = event_sizes(100.0 if full else 20.0)
-    ev_path = c.write_csv(outdir / "chain_events.csv", ["event [-]", "size [blocks]"],
-                          [[k, s] for k, s in enumerate(sizes)])
+    plan = FULL if full else QUICK
+    csv_path = c.write_csv(outdir / "chain.csv", HEADER, scaling(plan, quiet))
+    c.log(f"cases.chain: slip events, N = {EVENT_BLOCKS}, {plan.events_t_end:g} s", quiet)
+    sizes, starts = event_sizes(plan.events_t_end)
+    ev_path = c.write_csv(outdir / "chain_events.csv", ["event [-]", "size [blocks]", "start [s]"],
+                          [[k, s, t] for k, (s, t) in enumerate(zip(sizes, starts))])
     return [csv_path, ev_path, *plot(csv_path, ev_path, outdir)]
 
 
@@ -122,34 +246,57 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
     cols = c.read_csv(csv_path)
     method = np.array(cols["method [-]"])
     n = np.array(cols["n_blocks [-]"], dtype=float)
-    cost = np.array(cols["cpu_per_step [s]"], dtype=float)
-    fig, ax = c.new_figure()
+    per_second = np.array(cols["cpu_per_simulated_second [-]"], dtype=float)
+    per_step = np.array(cols["cpu_per_step [s]"], dtype=float)
+    error = np.array(cols["error [m]"], dtype=float)
+    target = float(cols["target [m]"][0]) if len(cols["target [m]"]) else math.nan
+    fig, (ax_t, ax_s) = c.new_figure(2)
     for m in METHODS:
         sel = method == m
         if not sel.any():
             continue
-        p = fit_exponent(n[sel], cost[sel])
-        color, marker = STYLE[m]
-        fit = f"exponent {p:.2f}" if math.isfinite(p) else "run to N = 100: no fit"
-        ax.loglog(n[sel], cost[sel] * 1e6, marker=marker, color=color, label=f"{style.name(m)} ({fit})")
-    ax.set_xlabel("number of blocks N [-]")
-    ax.set_ylabel("CPU time per step [microseconds]")
-    ax.set_title("Cost per step against the number of contacts (fit over N >= 100)")
-    ax.legend()
+        color, marker = style.METHOD_COLORS.get(m, "#000000"), MARKERS[m]
+        p_t, p_s = fit_exponent(n[sel], per_second[sel]), fit_exponent(n[sel], per_step[sel])
+        fits = ", ".join(f"{f:.2f}" if math.isfinite(f) else "-" for f in (p_t, p_s))
+        kw = dict(color=color, marker=marker, markeredgecolor="#000000", markeredgewidth=0.4)
+        ax_t.loglog(n[sel], per_second[sel], label=f"{style.name(m)} (exponents {fits})", **kw)
+        hollow = sel & ~np.isfinite(error)
+        if hollow.any():
+            ax_t.loglog(n[hollow], per_second[hollow], linestyle="none", marker=marker, markersize=9,
+                        markerfacecolor="white", markeredgecolor=color)
+        ax_s.loglog(n[sel], per_step[sel] * 1e6, **kw)
+    ax_t.set_xlabel("number of blocks N [-]")
+    ax_t.set_ylabel("CPU seconds per simulated second [-]")
+    ax_t.set_title(f"At position error <= {target:g} m")
+    ax_s.set_xlabel("number of blocks N [-]")
+    ax_s.set_ylabel("CPU time per step [microseconds]")
+    ax_s.set_title("Per step, same runs")
+    c.figure_legend(fig, [ax_t], ncol=3, caption=(
+        "Exponents fitted over N >= 100: cost per simulated second at the target, then cost per step. "
+        "Hollow: error not measured (no reference at that N; the setting of the largest N with one)."))
     out = [c.save_figure(fig, outdir / "chain.png")]
+
     sizes = np.array(c.read_csv(ev_path)["size [blocks]"], dtype=int)
     fig, ax = c.new_figure()
     if sizes.size:
+        # integer bins [lo, hi): one size each up to 10, then logarithmic; a bin is drawn at the
+        # geometric mean of its smallest and largest size
         edges = np.unique(np.round(np.logspace(0, math.log10(max(sizes.max(), 2)) + 0.01, 20)))
         counts, edges = np.histogram(sizes, bins=np.append(edges, edges[-1] + 1))
-        centres = np.sqrt(edges[:-1] * edges[1:])
-        widths = np.diff(edges)
+        centres = np.sqrt(edges[:-1] * (edges[1:] - 1))
         keep = counts > 0
-        ax.loglog(centres[keep], counts[keep] / widths[keep], marker="o", linestyle="none",
-                  color=STYLE["moreau"][0])
+        ax.loglog(centres[keep], counts[keep] / np.diff(edges)[keep], marker="o", linestyle="none",
+                  color=style.METHOD_COLORS["moreau"], label="events per unit size")
+        b, a = size_fit(sizes)
+        if math.isfinite(b):
+            s = np.arange(1, 11)
+            ax.loglog(s, a * s ** -b, color=style.OKABE_ITO["vermillion"], linestyle="--",
+                      label=f"{a:.0f} size^-{b:.2f}, fitted to sizes 1-10")
+        whole = int((sizes >= EVENT_BLOCKS).sum())
+        ax.set_title(f"Slip-event sizes, {EVENT_BLOCKS} blocks: {sizes.size} events, {whole} of the whole chain")
+        ax.legend()
     ax.set_xlabel("event size: blocks that slip together [-]")
     ax.set_ylabel("events per unit size [-]")
-    ax.set_title(f"Slip-event sizes, {EVENT_BLOCKS} blocks, moreau h = 1e-3 s ({sizes.size} events)")
     out.append(c.save_figure(fig, outdir / "chain_events.png"))
     return out
 
@@ -160,7 +307,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser.add_argument("--outdir", type=Path, default=Path("out"),
                         help="directory for CSV and figure files (default: out/)")
     parser.add_argument("--full", action="store_true",
-                        help="t_end = 10 s and N up to 10,000 (default: t_end = 1 s, N up to 1,000)")
+                        help="t_end = 1 s, N up to 10,000, target 1e-4 m, 5,000 s of slip events "
+                             "(default: 0.5 s, N up to 1,000, 1e-3 m, 1,000 s)")
     parser.add_argument("--threads", type=c.count, default=1,
                         help="accepted for python -m cases; the runs are serial (default 1)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")

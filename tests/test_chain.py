@@ -267,11 +267,51 @@ def test_cases_chain_fits_the_exponent_and_plots_from_the_csv(tmp_path):
     n = np.array([1.0, 10.0, 100.0, 300.0, 1000.0])
     assert chain.fit_exponent(n, 2e-7 * n**1.1) == pytest.approx(1.1, abs=1e-12)
     assert np.isnan(chain.fit_exponent(n[:3], n[:3]))          # one point with N >= 100
-    rows = [[m, law, int(k), 1.0, 0, 100, 400, 0, 1e-6 * k, 1e-8 * k, 1e-6 * k, float("nan")]
-            for m, (law, _) in chain.METHODS.items() for k in n]
+    rows = [[m, law, int(k), 0.5, "h", 1e-3, 1e-4 if k < 1000 else float("nan"), 1e-3, 0, 100, 400, 0,
+             1e-6 * k, 1e-8 * k, 1e-6 * k, float("nan")] for m, law in chain.METHODS.items() for k in n]
     csv = _common.write_csv(tmp_path / "chain.csv", chain.HEADER, rows)
-    ev = _common.write_csv(tmp_path / "chain_events.csv", ["event [-]", "size [blocks]"],
-                           [[0, 1], [1, 3], [2, 3], [3, 40]])
+    ev = _common.write_csv(tmp_path / "chain_events.csv", ["event [-]", "size [blocks]", "start [s]"],
+                           [[0, 1, 0.0], [1, 3, 1.0], [2, 3, 2.0], [3, 100, 3.0]])
     files = chain.plot(csv, ev, tmp_path)
     assert [f.name for f in files] == ["chain.png", "chain_events.png"]
     assert all(f.stat().st_size > 0 and f.with_suffix(".pdf").exists() for f in files)
+
+
+def test_cases_chain_slip_events_are_connected_pieces():
+    from cases import chain
+    slipping = np.zeros((6, 8), dtype=bool)      # (blocks, times)
+    slipping[0, 1:3] = True                      # block 0 alone: size 1, starts at 1
+    slipping[2:5, 4] = True                      # blocks 2-4 at once: size 3, starts at 4
+    slipping[4, 5:7] = True                      # ... continued by block 4 in time: same event
+    slipping[5, 0] = True                        # block 5 at time 0: size 1
+    slipping[1, 6] = True                        # diagonal to nothing: size 1, starts at 6
+    sizes, first = chain.slip_events(slipping)
+    assert sorted(zip(first.tolist(), sizes.tolist())) == [(0, 1), (1, 1), (4, 3), (6, 1)]
+
+
+def test_cases_chain_size_fit_recovers_a_known_power_law():
+    from cases import chain
+    s = np.arange(1, 11)
+    sizes = np.repeat(s, np.round(5000.0 * s**-1.5).astype(int))
+    b, a = chain.size_fit(np.concatenate([sizes, [100, 100]]))   # events above 10 do not count
+    assert b == pytest.approx(1.5, abs=0.01) and a == pytest.approx(5000.0, rel=0.02)
+    assert np.isnan(chain.size_fit(np.array([1, 1, 2]))[0])     # two sizes: no fit
+
+
+def test_cases_chain_ladder_keeps_the_first_setting_confirmed_by_the_next(monkeypatch):
+    """at_target keeps the coarsest setting whose error and the next finer one's meet the
+    target (a lucky coarse setting followed by a failing one is not kept)."""
+    from cases import chain
+
+    class Fake:
+        def __init__(self, h):
+            self.h = h
+            self.stats = dict(status=0, nstep=int(1 / h), nfev=int(4 / h), nevents=0, cpu_seconds=h,
+                              t_reached=0.5)
+    errors = {1e-2: 5e-3, 5e-3: 5e-4, 2e-3: 2e-3, 1e-3: 8e-4, 5e-4: 4e-4, 2e-4: 1e-4}
+    monkeypatch.setattr(chain, "_run", lambda method, law, n, t, **ctl: Fake(ctl["h"]))
+    monkeypatch.setattr(chain, "_error", lambda r, ref: errors.get(r.h, 1e-5))
+    row = chain.at_target("rk4", 10, chain.QUICK, ref=object(), carried=None)
+    assert row[4:7] == ["h", 1e-3, 8e-4]          # 5e-3 passes but 2e-3 does not
+    row = chain.at_target("rk4", 10, chain.QUICK, ref=None, carried=5e-4)
+    assert row[5] == 5e-4 and np.isnan(row[6])
