@@ -238,7 +238,24 @@ def run(outdir: str | Path, *, full: bool = False, quiet: bool = False) -> list[
     sizes, starts = event_sizes(plan.events_t_end)
     ev_path = c.write_csv(outdir / "chain_events.csv", ["event [-]", "size [blocks]", "start [s]"],
                           [[k, s, t] for k, (s, t) in enumerate(zip(sizes, starts))])
-    return [csv_path, ev_path, *plot(csv_path, ev_path, outdir)]
+    md_path = c.write_text(outdir / "chain_events.md", events_summary(ev_path))
+    return [csv_path, ev_path, md_path, *plot(csv_path, ev_path, outdir)]
+
+
+#: Size classes of the event summary [blocks], (smallest, largest).
+SIZE_CLASSES = ((1, 1), (2, 3), (4, 10), (11, EVENT_BLOCKS - 1), (EVENT_BLOCKS, EVENT_BLOCKS))
+
+
+def events_summary(ev_path: Path) -> str:
+    """A Markdown table of the events by size class and the fit to the small ones, from the
+    events CSV alone."""
+    sizes = np.array(c.read_csv(ev_path)["size [blocks]"], dtype=int)
+    rows = [[f"{lo}" if lo == hi else f"{lo}-{hi}", int(((sizes >= lo) & (sizes <= hi)).sum())]
+            for lo, hi in SIZE_CLASSES]
+    rows.append(["all", int(sizes.size)])
+    b, a = size_fit(sizes)
+    return (c.markdown_table(["event size [blocks]", "events"], rows) + "\n"
+            + f"Sizes 1-10: counts = {a:.3g} size^-{b:.3g} (least squares in log-log).\n")
 
 
 def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:

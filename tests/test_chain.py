@@ -277,6 +277,17 @@ def test_cases_chain_fits_the_exponent_and_plots_from_the_csv(tmp_path):
     assert all(f.stat().st_size > 0 and f.with_suffix(".pdf").exists() for f in files)
 
 
+def test_cases_chain_events_summary_counts_by_size_class(tmp_path):
+    from cases import _common, chain
+    sizes = [1] * 40 + [2] * 10 + [3] * 5 + [7] * 2 + [50] + [100] * 3
+    ev = _common.write_csv(tmp_path / "chain_events.csv", ["event [-]", "size [blocks]", "start [s]"],
+                           [[k, s, float(k)] for k, s in enumerate(sizes)])
+    text = chain.events_summary(ev)
+    for row in ("| 1 | 40 |", "| 2-3 | 15 |", "| 4-10 | 2 |", "| 11-99 | 1 |", "| 100 | 3 |", "| all | 61 |"):
+        assert row in text, row
+    assert "size^-" in text
+
+
 def test_cases_chain_slip_events_are_connected_pieces():
     from cases import chain
     slipping = np.zeros((6, 8), dtype=bool)      # (blocks, times)
