@@ -274,9 +274,10 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
             continue
         color, marker = style.METHOD_COLORS.get(m, "#000000"), MARKERS[m]
         p_t, p_s = fit_exponent(n[sel], per_second[sel]), fit_exponent(n[sel], per_step[sel])
-        fits = ", ".join(f"{f:.2f}" if math.isfinite(f) else "-" for f in (p_t, p_s))
+        fits = (f"exponents {p_t:.2f}, {p_s:.2f}" if math.isfinite(p_t) and math.isfinite(p_s)
+                else f"run to N = {n[sel].max():.0f}: no fit")
         kw = dict(color=color, marker=marker, markeredgecolor="#000000", markeredgewidth=0.4)
-        ax_t.loglog(n[sel], per_second[sel], label=f"{style.name(m)} (exponents {fits})", **kw)
+        ax_t.loglog(n[sel], per_second[sel], label=f"{style.name(m)} ({fits})", **kw)
         hollow = sel & ~np.isfinite(error)
         if hollow.any():
             ax_t.loglog(n[hollow], per_second[hollow], linestyle="none", marker=marker, markersize=9,
