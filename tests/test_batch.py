@@ -120,8 +120,8 @@ def test_one_block_chain_row_is_the_belt_row() -> None:
 
 
 @pytest.mark.parametrize("kwargs, match", [
-    (dict(n_blocks=[3, 0]), r"row 1: n_blocks: must be an integer in \[1, 1000000\], got 0"),
-    (dict(n_blocks=2.5), r"row 0: n_blocks: must be an integer"),
+    (dict(n_blocks=[3, 0]), r"row 1 \(chain, coulomb, moreau\): n_blocks: must be an integer in \[1, 1000000\], got 0"),
+    (dict(n_blocks=2.5), r"row 0 \(chain, coulomb, moreau\): n_blocks: must be an integer"),
     (dict(n_blocks=10**6, n_grid=1001), r"n_blocks: the batch needs .* GB.*lower n_blocks"),
     (dict(n_blocks=300, n_grid=201, keep_grid=True, t_end=[1.0] * 200), r"keep_grid: 200 rows x 201"),
 ])

@@ -318,5 +318,16 @@ def test_doc_tables_notice_a_changed_number(tmp_path) -> None:
     assert doctables.refresh(page)[1] == [3]
 
 
+def test_doc_tables_format_a_column_one_way(tmp_path) -> None:
+    """A column of integers is shown whole; a column that mixes integral and other numbers
+    (a float CSV cell written as "597124") shows all of them to `digits`."""
+    doctables = _doctables()
+    (tmp_path / "r.csv").write_text("n [-],ns [ns]\n61,27901.5\n50,597124\n")
+    page = tmp_path / "page.md"
+    page.write_text("<!-- table: r.csv\ndigits: 3\n-->\n<!-- end table -->\n")
+    text, _ = doctables.refresh(page)
+    assert "| 61 | 2.79e+04 |" in text and "| 50 | 5.97e+05 |" in text
+
+
 if __name__ == "__main__":
     print("\n".join(all_undocumented()) or "every public entity is documented")

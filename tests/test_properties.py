@@ -118,4 +118,6 @@ def test_simulate_batch_rows_end_named_or_finite(rows):
         assert _named(err), str(err)
         return
     assert len(b) == len(rows)
-    assert np.all(np.isfinite(b.y_end)) and np.all(np.isfinite(b.v_max))
+    for i, n in enumerate(b.n_state):      # each row's state finite, NaN beyond it (padding)
+        assert np.all(np.isfinite(b.y_end[i, :n])) and np.all(np.isnan(b.y_end[i, n:]))
+    assert np.all(np.isfinite(b.v_max))

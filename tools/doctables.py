@@ -16,7 +16,7 @@ page), and the table sits between that comment and `<!-- end table -->`:
 A Markdown source (`.md`) is embedded whole. A CSV source is rendered as a table of the chosen
 `columns` (the CSV header as written, then `= label` for the column's title in the page; all
 columns when omitted), keeping the rows whose cells match every `where` line (any of the listed
-values), numbers to `digits` significant digits (default 4; integers whole). Under each table
+values), numbers to `digits` significant digits (default 4; a column of integers whole). Under each table
 a line names the file and, from its provenance sidecar (cases/_provenance.py), the command,
 date and machine that wrote it. HTML comments show in neither GitHub's rendering nor the site.
 
@@ -72,16 +72,30 @@ def parse_spec(text: str, page: Path) -> Spec:
     return spec
 
 
-def cell(text: str, digits: int) -> str:
-    """A CSV cell for the page: integers whole, other numbers to `digits` significant digits."""
+def is_integer(text: str) -> bool:
+    """The cell is an integer literal."""
+    return re.fullmatch(r"[+-]?\d+", text.strip()) is not None
+
+
+def cell(text: str, digits: int, whole: bool = True) -> str:
+    """A CSV cell for the page: integers whole when `whole` (their column holds integers
+    only), other numbers to `digits` significant digits."""
     text = text.strip()
-    if re.fullmatch(r"[+-]?\d+", text):
+    if whole and is_integer(text):
         return text
     try:
         value = float(text)
     except ValueError:
         return text.replace("|", "\\|")
     return f"{value:.{digits}g}"
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def render_csv(spec: Spec) -> str:
@@ -96,7 +110,9 @@ def render_csv(spec: Spec) -> str:
     kept = [r for r in data if all(r[index[w]] in values for w, values in spec.where)]
     out = ["| " + " | ".join(label for _, label in columns) + " |",
            "|" + "---|" * len(columns)]
-    out += ["| " + " | ".join(cell(r[index[c]], spec.digits) for c, _ in columns) + " |"
+    # a column with a non-integer number shows all its numbers to `digits` (one format a column)
+    whole = {c: all(is_integer(r[index[c]]) or not _is_number(r[index[c]]) for r in kept) for c, _ in columns}
+    out += ["| " + " | ".join(cell(r[index[c]], spec.digits, whole[c]) for c, _ in columns) + " |"
             for r in kept]
     return "\n".join(out)
 

@@ -342,7 +342,7 @@ def _state_sizes(rows: dict[str, np.ndarray], cvals: np.ndarray, cnames: list[st
         try:
             n_blocks[i] = _n_blocks(given, method, int(nstate[i]), banded[i] == 0.0)
         except ValueError as exc:
-            raise ValueError(f"row {i}: {exc}") from None
+            raise ValueError(f"row {i} (chain, {rows['law'][i]}, {method}): {exc}") from None
     return nstate * n_blocks, n_blocks
 
 
