@@ -27,8 +27,9 @@ into connected pieces in (time, block); the size of an event is the number of bl
 piece.
 
 Writes ``chain.csv`` (one row per method and N), ``chain_events.csv`` (event sizes and start
-times), ``chain.png``/``.pdf`` (cost per simulated second at the target and cost per step
-against N, log-log, with fitted exponents) and ``chain_events.png``/``.pdf``.
+times), ``chain_events.md`` (the events by size class), ``chain.png``/``.pdf`` (cost per
+simulated second at the target and cost per step against N, log-log, with fitted exponents)
+and ``chain_events.png``/``.pdf``; with ``--full`` the same files named ``chain_full*``.
 """
 from __future__ import annotations
 
@@ -230,15 +231,16 @@ def size_fit(sizes: np.ndarray, largest: int = 10) -> tuple[float, float]:
 
 
 def run(outdir: str | Path, *, full: bool = False, quiet: bool = False) -> list[Path]:
-    """Run the study and write its CSV files and figures."""
+    """Run the study and write its CSV files and figures (named chain_full* with `full`, so
+    that both versions can sit in one directory)."""
     outdir = Path(outdir)
-    plan = FULL if full else QUICK
-    csv_path = c.write_csv(outdir / "chain.csv", HEADER, scaling(plan, quiet))
+    plan, stem = (FULL, "chain_full") if full else (QUICK, "chain")
+    csv_path = c.write_csv(outdir / f"{stem}.csv", HEADER, scaling(plan, quiet))
     c.log(f"cases.chain: slip events, N = {EVENT_BLOCKS}, {plan.events_t_end:g} s", quiet)
     sizes, starts = event_sizes(plan.events_t_end)
-    ev_path = c.write_csv(outdir / "chain_events.csv", ["event [-]", "size [blocks]", "start [s]"],
+    ev_path = c.write_csv(outdir / f"{stem}_events.csv", ["event [-]", "size [blocks]", "start [s]"],
                           [[k, s, t] for k, (s, t) in enumerate(zip(sizes, starts))])
-    md_path = c.write_text(outdir / "chain_events.md", events_summary(ev_path))
+    md_path = c.write_text(outdir / f"{stem}_events.md", events_summary(ev_path))
     return [csv_path, ev_path, md_path, *plot(csv_path, ev_path, outdir)]
 
 
@@ -259,7 +261,8 @@ def events_summary(ev_path: Path) -> str:
 
 
 def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
-    """The scaling figure and the event-size figure, from the CSV files alone."""
+    """The scaling figure and the event-size figure, from the CSV files alone (named after
+    them: <stem>.png and <stem>_events.png)."""
     cols = c.read_csv(csv_path)
     method = np.array(cols["method [-]"])
     n = np.array(cols["n_blocks [-]"], dtype=float)
@@ -282,6 +285,11 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
         if hollow.any():
             ax_t.loglog(n[hollow], per_second[hollow], linestyle="none", marker=marker, markersize=9,
                         markerfacecolor="white", markeredgecolor=color)
+        missed = sel & np.isfinite(error) & (error > target)
+        if missed.any():
+            ax_t.loglog(n[missed], per_second[missed], linestyle="none", marker="o", markersize=14,
+                        markerfacecolor="none", markeredgecolor=style.OKABE_ITO["vermillion"],
+                        markeredgewidth=1.5, label="target not met (the finest setting)")
         ax_s.loglog(n[sel], per_step[sel] * 1e6, **kw)
     ax_t.set_xlabel("number of blocks N [-]")
     ax_t.set_ylabel("CPU seconds per simulated second [-]")
@@ -292,7 +300,7 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
     c.figure_legend(fig, [ax_t], ncol=3, caption=(
         "Exponents fitted over N >= 100: cost per simulated second at the target, then cost per step. "
         "Hollow: error not measured (no reference at that N; the setting of the largest N with one)."))
-    out = [c.save_figure(fig, outdir / "chain.png")]
+    out = [c.save_figure(fig, outdir / f"{csv_path.stem}.png")]
 
     sizes = np.array(c.read_csv(ev_path)["size [blocks]"], dtype=int)
     fig, ax = c.new_figure()
@@ -315,7 +323,7 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
         ax.legend()
     ax.set_xlabel("event size: blocks that slip together [-]")
     ax.set_ylabel("events per unit size [-]")
-    out.append(c.save_figure(fig, outdir / "chain_events.png"))
+    out.append(c.save_figure(fig, outdir / f"{ev_path.stem}.png"))
     return out
 
 
@@ -331,9 +339,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="accepted for python -m cases; the runs are serial (default 1)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
-    files = run(args.outdir, full=args.full, quiet=args.quiet)
-    c.print_files(files)
-    return files
+    return c.finish("cases.chain", argv, run(args.outdir, full=args.full, quiet=args.quiet))
 
 
 if __name__ == "__main__":
