@@ -348,9 +348,10 @@ def _state_sizes(rows: dict[str, np.ndarray], cvals: np.ndarray, cnames: list[st
 
 def _check_memory(nstate: np.ndarray, n: int, n_grid: int, keep: bool, threads: int) -> None:
     """Refuse a batch whose arrays would exceed MAX_BATCH_VALUES doubles: the initial and final
-    states (n rows of the widest state), each thread's grid of its row, and the kept grids."""
+    states (n rows of the widest state; the final ones in the library, its wrapper and here),
+    each thread's grid of its row, and the kept grids."""
     nmax = int(nstate.max())
-    values = 2 * nmax * n + min(threads, n) * nmax * n_grid + (nmax * n * n_grid if keep else 0)
+    values = 4 * nmax * n + min(threads, n) * nmax * n_grid + (nmax * n * n_grid if keep else 0)
     if keep and nmax * n * n_grid > MAX_GRID_VALUES:
         raise ValueError(f"keep_grid: {n} rows x {n_grid} grid points x {nmax} state components exceed "
                          f"{MAX_GRID_VALUES} values; lower n_grid or drop keep_grid")
