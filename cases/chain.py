@@ -27,9 +27,11 @@ into connected pieces in (time, block); the size of an event is the number of bl
 piece.
 
 Writes ``chain.csv`` (one row per method and N), ``chain_events.csv`` (event sizes and start
-times), ``chain_events.md`` (the events by size class), ``chain.png``/``.pdf`` (cost per
-simulated second at the target and cost per step against N, log-log, with fitted exponents)
-and ``chain_events.png``/``.pdf``; with ``--full`` the same files named ``chain_full*``.
+times), ``chain_exponents.md`` (the fitted exponents), ``chain_events.md`` (the events by size
+class), ``chain.png``/``.pdf`` (cost per simulated second at the target and cost per step
+against N, log-log, with fitted exponents) and ``chain_events.png``/``.pdf``; with ``--full``
+the same files named ``chain_full*``. ``--replot`` redraws the figures and tables from the CSV
+files alone.
 """
 from __future__ import annotations
 
@@ -240,8 +242,30 @@ def run(outdir: str | Path, *, full: bool = False, quiet: bool = False) -> list[
     sizes, starts = event_sizes(plan.events_t_end)
     ev_path = c.write_csv(outdir / f"{stem}_events.csv", ["event [-]", "size [blocks]", "start [s]"],
                           [[k, s, t] for k, (s, t) in enumerate(zip(sizes, starts))])
-    md_path = c.write_text(outdir / f"{stem}_events.md", events_summary(ev_path))
-    return [csv_path, ev_path, md_path, *plot(csv_path, ev_path, outdir)]
+    return [csv_path, ev_path, *derived(csv_path, ev_path, outdir)]
+
+
+def derived(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
+    """What the CSV files give: <stem>_exponents.md, <stem>_events.md and the figures."""
+    return [c.write_text(outdir / f"{csv_path.stem}_exponents.md", exponents_summary(csv_path)),
+            c.write_text(outdir / f"{ev_path.stem}.md", events_summary(ev_path)),
+            *plot(csv_path, ev_path, outdir)]
+
+
+def exponents_summary(csv_path: Path) -> str:
+    """A Markdown table of each method's fitted exponents (fit_exponent) and its largest N,
+    from the scaling CSV alone."""
+    cols = c.read_csv(csv_path)
+    method = np.array(cols["method [-]"])
+    n = np.array(cols["n_blocks [-]"], dtype=float)
+    rows = []
+    for m in METHODS:
+        sel = method == m
+        if sel.any():
+            fits = [fit_exponent(n[sel], np.array(cols[k], dtype=float)[sel])
+                    for k in ("cpu_per_simulated_second [-]", "cpu_per_step [s]")]
+            rows.append([m, int(n[sel].max()), *(round(f, 2) if math.isfinite(f) else "" for f in fits)])
+    return c.markdown_table(["method", "largest N", "exponent at the target", "exponent per step"], rows)
 
 
 #: Size classes of the event summary [blocks], (smallest, largest).
@@ -338,8 +362,16 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser.add_argument("--threads", type=c.count, default=1,
                         help="accepted for python -m cases; the runs are serial (default 1)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    parser.add_argument("--replot", action="store_true",
+                        help="only redraw the figures and Markdown tables from the CSV files in --outdir "
+                             "(chain_full* with --full)")
     args = parser.parse_args(argv)
-    return c.finish("cases.chain", argv, run(args.outdir, full=args.full, quiet=args.quiet))
+    if args.replot:
+        stem = "chain_full" if args.full else "chain"
+        files = derived(args.outdir / f"{stem}.csv", args.outdir / f"{stem}_events.csv", args.outdir)
+    else:
+        files = run(args.outdir, full=args.full, quiet=args.quiet)
+    return c.finish("cases.chain", argv, files)
 
 
 if __name__ == "__main__":

@@ -272,9 +272,11 @@ def test_cases_chain_fits_the_exponent_and_plots_from_the_csv(tmp_path):
     csv = _common.write_csv(tmp_path / "chain.csv", chain.HEADER, rows)
     ev = _common.write_csv(tmp_path / "chain_events.csv", ["event [-]", "size [blocks]", "start [s]"],
                            [[0, 1, 0.0], [1, 3, 1.0], [2, 3, 2.0], [3, 100, 3.0]])
-    files = chain.plot(csv, ev, tmp_path)
-    assert [f.name for f in files] == ["chain.png", "chain_events.png"]
-    assert all(f.stat().st_size > 0 and f.with_suffix(".pdf").exists() for f in files)
+    files = chain.derived(csv, ev, tmp_path)
+    assert [f.name for f in files] == ["chain_exponents.md", "chain_events.md", "chain.png", "chain_events.png"]
+    assert all(f.stat().st_size > 0 for f in files)
+    assert all(f.with_suffix(".pdf").exists() for f in files if f.suffix == ".png")
+    assert "| rk4 | 1000 | 1 | 1 |" in files[0].read_text()      # cost 1e-6 N and 1e-8 N
 
 
 def test_cases_chain_events_summary_counts_by_size_class(tmp_path):
