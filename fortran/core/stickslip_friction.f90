@@ -94,6 +94,17 @@ module stickslip_friction
         !! h, the relative velocity going from v0 to v1 (same sign as dx, or 0): exact or
         !! exponential where a law overrides it, one TR-BDF2 step otherwise (`tr_bdf2_advance`).
         procedure :: advance => tr_bdf2_advance
+        !> .true. when `stage_states` solves the states' stage equation (a law whose rates
+        !! jump with the state, where Newton's method across the jump has no solution).
+        procedure :: condenses_states => no_condensed_states
+        !> The internal states' part of an implicit stage, z_s = z_u + c dz(v, z_s), solved for
+        !! a given relative velocity v (the Filippov solution where the rate jumps); only for
+        !! a law whose condenses_states is .true. (the default leaves z_s = z_u).
+        procedure :: stage_states => no_stage_states
+        !> mu [-] at v with states z moving at the rates dz (a condensed stage's rates, in
+        !! place of `evaluate`'s, which jump); only for a law whose condenses_states is .true.
+        !! (the default is mu(v)).
+        procedure :: stage_mu => plain_stage_mu
     end type friction_law
 
     abstract interface
@@ -151,6 +162,28 @@ contains
         class(friction_law), intent(in) :: self
         static_law = .true.
     end function static_law
+
+    pure logical function no_condensed_states(self)
+        class(friction_law), intent(in) :: self
+        no_condensed_states = .false.
+    end function no_condensed_states
+
+    pure real(dp) function plain_stage_mu(self, v, z, dz) result(mu)
+        class(friction_law), intent(in) :: self
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: z(:)        !! internal states
+        real(dp), intent(in) :: dz(:)       !! their rates
+        mu = self%mu(v)
+    end function plain_stage_mu
+
+    pure subroutine no_stage_states(self, v, z_u, c, z_s)
+        class(friction_law), intent(in) :: self
+        real(dp), intent(in)  :: v          !! relative sliding velocity at the stage [m/s]
+        real(dp), intent(in)  :: z_u(:)     !! the stage's base states (z_s = z_u + c dz)
+        real(dp), intent(in)  :: c          !! coefficient of the rate [s]
+        real(dp), intent(out) :: z_s(:)     !! the stage's states
+        z_s = z_u
+    end subroutine no_stage_states
 
     !> A static law: mu = mu(v), no states.
     subroutine static_evaluate(self, v, z, mu_hold, mu, dz)

@@ -41,6 +41,16 @@ module stickslip_ode
         procedure :: bandwidth => dense_bandwidth
         !> df/dy in the order of `bandwidth`, in band storage; the default packs `jacobian`.
         procedure :: band_jacobian => packed_band_jacobian
+        !> The components (mask) whose part of a stage equation k = f(t, u + c k) the system
+        !! solves itself (`condense_stage`), where a rate that jumps with the state leaves
+        !! Newton's method without a solution; the default: none (mask all .false.).
+        procedure :: condensed_components => no_condensed_components
+        !> Overwrite the condensed components of the stage derivative k so that they solve
+        !! their part of k = f(t, u + c k) given the others; the default: nothing to do.
+        procedure :: condense_stage => no_condense_stage
+        !> f at a stage state y whose condensed components move at the rates k holds (their
+        !! part of the stage, set by condense_stage); the default: rhs.
+        procedure :: stage_rhs => plain_stage_rhs
     end type ode_system
 
     !> The controls every integrator shares; each method reads those its registry entry
@@ -202,6 +212,34 @@ contains
             nsteps = nsteps - 1.0_dp
         end do
     end function step_count
+
+    !> The default: no component is condensed.
+    subroutine no_condensed_components(self, mask)
+        class(ode_system), intent(in) :: self
+        !! the system
+        logical, intent(out) :: mask(:)     !! (n) .true. for a component condense_stage solves
+        mask = .false.
+    end subroutine no_condensed_components
+
+    !> The default: nothing is condensed, k is left as it is.
+    subroutine no_condense_stage(self, u, c, k)
+        class(ode_system), intent(inout) :: self
+        !! the system
+        real(dp), intent(in)    :: u(:)     !! the stage state is u + c k
+        real(dp), intent(in)    :: c        !! coefficient of k in the stage state [s]
+        real(dp), intent(inout) :: k(:)     !! stage derivative; its condensed components on exit
+    end subroutine no_condense_stage
+
+    !> The default: f(t, y), nothing condensed.
+    subroutine plain_stage_rhs(self, t, y, k, f)
+        class(ode_system), intent(inout) :: self
+        !! the system
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! stage state
+        real(dp), intent(in)  :: k(:)       !! stage derivative (its condensed components read)
+        real(dp), intent(out) :: f(:)       !! f(t, y)
+        call self%rhs(t, y, f)
+    end subroutine plain_stage_rhs
 
     !> The default band: none (ml = mu = -1, perm the identity).
     subroutine dense_bandwidth(self, perm, ml, mu)

@@ -81,6 +81,12 @@ module stickslip_law_gms
         procedure :: evaluate => gms_evaluate
         !> Flow over a substep of prescribed motion (exact at a constant velocity).
         procedure :: advance => gms_advance
+        procedure :: condenses_states => gms_condenses
+        !! .true.: gms_stage_states solves the elements' stage
+        procedure :: stage_states => gms_stage_states
+        !! each element's implicit stage in closed form (stick, relax, or on its slip level)
+        procedure :: stage_mu => gms_stage_mu
+        !! mu = sum (k z_i + sigma1/N z_i') + sigma2 v with the stage's rates z_i'
     end type gms_law
 
 contains
@@ -144,6 +150,56 @@ contains
         end do
         mu = self%k * sum(z(1:self%n)) + self%sigma1 / real(self%n, dp) * sum(dz(1:self%n)) + self%sigma2 * v
     end subroutine gms_evaluate
+
+    pure real(dp) function gms_stage_mu(self, v, z, dz) result(mu)
+        class(gms_law), intent(in) :: self
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: z(:)        !! element deflections [m]
+        real(dp), intent(in) :: dz(:)       !! their rates [m/s]
+        mu = self%k * sum(z(1:self%n)) + self%sigma1 / real(self%n, dp) * sum(dz(1:self%n)) + self%sigma2 * v
+    end function gms_stage_mu
+
+    pure logical function gms_condenses(self)
+        class(gms_law), intent(in) :: self
+        gms_condenses = .true.
+    end function gms_condenses
+
+    !> The stage z_s = z_u + c dz(v, z_s) of every element at the relative velocity v. In the
+    !! element force p = k z sgn(v) and its level L = alpha_i s(v) the rate is k |v| below L,
+    !! C (1 - p/L) above it and anything between at L, so p - c dp/dt is increasing and the
+    !! stage has one solution: p_u + c k |v| if that is below L (the element sticks through
+    !! the stage), (p_u + c C)/(1 + c C/L) if p_u is above L (it relaxes: backward Euler of the
+    !! linear slip law), L otherwise (it reaches its level and stays on it: the Filippov
+    !! solution, where the equation with `evaluate`'s rates has none). At v = 0 every element
+    !! sticks: z_s = z_u.
+    pure subroutine gms_stage_states(self, v, z_u, c, z_s)
+        class(gms_law), intent(in) :: self
+        real(dp), intent(in)  :: v          !! relative sliding velocity at the stage [m/s]
+        real(dp), intent(in)  :: z_u(:)     !! the stage's base deflections [m]
+        real(dp), intent(in)  :: c          !! coefficient of the rate [s]
+        real(dp), intent(out) :: z_s(:)     !! the stage's deflections [m]
+        real(dp) :: s, sg, level, p_u, p_s
+        integer :: i
+        if (v == 0.0_dp) then
+            z_s = z_u
+            return
+        end if
+        s = self%g(v)
+        sg = sign(1.0_dp, v)
+        do i = 1, self%n
+            level = self%frac(i) * s
+            p_u = self%k * z_u(i) * sg
+            if (p_u + c * self%k * abs(v) < level) then
+                z_s(i) = z_u(i) + c * v
+                cycle
+            else if (p_u > level) then
+                p_s = (p_u + c * self%c) / (1.0_dp + c * self%c / level)
+            else
+                p_s = level
+            end if
+            z_s(i) = p_s * sg / self%k
+        end do
+    end subroutine gms_stage_states
 
     !> The flow over a substep of prescribed motion (module notes), in the element forces
     !! f_i = k z_i sgn(dx) with the levels L_i = alpha_i s(v) going from L_i(v0) to L_i(v1):

@@ -91,6 +91,12 @@ module stickslip_chain
         !! block 1's relative velocity v_b - v_1 [m/s]
         procedure :: monitored_body => chain_monitored_body
         !! block 1's position [m] and velocity [m/s]
+        procedure :: condensed_components => chain_condensed_components
+        !! every block's law states, when the law solves their stage itself
+        procedure :: condense_stage => chain_condense_stage
+        !! each block's law states from the law's stage_states at its relative velocity
+        procedure :: stage_rhs => chain_stage_rhs
+        !! f at a stage state with the law's states moving at the stage's rates
         procedure :: contact_model => chain_contact_model
         !! the chain as a `chain_contact`
         procedure :: static_rhs => chain_static_rhs
@@ -343,6 +349,52 @@ contains
         real(dp) :: xv(2)               !! (x_1 [m], v_1 [m/s])
         xv = [y(1), y(self%nb + 1)]
     end function chain_monitored_body
+
+    subroutine chain_condensed_components(self, mask)
+        class(chain_scene), intent(in) :: self
+        logical, intent(out) :: mask(:)     !! (N (2 + nz)) .true. for the law's states
+        mask = .false.
+        if (self%law%condenses_states()) mask(2 * self%nb + 1:) = .true.
+    end subroutine chain_condensed_components
+
+    subroutine chain_condense_stage(self, u, c, k)
+        class(chain_scene), intent(inout) :: self
+        real(dp), intent(in)    :: u(:)     !! the stage state is u + c k
+        real(dp), intent(in)    :: c        !! coefficient of k in the stage state [s]
+        real(dp), intent(inout) :: k(:)     !! stage derivative; the law states' part on exit
+        real(dp) :: z_s(self%nz)
+        integer :: i, n, iz
+        if (.not. self%law%condenses_states() .or. c <= 0.0_dp) return
+        n = self%nb
+        do i = 1, n
+            iz = 2 * n + (i - 1) * self%nz
+            call self%law%stage_states(self%v_b - (u(n + i) + c * k(n + i)), u(iz + 1:iz + self%nz), c, z_s)
+            k(iz + 1:iz + self%nz) = (z_s - u(iz + 1:iz + self%nz)) / c
+        end do
+    end subroutine chain_condense_stage
+
+    subroutine chain_stage_rhs(self, t, y, k, f)
+        class(chain_scene), intent(inout) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! stage state (x_1..x_N [m], v_1..v_N [m/s], z)
+        real(dp), intent(in)  :: k(:)       !! stage derivative (the law states' part read)
+        real(dp), intent(out) :: f(:)       !! (v [m/s], accelerations [m/s^2], z rates)
+        real(dp) :: a, mu_hold
+        integer :: i, n, nz, iz
+        if (.not. self%law%condenses_states()) then
+            call self%rhs(t, y, f)
+            return
+        end if
+        n = self%nb
+        nz = self%nz
+        do i = 1, n
+            iz = 2 * n + (i - 1) * nz
+            call spring(self, y(1:n), i, a, mu_hold)
+            f(i) = y(n + i)
+            f(n + i) = a + self%law%stage_mu(self%v_b - y(n + i), y(iz + 1:iz + nz), k(iz + 1:iz + nz)) * self%g(i)
+            f(iz + 1:iz + nz) = k(iz + 1:iz + nz)
+        end do
+    end subroutine chain_stage_rhs
 
     !> (x, v)' of the one-block chain (the belt) for a static law whose coefficient at the
     !! relative velocity is mu (as chain_static_jacobian: the modes' stage solve of the

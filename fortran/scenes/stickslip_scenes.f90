@@ -62,6 +62,13 @@ module stickslip_scenes
         !> Position [m] and velocity [m/s] of the monitored body: the one whose contact
         !! `relative_velocity` reads (the only body; block 1 on the chain).
         procedure :: monitored_body => scene_monitored_body
+        !> The law's internal states, when the law solves their stage itself (`stage_states`).
+        procedure :: condensed_components => scene_condensed_components
+        !> The internal states' part of a stage from the law's `stage_states` at the stage's
+        !! relative velocity.
+        procedure :: condense_stage => scene_condense_stage
+        !> f at a stage state with the law's states moving at the stage's rates.
+        procedure :: stage_rhs => scene_stage_rhs
         !> The analytic 2 x 2 Jacobian of the scene with a static law.
         procedure(static_jacobian_iface), deferred :: static_jacobian
         !> The Jacobian: analytic for a static law, finite differences otherwise.
@@ -208,6 +215,44 @@ contains
         class(friction_scene), intent(in) :: self
         scene_n_states = 2 + self%nz
     end function scene_n_states
+
+    !> The states z (components 3 ..) of a one-contact scene whose law condenses them.
+    subroutine scene_condensed_components(self, mask)
+        class(friction_scene), intent(in) :: self
+        logical, intent(out) :: mask(:)     !! (2 + nz) .true. for the law's states
+        mask = .false.
+        if (self%law%condenses_states()) mask(3:) = .true.
+    end subroutine scene_condensed_components
+
+    !> k(3:) = (z_s - u(3:)) / c with z_s the law's stage states at the relative velocity of
+    !! the stage state u + c k (its x and v read from k(1:2)).
+    subroutine scene_condense_stage(self, u, c, k)
+        class(friction_scene), intent(inout) :: self
+        real(dp), intent(in)    :: u(:)     !! the stage state is u + c k
+        real(dp), intent(in)    :: c        !! coefficient of k in the stage state [s]
+        real(dp), intent(inout) :: k(:)     !! stage derivative; its states' part on exit
+        real(dp) :: ys(size(u)), z_s(size(u) - 2)
+        if (.not. self%law%condenses_states() .or. c <= 0.0_dp) return
+        ys = u + c * k
+        call self%law%stage_states(self%relative_velocity(ys), u(3:), c, z_s)
+        k(3:) = (z_s - u(3:)) / c
+    end subroutine scene_condense_stage
+
+    !> f at the stage state y of a one-contact scene: the law's states move at the rates k(3:)
+    !! of the stage (condense_stage), and mu is the law's at those rates (`stage_mu`).
+    subroutine scene_stage_rhs(self, t, y, k, f)
+        class(friction_scene), intent(inout) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! stage state (x [m], v [m/s], z)
+        real(dp), intent(in)  :: k(:)       !! stage derivative (k(3:) read)
+        real(dp), intent(out) :: f(:)       !! (v [m/s], acceleration [m/s^2], z rates)
+        if (.not. self%law%condenses_states()) then
+            call self%rhs(t, y, f)
+            return
+        end if
+        call self%static_rhs(y, self%law%stage_mu(self%relative_velocity(y), y(3:), k(3:)), f)
+        f(3:) = k(3:)
+    end subroutine scene_stage_rhs
 
     pure function scene_monitored_body(self, y) result(xv)
         class(friction_scene), intent(in) :: self
