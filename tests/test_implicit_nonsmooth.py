@@ -149,6 +149,27 @@ def test_every_pair():
     assert seen == set(PREDICTED)
 
 
+# The belt started stuck (v0 = v_b, relative velocity 0), 1 s: the errors the documentation
+# predicts (docs/guide/implicit-nonsmooth.md). The proposed law's slope is infinite at
+# v_rel = 0, where the run starts: generalized-alpha's Newton iteration fails there at the
+# small step; the bristle laws' RK4 runs blow up as from rest.
+PREDICTED_STUCK = {
+    ("belt", "proposed", "galpha", "h=1e-4"): "NEWTON_FAILED",
+    ("belt", "lugre", "rk4", "h=1e-3"): "NONFINITE",
+    ("belt", "elastoplastic", "rk4", "h=1e-3"): "NONFINITE",
+    ("belt", "elastoplastic", "rk4", "h=1e-4"): "NONFINITE",
+    ("belt", "dahl", "rk4", "h=1e-3"): "NONFINITE",
+}
+
+
+def test_every_pair_on_the_belt_started_stuck():
+    """Every law x method on the belt started stuck on it (v0 = v_b), where the relative
+    velocity starts at the laws' kink."""
+    unexpected, seen = _unexpected("belt", PREDICTED_STUCK, t_end=1.0, v0=ss.DEFAULTS["v_b"])
+    assert not unexpected, unexpected
+    assert seen == set(PREDICTED_STUCK)
+
+
 # The chain (3 blocks, started stuck on the belt, 0.2 s): the errors the documentation predicts
 # (docs/guide/chain.md, same table). The fixed-step implicit methods solve a stage over a law's
 # modes only for a scene of one contact: on the chain they refuse Coulomb and Karnopp before
