@@ -45,6 +45,7 @@ serial (about 400 short simulations).
 from __future__ import annotations
 
 import math
+import textwrap
 import time
 from pathlib import Path
 from typing import Any, Sequence
@@ -154,7 +155,9 @@ def simulate(scene: str, law: str, method: str, h: float | None, t_end: float, n
 
 
 def bounded(scene: str, law: str, r: Any, status: int, t_end: float) -> bool:
-    """Finite, |v| within the scene's physical bound, bristle deflection within mu_s/sigma0."""
+    """Finite, |v| within the scene's physical bound, bristle deflection within mu_s/sigma0
+    (a Maxwell-slip element's within mu_s/k_i = n_elements mu_s/sigma0: its level is a
+    fraction of mu_s, its stiffness sigma0/n_elements)."""
     import stickslip
     if status != 0 or not np.all(np.isfinite(r.v)):
         return False
@@ -166,7 +169,8 @@ def bounded(scene: str, law: str, r: Any, status: int, t_end: float) -> bool:
         v_lim = 10 * (P["v_b"] + mu_s * P["g"] * math.sqrt(P["m"] / P["k"]))
     ok = float(np.max(np.abs(r.v))) <= v_lim
     if "sigma0" in stickslip.REGISTRY["law"][law]["params"] and r.z.size:
-        ok = ok and float(np.max(np.abs(r.z))) <= mu_s / stickslip.DEFAULTS["sigma0"] * (1 + 1e-9)
+        per_element = r.z.shape[0] if "n_elements" in stickslip.REGISTRY["law"][law]["params"] else 1
+        ok = ok and float(np.max(np.abs(r.z))) <= per_element * mu_s / stickslip.DEFAULTS["sigma0"] * (1 + 1e-9)
     return ok
 
 
@@ -410,6 +414,17 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     foot = blended_transform_factory(ax.transData, ax.transAxes)
     width = 0.8 / max(len(series), 1)
     failed, zero = [], []
+
+    def bar_style(s: str, j: int) -> dict[str, Any]:
+        """A method's own colour (cases._style), its second step hatched; other series (the
+        scenes of "hmax") the colour cycle."""
+        method = s.partition(" h=")[0]
+        if method not in c._style.METHOD_COLORS:
+            return {"color": c._style.SEQUENCE[j % len(c._style.SEQUENCE)]}
+        steps = [t for t in series if t.partition(" h=")[0] == method]
+        return {"color": c._style.METHOD_COLORS[method], "edgecolor": "0.5", "linewidth": 0.3,
+                "hatch": "////" if steps.index(s) > 0 else None}
+
     for j, s in enumerate(series):
         xs, ys = [], []
         for i, (law, tag) in enumerate(zip(cols["law [-]"], tags)):
@@ -426,7 +441,7 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
                 continue
             xs.append(x)
             ys.append(abs(value) if log else value)
-        ax.bar(xs, ys, width=width, label=series_name(s), color=c._style.SEQUENCE[j % len(c._style.SEQUENCE)])
+        ax.bar(xs, ys, width=width, label=series_name(s), **bar_style(s, j))
     if failed:
         ax.plot(failed, [0.04] * len(failed), "x", color="k", ms=6, mew=1.5, transform=foot,
                 label="failed run (no bar)" if kind != "hmax" else "no bounded step (no bar)")
@@ -448,7 +463,7 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     ax.set_xticks(range(len(laws)))
     def tick(law: str) -> str:           # "lugre sigma2=0" -> "LuGre\nσ2 = 0"
         base, _, variant = law.partition(" ")
-        name = c._style.name(base).split(" (")[0]
+        name = textwrap.fill(c._style.name(base).split(" (")[0], 12)   # "generalized\nMaxwell-slip"
         return name + ("\n" + variant.replace("sigma", "σ").replace("=", " = ") if variant else "")
 
     ax.set_xticklabels([tick(law) for law in laws], fontsize=8)
