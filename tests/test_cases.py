@@ -370,3 +370,15 @@ def test_cli_rejects_bad_input(tmp_path: Path, capsys: pytest.CaptureFixture[str
     assert exit_info.value.code == 2
     assert named in capsys.readouterr().err
     assert not list(tmp_path.glob("*.csv"))
+
+
+def test_laws_compare_bounds_a_maxwell_slip_element_by_its_own_level():
+    """A GMS element holds up to its level over its stiffness, n_elements mu_s/sigma0 at most,
+    beyond the bristle's mu_s/sigma0: a converged belt run is bounded, one that blew up is not."""
+    import stickslip as ss
+    from cases import laws_compare as lc
+    ok = ss.simulate("belt", "gms", method="rk4", h=1e-4, t_end=3.0, n_out=301, v0=lc.P["v_b"])
+    assert np.abs(ok.z).max() > 0.35 / ss.DEFAULTS["sigma0"]        # beyond the bristle's bound
+    assert lc.bounded("belt", "gms", ok, 0, 3.0)
+    bad = ss.simulate("belt", "gms", method="rk4", h=1e-3, t_end=3.0, n_out=301, v0=lc.P["v_b"])
+    assert not lc.bounded("belt", "gms", bad, 0, 3.0)
