@@ -162,14 +162,6 @@ PREDICTED_STUCK = {
 }
 
 
-def test_every_pair_on_the_belt_started_stuck():
-    """Every law x method on the belt started stuck on it (v0 = v_b), where the relative
-    velocity starts at the laws' kink."""
-    unexpected, seen = _unexpected("belt", PREDICTED_STUCK, t_end=1.0, v0=ss.DEFAULTS["v_b"])
-    assert not unexpected, unexpected
-    assert seen == set(PREDICTED_STUCK)
-
-
 # The chain (3 blocks, started stuck on the belt, 0.2 s): the errors the documentation predicts
 # (docs/guide/chain.md, same table). The fixed-step implicit methods solve a stage over a law's
 # modes only for a scene of one contact: on the chain they refuse Coulomb and Karnopp before
@@ -184,12 +176,17 @@ PREDICTED_CHAIN = {
 }
 
 
-def test_every_pair_on_the_chain():
-    """Every law x method on a 3-block chain: each completes, is refused before running, or
-    ends in exactly the predicted error."""
-    unexpected, seen = _unexpected("chain", PREDICTED_CHAIN, t_end=0.2, n_blocks=3)
+@pytest.mark.parametrize("scene, predicted, kw", [
+    ("belt", PREDICTED_STUCK, dict(t_end=1.0, v0=ss.DEFAULTS["v_b"])),
+    ("chain", PREDICTED_CHAIN, dict(t_end=0.2, n_blocks=3)),
+], ids=["belt_started_stuck", "chain"])
+def test_every_pair_started_stuck(scene, predicted, kw):
+    """Every law x method started stuck on the belt (the relative velocity at the laws' kink):
+    the belt, and a 3-block chain. Each completes, is refused before running, or ends in
+    exactly the predicted error."""
+    unexpected, seen = _unexpected(scene, predicted, **kw)
     assert not unexpected, unexpected
-    assert seen == set(PREDICTED_CHAIN)
+    assert seen == set(predicted)
 
 
 @pytest.mark.parametrize("law", ["coulomb", "karnopp"])
