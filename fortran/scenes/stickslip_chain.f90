@@ -214,22 +214,35 @@ contains
         real(dp), intent(in)  :: t          !! time [s] (unused: autonomous)
         real(dp), intent(in)  :: y(:)       !! (x_1..x_N [m], v_1..v_N [m/s], z block by block)
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], accelerations [m/s^2], z rates)
+        call chain_f(self, y, dydt)
+    end subroutine chain_rhs
+
+    !> The chain's f at y: the law's states at the rates of `evaluate`, or, given a stage
+    !! derivative k, at k's rates with mu from the law's `stage_mu` (chain_stage_rhs).
+    subroutine chain_f(self, y, dydt, k)
+        class(chain_scene), intent(inout) :: self
+        real(dp), intent(in)  :: y(:)       !! (x_1..x_N [m], v_1..v_N [m/s], z block by block)
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], accelerations [m/s^2], z rates)
+        real(dp), intent(in), optional :: k(:)   !! stage derivative (its law states' part read)
         real(dp) :: a, mu_hold, mu
         integer :: i, n, nz, iz
         n = self%nb
         nz = self%nz
         do i = 1, n
             call spring(self, y(1:n), i, a, mu_hold)
-            if (self%static_law) then
+            iz = 2 * n + (i - 1) * nz
+            if (present(k)) then
+                dydt(iz + 1:iz + nz) = k(iz + 1:iz + nz)
+                mu = self%law%stage_mu(self%v_b - y(n + i), y(iz + 1:iz + nz), dydt(iz + 1:iz + nz))
+            else if (self%static_law) then
                 mu = self%law%mu(self%v_b - y(n + i))
             else
-                iz = 2 * n + (i - 1) * nz
                 call self%law%evaluate(self%v_b - y(n + i), y(iz + 1:iz + nz), mu_hold, mu, dydt(iz + 1:iz + nz))
             end if
             dydt(i) = y(n + i)
             dydt(n + i) = a + mu * self%g(i)
         end do
-    end subroutine chain_rhs
+    end subroutine chain_f
 
     !> The dense Jacobian: analytic for a static law, finite differences otherwise.
     subroutine chain_jacobian(self, t, y, f, dfdy, nfev)
@@ -379,21 +392,11 @@ contains
         real(dp), intent(in)  :: y(:)       !! stage state (x_1..x_N [m], v_1..v_N [m/s], z)
         real(dp), intent(in)  :: k(:)       !! stage derivative (the law states' part read)
         real(dp), intent(out) :: f(:)       !! (v [m/s], accelerations [m/s^2], z rates)
-        real(dp) :: a, mu_hold
-        integer :: i, n, nz, iz
-        if (.not. self%law%condenses_states()) then
-            call self%rhs(t, y, f)
-            return
+        if (self%law%condenses_states()) then
+            call chain_f(self, y, f, k)
+        else
+            call chain_f(self, y, f)
         end if
-        n = self%nb
-        nz = self%nz
-        do i = 1, n
-            iz = 2 * n + (i - 1) * nz
-            call spring(self, y(1:n), i, a, mu_hold)
-            f(i) = y(n + i)
-            f(n + i) = a + self%law%stage_mu(self%v_b - y(n + i), y(iz + 1:iz + nz), k(iz + 1:iz + nz)) * self%g(i)
-            f(iz + 1:iz + nz) = k(iz + 1:iz + nz)
-        end do
     end subroutine chain_stage_rhs
 
     !> (x, v)' of the one-block chain (the belt) for a static law whose coefficient at the
