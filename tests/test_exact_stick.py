@@ -137,12 +137,13 @@ def test_stribeck_moreau_converges_to_event_driven():
     assert errs[1] < 0.5 * errs[0] and errs[1] < 1e-3
 
 
-def test_event_accumulation_is_a_named_error():
+def test_event_budget_and_accumulation_are_distinct_named_errors():
     p = BELT_SETS[0]
-    with pytest.raises(ss.EventAccumulation) as e:
+    with pytest.raises(ss.EventBudgetExhausted) as e:
         ss.simulate("belt", "coulomb", method="event_driven", t_end=6.0, v0=p["v_b"], max_events=3, **p)
     assert len(e.value.result.events) == 3 and "max_events" in str(e.value)
-    with pytest.raises(ss.EventAccumulation):
+    assert not isinstance(e.value, ss.EventAccumulation)
+    with pytest.raises(ss.EventAccumulation) as e:
         ss.simulate("belt", "coulomb", method="event_driven", t_end=30.0, v0=p["v_b"], zeno_gap=100.0, **p)
 
 
@@ -153,6 +154,8 @@ def test_event_accumulation_is_a_named_error():
     ({"method": "moreau", "h": -1e-3}, ["h", "> 0"]),
     ({"method": "moreau", "h": 1e-2, "contact_tol": 0.0}, ["contact_tol", "> 0"]),
     ({"method": "moreau", "h": 1e-2, "contact_max_iter": 0}, ["contact_max_iter", ">= 1"]),
+    ({"method": "moreau", "h": 1e-2, "contact_max_iter": 2.7}, ["contact_max_iter", "integer"]),
+    ({"method": "event_driven", "max_events": 2.5}, ["max_events", "integer"]),
     ({"method": "event_driven", "max_events": 0}, ["max_events", ">= 1"]),
     ({"method": "event_driven", "zeno_gap": -1.0}, ["zeno_gap", ">= 0"]),
 ])

@@ -81,8 +81,9 @@ module stickslip_contact
         procedure :: apply_h
         !> g := g + H^T r [N] (or impulses [N s]).
         procedure :: add_ht
-        !> The coordinate of contact i's first entry of H (where its position is read).
-        procedure :: contact_coordinate
+        !> The slip displacement of contact i, H_i q [m] (the body's coordinate for a contact
+        !! on one body with H_i = 1; a relative displacement for a contact between bodies).
+        procedure :: contact_displacement
         !> W = M + a C + b K as three diagonals when it is tridiagonal (ok); the default says
         !! it is not (ok = .false.). Moreau's solver then works on W itself, O(n) a sweep.
         procedure :: w_tridiagonal => not_tridiagonal
@@ -174,11 +175,16 @@ contains
         ok = .false.
     end subroutine not_tridiagonal
 
-    pure integer function contact_coordinate(self, i) result(j)
+    pure real(dp) function contact_displacement(self, i, q) result(x)
         class(contact_system), intent(in) :: self
         integer, intent(in) :: i            !! contact index, 1 .. n_c
-        j = self%h_col(self%h_ptr(i))
-    end function contact_coordinate
+        real(dp), intent(in) :: q(:)        !! coordinates [m]
+        integer :: k
+        x = 0.0_dp
+        do k = self%h_ptr(i), self%h_ptr(i + 1) - 1
+            x = x + self%h_val(k) * q(self%h_col(k))
+        end do
+    end function contact_displacement
 
     elemental function slip_mu(self, s) result(mu)
         class(contact_law), intent(in) :: self

@@ -27,6 +27,7 @@ module stickslip_kinds
     integer, parameter, public :: SS_INTERRUPTED = -10      !! the caller set the stop flag
     integer, parameter, public :: SS_CONTACT_FAILED = -21 !! moreau's contact solver missed contact_tol
     integer, parameter, public :: SS_EVENT_ZENO = -22    !! event_driven: events accumulate (Zeno, chatter)
+    integer, parameter, public :: SS_EVENT_BUDGET = -23  !! event_driven: more than max_events events
 
     ! -- bad input, one code per parameter ---------------------------------------
     integer, parameter, public :: SS_BAD_LAW = -100         !! unknown friction law code
@@ -71,16 +72,16 @@ module stickslip_kinds
         'BAD_HMIN BAD_HMAX BAD_N_OUT BAD_MAX_STEPS BAD_Y0 BAD_H0 BAD_CONTROL BAD_DIM ' // &
         'BAD_CONTROL_NAME BAD_PARAM_NAME NEWTON_FAILED SINGULAR JAC_NONFINITE BAD_RHO_INF ' // &
         'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH' // &
-        ' CONTACT_FAILED EVENT_ZENO BAD_THETA_MJ BAD_CONTACT_CTL BAD_EVENT_CTL' // &
+        ' CONTACT_FAILED EVENT_ZENO EVENT_BUDGET BAD_THETA_MJ BAD_CONTACT_CTL BAD_EVENT_CTL' // &
         ' NOT_SETVALUED JUMP_MANY_CONTACTS BAD_TIMES BAD_MOTION BAD_BACKLASH BAD_ASYMMETRY BAD_NORMAL_FORCE'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(45) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(46) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
         SS_BAD_PARAM_NAME, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_BAD_RHO_INF, SS_BAD_NIT, &
         SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_INTERRUPTED, &
-        SS_BAD_FORCED_GROWTH, SS_CONTACT_FAILED, SS_EVENT_ZENO, SS_BAD_THETA_MJ, &
+        SS_BAD_FORCED_GROWTH, SS_CONTACT_FAILED, SS_EVENT_ZENO, SS_EVENT_BUDGET, SS_BAD_THETA_MJ, &
         SS_BAD_CONTACT_CTL, SS_BAD_EVENT_CTL, SS_NOT_SETVALUED, SS_JUMP_MANY_CONTACTS, SS_BAD_TIMES, &
         SS_BAD_MOTION, &
         SS_BAD_BACKLASH, SS_BAD_ASYMMETRY, SS_BAD_NORMAL_FORCE]
@@ -135,10 +136,14 @@ contains
                                         ' 0 < quot1 <= 1 <= quot2, 0 < facl <= 1 <= facr'
         case (SS_BAD_RTOL_POSITIVE); msg = 'rtol: RADAU5 needs rtol finite and in [100 eps = 2.2e-14, 1)' // &
                                         ' (its tolerance transformation divides by rtol; 0 is not allowed)'
-        case (SS_CONTACT_FAILED); msg = 'contact solver (moreau): a step''s friction problem did not' // &
-                                        ' converge to contact_tol within contact_max_iter sweeps'
-        case (SS_EVENT_ZENO); msg = 'events accumulate (Zeno or chatter, event_driven): more than' // &
-                                        ' max_events stick/slip transitions, or 10 in a row closer than zeno_gap'
+        case (SS_CONTACT_FAILED); msg = 'contact solver: a step''s (moreau) or an event''s (event_driven)' // &
+                                        ' friction problem has no solution within contact_tol and' // &
+                                        ' contact_max_iter (see stats contact_worst and t_reached)'
+        case (SS_EVENT_ZENO); msg = 'events accumulate (Zeno or chatter, event_driven): 10 instants' // &
+                                        ' with events in a row closer than zeno_gap, or more than 4 n_c + 8' // &
+                                        ' events at one instant'
+        case (SS_EVENT_BUDGET); msg = 'event budget exhausted (event_driven): more than max_events' // &
+                                        ' stick/slip transitions; raise max_events to go on'
         case (SS_BAD_THETA_MJ);   msg = 'theta: must be in [0.5, 1] (the Moreau-Jean theta-method)'
         case (SS_BAD_CONTACT_CTL); msg = 'contact_tol: must be finite and > 0 [m/s]; contact_max_iter:' // &
                                         ' an integer >= 1'

@@ -7,13 +7,17 @@
 !! integrators' notes); any n works. A zero pivot (after pivoting) or a non-finite entry
 !! makes the decomposition fail with info = the column where it happened, never a NaN
 !! solution.
+!!
+!! `psd_solve` solves a symmetric positive semidefinite system that may be singular (the
+!! Delassus matrix of redundant contacts): the weighted minimum-norm solution, by LU where
+!! the matrix is safely regular and by a Jacobi eigendecomposition where it is not.
 module stickslip_linalg
     use stickslip_kinds, only: dp
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
-    public :: lu_decompose, lu_solve, band_decompose, band_solve
+    public :: lu_decompose, lu_solve, band_decompose, band_solve, psd_solve
 
     !> A = P L U of a band matrix in LAPACK's band storage, in place (partial pivoting).
     interface band_decompose
@@ -73,5 +77,121 @@ contains
 #undef LU_SCALAR
 #undef LU_MAG
 #undef LU_BAD
+
+    !> x = C^(1/2) (C^(1/2) A C^(1/2))^+ C^(1/2) b for a symmetric positive semidefinite A
+    !! (m x m) and weights C = diag(wts) > 0: among the solutions of A x = b the one that
+    !! minimises sum x_i^2 / wts_i (the unique solution when A is regular). Columns of b are
+    !! solved together. A regular matrix (every LU pivot, scaled as the weights scale A, above
+    !! 1e-12 of the largest scaled diagonal entry) is solved by LU of A; otherwise by the
+    !! eigendecomposition of the scaled
+    !! matrix (cyclic Jacobi), eigenvalues below 1e-12 of the largest taken as 0. ok is
+    !! .false. when b is not in the range of A (relative residual above 1e-9) or an entry is
+    !! not finite; x is then not a solution.
+    subroutine psd_solve(a, b, wts, ok)
+        real(dp), intent(in)    :: a(:, :)   !! (m, m) symmetric positive semidefinite matrix
+        real(dp), intent(inout) :: b(:, :)   !! (m, k) right-hand sides, solutions on exit
+        real(dp), intent(in)    :: wts(:)    !! (m) weights of the norm, > 0
+        logical, intent(out)    :: ok        !! .true.: b was in the range of A
+        real(dp) :: s(size(wts)), as(size(wts), size(wts)), lu(size(wts), size(wts))
+        real(dp) :: v(size(wts), size(wts)), lam(size(wts)), y(size(wts)), rhs(size(wts)), big
+        integer :: ipiv(size(wts)), info, m, j, k
+        m = size(wts)
+        ok = .true.
+        if (m == 0) return
+        s = sqrt(wts)
+        do j = 1, m
+            as(:, j) = s * a(:, j) * s(j)
+        end do
+        big = maxval(abs([(as(j, j), j = 1, m)]))
+        if (.not. (big > 0.0_dp .and. ieee_is_finite(big))) then
+            ok = all(b == 0.0_dp)
+            b = 0.0_dp
+            return
+        end if
+        ! regular: the unique solution, by LU of A itself (no scaling: a diagonal A gives b / a)
+        lu = a
+        call lu_decompose(lu, ipiv, info)
+        if (info == 0) then
+            if (minval([(abs(lu(j, j)) * s(j)**2, j = 1, m)]) <= 1.0e-12_dp * big) info = 1
+        end if
+        if (info == 0) then
+            do k = 1, size(b, 2)
+                call lu_solve(lu, ipiv, b(:, k))
+            end do
+            ok = all(ieee_is_finite(b))
+            return
+        end if
+        call jacobi_eigen(as, lam, v)
+        big = maxval(abs(lam))
+        do k = 1, size(b, 2)
+            rhs = s * b(:, k)
+            y = matmul(rhs, v)
+            where (lam > 1.0e-12_dp * big)
+                y = y / lam
+            elsewhere
+                y = 0.0_dp
+            end where
+            y = matmul(v, y)
+            ! consistency: the scaled system's residual against its size
+            if (norm2(matmul(as, y) - rhs) > 1.0e-9_dp * (big * norm2(y) + norm2(rhs))) ok = .false.
+            b(:, k) = s * y
+        end do
+        if (.not. all(ieee_is_finite(b))) ok = .false.
+    end subroutine psd_solve
+
+    !> Eigenvalues lam and orthonormal eigenvectors v (columns) of a symmetric matrix a, by
+    !! cyclic Jacobi rotations until the off-diagonal part is below rounding (at most 100 sweeps).
+    pure subroutine jacobi_eigen(a, lam, v)
+        real(dp), intent(in)  :: a(:, :)     !! (m, m) symmetric matrix
+        real(dp), intent(out) :: lam(:)      !! (m) eigenvalues
+        real(dp), intent(out) :: v(:, :)     !! (m, m) eigenvectors, by columns
+        real(dp) :: b(size(lam), size(lam)), off, tot, theta, t, c, sn, bpp, bqq, bpq, tmp
+        integer :: m, p, q, sweep, i
+        m = size(lam)
+        b = a
+        v = 0.0_dp
+        do i = 1, m
+            v(i, i) = 1.0_dp
+        end do
+        do sweep = 1, 100
+            off = 0.0_dp
+            tot = 0.0_dp
+            do q = 1, m
+                do p = 1, m
+                    tot = tot + b(p, q)**2
+                    if (p /= q) off = off + b(p, q)**2
+                end do
+            end do
+            if (off <= (epsilon(1.0_dp)**2) * tot) exit
+            do p = 1, m - 1
+                do q = p + 1, m
+                    bpq = b(p, q)
+                    if (bpq == 0.0_dp) cycle
+                    bpp = b(p, p)
+                    bqq = b(q, q)
+                    theta = (bqq - bpp) / (2.0_dp * bpq)
+                    t = sign(1.0_dp, theta) / (abs(theta) + sqrt(theta**2 + 1.0_dp))
+                    c = 1.0_dp / sqrt(t**2 + 1.0_dp)
+                    sn = t * c
+                    do i = 1, m       ! columns p, q of b
+                        tmp = b(i, p)
+                        b(i, p) = c * tmp - sn * b(i, q)
+                        b(i, q) = sn * tmp + c * b(i, q)
+                    end do
+                    do i = 1, m       ! rows p, q of b
+                        tmp = b(p, i)
+                        b(p, i) = c * tmp - sn * b(q, i)
+                        b(q, i) = sn * tmp + c * b(q, i)
+                    end do
+                    do i = 1, m
+                        tmp = v(i, p)
+                        v(i, p) = c * tmp - sn * v(i, q)
+                        v(i, q) = sn * tmp + c * v(i, q)
+                    end do
+                end do
+            end do
+        end do
+        lam = [(b(i, i), i = 1, m)]
+    end subroutine jacobi_eigen
 
 end module stickslip_linalg

@@ -6,24 +6,38 @@
 !! In a mode, slipping contacts carry r_i = -sigma_i N_i mu_i(sigma_i w_i) (sigma_i = +-1 the
 !! slip direction) and stuck contacts the holding forces that keep their relative
 !! acceleration at zero: H_S M^-1 (f + H^T r) + db_S/dt = 0, a linear system of the size of
-!! the stuck set (LU). A stuck contact's velocity is set to w = 0 when it sticks (exactly for
+!! the stuck set. It is solved by `psd_solve`: LU where it is regular, and where it is
+!! singular (redundant contacts: a body on two feet) the weighted minimum-norm forces, which
+!! load each stuck contact in proportion to its capacity mu_s N (contacts on identical rows of
+!! H reach their limits together). When the mass matrix is diagonal and each contact acts on
+!! a coordinate of its own, the Delassus matrix is diagonal and the forces come from its
+!! diagonal in O(n). A stuck contact's velocity is set to w = 0 when it sticks (exactly for
 !! a contact with one entry in its row of H) and then stays there to rounding.
 !!
 !! Event functions: sigma_i w_i for a slipping contact (slip -> stick when it reaches 0) and
-!! mu_s N_i - |r_i| for a stuck one (stick -> slip when the holding force reaches mu_s N_i).
-!! They are evaluated at the end of every accepted step (one more force evaluation a step);
-!! where one has reached 0, the crossing time is found by bracketing (Illinois regula falsi
-!! with bisection) to within 4 units of round-off in t. The state at a trial time t is
-!! integrated afresh from the start of the step (a DOPRI5 run from the step's start to t,
-!! as accurate as the steps themselves). An event function that touches zero and returns
-!! within one step is not seen (as with any event location that looks at signs).
+!! mu_s N_i (1 + 2 STICK_RTOL) - |r_i| for a stuck one (stick -> slip when the holding force
+!! exceeds the static limit; |r| = mu_s N exactly is stuck, as in moreau, and the margin
+!! 2 STICK_RTOL keeps rounding from undoing the release at the located instant). They are
+!! evaluated at the end of every accepted step (one more force evaluation a step); where one
+!! has crossed, the crossing time is found by bracketing (Illinois regula falsi with
+!! bisection) to within 4 units of round-off in t. A slipping contact whose w turns back
+!! within a step (its rate sigma dw/dt changes sign from - to + and the cubic Hermite
+!! interpolant of sigma w dips below half its end values) is searched for its minimum: a
+!! grazing touch of w = 0 inside one step is found, and a minimum within the integration's
+!! tolerance of 0 (atol + rtol |u| over the contact's row of H) counts as touching. The
+!! state at a trial time t is integrated afresh from the start of the step (a DOPRI5 run
+!! from the step's start to t, as accurate as the steps themselves).
 !!
-!! At an event the mode is switched and made consistent: contacts that reach w = 0 stick,
-!! and any stuck contact whose holding force exceeds mu_s N is released, the worst first,
-!! sliding against its holding force (one that reaches w = 0 and cannot be held reverses:
-!! kind 3). Events are recorded as (t [s], kind: 1 slip -> stick, 2 stick -> slip, 3 reversal,
-!! position of the contact's coordinate q [m], contact index). The initial mode (contacts
-!! with w = 0 at t0 stuck if they can be held) is not an event.
+!! At an event the modes are decided together: every stuck contact and every contact that
+!! has reached w = 0 is a candidate, and the problem at rest (their relative accelerations
+!! a_C = af_C + H_C M^-1 H_C^T r_C, with slip at mu(0+) N, the other contacts' slip forces
+!! fixed) is solved by `stickslip_contact_solver` (exact enumeration up to its ENUM_MAX
+!! candidates, stick preferred where several modes are consistent; the contacts one by one
+!! when the Delassus matrix is diagonal). Every change of mode is an event, recorded as
+!! (t [s], kind: 1 slip -> stick, 2 stick -> slip, 3 reversal (reached w = 0 and slips
+!! back), the contact's slip displacement H_i q [m], contact index). A contact that touches
+!! w = 0 and slips on in the same direction changes no mode and records nothing. The
+!! initial mode (contacts with w = 0 at t0 decided the same way) is not an event.
 !!
 !! Output on the grid: DOPRI5's dense output, from a second DOPRI5 run over each stretch
 !! between events that holds grid points (the same steps as the first until the event).
@@ -31,16 +45,21 @@
 !! (the event checks, the root-finding runs and the output runs included); nevents the
 !! transitions.
 !!
-!! Accumulating events (Zeno, chatter) end the run with SS_EVENT_ZENO: more than
-!! max_events events, or 10 in a row less than zeno_gap apart.
+!! Ends: SS_EVENT_BUDGET after more than max_events events; SS_EVENT_ZENO when events
+!! accumulate: 10 instants with events in a row closer than zeno_gap (events at one instant
+!! count once: a row of identical blocks switching together is not Zeno), or more than
+!! 4 n_c + 8 events at one instant; SS_CONTACT_FAILED when an event's problem has no solution
+!! (contact_worst names the contact).
 module stickslip_event_driven
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_EVENT_ZENO, &
-                               SS_BAD_EVENT_CTL, SS_SINGULAR, SS_BAD_MAX_STEPS
+                               SS_BAD_EVENT_CTL, SS_SINGULAR, SS_BAD_MAX_STEPS, SS_EVENT_BUDGET, &
+                               SS_CONTACT_FAILED
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, &
                              check_tolerances, output_start
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_contact, only: contact_system
-    use stickslip_linalg, only: lu_decompose, lu_solve
+    use stickslip_linalg, only: psd_solve
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, STICK_RTOL, MODE_STICK, MODE_OPEN
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -92,7 +111,7 @@ contains
         status = SS_OK
         select case (name)
         case ('max_events')
-            if (value >= 1.0_dp .and. value <= real(huge(1), dp)) then
+            if (value >= 1.0_dp .and. value <= real(huge(1), dp) .and. value == aint(value)) then
                 self%max_events = int(value)
             else
                 status = SS_BAD_EVENT_CTL
@@ -110,9 +129,10 @@ contains
         real(dp), intent(out) :: a(:)       !! acceleration u' [m/s^2]
         real(dp), intent(out) :: r(:)       !! contact forces [N]
         real(dp) :: f(size(a)), g(size(a)), nn(size(r)), w(size(r)), bd(size(r)), ha(size(r)), col(size(r))
-        real(dp), allocatable :: amat(:, :), rs(:)
-        integer, allocatable :: idx(:), ipiv(:)
-        integer :: nd, nc, i, j, ns, info
+        real(dp), allocatable :: rs(:)
+        integer, allocatable :: idx(:)
+        integer :: nd, nc, i
+        logical :: ok
         associate (cs => self%cs)
             nd = cs%n_dof
             nc = cs%n_c
@@ -126,29 +146,15 @@ contains
             a = f
             call cs%add_ht(r, a)
             call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, a)
-            ns = count(self%stuck)
-            if (ns == 0) return
+            if (.not. any(self%stuck)) return
             idx = pack([(i, i = 1, nc)], self%stuck)
             call cs%apply_h(a, ha)
             call cs%offset_rate(t, bd)
-            if (self%diagonal) then
-                ! H M^-1 H^T is diagonal on the stuck set: its diagonal from one solve with
-                ! H^T 1_S (the stuck contacts' columns do not mix), the same arithmetic as the
-                ! dense columns below and so the same forces, bit for bit, in O(n).
-                col = 0.0_dp
-                col(idx) = 1.0_dp
-                g = 0.0_dp
-                call cs%add_ht(col, g)
-                call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, g)
-                call cs%apply_h(g, col)
-                if (any(col(idx) == 0.0_dp)) then
-                    self%singular = .true.
-                    return
-                end if
-                rs = -(ha(idx) + bd(idx)) / col(idx)
-            else
-                call dense_holding_forces()
-                if (self%singular) return
+            rs = -(ha(idx) + bd(idx))
+            call holding_forces(self, t, y, idx, cs%laws(idx)%mu_s * nn(idx), rs, ok)
+            if (.not. ok) then
+                self%singular = .true.
+                return
             end if
             col = 0.0_dp
             col(idx) = rs
@@ -158,31 +164,75 @@ contains
             call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, g)
             a = a + g
         end associate
-    contains
-        !> rs: the holding forces of the stuck set from the dense Delassus matrix (n_s columns,
-        !! each a solve with W, and an LU: O(n n_s + n_s^3)).
-        subroutine dense_holding_forces()
-            associate (cs => self%cs)
-            allocate(amat(ns, ns), ipiv(ns))
-            do j = 1, ns
-                col = 0.0_dp
-                col(idx(j)) = 1.0_dp
-                g = 0.0_dp
-                call cs%add_ht(col, g)
-                call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, g)
-                call cs%apply_h(g, col)
-                amat(:, j) = col(idx)
-            end do
-            rs = -(ha(idx) + bd(idx))
-            call lu_decompose(amat, ipiv, info)
-            if (info /= 0) then
-                self%singular = .true.
-                return
-            end if
-            call lu_solve(amat, ipiv, rs)
-            end associate
-        end subroutine dense_holding_forces
     end subroutine mode_forces
+
+    !> x := the forces r_S of the contacts idx that give them the relative accelerations
+    !! H_S M^-1 H_S^T r_S = x: from the diagonal of the Delassus matrix when it is diagonal
+    !! (`delassus_diagonal`, O(n)), otherwise from the dense block (`delassus_block`) by
+    !! `psd_solve`, whose weighted minimum-norm solution shares a redundant stuck set's load
+    !! in proportion to the capacities cap (mu_s N). ok = .false. when no forces give x
+    !! (inconsistent, or not finite).
+    subroutine holding_forces(self, t, y, idx, cap, x, ok)
+        class(mode_system), intent(in) :: self
+        real(dp), intent(in)    :: t, y(:)
+        integer, intent(in)     :: idx(:)      !! the contacts
+        real(dp), intent(in)    :: cap(:)      !! their capacities mu_s N [N]
+        real(dp), intent(inout) :: x(:)        !! relative accelerations in, forces out
+        logical, intent(out)    :: ok
+        real(dp), allocatable :: amat(:, :), b(:, :), dg(:)
+        if (self%diagonal) then
+            allocate(dg(size(idx)))
+            call delassus_diagonal(self, t, y, idx, dg)
+            ok = all(dg /= 0.0_dp)
+            if (ok) x = x / dg
+        else
+            allocate(amat(size(idx), size(idx)), b(size(idx), 1))
+            call delassus_block(self, t, y, idx, amat)
+            b(:, 1) = x
+            call psd_solve(amat, b, max(cap, tiny(1.0_dp)), ok)
+            x = b(:, 1)
+        end if
+    end subroutine holding_forces
+
+    !> The diagonal of the Delassus matrix [1/kg] at the contacts idx when it is diagonal: one
+    !! solve with H^T 1_S (the contacts' columns do not mix).
+    subroutine delassus_diagonal(self, t, y, idx, dg)
+        class(mode_system), intent(in) :: self
+        real(dp), intent(in)  :: t, y(:)
+        integer, intent(in)   :: idx(:)
+        real(dp), intent(out) :: dg(:)
+        real(dp) :: col(self%cs%n_c), g(self%cs%n_dof)
+        integer :: nd
+        nd = self%cs%n_dof
+        col = 0.0_dp
+        col(idx) = 1.0_dp
+        g = 0.0_dp
+        call self%cs%add_ht(col, g)
+        call self%cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, g)
+        call self%cs%apply_h(g, col)
+        dg = col(idx)
+    end subroutine delassus_diagonal
+
+    !> The Delassus block H_S M^-1 H_S^T [1/kg] of the contacts idx at (t, y): n_s columns,
+    !! each a solve with M.
+    subroutine delassus_block(self, t, y, idx, amat)
+        class(mode_system), intent(in) :: self
+        real(dp), intent(in)  :: t, y(:)
+        integer, intent(in)   :: idx(:)
+        real(dp), intent(out) :: amat(:, :)
+        real(dp) :: col(self%cs%n_c), g(self%cs%n_dof)
+        integer :: j, nd
+        nd = self%cs%n_dof
+        do j = 1, size(idx)
+            col = 0.0_dp
+            col(idx(j)) = 1.0_dp
+            g = 0.0_dp
+            call self%cs%add_ht(col, g)
+            call self%cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, g)
+            call self%cs%apply_h(g, col)
+            amat(:, j) = col(idx)
+        end do
+    end subroutine delassus_block
 
     !> .true. when H M^-1 H^T is diagonal: the system's mass matrix is diagonal (w_tridiagonal
     !! with a = b = 0 has no off-diagonal), and each contact has one entry of H, on a coordinate
@@ -218,30 +268,75 @@ contains
         call mode_forces(self, t, y, dydt(nd + 1:), r)
     end subroutine mode_rhs
 
-    !> The event functions of the mode at (t, y): sigma_i w_i (slipping), mu_s N_i - |r_i|
-    !! (stuck); r returns the contact forces [N].
-    subroutine event_values(ms, t, y, gv, r)
+    !> The event functions of the mode at (t, y): sigma_i w_i (slipping) and
+    !! mu_s N_i (1 + 2 STICK_RTOL) - |r_i| (stuck); their rates dg (slipping contacts:
+    !! sigma_i dw_i/dt [m/s^2]; 0 for stuck ones); r returns the contact forces [N].
+    subroutine event_values(ms, t, y, gv, r, dg)
         class(mode_system), intent(inout) :: ms
         real(dp), intent(in)  :: t, y(:)
-        real(dp), intent(out) :: gv(:), r(:)
-        real(dp) :: a(ms%cs%n_dof), w(ms%cs%n_c), nn(ms%cs%n_c)
+        real(dp), intent(out) :: gv(:), r(:), dg(:)
+        real(dp) :: a(ms%cs%n_dof), w(ms%cs%n_c), nn(ms%cs%n_c), bd(ms%cs%n_c)
         integer :: nd
         nd = ms%cs%n_dof
         call mode_forces(ms, t, y, a, r)
         ms%nfev = ms%nfev + 1
         call ms%cs%relative_velocities(t, y(nd + 1:), w)
         call ms%cs%normal_forces(t, y(:nd), nn)
+        call ms%cs%apply_h(a, dg)
+        call ms%cs%offset_rate(t, bd)
         where (ms%stuck)
-            gv = ms%cs%laws%mu_s * nn - abs(r)
+            gv = ms%cs%laws%mu_s * nn * (1.0_dp + 2.0_dp * STICK_RTOL) - abs(r)
+            dg = 0.0_dp
         elsewhere
             gv = ms%sig * w
+            dg = ms%sig * (dg + bd)
         end where
     end subroutine event_values
 
+    !> Has contact i's event function crossed? A slipping contact when sigma w <= 0 (it
+    !! reached w = 0), a stuck one when its holding force exceeds the static limit (g < 0).
+    elemental logical function crossed(stuck, g)
+        logical, intent(in) :: stuck
+        real(dp), intent(in) :: g
+        if (stuck) then
+            crossed = g < 0.0_dp
+        else
+            crossed = g <= 0.0_dp
+        end if
+    end function crossed
+
+    !> The minimum over theta in [0, 1] of the cubic Hermite interpolant of g with values
+    !! ga, gb and slopes (in theta) sa, sb at the ends: at the ends or where its derivative,
+    !! a quadratic, vanishes.
+    pure real(dp) function hermite_min(ga, gb, sa, sb) result(gmin)
+        real(dp), intent(in) :: ga, gb, sa, sb
+        real(dp) :: c1, c2, c3, disc, th(2)
+        integer :: k
+        ! g(th) = ga + sa th + c2 th^2 + c3 th^3
+        c3 = 2.0_dp * (ga - gb) + sa + sb
+        c2 = 3.0_dp * (gb - ga) - 2.0_dp * sa - sb
+        c1 = sa
+        gmin = min(ga, gb)
+        ! g'(th) = c1 + 2 c2 th + 3 c3 th^2 = 0
+        if (c3 == 0.0_dp) then
+            if (c2 == 0.0_dp) return
+            th = -c1 / (2.0_dp * c2)
+        else
+            disc = c2**2 - 3.0_dp * c3 * c1
+            if (disc < 0.0_dp) return
+            th(1) = (-c2 + sqrt(disc)) / (3.0_dp * c3)
+            th(2) = (-c2 - sqrt(disc)) / (3.0_dp * c3)
+        end if
+        do k = 1, 2
+            if (th(k) > 0.0_dp .and. th(k) < 1.0_dp) &
+                gmin = min(gmin, ga + th(k) * (c1 + th(k) * (c2 + th(k) * c3)))
+        end do
+    end function hermite_min
+
     !> Integrate with stick/slip switching from t0 to t_end. y0 = (q0, u0), size 2 n_dof.
     !! events(:, k) = (t [s], kind, position [m], contact) of the k-th event, for as many as
-    !! there are columns. Status: SS_OK, SS_EVENT_ZENO, SS_STEP_BUDGET, SS_SINGULAR,
-    !! DOPRI5's run-time codes, or a bad-input code.
+    !! there are columns. Status: SS_OK, SS_EVENT_ZENO, SS_EVENT_BUDGET, SS_STEP_BUDGET,
+    !! SS_SINGULAR, SS_CONTACT_FAILED, DOPRI5's run-time codes, or a bad-input code.
     subroutine event_driven_integrate(cs, t0, y0, t_end, rtol, atol, opts, t_out, y_out, stats, events)
         class(contact_system), intent(in) :: cs   !! the system
         real(dp), intent(in)    :: t0            !! initial time [s]
@@ -259,10 +354,14 @@ contains
         type(mode_system) :: ms
         type(dopri5_options) :: d5
         type(ode_stats) :: st
-        real(dp), allocatable :: tb(:), yb(:, :), y(:), ya(:), ystar(:), g_a(:), g_b(:), r(:)
+        real(dp), allocatable :: tb(:), yb(:, :), y(:), ya(:), ystar(:), g_a(:), g_b(:), r(:), dg_a(:), dg_b(:)
         real(dp) :: t, ta, tstar, h_carry, t_last_event
-        integer :: nd, nc, n, next, m, k, nrows, i, zeno_run, ievent
+        integer :: nd, nc, n, next, m, k, nrows, i, zeno_run, ievent, same_instant
         logical :: hit
+        logical, allocatable :: cand(:)
+        logical, allocatable :: cand_now(:)   ! the contacts being decided (`decide`)
+        logical, allocatable :: touch(:)      ! contacts whose w came within tolerance of 0 at t_touch
+        real(dp) :: t_touch
 
         stats%status = check_problem(t0, y0, t_end, t_out, y_out, .false.)
         if (stats%status == SS_OK) stats%status = check_tolerances(size(y0), rtol, atol)
@@ -281,7 +380,9 @@ contains
 
         allocate(ms%cs, source=cs)
         ms%diagonal = diagonal_delassus(cs)
-        allocate(ms%stuck(nc), ms%sig(nc), g_a(nc), g_b(nc), r(nc))
+        allocate(ms%stuck(nc), ms%sig(nc), g_a(nc), g_b(nc), r(nc), dg_a(nc), dg_b(nc), cand(nc))
+        allocate(cand_now(nc), touch(nc), source=.false.)
+        t_touch = -huge(1.0_dp)
         allocate(tb(CHUNK), yb(n, CHUNK), y(n), ya(n), ystar(n))
         d5%every_step = .true.
         d5%stop_flag => opts%stop_flag
@@ -292,13 +393,15 @@ contains
         y = y0
         ms%stuck = .false.
         ms%sig = 1.0_dp
-        call initial_mode()
         h_carry = 0.0_dp
         t_last_event = -huge(1.0_dp)
         zeno_run = 0
         ievent = 0
+        same_instant = 0
+        call initial_mode()
 
         segment: do
+            if (stats%status /= SS_OK) exit segment
             ! Pass 1: the mode's steps, CHUNK rows at a time, looking for an event.
             d5%h0 = h_carry
             d5%max_steps = max(1_8, opts%max_steps - stats%nstep)
@@ -320,14 +423,28 @@ contains
                 exit segment
             end if
             hit = .false.
-            call event_values(ms, tb(1), yb(:, 1), g_a, r)
+            call event_values(ms, tb(1), yb(:, 1), g_a, r, dg_a)
             do k = 2, nrows
-                call event_values(ms, tb(k), yb(:, k), g_b, r)
-                if (any(g_b <= 0.0_dp)) then
-                    hit = .true.
-                    exit
-                end if
+                call event_values(ms, tb(k), yb(:, k), g_b, r, dg_b)
+                ta = tb(k - 1)
+                ya = yb(:, k - 1)
+                tstar = tb(k)
+                ystar = yb(:, k)
+                cand = crossed(ms%stuck, g_b)
+                hit = any(cand)
+                ! a slipping contact whose w turns back within the step: its minimum
+                do i = 1, nc
+                    if (ms%stuck(i) .or. cand(i)) cycle
+                    if (.not. (g_a(i) > 0.0_dp .and. dg_a(i) < 0.0_dp .and. dg_b(i) > 0.0_dp)) cycle
+                    if (hermite_min(g_a(i), g_b(i), (tb(k) - ta) * dg_a(i), (tb(k) - ta) * dg_b(i)) &
+                        >= 0.5_dp * min(g_a(i), g_b(i))) cycle
+                    call graze(i, dg_a(i), dg_b(i), cand(i))
+                    if (stats%status /= SS_OK) exit segment
+                    hit = hit .or. cand(i)
+                end do
+                if (hit) exit
                 g_a = g_b
+                dg_a = dg_b
             end do
             if (.not. hit) then
                 call output_to(tb(nrows))
@@ -338,16 +455,12 @@ contains
                 cycle segment
             end if
 
-            ! An event in step (tb(k-1), tb(k)]: the earliest crossing.
-            ta = tb(k - 1)
-            ya = yb(:, k - 1)
+            ! An event in step (ta, tb(k)] (or before a grazing minimum): the earliest crossing.
             h_carry = tb(k) - ta
-            tstar = tb(k)
-            ystar = yb(:, k)
             do i = 1, nc
-                if (g_b(i) <= 0.0_dp) call locate(i, g_a(i), g_b(i))
+                if (cand(i)) call locate(i, g_a(i))
+                if (stats%status /= SS_OK) exit segment
             end do
-            if (stats%status /= SS_OK) exit segment
             call output_to(tstar)
             if (stats%status /= SS_OK) exit segment
             t = tstar
@@ -363,42 +476,180 @@ contains
 
     contains
 
-        !> Contacts with w = 0 at t0 stuck, then released until the mode is consistent.
+        !> Contacts with w = 0 at t0 take the modes of the problem at rest (`decide`); the
+        !! others slip in the direction of w. Not recorded as events.
         subroutine initial_mode()
             real(dp) :: w(nc)
+            logical :: at_zero(nc)
             call cs%relative_velocities(t, y(nd + 1:), w)
-            ms%stuck = w == 0.0_dp
-            where (.not. ms%stuck) ms%sig = sign(1.0_dp, w)
-            call release(0)
+            at_zero = w == 0.0_dp
+            where (.not. at_zero) ms%sig = sign(1.0_dp, w)
+            if (any(at_zero)) call decide(at_zero, .false.)
         end subroutine initial_mode
 
-        !> Release stuck contacts that cannot be held, the worst first. A contact released
-        !! here that has just stuck (index just_stuck) is a reversal. Returns the kind.
-        subroutine release(just_stuck, kind_out)
-            integer, intent(in) :: just_stuck
-            integer, intent(inout), optional :: kind_out
-            real(dp) :: a(nd), rr(nc), nn(nc), excess
-            integer :: j, worst
-            do
-                if (.not. any(ms%stuck)) return
-                call mode_forces(ms, t, y, a, rr)
-                ms%nfev = ms%nfev + 1
-                call cs%normal_forces(t, y(:nd), nn)
-                worst = 0
-                excess = 0.0_dp
-                do j = 1, nc
-                    if (.not. ms%stuck(j)) cycle
-                    if (abs(rr(j)) - cs%laws(j)%mu_s * nn(j) > excess) then
-                        excess = abs(rr(j)) - cs%laws(j)%mu_s * nn(j)
-                        worst = j
-                    end if
+        !> The modes of the contacts cand (each at w = 0: stuck, or just reached) from the
+        !! problem at rest: their relative accelerations a_C = af_C + A_CC r_C with the other
+        !! contacts' slip forces fixed, solved jointly by `solve_contacts` (stick preferred).
+        !! With record, every change of mode is an event (kind 1 stick, 2 slip, 3 reversal).
+        subroutine decide(cand, record_events, nchanged)
+            logical, intent(in) :: cand(:)
+            logical, intent(in) :: record_events
+            integer, intent(out), optional :: nchanged
+            integer, allocatable :: idx(:), cmode(:)
+            real(dp), allocatable :: amat(:, :), af(:), cap(:), p(:), wv(:), dgl(:)
+            real(dp) :: a(nd), rr(nc), nn(nc), ha(nc), bd(nc), scale
+            logical :: was_stuck(nc)
+            real(dp) :: old_sig(nc)
+            type(contact_solve_info) :: info
+            integer :: j, c, nn_c
+            was_stuck = ms%stuck
+            old_sig = ms%sig
+            cand_now = cand
+            idx = pack([(j, j = 1, nc)], cand)
+            nn_c = size(idx)
+            ! the free problem: the candidates carry no force
+            ms%stuck(idx) = .false.
+            call free_acceleration(a, rr)
+            call cs%apply_h(a, ha)
+            call cs%offset_rate(t, bd)
+            call cs%normal_forces(t, y(:nd), nn)
+            allocate(af(nn_c), cap(nn_c), p(nn_c), wv(nn_c), cmode(nn_c), dgl(nn_c))
+            if (.not. ms%diagonal) allocate(amat(nn_c, nn_c))
+            af = ha(idx) + bd(idx)
+            cap = nn(idx)
+            p = 0.0_dp
+            cmode = -9
+            cmode = MODE_STICK     ! the guess: every candidate held (see stickslip_contact_solver)
+            scale = 1.0e-9_dp * max(maxval(abs(af)), tiny(1.0_dp))
+            if (ms%diagonal) then
+                ! uncoupled: one closed form per contact
+                call delassus_diagonal(ms, t, y, idx, dgl)
+                do j = 1, nn_c
+                    call solve_contacts(cs%laws(idx(j):idx(j)), reshape([dgl(j)], [1, 1]), af(j:j), cap(j:j), &
+                                        .true., scale, 1, p(j:j), wv(j:j), cmode(j:j), info)
+                    if (.not. info%ok) exit
                 end do
-                if (worst == 0) return
-                ms%stuck(worst) = .false.
-                ms%sig(worst) = -sign(1.0_dp, rr(worst))
-                if (worst == just_stuck .and. present(kind_out)) kind_out = 3
+            else
+                call delassus_block(ms, t, y, idx, amat)
+                call solve_contacts(cs%laws(idx), amat, af, cap, .true., scale, 1000, p, wv, cmode, info)
+            end if
+            cand_now = .false.
+            if (.not. info%ok) then
+                stats%status = SS_CONTACT_FAILED
+                stats%contact_worst = idx(max(info%worst, 1))
+                ms%stuck = was_stuck
+                return
+            end if
+            if (present(nchanged)) nchanged = 0
+            do j = 1, nn_c
+                c = idx(j)
+                if (present(nchanged)) then
+                    if (((cmode(j) == MODE_STICK) .neqv. was_stuck(c)) .or. &
+                        (abs(cmode(j)) == 1 .and. cmode(j) /= nint(old_sig(c)))) nchanged = nchanged + 1
+                end if
+                ms%stuck(c) = cmode(j) == MODE_STICK
+                if (abs(cmode(j)) == 1) ms%sig(c) = real(cmode(j), dp)
+                if (.not. record_events) cycle
+                if (was_stuck(c) .and. .not. ms%stuck(c)) then
+                    call record(c, EVENT_SLIP)
+                else if (.not. was_stuck(c) .and. ms%stuck(c)) then
+                    call record(c, EVENT_STICK)
+                else if (.not. ms%stuck(c) .and. ms%sig(c) /= old_sig(c)) then
+                    call record(c, EVENT_REVERSAL)
+                end if
             end do
-        end subroutine release
+        end subroutine decide
+
+        !> The acceleration a and forces rr with the current mode's slip forces and without the
+        !! forces of stuck contacts (used with the candidates marked as not stuck and carrying
+        !! no force: w = 0 gives them the slip force of speed 0, which is removed here).
+        subroutine free_acceleration(a, rr)
+            real(dp), intent(out) :: a(:), rr(:)
+            real(dp) :: f(nd), w(nc), nn(nc)
+            integer :: j
+            call cs%force(t, y(:nd), y(nd + 1:), f)
+            call cs%normal_forces(t, y(:nd), nn)
+            call cs%relative_velocities(t, y(nd + 1:), w)
+            ms%nfev = ms%nfev + 1
+            rr = 0.0_dp
+            do j = 1, nc
+                if (.not. ms%stuck(j) .and. .not. cand_now(j)) &
+                    rr(j) = -ms%sig(j) * nn(j) * cs%laws(j)%slip_mu(max(ms%sig(j) * w(j), 0.0_dp))
+            end do
+            a = f
+            call cs%add_ht(rr, a)
+            call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, a)
+        end subroutine free_acceleration
+
+        !> The minimum of a slipping contact i's sigma w in (ta, tstar) (where its rate changes
+        !! sign), by Illinois regula falsi on the rate. If sigma w reaches 0 there, tstar and
+        !! ystar move to that point (a crossing lies in (ta, tstar]) and hit_i is set; if its
+        !! minimum comes within the integration's tolerance of 0 (`w_tolerance`) without
+        !! crossing, the contact touches: tstar moves to the minimum and it is decided there.
+        subroutine graze(i, da, db, hit_i)
+            integer, intent(in) :: i
+            real(dp), intent(in) :: da, db
+            logical, intent(inout) :: hit_i
+            real(dp) :: lo, hi, dlo, dhi, tm, gv(nc), rr(nc), dgv(nc), yq(n), gbest, tbest, ybest(n)
+            integer :: it, side
+            lo = ta
+            hi = tstar
+            dlo = da
+            dhi = db
+            side = 0
+            gbest = huge(1.0_dp)
+            do it = 1, 100
+                tm = lo - dlo * (hi - lo) / (dhi - dlo)
+                if (.not. (tm > lo .and. tm < hi)) tm = 0.5_dp * (lo + hi)
+                if (tm <= lo .or. tm >= hi) exit
+                call advance(tm, yq)
+                if (stats%status /= SS_OK) return
+                call event_values(ms, tm, yq, gv, rr, dgv)
+                if (gv(i) <= 0.0_dp) then
+                    tstar = tm
+                    ystar = yq
+                    hit_i = .true.
+                    return
+                end if
+                if (gv(i) < gbest) then
+                    gbest = gv(i)
+                    tbest = tm
+                    ybest = yq
+                end if
+                if (dgv(i) < 0.0_dp) then
+                    lo = tm
+                    dlo = dgv(i)
+                    if (side == 1) dhi = 0.5_dp * dhi
+                    side = 1
+                else
+                    hi = tm
+                    dhi = dgv(i)
+                    if (side == -1) dlo = 0.5_dp * dlo
+                    side = -1
+                end if
+                if (hi - lo <= 1.0e-10_dp * (tstar - ta)) exit
+            end do
+            if (gbest <= w_tolerance(i, ybest)) then
+                tstar = tbest
+                ystar = ybest
+                touch(i) = .true.
+                t_touch = tbest
+                hit_i = .true.
+            end if
+        end subroutine graze
+
+        !> The integration's tolerance on contact i's relative velocity at the state yq [m/s]:
+        !! sum over its row of H of |H_ij| (atol_j + rtol_j |u_j|).
+        real(dp) function w_tolerance(i, yq) result(tol)
+            integer, intent(in) :: i
+            real(dp), intent(in) :: yq(:)
+            integer :: kk, j
+            tol = 0.0_dp
+            do kk = cs%h_ptr(i), cs%h_ptr(i + 1) - 1
+                j = nd + cs%h_col(kk)
+                tol = tol + abs(cs%h_val(kk)) * (atol(min(j, size(atol))) + rtol(min(j, size(rtol))) * abs(yq(j)))
+            end do
+        end function w_tolerance
 
         !> The state at time tq in [ta, tb(k)] from (ta, ya); a failed run sets stats%status.
         subroutine advance(tq, yq)
@@ -421,18 +672,18 @@ contains
         end subroutine advance
 
         !> Earliest crossing of contact i's event function in (ta, tstar]: shrink tstar.
-        subroutine locate(i, ga, gb)
+        subroutine locate(i, ga)
             integer, intent(in) :: i
-            real(dp), intent(in) :: ga, gb
-            real(dp) :: lo, hi, glo, ghi, tm, gm, gv(nc), rr(nc), yq(n)
+            real(dp), intent(in) :: ga
+            real(dp) :: lo, hi, glo, ghi, tm, gm, gv(nc), rr(nc), dgv(nc), yq(n)
             integer :: it, side
             lo = ta
             hi = tstar
             glo = max(ga, 0.0_dp)
             ! g_i at the current tstar (it may already have been shrunk by another contact)
-            call event_values(ms, tstar, ystar, gv, rr)
+            call event_values(ms, tstar, ystar, gv, rr, dgv)
             ghi = gv(i)
-            if (ghi > 0.0_dp) return     ! crosses after an earlier event: not now
+            if (.not. crossed(ms%stuck(i), ghi)) return     ! crosses after an earlier event: not now
             side = 0
             do it = 1, 200
                 if (hi - lo <= 4.0_dp * epsilon(1.0_dp) * max(abs(lo), abs(hi), 1.0e-300_dp)) exit
@@ -445,9 +696,9 @@ contains
                 if (tm <= lo .or. tm >= hi) exit
                 call advance(tm, yq)
                 if (stats%status /= SS_OK) return
-                call event_values(ms, tm, yq, gv, rr)
+                call event_values(ms, tm, yq, gv, rr, dgv)
                 gm = gv(i)
-                if (gm <= 0.0_dp) then
+                if (crossed(ms%stuck(i), gm)) then
                     hi = tm
                     ghi = gm
                     tstar = tm
@@ -464,44 +715,61 @@ contains
             end do
         end subroutine locate
 
-        !> Switch the mode at (t, y) for the contacts whose event functions are <= 0.
+        !> Switch the mode at (t, y): the contacts whose event functions have crossed and every
+        !! stuck contact are decided together (`decide`); a contact that reached w = 0 and has
+        !! one entry in H gets w = 0 exactly. If that changes no mode although a holding force
+        !! exceeds its limit here (rounding at the limit), that contact gives way.
         subroutine switch_mode()
-            real(dp) :: gv(nc), rr(nc), b(nc)
-            integer :: j, kind, kk
-            call event_values(ms, t, y, gv, rr)
+            real(dp) :: gv(nc), rr(nc), dgv(nc), b(nc)
+            integer :: j, kk, nchanged
+            logical :: now(nc), over(nc)
+            call event_values(ms, t, y, gv, rr, dgv)
             call cs%slip_offset(t, b)
+            now = crossed(ms%stuck, gv)
+            if (t == t_touch) now = now .or. touch
+            touch = .false.
+            over = now .and. ms%stuck
             do j = 1, nc
-                if (gv(j) > 0.0_dp) cycle
-                if (ms%stuck(j)) then
-                    kind = 2
+                if (.not. now(j) .or. ms%stuck(j)) cycle
+                kk = cs%h_ptr(j)
+                if (cs%h_ptr(j + 1) - kk == 1) y(nd + cs%h_col(kk)) = -b(j) / cs%h_val(kk)
+            end do
+            call decide(now .or. ms%stuck, .true., nchanged)
+            if (stats%status /= SS_OK .or. nchanged > 0) return
+            ! nothing changed although a holding force exceeded its limit: rounding at the
+            ! limit; the contact gives way against its holding force
+            do j = 1, nc
+                if (over(j) .and. ms%stuck(j)) then
                     ms%stuck(j) = .false.
                     ms%sig(j) = -sign(1.0_dp, rr(j))
-                else
-                    kind = 1
-                    ms%stuck(j) = .true.
-                    kk = cs%h_ptr(j)
-                    if (cs%h_ptr(j + 1) - kk == 1) y(nd + cs%h_col(kk)) = -b(j) / cs%h_val(kk)
+                    call record(j, EVENT_SLIP)
                 end if
-                if (kind == 1) call release(j, kind)
-                call record(j, kind)
-                if (stats%status /= SS_OK) return
             end do
-            call release(0)
         end subroutine switch_mode
 
+        !> Record an event of contact j at (t, y). Events at one instant count once towards the
+        !! Zeno test (10 instants in a row closer than zeno_gap); more events at one instant than
+        !! 4 n_c + 8 is chatter; more than max_events in all ends with SS_EVENT_BUDGET.
         subroutine record(j, kind)
             integer, intent(in) :: j, kind
             ievent = ievent + 1
             stats%nevents = ievent
             if (ievent <= size(events, 2)) events(:, ievent) = [t, real(kind, dp), &
-                y(cs%contact_coordinate(j)), real(j, dp)]
-            if (t - t_last_event < opts%zeno_gap) then
-                zeno_run = zeno_run + 1
+                cs%contact_displacement(j, y(:nd)), real(j, dp)]
+            if (t == t_last_event) then
+                same_instant = same_instant + 1
+                if (same_instant > 4 * nc + 8) stats%status = SS_EVENT_ZENO
             else
-                zeno_run = 0
+                same_instant = 1
+                if (t - t_last_event < opts%zeno_gap) then
+                    zeno_run = zeno_run + 1
+                else
+                    zeno_run = 0
+                end if
             end if
             t_last_event = t
-            if (ievent > opts%max_events .or. zeno_run >= ZENO_ROW) stats%status = SS_EVENT_ZENO
+            if (zeno_run >= ZENO_ROW) stats%status = SS_EVENT_ZENO
+            if (ievent > opts%max_events .and. stats%status == SS_OK) stats%status = SS_EVENT_BUDGET
         end subroutine record
 
         !> Grid rows with times in (t, t_to], by DOPRI5's dense output over the stretch

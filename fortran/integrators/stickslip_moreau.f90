@@ -11,12 +11,14 @@
 !! theta-method; otherwise it is its linearly implicit form (one Newton iteration).
 !!
 !! The friction problem w = w_free + D p, D = H W^-1 H^T (the Delassus matrix, n_c x n_c),
-!! is solved by projected Gauss-Seidel: contact by contact, the one-contact problem in closed
-!! form (`local_solve`) given the others' impulses, sweep after sweep until the largest
-!! change that a sweep's later updates make to an earlier contact's velocity is below
-!! contact_tol [m/s]. One contact needs one sweep (its residual is then 0). Impulses are
-!! warm-started from the previous step. When `w_constant` is set, D is formed once per step
-!! size (n_c solves with W), otherwise every step. Dense D: fine for a few hundred contacts.
+!! is solved by `stickslip_contact_solver`: one contact in closed form (`local_solve`), up to
+!! ENUM_MAX contacts exactly by mode enumeration (coupled rows of H, redundant contacts and
+!! mu_s > mu_k included; the solution with the most stuck contacts where there are several),
+!! more by projected Gauss-Seidel. The previous step's mode and impulses are the warm start.
+!! Every answer is checked against the step's problem: a residual above contact_tol [m/s]
+!! ends the run with SS_CONTACT_FAILED, the step's time in t_reached and the worst contact in
+!! contact_worst. When `w_constant` is set, D is formed once per step size (n_c solves with
+!! W), otherwise every step. Dense D: fine for a few hundred contacts.
 !!
 !! When W is tridiagonal (`w_tridiagonal`, e.g. a chain of blocks) and every contact acts on
 !! one coordinate of its own, the same problem is solved on W itself (`tridiagonal_sweeps`):
@@ -46,11 +48,12 @@ module stickslip_moreau
     use stickslip_ode, only: ode_stats, step_controls, method_info, check_problem, output_start, &
                              step_count, stop_requested, all_finite
     use stickslip_contact, only: contact_system, local_solve
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
-    public :: moreau_options, moreau_integrate, contact_sweeps
+    public :: moreau_options, moreau_integrate
 
     !> What the Moreau-Jean method is and which controls it reads (registry entry).
     type(method_info), parameter, public :: MOREAU_INFO = method_info(name='moreau', order=1, &
@@ -79,7 +82,7 @@ contains
         case ('theta');       self%theta = value
         case ('contact_tol'); self%contact_tol = value
         case ('contact_max_iter')
-            if (value >= 1.0_dp .and. value <= real(huge(1), dp)) then
+            if (value >= 1.0_dp .and. value <= real(huge(1), dp) .and. value == aint(value)) then
                 self%contact_max_iter = int(value)
             else
                 status = SS_BAD_CONTACT_CTL
@@ -90,8 +93,9 @@ contains
 
     !> Integrate M u' = f + H^T r, q' = u with set-valued friction from t0 to t_end.
     !! y0 = (q0, u0) of size 2 n_dof. Output as for the other fixed-step methods.
-    !! stats: nfev counts force evaluations (2 a step), ncontact_iter the contact sweeps,
-    !! contact_residual the largest final residual of a step [m/s]. Status: SS_OK,
+    !! stats: nfev counts force evaluations (2 a step), ncontact_iter the contact sweeps (or
+    !! modes tried), contact_residual the largest final residual of a step [m/s],
+    !! contact_worst the contact whose residual failed (SS_CONTACT_FAILED). Status: SS_OK,
     !! SS_CONTACT_FAILED, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET,
     !! SS_INTERRUPTED or a bad-input code.
     subroutine moreau_integrate(cs, t0, y0, t_end, opts, t_out, y_out, stats)
@@ -107,11 +111,12 @@ contains
         real(dp), allocatable :: q(:), u(:), qp(:), f0(:), f1(:), du(:), g(:), y1(:), y(:)
         real(dp), allocatable :: wfree(:), p(:), hn(:), dmat(:, :), wloc(:)
         real(dp), allocatable :: wl(:), wd(:), wr(:), boff(:)
-        integer, allocatable :: coord_contact(:)
+        integer, allocatable :: coord_contact(:), cmode(:)
+        type(contact_solve_info) :: cinfo
         logical :: tri
         real(dp) :: t, t1, hs, th, h_d, nsteps_real, resid, t_next
         integer(8) :: i, nsteps, n_total
-        integer :: nd, nc, m, next, sweeps, c, k
+        integer :: nd, nc, m, next, sweeps, c, k, iworst
 
         stats%status = check_problem(t0, y0, t_end, t_out, y_out, opts%every_step)
         if (stats%status /= SS_OK) return
@@ -134,6 +139,7 @@ contains
         allocate(q(nd), u(nd), qp(nd), f0(nd), f1(nd), du(nd), g(nd), y(2 * nd), y1(2 * nd))
         th = opts%theta
         allocate(wfree(nc), p(nc), hn(nc), wloc(nc), wl(nd), wd(nd), wr(nd), boff(nc), coord_contact(nd))
+        allocate(cmode(nc), source=-9)   ! no previous mode
         call cs%w_tridiagonal(opts%h * th, (opts%h * th)**2, wl, wd, wr, tri)
         ! the tridiagonal solver needs each contact on one coordinate of its own
         coord_contact = 0
@@ -197,7 +203,8 @@ contains
                 call cs%slip_offset(t1, boff)
                 g = u
                 call tridiagonal_sweeps(cs, wl, wd, wr, du, coord_contact, boff, hn, opts%contact_tol, &
-                                        opts%contact_max_iter, g, wloc, sweeps, resid)
+                                        opts%contact_max_iter, g, wloc, sweeps, resid, iworst)
+                if (resid > opts%contact_tol) stats%contact_worst = coord_contact(iworst)
                 stats%ncontact_iter = stats%ncontact_iter + sweeps
                 stats%contact_residual = max(stats%contact_residual, resid)
                 y1(:nd) = q + hs * ((1.0_dp - th) * u + th * g)
@@ -212,9 +219,15 @@ contains
                 end do
                 h_d = hs
             end if
-            call contact_sweeps(cs, wfree, dmat, hn, opts%contact_tol, opts%contact_max_iter, p, wloc, sweeps, resid)
-            stats%ncontact_iter = stats%ncontact_iter + sweeps
-            stats%contact_residual = max(stats%contact_residual, resid)
+            call solve_contacts(cs%laws, dmat, wfree, hn, .false., opts%contact_tol, opts%contact_max_iter, &
+                                p, wloc, cmode, cinfo)
+            stats%ncontact_iter = stats%ncontact_iter + cinfo%sweeps
+            stats%contact_residual = max(stats%contact_residual, cinfo%residual)
+            resid = 0.0_dp
+            if (.not. cinfo%ok) then
+                resid = huge(1.0_dp)
+                stats%contact_worst = cinfo%worst
+            end if
 
             ! u1 = u_free + W^-1 H^T p, and the exact stick of single-coordinate contacts.
             g = 0.0_dp
@@ -290,7 +303,8 @@ contains
     !! one; a stuck contact gets w = 0 exactly. Sweeps until the residual (the largest change
     !! that the update of coordinate i + 1 made to coordinate i's velocity, [m/s]) is <= tol
     !! or max_iter sweeps are done. u1: starting guess in, velocities out [m/s].
-    subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid)
+    subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
+                                  iworst)
         class(contact_system), intent(in) :: cs  !! the system (its laws and H)
         real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
         real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
@@ -305,9 +319,12 @@ contains
         real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
         integer, intent(out)    :: sweeps        !! sweeps done
         real(dp), intent(out)   :: resid         !! final residual [m/s]
+        integer, intent(out)    :: iworst        !! the coordinate with the largest residual
         real(dp) :: b(size(u1)), du(size(u1)), s, ufree, hv, w, pnew
         integer :: i, n, c
         n = size(u1)
+        resid = 0.0_dp
+        iworst = 1
         ! b = W uf
         do i = 1, n
             b(i) = d(i) * uf(i)
@@ -335,55 +352,16 @@ contains
                 u1(i) = ufree
             end do
             resid = 0.0_dp
+            iworst = 1
             do i = 1, n - 1
-                resid = max(resid, abs(r(i) * du(i + 1) / d(i)))
+                if (abs(r(i) * du(i + 1) / d(i)) > resid) then
+                    resid = abs(r(i) * du(i + 1) / d(i))
+                    iworst = i
+                end if
             end do
             if (resid <= tol) exit
         end do
         sweeps = min(sweeps, max_iter)
     end subroutine tridiagonal_sweeps
-
-    !> Projected Gauss-Seidel on w = wfree + D p, p_i in -hn_i F_i(w_i): sweeps of the
-    !! one-contact solution (`local_solve`) until the residual (the largest change a sweep's
-    !! later updates made to an earlier contact's velocity, [m/s]) is <= tol or max_iter
-    !! sweeps are done. p: warm start in, impulses out [N s].
-    subroutine contact_sweeps(cs, wfree, dmat, hn, tol, max_iter, p, wloc, sweeps, resid)
-        class(contact_system), intent(in) :: cs  !! the system (its laws)
-        real(dp), intent(in)    :: wfree(:)      !! relative velocities without friction [m/s]
-        real(dp), intent(in)    :: dmat(:, :)    !! Delassus matrix D = H W^-1 H^T [1/kg]
-        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
-        real(dp), intent(in)    :: tol           !! tolerance on the residual [m/s]
-        integer, intent(in)     :: max_iter      !! sweep limit, >= 1
-        real(dp), intent(inout) :: p(:)          !! impulses [N s]
-        !> each contact's velocity from its last one-contact solve (exactly 0: stuck) [m/s]
-        real(dp), intent(out)   :: wloc(:)
-        integer, intent(out)    :: sweeps        !! sweeps done
-        real(dp), intent(out)   :: resid         !! final residual [m/s]
-        real(dp) :: dp_(size(p)), wf, pnew, r
-        integer :: i, j, nc
-        nc = size(p)
-        resid = 0.0_dp
-        do sweeps = 1, max_iter
-            do i = 1, nc
-                wf = wfree(i)
-                do j = 1, nc
-                    if (j /= i) wf = wf + dmat(i, j) * p(j)
-                end do
-                call local_solve(cs%laws(i), wf, dmat(i, i), hn(i), wloc(i), pnew)
-                dp_(i) = pnew - p(i)
-                p(i) = pnew
-            end do
-            resid = 0.0_dp
-            do i = 1, nc - 1
-                r = 0.0_dp
-                do j = i + 1, nc
-                    r = r + dmat(i, j) * dp_(j)
-                end do
-                resid = max(resid, abs(r))
-            end do
-            if (resid <= tol) exit
-        end do
-        sweeps = min(sweeps, max_iter)
-    end subroutine contact_sweeps
 
 end module stickslip_moreau

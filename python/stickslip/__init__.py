@@ -11,6 +11,7 @@ from .core import (
     EVENT_DTYPE,
     ContactSolverFailure,
     EventAccumulation,
+    EventBudgetExhausted,
     REGISTRY,
     LAW_PARAMS,
     LAWS,
@@ -43,7 +44,7 @@ __all__ = [
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch", "UnusedParameterWarning",
     "UnstableStepWarning", "Advice", "advise",
-    "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation",
+    "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation", "EventBudgetExhausted",
     "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
     "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction",
 ]

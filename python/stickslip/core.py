@@ -166,13 +166,26 @@ class UnstableStepWarning(UserWarning):
 
 
 class ContactSolverFailure(IntegrationError):
-    """moreau: a step's friction problem did not converge to contact_tol within
-    contact_max_iter sweeps of the contact solver."""
+    """The contact solver found no solution of a step's (moreau) or an event's (event_driven)
+    friction problem within contact_tol; the message names the time and the contact
+    (``result.stats["contact_worst"]``, 0-based there as in the message)."""
+
+    def __init__(self, status: int, result: "Result") -> None:
+        super().__init__(status, result)
+        worst = int(result.stats.get("contact_worst", -1))
+        if worst >= 0:
+            self.args = (f"{self.args[0]}; contact {worst} had the largest residual "
+                         f"(t = {result.stats['t_reached']:.9g} s)",)
 
 
 class EventAccumulation(IntegrationError):
-    """event_driven: stick/slip events accumulate (Zeno or chatter): more than max_events, or
-    10 in a row closer than zeno_gap."""
+    """event_driven: stick/slip events accumulate (Zeno or chatter): 10 instants with events
+    in a row closer than zeno_gap, or more events at one instant than 4 n_c + 8."""
+
+
+class EventBudgetExhausted(IntegrationError):
+    """event_driven: more than max_events stick/slip transitions (a budget, not a sign of
+    accumulation: raise max_events to go on)."""
 
 
 _ERRORS: dict[int, type[IntegrationError]] = {
@@ -186,6 +199,7 @@ _ERRORS: dict[int, type[IntegrationError]] = {
     _STATUS["JAC_NONFINITE"]: NewtonFailure,
     _STATUS["CONTACT_FAILED"]: ContactSolverFailure,
     _STATUS["EVENT_ZENO"]: EventAccumulation,
+    _STATUS["EVENT_BUDGET"]: EventBudgetExhausted,
 }
 
 #: The dtype of Result.events: time [s], kind ("stick": slip -> stick, "slip": stick -> slip,
@@ -284,6 +298,7 @@ class Result:
             stats: dict[str, Any] = dict(zip(_STATS_INT, istats.astype(np.int64).tolist()))  # exact: < 2**53
             stats.update(zip(_STATS_REAL, rstats.tolist()))
             stats["stiff"] = bool(stats["stiff"])
+            stats["contact_worst"] -= 1           # 0-based, as Result.events; -1: none
             stats["message"] = status_message(status)
             stats["cpu_seconds"] = cpu
             del stats["n_written"]
@@ -855,8 +870,12 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
           forward-backward substitutions of the implicit methods (NJAC, NDEC, NSOL).
         - ``nevents``: stick/slip transitions of event_driven (``Result.events`` holds them;
           0 for the other methods).
-        - ``ncontact_iter``: sweeps of moreau's contact solve, summed over the steps.
-        - ``contact_residual``: the largest final residual of moreau's contact solve [m/s].
+        - ``ncontact_iter``: work of moreau's contact solver, summed over the steps (sweeps of
+          Gauss-Seidel, or modes tried by the exact enumeration).
+        - ``contact_residual``: the largest residual of moreau's contact solve [m/s], measured
+          on each step's friction problem (its complementarity conditions).
+        - ``contact_worst``: the contact (0-based) whose friction problem had no solution
+          (ContactSolverFailure), else -1.
         - ``status``: the library's status code (0: t_end reached).
         - ``message``: the library's message for that status.
         - ``t_reached``: the time the run reached [s] (t_end on success).
@@ -875,7 +894,9 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     IntegrationError
         The run ended before t_end; one of its subclasses StepBudgetExhausted,
         StepSizeTooSmall, StiffnessDetected, NonFiniteSolution, OutputBufferFull,
-        NewtonFailure, ContactSolverFailure (moreau), EventAccumulation (event_driven). Its ``result`` holds the output up to ``stats["t_reached"]`` and its
+        NewtonFailure, ContactSolverFailure (moreau, event_driven), EventAccumulation and
+        EventBudgetExhausted (event_driven). Its ``result`` holds the output up to
+        ``stats["t_reached"]`` and its
         ``status`` the library's code.
     KeyboardInterrupt
         Ctrl-C during the run (the integrators look at a stop flag every 4096 steps).

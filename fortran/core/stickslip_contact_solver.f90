@@ -1,0 +1,466 @@
+!> The friction problem of one step (or one instant) of a system with set-valued contacts,
+!! for any number of contacts coupled through any Delassus matrix, and its solver.
+!!
+!! The problem. Relative velocities w = wf + D p (n contacts; D symmetric positive
+!! semidefinite, [1/kg]: D = H W^-1 H^T of a time step, or H M^-1 H^T at the acceleration
+!! level); each contact i with capacity c_i > 0 (h N_i [N s] for impulses, N_i [N] for
+!! forces) obeys its set-valued law:
+!!   stick: w_i = 0 and |p_i| <= mu_s,i c_i (1 + STICK_RTOL), or
+!!   slip:  w_i /= 0 and p_i = -sign(w_i) c_i mu_i(|w_i|),
+!! with mu_i the law's slip curve (`slip_mu`), or, at the acceleration level (`at_rest`),
+!! the constant mu_i(0+) of a contact that starts to slip from rest. A contact with c_i = 0 or
+!! mu_s,i = 0 is open: p_i = 0. |p_i| = mu_s c_i exactly counts as stuck (both nonsmooth
+!! methods treat the limit the same way, within the relative tolerance STICK_RTOL).
+!!
+!! Which solution. With mu_s > mu_k (or D singular: redundant contacts) the problem may have
+!! several solutions. This solver returns one with the most stuck contacts: it prefers
+!! stick, as the one-contact closed form (`local_solve`) does. Among the solutions with that
+!! many stuck contacts it keeps the previous mode (the caller's guess) if it is one (no switch
+!! without cause); else, where the previous mode would hold some contacts beyond their
+!! limits, the previous mode with just those contacts slipping against their holding
+!! impulses (the contact at its limit gives way, the others hold) if that is one; otherwise
+!! the one with the smallest total slip speed sum |w_i|. Among the impulses that
+!! hold a redundant stuck set the one that minimises sum p_i^2 / (mu_s,i c_i) (each contact
+!! loaded in proportion to its capacity: contacts on identical rows of H all reach their limit
+!! together, the distribution that holds longest).
+!!
+!! How. One active contact: its closed form (`local_solve`). Up to ENUM_MAX active contacts:
+!! exact enumeration of the modes (stick, slip +, slip -) by number of slipping contacts, the
+!! previous mode first (if it is a solution only modes with fewer slipping contacts remain to
+!! be tried); each mode is a linear solve of its stuck block (`psd_solve`, weighted minimum
+!! norm where singular) and, for the Stribeck curve at the velocity level, a safeguarded
+!! Newton iteration on the slip speeds. More contacts: projected Gauss-Seidel (one-contact
+!! closed forms in turn) until the residual is below tol. The answer is then checked against
+!! the problem itself (`contact_residual`), whichever way it was found, and info%ok is .false.
+!! when the residual exceeds tol (or the rounding floor 1000 eps (max|wf| + max|D| max|p|),
+!! where that is larger) or no mode is a solution: the caller ends with a named status.
+!! The Gauss-Seidel answer of more than ENUM_MAX contacts is a solution when ok, but not
+!! necessarily the stick-preferring one where several exist.
+module stickslip_contact_solver
+    use stickslip_kinds, only: dp
+    use stickslip_contact, only: contact_law, local_solve, CONTACT_COULOMB
+    use stickslip_linalg, only: psd_solve, lu_decompose, lu_solve
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    implicit none
+    private
+
+    public :: contact_solve_info, solve_contacts, contact_residual, gauss_seidel
+
+    !> Relative tolerance of the static limit: |p| <= mu_s c (1 + STICK_RTOL) sticks [-].
+    real(dp), parameter, public :: STICK_RTOL = 1.0e-12_dp
+    !> Most active contacts solved by exact mode enumeration (3^n modes at most).
+    integer, parameter, public :: ENUM_MAX = 6
+
+    integer, parameter, public :: MODE_STICK = 0    !! mode(i): stuck
+    integer, parameter, public :: MODE_OPEN = 2     !! mode(i): open (no capacity), p_i = 0
+    !! (slip is mode(i) = +1 or -1, the sign of w_i)
+
+    integer, parameter, public :: SOLVER_LOCAL = 1          !! one active contact, closed form
+    integer, parameter, public :: SOLVER_ENUMERATION = 2    !! exact mode enumeration
+    integer, parameter, public :: SOLVER_GAUSS_SEIDEL = 3   !! projected Gauss-Seidel
+
+    !> What the solver did and how well the answer satisfies the problem.
+    type :: contact_solve_info
+        logical :: ok = .true.          !! the answer satisfies the problem to tol
+        integer :: method = 0           !! SOLVER_LOCAL, SOLVER_ENUMERATION or SOLVER_GAUSS_SEIDEL
+        integer :: sweeps = 0           !! Gauss-Seidel sweeps, or modes tried by enumeration
+        real(dp) :: residual = 0.0_dp   !! complementarity residual (`contact_residual`) [m/s]
+        integer :: worst = 0            !! the contact with the largest residual (0: none)
+    end type contact_solve_info
+
+contains
+
+    !> Solve the problem of the module notes. p: warm start in (Gauss-Seidel), impulses out;
+    !! mode: the previous mode in (a guess, any values), the solution's out.
+    subroutine solve_contacts(laws, d, wf, cap, at_rest, tol, max_iter, p, w, mode, info)
+        type(contact_law), intent(in) :: laws(:)   !! (n) each contact's law
+        real(dp), intent(in)    :: d(:, :)         !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in)    :: wf(:)           !! (n) velocities without friction [m/s]
+        real(dp), intent(in)    :: cap(:)          !! (n) capacities c_i >= 0 [N s] (or [N])
+        logical, intent(in)     :: at_rest         !! slip coefficient fixed at mu(0+)
+        real(dp), intent(in)    :: tol             !! tolerance on the residual [m/s]
+        integer, intent(in)     :: max_iter        !! Gauss-Seidel sweep limit
+        real(dp), intent(inout) :: p(:)            !! (n) impulses [N s] (or forces [N])
+        real(dp), intent(out)   :: w(:)            !! (n) velocities, exactly 0 when stuck [m/s]
+        integer, intent(inout)  :: mode(:)         !! (n) MODE_STICK, +-1, MODE_OPEN
+        type(contact_solve_info), intent(out) :: info
+        logical :: active(size(wf)), found
+        integer :: n, na, i
+        n = size(wf)
+        active = cap > 0.0_dp .and. laws%mu_s > 0.0_dp
+        na = count(active)
+        where (.not. active)
+            p = 0.0_dp
+            mode = MODE_OPEN
+        end where
+        if (na == 0) then
+            w = wf
+        else if (na == 1) then
+            info%method = SOLVER_LOCAL
+            i = findloc(active, .true., dim=1)
+            call one_contact(law_at(laws(i), at_rest), wf(i), d(i, i), cap(i), w(i), p(i))
+            mode(i) = slip_sign(w(i))
+            call finish_velocities()
+        else if (na <= ENUM_MAX) then
+            info%method = SOLVER_ENUMERATION
+            call enumerate(laws, d, wf, cap, at_rest, active, p, w, mode, found, info%sweeps)
+            if (.not. found) then
+                info%ok = .false.
+                info%residual = huge(1.0_dp)
+                return
+            end if
+        else
+            info%method = SOLVER_GAUSS_SEIDEL
+            call gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, info%sweeps)
+            do i = 1, n
+                if (active(i)) mode(i) = slip_sign(w(i))
+            end do
+            call finish_velocities()
+        end if
+        call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
+        ! tol, or the rounding of wf + D p where that is larger
+        info%ok = info%residual <= max(tol, 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(wf)) + &
+                                        maxval(abs(d)) * maxval(abs(p))))
+    contains
+        !> Velocities of open contacts (and exact zeros of stuck ones) from the impulses.
+        subroutine finish_velocities()
+            integer :: j
+            do j = 1, n
+                if (mode(j) == MODE_OPEN) w(j) = wf(j) + dot_product(d(j, :), p)
+            end do
+        end subroutine finish_velocities
+    end subroutine solve_contacts
+
+    !> The law of a contact as the solver uses it: at rest, the Coulomb law with the slip
+    !! coefficient mu(0+) (mu_k for Coulomb, mu_s for the Stribeck curve).
+    elemental function law_at(law, at_rest) result(l)
+        type(contact_law), intent(in) :: law
+        logical, intent(in) :: at_rest
+        type(contact_law) :: l
+        l = law
+        if (at_rest) l = contact_law(kind=CONTACT_COULOMB, mu_s=law%mu_s, mu_k=law%slip_mu(0.0_dp))
+    end function law_at
+
+    pure integer function slip_sign(w) result(s)
+        real(dp), intent(in) :: w
+        s = MODE_STICK
+        if (w > 0.0_dp) s = 1
+        if (w < 0.0_dp) s = -1
+    end function slip_sign
+
+    !> One contact, closed form (`local_solve`), with the static limit's tolerance.
+    pure subroutine one_contact(law, wf, d, c, w, p)
+        type(contact_law), intent(in) :: law
+        real(dp), intent(in)  :: wf, d, c
+        real(dp), intent(out) :: w, p
+        if (abs(wf) <= d * c * law%mu_s * (1.0_dp + STICK_RTOL)) then
+            p = -wf / d
+            w = 0.0_dp
+        else
+            call local_solve(law, wf, d, c, w, p)
+        end if
+    end subroutine one_contact
+
+    !> The complementarity residual of (p, w, mode) [m/s]: for every contact the largest of
+    !! |wf + D p - w| (w = 0 if stuck), and, scaled by D_ii, the excess of a stuck impulse over
+    !! mu_s c (1 + STICK_RTOL), the distance of a slipping impulse from -sign(w) c mu(|w|),
+    !! and a slip whose direction disagrees with its mode.
+    subroutine contact_residual(laws, d, wf, cap, at_rest, p, w, mode, resid, worst)
+        type(contact_law), intent(in) :: laws(:)
+        real(dp), intent(in)  :: d(:, :), wf(:), cap(:), p(:), w(:)
+        logical, intent(in)   :: at_rest
+        integer, intent(in)   :: mode(:)
+        real(dp), intent(out) :: resid      !! the largest residual [m/s]
+        integer, intent(out)  :: worst      !! its contact (0: none)
+        real(dp) :: r, dii
+        integer :: i
+        resid = 0.0_dp
+        worst = 0
+        do i = 1, size(wf)
+            dii = max(d(i, i), tiny(1.0_dp))
+            r = abs(wf(i) + dot_product(d(i, :), p) - w(i))
+            select case (mode(i))
+            case (MODE_OPEN)
+                r = max(r, abs(p(i)) * dii)
+            case (MODE_STICK)
+                r = max(r, abs(w(i)), dii * max(0.0_dp, abs(p(i)) - laws(i)%mu_s * cap(i) * (1.0_dp + STICK_RTOL)))
+            case default
+                if (real(mode(i), dp) * w(i) <= 0.0_dp) then
+                    r = huge(1.0_dp)
+                else
+                    r = max(r, dii * abs(p(i) + mode(i) * cap(i) * slip_coefficient(laws(i), abs(w(i)), at_rest)))
+                end if
+            end select
+            if (.not. ieee_is_finite(r)) r = huge(1.0_dp)
+            if (r > resid .or. worst == 0) then
+                resid = max(resid, r)
+                worst = i
+            end if
+        end do
+    end subroutine contact_residual
+
+    elemental real(dp) function slip_coefficient(law, s, at_rest) result(mu)
+        type(contact_law), intent(in) :: law
+        real(dp), intent(in) :: s
+        logical, intent(in) :: at_rest
+        if (at_rest) then
+            mu = law%slip_mu(0.0_dp)
+        else
+            mu = law%slip_mu(s)
+        end if
+    end function slip_coefficient
+
+    !> Exact enumeration: the previous mode first (or, where it holds contacts beyond their
+    !! limits, the previous mode with those contacts slipping against their holding impulses),
+    !! then the modes by number of slipping contacts (0, 1, ...), every subset and every sign
+    !! pattern; the first number of slipping contacts with a solution is taken, and in it that
+    !! first guess if it is a solution there, otherwise the solution with the smallest sum |w|.
+    subroutine enumerate(laws, d, wf, cap, at_rest, active, p, w, mode, found, tried)
+        type(contact_law), intent(in) :: laws(:)
+        real(dp), intent(in)    :: d(:, :), wf(:), cap(:)
+        logical, intent(in)     :: at_rest, active(:)
+        real(dp), intent(inout) :: p(:)
+        real(dp), intent(out)   :: w(:)
+        integer, intent(inout)  :: mode(:)
+        logical, intent(out)    :: found
+        integer, intent(out)    :: tried
+        integer :: idx(count(active)), comb(count(active)), trial(size(wf)), na, k, kmax, pattern, j
+        real(dp) :: pt(size(wf)), wt(size(wf)), best, p_prev(size(wf)), w_prev(size(wf))
+        integer :: m_prev(size(wf))
+        logical :: ok, more, prev, over(size(wf))
+        na = size(idx)
+        idx = pack([(j, j = 1, size(wf))], active)
+        found = .false.
+        tried = 0
+        best = huge(1.0_dp)
+        kmax = na
+        ! the previous mode, if it assigns every active contact and is a solution: only
+        ! modes with fewer slipping contacts can replace it
+        prev = all(abs(mode(idx)) <= 1)
+        if (prev) then
+            m_prev = mode
+            where (.not. active) m_prev = MODE_OPEN
+            call solve_mode(laws, d, wf, cap, at_rest, m_prev, p_prev, w_prev, prev)
+            tried = 1
+            if (.not. prev .and. all(ieee_is_finite(p_prev))) then
+                ! the contacts held beyond their limits in that mode give way, against their
+                ! holding impulses; the others keep their modes
+                over = m_prev == MODE_STICK .and. abs(p_prev) > laws%mu_s * cap * (1.0_dp + STICK_RTOL)
+                if (any(over)) then
+                    where (over) m_prev = -nint(sign(1.0_dp, p_prev))
+                    call solve_mode(laws, d, wf, cap, at_rest, m_prev, p_prev, w_prev, prev)
+                    tried = 2
+                end if
+            end if
+            if (prev) kmax = count(m_prev(idx) /= MODE_STICK) - 1
+        end if
+        do k = 0, kmax
+            comb(:k) = [(j, j = 1, k)]
+            more = .true.
+            do while (more)
+                do pattern = 0, 2**k - 1
+                    trial = MODE_OPEN
+                    trial(idx) = MODE_STICK
+                    do j = 1, k
+                        trial(idx(comb(j))) = merge(1, -1, btest(pattern, j - 1))
+                    end do
+                    call try_mode(trial, ok)
+                end do
+                call next_combination(comb(:k), na, more)
+            end do
+            if (found) exit
+        end do
+        if (.not. found .and. prev) then
+            found = .true.
+            p = p_prev
+            w = w_prev
+            mode = m_prev
+        end if
+    contains
+
+        subroutine try_mode(m, ok)
+            integer, intent(in) :: m(:)
+            logical, intent(out) :: ok
+            real(dp) :: slip
+            tried = tried + 1
+            call solve_mode(laws, d, wf, cap, at_rest, m, pt, wt, ok)
+            if (.not. ok) return
+            slip = sum(abs(wt), mask=(abs(m) == 1))
+            if (.not. found .or. slip < best) then
+                found = .true.
+                best = slip
+                p = pt
+                w = wt
+                mode = m
+            end if
+        end subroutine try_mode
+    end subroutine enumerate
+
+    !> The next k-subset of 1..n in lexicographic order (more = .false. after the last).
+    pure subroutine next_combination(c, n, more)
+        integer, intent(inout) :: c(:)
+        integer, intent(in) :: n
+        logical, intent(out) :: more
+        integer :: k, i, j
+        k = size(c)
+        more = .false.
+        do i = k, 1, -1
+            if (c(i) < n - k + i) then
+                c(i) = c(i) + 1
+                do j = i + 1, k
+                    c(j) = c(j - 1) + 1
+                end do
+                more = .true.
+                return
+            end if
+        end do
+    end subroutine next_combination
+
+    !> The solution of one mode m (MODE_STICK, +-1 or MODE_OPEN per contact), if it has one:
+    !! the stuck block's impulses by the weighted minimum-norm solve, the slip speeds in closed
+    !! form (constant coefficients) or by a safeguarded Newton iteration (the Stribeck curve).
+    !! ok: the mode's equations have a solution that satisfies its inequalities.
+    subroutine solve_mode(laws, d, wf, cap, at_rest, m, p, w, ok)
+        type(contact_law), intent(in) :: laws(:)
+        real(dp), intent(in)  :: d(:, :), wf(:), cap(:)
+        logical, intent(in)   :: at_rest
+        integer, intent(in)   :: m(:)
+        real(dp), intent(out) :: p(:), w(:)
+        logical, intent(out)  :: ok
+        integer :: is(count(m == MODE_STICK)), jf(count(abs(m) == 1)), ns, nf, i, it
+        real(dp) :: ps(size(is), size(jf) + 1), g(size(jf), size(jf)), v0(size(jf)), sg(size(jf))
+        real(dp) :: s(size(jf)), r(size(jf)), jac(size(jf), size(jf)), step(size(jf), 1), mu(size(jf))
+        real(dp) :: cf(size(jf)), dmu(size(jf)), cs(size(is))
+        logical :: constant
+        ns = size(is)
+        nf = size(jf)
+        is = pack([(i, i = 1, size(m))], m == MODE_STICK)
+        jf = pack([(i, i = 1, size(m))], abs(m) == 1)
+        sg = real(m(jf), dp)
+        cf = cap(jf)
+        cs = laws(is)%mu_s * cap(is)
+        ! P [wf_S, D_SF]: the stuck block's response to the free velocities and to each
+        ! slipping contact's unit impulse
+        if (ns > 0) then
+            ps(:, 1) = -wf(is)
+            do i = 1, nf
+                ps(:, i + 1) = -d(is, jf(i))
+            end do
+            call psd_solve(d(is, is), ps, cs, ok)
+            if (.not. ok) return
+        end if
+        ! w_F = v0 + G p_F with the stuck block eliminated
+        v0 = wf(jf)
+        g = d(jf, jf)
+        if (ns > 0) then
+            v0 = v0 + matmul(d(jf, is), ps(:, 1))
+            g = g + matmul(d(jf, is), ps(:, 2:))
+        end if
+        constant = at_rest
+        if (.not. constant) constant = all(laws(jf)%kind == CONTACT_COULOMB)
+        ! slip speeds s > 0: s = sg (v0 - G (sg c mu(s)))
+        mu = slip_coefficient(laws(jf), 0.0_dp, .true.)
+        if (.not. at_rest) mu = laws(jf)%mu_k
+        s = sg * (v0 - matmul(g, sg * cf * mu))
+        if (.not. constant) then
+            s = max(s, 1.0e-3_dp * maxval(abs(v0)), tiny(1.0_dp))
+            ok = .false.
+            do it = 1, 100
+                mu = laws(jf)%slip_mu(s)
+                dmu = laws(jf)%slip_dmu(s)
+                r = s - sg * (v0 - matmul(g, sg * cf * mu))
+                if (all(abs(r) <= 8.0_dp * epsilon(1.0_dp) * max(s, maxval(abs(v0))))) then
+                    ok = .true.
+                    exit
+                end if
+                do i = 1, nf
+                    jac(:, i) = sg * g(:, i) * sg(i) * cf(i) * dmu(i)
+                    jac(i, i) = jac(i, i) + 1.0_dp
+                end do
+                step(:, 1) = -r
+                call newton_solve(jac, step(:, 1), ok)
+                if (.not. ok) return
+                ok = .false.
+                ! keep the speeds positive (halve towards zero instead of crossing it)
+                s = max(s + step(:, 1), 0.5_dp * s)
+            end do
+            if (.not. ok) return
+            mu = laws(jf)%slip_mu(s)
+        end if
+        if (any(.not. (s > 0.0_dp))) then
+            ok = .false.
+            return
+        end if
+        p = 0.0_dp
+        w = 0.0_dp
+        p(jf) = -sg * cf * mu
+        if (ns > 0) p(is) = ps(:, 1) + matmul(ps(:, 2:), p(jf))
+        w(jf) = sg * s
+        ok = all(abs(p(is)) <= cs * (1.0_dp + STICK_RTOL))
+        if (ok) ok = all(ieee_is_finite(p))
+        ! open contacts see the others' impulses
+        do i = 1, size(m)
+            if (m(i) == MODE_OPEN) w(i) = wf(i) + dot_product(d(i, :), p)
+        end do
+    end subroutine solve_mode
+
+    !> x := J^-1 x for the small Newton matrix of solve_mode (LU; ok = .false. if singular).
+    subroutine newton_solve(jac, x, ok)
+        real(dp), intent(in)    :: jac(:, :)
+        real(dp), intent(inout) :: x(:)
+        logical, intent(out)    :: ok
+        real(dp) :: a(size(x), size(x))
+        integer :: ipiv(size(x)), info
+        a = jac
+        call lu_decompose(a, ipiv, info)
+        ok = info == 0
+        if (ok) call lu_solve(a, ipiv, x)
+    end subroutine newton_solve
+
+    !> Projected Gauss-Seidel on w = wf + D p: each active contact's closed form given the
+    !! others' impulses, sweep after sweep until the largest change that a sweep's later updates
+    !! made to an earlier contact's velocity is <= tol [m/s] or max_iter sweeps are done.
+    !! p: warm start in, impulses out [N s]; w: each contact's velocity from its last solve
+    !! (exactly 0: stuck; open contacts: wf + D p).
+    subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps)
+        type(contact_law), intent(in) :: laws(:)
+        real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
+        logical, intent(in)     :: at_rest
+        integer, intent(in)     :: max_iter
+        real(dp), intent(inout) :: p(:)
+        real(dp), intent(out)   :: w(:)
+        integer, intent(out)    :: sweeps
+        real(dp) :: dp_(size(p)), wfi, pnew, r, resid
+        type(contact_law) :: lw(size(p))
+        integer :: i, j, nc
+        nc = size(p)
+        lw = law_at(laws, at_rest)
+        w = wf
+        do sweeps = 1, max_iter
+            do i = 1, nc
+                if (.not. (cap(i) > 0.0_dp .and. lw(i)%mu_s > 0.0_dp)) then
+                    dp_(i) = 0.0_dp
+                    cycle
+                end if
+                wfi = wf(i)
+                do j = 1, nc
+                    if (j /= i) wfi = wfi + d(i, j) * p(j)
+                end do
+                call one_contact(lw(i), wfi, d(i, i), cap(i), w(i), pnew)
+                dp_(i) = pnew - p(i)
+                p(i) = pnew
+            end do
+            resid = 0.0_dp
+            do i = 1, nc - 1
+                r = 0.0_dp
+                do j = i + 1, nc
+                    r = r + d(i, j) * dp_(j)
+                end do
+                resid = max(resid, abs(r))
+            end do
+            if (resid <= tol) exit
+        end do
+        sweeps = min(sweeps, max_iter)
+    end subroutine gauss_seidel
+
+end module stickslip_contact_solver

@@ -1,0 +1,347 @@
+!> General contact configurations through the contact interface, written here as a user's
+!! own `contact_system` (a linear system of bodies: diagonal mass, dense stiffness, a sparse
+!! H with coupled and redundant rows, constant normal forces and belt offsets):
+!!   - stacked: block A on a belt, block B on A (the contact B-A has the row [-1, 1] of H);
+!!   - feet: one block on a belt standing on two feet (two identical rows of H, N/2 each).
+!! Without arguments it checks the per-step contact solver on random problems (coupled and
+!! redundant rows, mu_s >= mu_k): the answer satisfies the problem's conditions (checked here
+!! independently of the solver's own residual), it equals the only solution where a brute
+!! force search written here finds exactly one, and no mode with more stuck contacts is a
+!! solution (stick preferred). With the argument `dump` it prints the scenes' trajectories
+!! under event_driven and moreau for tests/test_contacts.py, which compares them with
+!! a scipy event-driven reference and the closed-form belt cycle.
+module test_linear_contact
+    use stickslip_kinds, only: dp
+    use stickslip_contact, only: contact_system, contact_law
+    use stickslip_linalg, only: lu_decompose, lu_solve
+    implicit none
+    private
+    public :: linear_system, stacked_blocks, two_feet
+
+    !> M u' = -K q + H^T r, w = H u + b, constant normal forces.
+    type, extends(contact_system) :: linear_system
+        real(dp), allocatable :: m(:)        !! masses [kg]
+        real(dp), allocatable :: k(:, :)     !! stiffness [N/m]
+        real(dp), allocatable :: boff(:)     !! offsets of w (minus the belt speed) [m/s]
+        real(dp), allocatable :: nforce(:)   !! normal forces [N]
+    contains
+        procedure :: force => ls_force
+        procedure :: solve_w => ls_solve_w
+        procedure :: normal_forces => ls_normal
+        procedure :: slip_offset => ls_offset
+    end type linear_system
+
+contains
+
+    !> Block A (1 kg, spring 100 N/m to the wall) on a belt at 0.2 m/s, block B (0.5 kg,
+    !! spring 150 N/m to the wall) on A. Contact 1: A on the belt, w1 = v_A - v_b, N1 = (m_A +
+    !! m_B) g, mu_s 0.5, mu_k 0.3; contact 2: B on A, w2 = v_B - v_A, N2 = m_B g, mu_s 0.6,
+    !! mu_k 0.4.
+    function stacked_blocks() result(s)
+        type(linear_system) :: s
+        s%n_dof = 2
+        s%n_c = 2
+        s%m = [1.0_dp, 0.5_dp]
+        s%k = reshape([100.0_dp, 0.0_dp, 0.0_dp, 150.0_dp], [2, 2])
+        s%h_ptr = [1, 2, 4]
+        s%h_col = [1, 1, 2]
+        s%h_val = [1.0_dp, -1.0_dp, 1.0_dp]
+        s%boff = [-0.2_dp, 0.0_dp]
+        s%nforce = [1.5_dp * 9.81_dp, 0.5_dp * 9.81_dp]
+        s%laws = [contact_law(mu_s=0.5_dp, mu_k=0.3_dp), contact_law(mu_s=0.6_dp, mu_k=0.4_dp)]
+        s%w_constant = .true.
+    end function stacked_blocks
+
+    !> One block (2 kg, spring 500 N/m to the wall) on a belt at 0.3 m/s on two feet, each
+    !! with half the weight, mu_s 0.6, mu_k 0.4: the belt scene's first parameter set of the
+    !! closed-form tests, with its contact split in two.
+    function two_feet() result(s)
+        type(linear_system) :: s
+        s%n_dof = 1
+        s%n_c = 2
+        s%m = [2.0_dp]
+        s%k = reshape([500.0_dp], [1, 1])
+        s%h_ptr = [1, 2, 3]
+        s%h_col = [1, 1]
+        s%h_val = [1.0_dp, 1.0_dp]
+        s%boff = [-0.3_dp, -0.3_dp]
+        s%nforce = [9.81_dp, 9.81_dp]
+        s%laws = [contact_law(mu_s=0.6_dp, mu_k=0.4_dp), contact_law(mu_s=0.6_dp, mu_k=0.4_dp)]
+        s%w_constant = .true.
+    end function two_feet
+
+    subroutine ls_force(self, t, q, u, f)
+        class(linear_system), intent(in) :: self
+        real(dp), intent(in) :: t, q(:), u(:)
+        real(dp), intent(out) :: f(:)
+        f = -matmul(self%k, q)
+    end subroutine ls_force
+
+    subroutine ls_solve_w(self, t, q, u, a, b, x)
+        class(linear_system), intent(in) :: self
+        real(dp), intent(in) :: t, q(:), u(:), a, b
+        real(dp), intent(inout) :: x(:)
+        real(dp) :: w(self%n_dof, self%n_dof)
+        integer :: ipiv(self%n_dof), info, i
+        w = b * self%k
+        do i = 1, self%n_dof
+            w(i, i) = w(i, i) + self%m(i)
+        end do
+        call lu_decompose(w, ipiv, info)
+        call lu_solve(w, ipiv, x)
+    end subroutine ls_solve_w
+
+    subroutine ls_normal(self, t, q, n)
+        class(linear_system), intent(in) :: self
+        real(dp), intent(in) :: t, q(:)
+        real(dp), intent(out) :: n(:)
+        n = self%nforce
+    end subroutine ls_normal
+
+    subroutine ls_offset(self, t, b)
+        class(linear_system), intent(in) :: self
+        real(dp), intent(in) :: t
+        real(dp), intent(out) :: b(:)
+        b = self%boff
+    end subroutine ls_offset
+
+end module test_linear_contact
+
+program test_contact_general
+    use test_support, only: check, finish
+    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_ode, only: ode_stats
+    use stickslip_contact, only: contact_law
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info
+    use stickslip_linalg, only: lu_decompose, lu_solve
+    use stickslip_moreau, only: moreau_options, moreau_integrate
+    use stickslip_event_driven, only: event_driven_options, event_driven_integrate
+    use test_linear_contact, only: linear_system, stacked_blocks, two_feet
+    implicit none
+    character(len=16) :: arg
+    ! the current random problem (random_problems, conditions, brute_force)
+    real(dp) :: d(6, 6), wf(6), cap(6)
+    type(contact_law) :: laws(6)
+    integer :: mode(6)
+
+    arg = ''
+    if (command_argument_count() >= 1) call get_command_argument(1, arg)
+    if (arg == 'dump') then
+        call dump('stacked', stacked_blocks(), [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], 4.0_dp)
+        call dump('feet', two_feet(), [0.0_dp, 0.3_dp], 4.0_dp)
+    else
+        call random_problems()
+        call finish('general contact')
+    end if
+
+contains
+
+    !> Trajectories of one scene on a grid of 401 points: event_driven (rtol 1e-11) and moreau
+    !! at h = 4e-3, 2e-3, 1e-3, 5e-4, as lines 'TRAJ scene method h status t q.. u..', and the
+    !! events as 'EVENT scene t kind position contact'.
+    subroutine dump(name, sys, y0, t_end)
+        character(*), intent(in) :: name
+        type(linear_system), intent(in) :: sys
+        real(dp), intent(in) :: y0(:), t_end
+        integer, parameter :: nout = 401
+        type(moreau_options) :: mo
+        type(event_driven_options) :: eo
+        type(ode_stats) :: st
+        real(dp) :: t(nout), y(size(y0), nout), ev(4, 10000), hs(4)
+        type(linear_system) :: s
+        integer :: i, j
+        s = sys
+        t = [(t_end * (i - 1) / (nout - 1), i = 1, nout)]
+        eo%max_steps = 10000000_8
+        call event_driven_integrate(s, 0.0_dp, y0, t_end, [1.0e-11_dp], [1.0e-13_dp], eo, t, y, st, ev)
+        do i = 1, st%n_written
+            print '(a, 1x, a, 1x, a, es12.4, i6, 99es24.16)', 'TRAJ', name, 'event_driven', 0.0_dp, st%status, t(i), y(:, i)
+        end do
+        do i = 1, int(min(st%nevents, 10000_8))
+            print '(a, 1x, a, es24.16, i3, es24.16, i3)', 'EVENT', name, ev(1, i), nint(ev(2, i)), ev(3, i), nint(ev(4, i))
+        end do
+        hs = [4.0e-3_dp, 2.0e-3_dp, 1.0e-3_dp, 5.0e-4_dp]
+        do j = 1, size(hs)
+            mo%h = hs(j)
+            t = [(t_end * (i - 1) / (nout - 1), i = 1, nout)]
+            call moreau_integrate(s, 0.0_dp, y0, t_end, mo, t, y, st)
+            do i = 1, st%n_written
+                print '(a, 1x, a, 1x, a, es12.4, i6, 99es24.16)', 'TRAJ', name, 'moreau', hs(j), st%status, t(i), y(:, i)
+            end do
+        end do
+    end subroutine dump
+
+    !> Random problems w = wf + D p, D = H W^-1 H^T with H of 2..6 rows over 1..4 coordinates,
+    !! some rows repeated (redundant) and some with two entries (coupled), mu_s >= mu_k,
+    !! Coulomb laws.
+    subroutine random_problems()
+        integer, parameter :: ntrial = 400
+        integer :: trial, n, nd, i, j, nsol, nbetter, nbad, nuniq, ndiff, nfail, nseed
+        real(dp) :: hm(6, 4), wmat(4, 4), p(6), w(6), worst_res, u
+        real(dp) :: pb(6), wb(6), res
+        type(contact_solve_info) :: info
+        integer :: msol(6)
+        integer, allocatable :: seed(:)
+        call random_seed(size=nseed)
+        allocate(seed(nseed), source=12345)
+        call random_seed(put=seed)
+        nbad = 0; nuniq = 0; ndiff = 0; nbetter = 0; nfail = 0
+        worst_res = 0.0_dp
+        do trial = 1, ntrial
+            call random_number(u)
+            n = 2 + int(u * 5.0_dp)                     ! 2 .. 6 contacts
+            call random_number(u)
+            nd = 1 + int(u * 4.0_dp)                    ! 1 .. 4 coordinates
+            hm = 0.0_dp
+            do i = 1, n
+                call random_number(u)
+                if (i > 1 .and. u < 0.2_dp) then        ! redundant: a copy of an earlier row
+                    hm(i, :) = hm(1 + int(u * 5.0_dp * (i - 1)), :)
+                    cycle
+                end if
+                call random_number(u)
+                j = 1 + int(u * nd)
+                hm(i, j) = 1.0_dp
+                call random_number(u)
+                if (nd > 1 .and. u < 0.5_dp) hm(i, 1 + mod(j, nd)) = -1.0_dp   ! coupled
+            end do
+            ! W = M + b K: random symmetric positive definite
+            call random_number(wmat)
+            wmat(:nd, :nd) = matmul(transpose(wmat(:nd, :nd)), wmat(:nd, :nd))
+            do i = 1, nd
+                wmat(i, i) = wmat(i, i) + 0.5_dp
+            end do
+            d(:n, :n) = matmul(hm(:n, :nd), matmul(inverse(wmat(:nd, :nd)), transpose(hm(:n, :nd))))
+            call random_number(wf(:n))
+            wf(:n) = 4.0_dp * (wf(:n) - 0.5_dp)
+            call random_number(cap(:n))
+            cap(:n) = 0.2_dp + 2.0_dp * cap(:n)
+            do i = 1, n
+                call random_number(u)
+                laws(i) = contact_law(mu_s=0.3_dp + 0.4_dp * u, mu_k=0.0_dp)
+                call random_number(u)
+                laws(i)%mu_k = laws(i)%mu_s * (0.5_dp + 0.5_dp * u)
+            end do
+            p(:n) = 0.0_dp
+            mode(:n) = -9
+            call solve_contacts(laws(:n), d(:n, :n), wf(:n), cap(:n), .false., 1.0e-12_dp, 1000, p(:n), w(:n), &
+                                mode(:n), info)
+            if (.not. info%ok) then
+                nfail = nfail + 1
+                cycle
+            end if
+            res = conditions(n, p, w)
+            worst_res = max(worst_res, res)
+            if (res > 1.0e-12_dp * (1.0_dp + maxval(abs(wf(:n))))) nbad = nbad + 1
+            ! brute force over all 3^n modes (regular stuck blocks only): solutions, and whether
+            ! one has more stuck contacts than the solver's
+            call brute_force(n, nsol, msol, pb, wb, nbetter_out=i)
+            nbetter = nbetter + i
+            if (nsol == 1) then
+                nuniq = nuniq + 1
+                if (maxval(abs(pb(:n) - p(:n))) > 1.0e-9_dp * (1.0_dp + maxval(abs(pb(:n)))) .or. &
+                    maxval(abs(wb(:n) - w(:n))) > 1.0e-9_dp * (1.0_dp + maxval(abs(wf(:n))))) ndiff = ndiff + 1
+            end if
+        end do
+        block
+            character(len=200) :: line
+            write (line, '(a, i0, a, i0, a, es9.2)') 'random problems: ', ntrial - nfail, ' of ', ntrial, &
+                ' solved, largest condition residual ', worst_res
+            call check(nfail == 0 .and. nbad == 0, trim(line))
+            write (line, '(a, i0, a, i0, a)') 'random problems: the only solution (brute force) in ', nuniq - ndiff, &
+                ' of ', nuniq, ' problems with one'
+            call check(ndiff == 0 .and. nuniq > 50, trim(line))
+            write (line, '(a, i0)') 'random problems: brute-force solutions with more stuck contacts: ', nbetter
+            call check(nbetter == 0, trim(line))
+        end block
+    end subroutine random_problems
+
+        !> The largest violation of the problem's conditions by (p, w), written here: w = wf + D p
+        !! (w = 0 if stuck), |p| <= mu_s c (stuck), p = -sign(w) mu_k c (slip) [m/s].
+        real(dp) function conditions(n, p, w) result(v)
+            integer, intent(in) :: n
+            real(dp), intent(in) :: p(:), w(:)
+            integer :: i
+            v = 0.0_dp
+            do i = 1, n
+                v = max(v, abs(wf(i) + dot_product(d(i, :n), p(:n)) - w(i)))
+                if (w(i) == 0.0_dp) then
+                    v = max(v, d(i, i) * max(0.0_dp, abs(p(i)) - laws(i)%mu_s * cap(i) * (1.0_dp + 1.0e-12_dp)))
+                else
+                    v = max(v, d(i, i) * abs(p(i) + sign(laws(i)%mu_k * cap(i), w(i))))
+                end if
+            end do
+        end function conditions
+
+        !> Every mode (stick, slip +, slip -) whose stuck block is regular, solved by LU: the
+        !! number of solutions nsol (one returned in pb, wb), and how many have more stuck
+        !! contacts than the solver's answer.
+        subroutine brute_force(n, nsol, msol, pb, wb, nbetter_out)
+            integer, intent(in) :: n
+            integer, intent(out) :: nsol, msol(:), nbetter_out
+            real(dp), intent(out) :: pb(:), wb(:)
+            integer :: code, i, m(6), c, ns, info, ipiv(6)
+            integer :: is(6)
+            real(dp) :: a(6, 6), rhs(6), pp(6), ww(6)
+            logical :: ok
+            nsol = 0
+            nbetter_out = 0
+            do code = 0, 3**n - 1
+                c = code
+                do i = 1, n
+                    m(i) = mod(c, 3) - 1          ! -1, 0 (stuck), +1
+                    c = c / 3
+                end do
+                pp = 0.0_dp
+                do i = 1, n
+                    if (m(i) /= 0) pp(i) = -m(i) * laws(i)%mu_k * cap(i)
+                end do
+                ns = 0
+                do i = 1, n
+                    if (m(i) == 0) then
+                        ns = ns + 1
+                        is(ns) = i
+                    end if
+                end do
+                if (ns > 0) then
+                    a(:ns, :ns) = d(is(:ns), is(:ns))
+                    rhs(:ns) = -(wf(is(:ns)) + matmul(d(is(:ns), :n), pp(:n)))
+                    call lu_decompose(a(:ns, :ns), ipiv(:ns), info)
+                    if (info /= 0) cycle
+                    if (minval([(abs(a(i, i)), i = 1, ns)]) < 1.0e-10_dp * maxval(abs(d(:n, :n)))) cycle
+                    call lu_solve(a(:ns, :ns), ipiv(:ns), rhs(:ns))
+                    pp(is(:ns)) = rhs(:ns)
+                end if
+                ww(:n) = wf(:n) + matmul(d(:n, :n), pp(:n))
+                ok = .true.
+                do i = 1, n
+                    if (m(i) == 0) then
+                        ok = ok .and. abs(pp(i)) <= laws(i)%mu_s * cap(i) * (1.0_dp + 1.0e-12_dp)
+                        ww(i) = 0.0_dp
+                    else
+                        ok = ok .and. m(i) * ww(i) > 0.0_dp
+                    end if
+                end do
+                if (.not. ok) cycle
+                nsol = nsol + 1
+                msol(:n) = m(:n)
+                pb(:n) = pp(:n)
+                wb(:n) = ww(:n)
+                if (ns > count(mode(:n) == 0)) nbetter_out = nbetter_out + 1
+            end do
+        end subroutine brute_force
+
+    function inverse(a) result(b)
+        real(dp), intent(in) :: a(:, :)
+        real(dp) :: b(size(a, 1), size(a, 1)), lu(size(a, 1), size(a, 1))
+        integer :: ipiv(size(a, 1)), info, i
+        lu = a
+        call lu_decompose(lu, ipiv, info)
+        b = 0.0_dp
+        do i = 1, size(a, 1)
+            b(i, i) = 1.0_dp
+            call lu_solve(lu, ipiv, b(:, i))
+        end do
+    end function inverse
+
+end program test_contact_general
