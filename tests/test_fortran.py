@@ -59,12 +59,12 @@ def test_fortran_law_suite(native_build):
 
 
 def test_meson_test_suite(native_build):
-    """`meson test`: the Fortran unit tests (five programs) and both examples built in-tree from the core."""
+    """`meson test`: the Fortran unit tests (six programs) and both examples built in-tree from the core."""
     from conftest import _tool
     proc = subprocess.run([_tool("meson"), "test", "-C", str(native_build), "--print-errorlogs"],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert re.search(r"Ok:\s+7\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+    assert re.search(r"Ok:\s+8\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
 
 
 def test_fortran_contact_suite(native_build):

@@ -44,7 +44,7 @@ module stickslip_contact_solver
     implicit none
     private
 
-    public :: contact_solve_info, solve_contacts, contact_residual, gauss_seidel
+    public :: contact_solve_info, solve_contacts, contact_residual
 
     !> Relative tolerance of the static limit: |p| <= mu_s c (1 + STICK_RTOL) sticks [-].
     real(dp), parameter, public :: STICK_RTOL = 1.0e-12_dp
@@ -83,7 +83,7 @@ contains
         real(dp), intent(inout) :: p(:)            !! (n) impulses [N s] (or forces [N])
         real(dp), intent(out)   :: w(:)            !! (n) velocities, exactly 0 when stuck [m/s]
         integer, intent(inout)  :: mode(:)         !! (n) MODE_STICK, +-1, MODE_OPEN
-        type(contact_solve_info), intent(out) :: info
+        type(contact_solve_info), intent(out) :: info  !! how it was solved, residual, ok
         logical :: active(size(wf)), found
         integer :: n, na, i
         n = size(wf)
@@ -166,10 +166,14 @@ contains
     !! mu_s c (1 + STICK_RTOL), the distance of a slipping impulse from -sign(w) c mu(|w|),
     !! and a slip whose direction disagrees with its mode.
     subroutine contact_residual(laws, d, wf, cap, at_rest, p, w, mode, resid, worst)
-        type(contact_law), intent(in) :: laws(:)
-        real(dp), intent(in)  :: d(:, :), wf(:), cap(:), p(:), w(:)
-        logical, intent(in)   :: at_rest
-        integer, intent(in)   :: mode(:)
+        type(contact_law), intent(in) :: laws(:)  !! (n) each contact's law
+        real(dp), intent(in)  :: d(:, :)    !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in)  :: wf(:)      !! (n) velocities without friction [m/s]
+        real(dp), intent(in)  :: cap(:)     !! (n) capacities [N s] (or [N])
+        real(dp), intent(in)  :: p(:)       !! (n) impulses [N s] (or forces [N])
+        real(dp), intent(in)  :: w(:)       !! (n) velocities [m/s]
+        logical, intent(in)   :: at_rest    !! slip coefficient fixed at mu(0+)
+        integer, intent(in)   :: mode(:)    !! (n) MODE_STICK, +-1 or MODE_OPEN
         real(dp), intent(out) :: resid      !! the largest residual [m/s]
         integer, intent(out)  :: worst      !! its contact (0: none)
         real(dp) :: r, dii
