@@ -195,10 +195,10 @@ def _mujoco_contact(own: dict[str, Any], inv_weight: float, load: float,
 
     lo, hi = 0.0, 1e-6
     while rows(hi)[0] < load:
-        hi *= 2
+        lo, hi = hi, hi * 2
         if hi > 1e3:
             raise ValueError("MuJoCo contact: no penetration carries the load")
-    for _ in range(200):
+    for _ in range(60):
         mid = 0.5 * (lo + hi)
         if rows(mid)[0] < load:
             lo = mid
@@ -335,7 +335,7 @@ def _bisect(force: Callable[[float], float], pull: float) -> float:
         lo, hi = hi, hi * 2
         if hi > 1e6:
             return math.inf
-    for _ in range(100):
+    for _ in range(60):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if force(mid) < pull else (lo, mid)
     return 0.5 * (lo + hi)
@@ -399,15 +399,19 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
         if not math.isfinite(creep(1.0)):
             raise ValueError(f"{engine} cannot hold the box on this slope at any {name}")
     else:
-        # creep decreases with impratio / k_f: bisection in log space
-        lo, hi = 1e-6, 1.0
+        # creep decreases with impratio / k_f, nearly as 1 / x: start from that guess, then
+        # bisection in log space on a bracket around it
         if not math.isfinite(creep(1e12)):
             raise ValueError(f"{engine} cannot hold the box on this slope at any {name}")
+        guess = creep(1.0) / target
+        lo, hi = guess / 1.5, guess * 1.5
+        while creep(lo) <= target:
+            lo /= 2
         while creep(hi) > target:
-            lo, hi = hi, hi * 10
-            if hi > 1e12:
-                raise ValueError(f"{engine}: no {name} up to 1e12 meets the budget")
-        for _ in range(80):
+            lo, hi = hi, hi * 2
+            if hi > 1e15:
+                raise ValueError(f"{engine}: no {name} up to 1e15 meets the budget")
+        for _ in range(30):
             mid = math.sqrt(lo * hi)
             lo, hi = (mid, hi) if creep(mid) > target else (lo, mid)
         value = hi
