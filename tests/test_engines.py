@@ -174,7 +174,7 @@ def test_advise_engine_cost_of_drake_continuous_is_its_stability_bound():
      "'stiction_tolerance'; accepted: cone, impratio"),
     (lambda: ss.engine_creep("drake_tamsi", impratio=3), "accepted: stiction_tolerance"),
     (lambda: ss.engine_creep("mujoco", cone="round"), "accepted: pyramidal, elliptic"),
-    (lambda: ss.engine_creep("newton_semi_implicit"), "needs the setting 'k_f'"),
+    (lambda: ss.engine_creep("newton_semi_implicit", k_f=-1.0), "k_f must be > 0"),
     (lambda: ss.engine_creep("drake_tamsi", stiction_tolerance=0), "must be > 0"),
     (lambda: ss.engine_creep("mujoco", n_contacts=2.5), "n_contacts must be an integer"),
     (lambda: ss.engine_creep("mujoco", solref=(0.02, -1)), "solref must be"),
@@ -229,3 +229,56 @@ def test_bullet_holds_the_box_to_a_tiny_creep():
     from cases import engines as ce
     out = ce.bullet_slope(t_end=2.0)
     assert abs(out["creep"]) < 0.1 * ss.engine_creep("mujoco")
+
+
+needs_newton = pytest.mark.skipif(importlib.util.find_spec("newton") is None,
+                                  reason="newton is not installed (pip install newton warp-lang; "
+                                         "not part of the extras: its CPU path compiles kernels "
+                                         "for minutes on first use)")
+
+
+@needs_newton
+def test_newton_creep_matches_the_engine():
+    from cases import engines as ce
+    out = ce.newton_slope(t_end=1.0)
+    assert out["n_contacts"] == 4
+    assert out["creep"] == pytest.approx(ss.engine_creep("newton_semi_implicit", mu=ce.MU),
+                                         rel=0.02)
+
+
+needs_drake = pytest.mark.skipif(importlib.util.find_spec("pydrake") is None,
+                                 reason="drake is not installed (pip install .[drake]; "
+                                        "scripts/setup leaves it out: it is large)")
+
+
+@needs_drake
+@pytest.mark.parametrize("mode,vs", [("tamsi", 1e-4), ("tamsi", 1e-2), ("continuous", 1e-2)])
+def test_drake_creep_matches_the_engine(mode, vs):
+    from cases import engines as ce
+    out = ce.drake_slope(mode=mode, stiction_tolerance=vs, timestep=1e-3, t_end=2.0)
+    assert out["creep"] == pytest.approx(ss.engine_creep(f"drake_{mode}", stiction_tolerance=vs),
+                                         rel=0.02)
+
+
+def test_engines_driver_quick(tmp_path):
+    """python -m cases.engines --quick writes its tables and figures, the exact methods'
+    creep is zero, every predicted creep sits within 2 % of the measured one, and the
+    versions file names every engine that ran."""
+    from cases import _common as c
+    from cases import engines as ce
+    ce.main(["--quick", "--outdir", str(tmp_path)])
+    rows = c.read_csv(tmp_path / "engines_slope.csv")
+    for i, eng in enumerate(rows["engine [-]"]):
+        meas = float(rows["creep_speed [m/s]"][i])
+        pred = rows["predicted_creep_speed [m/s]"][i]
+        if eng in ("event_driven", "moreau"):
+            assert meas == 0.0
+        elif pred:
+            assert meas == pytest.approx(float(pred), rel=0.02), (eng, rows["setting [-]"][i])
+    versions = c.read_csv(tmp_path / "engines_versions.csv")["engine [-]"]
+    assert set(ce.versions()) <= set(versions)
+    b = c.read_csv(tmp_path / "engines_belt.csv")
+    exact = b["run [-]"].index("event_driven")
+    assert float(b["stick_fraction [-]"][exact]) > 0.2       # the paper's law sticks
+    for f in ("engines_slope_creep.png", "engines_belt.png", "engines_slope.md"):
+        assert (tmp_path / f).stat().st_size > 0

@@ -25,9 +25,13 @@ in each follows from the balance of that law on the slope, mu(v*) N = m g sin(th
   mujoco, src/engine/engine_core_constraint.c (``mj_diagApprox``, ``mj_makeImpedance``,
   ``getimpedance``) and the Computation chapter of its documentation (mujoco 3.x).
 - ``newton_semi_implicit``: Newton's (and warp.sim's) semi-implicit Euler rigid contact:
-  min(k_f |v_t|, mu f_n) per contact point. Source: newton / warp.sim ``eval_rigid_contacts``.
+  min(k_f |v_t|, mu f_n) per contact point, k_f the mean of the two shapes' (default 1000
+  N s/m, ``ModelBuilder.ShapeConfig.kf``). Source: newton 1.8,
+  newton/_src/solvers/semi_implicit/kernels_contact.py (``eval_body_contact``), and warp.sim's
+  ``eval_rigid_contacts``.
 
-Bullet's sequential-impulse solver and Drake's SAP solver have no smooth law of this kind: they
+Bullet's sequential-impulse solver and Drake's SAP solver (and its default "lagged"
+approximation, solved by SAP) have no smooth law of this kind: they
 solve a velocity-level cone problem each step, and what creep they show is measured by
 ``python -m cases.engines``, not predicted here (`NO_LAW`).
 
@@ -49,7 +53,7 @@ ENGINE_SETTINGS: dict[str, dict[str, Any]] = {
     "mujoco": {"cone": "pyramidal", "impratio": 1.0, "solref": (0.02, 1.0),
                "solimp": (0.9, 0.95, 0.001, 0.5, 2.0), "timestep": 0.002, "n_contacts": 4,
                "mu": None},
-    "newton_semi_implicit": {"k_f": None, "n_contacts": 4, "mu": None},
+    "newton_semi_implicit": {"k_f": 1000.0, "n_contacts": 4, "mu": None},
 }
 #: The engines with an equivalent law (engine_creep, advise_engine and engine_mu take them).
 ENGINES: tuple[str, ...] = tuple(ENGINE_SETTINGS)
@@ -59,6 +63,8 @@ NO_LAW: dict[str, str] = {
               "smooth law; its creep is measured (python -m cases.engines)",
     "drake_sap": "Drake's SAP solver solves a convex velocity-level cone problem each step: no "
                  "smooth law; its creep is measured",
+    "drake_lagged": "Drake's lagged approximation (its default discrete model) is solved by SAP: "
+                    "no smooth law; its creep is measured",
 }
 #: The slope's parameters (the paper's) and the engines' box: aspect = height of the centre of
 #: mass above the contact plane over the half-length of the footprint along the slope (0.5: a
