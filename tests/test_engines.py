@@ -162,7 +162,9 @@ def test_advise_engine_cost_of_drake_continuous_is_its_stability_bound():
     a = ss.advise_engine("drake_continuous", 1e-3, 20.0)
     N = M * G * math.cos(TH)
     slope = 0.35 * 1.875 * N / a["stiction_tolerance"]     # steepest dF/dv: step5'(1/2) = 15/8
-    assert a["timestep"] == pytest.approx(2 * M / slope)
+    # the box's yaw on its four corners: I_z = m (0.2^2 + 0.2^2) / 12, lever^2 = 0.1^2 + 0.1^2
+    lam = slope * (0.1 ** 2 + 0.1 ** 2) / (M * (0.2 ** 2 + 0.2 ** 2) / 12)
+    assert a["timestep"] == pytest.approx(2 / lam)
 
 
 # ---------------------------------------------------------------- bad input

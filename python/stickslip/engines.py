@@ -377,8 +377,10 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
     dict
         The advised setting by name, "creep" (v* t_end [m] at it), "v_star" [m/s], and where
         it is known the cost: "timestep" [s] and "steps_per_second" [1/s] (MuJoCo: its
-        timestep; Drake continuous and Newton: the largest explicit step that is stable on the
-        law's steepest slope, 2 m / (dF/dv)); None where no cost is known (TAMSI).
+        timestep; Drake continuous and Newton: the largest explicit (forward or semi-implicit
+        Euler) step that is stable on the law's steepest slope dF/dv in the box's stiffest
+        mode, its yaw on four corner contacts, 2 m / (3 dF/dv)); None where no cost is known
+        (TAMSI).
 
     Raises
     ------
@@ -430,13 +432,17 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
     _, own = _split(engine, {**settings, name: value})
     m = scene["m"]
     N = m * scene["g"] * math.cos(math.radians(scene["theta_deg"]))
+    # the stiffest mode of friction on a box with four corner contacts is its yaw: a uniform box
+    # (I_z = m (hx^2 + hy^2) / 3) feels 3 dF/dv / m there, three times the translation's
+    yaw = 3.0
     if engine == "mujoco":
         out["timestep"] = float(own["timestep"])
     elif engine == "drake_continuous":
         slope = scene["mu_s"] * 1.875 * N / value          # max of step5' is 15/8 at x = 1/2
-        out["timestep"] = 2 * m / slope
+        out["timestep"] = 2 * m / (yaw * slope)
     elif engine == "newton_semi_implicit":
-        out["timestep"] = 2 * m / (own["n_contacts"] * value)
+        factor = yaw if own["n_contacts"] == 4 else 1.0
+        out["timestep"] = 2 * m / (factor * own["n_contacts"] * value)
     if out["timestep"] is not None:
         out["steps_per_second"] = 1.0 / out["timestep"]
     return out
