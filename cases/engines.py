@@ -468,15 +468,16 @@ def run(outdir: str | Path, *, t_end: float = T_END, belt_t_end: float = BELT_T_
     if "drake" in have:
         runs = ([("lagged", 1e-4, 1e-3), ("tamsi", 1e-4, 1e-3), ("continuous", 1e-2, None)]
                 if quick else
-                [("lagged", 1e-4, 1e-3), ("lagged", 1e-4, 1e-2), ("sap", 1e-4, 1e-3),
+                [("lagged", 1e-4, 1e-3), ("lagged", 1e-4, 1e-2), ("lagged", 1e-3, 1e-3),
+                 ("sap", 1e-4, 1e-3),
                  ("sap", 1e-4, 1e-2), ("tamsi", 1e-4, 1e-3), ("tamsi", 1e-3, 1e-3),
                  ("tamsi", 1e-2, 1e-3), ("tamsi", 1e-4, 1e-2), ("continuous", 1e-2, None),
                  ("continuous", 1e-3, None), ("continuous", 1e-4, None)])
         for mode, vs, h in runs:
             out = drake_slope(mode=mode, stiction_tolerance=vs, timestep=h or 0.0, t_end=t_end)
             pred = (ss.engine_creep(f"drake_{mode}", stiction_tolerance=vs)
-                    if mode in ("continuous", "tamsi") else None)
-            label = ("defaults" if (mode == "lagged" and h == 1e-3) else
+                    if mode in ("continuous", "tamsi", "lagged") else None)
+            label = ("defaults" if (mode == "lagged" and h == 1e-3 and vs == 1e-4) else
                      f"v_s={vs:g} m/s" + (f", h={h:g} s" if h else ""))
             add(f"drake_{mode}", label, "", h, vs, out, pred)
     if "newton" in have:

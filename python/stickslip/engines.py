@@ -30,8 +30,16 @@ in each follows from the balance of that law on the slope, mu(v*) N = m g sin(th
   newton/_src/solvers/semi_implicit/kernels_contact.py (``eval_body_contact``), and warp.sim's
   ``eval_rigid_contacts``.
 
-Bullet's sequential-impulse solver and Drake's SAP solver (and its default "lagged"
-approximation, solved by SAP) have no smooth law of this kind: they
+- ``drake_lagged``: Drake's default discrete model (the "lagged" convex approximation of
+  compliant contact): friction regularised by the stiction tolerance (Drake's
+  ``DiscreteContactApproximation`` documentation, drake 1.51; Castro, Han and Masterjohn 2023),
+  of the form mu_d s / sqrt(1 + s^2), s = v / v_s. The form is identified from Drake's own runs,
+  not read from its source: their creep is proportional to v_s and v* / v_s = 0.7265, the root
+  of mu_d s / sqrt(1 + s^2) = tan(theta) (python -m cases.engines); on slopes of 5 and 15
+  degrees the same form predicts Drake's creep to 1e-7 (tests/test_engines.py).
+
+Bullet's sequential-impulse solver and Drake's SAP solver (whose regularisation Drake sets
+from the numerics alone) have no smooth law of this kind: they
 solve a velocity-level cone problem each step, and what creep they show is measured by
 ``python -m cases.engines``, not predicted here (`NO_LAW`).
 
@@ -50,6 +58,7 @@ import numpy as np
 ENGINE_SETTINGS: dict[str, dict[str, Any]] = {
     "drake_continuous": {"stiction_tolerance": 1e-4},
     "drake_tamsi": {"stiction_tolerance": 1e-4},
+    "drake_lagged": {"stiction_tolerance": 1e-4},
     "mujoco": {"cone": "pyramidal", "impratio": 1.0, "solref": (0.02, 1.0),
                "solimp": (0.9, 0.95, 0.001, 0.5, 2.0), "timestep": 0.002, "n_contacts": 4,
                "mu": None},
@@ -63,8 +72,6 @@ NO_LAW: dict[str, str] = {
               "smooth law; its creep is measured (python -m cases.engines)",
     "drake_sap": "Drake's SAP solver solves a convex velocity-level cone problem each step: no "
                  "smooth law; its creep is measured",
-    "drake_lagged": "Drake's lagged approximation (its default discrete model) is solved by SAP: "
-                    "no smooth law; its creep is measured",
 }
 #: The slope's parameters (the paper's) and the engines' box: aspect = height of the centre of
 #: mass above the contact plane over the half-length of the footprint along the slope (0.5: a
@@ -154,6 +161,13 @@ def drake_tamsi_mu(v: Any, stiction_tolerance: float, mu: float) -> np.ndarray:
     return mu * s * (2.0 - s)
 
 
+def drake_lagged_mu(v: Any, stiction_tolerance: float, mu: float) -> np.ndarray:
+    """Drake's lagged approximation's regularised coefficient mu s / sqrt(1 + s^2), s = |v| / v_s
+    (identified from Drake's runs; see the module's documentation)."""
+    s = np.abs(np.asarray(v, dtype=float)) / stiction_tolerance
+    return mu * s / np.sqrt(1.0 + s * s)
+
+
 def mujoco_impedance(solimp: tuple[float, ...], depth: float) -> float:
     """MuJoCo's impedance d at a penetration depth [m] (>= 0; zero margin), from solimp."""
     dmin, dmax, width, mid, power = solimp
@@ -235,6 +249,8 @@ def _tangential(engine: str, scene: dict[str, float], own: dict[str, Any]) -> Ca
                                                    scene["mu_k"])) * N
     if engine == "drake_tamsi":
         return lambda v: float(drake_tamsi_mu(v, own["stiction_tolerance"], scene["mu_k"])) * N
+    if engine == "drake_lagged":
+        return lambda v: float(drake_lagged_mu(v, own["stiction_tolerance"], scene["mu_k"])) * N
     loads = _loads(scene, own["n_contacts"])
     if engine == "newton_semi_implicit":
         return lambda v: sum(min(own["k_f"] * v, own["mu"] * f) for f in loads)
@@ -281,7 +297,7 @@ def engine_creep(engine: str, **settings: Any) -> float:
     Parameters
     ----------
     engine : str
-        "drake_continuous", "drake_tamsi", "mujoco" or "newton_semi_implicit".
+        "drake_continuous", "drake_tamsi", "drake_lagged", "mujoco" or "newton_semi_implicit".
     **settings
         The engine's settings: stiction_tolerance [m/s] (Drake); cone ("pyramidal" or
         "elliptic"), impratio, solref, solimp, timestep [s], n_contacts, mu (MuJoCo); k_f
@@ -321,6 +337,10 @@ def engine_creep(engine: str, **settings: Any) -> float:
         if t >= scene["mu_k"]:
             return math.inf
         return (1 - math.sqrt(1 - t / scene["mu_k"])) * own["stiction_tolerance"]
+    if engine == "drake_lagged":
+        if t >= scene["mu_k"]:
+            return math.inf
+        return t / math.sqrt(scene["mu_k"] ** 2 - t * t) * own["stiction_tolerance"]
     if t >= own["mu"]:
         return math.inf
     if engine == "newton_semi_implicit":
@@ -349,7 +369,8 @@ def _bisect(force: Callable[[float], float], pull: float) -> float:
 
 #: The setting advise_engine chooses per engine.
 ADVISED_SETTING: dict[str, str] = {"drake_continuous": "stiction_tolerance",
-                                   "drake_tamsi": "stiction_tolerance", "mujoco": "impratio",
+                                   "drake_tamsi": "stiction_tolerance",
+                                   "drake_lagged": "stiction_tolerance", "mujoco": "impratio",
                                    "newton_semi_implicit": "k_f"}
 
 
@@ -380,7 +401,7 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
         timestep; Drake continuous and Newton: the largest explicit (forward or semi-implicit
         Euler) step that is stable on the law's steepest slope dF/dv in the box's stiffest
         mode, its yaw on four corner contacts, 2 m / (3 dF/dv)); None where no cost is known
-        (TAMSI).
+        (TAMSI, lagged).
 
     Raises
     ------
@@ -402,7 +423,7 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
     def creep(x: float) -> float:
         return engine_creep(engine, **settings, **{name: x})
 
-    if engine in ("drake_continuous", "drake_tamsi"):        # v* proportional to v_s
+    if engine.startswith("drake"):                            # v* proportional to v_s
         value = target / creep(1.0)
         if not math.isfinite(creep(1.0)):
             raise ValueError(f"{engine} cannot hold the box on this slope at any {name}")
