@@ -200,6 +200,8 @@ def test_advise_engine_cost_of_drake_continuous_is_its_stability_bound():
     (lambda: ss.advise_engine("mujoco", 1e-3, 0.0), "t_end must be"),
     (lambda: ss.advise_engine("mujoco", 1e-3, 20.0, impratio=2), "chooses impratio"),
     (lambda: ss.advise_engine("ode", 1e-3, 20.0), "unknown engine 'ode'"),
+    (lambda: ss.advise_engine("drake_tamsi", 1e-3, 20.0, mu_k=0.1), "cannot hold the box"),
+    (lambda: ss.advise_engine("mujoco", 1e-3, 20.0, mu=0.1), "cannot hold the box"),
 ])
 def test_bad_input_one_line(call, match):
     with pytest.raises(ValueError, match=match) as err:

@@ -415,8 +415,7 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
         raise ValueError(f"max_creep must be a finite number > 0 [m], got {max_creep!r}")
     if not (isinstance(t_end, (int, float)) and t_end > 0 and math.isfinite(t_end)):
         raise ValueError(f"t_end must be a finite number > 0 [s], got {t_end!r}")
-    scene, _ = _split(engine, {**settings, **({"k_f": 1.0} if engine == "newton_semi_implicit"
-                                              else {})})
+    scene, _ = _split(engine, settings)
     name = ADVISED_SETTING[engine]
     target = max_creep / t_end
 
@@ -424,9 +423,9 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
         return engine_creep(engine, **settings, **{name: x})
 
     if engine.startswith("drake"):                            # v* proportional to v_s
-        value = target / creep(1.0)
         if not math.isfinite(creep(1.0)):
             raise ValueError(f"{engine} cannot hold the box on this slope at any {name}")
+        value = target / creep(1.0)
     else:
         # creep decreases with impratio / k_f, nearly as 1 / x: start from that guess, then
         # bisection in log space on a bracket around it
@@ -434,7 +433,7 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
             raise ValueError(f"{engine} cannot hold the box on this slope at any {name}")
         guess = creep(1.0) / target
         lo, hi = guess / 1.5, guess * 1.5
-        while creep(lo) <= target:
+        while creep(lo) <= target and lo > 1e-15:
             lo /= 2
         while creep(hi) > target:
             lo, hi = hi, hi * 2
@@ -446,7 +445,8 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
         value = hi
     # 3 significant digits, rounded toward the strict side
     digits = 10 ** (math.floor(math.log10(value)) - 2)
-    value = float(f"{(math.floor(value / digits) if engine.startswith('drake') else math.ceil(value / digits)) * digits:.3g}")
+    steps = math.floor(value / digits) if engine.startswith("drake") else math.ceil(value / digits)
+    value = float(f"{steps * digits:.3g}")
     v_star = creep(value)
     out: dict[str, Any] = {name: value, "creep": v_star * t_end, "v_star": v_star,
                            "timestep": None, "steps_per_second": None}
