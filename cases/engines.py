@@ -658,7 +658,9 @@ def plot(outdir: str | Path) -> list[Path]:
     ax.legend(fontsize=7)
     bx.set_xlabel("time step [s]")
     bx.set_ylabel(f"|creep| in {t_end} [mm]")
-    bx.legend(fontsize=7)
+    lo, hi = bx.get_ylim()
+    bx.set_ylim(lo / 30, hi)                  # room for the legend below the lowest run
+    bx.legend(fontsize=7, ncol=2, loc="lower right")
     files = [c.save_figure(fig, outdir / "engines_slope_creep.png")]
 
     s = c.read_numeric_csv(outdir / "engines_belt_series.csv")
