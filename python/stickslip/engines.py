@@ -1,8 +1,8 @@
 """Friction in physics engines, as laws stickslip can state exactly.
 
-Four engines regularise Coulomb friction by a law of the slip speed alone, and the steady creep
-of the paper's slope box (10 kg, 10 degrees, mu_s = 0.35, mu_k = 0.30, which truly never moves)
-in each follows from the balance of that law on the slope, mu(v*) N = m g sin(theta):
+Five engine models regularise Coulomb friction by a law of the slip speed alone, and the steady
+creep of the paper's slope box (10 kg, 10 degrees, mu_s = 0.35, mu_k = 0.30, which truly never
+moves) in each follows from the balance of that law on the slope, mu(v*) N = m g sin(theta):
 
 - ``drake_continuous``: Drake's MultibodyPlant in continuous mode (point contact), its
   StribeckModel: mu_s step5(v / v_s) below the stiction tolerance v_s, a quintic step down to
@@ -12,8 +12,15 @@ in each follows from the balance of that law on the slope, mu(v*) N = m g sin(th
   since 2019).
 - ``drake_tamsi``: Drake's discrete MultibodyPlant with the TAMSI solver: mu s (2 - s) for
   s = v / v_s < 1, mu beyond, with mu the dynamic coefficient (discrete Drake ignores the static
-  one). Source: drake, ``StribeckModel::ModifiedStribeck`` (multibody_plant.cc) and
-  multibody/contact_solvers TamsiSolver's documentation (drake 1.x).
+  one). Source: drake, ``StribeckModel::ModifiedStribeck`` (multibody_plant.cc, drake 1.x);
+  checked against drake 1.51.1's own runs.
+- ``drake_lagged``: Drake's default discrete model (the "lagged" convex approximation of
+  compliant contact): friction regularised by the stiction tolerance (Drake's
+  ``DiscreteContactApproximation`` documentation, drake 1.51; Castro, Han and Masterjohn 2023),
+  of the form mu_d s / sqrt(1 + s^2), s = v / v_s. The form is identified from Drake's own runs,
+  not read from its source: their creep is proportional to v_s and v* / v_s = 0.7265, the root
+  of mu_d s / sqrt(1 + s^2) = tan(theta) (python -m cases.engines); on slopes of 5 and 15
+  degrees the same form predicts Drake's creep to 1e-7 (tests/test_engines.py).
 - ``mujoco``: MuJoCo's soft contact. Inside the friction cone each frictional constraint row
   gives the force D (a_ref - a) with D = 1 / R and a_ref = -B v (K = 0 in friction rows), so at a
   steady slip (a = 0) the contact acts as a viscous damper of coefficient B / R_friction:
@@ -23,25 +30,17 @@ in each follows from the balance of that law on the slope, mu(v*) N = m g sin(th
   R_0 / impratio; pyramidal cone: each of the four edge rows n +- mu t has A = (1 + mu^2) / m and
   R = 2 (mu^2 / impratio) R_0, and an edge whose force would be negative drops out. Source:
   mujoco, src/engine/engine_core_constraint.c (``mj_diagApprox``, ``mj_makeImpedance``,
-  ``getimpedance``) and the Computation chapter of its documentation (mujoco 3.x).
+  ``getimpedance``; mujoco 3.x); checked against mujoco 4.0.0's own runs to 1e-7.
 - ``newton_semi_implicit``: Newton's (and warp.sim's) semi-implicit Euler rigid contact:
   min(k_f |v_t|, mu f_n) per contact point, k_f the mean of the two shapes' (default 1000
   N s/m, ``ModelBuilder.ShapeConfig.kf``). Source: newton 1.8,
   newton/_src/solvers/semi_implicit/kernels_contact.py (``eval_body_contact``), and warp.sim's
   ``eval_rigid_contacts``.
 
-- ``drake_lagged``: Drake's default discrete model (the "lagged" convex approximation of
-  compliant contact): friction regularised by the stiction tolerance (Drake's
-  ``DiscreteContactApproximation`` documentation, drake 1.51; Castro, Han and Masterjohn 2023),
-  of the form mu_d s / sqrt(1 + s^2), s = v / v_s. The form is identified from Drake's own runs,
-  not read from its source: their creep is proportional to v_s and v* / v_s = 0.7265, the root
-  of mu_d s / sqrt(1 + s^2) = tan(theta) (python -m cases.engines); on slopes of 5 and 15
-  degrees the same form predicts Drake's creep to 1e-7 (tests/test_engines.py).
-
 Bullet's sequential-impulse solver and Drake's SAP solver (whose regularisation Drake sets
-from the numerics alone) have no smooth law of this kind: they
-solve a velocity-level cone problem each step, and what creep they show is measured by
-``python -m cases.engines``, not predicted here (`NO_LAW`).
+from the numerics alone) have no smooth law of this kind: they solve a velocity-level cone
+problem each step, and what creep they show is measured by ``python -m cases.engines``, not
+predicted here (`NO_LAW`).
 
 `engine_creep` returns the creep speed, `advise_engine` the setting for a creep budget,
 `engine_mu` the equivalent friction coefficient of the whole box at a slip speed.
@@ -54,7 +53,7 @@ from typing import Any, Callable
 import numpy as np
 
 #: The engines with an equivalent law, each with its settings and their defaults (the engine's
-#: own defaults; None: required).
+#: own defaults; mu None: the scene's mu_k).
 ENGINE_SETTINGS: dict[str, dict[str, Any]] = {
     "drake_continuous": {"stiction_tolerance": 1e-4},
     "drake_tamsi": {"stiction_tolerance": 1e-4},
