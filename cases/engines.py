@@ -128,7 +128,8 @@ def mujoco_belt(*, timestep: float = 0.002, cone: str = "pyramidal", impratio: f
     """The mass on the belt in MuJoCo (the belt's velocity held at v_b every step): t, x, v."""
     import mujoco
     m = mujoco.MjModel.from_xml_string(_mujoco_xml(timestep=timestep, cone=cone,
-                                                   impratio=impratio, gravity=(0, 0, -G), belt=True))
+                                                   impratio=impratio, gravity=(0, 0, -G),
+                                                   belt=True))
     d = mujoco.MjData(m)
     jb = m.joint("belt").dofadr[0]
     jx = m.joint("x").qposadr[0]
@@ -193,7 +194,8 @@ def bullet_belt(*, timestep: float = 1 / 240, t_end: float = BELT_T_END,
         belt_shape = p.createCollisionShape(p.GEOM_BOX, halfExtents=(100, 1, 0.05),
                                             physicsClientId=cid)
         belt = p.createMultiBody(0, -1, basePosition=(0, 0, -0.05), linkMasses=[1000.0],
-                                 linkCollisionShapeIndices=[belt_shape], linkVisualShapeIndices=[-1],
+                                 linkCollisionShapeIndices=[belt_shape],
+                                 linkVisualShapeIndices=[-1],
                                  linkPositions=[(0, 0, 0)], linkOrientations=[(0, 0, 0, 1)],
                                  linkInertialFramePositions=[(0, 0, 0)],
                                  linkInertialFrameOrientations=[(0, 0, 0, 1)],
@@ -570,7 +572,9 @@ def tables(outdir: Path) -> list[Path]:
     b = c.read_csv(outdir / "engines_belt.csv")
 
     def num(text: str, fmt: str, scale: float = 1.0) -> str:
-        return "-" if text in ("", "nan") or math.isnan(float(text)) else format(float(text) * scale, fmt)
+        if text in ("", "nan") or math.isnan(float(text)):
+            return "-"
+        return format(float(text) * scale, fmt)
 
     bbody = [[label(e), num(b["amplitude [m]"][i], ".4g", 1e3), num(b["period [s]"][i], ".4g"),
               num(b["stick_per_period [s]"][i], ".3g"), num(b["stick_fraction [-]"][i], ".3f"),
@@ -693,6 +697,11 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     args = parser.parse_args(argv)
     c.check_writable(parser, args.outdir)
     if args.replot:
+        missing = [f for f in ("engines_slope.csv", "engines_belt.csv", "engines_belt_series.csv")
+                   if not (args.outdir / f).exists()]
+        if missing:
+            parser.error(f"argument --replot: {args.outdir} has no {', '.join(missing)} "
+                         f"(run python -m cases.engines --outdir {args.outdir} first)")
         files = tables(args.outdir) + plot(args.outdir)
     elif args.quick:
         files = run(args.outdir, t_end=4.0, belt_t_end=4.0, quick=True)

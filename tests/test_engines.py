@@ -306,3 +306,12 @@ def test_engines_driver_quick(tmp_path):
     assert float(b["stick_fraction [-]"][exact]) > 0.2       # the paper's law sticks
     for f in ("engines_slope_creep.png", "engines_belt.png", "engines_slope.md"):
         assert (tmp_path / f).stat().st_size > 0
+
+
+def test_engines_replot_without_results_is_a_usage_error(tmp_path, capsys):
+    from cases import engines as ce
+    with pytest.raises(SystemExit) as err:
+        ce.main(["--replot", "--outdir", str(tmp_path)])
+    assert err.value.code == 2
+    msg = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "has no engines_slope.csv" in msg

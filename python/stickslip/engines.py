@@ -240,7 +240,8 @@ def _loads(scene: dict[str, float], n: int) -> list[float]:
     return [total / 4 * (1 + e)] * 2 + [total / 4 * (1 - e)] * 2
 
 
-def _tangential(engine: str, scene: dict[str, float], own: dict[str, Any]) -> Callable[[float], float]:
+def _tangential(engine: str, scene: dict[str, float],
+                own: dict[str, Any]) -> Callable[[float], float]:
     """Total friction force [N] on the box at slip speed v [m/s], by the engine's law."""
     N = scene["m"] * scene["g"] * math.cos(math.radians(scene["theta_deg"]))
     if engine == "drake_continuous":
