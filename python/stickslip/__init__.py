@@ -37,6 +37,7 @@ from .advise import Advice, advise
 from .prescribed import PrescribedResult, law_n_states, law_state_labels, prescribed_motion
 from .data import Record, damper_files, load_damper_record
 from .identify import FitResult, fit_friction
+from .engines import ENGINES, advise_engine, engine_creep, engine_mu
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
@@ -47,5 +48,6 @@ __all__ = [
     "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation", "EventBudgetExhausted",
     "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
     "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction",
+    "ENGINES", "advise_engine", "engine_creep", "engine_mu",
 ]
 __version__ = "0.1.0"
