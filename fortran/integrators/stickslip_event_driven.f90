@@ -42,6 +42,7 @@ module stickslip_event_driven
     use stickslip_contact, only: contact_system
     use stickslip_linalg, only: lu_decompose, lu_solve
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use stickslip_ode, only: diverged
     implicit none
     private
 
@@ -319,6 +320,7 @@ contains
                 stats%status = SS_SINGULAR
                 exit segment
             end if
+            if (diverged(yb(:, nrows), stats, opts%y_bound)) exit segment   ! left the bound: SS_DIVERGED
             hit = .false.
             call event_values(ms, tb(1), yb(:, 1), g_a, r)
             do k = 2, nrows

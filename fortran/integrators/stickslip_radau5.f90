@@ -48,7 +48,7 @@ module stickslip_radau5
                                SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, &
                                SS_BAD_RTOL
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
-                             check_step_controls, all_finite, output_start, stop_requested, limit_after_forced
+                             check_step_controls, all_finite, diverged, output_start, stop_requested, limit_after_forced
     use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
     use stickslip_scenes, only: slope_scene, belt_scene
     use stickslip_law_coulomb, only: coulomb_law

@@ -10,6 +10,7 @@ from .core import (
     DEFAULTS,
     EVENT_DTYPE,
     ContactSolverFailure,
+    DivergedSolution,
     EventAccumulation,
     REGISTRY,
     LAW_PARAMS,
@@ -43,7 +44,7 @@ __all__ = [
     "StepSizeTooSmall", "StiffnessDetected", "friction_coefficient", "simulate",
     "status_message", "BatchResult", "simulate_batch", "UnusedParameterWarning",
     "UnstableStepWarning", "Advice", "advise",
-    "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation",
+    "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation", "DivergedSolution",
     "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
     "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction",
 ]

@@ -151,6 +151,12 @@ class NonFiniteSolution(IntegrationError):
     """The solution became NaN or infinite."""
 
 
+class DivergedSolution(NonFiniteSolution):
+    """The solution diverged: the state left the bound that no motion of the system reaches
+    (the scene's energy bound with a margin of 1000; see the integrators guide). A subclass of
+    `NonFiniteSolution`: such a run would overflow, and is stopped before it does."""
+
+
 class OutputBufferFull(IntegrationError):
     """Every-step output ran out of rows."""
 
@@ -180,6 +186,7 @@ _ERRORS: dict[int, type[IntegrationError]] = {
     STATUS_STEP_TOO_SMALL: StepSizeTooSmall,
     STATUS_STIFF: StiffnessDetected,
     STATUS_NONFINITE: NonFiniteSolution,
+    _STATUS["DIVERGED"]: DivergedSolution,
     STATUS_OUTPUT_FULL: OutputBufferFull,
     _STATUS["NEWTON_FAILED"]: NewtonFailure,
     _STATUS["SINGULAR"]: NewtonFailure,
@@ -874,7 +881,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         control the method does not read, a fixed-step run needing more than max_steps steps.
     IntegrationError
         The run ended before t_end; one of its subclasses StepBudgetExhausted,
-        StepSizeTooSmall, StiffnessDetected, NonFiniteSolution, OutputBufferFull,
+        StepSizeTooSmall, StiffnessDetected, NonFiniteSolution (and its subclass
+        DivergedSolution: the state left the scene's energy bound), OutputBufferFull,
         NewtonFailure, ContactSolverFailure (moreau), EventAccumulation (event_driven). Its ``result`` holds the output up to ``stats["t_reached"]`` and its
         ``status`` the library's code.
     KeyboardInterrupt
