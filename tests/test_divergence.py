@@ -161,3 +161,33 @@ def test_diverged_run_keeps_its_output(method):
     else:
         x_max, v_max, _ = energy_bounds("slope", "gms", res.y[:, 0], T_END)
         assert np.max(np.abs(res.x)) <= MARGIN * x_max
+
+
+def test_committed_study_rows_are_inside_the_energy_bound():
+    """docs/figures/laws_compare_{belt,slope}.csv (python -m cases --docs --only laws_compare):
+    every row that reports success lies inside the scene's energy bound itself (no margin);
+    the RK4 run of the generalized Maxwell-slip model at h = 1e-3 s, which used to report
+    success at x_max = 9.3e10 m, is a DIVERGED row."""
+    import csv
+    from pathlib import Path
+
+    figures = Path(__file__).resolve().parents[1] / "docs" / "figures"
+    diverged = ss.REGISTRY["status"]["DIVERGED"]
+    with open(figures / "laws_compare_belt.csv", newline="") as f:
+        belt = list(csv.DictReader(f))
+    with open(figures / "laws_compare_slope.csv", newline="") as f:
+        slope = list(csv.DictReader(f))
+    v_b = ss.DEFAULTS["v_b"]
+    for row in belt:
+        law = row["law [-]"].split()[0]
+        if int(row["status [-]"]) != 0:
+            continue
+        x_max, _, _ = energy_bounds("belt", law, np.array([0.0, v_b]), 10.0)   # started stuck, 10 s
+        assert abs(float(row["x_max [m]"])) <= x_max and abs(float(row["x_min [m]"])) <= x_max, row
+    for row in slope:
+        if int(row["status [-]"]) != 0:
+            continue
+        x_max, v_max, _ = energy_bounds("slope", row["law [-]"], np.array([0.0, 0.0]), 20.0)  # rest, 20 s
+        assert abs(float(row["x_20 [m]"])) <= x_max and abs(float(row["v_20 [m/s]"])) <= v_max, row
+    gms = [r for r in belt if (r["law [-]"], r["method [-]"], r["h [s]"]) == ("gms", "rk4", "0.001")]
+    assert len(gms) == 1 and int(gms[0]["status [-]"]) == diverged
