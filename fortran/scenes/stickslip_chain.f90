@@ -294,6 +294,7 @@ contains
             dfdy(i, n + i) = 1.0_dp
             dfdy(n + i, i) = -merge(self%k_m, self%kp_m, i == 1) - merge(self%kc_m, 0.0_dp, i > 1) &
                              - merge(self%kc_m, 0.0_dp, i < n)
+            ! gfortran -Wdo-subscript: a false positive, i - 1 >= 1 under the guard i > 1
             if (i > 1) dfdy(n + i, i - 1) = self%kc_m
             if (i < n) dfdy(n + i, i + 1) = self%kc_m
             dfdy(n + i, n + i) = -self%g(i) * self%law%dmu(self%v_b - y(n + i))
@@ -495,6 +496,7 @@ contains
             if (i == 1) then
                 f(1) = -self%k_m * q(1)
             else
+                ! gfortran -Wdo-subscript: a false positive, i >= 2 in this branch
                 f(i) = -self%kc_m * (q(i) - q(i - 1))
                 if (self%kp_m /= 0.0_dp) f(i) = f(i) - self%kp_m * q(i)
             end if

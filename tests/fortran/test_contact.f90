@@ -39,6 +39,8 @@ contains
         type(two_blocks) :: s
         s%n_dof = 2
         s%n_c = 2
+        ! gfortran -Wuninitialized on the components' descriptors: a false positive, each
+        ! assignment below allocates its component
         s%h_ptr = [1, 2, 3]
         s%h_col = [1, 2]
         s%h_val = [1.0_dp, 1.0_dp]

@@ -220,6 +220,7 @@ contains
         integer :: i, status
         logical :: ok
         ok = .true.
+        ! gfortran -Wuninitialized on names' descriptor: a false positive, the assignment allocates it
         names = split_names(METHOD_TABLE(2)%controls)
         do i = 1, size(names)
             if (names(i) == 'rtol' .or. names(i) == 'atol') cycle
