@@ -103,8 +103,9 @@ contains
                                         ' and forced steps are disabled'
         case (SS_STIFF);          msg = 'problem judged stiff (DOPRI5 stiffness test) and stop_on_stiff is set'
         case (SS_NONFINITE);      msg = 'the solution became NaN or infinite'
-        case (SS_DIVERGED);       msg = 'the solution diverged: the state left the bound no motion of the' // &
-                                        ' system can reach (its energy bound, with a wide margin)'
+        case (SS_DIVERGED);       msg = 'the solution diverged: the state left the bounds that no motion of' // &
+                                        ' the system reaches (a scene''s energy bounds with a margin of 1000;' // &
+                                        ' another system''s state_bound, by default 1e30 max(1, |y0|))'
         case (SS_OUTPUT_FULL);    msg = 'the every-step output buffer is full'
         case (SS_NEWTON_FAILED);  msg = 'Newton iteration did not converge (fixed-step method: within' // &
                                         ' newton_max_iter iterations; RADAU5: at h_min)'

@@ -80,7 +80,8 @@ contains
     !! Grid mode: y_out(:, i) receives y(t_out(i)) (cubic Hermite with f at both ends inside a
     !! step). Every-step mode: (t_out, y_out) receive the initial state and each step.
     !! stats%status: SS_OK, SS_STEP_BUDGET, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE,
-    !! SS_NONFINITE, SS_OUTPUT_FULL or a bad-input code (SS_BAD_RHO_INF, SS_BAD_H, SS_BAD_NIT,
+    !! SS_NONFINITE, SS_DIVERGED (a step left sys%state_bound), SS_OUTPUT_FULL or a bad-input
+    !! code (SS_BAD_RHO_INF, SS_BAD_H, SS_BAD_NIT,
     !! SS_BAD_NEWTON_TOL, ...). On a run-time failure the rows up to stats%t_reached are valid.
     !! A built-in scene with a static law runs a specialised kernel (its analytic Jacobian,
     !! which is what its jacobian binding returns); any other system the generic one.

@@ -45,7 +45,7 @@ contains
     !! Grid mode: y_out(:, i) receives y(t_out(i)) (cubic Hermite inside a step). Every-step
     !! mode: (t_out, y_out) receive the initial state and each step. stats%status: SS_OK,
     !! SS_STEP_BUDGET, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_NONFINITE,
-    !! SS_OUTPUT_FULL or a bad-input code (SS_BAD_H, SS_BAD_MAX_STEPS, SS_BAD_NIT,
+    !! SS_DIVERGED (a step left sys%state_bound), SS_OUTPUT_FULL or a bad-input code (SS_BAD_H, SS_BAD_MAX_STEPS, SS_BAD_NIT,
     !! SS_BAD_NEWTON_TOL, ...). On a run-time failure the rows up to stats%t_reached are valid.
     subroutine implicit_euler_integrate(sys, t0, y0, t_end, opts, t_out, y_out, stats)
         class(ode_system), intent(inout) :: sys          !! the right-hand side (and its Jacobian)
