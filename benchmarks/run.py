@@ -54,7 +54,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from cases._common import atomic_write, check_writable, cli_description, write_text   # one way to write a file whole or not at all
+from cases._common import atomic_write, check_writable, cli_description, int_at_least, write_text   # one way to write a file whole or not at all
 from cases._provenance import machine, write_provenance
 from cases._timing import median_time, python_jac, python_rhs, time_at_error
 
@@ -862,7 +862,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--replot", action="store_true",
                         help="run nothing: draw benchmarks.png and .pdf again from the "
                              "benchmarks.csv already in the output directory")
-    parser.add_argument("--repeats", type=int, default=None, help="samples per median")
+    parser.add_argument("--repeats", type=int_at_least(1), default=None,
+                        help="samples per median, >= 1")
     parser.add_argument("--no-scipy", action="store_true", help="leave out solve_ivp")
     parser.add_argument("--identify", action="store_true",
                         help="only the identification benchmark (LuGre and GMS fits on the 36 lb damper "
@@ -887,7 +888,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     cfg = QUICK if args.quick else FULL
     if args.repeats is not None:
-        cfg = Config(**{**cfg.__dict__, "repeats": max(1, args.repeats)})
+        cfg = Config(**{**cfg.__dict__, "repeats": args.repeats})
     if args.no_scipy:
         cfg = Config(**{**cfg.__dict__, "scipy_methods": []})
     callgrind = args.callgrind if args.callgrind is not None else (not args.quick and shutil.which("valgrind") is not None)

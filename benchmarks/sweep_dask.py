@@ -27,7 +27,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from cases._common import check_writable, cli_description, markdown_table, write_text
+from cases._common import check_writable, cli_description, int_at_least, markdown_table, write_text
 from cases._provenance import machine, write_provenance
 
 #: The tracked results the documentation quotes (written only with --results).
@@ -44,11 +44,11 @@ def main(argv: Sequence[str] | None = None) -> str:
     parser = argparse.ArgumentParser(prog="python -m benchmarks.sweep_dask",
                                      description=cli_description(__doc__),
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--rows", type=int, default=100_000, help="rows of the sweep")
-    parser.add_argument("--repeats", type=int, default=3, help="runs per timing (median)")
-    parser.add_argument("--chunk-rows", type=int, nargs="+", default=[1000, 2000, 50_000],
+    parser.add_argument("--rows", type=int_at_least(1), default=100_000, help="rows of the sweep, >= 1")
+    parser.add_argument("--repeats", type=int_at_least(1), default=3, help="runs per timing (median), >= 1")
+    parser.add_argument("--chunk-rows", type=int_at_least(1), nargs="+", default=[1000, 2000, 50_000],
                         help="chunk sizes to time on the cluster (besides the default)")
-    parser.add_argument("--overhead-chunks", type=int, default=200,
+    parser.add_argument("--overhead-chunks", type=int_at_least(1), default=200,
                         help="one-row chunks timed for the per-chunk overhead")
     parser.add_argument("--outdir", type=Path, default=Path("out") / "benchmarks",
                         help="where sweep_dask.md goes (default: out/benchmarks/)")

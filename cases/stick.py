@@ -316,7 +316,7 @@ def plot_best(csv_path: str | Path, outdir: str | Path) -> list[Path]:
     norm = Normalize(vmin=-16.0, vmax=1.0)
     cmap = plt.get_cmap("cividis_r")
     short = {"NewtonFailure": "Newton\nfailed", "NonFiniteSolution": "blew\nup",
-             "StepBudgetExhausted": "step\nbudget"}
+             "DivergedSolution": "blew\nup", "StepBudgetExhausted": "step\nbudget"}
     for ax, (problem, errs) in zip(axes, ERRORS.items()):
         best = best_runs(rows, problem)
         grid = np.full((len(laws), len(methods)), np.nan)

@@ -36,6 +36,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _common as c
+from . import _progress
 
 SCENES: tuple[str, ...] = ("slope", "belt")
 LAWS: tuple[str, ...] = c.PAPER_LAWS
@@ -163,7 +164,7 @@ def _run(outdir: str | Path, *, quick: bool, threads: int, quiet: bool,
             [q["scene"] for q in rows], [q["law"] for q in rows], method=[q["method"] for q in rows],
             t_end=t_end, h=[q["h"] for q in rows], rtol=[q["rtol"] or 1e-6 for q in rows],
             atol=[q["atol"] or 1e-9 for q in rows], hmin=HMIN, hmax=0.0, max_steps=10**8,
-            n_grid=2, threads=threads, client=client, progress=not quiet)
+            n_grid=2, threads=threads, client=client, progress=_progress.shown(quiet))
 
     table = []
     for i, q in enumerate(rows):

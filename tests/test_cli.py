@@ -315,3 +315,77 @@ def test_benchmarks_replot_draws_from_the_csv_alone(tmp_path: Path) -> None:
     assert run.main(["--replot", "--outdir", str(tmp_path)]) == 0
     assert (tmp_path / "benchmarks.png").stat().st_size > 0
     assert (tmp_path / "benchmarks.pdf").read_bytes().startswith(b"%PDF")
+
+
+# ---------------------------------------------------------------- benchmarks' counts refused
+@pytest.mark.parametrize("module,argv,named", [
+    ("benchmarks.run", ["--repeats", "-1"], "argument --repeats: must be an integer >= 1, got -1"),
+    ("benchmarks.run", ["--repeats", "0"], "argument --repeats: must be an integer >= 1, got 0"),
+    ("benchmarks.sweep_dask", ["--repeats", "-1"], "argument --repeats: must be an integer >= 1, got -1"),
+    ("benchmarks.sweep_dask", ["--rows", "0"], "argument --rows: must be an integer >= 1, got 0"),
+    ("benchmarks.sweep_dask", ["--chunk-rows", "100", "-5"], "argument --chunk-rows: must be an integer >= 1"),
+    ("benchmarks.sweep_dask", ["--overhead-chunks", "0"], "argument --overhead-chunks: must be an integer >= 1"),
+])
+def test_benchmarks_refuse_bad_counts(tmp_path: Path, capsys: pytest.CaptureFixture[str], module: str,
+                                      argv: list[str], named: str) -> None:
+    """A negative or zero count is a usage error naming the argument (exit 2), before anything
+    is built or run and without a traceback; --repeats -1 used to be clamped to 1 silently."""
+    import importlib
+    mod = importlib.import_module(module)
+    with pytest.raises(SystemExit) as exit_info:
+        mod.main(["--outdir", str(tmp_path), *argv])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert named in err and "Traceback" not in err
+    assert not list(tmp_path.iterdir())
+
+
+# ---------------------------------------------------------------- numbers shown as numbers
+@pytest.mark.parametrize("call,named", [
+    (lambda ss, np: ss.simulate("belt", "proposed", method="rk4", h=np.float64("nan"), t_end=1.0),
+     "h: must be finite"),
+    (lambda ss, np: ss.simulate("belt", "proposed", method="rk4", h=1e-3, t_end=np.float64("inf")),
+     "t_end: must be finite"),
+    (lambda ss, np: ss.simulate("belt", "proposed", method="dopri5", t_end=1.0, max_steps=np.float64(2.5)),
+     "max_steps: must be an integer"),
+    (lambda ss, np: ss.simulate_batch("belt", "proposed", method="rk4", h=1e-3, t_end=1.0,
+                                      mu_s=np.array([0.3, np.nan])),
+     "mu_s: must be finite"),
+])
+def test_error_messages_show_numbers_as_numbers(call, named) -> None:
+    """A numpy scalar in a bad argument is shown as the number it is (nan, inf, 2.5), never
+    as np.float64(nan): the facade's messages format the value, not numpy's repr of it."""
+    import numpy as np
+
+    import stickslip as ss
+    with pytest.raises(ValueError) as err:
+        call(ss, np)
+    text = str(err.value)
+    assert named in text, text
+    assert "np.float64" not in text and "np.int64" not in text and "array(" not in text, text
+
+
+# ---------------------------------------------------------------- progress only on a terminal
+def test_progress_bars_only_on_a_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Off a terminal (stderr a file or a pipe) the drivers draw no bar and print no progress
+    lines; on one they do unless quiet."""
+    import io
+    import sys
+
+    from cases import _progress
+
+    class Stream(io.StringIO):
+        def __init__(self, tty: bool) -> None:
+            super().__init__()
+            self.tty = tty
+
+        def isatty(self) -> bool:
+            return self.tty
+
+    for tty, quiet, expected in [(False, False, False), (True, False, True), (True, True, False)]:
+        err = Stream(tty)
+        monkeypatch.setattr(sys, "stderr", err)
+        assert _progress.shown(quiet) is expected
+        for _ in _progress.progress(range(3), "runs", quiet):
+            pass
+        assert bool(err.getvalue()) is expected, (tty, quiet, err.getvalue())

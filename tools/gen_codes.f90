@@ -29,6 +29,7 @@ program gen_codes
     print '(a)', ''
     print '(a)', '/* Status codes (ss_message() gives the text): 0 success, -1 .. -99 run-time outcomes,'
     print '(a)', ' * -100 and below bad input, naming the parameter. */'
+    ! gfortran -Wuninitialized on names' descriptor: a false positive, the assignment allocates it
     names = split_names(STATUS_NAMES)
     do i = 1, size(STATUS_CODES)
         call define('SS_' // trim(names(i)), STATUS_CODES(i), stickslip_message(STATUS_CODES(i)))

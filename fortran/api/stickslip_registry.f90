@@ -301,10 +301,13 @@ contains
         case (METHOD_MOREAU)
             call contact_model_of(sys, cs, stats%status)
             if (stats%status == SS_OK) stats%status = apply_controls(mj, MOREAU_INFO, keys, vals)
+            ! moreau and event_driven see the contact model only: the system's bounds go with them
+            mj%y_bound = sys%state_bound(t0, y0, t_end)
             if (stats%status == SS_OK) call moreau_integrate(cs, t0, y0, t_end, mj, t_out, y_out, stats)
         case (METHOD_EVENT_DRIVEN)
             call contact_model_of(sys, cs, stats%status)
             if (stats%status == SS_OK) stats%status = apply_controls(ev, EVENT_DRIVEN_INFO, keys, vals)
+            ev%y_bound = sys%state_bound(t0, y0, t_end)
             if (stats%status /= SS_OK) return
             if (present(events)) then
                 call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, events)

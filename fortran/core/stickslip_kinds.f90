@@ -25,6 +25,8 @@ module stickslip_kinds
     integer, parameter, public :: SS_SINGULAR = -8          !! the Newton matrix is singular
     integer, parameter, public :: SS_JAC_NONFINITE = -9     !! the Jacobian has a NaN or infinite entry
     integer, parameter, public :: SS_INTERRUPTED = -10      !! the caller set the stop flag
+    !> the solution left the system's bound on |y| (`ode_system%state_bound`): it diverged
+    integer, parameter, public :: SS_DIVERGED = -11
     integer, parameter, public :: SS_CONTACT_FAILED = -21 !! moreau's contact solver missed contact_tol
     integer, parameter, public :: SS_EVENT_ZENO = -22    !! event_driven: events accumulate (Zeno, chatter)
     integer, parameter, public :: SS_EVENT_BUDGET = -23  !! event_driven: more than max_events events
@@ -73,9 +75,10 @@ module stickslip_kinds
         'BAD_CONTROL_NAME BAD_PARAM_NAME NEWTON_FAILED SINGULAR JAC_NONFINITE BAD_RHO_INF ' // &
         'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH' // &
         ' CONTACT_FAILED EVENT_ZENO EVENT_BUDGET BAD_THETA_MJ BAD_CONTACT_CTL BAD_EVENT_CTL' // &
-        ' NOT_SETVALUED JUMP_MANY_CONTACTS BAD_TIMES BAD_MOTION BAD_BACKLASH BAD_ASYMMETRY BAD_NORMAL_FORCE'
+        ' NOT_SETVALUED JUMP_MANY_CONTACTS BAD_TIMES BAD_MOTION BAD_BACKLASH BAD_ASYMMETRY BAD_NORMAL_FORCE' // &
+        ' DIVERGED'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(46) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(47) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
@@ -84,7 +87,7 @@ module stickslip_kinds
         SS_BAD_FORCED_GROWTH, SS_CONTACT_FAILED, SS_EVENT_ZENO, SS_EVENT_BUDGET, SS_BAD_THETA_MJ, &
         SS_BAD_CONTACT_CTL, SS_BAD_EVENT_CTL, SS_NOT_SETVALUED, SS_JUMP_MANY_CONTACTS, SS_BAD_TIMES, &
         SS_BAD_MOTION, &
-        SS_BAD_BACKLASH, SS_BAD_ASYMMETRY, SS_BAD_NORMAL_FORCE]
+        SS_BAD_BACKLASH, SS_BAD_ASYMMETRY, SS_BAD_NORMAL_FORCE, SS_DIVERGED]
 
 contains
 
@@ -101,6 +104,9 @@ contains
                                         ' and forced steps are disabled'
         case (SS_STIFF);          msg = 'problem judged stiff (DOPRI5 stiffness test) and stop_on_stiff is set'
         case (SS_NONFINITE);      msg = 'the solution became NaN or infinite'
+        case (SS_DIVERGED);       msg = 'the solution diverged: the state left the bounds that no motion of' // &
+                                        ' the system reaches (a scene''s energy bounds with a margin of 1000;' // &
+                                        ' another system''s state_bound, by default 1e30 max(1, |y0|))'
         case (SS_OUTPUT_FULL);    msg = 'the every-step output buffer is full'
         case (SS_NEWTON_FAILED);  msg = 'Newton iteration did not converge (fixed-step method: within' // &
                                         ' newton_max_iter iterations; RADAU5: at h_min)'

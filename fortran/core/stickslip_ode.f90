@@ -13,20 +13,27 @@
 module stickslip_ode
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_N_OUT, SS_BAD_DIM, SS_BAD_Y0, SS_BAD_T_END, &
                                SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_H0, &
-                               SS_BAD_MAX_STEPS, SS_BAD_CONTROL_NAME, SS_BAD_FORCED_GROWTH, SS_BAD_CONTROL
+                               SS_BAD_MAX_STEPS, SS_BAD_CONTROL_NAME, SS_BAD_FORCED_GROWTH, SS_BAD_CONTROL, &
+                               SS_NONFINITE, SS_DIVERGED
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
     public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, &
               check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite, &
-              step_count, stop_requested, limit_after_forced, set_erk_constant, check_erk_constants
+              step_count, stop_requested, limit_after_forced, set_erk_constant, check_erk_constants, &
+              diverged, default_state_bound
 
     !> Steps between two looks at a stop flag (a power of 2 minus 1, as a mask).
     integer(8), parameter, public :: STOP_CHECK_MASK = 4095_8
 
     !> Smallest accepted nonzero rtol of the adaptive methods: 100 units of round-off.
     real(dp), parameter, public :: RTOL_MIN = 100.0_dp * epsilon(1.0_dp)
+
+    !> Growth of the default bound on |y_i| (`default_state_bound`) over max(1, |y0|) [-]: no
+    !! system of the library's kind grows by 30 orders of magnitude; one that does overrides
+    !! `state_bound`.
+    real(dp), parameter, public :: DEFAULT_BOUND_GROWTH = 1.0e30_dp
 
     !> A first-order system y' = f(t, y).
     type, abstract :: ode_system
@@ -51,6 +58,10 @@ module stickslip_ode
         !> f at a stage state y whose condensed components move at the rates k holds (their
         !! part of the stage, set by condense_stage); the default: rhs.
         procedure :: stage_rhs => plain_stage_rhs
+        !> Bounds on each |y_i| that no solution from y0 over [t0, t_end] reaches: a step that
+        !! leaves them ends the run with SS_DIVERGED. The default, DEFAULT_BOUND_GROWTH max(1,
+        !! max |y0|), is conservative; the scenes give theirs from their energy.
+        procedure :: state_bound => default_state_bound
     end type ode_system
 
     !> The controls every integrator shares; each method reads those its registry entry
@@ -80,6 +91,11 @@ module stickslip_ode
         !> When associated and nonzero (set by another thread: a Ctrl-C), the run stops
         !! with SS_INTERRUPTED; checked every STOP_CHECK_STEPS steps.
         integer, pointer :: stop_flag => null()
+        !> Bounds on each |y_i| of an accepted state (SS_DIVERGED beyond them), for the methods
+        !! that see a system's contact model only (moreau, event_driven): the caller sets them
+        !! from the system's `state_bound` (unallocated: only finiteness is checked). The
+        !! methods given the ode_system itself ask its `state_bound`.
+        real(dp), allocatable :: y_bound(:)
     contains
         !> Set one control by name (flags: value /= 0); SS_OK or SS_BAD_CONTROL_NAME.
         !! Method-specific options types override it and fall back to this one.
@@ -214,6 +230,35 @@ contains
             nsteps = nsteps - 1.0_dp
         end do
     end function step_count
+
+    !> The default bound on |y_i|: DEFAULT_BOUND_GROWTH max(1, max_j |y0_j|) for every i.
+    function default_state_bound(self, t0, y0, t_end) result(bound)
+        class(ode_system), intent(in) :: self
+        !! the system
+        real(dp), intent(in) :: t0          !! initial time [s]
+        real(dp), intent(in) :: y0(:)       !! initial state
+        real(dp), intent(in) :: t_end       !! final time [s]
+        real(dp) :: bound(size(y0))         !! bound on each |y_i| [units of y_i]
+        bound = DEFAULT_BOUND_GROWTH * max(1.0_dp, maxval(abs(y0)))
+    end function default_state_bound
+
+    !> .true. when the accepted state y has left its bound (a component with |y_i| > bound_i)
+    !! or is not finite; stats%status is then SS_DIVERGED (or SS_NONFINITE). Without a bound
+    !! (absent, or an unallocated array) only finiteness is checked. One comparison per
+    !! component: the methods call it once per accepted step, and a run that stays inside is
+    !! unchanged.
+    logical function diverged(y, stats, bound)
+        real(dp), intent(in) :: y(:)                !! the accepted state
+        type(ode_stats), intent(inout) :: stats     !! status set when diverged
+        real(dp), intent(in), optional :: bound(:)  !! bound on each |y_i| [units of y_i]
+        if (present(bound)) then
+            diverged = .not. all(abs(y) <= bound)   ! .true. for a NaN too
+        else
+            diverged = .not. all(ieee_is_finite(y))
+        end if
+        if (.not. diverged) return
+        stats%status = merge(SS_DIVERGED, SS_NONFINITE, all(ieee_is_finite(y)))
+    end function diverged
 
     !> The default: no component is condensed.
     subroutine no_condensed_components(self, mask)

@@ -17,7 +17,7 @@ module stickslip_dopri5
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_STIFF, &
                                SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL_NAME, SS_INTERRUPTED
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
-                             check_step_controls, all_finite, output_start, RTOL_MIN, stop_requested, &
+                             check_step_controls, all_finite, diverged, output_start, RTOL_MIN, stop_requested, &
                              limit_after_forced, set_erk_constant, check_erk_constants
     use stickslip_scenes, only: slope_scene, belt_scene
     use stickslip_law_coulomb, only: coulomb_law
@@ -108,7 +108,7 @@ contains
     !! Grid mode: y_out(:, i) receives y(t_out(i)) by dense output. Every-step mode:
     !! (t_out, y_out) receive the initial state and each accepted step.
     !! stats%status: SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_STIFF, SS_NONFINITE,
-    !! SS_OUTPUT_FULL or a bad-input code. On a run-time failure the output rows up to
+    !! SS_DIVERGED (a step left sys%state_bound), SS_OUTPUT_FULL or a bad-input code. On a run-time failure the output rows up to
     !! stats%t_reached are valid.
     subroutine dopri5_integrate(sys, t0, y0, t_end, rtol, atol, opts, t_out, y_out, stats)
         class(ode_system), intent(inout) :: sys  !! the right-hand side

@@ -61,6 +61,7 @@ module stickslip_event_driven
     use stickslip_linalg, only: psd_solve
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, STICK_RTOL, MODE_STICK, MODE_OPEN
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use stickslip_ode, only: diverged
     implicit none
     private
 
@@ -422,6 +423,7 @@ contains
                 stats%status = SS_SINGULAR
                 exit segment
             end if
+            if (diverged(yb(:, nrows), stats, opts%y_bound)) exit segment   ! left the bound: SS_DIVERGED
             hit = .false.
             call event_values(ms, tb(1), yb(:, 1), g_a, r, dg_a)
             do k = 2, nrows

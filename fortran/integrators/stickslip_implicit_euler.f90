@@ -11,7 +11,7 @@ module stickslip_implicit_euler
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_NONFINITE, SS_OUTPUT_FULL, SS_INTERRUPTED, &
                                SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_JUMP_MANY_CONTACTS
     use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, step_count, &
-                             stop_requested, all_finite, hermite
+                             stop_requested, all_finite, diverged, hermite
     use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls, ROUNDING_FLOOR
     use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
     use stickslip_scenes, only: friction_scene, slope_scene, belt_scene
@@ -45,7 +45,7 @@ contains
     !! Grid mode: y_out(:, i) receives y(t_out(i)) (cubic Hermite inside a step). Every-step
     !! mode: (t_out, y_out) receive the initial state and each step. stats%status: SS_OK,
     !! SS_STEP_BUDGET, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_NONFINITE,
-    !! SS_OUTPUT_FULL or a bad-input code (SS_BAD_H, SS_BAD_MAX_STEPS, SS_BAD_NIT,
+    !! SS_DIVERGED (a step left sys%state_bound), SS_OUTPUT_FULL or a bad-input code (SS_BAD_H, SS_BAD_MAX_STEPS, SS_BAD_NIT,
     !! SS_BAD_NEWTON_TOL, ...). On a run-time failure the rows up to stats%t_reached are valid.
     subroutine implicit_euler_integrate(sys, t0, y0, t_end, opts, t_out, y_out, stats)
         class(ode_system), intent(inout) :: sys          !! the right-hand side (and its Jacobian)

@@ -50,6 +50,7 @@ module stickslip_moreau
     use stickslip_contact, only: contact_system, local_solve
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use stickslip_ode, only: diverged
     implicit none
     private
 
@@ -247,6 +248,7 @@ contains
                 stats%status = SS_CONTACT_FAILED
                 exit
             end if
+            if (diverged(y1, stats, opts%y_bound)) exit   ! left the system's bound: SS_DIVERGED
             if (opts%every_step) then
                 if (next > m) then
                     stats%status = SS_OUTPUT_FULL

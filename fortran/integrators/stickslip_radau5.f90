@@ -48,7 +48,7 @@ module stickslip_radau5
                                SS_BAD_NEWTON_TOL, SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, &
                                SS_BAD_RTOL
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
-                             check_step_controls, all_finite, output_start, stop_requested, limit_after_forced
+                             check_step_controls, all_finite, diverged, output_start, stop_requested, limit_after_forced
     use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
     use stickslip_scenes, only: slope_scene, belt_scene
     use stickslip_law_coulomb, only: coulomb_law
@@ -162,7 +162,8 @@ contains
     !! Grid mode: y_out(:, i) receives y(t_out(i)) from the collocation polynomial of the step
     !! containing it. Every-step mode: (t_out, y_out) receive the initial state and each
     !! accepted step. stats%status: SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_NEWTON_FAILED,
-    !! SS_SINGULAR, SS_JAC_NONFINITE, SS_OUTPUT_FULL or a bad-input code. On a run-time
+    !! SS_SINGULAR, SS_JAC_NONFINITE, SS_DIVERGED (a step left sys%state_bound), SS_OUTPUT_FULL
+    !! or a bad-input code. On a run-time
     !! failure the output rows up to stats%t_reached are valid.
     subroutine radau5_integrate(sys, t0, y0, t_end, rtol, atol, opts, t_out, y_out, stats)
         class(ode_system), intent(inout) :: sys  !! the right-hand side (and its Jacobian)

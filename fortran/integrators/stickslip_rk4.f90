@@ -7,7 +7,7 @@
 !! Evaluations: 1 + 4 per step.
 module stickslip_rk4
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
-                               SS_NONFINITE, SS_OUTPUT_FULL, SS_INTERRUPTED
+                               SS_NONFINITE, SS_OUTPUT_FULL, SS_INTERRUPTED, SS_DIVERGED
     use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, hermite, step_count, STOP_CHECK_MASK
     use stickslip_scenes, only: slope_scene, belt_scene
     use stickslip_law_coulomb, only: coulomb_law
@@ -37,7 +37,8 @@ contains
     !! Grid mode (every_step = .false.): y_out(:, i) receives y(t_out(i)).
     !! Every-step mode: (t_out, y_out) receive the initial state and each step.
     !! stats%status: SS_OK, SS_STEP_BUDGET (more than max_steps steps needed; output
-    !! up to stats%t_reached is valid), SS_NONFINITE, SS_OUTPUT_FULL or a bad-input code.
+    !! up to stats%t_reached is valid), SS_NONFINITE, SS_DIVERGED (a step left the system's
+    !! `state_bound`), SS_OUTPUT_FULL or a bad-input code.
     subroutine rk4_integrate(sys, t0, y0, t_end, h, t_out, y_out, stats, every_step, max_steps, stop_flag)
         class(ode_system), intent(inout) :: sys  !! the right-hand side
         real(dp), intent(in)    :: t0            !! initial time [s]

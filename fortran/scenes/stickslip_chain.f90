@@ -31,7 +31,7 @@ module stickslip_chain
     use stickslip_params, only: param_spec, param_values, param_read
     use stickslip_friction, only: friction_law
     use stickslip_ode, only: fd_jacobian
-    use stickslip_scenes, only: friction_scene, M_SPEC, G_SPEC, K_SPEC, V_B_SPEC
+    use stickslip_scenes, only: friction_scene, M_SPEC, G_SPEC, K_SPEC, V_B_SPEC, BOUND_MARGIN
     use stickslip_contact, only: contact_system, contact_law, contact_law_of
     implicit none
     private
@@ -105,6 +105,8 @@ module stickslip_chain
         !! block 1's holding coefficient [-]
         procedure :: set_relative_velocity => chain_set_vrel
         !! v_1 = v_b - w
+        procedure :: state_bound => chain_state_bound
+        !! BOUND_MARGIN times the energy bound of the blocks on their springs
     end type chain_scene
 
     !> The chain with set-valued contacts, per unit mass: q = x [m], u = v [m/s], M = I,
@@ -178,6 +180,35 @@ contains
         end where
         if (self%g(1) > 0.0_dp) self%k_mg(1) = self%k_m / self%g(1)
     end function chain_init
+
+    !> The chain's bounds on |y| from the energy per unit mass E = (sum v_i^2 + x^T K x)/2 (K the
+    !! springs' matrix per unit mass, its eigenvalues below lambda = (k + k_p)/m + 4 k_c/m by
+    !! Gershgorin): friction (|mu| <= mu_max on every block) changes sqrt(2E) by at most
+    !! sqrt(N) max g_i mu_max a second, so |v_i| <= R = sqrt(sum v0_i^2 + lambda sum x0_i^2)
+    !! + sqrt(N) max g_i mu_max T over T = t_end - t0 (+ |v_b|), and |x_i| <= max |x0| + R T;
+    !! a law's states move at most twice the relative speed, |z| <= max |z0| + 2 (R + |v_b|) T.
+    !! BOUND_MARGIN times these.
+    function chain_state_bound(self, t0, y0, t_end) result(bound)
+        class(chain_scene), intent(in) :: self
+        real(dp), intent(in) :: t0          !! initial time [s]
+        real(dp), intent(in) :: y0(:)       !! initial state (x_1..x_N [m], v_1..v_N [m/s], z...)
+        real(dp), intent(in) :: t_end       !! final time [s]
+        real(dp) :: bound(size(y0))         !! bounds on |x_i| [m], |v_i| [m/s], |z| [m]
+        real(dp) :: tt, r0, r, amax
+        integer :: n
+        n = self%nb
+        bound = huge(1.0_dp)
+        if (size(y0) < 2 * n) return     ! not this chain's state: the methods refuse it
+        tt = max(t_end - t0, 0.0_dp)
+        r0 = sqrt(sum(y0(n + 1:2 * n)**2) + (self%k_m + 4.0_dp * self%kc_m) * sum(y0(1:n)**2))
+        amax = sqrt(real(n, dp)) * maxval(abs(self%g))
+        r = abs(self%v_b) + r0 + amax * max(self%law%mu_s, self%law%mu_k) * tt
+        r = r0 + amax * self%mu_bound(r) * tt + abs(self%v_b)
+        bound(1:n) = BOUND_MARGIN * (maxval(abs(y0(1:n))) + r * tt)
+        bound(n + 1:2 * n) = BOUND_MARGIN * r
+        if (size(y0) > 2 * n) bound(2 * n + 1:) = BOUND_MARGIN * (maxval(abs(y0(2 * n + 1:))) + &
+                                                                  2.0_dp * (r + abs(self%v_b)) * tt)
+    end function chain_state_bound
 
     pure integer function chain_n_states(self)
         class(chain_scene), intent(in) :: self
@@ -263,6 +294,7 @@ contains
             dfdy(i, n + i) = 1.0_dp
             dfdy(n + i, i) = -merge(self%k_m, self%kp_m, i == 1) - merge(self%kc_m, 0.0_dp, i > 1) &
                              - merge(self%kc_m, 0.0_dp, i < n)
+            ! gfortran -Wdo-subscript: a false positive, i - 1 >= 1 under the guard i > 1
             if (i > 1) dfdy(n + i, i - 1) = self%kc_m
             if (i < n) dfdy(n + i, i + 1) = self%kc_m
             dfdy(n + i, n + i) = -self%g(i) * self%law%dmu(self%v_b - y(n + i))
@@ -464,6 +496,7 @@ contains
             if (i == 1) then
                 f(1) = -self%k_m * q(1)
             else
+                ! gfortran -Wdo-subscript: a false positive, i >= 2 in this branch
                 f(i) = -self%kc_m * (q(i) - q(i - 1))
                 if (self%kp_m /= 0.0_dp) f(i) = f(i) - self%kp_m * q(i)
             end if

@@ -48,6 +48,10 @@ module stickslip_scenes
 
     real(dp), parameter :: deg = acos(-1.0_dp) / 180.0_dp
 
+    !> Margin of a scene's `state_bound` over its energy bound [-]: a state beyond it has
+    !! diverged (SS_DIVERGED), whatever the step size or the method's own errors.
+    real(dp), parameter, public :: BOUND_MARGIN = 1.0e3_dp
+
     !> What both scenes share: the law, its number of internal states, and the
     !! relative velocity.
     type, abstract, extends(ode_system) :: friction_scene
@@ -82,6 +86,9 @@ module stickslip_scenes
         procedure(mu_hold_iface), deferred :: holding_coefficient
         !> Set the velocity of state y so that its relative sliding velocity is w [m/s].
         procedure(set_vrel_iface), deferred :: set_relative_velocity
+        !> A bound on |mu| [-] while the relative speed stays below v_ref: the static and
+        !! kinetic levels and the law's steady curve at +-v_ref (its viscous part).
+        procedure, non_overridable :: mu_bound => scene_mu_bound
     end type friction_scene
 
     !> The slope with a set-valued contact, per unit mass: q = x [m], u = v [m/s], M = 1,
@@ -182,6 +189,8 @@ module stickslip_scenes
         !! tan(theta)
         procedure :: set_relative_velocity => slope_set_vrel
         !! v = w
+        procedure :: state_bound => slope_state_bound
+        !! BOUND_MARGIN times the speed and travel that gravity and friction allow
     end type slope_scene
 
     !> Spring-mass on a moving belt.
@@ -207,9 +216,68 @@ module stickslip_scenes
         !! k x / (m g)
         procedure :: set_relative_velocity => belt_set_vrel
         !! v = v_b - w
+        procedure :: state_bound => belt_state_bound
+        !! BOUND_MARGIN times the energy bound of the mass on its spring
     end type belt_scene
 
 contains
+
+    !> max(mu_s, mu_k, |mu(v_ref)|, |mu(-v_ref)|) [-] of the scene's law.
+    function scene_mu_bound(self, v_ref) result(mu_max)
+        class(friction_scene), intent(in) :: self
+        real(dp), intent(in) :: v_ref       !! largest relative speed [m/s]
+        real(dp) :: mu_max                  !! bound on |mu| [-]
+        mu_max = max(self%law%mu_s, self%law%mu_k, abs(self%law%mu(v_ref)), abs(self%law%mu(-v_ref)))
+    end function scene_mu_bound
+
+    !> The slope's bounds on |y|: with |mu| <= mu_max the acceleration is at most
+    !! a = g (|sin theta| + mu_max cos theta), so |v| <= V = |v0| + a T and
+    !! |x| <= |x0| + V T over T = t_end - t0; a law's states (bristle deflections) move at
+    !! most twice the sliding speed, |z| <= max |z0| + 2 V T. BOUND_MARGIN times these.
+    function slope_state_bound(self, t0, y0, t_end) result(bound)
+        class(slope_scene), intent(in) :: self
+        real(dp), intent(in) :: t0          !! initial time [s]
+        real(dp), intent(in) :: y0(:)       !! initial state (x [m], v [m/s], z...)
+        real(dp), intent(in) :: t_end       !! final time [s]
+        real(dp) :: bound(size(y0))         !! bounds on |x| [m], |v| [m/s], |z| [m]
+        real(dp) :: tt, a, vmax
+        bound = huge(1.0_dp)
+        if (size(y0) < 2) return     ! not this scene's state: the methods refuse it
+        tt = max(t_end - t0, 0.0_dp)
+        a = abs(self%g_sin) + self%g_cos * max(self%law%mu_s, self%law%mu_k)
+        a = abs(self%g_sin) + self%g_cos * self%mu_bound(abs(y0(2)) + a * tt)
+        vmax = abs(y0(2)) + a * tt
+        bound(1) = BOUND_MARGIN * (abs(y0(1)) + vmax * tt)
+        bound(2) = BOUND_MARGIN * vmax
+        if (size(y0) > 2) bound(3:) = BOUND_MARGIN * (maxval(abs(y0(3:))) + 2.0_dp * vmax * tt)
+    end function slope_state_bound
+
+    !> The belt's bounds on |y| from the energy per unit mass E = (v^2 + (k/m) x^2)/2: friction
+    !! (|mu| <= mu_max) changes sqrt(2E) by at most g mu_max a second, so sqrt(2E) <= R =
+    !! sqrt(v0^2 + (k/m) x0^2) + g mu_max T over T = t_end - t0, |v| <= R (+ |v_b|) and
+    !! |x| <= R / sqrt(k/m) (|x0| + R T without a spring); a law's states move at most twice
+    !! the relative speed, |z| <= max |z0| + 2 (R + |v_b|) T. BOUND_MARGIN times these.
+    function belt_state_bound(self, t0, y0, t_end) result(bound)
+        class(belt_scene), intent(in) :: self
+        real(dp), intent(in) :: t0          !! initial time [s]
+        real(dp), intent(in) :: y0(:)       !! initial state (x [m], v [m/s], z...)
+        real(dp), intent(in) :: t_end       !! final time [s]
+        real(dp) :: bound(size(y0))         !! bounds on |x| [m], |v| [m/s], |z| [m]
+        real(dp) :: tt, r0, r
+        bound = huge(1.0_dp)
+        if (size(y0) < 2) return     ! not this scene's state: the methods refuse it
+        tt = max(t_end - t0, 0.0_dp)
+        r0 = sqrt(y0(2)**2 + self%k_m * y0(1)**2)
+        r = abs(self%v_b) + r0 + self%g * max(self%law%mu_s, self%law%mu_k) * tt
+        r = r0 + self%g * self%mu_bound(r) * tt
+        if (self%k_m > 0.0_dp) then
+            bound(1) = BOUND_MARGIN * r / sqrt(self%k_m)
+        else
+            bound(1) = BOUND_MARGIN * (abs(y0(1)) + (r + abs(self%v_b)) * tt)
+        end if
+        bound(2) = BOUND_MARGIN * (r + abs(self%v_b))
+        if (size(y0) > 2) bound(3:) = BOUND_MARGIN * (maxval(abs(y0(3:))) + 2.0_dp * (r + abs(self%v_b)) * tt)
+    end function belt_state_bound
 
     pure integer function scene_n_states(self)
         class(friction_scene), intent(in) :: self

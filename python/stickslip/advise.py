@@ -48,7 +48,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from .core import (LAWS, METHODS, REGISTRY, SCENES, CONTROLS, IntegrationError, _choice, _physical,
-                   friction_coefficient, simulate)
+                   friction_coefficient, _shown, simulate)
 
 #: Aim at target/SAFETY, so that a prediction off by this factor still meets the target.
 SAFETY: float = 2.0
@@ -645,11 +645,11 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
                          "v for the velocity [m/s], both at t_end)")
     if isinstance(target_error, bool) or not isinstance(target_error, (int, float, np.floating, np.integer)) \
             or not math.isfinite(target_error) or target_error <= 0:
-        raise ValueError(f"target_error: must be a finite number > 0 [m or m/s], got {target_error!r}")
+        raise ValueError(f"target_error: must be a finite number > 0 [m or m/s], got {_shown(target_error)}")
     target = float(target_error)
     if isinstance(t_end, bool) or not isinstance(t_end, (int, float, np.floating, np.integer)) \
             or not math.isfinite(t_end) or t_end <= 0:
-        raise ValueError(f"t_end: must be a finite number > 0 [s], got {t_end!r}")
+        raise ValueError(f"t_end: must be a finite number > 0 [s], got {_shown(t_end)}")
     controls = sorted(set(params) & set(CONTROLS))
     if controls:
         raise ValueError(f"{', '.join(controls)}: controls are what advise chooses; pass only physical "

@@ -20,7 +20,7 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATE_COUNT_PARAMS,
-                   STATUS_OK, _states,
+                   STATUS_OK, _states, _shown,
                    UnstableStepWarning, UnusedParameterWarning, _FIRST_INPUT_CODE, _PARAM_ORDER,
                    _check_names, _choice, _count, _n_blocks, accepted_range, interruptible, rk4_stability_bound,
                    status_message)
@@ -138,7 +138,7 @@ def _real(name: str, value: Any, accepted: str, allow_nan: bool = False) -> np.n
     ok = np.isfinite(arr) | (np.isnan(arr) if allow_nan else False)
     if not np.all(ok):
         bad = int(np.flatnonzero(~ok.reshape(-1))[0])
-        raise ValueError(f"{name}: must be finite ({accepted}); row {bad} is {arr.reshape(-1)[bad]!r}")
+        raise ValueError(f"{name}: must be finite ({accepted}); row {bad} is {_shown(arr.reshape(-1)[bad])}")
     return arr
 
 
@@ -207,7 +207,7 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     if "max_steps" in given_ctl:
         ms = np.asarray(given_ctl["max_steps"])
         if ms.dtype.kind not in "iu" or ms.ndim > 1 or np.any(ms < 1):
-            raise ValueError(f"max_steps: must be integers >= 1, got {given_ctl['max_steps']!r}")
+            raise ValueError(f"max_steps: must be integers >= 1, got {_shown(given_ctl['max_steps'])}")
     for k, value in given_ctl.items():
         arr = np.asarray(np.nan if value is None else value)
         if arr.dtype == bool:
@@ -243,7 +243,7 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
         if np.any(bad_h):
             i = int(np.flatnonzero(bad_h)[0])
             raise ValueError(f"h: required for method {rows['method'][i]!r} rows (finite, > 0 [s]); "
-                             f"row {i} has {hrow[i]!r}")
+                             f"row {i} has {_shown(hrow[i])}")
     tol = {}
     for k in ("rtol", "atol"):
         tol[k] = rows["c:" + k] if "c:" + k in rows else np.full(n, float(CONTROL_DEFAULTS[k]))

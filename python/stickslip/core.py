@@ -151,6 +151,12 @@ class NonFiniteSolution(IntegrationError):
     """The solution became NaN or infinite."""
 
 
+class DivergedSolution(NonFiniteSolution):
+    """The solution diverged: the state left the bound that no motion of the system reaches
+    (the scene's energy bound with a margin of 1000; see the integrators guide). A subclass of
+    `NonFiniteSolution`: such a run would overflow, and is stopped before it does."""
+
+
 class OutputBufferFull(IntegrationError):
     """Every-step output ran out of rows."""
 
@@ -193,6 +199,7 @@ _ERRORS: dict[int, type[IntegrationError]] = {
     STATUS_STEP_TOO_SMALL: StepSizeTooSmall,
     STATUS_STIFF: StiffnessDetected,
     STATUS_NONFINITE: NonFiniteSolution,
+    _STATUS["DIVERGED"]: DivergedSolution,
     STATUS_OUTPUT_FULL: OutputBufferFull,
     _STATUS["NEWTON_FAILED"]: NewtonFailure,
     _STATUS["SINGULAR"]: NewtonFailure,
@@ -326,10 +333,20 @@ class Result:
 _KINDS = {"law": LAWS, "scene": SCENES, "method": METHODS}
 
 
+def _shown(value: Any) -> str:
+    """`value` as an error message shows it: numpy scalars and arrays as plain numbers
+    (``nan``, ``2.5``, ``[1.0, nan]``), not ``np.float64(nan)``; anything else by repr."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    elif isinstance(value, np.ndarray):
+        value = value.tolist()
+    return repr(value)
+
+
 def _choice(name: str, value: Any, accepted: tuple[str, ...]) -> int:
     """The registry code of a law, scene or method name, or ValueError naming `name`."""
     if not isinstance(value, str) or value not in accepted:
-        raise ValueError(f"{name}: unknown value {value!r} (accepted: {', '.join(accepted)})")
+        raise ValueError(f"{name}: unknown value {_shown(value)} (accepted: {', '.join(accepted)})")
     return REGISTRY[name][value]["code"]
 
 
@@ -343,10 +360,10 @@ def _is_real(value: Any) -> bool:
 
 def _finite(name: str, value: Any, accepted: str) -> float:
     if not _is_real(value):
-        raise ValueError(f"{name}: must be a real number ({accepted}), got {value!r}")
+        raise ValueError(f"{name}: must be a real number ({accepted}), got {_shown(value)}")
     x = float(value)
     if not math.isfinite(x):
-        raise ValueError(f"{name}: must be finite ({accepted}), got {x!r}")
+        raise ValueError(f"{name}: must be finite ({accepted}), got {_shown(x)}")
     return x
 
 
@@ -356,7 +373,7 @@ def _count(name: str, value: Any, low: int = 1, high: int | None = None) -> int:
         and (high is None or value <= high)
     if not ok:
         bounds = f"in [{low}, {high}]" if high is not None else f">= {low}"
-        raise ValueError(f"{name}: must be an integer {bounds}, got {value!r}")
+        raise ValueError(f"{name}: must be an integer {bounds}, got {_shown(value)}")
     return int(value)
 
 
@@ -650,7 +667,7 @@ def _tolerance(name: str, value: Any, n: int) -> np.ndarray:
     items = np.atleast_1d(np.asarray(value, dtype=object))
     if items.ndim != 1 or items.size not in (1, n) or not all(_is_real(x) for x in items):
         raise ValueError(f"{name}: must be a real number or {n} of them (one per state component), "
-                         f"got {value!r}")
+                         f"got {_shown(value)}")
     return items.astype(np.float64)
 
 
@@ -762,7 +779,7 @@ def _n_blocks(given: Mapping[str, float], method: str, n_per_block: int, dense: 
     small enough when the method is told to factor dense matrices (banded=False)."""
     nb = given.get("n_blocks", DEFAULTS["n_blocks"])
     if not (float(nb).is_integer() and 1 <= nb <= _MAX_BLOCKS):
-        raise ValueError(f"n_blocks: must be an integer in [1, {_MAX_BLOCKS}], got {nb!r}")
+        raise ValueError(f"n_blocks: must be an integer in [1, {_MAX_BLOCKS}], got {_shown(nb)}")
     if dense and nb * n_per_block > _MAX_DENSE_STATES:
         raise ValueError(f"n_blocks: {method} with banded=False factors dense matrices of the whole state, "
                          f"at most {_MAX_DENSE_STATES} components ({_MAX_DENSE_STATES // n_per_block} blocks "
@@ -893,7 +910,8 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
         control the method does not read, a fixed-step run needing more than max_steps steps.
     IntegrationError
         The run ended before t_end; one of its subclasses StepBudgetExhausted,
-        StepSizeTooSmall, StiffnessDetected, NonFiniteSolution, OutputBufferFull,
+        StepSizeTooSmall, StiffnessDetected, NonFiniteSolution (and its subclass
+        DivergedSolution: the state left the scene's energy bound), OutputBufferFull,
         NewtonFailure, ContactSolverFailure (moreau, event_driven), EventAccumulation and
         EventBudgetExhausted (event_driven). Its ``result`` holds the output up to
         ``stats["t_reached"]`` and its

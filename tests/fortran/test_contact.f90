@@ -39,6 +39,8 @@ contains
         type(two_blocks) :: s
         s%n_dof = 2
         s%n_c = 2
+        ! gfortran -Wuninitialized on the components' descriptors: a false positive, each
+        ! assignment below allocates its component
         s%h_ptr = [1, 2, 3]
         s%h_col = [1, 2]
         s%h_val = [1.0_dp, 1.0_dp]
@@ -97,7 +99,7 @@ end module test_contact_chain
 
 program test_contact
     use test_support, only: check, finish
-    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_kinds, only: dp, SS_OK, SS_DIVERGED
     use stickslip_ode, only: ode_stats
     use stickslip_contact, only: contact_law, local_solve, CONTACT_STRIBECK
     use stickslip_moreau, only: moreau_options, moreau_integrate
@@ -108,6 +110,7 @@ program test_contact
     call test_two_blocks()
     call test_diagonal_delassus()
     call test_stribeck_local_solve()
+    call test_state_bounds()
     call finish('contact')
 
 contains
@@ -154,6 +157,46 @@ contains
         write (line, '(a, 3es10.2)') 'two blocks: moreau position errors against event_driven ', err
         call check(err(3) < 2.0e-3_dp .and. err(1) / err(3) > 2.5_dp, trim(line))
     end subroutine test_two_blocks
+
+    !> The bounds a caller gives moreau and event_driven (y_bound of their options; the
+    !! registry sets them from the scene's state_bound): a run that stays inside them is the
+    !! run without them, bit for bit; with block 1's bound at half its largest excursion the
+    !! run ends with SS_DIVERGED before t_end.
+    subroutine test_state_bounds()
+        type(two_blocks) :: sys
+        type(moreau_options) :: mo, mb
+        type(event_driven_options) :: eo, eb
+        type(ode_stats) :: s0, s1
+        integer, parameter :: nout = 101
+        real(dp) :: t0(nout), y0r(4, nout), t1(nout), y1r(4, nout), ev(4, 1000), y0(4), xmax, big
+        integer :: i
+        sys = make_two_blocks()
+        y0 = [0.0_dp, 0.0_dp, sys%v_b, sys%v_b]
+        big = huge(1.0_dp)
+        t0 = [(2.0_dp * (i - 1) / (nout - 1), i = 1, nout)]
+        mo%h = 1.0e-3_dp
+        call moreau_integrate(sys, 0.0_dp, y0, 2.0_dp, mo, t0, y0r, s0)
+        xmax = maxval(abs(y0r(1, :)))
+        mb = mo
+        mb%y_bound = [10.0_dp * xmax, big, big, big]
+        t1 = t0
+        call moreau_integrate(sys, 0.0_dp, y0, 2.0_dp, mb, t1, y1r, s1)
+        call check(s0%status == SS_OK .and. s1%status == SS_OK .and. all(y1r == y0r) .and. &
+                   s1%nstep == s0%nstep, 'moreau: inside its bounds, the run without them bit for bit')
+        mb%y_bound(1) = 0.5_dp * xmax
+        call moreau_integrate(sys, 0.0_dp, y0, 2.0_dp, mb, t1, y1r, s1)
+        call check(s1%status == SS_DIVERGED .and. s1%t_reached < 2.0_dp .and. &
+                   all(abs(y1r(1, :s1%n_written)) <= 0.5_dp * xmax), 'moreau: beyond its bound: SS_DIVERGED')
+        call event_driven_integrate(sys, 0.0_dp, y0, 2.0_dp, [1.0e-9_dp], [1.0e-11_dp], eo, t0, y0r, s0, ev)
+        eb = eo
+        eb%y_bound = [10.0_dp * xmax, big, big, big]
+        call event_driven_integrate(sys, 0.0_dp, y0, 2.0_dp, [1.0e-9_dp], [1.0e-11_dp], eb, t1, y1r, s1, ev)
+        call check(s0%status == SS_OK .and. s1%status == SS_OK .and. all(y1r == y0r) .and. &
+                   s1%nstep == s0%nstep, 'event_driven: inside its bounds, the run without them bit for bit')
+        eb%y_bound(1) = 0.5_dp * xmax
+        call event_driven_integrate(sys, 0.0_dp, y0, 2.0_dp, [1.0e-9_dp], [1.0e-11_dp], eb, t1, y1r, s1, ev)
+        call check(s1%status == SS_DIVERGED .and. s1%t_reached < 2.0_dp, 'event_driven: beyond its bound: SS_DIVERGED')
+    end subroutine test_state_bounds
 
     !> event_driven's holding forces from the diagonal of the Delassus matrix (a system whose
     !! mass matrix is diagonal, contacts on coordinates of their own: O(n)) equal those of

@@ -214,9 +214,9 @@ program test_implicit
     use test_support, only: check, finish
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_RHO_INF, SS_BAD_NIT, SS_BAD_NEWTON_TOL, &
                                SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_BAD_ATOL, SS_BAD_HMIN, &
-                               SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_STEP_BUDGET, &
+                               SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_STEP_BUDGET, SS_DIVERGED, &
                                SS_STEP_TOO_SMALL, SS_OUTPUT_FULL
-    use stickslip_registry, only: stickslip_message, new_system, SCENE_TABLE, LAW_TABLE, LAW_COULOMB, LAW_STRIBECK
+    use stickslip_registry, only: stickslip_message, new_system, SCENE_TABLE, LAW_COULOMB, LAW_STRIBECK
     use stickslip_params, only: param_values, NAME_LEN
     use stickslip_scenes, only: friction_scene
     use stickslip_ode, only: ode_stats
@@ -636,7 +636,12 @@ contains
         ro%nit = 1
         to = 2.0_dp
         call radau5_integrate(v, 0.0_dp, [2.0_dp, -0.66_dp], 2.0_dp, [1.0e-4_dp], [1.0e-4_dp], ro, to, y2, st)
-        call check(st%status == SS_NEWTON_FAILED .or. st%status == SS_OK, 'radau5: nit = 1, h_min = 1e-2 ends')
+        print '(a, i0, a, i0, a, es10.2, a, 2es10.2)', 'radau5 vdp nit 1, hmin 1e-2: status ', st%status, &
+            ' nstep ', st%nstep, ' t_reached', st%t_reached, ' y', y2(:, 1)
+        ! forced steps at h_min whose Newton iteration did not converge may leave the solution's
+        ! bound (the default, 1e30 times |y0|): SS_DIVERGED is then the honest end
+        call check(st%status == SS_NEWTON_FAILED .or. st%status == SS_OK .or. st%status == SS_DIVERGED, &
+                   'radau5: nit = 1, h_min = 1e-2 ends (OK, SS_NEWTON_FAILED or SS_DIVERGED)')
     end subroutine test_failures
 
     subroutine test_output_and_budget()

@@ -12,7 +12,7 @@ program test_laws
     use stickslip_registry, only: PARAMS, LAW_TABLE, make_law, code_of, resolve_params
     implicit none
 
-    real(dp), parameter :: MU_S = 0.35_dp, MU_K = 0.30_dp, V_S = 0.01_dp
+    real(dp), parameter :: MU_S = 0.35_dp, MU_K = 0.30_dp
 
     call test_param_table()
     call test_derivatives()
