@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import subprocess
+import warnings
 from collections import defaultdict
 
 import numpy as np
@@ -169,3 +170,28 @@ def test_contact_failure_names_the_contact():
                     contact_tol=1e-15)
     assert "contact" in str(e.value) and "t =" in str(e.value)
     assert 0 <= e.value.result.stats["contact_worst"] < 5
+
+
+def test_moreau_theta_one_damps_the_amplitude_by_the_stated_factor():
+    """theta = 1 on a slip that never ends (a belt far faster than the block): the oscillation's
+    amplitude about x_k shrinks by 1/sqrt(1 + (h w)^2) a step (the guide's statement)."""
+    m, k, h = 10.0, 300.0, 2e-3
+    w = math.sqrt(k / m)
+    r = ss.simulate("belt", "coulomb", method="moreau", h=h, t_end=4.0, theta=1.0, v_b=100.0, every_step=True,
+                    m=m, k=k)
+    xk = 0.30 * m * G / k
+    amp = np.hypot(r.x - xk, r.v / w)
+    steps = np.arange(amp.size)
+    rate = np.exp(np.polyfit(steps[10:], np.log(amp[10:]), 1)[0])
+    assert abs(rate - 1 / math.sqrt(1 + (h * w) ** 2)) < 1e-3 * (1 - rate), rate
+
+
+def test_step_longer_than_the_shortest_period_warns():
+    """The belt's period 2 pi sqrt(m / k) = 1.147 s; the 4-block chain's shortest 0.574 s."""
+    with pytest.warns(ss.UnstableStepWarning, match="shortest period of oscillation 1.15 s"):
+        ss.simulate("belt", "coulomb", method="moreau", h=1.2, t_end=3.0)
+    with pytest.warns(ss.UnstableStepWarning, match="shortest period of oscillation 0.574 s"):
+        ss.simulate("chain", "coulomb", method="moreau", h=0.6, t_end=3.0, n_blocks=4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ss.simulate("belt", "coulomb", method="moreau", h=1.1, t_end=3.0)

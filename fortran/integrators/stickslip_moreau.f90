@@ -34,7 +34,8 @@
 !!
 !! theta: 1/2 is the default. In slip the scheme is then the trapezoidal rule, second order
 !! and free of numerical damping, so the spring-mass oscillation of a slip phase keeps its
-!! amplitude; theta = 1 (backward Euler) damps it by a factor 1/(1 + (h w)^2) a step, which
+!! amplitude; theta = 1 (backward Euler) damps its amplitude by 1/sqrt(1 + (h w)^2) a step
+!! (its energy by the square of that), which
 !! shortens the slip phases of the stick-slip cycle. At a stick-slip transition every theta
 !! is first order in position (the transition falls inside a step). theta > 1/2 adds
 !! dissipation where an energy-growing system needs it.

@@ -167,8 +167,29 @@ class NewtonFailure(IntegrationError):
 
 
 class UnstableStepWarning(UserWarning):
-    """A fixed step beyond the method's linear stability bound (`rk4_stability_bound`): the run
-    may chatter, settle on a wrong state or blow up."""
+    """A fixed step beyond the method's linear stability bound (`rk4_stability_bound`), or
+    longer than the scene's shortest period of oscillation: the run may chatter, settle on a
+    wrong state, blow up, or (moreau, the implicit methods) damp or skip the oscillation."""
+
+
+def _shortest_period(scene: str, given: Mapping[str, Any], n_blocks: int) -> float | None:
+    """The scene's shortest period of free oscillation [s] (springs and masses only; None on
+    the slope, which has no spring). On the chain, from Gershgorin's bound on the largest
+    eigenvalue of M^-1 K: max(k + k_p + 2 k_c, k_p + 4 k_c) / m (exact for one block)."""
+    if scene == "slope":
+        return None
+    m = float(given.get("m", DEFAULTS["m"]))
+    k = float(given.get("k", DEFAULTS["k"]))
+    if scene == "belt":
+        stiff = k
+    else:
+        k_c = given.get("k_c")
+        k_c = k if k_c is None else float(k_c)
+        k_p = float(given.get("k_p", DEFAULTS["k_p"]))
+        stiff = k + k_p if n_blocks == 1 else max(k + k_p + 2 * k_c, k_p + 4 * k_c)
+    if not stiff > 0.0 or not m > 0.0:
+        return None
+    return 2.0 * math.pi * math.sqrt(m / stiff)
 
 
 class ContactSolverFailure(IntegrationError):
@@ -1006,6 +1027,11 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
         if h > t_end > 0.0:
             warn(f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
                  "shortened to t_end; the result is that single step (docs/guide/choosing-h.md)")
+        period = _shortest_period(scene, given, n_blocks)
+        if period is not None and h > period:
+            warn(f"h = {h:g} s is longer than the scene's shortest period of oscillation "
+                 f"{period:.3g} s (2 pi sqrt(m / k)): {method} cannot follow the oscillation; "
+                 "take h below a tenth of it (docs/guide/choosing-h.md)", UnstableStepWarning)
         if method == "rk4" and scene == "slope" and h > 0.0:
             bound = rk4_stability_bound(law, tuple(sorted(given.items())))
             if bound is not None and h > bound:
