@@ -39,6 +39,9 @@ module stickslip_contact
 
     integer, parameter, public :: CONTACT_COULOMB = 1    !! set-valued Coulomb (mu_s, mu_k)
     integer, parameter, public :: CONTACT_STRIBECK = 2   !! set-valued Stribeck curve
+    !> Relative tolerance of the static limit: a friction force (or impulse) up to
+    !! mu_s N (1 + STICK_RTOL) sticks, so that |F| = mu_s N is stuck in every method [-].
+    real(dp), parameter, public :: STICK_RTOL = 1.0e-12_dp
 
     !> A set-valued friction law of one contact.
     type :: contact_law
@@ -232,7 +235,7 @@ contains
 
     !> The one-contact problem of an implicit step: w = wf + d p with the impulse
     !! p in -hn F(w), F(w) = mu(|w|) sign(w) for w /= 0 and [-mu_s, mu_s] at w = 0.
-    !! Stick (w = 0 exactly, p = -wf/d) when |wf| <= d hn mu_s; otherwise slip in the
+    !! Stick (w = 0 exactly, p = -wf/d) when |wf| <= d hn mu_s (1 + STICK_RTOL); otherwise slip in the
     !! direction of wf with s = |w| > 0 solving s + d hn mu(s) = |wf|: in closed form for
     !! Coulomb, by a bracketed Newton iteration to rounding for Stribeck (a root in
     !! (0, |wf|) always exists; when d hn mu'(s) < -1 somewhere there may be several, and the
@@ -247,7 +250,7 @@ contains
         real(dp) :: c, s, s_new, lo, hi, phi, dphi, sig
         integer :: it
         c = d * hn
-        if (abs(wf) <= c * cl%mu_s) then
+        if (abs(wf) <= c * cl%mu_s * (1.0_dp + STICK_RTOL)) then
             p = -wf / d
             w = 0.0_dp
             return

@@ -38,16 +38,14 @@
 !! necessarily the stick-preferring one where several exist.
 module stickslip_contact_solver
     use stickslip_kinds, only: dp
-    use stickslip_contact, only: contact_law, local_solve, CONTACT_COULOMB
+    use stickslip_contact, only: contact_law, local_solve, CONTACT_COULOMB, STICK_RTOL
     use stickslip_linalg, only: psd_solve, lu_decompose, lu_solve
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
     public :: contact_solve_info, solve_contacts, contact_residual
-
-    !> Relative tolerance of the static limit: |p| <= mu_s c (1 + STICK_RTOL) sticks [-].
-    real(dp), parameter, public :: STICK_RTOL = 1.0e-12_dp
+    public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
     !> Most active contacts solved by exact mode enumeration (3^n modes at most).
     integer, parameter, public :: ENUM_MAX = 6
 
@@ -98,7 +96,7 @@ contains
         else if (na == 1) then
             info%method = SOLVER_LOCAL
             i = findloc(active, .true., dim=1)
-            call one_contact(law_at(laws(i), at_rest), wf(i), d(i, i), cap(i), w(i), p(i))
+            call local_solve(law_at(laws(i), at_rest), wf(i), d(i, i), cap(i), w(i), p(i))
             mode(i) = slip_sign(w(i))
             call finish_velocities()
         else if (na <= ENUM_MAX) then
@@ -147,19 +145,6 @@ contains
         if (w > 0.0_dp) s = 1
         if (w < 0.0_dp) s = -1
     end function slip_sign
-
-    !> One contact, closed form (`local_solve`), with the static limit's tolerance.
-    pure subroutine one_contact(law, wf, d, c, w, p)
-        type(contact_law), intent(in) :: law
-        real(dp), intent(in)  :: wf, d, c
-        real(dp), intent(out) :: w, p
-        if (abs(wf) <= d * c * law%mu_s * (1.0_dp + STICK_RTOL)) then
-            p = -wf / d
-            w = 0.0_dp
-        else
-            call local_solve(law, wf, d, c, w, p)
-        end if
-    end subroutine one_contact
 
     !> The complementarity residual of (p, w, mode) [m/s]: for every contact the largest of
     !! |wf + D p - w| (w = 0 if stuck), and, scaled by D_ii, the excess of a stuck impulse over
@@ -450,7 +435,7 @@ contains
                 do j = 1, nc
                     if (j /= i) wfi = wfi + d(i, j) * p(j)
                 end do
-                call one_contact(lw(i), wfi, d(i, i), cap(i), w(i), pnew)
+                call local_solve(lw(i), wfi, d(i, i), cap(i), w(i), pnew)
                 dp_(i) = pnew - p(i)
                 p(i) = pnew
             end do

@@ -520,7 +520,6 @@ contains
             af = ha(idx) + bd(idx)
             cap = nn(idx)
             p = 0.0_dp
-            cmode = -9
             cmode = MODE_STICK     ! the guess: every candidate held (see stickslip_contact_solver)
             scale = 1.0e-9_dp * max(maxval(abs(af)), tiny(1.0_dp))
             if (ms%diagonal) then
@@ -600,6 +599,8 @@ contains
             dhi = db
             side = 0
             gbest = huge(1.0_dp)
+            tbest = tstar
+            ybest = ystar
             do it = 1, 100
                 tm = lo - dlo * (hi - lo) / (dhi - dlo)
                 if (.not. (tm > lo .and. tm < hi)) tm = 0.5_dp * (lo + hi)

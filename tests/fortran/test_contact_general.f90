@@ -109,7 +109,7 @@ end module test_linear_contact
 
 program test_contact_general
     use test_support, only: check, finish
-    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_kinds, only: dp
     use stickslip_ode, only: ode_stats
     use stickslip_contact, only: contact_law
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info
@@ -147,9 +147,11 @@ contains
         type(moreau_options) :: mo
         type(event_driven_options) :: eo
         type(ode_stats) :: st
-        real(dp) :: t(nout), y(size(y0), nout), ev(4, 10000), hs(4)
+        real(dp) :: t(nout), y(size(y0), nout), hs(4)
+        real(dp), allocatable :: ev(:, :)
         type(linear_system) :: s
         integer :: i, j
+        allocate(ev(4, 10000))
         s = sys
         t = [(t_end * (i - 1) / (nout - 1), i = 1, nout)]
         eo%max_steps = 10000000_8
