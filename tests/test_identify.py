@@ -228,11 +228,73 @@ def good():
     (lambda t, x, f: ("stribeck", [t, t], [x, x[:-1]], [f, f], {}), r"x\[1\]: must be 101 values"),
     (lambda t, x, f: ("stribeck", t[:3], x[:3], f[:3], {}), r"t: 3 samples cannot determine"),
     (lambda t, x, f: ("stribeck", t, x, f, {"fixed": dict(STRIBECK)}), r"fixed: every parameter is fixed"),
+    (lambda t, x, f: ("stribeck", t, x, np.zeros_like(f), {}), r"force: every sample is 0.0 N"),
+    (lambda t, x, f: ("stribeck", t, x, np.full_like(f, 3.5), {}), r"force: every sample is 3.5 N"),
+    (lambda t, x, f: ("lugre", t, x, f, {"fixed": {"sigma0": -1.0}}), r"fixed\['sigma0'\]: must be > 0 \[N/m\], got -1.0"),
+    (lambda t, x, f: ("lugre", t, x, f, {"fixed": {"mu_s": 2.0, "mu_k": 3.0}}), r"fixed: mu_k = 3.0 must be <= mu_s = 2.0"),
+    (lambda t, x, f: ("lugre", t, x, f, {"params0": {"sigma1": -5.0}}), r"params0\['sigma1'\]: must be >= 0 \[N s/m\], got -5.0"),
+    (lambda t, x, f: ("gms", t, x, f, {"fixed": {"n_elements": 2.5}}), r"fixed\['n_elements'\]: must be an integer"),
+    (lambda t, x, f: ("gms", t, x, f, {"fixed": {"n_elements": 99}}), r"fixed\['n_elements'\]: must be in \[1, 64\]"),
 ])
 def test_bad_input_names_the_parameter(good, change, match):
     law, t, x, f, kw = change(*good)
     with pytest.raises(ValueError, match=match):
         stickslip.fit_friction(law, t, x, f, **kw)
+
+
+def test_bad_input_is_refused_before_any_fitting(good, monkeypatch):
+    # the constant force and the bad fixed value are refused without one model evaluation
+    from stickslip import identify
+    calls = []
+    monkeypatch.setattr(identify, "_model", lambda *a, **k: calls.append(1))
+    t, x, f = good
+    for kw in ({"force": np.zeros_like(f)}, {"force": f, "fixed": {"sigma0": -1.0}}):
+        with pytest.raises(ValueError):
+            stickslip.fit_friction("lugre" if "fixed" in kw else "stribeck", t, x, **kw)
+    assert calls == []
+
+
+# ---------------------------------------------------------------------------------------------
+# A failed fit says so
+# ---------------------------------------------------------------------------------------------
+def test_fit_out_of_budget_says_so(good):
+    t, x, f = good
+    with pytest.warns(RuntimeWarning, match="evaluation budget"):
+        fit = stickslip.fit_friction("stribeck", t, x, f, n_starts=1, max_nfev=1,
+                                     params0={"mu_k": 0.01, "mu_s": 0.02})
+    assert not fit.success and "max_nfev" in fit.message
+
+
+def test_fit_no_better_than_zero_says_so():
+    # a force against the motion (a negative sliding level) is beyond every law: the best fit
+    # lowers the sum of squares of the force by nothing
+    t, x, v = sine_record(n=201)
+    f = -pm("dahl", t, x, v, mu_k=0.3, sigma0=2e3).force
+    with pytest.warns(RuntimeWarning, match="no better than predicting zero"):
+        fit = stickslip.fit_friction("dahl", t, x, f, v=v)
+    assert not fit.success
+
+
+def test_fit_stopped_on_a_slope_says_so(monkeypatch):
+    # an optimiser that stops after one step reports success; the check from its end (a
+    # Gauss-Newton step lowers the sum of squares by more than 1 %) does not
+    import scipy.optimize
+    truth, fixed = STATE_CASES["dahl"] if "dahl" in STATE_CASES else (dict(mu_k=0.3, sigma0=2e3), {})
+    t, x, v = sine_record(n=201)
+    f = pm("dahl", t, x, v, mu_k=0.3, sigma0=2e3).force
+    real = scipy.optimize.least_squares
+
+    def early(fun, x0, **kw):
+        sol = real(fun, x0, **dict(kw, max_nfev=2))
+        sol.status, sol.success, sol.message = 2, True, "`ftol` termination condition is satisfied."
+        return sol
+    monkeypatch.setattr(scipy.optimize, "least_squares", early)
+    with pytest.warns(RuntimeWarning, match="far from a minimum"):
+        fit = stickslip.fit_friction("dahl", t, x, f, v=v, n_starts=1, params0={"mu_k": 0.1, "sigma0": 300.0})
+    assert not fit.success
+    monkeypatch.setattr(scipy.optimize, "least_squares", real)
+    fit = stickslip.fit_friction("dahl", t, x, f, v=v, n_starts=1, params0={"mu_k": 0.1, "sigma0": 300.0})
+    assert fit.success and fit.message.startswith("`")
 
 
 # ---------------------------------------------------------------------------------------------

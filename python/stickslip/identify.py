@@ -55,6 +55,15 @@ _SHAPE_PARAMS: frozenset[str] = frozenset({"beta", "a", "delta", "z_ba_ratio", "
 #: Integer parameters: not fitted (least squares needs a continuum), held at the value given in
 #: `fixed` or at their default.
 DISCRETE_PARAMS: frozenset[str] = frozenset({"n_elements"})
+#: Largest cosine between the residual and a free parameter's Jacobian column (0 at a
+#: least-squares minimum) below which a fit's end counts as a minimum without a further check.
+OPTIMALITY_TOL: float = 0.05
+#: Above it, the relative decrease of the sum of squares that a Gauss-Newton step from the end
+#: must not reach for the fit to count as converged.
+STALL_GAIN: float = 0.01
+#: A fit that lowers the sum of squares of the force (the error of predicting zero) by less
+#: than this fraction is no better than zero.
+ZERO_GAIN: float = 0.01
 
 
 def _force_scaled(name: str) -> bool:
@@ -255,6 +264,22 @@ def _extra_option(name: str, value: Any) -> float | None:
     return x
 
 
+def _in_range(label: str, name: str, value: Any, force_levels: bool) -> float:
+    """A given value of parameter `name` (fixed or a start), finite and in the range the
+    library accepts, or a ValueError naming `label`, the range and the unit."""
+    unit = parameter_unit(name, force_levels)
+    x = _finite(label, value, "a real number")
+    low, high, low_open, high_open = _range_of(name)
+    if x < low or x > high or (low_open and x == low) or (high_open and x == high):
+        lo_s = ("(" if low_open else "[") + f"{low:g}"
+        hi_s = f"{high:g}" + (")" if high_open else "]")
+        rng = f"> {low:g}" if math.isinf(high) and low_open else (f">= {low:g}" if math.isinf(high) else f"in {lo_s}, {hi_s}")
+        raise ValueError(f"{label}: must be {rng} [{unit}], got {x!r}")
+    if name in DISCRETE_PARAMS and x != int(x):
+        raise ValueError(f"{label}: must be an integer [{unit}], got {x!r}")
+    return x
+
+
 # --------------------------------------------------------------------------------------------
 # Result
 # --------------------------------------------------------------------------------------------
@@ -299,6 +324,7 @@ class FitResult:
     message: str = ""
     start_costs: tuple[float, ...] = field(default_factory=tuple)
     rtol: float = 1e-6
+    optimality: float = 0.0
 
     @property
     def law_params(self) -> dict[str, float]:
@@ -452,7 +478,10 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     _check_keys("params0", params0, names, law)
     _check_keys("bounds", bounds, names, law)
     extras = {"backlash": _extra_option("backlash", backlash), "asymmetry": _extra_option("asymmetry", asymmetry)}
-    fixed_all = {k: _finite(f"fixed[{k!r}]", v, "a real number") for k, v in fixed.items()}
+    fixed_all = {k: _in_range(f"fixed[{k!r}]", k, v, force_levels) for k, v in fixed.items()}
+    for a, b in ORDERED_PAIRS:
+        if a in fixed_all and b in fixed_all and not fixed_all[a] <= fixed_all[b]:
+            raise ValueError(f"fixed: {a} = {fixed_all[a]!r} must be <= {b} = {fixed_all[b]!r}")
     for k in DISCRETE_PARAMS.intersection(law_names) - fixed.keys():
         fixed_all[k] = float(REGISTRY["param"][k]["default"])
     fixed_all.update({k: v for k, v in extras.items() if v is not None})
@@ -472,6 +501,10 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         raise ValueError(f"diff_step: must be in (0, 0.1], got {diff_step!r}")
     n_total = sum(d.t.size for d in data)
     k = len(free)
+    all_forces = np.concatenate([d.force for d in data])
+    if not np.ptp(all_forces) > 0.0:
+        raise ValueError(f"force: every sample is {float(all_forces[0])!r} N; a constant force cannot identify a "
+                         "friction law (record one along a motion that reverses)")
     if n_total < k + 2:
         raise ValueError(f"t: {n_total} samples cannot determine {k} parameters and the noise "
                          f"(at least {k + 2} needed)")
@@ -479,7 +512,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     # starts, bounds and the scaled coordinates
     scales = _data_scales(data)
     asym_free = "asymmetry" in free
-    p0 = np.array([_finite(f"params0[{n!r}]", params0[n], "a real number") if n in params0
+    p0 = np.array([_in_range(f"params0[{n!r}]", n, params0[n], force_levels) if n in params0
                    else _start(n, scales, asym_free) for n in free])
     lo = np.empty(k)
     hi = np.empty(k)
@@ -644,6 +677,43 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     if undetermined.any():
         warnings.warn(f"fit of {law!r}: the data do not determine {', '.join(np.array(free)[undetermined])} "
                       "(stderr inf); fix them or use records that excite them", stacklevel=3)
+    # Is this a minimum? The cosine between the residual and each free parameter's column of
+    # the Jacobian (not at a bound) is 0 at a least-squares minimum: a large one means the
+    # optimiser stopped on a tolerance (or its evaluation budget) on a slope.
+    rn = math.sqrt(ssr)
+    jn_cols = np.linalg.norm(jac_u, axis=0)
+    inside = np.array([name not in at_bound for name in free])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cosines = np.abs(jac_u.T @ r) / (jn_cols * rn)
+    cosines = np.where(inside & (jn_cols > 0.0) & np.isfinite(cosines), cosines, 0.0)
+    optimality = float(cosines.max()) if cosines.size and rn > 0.0 else 0.0
+    problems = []
+    if sol.status == 0:
+        problems.append(f"the optimiser used its evaluation budget (max_nfev) and stopped")
+    gain = 0.0
+    if optimality > OPTIMALITY_TOL and rn > 1e-9 * float(np.ptp(forces)) * math.sqrt(n):
+        # a slope (above the rounding of a noise-free fit) by the Jacobian: does a Gauss-Newton step (within the bounds) lower the SSR?
+        step = np.linalg.lstsq(jac_u, -r, rcond=None)[0]
+        for lam in (1.0, 0.3, 0.1):
+            u_try = np.clip(u + lam * step, q_lo, q_hi)
+            try:
+                r_try = residuals(u_try)
+            except (RuntimeError, ValueError):
+                continue
+            gain = max(gain, 1.0 - float(r_try @ r_try) / ssr)
+        if gain > STALL_GAIN:
+            worst = free[int(np.argmax(cosines))]
+            problems.append(f"the optimiser stopped far from a minimum: a Gauss-Newton step from its "
+                            f"end lowers the sum of squares by {100 * gain:.3g} % (steepest along {worst})")
+    zero_ssr = float(forces @ forces)
+    if ssr >= (1.0 - ZERO_GAIN) * zero_ssr:
+        problems.append(f"the fit is no better than predicting zero force (rmse {math.sqrt(ssr / n):.4g} N, "
+                        f"rms force {math.sqrt(zero_ssr / n):.4g} N)")
+    success = bool(sol.success) and not problems
+    message = str(sol.message) if not problems else "; ".join(problems) + f" (optimiser: {sol.message})"
+    if problems:
+        warnings.warn(f"fit of {law!r} failed: {message}; try other params0, more n_starts or max_nfev",
+                      RuntimeWarning, stacklevel=3)
     loglik_term = n * math.log(2.0 * math.pi * ssr / n) + n     # -2 ln L at the ML variance
     n_par = k + 1
     rmse = math.sqrt(ssr / n)
@@ -654,5 +724,5 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
         covariance=cov, correlation=corr, rmse=rmse, nrmse=rmse / float(np.ptp(forces)),
         aic=loglik_term + 2.0 * n_par, bic=loglik_term + n_par * math.log(n), n_samples=n,
         n_records=len(data), force_levels=force_levels, normal_force=1.0 if force_levels else normal_force,
-        at_bound=at_bound, cost=float(sol.cost), nfev=nfev, n_starts=len(costs), success=bool(sol.success),
-        message=str(sol.message), start_costs=costs)
+        at_bound=at_bound, cost=float(sol.cost), nfev=nfev, n_starts=len(costs), success=success,
+        message=message, start_costs=costs, optimality=optimality)
