@@ -35,7 +35,7 @@ from .sweep import simulate_batch
 from .advise import Advice, advise
 from .prescribed import PrescribedResult, law_n_states, law_state_labels, prescribed_motion
 from .data import Record, damper_files, load_damper_record
-from .identify import FitResult, fit_friction
+from .identify import FitResult, Selection, fit_friction, select_friction_law
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
@@ -45,6 +45,6 @@ __all__ = [
     "UnstableStepWarning", "Advice", "advise",
     "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation",
     "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
-    "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction",
+    "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction", "Selection", "select_friction_law",
 ]
 __version__ = "0.1.0"

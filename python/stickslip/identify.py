@@ -726,3 +726,162 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
         n_records=len(data), force_levels=force_levels, normal_force=1.0 if force_levels else normal_force,
         at_bound=at_bound, cost=float(sol.cost), nfev=nfev, n_starts=len(costs), success=success,
         message=message, start_costs=costs, optimality=optimality)
+
+
+# --------------------------------------------------------------------------------------------
+# Choosing a law: cross-validation over records
+# --------------------------------------------------------------------------------------------
+@dataclass
+class Selection:
+    """The outcome of `select_friction_law`.
+
+    `best` is the chosen law; `fits` maps every candidate to its FitResult on all the data;
+    `scores` maps it to (mean, standard error) of its cross-validated NRMSE [-] (each fold's
+    held-out rmse over the range of that fold's measured force); `fold_scores` holds every
+    fold's NRMSE; `folds` says how the data were split ("records": one record held out at a
+    time; "blocks": one contiguous block of the single record); `n_free` the number of fitted
+    parameters of each law. `fold_failures` counts the folds whose fit reported
+    success=False. BIC is in each fit (`fits[law].bic`) as information; it does not choose.
+    """
+
+    best: str
+    fits: dict[str, FitResult]
+    scores: dict[str, tuple[float, float]]
+    fold_scores: dict[str, tuple[float, ...]]
+    folds: str
+    n_free: dict[str, int]
+    fold_failures: dict[str, int]
+
+    def table(self) -> str:
+        """A plain-text table: one row per law, best cross-validated score first."""
+        bic0 = min(f.bic for f in self.fits.values())
+        rows = [f"{'law':<14} {'k':>2} {'CV NRMSE':>9} {'+- s.e.':>8} {'fit NRMSE':>9} {'dBIC':>9}  note",
+                "-" * 64]
+        for law in sorted(self.scores, key=lambda name: self.scores[name][0]):
+            fit = self.fits[law]
+            mean, se = self.scores[law]
+            note = ["chosen" if law == self.best else ""]
+            if not fit.success:
+                note.append("fit failed")
+            if self.fold_failures[law]:
+                note.append(f"{self.fold_failures[law]} fold fit(s) failed")
+            rows.append(f"{law:<14} {self.n_free[law]:>2} {mean:>9.4f} {se:>8.4f} {fit.nrmse:>9.4f} "
+                        f"{fit.bic - bic0:>9.1f}  {', '.join(n for n in note if n)}")
+        rows.append(f"(cross-validation over {self.folds}; the simplest law within one standard error of "
+                    "the best is chosen)")
+        return "\n".join(rows)
+
+
+def _law_kwargs(law: str, laws: Sequence[str], fit_kwargs: Mapping[str, Any]) -> dict[str, Any]:
+    """fit_kwargs for one law: a value that is a dict keyed by candidate laws is per law."""
+    out = {}
+    for key, value in fit_kwargs.items():
+        if isinstance(value, Mapping) and value and all(k in laws for k in value):
+            if law in value:
+                out[key] = value[law]
+        else:
+            out[key] = value
+    return out
+
+
+def select_friction_law(laws: Sequence[str], t: Any, x: Any = None, force: Any = None, v: Any = None,
+                        normal_force: Any = None, cv: str = "records", n_blocks: int = 5,
+                        **fit_kwargs: Any) -> Selection:
+    """Choose a friction law by how well it predicts data it was not fitted to.
+
+    Every candidate is fitted (`fit_friction`) to all the data and, fold by fold, to all but
+    one part of it, and scored on the part left out: leave one record out when there are
+    several records (cv="records"), or, with one record (or cv="blocks"), n_blocks contiguous
+    blocks of the record (each block then a record of its own, its states starting at 0). A
+    law's score is the mean over folds of the held-out NRMSE (rmse over the range of the
+    held-out force), with its standard error (standard deviation over folds / sqrt(folds)).
+    The chosen law is the one with the fewest fitted parameters among those whose mean is
+    within one standard error of the best mean (the one-standard-error rule): a simpler law
+    is preferred when the scores cannot tell them apart. BIC, which on correlated measurement
+    noise favours the most flexible law, is reported but does not choose.
+
+    Parameters
+    ----------
+    laws : sequence of str
+        Candidate laws (at least 2, each in `stickslip.LAWS`).
+    t, x, force, v, normal_force
+        As in `fit_friction` (several records as lists, or Record objects as t).
+    cv : "records" or "blocks"
+        How the folds are made (above). "records" with a single record falls back to blocks.
+    n_blocks : int
+        Number of blocks of a single record (>= 2; default 5).
+    **fit_kwargs
+        Passed to `fit_friction` for every law (fixed, backlash, asymmetry, rtol, ...); a value
+        that is a dict keyed by candidate laws applies per law, e.g.
+        ``fixed={"gms": {"gms_c": 1e6}}``.
+
+    Returns
+    -------
+    Selection
+        .best, .fits, .scores, .table().
+
+    Raises
+    ------
+    ValueError
+        Fewer than 2 laws, an unknown law, a bad cv or n_blocks, or bad data (as `fit_friction`).
+    """
+    if isinstance(laws, str) or len(laws) < 2:
+        raise ValueError(f"laws: give at least 2 candidate laws, got {laws!r}")
+    for law in laws:
+        if not isinstance(law, str) or law not in LAWS:
+            raise ValueError(f"laws: unknown value {law!r} (accepted: {', '.join(LAWS)})")
+    if len(set(laws)) != len(laws):
+        raise ValueError(f"laws: each law once, got {list(laws)!r}")
+    if cv not in ("records", "blocks"):
+        raise ValueError(f"cv: unknown value {cv!r} (accepted: records, blocks)")
+    if not (isinstance(n_blocks, (int, np.integer)) and n_blocks >= 2):
+        raise ValueError(f"n_blocks: must be an integer >= 2, got {n_blocks!r}")
+    data = _records(t, x, force, v, normal_force)
+    use_blocks = cv == "blocks" or len(data) == 1
+    if use_blocks:
+        if len(data) != 1:
+            raise ValueError(f"cv: 'blocks' splits one record; got {len(data)} records (use cv='records')")
+        d = data[0]
+        edges = np.linspace(0, d.t.size, int(n_blocks) + 1).astype(int)
+        if np.diff(edges).min() < 4:
+            raise ValueError(f"n_blocks: {n_blocks} blocks of a {d.t.size}-sample record are too short")
+        nf = d.normal_force
+        parts = [_Data(d.t[a:b], d.x[a:b], None if d.v is None else d.v[a:b], d.force[a:b],
+                       nf if np.ndim(nf) == 0 else nf[a:b]) for a, b in zip(edges[:-1], edges[1:])]
+    else:
+        parts = data
+    folds = "blocks" if use_blocks else "records"
+
+    def fit_on(law: str, members: list[_Data], quiet: bool) -> FitResult:
+        kw = _law_kwargs(law, laws, fit_kwargs)
+        ts, xs, fs = [m.t for m in members], [m.x for m in members], [m.force for m in members]
+        vs = None if any(m.v is None for m in members) else [m.v for m in members]
+        nfs = None if normal_force is None else [m.normal_force for m in members]
+        with warnings.catch_warnings():
+            if quiet:
+                warnings.simplefilter("ignore")
+            return fit_friction(law, ts, xs, fs, v=vs, normal_force=nfs, **kw)
+
+    fits: dict[str, FitResult] = {}
+    scores: dict[str, tuple[float, float]] = {}
+    fold_scores: dict[str, tuple[float, ...]] = {}
+    failures: dict[str, int] = {}
+    for law in laws:
+        fits[law] = fit_on(law, parts, quiet=False)
+        per_fold = []
+        failed = 0
+        for i, held in enumerate(parts):
+            fit = fit_on(law, [p for j, p in enumerate(parts) if j != i], quiet=True)
+            failed += not fit.success
+            pred = _model(law, held, fit.params, fit.rtol)
+            per_fold.append(float(np.sqrt(np.mean((pred - held.force) ** 2)) / np.ptp(held.force)))
+        arr = np.array(per_fold)
+        scores[law] = (float(arr.mean()), float(arr.std(ddof=1) / math.sqrt(arr.size)))
+        fold_scores[law] = tuple(per_fold)
+        failures[law] = failed
+    n_free = {law: len(fits[law].free) for law in laws}
+    best_mean, best_se = min(scores.values(), key=lambda s: s[0])
+    within = [law for law in laws if scores[law][0] <= best_mean + best_se]
+    best = min(within, key=lambda law: (n_free[law], scores[law][0]))
+    return Selection(best=best, fits=fits, scores=scores, fold_scores=fold_scores, folds=folds,
+                     n_free=n_free, fold_failures=failures)
