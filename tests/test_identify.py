@@ -428,3 +428,84 @@ def test_select_on_the_damper_records_held_out_by_record():
     assert sel.folds == "records" and len(sel.fold_scores["dahl"]) == 10
     assert sel.best == "dahl"
     assert sel.scores["coulomb"][0] - sel.scores["dahl"][0] > 3 * sel.scores["coulomb"][1]
+
+
+# ---------------------------------------------------------------------------------------------
+# Honest uncertainty: prediction intervals, intervals inside the allowed range, the report
+# ---------------------------------------------------------------------------------------------
+def ar1_noise(rng, n, sd, rho):
+    e = np.empty(n)
+    e[0] = rng.standard_normal()
+    for i in range(1, n):
+        e[i] = rho * e[i - 1] + math.sqrt(1 - rho**2) * rng.standard_normal()
+    return sd * e
+
+
+@pytest.mark.parametrize("rho", [0.0, 0.8])
+def test_prediction_interval_covers_held_out_measurements(rho):
+    # fitted on one record, predicted on another of other amplitude and frequency: the 95 %
+    # prediction interval holds 95 % of the held-out noisy samples (white or AR(1) noise)
+    truth, fixed = STATE_CASES["dahl"]
+    rng = np.random.default_rng(11)
+    (t0, x0, v0), (t1, x1, v1) = sine_record(4.0, 801, 0.01, 0.5), sine_record(2.0, 801, 0.004, 1.0, phase=0.3)
+    f0 = pm("dahl", t0, x0, v0, **truth).force + ar1_noise(rng, t0.size, 10.0, rho)
+    exact1 = pm("dahl", t1, x1, v1, **truth).force
+    fit = stickslip.fit_friction("dahl", t0, x0, f0, v=v0, fixed=fixed)
+    assert fit.noise_correlation == pytest.approx(rho, abs=0.1)
+    inside = []
+    for seed in range(5):
+        f1 = exact1 + ar1_noise(np.random.default_rng(100 + seed), t1.size, 10.0, rho)
+        force, lower, upper = fit.predict(t1, x1, v1, interval=0.95)
+        np.testing.assert_array_equal(force, fit.predict(t1, x1, v1))
+        inside.append(np.mean((f1 >= lower) & (f1 <= upper)))
+    assert 0.92 <= np.mean(inside) <= 0.98
+    # the parameters' share of the width: a narrower interval than the residual scatter alone
+    # cannot be (s is its floor)
+    assert np.all(upper - force >= 1.959 * fit.residual_sd)
+
+
+def test_correlated_residuals_widen_the_parameter_intervals():
+    truth, fixed = STATE_CASES["dahl"]
+    t, x, v = sine_record(4.0, 801, 0.01, 0.5)
+    exact = pm("dahl", t, x, v, **truth).force
+    white = stickslip.fit_friction("dahl", t, x, exact + ar1_noise(np.random.default_rng(1), t.size, 10.0, 0.0), v=v)
+    red = stickslip.fit_friction("dahl", t, x, exact + ar1_noise(np.random.default_rng(1), t.size, 10.0, 0.8), v=v)
+    assert white.variance_inflation < 1.3
+    assert red.variance_inflation == pytest.approx(9.0, rel=0.4)      # (1 + 0.8)/(1 - 0.8)
+    assert red.stderr["sigma0"] > 2.0 * white.stderr["sigma0"]
+
+
+def test_intervals_stay_in_the_allowed_range():
+    # LuGre data without damping, sigma1 fitted: its estimate sits near 0 with an error larger
+    # than itself; the interval stays >= 0 (the log scale) and the report flags it
+    truth, _ = STATE_CASES["lugre"]
+    t, x, f, v = noisy_records("lugre", truth, 30.0, seed=4, n=401)
+    fit = stickslip.fit_friction("lugre", t, x, f, v=v)
+    from stickslip.identify import _range_of
+    for name in fit.free:
+        low, high = _range_of(name)[:2]
+        lo, hi = fit.ci95[name]
+        assert low <= lo <= fit.params[name] <= hi <= high, name
+    assert fit.ci95["sigma1"][0] >= 0.0
+    if fit.stderr["sigma1"] > fit.params["sigma1"]:
+        assert "sigma1" in fit.undetermined
+
+
+def test_fit_report_is_complete():
+    truth, fixed = STATE_CASES["lugre"]
+    t, x, f, v = three_records("lugre", truth, 10.0, seed=8, n=201)
+    sel = stickslip.select_friction_law(["dahl", "lugre"], t, x, f, v=v, fixed={"lugre": fixed})
+    fit = sel.fits["lugre"]
+    text = fit.report()
+    for piece in ("[[Fit]]", "success", fit.message, f"model evaluations  = {fit.nfev}", "rmse", "nrmse",
+                  "AIC", "BIC", "cross-validated", "lag-1 correlation", "[[Parameters]]", "[[Correlations]]",
+                  "(fixed)"):
+        assert piece in text, piece
+    for name in fit.free:
+        line = next(ln for ln in text.splitlines() if ln.strip().startswith(name + ":"))
+        assert f"{fit.params[name]:.7g}" in line and f"{fit.stderr[name]:.4g}" in line
+        assert f"(start {fit.start[name]:.5g})" in line and "%" in line
+    big = [(a, b) for i, a in enumerate(fit.free) for j, b in enumerate(fit.free)
+           if i < j and abs(fit.correlation[i, j]) > 0.5]
+    assert all(f"C({a}, {b})" in text for a, b in big)
+    assert f"{sel.scores['lugre'][0]:.6g}" in text

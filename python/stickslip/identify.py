@@ -325,26 +325,77 @@ class FitResult:
     start_costs: tuple[float, ...] = field(default_factory=tuple)
     rtol: float = 1e-6
     optimality: float = 0.0
+    noise_correlation: float = 0.0
+    variance_inflation: float = 1.0
+    residual_sd: float = 0.0
+    undetermined: tuple[str, ...] = ()
+    start: dict[str, float] = field(default_factory=dict)
+    cv_nrmse: tuple[float, float] | None = None
 
     @property
     def law_params(self) -> dict[str, float]:
         """The law's parameters (without backlash and asymmetry)."""
         return {k: v for k, v in self.params.items() if k not in EXTRA_PARAMS}
 
-    def predict(self, t: Any, x: Any = None, v: Any = None, normal_force: Any = None) -> np.ndarray:
+    def predict(self, t: Any, x: Any = None, v: Any = None, normal_force: Any = None,
+                interval: float | None = None) -> Any:
         """The fitted model's force [N] along a motion x(t) [m] (v [m/s] measured, or derived
         from x), internal states from 0; `t` may be a Record (its x and v are used). Several
         records (lists) give a list of forces.
         normal_force [N]: required when the fit was of coefficients with a per-sample normal
-        force; by default the fit's own (1 N, i.e. force levels, when it was not given)."""
+        force; by default the fit's own (1 N, i.e. force levels, when it was not given).
+
+        interval : float in (0, 1), optional
+            Also return a prediction interval of that probability for a measured force at each
+            sample: (force, lower, upper). Its half-width is z sqrt(s^2 + g^T C g), z the
+            normal quantile, s the residual standard deviation of the fit (the scatter of a
+            measurement about the model), g the force's sensitivity to the fitted parameters
+            (finite differences, one model evaluation per parameter) and C their covariance,
+            inflated for the residuals' correlation in time (`variance_inflation`). Gaussian
+            scatter is assumed; a parameter the data do not determine makes the interval
+            infinite where the force depends on it.
+        """
         if normal_force is None:
             if np.ndim(self.normal_force) != 0:
                 raise ValueError("normal_force: the fit had a normal force per sample; give the one of "
                                  "this motion [N]")
             normal_force = None if self.force_levels else self.normal_force
+        if interval is not None:
+            q = _finite("interval", interval, "in (0, 1)")
+            if not 0.0 < q < 1.0:
+                raise ValueError(f"interval: must be in (0, 1), got {interval!r}")
         data = _records(t, x, None, v, normal_force, need_force=False)
         out = [_model(self.law, d, self.params, self.rtol) for d in data]
-        return out if isinstance(t, (list, tuple)) else out[0]
+        if interval is None:
+            return out if isinstance(t, (list, tuple)) else out[0]
+        from scipy import stats
+        z = float(stats.norm.ppf(0.5 + 0.5 * q))
+        sd = np.array([self.stderr[name] for name in self.free])
+        cov = np.where(np.isfinite(self.covariance), self.covariance, 0.0)
+        bands = []
+        for d, f in zip(data, out):
+            grad = np.zeros((f.size, len(self.free)))
+            for i, name in enumerate(self.free):
+                if not math.isfinite(sd[i]):
+                    grad[:, i] = 0.0
+                    continue
+                low, high = _range_of(name)[:2]
+                p = dict(self.params)
+                h = 1e-3 * max(abs(p[name]), sd[i], 1e-12)
+                h = h if p[name] + h < high else -h
+                if not low <= p[name] + h <= high:
+                    h = 0.5 * h
+                p[name] += h
+                grad[:, i] = (_model(self.law, d, p, self.rtol) - f) / h
+            var = self.residual_sd ** 2 + np.einsum("ij,jk,ik->i", grad, cov, grad)
+            blind = [i for i in range(len(self.free)) if not math.isfinite(sd[i])]
+            half = z * np.sqrt(var)
+            if blind:
+                half = np.full_like(f, math.inf)
+            bands.append((f, f - half, f + half))
+        if isinstance(t, (list, tuple)):
+            return [b[0] for b in bands], [b[1] for b in bands], [b[2] for b in bands]
+        return bands[0]
 
     def score(self, t: Any, x: Any = None, force: Any = None, v: Any = None,
               normal_force: Any = None) -> dict[str, float]:
@@ -356,6 +407,57 @@ class FitResult:
         f = np.concatenate([d.force for d in data])
         rmse = float(np.sqrt(np.mean(r**2)))
         return {"rmse": rmse, "nrmse": rmse / float(np.ptp(f)), "n_samples": int(r.size)}
+
+    def report(self) -> str:
+        """A full report of the fit (as lmfit's fit_report): the fit's outcome (success,
+        termination message, model evaluations, starts), the scores (rmse, nrmse, AIC, BIC and
+        the cross-validated NRMSE when `select_friction_law` made this fit), the residuals'
+        correlation in time and the variance inflation it brings, then each parameter with its
+        start, estimate, standard error (and relative %), 95 % interval and flags (fixed, at a
+        bound, not determined), and the correlations above 0.5 in magnitude."""
+        what = "force levels (normal force not given: N = 1 N)" if self.force_levels else "coefficients"
+        lines = ["[[Fit]]",
+                 f"    law                = {self.law}",
+                 f"    data               = {self.n_records} record(s), {self.n_samples} samples, {what}",
+                 f"    success            = {self.success}",
+                 f"    message            = {self.message}",
+                 f"    model evaluations  = {self.nfev} (Jacobians not counted), starts = {self.n_starts}",
+                 f"    fitted parameters  = {len(self.free)}",
+                 "[[Scores]]",
+                 f"    rmse               = {self.rmse:.6g} N",
+                 f"    nrmse              = {self.nrmse:.6g} (rmse / range of the measured force)",
+                 f"    AIC                = {self.aic:.6g}",
+                 f"    BIC                = {self.bic:.6g}"]
+        if self.cv_nrmse is not None:
+            lines.append(f"    cross-validated    = {self.cv_nrmse[0]:.6g} +- {self.cv_nrmse[1]:.2g} (held-out NRMSE, "
+                         "mean +- standard error over folds)")
+        lines += ["[[Residuals]]",
+                  f"    standard deviation = {self.residual_sd:.6g} N",
+                  f"    lag-1 correlation  = {self.noise_correlation:.4f} (variance inflation of the "
+                  f"parameters {self.variance_inflation:.3g})",
+                  "[[Parameters]]"]
+        for name, value in self.params.items():
+            unit = self.units[name]
+            if name not in self.free:
+                lines.append(f"    {name + ':':<12} {value:<14.7g} (fixed) [{unit}]")
+                continue
+            sd = self.stderr[name]
+            rel = f"({100 * sd / abs(value):.2f}%)" if value != 0 and math.isfinite(sd) else ""
+            lo, hi = self.ci95[name]
+            flags = [f for f, on in (("at a bound", name in self.at_bound),
+                                     ("not determined by the data", name in self.undetermined)) if on]
+            start = self.start.get(name, float("nan"))
+            lines.append(f"    {name + ':':<12} {value:<14.7g} +/- {sd:<11.4g} {rel:<10} (start {start:.5g}) "
+                         f"[{unit}]  95% [{lo:.6g}, {hi:.6g}]" + (f"  {'; '.join(flags)}" if flags else ""))
+        pairs = []
+        for i, a in enumerate(self.free):
+            for j in range(i + 1, len(self.free)):
+                c = self.correlation[i, j]
+                if math.isfinite(c) and abs(c) > 0.5:
+                    pairs.append((abs(c), c, a, self.free[j]))
+        lines.append("[[Correlations]] (|c| > 0.5)")
+        lines += [f"    C({a}, {b}) = {c:+.4f}" for _, c, a, b in sorted(pairs, reverse=True)] or ["    none"]
+        return "\n".join(lines)
 
     def summary(self) -> str:
         """A plain-text table of the parameters with their intervals, and the scores."""
@@ -602,6 +704,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     best = None
     costs = []
     nfev = 0
+    best_start = u0
     for u_start in starts:
         # strictly inside the bounds (trf's requirement)
         u_start = np.minimum(np.maximum(u_start, np.nextafter(q_lo, np.inf)), np.nextafter(q_hi, -np.inf))
@@ -610,12 +713,34 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         nfev += int(sol.nfev)
         costs.append(float(sol.cost))
         if best is None or sol.cost < best.cost:
-            best = sol
+            best, best_start = sol, u_start
     assert best is not None
     result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
                          force_levels, normal_force, nfev, tuple(costs), diff_step)
     result.rtol = rtol
+    result.start = dict(zip(free, space.to_params(best_start).tolist()))
     return result
+
+
+def _interval(name: str, value: float, sd: float, tq: float) -> tuple[float, float]:
+    """The interval value +- tq sd, taken on a scale on which the parameter's accepted range
+    is the whole line, so that it stays inside it: log(p - low) for a range bounded below,
+    the logit of (p - low)/(high - low) for one bounded on both sides, p itself otherwise
+    (the delta method: the same width to first order where sd is small)."""
+    if not math.isfinite(sd):
+        low, high = _range_of(name)[:2] if name in EXTRA_PARAMS or name in REGISTRY["param"] else (-math.inf, math.inf)
+        return (low, high)
+    low, high = _range_of(name)[:2] if name in EXTRA_PARAMS or name in REGISTRY["param"] else (-math.inf, math.inf)
+    if math.isfinite(low) and math.isfinite(high) and low < value < high:
+        w = high - low
+        y = (value - low) / w
+        h = tq * sd / (w * y * (1.0 - y))
+        lg = math.log(y / (1.0 - y))
+        return (low + w / (1.0 + math.exp(-(lg - h))), low + w / (1.0 + math.exp(-(lg + h))))
+    if math.isfinite(low) and value > low:
+        h = tq * sd / (value - low)
+        return (low + (value - low) * math.exp(-min(h, 700.0)), low + (value - low) * math.exp(min(h, 700.0)))
+    return (value - tq * sd, value + tq * sd)
 
 
 def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray,
@@ -655,7 +780,16 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     _, sv, vt = np.linalg.svd(jn, full_matrices=False)
     keep = sv > sv[0] * 1e-10 if sv.size and sv[0] > 0.0 else np.zeros(k, bool)
     cov_n = (vt[keep].T / sv[keep] ** 2) @ vt[keep]
-    cov = s2 * cov_n / np.outer(col, col)
+    # residuals correlated in time (lag-1 correlation rho within each record) carry less
+    # information than as many independent ones: the covariance of an AR(1) mean is larger by
+    # (1 + rho)/(1 - rho), applied here to every parameter (rho < 0 is not credited)
+    ends = np.cumsum([d.t.size for d in data])
+    same = np.ones(n - 1, bool)
+    same[ends[:-1] - 1] = False
+    rho = float((r[:-1] * r[1:])[same].sum() / ssr) if ssr > 0.0 and n > 2 else 0.0
+    rho_c = min(max(rho, 0.0), 0.99)
+    inflation = (1.0 + rho_c) / (1.0 - rho_c)
+    cov = inflation * s2 * cov_n / np.outer(col, col)
     var = np.diag(cov).copy()
     # a direction the data does not see: the parameters in it have no finite error
     null = vt[~keep]
@@ -669,7 +803,7 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     tq = float(stats.t.ppf(0.975, dof))
     p = params_of(u)
     pv = space.to_params(u)
-    ci = {name: (pv[i] - tq * sd[i], pv[i] + tq * sd[i]) for i, name in enumerate(free)}
+    ci = {name: _interval(name, float(pv[i]), float(sd[i]), tq) for i, name in enumerate(free)}
     tol = 1e-6
     at_bound = tuple(name for i, name in enumerate(free)
                      if (math.isfinite(q_lo[i]) and u[i] - q_lo[i] <= tol * max(1.0, abs(q_lo[i])))
@@ -725,7 +859,10 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
         aic=loglik_term + 2.0 * n_par, bic=loglik_term + n_par * math.log(n), n_samples=n,
         n_records=len(data), force_levels=force_levels, normal_force=1.0 if force_levels else normal_force,
         at_bound=at_bound, cost=float(sol.cost), nfev=nfev, n_starts=len(costs), success=success,
-        message=message, start_costs=costs, optimality=optimality)
+        message=message, start_costs=costs, optimality=optimality, noise_correlation=rho,
+        variance_inflation=inflation, residual_sd=math.sqrt(s2),
+        undetermined=tuple(name for i, name in enumerate(free)
+                           if not math.isfinite(sd[i]) or sd[i] > abs(pv[i])))
 
 
 # --------------------------------------------------------------------------------------------
@@ -877,6 +1014,7 @@ def select_friction_law(laws: Sequence[str], t: Any, x: Any = None, force: Any =
             per_fold.append(float(np.sqrt(np.mean((pred - held.force) ** 2)) / np.ptp(held.force)))
         arr = np.array(per_fold)
         scores[law] = (float(arr.mean()), float(arr.std(ddof=1) / math.sqrt(arr.size)))
+        fits[law].cv_nrmse = scores[law]
         fold_scores[law] = tuple(per_fold)
         failures[law] = failed
     n_free = {law: len(fits[law].free) for law in laws}
