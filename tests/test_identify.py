@@ -5,6 +5,7 @@ normal force is not given, and bad input. The data loader on the repository's da
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -509,3 +510,20 @@ def test_fit_report_is_complete():
            if i < j and abs(fit.correlation[i, j]) > 0.5]
     assert all(f"C({a}, {b})" in text for a, b in big)
     assert f"{sel.scores['lugre'][0]:.6g}" in text
+
+
+@pytest.mark.parametrize("args, match", [
+    (["--data", "{tmp}/absent.csv"], "argument --data: .*absent.csv: no such file"),
+    (["--data", "{tmp}/bad.csv"], "argument --data: .*bad.csv: .*no column"),
+    (["--outdir", "{tmp}/a_file/sub"], "argument --outdir: cannot write into"),
+])
+def test_identify_driver_refuses_bad_data_and_outdir_before_any_work(tmp_path, capsys, monkeypatch, args, match):
+    from cases import identify
+    (tmp_path / "bad.csv").write_text("garbage\n1,2\n")
+    (tmp_path / "a_file").write_text("")
+    monkeypatch.setattr(identify, "run", lambda *a, **k: pytest.fail("ran"))
+    with pytest.raises(SystemExit) as exc:
+        identify.main([a.format(tmp=tmp_path) for a in args] + ["--quiet"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert re.search(match, err[-1]) and "Traceback" not in "\n".join(err)
