@@ -15,8 +15,12 @@ noise of constant variance and independent samples, the covariance of the parame
 s^2 (J^T J)^-1 (J the Jacobian of the residuals at the optimum, s^2 = SSR / (n - k)), the
 intervals are estimate +- t(0.975, n - k) stderr, and AIC and BIC are those of the Gaussian
 likelihood with the noise variance counted as a parameter. Measured noise is rarely
-independent from sample to sample (the damper's is not): the intervals are then too narrow,
-and the error on held-out records is the honest measure of a law (cases/identify.py).
+independent from sample to sample (the damper's is not): the covariance is multiplied by
+(1 + rho)/(1 - rho), rho the residuals' lag-1 correlation within the records (the variance
+inflation of an AR(1) noise), and the intervals are taken on a scale where the parameter's
+accepted range is the whole line (log above a lower bound, logit between two), so they stay
+in it. The error on held-out records is the honest measure of a law: `select_friction_law`
+chooses by it (cross-validation over records), BIC is information only.
 
 The normal force. A force measured without its normal force cannot separate the friction
 coefficient from N. `normal_force=None` (the default) sets N = 1 N: the "coefficients" and the
@@ -297,7 +301,19 @@ class FitResult:
 
     Scores over the fitted samples: `rmse` [N], `nrmse` (rmse over the range of the measured
     force) [-], `aic`, `bic` (Gaussian likelihood; k = len(free) + 1, the noise variance
-    included), `n_samples`, `n_records`.
+    included), `n_samples`, `n_records`; `cv_nrmse` (mean, standard error) when
+    `select_friction_law` made the fit.
+
+    The residuals: `residual_sd` [N], `noise_correlation` (lag-1, within records) and the
+    `variance_inflation` (1 + rho)/(1 - rho) applied to the covariance. `undetermined` names
+    fitted parameters whose standard error exceeds them (or is inf). `start` holds the start
+    of the best local fit.
+
+    The outcome: `success` is False (with `message` saying why, and a RuntimeWarning at the
+    fit) when the optimiser used its budget, stopped on a slope (a Gauss-Newton step from its
+    end lowers the sum of squares by more than 1 %; `optimality` is the largest cosine
+    between the residual and a free parameter's Jacobian column, 0 at a minimum), or the fit
+    is no better than predicting zero. `report()` prints all of it.
     """
 
     law: str
