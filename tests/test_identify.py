@@ -174,6 +174,17 @@ def test_backlash_and_asymmetry_fitted():
     assert fit.units["backlash"] == "m"
 
 
+def test_backlash_near_its_bound_is_flagged():
+    # no play in the data, backlash fitted: it ends at or near 0, within its own error of the
+    # bound, and says so; its interval stays >= 0
+    truth, fixed = STATE_CASES["lugre"]
+    t, x, f, v = noisy_records("lugre", truth, 10.0, seed=7, n=401)
+    fit = stickslip.fit_friction("lugre", t, x, f, v=v, fixed=fixed, backlash="fit", n_starts=1)
+    assert fit.params["backlash"] < 1e-4
+    assert "backlash" in fit.at_bound and fit.ci95["backlash"][0] >= 0.0
+    assert "at a bound" in next(ln for ln in fit.report().splitlines() if ln.strip().startswith("backlash:"))
+
+
 def test_bic_picks_the_generating_law():
     truth, fixed = STATE_CASES["lugre"]
     t, x, f, v = noisy_records("lugre", truth, 10.0, seed=7, n=401)

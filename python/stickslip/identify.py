@@ -297,7 +297,8 @@ class FitResult:
     `stderr` and `ci95` (95 % interval, Student t with n - k degrees of freedom) cover the
     fitted parameters; a parameter the data does not determine (a zero direction of the
     Jacobian) has stderr inf. `at_bound` names fitted parameters that ended on a bound of
-    their range, whose intervals mean little.
+    their range or nearer to it than t(0.975) stderr (the data cannot tell them from the
+    bound), whose intervals mean little.
 
     Scores over the fitted samples: `rmse` [N], `nrmse` (rmse over the range of the measured
     force) [-], `aic`, `bic` (Gaussian likelihood; k = len(free) + 1, the noise variance
@@ -732,7 +733,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
             best, best_start = sol, u_start
     assert best is not None
     result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
-                         force_levels, normal_force, nfev, tuple(costs), diff_step)
+                         force_levels, normal_force, nfev, tuple(costs), diff_step, rtol)
     result.rtol = rtol
     result.start = dict(zip(free, space.to_params(best_start).tolist()))
     return result
@@ -742,11 +743,16 @@ def _interval(name: str, value: float, sd: float, tq: float) -> tuple[float, flo
     """The interval value +- tq sd, taken on a scale on which the parameter's accepted range
     is the whole line, so that it stays inside it: log(p - low) for a range bounded below,
     the logit of (p - low)/(high - low) for one bounded on both sides, p itself otherwise
-    (the delta method: the same width to first order where sd is small)."""
+    (the delta method: the same width to first order where sd is small). A value nearer a
+    bound than tq sd gets the plain interval cut at the bound."""
     if not math.isfinite(sd):
         low, high = _range_of(name)[:2] if name in EXTRA_PARAMS or name in REGISTRY["param"] else (-math.inf, math.inf)
         return (low, high)
     low, high = _range_of(name)[:2] if name in EXTRA_PARAMS or name in REGISTRY["param"] else (-math.inf, math.inf)
+    # nearer a bound than the plain half-width: the plain interval, cut at the bound (a log or
+    # logit scale would stretch the far end without limit)
+    if value - low < tq * sd or high - value < tq * sd:
+        return (max(low, value - tq * sd), min(high, value + tq * sd))
     if math.isfinite(low) and math.isfinite(high) and low < value < high:
         w = high - low
         y = (value - low) / w
@@ -760,22 +766,38 @@ def _interval(name: str, value: float, sd: float, tq: float) -> tuple[float, flo
 
 
 def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray,
-                      step: float) -> np.ndarray:
-    """d residuals / d u by central differences (one-sided at a bound), step `step` |u|."""
-    r0 = residuals(u)
-    jac = np.empty((r0.size, u.size))
-    for i in range(u.size):
-        h = step * max(abs(u[i]), 1e-3)
+                      step: float, floor: float = 0.0) -> np.ndarray:
+    """d residuals / d u by central differences (one-sided at a bound), step `step` |u| (at
+    least step 1e-3). The step grows tenfold, up to 0.1 max(|u|, 1), while the change of the
+    residuals is below `floor` (the integration's own error) or the derivative still differs
+    by more than 10 % from the one at the tenfold step: the difference must measure the model,
+    not the integrator's step-doubling decisions (a parameter near 0, such as a backlash, got
+    a near-infinite derivative from them, and a near-zero standard error)."""
+    def column(i: int, h: float) -> tuple[np.ndarray, float]:
         up, down = u.copy(), u.copy()
         up[i] = min(u[i] + h, q_hi[i])
         down[i] = max(u[i] - h, q_lo[i])
-        jac[:, i] = (residuals(up) - residuals(down)) / (up[i] - down[i])
+        diff = residuals(up) - residuals(down)
+        return diff / (up[i] - down[i]), float(np.abs(diff).max())
+
+    jac = np.empty((residuals(u).size, u.size))
+    for i in range(u.size):
+        h = step * max(abs(u[i]), 1e-3)
+        cap = 0.1 * max(abs(u[i]), 1.0)
+        d, change = column(i, h)
+        while h < cap:
+            d10, change10 = column(i, min(10.0 * h, cap))
+            if change >= floor and np.linalg.norm(d - d10) <= 0.1 * np.linalg.norm(d10):
+                break
+            h, d, change = min(10.0 * h, cap), d10, change10
+        jac[:, i] = d
     return jac
 
 
 def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: Any, forces: np.ndarray,
                 data: list[_Data], q_lo: np.ndarray, q_hi: np.ndarray, force_levels: bool,
-                normal_force: Any, nfev: int, costs: tuple[float, ...], step: float) -> FitResult:
+                normal_force: Any, nfev: int, costs: tuple[float, ...], step: float,
+                rtol: float = 1e-6) -> FitResult:
     """Covariance, intervals and scores at the optimum (see the module notes)."""
     from scipy import stats
 
@@ -787,7 +809,7 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     ssr = float(r @ r)
     dof = n - k
     s2 = ssr / dof
-    jac_u = _central_jacobian(residuals, u, q_lo, q_hi, 0.1 * step)
+    jac_u = _central_jacobian(residuals, u, q_lo, q_hi, 0.1 * step, floor=100.0 * rtol * float(np.ptp(forces)))
     # in the physical parameters: J_p = J_u (dp/du)^-1, cov_p = s2 (J_p^T J_p)^+
     jac_p = jac_u @ np.linalg.inv(space.matrix())
     col = np.linalg.norm(jac_p, axis=0)
@@ -821,9 +843,14 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     pv = space.to_params(u)
     ci = {name: _interval(name, float(pv[i]), float(sd[i]), tq) for i, name in enumerate(free)}
     tol = 1e-6
+    # on a bound, or nearer to it than the half-width of a plain interval (the bound is then
+    # inside estimate +- t sd: the data cannot tell the estimate from the bound)
+    scale = space.scale
     at_bound = tuple(name for i, name in enumerate(free)
-                     if (math.isfinite(q_lo[i]) and u[i] - q_lo[i] <= tol * max(1.0, abs(q_lo[i])))
-                     or (math.isfinite(q_hi[i]) and q_hi[i] - u[i] <= tol * max(1.0, abs(q_hi[i]))))
+                     if (math.isfinite(q_lo[i]) and (u[i] - q_lo[i] <= tol * max(1.0, abs(q_lo[i]))
+                                                     or (u[i] - q_lo[i]) * scale[i] <= tq * sd[i]))
+                     or (math.isfinite(q_hi[i]) and (q_hi[i] - u[i] <= tol * max(1.0, abs(q_hi[i]))
+                                                     or (q_hi[i] - u[i]) * scale[i] <= tq * sd[i])))
     if undetermined.any():
         warnings.warn(f"fit of {law!r}: the data do not determine {', '.join(np.array(free)[undetermined])} "
                       "(stderr inf); fix them or use records that excite them", stacklevel=3)
