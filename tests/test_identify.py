@@ -538,3 +538,39 @@ def test_identify_driver_refuses_bad_data_and_outdir_before_any_work(tmp_path, c
     assert exc.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert re.search(match, err[-1]) and "Traceback" not in "\n".join(err)
+
+
+# ---------------------------------------------------------------------------------------------
+# Coverage of the 95 % intervals with a fitted backlash and asymmetry
+# ---------------------------------------------------------------------------------------------
+def backlash_coverage(draws):
+    truth, fixed = STATE_CASES["lugre"]
+    opts = dict(backlash=0.001, asymmetry=1.3)
+    full = dict(truth, **opts)
+    hits: dict[str, list[bool]] = {}
+    for seed in range(draws):
+        t, x, f, v = noisy_records("lugre", truth, 10.0, seed=1000 + seed, n=401, **opts)
+        fit = stickslip.fit_friction("lugre", t, x, f, v=v, fixed=fixed, backlash="fit", asymmetry="fit",
+                                     n_starts=1)
+        for k in fit.free:
+            lo, hi = fit.ci95[k]
+            hits.setdefault(k, []).append(lo <= full[k] <= hi)
+    return {k: float(np.mean(h)) for k, h in hits.items()}
+
+
+def test_lugre_with_backlash_intervals_cover_a_few_draws():
+    # (the finite-difference step of the standard errors used to measure the integrator's
+    # step-doubling decisions: the backlash's interval was a few nanometres wide)
+    cover = backlash_coverage(4)
+    assert cover["backlash"] >= 0.75 and min(cover.values()) >= 0.5
+
+
+@pytest.mark.slow
+def test_lugre_with_backlash_intervals_cover_the_truth_95_percent():
+    # 50 draws. Measured (2026-11-25): mu_s 98 %, mu_k 84 %, v_s 90 %, sigma0 94 %, sigma2 88 %,
+    # backlash 94 %, asymmetry 96 % (before the Jacobian's step was made to measure the model:
+    # 7-53 %). mu_k and sigma2 (correlated -0.8) stay below the nominal 95 %, which a count of
+    # 42/50 makes likely (p = 0.04 for a true 95 %): the bound checks the intervals are not
+    # far off, not that they are exact
+    cover = backlash_coverage(50)
+    assert min(cover.values()) >= 0.80, cover
