@@ -291,7 +291,6 @@ def test_fit_stopped_on_a_slope_says_so(monkeypatch):
     # an optimiser that stops after one step reports success; the check from its end (a
     # Gauss-Newton step lowers the sum of squares by more than 1 %) does not
     import scipy.optimize
-    truth, fixed = STATE_CASES["dahl"] if "dahl" in STATE_CASES else (dict(mu_k=0.3, sigma0=2e3), {})
     t, x, v = sine_record(n=201)
     f = pm("dahl", t, x, v, mu_k=0.3, sigma0=2e3).force
     real = scipy.optimize.least_squares
