@@ -413,6 +413,14 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="fits run at once, each in its own process, >= 1 (default 2)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
+    c.check_writable(parser, args.outdir)
+    for f in args.data or ():
+        if not f.is_file():
+            parser.error(f"argument --data: {f}: no such file")
+        try:
+            stickslip.load_damper_record(f)
+        except (ValueError, OSError, EOFError) as exc:
+            parser.error(f"argument --data: {f}: {' '.join(str(exc).split())}")
     t0 = time.perf_counter()
     files = run(args.outdir, files=args.data, laws=args.laws, workers=args.threads, quiet=args.quiet)
     files += plot(args.outdir)

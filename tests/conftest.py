@@ -42,3 +42,13 @@ def compile_target(build: Path, target: str) -> Path:
     exe = build / target
     assert exe.exists(), f"{exe} was not built"
     return exe
+
+
+def pytest_collection_modifyitems(config, items):
+    """Tests marked slow run only with STICKSLIP_SLOW=1 in the environment."""
+    if os.environ.get("STICKSLIP_SLOW") == "1":
+        return
+    skip = pytest.mark.skip(reason="slow: set STICKSLIP_SLOW=1 to run")
+    for item in items:
+        if "slow" in item.keywords:
+            item.add_marker(skip)

@@ -5,6 +5,7 @@ normal force is not given, and bad input. The data loader on the repository's da
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -173,6 +174,17 @@ def test_backlash_and_asymmetry_fitted():
     assert fit.units["backlash"] == "m"
 
 
+def test_backlash_near_its_bound_is_flagged():
+    # no play in the data, backlash fitted: it ends at or near 0, within its own error of the
+    # bound, and says so; its interval stays >= 0
+    truth, fixed = STATE_CASES["lugre"]
+    t, x, f, v = noisy_records("lugre", truth, 10.0, seed=7, n=401)
+    fit = stickslip.fit_friction("lugre", t, x, f, v=v, fixed=fixed, backlash="fit", n_starts=1)
+    assert fit.params["backlash"] < 1e-4
+    assert "backlash" in fit.at_bound and fit.ci95["backlash"][0] >= 0.0
+    assert "at a bound" in next(ln for ln in fit.report().splitlines() if ln.strip().startswith("backlash:"))
+
+
 def test_bic_picks_the_generating_law():
     truth, fixed = STATE_CASES["lugre"]
     t, x, f, v = noisy_records("lugre", truth, 10.0, seed=7, n=401)
@@ -228,11 +240,72 @@ def good():
     (lambda t, x, f: ("stribeck", [t, t], [x, x[:-1]], [f, f], {}), r"x\[1\]: must be 101 values"),
     (lambda t, x, f: ("stribeck", t[:3], x[:3], f[:3], {}), r"t: 3 samples cannot determine"),
     (lambda t, x, f: ("stribeck", t, x, f, {"fixed": dict(STRIBECK)}), r"fixed: every parameter is fixed"),
+    (lambda t, x, f: ("stribeck", t, x, np.zeros_like(f), {}), r"force: every sample is 0.0 N"),
+    (lambda t, x, f: ("stribeck", t, x, np.full_like(f, 3.5), {}), r"force: every sample is 3.5 N"),
+    (lambda t, x, f: ("lugre", t, x, f, {"fixed": {"sigma0": -1.0}}), r"fixed\['sigma0'\]: must be > 0 \[N/m\], got -1.0"),
+    (lambda t, x, f: ("lugre", t, x, f, {"fixed": {"mu_s": 2.0, "mu_k": 3.0}}), r"fixed: mu_k = 3.0 must be <= mu_s = 2.0"),
+    (lambda t, x, f: ("lugre", t, x, f, {"params0": {"sigma1": -5.0}}), r"params0\['sigma1'\]: must be >= 0 \[N s/m\], got -5.0"),
+    (lambda t, x, f: ("gms", t, x, f, {"fixed": {"n_elements": 2.5}}), r"fixed\['n_elements'\]: must be an integer"),
+    (lambda t, x, f: ("gms", t, x, f, {"fixed": {"n_elements": 99}}), r"fixed\['n_elements'\]: must be in \[1, 64\]"),
 ])
 def test_bad_input_names_the_parameter(good, change, match):
     law, t, x, f, kw = change(*good)
     with pytest.raises(ValueError, match=match):
         stickslip.fit_friction(law, t, x, f, **kw)
+
+
+def test_bad_input_is_refused_before_any_fitting(good, monkeypatch):
+    # the constant force and the bad fixed value are refused without one model evaluation
+    from stickslip import identify
+    calls = []
+    monkeypatch.setattr(identify, "_model", lambda *a, **k: calls.append(1))
+    t, x, f = good
+    for kw in ({"force": np.zeros_like(f)}, {"force": f, "fixed": {"sigma0": -1.0}}):
+        with pytest.raises(ValueError):
+            stickslip.fit_friction("lugre" if "fixed" in kw else "stribeck", t, x, **kw)
+    assert calls == []
+
+
+# ---------------------------------------------------------------------------------------------
+# A failed fit says so
+# ---------------------------------------------------------------------------------------------
+def test_fit_out_of_budget_says_so(good):
+    t, x, f = good
+    with pytest.warns(RuntimeWarning, match="evaluation budget"):
+        fit = stickslip.fit_friction("stribeck", t, x, f, n_starts=1, max_nfev=1,
+                                     params0={"mu_k": 0.01, "mu_s": 0.02})
+    assert not fit.success and "max_nfev" in fit.message
+
+
+def test_fit_no_better_than_zero_says_so():
+    # a force against the motion (a negative sliding level) is beyond every law: the best fit
+    # lowers the sum of squares of the force by nothing
+    t, x, v = sine_record(n=201)
+    f = -pm("dahl", t, x, v, mu_k=0.3, sigma0=2e3).force
+    with pytest.warns(RuntimeWarning, match="no better than predicting zero"):
+        fit = stickslip.fit_friction("dahl", t, x, f, v=v)
+    assert not fit.success
+
+
+def test_fit_stopped_on_a_slope_says_so(monkeypatch):
+    # an optimiser that stops after one step reports success; the check from its end (a
+    # Gauss-Newton step lowers the sum of squares by more than 1 %) does not
+    import scipy.optimize
+    t, x, v = sine_record(n=201)
+    f = pm("dahl", t, x, v, mu_k=0.3, sigma0=2e3).force
+    real = scipy.optimize.least_squares
+
+    def early(fun, x0, **kw):
+        sol = real(fun, x0, **dict(kw, max_nfev=2))
+        sol.status, sol.success, sol.message = 2, True, "`ftol` termination condition is satisfied."
+        return sol
+    monkeypatch.setattr(scipy.optimize, "least_squares", early)
+    with pytest.warns(RuntimeWarning, match="far from a minimum"):
+        fit = stickslip.fit_friction("dahl", t, x, f, v=v, n_starts=1, params0={"mu_k": 0.1, "sigma0": 300.0})
+    assert not fit.success
+    monkeypatch.setattr(scipy.optimize, "least_squares", real)
+    fit = stickslip.fit_friction("dahl", t, x, f, v=v, n_starts=1, params0={"mu_k": 0.1, "sigma0": 300.0})
+    assert fit.success and fit.message.startswith("`")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -289,3 +362,214 @@ def test_identify_driver_writes_scores_figures_and_report(tmp_path):
         ("sine_1Hz_0.5in_36lb", "fitted"), ("sine_2Hz_0.5in_36lb", "held out")]
     report = (tmp_path / "identify_report.md").read_text()
     assert "**Use Dahl** (`dahl`)" in report
+
+
+# ---------------------------------------------------------------------------------------------
+# select_friction_law: cross-validation over records
+# ---------------------------------------------------------------------------------------------
+def three_records(law, params, noise, seed, n=301):
+    """Three sines of different amplitude and frequency (states from 0 in each), with noise."""
+    rng = np.random.default_rng(seed)
+    recs = [sine_record(4.0, n, 0.01, 0.5), sine_record(2.0, n, 0.004, 1.0, phase=0.3),
+            sine_record(2.0, n, 0.02, 0.5, phase=1.0)]
+    forces = [pm(law, t, x, v, **params).force + noise * rng.standard_normal(t.size) for t, x, v in recs]
+    return [r[0] for r in recs], [r[1] for r in recs], forces, [r[2] for r in recs]
+
+
+def test_select_prefers_the_simpler_law_that_predicts_as_well():
+    # Dahl with alpha = 1 is LuGre with mu_s = mu_k and no damping: LuGre predicts as well with
+    # three more parameters, so the one-standard-error rule keeps Dahl; Coulomb predicts worse
+    truth = dict(mu_k=1000.0, sigma0=4e5, dahl_alpha=1.0)
+    t, x, f, v = three_records("dahl", truth, 10.0, seed=5)
+    sel = stickslip.select_friction_law(["coulomb", "dahl", "lugre"], t, x, f, v=v,
+                                        fixed={"coulomb": {"v_s": 1e-3}, "lugre": {"sigma1": 0.0}})
+    assert sel.best == "dahl" and sel.folds == "records"
+    assert len(sel.fold_scores["dahl"]) == 3
+    assert sel.scores["coulomb"][0] > 3 * sel.scores["dahl"][0]
+    # the held-out error is near the noise (10 N over a 2000 N range)
+    assert sel.scores["dahl"][0] < 3 * 10.0 / 2000.0
+    assert sel.fits["dahl"].params["mu_k"] == pytest.approx(1000.0, rel=0.02)
+    text = sel.table()
+    assert "chosen" in text.splitlines()[2] and "dahl" in text.splitlines()[2]
+
+
+def test_select_picks_the_law_that_predicts_better():
+    # LuGre with a Stribeck drop and viscous friction: Dahl cannot follow the velocity dependence
+    truth = dict(mu_s=1500.0, mu_k=1000.0, v_s=0.005, sigma0=4e5, sigma1=0.0, sigma2=20000.0)
+    t, x, f, v = three_records("lugre", truth, 10.0, seed=6)
+    sel = stickslip.select_friction_law(["dahl", "lugre"], t, x, f, v=v, fixed={"lugre": {"sigma1": 0.0}})
+    assert sel.best == "lugre"
+    lo_mean, lo_se = sel.scores["lugre"]
+    assert sel.scores["dahl"][0] > lo_mean + lo_se
+
+
+def test_select_on_one_record_uses_blocks():
+    truth = dict(mu_k=1000.0, sigma0=4e5, dahl_alpha=1.0)
+    t, x, v = sine_record(8.0, 801, 0.01, 0.5)
+    f = pm("dahl", t, x, v, **truth).force + 10.0 * np.random.default_rng(2).standard_normal(t.size)
+    sel = stickslip.select_friction_law(["coulomb", "dahl"], t, x, f, v=v, n_blocks=4,
+                                        fixed={"coulomb": {"v_s": 1e-3}})
+    assert sel.folds == "blocks" and len(sel.fold_scores["dahl"]) == 4
+    assert sel.best == "dahl"
+
+
+@pytest.mark.parametrize("kw, match", [
+    ({"laws": ["dahl"]}, "laws: give at least 2"),
+    ({"laws": ["dahl", "dahl2"]}, "laws: unknown value 'dahl2'"),
+    ({"laws": ["dahl", "dahl"]}, "laws: each law once"),
+    ({"cv": "kfold"}, "cv: unknown value 'kfold'"),
+    ({"n_blocks": 1}, "n_blocks: must be an integer >= 2"),
+])
+def test_select_bad_input(good, kw, match):
+    t, x, f = good
+    args = dict(laws=["coulomb", "dahl"], cv="records", n_blocks=5) | kw
+    with pytest.raises(ValueError, match=match):
+        stickslip.select_friction_law(args.pop("laws"), t, x, f, **args)
+
+
+@pytest.mark.slow
+def test_select_on_the_damper_records_held_out_by_record():
+    # The ten 36 lb records, each held out in turn (subsampled to 48 samples per cycle as
+    # cases.identify does): a law with presliding states predicts the held-out records better
+    # than Coulomb (whose loops are rectangles) by a margin far beyond the folds' spread
+    from cases import identify as ci
+    recs = [r for r, _ in ci.load_groups(stickslip.damper_files(36))["36lb"]]
+    sel = stickslip.select_friction_law(["coulomb", "dahl"], recs, backlash="fit", asymmetry="fit",
+                                        fixed={"coulomb": ci.fixed_for("coulomb")}, rtol=1e-4, diff_step=1e-2)
+    assert sel.folds == "records" and len(sel.fold_scores["dahl"]) == 10
+    assert sel.best == "dahl"
+    assert sel.scores["coulomb"][0] - sel.scores["dahl"][0] > 3 * sel.scores["coulomb"][1]
+
+
+# ---------------------------------------------------------------------------------------------
+# Honest uncertainty: prediction intervals, intervals inside the allowed range, the report
+# ---------------------------------------------------------------------------------------------
+def ar1_noise(rng, n, sd, rho):
+    e = np.empty(n)
+    e[0] = rng.standard_normal()
+    for i in range(1, n):
+        e[i] = rho * e[i - 1] + math.sqrt(1 - rho**2) * rng.standard_normal()
+    return sd * e
+
+
+@pytest.mark.parametrize("rho", [0.0, 0.8])
+def test_prediction_interval_covers_held_out_measurements(rho):
+    # fitted on one record, predicted on another of other amplitude and frequency: the 95 %
+    # prediction interval holds 95 % of the held-out noisy samples (white or AR(1) noise)
+    truth, fixed = STATE_CASES["dahl"]
+    rng = np.random.default_rng(11)
+    (t0, x0, v0), (t1, x1, v1) = sine_record(4.0, 801, 0.01, 0.5), sine_record(2.0, 801, 0.004, 1.0, phase=0.3)
+    f0 = pm("dahl", t0, x0, v0, **truth).force + ar1_noise(rng, t0.size, 10.0, rho)
+    exact1 = pm("dahl", t1, x1, v1, **truth).force
+    fit = stickslip.fit_friction("dahl", t0, x0, f0, v=v0, fixed=fixed)
+    assert fit.noise_correlation == pytest.approx(rho, abs=0.1)
+    inside = []
+    for seed in range(5):
+        f1 = exact1 + ar1_noise(np.random.default_rng(100 + seed), t1.size, 10.0, rho)
+        force, lower, upper = fit.predict(t1, x1, v1, interval=0.95)
+        np.testing.assert_array_equal(force, fit.predict(t1, x1, v1))
+        inside.append(np.mean((f1 >= lower) & (f1 <= upper)))
+    assert 0.92 <= np.mean(inside) <= 0.98
+    # the parameters' share of the width: a narrower interval than the residual scatter alone
+    # cannot be (s is its floor)
+    assert np.all(upper - force >= 1.959 * fit.residual_sd)
+
+
+def test_correlated_residuals_widen_the_parameter_intervals():
+    truth, fixed = STATE_CASES["dahl"]
+    t, x, v = sine_record(4.0, 801, 0.01, 0.5)
+    exact = pm("dahl", t, x, v, **truth).force
+    white = stickslip.fit_friction("dahl", t, x, exact + ar1_noise(np.random.default_rng(1), t.size, 10.0, 0.0), v=v)
+    red = stickslip.fit_friction("dahl", t, x, exact + ar1_noise(np.random.default_rng(1), t.size, 10.0, 0.8), v=v)
+    assert white.variance_inflation < 1.3
+    assert red.variance_inflation == pytest.approx(9.0, rel=0.4)      # (1 + 0.8)/(1 - 0.8)
+    assert red.stderr["sigma0"] > 2.0 * white.stderr["sigma0"]
+
+
+def test_intervals_stay_in_the_allowed_range():
+    # LuGre data without damping, sigma1 fitted: its estimate sits near 0 with an error larger
+    # than itself; the interval stays >= 0 (the log scale) and the report flags it
+    truth, _ = STATE_CASES["lugre"]
+    t, x, f, v = noisy_records("lugre", truth, 30.0, seed=4, n=401)
+    fit = stickslip.fit_friction("lugre", t, x, f, v=v)
+    from stickslip.identify import _range_of
+    for name in fit.free:
+        low, high = _range_of(name)[:2]
+        lo, hi = fit.ci95[name]
+        assert low <= lo <= fit.params[name] <= hi <= high, name
+    assert fit.ci95["sigma1"][0] >= 0.0
+    if fit.stderr["sigma1"] > fit.params["sigma1"]:
+        assert "sigma1" in fit.undetermined
+
+
+def test_fit_report_is_complete():
+    truth, fixed = STATE_CASES["lugre"]
+    t, x, f, v = three_records("lugre", truth, 10.0, seed=8, n=201)
+    sel = stickslip.select_friction_law(["dahl", "lugre"], t, x, f, v=v, fixed={"lugre": fixed})
+    fit = sel.fits["lugre"]
+    text = fit.report()
+    for piece in ("[[Fit]]", "success", fit.message, f"model evaluations  = {fit.nfev}", "rmse", "nrmse",
+                  "AIC", "BIC", "cross-validated", "lag-1 correlation", "[[Parameters]]", "[[Correlations]]",
+                  "(fixed)"):
+        assert piece in text, piece
+    for name in fit.free:
+        line = next(ln for ln in text.splitlines() if ln.strip().startswith(name + ":"))
+        assert f"{fit.params[name]:.7g}" in line and f"{fit.stderr[name]:.4g}" in line
+        assert f"(start {fit.start[name]:.5g})" in line and "%" in line
+    big = [(a, b) for i, a in enumerate(fit.free) for j, b in enumerate(fit.free)
+           if i < j and abs(fit.correlation[i, j]) > 0.5]
+    assert all(f"C({a}, {b})" in text for a, b in big)
+    assert f"{sel.scores['lugre'][0]:.6g}" in text
+
+
+@pytest.mark.parametrize("args, match", [
+    (["--data", "{tmp}/absent.csv"], "argument --data: .*absent.csv: no such file"),
+    (["--data", "{tmp}/bad.csv"], "argument --data: .*bad.csv: .*no column"),
+    (["--outdir", "{tmp}/a_file/sub"], "argument --outdir: cannot write into"),
+])
+def test_identify_driver_refuses_bad_data_and_outdir_before_any_work(tmp_path, capsys, monkeypatch, args, match):
+    from cases import identify
+    (tmp_path / "bad.csv").write_text("garbage\n1,2\n")
+    (tmp_path / "a_file").write_text("")
+    monkeypatch.setattr(identify, "run", lambda *a, **k: pytest.fail("ran"))
+    with pytest.raises(SystemExit) as exc:
+        identify.main([a.format(tmp=tmp_path) for a in args] + ["--quiet"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert re.search(match, err[-1]) and "Traceback" not in "\n".join(err)
+
+
+# ---------------------------------------------------------------------------------------------
+# Coverage of the 95 % intervals with a fitted backlash and asymmetry
+# ---------------------------------------------------------------------------------------------
+def backlash_coverage(draws):
+    truth, fixed = STATE_CASES["lugre"]
+    opts = dict(backlash=0.001, asymmetry=1.3)
+    full = dict(truth, **opts)
+    hits: dict[str, list[bool]] = {}
+    for seed in range(draws):
+        t, x, f, v = noisy_records("lugre", truth, 10.0, seed=1000 + seed, n=401, **opts)
+        fit = stickslip.fit_friction("lugre", t, x, f, v=v, fixed=fixed, backlash="fit", asymmetry="fit",
+                                     n_starts=1)
+        for k in fit.free:
+            lo, hi = fit.ci95[k]
+            hits.setdefault(k, []).append(lo <= full[k] <= hi)
+    return {k: float(np.mean(h)) for k, h in hits.items()}
+
+
+def test_lugre_with_backlash_intervals_cover_a_few_draws():
+    # (the finite-difference step of the standard errors used to measure the integrator's
+    # step-doubling decisions: the backlash's interval was a few nanometres wide)
+    cover = backlash_coverage(4)
+    assert cover["backlash"] >= 0.75 and min(cover.values()) >= 0.5
+
+
+@pytest.mark.slow
+def test_lugre_with_backlash_intervals_cover_the_truth_95_percent():
+    # 50 draws. Measured (2026-11-25): mu_s 98 %, mu_k 84 %, v_s 90 %, sigma0 94 %, sigma2 88 %,
+    # backlash 94 %, asymmetry 96 % (before the Jacobian's step was made to measure the model:
+    # 7-53 %). mu_k and sigma2 (correlated -0.8) stay below the nominal 95 %, which a count of
+    # 42/50 makes likely (p = 0.04 for a true 95 %): the bound checks the intervals are not
+    # far off, not that they are exact
+    cover = backlash_coverage(50)
+    assert min(cover.values()) >= 0.80, cover

@@ -105,6 +105,10 @@ module stickslip_friction
         !! place of `evaluate`'s, which jump); only for a law whose condenses_states is .true.
         !! (the default is mu(v)).
         procedure :: stage_mu => plain_stage_mu
+        !> mu [-] at a sample of a prescribed motion, where the acceleration is known too: a
+        !! law whose rates depend on how its thresholds move (GMS: an element on a rising slip
+        !! level) classifies its states with it; the default is `evaluate`'s mu.
+        procedure :: motion_mu => plain_motion_mu
     end type friction_law
 
     abstract interface
@@ -186,6 +190,16 @@ contains
     end subroutine no_stage_states
 
     !> A static law: mu = mu(v), no states.
+    subroutine plain_motion_mu(self, v, a, z, mu)
+        class(friction_law), intent(inout) :: self
+        real(dp), intent(in)  :: v          !! relative sliding velocity [m/s]
+        real(dp), intent(in)  :: a          !! its rate [m/s^2] (unused)
+        real(dp), intent(in)  :: z(:)       !! internal states (size n_states)
+        real(dp), intent(out) :: mu         !! friction coefficient [-]
+        real(dp) :: dz(size(z))
+        call self%evaluate(v, z, 0.0_dp, mu, dz)
+    end subroutine plain_motion_mu
+
     subroutine static_evaluate(self, v, z, mu_hold, mu, dz)
         class(friction_law), intent(inout) :: self
         real(dp), intent(in)  :: v          !! relative sliding velocity [m/s]

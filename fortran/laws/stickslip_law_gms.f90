@@ -32,6 +32,14 @@
 !! At a constant velocity the flow is exact (`advance`): a sticking element moves with v until
 !! it reaches its slip level and then stays there; a slipping one relaxes to it as
 !! exp(-C h/(alpha_i s)).
+!!
+!! An element on its slip level (within LEVEL_TOL, relative) while the level moves: on a
+!! falling level it slips (the slip law draws it down); on a rising level it sticks, so its
+!! force rises at k |v| at most, and while the level rises slower than that the element stays
+!! on it (the Filippov solution: z_i' = sgn(v) L_i'/k). Along a prescribed motion, whose
+!! acceleration is known, `motion_mu` uses that rate, min(|v|, L_i'/k) sgn(v); `advance` keeps
+!! such an element stuck, capped at the new level. (`evaluate`, which knows no acceleration,
+!! gives an element on its level the slip rate, ~0.)
 module stickslip_law_gms
     use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_spec, param_values, param_read
@@ -45,6 +53,11 @@ module stickslip_law_gms
     integer, parameter, public :: SS_BAD_N_ELEMENTS = -172   !! n_elements out of range or not an integer
     integer, parameter, public :: SS_BAD_GMS_SHAPE = -173    !! gms_shape out of range
     integer, parameter, public :: SS_BAD_GMS_C = -174        !! gms_c out of range
+
+    !> Relative band around an element's slip level within which the element is on it: far
+    !! above rounding of the level (recomputed from a velocity interpolated two ways), far
+    !! below any force of interest [-].
+    real(dp), parameter :: LEVEL_TOL = 1.0e-9_dp
 
     !> Largest number of elements.
     integer, parameter, public :: GMS_MAX_ELEMENTS = 64
@@ -87,6 +100,8 @@ module stickslip_law_gms
         !! each element's implicit stage in closed form (stick, relax, or on its slip level)
         procedure :: stage_mu => gms_stage_mu
         !! mu = sum (k z_i + sigma1/N z_i') + sigma2 v with the stage's rates z_i'
+        procedure :: motion_mu => gms_motion_mu
+        !! mu at a sample of prescribed motion: elements on a moving level classified with its rate
     end type gms_law
 
 contains
@@ -151,6 +166,43 @@ contains
         mu = self%k * sum(z(1:self%n)) + self%sigma1 / real(self%n, dp) * sum(dz(1:self%n)) + self%sigma2 * v
     end subroutine gms_evaluate
 
+    !> mu = sum (k z_i + sigma1/N z_i') + sigma2 v at a sample of prescribed motion, each
+    !! element's rate from the law's definition with the level's rate L_i' = alpha_i s'(v) a:
+    !! below its level (by more than LEVEL_TOL) it sticks, z_i' = v; above, it slips; on it,
+    !! z_i' = min(|v|, L_i'/k) sgn(v) while the level rises and the slip rate (~0) otherwise
+    !! (module notes). Continuous in the states where `evaluate`'s rate jumps from v to 0 at
+    !! the level.
+    subroutine gms_motion_mu(self, v, a, z, mu)
+        class(gms_law), intent(inout) :: self
+        real(dp), intent(in)  :: v          !! relative sliding velocity [m/s]
+        real(dp), intent(in)  :: a          !! its rate [m/s^2]
+        real(dp), intent(in)  :: z(:)       !! element deflections [m]
+        real(dp), intent(out) :: mu         !! friction coefficient [-]
+        real(dp) :: s, sdot, sg, level, f, hv, dz(self%n)
+        integer :: i
+        if (v == 0.0_dp) then
+            mu = self%k * sum(z(1:self%n))
+            return
+        end if
+        s = self%g(v)
+        ! ds/dt = s'(v) a, s' by a central difference (s is smooth away from v = 0)
+        hv = 1.0e-6_dp * abs(v)
+        sdot = (self%g(v + hv) - self%g(v - hv)) / (2.0_dp * hv) * a
+        sg = sign(1.0_dp, v)
+        do i = 1, self%n
+            level = self%frac(i) * s
+            f = self%k * z(i) * sg
+            if (f < level * (1.0_dp - LEVEL_TOL)) then
+                dz(i) = v
+            else if (f <= level * (1.0_dp + LEVEL_TOL) .and. sdot > 0.0_dp) then
+                dz(i) = sg * min(abs(v), self%frac(i) * sdot / self%k)
+            else
+                dz(i) = self%c / self%k * (sg - self%k * z(i) / level)
+            end if
+        end do
+        mu = self%k * sum(z(1:self%n)) + self%sigma1 / real(self%n, dp) * sum(dz) + self%sigma2 * v
+    end subroutine gms_motion_mu
+
     pure real(dp) function gms_stage_mu(self, v, z, dz) result(mu)
         class(gms_law), intent(in) :: self
         real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
@@ -203,10 +255,11 @@ contains
 
     !> The flow over a substep of prescribed motion (module notes), in the element forces
     !! f_i = k z_i sgn(dx) with the levels L_i = alpha_i s(v) going from L_i(v0) to L_i(v1):
-    !! a sticking element gains k |dx| and is capped at L_i(v1) (it reached its level and
-    !! follows it); a slipping one relaxes, df/dt = (C/L)(L - f), by the first-order-hold
-    !! exponential step with C/L at the mean level, and re-sticks at L_i(v1) if that leaves it
-    !! below. Exact at a constant velocity; at a varying one the error is of the order of the
+    !! a sticking element, or one on its level (within LEVEL_TOL) while the level does not fall,
+    !! gains k |dx| and is capped at L_i(v1) (it reached its level and follows it); one above
+    !! its level, or on a falling level, slips: it relaxes, df/dt = (C/L)(L - f), by the
+    !! first-order-hold exponential step with C/L at the mean level, and re-sticks at L_i(v1)
+    !! if that leaves it below. Exact at a constant velocity; at a varying one the error is of the order of the
     !! level's change over the substep where C h/L is neither small nor large.
     subroutine gms_advance(self, dx, h, v0, v1, z, status)
         class(gms_law), intent(inout) :: self
@@ -227,7 +280,7 @@ contains
             l0 = self%frac(i) * s0
             l1 = self%frac(i) * s1
             f = self%k * z(i) * sg
-            if (f < l0 * (1.0_dp - 4.0_dp * epsilon(1.0_dp))) then
+            if (f < l0 * (1.0_dp - LEVEL_TOL) .or. (f <= l0 * (1.0_dp + LEVEL_TOL) .and. l1 >= l0)) then
                 f = min(f + self%k * abs(dx), l1)
             else
                 f = max(relax_linear_target(f, l0, l1, self%c * h * 2.0_dp / (l0 + l1)), l1)

@@ -17,8 +17,9 @@
 !! velocity goes from v0 to v1 (the interpolant's, 0 while the play is open), and the law
 !! advances its states (its `advance`: exact in the travel for Dahl, an exponential step with
 !! a target linear over the substep for LuGre and the generalized Maxwell-slip model, exact
-!! for both at a constant velocity and in the stiff limit; one L-stable TR-BDF2 step with the
-!! velocity linear from v0 to v1 otherwise). The error of a substep is of second order in its
+!! for both at a constant velocity and in the stiff limit; for the elasto-plastic law its own
+!! flow in the travel (exact while elastic or fully sliding, RK4 between); one L-stable
+!! TR-BDF2 step with the velocity linear from v0 to v1 otherwise). The error of a substep is of second order in its
 !! length where the states are smooth, larger across a stick-slip switch of GMS or a kink of
 !! the elasto-plastic attachment; the step doubling below takes care of it.
 !! m is chosen per interval by step doubling: the coefficient the states give at rest
@@ -29,8 +30,10 @@
 !! until it passes (at most 2^16; an interval that still fails is kept and counted in
 !! `n_unconverged`). The next interval starts from m/2.
 !!
-!! The force at a sample: mu = the law's `evaluate` at (v_c, z) with holding coefficient 0
-!! (static laws: mu(v_c), exactly `friction` of the registry); a negative mu is multiplied by
+!! The force at a sample: mu = the law's `motion_mu` at (v_c, z) and the acceleration of the
+!! Hermite cubic ending there (`evaluate` with holding coefficient 0 for every law but GMS,
+!! which classifies an element on a moving slip level with the level's rate; static laws:
+!! mu(v_c), exactly `friction` of the registry); a negative mu is multiplied by
 !! `asymmetry` (the ratio of the negative-direction sliding level to the positive one; for a
 !! static law the same as scaling mu for v < 0, for laws with states it keeps the force
 !! continuous through reversals); force = mu N with N the normal force. Sign convention (the
@@ -151,13 +154,12 @@ contains
         subroutine output(k, xck, zk)
             integer, intent(in) :: k
             real(dp), intent(in) :: xck, zk(:)
-            real(dp) :: dz(nz)
             x_c(k) = xck
             v_c(k) = contact_velocity(k, xck)
             if (nz == 0) then
                 mu(k) = law%mu(v_c(k))
             else
-                call law%evaluate(v_c(k), zk, 0.0_dp, mu(k), dz)
+                call law%motion_mu(v_c(k), merge(acceleration(k), 0.0_dp, v_c(k) /= 0.0_dp), zk, mu(k))
             end if
             if (mu(k) < 0.0_dp) mu(k) = asymmetry * mu(k)
             force(k) = mu(k) * normal_force(merge(1, k, size(normal_force) == 1))
@@ -283,6 +285,25 @@ contains
             real(dp) :: dz(nz)
             call law%evaluate(0.0_dp, ze, 0.0_dp, mue, dz)
         end subroutine end_mu
+
+        !> The acceleration at sample k: the second derivative of the Hermite cubic of the
+        !! interval that ends there (of the first interval at sample 1; 0 for one sample).
+        real(dp) function acceleration(k) result(a)
+            integer, intent(in) :: k
+            real(dp) :: h, c3, c4
+            a = 0.0_dp
+            if (n < 2) return
+            if (k == 1) then
+                h = t(2) - t(1)
+                c3 = 3.0_dp * (x(2) - x(1)) - h * (2.0_dp * v(1) + v(2))
+                a = 2.0_dp * c3 / h**2
+            else
+                h = t(k) - t(k - 1)
+                c3 = 3.0_dp * (x(k) - x(k - 1)) - h * (2.0_dp * v(k - 1) + v(k))
+                c4 = -2.0_dp * (x(k) - x(k - 1)) + h * (v(k - 1) + v(k))
+                a = (2.0_dp * c3 + 6.0_dp * c4) / h**2
+            end if
+        end function acceleration
 
         !> x at the fraction s of the current interval (its Hermite cubic).
         pure real(dp) function hermite(s) result(xs)

@@ -37,7 +37,7 @@ from .sweep import simulate_batch
 from .advise import Advice, advise
 from .prescribed import PrescribedResult, law_n_states, law_state_labels, prescribed_motion
 from .data import Record, damper_files, load_damper_record
-from .identify import FitResult, fit_friction
+from .identify import FitResult, Selection, fit_friction, select_friction_law
 from .engines import ENGINES, advise_engine, engine_creep, engine_mu
 
 __all__ = [
@@ -49,7 +49,7 @@ __all__ = [
     "EVENT_DTYPE", "ContactSolverFailure", "EventAccumulation", "EventBudgetExhausted",
     "DivergedSolution",
     "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
-    "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction",
+    "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction", "Selection", "select_friction_law",
     "ENGINES", "advise_engine", "engine_creep", "engine_mu",
 ]
 __version__ = "0.1.0"

@@ -15,8 +15,12 @@ noise of constant variance and independent samples, the covariance of the parame
 s^2 (J^T J)^-1 (J the Jacobian of the residuals at the optimum, s^2 = SSR / (n - k)), the
 intervals are estimate +- t(0.975, n - k) stderr, and AIC and BIC are those of the Gaussian
 likelihood with the noise variance counted as a parameter. Measured noise is rarely
-independent from sample to sample (the damper's is not): the intervals are then too narrow,
-and the error on held-out records is the honest measure of a law (cases/identify.py).
+independent from sample to sample (the damper's is not): the covariance is multiplied by
+(1 + rho)/(1 - rho), rho the residuals' lag-1 correlation within the records (the variance
+inflation of an AR(1) noise), and the intervals are taken on a scale where the parameter's
+accepted range is the whole line (log above a lower bound, logit between two), so they stay
+in it. The error on held-out records is the honest measure of a law: `select_friction_law`
+chooses by it (cross-validation over records), BIC is information only.
 
 The normal force. A force measured without its normal force cannot separate the friction
 coefficient from N. `normal_force=None` (the default) sets N = 1 N: the "coefficients" and the
@@ -55,6 +59,15 @@ _SHAPE_PARAMS: frozenset[str] = frozenset({"beta", "a", "delta", "z_ba_ratio", "
 #: Integer parameters: not fitted (least squares needs a continuum), held at the value given in
 #: `fixed` or at their default.
 DISCRETE_PARAMS: frozenset[str] = frozenset({"n_elements"})
+#: Largest cosine between the residual and a free parameter's Jacobian column (0 at a
+#: least-squares minimum) below which a fit's end counts as a minimum without a further check.
+OPTIMALITY_TOL: float = 0.05
+#: Above it, the relative decrease of the sum of squares that a Gauss-Newton step from the end
+#: must not reach for the fit to count as converged.
+STALL_GAIN: float = 0.01
+#: A fit that lowers the sum of squares of the force (the error of predicting zero) by less
+#: than this fraction is no better than zero.
+ZERO_GAIN: float = 0.01
 
 
 def _force_scaled(name: str) -> bool:
@@ -255,6 +268,22 @@ def _extra_option(name: str, value: Any) -> float | None:
     return x
 
 
+def _in_range(label: str, name: str, value: Any, force_levels: bool) -> float:
+    """A given value of parameter `name` (fixed or a start), finite and in the range the
+    library accepts, or a ValueError naming `label`, the range and the unit."""
+    unit = parameter_unit(name, force_levels)
+    x = _finite(label, value, "a real number")
+    low, high, low_open, high_open = _range_of(name)
+    if x < low or x > high or (low_open and x == low) or (high_open and x == high):
+        lo_s = ("(" if low_open else "[") + f"{low:g}"
+        hi_s = f"{high:g}" + (")" if high_open else "]")
+        rng = f"> {low:g}" if math.isinf(high) and low_open else (f">= {low:g}" if math.isinf(high) else f"in {lo_s}, {hi_s}")
+        raise ValueError(f"{label}: must be {rng} [{unit}], got {x!r}")
+    if name in DISCRETE_PARAMS and x != int(x):
+        raise ValueError(f"{label}: must be an integer [{unit}], got {x!r}")
+    return x
+
+
 # --------------------------------------------------------------------------------------------
 # Result
 # --------------------------------------------------------------------------------------------
@@ -268,11 +297,24 @@ class FitResult:
     `stderr` and `ci95` (95 % interval, Student t with n - k degrees of freedom) cover the
     fitted parameters; a parameter the data does not determine (a zero direction of the
     Jacobian) has stderr inf. `at_bound` names fitted parameters that ended on a bound of
-    their range, whose intervals mean little.
+    their range or nearer to it than t(0.975) stderr (the data cannot tell them from the
+    bound), whose intervals mean little.
 
     Scores over the fitted samples: `rmse` [N], `nrmse` (rmse over the range of the measured
     force) [-], `aic`, `bic` (Gaussian likelihood; k = len(free) + 1, the noise variance
-    included), `n_samples`, `n_records`.
+    included), `n_samples`, `n_records`; `cv_nrmse` (mean, standard error) when
+    `select_friction_law` made the fit.
+
+    The residuals: `residual_sd` [N], `noise_correlation` (lag-1, within records) and the
+    `variance_inflation` (1 + rho)/(1 - rho) applied to the covariance. `undetermined` names
+    fitted parameters whose standard error exceeds them (or is inf). `start` holds the start
+    of the best local fit.
+
+    The outcome: `success` is False (with `message` saying why, and a RuntimeWarning at the
+    fit) when the optimiser used its budget, stopped on a slope (a Gauss-Newton step from its
+    end lowers the sum of squares by more than 1 %; `optimality` is the largest cosine
+    between the residual and a free parameter's Jacobian column, 0 at a minimum), or the fit
+    is no better than predicting zero. `report()` prints all of it.
     """
 
     law: str
@@ -299,26 +341,78 @@ class FitResult:
     message: str = ""
     start_costs: tuple[float, ...] = field(default_factory=tuple)
     rtol: float = 1e-6
+    optimality: float = 0.0
+    noise_correlation: float = 0.0
+    variance_inflation: float = 1.0
+    residual_sd: float = 0.0
+    undetermined: tuple[str, ...] = ()
+    start: dict[str, float] = field(default_factory=dict)
+    cv_nrmse: tuple[float, float] | None = None
 
     @property
     def law_params(self) -> dict[str, float]:
         """The law's parameters (without backlash and asymmetry)."""
         return {k: v for k, v in self.params.items() if k not in EXTRA_PARAMS}
 
-    def predict(self, t: Any, x: Any = None, v: Any = None, normal_force: Any = None) -> np.ndarray:
+    def predict(self, t: Any, x: Any = None, v: Any = None, normal_force: Any = None,
+                interval: float | None = None) -> Any:
         """The fitted model's force [N] along a motion x(t) [m] (v [m/s] measured, or derived
         from x), internal states from 0; `t` may be a Record (its x and v are used). Several
         records (lists) give a list of forces.
         normal_force [N]: required when the fit was of coefficients with a per-sample normal
-        force; by default the fit's own (1 N, i.e. force levels, when it was not given)."""
+        force; by default the fit's own (1 N, i.e. force levels, when it was not given).
+
+        interval : float in (0, 1), optional
+            Also return a prediction interval of that probability for a measured force at each
+            sample: (force, lower, upper). Its half-width is z sqrt(s^2 + g^T C g), z the
+            normal quantile, s the residual standard deviation of the fit (the scatter of a
+            measurement about the model), g the force's sensitivity to the fitted parameters
+            (finite differences, one model evaluation per parameter) and C their covariance,
+            inflated for the residuals' correlation in time (`variance_inflation`). Gaussian
+            scatter is assumed; a parameter the data do not determine makes the interval
+            infinite where the force depends on it.
+        """
         if normal_force is None:
             if np.ndim(self.normal_force) != 0:
                 raise ValueError("normal_force: the fit had a normal force per sample; give the one of "
                                  "this motion [N]")
             normal_force = None if self.force_levels else self.normal_force
+        if interval is not None:
+            q = _finite("interval", interval, "in (0, 1)")
+            if not 0.0 < q < 1.0:
+                raise ValueError(f"interval: must be in (0, 1), got {interval!r}")
         data = _records(t, x, None, v, normal_force, need_force=False)
         out = [_model(self.law, d, self.params, self.rtol) for d in data]
-        return out if isinstance(t, (list, tuple)) else out[0]
+        if interval is None:
+            return out if isinstance(t, (list, tuple)) else out[0]
+        from scipy import stats
+        z = float(stats.norm.ppf(0.5 + 0.5 * q))
+        sd = np.array([self.stderr[name] for name in self.free])
+        cov = np.where(np.isfinite(self.covariance), self.covariance, 0.0)
+        bands = []
+        for d, f in zip(data, out):
+            grad = np.zeros((f.size, len(self.free)))
+            for i, name in enumerate(self.free):
+                if not math.isfinite(sd[i]):
+                    grad[:, i] = 0.0
+                    continue
+                low, high = _range_of(name)[:2]
+                p = dict(self.params)
+                h = 1e-3 * max(abs(p[name]), sd[i], 1e-12)
+                h = h if p[name] + h < high else -h
+                if not low <= p[name] + h <= high:
+                    h = 0.5 * h
+                p[name] += h
+                grad[:, i] = (_model(self.law, d, p, self.rtol) - f) / h
+            var = self.residual_sd ** 2 + np.einsum("ij,jk,ik->i", grad, cov, grad)
+            blind = [i for i in range(len(self.free)) if not math.isfinite(sd[i])]
+            half = z * np.sqrt(var)
+            if blind:
+                half = np.full_like(f, math.inf)
+            bands.append((f, f - half, f + half))
+        if isinstance(t, (list, tuple)):
+            return [b[0] for b in bands], [b[1] for b in bands], [b[2] for b in bands]
+        return bands[0]
 
     def score(self, t: Any, x: Any = None, force: Any = None, v: Any = None,
               normal_force: Any = None) -> dict[str, float]:
@@ -330,6 +424,57 @@ class FitResult:
         f = np.concatenate([d.force for d in data])
         rmse = float(np.sqrt(np.mean(r**2)))
         return {"rmse": rmse, "nrmse": rmse / float(np.ptp(f)), "n_samples": int(r.size)}
+
+    def report(self) -> str:
+        """A full report of the fit (as lmfit's fit_report): the fit's outcome (success,
+        termination message, model evaluations, starts), the scores (rmse, nrmse, AIC, BIC and
+        the cross-validated NRMSE when `select_friction_law` made this fit), the residuals'
+        correlation in time and the variance inflation it brings, then each parameter with its
+        start, estimate, standard error (and relative %), 95 % interval and flags (fixed, at a
+        bound, not determined), and the correlations above 0.5 in magnitude."""
+        what = "force levels (normal force not given: N = 1 N)" if self.force_levels else "coefficients"
+        lines = ["[[Fit]]",
+                 f"    law                = {self.law}",
+                 f"    data               = {self.n_records} record(s), {self.n_samples} samples, {what}",
+                 f"    success            = {self.success}",
+                 f"    message            = {self.message}",
+                 f"    model evaluations  = {self.nfev} (Jacobians not counted), starts = {self.n_starts}",
+                 f"    fitted parameters  = {len(self.free)}",
+                 "[[Scores]]",
+                 f"    rmse               = {self.rmse:.6g} N",
+                 f"    nrmse              = {self.nrmse:.6g} (rmse / range of the measured force)",
+                 f"    AIC                = {self.aic:.6g}",
+                 f"    BIC                = {self.bic:.6g}"]
+        if self.cv_nrmse is not None:
+            lines.append(f"    cross-validated    = {self.cv_nrmse[0]:.6g} +- {self.cv_nrmse[1]:.2g} (held-out NRMSE, "
+                         "mean +- standard error over folds)")
+        lines += ["[[Residuals]]",
+                  f"    standard deviation = {self.residual_sd:.6g} N",
+                  f"    lag-1 correlation  = {self.noise_correlation:.4f} (variance inflation of the "
+                  f"parameters {self.variance_inflation:.3g})",
+                  "[[Parameters]]"]
+        for name, value in self.params.items():
+            unit = self.units[name]
+            if name not in self.free:
+                lines.append(f"    {name + ':':<12} {value:<14.7g} (fixed) [{unit}]")
+                continue
+            sd = self.stderr[name]
+            rel = f"({100 * sd / abs(value):.2f}%)" if value != 0 and math.isfinite(sd) else ""
+            lo, hi = self.ci95[name]
+            flags = [f for f, on in (("at a bound", name in self.at_bound),
+                                     ("not determined by the data", name in self.undetermined)) if on]
+            start = self.start.get(name, float("nan"))
+            lines.append(f"    {name + ':':<12} {value:<14.7g} +/- {sd:<11.4g} {rel:<10} (start {start:.5g}) "
+                         f"[{unit}]  95% [{lo:.6g}, {hi:.6g}]" + (f"  {'; '.join(flags)}" if flags else ""))
+        pairs = []
+        for i, a in enumerate(self.free):
+            for j in range(i + 1, len(self.free)):
+                c = self.correlation[i, j]
+                if math.isfinite(c) and abs(c) > 0.5:
+                    pairs.append((abs(c), c, a, self.free[j]))
+        lines.append("[[Correlations]] (|c| > 0.5)")
+        lines += [f"    C({a}, {b}) = {c:+.4f}" for _, c, a, b in sorted(pairs, reverse=True)] or ["    none"]
+        return "\n".join(lines)
 
     def summary(self) -> str:
         """A plain-text table of the parameters with their intervals, and the scores."""
@@ -452,7 +597,10 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     _check_keys("params0", params0, names, law)
     _check_keys("bounds", bounds, names, law)
     extras = {"backlash": _extra_option("backlash", backlash), "asymmetry": _extra_option("asymmetry", asymmetry)}
-    fixed_all = {k: _finite(f"fixed[{k!r}]", v, "a real number") for k, v in fixed.items()}
+    fixed_all = {k: _in_range(f"fixed[{k!r}]", k, v, force_levels) for k, v in fixed.items()}
+    for a, b in ORDERED_PAIRS:
+        if a in fixed_all and b in fixed_all and not fixed_all[a] <= fixed_all[b]:
+            raise ValueError(f"fixed: {a} = {fixed_all[a]!r} must be <= {b} = {fixed_all[b]!r}")
     for k in DISCRETE_PARAMS.intersection(law_names) - fixed.keys():
         fixed_all[k] = float(REGISTRY["param"][k]["default"])
     fixed_all.update({k: v for k, v in extras.items() if v is not None})
@@ -472,6 +620,10 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         raise ValueError(f"diff_step: must be in (0, 0.1], got {diff_step!r}")
     n_total = sum(d.t.size for d in data)
     k = len(free)
+    all_forces = np.concatenate([d.force for d in data])
+    if not np.ptp(all_forces) > 0.0:
+        raise ValueError(f"force: every sample is {float(all_forces[0])!r} N; a constant force cannot identify a "
+                         "friction law (record one along a motion that reverses)")
     if n_total < k + 2:
         raise ValueError(f"t: {n_total} samples cannot determine {k} parameters and the noise "
                          f"(at least {k + 2} needed)")
@@ -479,7 +631,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     # starts, bounds and the scaled coordinates
     scales = _data_scales(data)
     asym_free = "asymmetry" in free
-    p0 = np.array([_finite(f"params0[{n!r}]", params0[n], "a real number") if n in params0
+    p0 = np.array([_in_range(f"params0[{n!r}]", n, params0[n], force_levels) if n in params0
                    else _start(n, scales, asym_free) for n in free])
     lo = np.empty(k)
     hi = np.empty(k)
@@ -569,6 +721,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     best = None
     costs = []
     nfev = 0
+    best_start = u0
     for u_start in starts:
         # strictly inside the bounds (trf's requirement)
         u_start = np.minimum(np.maximum(u_start, np.nextafter(q_lo, np.inf)), np.nextafter(q_hi, -np.inf))
@@ -577,31 +730,74 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         nfev += int(sol.nfev)
         costs.append(float(sol.cost))
         if best is None or sol.cost < best.cost:
-            best = sol
+            best, best_start = sol, u_start
     assert best is not None
     result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
-                         force_levels, normal_force, nfev, tuple(costs), diff_step)
+                         force_levels, normal_force, nfev, tuple(costs), diff_step, rtol)
     result.rtol = rtol
+    result.start = dict(zip(free, space.to_params(best_start).tolist()))
     return result
 
 
+def _interval(name: str, value: float, sd: float, tq: float) -> tuple[float, float]:
+    """The interval value +- tq sd, taken on a scale on which the parameter's accepted range
+    is the whole line, so that it stays inside it: log(p - low) for a range bounded below,
+    the logit of (p - low)/(high - low) for one bounded on both sides, p itself otherwise
+    (the delta method: the same width to first order where sd is small). A value nearer a
+    bound than tq sd gets the plain interval cut at the bound."""
+    if not math.isfinite(sd):
+        low, high = _range_of(name)[:2] if name in EXTRA_PARAMS or name in REGISTRY["param"] else (-math.inf, math.inf)
+        return (low, high)
+    low, high = _range_of(name)[:2] if name in EXTRA_PARAMS or name in REGISTRY["param"] else (-math.inf, math.inf)
+    # nearer a bound than the plain half-width: the plain interval, cut at the bound (a log or
+    # logit scale would stretch the far end without limit)
+    if value - low < tq * sd or high - value < tq * sd:
+        return (max(low, value - tq * sd), min(high, value + tq * sd))
+    if math.isfinite(low) and math.isfinite(high) and low < value < high:
+        w = high - low
+        y = (value - low) / w
+        h = tq * sd / (w * y * (1.0 - y))
+        lg = math.log(y / (1.0 - y))
+        return (low + w / (1.0 + math.exp(-(lg - h))), low + w / (1.0 + math.exp(-(lg + h))))
+    if math.isfinite(low) and value > low:
+        h = tq * sd / (value - low)
+        return (low + (value - low) * math.exp(-min(h, 700.0)), low + (value - low) * math.exp(min(h, 700.0)))
+    return (value - tq * sd, value + tq * sd)
+
+
 def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray,
-                      step: float) -> np.ndarray:
-    """d residuals / d u by central differences (one-sided at a bound), step `step` |u|."""
-    r0 = residuals(u)
-    jac = np.empty((r0.size, u.size))
-    for i in range(u.size):
-        h = step * max(abs(u[i]), 1e-3)
+                      step: float, floor: float = 0.0) -> np.ndarray:
+    """d residuals / d u by central differences (one-sided at a bound), step `step` |u| (at
+    least step 1e-3). The step grows tenfold, up to 0.1 max(|u|, 1), while the change of the
+    residuals is below `floor` (the integration's own error) or the derivative still differs
+    by more than 10 % from the one at the tenfold step: the difference must measure the model,
+    not the integrator's step-doubling decisions (a parameter near 0, such as a backlash, got
+    a near-infinite derivative from them, and a near-zero standard error)."""
+    def column(i: int, h: float) -> tuple[np.ndarray, float]:
         up, down = u.copy(), u.copy()
         up[i] = min(u[i] + h, q_hi[i])
         down[i] = max(u[i] - h, q_lo[i])
-        jac[:, i] = (residuals(up) - residuals(down)) / (up[i] - down[i])
+        diff = residuals(up) - residuals(down)
+        return diff / (up[i] - down[i]), float(np.abs(diff).max())
+
+    jac = np.empty((residuals(u).size, u.size))
+    for i in range(u.size):
+        h = step * max(abs(u[i]), 1e-3)
+        cap = 0.1 * max(abs(u[i]), 1.0)
+        d, change = column(i, h)
+        while h < cap:
+            d10, change10 = column(i, min(10.0 * h, cap))
+            if change >= floor and np.linalg.norm(d - d10) <= 0.1 * np.linalg.norm(d10):
+                break
+            h, d, change = min(10.0 * h, cap), d10, change10
+        jac[:, i] = d
     return jac
 
 
 def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: Any, forces: np.ndarray,
                 data: list[_Data], q_lo: np.ndarray, q_hi: np.ndarray, force_levels: bool,
-                normal_force: Any, nfev: int, costs: tuple[float, ...], step: float) -> FitResult:
+                normal_force: Any, nfev: int, costs: tuple[float, ...], step: float,
+                rtol: float = 1e-6) -> FitResult:
     """Covariance, intervals and scores at the optimum (see the module notes)."""
     from scipy import stats
 
@@ -613,7 +809,7 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     ssr = float(r @ r)
     dof = n - k
     s2 = ssr / dof
-    jac_u = _central_jacobian(residuals, u, q_lo, q_hi, 0.1 * step)
+    jac_u = _central_jacobian(residuals, u, q_lo, q_hi, 0.1 * step, floor=100.0 * rtol * float(np.ptp(forces)))
     # in the physical parameters: J_p = J_u (dp/du)^-1, cov_p = s2 (J_p^T J_p)^+
     jac_p = jac_u @ np.linalg.inv(space.matrix())
     col = np.linalg.norm(jac_p, axis=0)
@@ -622,7 +818,16 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     _, sv, vt = np.linalg.svd(jn, full_matrices=False)
     keep = sv > sv[0] * 1e-10 if sv.size and sv[0] > 0.0 else np.zeros(k, bool)
     cov_n = (vt[keep].T / sv[keep] ** 2) @ vt[keep]
-    cov = s2 * cov_n / np.outer(col, col)
+    # residuals correlated in time (lag-1 correlation rho within each record) carry less
+    # information than as many independent ones: the covariance of an AR(1) mean is larger by
+    # (1 + rho)/(1 - rho), applied here to every parameter (rho < 0 is not credited)
+    ends = np.cumsum([d.t.size for d in data])
+    same = np.ones(n - 1, bool)
+    same[ends[:-1] - 1] = False
+    rho = float((r[:-1] * r[1:])[same].sum() / ssr) if ssr > 0.0 and n > 2 else 0.0
+    rho_c = min(max(rho, 0.0), 0.99)
+    inflation = (1.0 + rho_c) / (1.0 - rho_c)
+    cov = inflation * s2 * cov_n / np.outer(col, col)
     var = np.diag(cov).copy()
     # a direction the data does not see: the parameters in it have no finite error
     null = vt[~keep]
@@ -636,14 +841,56 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     tq = float(stats.t.ppf(0.975, dof))
     p = params_of(u)
     pv = space.to_params(u)
-    ci = {name: (pv[i] - tq * sd[i], pv[i] + tq * sd[i]) for i, name in enumerate(free)}
+    ci = {name: _interval(name, float(pv[i]), float(sd[i]), tq) for i, name in enumerate(free)}
     tol = 1e-6
+    # on a bound, or nearer to it than the half-width of a plain interval (the bound is then
+    # inside estimate +- t sd: the data cannot tell the estimate from the bound)
+    scale = space.scale
     at_bound = tuple(name for i, name in enumerate(free)
-                     if (math.isfinite(q_lo[i]) and u[i] - q_lo[i] <= tol * max(1.0, abs(q_lo[i])))
-                     or (math.isfinite(q_hi[i]) and q_hi[i] - u[i] <= tol * max(1.0, abs(q_hi[i]))))
+                     if (math.isfinite(q_lo[i]) and (u[i] - q_lo[i] <= tol * max(1.0, abs(q_lo[i]))
+                                                     or (u[i] - q_lo[i]) * scale[i] <= tq * sd[i]))
+                     or (math.isfinite(q_hi[i]) and (q_hi[i] - u[i] <= tol * max(1.0, abs(q_hi[i]))
+                                                     or (q_hi[i] - u[i]) * scale[i] <= tq * sd[i])))
     if undetermined.any():
         warnings.warn(f"fit of {law!r}: the data do not determine {', '.join(np.array(free)[undetermined])} "
                       "(stderr inf); fix them or use records that excite them", stacklevel=3)
+    # Is this a minimum? The cosine between the residual and each free parameter's column of
+    # the Jacobian (not at a bound) is 0 at a least-squares minimum: a large one means the
+    # optimiser stopped on a tolerance (or its evaluation budget) on a slope.
+    rn = math.sqrt(ssr)
+    jn_cols = np.linalg.norm(jac_u, axis=0)
+    inside = np.array([name not in at_bound for name in free])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cosines = np.abs(jac_u.T @ r) / (jn_cols * rn)
+    cosines = np.where(inside & (jn_cols > 0.0) & np.isfinite(cosines), cosines, 0.0)
+    optimality = float(cosines.max()) if cosines.size and rn > 0.0 else 0.0
+    problems = []
+    if sol.status == 0:
+        problems.append(f"the optimiser used its evaluation budget (max_nfev) and stopped")
+    gain = 0.0
+    if optimality > OPTIMALITY_TOL and rn > 1e-9 * float(np.ptp(forces)) * math.sqrt(n):
+        # a slope (above the rounding of a noise-free fit) by the Jacobian: does a Gauss-Newton step (within the bounds) lower the SSR?
+        step = np.linalg.lstsq(jac_u, -r, rcond=None)[0]
+        for lam in (1.0, 0.3, 0.1):
+            u_try = np.clip(u + lam * step, q_lo, q_hi)
+            try:
+                r_try = residuals(u_try)
+            except (RuntimeError, ValueError):
+                continue
+            gain = max(gain, 1.0 - float(r_try @ r_try) / ssr)
+        if gain > STALL_GAIN:
+            worst = free[int(np.argmax(cosines))]
+            problems.append(f"the optimiser stopped far from a minimum: a Gauss-Newton step from its "
+                            f"end lowers the sum of squares by {100 * gain:.3g} % (steepest along {worst})")
+    zero_ssr = float(forces @ forces)
+    if ssr >= (1.0 - ZERO_GAIN) * zero_ssr:
+        problems.append(f"the fit is no better than predicting zero force (rmse {math.sqrt(ssr / n):.4g} N, "
+                        f"rms force {math.sqrt(zero_ssr / n):.4g} N)")
+    success = bool(sol.success) and not problems
+    message = str(sol.message) if not problems else "; ".join(problems) + f" (optimiser: {sol.message})"
+    if problems:
+        warnings.warn(f"fit of {law!r} failed: {message}; try other params0, more n_starts or max_nfev",
+                      RuntimeWarning, stacklevel=3)
     loglik_term = n * math.log(2.0 * math.pi * ssr / n) + n     # -2 ln L at the ML variance
     n_par = k + 1
     rmse = math.sqrt(ssr / n)
@@ -654,5 +901,168 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
         covariance=cov, correlation=corr, rmse=rmse, nrmse=rmse / float(np.ptp(forces)),
         aic=loglik_term + 2.0 * n_par, bic=loglik_term + n_par * math.log(n), n_samples=n,
         n_records=len(data), force_levels=force_levels, normal_force=1.0 if force_levels else normal_force,
-        at_bound=at_bound, cost=float(sol.cost), nfev=nfev, n_starts=len(costs), success=bool(sol.success),
-        message=str(sol.message), start_costs=costs)
+        at_bound=at_bound, cost=float(sol.cost), nfev=nfev, n_starts=len(costs), success=success,
+        message=message, start_costs=costs, optimality=optimality, noise_correlation=rho,
+        variance_inflation=inflation, residual_sd=math.sqrt(s2),
+        undetermined=tuple(name for i, name in enumerate(free)
+                           if not math.isfinite(sd[i]) or sd[i] > abs(pv[i])))
+
+
+# --------------------------------------------------------------------------------------------
+# Choosing a law: cross-validation over records
+# --------------------------------------------------------------------------------------------
+@dataclass
+class Selection:
+    """The outcome of `select_friction_law`.
+
+    `best` is the chosen law; `fits` maps every candidate to its FitResult on all the data;
+    `scores` maps it to (mean, standard error) of its cross-validated NRMSE [-] (each fold's
+    held-out rmse over the range of that fold's measured force); `fold_scores` holds every
+    fold's NRMSE; `folds` says how the data were split ("records": one record held out at a
+    time; "blocks": one contiguous block of the single record); `n_free` the number of fitted
+    parameters of each law. `fold_failures` counts the folds whose fit reported
+    success=False. BIC is in each fit (`fits[law].bic`) as information; it does not choose.
+    """
+
+    best: str
+    fits: dict[str, FitResult]
+    scores: dict[str, tuple[float, float]]
+    fold_scores: dict[str, tuple[float, ...]]
+    folds: str
+    n_free: dict[str, int]
+    fold_failures: dict[str, int]
+
+    def table(self) -> str:
+        """A plain-text table: one row per law, best cross-validated score first."""
+        bic0 = min(f.bic for f in self.fits.values())
+        rows = [f"{'law':<14} {'k':>2} {'CV NRMSE':>9} {'+- s.e.':>8} {'fit NRMSE':>9} {'dBIC':>9}  note",
+                "-" * 64]
+        for law in sorted(self.scores, key=lambda name: self.scores[name][0]):
+            fit = self.fits[law]
+            mean, se = self.scores[law]
+            note = ["chosen" if law == self.best else ""]
+            if not fit.success:
+                note.append("fit failed")
+            if self.fold_failures[law]:
+                note.append(f"{self.fold_failures[law]} fold fit(s) failed")
+            rows.append(f"{law:<14} {self.n_free[law]:>2} {mean:>9.4f} {se:>8.4f} {fit.nrmse:>9.4f} "
+                        f"{fit.bic - bic0:>9.1f}  {', '.join(n for n in note if n)}")
+        rows.append(f"(cross-validation over {self.folds}; the simplest law within one standard error of "
+                    "the best is chosen)")
+        return "\n".join(rows)
+
+
+def _law_kwargs(law: str, laws: Sequence[str], fit_kwargs: Mapping[str, Any]) -> dict[str, Any]:
+    """fit_kwargs for one law: a value that is a dict keyed by candidate laws is per law."""
+    out = {}
+    for key, value in fit_kwargs.items():
+        if isinstance(value, Mapping) and value and all(k in laws for k in value):
+            if law in value:
+                out[key] = value[law]
+        else:
+            out[key] = value
+    return out
+
+
+def select_friction_law(laws: Sequence[str], t: Any, x: Any = None, force: Any = None, v: Any = None,
+                        normal_force: Any = None, cv: str = "records", n_blocks: int = 5,
+                        **fit_kwargs: Any) -> Selection:
+    """Choose a friction law by how well it predicts data it was not fitted to.
+
+    Every candidate is fitted (`fit_friction`) to all the data and, fold by fold, to all but
+    one part of it, and scored on the part left out: leave one record out when there are
+    several records (cv="records"), or, with one record (or cv="blocks"), n_blocks contiguous
+    blocks of the record (each block then a record of its own, its states starting at 0). A
+    law's score is the mean over folds of the held-out NRMSE (rmse over the range of the
+    held-out force), with its standard error (standard deviation over folds / sqrt(folds)).
+    The chosen law is the one with the fewest fitted parameters among those whose mean is
+    within one standard error of the best mean (the one-standard-error rule): a simpler law
+    is preferred when the scores cannot tell them apart. BIC, which on correlated measurement
+    noise favours the most flexible law, is reported but does not choose.
+
+    Parameters
+    ----------
+    laws : sequence of str
+        Candidate laws (at least 2, each in `stickslip.LAWS`).
+    t, x, force, v, normal_force
+        As in `fit_friction` (several records as lists, or Record objects as t).
+    cv : "records" or "blocks"
+        How the folds are made (above). "records" with a single record falls back to blocks.
+    n_blocks : int
+        Number of blocks of a single record (>= 2; default 5).
+    **fit_kwargs
+        Passed to `fit_friction` for every law (fixed, backlash, asymmetry, rtol, ...); a value
+        that is a dict keyed by candidate laws applies per law, e.g.
+        ``fixed={"gms": {"gms_c": 1e6}}``.
+
+    Returns
+    -------
+    Selection
+        .best, .fits, .scores, .table().
+
+    Raises
+    ------
+    ValueError
+        Fewer than 2 laws, an unknown law, a bad cv or n_blocks, or bad data (as `fit_friction`).
+    """
+    if isinstance(laws, str) or len(laws) < 2:
+        raise ValueError(f"laws: give at least 2 candidate laws, got {laws!r}")
+    for law in laws:
+        if not isinstance(law, str) or law not in LAWS:
+            raise ValueError(f"laws: unknown value {law!r} (accepted: {', '.join(LAWS)})")
+    if len(set(laws)) != len(laws):
+        raise ValueError(f"laws: each law once, got {list(laws)!r}")
+    if cv not in ("records", "blocks"):
+        raise ValueError(f"cv: unknown value {cv!r} (accepted: records, blocks)")
+    if not (isinstance(n_blocks, (int, np.integer)) and n_blocks >= 2):
+        raise ValueError(f"n_blocks: must be an integer >= 2, got {n_blocks!r}")
+    data = _records(t, x, force, v, normal_force)
+    use_blocks = cv == "blocks" or len(data) == 1
+    if use_blocks:
+        if len(data) != 1:
+            raise ValueError(f"cv: 'blocks' splits one record; got {len(data)} records (use cv='records')")
+        d = data[0]
+        edges = np.linspace(0, d.t.size, int(n_blocks) + 1).astype(int)
+        if np.diff(edges).min() < 4:
+            raise ValueError(f"n_blocks: {n_blocks} blocks of a {d.t.size}-sample record are too short")
+        nf = d.normal_force
+        parts = [_Data(d.t[a:b], d.x[a:b], None if d.v is None else d.v[a:b], d.force[a:b],
+                       nf if np.ndim(nf) == 0 else nf[a:b]) for a, b in zip(edges[:-1], edges[1:])]
+    else:
+        parts = data
+    folds = "blocks" if use_blocks else "records"
+
+    def fit_on(law: str, members: list[_Data], quiet: bool) -> FitResult:
+        kw = _law_kwargs(law, laws, fit_kwargs)
+        ts, xs, fs = [m.t for m in members], [m.x for m in members], [m.force for m in members]
+        vs = None if any(m.v is None for m in members) else [m.v for m in members]
+        nfs = None if normal_force is None else [m.normal_force for m in members]
+        with warnings.catch_warnings():
+            if quiet:
+                warnings.simplefilter("ignore")
+            return fit_friction(law, ts, xs, fs, v=vs, normal_force=nfs, **kw)
+
+    fits: dict[str, FitResult] = {}
+    scores: dict[str, tuple[float, float]] = {}
+    fold_scores: dict[str, tuple[float, ...]] = {}
+    failures: dict[str, int] = {}
+    for law in laws:
+        fits[law] = fit_on(law, parts, quiet=False)
+        per_fold = []
+        failed = 0
+        for i, held in enumerate(parts):
+            fit = fit_on(law, [p for j, p in enumerate(parts) if j != i], quiet=True)
+            failed += not fit.success
+            pred = _model(law, held, fit.params, fit.rtol)
+            per_fold.append(float(np.sqrt(np.mean((pred - held.force) ** 2)) / np.ptp(held.force)))
+        arr = np.array(per_fold)
+        scores[law] = (float(arr.mean()), float(arr.std(ddof=1) / math.sqrt(arr.size)))
+        fits[law].cv_nrmse = scores[law]
+        fold_scores[law] = tuple(per_fold)
+        failures[law] = failed
+    n_free = {law: len(fits[law].free) for law in laws}
+    best_mean, best_se = min(scores.values(), key=lambda s: s[0])
+    within = [law for law in laws if scores[law][0] <= best_mean + best_se]
+    best = min(within, key=lambda law: (n_free[law], scores[law][0]))
+    return Selection(best=best, fits=fits, scores=scores, fold_scores=fold_scores, folds=folds,
+                     n_free=n_free, fold_failures=failures)
