@@ -231,16 +231,11 @@ def bullet_belt(*, timestep: float = 1 / 240, t_end: float = BELT_T_END,
 DRAKE_MODES: tuple[str, ...] = ("continuous", "tamsi", "sap", "lagged")
 
 
-def drake_slope(*, mode: str = "lagged", stiction_tolerance: float = 1e-4, timestep: float = 1e-3,
-                t_end: float = T_END, theta_deg: float = THETA_DEG) -> dict[str, Any]:
-    """The slope box in Drake's MultibodyPlant with point contact (mu_s = 0.35, mu_d = 0.30):
-    the box's collision geometry is four spheres of radius 1 mm at its bottom corners (four
-    contacts, as MuJoCo's box). mode "continuous" (time_step 0, Drake's default integrator,
-    RK3 with error control) or a discrete contact approximation ("tamsi", "sap", "lagged",
-    Drake's default) at timestep. Returns creep speed [m/s] and CPU time per simulated second."""
+def _drake_plant(mode: str, timestep: float):
+    """A Drake diagram builder and plant in `mode` ("continuous", or a discrete approximation:
+    "tamsi", "sap", "lagged") with point contact, and the paper's friction (0.35, 0.30)."""
     from pydrake.all import (AddMultibodyPlantSceneGraph, ContactModel, CoulombFriction,
-                             DiagramBuilder, DiscreteContactApproximation, HalfSpace,
-                             RigidTransform, Simulator, SpatialInertia, Sphere)
+                             DiagramBuilder, DiscreteContactApproximation)
     builder = DiagramBuilder()
     plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=0.0 if mode == "continuous"
                                            else timestep)
@@ -249,7 +244,18 @@ def drake_slope(*, mode: str = "lagged", stiction_tolerance: float = 1e-4, times
             {"tamsi": DiscreteContactApproximation.kTamsi, "sap": DiscreteContactApproximation.kSap,
              "lagged": DiscreteContactApproximation.kLagged}[mode])
     plant.set_contact_model(ContactModel.kPoint)
-    friction = CoulombFriction(0.35, 0.30)
+    return builder, plant, CoulombFriction(0.35, 0.30)
+
+
+def drake_slope(*, mode: str = "lagged", stiction_tolerance: float = 1e-4, timestep: float = 1e-3,
+                t_end: float = T_END, theta_deg: float = THETA_DEG) -> dict[str, Any]:
+    """The slope box in Drake's MultibodyPlant with point contact (mu_s = 0.35, mu_d = 0.30):
+    the box's collision geometry is four spheres of radius 1 mm at its bottom corners (four
+    contacts, as MuJoCo's box). mode "continuous" (time_step 0, Drake's default integrator,
+    RK3 with error control) or a discrete contact approximation ("tamsi", "sap", "lagged",
+    Drake's default) at timestep. Returns creep speed [m/s] and CPU time per simulated second."""
+    from pydrake.all import HalfSpace, RigidTransform, Simulator, SpatialInertia, Sphere
+    builder, plant, friction = _drake_plant(mode, timestep)
     plant.RegisterCollisionGeometry(plant.world_body(), RigidTransform(), HalfSpace(), "ground",
                                     friction)
     box = plant.AddRigidBody("box", SpatialInertia.SolidBoxWithMass(MASS, *(2 * h for h in HALF)))
@@ -281,18 +287,9 @@ def drake_belt(*, mode: str = "lagged", stiction_tolerance: float = 1e-4, timest
     PrismaticSpring k and rises and falls on a second one; the belt is a 1e8 kg body on a
     prismatic joint started at v_b (its speed changes by less than 1e-5 m/s in a run). Returns
     t, x, v sampled every millisecond."""
-    from pydrake.all import (AddMultibodyPlantSceneGraph, Box, ContactModel, CoulombFriction,
-                             DiagramBuilder, DiscreteContactApproximation, PrismaticJoint,
-                             PrismaticSpring, RigidTransform, Simulator, SpatialInertia, Sphere)
-    builder = DiagramBuilder()
-    plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=0.0 if mode == "continuous"
-                                           else timestep)
-    if mode != "continuous":
-        plant.set_discrete_contact_approximation(
-            {"tamsi": DiscreteContactApproximation.kTamsi, "sap": DiscreteContactApproximation.kSap,
-             "lagged": DiscreteContactApproximation.kLagged}[mode])
-    plant.set_contact_model(ContactModel.kPoint)
-    friction = CoulombFriction(0.35, 0.30)
+    from pydrake.all import (Box, PrismaticJoint, PrismaticSpring, RigidTransform, Simulator,
+                             SpatialInertia, Sphere)
+    builder, plant, friction = _drake_plant(mode, timestep)
     belt = plant.AddRigidBody("belt", SpatialInertia.SolidBoxWithMass(BELT_MASS, 200.0, 2.0, 0.1))
     plant.RegisterCollisionGeometry(belt, RigidTransform([0, 0, -0.05]), Box(200.0, 2.0, 0.1),
                                     "belt", friction)
