@@ -58,6 +58,10 @@ module stickslip_ode
         !> f at a stage state y whose condensed components move at the rates k holds (their
         !! part of the stage, set by condense_stage); the default: rhs.
         procedure :: stage_rhs => plain_stage_rhs
+        !> Solve the whole stage k = f(t, u + c k) itself, where Newton's method cannot (a law
+        !! with an infinite slope at rest); ok = .false. by default: the system has no such
+        !! solve (the one-contact scenes with a static law have a bracketed scalar one).
+        procedure :: scalar_stage => no_scalar_stage
         !> Bounds on each |y_i| that no solution from y0 over [t0, t_end] reaches: a step that
         !! leaves them ends the run with SS_DIVERGED. The default, DEFAULT_BOUND_GROWTH max(1,
         !! max |y0|), is conservative; the scenes give theirs from their energy.
@@ -276,6 +280,19 @@ contains
         real(dp), intent(in)    :: c        !! coefficient of k in the stage state [s]
         real(dp), intent(inout) :: k(:)     !! stage derivative; its condensed components on exit
     end subroutine no_condense_stage
+
+    !> The default: no stage solve of the system's own.
+    subroutine no_scalar_stage(self, t, u, c, k, nfev, ok)
+        class(ode_system), intent(inout) :: self
+        !! the system
+        real(dp), intent(in)    :: t        !! stage time [s]
+        real(dp), intent(in)    :: u(:)     !! the stage state is u + c k
+        real(dp), intent(in)    :: c        !! coefficient of k in the stage state [s]
+        real(dp), intent(inout) :: k(:)     !! stage derivative: a guess in, the solution out
+        integer(8), intent(inout) :: nfev   !! evaluations of f, counted
+        logical, intent(out)    :: ok       !! .true.: k solves the stage
+        ok = .false.
+    end subroutine no_scalar_stage
 
     !> The default: f(t, y), nothing condensed.
     subroutine plain_stage_rhs(self, t, y, k, f)

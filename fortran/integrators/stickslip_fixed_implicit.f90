@@ -23,8 +23,10 @@
 !! Jacobian at every iterate and a backtracking line search (at most 4 newton_max_iter
 !! iterations), and if that fails, by the same from the rest guess k = 0 (a guess carrying a
 !! large rate, LuGre's bristle from rest on the belt, can draw the iteration onto a kink of
-!! |v_rel| where no descent direction is left); if that fails too the run ends with
-!! SS_NEWTON_FAILED (a fixed step is never reduced); a non-finite Jacobian gives
+!! |v_rel| where no descent direction is left); if that fails too, by the system's own solve
+!! of the stage where it has one (`scalar_stage`: a one-contact scene with a static law solves
+!! its stage as one bracketed scalar equation in the stage velocity, which the proposed law's
+!! infinite slope at rest needs), and otherwise the run ends with SS_NEWTON_FAILED (a fixed step is never reduced); a non-finite Jacobian gives
 !! SS_JAC_NONFINITE, a singular matrix SS_SINGULAR, non-finite iterates SS_NEWTON_FAILED.
 !!
 !! Laws with jumps. On a friction scene (x, v) whose law has modes (`friction_law%n_modes`

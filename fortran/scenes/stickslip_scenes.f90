@@ -19,6 +19,7 @@ module stickslip_scenes
     use stickslip_friction, only: friction_law
     use stickslip_ode, only: ode_system, fd_jacobian
     use stickslip_contact, only: contact_system, contact_law, contact_law_of
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
@@ -73,6 +74,8 @@ module stickslip_scenes
         procedure :: condense_stage => scene_condense_stage
         !> f at a stage state with the law's states moving at the stage's rates.
         procedure :: stage_rhs => scene_stage_rhs
+        !> A static law's stage as one scalar equation in the stage velocity, bracketed.
+        procedure :: scalar_stage => scene_scalar_stage
         !> The analytic 2 x 2 Jacobian of the scene with a static law.
         procedure(static_jacobian_iface), deferred :: static_jacobian
         !> The Jacobian: analytic for a static law, finite differences otherwise.
@@ -283,6 +286,94 @@ contains
         class(friction_scene), intent(in) :: self
         scene_n_states = 2 + self%nz
     end function scene_n_states
+
+    !> The stage k = f(t, u + c k) of a static law (state (x, v), x' = v) as one equation in
+    !! the stage velocity v_s: x_s = u_x + c v_s and phi(v_s) = v_s - u_v - c a(t, x_s, v_s) = 0.
+    !! phi is continuous where f is (the proposed law's mu ~ |w|^(1/3) has an infinite slope at
+    !! w = 0, where Newton's method cycles), so a sign change is bracketed, from v_s = u_v
+    !! outwards in steps that double, and closed by Illinois regula falsi with bisection to
+    !! rounding. ok = .false. for a law with internal states, or when no bracket is found within
+    !! 1e6 (1 + |u_v| + |phi(u_v)|).
+    subroutine scene_scalar_stage(self, t, u, c, k, nfev, ok)
+        class(friction_scene), intent(inout) :: self
+        real(dp), intent(in)    :: t        !! stage time [s]
+        real(dp), intent(in)    :: u(:)     !! the stage state is u + c k
+        real(dp), intent(in)    :: c        !! coefficient of k in the stage state [s]
+        real(dp), intent(inout) :: k(:)     !! stage derivative: a guess in, the solution out
+        integer(8), intent(inout) :: nfev   !! evaluations of f, counted
+        logical, intent(out)    :: ok       !! .true.: k solves the stage
+        real(dp) :: lo, hi, plo, phi_hi, step, vm, pm, reach
+        integer :: it, side
+        ok = .false.
+        if (self%nz /= 0 .or. size(u) /= 2) return
+        lo = u(2)
+        plo = phi(lo)
+        if (plo == 0.0_dp) then
+            call finish(lo)
+            return
+        end if
+        ! a bracket, in steps of |phi(u_v)| that double
+        step = max(abs(plo), 1.0e-12_dp * (1.0_dp + abs(lo)))
+        reach = 1.0e6_dp * (1.0_dp + abs(lo) + abs(plo))
+        hi = lo
+        phi_hi = plo
+        do it = 1, 200
+            hi = lo - sign(step, plo)
+            phi_hi = phi(hi)
+            if (phi_hi == 0.0_dp) then
+                call finish(hi)
+                return
+            end if
+            if (sign(1.0_dp, phi_hi) /= sign(1.0_dp, plo)) exit
+            step = 2.0_dp * step
+            if (step > reach) return
+        end do
+        if (sign(1.0_dp, phi_hi) == sign(1.0_dp, plo)) return
+        side = 0
+        do it = 1, 400
+            vm = hi - phi_hi * (hi - lo) / (phi_hi - plo)
+            if (.not. (vm > min(lo, hi) .and. vm < max(lo, hi))) vm = 0.5_dp * (lo + hi)
+            if (abs(hi - lo) <= 4.0_dp * epsilon(1.0_dp) * max(abs(lo), abs(hi)) .or. &
+                vm == lo .or. vm == hi) exit
+            pm = phi(vm)
+            if (pm == 0.0_dp) then
+                lo = vm
+                hi = vm
+                exit
+            end if
+            if (sign(1.0_dp, pm) == sign(1.0_dp, phi_hi)) then
+                hi = vm
+                phi_hi = pm
+                if (side == 1) plo = 0.5_dp * plo
+                side = 1
+            else
+                lo = vm
+                plo = pm
+                if (side == -1) phi_hi = 0.5_dp * phi_hi
+                side = -1
+            end if
+        end do
+        call finish(merge(lo, hi, abs(plo) < abs(phi_hi)))
+    contains
+        !> phi(v_s) [m/s]
+        real(dp) function phi(vs)
+            real(dp), intent(in) :: vs
+            real(dp) :: ys(2), f(2)
+            ys = [u(1) + c * vs, vs]
+            call self%rhs(t, ys, f)
+            nfev = nfev + 1
+            phi = vs - u(2) - c * f(2)
+        end function phi
+        subroutine finish(vs)
+            real(dp), intent(in) :: vs
+            real(dp) :: ys(2), f(2)
+            ys = [u(1) + c * vs, vs]
+            call self%rhs(t, ys, f)
+            nfev = nfev + 1
+            k = f
+            ok = all(ieee_is_finite(k))
+        end subroutine finish
+    end subroutine scene_scalar_stage
 
     !> The states z (components 3 ..) of a one-contact scene whose law condenses them.
     subroutine scene_condensed_components(self, mask)
