@@ -124,12 +124,17 @@ def test_local_sweep_imports_no_dask() -> None:
 
 @pytest.mark.parametrize("tqdm_installed", [True, False])
 def test_progress_goes_to_stderr(capsys, monkeypatch, tqdm_installed) -> None:
-    """Per chunk: a tqdm bar, or without tqdm plain 'k/n' lines; stdout stays empty."""
+    """Per chunk: a tqdm bar, or without tqdm plain 'k/n' lines, on a terminal; stdout stays
+    empty."""
     from cases._progress import progress
     if not tqdm_installed:
         monkeypatch.setitem(sys.modules, "tqdm", None)      # import tqdm raises ImportError
     else:
         pytest.importorskip("tqdm")
+    # the drivers' bars appear on a terminal only: none into a redirected stderr (a log)
+    assert list(progress(["a", "b"], desc="runs")) == ["a", "b"]
+    assert capsys.readouterr() == ("", "")
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
     stickslip.simulate_batch("slope", "proposed", method="rk4", t_end=0.1, h=1e-3,
                              v_s=[1e-2, 1e-3, 1e-4], chunk_rows=1, progress=True)
     assert list(progress(["a", "b"], desc="runs")) == ["a", "b"]
