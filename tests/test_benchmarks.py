@@ -93,3 +93,21 @@ def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> No
     assert "time per step against the number of blocks" in text
     assert fitted_exponent([10, 100, 1000], [3e-6, 3e-5, 3e-4]) == pytest.approx(1.0)
     assert math.isnan(fitted_exponent([10], [1.0]))
+
+
+def test_quick_contact_benchmark(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """`python -m benchmarks --contact --quick`: a table row per n up to 8; the exact solver
+    (n <= 6) solves every random coupled problem. No timing assertions."""
+    if shutil.which("gfortran") is None:
+        pytest.skip("compilers not found")
+    monkeypatch.syspath_prepend(str(ROOT))
+    monkeypatch.setenv("PATH", f"{Path(sys.executable).parent}:{__import__('os').environ['PATH']}")
+    from benchmarks.run import main
+
+    assert main(["--contact", "--quick", "--outdir", str(tmp_path)]) == 0
+    rows = [line.split("|")[1:-1] for line in (tmp_path / "contact.md").read_text().splitlines()
+            if line.startswith("| ") and line[2].isdigit()]
+    assert [int(r[0]) for r in rows] == [2, 3, 4, 5, 6, 8]
+    for r in rows[:5]:
+        assert r[2].strip() == "100 %"
+        assert math.isfinite(float(r[1])) and float(r[1]) > 0

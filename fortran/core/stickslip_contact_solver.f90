@@ -44,7 +44,7 @@ module stickslip_contact_solver
     implicit none
     private
 
-    public :: contact_solve_info, solve_contacts, contact_residual
+    public :: contact_solve_info, solve_contacts, contact_residual, gauss_seidel
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
     !> Most active contacts solved by exact mode enumeration (3^n modes at most).
     integer, parameter, public :: ENUM_MAX = 6
@@ -412,13 +412,16 @@ contains
     !! p: warm start in, impulses out [N s]; w: each contact's velocity from its last solve
     !! (exactly 0: stuck; open contacts: wf + D p).
     subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps)
-        type(contact_law), intent(in) :: laws(:)
-        real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
-        logical, intent(in)     :: at_rest
-        integer, intent(in)     :: max_iter
-        real(dp), intent(inout) :: p(:)
-        real(dp), intent(out)   :: w(:)
-        integer, intent(out)    :: sweeps
+        type(contact_law), intent(in) :: laws(:)  !! (n) each contact's law
+        real(dp), intent(in)    :: d(:, :)        !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in)    :: wf(:)          !! (n) velocities without friction [m/s]
+        real(dp), intent(in)    :: cap(:)         !! (n) capacities [N s] (or [N])
+        logical, intent(in)     :: at_rest        !! slip coefficient fixed at mu(0+)
+        real(dp), intent(in)    :: tol            !! tolerance on the sweep residual [m/s]
+        integer, intent(in)     :: max_iter       !! sweep limit
+        real(dp), intent(inout) :: p(:)           !! (n) impulses: warm start in, answer out
+        real(dp), intent(out)   :: w(:)           !! (n) velocities from the last solves [m/s]
+        integer, intent(out)    :: sweeps         !! sweeps done
         real(dp) :: dp_(size(p)), wfi, pnew, r, resid
         type(contact_law) :: lw(size(p))
         integer :: i, j, nc
