@@ -11,17 +11,18 @@ program bench_contact
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, gauss_seidel, contact_residual
-    use stickslip_linalg, only: lu_decompose, lu_solve
+    use stickslip_linalg, only: psd_solve
     implicit none
     integer, parameter :: nprob = 50
     character(len=32) :: arg
     integer :: n_max, repeats, n, k, r, nd, i, j, iseed
     integer, allocatable :: seed(:), mode(:)
-    real(dp), allocatable :: d(:, :, :), wf(:, :), cap(:, :), p(:), w(:), hm(:, :), wm(:, :), times(:), gtimes(:)
+    real(dp), allocatable :: d(:, :, :), wf(:, :), cap(:, :), p(:), w(:), hm(:, :), wm(:, :), winv(:, :), times(:), gtimes(:)
     type(contact_law), allocatable :: laws(:, :)
     type(contact_solve_info) :: info
     real(dp) :: u, t0, t1, resid, work
     integer :: nok, ngs, sweeps, worst, ns_list(10)
+    logical :: ok_inv
 
     call get_command_argument(1, arg)
     read (arg, *) n_max
@@ -36,7 +37,7 @@ program bench_contact
         if (n > n_max) exit
         nd = n / 2 + 1
         allocate(d(n, n, nprob), wf(n, nprob), cap(n, nprob), laws(n, nprob), p(n), w(n), mode(n))
-        allocate(hm(n, nd), wm(nd, nd), times(repeats), gtimes(repeats))
+        allocate(hm(n, nd), wm(nd, nd), winv(nd, nd), times(repeats), gtimes(repeats))
         do j = 1, nprob
             hm = 0.0_dp
             do i = 1, n
@@ -49,7 +50,12 @@ program bench_contact
             do i = 1, nd
                 wm(i, i) = wm(i, i) + 1.0_dp
             end do
-            d(:, :, j) = matmul(hm, matmul(inverse(wm), transpose(hm)))
+            winv = 0.0_dp                      ! W^-1 by the library's psd_solve (LU: W is regular)
+            do i = 1, nd
+                winv(i, i) = 1.0_dp
+            end do
+            call psd_solve(wm, winv, [(1.0_dp, i = 1, nd)], ok_inv)
+            d(:, :, j) = matmul(hm, matmul(winv, transpose(hm)))
             call random_number(wf(:, j))
             wf(:, j) = 0.02_dp * (wf(:, j) - 0.5_dp)
             call random_number(cap(:, j))
@@ -87,23 +93,10 @@ program bench_contact
         end do
         print '(i5, es12.4, f8.3, es12.4, f8.3, f10.1)', n, 1.0e6_dp * median(times), real(nok, dp) / nprob, &
             1.0e6_dp * median(gtimes), real(ngs, dp) / nprob, work / (repeats * nprob)
-        deallocate(d, wf, cap, laws, p, w, mode, hm, wm, times, gtimes)
+        deallocate(d, wf, cap, laws, p, w, mode, hm, wm, winv, times, gtimes)
     end do
 
 contains
-
-    function inverse(a) result(b)
-        real(dp), intent(in) :: a(:, :)
-        real(dp) :: b(size(a, 1), size(a, 1)), lu(size(a, 1), size(a, 1))
-        integer :: ipiv(size(a, 1)), info, i
-        lu = a
-        call lu_decompose(lu, ipiv, info)
-        b = 0.0_dp
-        do i = 1, size(a, 1)
-            b(i, i) = 1.0_dp
-            call lu_solve(lu, ipiv, b(:, i))
-        end do
-    end function inverse
 
     real(dp) function median(x)
         real(dp), intent(in) :: x(:)

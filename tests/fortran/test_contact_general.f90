@@ -13,7 +13,7 @@
 module test_linear_contact
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_system, contact_law
-    use stickslip_linalg, only: lu_decompose, lu_solve
+    use stickslip_linalg, only: lu_decompose, lu_solve, psd_solve
     implicit none
     private
     public :: linear_system, stacked_blocks, two_feet
@@ -113,7 +113,7 @@ program test_contact_general
     use stickslip_ode, only: ode_stats
     use stickslip_contact, only: contact_law
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info
-    use stickslip_linalg, only: lu_decompose, lu_solve
+    use stickslip_linalg, only: lu_decompose, lu_solve, psd_solve
     use stickslip_moreau, only: moreau_options, moreau_integrate
     use stickslip_event_driven, only: event_driven_options, event_driven_integrate
     use test_linear_contact, only: linear_system, stacked_blocks, two_feet
@@ -179,7 +179,8 @@ contains
     subroutine random_problems()
         integer, parameter :: ntrial = 400
         integer :: trial, n, nd, i, j, nsol, nbetter, nbad, nuniq, ndiff, nfail, nseed
-        real(dp) :: hm(6, 4), wmat(4, 4), p(6), w(6), worst_res, u
+        real(dp) :: hm(6, 4), wmat(4, 4), winv(4, 4), p(6), w(6), worst_res, u
+        logical :: ok_inv
         real(dp) :: pb(6), wb(6), res
         type(contact_solve_info) :: info
         integer :: msol(6)
@@ -213,7 +214,12 @@ contains
             do i = 1, nd
                 wmat(i, i) = wmat(i, i) + 0.5_dp
             end do
-            d(:n, :n) = matmul(hm(:n, :nd), matmul(inverse(wmat(:nd, :nd)), transpose(hm(:n, :nd))))
+            winv = 0.0_dp                      ! W^-1 by the library's psd_solve (LU: W is regular)
+            do i = 1, nd
+                winv(i, i) = 1.0_dp
+            end do
+            call psd_solve(wmat(:nd, :nd), winv(:nd, :nd), [(1.0_dp, i = 1, nd)], ok_inv)
+            d(:n, :n) = matmul(hm(:n, :nd), matmul(winv(:nd, :nd), transpose(hm(:n, :nd))))
             call random_number(wf(:n))
             wf(:n) = 4.0_dp * (wf(:n) - 0.5_dp)
             call random_number(cap(:n))
@@ -332,18 +338,5 @@ contains
                 if (ns > count(mode(:n) == 0)) nbetter_out = nbetter_out + 1
             end do
         end subroutine brute_force
-
-    function inverse(a) result(b)
-        real(dp), intent(in) :: a(:, :)
-        real(dp) :: b(size(a, 1), size(a, 1)), lu(size(a, 1), size(a, 1))
-        integer :: ipiv(size(a, 1)), info, i
-        lu = a
-        call lu_decompose(lu, ipiv, info)
-        b = 0.0_dp
-        do i = 1, size(a, 1)
-            b(i, i) = 1.0_dp
-            call lu_solve(lu, ipiv, b(:, i))
-        end do
-    end function inverse
 
 end program test_contact_general
