@@ -39,6 +39,12 @@
 !! w = 0 and slips on in the same direction changes no mode and records nothing. The
 !! initial mode (contacts with w = 0 at t0 decided the same way) is not an event.
 !!
+!! Corners of the forces in time (`contact_system%next_time_event`: a model's signal steps,
+!! ramp ends and table points) end a mode's integration exactly there: a stuck contact whose
+!! w jumped away from 0 (its surface's speed stepped) slips in the direction of w, and every
+!! stuck contact and every contact at w = 0 is decided afresh (a normal force that stepped
+!! down releases what it can no longer hold).
+!!
 !! Output on the grid: DOPRI5's dense output, from a second DOPRI5 run over each stretch
 !! between events that holds grid points (the same steps as the first until the event).
 !! Counters: nstep/naccept/nreject of the mode integration; nfev counts every evaluation
@@ -356,7 +362,7 @@ contains
         type(dopri5_options) :: d5
         type(ode_stats) :: st
         real(dp), allocatable :: tb(:), yb(:, :), y(:), ya(:), ystar(:), g_a(:), g_b(:), r(:), dg_a(:), dg_b(:)
-        real(dp) :: t, ta, tstar, h_carry, t_last_event
+        real(dp) :: t, ta, tstar, h_carry, t_last_event, t_seg
         integer :: nd, nc, n, next, m, k, nrows, i, zeno_run, ievent, same_instant
         logical :: hit
         logical, allocatable :: cand(:)
@@ -406,7 +412,8 @@ contains
             ! Pass 1: the mode's steps, CHUNK rows at a time, looking for an event.
             d5%h0 = h_carry
             d5%max_steps = max(1_8, opts%max_steps - stats%nstep)
-            call dopri5_integrate(ms, t, y, t_end, rtol, atol, d5, tb, yb, st)
+            t_seg = min(t_end, cs%next_time_event(t))   ! a corner of the forces: the mode ends there
+            call dopri5_integrate(ms, t, y, t_seg, rtol, atol, d5, tb, yb, st)
             stats%nfev = stats%nfev + st%nfev
             stats%nstep = stats%nstep + st%nstep
             stats%naccept = stats%naccept + st%naccept
@@ -453,7 +460,8 @@ contains
                 if (stats%status /= SS_OK) exit segment
                 t = tb(nrows)
                 y = yb(:, nrows)
-                if (st%status == SS_OK) exit segment     ! reached t_end
+                if (st%status == SS_OK .and. t_seg >= t_end) exit segment     ! reached t_end
+                if (st%status == SS_OK) call time_event()                      ! reached a corner
                 cycle segment
             end if
 
@@ -488,6 +496,27 @@ contains
             where (.not. at_zero) ms%sig = sign(1.0_dp, w)
             if (any(at_zero)) call decide(at_zero, .false.)
         end subroutine initial_mode
+
+        !> At a corner of the forces (`next_time_event`: a step of a normal force, a table's
+        !! point): a stuck contact whose w has jumped away from 0 (a surface's speed stepped)
+        !! slips in the direction of w (recorded); every stuck contact and every contact at w = 0
+        !! is decided afresh, as at an event; DOPRI5 starts again with its automatic step.
+        subroutine time_event()
+            real(dp) :: w(nc)
+            integer :: j, nchanged
+            logical :: again(nc)
+            call cs%relative_velocities(t, y(nd + 1:), w)
+            do j = 1, nc
+                if (ms%stuck(j) .and. abs(w(j)) > w_tolerance(j, y)) then
+                    ms%stuck(j) = .false.
+                    ms%sig(j) = sign(1.0_dp, w(j))
+                    call record(j, EVENT_SLIP)
+                end if
+            end do
+            again = ms%stuck .or. w == 0.0_dp
+            if (any(again) .and. stats%status == SS_OK) call decide(again, .true., nchanged)
+            h_carry = 0.0_dp
+        end subroutine time_event
 
         !> The modes of the contacts cand (each at w = 0: stuck, or just reached) from the
         !! problem at rest: their relative accelerations a_C = af_C + A_CC r_C with the other
