@@ -14,7 +14,8 @@
 !! is solved by `stickslip_contact_solver`: one contact in closed form (`local_solve`), up to
 !! ENUM_MAX contacts exactly by mode enumeration (coupled rows of H, redundant contacts and
 !! mu_s > mu_k included; the solution with the most stuck contacts where there are several),
-!! more by projected Gauss-Seidel. The previous step's mode and impulses are the warm start.
+!! more by projected Gauss-Seidel, with static-first pivoting (Lemke) where that does not
+!! converge. The previous step's mode and impulses are the warm start.
 !! Every answer is checked against the step's problem: a residual above contact_tol [m/s]
 !! ends the run with SS_CONTACT_FAILED, the step's time in t_reached and the worst contact in
 !! contact_worst. When `w_constant` is set, D is formed once per step size (n_c solves with
