@@ -462,13 +462,15 @@ contains
 
     subroutine chain_contact_model(self, cs, status)
         class(chain_scene), intent(in) :: self
-        class(contact_system), allocatable, intent(out) :: cs  !! a chain_contact
+        class(contact_system), allocatable, intent(out) :: cs  !! a chain_contact (also when
+                                                               !! SS_NOT_SETVALUED: its laws then
+                                                               !! the default, its structure the
+                                                               !! chain's)
         integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
         type(chain_contact) :: cc
         type(contact_law) :: cl
         integer :: i
         call contact_law_of(self%law, cl, status)
-        if (status /= SS_OK) return
         cc%n_dof = self%nb
         cc%n_c = self%nb
         cc%h_ptr = [(i, i = 1, self%nb + 1)]
