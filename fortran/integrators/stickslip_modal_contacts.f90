@@ -31,7 +31,9 @@
 !! contact on its mode (`admits`) and w = wf + D p to the tolerance; a step whose sweeps do not
 !! converge within MAX_SWEEPS ends the run with SS_CONTACT_FAILED, the step's time in t_reached
 !! and the contact in contact_worst. Stuck contacts of one coordinate keep their relative
-!! velocity exactly.
+!! velocity exactly. Where W is tridiagonal and each contact lies on one coordinate of its own
+!! (the chain), the same sweeps run on W u1 = W u_free + H^T p itself, O(n) a sweep, as moreau's
+!! chain path; otherwise on the dense D (n_c solves with W a step).
 !!
 !! Order: first (backward Euler) for both methods on such a system; galpha's second order
 !! within slip phases is not kept.
@@ -78,18 +80,34 @@ contains
         type(ode_stats), intent(inout) :: stats      !! counters and status
 
         real(dp), allocatable :: q(:), u(:), qp(:), f1(:), du(:), g(:), y(:), y1(:)
-        real(dp), allocatable :: wf(:), w0(:), p(:), c(:), d(:, :), w(:), b(:)
-        integer, allocatable :: mode(:)
+        real(dp), allocatable :: wf(:), w0(:), p(:), c(:), d(:, :), w(:), b(:), wl(:), wd(:), wr(:)
+        integer, allocatable :: mode(:), coord_contact(:)
         real(dp) :: t, t1, hs, nsteps_real, t_next, resid
         integer(8) :: i, nsteps, n_total
         integer :: nd, nc, m, next, j, k, sweeps
-        logical :: ok
+        logical :: ok, tri
 
         nd = cs%n_dof
         nc = cs%n_c
         allocate(q(nd), u(nd), qp(nd), f1(nd), du(nd), g(nd), y(2 * nd), y1(2 * nd))
-        allocate(wf(nc), w0(nc), p(nc), c(nc), d(nc, nc), w(nc), b(nc), mode(nc))
+        allocate(wf(nc), w0(nc), p(nc), c(nc), w(nc), b(nc), mode(nc), wl(nd), wd(nd), wr(nd))
         mode = 0    ! none yet
+        ! W tridiagonal and each contact on one coordinate of its own (the chain): the sweeps on
+        ! W itself, O(n) each; otherwise on the dense Delassus matrix
+        allocate(coord_contact(nd), source=0)
+        call cs%w_tridiagonal(ctl%h, ctl%h**2, wl, wd, wr, tri)
+        do j = 1, nc
+            if (.not. tri) exit
+            k = cs%h_ptr(j)
+            tri = cs%h_ptr(j + 1) - k == 1
+            if (tri) tri = coord_contact(cs%h_col(k)) == 0
+            if (tri) coord_contact(cs%h_col(k)) = j
+        end do
+        if (tri) then
+            allocate(d(0, 0))
+        else
+            allocate(d(nc, nc))
+        end if
         m = size(t_out)
         nsteps_real = step_count(t0, t_end, ctl%h)
         n_total = huge(n_total)
@@ -118,25 +136,31 @@ contains
             stats%nstep = stats%nstep + 1
             stats%h_last = hs
 
-            ! the free step and the Delassus matrix of W = M + h C + h^2 K at the step's start
+            ! the free step, with W = M + h C + h^2 K at the step's start
             qp = q + hs * u
             call cs%force(t1, qp, u, f1)
             stats%nfev = stats%nfev + 2
             du = hs * f1
             call cs%solve_w(t, q, u, hs, hs**2, du)
             du = u + du
-            call cs%relative_velocities(t1, du, wf)
             call cs%relative_velocities(t, u, w0)
-            do j = 1, nc
-                g = 0.0_dp
-                call cs%add_ht(unit(j), g)
-                call cs%solve_w(t, q, u, hs, hs**2, g)
-                call cs%apply_h(g, d(:, j))
-            end do
             call cs%normal_forces(t1, qp, c)
             c = hs * c
-
-            call gauss_seidel_modes(laws, d, wf, w0, c, p, w, mode, sweeps, ok, k, resid)
+            call cs%slip_offset(t1, b)
+            if (tri) then
+                call cs%w_tridiagonal(hs, hs**2, wl, wd, wr, ok)   ! (structural: still tridiagonal)
+                call tridiagonal_modes(laws, cs, wl, wd, wr, du, coord_contact, b, c, w0, g, p, w, mode, &
+                                       sweeps, ok, k, resid)
+            else
+                call cs%relative_velocities(t1, du, wf)
+                do j = 1, nc
+                    g = 0.0_dp
+                    call cs%add_ht(unit(j), g)
+                    call cs%solve_w(t, q, u, hs, hs**2, g)
+                    call cs%apply_h(g, d(:, j))
+                end do
+                call gauss_seidel_modes(laws, d, wf, w0, c, p, w, mode, sweeps, ok, k, resid)
+            end if
             stats%ncontact_iter = stats%ncontact_iter + sweeps
             stats%contact_residual = max(stats%contact_residual, resid)
             if (.not. ok) then
@@ -144,18 +168,18 @@ contains
                 stats%contact_worst = k
                 exit
             end if
-
-            g = 0.0_dp
-            call cs%add_ht(p, g)
-            call cs%solve_w(t, q, u, hs, hs**2, g)
-            g = du + g
-            ! a contact of one coordinate whose mode fixes its velocity keeps it exactly
-            call cs%slip_offset(t1, b)
-            do j = 1, nc
-                k = cs%h_ptr(j)
-                if (cs%h_ptr(j + 1) - k == 1 .and. fixes_velocity(laws(j), mode(j))) &
-                    g(cs%h_col(k)) = (w(j) - b(j)) / cs%h_val(k)
-            end do
+            if (.not. tri) then
+                g = 0.0_dp
+                call cs%add_ht(p, g)
+                call cs%solve_w(t, q, u, hs, hs**2, g)
+                g = du + g
+                ! a contact of one coordinate whose mode fixes its velocity keeps it exactly
+                do j = 1, nc
+                    k = cs%h_ptr(j)
+                    if (cs%h_ptr(j + 1) - k == 1 .and. fixes_velocity(laws(j), mode(j))) &
+                        g(cs%h_col(k)) = (w(j) - b(j)) / cs%h_val(k)
+                end do
+            end if
             y1(:nd) = q + hs * g
             y1(nd + 1:) = g
             if (.not. all_finite(y1)) then
@@ -246,6 +270,97 @@ contains
         call ml%law%mode(j, kind, value)
         fixes_velocity = kind /= MODE_MU
     end function fixes_velocity
+
+    !> The sweeps of `gauss_seidel_modes` on W u1 = W uf + H^T p itself, W tridiagonal (l, dg,
+    !! r) and each contact on one coordinate of its own: coordinate by coordinate, u1_j from its
+    !! row given its neighbours, through its contact's one-contact problem where it has one
+    !! (w_i = h_i u1_j + b_i), O(n) a sweep. u1: velocities out [m/s]; the rest as there, resid
+    !! the largest residual of a row of W, divided by its diagonal [m/s].
+    subroutine tridiagonal_modes(laws, cs, l, dg, r, uf, coord_contact, b, c, w0, u1, p, w, mode, sweeps, &
+                                 ok, worst, resid)
+        type(modal_law), intent(in) :: laws(:)
+        class(contact_system), intent(in) :: cs
+        real(dp), intent(in)    :: l(:), dg(:), r(:), uf(:), b(:), c(:), w0(:)
+        integer, intent(in)     :: coord_contact(:)
+        real(dp), intent(out)   :: u1(:), w(:)
+        real(dp), intent(inout) :: p(:)
+        integer, intent(inout)  :: mode(:)
+        integer, intent(out)    :: sweeps, worst
+        logical, intent(out)    :: ok
+        real(dp), intent(out)   :: resid
+        real(dp) :: rhs(size(uf)), s, a, dii, hv, unew, pnew, wnew, change, scale
+        integer :: j, i, nd, jnew
+        logical :: changed
+        nd = size(uf)
+        worst = 0
+        ok = .false.
+        resid = huge(1.0_dp)
+        do j = 1, nd
+            rhs(j) = dg(j) * uf(j) + off_diagonal(uf, j)
+        end do
+        scale = max(maxval(abs(uf)), maxval(abs(w0)), 1.0_dp)
+        u1 = uf
+        do sweeps = 1, MAX_SWEEPS
+            changed = .false.
+            change = 0.0_dp
+            do j = 1, nd
+                s = rhs(j) - off_diagonal(u1, j)
+                i = coord_contact(j)
+                if (i == 0) then
+                    unew = s / dg(j)
+                else
+                    hv = cs%h_val(cs%h_ptr(i))
+                    a = hv * s / dg(j) + b(i)
+                    dii = hv**2 / dg(j)
+                    call one_contact(laws(i)%law, a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok)
+                    if (.not. ok) then
+                        worst = i
+                        return
+                    end if
+                    if (jnew /= mode(i)) changed = .true.
+                    mode(i) = jnew
+                    p(i) = pnew
+                    w(i) = wnew
+                    unew = (wnew - b(i)) / hv
+                end if
+                change = max(change, abs(unew - u1(j)))
+                u1(j) = unew
+            end do
+            if (.not. changed .and. change <= CONTACT_TOL * scale) exit
+        end do
+        sweeps = min(sweeps, MAX_SWEEPS)
+        ! the check: every row of W u1 = W uf + H^T p, every contact on its mode
+        ok = .true.
+        resid = 0.0_dp
+        do j = 1, nd
+            s = dg(j) * u1(j) + off_diagonal(u1, j) - rhs(j)
+            i = coord_contact(j)
+            if (i > 0) s = s - cs%h_val(cs%h_ptr(i)) * p(i)
+            resid = max(resid, abs(s) / dg(j))
+            if (abs(s) / dg(j) > 1.0e3_dp * CONTACT_TOL * scale) ok = .false.
+            if (i > 0 .and. ok) then
+                if (mode(i) > 0) then
+                    hv = cs%h_val(cs%h_ptr(i))
+                    a = hv * (rhs(j) - off_diagonal(u1, j)) / dg(j) + b(i)
+                    ok = laws(i)%law%admits(mode(i), -w(i), (w0(i) - a) / (hv**2 / dg(j) * c(i)), &
+                                            p(i) / c(i))
+                end if
+            end if
+            if (.not. ok) then
+                worst = max(i, 1)
+                return
+            end if
+        end do
+    contains
+        !> W(j, j-1) x(j-1) + W(j, j+1) x(j+1)
+        real(dp) function off_diagonal(x, jj)
+            real(dp), intent(in) :: x(:)
+            integer, intent(in) :: jj
+            off_diagonal = 0.0_dp
+            if (jj > 1) off_diagonal = l(jj) * x(jj - 1)
+            if (jj < nd) off_diagonal = off_diagonal + r(jj) * x(jj + 1)
+        end function off_diagonal
+    end subroutine tridiagonal_modes
 
     !> Nonsmooth Gauss-Seidel over the contacts' modes (module notes). p: warm start in,
     !! impulses out [N s]; w: relative velocities out [m/s]; mode: each contact's mode, in
