@@ -41,7 +41,7 @@ module stickslip_modal_contacts
     use stickslip_kinds, only: dp, SS_OK, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_INTERRUPTED, &
                                SS_CONTACT_FAILED, SS_JUMP_MANY_CONTACTS
     use stickslip_ode, only: ode_stats, step_controls, output_start, step_count, stop_requested, all_finite, &
-                             diverged
+                             diverged, linear_output
     use stickslip_friction, only: friction_law, MODE_MU, MODE_V, MODE_KEEP
     use stickslip_contact, only: contact_system
     use stickslip_scenes, only: friction_scene
@@ -187,23 +187,8 @@ contains
                 exit
             end if
             if (diverged(y1, stats, ctl%y_bound)) exit
-            if (ctl%every_step) then
-                if (next > m) then
-                    stats%status = SS_OUTPUT_FULL
-                    exit
-                end if
-                t_out(next) = t1
-                y_out(:, next) = y1
-                next = next + 1
-            else
-                do while (t_next <= t1)
-                    y_out(:, next) = y + (t_next - t) / hs * (y1 - y)
-                    if (t_next == t1) y_out(:, next) = y1
-                    next = next + 1
-                    t_next = huge(1.0_dp)
-                    if (next <= m) t_next = t_out(next)
-                end do
-            end if
+            call linear_output(t, y, t1, y1, ctl%every_step, t_out, y_out, next, t_next, stats%status)
+            if (stats%status /= SS_OK) exit
             stats%naccept = stats%naccept + 1
             y = y1
             q = y1(:nd)

@@ -52,7 +52,7 @@ module stickslip_moreau
     use stickslip_contact, only: contact_system, local_solve
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-    use stickslip_ode, only: diverged
+    use stickslip_ode, only: diverged, linear_output
     implicit none
     private
 
@@ -251,23 +251,8 @@ contains
                 exit
             end if
             if (diverged(y1, stats, opts%y_bound)) exit   ! left the system's bound: SS_DIVERGED
-            if (opts%every_step) then
-                if (next > m) then
-                    stats%status = SS_OUTPUT_FULL
-                    exit
-                end if
-                t_out(next) = t1
-                y_out(:, next) = y1
-                next = next + 1
-            else
-                do while (t_next <= t1)
-                    y_out(:, next) = y + (t_next - t) / hs * (y1 - y)
-                    if (t_next == t1) y_out(:, next) = y1
-                    next = next + 1
-                    t_next = huge(1.0_dp)
-                    if (next <= m) t_next = t_out(next)
-                end do
-            end if
+            call linear_output(t, y, t1, y1, opts%every_step, t_out, y_out, next, t_next, stats%status)
+            if (stats%status /= SS_OK) exit
             stats%naccept = stats%naccept + 1
             y = y1
             q = y1(:nd)
