@@ -90,6 +90,9 @@ module stickslip_contact
         !> W = M + a C + b K as three diagonals when it is tridiagonal (ok); the default says
         !! it is not (ok = .false.). Moreau's solver then works on W itself, O(n) a sweep.
         procedure :: w_tridiagonal => not_tridiagonal
+        !> Whether each contact acts on one coordinate of its own (a single entry in its row of
+        !! H, no coordinate shared), and which contact each coordinate carries.
+        procedure :: own_coordinates
     end type contact_system
 
     abstract interface
@@ -177,6 +180,22 @@ contains
         logical, intent(out)  :: ok         !! .false.: W is not known to be tridiagonal
         ok = .false.
     end subroutine not_tridiagonal
+
+    pure subroutine own_coordinates(self, coord_contact, ok)
+        class(contact_system), intent(in) :: self
+        integer, intent(out) :: coord_contact(:)  !! (n_dof) the contact on each coordinate (0: none)
+        logical, intent(out) :: ok                !! every contact on a coordinate of its own
+        integer :: c, k
+        coord_contact = 0
+        ok = .true.
+        do c = 1, self%n_c
+            k = self%h_ptr(c)
+            ok = self%h_ptr(c + 1) - k == 1
+            if (ok) ok = coord_contact(self%h_col(k)) == 0
+            if (.not. ok) return
+            coord_contact(self%h_col(k)) = c
+        end do
+    end subroutine own_coordinates
 
     pure real(dp) function contact_displacement(self, i, q) result(x)
         class(contact_system), intent(in) :: self

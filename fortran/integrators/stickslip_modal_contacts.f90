@@ -96,13 +96,7 @@ contains
         ! W itself, O(n) each; otherwise on the dense Delassus matrix
         allocate(coord_contact(nd), source=0)
         call cs%w_tridiagonal(ctl%h, ctl%h**2, wl, wd, wr, tri)
-        do j = 1, nc
-            if (.not. tri) exit
-            k = cs%h_ptr(j)
-            tri = cs%h_ptr(j + 1) - k == 1
-            if (tri) tri = coord_contact(cs%h_col(k)) == 0
-            if (tri) coord_contact(cs%h_col(k)) = j
-        end do
+        if (tri) call cs%own_coordinates(coord_contact, tri)
         if (tri) then
             allocate(d(0, 0))
         else

@@ -146,13 +146,7 @@ contains
         call cs%w_tridiagonal(opts%h * th, (opts%h * th)**2, wl, wd, wr, tri)
         ! the tridiagonal solver needs each contact on one coordinate of its own
         coord_contact = 0
-        do c = 1, nc
-            if (.not. tri) exit
-            k = cs%h_ptr(c)
-            tri = cs%h_ptr(c + 1) - k == 1
-            if (tri) tri = coord_contact(cs%h_col(k)) == 0
-            if (tri) coord_contact(cs%h_col(k)) = c
-        end do
+        if (tri) call cs%own_coordinates(coord_contact, tri)
         if (tri) then
             allocate(dmat(0, 0))
         else
