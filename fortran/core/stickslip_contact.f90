@@ -93,6 +93,9 @@ module stickslip_contact
         !> Whether each contact acts on one coordinate of its own (a single entry in its row of
         !! H, no coordinate shared), and which contact each coordinate carries.
         procedure :: own_coordinates
+        !> The Delassus matrix D = H W^-1 H^T of W = M + a C + b K at (t, q, u), column by
+        !! column (n_c solves with W).
+        procedure :: delassus
     end type contact_system
 
     abstract interface
@@ -180,6 +183,26 @@ contains
         logical, intent(out)  :: ok         !! .false.: W is not known to be tridiagonal
         ok = .false.
     end subroutine not_tridiagonal
+
+    subroutine delassus(self, t, q, u, a, b, d)
+        class(contact_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! coordinates [m]
+        real(dp), intent(in)  :: u(:)       !! velocities [m/s]
+        real(dp), intent(in)  :: a          !! weight of C [s]
+        real(dp), intent(in)  :: b          !! weight of K [s^2]
+        real(dp), intent(out) :: d(:, :)    !! (n_c, n_c) H W^-1 H^T [1/kg]
+        real(dp) :: g(self%n_dof), e(self%n_c)
+        integer :: c
+        do c = 1, self%n_c
+            e = 0.0_dp
+            e(c) = 1.0_dp
+            g = 0.0_dp
+            call self%add_ht(e, g)
+            call self%solve_w(t, q, u, a, b, g)
+            call self%apply_h(g, d(:, c))
+        end do
+    end subroutine delassus
 
     pure subroutine own_coordinates(self, coord_contact, ok)
         class(contact_system), intent(in) :: self

@@ -147,12 +147,7 @@ contains
                                        sweeps, ok, k, resid)
             else
                 call cs%relative_velocities(t1, du, wf)
-                do j = 1, nc
-                    g = 0.0_dp
-                    call cs%add_ht(unit(j), g)
-                    call cs%solve_w(t, q, u, hs, hs**2, g)
-                    call cs%apply_h(g, d(:, j))
-                end do
+                call cs%delassus(t, q, u, hs, hs**2, d)
                 call gauss_seidel_modes(laws, d, wf, w0, c, p, w, mode, sweeps, ok, k, resid)
             end if
             stats%ncontact_iter = stats%ncontact_iter + sweeps
@@ -192,15 +187,6 @@ contains
         stats%t_reached = t
         stats%n_written = next - 1
         if (stats%status == SS_OK .and. nsteps < n_total) stats%status = SS_STEP_BUDGET
-
-    contains
-
-        pure function unit(jj) result(e)
-            integer, intent(in) :: jj
-            real(dp) :: e(nc)
-            e = 0.0_dp
-            e(jj) = 1.0_dp
-        end function unit
 
     end subroutine modal_contacts_integrate
 

@@ -208,12 +208,7 @@ contains
                 y1(nd + 1:) = g
             else
             if (.not. (cs%w_constant .and. hs == h_d)) then
-                do c = 1, nc
-                    g = 0.0_dp
-                    call cs%add_ht(unit_vector(c), g)
-                    call cs%solve_w(t, q, u, hs * th, (hs * th)**2, g)
-                    call cs%apply_h(g, dmat(:, c))
-                end do
+                call cs%delassus(t, q, u, hs * th, (hs * th)**2, dmat)
                 h_d = hs
             end if
             call solve_contacts(cs%laws, dmat, wfree, hn, .false., opts%contact_tol, opts%contact_max_iter, &
@@ -258,13 +253,6 @@ contains
         if (stats%status == SS_OK .and. nsteps < n_total) stats%status = SS_STEP_BUDGET
 
     contains
-
-        pure function unit_vector(j) result(e)
-            integer, intent(in) :: j
-            real(dp) :: e(nc)
-            e = 0.0_dp
-            e(j) = 1.0_dp
-        end function unit_vector
 
         !> Velocities ui of stuck contacts (their one-contact solve gave w = 0) with a single
         !! entry in H: w = 0 exactly.
