@@ -1,16 +1,20 @@
 !> The per-step contact solver (`stickslip_contact_solver`) on random coupled problems, against
-!! projected Gauss-Seidel alone on the same problems. For each number of contacts n: problems
+!! projected Gauss-Seidel alone and static-first pivoting (Lemke) alone on the same problems. For each number of contacts n: problems
 !! w = wf + D p with D = H W^-1 H^T (H: rows of one or two +-1 entries over n/2 + 1 coordinates,
 !! so contacts are coupled; W symmetric positive definite), Coulomb laws with mu_s >= mu_k, and
 !! capacities scaled like a step of 1 ms. Prints one line per n:
 !!   n  us_per_solve  solved_fraction  gs_us_per_solve  gs_solved_fraction  modes_or_sweeps
+!!   fallback_fraction  piv_us_per_solve  piv_solved_fraction  pivots
+!! (fallback_fraction: problems where the solver fell back to pivoting; pivots: Lemke pivots a
+!! solve of pivoting alone)
 !! (microseconds a solve, the median of `repeats` passes over the problems; Gauss-Seidel alone
 !! counts as solved where its answer meets the conditions to 1e-12 m/s).
 !! Usage: bench_contact n_max repeats
 program bench_contact
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law
-    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, gauss_seidel, contact_residual
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, gauss_seidel, contact_residual, &
+                                        SOLVER_PIVOTING
     use stickslip_linalg, only: psd_solve
     implicit none
     integer, parameter :: nprob = 50
@@ -18,10 +22,12 @@ program bench_contact
     integer :: n_max, repeats, n, k, r, nd, i, j, iseed
     integer, allocatable :: seed(:), mode(:)
     real(dp), allocatable :: d(:, :, :), wf(:, :), cap(:, :), p(:), w(:), hm(:, :), wm(:, :), winv(:, :), times(:), gtimes(:)
+    real(dp), allocatable :: ptimes(:)
     type(contact_law), allocatable :: laws(:, :)
     type(contact_solve_info) :: info
     real(dp) :: u, t0, t1, resid, work
-    integer :: nok, ngs, sweeps, worst, ns_list(10)
+    integer :: nok, ngs, sweeps, worst, ns_list(10), nfall, npiv
+    real(dp) :: pivots
     logical :: ok_inv
 
     call get_command_argument(1, arg)
@@ -37,7 +43,7 @@ program bench_contact
         if (n > n_max) exit
         nd = n / 2 + 1
         allocate(d(n, n, nprob), wf(n, nprob), cap(n, nprob), laws(n, nprob), p(n), w(n), mode(n))
-        allocate(hm(n, nd), wm(nd, nd), winv(nd, nd), times(repeats), gtimes(repeats))
+        allocate(hm(n, nd), wm(nd, nd), winv(nd, nd), times(repeats), gtimes(repeats), ptimes(repeats))
         do j = 1, nprob
             hm = 0.0_dp
             do i = 1, n
@@ -66,8 +72,10 @@ program bench_contact
             end do
         end do
         work = 0.0_dp
+        pivots = 0.0_dp
         do r = 1, repeats
             nok = 0
+            nfall = 0
             call cpu_time(t0)
             do j = 1, nprob
                 p = 0.0_dp
@@ -75,6 +83,7 @@ program bench_contact
                 call solve_contacts(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., 1.0e-12_dp, 1000, &
                                     p, w, mode, info)
                 if (info%ok) nok = nok + 1
+                if (info%method == SOLVER_PIVOTING) nfall = nfall + 1
                 work = work + info%sweeps
             end do
             call cpu_time(t1)
@@ -90,10 +99,23 @@ program bench_contact
             end do
             call cpu_time(t1)
             gtimes(r) = (t1 - t0) / nprob
+            npiv = 0
+            call cpu_time(t0)
+            do j = 1, nprob
+                p = 0.0_dp
+                mode = -9
+                call solve_contacts(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., 1.0e-12_dp, 1000, &
+                                    p, w, mode, info, method=SOLVER_PIVOTING)
+                if (info%ok) npiv = npiv + 1
+                pivots = pivots + info%pivots
+            end do
+            call cpu_time(t1)
+            ptimes(r) = (t1 - t0) / nprob
         end do
-        print '(i5, es12.4, f8.3, es12.4, f8.3, f10.1)', n, 1.0e6_dp * median(times), real(nok, dp) / nprob, &
-            1.0e6_dp * median(gtimes), real(ngs, dp) / nprob, work / (repeats * nprob)
-        deallocate(d, wf, cap, laws, p, w, mode, hm, wm, winv, times, gtimes)
+        print '(i5, es12.4, f8.3, es12.4, f8.3, f10.1, f8.3, es12.4, f8.3, f10.1)', n, 1.0e6_dp * median(times), &
+            real(nok, dp) / nprob, 1.0e6_dp * median(gtimes), real(ngs, dp) / nprob, work / (repeats * nprob), &
+            real(nfall, dp) / nprob, 1.0e6_dp * median(ptimes), real(npiv, dp) / nprob, pivots / (repeats * nprob)
+        deallocate(d, wf, cap, laws, p, w, mode, hm, wm, winv, times, gtimes, ptimes)
     end do
 
 contains

@@ -774,8 +774,9 @@ def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 128, r
     """The per-step contact solver (stickslip_contact_solver) on random coupled problems of n
     contacts (bench_contact: 50 problems per n, rows of H with one or two +-1 entries over
     n/2 + 1 coordinates, Coulomb mu_s in [0.3, 0.7] against mu_k = 0.3, capacities of a 1 ms
-    step), against projected Gauss-Seidel alone on the same problems: microseconds a solve
-    (medians of `repeats` passes) and the fraction solved to 1e-12 m/s. Returns contact.md."""
+    step), against projected Gauss-Seidel alone and the pivoting fallback alone on the same
+    problems: microseconds a solve (medians of `repeats` passes), the fraction solved to
+    1e-12 m/s, the fraction that fell back to pivoting. Returns contact.md."""
     meson = _tool("meson")
     if not (build_dir / "build.ninja").exists():
         subprocess.run([meson, "setup", str(build_dir), str(ROOT)], check=True, env=_env(),
@@ -797,17 +798,21 @@ def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 128, r
              "with one or two +-1 entries over n/2 + 1 coordinates, so contacts share bodies; Coulomb "
              "mu_s in [0.3, 0.7], mu_k = 0.3; impulses of a 1 ms step), medians of "
              f"{repeats} passes. The solver enumerates modes up to 6 active contacts and runs "
-             "projected Gauss-Seidel beyond; \"Gauss-Seidel alone\" is the old solver on the same "
-             "problems. Solved: the answer meets the problem's conditions to 1e-12 m/s (the solver "
-             "says so itself; a miss ends a run with ContactSolverFailure).", "",
-             "| n | solver [us/solve] | solved | Gauss-Seidel alone [us/solve] | solved | modes or sweeps |",
-             "|---|---|---|---|---|---|"]
+             "projected Gauss-Seidel beyond (up to 1000 sweeps), falling back to static-first pivoting "
+             "(rounds of box problems by Lemke's algorithm) where Gauss-Seidel does not converge; "
+             "\"Gauss-Seidel alone\" is the solver before the fallback, \"pivoting alone\" the fallback "
+             "run on every problem. Solved: the answer meets the problem's conditions to 1e-12 m/s (the "
+             "solver says so itself; a miss ends a run with ContactSolverFailure).", "",
+             "| n | solver [us/solve] | solved | fell back to pivoting | Gauss-Seidel alone [us/solve] | solved "
+             "| pivoting alone [us/solve] | solved | modes or sweeps | Lemke pivots |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for line in out.split("\n"):
         if not line.strip():
             continue
-        n, us, ok, gus, gok, work = line.split()
-        lines.append(f"| {n} | {float(us):.3g} | {100 * float(ok):.0f} % | {float(gus):.3g} | "
-                     f"{100 * float(gok):.0f} % | {float(work):.0f} |")
+        n, us, ok, gus, gok, work, fall, pus, pok, piv = line.split()
+        lines.append(f"| {n} | {float(us):.3g} | {100 * float(ok):.0f} % | {100 * float(fall):.0f} % | "
+                     f"{float(gus):.3g} | {100 * float(gok):.0f} % | {float(pus):.3g} | {100 * float(pok):.0f} % | "
+                     f"{float(work):.0f} | {float(piv):.0f} |")
         log(f"contact n={n}: {float(us):.3g} us, {100 * float(ok):.0f} % solved")
     return "\n".join(lines) + "\n"
 

@@ -129,15 +129,22 @@ def dispatch(scenes: list[str], laws: list[str]) -> str:
 ! `stats`.
 #ifdef NONSMOOTH_KERNEL
         ! A scene (x, v) whose law has modes (a jump): the stage solved over the modes; the
-        ! same law on a scene of more states (several contacts) is refused before running.
+        ! same law on a scene of several contacts: backward Euler steps over every contact's
+        ! modes (stickslip_modal_contacts).
         select type (sys)
         class is (friction_scene)
             if (sys%law%n_modes() > 0 .and. sys%nz == 0 .and. size(y0) == 2) then
                 call nonsmooth_kernel(sys, KERNEL_ARGS)
                 return
             end if
-            if (sys%law%n_modes() > 0) then   ! jumps on a scene of several contacts: refused
-                stats%status = SS_JUMP_MANY_CONTACTS
+            if (sys%law%n_modes() > 0) then
+                call scene_modal_contacts(sys, KERNEL_ARGS)
+                return
+            end if
+        class is (model_system)
+            ! a user's model with laws that jump: the same steps over every contact's modes
+            if (sys%has_jumps()) then
+                call model_modal_contacts(sys, KERNEL_ARGS)
                 return
             end if
         end select

@@ -18,14 +18,13 @@
 !! element by its kind (`ELEM_*`) and its index.
 module stickslip_user_model
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_MODEL_EMPTY, SS_BAD_BODY, SS_BAD_MASS, SS_BAD_SPRING, &
-                               SS_BAD_DAMPER, SS_BAD_SIGNAL, SS_BAD_LAW, SS_BAD_DIM, SS_BAD_Y0, SS_BAD_METHOD, &
-                               SS_JUMP_MANY_CONTACTS
+                               SS_BAD_DAMPER, SS_BAD_SIGNAL, SS_BAD_LAW, SS_BAD_DIM, SS_BAD_Y0, SS_BAD_METHOD
     use stickslip_params, only: param_values, NAME_LEN
     use stickslip_ode, only: ode_stats
     use stickslip_signal, only: signal_set, SIG_CONST, SIG_STEP, SIG_RAMP, SIG_SINE, SIG_TABLE, SIG_ADD, &
                                 SIG_SUB, SIG_MUL
     use stickslip_model_system, only: model_system
-    use stickslip_registry, only: make_law, code_of, integrate, METHOD_IMPLICIT_EULER, METHOD_GALPHA
+    use stickslip_registry, only: make_law, code_of, integrate
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -405,10 +404,10 @@ contains
     end function initial_state
 
     !> Run the model from t = 0 (its bodies' x0, v0; law states 0) to t_end with a method by
-    !! name and its controls by name; output as `stickslip_simulate`'s. A method with a jump
-    !! law it cannot solve on several contacts (implicit_euler, galpha: coulomb, karnopp) ends
-    !! with SS_JUMP_MANY_CONTACTS before running; moreau and event_driven with SS_NOT_SETVALUED
-    !! when a contact's law has no set-valued form.
+    !! name and its controls by name; output as `stickslip_simulate`'s. implicit_euler and
+    !! galpha take laws with jumps (coulomb, karnopp) through `stickslip_modal_contacts` (all
+    !! contacts' laws must then have jumps: SS_JUMP_MANY_CONTACTS otherwise); moreau and
+    !! event_driven end with SS_NOT_SETVALUED when a contact's law has no set-valued form.
     subroutine model_simulate(self, method, t_end, t_out, y_out, stats, rtol, atol, ckeys, cvals, &
                               elem_kind, elem_index, stop_flag, events, y0)
         class(stickslip_model), intent(inout) :: self
@@ -440,10 +439,6 @@ contains
         code = code_of('method', method)
         if (code == 0) then
             stats%status = SS_BAD_METHOD
-            return
-        end if
-        if ((code == METHOD_IMPLICIT_EULER .or. code == METHOD_GALPHA) .and. sys%has_jumps()) then
-            stats%status = SS_JUMP_MANY_CONTACTS
             return
         end if
         rt = [1.0e-6_dp]

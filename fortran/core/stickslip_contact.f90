@@ -94,6 +94,12 @@ module stickslip_contact
         !! corner (a step of a time signal) [s]; huge(1.0_dp) by default (none). The event-driven
         !! method stops there and decides the modes afresh.
         procedure :: next_time_event => no_time_event
+        !> Whether each contact acts on one coordinate of its own (a single entry in its row of
+        !! H, no coordinate shared), and which contact each coordinate carries.
+        procedure :: own_coordinates
+        !> The Delassus matrix D = H W^-1 H^T of W = M + a C + b K at (t, q, u), column by
+        !! column (n_c solves with W).
+        procedure :: delassus
     end type contact_system
 
     abstract interface
@@ -187,6 +193,42 @@ contains
         real(dp), intent(in) :: t           !! time [s]
         tb = huge(1.0_dp)
     end function no_time_event
+
+    subroutine delassus(self, t, q, u, a, b, d)
+        class(contact_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! coordinates [m]
+        real(dp), intent(in)  :: u(:)       !! velocities [m/s]
+        real(dp), intent(in)  :: a          !! weight of C [s]
+        real(dp), intent(in)  :: b          !! weight of K [s^2]
+        real(dp), intent(out) :: d(:, :)    !! (n_c, n_c) H W^-1 H^T [1/kg]
+        real(dp) :: g(self%n_dof), e(self%n_c)
+        integer :: c
+        do c = 1, self%n_c
+            e = 0.0_dp
+            e(c) = 1.0_dp
+            g = 0.0_dp
+            call self%add_ht(e, g)
+            call self%solve_w(t, q, u, a, b, g)
+            call self%apply_h(g, d(:, c))
+        end do
+    end subroutine delassus
+
+    pure subroutine own_coordinates(self, coord_contact, ok)
+        class(contact_system), intent(in) :: self
+        integer, intent(out) :: coord_contact(:)  !! (n_dof) the contact on each coordinate (0: none)
+        logical, intent(out) :: ok                !! every contact on a coordinate of its own
+        integer :: c, k
+        coord_contact = 0
+        ok = .true.
+        do c = 1, self%n_c
+            k = self%h_ptr(c)
+            ok = self%h_ptr(c + 1) - k == 1
+            if (ok) ok = coord_contact(self%h_col(k)) == 0
+            if (.not. ok) return
+            coord_contact(self%h_col(k)) = c
+        end do
+    end subroutine own_coordinates
 
     pure real(dp) function contact_displacement(self, i, q) result(x)
         class(contact_system), intent(in) :: self

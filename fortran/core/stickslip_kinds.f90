@@ -59,7 +59,8 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_CONTACT_CTL = -161 !! contact_tol or contact_max_iter out of range
     integer, parameter, public :: SS_BAD_EVENT_CTL = -162   !! max_events or zeno_gap out of range
     integer, parameter, public :: SS_NOT_SETVALUED = -163   !! the law (or system) has no set-valued contact
-    !> implicit_euler/galpha and a law with jumps (modes) on a scene of more than one contact
+    !> implicit_euler/galpha and a law with jumps (modes) on a system of several contacts
+    !! without a contact model
     integer, parameter, public :: SS_JUMP_MANY_CONTACTS = -164
     ! prescribed motion (stickslip_prescribed)
     integer, parameter, public :: SS_BAD_TIMES = -175       !! sample times not finite or not strictly increasing
@@ -165,8 +166,8 @@ contains
         case (SS_NOT_SETVALUED);  msg = 'law: the methods moreau and event_driven take only the set-valued' // &
                                         ' laws coulomb, stribeck (and a system with the contact interface)'
         case (SS_JUMP_MANY_CONTACTS); msg = 'law: implicit_euler and galpha solve a law with jumps' // &
-                                        ' (coulomb, karnopp) on scenes of one contact only; on the chain or a model' // &
-                                        ' use moreau or event_driven (coulomb), or a regularised law'
+                                        ' (coulomb, karnopp) on several contacts only through the' // &
+                                        ' system''s contact model, which this system does not give'
         case (SS_BAD_TIMES);      msg = 't: must be finite and strictly increasing, one time per sample [s]'
         case (SS_BAD_MOTION);     msg = 'x, v: must be finite, one value per sample [m, m/s]'
         case (SS_BAD_BACKLASH);   msg = 'backlash: must be finite and >= 0 [m]'

@@ -14,7 +14,7 @@ module stickslip_ode
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_N_OUT, SS_BAD_DIM, SS_BAD_Y0, SS_BAD_T_END, &
                                SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_H0, &
                                SS_BAD_MAX_STEPS, SS_BAD_CONTROL_NAME, SS_BAD_FORCED_GROWTH, SS_BAD_CONTROL, &
-                               SS_NONFINITE, SS_DIVERGED
+                               SS_NONFINITE, SS_DIVERGED, SS_OUTPUT_FULL
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -22,7 +22,7 @@ module stickslip_ode
     public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, &
               check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite, &
               step_count, stop_requested, limit_after_forced, set_erk_constant, check_erk_constants, &
-              diverged, default_state_bound
+              diverged, default_state_bound, linear_output
 
     !> Steps between two looks at a stop flag (a power of 2 minus 1, as a mask).
     integer(8), parameter, public :: STOP_CHECK_MASK = 4095_8
@@ -487,6 +487,42 @@ contains
             end do
         end if
     end subroutine output_start
+
+    !> Record a fixed step from (t, y) to (t1, y1) on the output: the step itself with
+    !! every_step (SS_OUTPUT_FULL when t_out has no room left), else every requested time up to
+    !! t1 by linear interpolation (t1 itself exactly). next and t_next advance (t_next: the next
+    !! requested time, huge when none is left).
+    subroutine linear_output(t, y, t1, y1, every_step, t_out, y_out, next, t_next, status)
+        real(dp), intent(in)    :: t            !! start of the step [s]
+        real(dp), intent(in)    :: y(:)         !! state at t
+        real(dp), intent(in)    :: t1           !! end of the step [s]
+        real(dp), intent(in)    :: y1(:)        !! state at t1
+        logical, intent(in)     :: every_step   !! record every step instead of t_out
+        real(dp), intent(inout) :: t_out(:)     !! output times [s]
+        real(dp), intent(inout) :: y_out(:, :)  !! (size(y), size(t_out)) states
+        integer, intent(inout)  :: next         !! the next column of y_out to fill
+        real(dp), intent(inout) :: t_next       !! the next requested time [s]
+        integer, intent(inout)  :: status       !! SS_OUTPUT_FULL set when full
+        integer :: m
+        m = size(t_out)
+        if (every_step) then
+            if (next > m) then
+                status = SS_OUTPUT_FULL
+                return
+            end if
+            t_out(next) = t1
+            y_out(:, next) = y1
+            next = next + 1
+        else
+            do while (t_next <= t1)
+                y_out(:, next) = y + (t_next - t) / (t1 - t) * (y1 - y)
+                if (t_next == t1) y_out(:, next) = y1
+                next = next + 1
+                t_next = huge(1.0_dp)
+                if (next <= m) t_next = t_out(next)
+            end do
+        end if
+    end subroutine linear_output
 
     !> Cubic Hermite interpolant through (y0, f0) at t and (y1, f1) at t + hs, at time tq
     !! (the dense output of the fixed-step methods).

@@ -14,7 +14,8 @@
 !! is solved by `stickslip_contact_solver`: one contact in closed form (`local_solve`), up to
 !! ENUM_MAX contacts exactly by mode enumeration (coupled rows of H, redundant contacts and
 !! mu_s > mu_k included; the solution with the most stuck contacts where there are several),
-!! more by projected Gauss-Seidel. The previous step's mode and impulses are the warm start.
+!! more by projected Gauss-Seidel, with static-first pivoting (Lemke) where that does not
+!! converge. The previous step's mode and impulses are the warm start.
 !! Every answer is checked against the step's problem: a residual above contact_tol [m/s]
 !! ends the run with SS_CONTACT_FAILED, the step's time in t_reached and the worst contact in
 !! contact_worst. When `w_constant` is set, D is formed once per step size (n_c solves with
@@ -51,7 +52,7 @@ module stickslip_moreau
     use stickslip_contact, only: contact_system, local_solve
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-    use stickslip_ode, only: diverged
+    use stickslip_ode, only: diverged, linear_output
     implicit none
     private
 
@@ -145,13 +146,7 @@ contains
         call cs%w_tridiagonal(opts%h * th, (opts%h * th)**2, wl, wd, wr, tri)
         ! the tridiagonal solver needs each contact on one coordinate of its own
         coord_contact = 0
-        do c = 1, nc
-            if (.not. tri) exit
-            k = cs%h_ptr(c)
-            tri = cs%h_ptr(c + 1) - k == 1
-            if (tri) tri = coord_contact(cs%h_col(k)) == 0
-            if (tri) coord_contact(cs%h_col(k)) = c
-        end do
+        if (tri) call cs%own_coordinates(coord_contact, tri)
         if (tri) then
             allocate(dmat(0, 0))
         else
@@ -213,12 +208,7 @@ contains
                 y1(nd + 1:) = g
             else
             if (.not. (cs%w_constant .and. hs == h_d)) then
-                do c = 1, nc
-                    g = 0.0_dp
-                    call cs%add_ht(unit_vector(c), g)
-                    call cs%solve_w(t, q, u, hs * th, (hs * th)**2, g)
-                    call cs%apply_h(g, dmat(:, c))
-                end do
+                call cs%delassus(t, q, u, hs * th, (hs * th)**2, dmat)
                 h_d = hs
             end if
             call solve_contacts(cs%laws, dmat, wfree, hn, .false., opts%contact_tol, opts%contact_max_iter, &
@@ -250,23 +240,8 @@ contains
                 exit
             end if
             if (diverged(y1, stats, opts%y_bound)) exit   ! left the system's bound: SS_DIVERGED
-            if (opts%every_step) then
-                if (next > m) then
-                    stats%status = SS_OUTPUT_FULL
-                    exit
-                end if
-                t_out(next) = t1
-                y_out(:, next) = y1
-                next = next + 1
-            else
-                do while (t_next <= t1)
-                    y_out(:, next) = y + (t_next - t) / hs * (y1 - y)
-                    if (t_next == t1) y_out(:, next) = y1
-                    next = next + 1
-                    t_next = huge(1.0_dp)
-                    if (next <= m) t_next = t_out(next)
-                end do
-            end if
+            call linear_output(t, y, t1, y1, opts%every_step, t_out, y_out, next, t_next, stats%status)
+            if (stats%status /= SS_OK) exit
             stats%naccept = stats%naccept + 1
             y = y1
             q = y1(:nd)
@@ -278,13 +253,6 @@ contains
         if (stats%status == SS_OK .and. nsteps < n_total) stats%status = SS_STEP_BUDGET
 
     contains
-
-        pure function unit_vector(j) result(e)
-            integer, intent(in) :: j
-            real(dp) :: e(nc)
-            e = 0.0_dp
-            e(j) = 1.0_dp
-        end function unit_vector
 
         !> Velocities ui of stuck contacts (their one-contact solve gave w = 0) with a single
         !! entry in H: w = 0 exactly.

@@ -34,6 +34,8 @@ module stickslip_chain
     use stickslip_scenes, only: friction_scene, M_SPEC, G_SPEC, K_SPEC, V_B_SPEC, BOUND_MARGIN
     use stickslip_contact, only: contact_system, contact_law, contact_law_of
     use stickslip_linalg, only: tridiagonal_solve
+    use stickslip_roots, only: bracketed_root
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
@@ -108,6 +110,9 @@ module stickslip_chain
         !! v_1 = v_b - w
         procedure :: state_bound => chain_state_bound
         !! BOUND_MARGIN times the energy bound of the blocks on their springs
+        procedure :: scalar_stage => chain_scalar_stage
+        !! the stage of a static law by nonlinear Gauss-Seidel over the blocks, each a bracketed
+        !! scalar equation (where Newton's method fails: the proposed law's cusp at rest)
     end type chain_scene
 
     !> The chain with set-valued contacts, per unit mass: q = x [m], u = v [m/s], M = I,
@@ -240,6 +245,60 @@ contains
             mu_hold = mu_hold + self%kc_mg(i) * (x(i) - x(i + 1))
         end if
     end subroutine spring
+
+    !> The stage k = f(t, u + c k) of a static law, where Newton's method fails (the proposed
+    !! law's infinite slope at v_rel = 0, where a chain started stuck has every block): nonlinear
+    !! Gauss-Seidel over the blocks. Block i's stage velocity v_i solves
+    !! phi_i(v_i) = v_i - u_v,i - c a_i(x_s, v_i) = 0 with x_s = u_x + c v_s and its neighbours'
+    !! stage velocities fixed, by the bracketed root of the one-contact scenes (`bracketed_root`);
+    !! sweeps repeat until no stage velocity changes by more than 8 eps (1 + |v|). The coupling
+    !! per sweep is c^2 k_c / m against 1 + c^2 (k + 2 k_c) / m where the law's slope is >= 0, so
+    !! the sweeps contract for any step a stable explicit method would take, and far beyond.
+    !! Each block starts from its velocity at the stage's start (so one block is the belt's
+    !! `scalar_stage`, operation for operation). ok = .false. for a law that is not static, or
+    !! when a block has no bracket or 1000 sweeps do not converge.
+    subroutine chain_scalar_stage(self, t, u, c, k, nfev, ok)
+        class(chain_scene), intent(inout) :: self
+        real(dp), intent(in)    :: t        !! stage time [s]
+        real(dp), intent(in)    :: u(:)     !! the stage state is u + c k
+        real(dp), intent(in)    :: c        !! coefficient of k in the stage state [s]
+        real(dp), intent(inout) :: k(:)     !! stage derivative: a guess in, the solution out
+        integer(8), intent(inout) :: nfev   !! evaluations of f, counted
+        logical, intent(out)    :: ok       !! .true.: k solves the stage
+        real(dp) :: vs(self%nb), xs(self%nb), vnew, change
+        integer :: i, n, sweep
+        logical :: found
+        ok = .false.
+        n = self%nb
+        if (self%nz /= 0 .or. .not. self%static_law .or. size(u) /= 2 * n) return
+        vs = u(n + 1:2 * n)     ! from the stage's start, as the one-contact scenes
+        xs = u(1:n) + c * vs
+        do sweep = 1, 1000
+            change = 0.0_dp
+            do i = 1, n
+                call bracketed_root(phi, vs(i), vnew, found)
+                if (.not. found) return
+                change = max(change, abs(vnew - vs(i)) / (1.0_dp + abs(vnew)))
+                vs(i) = vnew
+                xs(i) = u(i) + c * vnew
+            end do
+            if (change <= 8.0_dp * epsilon(1.0_dp) .or. n == 1) exit   ! (one block: its root)
+        end do
+        if (change > 8.0_dp * epsilon(1.0_dp) .and. n > 1) return
+        call self%rhs(t, [xs, vs], k)
+        nfev = nfev + 1
+        ok = all(ieee_is_finite(k))
+    contains
+        !> phi_i(v) [m/s] of the block i of the sweep
+        real(dp) function phi(v)
+            real(dp), intent(in) :: v
+            real(dp) :: a, mu_hold
+            xs(i) = u(i) + c * v
+            call spring(self, xs, i, a, mu_hold)
+            nfev = nfev + 1
+            phi = v - u(n + i) - c * (a + self%law%mu(self%v_b - v) * self%g(i))
+        end function phi
+    end subroutine chain_scalar_stage
 
     subroutine chain_rhs(self, t, y, dydt)
         class(chain_scene), intent(inout) :: self
@@ -463,13 +522,15 @@ contains
 
     subroutine chain_contact_model(self, cs, status)
         class(chain_scene), intent(in) :: self
-        class(contact_system), allocatable, intent(out) :: cs  !! a chain_contact
+        class(contact_system), allocatable, intent(out) :: cs  !! a chain_contact (also when
+                                                               !! SS_NOT_SETVALUED: its laws then
+                                                               !! the default, its structure the
+                                                               !! chain's)
         integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
         type(chain_contact) :: cc
         type(contact_law) :: cl
         integer :: i
         call contact_law_of(self%law, cl, status)
-        if (status /= SS_OK) return
         cc%n_dof = self%nb
         cc%n_c = self%nb
         cc%h_ptr = [(i, i = 1, self%nb + 1)]

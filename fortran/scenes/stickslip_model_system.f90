@@ -294,20 +294,22 @@ contains
     end function model_has_jumps
 
     !> The model with set-valued contacts; SS_NOT_SETVALUED when a contact's law has no
-    !! set-valued form.
+    !! set-valued form (the structure is built all the same: the implicit methods' modal steps
+    !! use it with the laws themselves).
     subroutine model_contact_model(self, cs, status)
         class(model_system), intent(in) :: self
         class(contact_system), allocatable, intent(out) :: cs   !! the contact model
         integer, intent(out) :: status                          !! SS_OK or SS_NOT_SETVALUED
         type(model_contact), allocatable :: mc
-        integer :: i, nc, nb, k
+        integer :: i, nc, nb, k, law_status
         nb = self%nb
         nc = size(self%con_a)
         allocate(mc)
         allocate(mc%laws(nc))
+        status = SS_OK
         do i = 1, nc
-            call contact_law_of(self%laws(i)%law, mc%laws(i), status)
-            if (status /= SS_OK) return
+            call contact_law_of(self%laws(i)%law, mc%laws(i), law_status)
+            if (law_status /= SS_OK) status = law_status
         end do
         mc%m = self
         mc%n_dof = nb
@@ -339,7 +341,6 @@ contains
             if (self%dmp_b(i) > 0 .and. abs(self%dmp_a(i) - self%dmp_b(i)) > 1) mc%tri = .false.
         end do
         call move_alloc(mc, cs)
-        status = SS_OK
     end subroutine model_contact_model
 
     subroutine mc_force(self, t, q, u, f)

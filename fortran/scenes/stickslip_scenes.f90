@@ -19,6 +19,7 @@ module stickslip_scenes
     use stickslip_friction, only: friction_law
     use stickslip_ode, only: ode_system, fd_jacobian
     use stickslip_contact, only: contact_system, contact_law, contact_law_of
+    use stickslip_roots, only: bracketed_root
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -302,58 +303,12 @@ contains
         real(dp), intent(inout) :: k(:)     !! stage derivative: a guess in, the solution out
         integer(8), intent(inout) :: nfev   !! evaluations of f, counted
         logical, intent(out)    :: ok       !! .true.: k solves the stage
-        real(dp) :: lo, hi, plo, phi_hi, step, vm, pm, reach
-        integer :: it, side
+        real(dp) :: vs
+        logical :: found
         ok = .false.
         if (self%nz /= 0 .or. size(u) /= 2) return
-        lo = u(2)
-        plo = phi(lo)
-        if (plo == 0.0_dp) then
-            call finish(lo)
-            return
-        end if
-        ! a bracket, in steps of |phi(u_v)| that double
-        step = max(abs(plo), 1.0e-12_dp * (1.0_dp + abs(lo)))
-        reach = 1.0e6_dp * (1.0_dp + abs(lo) + abs(plo))
-        hi = lo
-        phi_hi = plo
-        do it = 1, 200
-            hi = lo - sign(step, plo)
-            phi_hi = phi(hi)
-            if (phi_hi == 0.0_dp) then
-                call finish(hi)
-                return
-            end if
-            if (sign(1.0_dp, phi_hi) /= sign(1.0_dp, plo)) exit
-            step = 2.0_dp * step
-            if (step > reach) return
-        end do
-        if (sign(1.0_dp, phi_hi) == sign(1.0_dp, plo)) return
-        side = 0
-        do it = 1, 400
-            vm = hi - phi_hi * (hi - lo) / (phi_hi - plo)
-            if (.not. (vm > min(lo, hi) .and. vm < max(lo, hi))) vm = 0.5_dp * (lo + hi)
-            if (abs(hi - lo) <= 4.0_dp * epsilon(1.0_dp) * max(abs(lo), abs(hi)) .or. &
-                vm == lo .or. vm == hi) exit
-            pm = phi(vm)
-            if (pm == 0.0_dp) then
-                lo = vm
-                hi = vm
-                exit
-            end if
-            if (sign(1.0_dp, pm) == sign(1.0_dp, phi_hi)) then
-                hi = vm
-                phi_hi = pm
-                if (side == 1) plo = 0.5_dp * plo
-                side = 1
-            else
-                lo = vm
-                plo = pm
-                if (side == -1) phi_hi = 0.5_dp * phi_hi
-                side = -1
-            end if
-        end do
-        call finish(merge(lo, hi, abs(plo) < abs(phi_hi)))
+        call bracketed_root(phi, u(2), vs, found)
+        if (found) call finish(vs)
     contains
         !> phi(v_s) [m/s]
         real(dp) function phi(vs)

@@ -40,8 +40,10 @@ __all__ = ["Model"]
 
 #: The library's kinds of model element (stickslip_user_model's ELEM_*), as messages name them.
 _ELEMENTS = {1: "body", 2: "spring", 3: "damper", 4: "force", 5: "contact", 6: "signal"}
-#: The laws the set-valued methods take.
-_SET_VALUED = ("coulomb", "stribeck")
+#: The laws with jumps (modes), which implicit_euler and galpha solve over their modes on a
+#: model (stickslip_modal_contacts), and those methods.
+_JUMP_LAWS = ("coulomb", "karnopp")
+_MODAL_METHODS = ("implicit_euler", "galpha")
 
 
 @dataclass
@@ -444,12 +446,14 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
             raise ValueError(f"{model.contact_label(bad[0])}: method {method!r} takes the laws "
                              f"{', '.join(info['laws'])} only, got {laws[bad[0]]!r} (give every contact a "
                              "set-valued law, or use an event-free method)")
-    if method in ("implicit_euler", "galpha"):
-        jumps = [i for i, law in enumerate(laws) if law in ("coulomb", "karnopp")]
-        if jumps:
-            raise ValueError(f"{model.contact_label(jumps[0])}: {method} cannot solve the jump of "
-                             f"{laws[jumps[0]]!r} on a model (its stage would cross the jump by Newton's "
-                             "method); use moreau or event_driven (coulomb), or a regularised law")
+    if method in _MODAL_METHODS:
+        jumps = [law in _JUMP_LAWS for law in laws]
+        if any(jumps) and not all(jumps):
+            smooth = jumps.index(False)
+            raise ValueError(f"{model.contact_label(smooth)}: {method} solves a model with laws that jump "
+                             f"({', '.join(_JUMP_LAWS)}) over their modes, every contact's law then jumping; "
+                             f"this contact's law is {laws[smooth]!r} (give every contact a law that jumps, "
+                             "or none)")
     arrays = model.arrays()
     n = model.n_states()
     t_end = _finite("t_end", t_end, "> 0 [s]")

@@ -111,18 +111,20 @@ program test_contact_general
     use test_support, only: check, finish
     use stickslip_kinds, only: dp
     use stickslip_ode, only: ode_stats
-    use stickslip_contact, only: contact_law
-    use stickslip_contact_solver, only: solve_contacts, contact_solve_info
+    use stickslip_contact, only: contact_law, CONTACT_STRIBECK
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, SOLVER_PIVOTING, SOLVER_GAUSS_SEIDEL
     use stickslip_linalg, only: lu_decompose, lu_solve, psd_solve
     use stickslip_moreau, only: moreau_options, moreau_integrate
     use stickslip_event_driven, only: event_driven_options, event_driven_integrate
     use test_linear_contact, only: linear_system, stacked_blocks, two_feet
     implicit none
     character(len=16) :: arg
+    integer, parameter :: NMAX = 128   ! most contacts of a random problem
+    integer, parameter :: NBRUTE = 9   ! most contacts searched by brute force (3^9 modes)
     ! the current random problem (random_problems, conditions, brute_force)
-    real(dp) :: d(6, 6), wf(6), cap(6)
-    type(contact_law) :: laws(6)
-    integer :: mode(6)
+    real(dp) :: d(NMAX, NMAX), wf(NMAX), cap(NMAX)
+    type(contact_law) :: laws(NMAX)
+    integer :: mode(NMAX)
 
     arg = ''
     if (command_argument_count() >= 1) call get_command_argument(1, arg)
@@ -130,7 +132,14 @@ program test_contact_general
         call dump('stacked', stacked_blocks(), [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], 4.0_dp)
         call dump('feet', two_feet(), [0.0_dp, 0.3_dp], 4.0_dp)
     else
-        call random_problems()
+        ! the solver as it runs (enumeration up to ENUM_MAX = 6 contacts)
+        call random_problems('random problems', 2, 6, 4, 400, 0, .true.)
+        ! the static-first pivoting fallback alone, against brute force
+        call random_problems('pivoting', 2, NBRUTE, 5, 300, SOLVER_PIVOTING, .true.)
+        ! large strongly coupled sets (the benchmark's kind), where Gauss-Seidel alone fails
+        call random_problems('large sets', 8, NMAX, NMAX / 2 + 1, 40, 0, .false.)
+        ! the same with Stribeck curves (slip speeds by Newton's method in every mode)
+        call random_problems('large Stribeck sets', 8, 32, 17, 40, 0, .false., stribeck=.true.)
         call finish('general contact')
     end if
 
@@ -173,28 +182,33 @@ contains
         end do
     end subroutine dump
 
-    !> Random problems w = wf + D p, D = H W^-1 H^T with H of 2..6 rows over 1..4 coordinates,
-    !! some rows repeated (redundant) and some with two entries (coupled), mu_s >= mu_k,
-    !! Coulomb laws.
-    subroutine random_problems()
-        integer, parameter :: ntrial = 400
-        integer :: trial, n, nd, i, j, nsol, nbetter, nbad, nuniq, ndiff, nfail, nseed
-        real(dp) :: hm(6, 4), wmat(4, 4), winv(4, 4), p(6), w(6), worst_res, u
+    !> Random problems w = wf + D p, D = H W^-1 H^T with H of nlo..nhi rows over 1..ndmax
+    !! coordinates, some rows repeated (redundant) and some with two entries (coupled),
+    !! mu_s >= mu_k, Coulomb laws. forced: 0 (the solver as it chooses) or a method to force;
+    !! brute: compare with brute force (up to NBRUTE contacts).
+    subroutine random_problems(label, nlo, nhi, ndmax, ntrial, forced, brute, stribeck)
+        character(*), intent(in) :: label
+        integer, intent(in) :: nlo, nhi, ndmax, ntrial, forced
+        logical, intent(in) :: brute
+        logical, intent(in), optional :: stribeck   ! Stribeck curves instead of Coulomb
+        integer :: trial, n, nd, i, j, nsol, nbetter, nbad, nuniq, ndiff, nfail, nseed, nfewer, nforced
+        real(dp) :: hm(nhi, ndmax), wmat(ndmax, ndmax), winv(ndmax, ndmax), p(nhi), w(nhi), worst_res, u
         logical :: ok_inv
-        real(dp) :: pb(6), wb(6), res
+        real(dp) :: pb(nhi), wb(nhi), res
         type(contact_solve_info) :: info
-        integer :: msol(6)
+        integer :: msol(nhi)
         integer, allocatable :: seed(:)
         call random_seed(size=nseed)
-        allocate(seed(nseed), source=12345)
+        allocate(seed(nseed), source=12345 + nhi - 6)
         call random_seed(put=seed)
-        nbad = 0; nuniq = 0; ndiff = 0; nbetter = 0; nfail = 0
+        nbad = 0; nuniq = 0; ndiff = 0; nbetter = 0; nfail = 0; nfewer = 0; nforced = 0
         worst_res = 0.0_dp
         do trial = 1, ntrial
             call random_number(u)
-            n = 2 + int(u * 5.0_dp)                     ! 2 .. 6 contacts
+            n = nlo + int(u * (nhi - nlo + 1))          ! nlo .. nhi contacts
             call random_number(u)
-            nd = 1 + int(u * 4.0_dp)                    ! 1 .. 4 coordinates
+            nd = 1 + int(u * ndmax)                     ! 1 .. ndmax coordinates
+            if (.not. brute) nd = n / 2 + 1             ! large sets: strongly coupled
             hm = 0.0_dp
             do i = 1, n
                 call random_number(u)
@@ -229,11 +243,24 @@ contains
                 laws(i) = contact_law(mu_s=0.3_dp + 0.4_dp * u, mu_k=0.0_dp)
                 call random_number(u)
                 laws(i)%mu_k = laws(i)%mu_s * (0.5_dp + 0.5_dp * u)
+                if (present(stribeck)) then
+                    if (stribeck) then
+                        laws(i)%kind = CONTACT_STRIBECK
+                        laws(i)%v_s = 0.05_dp + 0.5_dp * u
+                    end if
+                end if
             end do
             p(:n) = 0.0_dp
             mode(:n) = -9
-            call solve_contacts(laws(:n), d(:n, :n), wf(:n), cap(:n), .false., 1.0e-12_dp, 1000, p(:n), w(:n), &
-                                mode(:n), info)
+            if (forced > 0) then
+                call solve_contacts(laws(:n), d(:n, :n), wf(:n), cap(:n), .false., 1.0e-12_dp, 1000, p(:n), &
+                                    w(:n), mode(:n), info, method=forced)
+                if (info%method == forced) nforced = nforced + 1
+            else
+                call solve_contacts(laws(:n), d(:n, :n), wf(:n), cap(:n), .false., 1.0e-12_dp, 1000, p(:n), &
+                                    w(:n), mode(:n), info)
+                if (info%method == SOLVER_PIVOTING) nforced = nforced + 1
+            end if
             if (.not. info%ok) then
                 nfail = nfail + 1
                 cycle
@@ -241,9 +268,11 @@ contains
             res = conditions(n, p, w)
             worst_res = max(worst_res, res)
             if (res > 1.0e-12_dp * (1.0_dp + maxval(abs(wf(:n))))) nbad = nbad + 1
+            if (.not. brute) cycle
             ! brute force over all 3^n modes (regular stuck blocks only): solutions, and whether
             ! one has more stuck contacts than the solver's
             call brute_force(n, nsol, msol, pb, wb, nbetter_out=i)
+            if (i > 0) nfewer = nfewer + 1
             nbetter = nbetter + i
             if (nsol == 1) then
                 nuniq = nuniq + 1
@@ -253,14 +282,31 @@ contains
         end do
         block
             character(len=200) :: line
-            write (line, '(a, i0, a, i0, a, es9.2)') 'random problems: ', ntrial - nfail, ' of ', ntrial, &
+            write (line, '(a, a, i0, a, i0, a, es9.2)') label, ': ', ntrial - nfail, ' of ', ntrial, &
                 ' solved, largest condition residual ', worst_res
             call check(nfail == 0 .and. nbad == 0, trim(line))
-            write (line, '(a, i0, a, i0, a)') 'random problems: the only solution (brute force) in ', nuniq - ndiff, &
-                ' of ', nuniq, ' problems with one'
-            call check(ndiff == 0 .and. nuniq > 50, trim(line))
-            write (line, '(a, i0)') 'random problems: brute-force solutions with more stuck contacts: ', nbetter
-            call check(nbetter == 0, trim(line))
+            if (forced > 0) then
+                write (line, '(a, a, i0, a, i0)') label, ': solved by the forced method in ', nforced, ' of ', ntrial
+                call check(nforced == ntrial, trim(line))
+            else if (.not. brute) then
+                ! the sets Gauss-Seidel alone does not solve reach the pivoting fallback
+                write (line, '(a, a, i0, a, i0)') label, ': the pivoting fallback solved ', nforced, ' of ', ntrial
+                call check(nforced > 0, trim(line))
+            end if
+            if (brute) then
+                write (line, '(a, a, i0, a, i0, a)') label, ': the only solution (brute force) in ', nuniq - ndiff, &
+                    ' of ', nuniq, ' problems with one'
+                call check(ndiff == 0 .and. nuniq > 50, trim(line))
+                if (forced == 0) then
+                    write (line, '(a, a, i0)') label, ': brute-force solutions with more stuck contacts: ', nbetter
+                    call check(nbetter == 0, trim(line))
+                else
+                    ! pivoting prefers stick contact by contact, not globally: stated, counted
+                    write (line, '(a, a, i0, a, i0)') label, ': problems where another solution has more stuck '// &
+                        'contacts: ', nfewer, ' of ', ntrial
+                    call check(nfewer < ntrial / 4, trim(line))
+                end if
+            end if
         end block
     end subroutine random_problems
 
@@ -276,10 +322,21 @@ contains
                 if (w(i) == 0.0_dp) then
                     v = max(v, d(i, i) * max(0.0_dp, abs(p(i)) - laws(i)%mu_s * cap(i) * (1.0_dp + 1.0e-12_dp)))
                 else
-                    v = max(v, d(i, i) * abs(p(i) + sign(laws(i)%mu_k * cap(i), w(i))))
+                    ! the slip curve (mu_k for Coulomb; for Stribeck written out here)
+                    v = max(v, d(i, i) * abs(p(i) + sign(slip_mu_here(laws(i), abs(w(i))) * cap(i), w(i))))
                 end if
             end do
         end function conditions
+
+        !> The slip coefficient at speed s: mu_k, or the Stribeck curve
+        !! mu_k + (mu_s - mu_k) exp(-(s/v_s)^delta) + c_v s [-].
+        real(dp) function slip_mu_here(law, s) result(mu)
+            type(contact_law), intent(in) :: law
+            real(dp), intent(in) :: s
+            mu = law%mu_k
+            if (law%kind == CONTACT_STRIBECK) &
+                mu = law%mu_k + (law%mu_s - law%mu_k) * exp(-(s / law%v_s)**law%delta) + law%c_v * s
+        end function slip_mu_here
 
         !> Every mode (stick, slip +, slip -) whose stuck block is regular, solved by LU: the
         !! number of solutions nsol (one returned in pb, wb), and how many have more stuck
@@ -288,9 +345,9 @@ contains
             integer, intent(in) :: n
             integer, intent(out) :: nsol, msol(:), nbetter_out
             real(dp), intent(out) :: pb(:), wb(:)
-            integer :: code, i, m(6), c, ns, info, ipiv(6)
-            integer :: is(6)
-            real(dp) :: a(6, 6), rhs(6), pp(6), ww(6)
+            integer :: code, i, m(NBRUTE), c, ns, info, ipiv(NBRUTE)
+            integer :: is(NBRUTE)
+            real(dp) :: a(NBRUTE, NBRUTE), rhs(NBRUTE), pp(NBRUTE), ww(NBRUTE)
             logical :: ok
             nsol = 0
             nbetter_out = 0

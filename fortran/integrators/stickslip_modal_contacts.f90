@@ -1,0 +1,480 @@
+!> Backward Euler steps of a system with several frictional contacts whose laws jump
+!! (`friction_law%n_modes` > 0: Coulomb with its v_s band, Karnopp), each step solved over the
+!! laws' modes contact by contact. What `implicit_euler` and `galpha` run on such a system (the
+!! chain with Coulomb or Karnopp); one contact keeps their own nonsmooth path
+!! (stickslip_fixed_implicit), whose step this one equals for a single contact up to the
+!! linearisation of the smooth forces.
+!!
+!! What it solves. The system is a `contact_system` (q, u; M u' = f(t, q, u) + H^T r) and each
+!! contact i has its own friction law with modes; its friction force is r_i = N_i mu_i with mu_i
+!! on the law's graph at the relative velocity v_i = -w_i (the laws' convention: the velocity of
+!! the surface relative to the body, w = H u + b the body's relative to the surface). A step of
+!! size h from (q, u) is the linearly implicit backward Euler step
+!!   (M + h C + h^2 K) (u1 - u) = h f(t1, q + h u, u) + H^T p,   q1 = q + h u1,
+!! (K = -df/dq, C = -df/du at the step's start: one Newton iteration on the smooth forces, exact
+!! for a linear system such as the chain), with the impulses p_i = h N_i mu_i and mu_i on the
+!! law's graph at v_i(t1): the catching-up scheme of the one-contact path, on all contacts
+!! at once. The relative velocities after the impulses are w = wf + D p with D = H W^-1 H^T.
+!! For Coulomb the graph is the smooth law's with its jumps filled in: mu_s (not mu_k) for
+!! 0 < |v| < v_s, the point v_s where mu may take any value between mu_k and mu_s, stick at
+!! v = 0 with |mu| <= mu_s. So this is not moreau with theta = 1 (which has no band): the two
+!! differ where a contact slips slower than v_s, and agree as v_s -> 0.
+!!
+!! How. Nonsmooth Gauss-Seidel over the contacts: contact i given the others' impulses has
+!! w_i = a_i + D_ii p_i, and its one-contact problem is solved over its law's modes
+!! (`friction_law%mode`, `admits`): a slip piece fixes mu (p_i = c_i mu), a point of the
+!! velocity axis fixes w_i (p_i = (w_i - a_i) / D_ii), Karnopp's hold keeps w_i at its value at
+!! the step's start. The contact keeps its mode if that is admissible (no switch without cause),
+!! else takes the admissible mode whose velocity is nearest its velocity at the step's start,
+!! as the one-contact path does. Sweeps repeat until no mode changes and the largest change
+!! of an impulse moves no velocity by more than CONTACT_TOL. The answer is then checked: every
+!! contact on its mode (`admits`) and w = wf + D p to the tolerance; a step whose sweeps do not
+!! converge within MAX_SWEEPS ends the run with SS_CONTACT_FAILED, the step's time in t_reached
+!! and the contact in contact_worst. Stuck contacts of one coordinate keep their relative
+!! velocity exactly. Where W is tridiagonal and each contact lies on one coordinate of its own
+!! (the chain), the same sweeps run on W u1 = W u_free + H^T p itself, O(n) a sweep, as moreau's
+!! chain path; otherwise on the dense D (n_c solves with W a step).
+!!
+!! Order: first (backward Euler) for both methods on such a system; galpha's second order
+!! within slip phases is not kept.
+module stickslip_modal_contacts
+    use stickslip_kinds, only: dp, SS_OK, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_INTERRUPTED, &
+                               SS_CONTACT_FAILED, SS_JUMP_MANY_CONTACTS
+    use stickslip_ode, only: ode_stats, step_controls, output_start, step_count, stop_requested, all_finite, &
+                             diverged, linear_output
+    use stickslip_friction, only: friction_law, MODE_MU, MODE_V, MODE_KEEP
+    use stickslip_contact, only: contact_system
+    use stickslip_scenes, only: friction_scene
+    use stickslip_model_system, only: model_system
+    implicit none
+    private
+
+    public :: modal_law, modal_contacts_integrate, scene_modal_contacts, model_modal_contacts
+
+    !> Tolerance on the contact velocities of a step [m/s].
+    real(dp), parameter, public :: CONTACT_TOL = 1.0e-12_dp
+    !> Gauss-Seidel sweeps allowed per step.
+    integer, parameter, public :: MAX_SWEEPS = 1000
+
+    !> The friction law of one contact (a law with modes).
+    type :: modal_law
+        class(friction_law), allocatable :: law   !! the contact's law (n_modes() > 0)
+    end type modal_law
+
+contains
+
+    !> Backward Euler steps over the contacts' modes (module notes) from y0 = (q0, u0) to
+    !! t_end on the grid of ctl%h (the last step ends at t_end exactly). Output at t_out by
+    !! linear interpolation between steps (or every step with ctl%every_step). stats: nstep,
+    !! naccept, nfev (2 force evaluations a step), ncontact_iter (sweeps), contact_residual,
+    !! contact_worst; status SS_OK, SS_CONTACT_FAILED, SS_NONFINITE, SS_DIVERGED,
+    !! SS_OUTPUT_FULL, SS_STEP_BUDGET or SS_INTERRUPTED (the input is checked by the caller).
+    subroutine modal_contacts_integrate(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+        class(contact_system), intent(inout) :: cs   !! the system
+        type(modal_law), intent(in) :: laws(:)       !! (n_c) each contact's law, with modes
+        real(dp), intent(in)    :: t0                !! initial time [s]
+        real(dp), intent(in)    :: y0(:)             !! initial state (q0, u0)
+        real(dp), intent(in)    :: t_end             !! final time, > t0 [s]
+        class(step_controls), intent(in) :: ctl      !! h, max_steps, every_step, y_bound
+        real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
+        real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
+        type(ode_stats), intent(inout) :: stats      !! counters and status
+
+        real(dp), allocatable :: q(:), u(:), qp(:), f1(:), du(:), g(:), y(:), y1(:)
+        real(dp), allocatable :: wf(:), w0(:), p(:), c(:), d(:, :), w(:), b(:), wl(:), wd(:), wr(:)
+        integer, allocatable :: mode(:), coord_contact(:)
+        real(dp) :: t, t1, hs, nsteps_real, t_next, resid
+        integer(8) :: i, nsteps, n_total
+        integer :: nd, nc, m, next, j, k, sweeps
+        logical :: ok, tri
+
+        nd = cs%n_dof
+        nc = cs%n_c
+        allocate(q(nd), u(nd), qp(nd), f1(nd), du(nd), g(nd), y(2 * nd), y1(2 * nd))
+        allocate(wf(nc), w0(nc), p(nc), c(nc), w(nc), b(nc), mode(nc), wl(nd), wd(nd), wr(nd))
+        mode = 0    ! none yet
+        ! W tridiagonal and each contact on one coordinate of its own (the chain): the sweeps on
+        ! W itself, O(n) each; otherwise on the dense Delassus matrix
+        allocate(coord_contact(nd), source=0)
+        call cs%w_tridiagonal(ctl%h, ctl%h**2, wl, wd, wr, tri)
+        if (tri) call cs%own_coordinates(coord_contact, tri)
+        if (tri) then
+            allocate(d(0, 0))
+        else
+            allocate(d(nc, nc))
+        end if
+        m = size(t_out)
+        nsteps_real = step_count(t0, t_end, ctl%h)
+        n_total = huge(n_total)
+        if (nsteps_real < 9.0e18_dp) n_total = int(nsteps_real, 8)
+        nsteps = min(n_total, ctl%max_steps)
+        y = y0
+        q = y0(:nd)
+        u = y0(nd + 1:)
+        t = t0
+        p = 0.0_dp
+        call output_start(t0, y0, t_out, y_out, ctl%every_step, next)
+        t_next = huge(1.0_dp)
+        if (.not. ctl%every_step .and. next <= m) t_next = t_out(next)
+
+        do i = 1, nsteps
+            if (stop_requested(ctl, stats%nstep)) then
+                stats%status = SS_INTERRUPTED
+                exit
+            end if
+            if (i == n_total) then
+                t1 = t_end
+            else
+                t1 = t0 + real(i, dp) * ctl%h
+            end if
+            hs = t1 - t
+            stats%nstep = stats%nstep + 1
+            stats%h_last = hs
+
+            ! the free step, with W = M + h C + h^2 K at the step's start
+            qp = q + hs * u
+            call cs%force(t1, qp, u, f1)
+            stats%nfev = stats%nfev + 2
+            du = hs * f1
+            call cs%solve_w(t, q, u, hs, hs**2, du)
+            du = u + du
+            call cs%relative_velocities(t, u, w0)
+            call cs%normal_forces(t1, qp, c)
+            c = hs * c
+            call cs%slip_offset(t1, b)
+            if (tri) then
+                call cs%w_tridiagonal(hs, hs**2, wl, wd, wr, ok)   ! (structural: still tridiagonal)
+                call tridiagonal_modes(laws, cs, wl, wd, wr, du, coord_contact, b, c, w0, g, p, w, mode, &
+                                       sweeps, ok, k, resid)
+            else
+                call cs%relative_velocities(t1, du, wf)
+                call cs%delassus(t, q, u, hs, hs**2, d)
+                call gauss_seidel_modes(laws, d, wf, w0, c, p, w, mode, sweeps, ok, k, resid)
+            end if
+            stats%ncontact_iter = stats%ncontact_iter + sweeps
+            stats%contact_residual = max(stats%contact_residual, resid)
+            if (.not. ok) then
+                stats%status = SS_CONTACT_FAILED
+                stats%contact_worst = k
+                exit
+            end if
+            if (.not. tri) then
+                g = 0.0_dp
+                call cs%add_ht(p, g)
+                call cs%solve_w(t, q, u, hs, hs**2, g)
+                g = du + g
+                ! a contact of one coordinate whose mode fixes its velocity keeps it exactly
+                do j = 1, nc
+                    k = cs%h_ptr(j)
+                    if (cs%h_ptr(j + 1) - k == 1 .and. fixes_velocity(laws(j), mode(j))) &
+                        g(cs%h_col(k)) = (w(j) - b(j)) / cs%h_val(k)
+                end do
+            end if
+            y1(:nd) = q + hs * g
+            y1(nd + 1:) = g
+            if (.not. all_finite(y1)) then
+                stats%status = SS_NONFINITE
+                exit
+            end if
+            if (diverged(y1, stats, ctl%y_bound)) exit
+            call linear_output(t, y, t1, y1, ctl%every_step, t_out, y_out, next, t_next, stats%status)
+            if (stats%status /= SS_OK) exit
+            stats%naccept = stats%naccept + 1
+            y = y1
+            q = y1(:nd)
+            u = y1(nd + 1:)
+            t = t1
+        end do
+        stats%t_reached = t
+        stats%n_written = next - 1
+        if (stats%status == SS_OK .and. nsteps < n_total) stats%status = SS_STEP_BUDGET
+
+    end subroutine modal_contacts_integrate
+
+    !> A friction scene of several contacts whose law has modes (the chain with Coulomb or
+    !! Karnopp), run by `modal_contacts_integrate` on its contact model with the scene's law on
+    !! every contact: what implicit_euler and galpha run there (the input checked by them).
+    !! A system of the user's own plugs in the same way: its `contact_system` and one
+    !! `modal_law` per contact.
+    subroutine scene_modal_contacts(sys, t0, y0, t_end, ctl, par, t_out, y_out, stats)
+        class(friction_scene), intent(inout) :: sys  !! the scene; its law has modes
+        real(dp), intent(in)    :: t0                !! initial time [s]
+        real(dp), intent(in)    :: y0(:)             !! initial state (x, v)
+        real(dp), intent(in)    :: t_end             !! final time, > t0 [s]
+        class(step_controls), intent(in) :: ctl      !! h, max_steps, every_step, y_bound
+        real(dp), intent(in)    :: par(:)            !! the method's parameters (not read)
+        real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
+        real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
+        type(ode_stats), intent(out) :: stats        !! counters and status
+        class(contact_system), allocatable :: cs
+        type(modal_law), allocatable :: laws(:)
+        integer :: status, i
+        call sys%contact_model(cs, status)   ! (status: the law's set-valued counterpart, not needed)
+        if (.not. allocated(cs)) then
+            stats%status = SS_JUMP_MANY_CONTACTS
+            return
+        end if
+        if (size(y0) /= 2 * cs%n_dof) then
+            stats%status = SS_JUMP_MANY_CONTACTS
+            return
+        end if
+        allocate(laws(cs%n_c))
+        do i = 1, cs%n_c
+            allocate(laws(i)%law, source=sys%law)
+        end do
+        call modal_contacts_integrate(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+    end subroutine scene_modal_contacts
+
+    !> A user's model (`stickslip_model_system`) whose contacts' laws jump, run by
+    !! `modal_contacts_integrate` on its contact model with each contact's own law. Every law
+    !! must have modes (a model mixing jump laws with smooth ones ends with
+    !! SS_JUMP_MANY_CONTACTS: its smooth laws would need the Newton path); laws with internal
+    !! states are not among the laws with modes. The laws read the model's slip s = -w, the
+    !! opposite of the convention here, which for these odd laws gives the same force.
+    subroutine model_modal_contacts(sys, t0, y0, t_end, ctl, par, t_out, y_out, stats)
+        class(model_system), intent(inout) :: sys    !! the model; some law has modes
+        real(dp), intent(in)    :: t0                !! initial time [s]
+        real(dp), intent(in)    :: y0(:)             !! initial state (x, v)
+        real(dp), intent(in)    :: t_end             !! final time, > t0 [s]
+        class(step_controls), intent(in) :: ctl      !! h, max_steps, every_step, y_bound
+        real(dp), intent(in)    :: par(:)            !! the method's parameters (not read)
+        real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
+        real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
+        type(ode_stats), intent(out) :: stats        !! counters and status
+        class(contact_system), allocatable :: cs
+        type(modal_law), allocatable :: laws(:)
+        integer :: status, i
+        call sys%contact_model(cs, status)   ! (status: the set-valued counterparts, not needed)
+        if (.not. allocated(cs)) then
+            stats%status = SS_JUMP_MANY_CONTACTS
+            return
+        end if
+        allocate(laws(cs%n_c))
+        do i = 1, cs%n_c
+            if (sys%laws(i)%law%n_modes() == 0 .or. size(y0) /= 2 * cs%n_dof) then
+                stats%status = SS_JUMP_MANY_CONTACTS
+                return
+            end if
+            allocate(laws(i)%law, source=sys%laws(i)%law)
+        end do
+        call modal_contacts_integrate(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+    end subroutine model_modal_contacts
+
+    !> Whether mode j of a contact's law fixes its relative velocity (a point, or the hold).
+    logical function fixes_velocity(ml, j)
+        type(modal_law), intent(in) :: ml
+        integer, intent(in) :: j
+        integer :: kind
+        real(dp) :: value
+        fixes_velocity = .false.
+        if (j < 1) return
+        call ml%law%mode(j, kind, value)
+        fixes_velocity = kind /= MODE_MU
+    end function fixes_velocity
+
+    !> The sweeps of `gauss_seidel_modes` on W u1 = W uf + H^T p itself, W tridiagonal (l, dg,
+    !! r) and each contact on one coordinate of its own: coordinate by coordinate, u1_j from its
+    !! row given its neighbours, through its contact's one-contact problem where it has one
+    !! (w_i = h_i u1_j + b_i), O(n) a sweep. u1: velocities out [m/s]; the rest as there, resid
+    !! the largest residual of a row of W, divided by its diagonal [m/s].
+    subroutine tridiagonal_modes(laws, cs, l, dg, r, uf, coord_contact, b, c, w0, u1, p, w, mode, sweeps, &
+                                 ok, worst, resid)
+        type(modal_law), intent(in) :: laws(:)
+        class(contact_system), intent(in) :: cs
+        real(dp), intent(in)    :: l(:), dg(:), r(:), uf(:), b(:), c(:), w0(:)
+        integer, intent(in)     :: coord_contact(:)
+        real(dp), intent(out)   :: u1(:), w(:)
+        real(dp), intent(inout) :: p(:)
+        integer, intent(inout)  :: mode(:)
+        integer, intent(out)    :: sweeps, worst
+        logical, intent(out)    :: ok
+        real(dp), intent(out)   :: resid
+        real(dp) :: rhs(size(uf)), s, a, dii, hv, unew, pnew, wnew, change, scale
+        integer :: j, i, nd, jnew
+        logical :: changed
+        nd = size(uf)
+        worst = 0
+        ok = .false.
+        resid = huge(1.0_dp)
+        do j = 1, nd
+            rhs(j) = dg(j) * uf(j) + off_diagonal(uf, j)
+        end do
+        scale = max(maxval(abs(uf)), maxval(abs(w0)), 1.0_dp)
+        u1 = uf
+        do sweeps = 1, MAX_SWEEPS
+            changed = .false.
+            change = 0.0_dp
+            do j = 1, nd
+                s = rhs(j) - off_diagonal(u1, j)
+                i = coord_contact(j)
+                if (i == 0) then
+                    unew = s / dg(j)
+                else
+                    hv = cs%h_val(cs%h_ptr(i))
+                    a = hv * s / dg(j) + b(i)
+                    dii = hv**2 / dg(j)
+                    call one_contact(laws(i)%law, a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok)
+                    if (.not. ok) then
+                        worst = i
+                        return
+                    end if
+                    if (jnew /= mode(i)) changed = .true.
+                    mode(i) = jnew
+                    p(i) = pnew
+                    w(i) = wnew
+                    unew = (wnew - b(i)) / hv
+                end if
+                change = max(change, abs(unew - u1(j)))
+                u1(j) = unew
+            end do
+            if (.not. changed .and. change <= CONTACT_TOL * scale) exit
+        end do
+        sweeps = min(sweeps, MAX_SWEEPS)
+        ! the check: every row of W u1 = W uf + H^T p, every contact on its mode
+        ok = .true.
+        resid = 0.0_dp
+        do j = 1, nd
+            s = dg(j) * u1(j) + off_diagonal(u1, j) - rhs(j)
+            i = coord_contact(j)
+            if (i > 0) s = s - cs%h_val(cs%h_ptr(i)) * p(i)
+            resid = max(resid, abs(s) / dg(j))
+            if (abs(s) / dg(j) > 1.0e3_dp * CONTACT_TOL * scale) ok = .false.
+            if (i > 0 .and. ok) then
+                if (mode(i) > 0) then
+                    hv = cs%h_val(cs%h_ptr(i))
+                    a = hv * (rhs(j) - off_diagonal(u1, j)) / dg(j) + b(i)
+                    ok = laws(i)%law%admits(mode(i), -w(i), (w0(i) - a) / (hv**2 / dg(j) * c(i)), &
+                                            p(i) / c(i))
+                end if
+            end if
+            if (.not. ok) then
+                worst = max(i, 1)
+                return
+            end if
+        end do
+    contains
+        !> W(j, j-1) x(j-1) + W(j, j+1) x(j+1)
+        real(dp) function off_diagonal(x, jj)
+            real(dp), intent(in) :: x(:)
+            integer, intent(in) :: jj
+            off_diagonal = 0.0_dp
+            if (jj > 1) off_diagonal = l(jj) * x(jj - 1)
+            if (jj < nd) off_diagonal = off_diagonal + r(jj) * x(jj + 1)
+        end function off_diagonal
+    end subroutine tridiagonal_modes
+
+    !> Nonsmooth Gauss-Seidel over the contacts' modes (module notes). p: warm start in,
+    !! impulses out [N s]; w: relative velocities out [m/s]; mode: each contact's mode, in
+    !! (0: none) and out (0: open, no normal force). ok: converged and checked; else worst is the
+    !! contact that failed. resid: the largest |wf + D p - w| [m/s].
+    subroutine gauss_seidel_modes(laws, d, wf, w0, c, p, w, mode, sweeps, ok, worst, resid)
+        type(modal_law), intent(in) :: laws(:)
+        real(dp), intent(in)    :: d(:, :), wf(:), w0(:), c(:)
+        real(dp), intent(inout) :: p(:)
+        real(dp), intent(out)   :: w(:)
+        integer, intent(inout)  :: mode(:)
+        integer, intent(out)    :: sweeps, worst
+        logical, intent(out)    :: ok
+        real(dp), intent(out)   :: resid
+        integer :: i, nc, jnew
+        real(dp) :: a, pnew, wnew, change, scale
+        logical :: changed
+        nc = size(wf)
+        worst = 0
+        ok = .false.
+        resid = huge(1.0_dp)
+        scale = max(maxval(abs(wf)), maxval(abs(w0)), 1.0_dp)
+        do sweeps = 1, MAX_SWEEPS
+            changed = .false.
+            change = 0.0_dp
+            do i = 1, nc
+                a = wf(i) + dot_product(d(i, :), p) - d(i, i) * p(i)
+                call one_contact(laws(i)%law, a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok)
+                if (.not. ok) then
+                    worst = i
+                    return
+                end if
+                if (jnew /= mode(i)) changed = .true.
+                change = max(change, abs(pnew - p(i)) * maxval(abs(d(:, i))))
+                mode(i) = jnew
+                p(i) = pnew
+                w(i) = wnew
+            end do
+            if (.not. changed .and. change <= CONTACT_TOL * scale) exit
+        end do
+        sweeps = min(sweeps, MAX_SWEEPS)
+        ! the check: every contact on its mode, and w = wf + D p
+        ok = .true.
+        resid = 0.0_dp
+        do i = 1, nc
+            wnew = wf(i) + dot_product(d(i, :), p)
+            resid = max(resid, abs(wnew - w(i)))
+            if (abs(wnew - w(i)) > 1.0e3_dp * CONTACT_TOL * scale) ok = .false.
+            if (mode(i) > 0) then
+                if (.not. laws(i)%law%admits(mode(i), -w(i), hold(i), p(i) / c(i))) ok = .false.
+            end if
+            if (.not. ok) then
+                worst = i
+                return
+            end if
+        end do
+    contains
+        !> The coefficient that would keep contact i's velocity at its start value [-].
+        real(dp) function hold(ii)
+            integer, intent(in) :: ii
+            hold = (w0(ii) - (wf(ii) + dot_product(d(ii, :), p) - d(ii, ii) * p(ii))) / (d(ii, ii) * c(ii))
+        end function hold
+    end subroutine gauss_seidel_modes
+
+    !> One contact's problem w = a + dii p, p = c mu with mu on the law's graph at v = -w:
+    !! every mode solved, the current one kept if admissible, else the admissible one whose
+    !! velocity is nearest w0. An open contact (c = 0) has p = 0, mode 0.
+    subroutine one_contact(law, a, dii, c, w0, jcur, jnew, p, w, ok)
+        class(friction_law), intent(in) :: law
+        real(dp), intent(in)  :: a, dii, c, w0
+        integer, intent(in)   :: jcur
+        integer, intent(out)  :: jnew
+        real(dp), intent(out) :: p, w
+        logical, intent(out)  :: ok
+        integer :: j, kind
+        real(dp) :: value, pj, wj, mu_hold, best
+        ok = .true.
+        jnew = 0
+        p = 0.0_dp
+        w = a
+        if (.not. (c > 0.0_dp)) return
+        ok = .false.
+        mu_hold = (w0 - a) / (dii * c)
+        best = huge(1.0_dp)
+        do j = 1, law%n_modes()
+            call law%mode(j, kind, value)
+            select case (kind)
+            case (MODE_MU)
+                pj = c * value
+                wj = a + dii * pj
+            case (MODE_V)
+                wj = -value
+                pj = (wj - a) / dii
+            case default   ! MODE_KEEP
+                wj = w0
+                pj = (wj - a) / dii
+            end select
+            if (.not. law%admits(j, -wj, mu_hold, pj / c)) cycle
+            if (j == jcur) then
+                jnew = j
+                p = pj
+                w = wj
+                ok = .true.
+                return
+            end if
+            if (abs(wj - w0) < best) then
+                best = abs(wj - w0)
+                jnew = j
+                p = pj
+                w = wj
+                ok = .true.
+            end if
+        end do
+    end subroutine one_contact
+
+end module stickslip_modal_contacts
