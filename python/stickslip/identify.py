@@ -761,9 +761,12 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     # starts: the data's, then log-uniform draws within x/10 .. x10 of it, inside the bounds
     rng = np.random.default_rng(seed)
     starts = [u0]
+    lo_inside = q_lo.copy()
+    finite = np.isfinite(q_lo)
+    lo_inside[finite] += 1e-12 * np.abs(q_lo[finite])
     for _ in range(int(n_starts) - 1):
         factor = np.exp(rng.uniform(-math.log(10.0), math.log(10.0), k))
-        starts.append(np.clip(u0 * factor, q_lo + 1e-12 * np.abs(q_lo), q_hi))
+        starts.append(np.clip(u0 * factor, lo_inside, q_hi))
     max_nfev = max_nfev or 30 * k
     best = None
     costs = []
