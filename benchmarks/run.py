@@ -910,6 +910,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--identify", action="store_true",
                         help="only the identification benchmark (LuGre and GMS fits on the 36 lb damper "
                              "records, prescribed motion per sample): writes identify.md")
+    parser.add_argument("--lmfit", action="store_true",
+                        help="only the identification benchmark against lmfit (every law on the 36 lb damper "
+                             "records, time and parameters; needs lmfit): writes lmfit.md and lmfit.csv")
     parser.add_argument("--contact", action="store_true",
                         help="only the contact-solver benchmark (random coupled problems of 2 to 128 "
                              "contacts, against Gauss-Seidel alone): writes contact.md")
@@ -944,6 +947,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     log = (lambda s: print(s, flush=True))
     if args.identify:
         write_text(args.outdir / "identify.md", run_identify(log, 1 if args.quick else 3))
+        return 0
+    if args.lmfit:
+        from .lmfit_compare import run_lmfit, write_rows
+        rows, table = run_lmfit(log, 1 if args.quick else 3)
+        write_rows(rows, args.outdir / "lmfit.csv")
+        write_text(args.outdir / "lmfit.md", table)
+        write_provenance(args.outdir, "lmfit", [args.outdir / "lmfit.md", args.outdir / "lmfit.csv"], argv)
         return 0
     if args.contact:
         write_text(args.outdir / "contact.md",
