@@ -913,6 +913,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--lmfit", action="store_true",
                         help="only the identification benchmark against lmfit (every law on the 36 lb damper "
                              "records, time and parameters; needs lmfit): writes lmfit.md and lmfit.csv")
+    parser.add_argument("--prescribed", action="store_true",
+                        help="only prescribed_motion's cost per law (a sine of 10^4 samples): writes prescribed.md")
     parser.add_argument("--contact", action="store_true",
                         help="only the contact-solver benchmark (random coupled problems of 2 to 128 "
                              "contacts, against Gauss-Seidel alone): writes contact.md")
@@ -947,6 +949,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     log = (lambda s: print(s, flush=True))
     if args.identify:
         write_text(args.outdir / "identify.md", run_identify(log, 1 if args.quick else 3))
+        return 0
+    if args.prescribed:
+        from .prescribed_speed import run_prescribed
+        write_text(args.outdir / "prescribed.md", run_prescribed(log, 3 if args.quick else 15))
+        write_provenance(args.outdir, "prescribed", [args.outdir / "prescribed.md"], argv)
         return 0
     if args.lmfit:
         from .lmfit_compare import run_lmfit, write_rows
