@@ -20,7 +20,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from .core import LAWS, REGISTRY, _choice, _finite, friction_coefficient
-from .identify import (FitResult, _central_jacobian, _check_keys, _coordinates, _in_range, _interval,
+from .identify import (FitResult, _Estimates, _central_jacobian, _check_keys, _coordinates, _in_range, _interval,
                        _records, _start, fit_friction, parameter_unit)
 
 __all__ = ["SteadyPoints", "SteadyCurve", "TwoStepFit", "steady_friction", "fit_stribeck_curve", "fit_two_step"]
@@ -165,7 +165,7 @@ def steady_friction(t: Any, x: Any = None, force: Any = None, v: Any = None, *, 
 # A law's steady curve fitted to the steady points
 # --------------------------------------------------------------------------------------------
 @dataclass
-class SteadyCurve:
+class SteadyCurve(_Estimates):
     """A law's steady friction against speed, fitted to steady points (`fit_stribeck_curve`).
 
     `params` holds the parameters that shape the law's steady curve, fitted or fixed (the
@@ -177,14 +177,6 @@ class SteadyCurve:
     N s/m) when the normal force was not given (`force_levels`).
     """
 
-    law: str
-    params: dict[str, float]
-    units: dict[str, str]
-    free: tuple[str, ...]
-    stderr: dict[str, float]
-    ci95: dict[str, tuple[float, float]]
-    covariance: np.ndarray
-    correlation: np.ndarray
     points: SteadyPoints
     rmse: float
     reduced_chi2: float

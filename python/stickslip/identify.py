@@ -360,7 +360,23 @@ def _in_range(label: str, name: str, value: Any, force_levels: bool) -> float:
 # Result
 # --------------------------------------------------------------------------------------------
 @dataclass
-class FitResult:
+class _Estimates:
+    """What every fit of parameters holds: the law, every parameter (fitted or fixed) with its
+    unit, the fitted ones (`free`, the order of the covariance's rows), their standard errors
+    and 95 % intervals, covariance and correlation."""
+
+    law: str
+    params: dict[str, float]
+    units: dict[str, str]
+    free: tuple[str, ...]
+    stderr: dict[str, float]
+    ci95: dict[str, tuple[float, float]]
+    covariance: np.ndarray
+    correlation: np.ndarray
+
+
+@dataclass
+class FitResult(_Estimates):
     """A fitted friction law.
 
     `params` holds every parameter of the model (the law's, backlash, asymmetry, offset and
@@ -389,14 +405,6 @@ class FitResult:
     is no better than predicting zero. `report()` prints all of it.
     """
 
-    law: str
-    params: dict[str, float]
-    units: dict[str, str]
-    free: tuple[str, ...]
-    stderr: dict[str, float]
-    ci95: dict[str, tuple[float, float]]
-    covariance: np.ndarray
-    correlation: np.ndarray
     rmse: float
     nrmse: float
     aic: float
