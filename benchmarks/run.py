@@ -36,6 +36,12 @@ Nothing asserts an absolute time: the machine is shared. The compiled adaptive r
 deterministic measure, ``instr_per_eval``: instructions per right-hand-side evaluation counted
 by valgrind's callgrind (the difference between 3 runs and 1, so start-up cancels), when
 valgrind is installed (not with --quick unless --callgrind).
+
+Single studies instead of the whole run: --identify (identify.md: two fits of the damper
+records, prescribed_motion per sample), --lmfit (lmfit.md, lmfit.csv: every law fitted by
+stickslip and by the same fit written with lmfit, benchmarks/lmfit_compare.py), --prescribed
+(prescribed.md: prescribed_motion's CPU time per law, benchmarks/prescribed_speed.py),
+--contact (contact.md: the contact solver).
 """
 from __future__ import annotations
 
