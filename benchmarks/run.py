@@ -36,6 +36,12 @@ Nothing asserts an absolute time: the machine is shared. The compiled adaptive r
 deterministic measure, ``instr_per_eval``: instructions per right-hand-side evaluation counted
 by valgrind's callgrind (the difference between 3 runs and 1, so start-up cancels), when
 valgrind is installed (not with --quick unless --callgrind).
+
+Single studies instead of the whole run: --identify (identify.md: two fits of the damper
+records, prescribed_motion per sample), --lmfit (lmfit.md, lmfit.csv: every law fitted by
+stickslip and by the same fit written with lmfit, benchmarks/lmfit_compare.py), --prescribed
+(prescribed.md: prescribed_motion's CPU time per law, benchmarks/prescribed_speed.py),
+--contact (contact.md: the contact solver).
 """
 from __future__ import annotations
 
@@ -915,6 +921,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--identify", action="store_true",
                         help="only the identification benchmark (LuGre and GMS fits on the 36 lb damper "
                              "records, prescribed motion per sample): writes identify.md")
+    parser.add_argument("--lmfit", action="store_true",
+                        help="only the identification benchmark against lmfit (every law on the 36 lb damper "
+                             "records, time and parameters; needs lmfit): writes lmfit.md and lmfit.csv")
+    parser.add_argument("--prescribed", action="store_true",
+                        help="only prescribed_motion's cost per law (a sine of 10^4 samples): writes prescribed.md")
     parser.add_argument("--contact", action="store_true",
                         help="only the contact-solver benchmark (random coupled problems of 2 to 128 "
                              "contacts, against Gauss-Seidel alone): writes contact.md")
@@ -949,6 +960,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     log = (lambda s: print(s, flush=True))
     if args.identify:
         write_text(args.outdir / "identify.md", run_identify(log, 1 if args.quick else 3))
+        return 0
+    if args.prescribed:
+        from .prescribed_speed import run_prescribed
+        write_text(args.outdir / "prescribed.md", run_prescribed(log, 3 if args.quick else 15))
+        write_provenance(args.outdir, "prescribed", [args.outdir / "prescribed.md"], argv)
+        return 0
+    if args.lmfit:
+        from .lmfit_compare import run_lmfit, write_rows
+        rows, table = run_lmfit(log, 1 if args.quick else 3)
+        write_rows(rows, args.outdir / "lmfit.csv")
+        write_text(args.outdir / "lmfit.md", table)
+        write_provenance(args.outdir, "lmfit", [args.outdir / "lmfit.md", args.outdir / "lmfit.csv"], argv)
         return 0
     if args.contact:
         write_text(args.outdir / "contact.md",

@@ -112,3 +112,34 @@ def test_quick_contact_benchmark(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
     for r in rows:
         assert r[2].strip() == "100 %" and r[7].strip() == "100 %"
         assert math.isfinite(float(r[1])) and float(r[1]) > 0
+
+
+def test_lmfit_benchmark_writes_the_same_fit(monkeypatch: pytest.MonkeyPatch) -> None:
+    """benchmarks/lmfit_compare.py on one law (Dahl, the ten 36 lb damper records): the fit
+    written with lmfit is the same fit, so both end at the same error and parameters within a
+    standard error. No timing assertions."""
+    pytest.importorskip("lmfit")
+    monkeypatch.syspath_prepend(str(ROOT))
+    from benchmarks.lmfit_compare import COLUMNS, run_lmfit
+
+    rows, table = run_lmfit(lambda s: None, repeats=1, laws=("dahl",))
+    (row,) = rows
+    assert set(row) == set(COLUMNS)
+    assert row["stickslip nrmse [-]"] == pytest.approx(row["lmfit nrmse [-]"], rel=1e-3)
+    assert row["max |dp|/s.e. [-]"] < 1.0
+    assert "| dahl | 5 |" in table
+
+
+def test_prescribed_benchmark_has_a_row_per_case(monkeypatch: pytest.MonkeyPatch) -> None:
+    """benchmarks/prescribed_speed.py with one call per case: a row per law and parameter set
+    with positive times and the substep counts, and the two scipy rows."""
+    monkeypatch.syspath_prepend(str(ROOT))
+    from benchmarks.prescribed_speed import CASES, run_prescribed
+
+    lines = [ln for ln in run_prescribed(lambda s: None, repeats=1).splitlines() if ln.startswith("| ")]
+    body = lines[1:]                    # after the header (the separator starts "|-")
+    assert len(body) == len(CASES) + 2
+    for (law, _, label), line in zip(CASES, body):
+        cells = [c.strip() for c in line.split("|")[1:-1]]
+        assert cells[:2] == [law, label]
+        assert float(cells[2].split(" / ")[0]) > 0.0 and int(cells[3].replace(",", "")) >= 0

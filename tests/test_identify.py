@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -132,10 +133,11 @@ STATE_CASES = {
 }
 
 
-def noisy_records(law: str, params: dict, noise: float, seed: int, n: int = 801, **opts):
-    """Two records of different amplitude and frequency (states from 0 in each), with noise."""
+def noisy_records(law: str, params: dict, noise: float, seed: int, n: int = 801, scale: float = 1.0, **opts):
+    """Two records of different amplitude and frequency (states from 0 in each), with noise;
+    `scale` multiplies both amplitudes."""
     rng = np.random.default_rng(seed)
-    recs = [sine_record(4.0, n, 0.01, 0.5), sine_record(2.0, n, 0.004, 1.0, phase=0.3)]
+    recs = [sine_record(4.0, n, 0.01 * scale, 0.5), sine_record(2.0, n, 0.004 * scale, 1.0, phase=0.3)]
     forces = [pm(law, t, x, v, **opts, **params).force + noise * rng.standard_normal(t.size)
               for t, x, v in recs]
     return [r[0] for r in recs], [r[1] for r in recs], forces, [r[2] for r in recs]
@@ -568,8 +570,74 @@ def test_lugre_with_backlash_intervals_cover_a_few_draws():
 def test_lugre_with_backlash_intervals_cover_the_truth_95_percent():
     # 50 draws. Measured (2026-11-25): mu_s 98 %, mu_k 84 %, v_s 90 %, sigma0 94 %, sigma2 88 %,
     # backlash 94 %, asymmetry 96 % (before the Jacobian's step was made to measure the model:
-    # 7-53 %). mu_k and sigma2 (correlated -0.8) stay below the nominal 95 %, which a count of
-    # 42/50 makes likely (p = 0.04 for a true 95 %): the bound checks the intervals are not
-    # far off, not that they are exact
+    # 7-53 %); 50 other seeds (3000-3049): mu_k 94 %, sigma2 86 %, backlash 84 %. The cause is
+    # not the Jacobian: on 40 draws the standard errors agree within 1 % with those of a plain
+    # central-difference Jacobian at rtol 1e-10 without the correlation inflation, but the
+    # estimates scatter 1.2-1.35 times their standard errors (mu_k, sigma2, backlash), and a
+    # residual bootstrap around each estimate gives intervals as wide as these. Over 100 seeds
+    # LuGre's mu_k and v_s intervals cover 89-93 % with the backlash held at its true value or
+    # absent, at rtol 1e-4, 1e-6 and 1e-9 alike: the Stribeck part's nonlinearity, not the
+    # backlash alone nor the integration. The bound checks the intervals are not far off, not
+    # that they are exact
     cover = backlash_coverage(50)
     assert min(cover.values()) >= 0.80, cover
+
+
+# ---------------------------------------------------------------------------------------------
+# Coverage of the 95 % intervals, law by law
+# ---------------------------------------------------------------------------------------------
+# truth, fixed parameters and the records' amplitude scale of each law (force levels, N = 1 N).
+# The proposed law decays as a^-|v| with v in m/s: on the sines above (3 cm/s at most) and its
+# default a = 1.5 the decay is 1 % of mu_s - mu_k, mu_k and a are then not determined (its
+# intervals held mu_k in 35 of 50 draws, 21 fits said they had failed); ten times the
+# amplitudes and a = 20 make the curve's shape visible.
+COVERAGE_CASES: dict[str, tuple[dict, dict, float]] = {
+    "coulomb": (dict(mu_s=1500.0, mu_k=1000.0, v_s=1e-3), {"v_s": 1e-3}, 1.0),
+    "karnopp": (dict(mu_s=1500.0, mu_k=1000.0, dv=1e-3), {"dv": 1e-3}, 1.0),
+    "recurdyn": (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.003, v_d=0.006), {}, 1.0),
+    "proposed": (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.02, beta=1.0 / 3.0, a=20.0), {}, 10.0),
+    "stribeck": (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.004, delta=2.0, c_v=2000.0, v_eps=0.001), STRIBECK_FIXED, 1.0),
+    **{law: (truth, fixed, 1.0) for law, (truth, fixed) in STATE_CASES.items()},
+}
+
+
+def law_coverage(law: str, draws: int, seed0: int = 2000) -> dict[str, int]:
+    """How many of `draws` noisy record pairs (10 N of white noise) have each fitted
+    parameter's 95 % interval holding the truth."""
+    truth, fixed, scale = COVERAGE_CASES[law]
+    n = 201 if law == "elastoplastic" else 401
+    hits: dict[str, int] = {}
+    for seed in range(seed0, seed0 + draws):
+        t, x, f, v = noisy_records(law, truth, 10.0, seed=seed, n=n, scale=scale)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            fit = stickslip.fit_friction(law, t, x, f, v=v, fixed=fixed, n_starts=1)
+        for k in fit.free:
+            lo, hi = fit.ci95[k]
+            hits[k] = hits.get(k, 0) + (lo <= truth[k] <= hi)
+    return hits
+
+
+def test_coverage_cases_cover_every_law():
+    assert sorted(COVERAGE_CASES) == sorted(stickslip.LAWS)
+
+
+@pytest.mark.parametrize("law", sorted(COVERAGE_CASES))
+def test_every_law_intervals_cover_a_few_draws(law):
+    # three draws: at least 3/4 of the (parameter, draw) intervals hold the truth (a law with
+    # five parameters and right intervals misses that with probability 0.5 %)
+    hits = law_coverage(law, 3)
+    assert sum(hits.values()) >= 0.75 * 3 * len(hits), hits
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("law", sorted(COVERAGE_CASES))
+def test_every_law_intervals_cover_the_truth_95_percent(law):
+    # 50 draws: each parameter's count within the central 99.8 % of Binomial(50, 0.95), i.e. at
+    # least 42 (50 draws cannot tell a true coverage of 0.90 from 0.95; the 600-seed test of
+    # the Stribeck law can). Measured (2026-11-25, seeds 2000-2049):
+    # coulomb 48-49, karnopp 49-50, recurdyn 46-49, proposed 47-49, stribeck 47-49, lugre
+    # 48-50, elastoplastic 48-49, dahl 48-49, gms 45-49 of 50
+    lo, hi = coverage_band(50)
+    hits = law_coverage(law, 50)
+    assert all(lo <= h <= hi for h in hits.values()), (hits, (lo, hi))

@@ -38,6 +38,8 @@ from .advise import Advice, advise
 from .prescribed import PrescribedResult, law_n_states, law_state_labels, prescribed_motion
 from .data import Record, damper_files, load_damper_record
 from .identify import FitResult, Selection, fit_friction, select_friction_law
+from .experiments import (SteadyCurve, SteadyPoints, TwoStepFit, fit_stribeck_curve, fit_two_step,
+                          steady_friction)
 from .engines import ENGINES, advise_engine, engine_creep, engine_mu
 from . import signal
 from .model import Model
@@ -52,6 +54,7 @@ __all__ = [
     "DivergedSolution",
     "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
     "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction", "Selection", "select_friction_law",
+    "SteadyPoints", "SteadyCurve", "TwoStepFit", "steady_friction", "fit_stribeck_curve", "fit_two_step",
     "ENGINES", "advise_engine", "engine_creep", "engine_mu",
     "Model", "signal",
 ]

@@ -6,8 +6,16 @@ The model of a record is `stickslip.prescribed_motion`: the law's force along th
 displacement x(t) (velocity v(t) measured or derived from x), its internal states starting at 0
 in every record, with the two options of the prescribed-motion model that a real device may
 need: a backlash (a play of total width b [m] after each reversal) and an asymmetry (the ratio
-of the negative-direction sliding level to the positive one). Both are fixed unless given as
-"fit".
+of the negative-direction sliding level to the positive one); and two terms of the measurement
+beside the law: a force-sensor offset [N] added to the force, and a linear drift [1/s] of the
+friction level over each record (the law's force times 1 + drift (t - t_mid), t_mid the
+record's middle time, so the law's parameters are the record's mean level). All four are fixed
+(at 0, 1, 0, 0) unless given as "fit".
+
+Experiment workflows beside the fit of a record: `steady_friction` (the steady force of each
+constant-velocity step of a record), `fit_stribeck_curve` (a law's steady friction against
+speed fitted to those points) and `fit_two_step` (static parameters from the steady curve, then
+the dynamic ones from presliding records with the static ones held).
 
 Statistics. The fit minimises the sum of squared force residuals over all samples of all
 records (scipy.optimize.least_squares, trust-region reflective, with bounds). With Gaussian
@@ -45,7 +53,11 @@ from .prescribed import _samples
 EXTRA_PARAMS: dict[str, tuple[str, str]] = {
     "backlash": ("m", ">= 0"),
     "asymmetry": ("-", "> 0"),
+    "offset": ("N", "any real number"),
+    "drift": ("1/s", "any real number"),
 }
+#: Their values when not given: no play, symmetric, no sensor offset, no drift.
+EXTRA_DEFAULTS: dict[str, float] = {"backlash": 0.0, "asymmetry": 1.0, "offset": 0.0, "drift": 0.0}
 #: Pairs (lower, upper) of parameters the library requires ordered (mu_k <= mu_s, v_s < v_d):
 #: when both are fitted, the upper one is fitted as its excess over the lower (>= 0).
 ORDERED_PAIRS: tuple[tuple[str, str], ...] = (("mu_k", "mu_s"), ("v_s", "v_d"))
@@ -176,8 +188,8 @@ def _records(t: Any, x: Any, force: Any, v: Any, normal_force: Any, *, need_forc
 # Parameters: names, starts, bounds, the scaled coordinates of the optimiser
 # --------------------------------------------------------------------------------------------
 def law_fit_params(law: str) -> tuple[str, ...]:
-    """The parameters a fit of `law` can adjust: the law's (registry order), then backlash and
-    asymmetry."""
+    """The parameters a fit of `law` can adjust: the law's (registry order), then backlash,
+    asymmetry, offset and drift."""
     return REGISTRY["law"][law]["params"] + tuple(EXTRA_PARAMS)
 
 
@@ -207,6 +219,7 @@ def _start(name: str, s: dict[str, float], asym_free: bool) -> float:
         "sigma0": level / presliding, "sigma1": 0.01 * level / s["v_max"],
         "sigma2": 0.05 * level / s["v_max"], "c_v": 0.05 * level / s["v_max"],
         "backlash": 0.02 * s["amplitude"], "asymmetry": s["level_neg"] / s["level_pos"],
+        "offset": 0.0, "drift": 0.0,
     }
     if name in starts:
         return starts[name]
@@ -248,6 +261,65 @@ class _Space:
         return m
 
 
+def _coordinates(free: tuple[str, ...], p0: np.ndarray, bounds: Mapping[str, Any], fixed_all: Mapping[str, float],
+                 typical: Mapping[str, float]) -> tuple[_Space, np.ndarray, np.ndarray, np.ndarray]:
+    """The optimiser's coordinates of the free parameters (see _Space): the space, the bounds
+    q_lo, q_hi in it (the library's ranges, narrowed by `bounds`, a hair inside an open end,
+    a stiffness at most 1000 times its start, the ordered pairs) and the start u0. `p0` is
+    the start in the parameters (the upper member of a fitted ordered pair may be raised
+    above its lower one); `typical` sizes a parameter that starts at 0."""
+    k = len(free)
+    lo = np.empty(k)
+    hi = np.empty(k)
+    for i, n in enumerate(free):
+        low, high, low_open, high_open = _range_of(n)
+        if n == "mu_k":
+            low_open = True     # the laws with states divide by the sliding level: keep it > 0
+        if n in bounds:
+            try:
+                b_lo, b_hi = (float(b) for b in bounds[n])
+            except (TypeError, ValueError):
+                raise ValueError(f"bounds[{n!r}]: must be a pair (low, high), got {bounds[n]!r}") from None
+            if not (b_lo < b_hi) or math.isnan(b_lo) or math.isnan(b_hi):
+                raise ValueError(f"bounds[{n!r}]: must have low < high, got {bounds[n]!r}")
+            low_open, high_open = low_open and b_lo <= low, high_open and b_hi >= high
+            low, high = max(low, b_lo), min(high, b_hi)
+        if n not in bounds and REGISTRY["param"].get(n, {}).get("unit") == "1/m":
+            # a stiffness: at most 1000 times its start (a presliding travel of 5e-5 times the
+            # amplitude); beyond that the states are too stiff to integrate cheaply, and a static
+            # law describes the data as well
+            high = min(high, 1e3 * p0[i])
+        # an open end of the library's range: stay a relative hair inside it
+        margin = 1e-9 * max(abs(p0[i]), 1e-300)
+        lo[i] = low + margin if low_open and math.isfinite(low) else low
+        hi[i] = high - margin if high_open and math.isfinite(high) else high
+    lower_of: dict[int, int] = {}
+    for a, b in ORDERED_PAIRS:
+        if a in free and b in free:
+            ia, ib = free.index(a), free.index(b)
+            if b in bounds:
+                raise ValueError(f"bounds: {b!r} cannot be bounded while {a!r} is fitted too "
+                                 f"({b} is fitted as {b} - {a} >= 0); fix {a} or drop the bounds")
+            lower_of[ib] = ia
+            strict = REGISTRY["param"][b]["rule"].split(a)[0].rstrip().endswith(">")
+            lo[ib], hi[ib] = (1e-9 * abs(p0[ib]) if strict else 0.0), math.inf
+            p0[ib] = max(p0[ib], p0[ia] * (1.0 + 1e-3))
+        elif a in fixed_all and b in free:
+            lo[free.index(b)] = max(lo[free.index(b)], fixed_all[a])
+        elif b in fixed_all and a in free:
+            hi[free.index(a)] = min(hi[free.index(a)], fixed_all[b])
+    scale = np.array([abs(p0[i]) if p0[i] != 0.0 else typical.get(n, 1.0) for i, n in enumerate(free)])
+    for hi_i, lo_i in lower_of.items():     # the excess is scaled like the parameter itself
+        scale[hi_i] = max(abs(p0[hi_i]), scale[lo_i])
+    space = _Space(free, scale, lower_of)
+    q_lo, q_hi = lo / scale, hi / scale
+    u0 = np.clip(space.from_params(p0), q_lo, q_hi)
+    bad = [free[i] for i in range(k) if not (q_lo[i] <= u0[i] <= q_hi[i]) or q_lo[i] >= q_hi[i]]
+    if bad:
+        raise ValueError(f"bounds: empty range for {', '.join(bad)}")
+    return space, q_lo, q_hi, u0
+
+
 def _check_keys(what: str, given: Mapping[str, Any], allowed: Sequence[str], law: str) -> None:
     unknown = [k for k in given if k not in allowed]
     if unknown:
@@ -256,7 +328,7 @@ def _check_keys(what: str, given: Mapping[str, Any], allowed: Sequence[str], law
 
 
 def _extra_option(name: str, value: Any) -> float | None:
-    """backlash/asymmetry: a fixed value (range-checked) or None for "fit"."""
+    """backlash, asymmetry, offset, drift: a fixed value (range-checked) or None for "fit"."""
     if isinstance(value, str):
         if value != "fit":
             raise ValueError(f"{name}: must be a number or 'fit', got {value!r}")
@@ -288,11 +360,27 @@ def _in_range(label: str, name: str, value: Any, force_levels: bool) -> float:
 # Result
 # --------------------------------------------------------------------------------------------
 @dataclass
-class FitResult:
+class _Estimates:
+    """What every fit of parameters holds: the law, every parameter (fitted or fixed) with its
+    unit, the fitted ones (`free`, the order of the covariance's rows), their standard errors
+    and 95 % intervals, covariance and correlation."""
+
+    law: str
+    params: dict[str, float]
+    units: dict[str, str]
+    free: tuple[str, ...]
+    stderr: dict[str, float]
+    ci95: dict[str, tuple[float, float]]
+    covariance: np.ndarray
+    correlation: np.ndarray
+
+
+@dataclass
+class FitResult(_Estimates):
     """A fitted friction law.
 
-    `params` holds every parameter of the model (the law's, backlash and asymmetry), fitted or
-    fixed; `units` their units (force levels in N, N/m, N s/m when `force_levels`); `free` the
+    `params` holds every parameter of the model (the law's, backlash, asymmetry, offset and
+    drift), fitted or fixed; `units` their units (force levels in N, N/m, N s/m when `force_levels`); `free` the
     fitted ones, in the order of the rows and columns of `covariance` and `correlation`.
     `stderr` and `ci95` (95 % interval, Student t with n - k degrees of freedom) cover the
     fitted parameters; a parameter the data does not determine (a zero direction of the
@@ -317,14 +405,6 @@ class FitResult:
     is no better than predicting zero. `report()` prints all of it.
     """
 
-    law: str
-    params: dict[str, float]
-    units: dict[str, str]
-    free: tuple[str, ...]
-    stderr: dict[str, float]
-    ci95: dict[str, tuple[float, float]]
-    covariance: np.ndarray
-    correlation: np.ndarray
     rmse: float
     nrmse: float
     aic: float
@@ -351,7 +431,7 @@ class FitResult:
 
     @property
     def law_params(self) -> dict[str, float]:
-        """The law's parameters (without backlash and asymmetry)."""
+        """The law's parameters (without backlash, asymmetry, offset and drift)."""
         return {k: v for k, v in self.params.items() if k not in EXTRA_PARAMS}
 
     def predict(self, t: Any, x: Any = None, v: Any = None, normal_force: Any = None,
@@ -453,7 +533,7 @@ class FitResult:
                   f"    lag-1 correlation  = {self.noise_correlation:.4f} (variance inflation of the "
                   f"parameters {self.variance_inflation:.3g})",
                   "[[Parameters]]"]
-        for name, value in self.params.items():
+        for name, value in self._shown():
             unit = self.units[name]
             if name not in self.free:
                 lines.append(f"    {name + ':':<12} {value:<14.7g} (fixed) [{unit}]")
@@ -476,12 +556,17 @@ class FitResult:
         lines += [f"    C({a}, {b}) = {c:+.4f}" for _, c, a, b in sorted(pairs, reverse=True)] or ["    none"]
         return "\n".join(lines)
 
+    def _shown(self) -> list[tuple[str, float]]:
+        """The parameters a report lists: all but an offset or drift held at 0 (not used)."""
+        return [(name, value) for name, value in self.params.items()
+                if name in self.free or name not in ("offset", "drift") or value != EXTRA_DEFAULTS[name]]
+
     def summary(self) -> str:
         """A plain-text table of the parameters with their intervals, and the scores."""
         what = "force levels (normal force not given: N = 1 N)" if self.force_levels else "coefficients"
         lines = [f"{self.law}: {self.n_records} record(s), {self.n_samples} samples, {what}",
                  f"  rmse {self.rmse:.4g} N, nrmse {self.nrmse:.4g}, AIC {self.aic:.6g}, BIC {self.bic:.6g}"]
-        for name, value in self.params.items():
+        for name, value in self._shown():
             unit = self.units[name]
             if name in self.ci95:
                 lo, hi = self.ci95[name]
@@ -493,12 +578,17 @@ class FitResult:
 
 
 def _model(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1e-8) -> np.ndarray:
-    """The model's force [N] on one record: stickslip.prescribed_motion with the states at 0."""
+    """The model's force [N] on one record: stickslip.prescribed_motion with the states at 0,
+    times 1 + drift (t - t_mid), plus the offset."""
     from . import prescribed_motion
     law_p = {k: v for k, v in params.items() if k not in EXTRA_PARAMS}
     res = prescribed_motion(law, d.t, d.x, d.v, normal_force=d.normal_force, rtol=rtol,
                             backlash=params["backlash"], asymmetry=params["asymmetry"], **law_p)
-    return res.force
+    force = res.force
+    drift, offset = params.get("drift", 0.0), params.get("offset", 0.0)
+    if drift != 0.0:
+        force = force * (1.0 + drift * (d.t - 0.5 * (d.t[0] + d.t[-1])))
+    return force + offset if offset != 0.0 else force
 
 
 # --------------------------------------------------------------------------------------------
@@ -509,7 +599,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
                  params0: Mapping[str, float] | None = None,
                  bounds: Mapping[str, tuple[float, float]] | None = None,
                  backlash: float | str = 0.0, asymmetry: float | str = 1.0,
-                 n_starts: int | None = None, seed: int = 0, max_nfev: int | None = None,
+                 offset: float | str = 0.0, drift: float | str = 0.0, n_starts: int | None = None, seed: int = 0, max_nfev: int | None = None,
                  rtol: float = 1e-6, diff_step: float = 1e-4) -> FitResult:
     """Fit the parameters of friction `law` to measured forces along measured motions.
 
@@ -543,6 +633,13 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         fits it.
     asymmetry : float or "fit"
         Negative-direction sliding level over the positive one [-] (default 1).
+    offset : float or "fit"
+        A constant added to the measured force, such as a load cell's zero offset [N]
+        (default 0). One value for all records.
+    drift : float or "fit"
+        Relative rate of change of the friction level over each record [1/s] (default 0): the
+        law's force is multiplied by 1 + drift (t - t_mid), t_mid the record's middle time (the
+        level of a contact that heats or wears during a record). One value for all records.
     n_starts : int, optional
         Starts of the local optimiser: the data-derived start, then starts drawn log-uniformly
         within a factor of 10 of it (seeded by `seed`); the best fit is kept. Default 3 for a
@@ -596,7 +693,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     _check_keys("fixed", fixed, law_names, law)
     _check_keys("params0", params0, names, law)
     _check_keys("bounds", bounds, names, law)
-    extras = {"backlash": _extra_option("backlash", backlash), "asymmetry": _extra_option("asymmetry", asymmetry)}
+    extras = {name: _extra_option(name, value) for name, value in
+              (("backlash", backlash), ("asymmetry", asymmetry), ("offset", offset), ("drift", drift))}
     fixed_all = {k: _in_range(f"fixed[{k!r}]", k, v, force_levels) for k, v in fixed.items()}
     for a, b in ORDERED_PAIRS:
         if a in fixed_all and b in fixed_all and not fixed_all[a] <= fixed_all[b]:
@@ -633,54 +731,11 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     asym_free = "asymmetry" in free
     p0 = np.array([_in_range(f"params0[{n!r}]", n, params0[n], force_levels) if n in params0
                    else _start(n, scales, asym_free) for n in free])
-    lo = np.empty(k)
-    hi = np.empty(k)
-    for i, n in enumerate(free):
-        low, high, low_open, high_open = _range_of(n)
-        if n == "mu_k":
-            low_open = True     # the laws with states divide by the sliding level: keep it > 0
-        if n in bounds:
-            try:
-                b_lo, b_hi = (float(b) for b in bounds[n])
-            except (TypeError, ValueError):
-                raise ValueError(f"bounds[{n!r}]: must be a pair (low, high), got {bounds[n]!r}") from None
-            if not (b_lo < b_hi) or math.isnan(b_lo) or math.isnan(b_hi):
-                raise ValueError(f"bounds[{n!r}]: must have low < high, got {bounds[n]!r}")
-            low_open, high_open = low_open and b_lo <= low, high_open and b_hi >= high
-            low, high = max(low, b_lo), min(high, b_hi)
-        if n not in bounds and REGISTRY["param"].get(n, {}).get("unit") == "1/m":
-            # a stiffness: at most 1000 times its start (a presliding travel of 5e-5 times the
-            # amplitude); beyond that the states are too stiff to integrate cheaply, and a static
-            # law describes the data as well
-            high = min(high, 1e3 * p0[i])
-        # an open end of the library's range: stay a relative hair inside it
-        margin = 1e-9 * max(abs(p0[i]), 1e-300)
-        lo[i] = low + margin if low_open and math.isfinite(low) else low
-        hi[i] = high - margin if high_open and math.isfinite(high) else high
-    lower_of: dict[int, int] = {}
-    for a, b in ORDERED_PAIRS:
-        if a in free and b in free:
-            ia, ib = free.index(a), free.index(b)
-            if b in bounds:
-                raise ValueError(f"bounds: {b!r} cannot be bounded while {a!r} is fitted too "
-                                 f"({b} is fitted as {b} - {a} >= 0); fix {a} or drop the bounds")
-            lower_of[ib] = ia
-            strict = REGISTRY["param"][b]["rule"].split(a)[0].rstrip().endswith(">")
-            lo[ib], hi[ib] = (1e-9 * abs(p0[ib]) if strict else 0.0), math.inf
-            p0[ib] = max(p0[ib], p0[ia] * (1.0 + 1e-3))
-        elif a in fixed_all and b in free:
-            lo[free.index(b)] = max(lo[free.index(b)], fixed_all[a])
-        elif b in fixed_all and a in free:
-            hi[free.index(a)] = min(hi[free.index(a)], fixed_all[b])
-    scale = np.where(np.abs(p0) > 0.0, np.abs(p0), 1.0)
-    for hi_i, lo_i in lower_of.items():     # the excess is scaled like the parameter itself
-        scale[hi_i] = max(abs(p0[hi_i]), scale[lo_i])
-    space = _Space(free, scale, lower_of)
-    q_lo, q_hi = lo / scale, hi / scale
-    u0 = np.clip(space.from_params(p0), q_lo, q_hi)
-    bad = [free[i] for i in range(k) if not (q_lo[i] <= u0[i] <= q_hi[i]) or q_lo[i] >= q_hi[i]]
-    if bad:
-        raise ValueError(f"bounds: empty range for {', '.join(bad)}")
+    # a parameter starting at 0 gets the size of what it can do: an offset a hundredth of the
+    # force's range, a drift that moves the level by 1 % over the longest record
+    typical = {"offset": 0.01 * float(np.ptp(all_forces)),
+               "drift": 0.01 / max(float(d.t[-1] - d.t[0]) for d in data)}
+    space, q_lo, q_hi, u0 = _coordinates(free, p0, bounds, fixed_all, typical)
 
     fixed_params = dict(fixed_all)
     forces = np.concatenate([d.force for d in data])
@@ -714,9 +769,12 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     # starts: the data's, then log-uniform draws within x/10 .. x10 of it, inside the bounds
     rng = np.random.default_rng(seed)
     starts = [u0]
+    lo_inside = q_lo.copy()
+    finite = np.isfinite(q_lo)
+    lo_inside[finite] += 1e-12 * np.abs(q_lo[finite])
     for _ in range(int(n_starts) - 1):
         factor = np.exp(rng.uniform(-math.log(10.0), math.log(10.0), k))
-        starts.append(np.clip(u0 * factor, q_lo + 1e-12 * np.abs(q_lo), q_hi))
+        starts.append(np.clip(u0 * factor, lo_inside, q_hi))
     max_nfev = max_nfev or 30 * k
     best = None
     costs = []
