@@ -1,0 +1,56 @@
+"""The guides name everything the library registers: a law, scene or method added to the
+Fortran registry (stickslip.LAWS, SCENES, METHODS) without a word in the guides fails here."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+import stickslip as ss
+
+ROOT = Path(__file__).resolve().parents[1]
+GUIDE = ROOT / "docs" / "guide"
+
+#: Which guide must name every entry of which registry list.
+PAGES: dict[str, tuple[str, ...]] = {
+    "friction-laws.md": ("law",),
+    "python-api.md": ("law", "scene", "method"),
+    "integrators.md": ("method",),
+}
+
+
+def registered(kind: str) -> tuple[str, ...]:
+    """The names the library registers for one kind (law, scene, method)."""
+    return {"law": ss.LAWS, "scene": ss.SCENES, "method": ss.METHODS}[kind]
+
+
+def prose(text: str) -> str:
+    """The page without its generated tables (a registry table names everything by
+    construction; the prose must too)."""
+    return re.sub(r"<!-- table: registry:.*?<!-- end table -->", "", text, flags=re.S)
+
+
+def missing(names: tuple[str, ...], text: str) -> list[str]:
+    """The names that the text never writes as code (`name` or "name")."""
+    return [n for n in names if f"`{n}`" not in text and f'"{n}"' not in text]
+
+
+def test_the_checker_notices_a_missing_name() -> None:
+    text = "Use `rk4` or \"dopri5\"; RADAU5 is mentioned only in prose."
+    assert missing(("rk4", "dopri5", "radau5"), text) == ["radau5"]
+    assert prose("a\n<!-- table: registry:law -->\n`x`\n<!-- end table -->\nb") == "a\n\nb"
+
+
+@pytest.mark.parametrize("page", sorted(PAGES))
+def test_every_registered_name_is_in_its_guides(page: str) -> None:
+    text = prose((GUIDE / page).read_text())
+    gaps = {kind: missing(registered(kind), text) for kind in PAGES[page]}
+    gaps = {k: v for k, v in gaps.items() if v}
+    assert not gaps, f"docs/guide/{page} does not name the registered {gaps}"
+
+
+def test_the_api_guide_has_the_registry_tables() -> None:
+    text = (GUIDE / "python-api.md").read_text()
+    for kind in ("law", "scene", "method", "param"):
+        assert f"<!-- table: registry:{kind} -->" in text
