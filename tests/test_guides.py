@@ -3,6 +3,7 @@ Fortran registry (stickslip.LAWS, SCENES, METHODS) without a word in the guides 
 from __future__ import annotations
 
 import re
+import sys
 from pathlib import Path
 
 import pytest
@@ -90,3 +91,17 @@ def test_every_public_function_has_numpydoc_sections(name: str) -> None:
     """A public function's docstring has numpydoc Parameters and Returns sections."""
     doc = getattr(ss, name).__doc__ or ""
     assert "Parameters\n" in doc and "Returns\n" in doc, f"stickslip.{name}: no numpydoc sections"
+
+
+def test_every_law_and_method_has_its_own_colour_and_name() -> None:
+    """The figure checklist (docs/guide/extending.md): a law or a method has one colour in
+    every figure, distinct from the others of its kind, and a display name."""
+    sys.path.insert(0, str(ROOT))
+    from cases import _style
+    for kind, names, colours, labels in (("law", ss.LAWS, _style.LAW_COLORS, _style.LAW_NAMES),
+                                         ("method", ss.METHODS, _style.METHOD_COLORS, _style.METHOD_NAMES)):
+        missing_colour = [n for n in names if n not in colours]
+        missing_name = [n for n in names if n not in labels]
+        assert not missing_colour and not missing_name, (kind, missing_colour, missing_name)
+        used = [colours[n].lower() for n in names]
+        assert len(set(used)) == len(used), f"two {kind}s share a colour: {used}"
