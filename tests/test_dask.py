@@ -25,7 +25,7 @@ pytestmark = pytest.mark.filterwarnings("ignore::stickslip.UnstableStepWarning")
 @pytest.fixture(scope="module")
 def client():
     with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
-                                  host="127.0.0.1", dashboard_address=None) as cluster, \
+                                  host="127.0.0.1", dashboard_address=":0") as cluster, \
             distributed.Client(cluster) as c:
         c.wait_for_workers(2)
         yield c
