@@ -38,6 +38,7 @@ module stickslip_registry
     use stickslip_implicit_euler, only: implicit_euler_options, implicit_euler_integrate, IMPLICIT_EULER_INFO
     use stickslip_galpha, only: galpha_options, galpha_integrate, GALPHA_INFO
     use stickslip_contact, only: contact_system
+    use stickslip_model_system, only: model_system
     use stickslip_moreau, only: moreau_options, moreau_integrate, MOREAU_INFO
     use stickslip_event_driven, only: event_driven_options, event_driven_integrate, EVENT_DRIVEN_INFO
     implicit none
@@ -324,7 +325,7 @@ contains
         end select
     end subroutine integrate
 
-    !> The contact model of a system for the nonsmooth methods: a scene's `contact_model`;
+    !> The contact model of a system for the nonsmooth methods: a scene's or a model's `contact_model`;
     !! SS_NOT_SETVALUED for a law without a set-valued counterpart or another system.
     subroutine contact_model_of(sys, cs, status)
         use stickslip_ode, only: ode_system
@@ -334,6 +335,8 @@ contains
         integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
         select type (sys)
         class is (friction_scene)
+            call sys%contact_model(cs, status)
+        class is (model_system)
             call sys%contact_model(cs, status)
         class default
             status = SS_NOT_SETVALUED

@@ -90,6 +90,10 @@ module stickslip_contact
         !> W = M + a C + b K as three diagonals when it is tridiagonal (ok); the default says
         !! it is not (ok = .false.). Moreau's solver then works on W itself, O(n) a sweep.
         procedure :: w_tridiagonal => not_tridiagonal
+        !> The first time after t where the system's forces, normal forces or offsets have a
+        !! corner (a step of a time signal) [s]; huge(1.0_dp) by default (none). The event-driven
+        !! method stops there and decides the modes afresh.
+        procedure :: next_time_event => no_time_event
     end type contact_system
 
     abstract interface
@@ -177,6 +181,12 @@ contains
         logical, intent(out)  :: ok         !! .false.: W is not known to be tridiagonal
         ok = .false.
     end subroutine not_tridiagonal
+
+    pure real(dp) function no_time_event(self, t) result(tb)
+        class(contact_system), intent(in) :: self
+        real(dp), intent(in) :: t           !! time [s]
+        tb = huge(1.0_dp)
+    end function no_time_event
 
     pure real(dp) function contact_displacement(self, i, q) result(x)
         class(contact_system), intent(in) :: self

@@ -67,6 +67,13 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_BACKLASH = -177    !! backlash not finite or < 0
     integer, parameter, public :: SS_BAD_ASYMMETRY = -178   !! asymmetry not finite or <= 0
     integer, parameter, public :: SS_BAD_NORMAL_FORCE = -179 !! normal force not finite or < 0
+    ! a user's model (stickslip_model)
+    integer, parameter, public :: SS_BAD_MODEL_EMPTY = -185 !! a model without bodies
+    integer, parameter, public :: SS_BAD_BODY = -186        !! a body index outside the model, or an element joining a body to itself
+    integer, parameter, public :: SS_BAD_MASS = -187        !! a mass not finite or <= 0
+    integer, parameter, public :: SS_BAD_SPRING = -188      !! a stiffness not finite or < 0, or a rest length not finite
+    integer, parameter, public :: SS_BAD_DAMPER = -189      !! a damping coefficient not finite or < 0
+    integer, parameter, public :: SS_BAD_SIGNAL = -190      !! a signal malformed (see stickslip_signal)
 
     !> Names of the status codes above, for the generated C header (`SS_` + name).
     character(len=*), parameter, public :: STATUS_NAMES = 'OK STEP_BUDGET STEP_TOO_SMALL STIFF ' // &
@@ -76,9 +83,9 @@ module stickslip_kinds
         'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH' // &
         ' CONTACT_FAILED EVENT_ZENO EVENT_BUDGET BAD_THETA_MJ BAD_CONTACT_CTL BAD_EVENT_CTL' // &
         ' NOT_SETVALUED JUMP_MANY_CONTACTS BAD_TIMES BAD_MOTION BAD_BACKLASH BAD_ASYMMETRY BAD_NORMAL_FORCE' // &
-        ' DIVERGED'
+        ' DIVERGED BAD_MODEL_EMPTY BAD_BODY BAD_MASS BAD_SPRING BAD_DAMPER BAD_SIGNAL'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(47) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(53) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
@@ -87,7 +94,8 @@ module stickslip_kinds
         SS_BAD_FORCED_GROWTH, SS_CONTACT_FAILED, SS_EVENT_ZENO, SS_EVENT_BUDGET, SS_BAD_THETA_MJ, &
         SS_BAD_CONTACT_CTL, SS_BAD_EVENT_CTL, SS_NOT_SETVALUED, SS_JUMP_MANY_CONTACTS, SS_BAD_TIMES, &
         SS_BAD_MOTION, &
-        SS_BAD_BACKLASH, SS_BAD_ASYMMETRY, SS_BAD_NORMAL_FORCE, SS_DIVERGED]
+        SS_BAD_BACKLASH, SS_BAD_ASYMMETRY, SS_BAD_NORMAL_FORCE, SS_DIVERGED, SS_BAD_MODEL_EMPTY, SS_BAD_BODY, &
+        SS_BAD_MASS, SS_BAD_SPRING, SS_BAD_DAMPER, SS_BAD_SIGNAL]
 
 contains
 
@@ -157,13 +165,21 @@ contains
         case (SS_NOT_SETVALUED);  msg = 'law: the methods moreau and event_driven take only the set-valued' // &
                                         ' laws coulomb, stribeck (and a system with the contact interface)'
         case (SS_JUMP_MANY_CONTACTS); msg = 'law: implicit_euler and galpha solve a law with jumps' // &
-                                        ' (coulomb, karnopp) on scenes of one contact only; on the chain' // &
+                                        ' (coulomb, karnopp) on scenes of one contact only; on the chain or a model' // &
                                         ' use moreau or event_driven (coulomb), or a regularised law'
         case (SS_BAD_TIMES);      msg = 't: must be finite and strictly increasing, one time per sample [s]'
         case (SS_BAD_MOTION);     msg = 'x, v: must be finite, one value per sample [m, m/s]'
         case (SS_BAD_BACKLASH);   msg = 'backlash: must be finite and >= 0 [m]'
         case (SS_BAD_ASYMMETRY);  msg = 'asymmetry: must be finite and > 0 (negative-direction level / positive one) [-]'
         case (SS_BAD_NORMAL_FORCE); msg = 'normal_force: must be finite and >= 0, a scalar or one value per sample [N]'
+        case (SS_BAD_MODEL_EMPTY); msg = 'model: has no bodies (add_body first)'
+        case (SS_BAD_BODY);       msg = 'body: an index outside 0 .. n_bodies (0 the ground), or an element' // &
+                                        ' joining a body to itself'
+        case (SS_BAD_MASS);       msg = 'mass: must be finite and > 0 [kg, or kg m^2 for an inertia]'
+        case (SS_BAD_SPRING);     msg = 'k: must be finite and >= 0 [N/m]; rest_length: finite [m]'
+        case (SS_BAD_DAMPER);     msg = 'c: must be finite and >= 0 [N s/m]'
+        case (SS_BAD_SIGNAL);     msg = 'signal: malformed (a ramp''s duration must be > 0, a table''s times' // &
+                                        ' finite and strictly increasing, every number finite)'
         case default;             msg = 'unknown status code'
         end select
     end function status_text

@@ -17,7 +17,7 @@ module stickslip_linalg
     implicit none
     private
 
-    public :: lu_decompose, lu_solve, band_decompose, band_solve, psd_solve
+    public :: lu_decompose, lu_solve, band_decompose, band_solve, psd_solve, tridiagonal_solve
 
     !> A = P L U of a band matrix in LAPACK's band storage, in place (partial pivoting).
     interface band_decompose
@@ -77,6 +77,32 @@ contains
 #undef LU_SCALAR
 #undef LU_MAG
 #undef LU_BAD
+
+    !> Solve a tridiagonal system by elimination without pivoting (Thomas), for a matrix that is
+    !! diagonally dominant or symmetric positive definite (no pivot vanishes).
+    pure subroutine tridiagonal_solve(l, d, r, x)
+        real(dp), intent(in)    :: l(:)     !! (n) sub-diagonal, l(i) = A(i, i - 1) (l(1) unused)
+        real(dp), intent(in)    :: d(:)     !! (n) diagonal, A(i, i)
+        real(dp), intent(in)    :: r(:)     !! (n) super-diagonal, r(i) = A(i, i + 1) (r(n) unused)
+        real(dp), intent(inout) :: x(:)     !! (n) right-hand side on entry, solution on exit
+        real(dp) :: c(size(d)), w
+        integer :: i, n
+        n = size(d)
+        if (n == 1) then
+            x(1) = x(1) / d(1)
+            return
+        end if
+        c(1) = r(1) / d(1)
+        x(1) = x(1) / d(1)
+        do i = 2, n
+            w = d(i) - l(i) * c(i - 1)
+            c(i) = r(i) / w
+            x(i) = (x(i) - l(i) * x(i - 1)) / w
+        end do
+        do i = n - 1, 1, -1
+            x(i) = x(i) - c(i) * x(i + 1)
+        end do
+    end subroutine tridiagonal_solve
 
     !> x = C^(1/2) (C^(1/2) A C^(1/2))^+ C^(1/2) b for a symmetric positive semidefinite A
     !! (m x m) and weights C = diag(wts) > 0: among the solutions of A x = b the one that

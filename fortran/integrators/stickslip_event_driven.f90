@@ -39,6 +39,15 @@
 !! w = 0 and slips on in the same direction changes no mode and records nothing. The
 !! initial mode (contacts with w = 0 at t0 decided the same way) is not an event.
 !!
+!! Corners of the forces in time (`contact_system%next_time_event`: a model's signal steps,
+!! ramp ends and table points) end a mode's integration exactly there: a stuck contact whose
+!! w jumped away from 0 (its surface's speed stepped) slips in the direction of w, and every
+!! stuck contact and every contact at w = 0 is decided afresh (a normal force that stepped
+!! down releases what it can no longer hold). An open contact (N = 0: a disengaged clutch)
+!! has no events while it is open; its slip direction is taken from its w at the corner where
+!! it closes. (A normal force that rises above 0 between corners, a sine, keeps the direction
+!! of the last event: give such a contact a step, ramp or table where it closes.)
+!!
 !! Output on the grid: DOPRI5's dense output, from a second DOPRI5 run over each stretch
 !! between events that holds grid points (the same steps as the first until the event).
 !! Counters: nstep/naccept/nreject of the mode integration; nfev counts every evaluation
@@ -95,6 +104,10 @@ module stickslip_event_driven
         !> H M^-1 H^T is diagonal (diagonal_delassus over every contact): the holding forces of
         !! any stuck set come from its diagonal
         logical :: diagonal = .false.
+        !> The time functions (forces, normal forces, offsets) are read at min(t, t_cap): just
+        !! below a corner that ends the current stretch, so that the stretch sees their left
+        !! limits up to its end [s]
+        real(dp) :: t_cap = huge(1.0_dp)
     contains
         procedure :: rhs => mode_rhs
         !! (u, acceleration) in the current mode
@@ -122,10 +135,11 @@ contains
         end select
     end function set_event_option
 
-    !> Acceleration a and contact forces r [N] of the mode at (t, y).
-    subroutine mode_forces(self, t, y, a, r)
+    !> Acceleration a and contact forces r [N] of the mode at (t, y); the system's time
+    !! functions are read at min(t, t_cap) (the left limit at a corner that ends the mode).
+    subroutine mode_forces(self, t_in, y, a, r)
         class(mode_system), intent(inout) :: self
-        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: t_in       !! time [s]
         real(dp), intent(in)  :: y(:)       !! (q, u)
         real(dp), intent(out) :: a(:)       !! acceleration u' [m/s^2]
         real(dp), intent(out) :: r(:)       !! contact forces [N]
@@ -134,6 +148,8 @@ contains
         integer, allocatable :: idx(:)
         integer :: nd, nc, i
         logical :: ok
+        real(dp) :: t
+        t = min(t_in, self%t_cap)
         associate (cs => self%cs)
             nd = cs%n_dof
             nc = cs%n_c
@@ -272,13 +288,14 @@ contains
     !> The event functions of the mode at (t, y): sigma_i w_i (slipping) and
     !! mu_s N_i (1 + 2 STICK_RTOL) - |r_i| (stuck); their rates dg (slipping contacts:
     !! sigma_i dw_i/dt [m/s^2]; 0 for stuck ones); r returns the contact forces [N].
-    subroutine event_values(ms, t, y, gv, r, dg)
+    subroutine event_values(ms, t_in, y, gv, r, dg)
         class(mode_system), intent(inout) :: ms
-        real(dp), intent(in)  :: t, y(:)
+        real(dp), intent(in)  :: t_in, y(:)
         real(dp), intent(out) :: gv(:), r(:), dg(:)
-        real(dp) :: a(ms%cs%n_dof), w(ms%cs%n_c), nn(ms%cs%n_c), bd(ms%cs%n_c)
+        real(dp) :: a(ms%cs%n_dof), w(ms%cs%n_c), nn(ms%cs%n_c), bd(ms%cs%n_c), t
         integer :: nd
         nd = ms%cs%n_dof
+        t = min(t_in, ms%t_cap)
         call mode_forces(ms, t, y, a, r)
         ms%nfev = ms%nfev + 1
         call ms%cs%relative_velocities(t, y(nd + 1:), w)
@@ -288,9 +305,12 @@ contains
         where (ms%stuck)
             gv = ms%cs%laws%mu_s * nn * (1.0_dp + 2.0_dp * STICK_RTOL) - abs(r)
             dg = 0.0_dp
-        elsewhere
+        elsewhere (nn > 0.0_dp)
             gv = ms%sig * w
             dg = ms%sig * (dg + bd)
+        elsewhere     ! an open contact (N = 0) carries no force: no event until it closes
+            gv = 1.0_dp
+            dg = 0.0_dp
         end where
     end subroutine event_values
 
@@ -356,7 +376,7 @@ contains
         type(dopri5_options) :: d5
         type(ode_stats) :: st
         real(dp), allocatable :: tb(:), yb(:, :), y(:), ya(:), ystar(:), g_a(:), g_b(:), r(:), dg_a(:), dg_b(:)
-        real(dp) :: t, ta, tstar, h_carry, t_last_event
+        real(dp) :: t, ta, tstar, h_carry, t_last_event, t_seg
         integer :: nd, nc, n, next, m, k, nrows, i, zeno_run, ievent, same_instant
         logical :: hit
         logical, allocatable :: cand(:)
@@ -406,7 +426,10 @@ contains
             ! Pass 1: the mode's steps, CHUNK rows at a time, looking for an event.
             d5%h0 = h_carry
             d5%max_steps = max(1_8, opts%max_steps - stats%nstep)
-            call dopri5_integrate(ms, t, y, t_end, rtol, atol, d5, tb, yb, st)
+            t_seg = min(t_end, cs%next_time_event(t))   ! a corner of the forces: the mode ends there
+            ms%t_cap = huge(1.0_dp)
+            if (t_seg < t_end) ms%t_cap = nearest(t_seg, -1.0_dp)
+            call dopri5_integrate(ms, t, y, t_seg, rtol, atol, d5, tb, yb, st)
             stats%nfev = stats%nfev + st%nfev
             stats%nstep = stats%nstep + st%nstep
             stats%naccept = stats%naccept + st%naccept
@@ -453,7 +476,12 @@ contains
                 if (stats%status /= SS_OK) exit segment
                 t = tb(nrows)
                 y = yb(:, nrows)
-                if (st%status == SS_OK) exit segment     ! reached t_end
+                if (st%status == SS_OK .and. t_seg >= t_end) exit segment     ! reached t_end
+                if (st%status == SS_OK) then                                   ! reached a corner
+                    t = t_seg                  ! exactly: the next corner is the one after it
+                    ms%t_cap = huge(1.0_dp)    ! from here on, the values after the corner
+                    call time_event()
+                end if
                 cycle segment
             end if
 
@@ -488,6 +516,29 @@ contains
             where (.not. at_zero) ms%sig = sign(1.0_dp, w)
             if (any(at_zero)) call decide(at_zero, .false.)
         end subroutine initial_mode
+
+        !> At a corner of the forces (`next_time_event`: a step of a normal force, a table's
+        !! point): a stuck contact whose w has jumped away from 0 (a surface's speed stepped)
+        !! slips in the direction of w (recorded); every stuck contact and every contact at w = 0
+        !! is decided afresh, as at an event; DOPRI5 starts again with its automatic step.
+        subroutine time_event()
+            real(dp) :: w(nc)
+            integer :: j, nchanged
+            logical :: again(nc)
+            call cs%relative_velocities(t, y(nd + 1:), w)
+            do j = 1, nc
+                if (ms%stuck(j) .and. abs(w(j)) > w_tolerance(j, y)) then
+                    ms%stuck(j) = .false.
+                    ms%sig(j) = sign(1.0_dp, w(j))
+                    call record(j, EVENT_SLIP)
+                else if (.not. ms%stuck(j) .and. w(j) /= 0.0_dp) then
+                    ms%sig(j) = sign(1.0_dp, w(j))   ! a contact that was open slips the way it moves
+                end if
+            end do
+            again = ms%stuck .or. w == 0.0_dp
+            if (any(again) .and. stats%status == SS_OK) call decide(again, .true., nchanged)
+            h_carry = 0.0_dp
+        end subroutine time_event
 
         !> The modes of the contacts cand (each at w = 0: stuck, or just reached) from the
         !! problem at rest: their relative accelerations a_C = af_C + A_CC r_C with the other

@@ -33,6 +33,7 @@ module stickslip_chain
     use stickslip_ode, only: fd_jacobian
     use stickslip_scenes, only: friction_scene, M_SPEC, G_SPEC, K_SPEC, V_B_SPEC, BOUND_MARGIN
     use stickslip_contact, only: contact_system, contact_law, contact_law_of
+    use stickslip_linalg, only: tridiagonal_solve
     implicit none
     private
 
@@ -537,25 +538,14 @@ contains
         real(dp), intent(in)    :: a        !! weight of C [s] (C = 0)
         real(dp), intent(in)    :: b        !! weight of K [s^2]
         real(dp), intent(inout) :: x(:)     !! right-hand side [N s/kg], then the solution [m/s]
-        real(dp) :: l(self%n_dof), d(self%n_dof), r(self%n_dof), c(self%n_dof), w
+        real(dp) :: l(self%n_dof), d(self%n_dof), r(self%n_dof)
         logical :: ok
-        integer :: i, n
-        n = self%n_dof
-        if (n == 1) then    ! the belt's x / (m + b k) with m = 1
+        if (self%n_dof == 1) then    ! the belt's x / (m + b k) with m = 1
             x(1) = x(1) / (1.0_dp + b * self%k_m)
             return
         end if
         call self%w_tridiagonal(a, b, l, d, r, ok)
-        c(1) = r(1) / d(1)
-        x(1) = x(1) / d(1)
-        do i = 2, n
-            w = d(i) - l(i) * c(i - 1)
-            c(i) = r(i) / w
-            x(i) = (x(i) - l(i) * x(i - 1)) / w
-        end do
-        do i = n - 1, 1, -1
-            x(i) = x(i) - c(i) * x(i + 1)
-        end do
+        call tridiagonal_solve(l, d, r, x)
     end subroutine chain_contact_solve_w
 
     subroutine chain_contact_normal(self, t, q, n)

@@ -39,6 +39,8 @@ from .prescribed import PrescribedResult, law_n_states, law_state_labels, prescr
 from .data import Record, damper_files, load_damper_record
 from .identify import FitResult, Selection, fit_friction, select_friction_law
 from .engines import ENGINES, advise_engine, engine_creep, engine_mu
+from . import signal
+from .model import Model
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
@@ -51,5 +53,6 @@ __all__ = [
     "PrescribedResult", "law_n_states", "law_state_labels", "prescribed_motion",
     "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction", "Selection", "select_friction_law",
     "ENGINES", "advise_engine", "engine_creep", "engine_mu",
+    "Model", "signal",
 ]
 __version__ = "0.1.0"

@@ -274,3 +274,128 @@ subroutine prescribed(law, pkeys, pvals, np, t, x, v, n, nf, nnf, z0, nz, backla
     status = st%status
     counters = [real(st%n_advance, c_double), real(st%n_unconverged, c_double), real(st%max_substeps, c_double)]
 end subroutine prescribed
+
+!> Run a user's model (stickslip_user_model) given as arrays, one per kind of element (body
+!! indices as reals, from 1, 0 the ground; one array per kind so that f2py sees each size
+!! once): bodies(3, nb) = (mass, x0, v0), springs(4, ns) = (a, b, k, rest length),
+!! dampers(3, nd) = (a, b, c), forces(2, nf) = (body, signal), contacts(5, nc) = (a, b, law
+!! code, normal-force signal, surface-velocity signal or 0), their law parameters (names pkeys,
+!! values pvals; contact i's from con_ptr(i) to con_ptr(i+1)-1), signals(5, nop) = (operation,
+!! its 4 arguments) with sig_start and tables(2, ntab) = (t, value) (stickslip_signal). From
+!! y0 at t = 0 to t_end with the method named `method`; output as run_simulation's; on a bad
+!! element, status and (elem_kind, elem_index) name it.
+subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts, nc, con_ptr, ncp, &
+                     pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, &
+                     method, y0, n, t_end, rtol, nrt, atol, nat, ckeys, cvals, ncv, nrow, t_out, y_out, &
+                     ni, istats, nr, rstats, stop, events, nev, status, elem_kind, elem_index, cpu)
+    use, intrinsic :: iso_c_binding, only: c_int, c_double
+    use stickslip_kinds, only: SS_BAD_DIM
+    use stickslip_ode, only: ode_stats, stats_integers, stats_reals
+    use stickslip_params, only: NAME_LEN
+    use stickslip_registry, only: split_names
+    use stickslip_user_model, only: stickslip_model
+    use stickslip_wrap_interrupt, only: arm, disarm, cpu_seconds
+    implicit none
+    integer(c_int), intent(in) :: nb, ns, nd, nf, nc, ncp, npv, nop, nss, ntab, n, nrt, nat, ncv, nrow, ni, nr, nev
+    real(c_double), intent(in) :: bodies(3, nb)
+    !f2py integer intent(hide), depend(bodies) :: nb = shape(bodies, 1)
+    real(c_double), intent(in) :: springs(4, ns)
+    !f2py integer intent(hide), depend(springs) :: ns = shape(springs, 1)
+    real(c_double), intent(in) :: dampers(3, nd)
+    !f2py integer intent(hide), depend(dampers) :: nd = shape(dampers, 1)
+    real(c_double), intent(in) :: forces(2, nf)
+    !f2py integer intent(hide), depend(forces) :: nf = shape(forces, 1)
+    real(c_double), intent(in) :: contacts(5, nc)
+    !f2py integer intent(hide), depend(contacts) :: nc = shape(contacts, 1)
+    integer(c_int), intent(in) :: con_ptr(ncp)
+    !f2py integer intent(hide), depend(con_ptr) :: ncp = len(con_ptr)
+    character(len=*), intent(in) :: pkeys, ckeys, method
+    real(c_double), intent(in) :: pvals(npv)
+    !f2py integer intent(hide), depend(pvals) :: npv = len(pvals)
+    real(c_double), intent(in) :: signals(5, nop)
+    !f2py integer intent(hide), depend(signals) :: nop = shape(signals, 1)
+    integer(c_int), intent(in) :: sig_start(nss)
+    !f2py integer intent(hide), depend(sig_start) :: nss = len(sig_start)
+    real(c_double), intent(in) :: tables(2, ntab)
+    !f2py integer intent(hide), depend(tables) :: ntab = shape(tables, 1)
+    real(c_double), intent(in) :: y0(n)
+    !f2py integer intent(hide), depend(y0) :: n = len(y0)
+    real(c_double), intent(in) :: t_end
+    real(c_double), intent(in) :: rtol(nrt)
+    !f2py integer intent(hide), depend(rtol) :: nrt = len(rtol)
+    real(c_double), intent(in) :: atol(nat)
+    !f2py integer intent(hide), depend(atol) :: nat = len(atol)
+    real(c_double), intent(in) :: cvals(ncv)
+    !f2py integer intent(hide), depend(cvals) :: ncv = len(cvals)
+    real(c_double), intent(inout) :: t_out(nrow)
+    !f2py integer intent(hide), depend(t_out) :: nrow = len(t_out)
+    real(c_double), intent(out) :: y_out(n, nrow)
+    real(c_double), intent(out) :: istats(ni)
+    real(c_double), intent(out) :: rstats(nr)
+    integer(c_int), intent(inout), target :: stop(1)
+    real(c_double), intent(inout) :: events(4, nev)
+    !f2py integer intent(hide), depend(events) :: nev = shape(events, 1)
+    integer(c_int), intent(out) :: status, elem_kind, elem_index
+    real(c_double), intent(out) :: cpu
+    !f2py threadsafe
+    type(stickslip_model) :: m
+    type(ode_stats) :: st
+    integer, pointer :: flag
+    integer :: ek, ei
+    logical :: armed
+    character(len=NAME_LEN), allocatable :: keys(:)
+
+    y_out = 0.0_c_double
+    istats = 0.0_c_double
+    rstats = 0.0_c_double
+    elem_kind = 0
+    elem_index = 0
+    cpu = 0.0_c_double
+    keys = split_names(pkeys)
+    if (size(keys) /= npv .or. ncp /= nc + 1) then
+        status = SS_BAD_DIM
+        return
+    end if
+    m%mass = bodies(1, :)
+    m%x0 = bodies(2, :)
+    m%v0 = bodies(3, :)
+    m%spr_a = nint(springs(1, :))
+    m%spr_b = nint(springs(2, :))
+    m%spr_k = springs(3, :)
+    m%spr_l0 = springs(4, :)
+    m%dmp_a = nint(dampers(1, :))
+    m%dmp_b = nint(dampers(2, :))
+    m%dmp_c = dampers(3, :)
+    m%frc_body = nint(forces(1, :))
+    m%frc_sig = nint(forces(2, :))
+    m%con_a = nint(contacts(1, :))
+    m%con_b = nint(contacts(2, :))
+    m%con_law = nint(contacts(3, :))
+    m%con_n = nint(contacts(4, :))
+    m%con_w = nint(contacts(5, :))
+    m%con_ptr = con_ptr
+    m%keys = keys
+    m%vals = pvals
+    m%sig%op = nint(signals(1, :))
+    m%sig%arg = signals(2:5, :)
+    m%sig%start = sig_start
+    m%sig%tab_t = tables(1, :)
+    m%sig%tab_v = tables(2, :)
+
+    flag => stop(1)
+    call arm(stop(1), armed)
+    cpu = cpu_seconds()
+    call m%simulate(method, t_end, t_out, y_out, st, rtol, atol, split_names(ckeys), cvals, ek, ei, &
+                    flag, events, y0)
+    cpu = cpu_seconds() - cpu
+    call disarm(armed)
+    status = st%status
+    elem_kind = ek
+    elem_index = ei
+    if (ni /= size(stats_integers(st)) .or. nr /= size(stats_reals(st))) then
+        status = SS_BAD_DIM
+        return
+    end if
+    istats = real(stats_integers(st), c_double)
+    rstats = stats_reals(st)
+end subroutine run_model

@@ -830,21 +830,24 @@ def _chain_state(n_blocks: int, nz: int, x0: Any, v0: Any, z0: Any, law: str) ->
     return y0
 
 
-def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | None = None,
+def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n_out: int | None = None,
              every_step: bool = False, max_steps: int | None = None, x0: Any = 0.0,
              v0: Any = None, z0: Any = None, ignore_unused: bool = False, **kwargs: Any) -> Result:
-    """Simulate `scene` with friction `law` from t = 0 to `t_end` with `method`.
+    """Simulate `scene` with friction `law` (or a `Model`) from t = 0 to `t_end` with `method`.
 
     Parameters
     ----------
-    scene : str
+    scene : str or Model
         What is simulated, one of `SCENES`: "slope" (a box on a plane inclined theta_deg, x
         down the slope), "belt" (a mass m on a belt moving at v_b, tied to a wall by a
         spring k) or "chain" (n_blocks such blocks on the belt, block i tied to block i - 1 by
-        k_c; docs/guide/chain.md).
+        k_c; docs/guide/chain.md); or your own system, a `Model` (docs/guide/models.md), which
+        carries its laws, parameters and initial state: then only `method`, `t_end`, `n_out`,
+        `every_step`, `max_steps` and the method's controls are given, and the Result's `x`
+        and `v` have shape (n_bodies, n_t) and its `events` name the contact.
     law : str
         The friction law, one of `LAWS` (parameters and defaults: `REGISTRY["law"][law]`,
-        `DEFAULTS`).
+        `DEFAULTS`); not with a Model.
     method : str
         The integrator, one of `METHODS`; the controls it reads are
         `REGISTRY["method"][method]["controls"]`.
@@ -962,6 +965,15 @@ def simulate(scene: str, law: str, *, method: str, t_end: float, n_out: int | No
     >>> r.stats["nstep"]
     10
     """
+    if not isinstance(scene, str) and type(scene).__name__ == "Model":
+        from .model import simulate_model
+        extra = [k for k, v in (("law", law), ("x0", x0 if x0 != 0.0 else None), ("v0", v0), ("z0", z0))
+                 if v is not None] + [k for k in kwargs if k in _PARAM_SET]
+        if extra:
+            raise ValueError(f"{', '.join(extra)}: a Model carries its own laws, parameters and initial "
+                             "state (give them to add_body and add_contact)")
+        return simulate_model(scene, method=method, t_end=t_end, n_out=n_out, every_step=every_step,
+                              max_steps=max_steps, **kwargs)
     try:
         # A setting seen before (equal arguments of equal types) is not validated again.
         # (The types keep True from meeting 1, which is valid where True is not.)

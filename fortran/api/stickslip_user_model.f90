@@ -1,0 +1,470 @@
+!> Your own system from Fortran: a `stickslip_model` collects bodies, springs, dampers,
+!! forces, frictional contacts and time signals, checks them, and runs them with any method
+!! (`simulate`). The physics is `stickslip_model_system`'s; the Python `Model` and the C API
+!! (`ss_model_*`) fill the same arrays and call the same `build` and `simulate`.
+!!
+!!     type(stickslip_model) :: m
+!!     integer :: j1, j2, s
+!!     j1 = m%add_body(1.0_dp, v0=10.0_dp)            ! bodies are numbered from 1; 0 is the ground
+!!     j2 = m%add_body(1.0_dp)
+!!     call m%add_spring(j1, 0, 100.0_dp)
+!!     s = m%times(m%constant(20.0_dp), m%step(0.4_dp))
+!!     call m%add_contact(j1, j2, 'coulomb', s, keys=['mu_s', 'mu_k'], vals=[0.55_dp, 0.5_dp])
+!!     call m%simulate('event_driven', 1.5_dp, t_out, y_out, stats)
+!!
+!! Signals are numbered from 1 as they are made (`constant`, `step`, `ramp`, `sine`,
+!! `table`, and `plus`, `minus`, `times` of two signals); a contact without a surface
+!! velocity passes 0. Errors are status codes: `build` (and so `simulate`) names the first bad
+!! element by its kind (`ELEM_*`) and its index.
+module stickslip_user_model
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_MODEL_EMPTY, SS_BAD_BODY, SS_BAD_MASS, SS_BAD_SPRING, &
+                               SS_BAD_DAMPER, SS_BAD_SIGNAL, SS_BAD_LAW, SS_BAD_DIM, SS_BAD_Y0, SS_BAD_METHOD, &
+                               SS_JUMP_MANY_CONTACTS
+    use stickslip_params, only: param_values, NAME_LEN
+    use stickslip_ode, only: ode_stats
+    use stickslip_signal, only: signal_set, SIG_CONST, SIG_STEP, SIG_RAMP, SIG_SINE, SIG_TABLE, SIG_ADD, &
+                                SIG_SUB, SIG_MUL
+    use stickslip_model_system, only: model_system
+    use stickslip_registry, only: make_law, code_of, integrate, METHOD_IMPLICIT_EULER, METHOD_GALPHA
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    implicit none
+    private
+
+    public :: stickslip_model
+
+    !> Kinds of model element, as `build` names the bad one.
+    integer, parameter, public :: ELEM_BODY = 1, ELEM_SPRING = 2, ELEM_DAMPER = 3, ELEM_FORCE = 4, &
+                                  ELEM_CONTACT = 5, ELEM_SIGNAL = 6
+
+    !> A model under construction: the arrays of `model_system`, plus the laws by code and
+    !! their given parameters (made and checked by `build`).
+    type :: stickslip_model
+        real(dp), allocatable :: mass(:)           !! (nb) mass [kg] or inertia [kg m^2]
+        real(dp), allocatable :: x0(:), v0(:)      !! (nb) initial position [m] and velocity [m/s]
+        integer, allocatable :: spr_a(:), spr_b(:) !! springs' bodies (0: the ground)
+        real(dp), allocatable :: spr_k(:)          !! stiffness [N/m]
+        real(dp), allocatable :: spr_l0(:)         !! x_a - x_b at rest [m]
+        integer, allocatable :: dmp_a(:), dmp_b(:) !! dampers' bodies
+        real(dp), allocatable :: dmp_c(:)          !! damping [N s/m]
+        integer, allocatable :: frc_body(:)        !! forces' bodies
+        integer, allocatable :: frc_sig(:)         !! forces' signals
+        integer, allocatable :: con_a(:), con_b(:) !! contacts' bodies
+        integer, allocatable :: con_law(:)         !! contacts' law codes (registry)
+        integer, allocatable :: con_n(:), con_w(:) !! contacts' normal-force and surface-velocity signals
+        integer, allocatable :: con_ptr(:)         !! (nc + 1) contact i's parameters are keys/vals(con_ptr(i) : con_ptr(i + 1) - 1)
+        character(len=NAME_LEN), allocatable :: keys(:)  !! given law parameter names
+        real(dp), allocatable :: vals(:)           !! their values [SI units]
+        type(signal_set) :: sig                    !! the signals
+    contains
+        !> Add a body of mass (inertia) m [kg] at x0 [m] moving at v0 [m/s]; its index (from 1).
+        procedure :: add_body
+        !> Add a spring k [N/m] between bodies a and b (0: the ground), relaxed at x_a - x_b = rest_length [m].
+        procedure :: add_spring
+        !> Add a damper c [N s/m] between bodies a and b (0: the ground).
+        procedure :: add_damper
+        !> Add the force of a signal on a body [N].
+        procedure :: add_force
+        !> Add a frictional contact between a and b (0: the ground) with a law by name.
+        procedure :: add_contact
+        !> A signal: the number c; its index.
+        procedure :: constant
+        !> A signal: before up to time [s], after from then on; its index.
+        procedure :: step
+        !> A signal: 0, rising linearly by height over duration [s] from start [s]; its index.
+        procedure :: ramp
+        !> A signal: amplitude sin(2 pi frequency t + phase) + offset; its index.
+        procedure :: sine
+        !> A signal: linear in a table (t [s] strictly increasing, values), constant outside; its index.
+        procedure :: table
+        !> A signal: the sum of two signals; its index.
+        procedure :: plus
+        !> A signal: the difference of two signals; its index.
+        procedure :: minus
+        !> A signal: the product of two signals; its index.
+        procedure :: times
+        !> Check the model and make its system; SS_OK or the code, with the bad element.
+        procedure :: build
+        !> The initial state (x0, v0, law states 0).
+        procedure :: initial_state
+        !> Run the model with a method by name from t = 0 to t_end.
+        procedure :: simulate => model_simulate
+    end type stickslip_model
+
+contains
+
+    !> Empty arrays for a model that has none yet.
+    subroutine ensure(self)
+        class(stickslip_model), intent(inout) :: self
+        if (allocated(self%mass)) return
+        allocate(self%mass(0), self%x0(0), self%v0(0), self%spr_a(0), self%spr_b(0), self%spr_k(0), &
+                 self%spr_l0(0), self%dmp_a(0), self%dmp_b(0), self%dmp_c(0), self%frc_body(0), &
+                 self%frc_sig(0), self%con_a(0), self%con_b(0), self%con_law(0), self%con_n(0), &
+                 self%con_w(0), self%keys(0), self%vals(0))
+        self%con_ptr = [1]
+        allocate(self%sig%op(0), self%sig%arg(4, 0), self%sig%tab_t(0), self%sig%tab_v(0))
+        self%sig%start = [1]
+    end subroutine ensure
+
+    integer function add_body(self, mass, x0, v0) result(index)
+        class(stickslip_model), intent(inout) :: self
+        real(dp), intent(in) :: mass                !! mass [kg] or inertia [kg m^2], > 0
+        real(dp), intent(in), optional :: x0        !! initial position [m] (default 0)
+        real(dp), intent(in), optional :: v0        !! initial velocity [m/s] (default 0)
+        call ensure(self)
+        self%mass = [self%mass, mass]
+        self%x0 = [self%x0, 0.0_dp]
+        self%v0 = [self%v0, 0.0_dp]
+        index = size(self%mass)
+        if (present(x0)) self%x0(index) = x0
+        if (present(v0)) self%v0(index) = v0
+    end function add_body
+
+    subroutine add_spring(self, a, b, k, rest_length)
+        class(stickslip_model), intent(inout) :: self
+        integer, intent(in) :: a                    !! body, >= 1
+        integer, intent(in) :: b                    !! body, or 0 for the ground
+        real(dp), intent(in) :: k                   !! stiffness, >= 0 [N/m]
+        real(dp), intent(in), optional :: rest_length  !! x_a - x_b at rest (default 0) [m]
+        call ensure(self)
+        self%spr_a = [self%spr_a, a]
+        self%spr_b = [self%spr_b, b]
+        self%spr_k = [self%spr_k, k]
+        self%spr_l0 = [self%spr_l0, 0.0_dp]
+        if (present(rest_length)) self%spr_l0(size(self%spr_l0)) = rest_length
+    end subroutine add_spring
+
+    subroutine add_damper(self, a, b, c)
+        class(stickslip_model), intent(inout) :: self
+        integer, intent(in) :: a                    !! body, >= 1
+        integer, intent(in) :: b                    !! body, or 0 for the ground
+        real(dp), intent(in) :: c                   !! damping, >= 0 [N s/m]
+        call ensure(self)
+        self%dmp_a = [self%dmp_a, a]
+        self%dmp_b = [self%dmp_b, b]
+        self%dmp_c = [self%dmp_c, c]
+    end subroutine add_damper
+
+    subroutine add_force(self, body, signal)
+        class(stickslip_model), intent(inout) :: self
+        integer, intent(in) :: body                 !! body, >= 1
+        integer, intent(in) :: signal               !! the force's signal [N]
+        call ensure(self)
+        self%frc_body = [self%frc_body, body]
+        self%frc_sig = [self%frc_sig, signal]
+    end subroutine add_force
+
+    subroutine add_contact(self, a, b, law, normal_force, surface_velocity, keys, vals)
+        class(stickslip_model), intent(inout) :: self
+        integer, intent(in) :: a                    !! body, >= 1 (the friction force -mu N acts on it)
+        integer, intent(in) :: b                    !! body, or 0 for the ground (it gets +mu N)
+        character(len=*), intent(in) :: law         !! the law's name (registry)
+        integer, intent(in) :: normal_force         !! the normal force's signal [N] (<= 0: open)
+        integer, intent(in), optional :: surface_velocity  !! the surface's velocity signal [m/s] (default none: 0)
+        character(len=*), intent(in), optional :: keys(:)  !! the law's given parameters
+        real(dp), intent(in), optional :: vals(:)          !! their values [SI units]
+        call ensure(self)
+        self%con_a = [self%con_a, a]
+        self%con_b = [self%con_b, b]
+        self%con_law = [self%con_law, code_of('law', law)]
+        self%con_n = [self%con_n, normal_force]
+        self%con_w = [self%con_w, 0]
+        if (present(surface_velocity)) self%con_w(size(self%con_w)) = surface_velocity
+        if (present(keys) .and. present(vals)) then
+            self%keys = [character(len=NAME_LEN) :: self%keys, keys]
+            self%vals = [self%vals, vals(:size(keys))]
+        end if
+        self%con_ptr = [self%con_ptr, size(self%keys) + 1]
+    end subroutine add_contact
+
+    !> Append one primitive operation as a new signal; its index.
+    integer function primitive(self, op, arg) result(index)
+        class(stickslip_model), intent(inout) :: self
+        integer, intent(in) :: op
+        real(dp), intent(in) :: arg(4)
+        real(dp), allocatable :: a(:, :)
+        call ensure(self)
+        self%sig%op = [self%sig%op, op]
+        allocate(a(4, size(self%sig%op)))
+        a(:, :size(self%sig%op) - 1) = self%sig%arg
+        a(:, size(self%sig%op)) = arg
+        call move_alloc(a, self%sig%arg)
+        self%sig%start = [self%sig%start, size(self%sig%op) + 1]
+        index = size(self%sig%start) - 1
+    end function primitive
+
+    integer function constant(self, c) result(index)
+        class(stickslip_model), intent(inout) :: self
+        real(dp), intent(in) :: c                   !! the value
+        index = primitive(self, SIG_CONST, [c, 0.0_dp, 0.0_dp, 0.0_dp])
+    end function constant
+
+    integer function step(self, time, before, after) result(index)
+        class(stickslip_model), intent(inout) :: self
+        real(dp), intent(in) :: time                !! the step's time [s]
+        real(dp), intent(in), optional :: before    !! the value before it (default 0)
+        real(dp), intent(in), optional :: after     !! the value from it on (default 1)
+        real(dp) :: b, a
+        b = 0.0_dp
+        a = 1.0_dp
+        if (present(before)) b = before
+        if (present(after)) a = after
+        index = primitive(self, SIG_STEP, [time, b, a, 0.0_dp])
+    end function step
+
+    integer function ramp(self, start, duration, height) result(index)
+        class(stickslip_model), intent(inout) :: self
+        real(dp), intent(in) :: start               !! when it starts rising [s]
+        real(dp), intent(in) :: duration            !! how long it rises, > 0 [s]
+        real(dp), intent(in) :: height              !! the value it reaches
+        index = primitive(self, SIG_RAMP, [start, duration, height, 0.0_dp])
+    end function ramp
+
+    integer function sine(self, amplitude, frequency, phase, offset) result(index)
+        class(stickslip_model), intent(inout) :: self
+        real(dp), intent(in) :: amplitude           !! amplitude
+        real(dp), intent(in) :: frequency           !! frequency [Hz]
+        real(dp), intent(in), optional :: phase     !! phase (default 0) [rad]
+        real(dp), intent(in), optional :: offset    !! offset (default 0)
+        real(dp) :: p, o
+        p = 0.0_dp
+        o = 0.0_dp
+        if (present(phase)) p = phase
+        if (present(offset)) o = offset
+        index = primitive(self, SIG_SINE, [amplitude, frequency, p, o])
+    end function sine
+
+    integer function table(self, t, values) result(index)
+        class(stickslip_model), intent(inout) :: self
+        real(dp), intent(in) :: t(:)                !! times, strictly increasing [s]
+        real(dp), intent(in) :: values(:)           !! values at those times (same size)
+        integer :: first
+        call ensure(self)
+        first = size(self%sig%tab_t) + 1
+        self%sig%tab_t = [self%sig%tab_t, t]
+        self%sig%tab_v = [self%sig%tab_v, values]
+        index = primitive(self, SIG_TABLE, [real(first, dp), real(size(t), dp), 0.0_dp, 0.0_dp])
+        if (size(values) /= size(t)) self%sig%arg(2, size(self%sig%op)) = 0.0_dp   ! malformed: build says so
+    end function table
+
+    !> Append the programs of signals s1 and s2 and an operator as a new signal; its index.
+    integer function combine(self, s1, s2, op) result(index)
+        class(stickslip_model), intent(inout) :: self
+        integer, intent(in) :: s1, s2, op
+        integer :: k, n
+        integer, allocatable :: ops(:)
+        real(dp), allocatable :: args(:, :)
+        call ensure(self)
+        n = self%sig%count()
+        if (s1 < 1 .or. s1 > n .or. s2 < 1 .or. s2 > n) then   ! an unknown signal: a malformed one
+            index = primitive(self, SIG_ADD, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp])
+            return
+        end if
+        ops = [self%sig%op(self%sig%start(s1):self%sig%start(s1 + 1) - 1), &
+               self%sig%op(self%sig%start(s2):self%sig%start(s2 + 1) - 1), op]
+        allocate(args(4, size(ops)))
+        k = self%sig%start(s1 + 1) - self%sig%start(s1)
+        args(:, :k) = self%sig%arg(:, self%sig%start(s1):self%sig%start(s1 + 1) - 1)
+        args(:, k + 1:size(ops) - 1) = self%sig%arg(:, self%sig%start(s2):self%sig%start(s2 + 1) - 1)
+        args(:, size(ops)) = 0.0_dp
+        self%sig%op = [self%sig%op, ops]
+        self%sig%arg = reshape([self%sig%arg, args], [4, size(self%sig%op)])
+        self%sig%start = [self%sig%start, size(self%sig%op) + 1]
+        index = size(self%sig%start) - 1
+    end function combine
+
+    integer function plus(self, s1, s2) result(index)
+        class(stickslip_model), intent(inout) :: self
+        integer, intent(in) :: s1                   !! a signal
+        integer, intent(in) :: s2                   !! another signal
+        index = combine(self, s1, s2, SIG_ADD)
+    end function plus
+
+    integer function minus(self, s1, s2) result(index)
+        class(stickslip_model), intent(inout) :: self
+        integer, intent(in) :: s1                   !! a signal
+        integer, intent(in) :: s2                   !! the signal subtracted
+        index = combine(self, s1, s2, SIG_SUB)
+    end function minus
+
+    integer function times(self, s1, s2) result(index)
+        class(stickslip_model), intent(inout) :: self
+        integer, intent(in) :: s1                   !! a signal
+        integer, intent(in) :: s2                   !! another signal
+        index = combine(self, s1, s2, SIG_MUL)
+    end function times
+
+    !> Check every element and make the model's system (`stickslip_model_system`). On an error,
+    !! status names what is wrong (SS_BAD_BODY, SS_BAD_MASS, SS_BAD_SPRING, SS_BAD_DAMPER,
+    !! SS_BAD_SIGNAL, SS_BAD_LAW, a law parameter's code, ...) and elem_kind (ELEM_*) and
+    !! elem_index (from 1) the first bad element.
+    subroutine build(self, sys, status, elem_kind, elem_index)
+        class(stickslip_model), intent(inout) :: self
+        type(model_system), intent(out) :: sys      !! the system
+        integer, intent(out) :: status              !! SS_OK or the error's code
+        integer, intent(out) :: elem_kind           !! ELEM_* of the bad element (0: none)
+        integer, intent(out) :: elem_index          !! its index, from 1 (0: none)
+        type(param_values) :: p
+        integer :: i, nb, nsig, err, nc
+        call ensure(self)
+        status = SS_OK
+        elem_kind = 0
+        elem_index = 0
+        nb = size(self%mass)
+        nsig = self%sig%count()
+        if (nb == 0) then
+            status = SS_BAD_MODEL_EMPTY
+            return
+        end if
+        do i = 1, nb
+            if (.not. (ieee_is_finite(self%mass(i)) .and. self%mass(i) > 0.0_dp)) call fail(SS_BAD_MASS, ELEM_BODY, i)
+            if (.not. (ieee_is_finite(self%x0(i)) .and. ieee_is_finite(self%v0(i)))) call fail(SS_BAD_Y0, ELEM_BODY, i)
+            if (status /= SS_OK) return
+        end do
+        call self%sig%check(err, i)
+        if (err /= 0) call fail(SS_BAD_SIGNAL, ELEM_SIGNAL, i)
+        if (status /= SS_OK) return
+        do i = 1, size(self%spr_k)
+            if (.not. pair_ok(self%spr_a(i), self%spr_b(i))) call fail(SS_BAD_BODY, ELEM_SPRING, i)
+            if (.not. (ieee_is_finite(self%spr_k(i)) .and. self%spr_k(i) >= 0.0_dp .and. &
+                       ieee_is_finite(self%spr_l0(i)))) call fail(SS_BAD_SPRING, ELEM_SPRING, i)
+            if (status /= SS_OK) return
+        end do
+        do i = 1, size(self%dmp_c)
+            if (.not. pair_ok(self%dmp_a(i), self%dmp_b(i))) call fail(SS_BAD_BODY, ELEM_DAMPER, i)
+            if (.not. (ieee_is_finite(self%dmp_c(i)) .and. self%dmp_c(i) >= 0.0_dp)) &
+                call fail(SS_BAD_DAMPER, ELEM_DAMPER, i)
+            if (status /= SS_OK) return
+        end do
+        do i = 1, size(self%frc_body)
+            if (self%frc_body(i) < 1 .or. self%frc_body(i) > nb) call fail(SS_BAD_BODY, ELEM_FORCE, i)
+            if (self%frc_sig(i) < 1 .or. self%frc_sig(i) > nsig) call fail(SS_BAD_SIGNAL, ELEM_FORCE, i)
+            if (status /= SS_OK) return
+        end do
+        nc = size(self%con_a)
+        if (size(self%con_ptr) /= nc + 1 .or. size(self%keys) /= size(self%vals)) then
+            status = SS_BAD_DIM
+            return
+        end if
+        allocate(sys%laws(nc), sys%z_first(nc + 1))
+        sys%z_first(1) = 1
+        do i = 1, nc
+            if (.not. pair_ok(self%con_a(i), self%con_b(i))) call fail(SS_BAD_BODY, ELEM_CONTACT, i)
+            if (self%con_n(i) < 1 .or. self%con_n(i) > nsig .or. self%con_w(i) < 0 .or. self%con_w(i) > nsig) &
+                call fail(SS_BAD_SIGNAL, ELEM_CONTACT, i)
+            if (self%con_law(i) < 1) call fail(SS_BAD_LAW, ELEM_CONTACT, i)
+            if (status /= SS_OK) return
+            status = make_law(self%con_law(i), self%keys(self%con_ptr(i):self%con_ptr(i + 1) - 1), &
+                              self%vals(self%con_ptr(i):self%con_ptr(i + 1) - 1), sys%laws(i)%law, p)
+            if (status /= SS_OK) then
+                elem_kind = ELEM_CONTACT
+                elem_index = i
+                return
+            end if
+            sys%z_first(i + 1) = sys%z_first(i) + sys%laws(i)%law%n_states()
+            if (.not. sys%laws(i)%law%is_static()) sys%all_static = .false.
+        end do
+        sys%nb = nb
+        sys%mass = self%mass
+        sys%spr_a = self%spr_a
+        sys%spr_b = self%spr_b
+        sys%spr_k = self%spr_k
+        sys%spr_l0 = self%spr_l0
+        sys%dmp_a = self%dmp_a
+        sys%dmp_b = self%dmp_b
+        sys%dmp_c = self%dmp_c
+        sys%frc_body = self%frc_body
+        sys%frc_sig = self%frc_sig
+        sys%con_a = self%con_a
+        sys%con_b = self%con_b
+        sys%con_n = self%con_n
+        sys%con_w = self%con_w
+        sys%sig = self%sig
+    contains
+        logical function pair_ok(a, b)
+            integer, intent(in) :: a, b
+            pair_ok = a >= 1 .and. a <= nb .and. b >= 0 .and. b <= nb .and. a /= b
+        end function pair_ok
+        subroutine fail(code, kind, index)
+            integer, intent(in) :: code, kind, index
+            if (status /= SS_OK) return
+            status = code
+            elem_kind = kind
+            elem_index = index
+        end subroutine fail
+    end subroutine build
+
+    !> (x0, v0, 0 for every law state) of a built system.
+    function initial_state(self, sys) result(y0)
+        class(stickslip_model), intent(in) :: self
+        type(model_system), intent(in) :: sys       !! the model's system (`build`)
+        real(dp), allocatable :: y0(:)              !! the initial state
+        allocate(y0(sys%n_states()))
+        y0 = 0.0_dp
+        y0(:sys%nb) = self%x0
+        y0(sys%nb + 1:2 * sys%nb) = self%v0
+    end function initial_state
+
+    !> Run the model from t = 0 (its bodies' x0, v0; law states 0) to t_end with a method by
+    !! name and its controls by name; output as `stickslip_simulate`'s. A method with a jump
+    !! law it cannot solve on several contacts (implicit_euler, galpha: coulomb, karnopp) ends
+    !! with SS_JUMP_MANY_CONTACTS before running; moreau and event_driven with SS_NOT_SETVALUED
+    !! when a contact's law has no set-valued form.
+    subroutine model_simulate(self, method, t_end, t_out, y_out, stats, rtol, atol, ckeys, cvals, &
+                              elem_kind, elem_index, stop_flag, events, y0)
+        class(stickslip_model), intent(inout) :: self
+        character(len=*), intent(in) :: method      !! the method's name (registry)
+        real(dp), intent(in) :: t_end               !! final time [s]
+        real(dp), intent(inout) :: t_out(:)         !! requested output times, or room for every step [s]
+        real(dp), intent(inout) :: y_out(:, :)      !! (n_states, size(t_out)) states
+        type(ode_stats), intent(out) :: stats       !! counters and status
+        real(dp), intent(in), optional :: rtol(:)   !! relative tolerance(s) (default 1e-6)
+        real(dp), intent(in), optional :: atol(:)   !! absolute tolerance(s) (default 1e-9)
+        character(len=*), intent(in), optional :: ckeys(:)  !! names of the given controls
+        real(dp), intent(in), optional :: cvals(:)          !! their values
+        integer, intent(out), optional :: elem_kind         !! ELEM_* of a bad element (0: none)
+        integer, intent(out), optional :: elem_index        !! its index (0: none)
+        !> A flag another thread may set nonzero to stop the run (SS_INTERRUPTED).
+        integer, pointer, intent(in), optional :: stop_flag
+        !> (4, room): the stick/slip events of event_driven, (t [s], kind, position [m], contact)
+        real(dp), intent(inout), optional :: events(:, :)
+        real(dp), intent(in), optional :: y0(:)     !! an initial state other than the bodies' (with law states)
+        type(model_system) :: sys
+        real(dp), allocatable :: rt(:), at(:), y_init(:)
+        character(len=NAME_LEN), allocatable :: ck(:)
+        real(dp), allocatable :: cv(:)
+        integer :: ek, ei, code
+        call self%build(sys, stats%status, ek, ei)
+        if (present(elem_kind)) elem_kind = ek
+        if (present(elem_index)) elem_index = ei
+        if (stats%status /= SS_OK) return
+        code = code_of('method', method)
+        if (code == 0) then
+            stats%status = SS_BAD_METHOD
+            return
+        end if
+        if ((code == METHOD_IMPLICIT_EULER .or. code == METHOD_GALPHA) .and. sys%has_jumps()) then
+            stats%status = SS_JUMP_MANY_CONTACTS
+            return
+        end if
+        rt = [1.0e-6_dp]
+        at = [1.0e-9_dp]
+        if (present(rtol)) rt = rtol
+        if (present(atol)) at = atol
+        allocate(ck(0), cv(0))
+        if (present(ckeys) .and. present(cvals)) then
+            ck = ckeys
+            cv = cvals
+        end if
+        if (present(y0)) then
+            y_init = y0
+        else
+            y_init = self%initial_state(sys)
+        end if
+        if (size(y_init) /= sys%n_states() .or. size(y_out, 1) /= size(y_init)) then
+            stats%status = SS_BAD_DIM
+            return
+        end if
+        call integrate(code, sys, 0.0_dp, y_init, t_end, rt, at, ck, cv, t_out, y_out, stats, stop_flag, events)
+    end subroutine model_simulate
+
+end module stickslip_user_model

@@ -1,0 +1,241 @@
+!> Time signals of a model (`stickslip_model`): forces, normal forces and surface velocities
+!! given as functions of time, evaluated in Fortran (never by a callback into Python).
+!!
+!! A set of signals is one program of postfix operations: signal i is the operations
+!! op(start(i) : start(i + 1) - 1), evaluated on a stack of (value, rate) pairs, so that sums,
+!! differences and products of signals and numbers need no tree. The primitives, with their
+!! arguments arg(1:4) of the operation:
+!!   - SIG_CONST (c): c;
+!!   - SIG_STEP (time [s], before, after): before for t < time, after from t = time on;
+!!   - SIG_RAMP (start [s], duration [s] > 0, height): 0 before start, rising linearly to
+!!     height over the duration, height after;
+!!   - SIG_SINE (amplitude, frequency [Hz], phase [rad], offset):
+!!     amplitude sin(2 pi frequency t + phase) + offset;
+!!   - SIG_TABLE (first, count): the table tab_t(first : first + count - 1) [s] (strictly
+!!     increasing) with values tab_v(...), linear between its points, held constant outside.
+!! and the operators SIG_ADD, SIG_SUB and SIG_MUL on the two top entries. Units are those of
+!! what the signal drives (N for a force, m/s for a surface velocity).
+!!
+!! The rate of a signal is its time derivative (right-sided at a corner: a step's is 0, a
+!! ramp's the slope after its start); the corners (a step's time, a ramp's start and end, a
+!! table's points) are its breakpoints, where the methods with events restart.
+module stickslip_signal
+    use stickslip_kinds, only: dp, SS_OK
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    implicit none
+    private
+
+    public :: signal_set
+
+    integer, parameter, public :: SIG_CONST = 1   !! a number
+    integer, parameter, public :: SIG_STEP = 2    !! a step at a time
+    integer, parameter, public :: SIG_RAMP = 3    !! a linear ramp
+    integer, parameter, public :: SIG_SINE = 4    !! a sine
+    integer, parameter, public :: SIG_TABLE = 5   !! a table, linear between its points
+    integer, parameter, public :: SIG_ADD = 6     !! the sum of the two top entries
+    integer, parameter, public :: SIG_SUB = 7     !! their difference (lower minus top)
+    integer, parameter, public :: SIG_MUL = 8     !! their product
+
+    !> What is wrong with a signal program (`signal_set%check`).
+    integer, parameter, public :: SIG_ERR_OP = 1        !! an unknown operation, or a program that leaves not one value
+    integer, parameter, public :: SIG_ERR_ARG = 2       !! an argument not finite
+    integer, parameter, public :: SIG_ERR_DURATION = 3  !! a ramp's duration <= 0
+    integer, parameter, public :: SIG_ERR_TABLE = 4     !! a table empty, outside tab_t, or not strictly increasing
+
+    real(dp), parameter :: two_pi = 2.0_dp * acos(-1.0_dp)
+
+    !> Signals as one postfix program (see the module notes).
+    type :: signal_set
+        integer, allocatable :: op(:)           !! operation codes SIG_*
+        real(dp), allocatable :: arg(:, :)      !! (4, size(op)) their arguments
+        integer, allocatable :: start(:)        !! (n + 1) signal i is op(start(i) : start(i + 1) - 1)
+        real(dp), allocatable :: tab_t(:)       !! the tables' times [s]
+        real(dp), allocatable :: tab_v(:)       !! the tables' values
+    contains
+        !> Number of signals.
+        procedure :: count => signal_count
+        !> Value and rate of signal i at t.
+        procedure :: eval => signal_eval
+        !> The first breakpoint of signal i after t (huge when none) [s].
+        procedure :: next_break => signal_next_break
+        !> 0 when every signal is well formed; else the code SIG_ERR_* and the signal.
+        procedure :: check => signal_check
+    end type signal_set
+
+contains
+
+    pure integer function signal_count(self) result(n)
+        class(signal_set), intent(in) :: self
+        n = 0
+        if (allocated(self%start)) n = size(self%start) - 1
+    end function signal_count
+
+    !> Value and rate of signal i at time t (i in 1 .. count; a checked set).
+    pure subroutine signal_eval(self, i, t, value, rate)
+        class(signal_set), intent(in) :: self
+        integer, intent(in) :: i            !! signal index, 1 .. count
+        real(dp), intent(in) :: t           !! time [s]
+        real(dp), intent(out) :: value      !! its value (units of what it drives)
+        real(dp), intent(out) :: rate       !! its time derivative (per second)
+        real(dp) :: sv(self%start(i + 1) - self%start(i)), sr(self%start(i + 1) - self%start(i))
+        real(dp) :: a(4), u
+        integer :: k, top, j, first, last
+        top = 0
+        do k = self%start(i), self%start(i + 1) - 1
+            a = self%arg(:, k)
+            select case (self%op(k))
+            case (SIG_ADD, SIG_SUB, SIG_MUL)
+                select case (self%op(k))
+                case (SIG_ADD)
+                    sv(top - 1) = sv(top - 1) + sv(top)
+                    sr(top - 1) = sr(top - 1) + sr(top)
+                case (SIG_SUB)
+                    sv(top - 1) = sv(top - 1) - sv(top)
+                    sr(top - 1) = sr(top - 1) - sr(top)
+                case default
+                    sr(top - 1) = sr(top - 1) * sv(top) + sv(top - 1) * sr(top)
+                    sv(top - 1) = sv(top - 1) * sv(top)
+                end select
+                top = top - 1
+                cycle
+            end select
+            top = top + 1
+            sr(top) = 0.0_dp
+            select case (self%op(k))
+            case (SIG_CONST)
+                sv(top) = a(1)
+            case (SIG_STEP)
+                sv(top) = merge(a(3), a(2), t >= a(1))
+            case (SIG_RAMP)
+                if (t < a(1)) then
+                    sv(top) = 0.0_dp
+                else if (t < a(1) + a(2)) then
+                    sv(top) = a(3) * (t - a(1)) / a(2)
+                    sr(top) = a(3) / a(2)
+                else
+                    sv(top) = a(3)
+                end if
+            case (SIG_SINE)
+                u = two_pi * a(2) * t + a(3)
+                sv(top) = a(1) * sin(u) + a(4)
+                sr(top) = a(1) * two_pi * a(2) * cos(u)
+            case (SIG_TABLE)
+                first = nint(a(1))
+                last = first + nint(a(2)) - 1
+                if (t <= self%tab_t(first)) then
+                    sv(top) = self%tab_v(first)
+                    if (last > first .and. t == self%tab_t(first)) sr(top) = slope(first)
+                else if (t >= self%tab_t(last)) then
+                    sv(top) = self%tab_v(last)
+                else
+                    j = first
+                    do while (self%tab_t(j + 1) <= t)
+                        j = j + 1
+                    end do
+                    sv(top) = self%tab_v(j) + slope(j) * (t - self%tab_t(j))
+                    sr(top) = slope(j)
+                end if
+            end select
+        end do
+        value = sv(1)
+        rate = sr(1)
+    contains
+        pure real(dp) function slope(j)
+            integer, intent(in) :: j
+            slope = (self%tab_v(j + 1) - self%tab_v(j)) / (self%tab_t(j + 1) - self%tab_t(j))
+        end function slope
+    end subroutine signal_eval
+
+    !> The first corner of signal i strictly after t: a step's time, a ramp's start or end, a
+    !! table's point; huge(1.0_dp) when there is none [s].
+    pure real(dp) function signal_next_break(self, i, t) result(tb)
+        class(signal_set), intent(in) :: self
+        integer, intent(in) :: i            !! signal index, 1 .. count
+        real(dp), intent(in) :: t           !! time [s]
+        integer :: k, j
+        tb = huge(1.0_dp)
+        do k = self%start(i), self%start(i + 1) - 1
+            select case (self%op(k))
+            case (SIG_STEP)
+                call consider(self%arg(1, k))
+            case (SIG_RAMP)
+                call consider(self%arg(1, k))
+                call consider(self%arg(1, k) + self%arg(2, k))
+            case (SIG_TABLE)
+                do j = nint(self%arg(1, k)), nint(self%arg(1, k)) + nint(self%arg(2, k)) - 1
+                    call consider(self%tab_t(j))
+                end do
+            end select
+        end do
+    contains
+        pure subroutine consider(tc)
+            real(dp), intent(in) :: tc
+            if (tc > t) tb = min(tb, tc)
+        end subroutine consider
+    end function signal_next_break
+
+    !> Check every signal: known operations leaving exactly one value, finite arguments, ramps
+    !! of positive duration, tables inside tab_t with strictly increasing finite times and finite
+    !! values. err = 0 (and which = 0) when all are well formed, else a SIG_ERR_* code and the
+    !! first bad signal.
+    pure subroutine signal_check(self, err, which)
+        class(signal_set), intent(in) :: self
+        integer, intent(out) :: err         !! 0 or SIG_ERR_OP, SIG_ERR_ARG, SIG_ERR_DURATION, SIG_ERR_TABLE
+        integer, intent(out) :: which       !! the first bad signal, 1-based (0: none)
+        integer :: i, k, depth, first, cnt
+        err = 0
+        which = 0
+        if (.not. (allocated(self%op) .and. allocated(self%arg) .and. allocated(self%start) .and. &
+                   allocated(self%tab_t) .and. allocated(self%tab_v))) then
+            err = SIG_ERR_OP
+            return
+        end if
+        if (size(self%start) < 1 .or. size(self%arg, 1) /= 4 .or. size(self%arg, 2) /= size(self%op) .or. &
+            size(self%tab_t) /= size(self%tab_v)) then
+            err = SIG_ERR_OP
+            return
+        end if
+        do i = 1, self%count()
+            which = i
+            if (self%start(i) < 1 .or. self%start(i + 1) < self%start(i) .or. &
+                self%start(i + 1) - 1 > size(self%op)) then
+                err = SIG_ERR_OP
+                return
+            end if
+            depth = 0
+            do k = self%start(i), self%start(i + 1) - 1
+                if (.not. all(ieee_is_finite(self%arg(:, k)))) err = SIG_ERR_ARG
+                select case (self%op(k))
+                case (SIG_ADD, SIG_SUB, SIG_MUL)
+                    depth = depth - 1
+                    if (depth < 1) err = SIG_ERR_OP
+                case (SIG_CONST, SIG_STEP, SIG_SINE)
+                    depth = depth + 1
+                case (SIG_RAMP)
+                    depth = depth + 1
+                    if (err == 0 .and. .not. self%arg(2, k) > 0.0_dp) err = SIG_ERR_DURATION
+                case (SIG_TABLE)
+                    depth = depth + 1
+                    if (err /= 0) exit
+                    first = nint(self%arg(1, k))
+                    cnt = nint(self%arg(2, k))
+                    if (first < 1 .or. cnt < 1 .or. first + cnt - 1 > size(self%tab_t)) then
+                        err = SIG_ERR_TABLE
+                    else if (.not. (all(ieee_is_finite(self%tab_t(first:first + cnt - 1))) .and. &
+                                    all(ieee_is_finite(self%tab_v(first:first + cnt - 1))))) then
+                        err = SIG_ERR_TABLE
+                    else if (any(self%tab_t(first + 1:first + cnt - 1) <= self%tab_t(first:first + cnt - 2))) then
+                        err = SIG_ERR_TABLE
+                    end if
+                case default
+                    err = SIG_ERR_OP
+                end select
+                if (err /= 0) exit
+            end do
+            if (err == 0 .and. depth /= 1) err = SIG_ERR_OP
+            if (err /= 0) return
+        end do
+        which = 0
+    end subroutine signal_check
+
+end module stickslip_signal

@@ -1,0 +1,448 @@
+!> A user's own system, assembled from arrays: bodies on one axis (a mass or an inertia each),
+!! linear springs and dampers between two bodies or a body and the ground, external forces and
+!! frictional contacts, each contact with its own friction law, and time signals
+!! (`stickslip_signal`) for the forces, the normal forces and the surfaces' velocities. Built
+!! by `stickslip_model` (which validates it); every method runs it.
+!!
+!! Bodies 1 .. nb, index 0 is the ground. With positions x and velocities v [m, m/s; or rad,
+!! rad/s for inertias]:
+!!   - spring (a, b, k, l0): force -k (x_a - x_b - l0) on a and the opposite on b (x_0 = 0);
+!!   - damper (a, b, c): force -c (v_a - v_b) on a and the opposite on b;
+!!   - force (a, s): signal s on body a [N];
+!!   - contact (a, b, law, N, w): the slip s = v_a - v_b - w(t) (w a signal, the velocity of
+!!     a surface driven under a, a belt; 0 by default) and the normal force N(t) (a signal;
+!!     N <= 0 opens the contact: no friction); the law's coefficient mu at s gives the force
+!!     -mu N on a and +mu N on b. The law sees s as its relative velocity, and its internal
+!!     states (a bristle deflection) follow s.
+!! m_a x_a'' = the sum of the forces on a.
+!!
+!! State y = (x_1 .. x_nb, v_1 .. v_nb, then the contacts' law states, contact by contact).
+!! A law that reads a holding coefficient (Karnopp) gets, for contact i,
+!! mu_hold = (f_a / m_a - f_b / m_b - w') / (N (1 / m_a + 1 / m_b)) with f the forces other
+!! than friction: the coefficient that holds s constant when no other contact acts on a or b
+!! (where another does, its friction is not counted).
+!!
+!! For the nonsmooth methods the model is a `contact_system` (`model_contact`) with q = x,
+!! u = v, M = diag(m), f = springs + dampers + forces, H with +1 at a and -1 at b per contact
+!! (coupled rows where a contact joins two bodies), N_i(t) and b_i(t) = -w_i(t); every
+!! contact's law must then have a set-valued form (Coulomb, Stribeck). W = M + a C + b K is
+!! tridiagonal when every spring and damper joins neighbours (|a - b| = 1) or the ground, and
+!! then solved in O(nb); otherwise by dense LU.
+!!
+!! Divergence: the model keeps the default bound of `ode_system` (DEFAULT_BOUND_GROWTH
+!! max(1, |y0|)); it has no energy bound of its own, since its forces are the user's.
+module stickslip_model_system
+    use stickslip_kinds, only: dp, SS_OK, SS_NOT_SETVALUED
+    use stickslip_friction, only: friction_law
+    use stickslip_ode, only: ode_system, fd_jacobian
+    use stickslip_contact, only: contact_system, contact_law_of
+    use stickslip_signal, only: signal_set
+    use stickslip_linalg, only: lu_decompose, lu_solve, tridiagonal_solve
+    implicit none
+    private
+
+    public :: model_system, model_contact, law_slot
+
+    !> One contact's friction law (an array of polymorphic laws).
+    type :: law_slot
+        class(friction_law), allocatable :: law   !! a validated law
+    end type law_slot
+
+    !> The model as a first-order system (see the module notes).
+    type, extends(ode_system) :: model_system
+        integer :: nb = 0                          !! bodies
+        real(dp), allocatable :: mass(:)           !! (nb) mass [kg] or inertia [kg m^2], > 0
+        integer, allocatable :: spr_a(:), spr_b(:) !! springs' bodies (0: the ground)
+        real(dp), allocatable :: spr_k(:)          !! stiffness [N/m], >= 0
+        real(dp), allocatable :: spr_l0(:)         !! x_a - x_b at rest [m]
+        integer, allocatable :: dmp_a(:), dmp_b(:) !! dampers' bodies (0: the ground)
+        real(dp), allocatable :: dmp_c(:)          !! damping [N s/m], >= 0
+        integer, allocatable :: frc_body(:)        !! forces' bodies
+        integer, allocatable :: frc_sig(:)         !! forces' signals
+        integer, allocatable :: con_a(:), con_b(:) !! contacts' bodies (b = 0: the ground)
+        integer, allocatable :: con_n(:)           !! contacts' normal-force signals
+        integer, allocatable :: con_w(:)           !! contacts' surface-velocity signals (0: none)
+        type(law_slot), allocatable :: laws(:)     !! contacts' laws
+        integer, allocatable :: z_first(:)         !! (nc + 1) contact i's states are z(z_first(i) : z_first(i + 1) - 1)
+        logical :: all_static = .true.             !! every law is static (no states)
+        type(signal_set) :: sig                    !! the signals
+    contains
+        procedure :: rhs => model_rhs
+        !! (x, v, z)' at (t, y)
+        procedure :: jacobian => model_jacobian
+        !! analytic with static laws, finite differences otherwise
+        procedure :: n_states => model_n_states
+        !! 2 nb + the laws' states
+        procedure :: free_forces => model_free_forces
+        !! springs, dampers and forces on each body [N]
+        procedure :: contact_model => model_contact_model
+        !! the model as a `model_contact`
+        procedure :: next_break => model_next_break
+        !! the first corner of any signal after t [s]
+        procedure :: has_jumps => model_has_jumps
+        !! .true. when a contact's law has a jump (modes)
+    end type model_system
+
+    !> The model with set-valued contacts (see the module notes).
+    type, extends(contact_system) :: model_contact
+        type(model_system) :: m                   !! the model
+        real(dp), allocatable :: kmat(:, :)       !! (nb, nb) K = -df/dx [N/m]
+        real(dp), allocatable :: cmat(:, :)       !! (nb, nb) C = -df/dv [N s/m]
+        logical :: tri = .false.                  !! K and C are tridiagonal
+    contains
+        procedure :: force => mc_force
+        !! springs, dampers and forces
+        procedure :: solve_w => mc_solve_w
+        !! W = M + a C + b K, tridiagonal or dense
+        procedure :: normal_forces => mc_normal
+        !! the normal-force signals, clipped at 0
+        procedure :: slip_offset => mc_offset
+        !! -w(t)
+        procedure :: offset_rate => mc_offset_rate
+        !! -w'(t)
+        procedure :: w_tridiagonal => mc_w_tridiagonal
+        !! W's three diagonals when K and C are tridiagonal
+        procedure :: next_time_event => mc_next_time_event
+        !! the first corner of any signal after t
+    end type model_contact
+
+contains
+
+    pure integer function model_n_states(self) result(n)
+        class(model_system), intent(in) :: self
+        n = 2 * self%nb + self%z_first(size(self%z_first)) - 1
+    end function model_n_states
+
+    !> Springs, dampers and external forces on each body at (t, x, v) [N].
+    subroutine model_free_forces(self, t, x, v, f)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: x(:)       !! (nb) positions [m]
+        real(dp), intent(in)  :: v(:)       !! (nb) velocities [m/s]
+        real(dp), intent(out) :: f(:)       !! (nb) forces [N]
+        real(dp) :: fe, xb, vb, rate
+        integer :: i, a, b
+        f = 0.0_dp
+        do i = 1, size(self%spr_k)
+            a = self%spr_a(i)
+            b = self%spr_b(i)
+            xb = 0.0_dp
+            if (b > 0) xb = x(b)
+            fe = -self%spr_k(i) * (x(a) - xb - self%spr_l0(i))
+            f(a) = f(a) + fe
+            if (b > 0) f(b) = f(b) - fe
+        end do
+        do i = 1, size(self%dmp_c)
+            a = self%dmp_a(i)
+            b = self%dmp_b(i)
+            vb = 0.0_dp
+            if (b > 0) vb = v(b)
+            fe = -self%dmp_c(i) * (v(a) - vb)
+            f(a) = f(a) + fe
+            if (b > 0) f(b) = f(b) - fe
+        end do
+        do i = 1, size(self%frc_body)
+            call self%sig%eval(self%frc_sig(i), t, fe, rate)
+            f(self%frc_body(i)) = f(self%frc_body(i)) + fe
+        end do
+    end subroutine model_free_forces
+
+    !> Contact i's slip s [m/s], its normal force N >= 0 [N] and the surface's acceleration
+    !! w' [m/s^2] at (t, v).
+    subroutine contact_state(self, i, t, v, s, n, wdot)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i
+        real(dp), intent(in) :: t, v(:)
+        real(dp), intent(out) :: s, n, wdot
+        real(dp) :: w, rate
+        call self%sig%eval(self%con_n(i), t, n, rate)
+        n = max(n, 0.0_dp)
+        s = v(self%con_a(i))
+        if (self%con_b(i) > 0) s = s - v(self%con_b(i))
+        wdot = 0.0_dp
+        if (self%con_w(i) > 0) then
+            call self%sig%eval(self%con_w(i), t, w, wdot)
+            s = s - w
+        end if
+    end subroutine contact_state
+
+    !> 1 / m_a + 1 / m_b of contact i [1/kg] (the ground: infinite mass).
+    pure real(dp) function inverse_mass(self, i) result(im)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i
+        im = 1.0_dp / self%mass(self%con_a(i))
+        if (self%con_b(i) > 0) im = im + 1.0_dp / self%mass(self%con_b(i))
+    end function inverse_mass
+
+    subroutine model_rhs(self, t, y, dydt)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
+        real(dp) :: f(self%nb), f0(self%nb), s, n, wdot, mu, mu_hold, c, fa, fb
+        integer :: i, nb, a, b, z0, z1
+        nb = self%nb
+        call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), f0)
+        f = f0
+        do i = 1, size(self%con_a)
+            a = self%con_a(i)
+            b = self%con_b(i)
+            call contact_state(self, i, t, y(nb + 1:2 * nb), s, n, wdot)
+            if (self%all_static) then
+                mu = self%laws(i)%law%mu(s)
+            else
+                z0 = 2 * nb + self%z_first(i)
+                z1 = 2 * nb + self%z_first(i + 1) - 1
+                c = n * inverse_mass(self, i)
+                mu_hold = 0.0_dp
+                if (c > 0.0_dp) then
+                    fa = f0(a) / self%mass(a)
+                    fb = 0.0_dp
+                    if (b > 0) fb = f0(b) / self%mass(b)
+                    mu_hold = (fa - fb - wdot) / c
+                end if
+                call self%laws(i)%law%evaluate(s, y(z0:z1), mu_hold, mu, dydt(z0:z1))
+            end if
+            f(a) = f(a) - mu * n
+            if (b > 0) f(b) = f(b) + mu * n
+        end do
+        dydt(1:nb) = y(nb + 1:2 * nb)
+        dydt(nb + 1:2 * nb) = f / self%mass
+    end subroutine model_rhs
+
+    !> df/dy: analytic when every law is static (springs K, dampers C, and each contact's
+    !! d mu/ds N on the velocities of its bodies), finite differences otherwise.
+    subroutine model_jacobian(self, t, y, f, dfdy, nfev)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)    :: t             !! time [s]
+        real(dp), intent(in)    :: y(:)          !! state
+        real(dp), intent(in)    :: f(:)          !! f(t, y), already evaluated
+        real(dp), intent(out)   :: dfdy(:, :)    !! (n, n) Jacobian
+        integer(8), intent(inout) :: nfev        !! evaluation counter (+ 0: analytic)
+        real(dp) :: kmat(self%nb, self%nb), cmat(self%nb, self%nb), s, n, wdot, d
+        integer :: i, j, nb, a, b
+        if (.not. self%all_static) then
+            call fd_jacobian(self, t, y, f, dfdy, nfev)
+            return
+        end if
+        nb = self%nb
+        call stiffness_damping(self, kmat, cmat)
+        do i = 1, size(self%con_a)
+            call contact_state(self, i, t, y(nb + 1:2 * nb), s, n, wdot)
+            d = self%laws(i)%law%dmu(s) * n
+            a = self%con_a(i)
+            b = self%con_b(i)
+            cmat(a, a) = cmat(a, a) + d
+            if (b > 0) then
+                cmat(a, b) = cmat(a, b) - d
+                cmat(b, a) = cmat(b, a) - d
+                cmat(b, b) = cmat(b, b) + d
+            end if
+        end do
+        dfdy = 0.0_dp
+        do j = 1, nb
+            dfdy(j, nb + j) = 1.0_dp
+            dfdy(nb + 1:2 * nb, j) = -kmat(:, j) / self%mass
+            dfdy(nb + 1:2 * nb, nb + j) = -cmat(:, j) / self%mass
+        end do
+    end subroutine model_jacobian
+
+    !> K = -df/dx [N/m] and C = -df/dv [N s/m] of the springs and dampers (dense).
+    pure subroutine stiffness_damping(self, kmat, cmat)
+        class(model_system), intent(in) :: self
+        real(dp), intent(out) :: kmat(:, :), cmat(:, :)
+        integer :: i
+        kmat = 0.0_dp
+        cmat = 0.0_dp
+        do i = 1, size(self%spr_k)
+            call couple(kmat, self%spr_a(i), self%spr_b(i), self%spr_k(i))
+        end do
+        do i = 1, size(self%dmp_c)
+            call couple(cmat, self%dmp_a(i), self%dmp_b(i), self%dmp_c(i))
+        end do
+    contains
+        pure subroutine couple(mat, a, b, k)
+            real(dp), intent(inout) :: mat(:, :)
+            integer, intent(in) :: a, b
+            real(dp), intent(in) :: k
+            mat(a, a) = mat(a, a) + k
+            if (b > 0) then
+                mat(b, b) = mat(b, b) + k
+                mat(a, b) = mat(a, b) - k
+                mat(b, a) = mat(b, a) - k
+            end if
+        end subroutine couple
+    end subroutine stiffness_damping
+
+    pure real(dp) function model_next_break(self, t) result(tb)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in) :: t           !! time [s]
+        integer :: i
+        tb = huge(1.0_dp)
+        do i = 1, self%sig%count()
+            tb = min(tb, self%sig%next_break(i, t))
+        end do
+    end function model_next_break
+
+    pure logical function model_has_jumps(self) result(jumps)
+        class(model_system), intent(in) :: self
+        integer :: i
+        jumps = .false.
+        do i = 1, size(self%laws)
+            jumps = jumps .or. self%laws(i)%law%n_modes() > 0
+        end do
+    end function model_has_jumps
+
+    !> The model with set-valued contacts; SS_NOT_SETVALUED when a contact's law has no
+    !! set-valued form.
+    subroutine model_contact_model(self, cs, status)
+        class(model_system), intent(in) :: self
+        class(contact_system), allocatable, intent(out) :: cs   !! the contact model
+        integer, intent(out) :: status                          !! SS_OK or SS_NOT_SETVALUED
+        type(model_contact), allocatable :: mc
+        integer :: i, nc, nb, k
+        nb = self%nb
+        nc = size(self%con_a)
+        allocate(mc)
+        allocate(mc%laws(nc))
+        do i = 1, nc
+            call contact_law_of(self%laws(i)%law, mc%laws(i), status)
+            if (status /= SS_OK) return
+        end do
+        mc%m = self
+        mc%n_dof = nb
+        mc%n_c = nc
+        allocate(mc%h_ptr(nc + 1), mc%h_col(2 * nc), mc%h_val(2 * nc))
+        k = 0
+        do i = 1, nc
+            mc%h_ptr(i) = k + 1
+            k = k + 1
+            mc%h_col(k) = self%con_a(i)
+            mc%h_val(k) = 1.0_dp
+            if (self%con_b(i) > 0) then
+                k = k + 1
+                mc%h_col(k) = self%con_b(i)
+                mc%h_val(k) = -1.0_dp
+            end if
+        end do
+        mc%h_ptr(nc + 1) = k + 1
+        mc%h_col = mc%h_col(:k)
+        mc%h_val = mc%h_val(:k)
+        mc%w_constant = .true.
+        allocate(mc%kmat(nb, nb), mc%cmat(nb, nb))
+        call stiffness_damping(self, mc%kmat, mc%cmat)
+        mc%tri = .true.
+        do i = 1, size(self%spr_k)
+            if (self%spr_b(i) > 0 .and. abs(self%spr_a(i) - self%spr_b(i)) > 1) mc%tri = .false.
+        end do
+        do i = 1, size(self%dmp_c)
+            if (self%dmp_b(i) > 0 .and. abs(self%dmp_a(i) - self%dmp_b(i)) > 1) mc%tri = .false.
+        end do
+        call move_alloc(mc, cs)
+        status = SS_OK
+    end subroutine model_contact_model
+
+    subroutine mc_force(self, t, q, u, f)
+        class(model_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! positions [m]
+        real(dp), intent(in)  :: u(:)       !! velocities [m/s]
+        real(dp), intent(out) :: f(:)       !! springs, dampers and forces [N]
+        call self%m%free_forces(t, q, u, f)
+    end subroutine mc_force
+
+    subroutine mc_w_tridiagonal(self, a, b, l, d, r, ok)
+        class(model_contact), intent(in) :: self
+        real(dp), intent(in)  :: a          !! weight of C [s]
+        real(dp), intent(in)  :: b          !! weight of K [s^2]
+        real(dp), intent(out) :: l(:)       !! W(i, i - 1)
+        real(dp), intent(out) :: d(:)       !! W(i, i)
+        real(dp), intent(out) :: r(:)       !! W(i, i + 1)
+        logical, intent(out)  :: ok         !! .true.: W is tridiagonal
+        integer :: i, n
+        ok = self%tri
+        if (.not. ok) return
+        n = self%n_dof
+        do i = 1, n
+            d(i) = self%m%mass(i) + a * self%cmat(i, i) + b * self%kmat(i, i)
+            l(i) = 0.0_dp
+            r(i) = 0.0_dp
+            if (i > 1) l(i) = a * self%cmat(i, i - 1) + b * self%kmat(i, i - 1)
+            if (i < n) r(i) = a * self%cmat(i, i + 1) + b * self%kmat(i, i + 1)
+        end do
+    end subroutine mc_w_tridiagonal
+
+    subroutine mc_solve_w(self, t, q, u, a, b, x)
+        class(model_contact), intent(in) :: self
+        real(dp), intent(in)    :: t        !! time [s]
+        real(dp), intent(in)    :: q(:)     !! positions [m]
+        real(dp), intent(in)    :: u(:)     !! velocities [m/s]
+        real(dp), intent(in)    :: a        !! weight of C [s]
+        real(dp), intent(in)    :: b        !! weight of K [s^2]
+        real(dp), intent(inout) :: x(:)     !! right-hand side [N s], then the solution [m/s]
+        real(dp) :: l(self%n_dof), d(self%n_dof), r(self%n_dof), w(self%n_dof, self%n_dof)
+        integer :: ipiv(self%n_dof), info, i
+        logical :: ok
+        call self%w_tridiagonal(a, b, l, d, r, ok)
+        if (ok) then
+            call tridiagonal_solve(l, d, r, x)
+            return
+        end if
+        w = a * self%cmat + b * self%kmat
+        do i = 1, self%n_dof
+            w(i, i) = w(i, i) + self%m%mass(i)
+        end do
+        call lu_decompose(w, ipiv, info)   ! M + a C + b K is symmetric positive definite: info = 0
+        call lu_solve(w, ipiv, x)
+    end subroutine mc_solve_w
+
+    subroutine mc_normal(self, t, q, n)
+        class(model_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! positions [m]
+        real(dp), intent(out) :: n(:)       !! normal forces, >= 0 [N]
+        real(dp) :: rate
+        integer :: i
+        do i = 1, self%n_c
+            call self%m%sig%eval(self%m%con_n(i), t, n(i), rate)
+            n(i) = max(n(i), 0.0_dp)
+        end do
+    end subroutine mc_normal
+
+    subroutine mc_offset(self, t, b)
+        class(model_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(out) :: b(:)       !! -w(t) of each contact [m/s]
+        real(dp) :: w, rate
+        integer :: i
+        do i = 1, self%n_c
+            b(i) = 0.0_dp
+            if (self%m%con_w(i) > 0) then
+                call self%m%sig%eval(self%m%con_w(i), t, w, rate)
+                b(i) = -w
+            end if
+        end do
+    end subroutine mc_offset
+
+    subroutine mc_offset_rate(self, t, b)
+        class(model_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(out) :: b(:)       !! -w'(t) of each contact [m/s^2]
+        real(dp) :: w, rate
+        integer :: i
+        do i = 1, self%n_c
+            b(i) = 0.0_dp
+            if (self%m%con_w(i) > 0) then
+                call self%m%sig%eval(self%m%con_w(i), t, w, rate)
+                b(i) = -rate
+            end if
+        end do
+    end subroutine mc_offset_rate
+
+    pure real(dp) function mc_next_time_event(self, t) result(tb)
+        class(model_contact), intent(in) :: self
+        real(dp), intent(in) :: t           !! time [s]
+        tb = self%m%next_break(t)
+    end function mc_next_time_event
+
+end module stickslip_model_system

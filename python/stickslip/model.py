@@ -1,0 +1,517 @@
+"""Your own system: bodies, springs, dampers, forces, time signals and friction contacts.
+
+`Model` collects and checks the elements; the library (Fortran modules
+``stickslip_model_system`` and ``stickslip_user_model``) assembles and runs them with any
+method, through `stickslip.simulate`. Bodies move on one axis each (a position in m, or an
+angle in rad for an inertia); index None is the ground.
+
+Examples
+--------
+>>> import stickslip as ss
+>>> m = ss.Model()
+>>> j1 = m.add_body(1.0, v0=1.0, name="J1")
+>>> m.add_spring(j1, None, k=100.0)
+>>> m.add_contact(j1, None, "coulomb", normal_force=9.81, mu_s=0.3, mu_k=0.3)
+>>> res = ss.simulate(m, method="event_driven", t_end=1.0, n_out=3)
+>>> res.x.shape
+(1, 3)
+"""
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+import tomllib
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+
+from . import _stickslip as _ext
+from . import signal as _signal
+from .core import (CONTROL_DEFAULTS, DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result, _ERRORS,
+                   _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _events, _finite,
+                   _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
+                   IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
+                   _physical, MAX_ROWS)
+from .signal import Signal, SignalLike, as_signal
+
+__all__ = ["Model"]
+
+#: The library's kinds of model element (stickslip_user_model's ELEM_*), as messages name them.
+_ELEMENTS = {1: "body", 2: "spring", 3: "damper", 4: "force", 5: "contact", 6: "signal"}
+#: The laws the set-valued methods take.
+_SET_VALUED = ("coulomb", "stribeck")
+
+
+@dataclass
+class _Body:
+    mass: float
+    x0: float
+    v0: float
+    name: str
+
+
+@dataclass
+class _Contact:
+    a: int
+    b: int | None
+    law: str
+    normal_force: Signal
+    surface_velocity: Signal | None
+    params: dict[str, float] = field(default_factory=dict)
+
+
+class Model:
+    """A system of bodies, springs, dampers, forces and friction contacts (see the module).
+
+    Elements are added with `add_body`, `add_spring`, `add_damper`, `add_force` and
+    `add_contact`; each is checked as it is added (a ValueError naming the element). Run it
+    with ``stickslip.simulate(model, method=..., t_end=...)``; save and load it with
+    `to_toml` and `from_toml`; a built-in scene as a model: `from_scene`.
+    """
+
+    def __init__(self) -> None:
+        self.bodies: list[_Body] = []
+        self.springs: list[tuple[int, int | None, float, float]] = []
+        self.dampers: list[tuple[int, int | None, float]] = []
+        self.forces: list[tuple[int, Signal]] = []
+        self.contacts: list[_Contact] = []
+
+    # -- building ----------------------------------------------------------------------
+    @property
+    def n_bodies(self) -> int:
+        """Number of bodies."""
+        return len(self.bodies)
+
+    def _body(self, element: str, role: str, index: Any, ground: bool = True) -> int | None:
+        """A body index of the model (or None, the ground, where allowed), else ValueError."""
+        if index is None and ground:
+            return None
+        if isinstance(index, (bool, np.bool_)) or not isinstance(index, (int, np.integer)) \
+                or not 0 <= index < self.n_bodies:
+            names = f"0 .. {self.n_bodies - 1}" if self.n_bodies else "none yet: add_body first"
+            raise ValueError(f"{element}: {role} must be a body index ({names})"
+                             f"{' or None (the ground)' if ground else ''}, got {index!r}")
+        return int(index)
+
+    def _pair(self, element: str, a: Any, b: Any) -> tuple[int, int | None]:
+        ia = self._body(element, "a", a, ground=False)
+        ib = self._body(element, "b", b)
+        if ia == ib:
+            raise ValueError(f"{element}: a and b are the same body ({ia}); b = None is the ground")
+        return ia, ib  # type: ignore[return-value]
+
+    def label(self, index: int | None) -> str:
+        """The name of body `index` ("ground" for None)."""
+        return "ground" if index is None else self.bodies[index].name
+
+    def add_body(self, mass: float, x0: float = 0.0, v0: float = 0.0, name: str | None = None) -> int:
+        """Add a body of `mass` [kg] (an inertia [kg m^2] for a rotating part) at `x0` [m]
+        moving at `v0` [m/s]; its index, from 0. `name` (default "body<index>") appears in
+        messages and in TOML files."""
+        i = self.n_bodies
+        where = f"body {i}"
+        mass = _finite(f"{where}: mass", mass, "> 0 [kg]")
+        if not mass > 0.0:
+            raise ValueError(f"{where}: mass must be > 0 [kg], got {mass!r}")
+        name = f"body{i}" if name is None else name
+        if not isinstance(name, str) or not name or name == "ground" or any(b.name == name for b in self.bodies):
+            raise ValueError(f"{where}: name must be a new non-empty string other than 'ground', got {name!r}")
+        self.bodies.append(_Body(mass, _finite(f"{where}: x0", x0, "[m]"), _finite(f"{where}: v0", v0, "[m/s]"),
+                                 name))
+        return i
+
+    def add_spring(self, a: int, b: int | None, k: float, rest_length: float = 0.0) -> None:
+        """Add a spring of stiffness `k` [N/m] between bodies `a` and `b` (None: the ground),
+        relaxed where x_a - x_b = `rest_length` [m]."""
+        where = f"spring {len(self.springs)}"
+        ia, ib = self._pair(where, a, b)
+        k = _finite(f"{where}: k", k, ">= 0 [N/m]")
+        if k < 0.0:
+            raise ValueError(f"{where}: k must be >= 0 [N/m], got {k!r}")
+        self.springs.append((ia, ib, k, _finite(f"{where}: rest_length", rest_length, "[m]")))
+
+    def add_damper(self, a: int, b: int | None, c: float) -> None:
+        """Add a damper `c` [N s/m] between bodies `a` and `b` (None: the ground)."""
+        where = f"damper {len(self.dampers)}"
+        ia, ib = self._pair(where, a, b)
+        c = _finite(f"{where}: c", c, ">= 0 [N s/m]")
+        if c < 0.0:
+            raise ValueError(f"{where}: c must be >= 0 [N s/m], got {c!r}")
+        self.dampers.append((ia, ib, c))
+
+    def add_force(self, body: int, force: SignalLike) -> None:
+        """Add a force on `body`: a number [N] or a `stickslip.signal` of time."""
+        where = f"force {len(self.forces)}"
+        self.forces.append((self._body(where, "body", body, ground=False), as_signal(force, f"{where}: force")))
+
+    def add_contact(self, a: int, b: int | None, law: str, normal_force: SignalLike,
+                    surface_velocity: SignalLike = 0.0, **law_params: float) -> None:
+        """Add a friction contact between bodies `a` and `b` (None: the ground).
+
+        Parameters
+        ----------
+        a, b : int or None
+            The bodies; the friction force on `a` opposes the slip
+            s = v_a - v_b - surface_velocity and `b` gets the opposite force.
+        law : str
+            The contact's friction law, one of `stickslip.LAWS`.
+        normal_force : float or Signal
+            The normal force [N]; where it is zero or negative the contact is open (no
+            friction), as a disengaged clutch.
+        surface_velocity : float or Signal, optional
+            The velocity [m/s] of a surface driven under `a` (a belt); 0 by default.
+        **law_params : float
+            The law's parameters (names: ``stickslip.REGISTRY["law"][law]["params"]``;
+            defaults as for the scenes), range-checked when the model runs.
+        """
+        n = len(self.contacts)
+        ia, ib = self._pair(f"contact {n}", a, b)
+        where = f"contact {n} ({self.label(ia)}-{self.label(ib)})"
+        _choice("law", law, LAWS)
+        allowed = REGISTRY["law"][law]["params"]
+        unknown = set(law_params) - set(allowed)
+        if unknown:
+            raise ValueError(f"{where}: law {law!r} has no parameter(s) {', '.join(sorted(unknown))} "
+                             f"(its parameters: {', '.join(allowed)})")
+        params = {k: _finite(f"{where}: {k}", v, "see REGISTRY") for k, v in law_params.items()}
+        surface = None if (not isinstance(surface_velocity, Signal) and surface_velocity == 0.0) \
+            else as_signal(surface_velocity, f"{where}: surface_velocity")
+        self.contacts.append(_Contact(ia, ib, law, as_signal(normal_force, f"{where}: normal_force"), surface,
+                                      params))
+
+    def contact_label(self, i: int) -> str:
+        """'contact i (A-B)' with the bodies' names, as messages name contact `i`."""
+        c = self.contacts[i]
+        return f"contact {i} ({self.label(c.a)}-{self.label(c.b)})"
+
+    # -- what the library reads -----------------------------------------------------------
+    def n_states(self) -> int:
+        """Size of the state: positions, velocities, then every contact's law states."""
+        return 2 * self.n_bodies + sum(self._law_states(i)[0] for i in range(len(self.contacts)))
+
+    def _law_states(self, i: int) -> tuple[int, tuple[str, ...]]:
+        c = self.contacts[i]
+        try:
+            return _states(c.law, tuple(sorted(c.params.items())))
+        except ValueError as err:
+            raise ValueError(f"{self.contact_label(i)}: {err}") from None
+
+    def state_labels(self) -> tuple[str, ...]:
+        """Name and unit of each law state, 'contact i: z [m]', in the order of the state."""
+        return tuple(f"contact {i}: {lab}" for i in range(len(self.contacts)) for lab in self._law_states(i)[1])
+
+    def arrays(self) -> dict[str, Any]:
+        """The model as the library's arrays (body indices from 1, 0 the ground)."""
+        if not self.bodies:
+            raise ValueError("model: has no bodies (add_body first)")
+        one = lambda i: 0 if i is None else i + 1  # noqa: E731
+        signals: list[Signal] = []
+
+        def sig(s: Signal | None) -> int:
+            if s is None:
+                return 0
+            signals.append(s)
+            return len(signals)
+        keys: list[str] = []
+        vals: list[float] = []
+        ptr = [1]
+        for c in self.contacts:
+            keys.extend(c.params)
+            vals.extend(c.params.values())
+            ptr.append(len(keys) + 1)
+        con_n = [sig(c.normal_force) for c in self.contacts]
+        con_w = [sig(c.surface_velocity) for c in self.contacts]
+        frc_sig = [sig(s) for _, s in self.forces]
+        tables: list[float] = []
+        tvalues: list[float] = []
+        ops: list[tuple[int, tuple[float, ...]]] = []
+        start = [1]
+        for s in signals:
+            ops.extend(s.program(tables, tvalues))
+            start.append(len(ops) + 1)
+        def rows(items: list[tuple[float, ...]], width: int) -> np.ndarray:
+            return np.asfortranarray(np.asarray(items, dtype=np.float64).reshape(-1, width).T)
+        return dict(
+            bodies=rows([(b.mass, b.x0, b.v0) for b in self.bodies], 3),
+            springs=rows([(one(a), one(b), k, l0) for a, b, k, l0 in self.springs], 4),
+            dampers=rows([(one(a), one(b), c) for a, b, c in self.dampers], 3),
+            forces=rows([(a + 1, s) for (a, _), s in zip(self.forces, frc_sig)], 2),
+            contacts=rows([(one(c.a), one(c.b), LAWS.index(c.law) + 1, n, w)
+                           for c, n, w in zip(self.contacts, con_n, con_w)], 5),
+            con_ptr=np.asarray(ptr, dtype=np.int32), pkeys=" ".join(keys), pvals=np.asarray(vals, dtype=np.float64),
+            signals=rows([(o, *a) for o, a in ops], 5), sig_start=np.asarray(start, dtype=np.int32),
+            tables=rows(list(zip(tables, tvalues)), 2))
+
+    # -- files ------------------------------------------------------------------------------
+    def to_dict(self) -> dict[str, Any]:
+        """The model as plain data: the content of its TOML file (bodies by name)."""
+        name = self.label
+        out: dict[str, Any] = {"body": [{"name": b.name, "mass": b.mass, "x0": b.x0, "v0": b.v0} for b in self.bodies]}
+        if self.springs:
+            out["spring"] = [{"a": name(a), "b": name(b), "k": k, "rest_length": l0} for a, b, k, l0 in self.springs]
+        if self.dampers:
+            out["damper"] = [{"a": name(a), "b": name(b), "c": c} for a, b, c in self.dampers]
+        if self.forces:
+            out["force"] = [{"body": name(a), "force": s.to_dict()} for a, s in self.forces]
+        if self.contacts:
+            out["contact"] = []
+            for c in self.contacts:
+                row: dict[str, Any] = {"a": name(c.a), "b": name(c.b), "law": c.law,
+                                       "normal_force": c.normal_force.to_dict()}
+                if c.surface_velocity is not None:
+                    row["surface_velocity"] = c.surface_velocity.to_dict()
+                if c.params:
+                    row["params"] = dict(c.params)
+                out["contact"].append(row)
+        return out
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> "Model":
+        """The inverse of `to_dict`; ValueError naming the bad entry."""
+        unknown = set(data) - {"body", "spring", "damper", "force", "contact"}
+        if unknown:
+            raise ValueError(f"model file: unknown section(s) {', '.join(sorted(unknown))} "
+                             "(accepted: body, spring, damper, force, contact)")
+        m = cls()
+        for i, b in enumerate(data.get("body", [])):
+            _fields(f"body {i}", b, {"mass"}, {"name", "x0", "v0"})
+            m.add_body(b["mass"], b.get("x0", 0.0), b.get("v0", 0.0), b.get("name"))
+        index = {b.name: i for i, b in enumerate(m.bodies)}
+
+        def body(where: str, value: Any, ground: bool = True) -> int | None:
+            if value == "ground" and ground:
+                return None
+            if value not in index:
+                raise ValueError(f"{where}: unknown body {value!r} (bodies: {', '.join(index)}"
+                                 f"{', ground' if ground else ''})")
+            return index[value]
+        for i, s in enumerate(data.get("spring", [])):
+            _fields(f"spring {i}", s, {"a", "b", "k"}, {"rest_length"})
+            m.add_spring(body(f"spring {i}", s["a"]), body(f"spring {i}", s["b"]), s["k"], s.get("rest_length", 0.0))
+        for i, d in enumerate(data.get("damper", [])):
+            _fields(f"damper {i}", d, {"a", "b", "c"}, set())
+            m.add_damper(body(f"damper {i}", d["a"]), body(f"damper {i}", d["b"]), d["c"])
+        for i, f in enumerate(data.get("force", [])):
+            _fields(f"force {i}", f, {"body", "force"}, set())
+            m.add_force(body(f"force {i}", f["body"], False), Signal.from_dict(f["force"], f"force {i}"))
+        for i, c in enumerate(data.get("contact", [])):
+            where = f"contact {i}"
+            _fields(where, c, {"a", "b", "law", "normal_force"}, {"surface_velocity", "params"})
+            surface = Signal.from_dict(c["surface_velocity"], where) if "surface_velocity" in c else 0.0
+            m.add_contact(body(where, c["a"]), body(where, c["b"]), c["law"],
+                          Signal.from_dict(c["normal_force"], where), surface, **c.get("params", {}))
+        return m
+
+    def to_toml(self, path: str | os.PathLike) -> None:
+        """Write the model to a TOML file, whole or not at all (a temporary file renamed).
+        The schema: docs/guide/models.md."""
+        text = _toml(self.to_dict())
+        path = os.fspath(path)
+        folder = os.path.dirname(os.path.abspath(path))
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".model-", suffix=".toml")
+        try:
+            with os.fdopen(fd, "w") as fh:
+                fh.write(text)
+            os.replace(tmp, path)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
+
+    @classmethod
+    def from_toml(cls, path: str | os.PathLike) -> "Model":
+        """Read a model from a TOML file written by `to_toml` or by hand (docs/guide/models.md)."""
+        try:
+            with open(path, "rb") as fh:
+                data = tomllib.load(fh)
+        except tomllib.TOMLDecodeError as err:
+            raise ValueError(f"{os.fspath(path)}: not a valid TOML file ({err})") from None
+        return cls.from_dict(data)
+
+    # -- the built-in scenes ----------------------------------------------------------------
+    @classmethod
+    def from_scene(cls, scene: str, law: str, x0: Any = 0.0, v0: Any = None, **params: float) -> "Model":
+        """A built-in scene as a model: ``simulate`` gives the scene's result (to rounding).
+
+        "slope": one body of unit mass (the slope's mass cancels) pulled down the slope by
+        g sin(theta) on a contact with the ground, normal force g cos(theta); "belt": mass m
+        on a spring k to the ground, on a surface moving at v_b, normal force m g; "chain":
+        n_blocks such blocks, springs k (+ k_p) to the ground for block 0, k_p for the others,
+        k_c between neighbours, normal forces m g (1 + perturbation r_i) as in the scene.
+        `x0`, `v0` as for `simulate` (v0 on the belt and chain defaults to v_b on the chain, 0
+        on the belt, as there); other keywords are the scene's and the law's parameters.
+        """
+        _choice("scene", scene, tuple(REGISTRY["scene"]))
+        _choice("law", law, LAWS)
+        given = _physical(params)
+        known = _known(given)
+        scene_params = set(REGISTRY["scene"][scene]["params"])
+        law_names = set(REGISTRY["law"][law]["params"])
+        unknown = set(given) - scene_params - law_names
+        if unknown:
+            raise ValueError(f"{', '.join(sorted(unknown))}: not a parameter of scene {scene!r} or law {law!r}")
+        lp = {k: v for k, v in given.items() if k in law_names}
+        m = cls()
+        g = known["g"]
+        if scene == "slope":
+            th = math.radians(known["theta_deg"])
+            b = m.add_body(1.0, _finite("x0", x0, "[m]"), _finite("v0", 0.0 if v0 is None else v0, "[m/s]"))
+            m.add_force(b, g * math.sin(th))
+            m.add_contact(b, None, law, g * math.cos(th), **lp)
+            return m
+        mass, k, v_b = known["m"], known["k"], known["v_b"]
+        if scene == "belt":
+            b = m.add_body(mass, _finite("x0", x0, "[m]"), _finite("v0", 0.0 if v0 is None else v0, "[m/s]"))
+            m.add_spring(b, None, k)
+            m.add_contact(b, None, law, mass * g, v_b, **lp)
+            return m
+        nb = _count("n_blocks", known["n_blocks"], 1)
+        xs = np.broadcast_to(np.asarray(x0, dtype=np.float64), (nb,))
+        vs = np.broadcast_to(np.asarray(v_b if v0 is None else v0, dtype=np.float64), (nb,))
+        phi = 0.6180339887498948482        # the chain's perturbation sequence (stickslip_chain's chain_r)
+        for i in range(nb):
+            m.add_body(mass, float(xs[i]), float(vs[i]))
+        m.add_spring(0, None, k + known["k_p"])
+        for i in range(1, nb):
+            if known["k_p"] > 0.0:
+                m.add_spring(i, None, known["k_p"])
+            m.add_spring(i, i - 1, known["k_c"])
+        for i in range(nb):
+            r = 0.5 + i * phi
+            r = 2.0 * (r - math.trunc(r)) - 1.0
+            m.add_contact(i, None, law, mass * g * (1.0 + known["perturbation"] * r), v_b, **lp)
+        return m
+
+    def __repr__(self) -> str:
+        return (f"Model({self.n_bodies} bodies, {len(self.springs)} springs, {len(self.dampers)} dampers, "
+                f"{len(self.forces)} forces, {len(self.contacts)} contacts)")
+
+
+def _fields(where: str, row: Any, required: set[str], optional: set[str]) -> None:
+    """A TOML entry has its required fields and no others, else ValueError naming it."""
+    if not isinstance(row, dict):
+        raise ValueError(f"{where}: must be a table, got {row!r}")
+    missing = required - set(row)
+    extra = set(row) - required - optional
+    if missing:
+        raise ValueError(f"{where}: missing {', '.join(sorted(missing))}")
+    if extra:
+        raise ValueError(f"{where}: unknown field(s) {', '.join(sorted(extra))} "
+                         f"(accepted: {', '.join(sorted(required | optional))})")
+
+
+def _toml_value(v: Any) -> str:
+    """A value in TOML's inline syntax (numbers exactly: repr round-trips a float)."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        if isinstance(v, float) and not math.isfinite(v):
+            raise ValueError(f"model file: {v!r} has no TOML form")
+        return repr(float(v)) if isinstance(v, float) else str(v)
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{" + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + "}"
+    raise ValueError(f"model file: cannot write {v!r}")
+
+
+def _toml(data: Mapping[str, Any]) -> str:
+    """A model's data as TOML: one array of tables per kind of element."""
+    lines = ["# A stickslip model (stickslip.Model.to_toml; schema: docs/guide/models.md)", ""]
+    for section, rows in data.items():
+        for row in rows:
+            lines.append(f"[[{section}]]")
+            lines.extend(f"{k} = {_toml_value(v)}" for k, v in row.items())
+            lines.append("")
+    return "\n".join(lines)
+
+
+def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None = None,
+                   every_step: bool = False, max_steps: int | None = None, **controls: Any) -> Result:
+    """Run `model` (what ``stickslip.simulate(model, method=..., ...)`` does; see there)."""
+    if not isinstance(model, Model):
+        raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
+    _choice("method", method, METHODS)
+    info = REGISTRY["method"][method]
+    laws = [c.law for c in model.contacts]
+    if info["laws"]:
+        bad = [i for i, law in enumerate(laws) if law not in info["laws"]]
+        if bad:
+            raise ValueError(f"{model.contact_label(bad[0])}: method {method!r} takes the laws "
+                             f"{', '.join(info['laws'])} only, got {laws[bad[0]]!r} (give every contact a "
+                             "set-valued law, or use an event-free method)")
+    if method in ("implicit_euler", "galpha"):
+        jumps = [i for i, law in enumerate(laws) if law in ("coulomb", "karnopp")]
+        if jumps:
+            raise ValueError(f"{model.contact_label(jumps[0])}: {method} cannot solve the jump of "
+                             f"{laws[jumps[0]]!r} on a model (its stage would cross the jump by Newton's "
+                             "method); use moreau or event_driven (coulomb), or a regularised law")
+    arrays = model.arrays()
+    n = model.n_states()
+    t_end = _finite("t_end", t_end, "> 0 [s]")
+    ctl = {k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]}
+    for name, value in controls.items():
+        if name not in info["controls"]:
+            raise ValueError(f"{name}: not a control of method {method!r} "
+                             f"(its controls: {', '.join(info['controls'])})")
+        ctl[name] = _flag(value)
+    rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
+    atol = _tolerance("atol", ctl.pop("atol", 1.0), n)
+    for name, value in ctl.items():
+        ctl[name] = _finite(name, value, "see simulate()")
+    if "h" in info["controls"] and "h" not in ctl:
+        raise ValueError(f"h: required for method {method!r} (finite, > 0 [s])")
+    if max_steps is None:
+        max_steps = 10**6 if (every_step and info["adaptive"]) else 10**8
+    ctl["max_steps"] = float(_count("max_steps", max_steps))
+    if every_step:
+        if n_out is not None:
+            raise ValueError("n_out: give either n_out or every_step, not both")
+        rows = int(min(ctl["max_steps"], MAX_ROWS - 1)) + 1
+        if not info["adaptive"] and ctl.get("h", 0.0) > 0.0:
+            rows = min(rows, int(math.ceil(t_end / ctl["h"])) + 2)
+        ctl["every_step"] = 1.0
+        t_grid = np.zeros(rows)
+    else:
+        n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
+        t_grid = _linspace(t_end, n_out)
+        rows = 0
+    room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
+        if "max_events" in info["controls"] else 0
+    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
+    y0 = np.zeros(n)
+    y0[:model.n_bodies] = arrays["bodies"][1]
+    y0[model.n_bodies:2 * model.n_bodies] = arrays["bodies"][2]
+    ckeys, cvals = _keys(ctl)
+    stop = np.zeros(1, dtype=np.int32)
+    y, istats, rstats, status, elem_kind, elem_index, cpu = _ext.run_model(
+        *(arrays[k] for k in ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals",
+                              "signals", "sig_start", "tables")),
+        method, y0, t_end, rtol, atol, ckeys, cvals, t_grid, _SIZES[0], _SIZES[1], stop, raw_events)
+    status = int(status)
+    if status <= _FIRST_INPUT_CODE:
+        message = status_message(status)
+        if elem_kind == 5:
+            c = model.contacts[elem_index - 1]
+            message = f"{model.contact_label(elem_index - 1)}: " + _with_values(message, _known(c.params))
+        elif elem_kind:
+            message = f"{_ELEMENTS[int(elem_kind)]} {int(elem_index) - 1}: {message}"
+        raise ValueError(message)
+    if status != STATUS_OK or rows:
+        written = int(istats[_I_WRITTEN])
+        y, t_grid = y[:, :written], t_grid[:written].copy()
+    nb = model.n_bodies
+    result = Result.__new__(Result)
+    result.scene, result.law, result.method, result.t_end = "model", "+".join(dict.fromkeys(laws)), method, t_end
+    result.t, result.x, result.v, result.z = t_grid, y[:nb], y[nb:2 * nb], y[2 * nb:]
+    result.state_labels = model.state_labels()
+    result._params, result._stats = {}, None
+    result._raw = (istats, rstats, status, cpu, None, ())
+    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
+    if status != STATUS_OK:
+        raise _ERRORS.get(status, IntegrationError)(status, result)
+    return result

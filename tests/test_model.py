@@ -1,0 +1,274 @@
+"""Your own system (stickslip.Model): the built-in scenes as models, closed forms, the scipy
+event-driven reference on coupled contacts, signals, TOML files, validation and a fuzz."""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import stickslip as ss
+from contact_reference import Reference
+
+S = ss.signal
+G = 9.81
+
+
+# -- a built-in scene as a model gives the scene's numbers --------------------------------
+SCENE_CASES = [
+    ("belt", "proposed", "dopri5", dict(rtol=1e-10, atol=1e-12), {}, 1e-12),
+    ("belt", "coulomb", "event_driven", dict(rtol=1e-10, atol=1e-12), {}, 1e-12),
+    ("belt", "coulomb", "moreau", dict(h=1e-3), {}, 1e-12),
+    ("belt", "recurdyn", "implicit_euler", dict(h=1e-3), {}, 1e-12),
+    ("belt", "karnopp", "rk4", dict(h=1e-4), {}, 1e-12),
+    ("belt", "lugre", "radau5", dict(rtol=1e-8, atol=1e-10), {}, 1e-10),
+    ("slope", "recurdyn", "rk4", dict(h=1e-3), dict(v0=1.0), 1e-12),
+    ("slope", "stribeck", "event_driven", {}, dict(v0=1.0), 1e-12),
+    ("chain", "coulomb", "moreau", dict(h=1e-3), dict(n_blocks=5), 1e-12),
+    ("chain", "recurdyn", "galpha", dict(h=1e-3), dict(n_blocks=4, k_p=50.0), 1e-12),
+]
+
+
+@pytest.mark.parametrize("scene,law,method,controls,params,tol", SCENE_CASES)
+def test_scene_as_model(scene, law, method, controls, params, tol):
+    """Model.from_scene runs through the general model code (no specialised kernel) and agrees
+    with the scene's own code to rounding: x and v over 3 s on a grid of 31 points."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ss.UnstableStepWarning)
+        r1 = ss.simulate(scene, law, method=method, t_end=3.0, n_out=31, **controls, **params)
+    m = ss.Model.from_scene(scene, law, **params)
+    r2 = ss.simulate(m, method=method, t_end=3.0, n_out=31, **controls)
+    assert r2.x.shape == (m.n_bodies, 31) and r2.v.shape == (m.n_bodies, 31)
+    assert np.max(np.abs(np.atleast_2d(r1.x) - r2.x)) <= tol
+    assert np.max(np.abs(np.atleast_2d(r1.v) - r2.v)) <= 10 * tol
+    assert r1.stats["nstep"] == r2.stats["nstep"]
+
+
+# -- closed forms --------------------------------------------------------------------------
+def test_box_sliding_to_a_stop():
+    """A body sliding on the ground under Coulomb friction stops at t = v0 / (mu_k g) after
+    v0^2 / (2 mu_k g), and stays (mu_s holds it with no other force)."""
+    m = ss.Model()
+    b = m.add_body(2.0, v0=3.0, name="box")
+    m.add_contact(b, None, "coulomb", normal_force=2.0 * G, mu_s=0.5, mu_k=0.4)
+    res = ss.simulate(m, method="event_driven", t_end=2.0, n_out=201, rtol=1e-12, atol=1e-14)
+    t_stop = 3.0 / (0.4 * G)
+    assert len(res.events) == 1 and res.events["kind"][0] == "stick" and res.events["contact"][0] == 0
+    assert abs(res.events["t"][0] - t_stop) < 1e-12
+    assert abs(res.x[0, -1] - 9.0 / (2 * 0.4 * G)) < 1e-12
+    assert np.all(res.v[0, res.t > t_stop + 1e-9] == 0.0)
+
+
+def test_clutch_engages_at_a_step():
+    """A normal force that steps from 0 to N at t0 (a clutch engaging): free motion before,
+    deceleration mu_k N / m after, stop at t0 + m v0 / (mu_k N) (the step is a time event)."""
+    m = ss.Model()
+    j = m.add_body(1.5, v0=2.0, name="J1")
+    m.add_contact(j, None, "coulomb", normal_force=20.0 * S.step(0.4), mu_s=0.55, mu_k=0.5)
+    res = ss.simulate(m, method="event_driven", t_end=1.0, n_out=101, rtol=1e-12, atol=1e-14)
+    t_stop = 0.4 + 1.5 * 2.0 / (0.5 * 20.0)
+    x_stop = 2.0 * 0.4 + 2.0**2 / (2 * 0.5 * 20.0 / 1.5)
+    assert abs(res.events["t"][0] - t_stop) < 1e-10
+    assert abs(res.x[0, -1] - x_stop) < 1e-10
+    before = res.t <= 0.4
+    assert np.allclose(res.v[0, before], 2.0, rtol=0, atol=1e-12)
+
+
+def test_normal_force_step_releases_a_stuck_body():
+    """A body held by static friction against a spring force is released when its normal
+    force steps down below the holding need: it slips at that instant (a time event)."""
+    m = ss.Model()
+    j = m.add_body(1.0, x0=0.1, name="J")
+    m.add_spring(j, None, k=100.0)                     # 10 N towards the rest position
+    m.add_contact(j, None, "coulomb", normal_force=S.step(0.3, before=40.0, after=10.0), mu_s=0.5, mu_k=0.4)
+    res = ss.simulate(m, method="event_driven", t_end=0.5, n_out=51)
+    assert res.events["kind"][0] == "slip" and res.events["t"][0] == 0.3
+    assert np.all(res.x[0, res.t <= 0.3] == 0.1) and res.x[0, -1] < 0.1
+
+
+def test_stacked_blocks_against_scipy_reference():
+    """Block B on block A on a belt, each on a spring to the wall (a contact whose row of H
+    couples two bodies, mu_s > mu_k): event_driven on the model agrees with the independent
+    scipy reference (exhaustive mode search) in motion and events."""
+    m = ss.Model()
+    a = m.add_body(1.0, name="A")
+    b = m.add_body(0.5, name="B")
+    m.add_spring(a, None, 100.0)
+    m.add_spring(b, None, 150.0)
+    m.add_contact(a, None, "coulomb", 1.5 * G, surface_velocity=0.2, mu_s=0.5, mu_k=0.3)
+    m.add_contact(b, a, "coulomb", 0.5 * G, mu_s=0.6, mu_k=0.4)
+    res = ss.simulate(m, method="event_driven", t_end=4.0, n_out=401, rtol=1e-12, atol=1e-14)
+    ref = Reference(m=[1.0, 0.5], k=[[100.0, 0.0], [0.0, 150.0]], h=[[1, 0], [-1, 1]], b=[-0.2, 0.0],
+                    n=[1.5 * G, 0.5 * G], mu_s=[0.5, 0.6], mu_k=[0.3, 0.4])
+    y_ref, ev_ref = ref.run([0.0, 0.0], [0.0, 0.0], 4.0, res.t)
+    assert np.max(np.abs(np.vstack([res.x, res.v]) - y_ref)) < 1e-8
+    assert len(res.events) == len(ev_ref) >= 4
+    for e, (t_r, c_r, _) in zip(res.events, ev_ref):
+        assert abs(e["t"] - t_r) < 1e-9 and e["contact"] == c_r
+    # moreau on the same model converges to it at first order
+    errs = [np.max(np.abs(ss.simulate(m, method="moreau", h=h, t_end=4.0, n_out=401).x - res.x)) for h in (1e-3, 1e-4)]
+    assert 5.0 < errs[0] / errs[1] < 20.0
+
+
+def test_belt_surface_as_signal_and_as_number():
+    """A constant surface velocity given as a signal gives the same run as the number."""
+    runs = []
+    for w in (1.5, S.constant(1.5), S.ramp(-1.0, 0.5, 1.5)):
+        m = ss.Model()
+        j = m.add_body(10.0)
+        m.add_spring(j, None, 300.0)
+        m.add_contact(j, None, "stribeck", normal_force=98.1, surface_velocity=w)
+        runs.append(ss.simulate(m, method="event_driven", t_end=2.0, n_out=21).x)
+    assert np.array_equal(runs[0], runs[1]) and np.max(np.abs(runs[0] - runs[2])) < 1e-6
+
+
+# -- files ----------------------------------------------------------------------------------
+def clutch() -> ss.Model:
+    m = ss.Model()
+    j1 = m.add_body(1.0, x0=0.0, v0=10.0, name="J1")
+    j2 = m.add_body(1.0, name="J2")
+    m.add_spring(j1, None, k=100.0, rest_length=0.0)
+    m.add_damper(j1, j2, c=2.0)
+    m.add_force(j1, S.sine(10.0, 5.0))
+    m.add_contact(j1, j2, "coulomb", normal_force=20.0 * S.step(0.4), mu_s=0.55, mu_k=0.5)
+    m.add_contact(j2, None, "stribeck", normal_force=98.1, surface_velocity=1.5)
+    return m
+
+
+def test_toml_round_trip(tmp_path):
+    """to_toml then from_toml gives the same model and identical results."""
+    m = clutch()
+    path = tmp_path / "clutch.toml"
+    m.to_toml(path)
+    m2 = ss.Model.from_toml(path)
+    assert m2.to_dict() == m.to_dict()
+    r1 = ss.simulate(m, method="event_driven", t_end=1.5, n_out=301, rtol=1e-10, atol=1e-12)
+    r2 = ss.simulate(m2, method="event_driven", t_end=1.5, n_out=301, rtol=1e-10, atol=1e-12)
+    assert np.array_equal(r1.x, r2.x) and np.array_equal(r1.v, r2.v)
+    assert len(r1.events) > 0 and np.array_equal(r1.events, r2.events)
+    assert [p.name for p in tmp_path.iterdir()] == ["clutch.toml"]      # no temporary file left
+
+
+def test_toml_errors(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[[body]]\nmass = 1.0\n[[spring]]\na = "body0"\nb = "nobody"\nk = 1.0\n')
+    with pytest.raises(ValueError, match=r"spring 0: unknown body 'nobody'"):
+        ss.Model.from_toml(bad)
+    bad.write_text('[[body]]\nmass = 1.0\ncolour = "red"\n')
+    with pytest.raises(ValueError, match=r"body 0: unknown field\(s\) colour"):
+        ss.Model.from_toml(bad)
+
+
+# -- validation: one line naming the element ---------------------------------------------------
+def test_validation_names_the_element():
+    m = ss.Model()
+    j1 = m.add_body(1.0, name="J1")
+    j2 = m.add_body(1.0, name="J2")
+    with pytest.raises(ValueError, match=r"body 2: mass must be > 0"):
+        m.add_body(-1.0)
+    with pytest.raises(ValueError, match=r"spring 0: b must be a body index \(0 \.\. 1\)"):
+        m.add_spring(j1, 7, k=1.0)
+    with pytest.raises(ValueError, match=r"damper 0: c must be >= 0"):
+        m.add_damper(j1, j2, c=-1.0)
+    with pytest.raises(ValueError, match=r"contact 0 \(J1-J2\): law 'coulomb' has no parameter\(s\) beta"):
+        m.add_contact(j1, j2, "coulomb", 1.0, beta=2.0)
+    m.add_contact(j1, j2, "coulomb", 1.0)
+    m.add_contact(j2, None, "stribeck", 1.0, mu_s=0.2, mu_k=0.3)       # mu_k > mu_s: checked by the library
+    with pytest.raises(ValueError, match=r"contact 1 \(J2-ground\): mu_k: .*<= mu_s.*mu_k = 0\.3"):
+        ss.simulate(m, method="dopri5", t_end=1.0)
+    m2 = ss.Model()
+    b = m2.add_body(1.0, name="B")
+    m2.add_contact(b, None, "lugre", 9.81)
+    with pytest.raises(ValueError, match=r"contact 0 \(B-ground\): method 'moreau' takes the laws coulomb, stribeck"):
+        ss.simulate(m2, method="moreau", h=1e-3, t_end=1.0)
+    m3 = ss.Model()
+    b = m3.add_body(1.0, name="B")
+    m3.add_contact(b, None, "coulomb", 9.81)
+    with pytest.raises(ValueError, match=r"contact 0 \(B-ground\): implicit_euler cannot solve the jump"):
+        ss.simulate(m3, method="implicit_euler", h=1e-3, t_end=1.0)
+    with pytest.raises(ValueError, match=r"law, x0: a Model carries its own"):
+        ss.simulate(m3, "coulomb", method="dopri5", t_end=1.0, x0=1.0)
+    with pytest.raises(ValueError, match=r"ramp: duration must be > 0"):
+        S.ramp(0.0, 0.0, 1.0)
+    with pytest.raises(ValueError, match=r"table: t must be strictly increasing"):
+        S.table([0.0, 0.0], [1.0, 2.0])
+    with pytest.raises(ValueError, match=r"model: has no bodies"):
+        ss.simulate(ss.Model(), method="dopri5", t_end=1.0)
+
+
+# -- every law and every method on a small general model ----------------------------------------
+def small_model(law: str) -> ss.Model:
+    """Two bodies, springs, a damper, a sine force, a contact on a moving surface and one
+    between the bodies whose normal force ramps up from 0 (open at first)."""
+    m = ss.Model()
+    a = m.add_body(1.0, v0=0.5)
+    b = m.add_body(2.0)
+    m.add_spring(a, None, 50.0)
+    m.add_spring(a, b, 80.0)
+    m.add_damper(b, None, 0.5)
+    m.add_force(b, S.sine(5.0, 2.0))
+    m.add_contact(a, None, law, 9.81, surface_velocity=0.3)
+    m.add_contact(b, a, law, 5.0 * S.ramp(0.1, 0.2, 1.0))
+    return m
+
+
+@pytest.mark.parametrize("method", ss.METHODS)
+def test_every_law_every_method_small_model(method):
+    """Every law x method pair on `small_model` ends as stated: it reaches t_end with finite
+    output, or is refused before running with a ValueError exactly where the docs say so
+    (set-valued methods take only coulomb and stribeck; implicit_euler and galpha no jump
+    law on a model), or ends with a named IntegrationError (not the base class) whose output
+    up to t_reached is finite."""
+    controls = dict(h=1e-3) if "h" in ss.REGISTRY["method"][method]["controls"] else {}
+    for law in ss.LAWS:
+        m = small_model(law)
+        refused = (ss.REGISTRY["method"][method]["laws"] and law not in ss.REGISTRY["method"][method]["laws"]) \
+            or (method in ("implicit_euler", "galpha") and law in ("coulomb", "karnopp"))
+        if refused:
+            with pytest.raises(ValueError):
+                ss.simulate(m, method=method, t_end=0.5, n_out=11, **controls)
+            continue
+        try:
+            res = ss.simulate(m, method=method, t_end=0.5, n_out=11, **controls)
+        except ss.IntegrationError as err:
+            assert type(err) is not ss.IntegrationError
+            assert np.isfinite(err.result.x).all() and err.result.stats["t_reached"] < 0.5
+            continue
+        assert res.stats["status"] == 0 and np.isfinite(res.x).all() and np.isfinite(res.z).all()
+        assert res.z.shape == (m.n_states() - 4, 11)
+
+
+# -- fuzz ----------------------------------------------------------------------------------------
+def test_fuzz_random_models():
+    """Random models (1-8 bodies, random springs, dampers, forces, contacts and signals) never
+    crash or return non-finite output with status success; a run that fails says so."""
+    rng = np.random.default_rng(2029)
+    for trial in range(25):
+        m = ss.Model()
+        nb = int(rng.integers(1, 9))
+        for _ in range(nb):
+            m.add_body(float(rng.uniform(0.1, 10.0)), float(rng.normal()), float(rng.normal()))
+        pick = lambda: None if rng.random() < 0.4 or nb == 1 else int(rng.integers(0, nb))  # noqa: E731
+        for i in range(nb):
+            other = pick()
+            if other != i:
+                m.add_spring(i, other, float(rng.uniform(0, 1e3)))
+            if rng.random() < 0.5:
+                m.add_damper(i, None, float(rng.uniform(0, 5)))
+            sig = [S.constant(float(rng.normal(0, 20))), S.sine(float(rng.uniform(0, 20)), float(rng.uniform(0, 5))),
+                   S.step(float(rng.uniform(0, 1)), 0.0, float(rng.normal(0, 20))),
+                   S.table([0.0, 0.5, 1.0], rng.normal(0, 20, 3))][int(rng.integers(0, 4))]
+            m.add_force(i, sig)
+            other = pick()
+            if other != i:
+                m.add_contact(i, other, str(rng.choice(["coulomb", "stribeck"])),
+                              float(rng.uniform(-5, 50)) * S.step(float(rng.uniform(0, 0.5)), 1.0, float(rng.uniform(0, 2))),
+                              surface_velocity=float(rng.normal()))
+        for method, kw in (("event_driven", {}), ("moreau", dict(h=1e-3)), ("dopri5", {})):
+            try:
+                res = ss.simulate(m, method=method, t_end=1.0, n_out=11, **kw)
+            except ss.IntegrationError as err:
+                assert err.status != 0
+                continue
+            assert res.stats["status"] == 0 and np.isfinite(res.x).all() and np.isfinite(res.v).all()
