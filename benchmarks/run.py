@@ -595,6 +595,29 @@ def read_rows(path: Path) -> list[dict]:
         return [{k: value(v) for k, v in row.items()} for row in csv.DictReader(fh)]
 
 
+#: The line of each tool in the work-precision panel: the colour says the method (the same
+#: method has the same colour whatever the tool), the line and marker say the tool.
+TOOL_STYLE: dict[str, dict[str, str]] = {
+    "stickslip_fortran": {"linestyle": "-", "marker": "o"},
+    "stickslip_python": {"linestyle": "--", "marker": "s"},
+    "gsl": {"linestyle": ":", "marker": "^"},
+    "scipy": {"linestyle": "-.", "marker": "D"},
+}
+#: Other tools' names of the library's methods, and colours for the methods it does not have.
+SAME_METHOD: dict[str, str] = {"RK45": "dopri5", "DOP853": "dop853", "Radau": "radau5"}
+OTHER_COLOURS: dict[str, str] = {"rkf45": "#E69F00", "rkck": "#CC79A7", "rk8pd": "#0072B2",
+                                 "LSODA": "#000000"}
+
+
+def method_colour(method: str, index: int) -> str:
+    """The colour of a method in the benchmark figure: the library's own (cases._style) for its
+    methods and the other tools' names of them, a fixed one for the others."""
+    from cases import _style
+    name = SAME_METHOD.get(method, method)
+    return _style.METHOD_COLORS.get(name) or OTHER_COLOURS.get(method) or \
+        _style.SEQUENCE[index % len(_style.SEQUENCE)]
+
+
 def plot(rows: list[dict], path: Path) -> None:
     """The figure of a run (PNG at path, PDF beside it): RK4 time per evaluation of every tool
     on the first scene and law, and the work-precision curves of the adaptive methods."""
@@ -625,10 +648,9 @@ def plot(rows: list[dict], path: Path) -> None:
         sel = [r for r in adaptive if r["scene"] == scene and r["law"] == law]
         for i, im in enumerate(dict.fromkeys((r["impl"], r["method"]) for r in sel)):
             pts = sorted((r["err"], r["median_s"]) for r in sel if (r["impl"], r["method"]) == im)
-            ax2.loglog([p[1] for p in pts], [p[0] for p in pts], marker="o", ms=3,
-                       color=_style.SEQUENCE[i % len(_style.SEQUENCE)],
-                       linestyle=_style.VARIANT_STYLES[(i // len(_style.SEQUENCE)) % 4],
-                       label=who(*im))
+            look = TOOL_STYLE.get(im[0], {"linestyle": "-", "marker": "o"})
+            ax2.loglog([p[1] for p in pts], [p[0] for p in pts], ms=3.5, markerfacecolor="white",
+                       color=method_colour(im[1], i), label=who(*im), **look)
         ax2.set_xlabel("time per integration [s]")
         ax2.set_ylabel("largest error of (x, v) at t_end [m, m/s]")
         ax2.set_title(f"Adaptive methods, error against time\n{_style.name(scene)}, "

@@ -56,7 +56,7 @@ DRIVERS: tuple[Driver, ...] = (
     Driver("stability", "study", 37.6, False), Driver("laws_compare", "study", 18.0, False),
     Driver("implicit", "study", 15.1, False), Driver("speedup", "study", 1.1, True),
     Driver("stick", "study", 12.0, False), Driver("identify", "study", 35.0, False),
-    Driver("chain", "study", 31.0, False))
+    Driver("chain", "study", 31.0, False), Driver("advise_examples", "study", 60.0, False))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 
@@ -158,7 +158,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
                         help="also run the studies (work-precision, stability, laws_compare, implicit, stick, "
-                        "identify): about 2 min more on 2 cores")
+                        "identify, chain, advise_examples)")
     parser.add_argument("--jobs", type=count, default=min(2, _cores()),
                         help="drivers run at once, each in its own process, >= 1 (default: cores, at most 2)")
     parser.add_argument("--workers", type=count, default=None,
@@ -167,6 +167,9 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="OpenMP threads per study driver, >= 1 (default: cores / jobs)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
+    if args.docs and not DOCS_DIR.parent.is_dir():
+        parser.error(f"--docs: writes into the docs/figures/ of a source checkout, and this copy of "
+                     f"cases ({Path(__file__).resolve().parent}) has none beside it; use --outdir")
     outdir = DOCS_DIR if args.docs else args.outdir
     check_writable(parser, outdir)
     chosen = [d for d in DRIVERS if (d.name in args.only if args.only else (d.kind != "study" or args.all))]

@@ -238,6 +238,8 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
 
     - when series lie on another one (within 2% of the largest range), their difference from
       it (the first series that has such company), so that a reader sees how close they are;
+      when they are identical (difference exactly 0) the title says so instead of an empty
+      panel;
     - when their final values span more than two decades, |x| on a log axis, so that every
       series is visible (without the distortion of a symmetric-log axis).
 
@@ -257,6 +259,12 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
                  if np.abs(ys[k] - ys[ref]).max() < 0.02 * scale]
         if close:
             break
+    # series identical to the reference (difference exactly 0) get a note, not an empty panel
+    identical = [k for k in close if np.abs(ys[k] - ys[ref]).max() == 0.0]
+    same_as = ""
+    if close and len(identical) == len(close):
+        same_as = ", ".join(series_label(series[k]).split(" (")[0] for k in close)
+        close = []
     panels = 1 + wide + bool(close)
     fig, axes = new_figure(panels, width=FIGSIZE[0] * (1.0 + 0.75 * (panels - 1)))
     axes = list(axes) if panels > 1 else [axes]
@@ -287,7 +295,11 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
         diff_ax.set_title(f"minus {first}: at most {spread:.2g} {unit} apart" if spread > 0 else
                           f"minus {first}: identical (difference exactly 0)", pad=14)
         diff_ax.axhline(0.0, color="k", linewidth=0.6)
-    if panels > 1:
+    if same_as:
+        note = f"{same_as} identical to {first} (difference exactly 0)"
+        axes[0].set_title(f"{quantity}: {note}" if log_ax is None else f"{quantity} on a linear axis; {note}",
+                          fontsize=8)
+    if panels > 1 or same_as:
         fig.suptitle(title)
     else:
         axes[0].set_title(title)

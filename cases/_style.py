@@ -52,7 +52,9 @@ CLASS_NAMES: dict[str, str] = {"stable": "stable", "chattering": "chattering",
 LAW_COLORS: dict[str, str] = {
     "coulomb": _C["vermillion"], "recurdyn": _C["blue"], "proposed": _C["bluish green"],
     "stribeck": _C["orange"], "karnopp": _C["reddish purple"], "lugre": _C["sky blue"],
-    "elastoplastic": _C["black"]}
+    "elastoplastic": _C["black"],
+    # beyond Okabe & Ito's eight: two of Paul Tol's colour-blind-safe "muted" scheme
+    "dahl": "#882255", "gms": "#999933"}
 METHOD_COLORS: dict[str, str] = {
     "rk4": _C["blue"], "dopri5": _C["vermillion"], "radau5": _C["bluish green"],
     "implicit_euler": _C["orange"], "galpha": _C["reddish purple"], "dop853": _C["sky blue"],

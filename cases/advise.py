@@ -9,7 +9,8 @@ Prints the advice, then a table of the candidates (observed exponent, predicted 
 and cost of each method) and one of every run made. Writes no file.
 
 With --brute-force it then checks the advice: every method on a grid of settings (h = t_end/N,
-N = 16, 32, ..., 16 2^13, RK4 only within the advisor's stability bound; rtol = 10^(-k/2) from
+N = 16, 32, ..., 16 2^13, RK4 only within the advisor's stability bound, none beyond the scene's
+shortest period; rtol = 10^(-k/2) from
 1e-2 to 1e-12, atol = 1e-3 rtol), errors against RADAU5 and DOPRI5 at rtol = 1e-12 (which must
 agree), the cheapest setting of each method that meets the target (it and every tighter one of
 the grid: not a lucky cancellation), costs weighted by each method's measured seconds per
@@ -58,6 +59,8 @@ def brute_force(scene: str, law: str, t_end: float, target: float, ref: float, *
     out. kw: x0, v0 and physical parameters."""
     import stickslip as ss
     from stickslip.advise import controls_at, takes
+    from stickslip.core import _shortest_period
+    period = _shortest_period(scene, kw, 1)
     out: dict[str, dict[str, float]] = {}
     for m in ss.METHODS:
         if not takes(m, law):
@@ -67,6 +70,8 @@ def brute_force(scene: str, law: str, t_end: float, target: float, ref: float, *
             grid = [dict(h=t_end / (16 * 2 ** k)) for k in range(14)]
             if not info["implicit"] and bound is not None:
                 grid = [g for g in grid if g["h"] <= bound]
+            if period is not None:       # simulate warns beyond it: not a setting to take
+                grid = [g for g in grid if g["h"] <= period]
         else:
             grid = [controls_at(m, 10.0 ** (-k / 2), 1e-3) for k in range(4, 25)]
         rows: list[tuple[dict[str, float], bool, int, float]] = []
@@ -146,31 +151,45 @@ def main(argv: Sequence[str] | None = None) -> "object":
     return advice
 
 
-def check(advice: "object") -> str:
-    """The --brute-force report of an Advice: true error of the advised run and cost against the
-    cheapest setting of the grid search, as text."""
+def compare(advice: "object") -> dict[str, object]:
+    """The brute-force check of an Advice (module docstring): {"reference": the quantity at
+    t_end from RADAU5 and DOPRI5 at rtol 1e-12, "found": brute_force's cheapest setting per
+    method, "true_error": the advised run's error against the reference (None when nothing was
+    advised), "cost_ratio": its cost over the cheapest grid setting's (None likewise)}."""
     import stickslip as ss
-    from stickslip.advise import format_table
     a = advice
     kw = dict(x0=a.x0, v0=a.v0, **a.params)
     ref = reference(a.scene, a.law, a.t_end, a.quantity, **kw)
     found = brute_force(a.scene, a.law, a.t_end, a.target_error, ref, quantity=a.quantity,
                         bound=a.stability_bound, **kw)
+    out: dict[str, object] = {"reference": ref, "found": found, "true_error": None, "cost_ratio": None}
+    if a.feasible and found:
+        r = ss.simulate(a.scene, a.law, method=a.method, t_end=a.t_end, n_out=2, **a.controls, **kw)
+        out["true_error"] = abs(float((r.x if a.quantity == "x" else r.v)[-1]) - ref)
+        best = min(found.values(), key=lambda f: f["cost"])
+        mine = a.predicted_cost["nfev"] * found.get(a.method, {}).get("weight", float("nan"))
+        out["cost_ratio"] = mine / best["cost"]
+    return out
+
+
+def check(advice: "object") -> str:
+    """The --brute-force report of an Advice: true error of the advised run and cost against the
+    cheapest setting of the grid search, as text."""
+    from stickslip.advise import format_table
+    a = advice
+    cmp = compare(a)
+    found = cmp["found"]
     unit = "m" if a.quantity == "x" else "m/s"
     rows = [[m, f"{f['setting']:.3g}", str(f["nfev"]), f"{f['error']:.2g}", f"{f['cost']:.3g}"]
             for m, f in sorted(found.items(), key=lambda kv: kv[1]["cost"])]
-    lines = [f"brute force: reference {a.quantity}(t_end) = {ref:.12g} {unit} (RADAU5 and DOPRI5 at rtol 1e-12)"]
-    if a.feasible and found:
-        r = ss.simulate(a.scene, a.law, method=a.method, t_end=a.t_end, n_out=2, **a.controls, **kw)
-        err = abs(float((r.x if a.quantity == "x" else r.v)[-1]) - ref)
-        best = min(found.values(), key=lambda f: f["cost"])
-        mine = a.predicted_cost["nfev"] * found.get(a.method, {}).get("weight", float("nan"))
-        lines.append(f"advised run: true error {err:.3g} {unit} (target {a.target_error:.3g}), cost "
-                     f"{mine / best['cost']:.2f} x the cheapest grid setting; all runs of the advisor "
+    lines = [f"brute force: reference {a.quantity}(t_end) = {cmp['reference']:.12g} {unit} "
+             "(RADAU5 and DOPRI5 at rtol 1e-12)"]
+    if cmp["true_error"] is not None:
+        lines.append(f"advised run: true error {cmp['true_error']:.3g} {unit} (target {a.target_error:.3g}), cost "
+                     f"{cmp['cost_ratio']:.2f} x the cheapest grid setting; all runs of the advisor "
                      f"{a.pilot_cost['ratio']:.1f} x the advised run")
     lines.append(format_table(["method", "setting (h [s] or rtol)", "nfev", f"error [{unit}]", "cost [s]"], rows))
     return "\n".join(lines)
-
 
 
 if __name__ == "__main__":

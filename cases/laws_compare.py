@@ -366,8 +366,9 @@ FIGURES: dict[str, tuple[str, bool, str, str]] = {
              "excursion"),
     "rest": ("rate_measured [1/s]", False, "growth rate of the oscillation [1/s]",
              "Mass on a moving belt from rest: growth rate (bars) against -g μ'(v_b)/2 (dots)"),
-    "hmax": ("h_bounded [s]", True, "RK4 step [s] (1e-2: the largest tried)",
-             "Largest step that stays bounded (bars) and within 1 % of a DOPRI5 reference (dots)"),
+    "hmax": ("h_bounded [s]", True, "largest step h [s] (1e-2: the largest tried)",
+             "Largest step that stays bounded (circles: slope, squares: belt) and within 1 % of a "
+             "DOPRI5 reference (dashes)"),
 }
 
 
@@ -382,10 +383,11 @@ def series_name(tag: str) -> str:
 
 
 def plot(csv: str | Path, outdir: str | Path) -> Path:
-    """Render one laws_compare CSV as a bar chart grouped by law (PNG and PDF, from the CSV
-    alone). A run that failed (status != 0, or no value) is marked with a cross at the foot of
-    its bar's place, a value of exactly 0 on a log axis with a circle there: never a bar of
-    height 0."""
+    """Render one laws_compare CSV grouped by law (PNG and PDF, from the CSV alone): a point per
+    run on a log axis (a bar's length from an arbitrary baseline would mean nothing there), bars
+    on a linear one; each method in its colour (cases._style), its second step hollow or
+    hatched. A run that failed (status != 0, or no value) is marked with a cross at the foot of
+    its place, a value of exactly 0 on a log axis with a circle there."""
     from matplotlib.transforms import blended_transform_factory
     csv = Path(csv)
     kind = csv.stem.removeprefix("laws_compare_")
@@ -414,10 +416,15 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     foot = blended_transform_factory(ax.transData, ax.transAxes)
     width = 0.8 / max(len(series), 1)
     failed, zero = [], []
+    lowest = math.inf                     # the smallest value drawn on a log axis
 
     def bar_style(s: str, j: int) -> dict[str, Any]:
-        """A method's own colour (cases._style), its second step hatched; other series (the
-        scenes of "hmax") the colour cycle."""
+        """A method's own colour (cases._style), its second step hatched; on "hmax" (series
+        "scene method") the method's colour too, the belt's marked by a square."""
+        if kind == "hmax":
+            scene, _, method = s.partition(" ")
+            return {"color": c._style.METHOD_COLORS.get(method or "rk4", "0.3"),
+                    "marker": "s" if scene == "belt" else "o"}
         method = s.partition(" h=")[0]
         if method not in c._style.METHOD_COLORS:
             return {"color": c._style.SEQUENCE[j % len(c._style.SEQUENCE)]}
@@ -441,13 +448,20 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
                 continue
             xs.append(x)
             ys.append(abs(value) if log else value)
-        ax.bar(xs, ys, width=width, label=series_name(s), **bar_style(s, j))
+        if log:                           # points: no bars on a log axis
+            lowest = min([lowest, *ys])
+            st = bar_style(s, j)
+            ax.plot(xs, ys, linestyle="none", marker=st.get("marker", "o"), markersize=4, label=series_name(s),
+                    color=st["color"], markeredgewidth=1.0,
+                    markerfacecolor="white" if st.get("hatch") else st["color"])
+        else:
+            ax.bar(xs, ys, width=width, label=series_name(s), **bar_style(s, j))
     if failed:
         ax.plot(failed, [0.04] * len(failed), "x", color="k", ms=6, mew=1.5, transform=foot,
-                label="failed run (no bar)" if kind != "hmax" else "no bounded step (no bar)")
+                label="failed run" if kind != "hmax" else "no bounded step")
     if zero:
         ax.plot(zero, [0.04] * len(zero), "o", mfc="none", color="k", ms=6, transform=foot,
-                label="exactly 0 (no bar on a log axis)")
+                label="exactly 0 (not on a log axis)")
     if kind == "rest":
         ax.plot(range(len(laws)), [float(v) for v in cols["rate_predicted [1/s]"]], "o",
                 color="k", label="predicted: -g μ'(v_b)/2")
@@ -457,9 +471,15 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
             pts = [(laws.index(law) + (j - (len(series) - 1) / 2) * width, float(v))
                    for law, tag, v in zip(cols["law [-]"], tags, cols["h_1pct [s]"]) if tag == s and float(v) > 0]
             if pts:
-                ax.plot(*zip(*pts), "o", color="k", ms=3, label="within 1 % of the reference" if j == 0 else None)
+                ax.plot(*zip(*pts), "_", color=bar_style(s, j)["color"], ms=9, mew=1.5,
+                        label="within 1 % of the reference" if j == 0 else None)
     if log:
         ax.set_yscale("log")
+        if (failed or zero) and math.isfinite(lowest):   # the foot's marks below every value
+            ax.set_ylim(bottom=lowest / 30.0)
+        for i in range(len(laws) - 1):   # the groups' borders
+            ax.axvline(i + 0.5, color="0.85", linewidth=0.6)
+        ax.grid(axis="x", visible=False)
     ax.set_xticks(range(len(laws)))
     def tick(law: str) -> str:           # "lugre sigma2=0" -> "LuGre\nσ2 = 0"
         base, _, variant = law.partition(" ")

@@ -26,9 +26,10 @@ The exact answers are those of set-valued Coulomb friction; a law with another s
 as numerically. Cost: right-hand-side (or force) evaluations, steps and CPU seconds of the library call.
 Transitions: changes between |v_rel| < 1e-4 m/s and above on the output grid (event_driven
 also reports its events). A run that fails (a step budget of 2e5 steps, a Newton failure) is a
-row with its status and no error. Writes ``stick.csv``, ``stick.md`` (the tables),
-``stick_best.png`` / ``.pdf`` (per problem, a law x method grid of the smallest error any
-setting reached, with the CPU time it took) and ``stick.png`` / ``.pdf`` (every run: error
+row with its status and no error. Writes ``stick.csv``, ``stick.md`` (the tables of every run),
+``stick_best.md`` (per problem and law, the method and setting with the smallest error, and
+the methods that were exact), ``stick_best.png`` / ``.pdf`` (per problem and law, the smallest
+error each method reached: exact, a number, or failed) and ``stick.png`` / ``.pdf`` (every run: error
 against CPU time per problem, one colour per method, one marker per law).
 """
 from __future__ import annotations
@@ -188,7 +189,8 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 1, quiet: boo
     rows = [measure(simulate_job(job)) for job in todo]
     c.log(f"cases.stick: {time.perf_counter() - start:.1f} s", quiet)
     csv_path = c.write_csv(outdir / "stick.csv", HEADER, rows)
-    return [csv_path, write_tables(csv_path, outdir), *plot_best(csv_path, outdir), *plot(csv_path, outdir)]
+    return [csv_path, write_tables(csv_path, outdir), write_best(csv_path, outdir),
+            *plot_best(csv_path, outdir), *plot(csv_path, outdir)]
 
 
 def _rows(csv_path: Path) -> list[dict[str, str]]:
@@ -205,6 +207,10 @@ ERRORS = {"slope_rest": ("err_x [m]",), "slope_stop": ("err_x [m]", "err_t_stop 
 TITLES = {"slope_rest": "(a) slope at 10 deg from rest, 20 s: |x(20 s)|",
           "slope_stop": "(b) slope, v0 = 2 m/s, sliding to a stop: |x(5 s) - x_stop|",
           "belt_stuck": "(c) belt started stuck, v_b = 0.1 m/s: |amplitude - A|"}
+
+
+SHORT_TITLES = {"slope_rest": "(a) slope, at rest", "slope_stop": "(b) slope, sliding to a stop",
+                "belt_stuck": "(c) belt, started stuck"}
 
 
 def write_tables(csv_path: Path, outdir: Path) -> Path:
@@ -300,61 +306,91 @@ def best_runs(rows: list[dict[str, str]], problem: str) -> dict[tuple[str, str],
     return best
 
 
+def write_best(csv_path: str | Path, outdir: str | Path) -> Path:
+    """stick_best.md: per problem one row per law: the method and setting with the smallest
+    error (ties: the cheaper), that error and its CPU time, and the methods that were exact
+    (error 0) at some setting."""
+    rows = _rows(Path(csv_path))
+    laws = list(dict.fromkeys(r["law [-]"] for r in rows))
+    parts = []
+    for problem, errs in ERRORS.items():
+        best = best_runs(rows, problem)
+        exact_by = {law: sorted({r["method [-]"] for r in rows if r["problem [-]"] == problem
+                                 and r["law [-]"] == law and _num(r[errs[0]]) == 0.0},
+                                key=lambda m: list(best).index((law, m)) if (law, m) in best else 0)
+                    for law in laws}
+        body = []
+        for law in laws:
+            cands = [r for (lw, _), r in best.items() if lw == law and _num(r[errs[0]]) is not None]
+            if not cands:
+                body.append([style.name(law), "none finished", "", None, None, ""])
+                continue
+            r = min(cands, key=lambda r: (_num(r[errs[0]]), _num(r["cpu [s]"]) or 0.0))
+            setting = f"h = {r['h [s]']} s" if r["h [s]"] else f"rtol = {r['rtol [-]']}"
+            cpu = _num(r["cpu [s]"])
+            body.append([style.name(law), style.name(r["method [-]"]), setting, _num(r[errs[0]]),
+                         None if cpu is None else 1e3 * cpu,
+                         ", ".join(style.name(m) for m in exact_by[law]) or "none"])
+        unit = errs[0].split("[")[1].rstrip("]")
+        parts.append(f"{TITLES[problem]}\n\n" + c.markdown_table(
+            ["law", "best method", "its setting", f"error [{unit}]", "CPU [ms]", "exact (error 0) with"],
+            body))
+    return c.write_text(Path(outdir) / "stick_best.md", "\n".join(parts))
+
+
 def plot_best(csv_path: str | Path, outdir: str | Path) -> list[Path]:
-    """stick_best.png and .pdf: per problem a grid of laws (rows) x methods (columns), coloured by
-    log10 of the smallest error any setting reached, annotated with that error and the CPU time
-    of its run; "exact" where it is 0, the status where no setting finished, a grey cell where the
-    method refuses the law."""
+    """stick_best.png and .pdf: per problem, for each law (a row) the smallest error each method
+    reached over its settings, a marker per method in the method's colour on a log axis; "exact"
+    (error 0) at the left edge, "failed" (no setting finished) at the right edge, a hollow marker
+    where some other setting failed (the error shown is then that of a looser setting); a method
+    that refuses the law has no marker."""
     import matplotlib.pyplot as plt
-    from matplotlib.colors import Normalize
     rows = _rows(Path(csv_path))
     methods = list(dict.fromkeys(r["method [-]"] for r in rows))
     laws = list(dict.fromkeys(r["law [-]"] for r in rows))
     style.apply()
-    fig, axes = plt.subplots(1, len(ERRORS), figsize=(15.0, 0.42 * len(laws) + 2.6), layout="constrained")
-    fig.get_layout_engine().set(rect=(0.0, 0.05, 1.0, 0.95))
-    norm = Normalize(vmin=-16.0, vmax=1.0)
-    cmap = plt.get_cmap("cividis_r")
-    short = {"NewtonFailure": "Newton\nfailed", "NonFiniteSolution": "blew\nup",
-             "DivergedSolution": "blew\nup", "StepBudgetExhausted": "step\nbudget"}
+    lo, hi = 1e-12, 10.0                 # the error axis; exact drawn at exact_at, failures at fail_at
+    exact_at, fail_at = 1e-14, 1e3
+    fig, axes = plt.subplots(1, len(ERRORS), figsize=(7.0, 0.3 * len(laws) + 1.9), sharey=True,
+                             layout="constrained")
     for ax, (problem, errs) in zip(axes, ERRORS.items()):
         best = best_runs(rows, problem)
-        grid = np.full((len(laws), len(methods)), np.nan)
-        for (li, law) in enumerate(laws):
-            for (mi, method) in enumerate(methods):
+        partly = {(r["law [-]"], r["method [-]"]) for r in rows            # some setting failed
+                  if r["problem [-]"] == problem and r["status [-]"] not in ("ok", "refused")}
+        for mi, method in enumerate(methods):
+            dy = (mi - (len(methods) - 1) / 2) * 0.09
+            for li, law in enumerate(laws):
                 r = best.get((law, method))
-                if r is None:
+                if r is None or r["status [-]"] == "refused":
                     continue
                 err = _num(r[errs[0]])
-                status = r["status [-]"]
-                if err is not None:
-                    grid[li, mi] = math.log10(max(err, FLOOR))
-                    cpu = _num(r["cpu [s]"]) or 0.0
-                    label = ("exact" if err == 0.0 else f"{err:.0e}".replace("e-0", "e-").replace("e+0", "e+"))
-                    label += f"\n{1e3 * cpu:.2g} ms"
-                    colour = "black" if grid[li, mi] < -8.0 else "white"
-                else:
-                    label = "refused" if status == "refused" else short.get(status, status)
-                    colour = "0.25"
-                ax.text(mi, li, label, ha="center", va="center", fontsize=5.5, color=colour)
-        masked = np.ma.masked_invalid(grid)
-        im = ax.imshow(masked, cmap=cmap, norm=norm, aspect="auto")
-        ax.set_facecolor("0.88")
-        ax.set_xticks(range(len(methods)), [style.name(m) for m in methods], rotation=40, ha="right",
-                      fontsize=7)
-        ax.set_yticks(range(len(laws)), [style.name(law) for law in laws], fontsize=7)
-        ax.set_xticks(np.arange(-0.5, len(methods)), minor=True)
-        ax.set_yticks(np.arange(-0.5, len(laws)), minor=True)
-        ax.grid(which="minor", color="white", linewidth=1.0)
-        ax.grid(which="major", visible=False)
-        ax.tick_params(which="minor", length=0)
-        ax.set_title(TITLES[problem], fontsize=8)
-    bar = fig.colorbar(im, ax=list(axes), fraction=0.015, pad=0.01)
-    bar.set_label("log10 of the smallest error [m] over the settings run")
-    fig.text(0.45, 0.01, "Each cell: the smallest error of that law and method over the paper's steps "
-             "(1e-2, 1e-3, 1e-4 s) or tolerances (1e-2, 1e-4, 1e-6), and the CPU time of that run; "
-             "'exact': error 0; grey: no setting finished (its failure named) or the method refuses the law.",
-             ha="center", fontsize=7)
+                x = fail_at if err is None else (exact_at if err == 0.0 else min(max(err, lo), hi))
+                colour = style.METHOD_COLORS.get(method, "0.3")
+                ax.plot([x], [li + dy], linestyle="none", color=colour,
+                        marker="x" if err is None else "o", markersize=3.2 if err is None else 3.0,
+                        markerfacecolor="white" if (law, method) in partly and err is not None else colour)
+        ax.set_xscale("log")
+        ax.set_xlim(exact_at / 4, fail_at * 4)
+        ticks = [exact_at, 1e-10, 1e-5, 1.0, fail_at]
+        ax.set_xticks(ticks, ["exact", "1e-10", "1e-5", "1", "failed"], fontsize=7)
+        ax.minorticks_off()
+        for edge in (exact_at * 10 ** 0.5, fail_at / 10 ** 0.5):
+            ax.axvline(edge, color="0.6", linewidth=0.6)
+        unit = errs[0].split("[")[1].rstrip("]")
+        ax.set_xlabel(f"smallest error [{unit}]")
+        ax.set_title(SHORT_TITLES[problem], fontsize=8)
+        ax.set_ylim(len(laws) - 0.5, -0.5)
+        ax.grid(axis="y", visible=False)
+        for li in range(len(laws) - 1):
+            ax.axhline(li + 0.5, color="0.9", linewidth=0.5)
+    axes[0].set_yticks(range(len(laws)), [style.name(law) for law in laws], fontsize=7)
+    handles = [plt.Line2D([], [], color=style.METHOD_COLORS.get(m, "0.3"), marker="o", linestyle="none",
+                          markersize=4, label=style.name(m)) for m in methods]
+    handles += [plt.Line2D([], [], color="0.3", marker="o", markerfacecolor="white", linestyle="none",
+                           markersize=4, label="other settings failed"),
+                plt.Line2D([], [], color="0.3", marker="x", linestyle="none", markersize=4,
+                           label="no setting finished")]
+    fig.legend(handles=handles, loc="outside lower center", ncol=5, frameon=False, fontsize=7)
     png = style.save(fig, Path(outdir) / "stick_best.png", c.atomic_write)
     return [png, png.with_suffix(".pdf")]
 

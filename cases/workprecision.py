@@ -255,10 +255,8 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                 if b == 0:
                     ax.set_ylabel(f"error in x({t_end:g} s) [m]")
         fig.suptitle(f"Error against cost, {t_end:g} s of motion: {runs}")
-        caption = CAPTION + ("" if xkey == "nfev [-]" else
-                             " CPU times are of single runs: on a shared machine a point lies to the "
-                             "right when another job held the core (the evaluation counts do not move).")
-        c.figure_legend(fig, axes.ravel(), ncol=3, caption=caption)
+        # how to read it (CAPTION) is the page's text, not the image's: docs/guide/choosing-h.md
+        c.figure_legend(fig, axes.ravel(), ncol=3)
         paths.append(c.save_figure(fig, Path(outdir) / fname))
     return paths
 

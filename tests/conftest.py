@@ -22,14 +22,35 @@ def _tool(name: str) -> str:
     return found
 
 
+#: The native test build without link-time optimisation: with it, every test program's link
+#: re-optimises the whole core (minutes per program on two cores; without, seconds). The code
+#: and its arithmetic are the same (no -ffast-math, no FMA contraction on x86-64); the LTO build
+#: is what the Python extension (every Python test) and the installed library (test_install,
+#: slow) are built with.
+NATIVE_OPTIONS: tuple[str, ...] = ("-Db_lto=false",)
+
+
+def _configured_lto(build: Path) -> bool | None:
+    """b_lto of a configured meson build directory (None when it cannot be read)."""
+    info = build / "meson-info" / "intro-buildoptions.json"
+    try:
+        import json
+        return next(o["value"] for o in json.loads(info.read_text()) if o["name"] == "b_lto")
+    except (OSError, ValueError, StopIteration):
+        return None
+
+
 @pytest.fixture(scope="session")
 def native_build() -> Path:
-    """build/native, configured and with the test programs compiled."""
+    """build/native, configured (NATIVE_OPTIONS) and with the test programs compiled."""
     build = Path(os.environ.get("STICKSLIP_NATIVE_BUILD", ROOT / "build" / "native"))
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
     if not (build / "build.ninja").exists():
-        subprocess.run([_tool("meson"), "setup", str(build), str(ROOT)], check=True, env=env,
-                       capture_output=True, text=True)
+        subprocess.run([_tool("meson"), "setup", str(build), str(ROOT), *NATIVE_OPTIONS], check=True,
+                       env=env, capture_output=True, text=True)
+    elif _configured_lto(build):          # a directory set up before NATIVE_OPTIONS: once
+        subprocess.run([_tool("meson"), "configure", str(build), *NATIVE_OPTIONS], check=True,
+                       env=env, capture_output=True, text=True)
     return build
 
 

@@ -5,6 +5,7 @@ finds; it says when no method can (Coulomb, a target below round-off); bad input
 ValueError."""
 from __future__ import annotations
 
+import importlib
 import math
 import sys
 from pathlib import Path
@@ -192,6 +193,39 @@ def test_coulomb_with_every_method_finds_one_that_holds() -> None:
     assert a.feasible and a.method in ("moreau", "event_driven", "implicit_euler", "galpha")
     r = ss.simulate("slope", "coulomb", method=a.method, t_end=5.0, **a.controls)
     assert abs(r.x[-1]) <= 1e-6
+
+
+@pytest.mark.skipif("moreau" not in ss.METHODS, reason="no set-valued method registered")
+def test_a_held_body_has_error_exactly_zero_and_nothing_below_round_off_is_printed() -> None:
+    """The held box (x = 0 in every run): its error is exactly 0 and printed so, never as a
+    number below what a double can represent (2.2e-314 m before); every printed error of the
+    report is either "exactly 0", "round-off (...)" or at least the round-off level."""
+    a = ss.advise("slope", "coulomb", 1e-6, 5.0)
+    assert a.feasible and a.predicted_error == 0.0 and a.roundoff == 0.0
+    text = str(a)
+    assert "estimated error exactly 0," in text
+    import re
+    numbers = [float(x) for x in re.findall(r"(?<![\w.])\d\.?\d*e-\d+", text)]
+    assert all(x >= 1e-300 for x in numbers), numbers
+    from stickslip.advise import error_text
+    assert error_text(0.0, 0.0) == "exactly 0"
+    assert error_text(1e-17, 2e-14).startswith("round-off")
+    assert error_text(3e-9, 2e-14) == "3e-09"
+
+
+def test_fixed_steps_stay_within_the_scene_period() -> None:
+    """No fixed step beyond a tenth of the belt's period 2 pi sqrt(m/k) (0.513 s at k = 450 N/m,
+    m = 3 kg), even when the pilots' Jacobian shows no oscillation (omega = 0: a held body, or
+    no adaptive survey reached t_end), where the ladders used to start at t_end/16 = 0.625 s."""
+    adv = importlib.import_module("stickslip.advise")   # the module (stickslip.advise is the function)
+    p = dict(BELT)
+    period = 2 * math.pi * math.sqrt(p["m"] / p["k"])
+    prob = adv._Problem("belt", "stribeck", 10.0, "x", 0.0, 0.0, adv._physical(p))
+    lad = adv._pilot(prob, "implicit_euler", 1e-4, None, 0.0, math.inf, 0.0)
+    hs = [r.controls["h"] for r in lad.runs + lad.failed]
+    assert hs and max(hs) <= adv.PERIOD_FRACTION * period
+    a = ss.advise("belt", "stribeck", 1e-4, 10.0, methods=["implicit_euler", "galpha"], **p)
+    assert all(r.controls["h"] <= adv.PERIOD_FRACTION * period for r in a.runs if "h" in r.controls)
 
 
 def test_order_one_method_alone_cannot_reach_a_tight_target() -> None:

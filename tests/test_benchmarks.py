@@ -13,6 +13,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 
+@pytest.mark.slow     # builds and times the C, Fortran and GSL programs
 def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     if shutil.which("gfortran") is None or shutil.which("cc") is None:
         pytest.skip("compilers not found")

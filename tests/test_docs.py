@@ -235,6 +235,7 @@ def _tool(name: str) -> str | None:
     return str(exe) if exe.exists() else shutil.which(name)
 
 
+@pytest.mark.slow     # the whole site and FORD's pages
 def test_scripts_docs_builds_the_site_and_the_fortran_pages(tmp_path) -> None:
     """scripts/docs builds the Sphinx site with warnings as errors (any warning fails it) and
     FORD's pages, one per Fortran module, into its fortran/ folder; the site links to them and
@@ -257,6 +258,7 @@ def test_scripts_docs_builds_the_site_and_the_fortran_pages(tmp_path) -> None:
         assert f'href="guide/{page.stem}.html"' in (out / "index.html").read_text(), page.name
 
 
+@pytest.mark.slow     # a Sphinx build
 def test_a_new_guide_page_joins_the_site(tmp_path) -> None:
     """A page dropped into docs/guide/ appears in the guide's table of contents, with no edit
     of any other file and no warning."""

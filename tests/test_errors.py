@@ -99,7 +99,8 @@ def test_stiffness_reported_and_optionally_fatal():
 
 def test_blow_up_is_reported_not_nan():
     # an absurd RK4 step on a stiff spring diverges: the run stops with a clear status
-    with pytest.raises(ss.NonFiniteSolution) as err:
+    with pytest.raises(ss.NonFiniteSolution) as err, \
+            pytest.warns(ss.UnstableStepWarning, match="shortest period"):   # and it says so first
         sim(scene="belt", law="coulomb", method="rk4", h=0.5, t_end=1e4, k=1e6)
     assert np.all(np.isfinite(err.value.result.x))
 

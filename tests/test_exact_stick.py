@@ -194,6 +194,29 @@ def test_stick_best_runs_picks_the_smallest_error():
     assert set(best) == {("coulomb", "rk4"), ("lugre", "rk4"), ("lugre", "moreau"), ("coulomb", "moreau")}
 
 
+def test_stick_best_table_names_the_best_method_per_law(tmp_path):
+    """stick_best.md: one row per law and problem, the method with the smallest error (ties: the
+    cheaper), and the methods exact at some setting; a law with no finished run says so."""
+    from cases import stick
+    from cases._common import write_csv
+    rows = []
+    for problem, errs in stick.ERRORS.items():
+        for law, method, err, cpu, status in (("coulomb", "rk4", "0.2", "0.001", "ok"),
+                                               ("coulomb", "moreau", "0", "0.02", "ok"),
+                                               ("coulomb", "event_driven", "0", "0.01", "ok"),
+                                               ("lugre", "rk4", "", "", "NonFiniteSolution")):
+            r = {h: "" for h in stick.HEADER}
+            r.update({"problem [-]": problem, "law [-]": law, "method [-]": method, "h [s]": "0.001",
+                      "cpu [s]": cpu, "status [-]": status, errs[0]: err})
+            rows.append([r[h] for h in stick.HEADER])
+    csv = write_csv(tmp_path / "stick.csv", stick.HEADER, rows)
+    text = stick.write_best(csv, tmp_path).read_text()
+    assert text.count("| Coulomb | event-driven (set-valued) |") == 3     # exact and cheaper than moreau
+    assert "Moreau-Jean (set-valued), event-driven (set-valued)" in text or \
+        "event-driven (set-valued), Moreau-Jean (set-valued)" in text
+    assert text.count("| LuGre | none finished |") == 3
+
+
 def test_stick_study_quick(tmp_path):
     """python -m cases.stick --quick writes the CSV, the tables and the figure; the set-valued
     methods hold the slope exactly and a creeping law does not."""
@@ -201,7 +224,7 @@ def test_stick_study_quick(tmp_path):
     from cases._common import read_csv
     files = stick.main(["--outdir", str(tmp_path), "--quick", "--threads", "1", "--quiet"])
     # --quick writes into its own subdirectory, beside the run's provenance record
-    assert {f.name for f in files} == {"stick.csv", "stick.md", "stick.png", "stick.pdf", "stick_best.png",
+    assert {f.name for f in files} == {"stick.csv", "stick.md", "stick_best.md", "stick.png", "stick.pdf", "stick_best.png",
                                        "stick_best.pdf", "cases.stick.provenance.json"}
     out = files[0].parent
     assert out == tmp_path / "quick" and all(f.parent == out for f in files)

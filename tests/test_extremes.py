@@ -50,6 +50,7 @@ def extremes() -> dict[str, tuple[stickslip.BatchResult, int, int]]:
     return out
 
 
+@pytest.mark.filterwarnings("ignore::stickslip.UnstableStepWarning")   # extreme on purpose
 @pytest.mark.parametrize("name", [e[0] for e in EXTREMES])
 def test_extreme_ends_with_clear_status_and_finite_output(extremes, name: str) -> None:
     b, i, expected = extremes[name]
@@ -87,14 +88,15 @@ def test_rtol_below_roundoff_is_a_clear_value_error() -> None:
 
 
 def test_tiny_step_over_20_s_has_bounded_memory() -> None:
-    """h = 1e-7 over 20 s: 2e8 RK4 steps on a 201-point grid; Python-side allocations stay
-    under 1 MB and the result is the converged creep (x = 20 s * v* - transient)."""
+    """h = 1e-6 over 20 s: 2e7 RK4 steps (320 MB if each step's state were kept) on a
+    201-point grid; Python-side allocations stay under 1 MB and the result is the converged
+    creep (x = 20 s * v* - transient)."""
     tracemalloc.start()
-    r = stickslip.simulate("slope", "recurdyn", method="rk4", t_end=20.0, h=1e-7, n_out=201,
-                           max_steps=3 * 10**8)
+    r = stickslip.simulate("slope", "recurdyn", method="rk4", t_end=20.0, h=1e-6, n_out=201,
+                           max_steps=3 * 10**7)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
-    assert r.stats["status"] == 0 and r.stats["nstep"] == 200_000_000
+    assert r.stats["status"] == 0 and r.stats["nstep"] == 20_000_000
     assert r.x.size == 201 and peak < 1_000_000
     ref = stickslip.simulate("slope", "recurdyn", method="rk4", t_end=20.0, h=1e-4, n_out=2)
     assert r.x[-1] == pytest.approx(ref.x[-1], rel=1e-8)
@@ -123,6 +125,7 @@ def test_dopri5_order_5_on_the_belt_harmonic_orbit() -> None:
     assert 4.3 < order < 6.0, (order, err, b.nfev)
 
 
+@pytest.mark.filterwarnings("ignore::stickslip.UnstableStepWarning")   # a scan across the bound
 @pytest.mark.parametrize("v_s", [1e-2, 1e-4])
 def test_rk4_boundary_recurdyn_slope_within_10_percent_of_linear(v_s: float) -> None:
     """The largest stable h of a scan 0.7 .. 1.3 h_lin in 2% steps lies within 10% of

@@ -96,7 +96,8 @@ def test_a_bad_value_after_a_cached_call_of_the_same_shape_raises_as_on_a_first_
 
 def test_warnings_come_on_every_call_not_only_the_first() -> None:
     for _ in range(3):
-        with pytest.warns(UserWarning, match=r"h = 5 s is longer than the whole run"):
+        with pytest.warns(ss.UnstableStepWarning, match="stability bound"), \
+                pytest.warns(UserWarning, match=r"h = 5 s is longer than the whole run"):
             ss.simulate("slope", "recurdyn", method="rk4", h=5.0, t_end=1.0)
 
 

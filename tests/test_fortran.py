@@ -4,6 +4,8 @@ from __future__ import annotations
 import re
 import subprocess
 
+import pytest
+
 from conftest import compile_target
 
 
@@ -58,6 +60,7 @@ def test_fortran_law_suite(native_build):
     assert "FAIL" not in proc.stdout and "all law checks passed" in proc.stdout, proc.stdout
 
 
+@pytest.mark.slow     # every program again (the suites above run each), and both examples
 def test_meson_test_suite(native_build):
     """`meson test`: the Fortran unit tests (six programs) and both examples built in-tree from the core."""
     from conftest import _tool

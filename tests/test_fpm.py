@@ -15,6 +15,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 
+@pytest.mark.slow     # a whole second build of the library by fpm
 def test_fpm_build_test_and_example() -> None:
     here = Path(sys.executable).parent / "fpm"
     fpm = str(here) if here.exists() else shutil.which("fpm")

@@ -19,6 +19,9 @@ from pathlib import Path
 
 import pytest
 
+#: A copy of the repository, a fresh meson build and install, and four programs: minutes.
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[1]
 GUIDE = ROOT / "docs" / "guide" / "fortran-c.md"
 EXAMPLES = {"lotka_volterra.f90": "fortran", "friction_c.c": "c"}

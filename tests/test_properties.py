@@ -107,13 +107,14 @@ def test_friction_coefficient_is_finite_and_odd_or_a_named_error(law, v, params)
 
 @SETTINGS
 @given(st.lists(runs(), min_size=1, max_size=3))
+@pytest.mark.filterwarnings("ignore::stickslip.UnstableStepWarning")   # random h: said, then run
 def test_simulate_batch_rows_end_named_or_finite(rows):
     kw = {k: [r.get(k, r.get("h", 1e-3) if k == "h" else None) for r in rows]
           for k in ("scene", "law", "method", "t_end", "max_steps")}
     kw["h"] = [r.get("h", np.nan) for r in rows]
     extra = {k: v for k, v in rows[0].items() if k in ss.REGISTRY["param"] or k in ("x0", "v0")}
     try:
-        b = ss.simulate_batch(n_grid=5, **kw, **extra)
+        b = ss.simulate_batch(n_grid=5, ignore_unused=True, **kw, **extra)   # random parameter sets
     except ValueError as err:
         assert _named(err), str(err)
         return

@@ -13,7 +13,10 @@ page), and the table sits between that comment and `<!-- end table -->`:
     *Source: `docs/figures/table2_slope_cpu.csv`, written by `python -m cases --docs` ...*
     <!-- end table -->
 
-A Markdown source (`.md`) is embedded whole. A CSV source is rendered as a table of the chosen
+A Markdown source (`.md`) is embedded whole. The source `registry:law`, `registry:scene`,
+`registry:method` or `registry:param` is a table of what the compiled library registers
+(`stickslip.REGISTRY`): every name with its parameters, states, order or controls and its
+one-line description, so the guides cannot fall behind a law, scene or method added later. A CSV source is rendered as a table of the chosen
 `columns` (the CSV header as written, then `= label` for the column's title in the page; all
 columns when omitted), keeping the rows whose cells match every `where` line (any of the listed
 values), numbers to `digits` significant digits (default 4; a column of integers whole). Under each table
@@ -52,9 +55,13 @@ class Spec:
     digits: int = 4
 
 
+REGISTRY_PREFIX = "registry:"
+
+
 def parse_spec(text: str, page: Path) -> Spec:
     lines = [ln.strip() for ln in text.strip().splitlines() if ln.strip()]
-    spec = Spec((page.parent / lines[0]).resolve())
+    source = Path(lines[0]) if lines[0].startswith(REGISTRY_PREFIX) else (page.parent / lines[0]).resolve()
+    spec = Spec(source)
     for line in lines[1:]:
         key, _, value = line.partition(":")
         key = key.strip()
@@ -127,7 +134,43 @@ def source_line(path: Path) -> str:
             f"{run['machine']}{load}.*")
 
 
+def _names(items: tuple[str, ...] | None) -> str:
+    return ", ".join(f"`{i}`" for i in items) if items else ""
+
+
+def render_registry(kind: str) -> str:
+    """The table of one kind of registry entry (law, scene, method, param), from the library."""
+    import stickslip as ss
+    reg = ss.REGISTRY.get(kind)
+    if kind not in ("law", "scene", "method", "param") or reg is None:
+        raise ValueError(f"registry:{kind}: unknown kind (law, scene, method, param)")
+    if kind == "law":
+        rows = [["name", "parameters", "internal states", "description"]]
+        rows += [[f"`{n}`", _names(e["params"]), ", ".join(e["states"]) or "none", e["doc"].strip()]
+                 for n, e in reg.items()]
+    elif kind == "scene":
+        rows = [["name", "parameters", "description"]]
+        rows += [[f"`{n}`", _names(e["params"]), e["doc"].strip()] for n, e in reg.items()]
+    elif kind == "method":
+        rows = [["name", "order", "step", "controls", "laws", "description"]]
+        rows += [[f"`{n}`", str(e["order"]),
+                  ("adaptive" if e["adaptive"] else "fixed") + (", implicit" if e["implicit"] else ""),
+                  _names(e["controls"]), _names(e["laws"]) or "all", e["doc"].strip()]
+                 for n, e in reg.items()]
+    else:
+        rows = [["name", "default", "unit", "accepted", "description"]]
+        rows += [[f"`{n}`", (f"{e['scale']:g} {e['default_of']}" if e["default_of"] else f"{e['default']:g}"),
+                  e["unit"], e["rule"].partition(": ")[2], e["doc"].strip()] for n, e in reg.items()]
+    lines = ["| " + " | ".join(c.replace("|", "\\|") for c in r) + " |" for r in rows]
+    lines.insert(1, "|" + "---|" * len(rows[0]))
+    return "\n".join(lines)
+
+
 def render(spec: Spec) -> str:
+    if str(spec.source).startswith(REGISTRY_PREFIX):
+        kind = str(spec.source)[len(REGISTRY_PREFIX):]
+        return (f"{render_registry(kind)}\n\n*Source: `stickslip.REGISTRY[\"{kind}\"]`, read from the "
+                "compiled library when the package is imported.*\n")
     if not spec.source.exists():
         raise FileNotFoundError(f"table source {spec.source} does not exist")
     table = spec.source.read_text().strip() if spec.source.suffix == ".md" else render_csv(spec)

@@ -19,7 +19,10 @@ registry, so a method added there joins without edits here):
 3. for explicit fixed-step methods (RK4), the stability bound: the eigenvalues lambda of the
    scene's Jacobian (finite differences of the right-hand side, taken from one tiny RK4 step)
    along a pilot trajectory, and the largest h with |R(h lambda)| <= 1 for the method's
-   stability polynomial; steps beyond it are never piloted nor advised.
+   stability polynomial; steps beyond it are never piloted nor advised. No fixed-step method
+   (explicit or implicit) is piloted or advised at a step longer than PERIOD_FRACTION of the
+   scene's shortest period of free oscillation (2 pi sqrt(m/k) on the belt), where `simulate`
+   warns that it cannot follow the oscillation.
 4. the cheapest predicted setting (CPU seconds = evaluations x the method's measured seconds
    per evaluation) that meets target/SAFETY, then one verifying run at that setting, whose
    error is estimated against a tighter run of the same method (a pilot, or one more run);
@@ -48,7 +51,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from .core import (LAWS, METHODS, REGISTRY, SCENES, CONTROLS, IntegrationError, _choice, _physical,
-                   friction_coefficient, _shown, simulate)
+                   _shortest_period, friction_coefficient, _shown, simulate)
 
 #: Aim at target/SAFETY, so that a prediction off by this factor still meets the target.
 SAFETY: float = 2.0
@@ -69,6 +72,9 @@ PILOT_NFEV_CAP: float = 2e6
 PILOT_MAX_STEPS: int = 200_000
 #: Fraction of the stability bound a fixed-step explicit pilot or advice may use.
 STABILITY_MARGIN: float = 0.8
+#: A fixed step is at most this fraction of the scene's shortest period of free oscillation
+#: (simulate warns beyond the period and advises a tenth of it).
+PERIOD_FRACTION: float = 0.1
 #: A difference below ROUNDOFF eps max|q| is round-off.
 ROUNDOFF: float = 100.0
 #: Steps the library takes by default at most (simulate's max_steps).
@@ -154,6 +160,9 @@ class Advice:
         What the pilots say about each method.
     pilot_cost : dict
         The total cost of all runs and its ratio to the advised run's.
+    roundoff : float
+        The round-off level of the quantity, ROUNDOFF eps max|q| over the runs [m or m/s]; 0
+        when q was exactly 0 in every run (a held body). No estimate below it is printed.
     """
 
     scene: str
@@ -175,14 +184,17 @@ class Advice:
     pilot_cost: dict[str, float] = field(default_factory=dict)
     seconds_per_evaluation: dict[str, float] = field(default_factory=dict)
     stability_bound: float | None = None
+    roundoff: float = 0.0
 
     def table(self) -> str:
         """The candidates and the runs as two text tables."""
         unit = "m" if self.quantity == "x" else "m/s"
-        cand = [[c.method, _fmt(c.exponent, ".2f"), _setting(c.controls), _fmt(c.predicted_error),
+        cand = [[c.method, _fmt(c.exponent, ".2f"), _setting(c.controls),
+                 error_text(c.predicted_error, self.roundoff),
                  _fmt(c.nfev, ".0f"), _fmt(c.seconds), "yes" if c.feasible else "no", c.note]
                 for c in self.candidates]
-        runs = [[r.role, r.method, r.setting(), _fmt(r.q, ".12g"), _fmt(r.error), str(r.nfev),
+        runs = [[r.role, r.method, r.setting(), _fmt(r.q, ".12g"), error_text(r.error, self.roundoff),
+                 str(r.nfev),
                  _fmt(r.seconds), r.status] for r in self.runs]
         return (format_table(["method", "p", "setting", f"error [{unit}]", "nfev", "CPU [s]",
                              "meets", "note"], cand) + "\n" +
@@ -195,8 +207,10 @@ class Advice:
                 f"{QUANTITIES[self.quantity].split(' [')[0]} at t_end| <= {self.target_error:.3g} {unit}"]
         if self.feasible:
             ctl = ", ".join(f"{k}={v:.10g}" for k, v in self.controls.items())
-            head.append(f"use method={self.method!r}, {ctl}: estimated error {self.predicted_error:.3g} "
-                        f"{unit}, {self.predicted_cost['nfev']:.0f} evaluations, "
+            est = error_text(self.predicted_error, self.roundoff)
+            head.append(f"use method={self.method!r}, {ctl}: estimated error {est}"
+                        f"{'' if est == 'exactly 0' else ' ' + unit}, "
+                        f"{self.predicted_cost['nfev']:.0f} evaluations, "
                         f"{self.predicted_cost['seconds']:.3g} s CPU")
         head.append(self.message)
         if self.stability_bound is not None:
@@ -211,6 +225,20 @@ class Advice:
 
 def _fmt(value: float | None, spec: str = ".3g") -> str:
     return "" if value is None else format(value, spec)
+
+
+def error_text(error: float | None, floor: float) -> str:
+    """An error estimate as printed: "exactly 0" when the runs agree exactly with nothing to
+    round (q = 0 throughout: a held body), "round-off" when it is at or below the round-off
+    level `floor` (ROUNDOFF eps max|q|), else three digits; never a number below the error
+    that q's floating-point values can represent."""
+    if error is None:
+        return ""
+    if error == 0.0 and floor == 0.0:
+        return "exactly 0"
+    if error <= floor:
+        return f"round-off (<= {floor:.2g})"
+    return format(error, ".3g")
 
 
 def _setting(controls: dict[str, float] | None) -> str:
@@ -341,8 +369,9 @@ class _Problem:
 
     @property
     def floor(self) -> float:
-        """Round-off level of q [m or m/s]."""
-        return ROUNDOFF * float(np.finfo(float).eps) * max(self.scale, 1e-300)
+        """Round-off level of q [m or m/s]: 0 when every run so far gives q = 0 exactly (a
+        held body), where the runs' differences are exactly 0 too."""
+        return ROUNDOFF * float(np.finfo(float).eps) * self.scale
 
 
 def _fixed(method: str) -> bool:
@@ -409,6 +438,9 @@ def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega:
             n = max(n, math.ceil(prob.t_end * omega * (omega * prob.t_end) ** (1.0 / p)))
         if bound is not None:
             n = max(n, math.ceil(prob.t_end / (STABILITY_MARGIN * bound)))
+        period = _shortest_period(prob.scene, prob.params, 1)
+        if period is not None:          # never beyond the scene's own oscillation
+            n = max(n, math.ceil(prob.t_end / (PERIOD_FRACTION * period)))
         setting = prob.t_end / n
         first_nfev = n * max(REGISTRY["method"][method]["order"], 1)
         if first_nfev * prior_sec_per_eval > budget_seconds:
@@ -732,6 +764,7 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
         if not advice.feasible:
             advice.message = "no method reaches the target: " + _alternatives(law, given, methods)
     advice.runs = prob.runs
+    advice.roundoff = prob.floor
     total_nfev = sum(r.nfev for r in prob.runs)
     total_s = sum(r.seconds for r in prob.runs)
     ratio = total_s / advice.predicted_cost["seconds"] if advice.feasible and advice.predicted_cost["seconds"] > 0 else None
@@ -819,13 +852,15 @@ def _agrees(prob: _Problem, advice: Advice, cand: Candidate, run: Run, err: floa
     if refs and not agree:
         ref = refs[0]
         cand.note += (f"; differs from every other method, e.g. {ref.method} ({ref.setting()}) by "
-                      f"{abs(run.q - ref.q):.2g} > target + its error {ref.error:.2g}: refused")
+                      f"{abs(run.q - ref.q):.2g} > target + its error {error_text(ref.error, prob.floor)}: "
+                      "refused")
         cand.feasible = False
         return False
     if agree:
         ref = agree[0]
-        check = (f"; agrees with {ref.method} ({ref.setting()}, error {ref.error:.2g}) within "
-                 f"{abs(run.q - ref.q):.2g}")
+        gap = abs(run.q - ref.q)
+        check = (f"; agrees with {ref.method} ({ref.setting()}, error {error_text(ref.error, prob.floor)}) "
+                 + ("exactly" if gap == 0.0 else f"within {error_text(gap, prob.floor)}"))
     else:
         check = "; no other method's run was accurate enough to cross-check against"
     advice.feasible = True

@@ -122,8 +122,25 @@ def load_damper_record(path: str | os.PathLike[str]) -> Record:
 
 
 def damper_files(tension: float | None = None, directory: str | os.PathLike[str] | None = None) -> list[Path]:
-    """The damper record files (sorted by tension, frequency, amplitude), all of them or those
-    of one band `tension` [lb] (30 or 36), from `directory` (default: DAMPER_DIR)."""
+    """The damper record files, all of them or those of one band tension.
+
+    Parameters
+    ----------
+    tension : float, optional
+        Only the records at this band tension [lb] (30 or 36); default: all.
+    directory : path, optional
+        The folder of the records (default: ``data/friction-damper/`` of a source checkout).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The ``*.csv.gz`` files, sorted by tension, frequency and amplitude.
+
+    Raises
+    ------
+    ValueError
+        When the folder does not exist (not a source checkout and no `directory`).
+    """
     where = Path(directory) if directory is not None else DAMPER_DIR
     if where is None or not where.is_dir():
         raise ValueError("directory: the damper records are not here; give the folder that holds "

@@ -73,6 +73,19 @@ def law_n_states(law: str, **params: float) -> int:
     """Number of internal states of `law` with these parameters (0 for a static law; for the
     generalized Maxwell-slip model its ``n_elements``).
 
+    Parameters
+    ----------
+    law : str
+        A name of LAWS.
+    **params : float
+        The law's parameters (DEFAULTS for those not given); only ``n_elements`` changes the
+        count.
+
+    Returns
+    -------
+    int
+        The number of internal states, >= 0.
+
     Raises
     ------
     ValueError
@@ -82,7 +95,25 @@ def law_n_states(law: str, **params: float) -> int:
 
 
 def law_state_labels(law: str, **params: float) -> tuple[str, ...]:
-    """Names and units of the internal states of `law` with these parameters, e.g. ('z [m]',)."""
+    """Names and units of the internal states of `law` with these parameters.
+
+    Parameters
+    ----------
+    law : str
+        A name of LAWS.
+    **params : float
+        The law's parameters, as for `law_n_states`.
+
+    Returns
+    -------
+    tuple of str
+        One label a state, e.g. ``('z [m]',)`` for LuGre, ``()`` for a static law.
+
+    Raises
+    ------
+    ValueError
+        For an unknown law, or a parameter unknown to it or out of its range.
+    """
     return _states(law, _law_params(law, params))[1]
 
 

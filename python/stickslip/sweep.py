@@ -7,9 +7,8 @@ batch -> core (tests/test_imports.py checks that the package has no import cycle
 """
 from __future__ import annotations
 
-import inspect
 import os
-from typing import Any
+from typing import Any, Sequence
 
 from . import batch
 from .distributed import SweepStore, run_chunked
@@ -17,18 +16,41 @@ from .distributed import SweepStore, run_chunked
 __all__ = ["simulate_batch"]
 
 
-def simulate_batch(scene: Any, law: Any, *, client: Any = None, chunk_rows: int | None = None,
+def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
+                   method: str | Sequence[str], t_end: Any, x0: Any = 0.0, v0: Any = None,
+                   n_grid: int = 201, keep_grid: bool = False, threads: int = 1,
+                   ignore_unused: bool = False, client: Any = None, chunk_rows: int | None = None,
                    out: str | os.PathLike[str] | None = None, progress: bool = False,
-                   **kwargs: Any) -> batch.BatchResult | SweepStore:
-    """Simulate many parameter sets, in one Fortran batch call or in chunks.
+                   **params: Any) -> batch.BatchResult | SweepStore:
+    """Simulate many parameter sets: one row per set, OpenMP threads over the rows, in one
+    Fortran call or, for large sweeps, in chunks (on a Dask cluster or streamed to disk).
+
+    Every argument but `n_grid`, `keep_grid`, `threads`, `ignore_unused`, `client`,
+    `chunk_rows`, `out` and `progress` is a scalar or a 1-D sequence, broadcast to one row per
+    parameter set, with the meaning it has in `simulate`.
 
     Parameters
     ----------
-    scene, law
-        A name or a 1-D sequence of names, one per row, as in `stickslip.batch.simulate_batch`.
+    scene, law, method : str or sequence of str
+        Names from SCENES, LAWS and METHODS, one for all rows or one per row.
+    t_end : float or sequence of float
+        End of each run [s], > 0.
+    x0, v0 : float or sequence of float, optional
+        Initial position [m] and velocity [m/s]; v0 None or NaN: 0, or on the chain every block
+        stuck on the belt (v0 = v_b). On the chain they apply to every block. Internal states
+        of a law start at 0.
+    n_grid : int
+        Points of each row's output grid numpy.linspace(0, t_end, n_grid), >= 1 (default 201).
+    keep_grid : bool
+        Keep every row's grid (`BatchResult.y_grid`); row i then equals
+        ``simulate(..., n_out=n_grid)`` bit for bit.
+    threads : int
+        OpenMP threads over the rows (>= 1); inside each chunk when chunked.
+    ignore_unused : bool
+        Do not warn about a physical parameter that no row's scene or law reads.
     client : dask.distributed.Client, optional
-        Run the rows in chunks on this Dask cluster, one task per chunk (`threads` OpenMP
-        threads inside each); the scheduler reruns the chunks of a worker that dies.
+        Run the rows in chunks on this Dask cluster, one task per chunk; the scheduler reruns
+        the chunks of a worker that dies.
     chunk_rows : int, optional
         Rows per chunk (>= 1). Default: about 4 chunks per worker on a cluster, 20 chunks
         locally, at most 10,000 rows.
@@ -38,31 +60,50 @@ def simulate_batch(scene: Any, law: Any, *, client: Any = None, chunk_rows: int 
         The same call again resumes: chunks on disk are not recomputed.
     progress : bool
         Show a bar on stderr advancing per chunk (tqdm when installed, else plain lines).
-    **kwargs
-        method, t_end, x0, v0, n_grid, keep_grid, threads, ignore_unused, the physical
-        parameters and the controls: as in `stickslip.batch.simulate_batch`, each a scalar or a
-        1-D sequence.
+    **params
+        Physical parameters (DEFAULTS; v_d None meaning 1.5 v_s) and the methods' controls
+        (CONTROLS: h [s] for fixed-step rows, rtol, atol, hmin, hmax, h0 [s], max_steps,
+        allow_forced, ... for adaptive ones), each a scalar or a 1-D sequence. A control is
+        passed only to the rows whose method reads it (h may be None or NaN on adaptive rows);
+        a name no method reads is an error.
 
     Returns
     -------
     BatchResult or SweepStore
-        One row per parameter set, in order, the same bit for bit however the rows were
-        chunked or where they ran (every field but the wall-clock ``seconds``); a `SweepStore`
-        when `out` is given.
+        One row per parameter set, in order: status, counters, final state, max |v|, velocity
+        reversals (a chatter detector) and, with `keep_grid`, the grids; the same bit for bit
+        however the rows were chunked, on how many threads or where they ran (every field but
+        the wall-clock ``seconds``). A `SweepStore` when `out` is given. Run-time failures are
+        per-row status codes, not exceptions.
 
     Raises
     ------
     ValueError
         Bad input, naming the parameter (and the row when the library finds it), before
-        anything runs; ``chunk_rows`` that is not an integer >= 1.
+        anything runs; a batch that would allocate more than
+        ``stickslip.batch.MAX_BATCH_VALUES`` doubles.
+
+    Warns
+    -----
+    UnusedParameterWarning
+        A physical parameter that no row's scene or law reads (unless `ignore_unused`).
+    UnstableStepWarning
+        RK4 rows with h beyond RK4's linear stability bound.
+
+    Examples
+    --------
+    >>> import stickslip as ss
+    >>> b = ss.simulate_batch("belt", "stribeck", method="rk4", t_end=1.0, h=1e-3,
+    ...                       k=[200.0, 300.0, 400.0])
+    >>> b.status.tolist()
+    [0, 0, 0]
     """
+    kwargs: dict[str, Any] = dict(method=method, t_end=t_end, x0=x0, v0=v0, n_grid=n_grid,
+                                  keep_grid=keep_grid, threads=threads, **params)
+    if ignore_unused:
+        kwargs["ignore_unused"] = True     # the sweep's fingerprint as before that option
     if client is None and chunk_rows is None and out is None and not progress:
         return batch.simulate_batch(scene, law, **kwargs)
     # every argument of the local call, defaults included (the sweep's fingerprint names them)
-    bound = inspect.signature(batch.simulate_batch).bind(scene, law, **kwargs)
-    bound.apply_defaults()
-    args = {k: v for k, v in bound.arguments.items() if k != "kwargs"}
-    args.update(bound.arguments.get("kwargs", {}))
-    if not args.get("ignore_unused"):
-        args.pop("ignore_unused", None)       # the sweep's fingerprint as before that option
+    args = dict(scene=scene, law=law, **kwargs)
     return run_chunked(args, client=client, chunk_rows=chunk_rows, out=out, progress=progress)

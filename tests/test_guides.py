@@ -1,0 +1,107 @@
+"""The guides name everything the library registers: a law, scene or method added to the
+Fortran registry (stickslip.LAWS, SCENES, METHODS) without a word in the guides fails here."""
+from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+import stickslip as ss
+
+ROOT = Path(__file__).resolve().parents[1]
+GUIDE = ROOT / "docs" / "guide"
+
+#: Which guide must name every entry of which registry list.
+PAGES: dict[str, tuple[str, ...]] = {
+    "friction-laws.md": ("law",),
+    "python-api.md": ("law", "scene", "method"),
+    "integrators.md": ("method",),
+}
+
+
+def registered(kind: str) -> tuple[str, ...]:
+    """The names the library registers for one kind (law, scene, method)."""
+    return {"law": ss.LAWS, "scene": ss.SCENES, "method": ss.METHODS}[kind]
+
+
+def prose(text: str) -> str:
+    """The page without its generated tables (a registry table names everything by
+    construction; the prose must too)."""
+    return re.sub(r"<!-- table: registry:.*?<!-- end table -->", "", text, flags=re.S)
+
+
+def missing(names: tuple[str, ...], text: str) -> list[str]:
+    """The names that the text never writes as code (`name` or "name")."""
+    return [n for n in names if f"`{n}`" not in text and f'"{n}"' not in text]
+
+
+def test_the_checker_notices_a_missing_name() -> None:
+    text = "Use `rk4` or \"dopri5\"; RADAU5 is mentioned only in prose."
+    assert missing(("rk4", "dopri5", "radau5"), text) == ["radau5"]
+    assert prose("a\n<!-- table: registry:law -->\n`x`\n<!-- end table -->\nb") == "a\n\nb"
+
+
+@pytest.mark.parametrize("page", sorted(PAGES))
+def test_every_registered_name_is_in_its_guides(page: str) -> None:
+    text = prose((GUIDE / page).read_text())
+    gaps = {kind: missing(registered(kind), text) for kind in PAGES[page]}
+    gaps = {k: v for k, v in gaps.items() if v}
+    assert not gaps, f"docs/guide/{page} does not name the registered {gaps}"
+
+
+def test_the_api_guide_has_the_registry_tables() -> None:
+    text = (GUIDE / "python-api.md").read_text()
+    for kind in ("law", "scene", "method", "param"):
+        assert f"<!-- table: registry:{kind} -->" in text
+
+
+API = ROOT / "docs" / "api.md"
+DIRECTIVE = re.compile(r"^\.\. (?:auto(?:function|class|exception|data)|py:data):: "
+                       r"(?:stickslip\.)?(?P<name>[\w.]+)\s*$", re.M)
+
+
+def documented(text: str) -> list[str]:
+    """The names the API reference documents, once per directive (module prefix dropped)."""
+    return [m.group("name") for m in DIRECTIVE.finditer(text)]
+
+
+def test_the_api_checker_counts_directives() -> None:
+    text = ".. autofunction:: simulate\n.. py:data:: LAWS\n   :type: tuple\n.. autoclass:: stickslip.Result\n"
+    assert documented(text) == ["simulate", "LAWS", "Result"]
+
+
+def test_every_public_name_is_in_the_api_reference_once() -> None:
+    """Each name of stickslip.__all__ has exactly one directive in docs/api.md (no catch-all
+    automodule that would list it again), and nothing there names what the package lacks."""
+    text = API.read_text()
+    names = documented(text)
+    twice = sorted({n for n in names if names.count(n) > 1})
+    absent = sorted(set(ss.__all__) - set(names))
+    unknown = sorted(n for n in names if "." not in n and not hasattr(ss, n))
+    assert not twice and not absent and not unknown, (
+        f"docs/api.md: documented twice {twice}, missing {absent}, not in the package {unknown}")
+    assert ":undoc-members:" not in text and "automodule" not in text
+
+
+@pytest.mark.parametrize("name", [n for n in ss.__all__ if callable(getattr(ss, n))
+                                  and not isinstance(getattr(ss, n), type)])
+def test_every_public_function_has_numpydoc_sections(name: str) -> None:
+    """A public function's docstring has numpydoc Parameters and Returns sections."""
+    doc = getattr(ss, name).__doc__ or ""
+    assert "Parameters\n" in doc and "Returns\n" in doc, f"stickslip.{name}: no numpydoc sections"
+
+
+def test_every_law_and_method_has_its_own_colour_and_name() -> None:
+    """The figure checklist (docs/guide/extending.md): a law or a method has one colour in
+    every figure, distinct from the others of its kind, and a display name."""
+    sys.path.insert(0, str(ROOT))
+    from cases import _style
+    for kind, names, colours, labels in (("law", ss.LAWS, _style.LAW_COLORS, _style.LAW_NAMES),
+                                         ("method", ss.METHODS, _style.METHOD_COLORS, _style.METHOD_NAMES)):
+        missing_colour = [n for n in names if n not in colours]
+        missing_name = [n for n in names if n not in labels]
+        assert not missing_colour and not missing_name, (kind, missing_colour, missing_name)
+        used = [colours[n].lower() for n in names]
+        assert len(set(used)) == len(used), f"two {kind}s share a colour: {used}"
