@@ -287,3 +287,37 @@ def test_fuzz_random_models():
                 assert err.status != 0
                 continue
             assert res.stats["status"] == 0 and np.isfinite(res.x).all() and np.isfinite(res.v).all()
+
+
+def test_docs_toml_schema_example(tmp_path):
+    """The TOML example of docs/guide/models.md is the model of `clutch` (same results)."""
+    import pathlib
+    import re
+    text = (pathlib.Path(__file__).parent.parent / "docs" / "guide" / "models.md").read_text()
+    block = re.search(r"```toml\n(.*?)```", text, re.S).group(1)
+    path = tmp_path / "clutch.toml"
+    path.write_text(block)
+    r1 = ss.simulate(ss.Model.from_toml(path), method="event_driven", t_end=1.5, n_out=31)
+    r2 = ss.simulate(clutch(), method="event_driven", t_end=1.5, n_out=31)
+    assert np.array_equal(r1.x, r2.x)
+
+
+def test_command_line_run(tmp_path, capsys):
+    """python -m stickslip run: the CSV holds the run's numbers; an existing file is kept
+    without --force; a bad method is one line, exit status 2."""
+    from stickslip.__main__ import main
+    clutch().to_toml(tmp_path / "c.toml")
+    out = tmp_path / "c.csv"
+    assert main(["run", str(tmp_path / "c.toml"), "--method", "moreau", "--h", "1e-3", "--t-end", "1.0",
+                 "--n-out", "11", "--out", str(out)]) == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    res = ss.simulate(clutch(), method="moreau", h=1e-3, t_end=1.0, n_out=11)
+    assert np.array_equal(data[:, 1:3].T, res.x) and out.read_text().startswith("t,x_J1,x_J2,v_J1,v_J2")
+    before = out.read_text()
+    assert main(["run", str(tmp_path / "c.toml"), "--method", "moreau", "--h", "1e-3", "--t-end", "1.0",
+                 "--out", str(out)]) == 2
+    assert out.read_text() == before and "exists" in capsys.readouterr().err
+    assert main(["run", str(tmp_path / "c.toml"), "--method", "euler", "--t-end", "1.0",
+                 "--out", str(tmp_path / "d.csv")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "method" in err and not (tmp_path / "d.csv").exists()
