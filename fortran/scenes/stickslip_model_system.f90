@@ -414,31 +414,32 @@ contains
         class(model_contact), intent(in) :: self
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(out) :: b(:)       !! -w(t) of each contact [m/s]
-        real(dp) :: w, rate
-        integer :: i
-        do i = 1, self%n_c
-            b(i) = 0.0_dp
-            if (self%m%con_w(i) > 0) then
-                call self%m%sig%eval(self%m%con_w(i), t, w, rate)
-                b(i) = -w
-            end if
-        end do
+        real(dp) :: rate(self%n_c)
+        call surfaces(self, t, b, rate)
     end subroutine mc_offset
 
     subroutine mc_offset_rate(self, t, b)
         class(model_contact), intent(in) :: self
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(out) :: b(:)       !! -w'(t) of each contact [m/s^2]
-        real(dp) :: w, rate
-        integer :: i
-        do i = 1, self%n_c
-            b(i) = 0.0_dp
-            if (self%m%con_w(i) > 0) then
-                call self%m%sig%eval(self%m%con_w(i), t, w, rate)
-                b(i) = -rate
-            end if
-        end do
+        real(dp) :: value(self%n_c)
+        call surfaces(self, t, value, b)
     end subroutine mc_offset_rate
+
+    !> -w(t) and -w'(t) of each contact's surface (0 where it has none).
+    subroutine surfaces(self, t, b, rate)
+        class(model_contact), intent(in) :: self
+        real(dp), intent(in)  :: t
+        real(dp), intent(out) :: b(:), rate(:)
+        integer :: i
+        b = 0.0_dp
+        rate = 0.0_dp
+        do i = 1, self%n_c
+            if (self%m%con_w(i) > 0) call self%m%sig%eval(self%m%con_w(i), t, b(i), rate(i))
+        end do
+        b = -b
+        rate = -rate
+    end subroutine surfaces
 
     pure real(dp) function mc_next_time_event(self, t) result(tb)
         class(model_contact), intent(in) :: self

@@ -3,9 +3,9 @@ run a model file (docs/guide/models.md) and write its motion as CSV (and a figur
 from __future__ import annotations
 
 import argparse
+import io
 import os
 import sys
-import tempfile
 from typing import Sequence
 
 import numpy as np
@@ -35,22 +35,10 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
-def _write_whole(path: str, text: str) -> None:
-    """Write text to path through a temporary file renamed over it: whole or not at all."""
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".stickslip-")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     import stickslip as ss
+    from stickslip.model import write_whole
 
     def fail(message: str) -> int:
         print(f"python -m stickslip: error: {message}", file=sys.stderr)
@@ -76,7 +64,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     header = ",".join(["t"] + [f"x_{n}" for n in names] + [f"v_{n}" for n in names])
     rows = np.vstack([res.t, res.x, res.v]).T
     lines = [header] + [",".join(repr(float(v)) for v in row) for row in rows]
-    _write_whole(args.out, "\n".join(lines) + "\n")
+    write_whole(args.out, "\n".join(lines) + "\n")
     if args.plot:
         import matplotlib
         matplotlib.use("Agg")
@@ -90,15 +78,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         ax2.set_xlabel("time [s]")
         ax1.legend(loc="best", fontsize="small")
         fig.tight_layout()
-        png = outs[1]
-        fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(png)), prefix=".stickslip-", suffix=".png")
-        os.close(fd)
-        try:
-            fig.savefig(tmp, dpi=150)
-            os.replace(tmp, png)
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
+        buffer = io.BytesIO()
+        fig.savefig(buffer, format="png", dpi=150)
+        write_whole(outs[1], buffer.getvalue())
         plt.close(fig)
     print(f"{args.out}: {res.t.size} rows, {len(names)} bodies, {res.stats['nfev']} evaluations, "
           f"{len(res.events)} events ({args.method})")

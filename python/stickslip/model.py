@@ -309,18 +309,7 @@ class Model:
     def to_toml(self, path: str | os.PathLike) -> None:
         """Write the model to a TOML file, whole or not at all (a temporary file renamed).
         The schema: docs/guide/models.md."""
-        text = _toml(self.to_dict())
-        path = os.fspath(path)
-        folder = os.path.dirname(os.path.abspath(path))
-        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".model-", suffix=".toml")
-        try:
-            with os.fdopen(fd, "w") as fh:
-                fh.write(text)
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        write_whole(path, _toml(self.to_dict()))
 
     @classmethod
     def from_toml(cls, path: str | os.PathLike) -> "Model":
@@ -389,6 +378,21 @@ class Model:
     def __repr__(self) -> str:
         return (f"Model({self.n_bodies} bodies, {len(self.springs)} springs, {len(self.dampers)} dampers, "
                 f"{len(self.forces)} forces, {len(self.contacts)} contacts)")
+
+
+def write_whole(path: str | os.PathLike, data: str | bytes) -> None:
+    """Write `data` to `path` whole or not at all: into a temporary file beside it, renamed
+    over it once complete (a failure leaves no partial file)."""
+    path = os.fspath(path)
+    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".stickslip-")
+    try:
+        with os.fdopen(fd, "wb" if isinstance(data, bytes) else "w") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
 
 
 def _fields(where: str, row: Any, required: set[str], optional: set[str]) -> None:
