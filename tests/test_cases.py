@@ -270,7 +270,7 @@ def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[
 @pytest.mark.parametrize("argv,expected", [
     ([], ["laws", "slope", "belt"]),
     (["--all", "--threads", "1"], ["laws", "slope", "belt", "workprecision", "stability", "laws_compare",
-                                   "implicit", "speedup", "stick", "identify", "chain"]),
+                                   "implicit", "speedup", "stick", "identify", "chain", "engines"]),
     (["--only", "stability"], ["stability"]),
 ])
 def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
@@ -294,7 +294,8 @@ def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
     assert [name for name, _ in calls] == expected
     for name, args in calls:
         assert args[:2] == ["--outdir", str(tmp_path)]
-        if name in ("workprecision", "stability", "laws_compare", "implicit", "speedup", "stick", "identify", "chain"):
+        if name in ("workprecision", "stability", "laws_compare", "implicit", "speedup", "stick", "identify", "chain",
+                    "engines"):
             assert "--threads" in args and "--workers" not in args
         elif name != "laws":
             assert "--workers" in args

@@ -368,3 +368,17 @@ def test_engines_replot_without_results_is_a_usage_error(tmp_path, capsys):
     assert err.value.code == 2
     msg = capsys.readouterr().err.strip().splitlines()[-1]
     assert "has no engines_slope.csv" in msg
+
+
+def test_engines_driver_keeps_results_of_engines_not_installed(tmp_path, monkeypatch, capsys):
+    """Run into a directory whose results were made with an engine absent here (the committed
+    docs/figures and Drake), the driver writes nothing and says why; --force would."""
+    from cases import _common as c
+    from cases import engines as ce
+    c.write_csv(tmp_path / "engines_versions.csv", ["engine [-]", "version [-]"],
+                [["mujoco", "4.0.0"], ["drake", "1.51.1"]])
+    monkeypatch.setattr(ce, "versions", lambda: {"mujoco": "4.0.0"})
+    assert ce.main(["--outdir", str(tmp_path)]) == []
+    err = capsys.readouterr().err
+    assert "holds results of drake" in err and "pip install .[drake]" in err and "--force" in err
+    assert [p.name for p in tmp_path.iterdir()] == ["engines_versions.csv"]
