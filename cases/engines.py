@@ -377,6 +377,57 @@ def newton_slope(*, timestep: float = 1e-3, k_f: float = 1000.0, t_end: float = 
             "cpu_per_s": cpu / (t_end - timestep)}
 
 
+def newton_belt(*, timestep: float = 1e-3, k_f: float = 1000.0, t_end: float = BELT_T_END,
+                v_b: float = BELT_SPEED, k: float = 300.0) -> dict[str, np.ndarray]:
+    """The mass on the belt in Newton with SolverSemiImplicit on the CPU: the belt a kinematic
+    box whose velocity is held at v_b (Newton leaves a kinematic body's state as it is set),
+    the box on it with mu = MU and k_f, the spring -k x applied as an external force every
+    step. Returns t, x, v and the CPU time per simulated second (kernel compilation
+    excluded)."""
+    import warp as wp
+    wp.config.quiet = True
+    import newton
+    cfg = newton.ModelBuilder.ShapeConfig
+    builder = newton.ModelBuilder()
+    belt = builder.add_body(xform=wp.transform(p=wp.vec3(0.0, 0.0, -0.05), q=wp.quat_identity()),
+                            is_kinematic=True)
+    builder.add_shape_box(belt, hx=100.0, hy=1.0, hz=0.05, cfg=cfg(kf=k_f, mu=MU))
+    box = builder.add_body(xform=wp.transform(p=wp.vec3(0.0, 0.0, HALF[2]), q=wp.quat_identity()))
+    volume = 8 * HALF[0] * HALF[1] * HALF[2]
+    builder.add_shape_box(box, hx=HALF[0], hy=HALF[1], hz=HALF[2],
+                          cfg=cfg(kf=k_f, mu=MU, density=MASS / volume))
+    model = builder.finalize(device="cpu")
+    model.set_gravity((0.0, 0.0, -G))
+    solver = newton.solvers.SolverSemiImplicit(model)
+    s0, s1, control = model.state(), model.state(), model.control()
+    for s in (s0, s1):
+        qd = s.body_qd.numpy()
+        qd[belt] = (v_b, 0.0, 0.0, 0.0, 0.0, 0.0)
+        s.body_qd.assign(qd)
+    pipeline = newton.CollisionPipeline(model)
+    contacts = pipeline.contacts()
+    force = np.zeros((model.body_count, 6))
+
+    def step(s0: Any, s1: Any) -> tuple[Any, Any]:
+        s0.clear_forces()
+        force[box, 0] = -k * float(s0.body_q.numpy()[box][0])
+        s0.body_f.assign(force)
+        pipeline.collide(s0, contacts)
+        solver.step(s0, s1, control, contacts, timestep)
+        return s1, s0
+
+    n = int(round(t_end / timestep))
+    t, x, v = np.zeros(n + 1), np.zeros(n + 1), np.zeros(n + 1)
+    s0, s1 = step(s0, s1)                      # compiles the kernels (cached by warp)
+    t[1], x[1], v[1] = timestep, s0.body_q.numpy()[box][0], s0.body_qd.numpy()[box][0]
+    cpu = time.process_time()
+    for i in range(2, n + 1):
+        s0, s1 = step(s0, s1)
+        t[i], x[i], v[i] = i * timestep, s0.body_q.numpy()[box][0], s0.body_qd.numpy()[box][0]
+    cpu = time.process_time() - cpu
+    return {"t": t, "x": x, "v": v, "cpu_per_s": cpu / (t_end - timestep)}
+
+
 # ------------------------------------------------------------------------------------------
 # stickslip's exact methods
 # ------------------------------------------------------------------------------------------
@@ -536,6 +587,8 @@ def run(outdir: str | Path, *, t_end: float = T_END, belt_t_end: float = BELT_T_
         # an artefact of the mass ratio in SAP, not of friction
         for mode in ("tamsi", "continuous"):
             series[f"drake_{mode}"] = drake_belt(mode=mode, t_end=belt_t_end)
+    if "newton" in have:
+        series["newton_semi_implicit"] = newton_belt(t_end=belt_t_end)
     if "bullet" in have:
         series["bullet"] = bullet_belt(t_end=belt_t_end)
     brows = []
