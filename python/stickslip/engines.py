@@ -387,10 +387,10 @@ def engine_creep(engine: str, **settings: Any) -> float:
             return v
     # F rises to its cap (the whole load times the cap coefficient) by 3 v_s at the latest
     hi = 3.0 * max(params["v_s"] for _, params, _ in engine_contacts(engine, **settings))
-    return solve_increasing(_force(engine, settings), pull, hi)
+    return _solve_increasing(_force(engine, settings), pull, hi)
 
 
-def solve_increasing(f: Callable[[np.ndarray], np.ndarray], target: float, hi: float,
+def _solve_increasing(f: Callable[[np.ndarray], np.ndarray], target: float, hi: float,
                      points: int = 64) -> float:
     """The x in [0, hi] where the nondecreasing f (evaluated on arrays) first reaches target,
     by k-section: f on `points` points of the bracket, the bracket narrowed to the interval
