@@ -322,7 +322,7 @@ def engine_mu(engine: str, v: Any, **settings: Any) -> np.ndarray:
     Examples
     --------
     >>> import stickslip as ss
-    >>> float(ss.engine_mu("drake_tamsi", 5e-5, stiction_tolerance=1e-4))   # 0.30 (1/2)(2 - 1/2)
+    >>> round(float(ss.engine_mu("drake_tamsi", 5e-5, stiction_tolerance=1e-4)), 12)   # 0.3 s (2 - s)
     0.225
     """
     scene, _ = _split(engine, settings)
