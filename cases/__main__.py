@@ -56,7 +56,8 @@ DRIVERS: tuple[Driver, ...] = (
     Driver("stability", "study", 37.6, False), Driver("laws_compare", "study", 18.0, False),
     Driver("implicit", "study", 15.1, False), Driver("speedup", "study", 1.1, True),
     Driver("stick", "study", 12.0, False), Driver("identify", "study", 35.0, False),
-    Driver("chain", "study", 31.0, False), Driver("advise_examples", "study", 60.0, False))
+    Driver("chain", "study", 31.0, False), Driver("advise_examples", "study", 60.0, False),
+    Driver("engines", "study", 64.0, False))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 

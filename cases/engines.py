@@ -17,6 +17,12 @@ engines_belt.csv (amplitude, period, stuck time per period and the friction coef
 first release of each run, exact ones first), engines_belt_series.csv (the velocities),
 engines_versions.csv (the version of every engine used), Markdown tables of the first two, and
 the figures engines_slope_creep.png and engines_belt.png. --replot redraws from the CSVs.
+
+An engine that is not installed is skipped, with a line saying how to install it. Written to a
+directory whose engines_versions.csv records an engine that is not installed here (the
+committed docs/figures, made with Drake and Newton), the driver leaves that directory's results
+as they are and says so, unless --force: so ``python -m cases --all --docs`` on a machine
+without every engine does not drop their rows.
 """
 from __future__ import annotations
 
@@ -371,6 +377,57 @@ def newton_slope(*, timestep: float = 1e-3, k_f: float = 1000.0, t_end: float = 
             "cpu_per_s": cpu / (t_end - timestep)}
 
 
+def newton_belt(*, timestep: float = 1e-3, k_f: float = 1000.0, t_end: float = BELT_T_END,
+                v_b: float = BELT_SPEED, k: float = 300.0) -> dict[str, np.ndarray]:
+    """The mass on the belt in Newton with SolverSemiImplicit on the CPU: the belt a kinematic
+    box whose velocity is held at v_b (Newton leaves a kinematic body's state as it is set),
+    the box on it with mu = MU and k_f, the spring -k x applied as an external force every
+    step. Returns t, x, v and the CPU time per simulated second (kernel compilation
+    excluded)."""
+    import warp as wp
+    wp.config.quiet = True
+    import newton
+    cfg = newton.ModelBuilder.ShapeConfig
+    builder = newton.ModelBuilder()
+    belt = builder.add_body(xform=wp.transform(p=wp.vec3(0.0, 0.0, -0.05), q=wp.quat_identity()),
+                            is_kinematic=True)
+    builder.add_shape_box(belt, hx=100.0, hy=1.0, hz=0.05, cfg=cfg(kf=k_f, mu=MU))
+    box = builder.add_body(xform=wp.transform(p=wp.vec3(0.0, 0.0, HALF[2]), q=wp.quat_identity()))
+    volume = 8 * HALF[0] * HALF[1] * HALF[2]
+    builder.add_shape_box(box, hx=HALF[0], hy=HALF[1], hz=HALF[2],
+                          cfg=cfg(kf=k_f, mu=MU, density=MASS / volume))
+    model = builder.finalize(device="cpu")
+    model.set_gravity((0.0, 0.0, -G))
+    solver = newton.solvers.SolverSemiImplicit(model)
+    s0, s1, control = model.state(), model.state(), model.control()
+    for s in (s0, s1):
+        qd = s.body_qd.numpy()
+        qd[belt] = (v_b, 0.0, 0.0, 0.0, 0.0, 0.0)
+        s.body_qd.assign(qd)
+    pipeline = newton.CollisionPipeline(model)
+    contacts = pipeline.contacts()
+    force = np.zeros((model.body_count, 6))
+
+    def step(s0: Any, s1: Any) -> tuple[Any, Any]:
+        s0.clear_forces()
+        force[box, 0] = -k * float(s0.body_q.numpy()[box][0])
+        s0.body_f.assign(force)
+        pipeline.collide(s0, contacts)
+        solver.step(s0, s1, control, contacts, timestep)
+        return s1, s0
+
+    n = int(round(t_end / timestep))
+    t, x, v = np.zeros(n + 1), np.zeros(n + 1), np.zeros(n + 1)
+    s0, s1 = step(s0, s1)                      # compiles the kernels (cached by warp)
+    t[1], x[1], v[1] = timestep, s0.body_q.numpy()[box][0], s0.body_qd.numpy()[box][0]
+    cpu = time.process_time()
+    for i in range(2, n + 1):
+        s0, s1 = step(s0, s1)
+        t[i], x[i], v[i] = i * timestep, s0.body_q.numpy()[box][0], s0.body_qd.numpy()[box][0]
+    cpu = time.process_time() - cpu
+    return {"t": t, "x": x, "v": v, "cpu_per_s": cpu / (t_end - timestep)}
+
+
 # ------------------------------------------------------------------------------------------
 # stickslip's exact methods
 # ------------------------------------------------------------------------------------------
@@ -431,12 +488,27 @@ def stick_summary(t: np.ndarray, x: np.ndarray, v: np.ndarray, v_b: float = BELT
 # ------------------------------------------------------------------------------------------
 # The study
 # ------------------------------------------------------------------------------------------
+#: How to install each engine the driver can run (engines_versions.csv's names).
+INSTALL: dict[str, str] = {"mujoco": "pip install .[engines]", "bullet": "pip install .[engines]",
+                           "drake": "pip install .[drake]",
+                           "newton": "pip install newton warp-lang (CPU kernels compile for "
+                                     "minutes on first use)"}
+
+
+def absent_engines() -> list[str]:
+    """The engines the driver can run that are not installed here."""
+    have = versions()
+    return [name for name in INSTALL if name not in have]
+
+
 def run(outdir: str | Path, *, t_end: float = T_END, belt_t_end: float = BELT_T_END,
-        quick: bool = False) -> list[Path]:
+        quick: bool = False, quiet: bool = False) -> list[Path]:
     """Run every installed engine and the exact methods; write CSVs and Markdown."""
     import stickslip as ss
     outdir = Path(outdir)
     have = versions()
+    for name in absent_engines():
+        c.log(f"cases.engines: {name} is not installed ({INSTALL[name]}): skipped", quiet)
     rows: list[list[Any]] = []
     aspect = HALF[2] / HALF[0]
 
@@ -444,7 +516,7 @@ def run(outdir: str | Path, *, t_end: float = T_END, belt_t_end: float = BELT_T_
             out: dict[str, Any], predicted: float | None) -> None:
         pred = "" if predicted is None else f"{predicted * t_end * 1e3:.4g} mm"
         c.log(f"  {engine:16s} {setting:34s} creep {out['creep'] * t_end * 1e3:10.4g} mm "
-              f"(predicted {pred or 'none'}), {out['cpu_per_s'] * 1e3:.3g} ms CPU per s")
+              f"(predicted {pred or 'none'}), {out['cpu_per_s'] * 1e3:.3g} ms CPU per s", quiet)
         rows.append([engine, setting, cone, timestep, value, out.get("n_contacts"),
                      out["creep"], predicted, out["creep"] * t_end,
                      None if predicted is None else predicted * t_end, out["cpu_per_s"]])
@@ -515,6 +587,8 @@ def run(outdir: str | Path, *, t_end: float = T_END, belt_t_end: float = BELT_T_
         # an artefact of the mass ratio in SAP, not of friction
         for mode in ("tamsi", "continuous"):
             series[f"drake_{mode}"] = drake_belt(mode=mode, t_end=belt_t_end)
+    if "newton" in have:
+        series["newton_semi_implicit"] = newton_belt(t_end=belt_t_end)
     if "bullet" in have:
         series["bullet"] = bullet_belt(t_end=belt_t_end)
     brows = []
@@ -524,7 +598,7 @@ def run(outdir: str | Path, *, t_end: float = T_END, belt_t_end: float = BELT_T_
                       summ["stick_fraction"], first_release(sr["t"], sr["x"], sr["v"]),
                       sr["cpu_per_s"]])
         c.log(f"  belt {name:22s} amplitude {summ['amplitude'] * 1e3:.4g} mm, period "
-              f"{summ['period']:.4g} s, stuck {summ['stick_per_period']:.4g} s a period")
+              f"{summ['period']:.4g} s, stuck {summ['stick_per_period']:.4g} s a period", quiet)
     files.append(c.write_csv(outdir / "engines_belt.csv",
                              ["run [-]", "amplitude [m]", "period [s]", "stick_per_period [s]",
                               "stick_fraction [-]", "release_mu [-]",
@@ -576,11 +650,14 @@ def tables(outdir: Path) -> list[Path]:
     bbody = [[label(e), num(b["amplitude [m]"][i], ".4g", 1e3), num(b["period [s]"][i], ".4g"),
               num(b["stick_per_period [s]"][i], ".3g"), num(b["stick_fraction [-]"][i], ".3f"),
               num(b["release_mu [-]"][i], ".3f"),
-              num(b["cpu_per_simulated_s [s]"][i], ".3g", 1e3)]
+              num(b["cpu_per_simulated_s [s]"][i], ".3g", 1e3),
+              num(b["cpu_per_simulated_s [s]"][i], ".3g",
+                  1 / float(b["cpu_per_simulated_s [s]"][b["run [-]"].index("event_driven")]))]
              for i, e in enumerate(b["run [-]"])]
     out.append(c.write_text(outdir / "engines_belt.md", c.markdown_table(
         ["run", "amplitude [mm]", "period [s]", "stuck per period [s]", "stuck fraction",
-         "first release: k x / (m g)", "CPU per simulated s [ms]"], bbody)))
+         "first release: k x / (m g)", "CPU per simulated s [ms]", "CPU / event_driven's"],
+        bbody)))
     return out
 
 
@@ -682,8 +759,18 @@ def plot(outdir: str | Path) -> list[Path]:
     return files
 
 
+def recorded_but_absent(outdir: Path) -> list[str]:
+    """The engines outdir's engines_versions.csv records that are not installed here."""
+    path = Path(outdir) / "engines_versions.csv"
+    if not path.exists():
+        return []
+    recorded = c.read_csv(path)["engine [-]"]
+    return [name for name in absent_engines() if name in recorded]
+
+
 def main(argv: Sequence[str] | None = None) -> list[Path]:
-    """Command line: python -m cases.engines [--outdir DIR] [--quick] [--replot]."""
+    """Command line: python -m cases.engines [--outdir DIR] [--quick] [--replot] [--force]
+    [--threads N] [--quiet]."""
     parser = argparse.ArgumentParser(prog="python -m cases.engines",
                                      description=c.cli_description(__doc__))
     parser.add_argument("--outdir", type=Path, default=Path("out"), help="output directory")
@@ -691,7 +778,15 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="defaults and one setting per engine, t_end 4 s (for tests)")
     parser.add_argument("--replot", action="store_true",
                         help="redraw the figures and tables from the CSVs in --outdir")
+    parser.add_argument("--force", action="store_true",
+                        help="overwrite results in --outdir made with engines not installed here")
+    parser.add_argument("--threads", type=int, default=1,
+                        help="accepted for python -m cases; the engines run one after another "
+                             "on one thread (each engine's own timing)")
+    parser.add_argument("--quiet", action="store_true", help="no progress lines")
     args = parser.parse_args(argv)
+    if args.threads < 1:
+        parser.error(f"argument --threads: must be >= 1, got {args.threads}")
     c.check_writable(parser, args.outdir)
     if args.replot:
         missing = [f for f in ("engines_slope.csv", "engines_belt.csv", "engines_belt_series.csv")
@@ -700,10 +795,15 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
             parser.error(f"argument --replot: {args.outdir} has no {', '.join(missing)} "
                          f"(run python -m cases.engines --outdir {args.outdir} first)")
         files = tables(args.outdir) + plot(args.outdir)
+    elif not args.force and (kept := recorded_but_absent(args.outdir)):
+        c.log(f"cases.engines: {args.outdir} holds results of {', '.join(kept)}, not installed "
+              f"here ({'; '.join(INSTALL[k] for k in kept)}): left as they are (--force "
+              f"overwrites them without those engines' rows)", args.quiet)
+        return []
     elif args.quick:
-        files = run(args.outdir, t_end=4.0, belt_t_end=4.0, quick=True)
+        files = run(args.outdir, t_end=4.0, belt_t_end=4.0, quick=True, quiet=args.quiet)
     else:
-        files = run(args.outdir)
+        files = run(args.outdir, quiet=args.quiet)
     return c.finish("engines", argv, files)
 
 

@@ -23,10 +23,15 @@ def quintic(x):
 
 
 # ---------------------------------------------------------------- the laws, as published
+# The engines' laws are registered laws (Fortran); each against its published formula.
+def mu(law, v, **p):
+    return float(ss.friction_coefficient(law, v, **p))
+
+
 @pytest.mark.parametrize("s", [0.0, 0.1, 0.37, 0.5, 0.99, 1.0, 1.4, 2.0, 2.9, 3.0, 7.0])
 def test_drake_continuous_is_the_stribeck_model(s):
     vs, mu_s, mu_d = 2e-3, 0.5, 0.2
-    got = float(en.drake_continuous_mu(s * vs, vs, mu_s, mu_d))
+    got = mu("drake_continuous", s * vs, v_s=vs, mu_s=mu_s, mu_k=mu_d)
     if s < 1:
         want = mu_s * quintic(s)
     elif s < 3:
@@ -34,13 +39,13 @@ def test_drake_continuous_is_the_stribeck_model(s):
     else:
         want = mu_d
     assert got == pytest.approx(want, rel=1e-12, abs=1e-15)
-    # even in v
-    assert float(en.drake_continuous_mu(-s * vs, vs, mu_s, mu_d)) == pytest.approx(got)
+    # odd in v (the force opposes the slip)
+    assert mu("drake_continuous", -s * vs, v_s=vs, mu_s=mu_s, mu_k=mu_d) == pytest.approx(-got)
 
 
 def test_drake_continuous_is_c2_at_its_knots():
     vs, mu_s, mu_d, eps = 1.0, 0.5, 0.2, 1e-4
-    f = lambda v: float(en.drake_continuous_mu(v, vs, mu_s, mu_d))  # noqa: E731
+    f = lambda v: mu("drake_continuous", v, v_s=vs, mu_s=mu_s, mu_k=mu_d)  # noqa: E731
     for knot in (1.0, 3.0):
         left = (f(knot) - f(knot - eps)) / eps
         right = (f(knot + eps) - f(knot)) / eps
@@ -50,16 +55,64 @@ def test_drake_continuous_is_c2_at_its_knots():
 
 @pytest.mark.parametrize("s", [0.0, 0.25, 0.5, 0.9, 1.0, 4.0])
 def test_tamsi_is_mu_s_2_minus_s(s):
-    vs, mu = 1e-4, 0.3
-    want = mu * s * (2 - s) if s < 1 else mu
-    assert float(en.drake_tamsi_mu(s * vs, vs, mu)) == pytest.approx(want, rel=1e-12, abs=1e-16)
+    vs, mu_d = 1e-4, 0.3
+    want = mu_d * s * (2 - s) if s < 1 else mu_d
+    # mu_s is not read: discrete Drake has one coefficient (mu_k may exceed the default mu_s)
+    assert mu("drake_tamsi", s * vs, v_s=vs, mu_k=mu_d) == pytest.approx(want, rel=1e-12, abs=1e-16)
+    assert mu("drake_tamsi", s * vs, v_s=vs, mu_k=0.9) == pytest.approx(3 * want, rel=1e-12, abs=1e-16)
+
+
+@pytest.mark.parametrize("v", [0.0, 1e-4, 2.4e-3, 2.5e-3, 0.01, 3.0])
+def test_capped_viscous_is_newtons_min_kf_v_mu_fn(v):
+    """Newton's semi-implicit contact: force min(k_f v, mu f_n), i.e. the law with
+    v_s = mu f_n / k_f times f_n."""
+    k_f, f_n, mu_c = 1000.0, 8.0, 0.3
+    force = f_n * mu("capped_viscous", v, mu_k=mu_c, v_s=mu_c * f_n / k_f)
+    assert force == pytest.approx(min(k_f * v, mu_c * f_n), rel=1e-12, abs=1e-15)
+
+
+def _pyramid_friction(q, load):
+    """Friction / load of a MuJoCo pyramidal contact from its four edge rows written out: the
+    rows along the slip push p - q and p + q, the two across it p, each clamped at 0; p from
+    the normal balance (the clamped forces add up to the load), by bisection; the friction
+    is mu (f+ - f-), returned over mu."""
+    def edges(p):
+        return max(p - q, 0.0), max(p + q, 0.0), max(p, 0.0)
+    lo, hi = -2.0 * load - q, 2.0 * load + q
+    for _ in range(200):
+        p = 0.5 * (lo + hi)
+        fm, fp, fa = edges(p)
+        lo, hi = (p, hi) if fm + fp + 2 * fa < load else (lo, p)
+    fm, fp, _ = edges(0.5 * (lo + hi))
+    return min(fp - fm, load) / load
+
+
+@pytest.mark.parametrize("s", [0.0, 0.2, 0.5, 0.8, 1.3, 2.0, 2.5, 10.0])
+def test_mujoco_pyramidal_is_the_clamped_pyramid(s):
+    """With the edge speed term q = s load / 2 (the viscous slope mu/v_s at rest), the law is
+    the clamped four-row balance: all four rows push up to s = 1/2, then the row against the
+    slip drops out, then the rows across it (s = 2): Coulomb's cap."""
+    vs, mu_c, load = 3e-4, 0.3, 5.0
+    want = mu_c * _pyramid_friction(0.5 * s * load, load)
+    assert mu("mujoco_pyramidal", s * vs, mu_k=mu_c, v_s=vs) == pytest.approx(want, rel=1e-9,
+                                                                              abs=1e-15)
+
+
+def test_engine_contacts_carry_the_whole_load():
+    N = M * G * math.cos(TH)
+    for engine, extra in [("mujoco", {}), ("mujoco", {"cone": "elliptic"}),
+                          ("newton_semi_implicit", {}), ("drake_tamsi", {}),
+                          ("newton_semi_implicit", {"n_contacts": 3})]:
+        contacts = en.engine_contacts(engine, **extra)
+        assert sum(load for _, _, load in contacts) == pytest.approx(N, rel=1e-12)
+        assert {law for law, _, _ in contacts} <= set(ss.LAWS)
 
 
 @pytest.mark.parametrize("s", [0.0, 0.3, 1.0, 2.5, 40.0])
 def test_drake_lagged_is_mu_s_over_sqrt_1_plus_s2(s):
-    vs, mu = 1e-4, 0.3
-    assert float(en.drake_lagged_mu(s * vs, vs, mu)) == pytest.approx(mu * s / math.hypot(1, s),
-                                                                      rel=1e-12, abs=1e-16)
+    vs, mu_d = 1e-4, 0.3
+    assert float(en.drake_lagged_mu(s * vs, vs, mu_d)) == pytest.approx(mu_d * s / math.hypot(1, s),
+                                                                        rel=1e-12, abs=1e-16)
 
 
 def test_mujoco_impedance_follows_solimp():
@@ -315,3 +368,17 @@ def test_engines_replot_without_results_is_a_usage_error(tmp_path, capsys):
     assert err.value.code == 2
     msg = capsys.readouterr().err.strip().splitlines()[-1]
     assert "has no engines_slope.csv" in msg
+
+
+def test_engines_driver_keeps_results_of_engines_not_installed(tmp_path, monkeypatch, capsys):
+    """Run into a directory whose results were made with an engine absent here (the committed
+    docs/figures and Drake), the driver writes nothing and says why; --force would."""
+    from cases import _common as c
+    from cases import engines as ce
+    c.write_csv(tmp_path / "engines_versions.csv", ["engine [-]", "version [-]"],
+                [["mujoco", "4.0.0"], ["drake", "1.51.1"]])
+    monkeypatch.setattr(ce, "versions", lambda: {"mujoco": "4.0.0"})
+    assert ce.main(["--outdir", str(tmp_path)]) == []
+    err = capsys.readouterr().err
+    assert "holds results of drake" in err and "pip install .[drake]" in err and "--force" in err
+    assert [p.name for p in tmp_path.iterdir()] == ["engines_versions.csv"]

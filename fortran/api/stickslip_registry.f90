@@ -28,6 +28,10 @@ module stickslip_registry
     use stickslip_law_elastoplastic, only: elastoplastic_law, Z_BA_RATIO_SPEC
     use stickslip_law_dahl, only: dahl_law, DAHL_ALPHA_SPEC
     use stickslip_law_gms, only: gms_law, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC
+    use stickslip_law_drake_continuous, only: drake_continuous_law
+    use stickslip_law_drake_tamsi, only: drake_tamsi_law
+    use stickslip_law_capped_viscous, only: capped_viscous_law
+    use stickslip_law_mujoco_pyramidal, only: mujoco_pyramidal_law
     use stickslip_scenes, only: friction_scene, slope_scene, belt_scene, G_SPEC, THETA_SPEC, M_SPEC, &
                                 K_SPEC, V_B_SPEC
     use stickslip_chain, only: chain_scene, N_BLOCKS_SPEC, K_C_SPEC, K_P_SPEC, PERTURBATION_SPEC
@@ -75,12 +79,19 @@ module stickslip_registry
                    'elasto-plastic bristle (Dupont et al. 2002)'), &
         entry_info('dahl', 'mu_k sigma0 dahl_alpha', 'Dahl (1968, 1976), with its shape exponent'), &
         entry_info('gms', 'mu_s mu_k v_s sigma0 sigma1 sigma2 n_elements gms_shape gms_c', &
-                   'generalized Maxwell-slip (Al-Bender, Lampaert & Swevers 2005)')]
+                   'generalized Maxwell-slip (Al-Bender, Lampaert & Swevers 2005)'), &
+        entry_info('drake_continuous', 'mu_s mu_k v_s', 'Drake continuous mode: quintic steps to mu_s at v_s, to mu_k at 3 v_s'), &
+        entry_info('drake_tamsi', 'mu_k v_s', 'Drake TAMSI: mu_k s (2 - s) below s = v/v_s = 1'), &
+        entry_info('capped_viscous', 'mu_k v_s', 'mu_k min(v/v_s, 1): Newton semi-implicit, MuJoCo elliptic cone'), &
+        entry_info('mujoco_pyramidal', 'mu_k v_s', 'MuJoCo pyramidal cone: viscous, slope bent at mu_k/2')]
     integer, parameter, public :: LAW_COULOMB = 1, LAW_RECURDYN = 2, LAW_PROPOSED = 3, &
         LAW_STRIBECK = 4, LAW_KARNOPP = 5, LAW_LUGRE = 6, LAW_ELASTOPLASTIC = 7
     !! law codes: positions in LAW_TABLE
     integer, parameter, public :: LAW_DAHL = 8, LAW_GMS = 9
     !! law codes of the presliding-hysteresis laws
+    integer, parameter, public :: LAW_DRAKE_CONTINUOUS = 10, LAW_DRAKE_TAMSI = 11, &
+        LAW_CAPPED_VISCOUS = 12, LAW_MUJOCO_PYRAMIDAL = 13
+    !! law codes of the physics engines' laws (`stickslip.engines`)
 
     !> The scenes; the code of a scene is its position.
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
@@ -127,6 +138,10 @@ contains
         case (LAW_ELASTOPLASTIC); allocate(elastoplastic_law :: law)
         case (LAW_DAHL);     allocate(dahl_law :: law)
         case (LAW_GMS);      allocate(gms_law :: law)
+        case (LAW_DRAKE_CONTINUOUS); allocate(drake_continuous_law :: law)
+        case (LAW_DRAKE_TAMSI);      allocate(drake_tamsi_law :: law)
+        case (LAW_CAPPED_VISCOUS);   allocate(capped_viscous_law :: law)
+        case (LAW_MUJOCO_PYRAMIDAL); allocate(mujoco_pyramidal_law :: law)
         case default;        status = SS_BAD_LAW
         end select
     end function new_law

@@ -69,6 +69,8 @@ module stickslip_friction
         procedure(init_iface), deferred :: init
         !> Read and check the shared parameters (for `init`).
         procedure, non_overridable :: read_shared
+        !> Read and check mu_k and v_s of a law with one coefficient (for `init`; mu_s = mu_k).
+        procedure, non_overridable :: read_kinetic
         !> mu(v) [-] for a law without states; the steady-state curve of a law with states.
         procedure(mu_iface), deferred :: mu
         !> d mu / d v [s/m] (the default is a central difference of `mu`).
@@ -140,6 +142,19 @@ contains
         call param_read(p, V_S_SPEC, self%v_s, status)
         if (status == SS_OK .and. self%mu_k > self%mu_s) status = SS_BAD_MU_K
     end function read_shared
+
+    !> Read and check mu_k and v_s of a law with one friction coefficient, whose static
+    !! level is its kinetic one (mu_s is not read; the law's mu_s becomes mu_k, so that bounds
+    !! taken from max(mu_s, mu_k) stay right); extensions call it first from `init`.
+    function read_kinetic(self, p) result(status)
+        class(friction_law), intent(inout) :: self
+        type(param_values), intent(in) :: p   !! resolved parameter values
+        integer :: status
+        status = SS_OK
+        call param_read(p, MU_K_SPEC, self%mu_k, status)
+        call param_read(p, V_S_SPEC, self%v_s, status)
+        self%mu_s = self%mu_k
+    end function read_kinetic
 
     elemental function central_dmu(self, v) result(d)
         class(friction_law), intent(in) :: self

@@ -2,17 +2,24 @@
 
 Five engine models regularise Coulomb friction by a law of the slip speed alone, and the steady
 creep of the paper's slope box (10 kg, 10 degrees, mu_s = 0.35, mu_k = 0.30, which truly never
-moves) in each follows from the balance of that law on the slope, mu(v*) N = m g sin(theta):
+moves) in each follows from the balance of that law on the slope, mu(v*) N = m g sin(theta).
+Four of these laws are registered laws of the library, written once in Fortran
+(fortran/laws/stickslip_law_<name>.f90, each with its source): ``drake_continuous``,
+``drake_tamsi``, ``capped_viscous`` (Newton; MuJoCo's elliptic cone) and ``mujoco_pyramidal``;
+`stickslip.simulate` takes them like any law, and this module evaluates them through
+`stickslip.friction_coefficient` with the parameters the engine's settings give
+(`engine_contacts`). The engines:
 
 - ``drake_continuous``: Drake's MultibodyPlant in continuous mode (point contact), its
   StribeckModel: mu_s step5(v / v_s) below the stiction tolerance v_s, a quintic step down to
   mu_d on [v_s, 3 v_s], mu_d beyond; step5(x) = 10 x^3 - 15 x^4 + 6 x^5 (the paper's haversine
-  family: a C2 step instead of a half cosine). Source: drake, multibody/plant/multibody_plant.cc,
+  family: a C2 step instead of a half cosine); the law ``drake_continuous`` with v_s the
+  stiction tolerance. Source: drake, multibody/plant/multibody_plant.cc,
   ``StribeckModel::ComputeFrictionCoefficient`` and ``step5`` (drake 1.x; the law is unchanged
   since 2019).
 - ``drake_tamsi``: Drake's discrete MultibodyPlant with the TAMSI solver: mu s (2 - s) for
   s = v / v_s < 1, mu beyond, with mu the dynamic coefficient (discrete Drake ignores the static
-  one). Source: drake, ``StribeckModel::ModifiedStribeck`` (multibody_plant.cc, drake 1.x);
+  one); the law ``drake_tamsi``. Source: drake, ``StribeckModel::ModifiedStribeck`` (multibody_plant.cc, drake 1.x);
   checked against drake 1.51.1's own runs.
 - ``drake_lagged``: Drake's default discrete model (the "lagged" convex approximation of
   compliant contact): friction regularised by the stiction tolerance (Drake's
@@ -20,7 +27,8 @@ moves) in each follows from the balance of that law on the slope, mu(v*) N = m g
   of the form mu_d s / sqrt(1 + s^2), s = v / v_s. The form is identified from Drake's own runs,
   not read from its source: their creep is proportional to v_s and v* / v_s = 0.7265, the root
   of mu_d s / sqrt(1 + s^2) = tan(theta) (python -m cases.engines); on slopes of 5 and 15
-  degrees the same form predicts Drake's creep to 1e-7 (tests/test_engines.py).
+  degrees the same form predicts Drake's creep to 1e-7 (tests/test_engines.py). Not a
+  registered law (it is not published): `drake_lagged_mu`.
 - ``mujoco``: MuJoCo's soft contact. Inside the friction cone each frictional constraint row
   gives the force D (a_ref - a) with D = 1 / R and a_ref = -B v (K = 0 in friction rows), so at a
   steady slip (a = 0) the contact acts as a viscous damper of coefficient B / R_friction:
@@ -28,12 +36,15 @@ moves) in each follows from the balance of that law on the slope, mu(v*) N = m g
   format); R_0 = (1 - d) / d * A with d the impedance at the contact's penetration (solimp) and A
   the body's translational inverse weight (1 / m for a free box); elliptic cone: R_friction =
   R_0 / impratio; pyramidal cone: each of the four edge rows n +- mu t has A = (1 + mu^2) / m and
-  R = 2 (mu^2 / impratio) R_0, and an edge whose force would be negative drops out. Source:
+  R = 2 (mu^2 / impratio) R_0, and an edge whose force would be negative drops out: the laws
+  ``capped_viscous`` (elliptic) and ``mujoco_pyramidal``, each contact with its v_s
+  (`mujoco_v_s`). Source:
   mujoco, src/engine/engine_core_constraint.c (``mj_diagApprox``, ``mj_makeImpedance``,
-  ``getimpedance``; mujoco 3.x); checked against mujoco 4.0.0's own runs to 1e-7.
+  ``getimpedance``; mujoco 3.x); checked against mujoco 4.0.0's own runs (``cases.engines``).
 - ``newton_semi_implicit``: Newton's (and warp.sim's) semi-implicit Euler rigid contact:
   min(k_f |v_t|, mu f_n) per contact point, k_f the mean of the two shapes' (default 1000
-  N s/m, ``ModelBuilder.ShapeConfig.kf``). Source: newton 1.8,
+  N s/m, ``ModelBuilder.ShapeConfig.kf``): the law ``capped_viscous`` with v_s = mu f_n / k_f
+  per contact. Source: newton 1.8,
   newton/_src/solvers/semi_implicit/kernels_contact.py (``eval_body_contact``), and warp.sim's
   ``eval_rigid_contacts``.
 
@@ -51,6 +62,8 @@ import math
 from typing import Any, Callable
 
 import numpy as np
+
+from .core import friction_coefficient
 
 #: The engines with an equivalent law, each with its settings and their defaults (the engine's
 #: own defaults; mu None: the scene's mu_k).
@@ -139,30 +152,20 @@ def _split(engine: str, settings: dict[str, Any]) -> tuple[dict[str, float], dic
 
 
 # ------------------------------------------------------------------------------------------
-# The laws
+# The laws: each engine's contacts as registered laws of the library (one implementation, in
+# Fortran: fortran/laws/stickslip_law_<name>.f90), with the parameters the engine's settings give
 # ------------------------------------------------------------------------------------------
-def step5(x: Any) -> np.ndarray:
-    """Drake's quintic step 10 x^3 - 15 x^4 + 6 x^5 on [0, 1] (0 below, 1 above)."""
-    x = np.clip(np.asarray(x, dtype=float), 0.0, 1.0)
-    return x ** 3 * (10.0 + x * (6.0 * x - 15.0))
-
-
-def drake_continuous_mu(v: Any, stiction_tolerance: float, mu_s: float, mu_d: float) -> np.ndarray:
-    """Drake's continuous-mode friction coefficient at slip speed |v| [m/s] (even in v)."""
-    s = np.abs(np.asarray(v, dtype=float)) / stiction_tolerance
-    return np.where(s >= 3, mu_d, np.where(s >= 1, mu_s - (mu_s - mu_d) * step5((s - 1) / 2),
-                                           mu_s * step5(s)))
-
-
-def drake_tamsi_mu(v: Any, stiction_tolerance: float, mu: float) -> np.ndarray:
-    """TAMSI's regularised coefficient mu s (2 - s), s = |v| / v_s < 1, else mu."""
-    s = np.minimum(np.abs(np.asarray(v, dtype=float)) / stiction_tolerance, 1.0)
-    return mu * s * (2.0 - s)
+#: The registered law of each engine with one (`stickslip.LAWS`); drake_lagged has none (its
+#: form is identified from Drake's runs, not published: `drake_lagged_mu`).
+ENGINE_LAWS: dict[str, str] = {"drake_continuous": "drake_continuous", "drake_tamsi": "drake_tamsi",
+                               "newton_semi_implicit": "capped_viscous"}
+MUJOCO_LAWS: dict[str, str] = {"elliptic": "capped_viscous", "pyramidal": "mujoco_pyramidal"}
 
 
 def drake_lagged_mu(v: Any, stiction_tolerance: float, mu: float) -> np.ndarray:
     """Drake's lagged approximation's regularised coefficient mu s / sqrt(1 + s^2), s = |v| / v_s
-    (identified from Drake's runs; see the module's documentation)."""
+    (identified from Drake's runs, so not a law of the registry; see the module's
+    documentation)."""
     s = np.abs(np.asarray(v, dtype=float)) / stiction_tolerance
     return mu * s / np.sqrt(1.0 + s * s)
 
@@ -193,38 +196,35 @@ def _mujoco_kb(own: dict[str, Any]) -> tuple[float, float]:
     return -ref[0] / dmax ** 2, -ref[1] / dmax
 
 
-def _mujoco_contact(own: dict[str, Any], inv_weight: float, load: float,
-                    v: float) -> tuple[float, float]:
-    """One MuJoCo contact carrying the normal load [N] at slip speed v [m/s] (steady, zero
-    acceleration): (tangential force [N], impedance d). The penetration follows from the
-    normal balance, solved by bisection (the load grows with depth)."""
+def mujoco_v_s(own: dict[str, Any], inv_weight: float, load: float) -> float:
+    """The v_s [m/s] of one MuJoCo contact carrying the normal load [N] (the parameter of the
+    registered law of its cone, `MUJOCO_LAWS`): the slip speed at which its viscous force,
+    B/R times the speed, would reach mu times the load, with B of solref and R of the friction
+    rows at the impedance d of the contact's penetration at rest (solimp; the penetration from
+    the normal balance, by bisection: the normal force grows with it).
+
+    Elliptic cone: v_s = mu load (1 - d) A / (d B impratio). Pyramidal cone (four edge rows
+    n +- mu t, each with R = 2 (mu^2/impratio) (1 - d)/d (1 + mu^2) A, all four pushing at rest):
+    v_s = mu load (1 - d) (1 + mu^2) A / (d B impratio). A = inv_weight, the body's
+    translational inverse weight [1/kg]."""
     K, B = _mujoco_kb(own)
     mu, ir, pyramidal = float(own["mu"]), float(own["impratio"]), own["cone"] == "pyramidal"
+    edge = 2 * (mu * mu / ir) * (1 + mu * mu) if pyramidal else 1.0   # R_row / ((1 - d)/d A)
 
-    def rows(depth: float) -> tuple[float, float, float]:
+    def normal(depth: float) -> float:        # the normal force at rest at this penetration [N]
         d = mujoco_impedance(own["solimp"], depth)
-        if pyramidal:
-            r = 2 * (mu * mu / ir) * (1 - d) / d * (1 + mu * mu) * inv_weight
-            p, q = K * d * depth / r, B * mu * v / r       # edge force = p -+ q (before clamping)
-            if q <= p:
-                return 4 * p, 2 * mu * q, d                 # four edges active
-            return 3 * p + q, mu * (p + q), d               # the opposing edge drops out
-        r0 = (1 - d) / d * inv_weight
-        return K * d * depth / r0, B * v * ir / r0, d
+        return (4 if pyramidal else 1) * K * d * depth / (edge * (1 - d) / d * inv_weight)
 
     lo, hi = 0.0, 1e-6
-    while rows(hi)[0] < load:
+    while normal(hi) < load:
         lo, hi = hi, hi * 2
         if hi > 1e3:
             raise ValueError("MuJoCo contact: no penetration carries the load")
     for _ in range(60):
         mid = 0.5 * (lo + hi)
-        if rows(mid)[0] < load:
-            lo = mid
-        else:
-            hi = mid
-    _, t, d = rows(hi)
-    return t, d
+        lo, hi = (mid, hi) if normal(mid) < load else (lo, mid)
+    d = mujoco_impedance(own["solimp"], hi)
+    return mu * load * (1 - d) / d * inv_weight * (1 + mu * mu if pyramidal else 1.0) / (B * ir)
 
 
 def _loads(scene: dict[str, float], n: int) -> list[float]:
@@ -240,27 +240,70 @@ def _loads(scene: dict[str, float], n: int) -> list[float]:
     return [total / 4 * (1 + e)] * 2 + [total / 4 * (1 - e)] * 2
 
 
-def _tangential(engine: str, scene: dict[str, float],
-                own: dict[str, Any]) -> Callable[[float], float]:
-    """Total friction force [N] on the box at slip speed v [m/s], by the engine's law."""
+def engine_contacts(engine: str, **settings: Any) -> list[tuple[str, dict[str, float], float]]:
+    """The slope box's contacts in an engine as laws of the registry: a list of (law, its
+    parameters, normal load [N] times the number of contacts alike), whose friction forces
+    add up to the box's, sum(load ss.friction_coefficient(law, v, **params)).
+
+    Drake's laws act on the whole normal load m g cos(theta) (their coefficient does not
+    depend on the load); Newton's and MuJoCo's act per contact point, each with its own v_s:
+    Newton's capped_viscous with v_s = mu f_n / k_f, MuJoCo's law of its cone with
+    `mujoco_v_s`. Contacts with the same law and parameters are merged (the front pair and
+    the back pair of a four-contact box).
+
+    Parameters
+    ----------
+    engine : str
+        One of `ENGINES` but drake_lagged (no registered law: `drake_lagged_mu`).
+    **settings
+        As for `engine_creep`.
+
+    Returns
+    -------
+    list of (str, dict, float)
+        (law, parameters, load [N]).
+
+    Raises
+    ------
+    ValueError
+        As `engine_creep`, and for drake_lagged.
+    """
+    scene, own = _split(engine, settings)
     N = scene["m"] * scene["g"] * math.cos(math.radians(scene["theta_deg"]))
-    if engine == "drake_continuous":
-        return lambda v: float(drake_continuous_mu(v, own["stiction_tolerance"], scene["mu_s"],
-                                                   scene["mu_k"])) * N
-    if engine == "drake_tamsi":
-        return lambda v: float(drake_tamsi_mu(v, own["stiction_tolerance"], scene["mu_k"])) * N
     if engine == "drake_lagged":
-        return lambda v: float(drake_lagged_mu(v, own["stiction_tolerance"], scene["mu_k"])) * N
-    loads = _loads(scene, own["n_contacts"])
-    if engine == "newton_semi_implicit":
-        return lambda v: sum(min(own["k_f"] * v, own["mu"] * f) for f in loads)
-    w = 1.0 / scene["m"]           # a free body's translational inverse weight (body_invweight0)
-    return lambda v: sum(min(_mujoco_contact(own, w, f, v)[0], own["mu"] * f) for f in loads)
+        raise ValueError("drake_lagged has no registered law (its form is identified from "
+                         "Drake's runs): use stickslip.engines.drake_lagged_mu")
+    if engine == "drake_continuous":
+        return [("drake_continuous", {"mu_s": scene["mu_s"], "mu_k": scene["mu_k"],
+                                      "v_s": float(own["stiction_tolerance"])}, N)]
+    if engine == "drake_tamsi":
+        return [("drake_tamsi", {"mu_k": scene["mu_k"], "v_s": float(own["stiction_tolerance"])}, N)]
+    merged: dict[tuple[str, float], float] = {}
+    for f in _loads(scene, own["n_contacts"]):
+        if engine == "newton_semi_implicit":
+            key = ("capped_viscous", float(own["mu"]) * f / float(own["k_f"]))
+        else:           # a free body's translational inverse weight is 1/m (body_invweight0)
+            key = (MUJOCO_LAWS[own["cone"]], mujoco_v_s(own, 1.0 / scene["m"], f))
+        merged[key] = merged.get(key, 0.0) + f
+    return [(law, {"mu_k": float(own["mu"]), "v_s": vs}, load) for (law, vs), load in merged.items()]
+
+
+def _force(engine: str, settings: dict[str, Any]) -> Callable[[np.ndarray], np.ndarray]:
+    """Total friction force [N] on the box at slip speeds v [m/s] (an array), by the engine's
+    law."""
+    if engine == "drake_lagged":
+        scene, own = _split(engine, settings)
+        N = scene["m"] * scene["g"] * math.cos(math.radians(scene["theta_deg"]))
+        return lambda v: drake_lagged_mu(v, own["stiction_tolerance"], scene["mu_k"]) * N
+    contacts = engine_contacts(engine, **settings)
+    return lambda v: sum(load * friction_coefficient(law, v, **params)
+                         for law, params, load in contacts)
 
 
 def engine_mu(engine: str, v: Any, **settings: Any) -> np.ndarray:
     """The engine's equivalent friction coefficient of the slope box at slip speed v [m/s]:
-    its total friction force over the total normal load m g cos(theta).
+    its total friction force over the total normal load m g cos(theta), each contact's force
+    from its registered law (`engine_contacts`; drake_lagged from `drake_lagged_mu`).
 
     Parameters
     ----------
@@ -275,23 +318,28 @@ def engine_mu(engine: str, v: Any, **settings: Any) -> np.ndarray:
     -------
     numpy.ndarray
         mu(v) [-], the shape of v.
+
+    Examples
+    --------
+    >>> import stickslip as ss
+    >>> round(float(ss.engine_mu("drake_tamsi", 5e-5, stiction_tolerance=1e-4)), 12)   # 0.3 s (2 - s)
+    0.225
     """
-    scene, own = _split(engine, settings)
-    force = _tangential(engine, scene, own)
+    scene, _ = _split(engine, settings)
     N = scene["m"] * scene["g"] * math.cos(math.radians(scene["theta_deg"]))
     v = np.asarray(v, dtype=float)
     if np.any(~(v >= 0)):
         raise ValueError("v must be >= 0 (a slip speed)")
-    return np.vectorize(lambda x: force(float(x)) / N)(v)
+    return np.asarray(_force(engine, settings)(v) / N, dtype=float).reshape(v.shape)
 
 
 def engine_creep(engine: str, **settings: Any) -> float:
     """Steady creep speed [m/s] of the paper's slope box in a physics engine.
 
     The speed v* where the engine's friction law balances the slope, F(v*) = m g sin(theta),
-    F being the total friction force of the box's contacts: in closed form for the Drake
-    laws and Newton, by bisection on MuJoCo's contact rows (their penetration and impedance
-    follow from the normal balance). math.inf when the law cannot hold the box at any speed
+    F being the total friction force of the box's contacts (`engine_contacts`): in closed form
+    for Drake's TAMSI and lagged laws and for Newton below its caps, else by k-section on F
+    evaluated by the registered laws. math.inf when the law cannot hold the box at any speed
     (the box accelerates).
 
     Parameters
@@ -324,46 +372,39 @@ def engine_creep(engine: str, **settings: Any) -> float:
     th = math.radians(scene["theta_deg"])
     pull = scene["m"] * scene["g"] * math.sin(th)
     t = math.tan(th)
-    if engine == "drake_continuous":
-        if t >= scene["mu_s"]:
-            return math.inf
-        target = t / scene["mu_s"]
-        lo, hi = 0.0, 1.0                     # step5 is increasing on [0, 1]
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if float(step5(mid)) < target else (lo, mid)
-        return 0.5 * (lo + hi) * own["stiction_tolerance"]
+    cap = {"drake_continuous": scene["mu_s"], "drake_tamsi": scene["mu_k"],
+           "drake_lagged": scene["mu_k"]}.get(engine, own.get("mu"))
+    if t >= cap:
+        return math.inf
     if engine == "drake_tamsi":
-        if t >= scene["mu_k"]:
-            return math.inf
         return (1 - math.sqrt(1 - t / scene["mu_k"])) * own["stiction_tolerance"]
     if engine == "drake_lagged":
-        if t >= scene["mu_k"]:
-            return math.inf
         return t / math.sqrt(scene["mu_k"] ** 2 - t * t) * own["stiction_tolerance"]
-    if t >= own["mu"]:
-        return math.inf
     if engine == "newton_semi_implicit":
-        loads = _loads(scene, own["n_contacts"])
-        force = _tangential(engine, scene, own)
-        # piecewise linear: below every cap F = n k_f v
+        # below every cap F = n k_f v
         v = pull / (own["n_contacts"] * own["k_f"])
-        if all(own["k_f"] * v <= own["mu"] * f for f in loads):
+        if all(own["k_f"] * v <= own["mu"] * f for f in _loads(scene, own["n_contacts"])):
             return v
-        return _bisect(force, pull)
-    return _bisect(_tangential(engine, scene, own), pull)
+    # F rises to its cap (the whole load times the cap coefficient) by 3 v_s at the latest
+    hi = 3.0 * max(params["v_s"] for _, params, _ in engine_contacts(engine, **settings))
+    return _solve_increasing(_force(engine, settings), pull, hi)
 
 
-def _bisect(force: Callable[[float], float], pull: float) -> float:
-    """The speed where the increasing force(v) reaches pull."""
-    lo, hi = 0.0, 1e-9
-    while force(hi) < pull:
-        lo, hi = hi, hi * 2
-        if hi > 1e6:
+def _solve_increasing(f: Callable[[np.ndarray], np.ndarray], target: float, hi: float,
+                     points: int = 64) -> float:
+    """The x in [0, hi] where the nondecreasing f (evaluated on arrays) first reaches target,
+    by k-section: f on `points` points of the bracket, the bracket narrowed to the interval
+    where f crosses the target, until it is a few ulps wide (f(0) < target <= f(hi))."""
+    lo = 0.0
+    while hi - lo > 4 * np.spacing(hi):
+        x = np.linspace(lo, hi, points)
+        reached = np.asarray(f(x)) >= target
+        k = int(np.argmax(reached)) if reached.any() else points     # first x with f >= target
+        if k == 0:
+            return lo
+        if k == points:
             return math.inf
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if force(mid) < pull else (lo, mid)
+        lo, hi = float(x[k - 1]), float(x[k])
     return 0.5 * (lo + hi)
 
 
