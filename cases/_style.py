@@ -35,7 +35,9 @@ SEQUENCE: tuple[str, ...] = (_C["blue"], _C["vermillion"], _C["bluish green"], _
 LAW_NAMES: dict[str, str] = {
     "coulomb": "Coulomb", "recurdyn": "RecurDyn (haversine)", "proposed": "proposed (Roh & Yoo)",
     "stribeck": "Stribeck", "karnopp": "Karnopp", "lugre": "LuGre", "elastoplastic": "elasto-plastic",
-    "dahl": "Dahl", "gms": "generalized Maxwell-slip"}
+    "dahl": "Dahl", "gms": "generalized Maxwell-slip",
+    "drake_continuous": "Drake continuous", "drake_tamsi": "Drake TAMSI",
+    "capped_viscous": "capped viscous (MuJoCo elliptic, Newton)", "mujoco_pyramidal": "MuJoCo pyramidal"}
 METHOD_NAMES: dict[str, str] = {
     "rk4": "RK4", "dopri5": "DOPRI5", "dop853": "DOP853", "radau5": "RADAU5",
     "implicit_euler": "implicit Euler", "galpha": "generalized-α",
@@ -53,8 +55,9 @@ LAW_COLORS: dict[str, str] = {
     "coulomb": _C["vermillion"], "recurdyn": _C["blue"], "proposed": _C["bluish green"],
     "stribeck": _C["orange"], "karnopp": _C["reddish purple"], "lugre": _C["sky blue"],
     "elastoplastic": _C["black"],
-    # beyond Okabe & Ito's eight: two of Paul Tol's colour-blind-safe "muted" scheme
-    "dahl": "#882255", "gms": "#999933"}
+    # beyond Okabe & Ito's eight: Paul Tol's colour-blind-safe "muted" scheme
+    "dahl": "#882255", "gms": "#999933", "drake_continuous": "#44AA99", "drake_tamsi": "#332288",
+    "capped_viscous": "#DDCC77", "mujoco_pyramidal": "#AA4499"}
 METHOD_COLORS: dict[str, str] = {
     "rk4": _C["blue"], "dopri5": _C["vermillion"], "radau5": _C["bluish green"],
     "implicit_euler": _C["orange"], "galpha": _C["reddish purple"], "dop853": _C["sky blue"],

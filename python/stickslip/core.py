@@ -965,15 +965,14 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     >>> r.stats["nstep"]
     10
     """
-    if not isinstance(scene, str) and type(scene).__name__ == "Model":
-        from .model import simulate_model
+    if hasattr(scene, "run_model"):          # a stickslip.Model (which runs itself: no import cycle)
         extra = [k for k, v in (("law", law), ("x0", x0 if x0 != 0.0 else None), ("v0", v0), ("z0", z0))
                  if v is not None] + [k for k in kwargs if k in _PARAM_SET]
         if extra:
             raise ValueError(f"{', '.join(extra)}: a Model carries its own laws, parameters and initial "
                              "state (give them to add_body and add_contact)")
-        return simulate_model(scene, method=method, t_end=t_end, n_out=n_out, every_step=every_step,
-                              max_steps=max_steps, **kwargs)
+        return scene.run_model(method=method, t_end=t_end, n_out=n_out, every_step=every_step,
+                               max_steps=max_steps, **kwargs)
     try:
         # A setting seen before (equal arguments of equal types) is not validated again.
         # (The types keep True from meeting 1, which is valid where True is not.)

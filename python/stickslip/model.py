@@ -375,6 +375,11 @@ class Model:
             m.add_contact(i, None, law, mass * g * (1.0 + known["perturbation"] * r), v_b, **lp)
         return m
 
+    def run_model(self, **kwargs: Any) -> Result:
+        """Run the model: what ``stickslip.simulate(model, method=..., t_end=..., ...)`` calls
+        (keywords as there)."""
+        return simulate_model(self, **kwargs)
+
     def __repr__(self) -> str:
         return (f"Model({self.n_bodies} bodies, {len(self.springs)} springs, {len(self.dampers)} dampers, "
                 f"{len(self.forces)} forces, {len(self.contacts)} contacts)")
