@@ -28,8 +28,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from . import _stickslip as _ext
-from . import signal as _signal
-from .core import (CONTROL_DEFAULTS, DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result, _ERRORS,
+from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result, _ERRORS,
                    _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _events, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
                    IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
