@@ -243,7 +243,7 @@ def _loads(scene: dict[str, float], n: int) -> list[float]:
 def engine_contacts(engine: str, **settings: Any) -> list[tuple[str, dict[str, float], float]]:
     """The slope box's contacts in an engine as laws of the registry: a list of (law, its
     parameters, normal load [N] times the number of contacts alike), whose friction forces
-    add up to the box's, sum(load ss.friction_coefficient(law, v, **params)).
+    add up to the box's, ``sum(load * ss.friction_coefficient(law, v, **params))``.
 
     Drake's laws act on the whole normal load m g cos(theta) (their coefficient does not
     depend on the load); Newton's and MuJoCo's act per contact point, each with its own v_s:
