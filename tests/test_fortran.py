@@ -60,14 +60,16 @@ def test_fortran_law_suite(native_build):
     assert "FAIL" not in proc.stdout and "all law checks passed" in proc.stdout, proc.stdout
 
 
-@pytest.mark.slow     # every program again (the suites above run each), and both examples
+@pytest.mark.slow     # every program again (the suites above run each), and the three examples
 def test_meson_test_suite(native_build):
-    """`meson test`: the Fortran unit tests (six programs) and both examples built in-tree from the core."""
+    """`meson test`: the Fortran unit tests (six programs) and the three examples (Lotka-Volterra,
+    the C friction example, the model that stops as its closed form says) built in-tree."""
     from conftest import _tool
     proc = subprocess.run([_tool("meson"), "test", "-C", str(native_build), "--print-errorlogs"],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert re.search(r"Ok:\s+8\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+    assert re.search(r"Ok:\s+9\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+    assert "example_model_stop" in proc.stdout
 
 
 def test_fortran_contact_suite(native_build):
