@@ -598,6 +598,11 @@ COVERAGE_CASES: dict[str, tuple[dict, dict, float]] = {
     "proposed": (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.02, beta=1.0 / 3.0, a=20.0), {}, 10.0),
     "stribeck": (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.004, delta=2.0, c_v=2000.0, v_eps=0.001), STRIBECK_FIXED, 1.0),
     **{law: (truth, fixed, 1.0) for law, (truth, fixed) in STATE_CASES.items()},
+    # the physics engines' regularised laws (their v_s: the engine's regularisation speed)
+    "drake_continuous": (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.004), {}, 1.0),
+    "drake_tamsi": (dict(mu_k=1000.0, v_s=0.004), {}, 1.0),
+    "capped_viscous": (dict(mu_k=1000.0, v_s=0.004), {}, 1.0),
+    "mujoco_pyramidal": (dict(mu_k=1000.0, v_s=0.004), {}, 1.0),
 }
 
 
