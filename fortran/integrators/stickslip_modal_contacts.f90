@@ -210,19 +210,13 @@ contains
         type(modal_law), allocatable :: laws(:)
         integer :: status, i
         call sys%contact_model(cs, status)   ! (status: the law's set-valued counterpart, not needed)
-        if (.not. allocated(cs)) then
-            stats%status = SS_JUMP_MANY_CONTACTS
-            return
+        if (allocated(cs)) then
+            allocate(laws(cs%n_c))
+            do i = 1, cs%n_c
+                allocate(laws(i)%law, source=sys%law)
+            end do
         end if
-        if (size(y0) /= 2 * cs%n_dof) then
-            stats%status = SS_JUMP_MANY_CONTACTS
-            return
-        end if
-        allocate(laws(cs%n_c))
-        do i = 1, cs%n_c
-            allocate(laws(i)%law, source=sys%law)
-        end do
-        call modal_contacts_integrate(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+        call run_modal(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
     end subroutine scene_modal_contacts
 
     !> A user's model (`stickslip_model_system`) whose contacts' laws jump, run by
@@ -245,20 +239,38 @@ contains
         type(modal_law), allocatable :: laws(:)
         integer :: status, i
         call sys%contact_model(cs, status)   ! (status: the set-valued counterparts, not needed)
-        if (.not. allocated(cs)) then
-            stats%status = SS_JUMP_MANY_CONTACTS
-            return
+        if (allocated(cs)) then
+            allocate(laws(cs%n_c))
+            do i = 1, cs%n_c
+                if (sys%laws(i)%law%n_modes() > 0) allocate(laws(i)%law, source=sys%laws(i)%law)
+            end do
         end if
-        allocate(laws(cs%n_c))
-        do i = 1, cs%n_c
-            if (sys%laws(i)%law%n_modes() == 0 .or. size(y0) /= 2 * cs%n_dof) then
-                stats%status = SS_JUMP_MANY_CONTACTS
-                return
-            end if
-            allocate(laws(i)%law, source=sys%laws(i)%law)
-        end do
-        call modal_contacts_integrate(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+        call run_modal(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
     end subroutine model_modal_contacts
+
+    !> `modal_contacts_integrate` on a system's contact model and its laws, or
+    !! SS_JUMP_MANY_CONTACTS when there is no model, a contact has no law with modes, or y0 is
+    !! not the model's (q, u).
+    subroutine run_modal(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+        class(contact_system), allocatable, intent(inout) :: cs  !! the contact model (if any)
+        type(modal_law), allocatable, intent(in) :: laws(:)      !! each contact's law with modes
+        real(dp), intent(in)    :: t0                !! initial time [s]
+        real(dp), intent(in)    :: y0(:)             !! initial state (q, u)
+        real(dp), intent(in)    :: t_end             !! final time, > t0 [s]
+        class(step_controls), intent(in) :: ctl      !! h, max_steps, every_step, y_bound
+        real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
+        real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
+        type(ode_stats), intent(out) :: stats        !! counters and status
+        integer :: i
+        stats%status = SS_JUMP_MANY_CONTACTS
+        if (.not. (allocated(cs) .and. allocated(laws))) return
+        if (size(y0) /= 2 * cs%n_dof) return
+        do i = 1, size(laws)
+            if (.not. allocated(laws(i)%law)) return
+        end do
+        stats%status = SS_OK
+        call modal_contacts_integrate(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+    end subroutine run_modal
 
     !> Whether mode j of a contact's law fixes its relative velocity (a point, or the hold).
     logical function fixes_velocity(ml, j)
