@@ -46,6 +46,52 @@ def test_scene_as_model(scene, law, method, controls, params, tol):
 
 
 # -- closed forms --------------------------------------------------------------------------
+def _ladder(law: str, n: int = 14) -> ss.Model:
+    """n bodies, springs to the next body and the one after (a band wider than a chain's),
+    dampers, a contact with the ground per body and one between every third pair."""
+    m = ss.Model()
+    for i in range(n):
+        m.add_body(1.0 + 0.1 * i, x0=0.01 * i, v0=0.3 * math.sin(i))
+    for i in range(n):
+        m.add_spring(i, None if i == 0 else i - 1, k=80.0 + i)
+        if i >= 2:
+            m.add_spring(i, i - 2, k=15.0)
+        m.add_damper(i, None, c=0.2)
+        m.add_contact(i, None, law, normal_force=G * (1.0 + 0.1 * i), surface_velocity=0.2)
+        if i % 3 == 1:
+            m.add_contact(i, i - 1, law, normal_force=2.0)
+    return m
+
+
+@pytest.mark.parametrize("method,law", [("radau5", "stribeck"), ("radau5", "lugre"), ("radau5", "dahl"),
+                                        ("implicit_euler", "recurdyn"), ("galpha", "lugre")])
+def test_banded_and_dense_take_the_same_steps(method, law):
+    """The model's banded Jacobian (body order: analytic for static laws, grouped differences
+    otherwise) against the dense one in the state order: with an analytic Jacobian the same
+    steps and states to rounding; with differences fewer evaluations per Jacobian than n and
+    the same motion to the tolerance (tests/fortran/test_core.f90 checks the band's entries)."""
+    m = _ladder(law)
+    kw = dict(rtol=1e-7, atol=1e-9) if method == "radau5" else dict(h=2e-3)
+    band = ss.simulate(m, method=method, t_end=1.0, n_out=11, **kw)
+    dense = ss.simulate(m, method=method, t_end=1.0, n_out=11, banded=False, **kw)
+    assert band.stats["status"] == dense.stats["status"] == 0
+    assert band.stats["njac"] > 0
+    n = m.n_states()
+    if law in ("lugre", "dahl"):
+        # differences: dense n evaluations per Jacobian, the band's ml + mu + 1 < n; the
+        # Jacobians differ at the differences' error, so the steps may too (as the chain's)
+        per_jac_band = band.stats["nfev"] / band.stats["njac"]
+        per_jac_dense = dense.stats["nfev"] / dense.stats["njac"]
+        assert per_jac_dense - per_jac_band > n // 4
+        tol = 1e-6
+    else:
+        for key in ("nstep", "naccept", "nreject", "njac"):
+            assert band.stats[key] == dense.stats[key], key
+        tol = 1e-9
+    np.testing.assert_allclose(band.x, dense.x, rtol=0, atol=tol)
+    np.testing.assert_allclose(band.v, dense.v, rtol=0, atol=10 * tol)
+
+
 def test_box_sliding_to_a_stop():
     """A body sliding on the ground under Coulomb friction stops at t = v0 / (mu_k g) after
     v0^2 / (2 mu_k g), and stays (mu_s holds it with no other force)."""

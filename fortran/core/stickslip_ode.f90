@@ -19,7 +19,7 @@ module stickslip_ode
     implicit none
     private
 
-    public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, &
+    public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, fd_band_jacobian, &
               check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite, &
               step_count, stop_requested, limit_after_forced, set_erk_constant, check_erk_constants, &
               diverged, default_state_bound, linear_output
@@ -365,6 +365,41 @@ contains
         end do
         nfev = nfev + size(y)
     end subroutine fd_jacobian
+
+    !> df/dy in the order perm, band storage jb(mu + 1 + i - j, j) = J(perm(i), perm(j)), by
+    !! forward differences that perturb every (ml + mu + 1)-th position together (Curtis,
+    !! Powell and Reid): positions of one group lie more than ml + mu apart, so their columns
+    !! share no row of the band. ml + mu + 1 evaluations of f whatever n, Hairer's increments.
+    subroutine fd_band_jacobian(self, t, y, f, perm, ml, mu, jb, nfev)
+        class(ode_system), intent(inout) :: self
+        !! the system (its rhs is evaluated)
+        real(dp), intent(in)    :: t             !! time [s]
+        real(dp), intent(in)    :: y(:)          !! state
+        real(dp), intent(in)    :: f(:)          !! f(t, y), already evaluated
+        integer, intent(in)     :: perm(:)       !! (n) state index at each position of the banded order
+        integer, intent(in)     :: ml            !! lower bandwidth, >= 0
+        integer, intent(in)     :: mu            !! upper bandwidth, >= 0
+        real(dp), intent(out)   :: jb(:, :)      !! (ml + mu + 1, n) band of the reordered Jacobian
+        integer(8), intent(inout) :: nfev        !! evaluation counter (+ the evaluations made here)
+        real(dp) :: yy(size(y)), f1(size(y)), delt(size(y))
+        integer :: i, j, nn, grp
+        nn = size(y)
+        jb = 0.0_dp
+        do grp = 1, min(ml + mu + 1, nn)
+            yy = y
+            do j = grp, nn, ml + mu + 1
+                delt(j) = sqrt(epsilon(1.0_dp) * max(1.0e-5_dp, abs(y(perm(j)))))
+                yy(perm(j)) = y(perm(j)) + delt(j)
+            end do
+            call self%rhs(t, yy, f1)
+            nfev = nfev + 1
+            do j = grp, nn, ml + mu + 1
+                do i = max(1, j - mu), min(nn, j + ml)
+                    jb(mu + 1 + i - j, j) = (f1(perm(i)) - f(perm(i))) / delt(j)
+                end do
+            end do
+        end do
+    end subroutine fd_band_jacobian
 
     !> Check tolerances of the adaptive methods: size 1 or n each, rtol 0 or in
     !! [RTOL_MIN, 1), atol > 0 (a zero atol makes the error scale 0/0 for a component

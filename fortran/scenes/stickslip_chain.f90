@@ -30,7 +30,7 @@ module stickslip_chain
     use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_spec, param_values, param_read
     use stickslip_friction, only: friction_law
-    use stickslip_ode, only: fd_jacobian
+    use stickslip_ode, only: fd_jacobian, fd_band_jacobian
     use stickslip_scenes, only: friction_scene, M_SPEC, G_SPEC, K_SPEC, V_B_SPEC, BOUND_MARGIN
     use stickslip_contact, only: contact_system, contact_law, contact_law_of
     use stickslip_linalg, only: tridiagonal_solve
@@ -393,12 +393,10 @@ contains
         real(dp), intent(in)    :: f(:)          !! f(t, y)
         real(dp), intent(out)   :: jb(:, :)      !! (ml + mu + 1, n) band of the reordered Jacobian
         integer(8), intent(inout) :: nfev        !! evaluation counter (+ evaluations made here)
-        integer :: perm(size(y)), ml, mu, i, j, n, s, nn, grp
-        real(dp) :: yy(size(y)), f1(size(y)), delt(size(y))
+        integer :: perm(size(y)), ml, mu, i, j, n, s
         call self%bandwidth(perm, ml, mu)
         n = self%nb
         s = 2 + self%nz
-        nn = size(y)
         jb = 0.0_dp
         if (self%static_law) then
             ! position (i-1) s + 1 is x_i, (i-1) s + 2 is v_i
@@ -413,22 +411,7 @@ contains
             end do
             return
         end if
-        ! Grouped forward differences (Hairer's increments): positions in the same group lie
-        ! more than ml + mu apart, so their columns do not overlap in any row.
-        do grp = 1, min(ml + mu + 1, nn)
-            yy = y
-            do j = grp, nn, ml + mu + 1
-                delt(j) = sqrt(epsilon(1.0_dp) * max(1.0e-5_dp, abs(y(perm(j)))))
-                yy(perm(j)) = y(perm(j)) + delt(j)
-            end do
-            call self%rhs(t, yy, f1)
-            nfev = nfev + 1
-            do j = grp, nn, ml + mu + 1
-                do i = max(1, j - mu), min(nn, j + ml)
-                    jb(mu + 1 + i - j, j) = (f1(perm(i)) - f(perm(i))) / delt(j)
-                end do
-            end do
-        end do
+        call fd_band_jacobian(self, t, y, f, perm, ml, mu, jb, nfev)
     end subroutine chain_band_jacobian
 
     pure function chain_static_jacobian(self, y) result(j)

@@ -34,7 +34,7 @@
 module stickslip_model_system
     use stickslip_kinds, only: dp, SS_OK, SS_NOT_SETVALUED
     use stickslip_friction, only: friction_law
-    use stickslip_ode, only: ode_system, fd_jacobian
+    use stickslip_ode, only: ode_system, fd_jacobian, fd_band_jacobian
     use stickslip_contact, only: contact_system, contact_law_of
     use stickslip_signal, only: signal_set
     use stickslip_linalg, only: lu_decompose, lu_solve, tridiagonal_solve
@@ -66,11 +66,20 @@ module stickslip_model_system
         integer, allocatable :: z_first(:)         !! (nc + 1) contact i's states are z(z_first(i) : z_first(i + 1) - 1)
         logical :: all_static = .true.             !! every law is static (no states)
         type(signal_set) :: sig                    !! the signals
+        integer, allocatable :: band_perm(:)       !! (n) state at each position of the body order (`set_band`)
+        integer :: band_ml = -1                    !! lower bandwidth in that order (-1: dense)
+        integer :: band_mu = -1                    !! upper bandwidth in that order (-1: dense)
     contains
         procedure :: rhs => model_rhs
         !! (x, v, z)' at (t, y)
         procedure :: jacobian => model_jacobian
         !! analytic with static laws, finite differences otherwise
+        procedure :: set_band => model_set_band
+        !! find the body order and its band (once, when the model is built)
+        procedure :: bandwidth => model_bandwidth
+        !! the body order and its band, or dense
+        procedure :: band_jacobian => model_band_jacobian
+        !! the Jacobian in the body order, band storage
         procedure :: n_states => model_n_states
         !! 2 nb + the laws' states
         procedure :: free_forces => model_free_forces
@@ -210,7 +219,7 @@ contains
         dydt(nb + 1:2 * nb) = f / self%mass
     end subroutine model_rhs
 
-    !> df/dy: analytic when every law is static (springs K, dampers C, and each contact's
+    !> df/dy: analytic when every law is static (springs, dampers, and each contact's
     !! d mu/ds N on the velocities of its bodies), finite differences otherwise.
     subroutine model_jacobian(self, t, y, f, dfdy, nfev)
         class(model_system), intent(inout) :: self
@@ -219,33 +228,232 @@ contains
         real(dp), intent(in)    :: f(:)          !! f(t, y), already evaluated
         real(dp), intent(out)   :: dfdy(:, :)    !! (n, n) Jacobian
         integer(8), intent(inout) :: nfev        !! evaluation counter (+ 0: analytic)
-        real(dp) :: kmat(self%nb, self%nb), cmat(self%nb, self%nb), s, n, wdot, d
-        integer :: i, j, nb, a, b
+        integer :: i
         if (.not. self%all_static) then
             call fd_jacobian(self, t, y, f, dfdy, nfev)
             return
         end if
+        call static_jacobian(self, t, y, [(i, i = 1, size(y))], -1, -1, dfdy)
+    end subroutine model_jacobian
+
+    !> The body order (x_1, v_1, the states of the contacts whose first body is 1, x_2, ...)
+    !! and the band of the Jacobian in it, from the model's structure: x_i' reads v_i; a
+    !! body's acceleration reads the positions and velocities of the bodies joined to it by a
+    !! spring or a damper, and the velocities and states of its contacts; a contact's states
+    !! read its bodies' velocities, and, for a law that is not static (its holding
+    !! coefficient), the positions and velocities of the bodies joined to its bodies. Banded
+    !! when the band LU's storage (2 ml + mu + 1 rows) is smaller than the dense matrix's (n);
+    !! dense (-1) otherwise, as for one or two bodies.
+    subroutine model_set_band(self)
+        class(model_system), intent(inout) :: self
+        !! the model, built
+        integer, allocatable :: pos(:), adj_ptr(:), adj(:), fill(:)
+        integer :: nb, nc, n, i, k, p, a, b, c, e, ends(2), ml, mu, nsd
         nb = self%nb
-        call stiffness_damping(self, kmat, cmat)
+        nc = size(self%con_a)
+        n = self%n_states()
+        allocate(pos(n), self%band_perm(n))
+        ! positions in the body order
+        p = 0
+        do i = 1, nb
+            call place(i)
+            call place(nb + i)
+            do c = 1, nc
+                if (self%con_a(c) /= i) cycle
+                do k = 2 * nb + self%z_first(c), 2 * nb + self%z_first(c + 1) - 1
+                    call place(k)
+                end do
+            end do
+        end do
+        ! the bodies joined to each body by a spring or a damper (CSR)
+        nsd = size(self%spr_a) + size(self%dmp_a)
+        allocate(adj_ptr(nb + 1), fill(nb))
+        adj_ptr = 0
+        do e = 1, nsd
+            call element(e, a, b)
+            if (b == 0) cycle
+            adj_ptr(a) = adj_ptr(a) + 1
+            adj_ptr(b) = adj_ptr(b) + 1
+        end do
+        k = 1
+        do i = 1, nb
+            fill(i) = k
+            k = k + adj_ptr(i)
+            adj_ptr(i) = fill(i)
+        end do
+        adj_ptr(nb + 1) = k
+        allocate(adj(k - 1))
+        do e = 1, nsd
+            call element(e, a, b)
+            if (b == 0) cycle
+            adj(fill(a)) = b
+            fill(a) = fill(a) + 1
+            adj(fill(b)) = a
+            fill(b) = fill(b) + 1
+        end do
+        ml = 0
+        mu = 0
+        do i = 1, nb
+            call touch(i, nb + i)
+            call touch(nb + i, i)
+            call touch(nb + i, nb + i)
+            do k = adj_ptr(i), adj_ptr(i + 1) - 1
+                call touch(nb + i, adj(k))
+                call touch(nb + i, nb + adj(k))
+            end do
+        end do
+        do c = 1, nc
+            ends = [self%con_a(c), self%con_b(c)]
+            do k = 1, 2
+                if (ends(k) == 0) cycle
+                call reads(nb + ends(k), c)
+            end do
+            do k = 2 * nb + self%z_first(c), 2 * nb + self%z_first(c + 1) - 1
+                call reads(k, c)
+            end do
+        end do
+        if (2 * ml + mu + 1 < n) then
+            self%band_ml = ml
+            self%band_mu = mu
+        else
+            self%band_ml = -1
+            self%band_mu = -1
+            self%band_perm = [(i, i = 1, n)]
+        end if
+    contains
+        subroutine place(state)
+            integer, intent(in) :: state
+            p = p + 1
+            self%band_perm(p) = state
+            pos(state) = p
+        end subroutine place
+
+        !> Spring or damper e's bodies.
+        subroutine element(e, a, b)
+            integer, intent(in) :: e
+            integer, intent(out) :: a, b
+            if (e <= size(self%spr_a)) then
+                a = self%spr_a(e)
+                b = self%spr_b(e)
+            else
+                a = self%dmp_a(e - size(self%spr_a))
+                b = self%dmp_b(e - size(self%spr_a))
+            end if
+        end subroutine element
+
+        !> df(row)/dy(col) may be nonzero: widen the band.
+        subroutine touch(row, col)
+            integer, intent(in) :: row, col
+            ml = max(ml, pos(row) - pos(col))
+            mu = max(mu, pos(col) - pos(row))
+        end subroutine touch
+
+        !> The state row reads contact c: its bodies' velocities, its states, and for a law that
+        !! is not static the positions and velocities of its bodies and of the bodies joined
+        !! to them.
+        subroutine reads(row, c)
+            integer, intent(in) :: row, c
+            integer :: j, q, body
+            do j = 1, 2
+                body = merge(self%con_a(c), self%con_b(c), j == 1)
+                if (body == 0) cycle
+                call touch(row, nb + body)
+                if (self%laws(c)%law%is_static()) cycle
+                call touch(row, body)
+                do q = adj_ptr(body), adj_ptr(body + 1) - 1
+                    call touch(row, adj(q))
+                    call touch(row, nb + adj(q))
+                end do
+            end do
+            do q = 2 * nb + self%z_first(c), 2 * nb + self%z_first(c + 1) - 1
+                call touch(row, q)
+            end do
+        end subroutine reads
+    end subroutine model_set_band
+
+    !> The body order and its band (`set_band`), or dense (ml = mu = -1).
+    subroutine model_bandwidth(self, perm, ml, mu)
+        class(model_system), intent(in) :: self
+        integer, intent(out) :: perm(:)     !! (n) state index at each position of the body order
+        integer, intent(out) :: ml          !! lower bandwidth (-1: dense)
+        integer, intent(out) :: mu          !! upper bandwidth (-1: dense)
+        integer :: i
+        if (allocated(self%band_perm)) then
+            perm = self%band_perm
+        else
+            perm = [(i, i = 1, size(perm))]
+        end if
+        ml = self%band_ml
+        mu = self%band_mu
+    end subroutine model_bandwidth
+
+    !> The Jacobian in the body order in band storage, jb(mu + 1 + i - j, j) =
+    !! J(perm(i), perm(j)): analytic with static laws (O(n)), grouped finite differences
+    !! (`fd_band_jacobian`: ml + mu + 1 evaluations) otherwise.
+    subroutine model_band_jacobian(self, t, y, f, jb, nfev)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)    :: t             !! time [s]
+        real(dp), intent(in)    :: y(:)          !! state
+        real(dp), intent(in)    :: f(:)          !! f(t, y), already evaluated
+        real(dp), intent(out)   :: jb(:, :)      !! (ml + mu + 1, n) band of the reordered Jacobian
+        integer(8), intent(inout) :: nfev        !! evaluation counter
+        integer :: perm(size(y)), ml, mu
+        call self%bandwidth(perm, ml, mu)
+        if (self%all_static) then
+            call static_jacobian(self, t, y, perm, ml, mu, jb)
+        else
+            call fd_band_jacobian(self, t, y, f, perm, ml, mu, jb, nfev)
+        end if
+    end subroutine model_band_jacobian
+
+    !> df/dy of a model whose laws are all static, dense (ml < 0: jm(i, j) = J(i, j)) or in
+    !! band storage in the order perm (jm(mu + 1 + i - j, j) = J(perm(i), perm(j))).
+    subroutine static_jacobian(self, t, y, perm, ml, mu, jm)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in)  :: t, y(:)
+        integer, intent(in)   :: perm(:), ml, mu
+        real(dp), intent(out) :: jm(:, :)
+        integer :: ip(size(y)), i, nb
+        real(dp) :: s, n, wdot
+        nb = self%nb
+        ip(perm) = [(i, i = 1, size(y))]
+        jm = 0.0_dp
+        do i = 1, nb
+            call put(i, nb + i, 1.0_dp)
+        end do
+        do i = 1, size(self%spr_k)
+            call pair(self%spr_a(i), self%spr_b(i), 0, self%spr_k(i))
+        end do
+        do i = 1, size(self%dmp_c)
+            call pair(self%dmp_a(i), self%dmp_b(i), nb, self%dmp_c(i))
+        end do
         do i = 1, size(self%con_a)
             call contact_state(self, i, t, y(nb + 1:2 * nb), s, n, wdot)
-            d = self%laws(i)%law%dmu(s) * n
-            a = self%con_a(i)
-            b = self%con_b(i)
-            cmat(a, a) = cmat(a, a) + d
-            if (b > 0) then
-                cmat(a, b) = cmat(a, b) - d
-                cmat(b, a) = cmat(b, a) - d
-                cmat(b, b) = cmat(b, b) + d
+            call pair(self%con_a(i), self%con_b(i), nb, self%laws(i)%law%dmu(s) * n)
+        end do
+    contains
+        subroutine put(row, col, val)
+            integer, intent(in) :: row, col
+            real(dp), intent(in) :: val
+            if (ml < 0) then
+                jm(row, col) = jm(row, col) + val
+            else
+                jm(mu + 1 + ip(row) - ip(col), ip(col)) = jm(mu + 1 + ip(row) - ip(col), ip(col)) + val
             end if
-        end do
-        dfdy = 0.0_dp
-        do j = 1, nb
-            dfdy(j, nb + j) = 1.0_dp
-            dfdy(nb + 1:2 * nb, j) = -kmat(:, j) / self%mass
-            dfdy(nb + 1:2 * nb, nb + j) = -cmat(:, j) / self%mass
-        end do
-    end subroutine model_jacobian
+        end subroutine put
+
+        !> A force -g (u_a - u_b) on a and the opposite on b, u the positions (off = 0) or the
+        !! velocities (off = nb).
+        subroutine pair(a, b, off, g)
+            integer, intent(in) :: a, b, off
+            real(dp), intent(in) :: g
+            call put(nb + a, off + a, -g / self%mass(a))
+            if (b == 0) return
+            call put(nb + a, off + b, g / self%mass(a))
+            call put(nb + b, off + b, -g / self%mass(b))
+            call put(nb + b, off + a, g / self%mass(b))
+        end subroutine pair
+    end subroutine static_jacobian
 
     !> K = -df/dx [N/m] and C = -df/dv [N s/m] of the springs and dampers (dense).
     pure subroutine stiffness_damping(self, kmat, cmat)
