@@ -591,9 +591,7 @@ contains
         integer(c_int), value :: s1           !! a signal
         integer(c_int), value :: s2           !! another signal
         integer(c_int) :: index
-        type(model_handle), pointer :: box
-        index = handle(model, box)
-        if (index == SS_OK) index = int(box%model%plus(int(s1), int(s2)), c_int)
+        index = two_signals(model, s1, s2, '+')
     end function ss_signal_add
 
     !> A signal: s1 - s2. Returns its index or SS_BAD_HANDLE.
@@ -602,9 +600,7 @@ contains
         integer(c_int), value :: s1           !! a signal
         integer(c_int), value :: s2           !! the signal subtracted
         integer(c_int) :: index
-        type(model_handle), pointer :: box
-        index = handle(model, box)
-        if (index == SS_OK) index = int(box%model%minus(int(s1), int(s2)), c_int)
+        index = two_signals(model, s1, s2, '-')
     end function ss_signal_sub
 
     !> A signal: s1 * s2. Returns its index or SS_BAD_HANDLE.
@@ -613,9 +609,7 @@ contains
         integer(c_int), value :: s1           !! a signal
         integer(c_int), value :: s2           !! another signal
         integer(c_int) :: index
-        type(model_handle), pointer :: box
-        index = handle(model, box)
-        if (index == SS_OK) index = int(box%model%times(int(s1), int(s2)), c_int)
+        index = two_signals(model, s1, s2, '*')
     end function ss_signal_mul
 
     !> Check every element of the model (what ss_model_simulate does first). Returns SS_OK or
@@ -775,6 +769,26 @@ contains
         end if
         status = SS_OK
     end function handle
+
+    !> A signal of two signals of a model: s1 + s2, s1 - s2 or s1 * s2 (op '+', '-' or '*');
+    !! its index or SS_BAD_HANDLE.
+    function two_signals(model, s1, s2, op) result(index)
+        type(c_ptr), intent(in) :: model
+        integer(c_int), intent(in) :: s1, s2
+        character, intent(in) :: op
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index /= SS_OK) return
+        select case (op)
+        case ('+')
+            index = int(box%model%plus(int(s1), int(s2)), c_int)
+        case ('-')
+            index = int(box%model%minus(int(s1), int(s2)), c_int)
+        case default
+            index = int(box%model%times(int(s1), int(s2)), c_int)
+        end select
+    end function two_signals
 
     !> A C array of n doubles as a Fortran pointer (zero-size for n = 0, NULL or not):
     !! SS_OK, or SS_BAD_DIM for n < 0 or NULL with n > 0.
