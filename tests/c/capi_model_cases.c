@@ -13,14 +13,15 @@
 
 enum { ROOM = 64, STEPS = 20000 };
 
-static void print_run(const char *name, int nb, int n, const double *t, const double *x, const double *v,
-                      const ss_stats *st, const double *events, int64_t n_events) {
+/* n rows of x and v written, of n_out (the row stride of x and v). */
+static void print_run(const char *name, int nb, int n, int n_out, const double *t, const double *x,
+                      const double *v, const ss_stats *st, const double *events, int64_t n_events) {
     printf("stats %s %d %d %lld %lld\n", name, st->status, st->n_written, (long long)st->nfev,
            (long long)n_events);
     for (int i = 0; i < n; i++) {
         printf("row %s %d %.17g", name, i, t[i]);
-        for (int j = 0; j < nb; j++) printf(" %.17g", x[j * n + i]);
-        for (int j = 0; j < nb; j++) printf(" %.17g", v[j * n + i]);
+        for (int j = 0; j < nb; j++) printf(" %.17g", x[j * n_out + i]);
+        for (int j = 0; j < nb; j++) printf(" %.17g", v[j * n_out + i]);
         printf("\n");
     }
     for (int64_t k = 0; k < n_events && k < ROOM; k++)
@@ -85,7 +86,7 @@ static void run(const char *name, ss_model *m, int method, double t_end, double 
     ss_stats st;
     for (int i = 0; i < n; i++) t[i] = n > 1 ? t_end * i / (n - 1) : t_end;
     ss_model_simulate(m, method, t_end, h, rtol, atol, ckeys, nc, cvals, n, t, x, v, &st, ROOM, events, &n_events);
-    print_run(name, 2, st.n_written, t, x, v, &st, events, n_events);
+    print_run(name, 2, st.n_written, n, t, x, v, &st, events, n_events);
     free(t);
     free(x);
     free(v);
@@ -93,8 +94,8 @@ static void run(const char *name, ss_model *m, int method, double t_end, double 
 
 int main(void) {
     ss_model *a = model_a(), *b = model_b();
-    const double every[] = {1.0};
-    run("a_dopri5", a, SS_METHOD_DOPRI5, 1.0, 0.0, 1e-9, 1e-11, NULL, 0, NULL, 21);
+    const double every[] = {1.0}, steps[] = {1e-6, 0.05};
+    run("a_dopri5", a, SS_METHOD_DOPRI5, 1.0, 0.0, 1e-9, 1e-11, "hmin,hmax", 2, steps, 21);
     run("a_rk4", a, SS_METHOD_RK4, 1.0, 2e-5, 0.0, 0.0, "", 0, NULL, 21);
     run("a_dopri5_every", a, SS_METHOD_DOPRI5, 0.5, 0.0, 1e-6, 1e-8, "every_step", 1, every, STEPS);
     run("b_event_driven", b, SS_METHOD_EVENT_DRIVEN, 1.5, 0.0, 1e-10, 1e-12, NULL, 0, NULL, 301);
