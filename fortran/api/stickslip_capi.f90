@@ -10,8 +10,15 @@
 !! `stickslip_dopri5`, `stickslip_dop853` or `stickslip_rk4` through a thin `ode_system` extension that calls
 !! a C function pointer.
 !!
+!! A user's own system (`stickslip_user_model`) is an opaque `ss_model *`: `ss_model_new`,
+!! `ss_model_add_*`, `ss_signal_*`, `ss_model_check`, `ss_model_simulate`, `ss_model_free`;
+!! the handle points to a Fortran `model_handle` whose tag tells a live model from NULL or a
+!! stray pointer (SS_BAD_HANDLE), and which keeps the element its last check named
+!! (`ss_model_error`, `ss_model_message`).
+!!
 !! Array layout: states are stored as C arrays `y_out[n_out][n]` (row i holds the state
-!! at t_out[i]), which is the Fortran array y_out(n, n_out).
+!! at t_out[i]), which is the Fortran array y_out(n, n_out); a model's positions and
+!! velocities are `x[n_bodies][n_out]`, the Fortran array x(n_out, n_bodies).
 module stickslip_capi
     use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_char, c_size_t, &
                                            c_ptr, c_funptr, c_null_char, c_associated, c_f_procpointer, c_f_pointer, &
