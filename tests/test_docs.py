@@ -268,6 +268,7 @@ def test_a_new_guide_page_joins_the_site(tmp_path) -> None:
     src = tmp_path / "docs"
     shutil.copytree(ROOT / "docs", src, ignore=shutil.ignore_patterns("_build"))
     shutil.copytree(ROOT / "benchmarks" / "results", tmp_path / "benchmarks" / "results")  # a figure
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")  # the guide includes examples/model_c.c
     (src / "guide" / "zz-new-topic.md").write_text("# A new topic\n\nText.\n")
     proc = subprocess.run([sphinx, "-b", "html", "-W", "--keep-going", "-q", str(src),
                            str(tmp_path / "out")], capture_output=True, text=True)

@@ -1,12 +1,15 @@
 !> Writes stickslip_codes.h, the C constants of the registry, to standard output; meson
 !! runs it at build time so that the C header's codes come from the one registry.
 !! Laws, scenes and methods: SS_LAW_<NAME>, SS_SCENE_<NAME>, SS_METHOD_<NAME> (their codes);
-!! status codes: SS_<NAME>, and SS_BAD_<PARAMETER> for every physical parameter.
+!! status codes: SS_<NAME>, and SS_BAD_<PARAMETER> for every physical parameter; for models,
+!! SS_GROUND, SS_NO_SIGNAL, the element kinds SS_ELEM_* and the event kinds SS_EVENT_*.
 program gen_codes
     use stickslip_kinds, only: STATUS_NAMES, STATUS_CODES
     use stickslip_registry, only: LAW_TABLE, SCENE_TABLE, METHOD_TABLE, PARAMS, split_names, &
                                   stickslip_message
     use stickslip_params, only: NAME_LEN
+    use stickslip_user_model, only: ELEM_BODY, ELEM_SPRING, ELEM_DAMPER, ELEM_FORCE, ELEM_CONTACT, ELEM_SIGNAL
+    use stickslip_event_driven, only: EVENT_STICK, EVENT_SLIP, EVENT_REVERSAL
     implicit none
     character(len=NAME_LEN), allocatable :: names(:)
     integer :: i
@@ -37,6 +40,20 @@ program gen_codes
     do i = 1, size(PARAMS)
         call define('SS_BAD_' // upper(PARAMS(i)%name), PARAMS(i)%code, stickslip_message(PARAMS(i)%code))
     end do
+    print '(a)', ''
+    print '(a)', '/* Models (ss_model_*): the ground and no signal as indices, the kinds of element that'
+    print '(a)', ' * ss_model_error() names, and the kinds of event of ss_model_simulate(). */'
+    call define('SS_GROUND', 0, 'the ground, as a body index')
+    call define('SS_NO_SIGNAL', 0, 'no signal (a contact without a surface velocity)')
+    call define('SS_ELEM_BODY', ELEM_BODY, 'a body')
+    call define('SS_ELEM_SPRING', ELEM_SPRING, 'a spring')
+    call define('SS_ELEM_DAMPER', ELEM_DAMPER, 'a damper')
+    call define('SS_ELEM_FORCE', ELEM_FORCE, 'a force')
+    call define('SS_ELEM_CONTACT', ELEM_CONTACT, 'a friction contact')
+    call define('SS_ELEM_SIGNAL', ELEM_SIGNAL, 'a signal')
+    call define('SS_EVENT_STICK', EVENT_STICK, 'slip -> stick')
+    call define('SS_EVENT_SLIP', EVENT_SLIP, 'stick -> slip')
+    call define('SS_EVENT_REVERSAL', EVENT_REVERSAL, 'the slip reached 0 and the contact could not hold')
     print '(a)', ''
     print '(a)', '#endif /* STICKSLIP_CODES_H */'
 

@@ -3,7 +3,8 @@
  * Friction laws of Yoo & Lee (2008), the two scenes (box on a slope, spring-mass on a moving
  * belt), and the library's integrators (classical RK4, Dormand-Prince 5(4), RADAU5, implicit
  * Euler, generalized-alpha); RK4 and DOPRI5 also for a user's own ODE. Any law, scene and
- * method by code (ss_code) with parameters and controls by name: ss_run, ss_mu.
+ * method by code (ss_code) with parameters and controls by name: ss_run, ss_mu. A user's own
+ * system of bodies, springs, dampers, forces and friction contacts: ss_model_* (at the end).
  * Units are SI: m, s, kg, m/s; angles in degrees.
  *
  * Every function except the *_default ones returns a status: SS_OK (0) on success, a
@@ -143,6 +144,89 @@ int ss_dop853(ss_rhs f, void *data, int n, double t0, const double *y0, double t
  * only; NULL: no step budget). */
 int ss_rk4(ss_rhs f, void *data, int n, double t0, const double *y0, double t_end, double h,
            const ss_dopri5_options *opts, int n_out, double *t_out, double *y_out, ss_stats *stats);
+
+/* ---- Your own system: a model of bodies, springs, dampers, forces, signals and friction contacts.
+ *
+ * The model of stickslip_user_model (Fortran) and stickslip.Model (Python) behind an opaque
+ * handle: ss_model_new() makes one, ss_model_free() frees it. Bodies, elements and signals
+ * are numbered from 1 in the order they are added, each kind on its own; SS_GROUND (0) is the
+ * ground as a body, SS_NO_SIGNAL (0) no surface velocity. The ss_model_add_* and ss_signal_*
+ * functions return the new element's index (>= 1) or a negative status (SS_BAD_HANDLE for
+ * a NULL or dead handle, SS_BAD_DIM for an array argument that cannot be read); the model's
+ * values are checked as a whole by ss_model_check() and ss_model_simulate(), which return the
+ * first bad element's status (SS_BAD_MODEL_EMPTY, SS_BAD_BODY, SS_BAD_MASS, SS_BAD_SPRING,
+ * SS_BAD_DAMPER, SS_BAD_SIGNAL, SS_BAD_LAW, a law parameter's SS_BAD_*) and keep its kind
+ * (SS_ELEM_*) and index for ss_model_error() and ss_model_message() ("contact 1 (body 1 -
+ * ground): mu_k: ..."). A handle may be used by one thread at a time; different handles
+ * by different threads at once. Units are SI: mass [kg] (or an inertia [kg m^2] with
+ * positions in rad), positions [m], velocities [m/s], forces [N], times [s]. */
+typedef struct ss_model ss_model;
+
+/* A new empty model, or NULL when out of memory. */
+ss_model *ss_model_new(void);
+/* Free a model (NULL: nothing); the handle is dead afterwards. */
+void ss_model_free(ss_model *m);
+
+/* A body of mass (or inertia) mass [kg] > 0 at x0 [m] moving at v0 [m/s]: its index. */
+int ss_model_add_body(ss_model *m, double mass, double x0, double v0);
+/* A spring k [N/m] >= 0 between bodies a and b (SS_GROUND: the ground), relaxed at
+ * x_a - x_b = rest_length [m]: its index. */
+int ss_model_add_spring(ss_model *m, int a, int b, double k, double rest_length);
+/* A damper c [N s/m] >= 0 between bodies a and b (SS_GROUND: the ground): its index. */
+int ss_model_add_damper(ss_model *m, int a, int b, double c);
+/* The force of a signal [N] on a body: its index. */
+int ss_model_add_force(ss_model *m, int body, int signal);
+/* A friction contact between bodies a and b (SS_GROUND: the ground): the friction force on a
+ * opposes the slip v_a - v_b - w, with w the signal surface_velocity [m/s] (SS_NO_SIGNAL: 0),
+ * and b gets the opposite force; the signal normal_force [N] <= 0 opens the contact. The law
+ * by code (SS_LAW_*, ss_code("law", name)) with its parameters by name as in ss_run: pkeys
+ * comma-separated ("mu_s,mu_k"; NULL or "" for none) valued by pvals[np]; the others take
+ * their defaults. Returns the contact's index. */
+int ss_model_add_contact(ss_model *m, int a, int b, int law, int normal_force, int surface_velocity,
+                         const char *pkeys, int np, const double *pvals);
+
+/* Signals of a model (forces [N], normal forces [N], surface velocities [m/s] as functions of
+ * time, evaluated in the library); each returns the new signal's index. */
+int ss_signal_constant(ss_model *m, double c);
+/* before for t < time [s], after from t = time on (a time event for event_driven). */
+int ss_signal_step(ss_model *m, double time, double before, double after);
+/* 0 up to start [s], rising linearly by height over duration [s] > 0, then height. */
+int ss_signal_ramp(ss_model *m, double start, double duration, double height);
+/* amplitude sin(2 pi frequency t + phase) + offset; frequency [Hz], phase [rad]. */
+int ss_signal_sine(ss_model *m, double amplitude, double frequency, double phase, double offset);
+/* Linear between the points (t[i] [s], values[i]), i < n, t strictly increasing; held
+ * constant outside. */
+int ss_signal_table(ss_model *m, int n, const double *t, const double *values);
+/* s1 + s2, s1 - s2, s1 * s2 of two signals of the model. */
+int ss_signal_add(ss_model *m, int s1, int s2);
+int ss_signal_sub(ss_model *m, int s1, int s2);
+int ss_signal_mul(ss_model *m, int s1, int s2);
+
+/* Check every element: SS_OK or the first bad element's status. */
+int ss_model_check(ss_model *m);
+/* The status of the last ss_model_check or ss_model_simulate, and the kind (SS_ELEM_*, 0 for
+ * none) and index (from 1, 0 for none) of the element it names (either pointer may be NULL). */
+int ss_model_error(const ss_model *m, int *elem_kind, int *elem_index);
+/* That status's message naming the element, copied as ss_message does; its full length. */
+int ss_model_message(const ss_model *m, char *buf, size_t buflen);
+
+/* Run the model from t = 0 (the bodies' x0, v0) to t_end [s] with a method by code
+ * (SS_METHOD_*). h: the step of the fixed-step methods (rk4, implicit_euler, galpha, moreau)
+ * [s], ignored by the others (an "h" in ckeys wins); rtol, atol: the tolerances of the
+ * adaptive methods; the other controls by name as in ss_run (ckeys, nc, cvals; NULL or ""
+ * for none). t_out[n_out]: output times (non-decreasing, in [0, t_end]), or with the control
+ * every_step room for every step (overwritten with the step times; stats->n_written rows).
+ * x, v [n_bodies * n_out]: positions [m] and velocities [m/s], x[(j - 1) * n_out + i] = body j
+ * at t_out[i]. events [4 * events_room]: the stick/slip events of event_driven, row k =
+ * (t [s], kind SS_EVENT_STICK / _SLIP / _REVERSAL, the contact's displacement [m], contact
+ * index from 1); NULL with events_room = 0 for none. *n_events: the run's events (may exceed
+ * events_room; NULL: not returned). stats may be NULL. Returns stats->status; x, v are
+ * untouched when an input is bad. moreau and event_driven take coulomb and stribeck contacts
+ * only (SS_NOT_SETVALUED otherwise). */
+int ss_model_simulate(ss_model *m, int method, double t_end, double h, double rtol, double atol,
+                      const char *ckeys, int nc, const double *cvals, int n_out, double *t_out,
+                      double *x, double *v, ss_stats *stats, int events_room, double *events,
+                      int64_t *n_events);
 
 #ifdef __cplusplus
 }

@@ -10,12 +10,20 @@
 !! `stickslip_dopri5`, `stickslip_dop853` or `stickslip_rk4` through a thin `ode_system` extension that calls
 !! a C function pointer.
 !!
+!! A user's own system (`stickslip_user_model`) is an opaque `ss_model *`: `ss_model_new`,
+!! `ss_model_add_*`, `ss_signal_*`, `ss_model_check`, `ss_model_simulate`, `ss_model_free`;
+!! the handle points to a Fortran `model_handle` whose tag tells a live model from NULL or a
+!! stray pointer (SS_BAD_HANDLE), and which keeps the element its last check named
+!! (`ss_model_error`, `ss_model_message`).
+!!
 !! Array layout: states are stored as C arrays `y_out[n_out][n]` (row i holds the state
-!! at t_out[i]), which is the Fortran array y_out(n, n_out).
+!! at t_out[i]), which is the Fortran array y_out(n, n_out); a model's positions and
+!! velocities are `x[n_bodies][n_out]`, the Fortran array x(n_out, n_bodies).
 module stickslip_capi
     use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_char, c_size_t, &
-                                           c_ptr, c_funptr, c_null_char, c_associated, c_f_procpointer, c_f_pointer
-    use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_BAD_N_OUT, SS_BAD_METHOD
+                                           c_ptr, c_funptr, c_null_char, c_associated, c_f_procpointer, c_f_pointer, &
+                                           c_null_ptr, c_loc
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_BAD_N_OUT, SS_BAD_METHOD, SS_BAD_HANDLE
     use stickslip_params, only: param_values, NAME_LEN
     use stickslip_friction, only: friction_law
     use stickslip_ode, only: ode_system, ode_stats, step_controls
@@ -23,14 +31,20 @@ module stickslip_capi
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_dop853, only: dop853_options, dop853_integrate
     use stickslip_registry, only: stickslip_message, registry_text, make_law, split_names, code_of, &
-                                  PARAMS, METHOD_TABLE, METHOD_RK4, METHOD_DOPRI5, METHOD_DOP853
+                                  PARAMS, METHOD_TABLE, METHOD_RK4, METHOD_DOPRI5, METHOD_DOP853, LAW_TABLE
     use stickslip_simulate, only: simulate
+    use stickslip_model_system, only: model_system
+    use stickslip_user_model, only: stickslip_model, ELEM_SPRING, ELEM_DAMPER, ELEM_FORCE, ELEM_CONTACT
     implicit none
     private
 
     public :: ss_params, ss_dopri5_options, ss_stats
     public :: ss_params_default, ss_dopri5_options_default, ss_dop853_options_default, ss_message, &
               ss_friction, ss_simulate, ss_dopri5, ss_dop853, ss_rk4, ss_run, ss_mu, ss_code, ss_registry
+    public :: ss_model_new, ss_model_free, ss_model_add_body, ss_model_add_spring, ss_model_add_damper, &
+              ss_model_add_force, ss_model_add_contact, ss_signal_constant, ss_signal_step, ss_signal_ramp, &
+              ss_signal_sine, ss_signal_table, ss_signal_add, ss_signal_sub, ss_signal_mul, ss_model_check, &
+              ss_model_error, ss_model_message, ss_model_simulate
 
     !> Physical parameters of both scenes and all laws (C struct `ss_params`).
     type, bind(C) :: ss_params
@@ -90,6 +104,30 @@ module stickslip_capi
     contains
         procedure :: rhs => c_system_rhs
     end type c_system
+
+    !> The tag of a live model handle (an arbitrary number a stray pointer is unlikely to hold).
+    integer, parameter :: LIVE_TAG = 1936943469
+    !> What an `ss_model *` points to: a model, a tag that tells a live handle from another
+    !! pointer, and the outcome of the model's last check or run.
+    type :: model_handle
+        integer :: tag = LIVE_TAG                !! LIVE_TAG while the handle is live, 0 once freed
+        type(stickslip_model) :: model           !! the model
+        integer :: status = SS_OK                !! status of its last check or run
+        integer :: elem_kind = 0                 !! ELEM_* of the element that status names (0: none)
+        integer :: elem_index = 0                !! its index, from 1 (0: none)
+    end type model_handle
+
+    !> The values of an empty C array.
+    real(c_double), target :: no_values(0)
+
+    interface
+        !> The C library's strlen.
+        function c_strlen(s) result(n) bind(C, name='strlen')
+            import :: c_ptr, c_size_t
+            type(c_ptr), value :: s             !! a NUL-terminated string
+            integer(c_size_t) :: n
+        end function c_strlen
+    end interface
 
     abstract interface
         !> The C right-hand side.
@@ -365,7 +403,488 @@ contains
         full = copy_out(registry_text(), buf, buflen)
     end function ss_registry
 
+    ! -- a user's model (stickslip_user_model) through an opaque handle ---------------
+
+    !> A new, empty model: its handle (`ss_model *`), or NULL when there is no memory for it.
+    !! Add bodies, elements and signals to it, run it with ss_model_simulate, and free it with
+    !! ss_model_free.
+    function ss_model_new() result(model) bind(C, name='ss_model_new')
+        type(c_ptr) :: model                  !! the handle (NULL: out of memory)
+        type(model_handle), pointer :: box
+        integer :: err
+        model = c_null_ptr
+        allocate(box, stat=err)
+        if (err == 0) model = c_loc(box)
+    end function ss_model_new
+
+    !> Free a model of ss_model_new (NULL: nothing). The handle is dead afterwards.
+    subroutine ss_model_free(model) bind(C, name='ss_model_free')
+        type(c_ptr), value :: model           !! the handle, or NULL
+        type(model_handle), pointer :: box
+        if (handle(model, box) /= SS_OK) return
+        box%tag = 0
+        deallocate(box)
+    end subroutine ss_model_free
+
+    !> Add a body of mass (or inertia) mass [kg or kg m^2] at x0 [m] moving at v0 [m/s].
+    !! Returns its index (bodies are numbered from 1; 0 is the ground) or SS_BAD_HANDLE. The
+    !! values are checked by ss_model_check and ss_model_simulate.
+    function ss_model_add_body(model, mass, x0, v0) result(index) bind(C, name='ss_model_add_body')
+        type(c_ptr), value :: model           !! the model's handle
+        real(c_double), value :: mass         !! mass or inertia, finite and > 0 [kg or kg m^2]
+        real(c_double), value :: x0           !! initial position [m]
+        real(c_double), value :: v0           !! initial velocity [m/s]
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index == SS_OK) index = int(box%model%add_body(mass, x0=x0, v0=v0), c_int)
+    end function ss_model_add_body
+
+    !> Add a spring of stiffness k [N/m] between bodies a and b (b = 0: the ground), relaxed
+    !! at x_a - x_b = rest_length [m]. Returns its index (from 1) or SS_BAD_HANDLE.
+    function ss_model_add_spring(model, a, b, k, rest_length) result(index) bind(C, name='ss_model_add_spring')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int), value :: a            !! a body, 1 .. n_bodies
+        integer(c_int), value :: b            !! another body, or 0 for the ground
+        real(c_double), value :: k            !! stiffness, finite and >= 0 [N/m]
+        real(c_double), value :: rest_length  !! x_a - x_b at rest [m]
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index /= SS_OK) return
+        call box%model%add_spring(int(a), int(b), k, rest_length)
+        index = int(size(box%model%spr_k), c_int)
+    end function ss_model_add_spring
+
+    !> Add a damper c [N s/m] between bodies a and b (b = 0: the ground). Returns its index
+    !! (from 1) or SS_BAD_HANDLE.
+    function ss_model_add_damper(model, a, b, c) result(index) bind(C, name='ss_model_add_damper')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int), value :: a            !! a body, 1 .. n_bodies
+        integer(c_int), value :: b            !! another body, or 0 for the ground
+        real(c_double), value :: c            !! damping, finite and >= 0 [N s/m]
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index /= SS_OK) return
+        call box%model%add_damper(int(a), int(b), c)
+        index = int(size(box%model%dmp_c), c_int)
+    end function ss_model_add_damper
+
+    !> Add the force of a signal [N] (ss_signal_*) on a body. Returns its index (from 1) or
+    !! SS_BAD_HANDLE.
+    function ss_model_add_force(model, body, signal) result(index) bind(C, name='ss_model_add_force')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int), value :: body         !! the body, 1 .. n_bodies
+        integer(c_int), value :: signal       !! the force's signal [N], from ss_signal_*
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index /= SS_OK) return
+        call box%model%add_force(int(body), int(signal))
+        index = int(size(box%model%frc_body), c_int)
+    end function ss_model_add_force
+
+    !> Add a frictional contact between bodies a and b (b = 0: the ground): the friction force
+    !! on a opposes the slip v_a - v_b - w (w the surface velocity's signal, 0 for none), b gets
+    !! the opposite force; a normal force <= 0 opens the contact. The law by code (SS_LAW_*,
+    !! or ss_code("law", name)) with its parameters by name as in ss_run (pkeys
+    !! comma-separated, NULL or "" for none, valued by pvals[np]; the others take their
+    !! defaults). Returns the contact's index (from 1), SS_BAD_HANDLE, or SS_BAD_DIM when
+    !! pkeys does not name np parameters or pvals is NULL with np > 0. The law and its values
+    !! are checked by ss_model_check and ss_model_simulate.
+    function ss_model_add_contact(model, a, b, law, normal_force, surface_velocity, pkeys, np, pvals) &
+            result(index) bind(C, name='ss_model_add_contact')
+        type(c_ptr), value :: model             !! the model's handle
+        integer(c_int), value :: a              !! a body, 1 .. n_bodies (the friction force -mu N acts on it)
+        integer(c_int), value :: b              !! another body, or 0 for the ground (it gets +mu N)
+        integer(c_int), value :: law            !! the law's code (SS_LAW_*)
+        integer(c_int), value :: normal_force   !! the normal force's signal [N] (<= 0: open)
+        integer(c_int), value :: surface_velocity  !! the surface velocity's signal [m/s], or 0 for none
+        type(c_ptr), value :: pkeys             !! const char *: the law's parameter names, comma-separated (NULL: none)
+        integer(c_int), value :: np             !! number of parameter values, >= 0
+        type(c_ptr), value :: pvals             !! const double *: their values (np) [SI units]
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        character(len=NAME_LEN), allocatable :: keys(:)
+        real(c_double), pointer :: vals(:)
+        character(len=:), allocatable :: name
+        index = handle(model, box)
+        if (index == SS_OK) index = c_array(pvals, np, vals)
+        if (index /= SS_OK) return
+        keys = split_names(c_string_at(pkeys))
+        if (size(keys) /= np) then
+            index = SS_BAD_DIM
+            return
+        end if
+        name = ''          ! an unknown code: build says SS_BAD_LAW for this contact
+        if (law >= 1 .and. law <= size(LAW_TABLE)) name = trim(LAW_TABLE(law)%name)
+        call box%model%add_contact(int(a), int(b), name, int(normal_force), int(surface_velocity), keys, vals)
+        index = int(size(box%model%con_a), c_int)
+    end function ss_model_add_contact
+
+    !> A signal of the model: the number c. Returns its index (signals are numbered from 1)
+    !! or SS_BAD_HANDLE.
+    function ss_signal_constant(model, c) result(index) bind(C, name='ss_signal_constant')
+        type(c_ptr), value :: model           !! the model's handle
+        real(c_double), value :: c            !! the value [unit of what it drives]
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index == SS_OK) index = int(box%model%constant(c), c_int)
+    end function ss_signal_constant
+
+    !> A signal: before for t < time, after from t = time on (a time event for the methods
+    !! with events). Returns its index or SS_BAD_HANDLE.
+    function ss_signal_step(model, time, before, after) result(index) bind(C, name='ss_signal_step')
+        type(c_ptr), value :: model           !! the model's handle
+        real(c_double), value :: time         !! the step's time [s]
+        real(c_double), value :: before       !! the value before it
+        real(c_double), value :: after        !! the value from it on
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index == SS_OK) index = int(box%model%step(time, before, after), c_int)
+    end function ss_signal_step
+
+    !> A signal: 0 up to start, rising linearly by height over duration, then height.
+    !! Returns its index or SS_BAD_HANDLE.
+    function ss_signal_ramp(model, start, duration, height) result(index) bind(C, name='ss_signal_ramp')
+        type(c_ptr), value :: model           !! the model's handle
+        real(c_double), value :: start        !! when it starts rising [s]
+        real(c_double), value :: duration     !! how long it rises, > 0 [s]
+        real(c_double), value :: height       !! the value it reaches
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index == SS_OK) index = int(box%model%ramp(start, duration, height), c_int)
+    end function ss_signal_ramp
+
+    !> A signal: amplitude sin(2 pi frequency t + phase) + offset. Returns its index or
+    !! SS_BAD_HANDLE.
+    function ss_signal_sine(model, amplitude, frequency, phase, offset) result(index) bind(C, name='ss_signal_sine')
+        type(c_ptr), value :: model           !! the model's handle
+        real(c_double), value :: amplitude    !! amplitude
+        real(c_double), value :: frequency    !! frequency [Hz]
+        real(c_double), value :: phase        !! phase [rad]
+        real(c_double), value :: offset       !! offset
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index == SS_OK) index = int(box%model%sine(amplitude, frequency, phase, offset), c_int)
+    end function ss_signal_sine
+
+    !> A signal: linear between the points (t[i], values[i]), i < n, held constant outside
+    !! (its points are time events). Returns its index, SS_BAD_HANDLE, or SS_BAD_DIM when n < 0
+    !! or an array is NULL with n > 0.
+    function ss_signal_table(model, n, t, values) result(index) bind(C, name='ss_signal_table')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int), value :: n            !! number of points, >= 1
+        type(c_ptr), value :: t               !! const double *: times, strictly increasing (n) [s]
+        type(c_ptr), value :: values          !! const double *: values at those times (n)
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        real(c_double), pointer :: tt(:), vv(:)
+        index = handle(model, box)
+        if (index == SS_OK) index = c_array(t, n, tt)
+        if (index == SS_OK) index = c_array(values, n, vv)
+        if (index == SS_OK) index = int(box%model%table(tt, vv), c_int)
+    end function ss_signal_table
+
+    !> A signal: s1 + s2. Returns its index or SS_BAD_HANDLE (an unknown signal makes a
+    !! malformed one, which ss_model_check reports).
+    function ss_signal_add(model, s1, s2) result(index) bind(C, name='ss_signal_add')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int), value :: s1           !! a signal
+        integer(c_int), value :: s2           !! another signal
+        integer(c_int) :: index
+        index = two_signals(model, s1, s2, '+')
+    end function ss_signal_add
+
+    !> A signal: s1 - s2. Returns its index or SS_BAD_HANDLE.
+    function ss_signal_sub(model, s1, s2) result(index) bind(C, name='ss_signal_sub')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int), value :: s1           !! a signal
+        integer(c_int), value :: s2           !! the signal subtracted
+        integer(c_int) :: index
+        index = two_signals(model, s1, s2, '-')
+    end function ss_signal_sub
+
+    !> A signal: s1 * s2. Returns its index or SS_BAD_HANDLE.
+    function ss_signal_mul(model, s1, s2) result(index) bind(C, name='ss_signal_mul')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int), value :: s1           !! a signal
+        integer(c_int), value :: s2           !! another signal
+        integer(c_int) :: index
+        index = two_signals(model, s1, s2, '*')
+    end function ss_signal_mul
+
+    !> Check every element of the model (what ss_model_simulate does first). Returns SS_OK or
+    !! the code of the first bad element (SS_BAD_MODEL_EMPTY, SS_BAD_BODY, SS_BAD_MASS,
+    !! SS_BAD_SPRING, SS_BAD_DAMPER, SS_BAD_SIGNAL, SS_BAD_LAW, a law parameter's SS_BAD_*,
+    !! ...), which ss_model_error and ss_model_message then name.
+    function ss_model_check(model) result(status) bind(C, name='ss_model_check')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int) :: status
+        type(model_handle), pointer :: box
+        type(model_system) :: sys
+        status = handle(model, box)
+        if (status /= SS_OK) return
+        call box%model%build(sys, box%status, box%elem_kind, box%elem_index)
+        status = int(box%status, c_int)
+    end function ss_model_check
+
+    !> The status of the model's last ss_model_check or ss_model_simulate (SS_BAD_HANDLE for a
+    !! bad handle), with the kind (SS_ELEM_BODY, ..., SS_ELEM_SIGNAL; 0 for none) and index
+    !! (from 1; 0 for none) of the element it names in *elem_kind and *elem_index (each may be NULL).
+    function ss_model_error(model, elem_kind, elem_index) result(status) bind(C, name='ss_model_error')
+        type(c_ptr), value :: model           !! the model's handle
+        type(c_ptr), value :: elem_kind       !! int *: the bad element's kind, SS_ELEM_* (NULL: not returned)
+        type(c_ptr), value :: elem_index      !! int *: its index, from 1 (NULL: not returned)
+        integer(c_int) :: status
+        type(model_handle), pointer :: box
+        status = handle(model, box)
+        if (status /= SS_OK) return
+        status = int(box%status, c_int)
+        call put_int(elem_kind, box%elem_kind)
+        call put_int(elem_index, box%elem_index)
+    end function ss_model_error
+
+    !> Copy the message of the model's last status, naming the element ("contact 2 (body 1 -
+    !! ground): mu_k: ..."), into buf as ss_message does. Returns the message's full length.
+    function ss_model_message(model, buf, buflen) result(full) bind(C, name='ss_model_message')
+        type(c_ptr), value :: model                    !! the model's handle
+        character(kind=c_char), intent(out) :: buf(*)  !! room for buflen characters
+        integer(c_size_t), value :: buflen             !! size of buf [chars]
+        integer(c_int) :: full
+        type(model_handle), pointer :: box
+        if (handle(model, box) /= SS_OK) then
+            full = copy_out(stickslip_message(SS_BAD_HANDLE), buf, buflen)
+        else
+            full = copy_out(element_message(box), buf, buflen)
+        end if
+    end function ss_model_message
+
+    !> Run the model from t = 0 (its bodies' x0, v0; law states 0) to t_end with a method by
+    !! code (SS_METHOD_*). h: the step of the fixed-step methods [s] (ignored by the others;
+    !! an h in ckeys wins); rtol, atol: the tolerances of the adaptive methods; other controls
+    !! by name as in ss_run (ckeys comma-separated, NULL or "" for none, valued by cvals[nc]).
+    !! t_out[n_out]: the output times (non-decreasing, in [0, t_end]), or with the control
+    !! every_step room for every step (overwritten with the step times). x and v: the
+    !! n_bodies x n_out positions [m] and velocities [m/s], x[(j - 1) * n_out + i] = body j at
+    !! t_out[i]. events: room for events_room rows of (t [s], kind SS_EVENT_*, position [m] of
+    !! the contact, contact index from 1) of event_driven (NULL with events_room = 0: none);
+    !! *n_events: how many there were (may exceed events_room; NULL: not returned). stats may be
+    !! NULL. Returns stats->status: SS_OK, a run's outcome, or the code of the first bad input
+    !! (a bad element: see ss_model_check; SS_BAD_DIM for a NULL output array or a count that
+    !! does not match; SS_BAD_METHOD; SS_NOT_SETVALUED for moreau or event_driven with a
+    !! smooth law).
+    function ss_model_simulate(model, method, t_end, h, rtol, atol, ckeys, nc, cvals, n_out, t_out, x, v, &
+                               stats, events_room, events, n_events) result(status) bind(C, name='ss_model_simulate')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int), value :: method       !! the method's code (SS_METHOD_*)
+        real(c_double), value :: t_end        !! final time, > 0 [s]
+        real(c_double), value :: h            !! step of the fixed-step methods [s]
+        real(c_double), value :: rtol         !! relative tolerance of the adaptive methods
+        real(c_double), value :: atol         !! absolute tolerance of the adaptive methods
+        type(c_ptr), value :: ckeys           !! const char *: control names, comma-separated (NULL: none)
+        integer(c_int), value :: nc           !! number of control values, >= 0
+        type(c_ptr), value :: cvals           !! const double *: their values (nc; flags and counts as doubles)
+        integer(c_int), value :: n_out        !! output times, >= 1
+        type(c_ptr), value :: t_out           !! double *: output times (n_out) [s]
+        type(c_ptr), value :: x               !! double *: positions (n_bodies * n_out) [m]
+        type(c_ptr), value :: v               !! double *: velocities (n_bodies * n_out) [m/s]
+        type(c_ptr), value :: stats           !! ss_stats * (NULL: not returned)
+        integer(c_int), value :: events_room  !! rows of events, >= 0
+        type(c_ptr), value :: events          !! double *: events (4 * events_room), or NULL for none
+        type(c_ptr), value :: n_events        !! int64_t *: number of events of the run (NULL: not returned)
+        integer(c_int) :: status
+        type(model_handle), pointer :: box
+        type(model_system) :: sys
+        type(ode_stats) :: st
+        real(c_double), pointer :: cv(:), t(:), xo(:, :), vo(:, :), ev(:, :)
+        real(c_double), allocatable, target :: no_events(:, :)
+        real(dp), allocatable :: y(:, :), vals(:)
+        character(len=NAME_LEN), allocatable :: keys(:)
+        integer(c_int64_t), pointer :: count
+        integer :: nb
+        count => null()
+        if (c_associated(n_events)) then
+            call c_f_pointer(n_events, count)
+            count = 0_c_int64_t
+        end if
+        status = handle(model, box)
+        if (status == SS_OK) then
+            call box%model%build(sys, box%status, box%elem_kind, box%elem_index)
+            status = int(box%status, c_int)
+        end if
+        if (status == SS_OK) status = c_array(cvals, nc, cv)
+        if (status == SS_OK .and. n_out < 1) status = SS_BAD_N_OUT
+        if (status == SS_OK .and. .not. (c_associated(t_out) .and. c_associated(x) .and. c_associated(v) .and. &
+                                         events_room >= 0 .and. (events_room == 0 .or. c_associated(events)))) &
+            status = SS_BAD_DIM
+        if (status == SS_OK .and. (method < 1 .or. method > size(METHOD_TABLE))) status = SS_BAD_METHOD
+        if (status == SS_OK) then
+            keys = split_names(c_string_at(ckeys))
+            if (size(keys) /= nc) status = SS_BAD_DIM
+        end if
+        if (status == SS_OK) then
+            vals = cv
+            if (any(split_names(METHOD_TABLE(method)%controls) == 'h') .and. .not. any(keys == 'h')) then
+                keys = [character(len=NAME_LEN) :: 'h', keys]
+                vals = [h, vals]
+            end if
+            nb = sys%nb
+            call c_f_pointer(t_out, t, [n_out])
+            call c_f_pointer(x, xo, [n_out, nb])
+            call c_f_pointer(v, vo, [n_out, nb])
+            if (events_room > 0) then
+                call c_f_pointer(events, ev, [4, events_room])
+            else
+                allocate(no_events(4, 0))
+                ev => no_events
+            end if
+            allocate(y(sys%n_states(), n_out))
+            y = 0.0_dp
+            call box%model%simulate(trim(METHOD_TABLE(method)%name), t_end, t, y, st, [rtol], [atol], keys, vals, &
+                                    box%elem_kind, box%elem_index, events=ev)
+            status = int(st%status, c_int)
+            xo = transpose(y(:nb, :))
+            vo = transpose(y(nb + 1:2 * nb, :))
+            if (associated(count)) count = int(st%nevents, c_int64_t)
+        end if
+        if (associated(box)) box%status = status
+        call put_stats(st, status, stats)
+    end function ss_model_simulate
+
     ! -- helpers -------------------------------------------------------------------
+
+    !> The model behind a handle: SS_OK, or SS_BAD_HANDLE (box null) for NULL or a pointer
+    !! that does not hold a live model (one never made by ss_model_new, or freed; a freed
+    !! handle is told apart only while its memory has not been reused).
+    function handle(model, box) result(status)
+        type(c_ptr), intent(in) :: model
+        type(model_handle), pointer, intent(out) :: box
+        integer(c_int) :: status
+        status = SS_BAD_HANDLE
+        box => null()
+        if (.not. c_associated(model)) return
+        call c_f_pointer(model, box)
+        if (box%tag /= LIVE_TAG) then
+            box => null()
+            return
+        end if
+        status = SS_OK
+    end function handle
+
+    !> A signal of two signals of a model: s1 + s2, s1 - s2 or s1 * s2 (op '+', '-' or '*');
+    !! its index or SS_BAD_HANDLE.
+    function two_signals(model, s1, s2, op) result(index)
+        type(c_ptr), intent(in) :: model
+        integer(c_int), intent(in) :: s1, s2
+        character, intent(in) :: op
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index /= SS_OK) return
+        select case (op)
+        case ('+')
+            index = int(box%model%plus(int(s1), int(s2)), c_int)
+        case ('-')
+            index = int(box%model%minus(int(s1), int(s2)), c_int)
+        case default
+            index = int(box%model%times(int(s1), int(s2)), c_int)
+        end select
+    end function two_signals
+
+    !> A C array of n doubles as a Fortran pointer (zero-size for n = 0, NULL or not):
+    !! SS_OK, or SS_BAD_DIM for n < 0 or NULL with n > 0.
+    function c_array(p, n, a) result(status)
+        type(c_ptr), intent(in) :: p
+        integer(c_int), intent(in) :: n
+        real(c_double), pointer, intent(out) :: a(:)
+        integer(c_int) :: status
+        status = SS_OK
+        if (n < 0 .or. (n > 0 .and. .not. c_associated(p))) then
+            status = SS_BAD_DIM
+            a => null()
+        else if (n == 0) then
+            a => no_values
+        else
+            call c_f_pointer(p, a, [n])
+        end if
+    end function c_array
+
+    !> The NUL-terminated C string at p as a Fortran string ('' for NULL).
+    function c_string_at(p) result(f)
+        type(c_ptr), intent(in) :: p
+        character(len=:), allocatable :: f
+        character(kind=c_char), pointer :: s(:)
+        integer :: n
+        if (.not. c_associated(p)) then
+            f = ''
+            return
+        end if
+        n = int(c_strlen(p))
+        call c_f_pointer(p, s, [n])
+        allocate(character(len=n) :: f)
+        f = transfer(s, f)
+    end function c_string_at
+
+    !> *p = value for a C int pointer (NULL: nothing).
+    subroutine put_int(p, value)
+        type(c_ptr), intent(in) :: p
+        integer, intent(in) :: value
+        integer(c_int), pointer :: target_int
+        if (.not. c_associated(p)) return
+        call c_f_pointer(p, target_int)
+        target_int = int(value, c_int)
+    end subroutine put_int
+
+    !> The message of a model's last status, prefixed by the element it names:
+    !! "contact 2 (body 1 - ground): ...".
+    function element_message(box) result(msg)
+        type(model_handle), intent(in) :: box
+        character(len=:), allocatable :: msg
+        character(len=*), parameter :: KINDS(6) = [character(len=7) :: 'body', 'spring', 'damper', 'force', &
+                                                    'contact', 'signal']
+        integer :: i
+        msg = stickslip_message(box%status)
+        if (box%elem_kind < 1 .or. box%elem_kind > size(KINDS) .or. box%elem_index < 1) return
+        i = box%elem_index
+        select case (box%elem_kind)
+        case (ELEM_SPRING)
+            msg = pair(box%model%spr_a(i), box%model%spr_b(i)) // msg
+        case (ELEM_DAMPER)
+            msg = pair(box%model%dmp_a(i), box%model%dmp_b(i)) // msg
+        case (ELEM_CONTACT)
+            msg = pair(box%model%con_a(i), box%model%con_b(i)) // msg
+        case (ELEM_FORCE)
+            msg = ' (' // body_name(box%model%frc_body(i)) // '): ' // msg
+        case default
+            msg = ': ' // msg
+        end select
+        msg = trim(KINDS(box%elem_kind)) // ' ' // number(i) // msg
+    contains
+        function pair(a, b) result(s)
+            integer, intent(in) :: a, b
+            character(len=:), allocatable :: s
+            s = ' (' // body_name(a) // ' - ' // body_name(b) // '): '
+        end function pair
+        function body_name(j) result(s)
+            integer, intent(in) :: j
+            character(len=:), allocatable :: s
+            s = 'body ' // number(j)
+            if (j == 0) s = 'ground'
+        end function body_name
+        function number(j) result(s)
+            integer, intent(in) :: j
+            character(len=:), allocatable :: s
+            character(len=12) :: buf
+            write (buf, '(i0)') j
+            s = trim(buf)
+        end function number
+    end function element_message
 
     !> Evaluate a law given by code with named parameters at n velocities.
     function mu_named(law, keys, vals, n, v, mu) result(status)

@@ -75,6 +75,7 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_SPRING = -188      !! a stiffness not finite or < 0, or a rest length not finite
     integer, parameter, public :: SS_BAD_DAMPER = -189      !! a damping coefficient not finite or < 0
     integer, parameter, public :: SS_BAD_SIGNAL = -190      !! a signal malformed (see stickslip_signal)
+    integer, parameter, public :: SS_BAD_HANDLE = -191      !! a C model handle that is NULL or not one of ss_model_new
 
     !> Names of the status codes above, for the generated C header (`SS_` + name).
     character(len=*), parameter, public :: STATUS_NAMES = 'OK STEP_BUDGET STEP_TOO_SMALL STIFF ' // &
@@ -84,9 +85,9 @@ module stickslip_kinds
         'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH' // &
         ' CONTACT_FAILED EVENT_ZENO EVENT_BUDGET BAD_THETA_MJ BAD_CONTACT_CTL BAD_EVENT_CTL' // &
         ' NOT_SETVALUED JUMP_MANY_CONTACTS BAD_TIMES BAD_MOTION BAD_BACKLASH BAD_ASYMMETRY BAD_NORMAL_FORCE' // &
-        ' DIVERGED BAD_MODEL_EMPTY BAD_BODY BAD_MASS BAD_SPRING BAD_DAMPER BAD_SIGNAL'
+        ' DIVERGED BAD_MODEL_EMPTY BAD_BODY BAD_MASS BAD_SPRING BAD_DAMPER BAD_SIGNAL BAD_HANDLE'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(53) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(54) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
@@ -96,7 +97,7 @@ module stickslip_kinds
         SS_BAD_CONTACT_CTL, SS_BAD_EVENT_CTL, SS_NOT_SETVALUED, SS_JUMP_MANY_CONTACTS, SS_BAD_TIMES, &
         SS_BAD_MOTION, &
         SS_BAD_BACKLASH, SS_BAD_ASYMMETRY, SS_BAD_NORMAL_FORCE, SS_DIVERGED, SS_BAD_MODEL_EMPTY, SS_BAD_BODY, &
-        SS_BAD_MASS, SS_BAD_SPRING, SS_BAD_DAMPER, SS_BAD_SIGNAL]
+        SS_BAD_MASS, SS_BAD_SPRING, SS_BAD_DAMPER, SS_BAD_SIGNAL, SS_BAD_HANDLE]
 
 contains
 
@@ -181,6 +182,7 @@ contains
         case (SS_BAD_DAMPER);     msg = 'c: must be finite and >= 0 [N s/m]'
         case (SS_BAD_SIGNAL);     msg = 'signal: malformed (a ramp''s duration must be > 0, a table''s times' // &
                                         ' finite and strictly increasing, every number finite)'
+        case (SS_BAD_HANDLE);     msg = 'model: not a live handle of ss_model_new (NULL, freed, or another pointer)'
         case default;             msg = 'unknown status code'
         end select
     end function status_text
