@@ -93,13 +93,16 @@ TIEBREAK_RTOL: float = 1e-10
 N_GRID: int = 33
 #: Methods that step through a friction jump with set-valued friction (when registered).
 NONSMOOTH_METHODS: tuple[str, ...] = ("moreau", "event_driven")
+#: The reference of a model whose every contact takes exact stick (`_exact_reference`).
+EXACT_METHOD: str = "event_driven"
 QUANTITIES: dict[str, str] = {"x": "position x [m]", "v": "velocity v [m/s]"}
 
 
 @dataclass
 class Run:
     """One run the advice rests on: its role ("pilot"; "survey", a trajectory for the Jacobian
-    when only fixed-step methods are candidates; "verify"; "check", a tie-breaker), method and
+    when only fixed-step methods are candidates; "verify"; "check", a tie-breaker;
+    "reference", a model's exact-stick reference), method and
     controls,
     the quantity at t_end (q), the error estimate (None where none could be made), and its cost
     (evaluations, CPU seconds of the integration)."""
@@ -343,6 +346,7 @@ class _Problem:
         self.scene, self.law, self.t_end, self.quantity = scene, law, t_end, quantity
         self.x0, self.v0, self.params = x0, v0, params
         self.model, self.body = model, body         # a Model (scene "model") and its body advised on
+        self.exact: Run | None = None               # the exact-stick reference run (a model)
         self.runs: list[Run] = []
         self.results: dict[int, Any] = {}          # id(Run) -> Result (for the trajectory)
         self.scale = 0.0                           # max |q| seen [m or m/s]
@@ -878,11 +882,15 @@ def _agrees(prob: _Problem, advice: Advice, cand: Candidate, run: Run, err: floa
     steps damp an oscillation to its centre, forced steps at h_min bias DOPRI5), and fill in the
     advice; refuse it when it disagrees with every other method, unless a third, adaptive
     method run tight (_tiebreak) sides with it."""
-    refs = [min((r for r in lad.runs if r.error is not None), key=lambda r: r.error)
-            for m, lad in ladders.items() if m != cand.method and any(r.error is not None for r in lad.runs)]
-    refs = sorted((r for r in refs if r.error <= target), key=lambda r: r.error)   # able to judge
+    exact = _exact_reference(prob)
+    if exact is not None:                 # a model whose contacts all take exact stick
+        refs = [exact] if exact.error is not None and exact.error <= target else []
+    else:
+        refs = [min((r for r in lad.runs if r.error is not None), key=lambda r: r.error)
+                for m, lad in ladders.items() if m != cand.method and any(r.error is not None for r in lad.runs)]
+        refs = sorted((r for r in refs if r.error <= target), key=lambda r: r.error)   # able to judge
     agree = [r for r in refs if abs(run.q - r.q) <= target + r.error]
-    if refs and not agree:                # a third method decides, where one can run tight
+    if refs and not agree and exact is None:   # a third method decides, where one can run tight
         judge = _tiebreak(prob, ladders, {cand.method} | {r.method for r in refs}, target)
         if judge is not None:
             refs.append(judge)
@@ -890,7 +898,8 @@ def _agrees(prob: _Problem, advice: Advice, cand: Candidate, run: Run, err: floa
                 agree = [judge]
     if refs and not agree:
         ref = refs[0]
-        cand.note += (f"; differs from every other method, e.g. {ref.method} ({ref.setting()}) by "
+        cand.note += (("; differs from the exact-stick reference " if exact is not None else
+                       "; differs from every other method, e.g. ") + f"{ref.method} ({ref.setting()}) by "
                       f"{abs(run.q - ref.q):.2g} > target + its error {error_text(ref.error, prob.floor)}: "
                       "refused")
         cand.feasible = False
@@ -911,6 +920,26 @@ def _agrees(prob: _Problem, advice: Advice, cand: Candidate, run: Run, err: floa
                       f"target/{SAFETY:g}, error estimated against a tighter run of the same method)"
                       + check)
     return True
+
+
+def _exact_reference(prob: _Problem) -> Run | None:
+    """On a model whose every contact takes exact stick (its laws those of EXACT_METHOD): a
+    tight run of EXACT_METHOD (rtol = TIEBREAK_RTOL, its error estimated against rtol/10), made
+    once, the reference every candidate is checked against. The event-free methods integrate the
+    laws' regularised forms (Coulomb's mu_s band of width v_s), another motion, so they cannot
+    judge the exact one. None elsewhere, or when EXACT_METHOD cannot run the model."""
+    model = prob.model
+    if model is None or not model.contacts or EXACT_METHOD not in METHODS \
+            or not all(takes(EXACT_METHOD, c.law) for c in model.contacts):
+        return None
+    if prob.exact is None:
+        a = prob.run("reference", EXACT_METHOD, controls_at(EXACT_METHOD, TIEBREAK_RTOL), PILOT_MAX_STEPS)
+        b = prob.run("reference", EXACT_METHOD, controls_at(EXACT_METHOD, TIEBREAK_RTOL / 10.0), PILOT_MAX_STEPS)
+        if a.q is not None and b.q is not None:
+            b.error = max(abs(a.q - b.q) * 0.1 / 0.9, prob.floor)
+            a.error = abs(a.q - b.q) + b.error
+        prob.exact = b
+    return prob.exact if prob.exact.q is not None else None
 
 
 def _tiebreak(prob: _Problem, ladders: dict[str, _Ladder], exclude: set[str],

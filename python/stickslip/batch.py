@@ -489,7 +489,7 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
     (n_sets, n_bodies, n_grid), one row per body, and y_grid the whole state.
     """
     from .core import IntegrationError, friction_coefficient, _physical
-    from .model import Model, simulate_model
+    from .model import Model, check_method, simulate_model
     if not isinstance(model, Model):
         raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
     threads = _count("threads", threads)
@@ -529,7 +529,6 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
     kwargs: list[dict[str, Any]] = []
     for i in range(n):
         values = [float(rows["o:" + a][i]) for a in overrides]
-        m_i = Model.from_dict(_overridden(base, targets, values)) if targets else model
         meth = str(rows["method"][i])
         kw: dict[str, Any] = {}
         for k in controls:
@@ -537,12 +536,14 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
             if k in REGISTRY["method"][meth]["controls"] and not np.isnan(val):
                 kw[k] = int(val) if k == "max_steps" else val
         try:
+            m_i = Model.from_dict(_overridden(base, targets, values)) if targets else model
             for j, c in enumerate(m_i.contacts):
                 try:
                     friction_coefficient(c.law, 0.0, **_physical(dict(c.params)))
                 except ValueError as exc:
                     raise ValueError(f"{m_i.contact_label(j)}: {exc}") from None
             m_i.n_states()
+            check_method(m_i, meth)
         except ValueError as exc:
             raise ValueError(f"row {i} ({meth}): {exc}") from None
         models.append(m_i)
@@ -578,8 +579,8 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
     for i, (res, secs) in enumerate(done):
         stats = res.stats
         status[i] = int(stats["status"])
-        y = res.y
-        written = y.shape[1]
+        written = res.x.shape[1]
+        y = np.vstack([res.x, res.v, np.asarray(res.z).reshape(-1, written)]) if written else np.zeros((nstate[i], 0))
         t_i = res.t[:written]
         y_end[i, :nstate[i]] = y[:, -1] if written else np.concatenate(
             [[b.x0 for b in models[i].bodies], [b.v0 for b in models[i].bodies], np.zeros(nstate[i] - 2 * nb)])

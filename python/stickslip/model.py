@@ -440,11 +440,10 @@ def _toml(data: Mapping[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None = None,
-                   every_step: bool = False, max_steps: int | None = None, **controls: Any) -> Result:
-    """Run `model` (what ``stickslip.simulate(model, method=..., ...)`` does; see there)."""
-    if not isinstance(model, Model):
-        raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
+def check_method(model: Model, method: str) -> None:
+    """ValueError, naming the contact, when `method` cannot take the laws of `model`'s
+    contacts (set-valued methods take coulomb and stribeck only; implicit_euler and galpha
+    take laws that jump only when every contact's law jumps)."""
     _choice("method", method, METHODS)
     info = REGISTRY["method"][method]
     laws = [c.law for c in model.contacts]
@@ -462,6 +461,16 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
                              f"({', '.join(_JUMP_LAWS)}) over their modes, every contact's law then jumping; "
                              f"this contact's law is {laws[smooth]!r} (give every contact a law that jumps, "
                              "or none)")
+
+
+def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None = None,
+                   every_step: bool = False, max_steps: int | None = None, **controls: Any) -> Result:
+    """Run `model` (what ``stickslip.simulate(model, method=..., ...)`` does; see there)."""
+    if not isinstance(model, Model):
+        raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
+    check_method(model, method)
+    info = REGISTRY["method"][method]
+    laws = [c.law for c in model.contacts]
     arrays = model.arrays()
     n = model.n_states()
     t_end = _finite("t_end", t_end, "> 0 [s]")
