@@ -26,8 +26,9 @@ H: float = 1e-3
 MAX_STEPS: int = 200_000
 
 
-def general_model(law: str):
-    """The small general model of the module's docstring, with `law` on both contacts."""
+def general_model(law: str, **law_params: float):
+    """The small general model of the module's docstring, with `law` (and `law_params`, the
+    defaults when none) on both contacts."""
     import stickslip as ss
     m = ss.Model()
     a = m.add_body(1.0, v0=0.5)
@@ -35,8 +36,8 @@ def general_model(law: str):
     m.add_spring(a, None, 50.0)
     m.add_spring(a, b, 80.0)
     m.add_force(b, ss.signal.step(0.3, 0.0, 4.0))
-    m.add_contact(a, None, law, 9.81, surface_velocity=0.3)
-    m.add_contact(b, a, law, 5.0)
+    m.add_contact(a, None, law, 9.81, surface_velocity=0.3, **law_params)
+    m.add_contact(b, a, law, 5.0, **law_params)
     return m
 
 

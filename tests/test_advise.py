@@ -303,19 +303,11 @@ def test_cli_bad_input(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 # -- a model (your own system) -------------------------------------------------------------------
-def _two_body_model(law: str, **law_params: float) -> "stickslip.Model":
+def _two_body_model(law: str, **law_params: float) -> "ss.Model":
     """Two bodies, a spring between them and one to the ground, a force that steps at 0.3 s, a
-    contact on a moving surface and one between the bodies."""
-    import stickslip
-    m = stickslip.Model()
-    a = m.add_body(1.0, v0=0.5)
-    b = m.add_body(2.0)
-    m.add_spring(a, None, 50.0)
-    m.add_spring(a, b, 80.0)
-    m.add_force(b, stickslip.signal.step(0.3, 0.0, 4.0))
-    m.add_contact(a, None, law, 9.81, surface_velocity=0.3, **law_params)
-    m.add_contact(b, a, law, 5.0, **law_params)
-    return m
+    contact on a moving surface and one between the bodies (cases.model_pairs)."""
+    from cases.model_pairs import general_model
+    return general_model(law, **law_params)
 
 
 def test_advise_on_a_two_body_model_with_exact_stick() -> None:

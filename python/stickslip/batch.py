@@ -147,6 +147,21 @@ def _real(name: str, value: Any, accepted: str, allow_nan: bool = False) -> np.n
     return arr
 
 
+def _broadcast_rows(cols: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], int]:
+    """The per-set columns broadcast to one entry per row, and the number of rows; ValueError
+    when their lengths differ or one is empty (keys "c:name", "o:name" are named "name")."""
+    try:
+        shape = np.broadcast_shapes(*(c.shape for c in cols.values()))
+    except ValueError:
+        lengths = {k.removeprefix("c:").removeprefix("o:"): c.size for k, c in cols.items()
+                   if c.ndim == 1 and c.size != 1}
+        raise ValueError(f"per-set arguments of different lengths: {lengths}") from None
+    n = int(np.prod(shape)) if shape else 1
+    if n < 1:
+        raise ValueError("no parameter sets (a per-set argument is empty)")
+    return {k: np.broadcast_to(c, (n,)).copy() for k, c in cols.items()}, n
+
+
 def _codes(name: str, value: str | Sequence[str], accepted: tuple[str, ...]) -> np.ndarray:
     names = [value] if isinstance(value, str) else list(value)
     for v in names:
@@ -219,15 +234,7 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
             arr = arr.astype(np.float64)
         cols["c:" + k] = _real(k, arr, "see stickslip.simulate; NaN: not given", allow_nan=True)
 
-    try:
-        shape = np.broadcast_shapes(*(c.shape for c in cols.values()))
-    except ValueError:
-        lengths = {k.removeprefix("c:"): c.size for k, c in cols.items() if c.ndim == 1 and c.size != 1}
-        raise ValueError(f"per-set arguments of different lengths: {lengths}") from None
-    n = int(np.prod(shape)) if shape else 1
-    if n < 1:
-        raise ValueError("no parameter sets (a per-set argument is empty)")
-    rows = {k: np.broadcast_to(c, (n,)).copy() for k, c in cols.items()}
+    rows, n = _broadcast_rows(cols)
 
     # Controls: one column per control any row's method reads; NaN where a row's method does not.
     methods = sorted(set(rows["method"]))
@@ -509,16 +516,7 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
         arr = np.asarray(np.nan if value is None else value)
         cols["c:" + k] = _real(k, arr.astype(np.float64) if arr.dtype == bool else arr,
                                "see stickslip.simulate; NaN: not given", allow_nan=True)
-    try:
-        shape = np.broadcast_shapes(*(c.shape for c in cols.values()))
-    except ValueError:
-        lengths = {k.removeprefix("c:").removeprefix("o:"): c.size for k, c in cols.items()
-                   if c.ndim == 1 and c.size != 1}
-        raise ValueError(f"per-set arguments of different lengths: {lengths}") from None
-    n = int(np.prod(shape)) if shape else 1
-    if n < 1:
-        raise ValueError("no parameter sets (a per-set argument is empty)")
-    rows = {k: np.broadcast_to(c, (n,)).copy() for k, c in cols.items()}
+    rows, n = _broadcast_rows(cols)
     methods = sorted(set(rows["method"]))
     for k in controls:
         if not any(k in REGISTRY["method"][m]["controls"] for m in methods):
