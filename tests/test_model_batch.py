@@ -146,3 +146,23 @@ def test_every_law_every_method_as_the_table_says(method):
         if table[(law, method)] == "refused":
             with pytest.raises(ValueError, match=r"^contact \d \("):
                 ss.simulate(general_model(law), method=method, t_end=1.0, **controls(method))
+
+
+@pytest.mark.parametrize("law, method, ctl", [("recurdyn", "rk4", dict(h=1e-3)), ("coulomb", "rk4", dict(h=1e-3)),
+                                              ("proposed", "dopri5", dict(rtol=1e-8, atol=1e-10))])
+def test_summary_equals_the_scene_batch_on_the_slope(law, method, ctl):
+    """On the slope as a model (its relative velocity is the body's velocity, as a model row
+    monitors) the summary computed from the model's grid equals the one the Fortran batch
+    computes for the scene: sign changes, reversals, v_max and the tail's range."""
+    cases = ((0.5, 10.0), (1.0, 20.0), (2.0, 30.0))
+    scene = ss.simulate_batch("slope", law, method=method, t_end=5.0, n_grid=401, v0=[c[0] for c in cases],
+                              theta_deg=[c[1] for c in cases], **ctl)
+    for i, (v0, theta) in enumerate(cases):
+        b = ss.simulate_batch(ss.Model.from_scene("slope", law, v0=v0, theta_deg=theta), None, method=method,
+                              t_end=5.0, n_grid=401, **ctl)
+        assert b.status[0] == scene.status[i]
+        for k in ("n_flip", "n_flip_tail", "n_rev", "n_rev_tail", "nfev"):
+            assert b.fields[k][0] == scene.fields[k][i], k
+        for k in ("v_max", "vrel_min_tail", "vrel_max_tail", "t_last"):
+            assert b.fields[k][0] == pytest.approx(scene.fields[k][i], rel=1e-9, abs=1e-12), k
+        assert b.chattered[0] == scene.chattered[i]

@@ -72,6 +72,10 @@ class BatchResult:
     - forced: at least one step was taken at h_min although the error test failed there
       (nforced > 0): the tolerance was not met on those steps.
 
+    Rows of a model (`simulate_model_batch`: scene "model", law its contacts' laws joined by
+    "+", params its overrides by address and n_blocks its number of bodies) monitor body 0, and
+    their x and v hold every body: shape (n_sets, n_bodies, n_grid).
+
     `ok` is True where the row reached t_end (status 0), and nothing more: it says nothing of
     accuracy. A row can be ok and chattered, ok and forced, or ok and far from the exact
     solution (a fixed step beyond the stability bound that did not blow up, a loose tolerance).
