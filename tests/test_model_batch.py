@@ -108,6 +108,10 @@ def test_overrides_are_checked_before_running(overrides, message):
 
 
 def test_model_batch_refuses_scene_arguments():
+    with pytest.raises(ValueError, match=r"overrides: must be a dict .* got str"):
+        ss.simulate_batch(two_body(), "coulomb", method="dopri5", t_end=1.0)
+    with pytest.raises(ValueError, match=r"law: required for a scene"):
+        ss.simulate_batch("belt", method="rk4", t_end=1.0, h=1e-3)
     with pytest.raises(ValueError, match=r"x0, v0, ignore_unused: not for a model"):
         ss.simulate_batch(two_body(), {}, method="dopri5", t_end=1.0, v0=1.0)
     with pytest.raises(ValueError, match=r"h: not a control of any row's method \(dopri5\)"):

@@ -109,12 +109,18 @@ def simulate_batch(scene: str | Sequence[str] | Model, law: str | Sequence[str] 
         if x0 != 0.0 or v0 is not None or ignore_unused:
             raise ValueError("x0, v0, ignore_unused: not for a model (override \"body i.x0\", "
                              "\"body i.v0\" instead)")
+        if law is not None and not isinstance(law, dict):
+            raise ValueError(f"overrides: must be a dict of \"kind index.field\" -> values (e.g. "
+                             f"{{\"contact 0.mu_k\": [0.2, 0.3]}}), got {type(law).__name__}")
         model_args = dict(overrides=dict(law or {}), method=method, t_end=t_end, n_grid=n_grid,
                           keep_grid=keep_grid, threads=threads, **params)
         if client is None and chunk_rows is None and out is None and not progress:
             return batch.simulate_model_batch(scene, **model_args)
         return run_chunked(dict(model=scene.to_dict(), **model_args), client=client,
                            chunk_rows=chunk_rows, out=out, progress=progress)
+    if law is None:
+        raise ValueError("law: required for a scene (a name of LAWS, or one per row); a model takes "
+                         "its overrides there instead")
     kwargs: dict[str, Any] = dict(method=method, t_end=t_end, x0=x0, v0=v0, n_grid=n_grid,
                                   keep_grid=keep_grid, threads=threads, **params)
     if ignore_unused:
