@@ -22,6 +22,7 @@ import math
 import os
 import tempfile
 import tomllib
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
@@ -34,6 +35,7 @@ from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
                    IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
                    _physical, MAX_ROWS)
 from .signal import Signal, SignalLike, as_signal
+from .energy import EnergyBoundWarning, energy_bound
 
 __all__ = ["Model"]
 
@@ -535,4 +537,21 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
+    _check_energy(model, result)
     return result
+
+
+def _check_energy(model: Model, result: Result) -> None:
+    """An EnergyBoundWarning where the result's mechanical energy exceeds its bound
+    (stickslip.energy.energy_bound; models it does not check pass)."""
+    checked = energy_bound(model, result.t, result.x, result.v)
+    if checked is None:
+        return
+    e, bound = checked
+    over = np.flatnonzero(~(e <= bound))
+    if over.size:
+        i = int(over[0])
+        warnings.warn(f"model ({result.method}): the mechanical energy {e[i]:.6g} J at t = {result.t[i]:.6g} s "
+                      f"exceeds {bound[i]:.6g} J, the most its forces and moving surfaces can have put in "
+                      "(stickslip.energy): the result is wrong; take a smaller step or tolerance",
+                      EnergyBoundWarning, stacklevel=4)
