@@ -114,6 +114,8 @@ def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray) -> tup
     for s in [s for s, _ in terms_a] + [x for n, w, _ in terms_b for x in (n, w)]:
         f_max = max(f_max, _features(s, corners))
     t_end = float(t[-1])
+    if not terms_a and not terms_b:           # nothing puts energy in: E <= E(0)
+        return e, _bound(float(e[0]), np.zeros_like(t), np.zeros_like(t))
     points = max(MIN_POINTS, int(64 * f_max * t_end) + 1)
     if points > MAX_POINTS:
         return None
@@ -132,7 +134,10 @@ def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray) -> tup
         corners are grid points, above the integral where y is monotone between points)."""
         cum = np.concatenate([[0.0], np.cumsum(np.maximum(y[1:], y[:-1]) * np.diff(fine))])
         return np.interp(t, fine, cum)
-    int_a = integral(a_t) * (1.0 + MARGIN)
-    int_b = integral(b_t) * (1.0 + MARGIN)
-    bound = (np.sqrt(e[0] + int_b) + 0.5 * int_a) ** 2 * (1.0 + MARGIN) + 1e-14 * max(float(e[0]), 1e-300)
-    return e, bound
+    return e, _bound(float(e[0]), integral(a_t), integral(b_t))
+
+
+def _bound(e0: float, int_a: np.ndarray, int_b: np.ndarray) -> np.ndarray:
+    """( sqrt(E0 + int b) + 1/2 int a )^2, with the margins."""
+    int_a, int_b = int_a * (1.0 + MARGIN), int_b * (1.0 + MARGIN)
+    return (np.sqrt(e0 + int_b) + 0.5 * int_a) ** 2 * (1.0 + MARGIN) + 1e-14 * max(e0, 1e-300)
