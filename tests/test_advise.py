@@ -300,3 +300,64 @@ def test_cli_bad_input(capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit):
         advise_cli.main(["--scene", "belt", "--law", "stribeck", "--target", "1e-6", "--param", "k=-3"])
     assert "k" in capsys.readouterr().err
+
+
+# -- a model (your own system) -------------------------------------------------------------------
+def _two_body_model(law: str, **law_params: float) -> "ss.Model":
+    """Two bodies, a spring between them and one to the ground, a force that steps at 0.3 s, a
+    contact on a moving surface and one between the bodies (cases.model_pairs)."""
+    from cases.model_pairs import general_model
+    return general_model(law, **law_params)
+
+
+def test_advise_on_a_two_body_model_with_exact_stick() -> None:
+    """Coulomb contacts with stiction: the set-valued methods are candidates, the advice is
+    feasible and its run lands within the target of event_driven at rtol = 1e-12 (exact stick;
+    the event-free methods integrate mu_k sign(v), another motion, and are not the reference)."""
+    import stickslip
+    m = _two_body_model("coulomb", mu_s=0.4, mu_k=0.3)
+    a = stickslip.advise(m, 1e-5, 1.0, body=1)
+    assert a.feasible and a.scene == "model" and a.law == "coulomb" and a.model is m and a.body == 1
+    assert {"moreau", "event_driven"} <= {c.method for c in a.candidates}
+    r = stickslip.simulate(a.model, method=a.method, t_end=a.t_end, **a.controls)
+    ref = stickslip.simulate(m, method="event_driven", t_end=1.0, rtol=1e-12, atol=1e-14)
+    assert abs(r.x[1, -1] - ref.x[1, -1]) <= 1e-5
+    assert "advise: model, coulomb" in str(a)
+    assert any(r.role == "reference" and r.method == "event_driven" for r in a.runs)
+
+
+def test_event_free_advice_on_a_model_is_checked_against_exact_stick() -> None:
+    """Generalized-alpha integrates Coulomb's event-free form (mu_s within v_s of v = 0) and
+    converges to another motion, 1.6e-3 m from the exact one: its own ladder agrees with itself,
+    the exact-stick reference refuses it."""
+    import stickslip
+    m = _two_body_model("coulomb", mu_s=0.4, mu_k=0.3)
+    a = stickslip.advise(m, 1e-5, 1.0, body=1, methods=["galpha"])
+    assert not a.feasible
+    assert "differs from the exact-stick reference event_driven" in a.candidates[0].note
+
+
+def test_advise_on_a_two_body_model_with_smooth_laws() -> None:
+    """Smooth laws: the set-valued methods are not candidates; the advised run's velocity of
+    body 1 at t_end is within the target of RADAU5 at rtol = 1e-12."""
+    import stickslip
+    m = _two_body_model("recurdyn")
+    a = stickslip.advise(m, 1e-6, 1.0, body=1, quantity="v")
+    assert a.feasible and not {"moreau", "event_driven"} & {c.method for c in a.candidates}
+    r = stickslip.simulate(a.model, method=a.method, t_end=a.t_end, **a.controls)
+    ref = stickslip.simulate(m, method="radau5", t_end=1.0, rtol=1e-12, atol=1e-14)
+    assert abs(r.v[1, -1] - ref.v[1, -1]) <= 1e-6
+    assert a.stability_bound is not None and a.stability_bound > 0.0
+
+
+def test_advise_on_a_model_refuses_scene_arguments() -> None:
+    import stickslip
+    m = _two_body_model("coulomb")
+    with pytest.raises(ValueError, match=r"law, x0, v0, parameters: not for a model"):
+        stickslip.advise(m, "coulomb", 1e-5, 1.0)
+    with pytest.raises(ValueError, match=r"law, x0, v0, parameters: not for a model"):
+        stickslip.advise(m, 1e-5, 1.0, mu_k=0.2)
+    with pytest.raises(ValueError, match=r"body: must be a body index of the model \(0 \.\. 1\), got 2"):
+        stickslip.advise(m, 1e-5, 1.0, body=2)
+    with pytest.raises(ValueError, match=r"target_error: must be a finite number > 0"):
+        stickslip.advise(m, -1.0, 1.0)

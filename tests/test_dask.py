@@ -104,3 +104,21 @@ def test_study_rows_on_the_cluster(client) -> None:
         assert stability.rk4_map(v_ss, 3, 1, remote) == stability.rk4_map(v_ss, 3, 1)
         assert stability.dopri5_map(v_ss, [1e-3, 1e-6], 1, remote) == \
             stability.dopri5_map(v_ss, [1e-3, 1e-6], 1)
+
+
+def test_model_rows_on_the_cluster(client) -> None:
+    """A model's batch (the model sent to the workers as its dict) equals the local one, and
+    each row the single run of the overridden model; a bad override names the whole sweep's row."""
+    from test_model_batch import ROWS, by_hand, two_body
+    kw = dict(method="event_driven", t_end=1.0, n_grid=21, keep_grid=True, rtol=1e-10, atol=1e-12)
+    local = stickslip.simulate_batch(two_body(), ROWS, **kw)
+    b = stickslip.simulate_batch(two_body(), ROWS, **kw, client=client, chunk_rows=1)
+    assert_same_rows(local, b)
+    np.testing.assert_array_equal(b.x, local.x)
+    for i in range(len(b)):
+        r = stickslip.simulate(by_hand(i), n_out=21, **{k: v for k, v in kw.items()
+                                                         if k not in ("n_grid", "keep_grid")})
+        np.testing.assert_array_equal(b.v[i], r.v)
+    with pytest.raises(ValueError, match=r"row 3 \(moreau\): body 0: mass must be > 0"):
+        stickslip.simulate_batch(two_body(), {"body 0.mass": [1.0, 1.0, 2.0, -1.0]}, method="moreau",
+                                 t_end=0.1, h=1e-3, client=client, chunk_rows=2)

@@ -93,13 +93,16 @@ TIEBREAK_RTOL: float = 1e-10
 N_GRID: int = 33
 #: Methods that step through a friction jump with set-valued friction (when registered).
 NONSMOOTH_METHODS: tuple[str, ...] = ("moreau", "event_driven")
+#: The reference of a model whose every contact takes exact stick (`_exact_reference`).
+EXACT_METHOD: str = "event_driven"
 QUANTITIES: dict[str, str] = {"x": "position x [m]", "v": "velocity v [m/s]"}
 
 
 @dataclass
 class Run:
     """One run the advice rests on: its role ("pilot"; "survey", a trajectory for the Jacobian
-    when only fixed-step methods are candidates; "verify"; "check", a tie-breaker), method and
+    when only fixed-step methods are candidates; "verify"; "check", a tie-breaker;
+    "reference", a model's exact-stick reference), method and
     controls,
     the quantity at t_end (q), the error estimate (None where none could be made), and its cost
     (evaluations, CPU seconds of the integration)."""
@@ -144,7 +147,9 @@ class Advice:
 
     ``method`` and ``controls`` go straight into
     ``simulate(a.scene, a.law, method=a.method, t_end=a.t_end, x0=a.x0, v0=a.v0,
-    **a.controls, **a.params)``; they are None and ``{}`` when no method can meet the target
+    **a.controls, **a.params)``, or ``simulate(a.model, method=a.method, t_end=a.t_end,
+    **a.controls)`` for a model (``scene`` "model", ``law`` its contacts' laws joined by "+",
+    ``body`` the body whose x or v was advised on); they are None and ``{}`` when no method can meet the target
     (``feasible`` is then False and ``message`` names what can).
 
     Attributes
@@ -185,6 +190,8 @@ class Advice:
     seconds_per_evaluation: dict[str, float] = field(default_factory=dict)
     stability_bound: float | None = None
     roundoff: float = 0.0
+    model: Any = None
+    body: int = 0
 
     def table(self) -> str:
         """The candidates and the runs as two text tables."""
@@ -335,9 +342,11 @@ class _Problem:
     """The problem being advised on and the runs made so far."""
 
     def __init__(self, scene: str, law: str, t_end: float, quantity: str, x0: float, v0: float,
-                 params: dict[str, float]) -> None:
+                 params: dict[str, float], model: Any = None, body: int = 0) -> None:
         self.scene, self.law, self.t_end, self.quantity = scene, law, t_end, quantity
         self.x0, self.v0, self.params = x0, v0, params
+        self.model, self.body = model, body         # a Model (scene "model") and its body advised on
+        self.exact: Run | None = None               # the exact-stick reference run (a model)
         self.runs: list[Run] = []
         self.results: dict[int, Any] = {}          # id(Run) -> Result (for the trajectory)
         self.scale = 0.0                           # max |q| seen [m or m/s]
@@ -352,14 +361,19 @@ class _Problem:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")     # the advisor checks RK4's bound itself
-                res = simulate(self.scene, self.law, method=method, t_end=self.t_end, n_out=N_GRID,
-                               x0=self.x0, v0=self.v0, **kw, **self.params)
+                if self.model is not None:
+                    res = simulate(self.model, method=method, t_end=self.t_end, n_out=N_GRID, **kw)
+                else:
+                    res = simulate(self.scene, self.law, method=method, t_end=self.t_end, n_out=N_GRID,
+                                   x0=self.x0, v0=self.v0, **kw, **self.params)
         except IntegrationError as exc:
             s = exc.result.stats
             run = Run(role, method, dict(controls), None, None, int(s["nfev"]), float(s["cpu_seconds"]),
                       status=s["message"], t_reached=float(s["t_reached"]))
         else:
             qs = res.x if self.quantity == "x" else res.v
+            if self.model is not None:
+                qs = qs[self.body]
             self.scale = max(self.scale, float(np.max(np.abs(qs))))
             run = Run(role, method, dict(controls), float(qs[-1]), None, int(res.stats["nfev"]),
                       float(res.stats["cpu_seconds"]) or (time.process_time() - t0), t_reached=self.t_end)
@@ -438,7 +452,7 @@ def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega:
             n = max(n, math.ceil(prob.t_end * omega * (omega * prob.t_end) ** (1.0 / p)))
         if bound is not None:
             n = max(n, math.ceil(prob.t_end / (STABILITY_MARGIN * bound)))
-        period = _shortest_period(prob.scene, prob.params, 1)
+        period = _model_period(prob.model) if prob.model is not None else _shortest_period(prob.scene, prob.params, 1)
         if period is not None:          # never beyond the scene's own oscillation
             n = max(n, math.ceil(prob.t_end / (PERIOD_FRACTION * period)))
         setting = prob.t_end / n
@@ -633,15 +647,24 @@ def _has_jump(law: str, params: dict[str, float]) -> bool:
 # ---------------------------------------------------------------------------------------------
 # The advisor
 # ---------------------------------------------------------------------------------------------
-def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity: str = "x",
-           x0: float = 0.0, v0: float = 0.0, methods: Sequence[str] | None = None,
-           **params: float) -> Advice:
+def advise(scene: Any, law: Any = None, target_error: Any = None, t_end: Any = None, *,
+           quantity: str = "x", x0: float = 0.0, v0: float = 0.0, methods: Sequence[str] | None = None,
+           body: int = 0, **params: float) -> Advice:
     """The cheapest method and controls that reach `target_error` on this problem.
+
+    ``advise(model, target_error, t_end, body=0, ...)`` advises on a `stickslip.Model` (your own
+    system): the error is that of body `body`'s x or v at t_end; the candidates are the methods
+    that take every contact's law (event_driven and moreau, exact stick, when every contact is
+    coulomb or stribeck; they are then the cross-check's reference too); the fixed-step pilots
+    stay within a tenth of the shortest period of the model's springs and masses, and RK4's
+    stability bound comes from the Jacobian of the bodies' positions and velocities along a
+    pilot (the laws' internal states at 0 and the signals at t = 0: an estimate, which the
+    verifying run checks).
 
     Parameters
     ----------
     scene, law : str
-        As for `simulate` (SCENES but the chain, LAWS).
+        As for `simulate` (SCENES but the chain, LAWS); or a `stickslip.Model` and no law.
     target_error : float
         Largest acceptable absolute error of `quantity` at t_end [m or m/s], > 0.
     t_end : float
@@ -652,6 +675,8 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
         Initial state [m], [m/s] (internal states of a law start at 0).
     methods : sequence of str, optional
         Candidates (default: every method of METHODS, read from the registry).
+    body : int
+        On a model: the body (its index, from 0) whose x or v is advised on.
     **params : float
         Physical parameters (DEFAULTS); controls are what the advisor chooses and are refused.
 
@@ -667,11 +692,24 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
     ValueError
         A bad name, number or parameter (the message names it and the accepted range).
     """
-    _choice("scene", scene, SCENES)
+    from .model import Model
+    model = scene if isinstance(scene, Model) else None
+    if model is not None:
+        if law is not None and not isinstance(law, str):      # advise(model, target_error, t_end)
+            law, target_error, t_end = None, law, target_error
+        if law is not None or params or x0 != 0.0 or v0 != 0.0:
+            raise ValueError("law, x0, v0, parameters: not for a model (its contacts have their laws and "
+                             "parameters, its bodies their x0 and v0)")
+        if isinstance(body, bool) or not isinstance(body, (int, np.integer)) or not 0 <= body < model.n_bodies:
+            raise ValueError(f"body: must be a body index of the model (0 .. {model.n_bodies - 1}), got {body!r}")
+        scene, law = "model", "+".join(dict.fromkeys(c.law for c in model.contacts)) or "none"
+    else:
+        _choice("scene", scene, SCENES)
     if scene == "chain":
         raise ValueError("scene: advise takes the one-body scenes (slope, belt); on the chain choose the "
                          "method with docs/guide/chain.md and run stickslip.simulate")
-    _choice("law", law, LAWS)
+    if model is None:
+        _choice("law", law, LAWS)
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity: unknown value {quantity!r} (accepted: x for the position [m], "
                          "v for the velocity [m/s], both at t_end)")
@@ -687,16 +725,18 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
         raise ValueError(f"{', '.join(controls)}: controls are what advise chooses; pass only physical "
                          "parameters (stickslip.DEFAULTS)")
     given = _physical(params)
-    friction_coefficient(law, 0.0, **{k: v for k, v in given.items() if k in REGISTRY["law"][law]["params"]})
-    if methods is None:                   # every method that takes the law
-        methods = [m for m in METHODS if takes(m, law)]
+    laws = [c.law for c in model.contacts] if model is not None else [law]
+    if model is None:
+        friction_coefficient(law, 0.0, **{k: v for k, v in given.items() if k in REGISTRY["law"][law]["params"]})
+    if methods is None:                   # every method that takes the law(s)
+        methods = [m for m in METHODS if all(takes(m, lw) for lw in laws)]
     methods = [m for m in dict.fromkeys(methods)]
     for m in methods:
         _choice("method", m, METHODS)
     if not methods:
         raise ValueError("methods: give at least one (accepted: " + ", ".join(METHODS) + ")")
 
-    prob = _Problem(scene, law, float(t_end), quantity, float(x0), float(v0), given)
+    prob = _Problem(scene, law, float(t_end), quantity, float(x0), float(v0), given, model, int(body))
     goal = target / SAFETY
     info = REGISTRY["method"]
     explicit_fixed = [m for m in methods if _fixed(m) and not info[m]["implicit"]]
@@ -747,7 +787,7 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
         raise ValueError(next(iter(refused.values())))
     spe = {m: _seconds_per_eval(lad.runs) for m, lad in ladders.items()}
     advice = Advice(scene, law, float(t_end), quantity, target, given, float(x0), float(v0), False, "",
-                    seconds_per_evaluation=spe, stability_bound=bound)
+                    seconds_per_evaluation=spe, stability_bound=bound, model=model, body=int(body))
     for m, why in refused.items():
         advice.candidates.append(Candidate(m, note=f"refused: {why}"))
     ranked = sorted((c for c, _ in cands.values() if c.feasible), key=lambda c: c.seconds)
@@ -762,7 +802,8 @@ def advise(scene: str, law: str, target_error: float, t_end: float, *, quantity:
             if _verify(prob, advice, cand, cands[cand.method][1], ladders, target):
                 break
         if not advice.feasible:
-            advice.message = "no method reaches the target: " + _alternatives(law, given, methods)
+            advice.message = "no method reaches the target: " + (
+                _alternatives(law, given, methods) if model is None else _model_alternatives(model, methods))
     advice.runs = prob.runs
     advice.roundoff = prob.floor
     total_nfev = sum(r.nfev for r in prob.runs)
@@ -784,6 +825,8 @@ def _eigenvalues(prob: _Problem, ladders: dict[str, _Ladder], info: dict[str, An
             return np.zeros(0, dtype=complex)
         runs = [run]
     best = min(runs, key=lambda r: r.error if r.error is not None else math.inf)
+    if prob.model is not None:
+        return model_jacobian_eigenvalues(prob.model, prob.results[id(best)].y)
     return jacobian_eigenvalues(prob.scene, prob.law, prob.results[id(best)].y, prob.params)
 
 
@@ -839,11 +882,15 @@ def _agrees(prob: _Problem, advice: Advice, cand: Candidate, run: Run, err: floa
     steps damp an oscillation to its centre, forced steps at h_min bias DOPRI5), and fill in the
     advice; refuse it when it disagrees with every other method, unless a third, adaptive
     method run tight (_tiebreak) sides with it."""
-    refs = [min((r for r in lad.runs if r.error is not None), key=lambda r: r.error)
-            for m, lad in ladders.items() if m != cand.method and any(r.error is not None for r in lad.runs)]
-    refs = sorted((r for r in refs if r.error <= target), key=lambda r: r.error)   # able to judge
+    exact = _exact_reference(prob)
+    if exact is not None:                 # a model whose contacts all take exact stick
+        refs = [exact] if exact.error is not None and exact.error <= target else []
+    else:
+        refs = [min((r for r in lad.runs if r.error is not None), key=lambda r: r.error)
+                for m, lad in ladders.items() if m != cand.method and any(r.error is not None for r in lad.runs)]
+        refs = sorted((r for r in refs if r.error <= target), key=lambda r: r.error)   # able to judge
     agree = [r for r in refs if abs(run.q - r.q) <= target + r.error]
-    if refs and not agree:                # a third method decides, where one can run tight
+    if refs and not agree and exact is None:   # a third method decides, where one can run tight
         judge = _tiebreak(prob, ladders, {cand.method} | {r.method for r in refs}, target)
         if judge is not None:
             refs.append(judge)
@@ -851,7 +898,8 @@ def _agrees(prob: _Problem, advice: Advice, cand: Candidate, run: Run, err: floa
                 agree = [judge]
     if refs and not agree:
         ref = refs[0]
-        cand.note += (f"; differs from every other method, e.g. {ref.method} ({ref.setting()}) by "
+        cand.note += (("; differs from the exact-stick reference " if exact is not None else
+                       "; differs from every other method, e.g. ") + f"{ref.method} ({ref.setting()}) by "
                       f"{abs(run.q - ref.q):.2g} > target + its error {error_text(ref.error, prob.floor)}: "
                       "refused")
         cand.feasible = False
@@ -872,6 +920,26 @@ def _agrees(prob: _Problem, advice: Advice, cand: Candidate, run: Run, err: floa
                       f"target/{SAFETY:g}, error estimated against a tighter run of the same method)"
                       + check)
     return True
+
+
+def _exact_reference(prob: _Problem) -> Run | None:
+    """On a model whose every contact takes exact stick (its laws those of EXACT_METHOD): a
+    tight run of EXACT_METHOD (rtol = TIEBREAK_RTOL, its error estimated against rtol/10), made
+    once, the reference every candidate is checked against. The event-free methods integrate the
+    laws' regularised forms (Coulomb's mu_s band of width v_s), another motion, so they cannot
+    judge the exact one. None elsewhere, or when EXACT_METHOD cannot run the model."""
+    model = prob.model
+    if model is None or not model.contacts or EXACT_METHOD not in METHODS \
+            or not all(takes(EXACT_METHOD, c.law) for c in model.contacts):
+        return None
+    if prob.exact is None:
+        a = prob.run("reference", EXACT_METHOD, controls_at(EXACT_METHOD, TIEBREAK_RTOL), PILOT_MAX_STEPS)
+        b = prob.run("reference", EXACT_METHOD, controls_at(EXACT_METHOD, TIEBREAK_RTOL / 10.0), PILOT_MAX_STEPS)
+        if a.q is not None and b.q is not None:
+            b.error = max(abs(a.q - b.q) * 0.1 / 0.9, prob.floor)
+            a.error = abs(a.q - b.q) + b.error
+        prob.exact = b
+    return prob.exact if prob.exact.q is not None else None
 
 
 def _tiebreak(prob: _Problem, ladders: dict[str, _Ladder], exclude: set[str],
@@ -917,3 +985,59 @@ def _alternatives(law: str, params: dict[str, float], tried: Sequence[str]) -> s
     parts.append("or model the friction with a smooth or regularised law (" + ", ".join(smooth) +
                  "): the pilots of such a law converge at the methods' orders")
     return "; ".join(parts)
+
+
+def _model_alternatives(model: Any, tried: Sequence[str]) -> str:
+    """_alternatives for a model: that of its first contact whose law jumps (else its first)."""
+    if not model.contacts:
+        return "the candidates' notes say why each failed; or a looser target"
+    jumps = [c for c in model.contacts if _has_jump(c.law, c.params)]
+    c = (jumps or model.contacts)[0]
+    return _alternatives(c.law, dict(c.params), tried)
+
+
+def _model_period(model: Any) -> float | None:
+    """The model's shortest period of free oscillation [s]: 2 pi / sqrt of the largest
+    eigenvalue of M^-1 K, K from the springs (None without springs)."""
+    n = model.n_bodies
+    k = np.zeros((n, n))
+    for a, b, ks, _ in model.springs:
+        k[a, a] += ks
+        if b is not None:
+            k[b, b] += ks
+            k[a, b] -= ks
+            k[b, a] -= ks
+    mass = np.array([b.mass for b in model.bodies])
+    s = 1.0 / np.sqrt(mass)
+    lam = float(np.max(np.linalg.eigvalsh(s[:, None] * k * s[None, :]))) if n else 0.0
+    return 2.0 * math.pi / math.sqrt(lam) if lam > 0.0 else None
+
+
+def model_jacobian_eigenvalues(model: Any, states: np.ndarray) -> np.ndarray:
+    """Eigenvalues [1/s] of a model's Jacobian in the bodies' positions and velocities at each
+    state (columns of `states`: x, v, then internal states, which are ignored), by central
+    differences of the right-hand side from one tiny RK4 step at t = 0 with the laws' internal
+    states at 0: an estimate for the stability bound (the signals and the internal states are
+    those of the start)."""
+    from .model import Model
+    nb = model.n_bodies
+    base = model.to_dict()
+    delta = 1e-9
+
+    def rhs(y: np.ndarray) -> np.ndarray:
+        for i, row in enumerate(base["body"]):
+            row["x0"], row["v0"] = float(y[i]), float(y[nb + i])
+        r = simulate(Model.from_dict(base), method="rk4", h=delta, t_end=delta, n_out=1)
+        return (np.concatenate([r.x[:, -1], r.v[:, -1]]) - y) / delta
+
+    out = []
+    for y in states[:2 * nb].T:
+        jac = np.empty((2 * nb, 2 * nb))
+        for j in range(2 * nb):
+            eps = 1e-6 * max(abs(y[j]), 1e-3)
+            e = np.zeros(2 * nb)
+            e[j] = eps
+            jac[:, j] = (rhs(y + e) - rhs(y - e)) / (2 * eps)
+        if np.isfinite(jac).all():
+            out.extend(np.linalg.eigvals(jac))
+    return np.array(out, dtype=complex)

@@ -12,9 +12,13 @@ Units are SI: m, s, kg, m/s; angles in degrees.
 """
 from __future__ import annotations
 
+import copy
+import re
+import time
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
@@ -68,6 +72,10 @@ class BatchResult:
     - forced: at least one step was taken at h_min although the error test failed there
       (nforced > 0): the tolerance was not met on those steps.
 
+    Rows of a model (`simulate_model_batch`: scene "model", law its contacts' laws joined by
+    "+", params its overrides by address and n_blocks its number of bodies) monitor body 0, and
+    their x and v hold every body: shape (n_sets, n_bodies, n_grid).
+
     `ok` is True where the row reached t_end (status 0), and nothing more: it says nothing of
     accuracy. A row can be ok and chattered, ok and forced, or ok and far from the exact
     solution (a fixed step beyond the stability bound that did not blow up, a loose tolerance).
@@ -98,10 +106,11 @@ class BatchResult:
 
     @property
     def v_column(self) -> np.ndarray:
-        """Each row's column of the monitored body's velocity in y_end and y_grid: 1, or
-        n_blocks on the chain (its state is x_1..x_N, v_1..v_N, then the internal states)."""
+        """Each row's column of the first body's velocity in y_end and y_grid: 1, or n_blocks
+        on the chain and on a model (params["n_blocks"]: its bodies; the state is x_1..x_N,
+        v_1..v_N, then the internal states)."""
         nb = self.params["n_blocks"].astype(np.int64)
-        return np.where(self.scene == "chain", nb, 1)
+        return np.where((self.scene == "chain") | (self.scene == "model"), nb, 1)
 
     @property
     def x_end(self) -> np.ndarray:
@@ -140,6 +149,21 @@ def _real(name: str, value: Any, accepted: str, allow_nan: bool = False) -> np.n
         bad = int(np.flatnonzero(~ok.reshape(-1))[0])
         raise ValueError(f"{name}: must be finite ({accepted}); row {bad} is {_shown(arr.reshape(-1)[bad])}")
     return arr
+
+
+def _broadcast_rows(cols: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], int]:
+    """The per-set columns broadcast to one entry per row, and the number of rows; ValueError
+    when their lengths differ or one is empty (keys "c:name", "o:name" are named "name")."""
+    try:
+        shape = np.broadcast_shapes(*(c.shape for c in cols.values()))
+    except ValueError:
+        lengths = {k.removeprefix("c:").removeprefix("o:"): c.size for k, c in cols.items()
+                   if c.ndim == 1 and c.size != 1}
+        raise ValueError(f"per-set arguments of different lengths: {lengths}") from None
+    n = int(np.prod(shape)) if shape else 1
+    if n < 1:
+        raise ValueError("no parameter sets (a per-set argument is empty)")
+    return {k: np.broadcast_to(c, (n,)).copy() for k, c in cols.items()}, n
 
 
 def _codes(name: str, value: str | Sequence[str], accepted: tuple[str, ...]) -> np.ndarray:
@@ -214,15 +238,7 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
             arr = arr.astype(np.float64)
         cols["c:" + k] = _real(k, arr, "see stickslip.simulate; NaN: not given", allow_nan=True)
 
-    try:
-        shape = np.broadcast_shapes(*(c.shape for c in cols.values()))
-    except ValueError:
-        lengths = {k.removeprefix("c:"): c.size for k, c in cols.items() if c.ndim == 1 and c.size != 1}
-        raise ValueError(f"per-set arguments of different lengths: {lengths}") from None
-    n = int(np.prod(shape)) if shape else 1
-    if n < 1:
-        raise ValueError("no parameter sets (a per-set argument is empty)")
-    rows = {k: np.broadcast_to(c, (n,)).copy() for k, c in cols.items()}
+    rows, n = _broadcast_rows(cols)
 
     # Controls: one column per control any row's method reads; NaN where a row's method does not.
     methods = sorted(set(rows["method"]))
@@ -379,4 +395,226 @@ def _warn_unstable_rk4(rows: dict[str, np.ndarray], v0: np.ndarray, pnames: list
                       stacklevel=3)
 
 
-__all__ = ["BatchResult", "simulate_batch", "MAX_GRID_VALUES", "MAX_BATCH_VALUES", "CHATTER_FRACTION"]
+
+
+# ------------------------------------------------------------------------------------------------
+# Batches of a model (your own system): rows of parameter overrides
+# ------------------------------------------------------------------------------------------------
+#: The fields an override may address, per kind of element ("contact" also takes the
+#: parameters of the contact's law). Signals (a force, a normal force, a surface velocity)
+#: are replaced by a constant.
+OVERRIDE_FIELDS: dict[str, tuple[str, ...]] = {
+    "body": ("mass", "x0", "v0"),
+    "spring": ("k", "rest_length"),
+    "damper": ("c",),
+    "force": ("force",),
+    "contact": ("normal_force", "surface_velocity"),
+}
+_SECTIONS = {"body": "bodies", "spring": "springs", "damper": "dampers", "force": "forces", "contact": "contacts"}
+
+
+def parse_override(model: Any, address: str) -> tuple[str, int, str]:
+    """('kind', index, 'field') of an override address "kind index.field" on `model`
+    (e.g. "contact 0.mu_k", "body 1.v0", "spring 0.k"), else ValueError naming it."""
+    m = re.fullmatch(r"\s*([a-z]+)\s+(\d+)\s*\.\s*([A-Za-z_][A-Za-z0-9_]*)\s*", address) \
+        if isinstance(address, str) else None
+    if m is None or m.group(1) not in OVERRIDE_FIELDS:
+        raise ValueError(f"overrides: {address!r} is not an address \"kind index.field\" (kinds: "
+                         f"{', '.join(OVERRIDE_FIELDS)}; e.g. \"contact 0.mu_k\", \"body 1.v0\")")
+    kind, index, name = m.group(1), int(m.group(2)), m.group(3)
+    count = len(getattr(model, _SECTIONS[kind]))
+    if index >= count:
+        raise ValueError(f"overrides: {address!r}: the model has "
+                         + (f"{kind}s 0 .. {count - 1}" if count else f"no {kind}"))
+    accepted = OVERRIDE_FIELDS[kind]
+    where = f"{kind} {index}"
+    if kind == "contact":
+        accepted = accepted + tuple(REGISTRY["law"][model.contacts[index].law]["params"])
+        where = model.contact_label(index)
+    if name not in accepted:
+        raise ValueError(f"overrides: {address!r}: {where} has no field {name!r} (accepted: "
+                         f"{', '.join(accepted)})")
+    return kind, index, name
+
+
+def _overridden(base: dict[str, Any], targets: list[tuple[str, int, str]], values: list[float]) -> dict[str, Any]:
+    """The model's dict (Model.to_dict) with the fields of `targets` set to `values`."""
+    data = copy.deepcopy(base)
+    for (kind, index, name), value in zip(targets, values):
+        entry = data[kind][index]
+        if kind == "contact" and name not in OVERRIDE_FIELDS["contact"]:
+            entry.setdefault("params", {})[name] = value
+        else:
+            entry[name] = value
+    return data
+
+
+def _model_summary(t: np.ndarray, y: np.ndarray, nb: int, t_end: float, v_first: float) -> dict[str, float]:
+    """The monitor's fields of a model row (the scene batch's, stickslip_batch's summarise), for
+    body 0's velocity, which is also the "relative velocity" counted by n_flip."""
+    out = dict(v_max=abs(v_first), n_flip=0, n_flip_tail=0, n_rev=0, n_rev_tail=0,
+               vrel_min_tail=0.0, vrel_max_tail=0.0)
+    v = y[nb] if y.size else np.zeros(0)
+    finite = np.flatnonzero(~np.isfinite(v))
+    if finite.size:
+        v, t = v[:finite[0]], t[:finite[0]]
+    if v.size:
+        out["v_max"] = max(out["v_max"], float(np.max(np.abs(v))))
+    tail = t >= 0.5 * t_end
+    if np.any(tail):
+        out["vrel_min_tail"], out["vrel_max_tail"] = float(v[tail].min()), float(v[tail].max())
+
+    def changes(x: np.ndarray, keep: np.ndarray, in_tail: np.ndarray) -> tuple[int, int]:
+        xs, ts = x[keep], in_tail[keep]
+        flip = (xs[1:] > 0.0) != (xs[:-1] > 0.0)
+        return int(flip.sum()), int((flip & ts[1:]).sum())
+    out["n_flip"], out["n_flip_tail"] = changes(v, np.abs(v) > 0.0, tail)
+    if v.size > 1:
+        dv = np.diff(v)
+        scale = np.maximum(np.abs(v[1:]), np.abs(v[:-1]))
+        out["n_rev"], out["n_rev_tail"] = changes(dv, np.abs(dv) > 64.0 * np.finfo(float).eps * scale, tail[1:])
+    return out
+
+
+def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None, *, method: Any,
+                         t_end: Any, n_grid: int = 201, keep_grid: bool = False, threads: int = 1,
+                         **controls: Any) -> BatchResult:
+    """Simulate a model (`stickslip.Model`) under rows of parameter overrides.
+
+    `overrides` maps addresses "kind index.field" (parse_override: "body 1.v0", "spring 0.k",
+    "damper 0.c", "force 0.force", "contact 0.mu_k", "contact 1.normal_force"; kinds and fields
+    in OVERRIDE_FIELDS, a contact also taking its law's parameters) to a number or a 1-D
+    sequence of numbers; `method`, `t_end` and the controls (h, rtol, atol, ..., max_steps; a
+    control is passed only to the rows whose method reads it, NaN or None: not given) are a
+    scalar or a 1-D sequence too, all broadcast to one row each. Row i runs the model with its
+    overrides (a force, normal force or surface velocity becomes that constant) through
+    `stickslip.simulate(model_i, method=..., t_end=..., n_out=n_grid, ...)`, so its grid equals
+    that run's bit for bit. `threads` Python threads run the rows; each row's integration runs
+    in Fortran without the interpreter lock, so the threads run in parallel.
+
+    Every row's model and law parameters are checked before any row runs (a ValueError naming
+    the row and the element); run-time failures are per-row status codes. The summary is that of
+    the scene batches with body 0 monitored: x_end, v_end, v_max, n_rev are body 0's, and
+    n_flip, vrel_min_tail, vrel_max_tail count and bound body 0's velocity (relative to the
+    ground; a model has no single relative velocity). With keep_grid: x and v are
+    (n_sets, n_bodies, n_grid), one row per body, and y_grid the whole state.
+    """
+    from .core import IntegrationError, friction_coefficient, _physical
+    from .model import Model, check_method, simulate_model
+    if not isinstance(model, Model):
+        raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
+    threads = _count("threads", threads)
+    n_grid = _count("n_grid", n_grid)
+    overrides = dict(overrides or {})
+    targets = [parse_override(model, a) for a in overrides]
+    if len(set(targets)) < len(targets):
+        raise ValueError("overrides: the same field is given twice (" + ", ".join(overrides) + ")")
+    cols: dict[str, np.ndarray] = {"method": _codes("method", method, METHODS),
+                                   "t_end": _real("t_end", t_end, "> 0 [s]")}
+    for a, value in overrides.items():
+        cols["o:" + a] = _real(f"overrides[{a!r}]", value, "a number per row")
+    unknown = sorted(set(controls) - set(CONTROLS))
+    if unknown:
+        _check_names({k: None for k in unknown}, CONTROLS)
+    for k, value in controls.items():
+        arr = np.asarray(np.nan if value is None else value)
+        cols["c:" + k] = _real(k, arr.astype(np.float64) if arr.dtype == bool else arr,
+                               "see stickslip.simulate; NaN: not given", allow_nan=True)
+    rows, n = _broadcast_rows(cols)
+    methods = sorted(set(rows["method"]))
+    for k in controls:
+        if not any(k in REGISTRY["method"][m]["controls"] for m in methods):
+            raise ValueError(f"{k}: not a control of any row's method ({', '.join(methods)})")
+
+    base = model.to_dict()
+    models: list[Model] = []
+    kwargs: list[dict[str, Any]] = []
+    for i in range(n):
+        values = [float(rows["o:" + a][i]) for a in overrides]
+        meth = str(rows["method"][i])
+        kw: dict[str, Any] = {}
+        for k in controls:
+            val = float(rows["c:" + k][i])
+            if k in REGISTRY["method"][meth]["controls"] and not np.isnan(val):
+                kw[k] = int(val) if k == "max_steps" else val
+        try:
+            m_i = Model.from_dict(_overridden(base, targets, values)) if targets else model
+            for j, c in enumerate(m_i.contacts):
+                try:
+                    friction_coefficient(c.law, 0.0, **_physical(dict(c.params)))
+                except ValueError as exc:
+                    raise ValueError(f"{m_i.contact_label(j)}: {exc}") from None
+            m_i.n_states()
+            check_method(m_i, meth)
+        except ValueError as exc:
+            raise ValueError(f"row {i} ({meth}): {exc}") from None
+        models.append(m_i)
+        kwargs.append(kw)
+    nstate = np.array([m.n_states() for m in models], dtype=np.int64)
+    nmax = int(nstate.max())
+    nb = model.n_bodies
+    _check_memory(nstate, n, int(n_grid), bool(keep_grid), threads)
+
+    def run(i: int) -> tuple[Any, float]:
+        start = time.perf_counter()
+        try:
+            res = simulate_model(models[i], method=str(rows["method"][i]), t_end=float(rows["t_end"][i]),
+                                 n_out=int(n_grid), **kwargs[i])
+        except IntegrationError as exc:
+            res = exc.result
+        except ValueError as exc:
+            raise ValueError(f"row {i} ({rows['method'][i]}): {exc}") from None
+        return res, time.perf_counter() - start
+
+    if threads == 1 or n == 1:
+        done = [run(i) for i in range(n)]
+    else:
+        with ThreadPoolExecutor(max_workers=min(threads, n)) as pool:
+            done = list(pool.map(run, range(n)))
+
+    int_names = [k for k in _BATCH_INT if k not in ("status", "n_written")]
+    fields: dict[str, Any] = {k: np.zeros(n, dtype=np.int64) for k in int_names}
+    fields.update({k: np.zeros(n) for k in _BATCH_REAL})
+    status = np.zeros(n, dtype=np.int64)
+    y_end = np.full((n, nmax), np.nan)
+    y_grid = np.full((n, nmax, int(n_grid)), np.nan) if keep_grid else None
+    for i, (res, secs) in enumerate(done):
+        stats = res.stats
+        status[i] = int(stats["status"])
+        written = res.x.shape[1]
+        y = np.vstack([res.x, res.v, np.asarray(res.z).reshape(-1, written)]) if written else np.zeros((nstate[i], 0))
+        t_i = res.t[:written]
+        y_end[i, :nstate[i]] = y[:, -1] if written else np.concatenate(
+            [[b.x0 for b in models[i].bodies], [b.v0 for b in models[i].bodies], np.zeros(nstate[i] - 2 * nb)])
+        if y_grid is not None:
+            y_grid[i, :nstate[i], :written] = y
+        summary = _model_summary(t_i, y, nb, float(rows["t_end"][i]), models[i].bodies[0].v0)
+        summary.update(t_last=float(t_i[-1]) if written else 0.0, seconds=secs)
+        for k in int_names:
+            fields[k][i] = stats[k] + 1 if k == "contact_worst" else stats.get(k, summary.get(k, 0))
+        for k in _BATCH_REAL:
+            fields[k][i] = stats[k] if k in stats else summary[k]
+    fields["stiff"] = fields["stiff"].astype(bool)
+    fields["chattered"] = fields["n_rev_tail"] >= CHATTER_FRACTION * (int(n_grid) - 1) / 2
+    fields["forced"] = fields["nforced"] > 0
+    fields["n_state"] = nstate
+    params = {a: rows["o:" + a] for a in overrides}
+    params["n_blocks"] = np.full(n, float(nb))
+    h = np.array([kw.get("h", 0.0) for kw in kwargs])
+    tol = {k: np.array([kw.get(k, float(CONTROL_DEFAULTS[k])) if k in REGISTRY["method"][m]["controls"] else 1.0
+                        for kw, m in zip(kwargs, rows["method"])]) for k in ("rtol", "atol")}
+    laws = "+".join(dict.fromkeys(c.law for c in model.contacts))
+    result = BatchResult(
+        scene=np.full(n, "model"), law=np.full(n, laws), method=rows["method"].astype(str), params=params,
+        t_end=rows["t_end"], h=h, rtol=tol["rtol"], atol=tol["atol"], status=status, fields=fields,
+        y_end=y_end, threads=int(threads))
+    if y_grid is not None:
+        result.t = np.array([np.linspace(0.0, te, int(n_grid)) if n_grid > 1 else np.array([te])
+                             for te in rows["t_end"]])
+        result.y_grid = y_grid
+        result.x, result.v = y_grid[:, :nb], y_grid[:, nb:2 * nb]
+    return result
+
+
+__all__ = ["BatchResult", "simulate_batch", "simulate_model_batch", "parse_override", "OVERRIDE_FIELDS",
+           "MAX_GRID_VALUES", "MAX_BATCH_VALUES", "CHATTER_FRACTION"]

@@ -37,7 +37,8 @@ from typing import Any, Iterator
 
 import numpy as np
 
-from .batch import BatchResult, simulate_batch
+from .batch import BatchResult, simulate_batch, simulate_model_batch
+from .model import Model
 
 #: Largest default chunk [rows].
 MAX_CHUNK_ROWS = 10_000
@@ -97,10 +98,19 @@ def _is_sequence(value: Any) -> bool:
     return not isinstance(value, (str, bytes)) and value is not None and np.ndim(value) == 1
 
 
+def _per_set(args: dict[str, Any]) -> Iterator[Any]:
+    """The per-set arguments' values, those of a model's overrides (a dict) among them."""
+    for k, v in args.items():
+        if k == "overrides" and isinstance(v, dict):
+            yield from v.values()
+        else:
+            yield v
+
+
 def count_rows(args: dict[str, Any]) -> int | None:
     """Rows of a sweep (per-set arguments broadcast), or None when their lengths differ or
     one is empty (the local simulate_batch then raises the usual ValueError)."""
-    lengths = {len(v) for v in args.values() if _is_sequence(v)} - {1}
+    lengths = {len(v) for v in _per_set(args) if _is_sequence(v)} - {1}
     if len(lengths) > 1 or 0 in lengths:
         return None
     return lengths.pop() if lengths else 1
@@ -110,7 +120,9 @@ def _slice(args: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
     """The arguments of rows start .. stop-1 (length-1 sequences and scalars broadcast)."""
     out = {}
     for k, v in args.items():
-        if _is_sequence(v) and len(v) != 1:
+        if k == "overrides" and isinstance(v, dict):
+            v = _slice(v, start, stop)
+        elif _is_sequence(v) and len(v) != 1:
             v = v[start:stop] if hasattr(v, "__getitem__") else list(v)[start:stop]
         out[k] = v
     return out
@@ -125,8 +137,12 @@ def default_chunk_rows(n_rows: int, workers: int | None = None) -> int:
 
 def run_chunk(args: dict[str, Any], start: int) -> BatchResult:
     """One chunk through the local simulate_batch (what a Dask task runs). A ValueError names
-    rows by their number in the whole sweep (start + the row in the chunk)."""
+    rows by their number in the whole sweep (start + the row in the chunk). A model's batch
+    (args["model"]: the model as Model.to_dict) runs through simulate_model_batch."""
     try:
+        if "model" in args:
+            rest = {k: v for k, v in args.items() if k != "model"}
+            return simulate_model_batch(Model.from_dict(args["model"]), **rest)
         return simulate_batch(**args)
     except ValueError as exc:
         msg = re.sub(r"\brow (\d+)", lambda m: f"row {int(m.group(1)) + start}", str(exc))
@@ -275,7 +291,7 @@ def run_chunked(args: dict[str, Any], *, client: Any = None, chunk_rows: int | N
     """simulate_batch(**args) in chunks (see the module's docstring)."""
     n = count_rows(args)
     if n is None:
-        return simulate_batch(**args)          # raises the ValueError for the lengths
+        return run_chunk(args, 0)              # raises the ValueError for the lengths
     if chunk_rows is not None:
         if isinstance(chunk_rows, bool) or int(chunk_rows) != chunk_rows or chunk_rows < 1:
             raise ValueError(f"chunk_rows: must be an integer >= 1, got {chunk_rows!r}")

@@ -22,6 +22,7 @@ import math
 import os
 import tempfile
 import tomllib
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
@@ -34,6 +35,7 @@ from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
                    IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
                    _physical, MAX_ROWS)
 from .signal import Signal, SignalLike, as_signal
+from .energy import EnergyBoundWarning, energy_bound
 
 __all__ = ["Model"]
 
@@ -440,11 +442,10 @@ def _toml(data: Mapping[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None = None,
-                   every_step: bool = False, max_steps: int | None = None, **controls: Any) -> Result:
-    """Run `model` (what ``stickslip.simulate(model, method=..., ...)`` does; see there)."""
-    if not isinstance(model, Model):
-        raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
+def check_method(model: Model, method: str) -> None:
+    """ValueError, naming the contact, when `method` cannot take the laws of `model`'s
+    contacts (set-valued methods take coulomb and stribeck only; implicit_euler and galpha
+    take laws that jump only when every contact's law jumps)."""
     _choice("method", method, METHODS)
     info = REGISTRY["method"][method]
     laws = [c.law for c in model.contacts]
@@ -462,6 +463,16 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
                              f"({', '.join(_JUMP_LAWS)}) over their modes, every contact's law then jumping; "
                              f"this contact's law is {laws[smooth]!r} (give every contact a law that jumps, "
                              "or none)")
+
+
+def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None = None,
+                   every_step: bool = False, max_steps: int | None = None, **controls: Any) -> Result:
+    """Run `model` (what ``stickslip.simulate(model, method=..., ...)`` does; see there)."""
+    if not isinstance(model, Model):
+        raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
+    check_method(model, method)
+    info = REGISTRY["method"][method]
+    laws = [c.law for c in model.contacts]
     arrays = model.arrays()
     n = model.n_states()
     t_end = _finite("t_end", t_end, "> 0 [s]")
@@ -526,4 +537,21 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
+    _check_energy(model, result)
     return result
+
+
+def _check_energy(model: Model, result: Result) -> None:
+    """An EnergyBoundWarning where the result's mechanical energy exceeds its bound
+    (stickslip.energy.energy_bound; models it does not check pass)."""
+    checked = energy_bound(model, result.t, result.x, result.v)
+    if checked is None:
+        return
+    e, bound = checked
+    over = np.flatnonzero(~(e <= bound))
+    if over.size:
+        i = int(over[0])
+        warnings.warn(f"model ({result.method}): the mechanical energy {e[i]:.6g} J at t = {result.t[i]:.6g} s "
+                      f"exceeds {bound[i]:.6g} J, the most its forces and moving surfaces can have put in "
+                      "(stickslip.energy): the result is wrong; take a smaller step or tolerance",
+                      EnergyBoundWarning, stacklevel=4)

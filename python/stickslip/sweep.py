@@ -11,12 +11,13 @@ import os
 from typing import Any, Sequence
 
 from . import batch
+from .model import Model
 from .distributed import SweepStore, run_chunked
 
 __all__ = ["simulate_batch"]
 
 
-def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
+def simulate_batch(scene: str | Sequence[str] | Model, law: str | Sequence[str] | dict[str, Any] | None = None, *,
                    method: str | Sequence[str], t_end: Any, x0: Any = 0.0, v0: Any = None,
                    n_grid: int = 201, keep_grid: bool = False, threads: int = 1,
                    ignore_unused: bool = False, client: Any = None, chunk_rows: int | None = None,
@@ -29,10 +30,16 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     `chunk_rows`, `out` and `progress` is a scalar or a 1-D sequence, broadcast to one row per
     parameter set, with the meaning it has in `simulate`.
 
+    A model (your own system) takes rows of parameter overrides instead:
+    ``simulate_batch(model, {"contact 0.mu_k": [...], "body 1.v0": [...]}, method=...,
+    t_end=..., **controls)`` (`stickslip.batch.simulate_model_batch`: the addresses, the
+    summary, x and v per body); the model goes to Dask workers as its dict (TOML) form.
+
     Parameters
     ----------
     scene, law, method : str or sequence of str
-        Names from SCENES, LAWS and METHODS, one for all rows or one per row.
+        Names from SCENES, LAWS and METHODS, one for all rows or one per row; or a
+        `stickslip.Model` and a dict of overrides ("kind index.field": values).
     t_end : float or sequence of float
         End of each run [s], > 0.
     x0, v0 : float or sequence of float, optional
@@ -98,6 +105,22 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     >>> b.status.tolist()
     [0, 0, 0]
     """
+    if isinstance(scene, Model):
+        if x0 != 0.0 or v0 is not None or ignore_unused:
+            raise ValueError("x0, v0, ignore_unused: not for a model (override \"body i.x0\", "
+                             "\"body i.v0\" instead)")
+        if law is not None and not isinstance(law, dict):
+            raise ValueError(f"overrides: must be a dict of \"kind index.field\" -> values (e.g. "
+                             f"{{\"contact 0.mu_k\": [0.2, 0.3]}}), got {type(law).__name__}")
+        model_args = dict(overrides=dict(law or {}), method=method, t_end=t_end, n_grid=n_grid,
+                          keep_grid=keep_grid, threads=threads, **params)
+        if client is None and chunk_rows is None and out is None and not progress:
+            return batch.simulate_model_batch(scene, **model_args)
+        return run_chunked(dict(model=scene.to_dict(), **model_args), client=client,
+                           chunk_rows=chunk_rows, out=out, progress=progress)
+    if law is None:
+        raise ValueError("law: required for a scene (a name of LAWS, or one per row); a model takes "
+                         "its overrides there instead")
     kwargs: dict[str, Any] = dict(method=method, t_end=t_end, x0=x0, v0=v0, n_grid=n_grid,
                                   keep_grid=keep_grid, threads=threads, **params)
     if ignore_unused:

@@ -1,0 +1,85 @@
+"""The energy bound on results of models (stickslip.energy): exact for a free body pushed along
+its velocity, a warning for an explicit run beyond its stability bound that returned success,
+silence on correct runs with a moving surface (whose input the bound counts), and the signals
+as the library evaluates them."""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import stickslip as ss
+from stickslip.energy import _value, energy_bound
+
+S = ss.signal
+
+
+def run_quiet(model: ss.Model, **kw) -> tuple[ss.Result, list[warnings.WarningMessage]]:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = ss.simulate(model, **kw)
+    return r, [w for w in caught if issubclass(w.category, ss.EnergyBoundWarning)]
+
+
+def test_bound_is_exact_for_a_free_body_pushed_along_its_velocity():
+    """E(t) = 1/2 m (v0 + F t/m)^2 is the bound's (sqrt(E0) + 1/2 |F| sqrt(2/m) t)^2."""
+    m = ss.Model()
+    b = m.add_body(2.0, v0=1.0)
+    m.add_force(b, 3.0)
+    r, caught = run_quiet(m, method="dopri5", t_end=2.0, n_out=11, rtol=1e-12, atol=1e-14)
+    e, bound = energy_bound(m, r.t, r.x, r.v)
+    exact = 0.5 * 2.0 * (1.0 + 3.0 * r.t / 2.0) ** 2
+    np.testing.assert_allclose(e, exact, rtol=1e-10)
+    np.testing.assert_allclose(bound, exact, rtol=3e-3)
+    assert np.all(e <= bound) and not caught
+
+
+@pytest.mark.parametrize("h, wrong", [(0.02, False), (0.03, True)])
+def test_rk4_beyond_its_stability_bound_is_flagged(h, wrong):
+    """A spring of 1e4 N/m (w = 100 rad/s): RK4 is stable for w h < 2.785. At h = 0.03 s it
+    grows without becoming non-finite within 1 s, so the run ends with status 0; the energy
+    bound (no force: E <= E0) names it."""
+    m = ss.Model()
+    b = m.add_body(1.0, v0=1.0)
+    m.add_spring(b, None, 1e4)
+    r, caught = run_quiet(m, method="rk4", h=h, t_end=1.0, n_out=11)
+    assert r.stats["status"] == 0 and np.isfinite(r.x).all()
+    assert bool(caught) is wrong
+    if wrong:
+        assert "exceeds" in str(caught[0].message) and "rk4" in str(caught[0].message)
+
+
+@pytest.mark.parametrize("law, method, ctl", [("coulomb", "event_driven", {}), ("stribeck", "moreau", dict(h=1e-3)),
+                                              ("recurdyn", "dopri5", {})])
+def test_moving_surface_input_is_counted(law, method, ctl):
+    """A block at rest on a belt gains energy from the belt: E rises above E(0), within the
+    bound, and correct runs raise no warning."""
+    m = ss.Model.from_scene("belt", law)
+    r, caught = run_quiet(m, method=method, t_end=10.0, n_out=201, **ctl)
+    e, bound = energy_bound(m, r.t, r.x, r.v)
+    assert e.max() > 10.0 * max(e[0], 1e-12) and np.all(e <= bound) and not caught
+
+
+def test_laws_with_internal_states_are_not_checked():
+    m = ss.Model.from_scene("belt", "lugre")
+    r = ss.simulate(m, method="radau5", t_end=0.5, n_out=11)
+    assert energy_bound(m, r.t, r.x, r.v) is None
+
+
+def test_signals_evaluate_as_the_library_does():
+    """A free body under a force made of every kind of signal: the library's velocity equals
+    v0 + int F/m with F evaluated here (_value, integrated by the midpoint rule on a fine grid
+    through the corners)."""
+    force = (2.0 * S.step(0.2, -1.0, 3.0) + S.ramp(0.1, 0.3, 4.0) - S.sine(1.5, 3.0, 0.4, 0.2)
+             + S.table([0.0, 0.5, 0.7], [1.0, -2.0, 0.5]) * S.constant(0.5))
+    m = ss.Model()
+    b = m.add_body(2.0, v0=0.3)
+    m.add_force(b, force)
+    r = ss.simulate(m, method="event_driven", t_end=1.0, n_out=11, rtol=1e-12, atol=1e-14)   # restarts at the corners
+    fine = np.union1d(np.linspace(0.0, 1.0, 400_001), [0.1, 0.2, 0.4, 0.5, 0.7])
+    mid = 0.5 * (fine[1:] + fine[:-1])            # the midpoint rule: no point on a corner
+    cum = np.concatenate([[0.0], np.cumsum(_value(force, mid) * np.diff(fine))])
+    np.testing.assert_allclose(r.v[0], 0.3 + np.interp(r.t, fine, cum) / 2.0, rtol=0, atol=1e-10)
+    assert math.isclose(float(_value(S.step(0.2), np.array([0.2]))[0]), 1.0)   # right-continuous
