@@ -1,20 +1,22 @@
-"""An event-driven solver for bodies on one axis coupled by set-valued Coulomb contacts with
-time-varying normal forces, written with numpy and scipy only (no stickslip code): the
-independent reference and the competitor of `python -m cases.gallery_clutches` (Modelica's
-CoupledClutches) and of tests/test_gallery1.py.
+"""An event-driven solver for bodies on one axis coupled by set-valued Coulomb contacts with time-
+varying normal forces, written with numpy and scipy only (no stickslip code): the independent
+reference and the competitor of `python -m cases.gallery_clutches` (Modelica's CoupledClutches)
+and of tests/test_gallery1.py.
 
-The bodies have masses (inertias) m and forces f(t, x) (external ones and springs); contact i acts between bodies
-a_i and b_i (b_i = None: the ground) with the slip w_i = v_a - v_b - s_i (s_i: the constant
-speed of a surface under a, a belt; 0 by default) and the normal force N_i(t) (open where
-N_i <= 0). In a mode (each contact open, stuck, or slipping forwards or backwards)
-a slipping contact pushes -mode mu_k N on a and the opposite on b; the stuck contacts' forces
-keep their slips' accelerations at zero (a linear solve with the Delassus matrix
-H M^-1 H^T, least squares where contacts are redundant). scipy's solve_ivp integrates the
-mode (DOP853 by default) with events for w_i = 0 (slipping) and |r_i| = mu_s N_i (stuck), up to the next breakpoint of the signals (a step's
+The bodies have masses (inertias) m and forces f(t, x) (external ones and springs); contact i
+acts between bodies a_i and b_i (b_i = None: the ground) with the slip w_i = v_a - v_b - s_i
+(s_i: the constant speed of a surface under a, a belt; 0 by default) and the normal force N_i(t)
+(open where N_i <= 0). In a mode (each contact open, stuck, or slipping forwards or backwards) a
+slipping contact pushes -mode mu N on a and the opposite on b (mu = mu_k, or a given function of
+the slip's size, a Stribeck curve); the stuck contacts' forces keep their slips' accelerations
+at zero (a linear solve with the Delassus matrix H M^-1 H^T, least squares where contacts are
+redundant). scipy's solve_ivp integrates the mode (DOP853 by default) with events for w_i = 0
+(slipping) and |r_i| = mu_s N_i (stuck), up to the next breakpoint of the signals (a step's
 time, where a normal force crosses zero). At each event or breakpoint the new mode is found by
 exhaustive search over the 3^k modes of the closed contacts at w = 0, keeping a consistent one
-with the most stuck contacts. A contact that an event brings to w = 0 has its bodies'
-velocities projected onto w = 0, conserving momentum.
+with the most stuck contacts; among those, the one where only the contacts that reached their
+limits slip (a stuck contact below its limit stays stuck). A contact that an event brings to w =
+0 has its bodies' velocities projected onto w = 0, conserving momentum.
 """
 from __future__ import annotations
 
@@ -42,6 +44,8 @@ class ScipyContacts:
     mu_s: float | Sequence[float]
     mu_k: float | Sequence[float]
     breakpoints: Sequence[float] = ()
+    #: The kinetic coefficient as a function of abs(slip) (a Stribeck curve); mu_k when None.
+    mu_slip: Callable[[float], float] | None = None
     h: np.ndarray = field(init=False)
 
     def __post_init__(self) -> None:
@@ -65,10 +69,14 @@ class ScipyContacts:
         """The normal forces at t [N] (0 where open)."""
         return np.array([max(0.0, float(cn[2](t))) for cn in self.contacts])
 
-    def forces(self, t: float, x: np.ndarray, mode: np.ndarray) -> np.ndarray:
-        """Contact forces of the mode (2 open, 0 stuck, +-1 slipping) at t, x."""
+    def forces(self, t: float, x: np.ndarray, u: np.ndarray, mode: np.ndarray) -> np.ndarray:
+        """Contact forces of the mode (2 open, 0 stuck, +-1 slipping) at t, x, u."""
         n = self.normal(t)
-        r = np.where((mode == 1) | (mode == -1), -mode * self.mu_k * n, 0.0)
+        mu = self.mu_k
+        if self.mu_slip is not None:
+            w = np.abs(self.h @ u - self.s)
+            mu = np.array([self.mu_slip(float(wi)) for wi in w])
+        r = np.where((mode == 1) | (mode == -1), -mode * mu * n, 0.0)
         stuck = np.flatnonzero(mode == 0)
         if stuck.size:
             free_acc = self.h @ ((self.force(t, x) + self.h.T @ r) / self.m)
@@ -77,10 +85,10 @@ class ScipyContacts:
             r[stuck] = np.linalg.lstsq(self.delassus[np.ix_(stuck, stuck)], -free_acc[stuck], rcond=1e-12)[0]
         return r
 
-    def accel(self, t: float, x: np.ndarray, mode: np.ndarray) -> np.ndarray:
-        """The bodies' accelerations in the mode at t, x."""
+    def accel(self, t: float, x: np.ndarray, u: np.ndarray, mode: np.ndarray) -> np.ndarray:
+        """The bodies' accelerations in the mode at t, x, u."""
         self.nfev += 1
-        return (self.force(t, x) + self.h.T @ self.forces(t, x, mode)) / self.m
+        return (self.force(t, x) + self.h.T @ self.forces(t, x, u, mode)) / self.m
 
     def decide(self, t: float, x: np.ndarray, u: np.ndarray, mode: np.ndarray, at_limit: set[int]) -> np.ndarray:
         """The mode after an event or breakpoint at t: open where N <= 0; slipping with sign(w)
@@ -98,11 +106,20 @@ class ScipyContacts:
                 cands.append(i)
             else:
                 new[i] = int(np.sign(w[i]))
+        # the mode where only the contacts at their limits change: they slip against their
+        # forces, every other candidate holds (preferred among equally stuck modes: a stuck
+        # contact below its limit stays stuck; with mu_s > mu_k another contact's slip can be
+        # consistent too)
+        guess = new.copy()
+        guess[cands] = 0
+        held = self.forces(t, x, u, guess)
+        for i in at_limit:
+            guess[i] = -int(np.sign(held[i]))
         best, best_key = None, None
         for choice in itertools.product((0, 1, -1), repeat=len(cands)):
             trial = new.copy()
             trial[cands] = choice
-            r = self.forces(t, x, trial)
+            r = self.forces(t, x, u, trial)
             acc = self.h @ ((self.force(t, x) + self.h.T @ r) / self.m)
             ok = True
             for i, ci in zip(cands, choice):
@@ -112,7 +129,8 @@ class ScipyContacts:
                 else:
                     ok &= ci * acc[i] > 0
             if ok:
-                key = (-list(choice).count(0), sum(abs(acc[i]) for i, ci in zip(cands, choice) if ci))
+                key = (-list(choice).count(0), 0 if np.array_equal(trial, guess) else 1,
+                       sum(abs(acc[i]) for i, ci in zip(cands, choice) if ci))
                 if best_key is None or key < best_key:
                     best, best_key = trial, key
         if best is None:
@@ -137,13 +155,13 @@ class ScipyContacts:
             t_stop = next(b for b in stops if b > t)
 
             def rhs(tt: float, y: np.ndarray, mode: np.ndarray = mode) -> np.ndarray:
-                return np.concatenate([y[nb:], self.accel(tt, y[:nb], mode)])
+                return np.concatenate([y[nb:], self.accel(tt, y[:nb], y[nb:], mode)])
 
             funcs = []
             for i in range(mode.size):
                 if mode[i] == 0:
                     def f(tt: float, y: np.ndarray, i: int = i, mode: np.ndarray = mode) -> float:
-                        return self.mu_s[i] * self.normal(tt)[i] - abs(self.forces(tt, y[:nb], mode)[i])
+                        return self.mu_s[i] * self.normal(tt)[i] - abs(self.forces(tt, y[:nb], y[nb:], mode)[i])
                     f.direction = -1
                 elif mode[i] in (1, -1):
                     def f(tt: float, y: np.ndarray, i: int = i) -> float:
