@@ -126,6 +126,10 @@ class ScipyContacts:
                 if ci == 0:
                     lim = self.mu_s[i] * n[i] * (1 - 1e-9 if i in at_limit else 1 + 1e-9)
                     ok &= abs(r[i]) <= lim
+                elif i in at_limit and ci == guess[i]:
+                    # a break-away against the force: with a Stribeck curve (mu(0) = mu_s) the
+                    # slip starts with zero acceleration, so rounding may give either sign
+                    ok &= ci * acc[i] > -1e-9 * (1.0 + np.abs(self.force(t, x) / self.m).max())
                 else:
                     ok &= ci * acc[i] > 0
             if ok:

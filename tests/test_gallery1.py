@@ -64,9 +64,12 @@ def test_event_driven_agrees_with_modelica(clutches):
     dev = np.abs(res.v[:, on] - ref["w"]).max(axis=1)
     assert dev.max() < MODELICA_SPEED_TOL, dev
     ours = [(float(e["t"]), int(e["contact"])) for e in res.events]
-    for tm, cl, mode in zip(ref["event_t"], ref["event_clutch"], ref["event_mode"]):
-        if mode == 2:          # clutch 1 opens at 1.25 s: no event of ours (its force goes to 0)
-            continue
+    # a clutch closing at its step (0.4 s, 0.9 s) or opening as its force falls through 0
+    # (1.25 s) is no event of event_driven; every lock and break-away is, and nothing else
+    compared = [(tm, cl) for tm, cl in zip(ref["event_t"], ref["event_clutch"])
+                if min(abs(tm - corner) for corner in (0.4, 0.9, 1.25)) > 1e-9]
+    assert len(compared) == len(ours) == 6
+    for tm, cl in compared:
         assert any(c == cl and abs(t - tm) < MODELICA_EVENT_TOL for t, c in ours), (tm, cl, ours)
 
 
@@ -137,8 +140,10 @@ def test_moreau_converges_on_the_stacked_systems(model):
         m = st.stacked(st.B_HELD)
         ref = st.closed_form(t, st.M_A + st.M_B, st.K_A + st.K_B, (st.M_A + st.M_B) * st.G)
     errs = [np.abs(ss.simulate(m, method="moreau", h=h, t_end=st.T_END, n_out=st.N_OUT).x - ref).max()
-            for h in (1e-3, 1e-4)]
-    assert 5.0 < errs[0] / errs[1] < 20.0, errs
+            for h in (1e-3, 1e-5)]
+    # first order over two decades (a stick-slip error's size depends on where the events fall
+    # between steps, so a single decade can show 5x or 40x)
+    assert 0.7 < math.log10(errs[0] / errs[1]) / 2.0 < 1.5, errs
 
 
 def _stribeck_curve(w: float) -> float:
@@ -196,7 +201,7 @@ def test_clutches_driver_writes_its_files(tmp_path):
 def test_stacked_driver_writes_its_files(tmp_path):
     _quick(st, tmp_path)
     text = (tmp_path / "gallery_stacked.md").read_text()
-    assert text.count("\n| ") == 4           # header and three systems
+    assert text.count("\n| ") == 3           # a row for each of the three systems
 
 
 def test_belt2dof_driver_writes_its_files(tmp_path):
