@@ -130,10 +130,12 @@ def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]],
     top.set_xlabel("time t [s]")
     top.set_ylabel("speed of block 1 [m/s]")
     top.set_title("Two blocks on a belt: Stribeck friction", fontsize=9)
-    top.legend(fontsize=7, loc="lower left", ncol=1, handlelength=1.8)
+    low, high = top.get_ylim()
+    top.set_ylim(low, high + 0.45 * (high - low))           # room for the legend above the data
+    top.legend(fontsize=7, loc="upper center", ncol=2, handlelength=1.8, columnspacing=0.8)
     pts = [(w, e) for w, e in rel if np.isfinite(w)]
     ws = np.array([w for w, _ in pts])
-    for key, name, marker, color in (("period", "period", "o", _style.SEQUENCE[0]),
+    for key, name, marker, color in (("period", "mean period", "o", _style.SEQUENCE[0]),
                                      ("amplitude", "amplitude", "s", _style.SEQUENCE[1]),
                                      ("stick", "stick fraction", "^", _style.SEQUENCE[2])):
         e = np.array([abs(err[key]) for _, err in pts])

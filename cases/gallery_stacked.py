@@ -180,7 +180,9 @@ def plot(t: np.ndarray, cols: dict[str, np.ndarray], steps: Sequence[float],
     top.set_xlabel("time t [s]")
     top.set_ylabel("position x [mm]")
     top.set_title("Stacked blocks on a belt (B slips on A)", fontsize=9)
-    top.legend(fontsize=7, loc="lower right", handlelength=1.2)
+    low, high = top.get_ylim()
+    top.set_ylim(low, high + 0.35 * (high - low))           # room for the legend above the data
+    top.legend(fontsize=7, loc="upper center", ncol=3, handlelength=1.2, columnspacing=0.8)
     markers = ("o", "s", "^")
     for i, (label, errs) in enumerate(conv.items()):
         bottom.loglog(steps, errs, marker=markers[i], color=_style.SEQUENCE[i + 2], label=label, ms=4)
