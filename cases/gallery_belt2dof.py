@@ -26,7 +26,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _common as c
-from . import _style
+from . import _gallery, _style
 
 G: float = 9.81
 V_BELT: float = 0.2
@@ -116,9 +116,7 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: boo
 def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]], path: Path) -> Path:
     """Top: block 1's speed over the last 1.5 s (exact and three widths); bottom: the
     measures' relative errors against v_eps."""
-    import matplotlib.pyplot as plt
-    _style.apply()
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(3.4, 4.6))
+    fig, top, bottom = _gallery.two_panels()
     t = cols["time t [s]"]
     series = [k for k in cols if k.startswith("v1 Stribeck")]
     shown = [series[0]] + [k for k in series[1:] if "0.01 " in k or "0.001 " in k]
@@ -130,9 +128,7 @@ def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]],
     top.set_xlabel("time t [s]")
     top.set_ylabel("speed of block 1 [m/s]")
     top.set_title("Two blocks on a belt: Stribeck friction", fontsize=9)
-    low, high = top.get_ylim()
-    top.set_ylim(low, high + 0.45 * (high - low))           # room for the legend above the data
-    top.legend(fontsize=7, loc="upper center", ncol=2, handlelength=1.8, columnspacing=0.8)
+    _gallery.legend_above_data(top, ncol=2, room=0.45)
     pts = [(w, e) for w, e in rel if np.isfinite(w)]
     ws = np.array([w for w, _ in pts])
     for key, name, marker, color in (("period", "mean period", "o", _style.SEQUENCE[0]),
@@ -143,8 +139,7 @@ def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]],
     bottom.set_xlabel("regularisation width v_eps [m/s]")
     bottom.set_ylabel("abs(relative error) [-]")
     bottom.legend(fontsize=7, loc="lower right")
-    fig.tight_layout()
-    return _style.save(fig, path, c.atomic_write)
+    return _gallery.save(fig, path)
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:

@@ -26,7 +26,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from . import _common as c
-from . import _style
+from . import _gallery, _style
 
 ROOT: Path = Path(__file__).resolve().parent.parent
 DATA: Path = ROOT / "data" / "coupled-clutches" / "CoupledClutches.csv"
@@ -180,10 +180,7 @@ def _events_ours(res: Any) -> list[tuple[float, int, str]]:
 
 def plot(ref: dict[str, np.ndarray], res: Any, path: Path) -> Path:
     """The four speeds (lines: event_driven; dots: Modelica) and |ours - Modelica| per inertia."""
-    import matplotlib.pyplot as plt
-    _style.apply()
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(3.4, 4.4), sharex=True,
-                                      gridspec_kw={"height_ratios": [3, 2]})
+    fig, top, bottom = _gallery.two_panels(4.4, sharex=True, gridspec_kw={"height_ratios": [3, 2]})
     for i, n in enumerate(NAMES):
         col = _style.SEQUENCE[i]
         top.plot(res.t, res.v[i], color=col, label=n)
@@ -197,8 +194,7 @@ def plot(ref: dict[str, np.ndarray], res: Any, path: Path) -> Path:
     bottom.set_ylabel("|ω − ω_Modelica| [rad/s]")
     bottom.set_xlabel("time t [s]")
     bottom.set_ylim(1e-10, 1e-2)
-    fig.tight_layout()
-    return _style.save(fig, path, c.atomic_write)
+    return _gallery.save(fig, path)
 
 
 def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: bool = False) -> list[Path]:

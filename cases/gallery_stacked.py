@@ -30,7 +30,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _common as c
-from . import _style
+from . import _gallery, _style
 
 G: float = 9.81
 V_BELT: float = 0.2
@@ -169,9 +169,7 @@ def plot(t: np.ndarray, cols: dict[str, np.ndarray], steps: Sequence[float],
          conv: dict[str, list[float]], path: Path) -> Path:
     """Top: the stacked blocks' positions (B slipping), event_driven as lines, the scipy
     reference as dots; bottom: Moreau-Jean's largest error against the step size."""
-    import matplotlib.pyplot as plt
-    _style.apply()
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(3.4, 4.6), gridspec_kw={"height_ratios": [1, 1]})
+    fig, top, bottom = _gallery.two_panels()
     for body, color in (("A", _style.SEQUENCE[0]), ("B", _style.SEQUENCE[1])):
         top.plot(t, 1e3 * cols[f"x stacked, B slips {body} event_driven [m]"], color=color, label=f"block {body}")
         top.plot(t[::12], 1e3 * cols[f"x stacked, B slips {body} reference [m]"][::12], "o", ms=2.5,
@@ -180,9 +178,7 @@ def plot(t: np.ndarray, cols: dict[str, np.ndarray], steps: Sequence[float],
     top.set_xlabel("time t [s]")
     top.set_ylabel("position x [mm]")
     top.set_title("Stacked blocks on a belt (B slips on A)", fontsize=9)
-    low, high = top.get_ylim()
-    top.set_ylim(low, high + 0.35 * (high - low))           # room for the legend above the data
-    top.legend(fontsize=7, loc="upper center", ncol=3, handlelength=1.2, columnspacing=0.8)
+    _gallery.legend_above_data(top, ncol=3)
     markers = ("o", "s", "^")
     for i, (label, errs) in enumerate(conv.items()):
         bottom.loglog(steps, errs, marker=markers[i], color=_style.SEQUENCE[i + 2], label=label, ms=4)
@@ -191,8 +187,7 @@ def plot(t: np.ndarray, cols: dict[str, np.ndarray], steps: Sequence[float],
     bottom.set_xlabel("Moreau-Jean step h [s]")
     bottom.set_ylabel("max abs(x − x_ref) [m]")
     bottom.legend(fontsize=7, loc="upper left")
-    fig.tight_layout()
-    return _style.save(fig, path, c.atomic_write)
+    return _gallery.save(fig, path)
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
