@@ -174,6 +174,30 @@ def benchmark(repeats: int, quiet: bool) -> tuple[list[list[Any]], dict[str, flo
     return rows, summary
 
 
+def _span(summary: dict[str, float], method: str) -> str:
+    """"7 to 16" (the smallest and largest ratio against `method`, rounded), or one number."""
+    low, high = (f"{summary.get(f'{method}_{k}', math.nan):.0f}" for k in ("min", "max"))
+    return low if low == high else f"{low} to {high}"
+
+
+def bench_markdown(repeats: int, quiet: bool = True) -> str:
+    """The benchmark as Markdown: a paragraph (machine, what is measured, the ratios) and the
+    table of `benchmark` (`repeats` timed runs of ours, repeats // 5 of scipy's)."""
+    from ._provenance import machine
+    c.log("gallery_clutches: benchmark against scipy", quiet)
+    bench, summary = benchmark(repeats, quiet)
+    text = (f"Machine: {machine()}. CPU time of one run to t = 1.5 s with 601 output points, the smallest of "
+            f"{repeats} runs (scipy: of {max(1, repeats // 5)}); error: the largest deviation of the four speeds "
+            f"from scipy's DOP853 run at rtol 1e-13 (which agrees with event_driven at rtol 1e-12 to "
+            f"{summary['agree']:.1g} rad/s); atol = rtol/100 throughout. At equal error event_driven is "
+            f"**{_span(summary, 'DOP853')} times** faster than scipy's DOP853 and {_span(summary, 'RK45')} times "
+            f"faster than its RK45 (where RK45 reaches that error).\n\n")
+    return text + c.markdown_table(
+        ["solver", "rtol [-]", "error [rad/s]", "CPU [ms]", "right-hand sides [-]", "events [-]",
+         "DOP853 CPU at equal error [ms]", "DOP853 / event_driven [-]", "RK45 CPU at equal error [ms]",
+         "RK45 / event_driven [-]"], bench)
+
+
 def _events_ours(res: Any) -> list[tuple[float, int, str]]:
     return [(float(e["t"]), int(e["contact"]), str(e["kind"])) for e in res.events]
 
@@ -241,22 +265,7 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: boo
         cols[f"omega {n} Modelica [rad/s]"] = np.where(on, np.interp(GRID, ref["t"], ref["w"][i]), np.nan)
     files.append(c.write_columns(outdir / "gallery_clutches.csv", cols))
     files.append(plot(ref, res, outdir / "gallery_clutches.png"))
-    c.log("gallery_clutches: benchmark against scipy", quiet)
-    bench, summary = benchmark(3 if quick else 15, quiet)
-    from ._provenance import machine
-    reps = 3 if quick else 15
-    text = (f"Machine: {machine()}. CPU time of one run to t = 1.5 s with 601 output points, the smallest of "
-            f"{reps} runs (scipy: of {max(1, reps // 5)}); error: the largest deviation of the four speeds "
-            f"from scipy's DOP853 run at rtol 1e-13 (which agrees with event_driven at rtol 1e-12 to "
-            f"{summary['agree']:.1g} rad/s); atol = rtol/100 throughout. At equal error event_driven is "
-            f"**{summary.get('DOP853_min', math.nan):.0f} to {summary.get('DOP853_max', math.nan):.0f} times** "
-            f"faster than scipy's DOP853 and {summary.get('RK45_min', math.nan):.0f} to "
-            f"{summary.get('RK45_max', math.nan):.0f} times faster than its RK45 (where RK45 reaches that "
-            f"error).\n\n")
-    files.append(c.write_text(outdir / "gallery_clutches_bench.md", text + c.markdown_table(
-        ["solver", "rtol [-]", "error [rad/s]", "CPU [ms]", "right-hand sides [-]", "events [-]",
-         "DOP853 CPU at equal error [ms]", "DOP853 / event_driven [-]", "RK45 CPU at equal error [ms]",
-         "RK45 / event_driven [-]"], bench)))
+    files.append(c.write_text(outdir / "gallery_clutches_bench.md", bench_markdown(3 if quick else 15, quiet)))
     return files
 
 
