@@ -48,6 +48,18 @@ def test_modelica_rows_are_what_the_readme_says():
     assert abs(w_sum[k] - (10.0 + impulse)) < 1e-5
 
 
+def test_closed_form_until_clutch_2_engages(clutches):
+    """Until 0.4 s clutch 1 slides alone: J1's and J2's speeds have a closed form, which
+    event_driven (rtol 1e-10) follows to 5e-8 rad/s and Modelica's rows to its tolerance."""
+    ref, res, on = clutches
+    early = ref["t"] <= 0.4
+    exact = cc.closed_form(ref["t"][early])
+    assert np.all(exact[0] > exact[1])                       # it does slide throughout
+    assert np.abs(res.v[:2, on][:, early] - exact).max() < 5e-8
+    assert np.abs(ref["w"][:2, early] - exact).max() < MODELICA_SPEED_TOL
+    assert np.abs(ref["w"][2:, early]).max() < 1e-12         # J3 and J4 stay at rest (sums of rows)
+
+
 def test_scipy_reference_agrees_with_modelica():
     ref = cc.reference()
     sysm = cc.scipy_system()
