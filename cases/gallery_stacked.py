@@ -128,7 +128,8 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: boo
     t = np.linspace(0.0, T_END, N_OUT)
     steps = STEPS[:-1] if quick else STEPS
     cases = {
-        "stacked, B held": (stacked(B_HELD), lambda: np.vstack([closed_form(t, M_A + M_B, K_A + K_B, (M_A + M_B) * G)] * 2),
+        "stacked, B held": (stacked(B_HELD),
+                            lambda: np.vstack([closed_form(t, M_A + M_B, K_A + K_B, (M_A + M_B) * G)] * 2),
                             "closed form (one block of 1.5 kg)"),
         "stacked, B slips": (stacked(B_SLIPS), lambda: scipy_stacked(B_SLIPS, t), "scipy event-driven"),
         "feet (2 contacts, N/2 each)": (feet(2), lambda: closed_form(t, M_A, K_A, M_A * G)[None, :],

@@ -173,7 +173,8 @@ def test_two_block_belt_exact_motion_agrees_with_scipy():
     def force(_t: float, x: np.ndarray) -> np.ndarray:
         return np.array([-belt.K1 * x[0] - belt.K12 * (x[0] - x[1]), -belt.K2 * x[1] - belt.K12 * (x[1] - x[0])])
 
-    contacts = [(0, None, lambda _t: belt.M1 * belt.G, belt.V_BELT), (1, None, lambda _t: belt.M2 * belt.G, belt.V_BELT)]
+    contacts = [(0, None, lambda _t: belt.M1 * belt.G, belt.V_BELT),
+                (1, None, lambda _t: belt.M2 * belt.G, belt.V_BELT)]
     sysm = ScipyContacts([belt.M1, belt.M2], force, contacts, belt.LAW["mu_s"], belt.LAW["mu_k"],
                          mu_slip=_stribeck_curve)
     x, v, events = sysm.run([0.0, 0.0], 3.0, t, rtol=1e-12, atol=1e-14)
