@@ -41,7 +41,8 @@ Single studies instead of the whole run: --identify (identify.md: two fits of th
 records, prescribed_motion per sample), --lmfit (lmfit.md, lmfit.csv: every law fitted by
 stickslip and by the same fit written with lmfit, benchmarks/lmfit_compare.py), --prescribed
 (prescribed.md: prescribed_motion's CPU time per law, benchmarks/prescribed_speed.py),
---contact (contact.md: the contact solver).
+--contact (contact.md: the contact solver), --clutches (clutches.md: event_driven on Modelica's
+CoupledClutches against a scipy event-driven solver at equal accuracy, cases/gallery_clutches.py).
 """
 from __future__ import annotations
 
@@ -951,6 +952,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--contact", action="store_true",
                         help="only the contact-solver benchmark (random coupled problems of 2 to 128 "
                              "contacts, against Gauss-Seidel alone): writes contact.md")
+    parser.add_argument("--clutches", action="store_true",
+                        help="only event_driven on Modelica's CoupledClutches against a scipy event-driven "
+                             "solver at equal accuracy: writes clutches.md")
     parser.add_argument("--callgrind", action=argparse.BooleanOptionalAction, default=None,
                         help="count instructions per evaluation of the compiled adaptive runs with valgrind "
                              "(default: on when valgrind is installed, off with --quick)")
@@ -987,6 +991,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         from .prescribed_speed import run_prescribed
         write_text(args.outdir / "prescribed.md", run_prescribed(log, 3 if args.quick else 15))
         write_provenance(args.outdir, "prescribed", [args.outdir / "prescribed.md"], argv)
+        return 0
+    if args.clutches:
+        from cases.gallery_clutches import bench_markdown
+        write_text(args.outdir / "clutches.md", bench_markdown(3 if args.quick else 15, quiet=False))
+        write_provenance(args.outdir, "clutches", [args.outdir / "clutches.md"], argv)
         return 0
     if args.lmfit:
         from .lmfit_compare import run_lmfit, write_rows

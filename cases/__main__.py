@@ -57,7 +57,8 @@ DRIVERS: tuple[Driver, ...] = (
     Driver("implicit", "study", 15.1, False), Driver("speedup", "study", 1.1, True),
     Driver("stick", "study", 12.0, False), Driver("identify", "study", 35.0, False),
     Driver("chain", "study", 31.0, False), Driver("advise_examples", "study", 60.0, False),
-    Driver("engines", "study", 64.0, False))
+    Driver("engines", "study", 64.0, False), Driver("gallery_clutches", "study", 13.0, False),
+    Driver("gallery_belt2dof", "study", 6.0, False), Driver("gallery_stacked", "study", 12.0, False))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 
