@@ -57,7 +57,8 @@ DRIVERS: tuple[Driver, ...] = (
     Driver("implicit", "study", 15.1, False), Driver("speedup", "study", 1.1, True),
     Driver("stick", "study", 12.0, False), Driver("identify", "study", 35.0, False),
     Driver("chain", "study", 31.0, False), Driver("advise_examples", "study", 60.0, False),
-    Driver("engines", "study", 64.0, False))
+    Driver("engines", "study", 64.0, False), Driver("gallery_denhartog", "study", 10.0, False),
+    Driver("gallery_frame", "study", 20.0, False))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 
