@@ -1,8 +1,8 @@
 """Den Hartog's forced oscillator with Coulomb friction, built as a `stickslip.Model` and run
 with the event-driven method, against Den Hartog's closed form::
 
-    python -m cases.gallery_denhartog --outdir out/            # about 10 s
-    python -m cases.gallery_denhartog --outdir out/ --quick    # two friction ratios
+    python -m cases.gallery_denhartog --outdir out/            # about 30 s
+    python -m cases.gallery_denhartog --outdir out/ --quick    # two friction ratios, about 15 s
 
 The system (J. P. Den Hartog, "Forced vibrations with combined Coulomb and viscous friction",
 Trans. ASME APM-53-9, 1931): a mass m on a spring k, on a floor with dry friction of force F
@@ -23,14 +23,16 @@ scipy.optimize.fsolve. The stick fraction of the period is 1 - beta tau_s / pi (
 The driver sets the event-driven run's stick fraction beside it and beside a converged
 Moreau-Jean run (h = T / 2000, T the forcing period).
 
-Each run starts from rest and lasts N_PERIODS forcing periods (N_PERIODS_LIGHT for F/P0 < 0.2); amplitude and stick fraction
-are measured over the last N_AVG periods (half the range of x; the event-driven run's stick
-and slip events), and the change from the N_AVG periods before says whether the transient has
-died out. The amplitude is half the distance between the extreme turning points: the positions
-of the event-driven run's reversal and stick events, which are exact (no output grid). Writes ``denhartog.csv`` (one row per (r, beta)), ``denhartog_curves.csv`` (the
-closed-form lines), ``denhartog_amplitude.md`` and ``denhartog_stops.md`` (the docs tables),
-``denhartog_amplitude.png``/``.pdf`` (amplitude ratio against frequency ratio: closed-form
-lines, simulated markers) and ``denhartog_regions.png``/``.pdf`` (the (beta, r) plane: where
+Each run starts from rest and lasts N_PERIODS forcing periods (N_PERIODS_LIGHT for
+F/P0 < 0.2); amplitude and stick fraction are measured over the last N_AVG periods, and the
+change from the N_AVG periods before says whether the transient has died out. The amplitude is
+half the distance between the extreme turning points: the positions of the event-driven run's
+reversal and stick events, which are exact (no output grid); the stick fraction is the time
+between its stick and slip events. (The event-driven model carries a zero force with CORNERS
+corners per period, a workaround: see CORNERS.) Writes ``denhartog.csv`` (one row per
+(r, beta)), ``denhartog_curves.csv`` (the closed-form lines), ``denhartog_amplitude.md`` and
+``denhartog_stops.md`` (the docs tables), ``denhartog_amplitude.png``/``.pdf`` (amplitude
+ratio against frequency ratio: closed-form lines, simulated markers) and ``denhartog_regions.png``/``.pdf`` (the (beta, r) plane: where
 the closed form's non-stop motion holds, and each run's stick fraction).
 """
 from __future__ import annotations

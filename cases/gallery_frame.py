@@ -2,7 +2,7 @@
 damper's law identified from its measured records, then the frame built as a
 `stickslip.Model` and run with and without the damper::
 
-    python -m cases.gallery_frame --outdir out/            # about 20 s
+    python -m cases.gallery_frame --outdir out/            # about 10 s
     python -m cases.gallery_frame --outdir out/ --quick    # the first 12 s of the record
 
 **The law.** `python -m cases.identify` fits every law of the library to the 20 measured
@@ -246,8 +246,9 @@ def write_summary(outdir: Path, k: dict[str, float], f_d: float, t_end: float) -
             f"F_d = {f_d / 1e3:.2f} kN ({100 * f_d / (k['M'] * G):.1f} % of the storey weight); El Centro 1940 NS, "
             f"0 to {t_end:g} s.\n\n")
     text = head + c.markdown_table(["run", "method", "peak drift [mm]", "at t [s]", "reduction [%]",
-                                    "drift at the end [mm]", "peak damper force [kN]", "damper's share of the input energy [%]",
-                                    "energy balance residual [-]", "CPU [ms]"], body)
+                                    "drift at the end [mm]", "peak damper force [kN]",
+                                    "damper's share of the input energy [%]", "energy balance residual [-]",
+                                    "CPU [ms]"], body)
     return c.write_text(outdir / "frame_summary.md", text)
 
 
