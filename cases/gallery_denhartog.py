@@ -32,8 +32,9 @@ between its stick and slip events. (The event-driven model carries a zero force 
 corners per period, a workaround: see CORNERS.) Writes ``denhartog.csv`` (one row per
 (r, beta)), ``denhartog_curves.csv`` (the closed-form lines), ``denhartog_amplitude.md`` and
 ``denhartog_stops.md`` (the docs tables), ``denhartog_amplitude.png``/``.pdf`` (amplitude
-ratio against frequency ratio: closed-form lines, simulated markers) and ``denhartog_regions.png``/``.pdf`` (the (beta, r) plane: where
-the closed form's non-stop motion holds, and each run's stick fraction).
+ratio against frequency ratio: closed-form lines, simulated markers) and
+``denhartog_regions.png``/``.pdf`` (the (beta, r) plane: where the closed form's non-stop
+motion holds, and each run's stick fraction).
 """
 from __future__ import annotations
 
