@@ -194,7 +194,7 @@ def simulate_point(beta: float, r: float) -> dict[str, Any]:
         xs = [x for t, x in turning if t0 <= t <= t1]
         return 0.5 * (max(xs) - min(xs)) if xs else 0.0
     amp = half_range(t_end - N_AVG * period, t_end)
-    settled = abs(amp - half_range(t_end - 2 * N_AVG * period, t_end - N_AVG * period)) / amp
+    settled = abs(amp - half_range(t_end - 2 * N_AVG * period, t_end - N_AVG * period)) / amp if amp else math.inf
     stick, stops = _stick_intervals(res.events, t_end - N_AVG * period, t_end)
     out = {"beta": beta, "r": r, "amplitude": amp, "settled": settled, "stops": stops / N_AVG,
            "stick_fraction": stick / (N_AVG * period), "cpu": cpu, "moreau": None, "closed_stop": None,
