@@ -58,7 +58,8 @@ DRIVERS: tuple[Driver, ...] = (
     Driver("stick", "study", 12.0, False), Driver("identify", "study", 35.0, False),
     Driver("chain", "study", 31.0, False), Driver("advise_examples", "study", 60.0, False),
     Driver("engines", "study", 64.0, False), Driver("gallery_clutches", "study", 13.0, False),
-    Driver("gallery_belt2dof", "study", 6.0, False), Driver("gallery_stacked", "study", 12.0, False))
+    Driver("gallery_belt2dof", "study", 6.0, False), Driver("gallery_stacked", "study", 12.0, False),
+    Driver("gallery_denhartog", "study", 28.0, False), Driver("gallery_frame", "study", 9.0, False))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 
@@ -160,7 +161,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
                         help="also run the studies (work-precision, stability, laws_compare, implicit, stick, "
-                        "identify, chain, advise_examples)")
+                        "identify, chain, advise_examples, engines, the gallery's gallery_denhartog and gallery_frame)")
     parser.add_argument("--jobs", type=count, default=min(2, _cores()),
                         help="drivers run at once, each in its own process, >= 1 (default: cores, at most 2)")
     parser.add_argument("--workers", type=count, default=None,

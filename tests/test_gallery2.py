@@ -1,0 +1,228 @@
+"""The gallery's Den Hartog oscillator and friction-damper frame (cases.gallery_denhartog,
+cases.gallery_frame) against independent references: Den Hartog's closed form, a scipy
+event-location integration of the oscillator with stops, scipy solutions of the frame, the
+frame's energy balance, and the identification of the damper's law from its measured
+records."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("scipy")
+from scipy.integrate import solve_ivp  # noqa: E402
+
+from cases import gallery_denhartog as dh  # noqa: E402
+from cases import gallery_frame as gf  # noqa: E402
+
+
+# ---------------------------------------------------------------------------------------------
+# Den Hartog
+# ---------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("beta, r", [(0.6, 0.1), (1.5, 0.3), (2.0, 0.5), (0.8, 0.3), (3.0, 0.1)])
+def test_nonstop_amplitude_matches_den_hartog(beta: float, r: float) -> None:
+    """Where Den Hartog's non-stop motion holds, the event-driven steady amplitude is his
+    closed form to 1e-4 (relative), with no stops."""
+    assert dh.nonstop_valid(beta, r)
+    p = dh.simulate_point(beta, r)
+    assert p["stops"] == 0
+    assert abs(p["amplitude"] / dh.amplitude(beta, r) - 1.0) < 1e-4
+
+
+def test_closed_form_path_solves_the_equation() -> None:
+    """The closed form's half cycle satisfies x'' + x = cos(beta t + theta) - r (finite
+    differences) and ends at +X at rest: an independent check of the formula's algebra."""
+    beta, r = 1.5, 0.3
+    x_amp = dh.amplitude(beta, r)
+    v = 1.0 / (1.0 - beta ** 2)
+    theta = math.atan2(r * math.tan(math.pi / (2 * beta)) / (v * beta), -x_amp / v)
+    tau = np.linspace(0.0, math.pi / beta, 20001)
+    x, xd = dh._half_cycle(beta, r, x_amp, theta, tau)
+    h = tau[1] - tau[0]
+    xdd = (x[2:] - 2 * x[1:-1] + x[:-2]) / h ** 2
+    assert np.max(np.abs(xdd + x[1:-1] - np.cos(beta * tau[1:-1] + theta) + r)) < 1e-6
+    assert abs(x[0] + x_amp) < 1e-12 and abs(x[-1] - x_amp) < 1e-12 and abs(xd[-1]) < 1e-12
+
+
+def _scipy_stick_fraction(beta: float, r: float, periods: int, n_avg: int) -> float:
+    """The oscillator x'' + x = cos(beta t) - r sgn(x') with stops, integrated mode by mode by
+    scipy (solve_ivp with event location, rtol 1e-12): the stick fraction over the last
+    n_avg periods."""
+    period = 2 * math.pi / beta
+    t_end = periods * period
+    t, x, v, mode = 0.0, 0.0, 0.0, 0          # at rest, stuck (cos(0) = 1 > r breaks away at once)
+    stuck: list[tuple[float, float]] = []
+    while t < t_end:
+        if mode == 0:
+            net = -x + math.cos(beta * t)
+            if abs(net) > r * (1 + 1e-12):
+                mode = 1 if net > 0 else -1
+                continue
+            ev = lambda s, y, x=x: abs(-x + math.cos(beta * s)) - r  # noqa: E731
+            ev.terminal, ev.direction = True, 1
+            sol = solve_ivp(lambda s, y: [0.0], (t, t_end), [0.0], events=ev, rtol=1e-12, atol=1e-14,
+                            max_step=period / 50)
+            t1 = sol.t_events[0][0] if sol.t_events[0].size else t_end
+            stuck.append((t, t1))
+            t = t1
+            net = -x + math.cos(beta * t)
+            mode = 1 if net > 0 else -1
+        else:
+            s = mode
+            ev = lambda _, y: y[1]  # noqa: E731
+            ev.terminal, ev.direction = True, -s
+            sol = solve_ivp(lambda tt, y: [y[1], -y[0] + math.cos(beta * tt) - r * s], (t, t_end), [x, v],
+                            events=ev, rtol=1e-12, atol=1e-14, method="DOP853")
+            if not sol.t_events[0].size:
+                break
+            t, x, v = sol.t_events[0][0], sol.y_events[0][0][0], 0.0
+            net = -x + math.cos(beta * t)
+            mode = 0 if abs(net) <= r else (1 if net > 0 else -1)
+    t0 = t_end - n_avg * period
+    return sum(max(0.0, min(b, t_end) - max(a, t0)) for a, b in stuck) / (n_avg * period)
+
+
+@pytest.mark.parametrize("beta, r", [(0.4, 0.5), (2.0, 0.7)])
+def test_stick_fraction_against_scipy_and_closed_form(beta: float, r: float) -> None:
+    """With stops, the event-driven stick fraction agrees with a scipy event-location
+    integration to 1e-6, with the closed form with one stop per half period to 1e-6, and with
+    Moreau-Jean (h = T/2000, counted on its output grid) to 2e-3."""
+    p = dh.simulate_point(beta, r)
+    assert p["stops"] == 2
+    ref = _scipy_stick_fraction(beta, r, dh.N_PERIODS, dh.N_AVG)
+    assert abs(p["stick_fraction"] - ref) < 1e-6
+    assert p["closed_stop"] is not None
+    assert abs(p["stick_fraction"] - p["closed_stop"]["stick_fraction"]) < 1e-6
+    assert abs(p["amplitude"] - p["closed_stop"]["amplitude"]) < 1e-6
+    assert abs(p["moreau"] - p["stick_fraction"]) < 2e-3
+
+
+def test_nonstop_region_boundary_is_where_stops_begin() -> None:
+    """Just inside the closed form's non-stop region the simulation has no stops, just
+    outside it has stops (at beta = 0.7, scanning r)."""
+    beta = 0.7
+    rs = np.linspace(0.05, 0.95, 181)
+    holds = np.array([dh.nonstop_valid(beta, r) for r in rs])
+    edge = int(np.flatnonzero(~holds)[0])
+    assert edge > 0 and holds[:edge].all()
+    assert dh.simulate_point(beta, float(rs[edge - 2]))["stops"] == 0
+    assert dh.simulate_point(beta, float(rs[edge + 2]))["stops"] > 0
+
+
+@pytest.mark.slow     # about 20 s
+def test_denhartog_driver_quick(tmp_path) -> None:
+    """The driver's quick run writes its tables and figures; every non-stop row within 1e-3."""
+    files = dh.main(["--outdir", str(tmp_path), "--quick", "--quiet"])
+    names = {f.name for f in files}
+    for n in ("denhartog.csv", "denhartog_amplitude.md", "denhartog_stops.md", "denhartog_amplitude.png",
+              "denhartog_amplitude.pdf", "denhartog_regions.png"):
+        assert n in names
+    rows = dh._rows(tmp_path / "quick" / "denhartog.csv")   # a --quick run writes into quick/
+    diffs = [abs(r["relative difference [-]"]) for r in rows if r["closed form holds [-]"] == 1.0]
+    assert diffs and max(diffs) < 1e-3
+
+
+# ---------------------------------------------------------------------------------------------
+# The frame
+# ---------------------------------------------------------------------------------------------
+F_D, SIGMA0, ALPHA = 1.0e4, 2.4e6, 0.65        # a damper of the fitted size (not the fit itself)
+T_END = 8.0
+
+
+def _scipy_frame(damper: str, t_end: float) -> tuple[np.ndarray, np.ndarray]:
+    """The frame without a damper or with Dahl's damper, by scipy's DOP853 at rtol 1e-11."""
+    k = gf.frame_constants()
+    t_rec, a_rec = gf.ground_record()
+    t_out = np.linspace(0.0, t_end, int(round(t_end / gf.DT_OUT)) + 1)
+
+    def rhs(t: float, y: np.ndarray) -> list[float]:
+        u, v, z = y
+        f = -k["M"] * np.interp(t, t_rec, a_rec) - k["K"] * u - k["C"] * v
+        dz = 0.0
+        if damper == "dahl":
+            f -= SIGMA0 * z
+            rr = 1.0 - math.copysign(1.0, v) * SIGMA0 * z / F_D
+            dz = 0.0 if rr == 0.0 else v * math.copysign(abs(rr) ** ALPHA, rr)
+        return [v, f / k["M"], dz]
+    sol = solve_ivp(rhs, (0.0, t_end), [0.0, 0.0, 0.0], method="DOP853", t_eval=t_out, rtol=1e-11,
+                    atol=1e-14, max_step=0.02)
+    return sol.t, sol.y[0]
+
+
+@pytest.mark.parametrize("damper, t_end", [("none", T_END),
+                                           pytest.param("dahl", 4.0, marks=pytest.mark.slow)])  # scipy: 40 s
+def test_frame_against_scipy(damper: str, t_end: float) -> None:
+    """The frame's drift (the ground record as a table signal evaluated in Fortran, Dahl's law
+    with its exponent below 1) equals scipy's integration of the same equations to 1e-6 of its
+    peak."""
+    r = gf.simulate_frame(damper, t_end, F_D, SIGMA0, ALPHA)
+    t, u = _scipy_frame(damper, t_end)
+    assert np.allclose(r["t"], t)
+    assert np.max(np.abs(r["u"] - u)) < 1e-6 * np.max(np.abs(u))
+
+
+def test_frame_coulomb_energy_balance() -> None:
+    """With the exact Coulomb damper: the ground's input equals kinetic + strain energy +
+    viscous + friction dissipation (F_d times the sliding distance) to 1e-4 of the input, the
+    damper force never exceeds F_d, and the damper dissipates a good share of the input."""
+    r = gf.simulate_frame("coulomb", T_END, F_D)
+    assert np.max(np.abs(r["force"])) <= F_D * (1 + 1e-9)
+    e = gf.energies(r)
+    travel = float(np.sum(np.abs(np.diff(r["u"]))))
+    assert abs(e["damper"] - F_D * travel) < 1e-3 * e["damper"]
+    assert abs(e["residual"]) < 1e-4
+    assert e["damper"] > 0.3 * e["input"]
+
+
+def test_frame_dahl_energy_balance() -> None:
+    """With Dahl's damper the energy balance closes too (the damper's work, stored presliding
+    energy included, from its state z): to 1e-4 of the input."""
+    e = gf.energies(gf.simulate_frame("dahl", T_END, F_D, SIGMA0, ALPHA))
+    assert abs(e["residual"]) < 1e-4 and e["damper"] > 0.3 * e["input"]
+
+
+def test_frame_damper_reduces_drift() -> None:
+    """Both dampers reduce the peak drift; Dahl's presliding makes its loop differ from
+    Coulomb's but its peak drift within 25 % of Coulomb's."""
+    peaks = {d: np.max(np.abs(gf.simulate_frame(d, T_END, F_D, SIGMA0, ALPHA)["u"])) for d in gf.RUNS}
+    assert peaks["dahl"] < 0.9 * peaks["none"] and peaks["coulomb"] < 0.9 * peaks["none"]
+    assert abs(peaks["dahl"] / peaks["coulomb"] - 1.0) < 0.25
+
+
+def test_identification_recovers_sensible_damper() -> None:
+    """Dahl's law fitted to the measured 30 lb records: a sliding force between 8 and 14 kN
+    (the README's 12-13 kN peaks), a presliding displacement F_d / sigma0 of 1 to 20 mm
+    (the records' few millimetres), and a held-out error below 8 % of the force range (the
+    static laws' is above 10 %: cases.identify)."""
+    ident = gf.identify(quiet=True)
+    fit = ident["fit"]
+    assert 8e3 < fit.params["mu_k"] < 14e3
+    assert 1e-3 < fit.params["mu_k"] / fit.params["sigma0"] < 2e-2
+    assert ident["held"]["nrmse"] < 0.08
+
+
+@pytest.mark.slow
+def test_frame_driver_quick(tmp_path) -> None:
+    """The frame driver's quick run writes its tables and figures with a balanced energy."""
+    gf.main(["--outdir", str(tmp_path), "--quick", "--quiet"])
+    cols = gf.c.read_csv(tmp_path / "quick" / "frame_summary.csv")
+    assert max(abs(float(x)) for x in cols["energy residual [-]"]) < 1e-3
+    for n in ("frame_identified.md", "frame_summary.md", "frame_drift.png", "frame_loop.pdf"):
+        assert (tmp_path / "quick" / n).exists()
+
+
+@pytest.mark.xfail(strict=True, reason="event_driven misses the breakaway of a stuck contact under a "
+                   "periodic force: its step grows while the state is constant, and the stick-to-slip event "
+                   "function, read at step ends only, is back within the limit there (gallery_denhartog "
+                   "adds corners as a workaround)")
+def test_event_driven_finds_every_breakaway_without_corners() -> None:
+    """The oscillator at F/P0 = 0.3, beta = 0.3 from rest, without the driver's zero force with
+    corners: a mass stuck at x with |cos(beta t) - x| > F for part of every period must slip
+    again, so there are slip events in the last 5 of 10 periods."""
+    import stickslip as ss
+    beta, r = 0.3, 0.3
+    period = 2 * math.pi / beta
+    res = ss.simulate(dh.model(beta, r), method="event_driven", t_end=10 * period, n_out=11, rtol=1e-10,
+                      atol=1e-12)
+    assert any(e["kind"] == "slip" and e["t"] > 5 * period for e in res.events)
