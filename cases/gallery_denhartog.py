@@ -28,8 +28,7 @@ F/P0 < 0.2); amplitude and stick fraction are measured over the last N_AVG perio
 change from the N_AVG periods before says whether the transient has died out. The amplitude is
 half the distance between the extreme turning points: the positions of the event-driven run's
 reversal and stick events, which are exact (no output grid); the stick fraction is the time
-between its stick and slip events. (The event-driven model carries a zero force with CORNERS
-corners per period, a workaround: see CORNERS.) Writes ``denhartog.csv`` (one row per
+between its stick and slip events. Writes ``denhartog.csv`` (one row per
 (r, beta)), ``denhartog_curves.csv`` (the closed-form lines), ``denhartog_amplitude.md`` and
 ``denhartog_stops.md`` (the docs tables), ``denhartog_amplitude.png``/``.pdf`` (amplitude
 ratio against frequency ratio: closed-form lines, simulated markers) and
@@ -59,13 +58,6 @@ N_PERIODS_LIGHT: int = 150            # ... and with light friction (F/P0 < 0.2)
 N_AVG: int = 5                        # periods over which amplitude and stick are measured
 RTOL: float = 1e-10                   # event_driven tolerances (atol = 1e-2 rtol)
 MOREAU_STEPS: int = 2000              # Moreau-Jean steps per forcing period
-#: Corners per forcing period of a zero force (a table of zeros) added to the event-driven
-#: model: each corner ends a mode of event_driven, so a stuck mode is checked for breakaway at
-#: least this often. Without them event_driven misses breakaways: while the mass is stuck the
-#: state does not change, DOPRI5's step grows to the whole run, and the stick-to-slip event
-#: function, read at the ends of steps only, can be back below its limit there (a periodic
-#: force); the mass then stays stuck for good (reported with a reproducer; see the gallery page).
-CORNERS: int = 10
 BETA_LINE = np.linspace(0.15, 3.2, 1200)   # the closed-form lines
 
 HEADER = ["r [-]", "beta [-]", "closed form X k/P0 [-]", "closed form holds [-]", "simulated X k/P0 [-]",
@@ -142,19 +134,14 @@ def stop_motion(beta: float, r: float, guess: tuple[float, float]) -> dict[str, 
 # --------------------------------------------------------------------------------------------
 # Simulation
 # --------------------------------------------------------------------------------------------
-def model(beta: float, r: float, t_end: float | None = None) -> Any:
+def model(beta: float, r: float) -> Any:
     """The oscillator as a stickslip.Model: m = 1 kg, k = 1 N/m, P0 cos(beta t) with P0 = 1 N,
-    Coulomb friction F = r P0 (mu_s = mu_k = 1 on a normal force r); with `t_end`, the zero
-    force with CORNERS corners per period up to t_end (see CORNERS)."""
+    Coulomb friction F = r P0 (mu_s = mu_k = 1 on a normal force r)."""
     import stickslip as ss
     m = ss.Model()
     b = m.add_body(1.0, name="mass")
     m.add_spring(b, None, k=1.0)
     m.add_force(b, ss.signal.sine(1.0, beta / (2.0 * math.pi), math.pi / 2.0))   # cos(beta t)
-    if t_end is not None:
-        n = int(math.ceil(t_end * beta / (2.0 * math.pi) * CORNERS))
-        corners = np.linspace(0.0, t_end, n + 1)
-        m.add_force(b, ss.signal.table(corners, np.zeros_like(corners)))
     m.add_contact(b, None, "coulomb", normal_force=r, mu_s=1.0, mu_k=1.0)
     return m
 
@@ -185,7 +172,7 @@ def simulate_point(beta: float, r: float) -> dict[str, Any]:
     n_periods = N_PERIODS_LIGHT if r < 0.2 else N_PERIODS
     t_end = n_periods * period
     t0 = time.process_time()
-    res = ss.simulate(model(beta, r, t_end), method="event_driven", t_end=t_end, n_out=n_periods + 1,
+    res = ss.simulate(model(beta, r), method="event_driven", t_end=t_end, n_out=n_periods + 1,
                       rtol=RTOL, atol=1e-2 * RTOL)
     cpu = time.process_time() - t0
     turning = [(e["t"], e["x"]) for e in res.events if e["kind"] in ("reversal", "stick")]

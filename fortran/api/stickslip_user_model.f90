@@ -378,7 +378,7 @@ contains
         sys%con_n = self%con_n
         sys%con_w = self%con_w
         sys%sig = self%sig
-        call sys%set_band()
+        call sys%prepare()
     contains
         logical function pair_ok(a, b)
             integer, intent(in) :: a, b

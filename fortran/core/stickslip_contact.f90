@@ -94,6 +94,11 @@ module stickslip_contact
         !! corner (a step of a time signal) [s]; huge(1.0_dp) by default (none). The event-driven
         !! method stops there and decides the modes afresh.
         procedure :: next_time_event => no_time_event
+        !> The shortest time over which the forces, normal forces or offsets vary smoothly in
+        !! time between corners (a sine's period) [s]; huge(1.0_dp) by default (they do not).
+        !! The event-driven method keeps its steps to a fraction of it, so that a holding force
+        !! that follows the signal is sampled densely enough to see where it exceeds the limit.
+        procedure :: time_scale => no_time_scale
         !> Whether each contact acts on one coordinate of its own (a single entry in its row of
         !! H, no coordinate shared), and which contact each coordinate carries.
         procedure :: own_coordinates
@@ -193,6 +198,11 @@ contains
         real(dp), intent(in) :: t           !! time [s]
         tb = huge(1.0_dp)
     end function no_time_event
+
+    pure real(dp) function no_time_scale(self) result(ts)
+        class(contact_system), intent(in) :: self
+        ts = huge(1.0_dp)
+    end function no_time_scale
 
     subroutine delassus(self, t, q, u, a, b, d)
         class(contact_system), intent(in) :: self

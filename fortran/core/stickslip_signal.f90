@@ -60,6 +60,12 @@ module stickslip_signal
         procedure :: next_break => signal_next_break
         !> 0 when every signal is well formed; else the code SIG_ERR_* and the signal.
         procedure :: check => signal_check
+        !> .true. when signal i is a number (a constant).
+        procedure :: is_number => signal_is_number
+        !> The value of signal i, a number (`is_number`).
+        procedure :: number => signal_number
+        !> The shortest period of any sine in the signals (huge when none) [s].
+        procedure :: shortest_period => signal_shortest_period
     end type signal_set
 
 contains
@@ -70,6 +76,29 @@ contains
         if (allocated(self%start)) n = size(self%start) - 1
     end function signal_count
 
+    pure real(dp) function signal_shortest_period(self) result(period)
+        class(signal_set), intent(in) :: self
+        integer :: k
+        period = huge(1.0_dp)
+        if (.not. allocated(self%op)) return
+        do k = 1, size(self%op)
+            if (self%op(k) == SIG_SINE .and. self%arg(2, k) /= 0.0_dp) &
+                period = min(period, 1.0_dp / abs(self%arg(2, k)))
+        end do
+    end function signal_shortest_period
+
+    pure logical function signal_is_number(self, i) result(yes)
+        class(signal_set), intent(in) :: self
+        integer, intent(in) :: i            !! signal index, 1 .. count
+        yes = self%start(i + 1) - self%start(i) == 1 .and. self%op(self%start(i)) == SIG_CONST
+    end function signal_is_number
+
+    pure real(dp) function signal_number(self, i) result(value)
+        class(signal_set), intent(in) :: self
+        integer, intent(in) :: i            !! signal index, 1 .. count, a number
+        value = self%arg(1, self%start(i))
+    end function signal_number
+
     !> Value and rate of signal i at time t (i in 1 .. count; a checked set).
     pure subroutine signal_eval(self, i, t, value, rate)
         class(signal_set), intent(in) :: self
@@ -77,9 +106,31 @@ contains
         real(dp), intent(in) :: t           !! time [s]
         real(dp), intent(out) :: value      !! its value (units of what it drives)
         real(dp), intent(out) :: rate       !! its time derivative (per second)
-        real(dp) :: sv(self%start(i + 1) - self%start(i)), sr(self%start(i + 1) - self%start(i))
+        integer, parameter :: SHORT = 32    ! programs up to this length use a stack of fixed size
+        real(dp) :: sv(SHORT), sr(SHORT)
+        real(dp), allocatable :: lv(:), lr(:)
+        integer :: length
+        length = self%start(i + 1) - self%start(i)
+        if (self%is_number(i)) then
+            value = self%number(i)                  ! the common case
+            rate = 0.0_dp
+        else if (length <= SHORT) then
+            call run_program(self, i, t, sv, sr, value, rate)
+        else
+            allocate(lv(length), lr(length))
+            call run_program(self, i, t, lv, lr, value, rate)
+        end if
+    end subroutine signal_eval
+
+    !> Run signal i's program on the stack (sv, sr) of values and rates.
+    pure subroutine run_program(self, i, t, sv, sr, value, rate)
+        class(signal_set), intent(in) :: self
+        integer, intent(in) :: i
+        real(dp), intent(in) :: t
+        real(dp), intent(inout) :: sv(:), sr(:)
+        real(dp), intent(out) :: value, rate
         real(dp) :: a(4), u
-        integer :: k, top, j, first, last
+        integer :: k, top, j, first, last, lo, hi
         top = 0
         do k = self%start(i), self%start(i + 1) - 1
             a = self%arg(:, k)
@@ -128,10 +179,19 @@ contains
                 else if (t >= self%tab_t(last)) then
                     sv(top) = self%tab_v(last)
                 else
-                    j = first
-                    do while (self%tab_t(j + 1) <= t)
-                        j = j + 1
+                    ! bisection: tab_t(lo) <= t < tab_t(hi), hi = lo + 1 at the end (a long
+                    ! record, a ground acceleration, costs log2 of its length per evaluation)
+                    lo = first
+                    hi = last
+                    do while (hi - lo > 1)
+                        j = (lo + hi) / 2
+                        if (self%tab_t(j) <= t) then
+                            lo = j
+                        else
+                            hi = j
+                        end if
                     end do
+                    j = lo
                     sv(top) = self%tab_v(j) + slope(j) * (t - self%tab_t(j))
                     sr(top) = slope(j)
                 end if
@@ -144,7 +204,7 @@ contains
             integer, intent(in) :: j
             slope = (self%tab_v(j + 1) - self%tab_v(j)) / (self%tab_t(j + 1) - self%tab_t(j))
         end function slope
-    end subroutine signal_eval
+    end subroutine run_program
 
     !> The first corner of signal i strictly after t: a step's time, a ramp's start or end, a
     !! table's point; huge(1.0_dp) when there is none [s].

@@ -48,6 +48,13 @@
 !! it closes. (A normal force that rises above 0 between corners, a sine, keeps the direction
 !! of the last event: give such a contact a step, ramp or table where it closes.)
 !!
+!! Where forces vary smoothly in time (a sine, `contact_system%time_scale`), a mode with a
+!! stuck contact keeps its steps to 1/16 of their shortest period: while a body is stuck its
+!! state does not move, DOPRI5's error estimate is zero and its steps would otherwise grow
+!! past a whole period, over a breakaway that the check at the step's end no longer sees. (A
+!! holding force that exceeds the limit only within one such step, by less than about 2 % of
+!! the sine's amplitude, can still pass unseen.)
+!!
 !! Output on the grid: DOPRI5's dense output, from a second DOPRI5 run over each stretch
 !! between events that holds grid points (the same steps as the first until the event).
 !! Counters: nstep/naccept/nreject of the mode integration; nfev counts every evaluation
@@ -114,6 +121,8 @@ module stickslip_event_driven
     end type mode_system
 
     integer, parameter :: ZENO_ROW = 10
+    !> Least steps per period of the forces' fastest sine of a mode with a stuck contact
+    real(dp), parameter :: STEPS_PER_PERIOD = 16.0_dp
 
 contains
 
@@ -426,6 +435,11 @@ contains
             ! Pass 1: the mode's steps, CHUNK rows at a time, looking for an event.
             d5%h0 = h_carry
             d5%max_steps = max(1_8, opts%max_steps - stats%nstep)
+            ! A stuck contact's state barely moves, so DOPRI5's error estimate does not limit
+            ! the step, while the forces may follow a sine: keep the steps, at whose ends the
+            ! holding forces are checked, to 1/STEPS_PER_PERIOD of the shortest period.
+            d5%hmax = 0.0_dp
+            if (any(ms%stuck) .and. cs%time_scale() < huge(1.0_dp)) d5%hmax = cs%time_scale() / STEPS_PER_PERIOD
             t_seg = min(t_end, cs%next_time_event(t))   ! a corner of the forces: the mode ends there
             ms%t_cap = huge(1.0_dp)
             if (t_seg < t_end) ms%t_cap = nearest(t_seg, -1.0_dp)

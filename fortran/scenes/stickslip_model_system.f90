@@ -66,16 +66,22 @@ module stickslip_model_system
         integer, allocatable :: z_first(:)         !! (nc + 1) contact i's states are z(z_first(i) : z_first(i + 1) - 1)
         logical :: all_static = .true.             !! every law is static (no states)
         type(signal_set) :: sig                    !! the signals
-        integer, allocatable :: band_perm(:)       !! (n) state at each position of the body order (`set_band`)
+        integer, allocatable :: band_perm(:)       !! (n) state at each position of the body order (`prepare`)
         integer :: band_ml = -1                    !! lower bandwidth in that order (-1: dense)
         integer :: band_mu = -1                    !! upper bandwidth in that order (-1: dense)
+        real(dp), allocatable :: work(:, :)        !! (nb, 2) the forces of `rhs`, kept between calls (no allocation a call)
+        !> (2, nc) contact i's normal force [N] and surface velocity [m/s] where their signals
+        !! are numbers (`prepare`), read without evaluating the signal
+        real(dp), allocatable :: con_fixed(:, :)
+        logical, allocatable :: con_is_fixed(:, :) !! (2, nc) which of them are numbers
     contains
         procedure :: rhs => model_rhs
         !! (x, v, z)' at (t, y)
         procedure :: jacobian => model_jacobian
         !! analytic with static laws, finite differences otherwise
-        procedure :: set_band => model_set_band
-        !! find the body order and its band (once, when the model is built)
+        procedure :: prepare => model_prepare
+        !! find the body order and its band, and the contacts' constant signals (once, when
+        !! the model is built)
         procedure :: bandwidth => model_bandwidth
         !! the body order and its band, or dense
         procedure :: band_jacobian => model_band_jacobian
@@ -113,6 +119,8 @@ module stickslip_model_system
         !! W's three diagonals when K and C are tridiagonal
         procedure :: next_time_event => mc_next_time_event
         !! the first corner of any signal after t
+        procedure :: time_scale => mc_time_scale
+        !! the shortest period of any sine in the signals
     end type model_contact
 
 contains
@@ -163,17 +171,40 @@ contains
         integer, intent(in) :: i
         real(dp), intent(in) :: t, v(:)
         real(dp), intent(out) :: s, n, wdot
-        real(dp) :: w, rate
-        call self%sig%eval(self%con_n(i), t, n, rate)
-        n = max(n, 0.0_dp)
-        s = v(self%con_a(i))
+        real(dp) :: w
+        n = normal_force(self, i, t)
+        call surface(self, i, t, w, wdot)
+        s = v(self%con_a(i)) - w
         if (self%con_b(i) > 0) s = s - v(self%con_b(i))
-        wdot = 0.0_dp
-        if (self%con_w(i) > 0) then
-            call self%sig%eval(self%con_w(i), t, w, wdot)
-            s = s - w
-        end if
     end subroutine contact_state
+
+    !> Contact i's normal force at t, clipped at 0 [N].
+    pure real(dp) function normal_force(self, i, t) result(n)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i
+        real(dp), intent(in) :: t
+        real(dp) :: rate
+        if (self%con_is_fixed(1, i)) then
+            n = self%con_fixed(1, i)
+        else
+            call self%sig%eval(self%con_n(i), t, n, rate)
+        end if
+        n = max(n, 0.0_dp)
+    end function normal_force
+
+    !> Contact i's surface velocity w [m/s] and its rate w' [m/s^2] at t (0 where it has none).
+    pure subroutine surface(self, i, t, w, wdot)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i
+        real(dp), intent(in) :: t
+        real(dp), intent(out) :: w, wdot
+        if (self%con_is_fixed(2, i)) then
+            w = self%con_fixed(2, i)
+            wdot = 0.0_dp
+        else
+            call self%sig%eval(self%con_w(i), t, w, wdot)
+        end if
+    end subroutine surface
 
     !> 1 / m_a + 1 / m_b of contact i [1/kg] (the ground: infinite mass).
     pure real(dp) function inverse_mass(self, i) result(im)
@@ -188,9 +219,11 @@ contains
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
-        real(dp) :: f(self%nb), f0(self%nb), s, n, wdot, mu, mu_hold, c, fa, fb
+        real(dp) :: s, n, wdot, mu, mu_hold, c, fa, fb
         integer :: i, nb, a, b, z0, z1
         nb = self%nb
+        if (.not. allocated(self%work)) allocate(self%work(nb, 2))
+        associate (f => self%work(:, 1), f0 => self%work(:, 2))
         call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), f0)
         f = f0
         do i = 1, size(self%con_a)
@@ -217,6 +250,7 @@ contains
         end do
         dydt(1:nb) = y(nb + 1:2 * nb)
         dydt(nb + 1:2 * nb) = f / self%mass
+        end associate
     end subroutine model_rhs
 
     !> df/dy: analytic when every law is static (springs, dampers, and each contact's
@@ -236,15 +270,15 @@ contains
         call static_jacobian(self, t, y, [(i, i = 1, size(y))], -1, -1, dfdy)
     end subroutine model_jacobian
 
-    !> The body order (x_1, v_1, the states of the contacts whose first body is 1, x_2, ...)
-    !! and the band of the Jacobian in it, from the model's structure: x_i' reads v_i; a
+    !> The contacts' signals that are numbers (read without evaluating them), and the body
+    !! order (x_1, v_1, the states of the contacts whose first body is 1, x_2, ...) and the band of the Jacobian in it, from the model's structure: x_i' reads v_i; a
     !! body's acceleration reads the positions and velocities of the bodies joined to it by a
     !! spring or a damper, and the velocities and states of its contacts; a contact's states
     !! read its bodies' velocities, and, for a law that is not static (its holding
     !! coefficient), the positions and velocities of the bodies joined to its bodies. Banded
     !! when the band LU's storage (2 ml + mu + 1 rows) is smaller than the dense matrix's (n);
     !! dense (-1) otherwise, as for one or two bodies.
-    subroutine model_set_band(self)
+    subroutine model_prepare(self)
         class(model_system), intent(inout) :: self
         !! the model, built
         integer, allocatable :: pos(:), adj_ptr(:), adj(:), fill(:)
@@ -252,6 +286,16 @@ contains
         nb = self%nb
         nc = size(self%con_a)
         n = self%n_states()
+        ! the contacts' signals that are numbers
+        allocate(self%con_fixed(2, nc), self%con_is_fixed(2, nc))
+        do c = 1, nc
+            self%con_is_fixed(1, c) = self%sig%is_number(self%con_n(c))
+            self%con_is_fixed(2, c) = self%con_w(c) == 0
+            if (.not. self%con_is_fixed(2, c)) self%con_is_fixed(2, c) = self%sig%is_number(self%con_w(c))
+            self%con_fixed(:, c) = 0.0_dp
+            if (self%con_is_fixed(1, c)) self%con_fixed(1, c) = self%sig%number(self%con_n(c))
+            if (self%con_w(c) > 0 .and. self%con_is_fixed(2, c)) self%con_fixed(2, c) = self%sig%number(self%con_w(c))
+        end do
         allocate(pos(n), self%band_perm(n))
         ! positions in the body order
         p = 0
@@ -369,9 +413,9 @@ contains
                 call touch(row, q)
             end do
         end subroutine reads
-    end subroutine model_set_band
+    end subroutine model_prepare
 
-    !> The body order and its band (`set_band`), or dense (ml = mu = -1).
+    !> The body order and its band (`prepare`), or dense (ml = mu = -1).
     subroutine model_bandwidth(self, perm, ml, mu)
         class(model_system), intent(in) :: self
         integer, intent(out) :: perm(:)     !! (n) state index at each position of the body order
@@ -610,11 +654,9 @@ contains
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: q(:)       !! positions [m]
         real(dp), intent(out) :: n(:)       !! normal forces, >= 0 [N]
-        real(dp) :: rate
         integer :: i
         do i = 1, self%n_c
-            call self%m%sig%eval(self%m%con_n(i), t, n(i), rate)
-            n(i) = max(n(i), 0.0_dp)
+            n(i) = normal_force(self%m, i, t)
         end do
     end subroutine mc_normal
 
@@ -622,37 +664,35 @@ contains
         class(model_contact), intent(in) :: self
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(out) :: b(:)       !! -w(t) of each contact [m/s]
-        real(dp) :: rate(self%n_c)
-        call surfaces(self, t, b, rate)
+        real(dp) :: rate
+        integer :: i
+        do i = 1, self%n_c
+            call surface(self%m, i, t, b(i), rate)
+            b(i) = -b(i)
+        end do
     end subroutine mc_offset
 
     subroutine mc_offset_rate(self, t, b)
         class(model_contact), intent(in) :: self
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(out) :: b(:)       !! -w'(t) of each contact [m/s^2]
-        real(dp) :: value(self%n_c)
-        call surfaces(self, t, value, b)
-    end subroutine mc_offset_rate
-
-    !> -w(t) and -w'(t) of each contact's surface (0 where it has none).
-    subroutine surfaces(self, t, b, rate)
-        class(model_contact), intent(in) :: self
-        real(dp), intent(in)  :: t
-        real(dp), intent(out) :: b(:), rate(:)
+        real(dp) :: w
         integer :: i
-        b = 0.0_dp
-        rate = 0.0_dp
         do i = 1, self%n_c
-            if (self%m%con_w(i) > 0) call self%m%sig%eval(self%m%con_w(i), t, b(i), rate(i))
+            call surface(self%m, i, t, w, b(i))
+            b(i) = -b(i)
         end do
-        b = -b
-        rate = -rate
-    end subroutine surfaces
+    end subroutine mc_offset_rate
 
     pure real(dp) function mc_next_time_event(self, t) result(tb)
         class(model_contact), intent(in) :: self
         real(dp), intent(in) :: t           !! time [s]
         tb = self%m%next_break(t)
     end function mc_next_time_event
+
+    pure real(dp) function mc_time_scale(self) result(ts)
+        class(model_contact), intent(in) :: self
+        ts = self%m%sig%shortest_period()
+    end function mc_time_scale
 
 end module stickslip_model_system
