@@ -41,7 +41,8 @@ Single studies instead of the whole run: --identify (identify.md: two fits of th
 records, prescribed_motion per sample), --lmfit (lmfit.md, lmfit.csv: every law fitted by
 stickslip and by the same fit written with lmfit, benchmarks/lmfit_compare.py), --prescribed
 (prescribed.md: prescribed_motion's CPU time per law, benchmarks/prescribed_speed.py),
---contact (contact.md: the contact solver), --clutches (clutches.md: event_driven on Modelica's
+--contact (contact.md: the contact solver), --model (model.md: the model path against the
+chain's own code, benchmarks/model_chain.py), --clutches (clutches.md: event_driven on Modelica's
 CoupledClutches against a scipy event-driven solver at equal accuracy, cases/gallery_clutches.py).
 """
 from __future__ import annotations
@@ -952,6 +953,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--contact", action="store_true",
                         help="only the contact-solver benchmark (random coupled problems of 2 to 128 "
                              "contacts, against Gauss-Seidel alone): writes contact.md")
+    parser.add_argument("--model", action="store_true",
+                        help="only the model path against the chain's own code (100 blocks, every method "
+                             "family): writes model.md")
     parser.add_argument("--clutches", action="store_true",
                         help="only event_driven on Modelica's CoupledClutches against a scipy event-driven "
                              "solver at equal accuracy: writes clutches.md")
@@ -991,6 +995,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         from .prescribed_speed import run_prescribed
         write_text(args.outdir / "prescribed.md", run_prescribed(log, 3 if args.quick else 15))
         write_provenance(args.outdir, "prescribed", [args.outdir / "prescribed.md"], argv)
+        return 0
+    if args.model:
+        from .model_chain import run_model_chain
+        write_text(args.outdir / "model.md", run_model_chain(log, 2 if args.quick else 5, 20 if args.quick else 100))
+        write_provenance(args.outdir, "model", [args.outdir / "model.md"], argv)
         return 0
     if args.clutches:
         from cases.gallery_clutches import bench_markdown
