@@ -59,7 +59,8 @@ DRIVERS: tuple[Driver, ...] = (
     Driver("chain", "study", 31.0, False), Driver("advise_examples", "study", 60.0, False),
     Driver("engines", "study", 64.0, False), Driver("gallery_clutches", "study", 13.0, False),
     Driver("gallery_belt2dof", "study", 6.0, False), Driver("gallery_stacked", "study", 12.0, False),
-    Driver("gallery_denhartog", "study", 28.0, False), Driver("gallery_frame", "study", 9.0, False))
+    Driver("gallery_denhartog", "study", 28.0, False), Driver("gallery_frame", "study", 9.0, False),
+    Driver("model_pairs", "study", 13.0, False))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 

@@ -271,7 +271,8 @@ def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[
     ([], ["laws", "slope", "belt"]),
     (["--all", "--threads", "1"], ["laws", "slope", "belt", "workprecision", "stability", "laws_compare",
                                    "implicit", "speedup", "stick", "identify", "chain",
-                                   "advise_examples", "engines"]),
+                                   "advise_examples", "engines", "gallery_clutches", "gallery_belt2dof",
+                                   "gallery_stacked", "gallery_denhartog", "gallery_frame", "model_pairs"]),
     (["--only", "stability"], ["stability"]),
 ])
 def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
@@ -296,7 +297,7 @@ def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
     for name, args in calls:
         assert args[:2] == ["--outdir", str(tmp_path)]
         if name in ("workprecision", "stability", "laws_compare", "implicit", "speedup", "stick", "identify", "chain",
-                    "advise_examples", "engines"):
+                    "advise_examples", "engines") or name.startswith("gallery_") or name == "model_pairs":
             assert "--threads" in args and "--workers" not in args
         elif name != "laws":
             assert "--workers" in args
