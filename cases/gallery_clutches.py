@@ -56,8 +56,8 @@ def model() -> Any:
 
 
 def scipy_system() -> Any:
-    """The same system for the independent scipy event-driven solver (benchmarks/clutches_scipy)."""
-    from benchmarks.clutches_scipy import ScipyContacts
+    """The same system for the independent scipy event-driven solver (cases/_scipy_events.py)."""
+    from cases._scipy_events import ScipyContacts
 
     def force(t: float, x: np.ndarray) -> np.ndarray:
         return np.array([10.0 * math.sin(2.0 * math.pi * 5.0 * t), 0.0, 0.0, 0.0])

@@ -11,7 +11,7 @@ a 40 N/m spring to the wall) lies on A. Coulomb friction, mu_s = 0.5, mu_k = 0.3
   1.5 kg on a 140 N/m spring, whose stick-slip cycle on the belt has a closed form.
 - **stacked, B slips**: B's contact mu_s = 0.25, mu_k = 0.2: B slips on A while A sticks to
   and slips on the belt; the reference is the scipy event-driven solver of
-  benchmarks/clutches_scipy.py (exhaustive mode search).
+  cases/_scipy_events.py (exhaustive mode search).
 - **feet**: one 1 kg block on a 100 N/m spring on two feet, each a contact with the belt
   carrying half the weight: a redundant pair (the contact forces are not unique, the motion
   is), the same closed form as one contact with the whole weight.
@@ -104,7 +104,7 @@ def closed_form(t: np.ndarray, m: float, k: float, normal: float, v_b: float = V
 
 def scipy_stacked(b_mu: tuple[float, float], t: np.ndarray) -> np.ndarray:
     """Positions (2, n_t) of the stacked blocks by the scipy event-driven solver."""
-    from benchmarks.clutches_scipy import ScipyContacts
+    from cases._scipy_events import ScipyContacts
 
     def force(_t: float, x: np.ndarray) -> np.ndarray:
         return np.array([-K_A * x[0], -K_B * x[1]])

@@ -1,6 +1,6 @@
 """The gallery's CoupledClutches, two-block belt and stacked-block pages (cases/gallery_*.py)
 against independent references: Modelica's published result (data/coupled-clutches), closed
-forms, and the scipy event-driven solver of benchmarks/clutches_scipy.py (numpy and scipy only,
+forms, and the scipy event-driven solver of cases/_scipy_events.py (numpy and scipy only,
 exhaustive mode search)."""
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.clutches_scipy import ScipyContacts  # noqa: E402
+from cases._scipy_events import ScipyContacts  # noqa: E402
 from cases import gallery_belt2dof as belt  # noqa: E402
 from cases import gallery_clutches as cc  # noqa: E402
 from cases import gallery_stacked as st  # noqa: E402
