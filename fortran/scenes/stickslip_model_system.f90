@@ -101,8 +101,10 @@ module stickslip_model_system
     !> The model with set-valued contacts (see the module notes).
     type, extends(contact_system) :: model_contact
         type(model_system) :: m                   !! the model
-        real(dp), allocatable :: kmat(:, :)       !! (nb, nb) K = -df/dx [N/m]
-        real(dp), allocatable :: cmat(:, :)       !! (nb, nb) C = -df/dv [N s/m]
+        real(dp), allocatable :: kmat(:, :)       !! (nb, nb) K = -df/dx [N/m], when not tridiagonal
+        real(dp), allocatable :: cmat(:, :)       !! (nb, nb) C = -df/dv [N s/m], when not tridiagonal
+        real(dp), allocatable :: ktri(:, :)       !! (3, nb) K's diagonals (i, i - 1), (i, i), (i, i + 1), when tridiagonal
+        real(dp), allocatable :: ctri(:, :)       !! (3, nb) C's diagonals, when tridiagonal
         logical :: tri = .false.                  !! K and C are tridiagonal
     contains
         procedure :: force => mc_force
@@ -583,8 +585,6 @@ contains
         mc%h_col = mc%h_col(:k)
         mc%h_val = mc%h_val(:k)
         mc%w_constant = .true.
-        allocate(mc%kmat(nb, nb), mc%cmat(nb, nb))
-        call stiffness_damping(self, mc%kmat, mc%cmat)
         mc%tri = .true.
         do i = 1, size(self%spr_k)
             if (self%spr_b(i) > 0 .and. abs(self%spr_a(i) - self%spr_b(i)) > 1) mc%tri = .false.
@@ -592,7 +592,33 @@ contains
         do i = 1, size(self%dmp_c)
             if (self%dmp_b(i) > 0 .and. abs(self%dmp_a(i) - self%dmp_b(i)) > 1) mc%tri = .false.
         end do
+        if (mc%tri) then      ! three diagonals: O(nb) memory and solves, whatever nb
+            allocate(mc%ktri(3, nb), mc%ctri(3, nb))
+            mc%ktri = 0.0_dp
+            mc%ctri = 0.0_dp
+            do i = 1, size(self%spr_k)
+                call couple_tri(mc%ktri, self%spr_a(i), self%spr_b(i), self%spr_k(i))
+            end do
+            do i = 1, size(self%dmp_c)
+                call couple_tri(mc%ctri, self%dmp_a(i), self%dmp_b(i), self%dmp_c(i))
+            end do
+        else
+            allocate(mc%kmat(nb, nb), mc%cmat(nb, nb))
+            call stiffness_damping(self, mc%kmat, mc%cmat)
+        end if
         call move_alloc(mc, cs)
+    contains
+        !> g between a and b = a +- 1 (or the ground) into three diagonals.
+        pure subroutine couple_tri(tri, a, b, g)
+            real(dp), intent(inout) :: tri(:, :)
+            integer, intent(in) :: a, b
+            real(dp), intent(in) :: g
+            tri(2, a) = tri(2, a) + g
+            if (b == 0) return
+            tri(2, b) = tri(2, b) + g
+            tri(2 + (b - a), a) = tri(2 + (b - a), a) - g     ! W(a, b): row a, diagonal of b - a
+            tri(2 + (a - b), b) = tri(2 + (a - b), b) - g
+        end subroutine couple_tri
     end subroutine model_contact_model
 
     subroutine mc_force(self, t, q, u, f)
@@ -612,17 +638,11 @@ contains
         real(dp), intent(out) :: d(:)       !! W(i, i)
         real(dp), intent(out) :: r(:)       !! W(i, i + 1)
         logical, intent(out)  :: ok         !! .true.: W is tridiagonal
-        integer :: i, n
         ok = self%tri
         if (.not. ok) return
-        n = self%n_dof
-        do i = 1, n
-            d(i) = self%m%mass(i) + a * self%cmat(i, i) + b * self%kmat(i, i)
-            l(i) = 0.0_dp
-            r(i) = 0.0_dp
-            if (i > 1) l(i) = a * self%cmat(i, i - 1) + b * self%kmat(i, i - 1)
-            if (i < n) r(i) = a * self%cmat(i, i + 1) + b * self%kmat(i, i + 1)
-        end do
+        l = a * self%ctri(1, :) + b * self%ktri(1, :)
+        d = self%m%mass + a * self%ctri(2, :) + b * self%ktri(2, :)
+        r = a * self%ctri(3, :) + b * self%ktri(3, :)
     end subroutine mc_w_tridiagonal
 
     subroutine mc_solve_w(self, t, q, u, a, b, x)
@@ -633,7 +653,8 @@ contains
         real(dp), intent(in)    :: a        !! weight of C [s]
         real(dp), intent(in)    :: b        !! weight of K [s^2]
         real(dp), intent(inout) :: x(:)     !! right-hand side [N s], then the solution [m/s]
-        real(dp) :: l(self%n_dof), d(self%n_dof), r(self%n_dof), w(self%n_dof, self%n_dof)
+        real(dp), allocatable :: w(:, :)
+        real(dp) :: l(self%n_dof), d(self%n_dof), r(self%n_dof)
         integer :: ipiv(self%n_dof), info, i
         logical :: ok
         call self%w_tridiagonal(a, b, l, d, r, ok)
@@ -641,7 +662,7 @@ contains
             call tridiagonal_solve(l, d, r, x)
             return
         end if
-        w = a * self%cmat + b * self%kmat
+        w = a * self%cmat + b * self%kmat     ! dense (a spring or damper joins distant bodies)
         do i = 1, self%n_dof
             w(i, i) = w(i, i) + self%m%mass(i)
         end do
