@@ -151,10 +151,16 @@ contains
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: u(:)       !! velocities [m/s]
         real(dp), intent(out) :: w(:)       !! relative sliding velocity of each contact [m/s]
-        real(dp) :: b(self%n_c)
-        call self%slip_offset(t, b)
-        call self%apply_h(u, w)
-        w = w + b
+        real(dp) :: s
+        integer :: i, k
+        call self%slip_offset(t, w)         ! the offsets first, then H u added to each
+        do i = 1, self%n_c
+            s = 0.0_dp
+            do k = self%h_ptr(i), self%h_ptr(i + 1) - 1
+                s = s + self%h_val(k) * u(self%h_col(k))
+            end do
+            w(i) = s + w(i)
+        end do
     end subroutine relative_velocities
 
     pure subroutine apply_h(self, x, w)

@@ -18,6 +18,15 @@ module stickslip_linalg
     private
 
     public :: lu_decompose, lu_solve, band_decompose, band_solve, psd_solve, tridiagonal_solve
+    public :: psd_factors, psd_factor
+
+    !> The LU factors of a symmetric positive semidefinite matrix A for `psd_solve`, formed
+    !! once (`psd_factor`) where A stays the same over many solves with other weights.
+    type :: psd_factors
+        real(dp), allocatable :: lu(:, :)   !! P L U of A, in place
+        integer, allocatable :: ipiv(:)     !! the pivots
+        integer :: info = -1                !! lu_decompose's info (-1: not formed)
+    end type psd_factors
 
     !> A = P L U of a band matrix in LAPACK's band storage, in place (partial pivoting).
     interface band_decompose
@@ -112,41 +121,84 @@ contains
     !! eigendecomposition of the scaled
     !! matrix (cyclic Jacobi), eigenvalues below 1e-12 of the largest taken as 0. ok is
     !! .false. when b is not in the range of A (relative residual above 1e-9) or an entry is
-    !! not finite; x is then not a solution.
-    subroutine psd_solve(a, b, wts, ok)
+    !! not finite; x is then not a solution. With `factors` (A's LU from `psd_factor`, where A
+    !! serves many solves) A is not factored again.
+    subroutine psd_solve(a, b, wts, ok, factors)
         real(dp), intent(in)    :: a(:, :)   !! (m, m) symmetric positive semidefinite matrix
         real(dp), intent(inout) :: b(:, :)   !! (m, k) right-hand sides, solutions on exit
         real(dp), intent(in)    :: wts(:)    !! (m) weights of the norm, > 0
         logical, intent(out)    :: ok        !! .true.: b was in the range of A
-        real(dp) :: s(size(wts)), as(size(wts), size(wts)), lu(size(wts), size(wts))
-        real(dp) :: v(size(wts), size(wts)), lam(size(wts)), y(size(wts)), rhs(size(wts)), big
-        integer :: ipiv(size(wts)), info, m, j, k
+        type(psd_factors), intent(in), optional :: factors  !! A's LU (`psd_factor`), if formed
+        type(psd_factors) :: own
+        real(dp) :: big
+        integer :: info, m, j
         m = size(wts)
         ok = .true.
         if (m == 0) return
-        s = sqrt(wts)
+        big = 0.0_dp
         do j = 1, m
-            as(:, j) = s * a(:, j) * s(j)
+            big = max(big, abs(sqrt(wts(j)) * a(j, j) * sqrt(wts(j))))   ! the scaled diagonal
         end do
-        big = maxval(abs([(as(j, j), j = 1, m)]))
         if (.not. (big > 0.0_dp .and. ieee_is_finite(big))) then
             ok = all(b == 0.0_dp)
             b = 0.0_dp
             return
         end if
         ! regular: the unique solution, by LU of A itself (no scaling: a diagonal A gives b / a)
-        lu = a
-        call lu_decompose(lu, ipiv, info)
-        if (info == 0) then
-            if (minval([(abs(lu(j, j)) * s(j)**2, j = 1, m)]) <= 1.0e-12_dp * big) info = 1
+        if (present(factors)) then
+            call lu_path(factors)
+        else
+            call psd_factor(a, own)
+            call lu_path(own)
         end if
         if (info == 0) then
-            do k = 1, size(b, 2)
-                call lu_solve(lu, ipiv, b(:, k))
-            end do
             ok = all(ieee_is_finite(b))
             return
         end if
+        call psd_pseudo_solve(a, b, wts, ok)
+    contains
+        !> info = 0 and b solved when f's every pivot, scaled as the weights scale A, is above
+        !! 1e-12 of big (A regular); info /= 0 and b untouched otherwise.
+        subroutine lu_path(f)
+            type(psd_factors), intent(in) :: f
+            integer :: jj
+            info = f%info
+            do jj = 1, m
+                if (info /= 0) return
+                if (abs(f%lu(jj, jj)) * sqrt(wts(jj))**2 <= 1.0e-12_dp * big) info = 1
+            end do
+            do jj = 1, size(b, 2)
+                call lu_solve(f%lu, f%ipiv, b(:, jj))
+            end do
+        end subroutine lu_path
+    end subroutine psd_solve
+
+    !> The LU factors of A for `psd_solve` (f%info: lu_decompose's info).
+    subroutine psd_factor(a, f)
+        real(dp), intent(in) :: a(:, :)          !! (m, m) symmetric positive semidefinite matrix
+        type(psd_factors), intent(inout) :: f   !! its factors
+        f%lu = a
+        if (allocated(f%ipiv)) then
+            if (size(f%ipiv) /= size(a, 1)) deallocate(f%ipiv)
+        end if
+        if (.not. allocated(f%ipiv)) allocate(f%ipiv(size(a, 1)))
+        call lu_decompose(f%lu, f%ipiv, f%info)
+    end subroutine psd_factor
+
+    !> `psd_solve` where A is singular, or close to it: by the eigendecomposition of the
+    !! scaled matrix.
+    subroutine psd_pseudo_solve(a, b, wts, ok)
+        real(dp), intent(in)    :: a(:, :), wts(:)
+        real(dp), intent(inout) :: b(:, :)
+        logical, intent(out)    :: ok
+        real(dp) :: s(size(wts)), as(size(wts), size(wts))
+        real(dp) :: v(size(wts), size(wts)), lam(size(wts)), y(size(wts)), rhs(size(wts)), big
+        integer :: j, k
+        ok = .true.
+        s = sqrt(wts)
+        do j = 1, size(wts)
+            as(:, j) = s * a(:, j) * s(j)
+        end do
         call jacobi_eigen(as, lam, v)
         big = maxval(abs(lam))
         do k = 1, size(b, 2)
@@ -163,7 +215,7 @@ contains
             b(:, k) = s * y
         end do
         if (.not. all(ieee_is_finite(b))) ok = .false.
-    end subroutine psd_solve
+    end subroutine psd_pseudo_solve
 
     !> Eigenvalues lam and orthonormal eigenvectors v (columns) of a symmetric matrix a, by
     !! cyclic Jacobi rotations until the off-diagonal part is below rounding (at most 100 sweeps).

@@ -108,19 +108,26 @@ contains
         real(dp), intent(out) :: rate       !! its time derivative (per second)
         integer, parameter :: SHORT = 32    ! programs up to this length use a stack of fixed size
         real(dp) :: sv(SHORT), sr(SHORT)
-        real(dp), allocatable :: lv(:), lr(:)
-        integer :: length
-        length = self%start(i + 1) - self%start(i)
         if (self%is_number(i)) then
             value = self%number(i)                  ! the common case
             rate = 0.0_dp
-        else if (length <= SHORT) then
+        else if (self%start(i + 1) - self%start(i) <= SHORT) then
             call run_program(self, i, t, sv, sr, value, rate)
         else
-            allocate(lv(length), lr(length))
-            call run_program(self, i, t, lv, lr, value, rate)
+            call run_long_program(self, i, t, value, rate)
         end if
     end subroutine signal_eval
+
+    !> signal_eval of a program longer than signal_eval's fixed stack.
+    pure subroutine run_long_program(self, i, t, value, rate)
+        class(signal_set), intent(in) :: self
+        integer, intent(in) :: i
+        real(dp), intent(in) :: t
+        real(dp), intent(out) :: value, rate
+        real(dp), allocatable :: lv(:), lr(:)
+        allocate(lv(self%start(i + 1) - self%start(i)), lr(self%start(i + 1) - self%start(i)))
+        call run_program(self, i, t, lv, lr, value, rate)
+    end subroutine run_long_program
 
     !> Run signal i's program on the stack (sv, sr) of values and rates.
     pure subroutine run_program(self, i, t, sv, sr, value, rate)

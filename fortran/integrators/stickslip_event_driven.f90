@@ -74,7 +74,7 @@ module stickslip_event_driven
                              check_tolerances, output_start
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_contact, only: contact_system
-    use stickslip_linalg, only: psd_solve
+    use stickslip_linalg, only: psd_solve, psd_factors, psd_factor
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, STICK_RTOL, MODE_STICK, MODE_OPEN
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use stickslip_ode, only: diverged
@@ -115,6 +115,16 @@ module stickslip_event_driven
         !! below a corner that ends the current stretch, so that the stretch sees their left
         !! limits up to its end [s]
         real(dp) :: t_cap = huge(1.0_dp)
+        !> The stuck set of `idx` (`stuck_set`); where W at a = b = 0 is constant
+        !! (`w_constant`), the set's Delassus block (`amat` and its factors `fac`, or its
+        !! diagonal `dgl`) too: formed once a set, not at every right-hand side
+        logical, allocatable :: cached(:)
+        integer, allocatable :: idx(:)             !! the stuck contacts
+        real(dp), allocatable :: amat(:, :)        !! their Delassus block [1/kg]
+        real(dp), allocatable :: dgl(:)            !! its diagonal, where it is diagonal [1/kg]
+        type(psd_factors) :: fac                   !! amat's LU
+        !> Work arrays of mode_forces (n_dof: wf, wg; n_c: the others; rhs2: (n_c, 1))
+        real(dp), allocatable :: wf(:), wg(:), wn(:), ww(:), wb(:), wh(:), wc(:), wcap(:), rhs2(:, :)
     contains
         procedure :: rhs => mode_rhs
         !! (u, acceleration) in the current mode
@@ -152,16 +162,16 @@ contains
         real(dp), intent(in)  :: y(:)       !! (q, u)
         real(dp), intent(out) :: a(:)       !! acceleration u' [m/s^2]
         real(dp), intent(out) :: r(:)       !! contact forces [N]
-        real(dp) :: f(size(a)), g(size(a)), nn(size(r)), w(size(r)), bd(size(r)), ha(size(r)), col(size(r))
-        real(dp), allocatable :: rs(:)
-        integer, allocatable :: idx(:)
-        integer :: nd, nc, i
+        integer :: nd, nc, i, j, ns
         logical :: ok
         real(dp) :: t
         t = min(t_in, self%t_cap)
-        associate (cs => self%cs)
-            nd = cs%n_dof
-            nc = cs%n_c
+        nd = self%cs%n_dof
+        nc = self%cs%n_c
+        if (.not. allocated(self%wf)) allocate(self%wf(nd), self%wg(nd), self%wn(nc), self%ww(nc), self%wb(nc), &
+                                               self%wh(nc), self%wc(nc), self%wcap(nc), self%rhs2(nc, 1))
+        associate (cs => self%cs, f => self%wf, g => self%wg, nn => self%wn, w => self%ww, bd => self%wb, &
+                   ha => self%wh, col => self%wc, cap => self%wcap, rs => self%rhs2)
             call cs%force(t, y(:nd), y(nd + 1:), f)
             call cs%normal_forces(t, y(:nd), nn)
             call cs%relative_velocities(t, y(nd + 1:), w)
@@ -173,18 +183,25 @@ contains
             call cs%add_ht(r, a)
             call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, a)
             if (.not. any(self%stuck)) return
-            idx = pack([(i, i = 1, nc)], self%stuck)
+            call stuck_set(self, t, y)
+            ns = size(self%idx)
             call cs%apply_h(a, ha)
             call cs%offset_rate(t, bd)
-            rs = -(ha(idx) + bd(idx))
-            call holding_forces(self, t, y, idx, cs%laws(idx)%mu_s * nn(idx), rs, ok)
+            do j = 1, ns
+                i = self%idx(j)
+                rs(j, 1) = -(ha(i) + bd(i))
+                cap(j) = max(cs%laws(i)%mu_s * nn(i), tiny(1.0_dp))
+            end do
+            call holding_forces(self, t, y, cap(:ns), rs(:ns, :), ok)
             if (.not. ok) then
                 self%singular = .true.
                 return
             end if
             col = 0.0_dp
-            col(idx) = rs
-            r(idx) = rs
+            do j = 1, ns
+                col(self%idx(j)) = rs(j, 1)
+                r(self%idx(j)) = rs(j, 1)
+            end do
             g = 0.0_dp
             call cs%add_ht(col, g)
             call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, g)
@@ -192,31 +209,61 @@ contains
         end associate
     end subroutine mode_forces
 
-    !> x := the forces r_S of the contacts idx that give them the relative accelerations
-    !! H_S M^-1 H_S^T r_S = x: from the diagonal of the Delassus matrix when it is diagonal
-    !! (`delassus_diagonal`, O(n)), otherwise from the dense block (`delassus_block`) by
-    !! `psd_solve`, whose weighted minimum-norm solution shares a redundant stuck set's load
-    !! in proportion to the capacities cap (mu_s N). ok = .false. when no forces give x
+    !> self%idx := the stuck contacts, unless the stuck set is the one they were formed for;
+    !! where W at a = b = 0 is constant (`w_constant`), the set's Delassus block (or its
+    !! diagonal) and the block's LU with it.
+    subroutine stuck_set(self, t, y)
+        class(mode_system), intent(inout) :: self
+        real(dp), intent(in) :: t           !! time [s]
+        real(dp), intent(in) :: y(:)        !! (q, u)
+        integer :: i, ns
+        if (allocated(self%cached)) then
+            if (all(self%cached .eqv. self%stuck)) return
+        end if
+        self%cached = self%stuck
+        self%idx = pack([(i, i = 1, self%cs%n_c)], self%stuck)
+        if (.not. self%cs%w_constant) return
+        ns = size(self%idx)
+        if (self%diagonal) then
+            if (allocated(self%dgl)) deallocate(self%dgl)
+            allocate(self%dgl(ns))
+            call delassus_diagonal(self, t, y, self%idx, self%dgl)
+        else
+            if (allocated(self%amat)) deallocate(self%amat)
+            allocate(self%amat(ns, ns))
+            call delassus_block(self, t, y, self%idx, self%amat)
+            call psd_factor(self%amat, self%fac)
+        end if
+    end subroutine stuck_set
+
+    !> x := the forces r_S of the stuck contacts (self%idx) that give them the relative
+    !! accelerations H_S M^-1 H_S^T r_S = x: from the diagonal of the Delassus matrix when it
+    !! is diagonal (`delassus_diagonal`, O(n)), otherwise from the dense block
+    !! (`delassus_block`) by `psd_solve`, whose weighted minimum-norm solution shares a
+    !! redundant stuck set's load in proportion to the capacities cap (mu_s N). Where W is
+    !! constant the block is the one `stuck_set` formed. ok = .false. when no forces give x
     !! (inconsistent, or not finite).
-    subroutine holding_forces(self, t, y, idx, cap, x, ok)
+    subroutine holding_forces(self, t, y, cap, x, ok)
         class(mode_system), intent(in) :: self
         real(dp), intent(in)    :: t, y(:)
-        integer, intent(in)     :: idx(:)      !! the contacts
-        real(dp), intent(in)    :: cap(:)      !! their capacities mu_s N [N]
-        real(dp), intent(inout) :: x(:)        !! relative accelerations in, forces out
+        real(dp), intent(in)    :: cap(:)      !! the capacities mu_s N, at least tiny [N]
+        real(dp), intent(inout) :: x(:, :)     !! (n_s, 1) relative accelerations in, forces out
         logical, intent(out)    :: ok
-        real(dp), allocatable :: amat(:, :), b(:, :), dg(:)
-        if (self%diagonal) then
-            allocate(dg(size(idx)))
-            call delassus_diagonal(self, t, y, idx, dg)
+        real(dp), allocatable :: amat(:, :), dg(:)
+        if (self%diagonal .and. self%cs%w_constant) then
+            ok = all(self%dgl /= 0.0_dp)
+            if (ok) x(:, 1) = x(:, 1) / self%dgl
+        else if (self%diagonal) then
+            allocate(dg(size(self%idx)))
+            call delassus_diagonal(self, t, y, self%idx, dg)
             ok = all(dg /= 0.0_dp)
-            if (ok) x = x / dg
+            if (ok) x(:, 1) = x(:, 1) / dg
+        else if (self%cs%w_constant) then
+            call psd_solve(self%amat, x, cap, ok, self%fac)
         else
-            allocate(amat(size(idx), size(idx)), b(size(idx), 1))
-            call delassus_block(self, t, y, idx, amat)
-            b(:, 1) = x
-            call psd_solve(amat, b, max(cap, tiny(1.0_dp)), ok)
-            x = b(:, 1)
+            allocate(amat(size(self%idx), size(self%idx)))
+            call delassus_block(self, t, y, self%idx, amat)
+            call psd_solve(amat, x, cap, ok)
         end if
     end subroutine holding_forces
 

@@ -653,6 +653,20 @@ contains
         real(dp), intent(in)    :: a        !! weight of C [s]
         real(dp), intent(in)    :: b        !! weight of K [s^2]
         real(dp), intent(inout) :: x(:)     !! right-hand side [N s], then the solution [m/s]
+        if (a == 0.0_dp .and. b == 0.0_dp) then   ! W = M, diagonal (what the solves below give)
+            x = x / self%m%mass
+        else
+            call solve_w_general(self, a, b, x)
+        end if
+    end subroutine mc_solve_w
+
+    !> mc_solve_w with C or K: tridiagonal where the springs and dampers join neighbours,
+    !! dense LU otherwise.
+    subroutine solve_w_general(self, a, b, x)
+        class(model_contact), intent(in) :: self
+        real(dp), intent(in)    :: a        !! weight of C [s]
+        real(dp), intent(in)    :: b        !! weight of K [s^2]
+        real(dp), intent(inout) :: x(:)     !! right-hand side [N s], then the solution [m/s]
         real(dp), allocatable :: w(:, :)
         real(dp) :: l(self%n_dof), d(self%n_dof), r(self%n_dof)
         integer :: ipiv(self%n_dof), info, i
@@ -668,7 +682,7 @@ contains
         end do
         call lu_decompose(w, ipiv, info)   ! M + a C + b K is symmetric positive definite: info = 0
         call lu_solve(w, ipiv, x)
-    end subroutine mc_solve_w
+    end subroutine solve_w_general
 
     subroutine mc_normal(self, t, q, n)
         class(model_contact), intent(in) :: self
