@@ -36,11 +36,12 @@ def test_bound_is_exact_for_a_free_body_pushed_along_its_velocity():
     assert np.all(e <= bound) and not caught
 
 
-@pytest.mark.parametrize("h, wrong", [(0.02, False), (0.03, True)])
+@pytest.mark.parametrize("h, wrong", [(0.02, False), (0.029, True)])
 def test_rk4_beyond_its_stability_bound_is_flagged(h, wrong):
-    """A spring of 1e4 N/m (w = 100 rad/s): RK4 is stable for w h < 2.785. At h = 0.03 s it
-    grows without becoming non-finite within 1 s, so the run ends with status 0; the energy
-    bound (no force: E <= E0) names it."""
+    """A spring of 1e4 N/m (w = 100 rad/s): RK4 is stable for w h < 2 sqrt(2). At h = 0.029 s
+    its amplitude grows 1.19 times a step, 380 times within 1 s: less than the model's
+    divergence bound allows (BOUND_MARGIN = 1e3 times the energy bound's speed), so the run
+    ends with status 0; the energy bound (no force: E <= E0) names it."""
     m = ss.Model()
     b = m.add_body(1.0, v0=1.0)
     m.add_spring(b, None, 1e4)
@@ -49,6 +50,26 @@ def test_rk4_beyond_its_stability_bound_is_flagged(h, wrong):
     assert bool(caught) is wrong
     if wrong:
         assert "exceeds" in str(caught[0].message) and "rk4" in str(caught[0].message)
+
+
+@pytest.mark.parametrize("method, ctl", [("rk4", dict(h=0.03)), ("dopri5", dict(rtol=1e-8, atol=1e-10)),
+                                         ("moreau", dict(h=0.03, theta=0.5))])
+def test_a_model_that_leaves_its_energy_bound_diverged(method, ctl):
+    """The same spring at h = 0.03 s: RK4's amplitude grows 1.5 times a step, 6.6e5 times in
+    1 s, beyond 1e3 times the speed the energy allows (|v| <= sqrt(2 E0 / m) = 1 m/s, no force
+    puts energy in): DivergedSolution (SS_DIVERGED), not a result. A stable method on the
+    same model stays within it."""
+    m = ss.Model()
+    b = m.add_body(1.0, v0=1.0)
+    m.add_spring(b, None, 1e4)
+    if method == "rk4":
+        with pytest.raises(ss.DivergedSolution) as err:
+            ss.simulate(m, method=method, t_end=1.0, n_out=11, **ctl)
+        assert err.value.result.stats["status"] != 0
+        assert np.abs(err.value.result.v).max() <= 1e3 * 1.5   # stopped at the step that left it
+    else:
+        r, caught = run_quiet(m, method=method, t_end=1.0, n_out=11, **ctl)
+        assert r.stats["status"] == 0 and np.abs(r.v).max() <= 1.0 + 1e-6 and not caught
 
 
 @pytest.mark.parametrize("law, method, ctl", [("coulomb", "event_driven", {}), ("stribeck", "moreau", dict(h=1e-3)),

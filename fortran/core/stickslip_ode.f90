@@ -35,6 +35,10 @@ module stickslip_ode
     !! `state_bound`.
     real(dp), parameter, public :: DEFAULT_BOUND_GROWTH = 1.0e30_dp
 
+    !> Margin of a system's energy-based `state_bound` over its energy bound [-]: a state
+    !! beyond it has diverged (SS_DIVERGED), whatever the step size or the method's own errors.
+    real(dp), parameter, public :: BOUND_MARGIN = 1.0e3_dp
+
     !> A first-order system y' = f(t, y).
     type, abstract :: ode_system
     contains

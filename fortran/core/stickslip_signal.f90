@@ -66,6 +66,8 @@ module stickslip_signal
         procedure :: number => signal_number
         !> The shortest period of any sine in the signals (huge when none) [s].
         procedure :: shortest_period => signal_shortest_period
+        !> A bound on |signal i (t)| over all t.
+        procedure :: sup => signal_sup
     end type signal_set
 
 contains
@@ -86,6 +88,44 @@ contains
                 period = min(period, 1.0_dp / abs(self%arg(2, k)))
         end do
     end function signal_shortest_period
+
+    !> A bound on |signal i (t)| over all times: each part's largest magnitude (a step's larger
+    !! level, a ramp's height, a sine's amplitude plus its offset, a table's largest value),
+    !! summed over + and -, multiplied over *.
+    pure real(dp) function signal_sup(self, i) result(bound)
+        class(signal_set), intent(in) :: self
+        integer, intent(in) :: i            !! signal index, 1 .. count
+        real(dp) :: st(self%start(i + 1) - self%start(i)), a(4)
+        integer :: k, top, first
+        top = 0
+        do k = self%start(i), self%start(i + 1) - 1
+            a = self%arg(:, k)
+            select case (self%op(k))
+            case (SIG_ADD, SIG_SUB)
+                st(top - 1) = st(top - 1) + st(top)
+                top = top - 1
+            case (SIG_MUL)
+                st(top - 1) = st(top - 1) * st(top)
+                top = top - 1
+            case default
+                top = top + 1
+                select case (self%op(k))
+                case (SIG_CONST)
+                    st(top) = abs(a(1))
+                case (SIG_STEP)
+                    st(top) = max(abs(a(2)), abs(a(3)))
+                case (SIG_RAMP)
+                    st(top) = abs(a(3))
+                case (SIG_SINE)
+                    st(top) = abs(a(1)) + abs(a(4))
+                case default   ! SIG_TABLE
+                    first = nint(a(1))
+                    st(top) = maxval(abs(self%tab_v(first:first + nint(a(2)) - 1)))
+                end select
+            end select
+        end do
+        bound = st(1)
+    end function signal_sup
 
     pure logical function signal_is_number(self, i) result(yes)
         class(signal_set), intent(in) :: self

@@ -30,8 +30,8 @@ module stickslip_chain
     use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_spec, param_values, param_read
     use stickslip_friction, only: friction_law
-    use stickslip_ode, only: fd_jacobian, fd_band_jacobian
-    use stickslip_scenes, only: friction_scene, M_SPEC, G_SPEC, K_SPEC, V_B_SPEC, BOUND_MARGIN
+    use stickslip_ode, only: fd_jacobian, fd_band_jacobian, BOUND_MARGIN
+    use stickslip_scenes, only: friction_scene, M_SPEC, G_SPEC, K_SPEC, V_B_SPEC
     use stickslip_contact, only: contact_system, contact_law, contact_law_of
     use stickslip_linalg, only: tridiagonal_solve
     use stickslip_roots, only: bracketed_root

@@ -29,12 +29,13 @@
 !! tridiagonal when every spring and damper joins neighbours (|a - b| = 1) or the ground, and
 !! then solved in O(nb); otherwise by dense LU.
 !!
-!! Divergence: the model keeps the default bound of `ode_system` (DEFAULT_BOUND_GROWTH
-!! max(1, |y0|)); it has no energy bound of its own, since its forces are the user's.
+!! Divergence: `state_bound` bounds each |y_i| by BOUND_MARGIN times what the energy allows
+!! (`model_state_bound`): every force and friction force is bounded over all times (the
+!! signals' `sup`, the laws' largest |mu|), so a state beyond it has diverged (SS_DIVERGED).
 module stickslip_model_system
     use stickslip_kinds, only: dp, SS_OK, SS_NOT_SETVALUED
     use stickslip_friction, only: friction_law
-    use stickslip_ode, only: ode_system, fd_jacobian, fd_band_jacobian
+    use stickslip_ode, only: ode_system, fd_jacobian, fd_band_jacobian, BOUND_MARGIN
     use stickslip_contact, only: contact_system, contact_law_of
     use stickslip_signal, only: signal_set
     use stickslip_linalg, only: lu_decompose, lu_solve, tridiagonal_solve
@@ -96,6 +97,8 @@ module stickslip_model_system
         !! the first corner of any signal after t [s]
         procedure :: has_jumps => model_has_jumps
         !! .true. when a contact's law has a jump (modes)
+        procedure :: state_bound => model_state_bound
+        !! BOUND_MARGIN times the energy bound on each |y_i|
     end type model_system
 
     !> The model with set-valued contacts (see the module notes).
@@ -126,6 +129,72 @@ module stickslip_model_system
     end type model_contact
 
 contains
+
+    !> The model's bounds on |y|. With E = sum m_i v_i^2 / 2 + the springs' energy (dampers
+    !! only take energy out), each body's force beyond its springs and dampers is at most
+    !! P_i = sum of sup |F| over its forces + sum of mu_max sup N over its contacts (mu_max:
+    !! the law's largest |mu| up to the largest relative speed, `contact_speed_bound`), so
+    !! E' <= sum P_i |v_i| <= a sqrt(E) with a = sum P_i sqrt(2 / m_i), and
+    !! sqrt(E) <= R = sqrt(E0) + a T / 2 over T = t_end - t0: |v_i| <= V_i = R sqrt(2 / m_i),
+    !! |x_i| <= |x0_i| + V_i T; a law's states move at most twice their relative speed,
+    !! |z| <= max |z0| + 2 S T (S the largest relative speed: V_a + V_b + sup |w|).
+    !! BOUND_MARGIN times these.
+    function model_state_bound(self, t0, y0, t_end) result(bound)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in) :: t0          !! initial time [s]
+        real(dp), intent(in) :: y0(:)       !! initial state (x [m], v [m/s], z...)
+        real(dp), intent(in) :: t_end       !! final time [s]
+        real(dp) :: bound(size(y0))         !! bounds on |x_i| [m], |v_i| [m/s], |z| [m]
+        real(dp) :: tt, e0, d, vb(self%nb), speed
+        integer :: i, nb
+        nb = self%nb
+        bound = huge(1.0_dp)
+        if (size(y0) /= self%n_states()) return     ! not this model's state: the methods refuse it
+        tt = max(t_end - t0, 0.0_dp)
+        e0 = 0.5_dp * sum(self%mass * y0(nb + 1:2 * nb)**2)
+        do i = 1, size(self%spr_k)
+            d = y0(self%spr_a(i)) - self%spr_l0(i)
+            if (self%spr_b(i) > 0) d = d - y0(self%spr_b(i))
+            e0 = e0 + 0.5_dp * self%spr_k(i) * d * d
+        end do
+        ! first with mu_s and mu_k, then with each law's |mu| up to the speeds that allows
+        call body_speeds(-1.0_dp, vb, speed)
+        call body_speeds(speed, vb, speed)
+        bound(1:nb) = BOUND_MARGIN * (abs(y0(1:nb)) + vb * tt)
+        bound(nb + 1:2 * nb) = BOUND_MARGIN * vb
+        if (size(y0) > 2 * nb) bound(2 * nb + 1:) = BOUND_MARGIN * (maxval(abs(y0(2 * nb + 1:))) + 2.0_dp * speed * tt)
+    contains
+        !> vb: each body's speed bound V_i [m/s] with each law's |mu| bounded at relative speeds up
+        !! to v_ref (< 0: by mu_s and mu_k alone); speed: the largest relative speed of a
+        !! contact that allows [m/s].
+        subroutine body_speeds(v_ref, vb, speed)
+            real(dp), intent(in)  :: v_ref
+            real(dp), intent(out) :: vb(:), speed
+            real(dp) :: push(nb), mu_max, r
+            integer :: j, c
+            push = 0.0_dp
+            do j = 1, size(self%frc_body)
+                push(self%frc_body(j)) = push(self%frc_body(j)) + self%sig%sup(self%frc_sig(j))
+            end do
+            do c = 1, size(self%con_a)
+                associate (law => self%laws(c)%law)
+                    mu_max = max(law%mu_s, law%mu_k)
+                    if (v_ref >= 0.0_dp) mu_max = max(mu_max, abs(law%mu(v_ref)), abs(law%mu(-v_ref)))
+                end associate
+                push(self%con_a(c)) = push(self%con_a(c)) + mu_max * self%sig%sup(self%con_n(c))
+                if (self%con_b(c) > 0) push(self%con_b(c)) = push(self%con_b(c)) + mu_max * self%sig%sup(self%con_n(c))
+            end do
+            r = sqrt(e0) + 0.5_dp * tt * sum(push * sqrt(2.0_dp / self%mass))
+            vb = r * sqrt(2.0_dp / self%mass)
+            speed = 0.0_dp
+            do c = 1, size(self%con_a)
+                r = vb(self%con_a(c))
+                if (self%con_b(c) > 0) r = r + vb(self%con_b(c))
+                if (self%con_w(c) > 0) r = r + self%sig%sup(self%con_w(c))
+                speed = max(speed, r)
+            end do
+        end subroutine body_speeds
+    end function model_state_bound
 
     pure integer function model_n_states(self) result(n)
         class(model_system), intent(in) :: self

@@ -17,7 +17,7 @@ module stickslip_scenes
     use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_spec, param_values, param_read
     use stickslip_friction, only: friction_law
-    use stickslip_ode, only: ode_system, fd_jacobian
+    use stickslip_ode, only: ode_system, fd_jacobian, BOUND_MARGIN
     use stickslip_contact, only: contact_system, contact_law, contact_law_of
     use stickslip_roots, only: bracketed_root
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -50,9 +50,6 @@ module stickslip_scenes
 
     real(dp), parameter :: deg = acos(-1.0_dp) / 180.0_dp
 
-    !> Margin of a scene's `state_bound` over its energy bound [-]: a state beyond it has
-    !! diverged (SS_DIVERGED), whatever the step size or the method's own errors.
-    real(dp), parameter, public :: BOUND_MARGIN = 1.0e3_dp
 
     !> What both scenes share: the law, its number of internal states, and the
     !! relative velocity.
