@@ -85,8 +85,8 @@ TOOL_COLORS: dict[str, str] = {"c_loop": _C["black"], "stickslip_fortran": _C["b
                                "scipy": _C["vermillion"], "f2py_wrapper": _C["reddish purple"]}
 #: Markers of the methods, so that a series is told apart without its colour.
 METHOD_MARKERS: dict[str, str] = {
-    "rk4": "o", "dopri5": "s", "dop853": "D", "radau5": "^", "implicit_euler": "v",
-    "galpha": "P", "moreau": "X", "event_driven": "*"}
+    "rk4": "o", "dopri5": "s", "dop853": "<", "radau5": "^", "implicit_euler": "v",
+    "galpha": "D", "moreau": "P", "event_driven": "X"}
 
 
 def name(code: str) -> str:
