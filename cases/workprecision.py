@@ -37,6 +37,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
+from matplotlib.ticker import FuncFormatter
 
 from . import _common as c
 from . import _progress
@@ -52,9 +53,10 @@ FIXED_STEP: tuple[str, ...] = ("rk4", "implicit_euler", "galpha", "moreau")
 SET_VALUED: tuple[str, ...] = ("moreau", "event_driven")
 SET_VALUED_LAWS: tuple[str, ...] = ("coulomb", "stribeck")
 #: Order of each method on smooth motion [-] (against h for the fixed-step ones, against
-#: function evaluations for the adaptive ones; event_driven: DOPRI5 between the events).
+#: function evaluations for the adaptive ones; moreau: theta = 0.5, the trapezoidal rule
+#: between events, first order across them; event_driven: DOPRI5 between the events).
 EXPECTED_ORDER: dict[str, float] = {"rk4": 4.0, "implicit_euler": 1.0, "galpha": 2.0,
-                                    "moreau": 1.0, "dopri5": 5.0, "dop853": 8.0,
+                                    "moreau": 2.0, "dopri5": 5.0, "dop853": 8.0,
                                     "radau5": 5.0, "event_driven": 5.0}
 #: Pairs not run although the library takes them, and why (shown in the figure).
 NOT_RUN: dict[tuple[str, str, str], str] = {
@@ -269,6 +271,7 @@ CAPTION: str = (
 NOTE_LINE: float = 0.1
 
 
+
 def _reserve_top(axes_row: Sequence[Any], values: list[float], lines: int) -> None:
     """Set the shared log y-range of a row of panels so that the data (`values` [m]) leave a
     strip at the top free for `lines` lines of notes: a note then hides no point."""
@@ -276,6 +279,11 @@ def _reserve_top(axes_row: Sequence[Any], values: list[float], lines: int) -> No
     lo, hi = lo - 0.3, max(hi, lo + 1.0) + 0.3
     strip = min(NOTE_LINE * lines + 0.03, 0.5) if lines else 0.0
     axes_row[0].set_ylim(10.0 ** lo, 10.0 ** (lo + (hi - lo) / (1.0 - strip)))
+    top = 10.0 ** (hi + 0.5)
+    for ax in axes_row:                   # no tick labels in the strip: no data up there
+        ax.yaxis.set_major_formatter(FuncFormatter(
+            lambda value, _: "" if value > top or value <= 0.0
+            else f"$10^{{{round(math.log10(value))}}}$"))
 
 
 def plot(csv: str | Path, outdir: str | Path) -> list[Path]:

@@ -160,3 +160,23 @@ def test_column_fonts_are_legible_at_a_column_width() -> None:
         assert scaled >= _style.MIN_FONT_AT_COLUMN - 1e-9, (width, fonts)
     for path in (ROOT / "cases" / "workprecision.py", ROOT / "benchmarks" / "run.py"):
         assert "column_fonts(" in path.read_text(), path.name
+
+
+def test_work_precision_shows_every_method_or_says_why_not() -> None:
+    """Issue 32: the work-precision figure shows every method of stickslip.METHODS; where a
+    method has no curve (refused by the law, or not run) the figure names it and the reason,
+    and the library does refuse the pairs said to be refused."""
+    sys.path.insert(0, str(ROOT))
+    from cases import workprecision as wp
+    assert set(wp.METHODS) == set(ss.METHODS)
+    assert {m for _, group in wp.GROUPS for m in group} == set(ss.METHODS)
+    assert all(len(group) <= 6 for _, group in wp.GROUPS)
+    for scene in wp.SCENES:
+        for law in wp.LAWS:
+            for method in wp.METHODS:
+                why = wp.refusal(scene, law, method)
+                assert wp.applies(scene, law, method) == (why is None), (scene, law, method)
+                if why is not None and why.startswith("refused"):
+                    with pytest.raises(ValueError):
+                        ss.simulate(scene, law, method=method, t_end=0.01,
+                                    **({"h": 1e-3} if method in wp.FIXED_STEP else {}))
