@@ -394,16 +394,23 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     if kind == "presliding":
         data = c.read_numeric_csv(csv)
         names = list(data)
-        fig, ax = c.new_figure()
-        for i, name in enumerate(names[1:]):
+        # two panels, one quantity each: the body's position, the laws' internal states (the
+        # generalized Maxwell-slip law's elements in line styles of the law's colour)
+        fig, (ax, zx) = c.new_figure(2)
+        for name in names[1:]:
             what, law = c.split_unit(name)[0].split()
-            ax.plot(data[names[0]] * 1e3, data[name] * 1e6,
-                    label=f"{'position x' if what == 'x' else 'bristle deflection z'}, {c._style.name(law)}",
-                    color=c._style.color(law), linestyle=c.VARIANT_STYLES[i % len(c.VARIANT_STYLES)])
-        ax.set_xlabel("time t [ms]")
-        ax.set_ylabel("displacement [µm]")
-        ax.set_title("Box on a 10° slope from rest: presliding displacement and bristle deflection")
-        c.figure_legend(fig, [ax], ncol=2)
+            index = int(what[1:]) - 1 if what[1:].isdigit() else 0
+            (ax if what == "x" else zx).plot(
+                data[names[0]] * 1e3, data[name] * 1e6, color=c._style.color(law),
+                linestyle=c.VARIANT_STYLES[index % len(c.VARIANT_STYLES)],
+                label=c._style.name(law) + (f", element {index + 1}" if what[1:].isdigit() else ""))
+        for a, title, ylabel in ((ax, "position of the box", "position x [µm]"),
+                                 (zx, "the laws' internal states", "bristle deflection z [µm]")):
+            a.set_xlabel("time t [ms]")
+            a.set_ylabel(ylabel)
+            a.set_title(title)
+        fig.suptitle("Box on a 10° slope from rest: presliding")
+        c.figure_legend(fig, [ax, zx], ncol=3)
         return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
     column, log, ylabel, title = FIGURES[kind]
     cols = c.read_csv(csv)

@@ -5,7 +5,7 @@ RADAU5, event-driven) with rtol = 1e-2 .. 1e-12; the set-valued methods (Moreau-
 event-driven) on the Coulomb law only (the library refuses the smooth laws), RADAU5 not on the
 Coulomb slope, where it forces about 1e7 steps at h_min per run::
 
-    python -m cases.workprecision --outdir out/          # about 30 s on 2 cores
+    python -m cases.workprecision --outdir out/          # 7 min on 2 busy cores (load 12)
     python -m cases.workprecision --outdir out/ --quick  # t_end = 2 s, h >= 1e-5, rtol >= 1e-10
 
 Two errors, kept apart (both at t_end, on x, in m):
@@ -379,7 +379,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Command line: python -m cases.workprecision [--outdir DIR] [--quick] [--threads N]
     [--scheduler ADDRESS]."""
     return c.study_main("cases.workprecision", __doc__,
-                        f"t_end = {T_END_QUICK} s, h >= 1e-5 s, rtol >= 1e-10 (a few seconds)",
+                        f"t_end = {T_END_QUICK} s, h >= 1e-5 s, rtol >= 1e-10 (about 30 s)",
                         run, argv)
 
 
