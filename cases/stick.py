@@ -239,9 +239,6 @@ def write_tables(csv_path: Path, outdir: Path) -> Path:
     return c.write_text(outdir / "stick.md", "".join(parts))
 
 
-#: A marker per law (the colours are the methods', cases/_style.py).
-
-
 #: The laws of stick.png: the two with a set-valued counterpart, where every method runs (the
 #: best error of every law is stick_best.png's).
 PLOT_LAWS: tuple[str, ...] = ("coulomb", "stribeck")
