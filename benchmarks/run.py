@@ -597,71 +597,117 @@ def read_rows(path: Path) -> list[dict]:
         return [{k: value(v) for k, v in row.items()} for row in csv.DictReader(fh)]
 
 
-#: The line of each tool in the work-precision panel: the colour says the method (the same
-#: method has the same colour whatever the tool), the line and marker say the tool.
-TOOL_STYLE: dict[str, dict[str, str]] = {
-    "stickslip_fortran": {"linestyle": "-", "marker": "o"},
-    "stickslip_python": {"linestyle": "--", "marker": "s"},
-    "gsl": {"linestyle": ":", "marker": "^"},
-    "scipy": {"linestyle": "-.", "marker": "D"},
-}
-#: Other tools' names of the library's methods, and colours for the methods it does not have.
+#: The line style of each tool in the work-precision panels (its colour is
+#: cases._style.TOOL_COLORS', the same in every panel; the marker says the method).
+TOOL_STYLE: dict[str, str] = {"stickslip_fortran": "-", "stickslip_python": "--", "gsl": ":",
+                              "scipy": "-."}
+#: Other tools' names of the library's methods (the same marker), and markers for the others.
 SAME_METHOD: dict[str, str] = {"RK45": "dopri5", "DOP853": "dop853", "Radau": "radau5"}
-OTHER_COLOURS: dict[str, str] = {"rkf45": "#E69F00", "rkck": "#CC79A7", "rk8pd": "#0072B2",
-                                 "LSODA": "#000000"}
+OTHER_MARKERS: dict[str, str] = {"rkf45": "<", "rkck": ">", "rk8pd": "d", "LSODA": "h"}
+#: The panels of adaptive methods: the library against one other tool each (at most six lines).
+ADAPTIVE_PANELS: tuple[tuple[str, tuple[tuple[str, str], ...]], ...] = (
+    ("stickslip and GSL", (("stickslip_fortran", "dopri5"), ("stickslip_python", "dopri5"),
+                         ("gsl", "rkf45"), ("gsl", "rkck"), ("gsl", "rk8pd"))),
+    ("stickslip and scipy", (("stickslip_python", "dopri5"), ("stickslip_python", "radau5"),
+                                ("scipy", "RK45"), ("scipy", "DOP853"), ("scipy", "Radau"),
+                                ("scipy", "LSODA"))))
+#: The tools' names in the figure, short enough for a column ("Fortran", "Python": stickslip
+#: called from Fortran or from Python).
+TOOL_WORDS: dict[str, str] = {"c_loop": "C loop", "stickslip_fortran": "Fortran",
+                              "stickslip_python": "Python", "gsl": "GSL", "scipy": "scipy"}
+#: Width of the benchmark figure [in]; its fonts are scaled to stay legible at a column width.
+FIGURE_WIDTH: float = 6.0
 
 
-def method_colour(method: str, index: int) -> str:
-    """The colour of a method in the benchmark figure: the library's own (cases._style) for its
+def method_marker(method: str) -> str:
+    """The marker of a method in the benchmark figure: the library's own (cases._style) for its
     methods and the other tools' names of them, a fixed one for the others."""
     from cases import _style
-    name = SAME_METHOD.get(method, method)
-    return _style.METHOD_COLORS.get(name) or OTHER_COLOURS.get(method) or \
-        _style.SEQUENCE[index % len(_style.SEQUENCE)]
+    name = SAME_METHOD.get(method, method.split()[0])
+    return _style.METHOD_MARKERS.get(name) or OTHER_MARKERS.get(method, "o")
+
+
+def method_words(method: str) -> str:
+    """A method's name as the figure shows it: "rk4 (step doubling)" -> "RK4 (step doubling)"."""
+    from cases import _style
+    head, _, rest = method.partition(" ")
+    return f"{_style.name(head)} {rest}".strip()
 
 
 def plot(rows: list[dict], path: Path) -> None:
-    """The figure of a run (PNG at path, PDF beside it): RK4 time per evaluation of every tool
-    on the first scene and law, and the work-precision curves of the adaptive methods."""
+    """The figure of a run (PNG at path, PDF beside it), one colour per tool in every panel
+    (cases._style.TOOL_COLORS), three panels one above the other: (a) fixed-step time per
+    evaluation of every tool on the first scene and law (bars on a linear axis); (b, c) the
+    adaptive methods' error against time on the first adaptive scene and law, the library
+    against GSL and against scipy (a marker per method, a line style per tool). The error is
+    the largest component of the state's error at t_end, |x - x_ref| and |v - v_ref| in SI
+    units: the norm every tool's atol = rtol controls, a number without unit. A run that
+    failed (no finite error) is a cross on the top edge."""
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+    from matplotlib.transforms import blended_transform_factory
     from cases import _common, _style
 
-    def who(impl: str, method: str) -> str:       # "stickslip_fortran", "rk4" -> plain words
-        return f"{_style.name(impl)}: {_style.name(method.split()[0])}" + \
-            (f" {' '.join(method.split()[1:])}" if len(method.split()) > 1 else "")
-
+    _style.apply()
+    plt.rcParams.update(_style.column_fonts(FIGURE_WIDTH))
     fixed = [r for r in rows if r["section"] == "fixed"]
     adaptive = [r for r in rows if r["section"] == "adaptive"]
-    fig, (ax1, ax2) = _common.new_figure(2, width=12.0)
+    fig = plt.figure(figsize=(FIGURE_WIDTH, 12.0), layout="constrained")
+    grid = fig.add_gridspec(3, 1, height_ratios=(1.0, 1.45, 1.45))
     if fixed:
+        ax1 = fig.add_subplot(grid[0])
         scene, law = fixed[0]["scene"], fixed[0]["law"]
         sel = [r for r in fixed if r["scene"] == scene and r["law"] == law]
-        ax1.barh([who(r["impl"], r["method"]) for r in sel], [r["ns_per_eval"] for r in sel],
-                 color=_style.SEQUENCE[0])
+        ax1.barh(range(len(sel)), [r["ns_per_eval"] for r in sel],
+                 color=[_style.TOOL_COLORS.get(r["impl"], "0.5") for r in sel])
+        ax1.set_yticks(range(len(sel)), [f"{TOOL_WORDS.get(r['impl'], r['impl'])}: "
+                                         f"{method_words(r['method'])}" for r in sel])
         for i, r in enumerate(sel):
-            ax1.text(r["ns_per_eval"], i, f" {r['ns_per_eval']:.0f} ns, {r['ratio_eval']:.2f}x the C loop",
-                     va="center", fontsize=7)
+            ax1.text(r["ns_per_eval"], i, f" {r['ratio_eval']:.2f}x", va="center")
         ax1.set_xlabel("time per right-hand-side evaluation [ns]")
-        ax1.set_title(f"Fixed step h = {sel[0]['h_s']:g} s\n{_style.name(scene)}, "
-                      f"{_style.name(law)} law, {sel[0]['t_end_s']:g} s")
-        ax1.set_xlim(0, 1.6 * max(r["ns_per_eval"] for r in sel))
-        ax1.tick_params(axis="y", labelsize=7)
+        ax1.set_title(f"(a) fixed step h = {sel[0]['h_s']:g} s, ratio to C loop")
+        ax1.set_xlim(0, 1.45 * max(r["ns_per_eval"] for r in sel))
+        ax1.grid(True, axis="x", alpha=0.3)
+        ax1.grid(False, axis="y")
     if adaptive:
         scene, law = adaptive[0]["scene"], adaptive[0]["law"]
         sel = [r for r in adaptive if r["scene"] == scene and r["law"] == law]
-        for i, im in enumerate(dict.fromkeys((r["impl"], r["method"]) for r in sel)):
-            pts = sorted((r["err"], r["median_s"]) for r in sel if (r["impl"], r["method"]) == im)
-            look = TOOL_STYLE.get(im[0], {"linestyle": "-", "marker": "o"})
-            ax2.loglog([p[1] for p in pts], [p[0] for p in pts], ms=3.5, markerfacecolor="white",
-                       color=method_colour(im[1], i), label=who(*im), **look)
-        ax2.set_xlabel("time per integration [s]")
-        ax2.set_ylabel("largest error of (x, v) at t_end [m, m/s]")
-        ax2.set_title(f"Adaptive methods, error against time\n{_style.name(scene)}, "
-                      f"{_style.name(law)} law, {sel[0]['t_end_s']:g} s")
-        ax2.grid(True, which="both", alpha=0.3)
-    fig.suptitle("Benchmarks (python -m benchmarks): medians of repeated runs on one machine; "
-                 "compare ratios, not absolute times")
-    _common.figure_legend(fig, [ax2], ncol=4)
-    _common.save_figure(fig, path)
+        for k, (title, series) in enumerate(ADAPTIVE_PANELS):
+            ax = fig.add_subplot(grid[1 + k])
+            top = blended_transform_factory(ax.transData, ax.transAxes)
+            for impl, method in series:
+                pts = sorted((r["median_s"], r["err"]) for r in sel
+                             if (r["impl"], r["method"]) == (impl, method))
+                if not pts:
+                    continue
+                t = np.array([p[0] for p in pts])
+                err = np.array([p[1] for p in pts], dtype=float)
+                ok = np.isfinite(err)
+                look = {"color": _style.TOOL_COLORS.get(impl, "0.5"), "marker": method_marker(method),
+                        "ms": 6, "markerfacecolor": "white"}
+                ax.loglog(t[ok], err[ok], linestyle=TOOL_STYLE.get(impl, "-"), **look,
+                          label=f"{TOOL_WORDS.get(impl, impl)}: {method_words(method)}")
+                if (~ok).any():
+                    ax.plot(t[~ok], np.full(int((~ok).sum()), 0.97), "x", transform=top,
+                            clip_on=False, color=look["color"], ms=8, mew=1.5,
+                            label=f"{TOOL_WORDS.get(impl, impl)}: {method_words(method)} failed")
+            ax.set_title(f"({'bc'[k]}) adaptive, {title}")
+            ax.set_xlabel("time per integration [s]")
+            ax.set_ylabel("state error at t_end [-]")
+            lo, hi = ax.get_xlim()
+            if hi / lo < 20.0:                    # less than about a decade: label 3e-n too
+                ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 3.0)))
+                ax.xaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:.0e}"))
+            ax.xaxis.set_minor_formatter(NullFormatter())
+            ax.yaxis.set_major_locator(LogLocator(numticks=5))
+            ax.yaxis.set_minor_formatter(NullFormatter())
+            ax.grid(True, which="major", alpha=0.3)
+            ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.25), ncol=2, frameon=False,
+                      handlelength=2.2, labelspacing=0.25, columnspacing=1.0)
+    cases = dict.fromkeys((r["scene"], r["law"]) for r in (fixed[:1] + adaptive[:1]))
+    fig.suptitle("; ".join(f"{_style.name(sc)}, {_style.name(lw).split(' (')[0]} law"
+                           for sc, lw in cases), fontsize=plt.rcParams["font.size"])
+    _style.save(fig, path, _common.atomic_write)
 
 
 def _fmt(x: float, digits: int = 2) -> str:

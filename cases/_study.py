@@ -174,7 +174,7 @@ def table_markdown(csv_path: Path) -> str:
 
 
 def plot_table(csv_path: Path, png_path: Path, note: str = "") -> Path:
-    """Bar chart of the relative cost (to RK4 with h = 1e-3 of the same law) of the paper's
+    """Points (log axis) of the relative cost (to RK4 with h = 1e-3 of the same law) of the paper's
     three modes: the paper's CPU time, our CPU time and our function evaluations."""
     cols = c.read_csv(csv_path)
     rows = [i for i, p in enumerate(cols["paper_cpu_seconds [s]"]) if p != ""]
@@ -190,10 +190,10 @@ def plot_table(csv_path: Path, png_path: Path, note: str = "") -> Path:
               ("nfev_ratio_to_h1e-3 [-]", "our function evaluations, ratio [-]"))
     fig, ax = c.new_figure(width=8.5)
     x = np.arange(len(rows))
+    # points, not bars, on the log axis (a bar's length from an arbitrary baseline means nothing)
     for k, (name, label) in enumerate(series):
-        ax.bar(x + (k - 1) * 0.27, [float(cols[name][i]) for i in rows], width=0.27, label=label,
-               color=c._style.SEQUENCE[k])
-    ax.set_yscale("log")
+        ax.semilogy(x + (k - 1) * 0.2, [float(cols[name][i]) for i in rows], ("o", "s", "^")[k],
+                    ms=6, label=label, color=c._style.SEQUENCE[k], linestyle="none")
     ax.axhline(1.0, color="k", linewidth=0.6)
     ax.set_xticks(x, labels, fontsize=7)
     ax.set_ylabel("cost relative to RK4 with h = 1e-3 s [-]")

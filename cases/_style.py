@@ -74,6 +74,19 @@ VARIANT_STYLES: tuple[str, ...] = ("-", "--", ":", "-.")
 DPI: int = 200
 #: Size of a one-panel figure [in].
 FIGSIZE: tuple[float, float] = (6.4, 3.9)
+#: A journal's column width (8.5 cm) [in]: the checklist's "legible at a column width".
+COLUMN_WIDTH: float = 8.5 / 2.54
+#: The smallest font a figure may show once scaled to COLUMN_WIDTH [pt].
+MIN_FONT_AT_COLUMN: float = 8.0
+#: Colours of the tools of the benchmark figure (one per tool in every panel; the library's
+#: two interfaces in two blues, the other tools in colours no method of the figure needs).
+TOOL_COLORS: dict[str, str] = {"c_loop": _C["black"], "stickslip_fortran": _C["blue"],
+                               "stickslip_python": _C["sky blue"], "gsl": _C["orange"],
+                               "scipy": _C["vermillion"], "f2py_wrapper": _C["reddish purple"]}
+#: Markers of the methods, so that a series is told apart without its colour.
+METHOD_MARKERS: dict[str, str] = {
+    "rk4": "o", "dopri5": "s", "dop853": "<", "radau5": "^", "implicit_euler": "v",
+    "galpha": "D", "moreau": "P", "event_driven": "X"}
 
 
 def name(code: str) -> str:
@@ -90,6 +103,16 @@ def color(code: str, index: int = 0) -> str:
         if code in table:
             return table[code]
     return SEQUENCE[index % len(SEQUENCE)]
+
+
+def column_fonts(width: float) -> dict[str, float]:
+    """matplotlib's font sizes [pt] for a figure `width` inches wide that is legible when
+    scaled to COLUMN_WIDTH: its smallest font (ticks, legend) reads MIN_FONT_AT_COLUMN there.
+    Use as ``plt.rcParams.update(column_fonts(w))`` after apply()."""
+    small = MIN_FONT_AT_COLUMN * max(width / COLUMN_WIDTH, 1.0)
+    return {"font.size": small, "axes.titlesize": small, "axes.labelsize": small,
+            "xtick.labelsize": small, "ytick.labelsize": small, "legend.fontsize": small,
+            "legend.title_fontsize": small, "figure.titlesize": small * 1.1}
 
 
 def apply() -> None:

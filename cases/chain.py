@@ -80,8 +80,7 @@ QUICK = Plan(0.5, (1, 10, 100, 1000), 1e-3, {"event_driven": 100}, {"stribeck": 
 FULL = Plan(1.0, (1, 10, 100, 1000, 10000), 1e-4, {"event_driven": 1000, "implicit_euler": 1000},
             {"stribeck": 10000, "coulomb": 1000}, 5000.0)
 N_OUT = 51
-MARKERS = {"rk4": "o", "dopri5": "s", "dop853": "<", "radau5": "^", "implicit_euler": "v", "galpha": "D",
-           "moreau": "P", "event_driven": "X"}
+MARKERS: dict[str, str] = style.METHOD_MARKERS
 SLIP_SPEED = 1e-6        # |v - v_b| above this is slipping [m/s]
 EVENT_BLOCKS = 100
 EVENT_DT = 0.05          # output grid of the slip-event run [s]
@@ -299,11 +298,11 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
         sel = method == m
         if not sel.any():
             continue
-        color, marker = style.METHOD_COLORS.get(m, "#000000"), MARKERS[m]
+        color, marker = style.METHOD_COLORS.get(m, "black"), MARKERS[m]
         p_t, p_s = fit_exponent(n[sel], per_second[sel]), fit_exponent(n[sel], per_step[sel])
         fits = (f"exponents {p_t:.2f}, {p_s:.2f}" if math.isfinite(p_t) and math.isfinite(p_s)
                 else f"run to N = {n[sel].max():.0f}: no fit")
-        kw = dict(color=color, marker=marker, markeredgecolor="#000000", markeredgewidth=0.4)
+        kw = dict(color=color, marker=marker, markeredgecolor="black", markeredgewidth=0.4)
         ax_t.loglog(n[sel], per_second[sel], label=f"{style.name(m)} ({fits})", **kw)
         hollow = sel & ~np.isfinite(error)
         if hollow.any():
@@ -321,9 +320,9 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
     ax_s.set_xlabel("number of blocks N [-]")
     ax_s.set_ylabel("CPU time per step [microseconds]")
     ax_s.set_title("Per step, same runs")
-    c.figure_legend(fig, [ax_t], ncol=3, caption=(
-        "Exponents fitted over N >= 100: cost per simulated second at the target, then cost per step. "
-        "Hollow: error not measured (no reference at that N; the setting of the largest N with one)."))
+    # how to read it (exponents fitted over N >= 100, hollow markers) is the page's text:
+    # docs/guide/chain.md
+    c.figure_legend(fig, [ax_t], ncol=3)
     out = [c.save_figure(fig, outdir / f"{csv_path.stem}.png")]
 
     sizes = np.array(c.read_csv(ev_path)["size [blocks]"], dtype=int)

@@ -677,7 +677,7 @@ LABELS: dict[str, str] = {
     "drake_continuous": "Drake continuous", "drake_tamsi": "Drake TAMSI", "drake_sap": "Drake SAP",
     "drake_lagged": "Drake lagged (default)", "bullet": "Bullet",
     "newton_semi_implicit": "Newton semi-implicit",
-    "event_driven_one_mu": "event-driven, mu_s = mu_k",
+    "event_driven_one_mu": "event-driven, μ_s = μ_k",
     "mujoco_elliptic_ir100": "MuJoCo (elliptic, impratio 100)"}
 
 
@@ -731,7 +731,9 @@ def plot(outdir: str | Path) -> list[Path]:
     if lim:
         lo, hi = min(lim) / 1.5, max(lim) * 1.5
         ax.plot([lo, hi], [lo, hi], "-", color="0.5", lw=0.8, label="measured = predicted")
-    ax.set_xlabel(f"predicted creep in {t_end} [mm] (engine_creep)")
+    ax.set_xlabel(f"predicted creep in {t_end} [mm]")
+    ax.set_title("creep against the prediction, every run")
+    bx.set_title("creep against the time step, default friction")
     ax.set_ylabel(f"measured creep in {t_end} [mm]")
     ax.legend(fontsize=7)
     bx.set_xlabel("time step [s]")
@@ -742,19 +744,27 @@ def plot(outdir: str | Path) -> list[Path]:
     files = [c.save_figure(fig, outdir / "engines_slope_creep.png")]
 
     s = c.read_numeric_csv(outdir / "engines_belt_series.csv")
-    fig, ax = c.new_figure()
-    extra = {"event_driven_one_mu": (c._style.OKABE_ITO["black"], ":"),
-             "mujoco_elliptic_ir100": (c._style.OKABE_ITO["reddish purple"], "--")}
+    # two panels (at most seven lines each): the library's exact-stick methods, then the
+    # engines beside the best a one-coefficient engine can do (Coulomb with mu_s = mu_k, grey)
+    fig, (ax, bx) = c.new_figure(2)
+    extra = {"event_driven_one_mu": ("0.45", "--"),
+             "mujoco_elliptic_ir100": (c._style.OKABE_ITO["reddish purple"], "--"),
+             "newton_semi_implicit": (c._style.OKABE_ITO["black"], "-.")}   # not Moreau's line
     for key, val in s.items():
         if not key.startswith("v_"):
             continue
         name = key[2:].split(" [")[0]
         col, ls = extra.get(name, ((ENGINE_STYLE.get(name) or (c._style.color(name),))[0], "-"))
-        ax.plot(s["t [s]"], val, ls, color=col, lw=2.0 if name == "event_driven" else 1.0,
-                label=label(name))
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("velocity of the mass [m/s]")
-    ax.legend(fontsize=7)
+        library = name in c._style.METHOD_COLORS or name == "event_driven_one_mu"
+        for target in ((ax, bx) if name == "event_driven_one_mu" else (ax,) if library else (bx,)):
+            target.plot(s["t [s]"], val, ls, color=col, lw=2.0 if name == "event_driven" else 1.0,
+                        label=label(name))
+    ax.set_title("stickslip's exact-stick methods")
+    bx.set_title("physics engines")
+    for a in (ax, bx):
+        a.set_xlabel("time [s]")
+        a.set_ylabel("velocity of the mass [m/s]")
+    c.figure_legend(fig, (ax, bx), ncol=3)
     files.append(c.save_figure(fig, outdir / "engines_belt.png"))
     return files
 

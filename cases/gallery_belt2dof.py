@@ -122,7 +122,8 @@ def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]],
     shown = [series[0]] + [k for k in series[1:] if "0.01 " in k or "0.001 " in k]
     colors = (_style.OKABE_ITO["black"], _style.OKABE_ITO["vermillion"], _style.OKABE_ITO["sky blue"])
     for k, color, style in zip(shown, colors, ("-", "--", ":")):
-        label = k[3:].replace(" [m/s]", "").replace("Stribeck, ", "").replace(" (DOPRI5)", "")
+        label = k[3:].replace(" [m/s]", "").replace("Stribeck, ", "").replace(" (DOPRI5)", "") \
+            .replace("(event_driven)", "(event-driven)")
         top.plot(t, cols[k], color=color, linestyle=style, label=label, lw=1.1 if style == "-" else 1.3)
     top.axhline(V_BELT, color="0.6", lw=0.6)
     top.set_xlabel("time t [s]")

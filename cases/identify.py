@@ -39,6 +39,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _common as c
+from . import _style
 
 SAMPLES_PER_CYCLE: int = 48
 JUMP_VELOCITY: float = 1e-3        # [m/s]
@@ -48,13 +49,12 @@ DIFF_STEP: float = 1e-2            # finite-difference step, well above RTOL
 BACKLASH_STARTS: tuple[float, ...] = (0.15, 0.3)   # of the amplitude, for the static laws
 TIE: float = 0.05                  # held-out errors within 5 % of the best count as equal
 STATIC_REFERENCE: str = "stribeck"  # the static (velocity-only) law the report sets beside the chosen one
-LAW_NAMES: dict[str, str] = {
-    "coulomb": "Coulomb", "recurdyn": "RecurDyn (haversine)", "proposed": "Proposed (Roh & Yoo)",
-    "stribeck": "Stribeck + viscous", "karnopp": "Karnopp", "lugre": "LuGre",
-    "elastoplastic": "elasto-plastic", "dahl": "Dahl", "gms": "generalized Maxwell-slip"}
-#: Colour-blind-safe (Okabe-Ito) colours of the measured force and of up to 3 models in a plot.
-MEASURED_COLOR = "#999999"
-MODEL_COLORS: tuple[str, ...] = ("#0072B2", "#D55E00", "#009E73")
+#: Display names of the laws (cases._style's, one set for every figure).
+LAW_NAMES: dict[str, str] = _style.LAW_NAMES
+#: Colour of the measured force (a model's is its law's: cases._style.LAW_COLORS).
+MEASURED_COLOR: str = "0.6"
+#: Colours of the load groups in the score figure (not laws or methods: the cycle's).
+GROUP_COLORS: tuple[str, ...] = _style.VARIANT_COLORS[1:]
 PNG_DPI: int = 200
 
 
@@ -269,7 +269,7 @@ def plot(outdir: str | Path) -> list[Path]:
                     ax = axes[i][j]
                     ax.plot(1e3 * col["x [m]"][sel], 1e-3 * col["F measured [N]"][sel], color=MEASURED_COLOR,
                             lw=0.6, label="measured")
-                    ax.plot(1e3 * col["x [m]"][sel], 1e-3 * col[f"F {law} [N]"][sel], color=MODEL_COLORS[i],
+                    ax.plot(1e3 * col["x [m]"][sel], 1e-3 * col[f"F {law} [N]"][sel], color=_style.color(law),
                             lw=0.9, label=f"{LAW_NAMES.get(law, law)} (predicted)")
                     if i == 0:
                         ax.set_title(name.replace("sine_", "").replace("_", ", "), fontsize=7)
@@ -288,7 +288,7 @@ def plot(outdir: str | Path) -> list[Path]:
                     sel = which == name
                     tt = col["t [s]"][sel]
                     ax.plot(offset + tt, 1e-3 * (col[f"F {law} [N]"][sel] - col["F measured [N]"][sel]),
-                            color=MODEL_COLORS[i], lw=0.5)
+                            color=_style.color(law), lw=0.5)
                     ax.axvline(offset, color="k", lw=0.4)
                     offset += tt[-1] + 0.5
                 ax.set_ylabel(f"{LAW_NAMES.get(law, law)}\nresidual [kN]")
@@ -321,10 +321,12 @@ def plot(outdir: str | Path) -> list[Path]:
         xs = np.arange(len(laws)) + (k - 0.5 * (len(groups) - 1)) * width
         held = [float(mine[l]["nrmse held out [-]"] or "nan") for l in laws]
         fitted = [float(mine[l]["nrmse fitted [-]"]) for l in laws]
-        axes[0].bar(xs, 100 * np.array(held), width, color=MODEL_COLORS[k % 3], label=f"{g}, held out")
+        axes[0].bar(xs, 100 * np.array(held), width, color=GROUP_COLORS[k % len(GROUP_COLORS)],
+                    label=f"{g}, held out")
         axes[0].plot(xs, 100 * np.array(fitted), "k_", ms=8, label="fitted records" if k == 0 else None)
-        axes[1].bar(xs, [float(mine[l]["delta BIC [-]"]) + 1.0 for l in laws], width, color=MODEL_COLORS[k % 3],
-                    label=g)
+        # points, not bars, on the log axis (a bar's length from an arbitrary baseline means nothing)
+        axes[1].semilogy(xs, [float(mine[l]["delta BIC [-]"]) + 1.0 for l in laws], "o", ms=5,
+                         color=GROUP_COLORS[k % len(GROUP_COLORS)], label=g)
     for ax in axes:
         ax.set_xticks(range(len(laws)), [LAW_NAMES.get(l, l) for l in laws], rotation=40, ha="right")
     axes[0].set_ylabel("RMS error / force range [%]")

@@ -387,23 +387,31 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     run on a log axis (a bar's length from an arbitrary baseline would mean nothing there), bars
     on a linear one; each method in its colour (cases._style), its second step hollow or
     hatched. A run that failed (status != 0, or no value) is marked with a cross at the foot of
-    its place, a value of exactly 0 on a log axis with a circle there."""
-    from matplotlib.transforms import blended_transform_factory
+    its place, a value of exactly 0 on a log axis with a circle there, a law a method has no row
+    for (it refuses the law) with a grey dash; on a log axis of every method, a panel per family
+    (FAMILIES), so that a law's group holds at most five points a panel."""
     csv = Path(csv)
     kind = csv.stem.removeprefix("laws_compare_")
     if kind == "presliding":
         data = c.read_numeric_csv(csv)
         names = list(data)
-        fig, ax = c.new_figure()
-        for i, name in enumerate(names[1:]):
+        # two panels, one quantity each: the body's position, the laws' internal states (the
+        # generalized Maxwell-slip law's elements in line styles of the law's colour)
+        fig, (ax, zx) = c.new_figure(2)
+        for name in names[1:]:
             what, law = c.split_unit(name)[0].split()
-            ax.plot(data[names[0]] * 1e3, data[name] * 1e6,
-                    label=f"{'position x' if what == 'x' else 'bristle deflection z'}, {c._style.name(law)}",
-                    color=c._style.color(law), linestyle=c.VARIANT_STYLES[i % len(c.VARIANT_STYLES)])
-        ax.set_xlabel("time t [ms]")
-        ax.set_ylabel("displacement [µm]")
-        ax.set_title("Box on a 10° slope from rest: presliding displacement and bristle deflection")
-        c.figure_legend(fig, [ax], ncol=2)
+            index = int(what[1:]) - 1 if what[1:].isdigit() else 0
+            (ax if what == "x" else zx).plot(
+                data[names[0]] * 1e3, data[name] * 1e6, color=c._style.color(law),
+                linestyle=c.VARIANT_STYLES[index % len(c.VARIANT_STYLES)],
+                label=c._style.name(law) + (f", element {index + 1}" if what[1:].isdigit() else ""))
+        for a, title, ylabel in ((ax, "position of the box", "position x [µm]"),
+                                 (zx, "the laws' internal states", "bristle deflection z [µm]")):
+            a.set_xlabel("time t [ms]")
+            a.set_ylabel(ylabel)
+            a.set_title(title)
+        fig.suptitle("Box on a 10° slope from rest: presliding")
+        c.figure_legend(fig, [ax, zx], ncol=3)
         return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
     column, log, ylabel, title = FIGURES[kind]
     cols = c.read_csv(csv)
@@ -412,11 +420,62 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     tags = [f"{m}" + (f" h={h}" if h else "")
             for m, h in zip(cols[second], cols.get("h [s]", [""] * len(cols[second])))]
     series = list(dict.fromkeys(tags))
-    fig, ax = c.new_figure(width=10.0)
-    foot = blended_transform_factory(ax.transData, ax.transAxes)
-    width = 0.8 / max(len(series), 1)
-    failed, zero = [], []
+    # a log figure of every method: a panel per family, so that a group holds a few points
+    families = [(name, [t for t in series if t.partition(" h=")[0] in members])
+                for name, members in FAMILIES] if log and kind != "hmax" else [("", series)]
+    families = [(name, group) for name, group in families if group]
+    others = [t for t in series if not any(t in group for _, group in families)]
+    if others:
+        families.append(("other", others))
+    fig, axes = c.plt.subplots(len(families), 1, figsize=(10.0, 1.3 + 2.4 * len(families)),
+                               squeeze=False, sharex=True, sharey=True)
     lowest = math.inf                     # the smallest value drawn on a log axis
+    marks = False
+    for (family, members), ax in zip(families, axes[:, 0]):
+        low, marked = _draw_group(ax, kind, log, cols, laws, tags, members, column)
+        lowest, marks = min(lowest, low), marks or marked
+        if family:
+            ax.set_title(family, loc="left")
+        if len(families) == 1:
+            ax.set_ylabel(ylabel)
+    if len(families) > 1:
+        fig.supylabel(ylabel, fontsize=c.plt.rcParams["axes.labelsize"])
+    if log and marks and math.isfinite(lowest):   # the foot's marks below every value
+        axes[0, 0].set_ylim(bottom=lowest / 30.0)
+
+    def tick(law: str) -> str:           # "lugre sigma2=0" -> "LuGre\nσ2 = 0"
+        base, _, variant = law.partition(" ")
+        name = textwrap.fill(c._style.name(base).split(" (")[0], 12)   # "generalized\nMaxwell-slip"
+        return name + ("\n" + variant.replace("sigma", "σ").replace("=", " = ") if variant else "")
+
+    axes[-1, 0].set_xticks(range(len(laws)))
+    axes[-1, 0].set_xticklabels([tick(law) for law in laws], fontsize=8)
+    if len(families) > 1:
+        fig.suptitle(title)
+    else:
+        axes[0, 0].set_title(title)
+    c.figure_legend(fig, axes[:, 0], ncol=4)
+    return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
+
+
+#: The panels of a log figure of laws_compare: the methods grouped by family.
+FAMILIES: tuple[tuple[str, frozenset[str]], ...] = (
+    ("explicit", frozenset({"rk4", "dopri5", "dop853"})),
+    ("implicit", frozenset({"implicit_euler", "galpha", "radau5"})),
+    ("set-valued (exact stick; the other laws are refused)", frozenset({"moreau", "event_driven"})))
+
+
+def _draw_group(ax: Any, kind: str, log: bool, cols: dict[str, list[str]], laws: list[str],
+                tags: list[str], members: list[str], column: str) -> tuple[float, bool]:
+    """Draw the series `members` of one laws_compare CSV on `ax`, grouped by law: points on a
+    log axis, bars on a linear one; a cross at the foot for a failed run, a circle for exactly
+    0 on a log axis, a grey dash for a law the method has no row for (refused or not run).
+    Returns the smallest value drawn and whether any foot mark was drawn."""
+    from matplotlib.transforms import blended_transform_factory
+    foot = blended_transform_factory(ax.transData, ax.transAxes)
+    width = 0.8 / max(len(members), 1)
+    failed, zero, missing = [], [], []
+    lowest = math.inf
 
     def bar_style(s: str, j: int) -> dict[str, Any]:
         """A method's own colour (cases._style), its second step hatched; on "hmax" (series
@@ -428,16 +487,19 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
         method = s.partition(" h=")[0]
         if method not in c._style.METHOD_COLORS:
             return {"color": c._style.SEQUENCE[j % len(c._style.SEQUENCE)]}
-        steps = [t for t in series if t.partition(" h=")[0] == method]
+        steps = [t for t in members if t.partition(" h=")[0] == method]
         return {"color": c._style.METHOD_COLORS[method], "edgecolor": "0.5", "linewidth": 0.3,
-                "hatch": "////" if steps.index(s) > 0 else None}
+                "hatch": "////" if steps.index(s) > 0 else None,
+                "marker": c._style.METHOD_MARKERS.get(method, "o")}
 
-    for j, s in enumerate(series):
+    for j, s in enumerate(members):
         xs, ys = [], []
+        seen = set()
         for i, (law, tag) in enumerate(zip(cols["law [-]"], tags)):
             if tag != s:
                 continue
-            x = laws.index(law) + (j - (len(series) - 1) / 2) * width
+            seen.add(law)
+            x = laws.index(law) + (j - (len(members) - 1) / 2) * width
             status = cols.get("status [-]", ["0"] * len(tags))[i]
             if cols[column][i] == "" or status not in ("", "0") or (kind == "hmax" and float(cols[column][i]) == 0):
                 failed.append(x)
@@ -448,49 +510,44 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
                 continue
             xs.append(x)
             ys.append(abs(value) if log else value)
+        if kind != "hmax":
+            missing += [laws.index(law) + (j - (len(members) - 1) / 2) * width
+                        for law in laws if law not in seen]
         if log:                           # points: no bars on a log axis
             lowest = min([lowest, *ys])
             st = bar_style(s, j)
-            ax.plot(xs, ys, linestyle="none", marker=st.get("marker", "o"), markersize=4, label=series_name(s),
+            ax.plot(xs, ys, linestyle="none", marker=st.get("marker", "o"), markersize=5, label=series_name(s),
                     color=st["color"], markeredgewidth=1.0,
                     markerfacecolor="white" if st.get("hatch") else st["color"])
         else:
-            ax.bar(xs, ys, width=width, label=series_name(s), **bar_style(s, j))
+            st = {k: v for k, v in bar_style(s, j).items() if k != "marker"}
+            ax.bar(xs, ys, width=width, label=series_name(s), **st)
     if failed:
         ax.plot(failed, [0.04] * len(failed), "x", color="k", ms=6, mew=1.5, transform=foot,
                 label="failed run" if kind != "hmax" else "no bounded step")
     if zero:
         ax.plot(zero, [0.04] * len(zero), "o", mfc="none", color="k", ms=6, transform=foot,
                 label="exactly 0 (not on a log axis)")
+    if missing and log:
+        ax.plot(missing, [0.04] * len(missing), "_", color="0.55", ms=6, mew=1.5, transform=foot,
+                label="not run: the method refuses the law")
     if kind == "rest":
         ax.plot(range(len(laws)), [float(v) for v in cols["rate_predicted [1/s]"]], "o",
                 color="k", label="predicted: -g μ'(v_b)/2")
         ax.axhline(0.0, color="k", linewidth=0.6)
     if kind == "hmax":
-        for j, s in enumerate(series):
-            pts = [(laws.index(law) + (j - (len(series) - 1) / 2) * width, float(v))
+        for j, s in enumerate(members):
+            pts = [(laws.index(law) + (j - (len(members) - 1) / 2) * width, float(v))
                    for law, tag, v in zip(cols["law [-]"], tags, cols["h_1pct [s]"]) if tag == s and float(v) > 0]
             if pts:
                 ax.plot(*zip(*pts), "_", color=bar_style(s, j)["color"], ms=9, mew=1.5,
                         label="within 1 % of the reference" if j == 0 else None)
     if log:
         ax.set_yscale("log")
-        if (failed or zero) and math.isfinite(lowest):   # the foot's marks below every value
-            ax.set_ylim(bottom=lowest / 30.0)
         for i in range(len(laws) - 1):   # the groups' borders
             ax.axvline(i + 0.5, color="0.85", linewidth=0.6)
         ax.grid(axis="x", visible=False)
-    ax.set_xticks(range(len(laws)))
-    def tick(law: str) -> str:           # "lugre sigma2=0" -> "LuGre\nσ2 = 0"
-        base, _, variant = law.partition(" ")
-        name = textwrap.fill(c._style.name(base).split(" (")[0], 12)   # "generalized\nMaxwell-slip"
-        return name + ("\n" + variant.replace("sigma", "σ").replace("=", " = ") if variant else "")
-
-    ax.set_xticklabels([tick(law) for law in laws], fontsize=8)
-    ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    c.figure_legend(fig, [ax], ncol=4)
-    return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
+    return lowest, bool(failed or zero or (missing and log))
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:

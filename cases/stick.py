@@ -239,45 +239,77 @@ def write_tables(csv_path: Path, outdir: Path) -> Path:
     return c.write_text(outdir / "stick.md", "".join(parts))
 
 
-#: A marker per law (the colours are the methods', cases/_style.py).
-MARKERS = ("o", "s", "^", "v", "D", "P", "X", "*", "h", "<", ">", "p")
+#: The laws of stick.png: the two with a set-valued counterpart, where every method runs (the
+#: best error of every law is stick_best.png's).
+PLOT_LAWS: tuple[str, ...] = ("coulomb", "stribeck")
+#: Width of stick.png [in]; its fonts are scaled to stay legible at a column width.
+PLOT_WIDTH: float = 5.6
+#: Short panel titles of stick.png.
+SHORT_TITLES: dict[str, str] = {"slope_rest": "slope, from rest", "slope_stop": "slope, to a stop",
+                                "belt_stuck": "belt, started stuck"}
 
 
 def plot(csv_path: str | Path, outdir: str | Path) -> list[Path]:
-    """stick.png and stick.pdf: for each problem its first error against CPU time, a line per
-    law x method through its settings."""
+    """stick.png and stick.pdf: for each problem (a row) and each of PLOT_LAWS (a column) its
+    first error against CPU time, a line per method through its settings (the method's colour
+    and marker of cases._style); exact results (error 0) on the dotted line at FLOOR; a run
+    that failed (status other than ok, e.g. its step budget) a cross at the top of its panel;
+    the methods refused by a law named in the panel."""
     import matplotlib.pyplot as plt
+    from matplotlib.transforms import blended_transform_factory
     rows = _rows(Path(csv_path))
     methods = list(dict.fromkeys(r["method [-]"] for r in rows))
-    laws = list(dict.fromkeys(r["law [-]"] for r in rows))
-    fig, axes = c.new_figure(3, width=13.0)
-    fig.set_size_inches(13.0, 5.2)
-    for ax, (problem, errs) in zip(axes, ERRORS.items()):
-        for (mi, method) in enumerate(methods):
-            for (li, law) in enumerate(laws):
-                pts = [(_num(r["cpu [s]"]), _num(r[errs[0]])) for r in rows
-                       if r["problem [-]"] == problem and r["method [-]"] == method and r["law [-]"] == law
-                       and _num(r[errs[0]]) is not None]
-                if not pts:
-                    continue
-                cpu, err = zip(*sorted(pts))
-                ax.plot(cpu, np.maximum(err, FLOOR), color=style.color(method, mi),
-                        marker=MARKERS[li % len(MARKERS)], markersize=4, linewidth=0.8,
-                        markerfacecolor="none" if method not in ("moreau", "event_driven") else None)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("CPU time of the run [s]")
-        ax.set_ylabel(f"error {errs[0].split(' ')[0].replace('err_', '')} [{errs[0].split('[')[1]}")
-        ax.set_title(TITLES[problem], fontsize=8)
-        ax.axhline(FLOOR, color="0.6", linewidth=0.6, linestyle=":")
-    handles = [plt.Line2D([], [], color=style.color(m, i), label=style.name(m)) for i, m in enumerate(methods)]
-    handles += [plt.Line2D([], [], color="0.3", marker=MARKERS[i % len(MARKERS)], linestyle="none",
-                           label=style.name(law)) for i, law in enumerate(laws)]
-    fig.legend(handles=handles, loc="lower center", ncol=8, frameon=False, fontsize=7)
-    fig.text(0.5, 0.115, f"exact results (error 0) are drawn at {FLOOR:g} (dotted line); filled markers: "
-             "set-valued friction (moreau, event_driven); failed runs (step budget, Newton failure) are "
-             "not drawn (stick.md lists them)", ha="center", fontsize=7)
-    fig.tight_layout(rect=(0.0, 0.14, 1.0, 1.0))
+    style.apply()
+    plt.rcParams.update(style.column_fonts(PLOT_WIDTH))
+    fig, axes = plt.subplots(len(ERRORS), len(PLOT_LAWS), figsize=(PLOT_WIDTH, 8.4), squeeze=False,
+                             sharey="row", layout="constrained")
+    handles: dict[str, Any] = {}
+    for i, (problem, errs) in enumerate(ERRORS.items()):
+        for j, law in enumerate(PLOT_LAWS):
+            ax = axes[i][j]
+            top = blended_transform_factory(ax.transData, ax.transAxes)
+            refused = []
+            for method in methods:
+                mine = [r for r in rows if r["problem [-]"] == problem and r["method [-]"] == method
+                        and r["law [-]"] == law]
+                if mine and all(r["status [-]"] == "refused" for r in mine):
+                    refused.append(style.name(method).split(" (")[0])
+                look = {"color": style.color(method), "marker": style.METHOD_MARKERS.get(method, "o"),
+                        "mec": "black" if method == "event_driven" else None, "mew": 0.5}
+                pts = [(_num(r["cpu [s]"]), _num(r[errs[0]])) for r in mine
+                       if r["status [-]"] == "ok" and _num(r[errs[0]]) is not None]
+                if pts:
+                    cpu, err = zip(*sorted(pts))
+                    handles[style.name(method).split(" (")[0]] = ax.plot(
+                        cpu, np.maximum(err, FLOOR), ms=5, lw=1.0, **look)[0]
+                failed = [_num(r["cpu [s]"]) for r in mine if r["status [-]"] not in ("ok", "refused")
+                          and _num(r["cpu [s]"]) is not None]
+                if failed:
+                    ax.plot(failed, [0.96] * len(failed), "x", transform=top, clip_on=False, ms=7,
+                            mew=1.5, color=look["color"])
+                    handles["failed run (its method's colour)"] = plt.Line2D(
+                        [], [], color="0.3", marker="x", ms=7, mew=1.5, linestyle="none")
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            handles[f"error 0 (at {FLOOR:g})"] = ax.axhline(FLOOR, color="0.5", lw=0.8, ls=":")
+            if refused:
+                ax.text(0.03, 0.04, "refused: " + ", ".join(refused), transform=ax.transAxes,
+                        color="0.25", in_layout=False)
+            if i == 0:
+                ax.set_title(style.name(law).split(" (")[0])
+            if i == len(ERRORS) - 1:
+                ax.set_xlabel("CPU time of a run [s]")
+            if j == 0:
+                unit = errs[0].split("[")[1].rstrip("]")
+                ax.set_ylabel(f"{SHORT_TITLES[problem]}\nerror [{unit}]")
+        lo, hi = (np.log10(v) for v in axes[i][0].get_ylim())
+        axes[i][0].set_ylim(10.0 ** lo, 10.0 ** (hi + 0.15 * (hi - lo)))   # the crosses' strip
+    order = [style.name(m).split(" (")[0] for m in methods] + ["failed run (its method's colour)",
+                                                                 f"error 0 (at {FLOOR:g})"]
+    keys = [k for k in order if k in handles]
+    fig.legend([handles[k] for k in keys], keys, loc="outside lower center", ncol=2,
+               frameon=False, handlelength=1.8, columnspacing=1.0, labelspacing=0.3)
+    fig.suptitle("Error against CPU time, every setting")
     outdir = Path(outdir)
     png = c.atomic_write(outdir / "stick.png", lambda f: fig.savefig(f, format="png", dpi=200), binary=True)
     pdf = c.atomic_write(outdir / "stick.pdf", lambda f: fig.savefig(f, format="pdf"), binary=True)

@@ -105,3 +105,78 @@ def test_every_law_and_method_has_its_own_colour_and_name() -> None:
         assert not missing_colour and not missing_name, (kind, missing_colour, missing_name)
         used = [colours[n].lower() for n in names]
         assert len(set(used)) == len(used), f"two {kind}s share a colour: {used}"
+
+
+#: The sources that draw the figures of docs/figures, docs/gallery and benchmarks/results.
+FIGURE_SOURCES: tuple[Path, ...] = tuple(
+    p for p in sorted((ROOT / "cases").glob("*.py")) + sorted((ROOT / "benchmarks").glob("*.py"))
+    if p.name != "_style.py")
+
+
+def test_every_method_has_its_own_marker() -> None:
+    """The figure checklist, point 2: where colour alone would not separate series, a method's
+    marker does; every registered method has one, distinct from the others'."""
+    sys.path.insert(0, str(ROOT))
+    from cases import _style
+    markers = [_style.METHOD_MARKERS.get(m) for m in ss.METHODS]
+    assert None not in markers, [m for m in ss.METHODS if m not in _style.METHOD_MARKERS]
+    assert len(set(markers)) == len(markers), f"two methods share a marker: {markers}"
+
+
+def test_figure_colours_come_from_the_style() -> None:
+    """The figure checklist, point 2: no driver spells a colour of its own as a hex code (a law,
+    method or tool takes its colour from cases/_style.py, the only place that names them), and
+    the drivers that draw import the style (directly or through cases._common)."""
+    hex_colour = re.compile(r"[\"']#[0-9A-Fa-f]{6}[\"']")
+    for path in FIGURE_SOURCES:
+        text = path.read_text()
+        assert not hex_colour.search(text), f"{path.name}: a colour outside cases/_style.py"
+        if re.search(r"\.(plot|loglog|semilogy|bar|barh|scatter)\(", text):
+            assert "_style" in text or "_common" in text, f"{path.name}: draws without cases._style"
+
+
+def test_no_caption_in_the_image_and_one_line_titles() -> None:
+    """The figure checklist, point 4: no caption set into a figure (figure_legend's caption),
+    and no title of more than one line (a title with a line break is a caption)."""
+    call = re.compile(r"(set_title|suptitle)\((?:[^()]|\([^()]*\))*\)", re.S)
+    for path in FIGURE_SOURCES:
+        text = path.read_text()
+        assert not re.search(r"figure_legend\([^)]*caption\s*=", text), \
+            f"{path.name}: a caption set into the image (the page's text says how to read it)"
+        for match in call.finditer(text):
+            assert "\\n" not in match.group(0), f"{path.name}: a title of two lines: {match.group(0)}"
+
+
+def test_column_fonts_are_legible_at_a_column_width() -> None:
+    """The figure checklist, point 7: the fonts column_fonts gives a figure read at least
+    MIN_FONT_AT_COLUMN points once it is scaled to a column (8.5 cm), at any width; and the
+    figures drawn with it (work precision, benchmarks) use it."""
+    sys.path.insert(0, str(ROOT))
+    from cases import _style
+    assert _style.COLUMN_WIDTH == pytest.approx(8.5 / 2.54)
+    for width in (2.0, _style.COLUMN_WIDTH, 5.6, 12.0):
+        fonts = _style.column_fonts(width)
+        scaled = min(fonts.values()) * min(_style.COLUMN_WIDTH / width, 1.0)
+        assert scaled >= _style.MIN_FONT_AT_COLUMN - 1e-9, (width, fonts)
+    for path in (ROOT / "cases" / "workprecision.py", ROOT / "benchmarks" / "run.py"):
+        assert "column_fonts(" in path.read_text(), path.name
+
+
+def test_work_precision_shows_every_method_or_says_why_not() -> None:
+    """Issue 32: the work-precision figure shows every method of stickslip.METHODS; where a
+    method has no curve (refused by the law, or not run) the figure names it and the reason,
+    and the library does refuse the pairs said to be refused."""
+    sys.path.insert(0, str(ROOT))
+    from cases import workprecision as wp
+    assert set(wp.METHODS) == set(ss.METHODS)
+    assert {m for _, group in wp.GROUPS for m in group} == set(ss.METHODS)
+    assert all(len(group) <= 6 for _, group in wp.GROUPS)
+    for scene in wp.SCENES:
+        for law in wp.LAWS:
+            for method in wp.METHODS:
+                why = wp.refusal(scene, law, method)
+                assert wp.applies(scene, law, method) == (why is None), (scene, law, method)
+                if why is not None and why.startswith("refused"):
+                    with pytest.raises(ValueError):
+                        ss.simulate(scene, law, method=method, t_end=0.01,
+                                    **({"h": 1e-3} if method in wp.FIXED_STEP else {}))
