@@ -577,18 +577,44 @@ class FitResult(_Estimates):
         return "\n".join(lines)
 
 
-def _model(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1e-8) -> np.ndarray:
-    """The model's force [N] on one record: stickslip.prescribed_motion with the states at 0,
-    times 1 + drift (t - t_mid), plus the offset."""
-    from . import prescribed_motion
+def _motion(d: _Data) -> tuple[np.ndarray, np.ndarray]:
+    """The velocity and the normal force of a record as arrays for the library, derived once
+    (the velocity as `prescribed_motion` derives it when none is given)."""
+    cached = d.__dict__.get("_motion")
+    if cached is None:
+        n = d.t.size
+        v = d.v if d.v is not None else (np.gradient(d.x, d.t, edge_order=2 if n > 2 else 1) if n > 1
+                                         else np.zeros(1))
+        nf = np.ascontiguousarray(np.atleast_1d(np.asarray(d.normal_force, dtype=np.float64)))
+        cached = d.__dict__["_motion"] = (np.ascontiguousarray(v), nf)
+    return cached
+
+
+def _model_mesh(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1e-8,
+                substeps: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The model's force [N] on one record (see `_model`) and the substeps per monotone piece
+    of each sample interval that its state integration used; `substeps` given: on that frozen
+    mesh, a smooth function of the parameters (the finite-difference Jacobian's model)."""
+    from .prescribed import _force_on
     law_p = {k: v for k, v in params.items() if k not in EXTRA_PARAMS}
-    res = prescribed_motion(law, d.t, d.x, d.v, normal_force=d.normal_force, rtol=rtol,
-                            backlash=params["backlash"], asymmetry=params["asymmetry"], **law_p)
-    force = res.force
+    v, nf = _motion(d)
+    backlash = _finite("backlash", params["backlash"], ">= 0 [m]")
+    asymmetry = _finite("asymmetry", params["asymmetry"], "> 0 [-]")
+    if backlash < 0.0:
+        raise ValueError(f"backlash: must be >= 0 [m], got {backlash!r}")
+    if asymmetry <= 0.0:
+        raise ValueError(f"asymmetry: must be > 0 (negative-direction level / positive one) [-], got {asymmetry!r}")
+    force, used = _force_on(law, law_p, d.t, d.x, v, nf, backlash, asymmetry, rtol, substeps)
     drift, offset = params.get("drift", 0.0), params.get("offset", 0.0)
     if drift != 0.0:
         force = force * (1.0 + drift * (d.t - 0.5 * (d.t[0] + d.t[-1])))
-    return force + offset if offset != 0.0 else force
+    return (force + offset if offset != 0.0 else force), used
+
+
+def _model(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1e-8) -> np.ndarray:
+    """The model's force [N] on one record: stickslip.prescribed_motion with the states at 0,
+    times 1 + drift (t - t_mid), plus the offset."""
+    return _model_mesh(law, d, params, rtol)[0]
 
 
 # --------------------------------------------------------------------------------------------
