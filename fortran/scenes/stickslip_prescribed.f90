@@ -28,7 +28,11 @@
 !! interval's end with m and with 2m substeps, must agree within rtol (|mu| + mu_ref), mu_ref
 !! the law's steady level at the record's largest speed; the 2m result is kept and m doubles
 !! until it passes (at most 2^16; an interval that still fails is kept and counted in
-!! `n_unconverged`). The next interval starts from m/2.
+!! `n_unconverged`). The next interval starts from m/2. A caller may instead give the substeps
+!! of every interval (`substeps_in`, e.g. those `substeps_out` returned at a nearby parameter
+!! set): one sweep each, no test, so that the result is a smooth function of the law's
+!! parameters (finite differences of it measure the model, not the step choices; a fit's
+!! Jacobian uses it).
 !!
 !! The force at a sample: mu = the law's `motion_mu` at (v_c, z) and the acceleration of the
 !! Hermite cubic ending there (`evaluate` with holding coefficient 0 for every law but GMS,

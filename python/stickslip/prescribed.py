@@ -242,6 +242,9 @@ def _run(code: int, given: tuple[tuple[str, float], ...], t: np.ndarray, x: np.n
     RuntimeError for a failed state integration."""
     keys, vals = _keys(dict(given))
     msub = _ADAPTIVE if substeps is None else np.ascontiguousarray(substeps, dtype=np.int32)
+    if msub.size and (msub.size != t.size - 1 or msub.min() < 1 or msub.max() > 65536):
+        raise ValueError(f"substeps: must be {t.size - 1} integers in [1, 65536] (one per sample interval), "
+                         f"got {msub.size} in [{msub.min()}, {msub.max()}]")
     force, mu, z, xc, vc, counters, used, status = _ext.prescribed(
         code, keys, vals, t, x, v, nf, z0, backlash, asymmetry, rtol, msub)
     if int(status) != 0:
