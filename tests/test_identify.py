@@ -13,6 +13,7 @@ import pytest
 from scipy import stats
 
 import stickslip
+from stickslip import identify
 from stickslip.identify import FitResult
 
 pm = stickslip.prescribed_motion
@@ -646,3 +647,58 @@ def test_every_law_intervals_cover_the_truth_95_percent(law):
     lo, hi = coverage_band(50)
     hits = law_coverage(law, 50)
     assert all(lo <= h <= hi for h in hits.values()), (hits, (lo, hi))
+
+
+# ---------------------------------------------------------------------------------------------
+# The Jacobian on the frozen substep mesh against the adaptive model's
+# ---------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("law", ["lugre", "gms", "elastoplastic"])
+def test_frozen_mesh_jacobian_fits_as_the_adaptive_one(law, monkeypatch):
+    # fit_friction differentiates the model on the substeps its state integration chose at the
+    # point (one sweep a column); the same fit with every evaluation adaptive (the Jacobian the
+    # forward difference of the step-doubling model, as scipy's own 2-point scheme took it)
+    # must end at the same parameters, within a small fraction of their standard errors, with
+    # the same force to the integration's tolerance
+    truth, fixed = STATE_CASES[law]
+    t, x, f, v = noisy_records(law, truth, 10.0, seed=5, n=201, backlash=2e-4)
+    kw = dict(fixed=fixed, v=v, backlash="fit", n_starts=1)
+    frozen = stickslip.fit_friction(law, t, x, f, **kw)
+    original = identify._model_mesh
+    calls = {"frozen": 0}
+
+    def adaptive(law_, d, params, rtol=1e-8, substeps=None):
+        calls["frozen"] += substeps is not None
+        return original(law_, d, params, rtol)
+
+    monkeypatch.setattr(identify, "_model_mesh", adaptive)
+    plain = stickslip.fit_friction(law, t, x, f, **kw)
+    monkeypatch.undo()
+    assert calls["frozen"] > 0 and frozen.success and plain.success
+    for k in frozen.free:
+        assert abs(frozen.params[k] - plain.params[k]) <= 0.05 * frozen.stderr[k], (k, frozen.params[k], plain.params[k])
+        assert frozen.stderr[k] == pytest.approx(plain.stderr[k], rel=0.05), k
+    pf = np.concatenate(frozen.predict(t, x, v))
+    pp = np.concatenate(plain.predict(t, x, v))
+    assert np.abs(pf - pp).max() <= 0.01 * frozen.rmse
+
+
+def test_frozen_substeps_reproduce_the_adaptive_force():
+    # the substeps the step doubling chose, given back, give the same force bit for bit; a
+    # parameter moved on them stays within the integration's tolerance of the adaptive force
+    # and moves smoothly (the finite difference at 1e-7 and 1e-5 agree, a measure of the model)
+    from stickslip.prescribed import _force_on
+    t, x, v = sine_record(2.0, 401, 0.004, 1.0)
+    nf = np.ones(1)
+    p = dict(mu_s=1500.0, mu_k=1000.0, v_s=0.005, sigma0=4e5, sigma1=0.0, sigma2=3000.0)
+    f, m = _force_on("lugre", p, t, x, v, nf, 2e-4, 1.2, 1e-6)
+    f2, m2 = _force_on("lugre", p, t, x, v, nf, 2e-4, 1.2, 1e-6, m)
+    assert np.array_equal(f, f2) and np.array_equal(m, m2) and m.size == t.size - 1 and (m >= 1).all()
+    ref = pm("lugre", t, x, v, backlash=2e-4, asymmetry=1.2, rtol=1e-10, **dict(p, mu_k=1001.0)).force
+    moved = _force_on("lugre", dict(p, mu_k=1001.0), t, x, v, nf, 2e-4, 1.2, 1e-6, m)[0]
+    assert np.abs(moved - ref).max() <= 1e-4 * np.ptp(ref)
+    d = [(_force_on("lugre", dict(p, mu_k=1000.0 + h), t, x, v, nf, 2e-4, 1.2, 1e-6, m)[0] -
+          _force_on("lugre", dict(p, mu_k=1000.0 - h), t, x, v, nf, 2e-4, 1.2, 1e-6, m)[0]) / (2 * h)
+         for h in (1e-4, 1e-2)]
+    np.testing.assert_allclose(d[0], d[1], atol=1e-6 * np.abs(d[1]).max())
+    with pytest.raises(ValueError, match=r"substeps: must be 400 integers in \[1, 65536\]"):
+        _force_on("lugre", p, t, x, v, nf, 2e-4, 1.2, 1e-6, np.zeros(t.size - 1, dtype=np.int32))

@@ -28,7 +28,11 @@
 !! interval's end with m and with 2m substeps, must agree within rtol (|mu| + mu_ref), mu_ref
 !! the law's steady level at the record's largest speed; the 2m result is kept and m doubles
 !! until it passes (at most 2^16; an interval that still fails is kept and counted in
-!! `n_unconverged`). The next interval starts from m/2.
+!! `n_unconverged`). The next interval starts from m/2. A caller may instead give the substeps
+!! of every interval (`substeps_in`, e.g. those `substeps_out` returned at a nearby parameter
+!! set): one sweep each, no test, so that the result is a smooth function of the law's
+!! parameters (finite differences of it measure the model, not the step choices; a fit's
+!! Jacobian uses it).
 !!
 !! The force at a sample: mu = the law's `motion_mu` at (v_c, z) and the acceleration of the
 !! Hermite cubic ending there (`evaluate` with holding coefficient 0 for every law but GMS,
@@ -53,6 +57,10 @@ module stickslip_prescribed
     !> Largest number of substeps per monotone piece of a sample interval.
     integer, parameter, public :: MAX_SUBSTEPS = 65536
 
+    !> Relative slack of the play's engagement: a gap within it of half the backlash counts as
+    !! engaged (the contact was set to x -+ half, to rounding).
+    real(dp), parameter :: ENGAGED_SLACK = 1.0e-12_dp
+
     !> Counters of one prescribed-motion evaluation.
     type :: prescribed_stats
         integer(8) :: n_advance = 0      !! calls of the law's `advance` (substeps, both halves of each doubling test)
@@ -66,7 +74,7 @@ contains
     !> The friction force of `law` (initialised) along the sampled motion (t, x, v); see the
     !! module notes for the motion, the backlash, the integration and the sign convention.
     subroutine prescribed_motion(law, t, x, v, normal_force, z0, backlash, asymmetry, rtol, &
-                                 force, mu, z, x_c, v_c, stats)
+                                 force, mu, z, x_c, v_c, stats, substeps_in, substeps_out)
         class(friction_law), intent(inout) :: law   !! the friction law, initialised
         real(dp), intent(in) :: t(:)                !! sample times, strictly increasing [s]
         real(dp), intent(in) :: x(:)                !! displacement of the sliding body at t [m]
@@ -83,6 +91,14 @@ contains
         real(dp), intent(out) :: x_c(:)             !! contact displacement at t [m]
         real(dp), intent(out) :: v_c(:)             !! contact velocity at t [m/s]
         type(prescribed_stats), intent(out) :: stats   !! counters; stats%status: SS_OK or the bad input
+        !> substeps per monotone piece of each sample interval (size(t) - 1 values, each >= 1)
+        !! instead of the step-doubling choice: a frozen mesh, on which the result is a smooth
+        !! function of the law's parameters (finite differences of it measure the model, not
+        !! the step choices); rtol is then unused
+        integer, intent(in), optional :: substeps_in(:)
+        !> the substeps per piece that each sample interval used (size(t) - 1 values; the
+        !! count of the kept half of the doubling test, or substeps_in)
+        integer, intent(out), optional :: substeps_out(:)
         integer :: n, nz, i, m, status
         real(dp) :: half, tol, mu_ref, xc
         ! the current interval [t(kk), t(kk+1)]: Hermite coefficients, breakpoints, length
@@ -97,6 +113,17 @@ contains
         x_c = 0.0_dp
         v_c = 0.0_dp
         status = check_input()
+        if (status == SS_OK .and. present(substeps_in)) then
+            if (size(substeps_in) < n - 1) then
+                status = SS_BAD_DIM
+            else if (n > 1) then
+                if (any(substeps_in(1:n - 1) < 1 .or. substeps_in(1:n - 1) > MAX_SUBSTEPS)) status = SS_BAD_DIM
+            end if
+        end if
+        if (status == SS_OK .and. present(substeps_out)) then
+            if (size(substeps_out) < n - 1) status = SS_BAD_DIM
+        end if
+        if (present(substeps_out)) substeps_out = 0
         stats%status = status
         if (status /= SS_OK) return
 
@@ -186,6 +213,19 @@ contains
             if (nz == 0) then
                 call sweep(1, xck, za, xc1, z1, st)
                 xck = xc1
+                if (present(substeps_out)) substeps_out(k) = 1
+                return
+            end if
+            if (present(substeps_in)) then
+                ! the frozen mesh: one sweep with the given substeps
+                call sweep(substeps_in(k), xck, za, xc2, zb, st)
+                if (st /= SS_OK) then
+                    stats%status = st
+                    return
+                end if
+                stats%max_substeps = max(stats%max_substeps, substeps_in(k))
+                if (present(substeps_out)) substeps_out(k) = substeps_in(k)
+                xck = xc2
                 return
             end if
             call sweep(m, xck, za, xc1, z1, st)
@@ -213,6 +253,7 @@ contains
                 z1 = z2
             end do
             stats%max_substeps = max(stats%max_substeps, 2 * m)
+            if (present(substeps_out)) substeps_out(k) = 2 * m
             xck = xc2
             zb = z2
             m = max(1, m / 2)
@@ -244,7 +285,10 @@ contains
                     if (j == ms .and. p == np - 1 .or. nz == 0 .and. p == np - 1) xs = x(kk + 1)
                     xnew = min(max(xce, xs - half), xs + half)
                     if (nz > 0) then
-                        if (xnew /= xce .and. abs(xa - xce) < half) then
+                        ! (engaged already when the gap is half to rounding: the contact
+                        ! was set to x -+ half at the substep's start; a bisection there
+                        ! would only find the start again, at the cost of 60 x evaluations)
+                        if (xnew /= xce .and. abs(xa - xce) < half * (1.0_dp - ENGAGED_SLACK)) then
                             ! the play engages inside the substep: at |x(s) - xce| = half
                             lo = sa
                             hi = s
@@ -325,7 +369,7 @@ contains
             real(dp) :: gap
             gap = x(k) - xck
             vc = v(k)
-            if (backlash > 0.0_dp .and. .not. (abs(gap) >= half * (1.0_dp - 1.0e-12_dp) .and. &
+            if (backlash > 0.0_dp .and. .not. (abs(gap) >= half * (1.0_dp - ENGAGED_SLACK) .and. &
                                                v(k) * gap > 0.0_dp)) vc = 0.0_dp
         end function contact_velocity
 

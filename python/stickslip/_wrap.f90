@@ -228,9 +228,10 @@ end subroutine law_states
 !> The friction force of law `law` (parameters pkeys/pvals) along the sampled motion (t, x, v)
 !! with normal force nf (1 value or n), initial states z0(nz) (nz must be the law's count),
 !! backlash [m], asymmetry [-] and rtol (stickslip_prescribed). counters: n_advance,
-!! n_unconverged, max_substeps.
+!! n_unconverged, max_substeps. msub: empty (the step-doubling choice) or the substeps per
+!! piece of each sample interval (n - 1 values, a frozen mesh); msub_out: those used.
 subroutine prescribed(law, pkeys, pvals, np, t, x, v, n, nf, nnf, z0, nz, backlash, asymmetry, rtol, &
-                      force, mu, z, xc, vc, counters, status)
+                      msub, nms, force, mu, z, xc, vc, counters, msub_out, status)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_OK, SS_BAD_DIM
     use stickslip_params, only: param_values
@@ -250,9 +251,13 @@ subroutine prescribed(law, pkeys, pvals, np, t, x, v, n, nf, nnf, z0, nz, backla
     real(c_double), intent(in) :: z0(nz)
     !f2py integer intent(hide), depend(z0) :: nz = len(z0)
     real(c_double), intent(in) :: backlash, asymmetry, rtol
+    integer(c_int), intent(in) :: nms
+    integer(c_int), intent(in) :: msub(nms)
+    !f2py integer intent(hide), depend(msub) :: nms = len(msub)
     real(c_double), intent(out) :: force(n), mu(n), xc(n), vc(n)
     real(c_double), intent(out) :: z(nz, n)
     real(c_double), intent(out) :: counters(3)
+    integer(c_int), intent(out) :: msub_out(n)
     integer(c_int), intent(out) :: status
     !f2py threadsafe
     class(friction_law), allocatable :: fl
@@ -264,13 +269,20 @@ subroutine prescribed(law, pkeys, pvals, np, t, x, v, n, nf, nnf, z0, nz, backla
     vc = 0.0_c_double
     z = 0.0_c_double
     counters = 0.0_c_double
+    msub_out = 0
     status = make_law(law, split_names(pkeys), pvals, fl, p)
     if (status /= SS_OK) return
     if (fl%n_states() /= nz) then
         status = SS_BAD_DIM
         return
     end if
-    call prescribed_motion(fl, t, x, v, nf, z0, backlash, asymmetry, rtol, force, mu, z, xc, vc, st)
+    if (nms > 0) then
+        call prescribed_motion(fl, t, x, v, nf, z0, backlash, asymmetry, rtol, force, mu, z, xc, vc, st, &
+                               substeps_in=msub, substeps_out=msub_out)
+    else
+        call prescribed_motion(fl, t, x, v, nf, z0, backlash, asymmetry, rtol, force, mu, z, xc, vc, st, &
+                               substeps_out=msub_out)
+    end if
     status = st%status
     counters = [real(st%n_advance, c_double), real(st%n_unconverged, c_double), real(st%max_substeps, c_double)]
 end subroutine prescribed

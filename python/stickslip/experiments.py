@@ -21,7 +21,7 @@ import numpy as np
 
 from .core import LAWS, REGISTRY, _choice, _finite, friction_coefficient
 from .identify import (FitResult, _Estimates, _central_jacobian, _check_keys, _coordinates, _in_range, _interval,
-                       _records, _start, fit_friction, parameter_unit)
+                       _model_mesh, _range_of, _records, _start, fit_friction, parameter_unit)
 
 __all__ = ["SteadyPoints", "SteadyCurve", "TwoStepFit", "steady_friction", "fit_stribeck_curve", "fit_two_step"]
 
@@ -406,15 +406,21 @@ def fit_stribeck_curve(points: SteadyPoints | tuple, law: str = "lugre", *,
 class TwoStepFit:
     """The outcome of `fit_two_step`: `steady` (the SteadyCurve of step 1) and `dynamic` (the
     FitResult of step 2, the steady-curve parameters held at step 1's values). `params` holds
-    every parameter of the model; `stderr` and `ci95` each fitted parameter's from the step
-    that fitted it (step 2's are conditional on step 1's values: they leave out those values'
-    own uncertainty)."""
+    every parameter of the model; `stderr` and `ci95` each fitted parameter's: step 1's from
+    step 1, step 2's with step 1's uncertainty carried into them (the delta method:
+    `covariance` = step 2's own covariance + S C1 S^T, C1 step 1's covariance and S =
+    `sensitivity`, the change of step 2's estimates per unit change of step 1's values).
+    `dynamic.stderr` keeps step 2's conditional errors (step 1's values taken as exact)."""
 
     steady: SteadyCurve
     dynamic: FitResult
     params: dict[str, float]
     stderr: dict[str, float]
     ci95: dict[str, tuple[float, float]]
+    #: step 2's fitted parameters (dynamic.free) and their covariance with step 1's carried in
+    covariance: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    #: d(step 2's estimates)/d(step 1's values): rows dynamic.free, columns steady.free
+    sensitivity: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     def predict(self, *args: Any, **kwargs: Any) -> Any:
         """The model's force along a motion: `FitResult.predict` of the dynamic step."""
@@ -465,6 +471,47 @@ def fit_two_step(steady: SteadyCurve, t: Any, x: Any = None, force: Any = None, 
                          "fix it there")
     fixed.update(steady.params)
     dynamic = fit_friction(steady.law, t, x, force, v, fixed=fixed, **fit_kwargs)
-    stderr = dict(steady.stderr, **dynamic.stderr)
-    ci95 = dict(steady.ci95, **dynamic.ci95)
-    return TwoStepFit(steady=steady, dynamic=dynamic, params=dict(dynamic.params), stderr=stderr, ci95=ci95)
+    data = _records(t, x, force, v, fit_kwargs.get("normal_force"))
+    sens, cov = _carry_step_one(steady, dynamic, data)
+    from scipy import stats
+    tq = float(stats.t.ppf(0.975, max(dynamic.n_samples - len(dynamic.free), 1)))
+    sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    stderr = dict(steady.stderr)
+    ci95 = dict(steady.ci95)
+    for i, name in enumerate(dynamic.free):
+        own = dynamic.stderr[name]
+        stderr[name] = float(sd[i]) if math.isfinite(own) else own
+        ci95[name] = _interval(name, dynamic.params[name], stderr[name], tq)
+    return TwoStepFit(steady=steady, dynamic=dynamic, params=dict(dynamic.params), stderr=stderr, ci95=ci95,
+                      covariance=cov, sensitivity=sens)
+
+
+def _carry_step_one(steady: SteadyCurve, dynamic: FitResult, data: list) -> tuple[np.ndarray, np.ndarray]:
+    """Step 2's covariance with step 1's uncertainty carried in, and its sensitivity to step
+    1's values. At step 2's least-squares optimum J2^T r = 0 for every step 1 value a, so to
+    first order d(estimates)/da = -(J2^T J2)^+ J2^T Ja (J2, Ja the Jacobians of step 2's
+    residuals in its fitted parameters and in step 1's; central differences on the substeps
+    of the integration at the optimum, frozen, so that they measure the model), and the
+    estimates' covariance gains S C1 S^T."""
+    free2, free1 = dynamic.free, steady.free
+    cov2 = np.where(np.isfinite(dynamic.covariance), dynamic.covariance, 0.0)
+    if not free1:
+        return np.zeros((len(free2), 0)), cov2
+    p = dict(dynamic.params)
+    meshes = [_model_mesh(dynamic.law, d, p, dynamic.rtol)[1] for d in data]
+
+    def column(name: str) -> np.ndarray:
+        low, high = _range_of(name)[:2]
+        h = 1e-4 * max(abs(p[name]), 1e-12)
+        up, down = dict(p), dict(p)
+        up[name] = min(p[name] + h, high)
+        down[name] = max(p[name] - h, low)
+        f_up = np.concatenate([_model_mesh(dynamic.law, d, up, dynamic.rtol, m)[0] for d, m in zip(data, meshes)])
+        f_down = np.concatenate([_model_mesh(dynamic.law, d, down, dynamic.rtol, m)[0] for d, m in zip(data, meshes)])
+        return (f_up - f_down) / (up[name] - down[name])
+
+    j2 = np.column_stack([column(n) for n in free2])
+    j1 = np.column_stack([column(n) for n in free1])
+    sens = -np.linalg.lstsq(j2, j1, rcond=None)[0]
+    c1 = np.where(np.isfinite(steady.covariance), steady.covariance, 0.0)
+    return sens, cov2 + sens @ c1 @ sens.T

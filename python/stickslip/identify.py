@@ -577,18 +577,44 @@ class FitResult(_Estimates):
         return "\n".join(lines)
 
 
-def _model(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1e-8) -> np.ndarray:
-    """The model's force [N] on one record: stickslip.prescribed_motion with the states at 0,
-    times 1 + drift (t - t_mid), plus the offset."""
-    from . import prescribed_motion
+def _motion(d: _Data) -> tuple[np.ndarray, np.ndarray]:
+    """The velocity and the normal force of a record as arrays for the library, derived once
+    (the velocity as `prescribed_motion` derives it when none is given)."""
+    cached = d.__dict__.get("_motion")
+    if cached is None:
+        n = d.t.size
+        v = d.v if d.v is not None else (np.gradient(d.x, d.t, edge_order=2 if n > 2 else 1) if n > 1
+                                         else np.zeros(1))
+        nf = np.ascontiguousarray(np.atleast_1d(np.asarray(d.normal_force, dtype=np.float64)))
+        cached = d.__dict__["_motion"] = (np.ascontiguousarray(v), nf)
+    return cached
+
+
+def _model_mesh(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1e-8,
+                substeps: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The model's force [N] on one record (see `_model`) and the substeps per monotone piece
+    of each sample interval that its state integration used; `substeps` given: on that frozen
+    mesh, a smooth function of the parameters (the finite-difference Jacobian's model)."""
+    from .prescribed import _force_on
     law_p = {k: v for k, v in params.items() if k not in EXTRA_PARAMS}
-    res = prescribed_motion(law, d.t, d.x, d.v, normal_force=d.normal_force, rtol=rtol,
-                            backlash=params["backlash"], asymmetry=params["asymmetry"], **law_p)
-    force = res.force
+    v, nf = _motion(d)
+    backlash = _finite("backlash", params["backlash"], ">= 0 [m]")
+    asymmetry = _finite("asymmetry", params["asymmetry"], "> 0 [-]")
+    if backlash < 0.0:
+        raise ValueError(f"backlash: must be >= 0 [m], got {backlash!r}")
+    if asymmetry <= 0.0:
+        raise ValueError(f"asymmetry: must be > 0 (negative-direction level / positive one) [-], got {asymmetry!r}")
+    force, used = _force_on(law, law_p, d.t, d.x, v, nf, backlash, asymmetry, rtol, substeps)
     drift, offset = params.get("drift", 0.0), params.get("offset", 0.0)
     if drift != 0.0:
         force = force * (1.0 + drift * (d.t - 0.5 * (d.t[0] + d.t[-1])))
-    return force + offset if offset != 0.0 else force
+    return (force + offset if offset != 0.0 else force), used
+
+
+def _model(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1e-8) -> np.ndarray:
+    """The model's force [N] on one record: stickslip.prescribed_motion with the states at 0,
+    times 1 + drift (t - t_mid), plus the offset."""
+    return _model_mesh(law, d, params, rtol)[0]
 
 
 # --------------------------------------------------------------------------------------------
@@ -745,9 +771,45 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         p.update(zip(free, space.to_params(u).tolist()))
         return {name: p[name] for name in names}
 
-    def residuals(u: np.ndarray) -> np.ndarray:
+    # the last evaluation: its point, residuals and substeps (the mesh the Jacobian freezes)
+    last: dict[str, Any] = {}
+
+    def residuals(u: np.ndarray, meshes: list[np.ndarray] | None = None) -> np.ndarray:
         p = params_of(u)
-        return np.concatenate([_model(law, d, p, rtol) for d in data]) - forces
+        parts = [_model_mesh(law, d, p, rtol, None if meshes is None else meshes[i]) for i, d in enumerate(data)]
+        r = np.concatenate([f for f, _ in parts]) - forces
+        if meshes is None:
+            last.update(u=u.copy(), r=r, meshes=[m for _, m in parts])
+        return r
+
+    def mesh_at(u: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
+        """Residuals at u and the substeps of its state integration."""
+        if "u" not in last or not np.array_equal(last["u"], u):
+            residuals(u)
+        return last["r"], last["meshes"]
+
+    def jacobian(u: np.ndarray) -> np.ndarray:
+        """Forward differences (scipy's 2-point scheme and step: diff_step |u|, sqrt(eps) max(1,
+        |u|) at u = 0, backward where the bound is crossed) of the model on the substeps of the integration at u, frozen:
+        a smooth function of the parameters, whose differences measure the model and not the
+        step-doubling choices; each column costs one sweep, no doubling test."""
+        r0, meshes = mesh_at(u)
+        jac = np.empty((r0.size, u.size))
+        for i in range(u.size):
+            sign = 1.0 if u[i] >= 0.0 else -1.0
+            h = diff_step * sign * abs(u[i])
+            if (u[i] + h) - u[i] == 0.0:
+                h = math.sqrt(np.finfo(float).eps) * sign * max(1.0, abs(u[i]))
+            if u[i] + h > q_hi[i] or u[i] + h < q_lo[i]:
+                h = -h
+            w = u.copy()
+            w[i] = u[i] + h
+            h = w[i] - u[i]
+            try:
+                jac[:, i] = (residuals(w, meshes) - r0) / h
+            except (RuntimeError, ValueError):
+                jac[:, i] = 0.0
+        return jac
 
     # A trial point the model rejects (the state integration fails, e.g. an implicit law's
     # Newton iteration far from the data, or a law's own limit beyond the registry's range,
@@ -783,15 +845,17 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     for u_start in starts:
         # strictly inside the bounds (trf's requirement)
         u_start = np.minimum(np.maximum(u_start, np.nextafter(q_lo, np.inf)), np.nextafter(q_hi, -np.inf))
-        sol = least_squares(trial_residuals, u_start, bounds=(q_lo, q_hi), method="trf", x_scale=1.0,
-                            diff_step=diff_step, max_nfev=max_nfev)
+        sol = least_squares(trial_residuals, u_start, jac=jacobian, bounds=(q_lo, q_hi), method="trf",
+                            x_scale=1.0, max_nfev=max_nfev)
         nfev += int(sol.nfev)
         costs.append(float(sol.cost))
         if best is None or sol.cost < best.cost:
             best, best_start = sol, u_start
     assert best is not None
+    meshes = mesh_at(best.x)[1]
     result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
-                         force_levels, normal_force, nfev, tuple(costs), diff_step, rtol)
+                         force_levels, normal_force, nfev, tuple(costs), diff_step, rtol,
+                         frozen=lambda w: residuals(w, meshes))
     result.rtol = rtol
     result.start = dict(zip(free, space.to_params(best_start).tolist()))
     return result
@@ -843,6 +907,13 @@ def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.
         h = step * max(abs(u[i]), 1e-3)
         cap = 0.1 * max(abs(u[i]), 1.0)
         d, change = column(i, h)
+        if 0.0 < change < floor:
+            # the change grows in proportion to the step: skip the tenfold steps whose change
+            # would still be below the floor (they would be rejected; two evaluations each)
+            jump = 10.0 ** max(math.ceil(math.log10(floor / change)) - 1, 0)
+            if jump > 1.0 and h * jump < cap:
+                h *= jump
+                d, change = column(i, h)
         while h < cap:
             d10, change10 = column(i, min(10.0 * h, cap))
             if change >= floor and np.linalg.norm(d - d10) <= 0.1 * np.linalg.norm(d10):
@@ -855,8 +926,10 @@ def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.
 def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: Any, forces: np.ndarray,
                 data: list[_Data], q_lo: np.ndarray, q_hi: np.ndarray, force_levels: bool,
                 normal_force: Any, nfev: int, costs: tuple[float, ...], step: float,
-                rtol: float = 1e-6) -> FitResult:
-    """Covariance, intervals and scores at the optimum (see the module notes)."""
+                rtol: float = 1e-6, frozen: Any = None) -> FitResult:
+    """Covariance, intervals and scores at the optimum (see the module notes). `frozen`: the
+    residuals on the substeps of the integration at the optimum (for the Jacobian; default
+    `residuals`)."""
     from scipy import stats
 
     u = sol.x
@@ -867,7 +940,8 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     ssr = float(r @ r)
     dof = n - k
     s2 = ssr / dof
-    jac_u = _central_jacobian(residuals, u, q_lo, q_hi, 0.1 * step, floor=100.0 * rtol * float(np.ptp(forces)))
+    jac_u = _central_jacobian(frozen or residuals, u, q_lo, q_hi, 0.1 * step,
+                              floor=100.0 * rtol * float(np.ptp(forces)))
     # in the physical parameters: J_p = J_u (dp/du)^-1, cov_p = s2 (J_p^T J_p)^+
     jac_p = jac_u @ np.linalg.inv(space.matrix())
     col = np.linalg.norm(jac_p, axis=0)

@@ -223,12 +223,44 @@ def prescribed_motion(law: str, t: Any, x: Any, v: Any = None, *, normal_force: 
         if zz.shape != (nz,) or not np.isfinite(zz).all():
             raise ValueError(f"z0: must be {nz} finite value(s), the initial internal states of {law!r} "
                              f"({', '.join(labels) or 'none'})")
-    keys, vals = _keys(dict(given))
-    force, mu, z, xc, vc, counters, status = _ext.prescribed(
-        code, keys, vals, tt, xx, vv, nf, zz, backlash, asymmetry, rtol)
-    _check_code(int(status), dict(given))
-    if int(status) != 0:
-        raise RuntimeError(f"prescribed_motion: the state integration failed (status {int(status)})")
+    force, mu, z, xc, vc, counters, _ = _run(code, given, tt, xx, vv, nf, zz, backlash, asymmetry, rtol)
     stats = dict(zip(("n_advance", "n_unconverged", "max_substeps"), (int(c) for c in counters)))
     return PrescribedResult(law=law, params=dict(given), t=tt, force=force, mu=mu, z=np.asarray(z).reshape(nz, n),
                             x_contact=xc, v_contact=vc, state_labels=labels, stats=stats)
+
+
+_ADAPTIVE = np.zeros(0, dtype=np.int32)
+
+
+def _run(code: int, given: tuple[tuple[str, float], ...], t: np.ndarray, x: np.ndarray, v: np.ndarray,
+         nf: np.ndarray, z0: np.ndarray, backlash: float, asymmetry: float, rtol: float,
+         substeps: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+    """The Fortran call on checked samples: force, mu, z, x_c, v_c, counters and the substeps
+    per monotone piece that each sample interval used. `substeps` (n - 1 values >= 1) freezes
+    the mesh instead of the step-doubling choice (for finite differences in the parameters:
+    the force is then a smooth function of them). Raises ValueError for a bad parameter,
+    RuntimeError for a failed state integration."""
+    keys, vals = _keys(dict(given))
+    msub = _ADAPTIVE if substeps is None else np.ascontiguousarray(substeps, dtype=np.int32)
+    if msub.size and (msub.size != t.size - 1 or msub.min() < 1 or msub.max() > 65536):
+        raise ValueError(f"substeps: must be {t.size - 1} integers in [1, 65536] (one per sample interval), "
+                         f"got {msub.size} in [{msub.min()}, {msub.max()}]")
+    force, mu, z, xc, vc, counters, used, status = _ext.prescribed(
+        code, keys, vals, t, x, v, nf, z0, backlash, asymmetry, rtol, msub)
+    if int(status) != 0:
+        _check_code(int(status), dict(given))
+        raise RuntimeError(f"prescribed_motion: the state integration failed (status {int(status)})")
+    return force, mu, z, xc, vc, counters, used[:max(t.size - 1, 0)]
+
+
+def _force_on(law: str, params: dict[str, float], t: np.ndarray, x: np.ndarray, v: np.ndarray, nf: np.ndarray,
+              backlash: float, asymmetry: float, rtol: float,
+              substeps: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The force of `law` (states from 0) on samples already checked (identification's
+    inner loop), and the substeps per piece of each sample interval; `substeps` freezes them
+    (see `_run`). Parameters are checked by the library (ValueError naming the bad one)."""
+    given = _law_params(law, params)
+    nz = _states(law, given)[0]
+    code = REGISTRY["law"][law]["code"]
+    out = _run(code, given, t, x, v, nf, np.zeros(nz), backlash, asymmetry, rtol, substeps)
+    return out[0], out[6]
