@@ -96,10 +96,13 @@ def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> No
     assert math.isnan(fitted_exponent([10], [1.0]))
 
 
+@pytest.mark.slow     # builds the contact benchmark's Fortran program (minutes on two busy cores)
 def test_quick_contact_benchmark(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """`python -m benchmarks --contact --quick`: a table row per n up to 8; the solver (exact
     up to 6 contacts, Gauss-Seidel with the pivoting fallback beyond) and the pivoting alone
-    solve every random coupled problem. No timing assertions."""
+    solve every random coupled problem. No timing assertions. Slow (CI): the default run
+    checks the same solver on random coupled problems of 2 to 6 contacts in
+    tests/test_contacts.py::test_contact_solver_random_problems."""
     if shutil.which("gfortran") is None:
         pytest.skip("compilers not found")
     monkeypatch.syspath_prepend(str(ROOT))
