@@ -96,10 +96,13 @@ def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> No
     assert math.isnan(fitted_exponent([10], [1.0]))
 
 
+@pytest.mark.slow     # builds the contact benchmark's Fortran program (minutes on two busy cores)
 def test_quick_contact_benchmark(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """`python -m benchmarks --contact --quick`: a table row per n up to 8; the solver (exact
     up to 6 contacts, Gauss-Seidel with the pivoting fallback beyond) and the pivoting alone
-    solve every random coupled problem. No timing assertions."""
+    solve every random coupled problem. No timing assertions. Slow (CI): the default run
+    checks the same solver on random coupled problems of 2 to 6 contacts in
+    tests/test_contacts.py::test_contact_solver_random_problems."""
     if shutil.which("gfortran") is None:
         pytest.skip("compilers not found")
     monkeypatch.syspath_prepend(str(ROOT))
@@ -144,3 +147,37 @@ def test_prescribed_benchmark_has_a_row_per_case(monkeypatch: pytest.MonkeyPatch
         cells = [c.strip() for c in line.split("|")[1:-1]]
         assert cells[:2] == [law, label]
         assert float(cells[2].split(" / ")[0]) > 0.0 and int(cells[3].replace(",", "")) >= 0
+
+
+def test_overhead_alone_replaces_its_block_and_rows(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """`python -m benchmarks --overhead`: the overhead block of summary.md and the overhead rows
+    of benchmarks.csv are replaced in place, with the goal of issue 32 stated beside the
+    measured time; every other line and row is left as the full run wrote it."""
+    monkeypatch.syspath_prepend(str(ROOT))
+    from benchmarks.run import FIELDS, OVERHEAD, OVERHEAD_HEAD, main
+
+    before = ["Measured earlier.", "", "**Fixed-step RK4** (a section of the full run):", "", "| a |",
+              "|---|", "| 1 |", "", f"{OVERHEAD_HEAD} (an old block):", "", "| old |", "|---|", "| 9 |", "",
+              "After the block."]
+    (tmp_path / "summary.md").write_text("\n".join(before) + "\n")
+    kept = dict.fromkeys(FIELDS, "nan") | {"section": "fixed", "impl": "c_loop", "nstep": "2000000"}
+    stale = dict.fromkeys(FIELDS, "nan") | {"section": "overhead", "impl": "f2py_wrapper"}
+    with (tmp_path / "benchmarks.csv").open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=FIELDS)
+        w.writeheader()
+        w.writerows([kept, stale])
+
+    assert main(["--overhead", "--quick", "--outdir", str(tmp_path)]) == 0
+    lines = (tmp_path / "summary.md").read_text().splitlines()
+    assert lines[:8] == before[:8] and lines[-2:] == before[-2:]
+    block = lines[8:-2]
+    assert block[0].startswith(OVERHEAD_HEAD) and "Goal (issue 32)" in block[0] and "at most 5 us" in block[0]
+    assert "--overhead" in block[0] and "| old |" not in lines
+    table = [line for line in block if line.startswith("| ") and not line.startswith("| scene")]
+    assert len(table) == len(OVERHEAD)
+    with (tmp_path / "benchmarks.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert rows[0] == kept                                   # as written, not reformatted
+    over = rows[1:]
+    assert [r["impl"] for r in over] == ["f2py_wrapper", "stickslip_python"] * len(OVERHEAD)
+    assert all(float(r["median_s"]) > 0 for r in over)

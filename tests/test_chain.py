@@ -63,7 +63,12 @@ def _chain_rhs(n, m, g, k, kc, v_b, pert, law, params, kp=0.0):
     return rhs
 
 
+@pytest.mark.slow     # scipy's DOP853 at rtol 1e-11 on the proposed law's steep slope: minutes
 def test_three_blocks_match_an_independent_statement_of_the_equations():
+    """Slow (CI): the default run compares the chain with the same independent statement of its
+    equations (_chain_rhs, scipy DOP853) in
+    test_loading_springs_match_an_independent_statement_of_the_equations (four blocks, stribeck,
+    k_p, DOPRI5 and RADAU5)."""
     n, m, g, k, kc, v_b, pert = 3, 2.0, 9.81, 300.0, 150.0, 0.4, 0.2
     params = dict(mu_s=0.4, mu_k=0.3, v_s=0.05)
     x0 = np.array([0.01, -0.02, 0.0])

@@ -133,9 +133,55 @@ def test_calls_from_another_thread_work_and_match() -> None:
 def test_bare_call_is_the_call_simulate_makes() -> None:
     """The benchmarks' reference: the same arguments, hence the same numbers."""
     bare = core._bare_call("belt", "proposed", **RK4)
-    y, istats, rstats, resolved, status, cpu = bare()
+    y, stats, status, cpu = bare()
     r = ss.simulate("belt", "proposed", **RK4)
     assert status == 0 and np.array_equal(y[0], r.x) and np.array_equal(y[1], r.v)
+    ni, nr = len(core._STATS_INT), len(core._STATS_REAL)
+    assert stats[core._STATS_INT.index("nstep")] == r.stats["nstep"] == 10
+    assert stats[ni:ni + nr].tolist() == [r.stats[k] for k in core._STATS_REAL]
+    resolved = dict(zip(core._PARAM_ORDER, stats[ni + nr:].tolist()))
+    assert r.params and all(resolved[k] == v for k, v in r.params.items())
+    assert resolved["v_d"] == 1.5 * resolved["v_s"]                       # a derived default
+
+
+def test_the_wrapper_refuses_values_that_do_not_match_their_counts() -> None:
+    """run_simulation takes every name in one string and every number in one array: counts
+    that overrun the array, or names without the '|' between parameters and controls, are
+    SS_BAD_DIM, never a read beyond the array."""
+    bad_dim = core.REGISTRY["status"]["BAD_DIM"]
+    codes = core._plan("slope", "proposed", "rk4").codes
+    vals = np.array([0.0, 0.0, 1.0, 1.0, 1e-3])           # y0 (2), rtol, atol, h
+    grid = np.array([0.0, 1e-2])
+
+    def run(keys: str, counts: tuple[int, int, int, int]) -> int:
+        stop = np.zeros(1, dtype=np.int32)
+        return int(core._run_simulation(*codes, keys, vals, *counts, 1e-2, grid, *core._SIZES, stop,
+                                        core._NO_EVENT_ROWS)[2])
+    assert run("|h", (0, 2, 1, 1)) == 0
+    assert run("h", (0, 2, 1, 1)) == bad_dim
+    assert run("|h", (0, 2, 2, 2)) == bad_dim                  # 6 values counted, 5 given
+    assert run("|h", (-1, 2, 1, 1)) == bad_dim
+
+
+def test_only_runs_long_enough_to_look_at_the_stop_flag_arm_the_sigint_handler() -> None:
+    """The integrators look at the stop flag as a run starts, then every STOP_CHECK_MASK + 1
+    steps (fortran/core/stickslip_ode.f90): a fixed-step run of fewer steps is not armed (two
+    system calls per call saved), a longer one and every adaptive run are."""
+    import re
+    from pathlib import Path
+    ode = (Path(__file__).resolve().parents[1] / "fortran" / "core" / "stickslip_ode.f90").read_text()
+    mask = int(re.search(r"STOP_CHECK_MASK\s*=\s*(\d+)", ode).group(1))
+    assert core._STOP_CHECK_STEPS == mask + 1
+
+    def arm(law: str = "proposed", **kw) -> bool:
+        core._CALLS.clear()
+        ss.simulate("slope", law, n_out=2, **kw)
+        (call,) = core._CALLS.values()
+        return call.arm
+    assert not arm(method="rk4", h=1e-3, t_end=1e-2)                  # 10 steps
+    assert not arm("coulomb", method="moreau", h=1e-3, t_end=1.0)     # 1000 steps
+    assert arm(method="rk4", h=1e-4, t_end=1.0)                       # 10^4 steps
+    assert arm(method="dopri5", t_end=1e-2)                           # adaptive: steps unknown
 
 
 def test_result_pickles_whole() -> None:

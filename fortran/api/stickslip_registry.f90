@@ -119,6 +119,11 @@ module stickslip_registry
         SIGMA2_SPEC, Z_BA_RATIO_SPEC, M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC, &
         DAHL_ALPHA_SPEC, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC, N_BLOCKS_SPEC, K_C_SPEC, PERTURBATION_SPEC, &
         K_P_SPEC]
+    integer, private :: jp   ! the implied-do index of DEFAULT_SOURCE's constructor only
+    !> Position in PARAMS of the parameter each default is derived from (v_d's is v_s's), 0 for
+    !! a plain default: worked out at compile time, so that resolving costs no string search.
+    integer, parameter :: DEFAULT_SOURCE(size(PARAMS)) = &
+        [(findloc(PARAMS%name, PARAMS(jp)%default_of, dim=1), jp = 1, size(PARAMS))]
 
 contains
 
@@ -191,8 +196,8 @@ contains
             given(j) = .true.
         end do
         do j = 1, size(PARAMS)
-            if (.not. given(j) .and. len_trim(PARAMS(j)%default_of) > 0) &
-                p%values(j) = PARAMS(j)%scale * p%values(param_index(PARAMS(j)%default_of))
+            if (.not. given(j) .and. DEFAULT_SOURCE(j) > 0) &
+                p%values(j) = PARAMS(j)%scale * p%values(DEFAULT_SOURCE(j))
         end do
     end function resolve_params
 
@@ -238,19 +243,42 @@ contains
         character(len=*), intent(in) :: keys(:)     !! control names
         real(dp), intent(in) :: vals(:)             !! their values (counts and flags as reals)
         integer :: status
-        integer :: i
+        integer :: i, n
         status = SS_OK
         if (size(keys) /= size(vals)) status = SS_BAD_DIM
         do i = 1, size(keys)
             if (status /= SS_OK) exit
-            if (index(' ' // trim(info%controls) // ' ', ' ' // trim(keys(i)) // ' ') == 0 .or. &
-                keys(i) == 'rtol' .or. keys(i) == 'atol') then
+            n = len_trim(keys(i))
+            if (.not. has_word(info%controls, keys(i)(1:n)) .or. keys(i) == 'rtol' .or. keys(i) == 'atol') then
                 status = SS_BAD_CONTROL_NAME
             else
-                status = ctl%set(trim(keys(i)), vals(i))
+                status = ctl%set(keys(i)(1:n), vals(i))
             end if
         end do
     end function apply_controls
+
+    !> Whether `word` is one of the blank-separated words of `list` (a blank word is none);
+    !! no temporary strings: apply_controls runs on every call.
+    pure logical function has_word(list, word)
+        character(len=*), intent(in) :: list   !! words separated by blanks
+        character(len=*), intent(in) :: word   !! the word sought, without blanks
+        integer :: i, n, last
+        has_word = .false.
+        n = len(word)
+        last = len_trim(list)
+        if (n == 0) return
+        do i = 1, last - n + 1
+            if (list(i:i + n - 1) /= word) cycle
+            if (i > 1) then
+                if (list(i - 1:i - 1) /= ' ') cycle
+            end if
+            if (i + n <= last) then
+                if (list(i + n:i + n) /= ' ') cycle
+            end if
+            has_word = .true.
+            return
+        end do
+    end function has_word
 
     !> Integrate sys with the method of code `method` and its named controls (rtol and atol
     !! as arrays, read by the adaptive methods only). Output and status as for the methods'
@@ -386,25 +414,26 @@ contains
     pure function split_names(text) result(names)
         character(len=*), intent(in) :: text          !! names separated by commas or blanks
         character(len=NAME_LEN), allocatable :: names(:)
-        character(len=len(text)) :: t
-        integer :: i, start
-        t = text
-        do i = 1, len(t)
-            if (t(i:i) == ',') t(i:i) = ' '
-        end do
-        allocate(names(0))
-        start = 0
-        do i = 1, len(t) + 1
-            if (i <= len(t)) then
-                if (t(i:i) /= ' ') then
-                    if (start == 0) start = i
-                    cycle
+        integer :: i, start, k, pass
+        ! two passes over the text: count the names, then fill an array of that size (one
+        ! allocation: the wrapper splits on every call)
+        do pass = 1, 2
+            k = 0
+            start = 0
+            do i = 1, len(text) + 1
+                if (i <= len(text)) then
+                    if (text(i:i) /= ' ' .and. text(i:i) /= ',') then
+                        if (start == 0) start = i
+                        cycle
+                    end if
                 end if
-            end if
-            if (start > 0) then
-                names = [character(len=NAME_LEN) :: names, t(start:i - 1)]
-                start = 0
-            end if
+                if (start > 0) then
+                    k = k + 1
+                    if (pass == 2) names(k) = text(start:i - 1)
+                    start = 0
+                end if
+            end do
+            if (pass == 1) allocate(names(k))
         end do
     end function split_names
 

@@ -48,16 +48,17 @@ subroutine friction(law, pkeys, pvals, np, v, n, mu, status)
     if (status == SS_OK) mu = fl%mu(v)
 end subroutine friction
 
-!> Simulate a scene from y0 at t = 0 to t_end. Physical parameters pkeys/pvals and controls
-!! ckeys/cvals by name. t_out: requested times (grid mode) or room for every step
-!! (overwritten with step times). istats(ni) and rstats(nr) receive the counters named by
-!! the registry's 'stats' record, presolved(npar) every parameter as resolved (registry
-!! order); the caller gives the sizes, which must match the registry's. events(4, nev):
-!! room for event_driven's events (t, kind, position, contact), nev = 0 for other methods.
-!! cpu: the process's CPU time spent in the library's simulate [s].
-subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rtol, nrt, atol, nat, &
-                          ckeys, cvals, nc, nrow, t_out, y_out, ni, istats, nr, rstats, npar, presolved, &
-                          stop, events, nev, status, cpu)
+!> Simulate a scene from y0 at t = 0 to t_end. Names travel in one string, keys = 'pkeys|ckeys'
+!! (physical parameters, then controls), their values and the state in one array,
+!! vals = [pvals(np), y0(n), rtol(nrt), atol(nat), cvals]: one array and one string to convert
+!! per call instead of five and two. t_out: requested times (grid mode) or room for every step
+!! (overwritten with step times). stats(ni + nr + npar) receives the integer counters, the real
+!! counters named by the registry's 'stats' record, then every parameter as resolved (registry
+!! order); the caller gives the sizes, which must match the registry's. events(4, nev): room for
+!! event_driven's events (t, kind, position, contact), nev = 0 for other methods. cpu: the
+!! process's CPU time spent in the library's simulate [s].
+subroutine run_simulation(scene, law, method, keys, vals, nv, np, n, nrt, nat, t_end, &
+                          nrow, t_out, y_out, ni, nr, npar, nst, stats, stop, events, nev, status, cpu)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_BAD_DIM
     use stickslip_params, only: param_values
@@ -67,25 +68,16 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
     use stickslip_wrap_interrupt, only: arm, disarm, cpu_seconds
     implicit none
     integer(c_int), intent(in) :: scene, law, method
-    character(len=*), intent(in) :: pkeys, ckeys
-    integer(c_int), intent(in) :: np, n, nrt, nat, nc, nrow, ni, nr, npar
-    real(c_double), intent(in) :: pvals(np)
-    !f2py integer intent(hide), depend(pvals) :: np = len(pvals)
-    real(c_double), intent(in) :: y0(n)
-    !f2py integer intent(hide), depend(y0) :: n = len(y0)
+    character(len=*), intent(in) :: keys
+    integer(c_int), intent(in) :: nv, np, n, nrt, nat, nrow, ni, nr, npar, nst
+    real(c_double), intent(in) :: vals(nv)
+    !f2py integer intent(hide), depend(vals) :: nv = len(vals)
     real(c_double), intent(in) :: t_end
-    real(c_double), intent(in) :: rtol(nrt)
-    !f2py integer intent(hide), depend(rtol) :: nrt = len(rtol)
-    real(c_double), intent(in) :: atol(nat)
-    !f2py integer intent(hide), depend(atol) :: nat = len(atol)
-    real(c_double), intent(in) :: cvals(nc)
-    !f2py integer intent(hide), depend(cvals) :: nc = len(cvals)
     real(c_double), intent(inout) :: t_out(nrow)
     !f2py integer intent(hide), depend(t_out) :: nrow = len(t_out)
     real(c_double), intent(out) :: y_out(n, nrow)
-    real(c_double), intent(out) :: istats(ni)
-    real(c_double), intent(out) :: rstats(nr)
-    real(c_double), intent(out) :: presolved(npar)
+    !f2py integer intent(hide), depend(ni, nr, npar) :: nst = ni + nr + npar
+    real(c_double), intent(out) :: stats(nst)
     integer(c_int), intent(inout), target :: stop(1)
     integer(c_int), intent(in) :: nev
     real(c_double), intent(inout) :: events(4, nev)
@@ -97,16 +89,22 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
     type(param_values) :: p
     integer, pointer :: flag
     logical :: armed
+    integer :: bar, o
+    y_out = 0.0_c_double
+    stats = 0.0_c_double
+    cpu = 0.0_c_double
+    bar = index(keys, '|')
+    o = np + n + nrt + nat          ! cvals start after o
+    if (bar == 0 .or. min(np, n, nrt, nat) < 0 .or. o > nv) then
+        status = SS_BAD_DIM
+        return
+    end if
     flag => stop(1)
     call arm(stop(1), armed)
-
-    y_out = 0.0_c_double
-    istats = 0.0_c_double
-    rstats = 0.0_c_double
-    presolved = 0.0_c_double
     cpu = cpu_seconds()
-    call simulate(scene, law, method, split_names(pkeys), pvals, y0, t_end, rtol, atol, &
-                  split_names(ckeys), cvals, t_out, y_out, st, p_out=p, stop_flag=flag, events=events)
+    call simulate(scene, law, method, split_names(keys(:bar - 1)), vals(1:np), vals(np + 1:np + n), t_end, &
+                  vals(np + n + 1:np + n + nrt), vals(np + n + nrt + 1:o), split_names(keys(bar + 1:)), &
+                  vals(o + 1:nv), t_out, y_out, st, p_out=p, stop_flag=flag, events=events)
     cpu = cpu_seconds() - cpu
     call disarm(armed)
     status = st%status
@@ -114,9 +112,9 @@ subroutine run_simulation(scene, law, method, pkeys, pvals, np, y0, n, t_end, rt
         status = SS_BAD_DIM
         return
     end if
-    istats = real(stats_integers(st), c_double)   ! exact below 2^53
-    rstats = stats_reals(st)
-    presolved = p%values
+    stats(1:ni) = real(stats_integers(st), c_double)   ! exact below 2^53
+    stats(ni + 1:ni + nr) = stats_reals(st)
+    stats(ni + nr + 1:) = p%values
 end subroutine run_simulation
 
 !> Simulate nset parameter sets in one call (stickslip_batch), OpenMP over the sets.

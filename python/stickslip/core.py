@@ -255,6 +255,16 @@ def _events(raw: np.ndarray, count: int) -> np.ndarray:
     return out
 
 
+def _unpack(raw: tuple) -> tuple:
+    """A Result's raw library output as (istats, rstats, status, cpu, resolved, used): simulate
+    keeps the wrapper's one vector of counters, real counters and resolved parameters (rstats
+    None), the model path its two arrays of counters."""
+    if raw[1] is not None:
+        return raw
+    out, ni, nr = raw[0], len(_STATS_INT), len(_STATS_REAL)
+    return (out[:ni], out[ni:ni + nr], raw[2], raw[3], out[ni + nr:], raw[5])
+
+
 class Result:
     """A simulation on its output grid (returned by `simulate`).
 
@@ -313,7 +323,7 @@ class Result:
     def params(self) -> dict[str, float]:
         """Every parameter the scene and the law read, as used [SI units]."""
         if self._params is None:                  # built on first use (simulate's lean path)
-            resolved, used = self._raw[4], self._raw[5]
+            resolved, used = _unpack(self._raw)[4], self._raw[5]
             values = resolved.tolist()
             self._params = {k: values[i] for k, i in used}
         return self._params
@@ -322,7 +332,7 @@ class Result:
     def stats(self) -> dict[str, Any]:
         """Counters and outcome of the run (keys: see `simulate`, Returns)."""
         if self._stats is None:                   # built on first use (simulate's lean path)
-            istats, rstats, status, cpu = self._raw[:4]
+            istats, rstats, status, cpu = _unpack(self._raw)[:4]
             stats: dict[str, Any] = dict(zip(_STATS_INT, istats.astype(np.int64).tolist()))  # exact: < 2**53
             stats.update(zip(_STATS_REAL, rstats.tolist()))
             stats["stiff"] = bool(stats["stiff"])
@@ -771,7 +781,7 @@ class _Call:
     Fortran call and what its Result needs. Never changed after _prepare."""
 
     __slots__ = ("scene", "law", "method", "t_end", "args", "grid", "n_out", "rows", "warnings",
-                 "n_states", "state_labels", "used", "known", "events_room", "n_blocks")
+                 "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "arm")
 
     def __init__(self, **kw: Any) -> None:
         for k, v in kw.items():
@@ -965,7 +975,8 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     >>> r.stats["nstep"]
     10
     """
-    if hasattr(scene, "run_model"):          # a stickslip.Model (which runs itself: no import cycle)
+    # a stickslip.Model (which runs itself: no import cycle); a name, the common case, is no Model
+    if type(scene) is not str and hasattr(scene, "run_model"):
         extra = [k for k, v in (("law", law), ("x0", x0 if x0 != 0.0 else None), ("v0", v0), ("z0", z0))
                  if v is not None] + [k for k in kwargs if k in _PARAM_SET]
         if extra:
@@ -985,8 +996,9 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     except TypeError:                        # an unhashable argument (a list): validated each time
         key = call = None
     if call is not None:
-        for message, category in call.warnings:
-            warnings.warn(message, category, stacklevel=2)
+        if call.warnings:
+            for message, category in call.warnings:
+                warnings.warn(message, category, stacklevel=2)
         return _execute(call)
     call = _prepare(scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused, kwargs)
     if key is not None and any(isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):
@@ -1099,21 +1111,31 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
                          f"{8 * _MAX_OUTPUT_VALUES / 1e9:.3g} GB); lower n_blocks or n_out")
     pkeys, pvals = _keys(given)
     ckeys, cvals = _keys(ctl)
+    # the wrapper's one string of names and one array of values (run_simulation in _wrap.f90)
+    vals = np.concatenate((pvals, y0, rtol, atol, cvals))
     known = {**_known(given), **CONTROL_DEFAULTS, **ctl, "rtol": rtol, "atol": atol, "t_end": t_end}
     # room for event_driven's events (max_events of them, range-checked by the library)
     room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
         if "max_events" in plan.reads else 0
     return _Call(scene=scene, law=law, method=method, t_end=t_end,
-                 args=(*plan.codes, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals),
+                 args=(*plan.codes, f"{pkeys}|{ckeys}", vals, pvals.size, y0.size, rtol.size, atol.size, t_end),
                  grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
                  state_labels=state_labels, used=plan.used, known=known, events_room=room,
-                 n_blocks=n_blocks)
+                 n_blocks=n_blocks, arm=plan.adaptive or needed >= _STOP_CHECK_STEPS // 2)
 
 
 #: The main thread's stop flag (interruptible), reused: only the main thread writes it; read
 #: and written through a memoryview (faster than numpy's indexing).
 _MAIN_STOP = np.zeros(1, dtype=np.int32)
 _MAIN_FLAG = memoryview(_MAIN_STOP)
+#: The main thread's flag for the runs it does not arm (never -1, so the wrapper never arms).
+_MAIN_IDLE = np.zeros(1, dtype=np.int32)
+#: The integrators look at the stop flag as a run starts, then every 4096 steps
+#: (stickslip_ode's STOP_CHECK_MASK + 1): a fixed-step run of fewer steps never looks again,
+#: and the facade does not arm a SIGINT handler for it (two system calls saved per call; a
+#: Ctrl-C during such a run is Python's own, raised as KeyboardInterrupt once the call returns).
+#: Runs of half as many steps or more, and every adaptive run, are armed.
+_STOP_CHECK_STEPS = 4096
 _MAIN_IDENT = threading.main_thread().ident
 #: What simulate's call path looks up on every call, bound once.
 _run_simulation, _get_ident, _new_result = _ext.run_simulation, threading.get_ident, Result.__new__
@@ -1130,7 +1152,7 @@ os.register_at_fork(after_in_child=_after_fork)
 def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
     """The library call that ``simulate(scene, law, **kwargs)`` makes, as a function that makes
     it with the same arguments and does nothing else (for the benchmarks' overhead table: what
-    simulate adds beyond it). Main thread only (it arms the SIGINT handler as simulate does)."""
+    simulate adds beyond it). Main thread only (it arms the SIGINT handler when simulate does)."""
     call = _prepare(scene, law, kwargs.pop("method"), kwargs.pop("t_end"), kwargs.pop("n_out", None),
                     kwargs.pop("every_step", False), kwargs.pop("max_steps", None), kwargs.pop("x0", 0.0),
                     kwargs.pop("v0", None), kwargs.pop("z0", None), kwargs.pop("ignore_unused", False), kwargs)
@@ -1140,8 +1162,10 @@ def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
     run, args, sizes = _run_simulation, call.args, _SIZES
     events = np.zeros((4, call.events_room), order="F")
 
+    arm = -1 if call.arm else 0
+
     def bare() -> Any:
-        flag[0] = -1
+        flag[0] = arm
         return run(*args, t_grid, *sizes, stop, events)
     return bare
 
@@ -1156,18 +1180,20 @@ def _execute(call: _Call, key: tuple | None = None) -> Result:
         t_grid = np.zeros(call.rows)
     else:
         t_grid = _linspace(call.t_end, call.n_out)
-    if _get_ident() == _MAIN_IDENT:
-        stop, flag = _MAIN_STOP, _MAIN_FLAG
-        flag[0] = -1                          # asks the wrapper for a SIGINT handler (interruptible)
-    else:
-        stop = np.zeros(1, dtype=np.int32)
-        flag = memoryview(stop)
     room = call.events_room
     raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
     # the wrapper measures the CPU time of its library call itself (cpu)
-    y, istats, rstats, resolved, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, stop, raw_events)
-    if flag[0] == 1:
-        raise KeyboardInterrupt
+    if _get_ident() == _MAIN_IDENT:
+        if call.arm:
+            _MAIN_FLAG[0] = -1                # asks the wrapper for a SIGINT handler (interruptible)
+            y, istats, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, _MAIN_STOP, raw_events)
+            if _MAIN_FLAG[0] == 1:
+                raise KeyboardInterrupt
+        else:                                 # too short for the library to look at the flag
+            y, istats, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, _MAIN_IDLE, raw_events)
+    else:                                     # a worker thread: Python's own SIGINT handling stays
+        y, istats, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, np.zeros(1, dtype=np.int32),
+                                                 raw_events)
     if status != STATUS_OK or call.rows:
         if status <= _FIRST_INPUT_CODE:
             raise ValueError(_with_values(status_message(status), call.known))
@@ -1189,7 +1215,8 @@ def _execute(call: _Call, key: tuple | None = None) -> Result:
         result.z = y[2 * nb:]
     result.state_labels = call.state_labels
     result._params = result._stats = None     # built on first use from _raw
-    result._raw = (istats, rstats, status, cpu, resolved, call.used)
+    # istats: the counters, the real counters and the resolved parameters in one vector
+    result._raw = (istats, None, status, cpu, None, call.used)
     result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
