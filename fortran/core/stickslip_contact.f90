@@ -99,9 +99,10 @@ module stickslip_contact
         !! The event-driven method keeps its steps to a fraction of it, so that a holding force
         !! that follows the signal is sampled densely enough to see where it exceeds the limit.
         procedure :: time_scale => no_time_scale
-        !> Whether each contact acts on one coordinate of its own (a single entry in its row of
-        !! H, no coordinate shared), and which contact each coordinate carries.
-        procedure :: own_coordinates
+        !> How a fixed-step method solves its friction problem with W = M + a C + b K: on W
+        !! itself where W is tridiagonal and each contact acts on one coordinate of its own,
+        !! otherwise on the Delassus matrix (allocated here).
+        procedure :: step_layout
         !> The Delassus matrix D = H W^-1 H^T of W = M + a C + b K at (t, q, u), column by
         !! column (n_c solves with W).
         procedure :: delassus
@@ -230,21 +231,37 @@ contains
         end do
     end subroutine delassus
 
-    pure subroutine own_coordinates(self, coord_contact, ok)
+    !> The layout of a fixed-step method's friction problem with W = M + a C + b K (`a`, `b`
+    !! the step's weights): tri when W is tridiagonal (diagonals wl, wd, wr) and each contact
+    !! has a single entry in its row of H, on a coordinate no other contact shares; the problem
+    !! is then solved on W itself, coord_contact giving the contact on each coordinate (0: none),
+    !! and dmat is empty. Otherwise dmat is allocated (n_c, n_c) for the Delassus matrix.
+    subroutine step_layout(self, a, b, wl, wd, wr, coord_contact, tri, dmat)
         class(contact_system), intent(in) :: self
-        integer, intent(out) :: coord_contact(:)  !! (n_dof) the contact on each coordinate (0: none)
-        logical, intent(out) :: ok                !! every contact on a coordinate of its own
+        real(dp), intent(in)  :: a                !! weight of C [s]
+        real(dp), intent(in)  :: b                !! weight of K [s^2]
+        real(dp), intent(out) :: wl(:)            !! (n_dof) W(i, i - 1)
+        real(dp), intent(out) :: wd(:)            !! (n_dof) W(i, i)
+        real(dp), intent(out) :: wr(:)            !! (n_dof) W(i, i + 1)
+        integer, intent(out)  :: coord_contact(:) !! (n_dof) the contact on each coordinate (0: none)
+        logical, intent(out)  :: tri              !! solve on W itself
+        real(dp), allocatable, intent(out) :: dmat(:, :)  !! (n_c, n_c) room for D, or (0, 0)
         integer :: c, k
         coord_contact = 0
-        ok = .true.
+        call self%w_tridiagonal(a, b, wl, wd, wr, tri)
         do c = 1, self%n_c
+            if (.not. tri) exit
             k = self%h_ptr(c)
-            ok = self%h_ptr(c + 1) - k == 1
-            if (ok) ok = coord_contact(self%h_col(k)) == 0
-            if (.not. ok) return
-            coord_contact(self%h_col(k)) = c
+            tri = self%h_ptr(c + 1) - k == 1
+            if (tri) tri = coord_contact(self%h_col(k)) == 0
+            if (tri) coord_contact(self%h_col(k)) = c
         end do
-    end subroutine own_coordinates
+        if (tri) then
+            allocate(dmat(0, 0))
+        else
+            allocate(dmat(self%n_c, self%n_c))
+        end if
+    end subroutine step_layout
 
     pure real(dp) function contact_displacement(self, i, q) result(x)
         class(contact_system), intent(in) :: self

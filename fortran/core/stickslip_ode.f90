@@ -21,7 +21,7 @@ module stickslip_ode
 
     public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, fd_band_jacobian, &
               check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite, &
-              step_count, stop_requested, limit_after_forced, set_erk_constant, check_erk_constants, &
+              step_count, fixed_steps, step_end, stop_requested, limit_after_forced, set_erk_constant, check_erk_constants, &
               diverged, default_state_bound, linear_output
 
     !> Steps between two looks at a stop flag (a power of 2 minus 1, as a mask).
@@ -238,6 +238,33 @@ contains
             nsteps = nsteps - 1.0_dp
         end do
     end function step_count
+
+    !> The steps of a fixed-step run from t0 to t_end with step h (`step_count`): n_total
+    !! steps reach t_end (huge(n_total) when more than an integer(8) holds: never reached),
+    !! and the run takes nsteps = min(n_total, budget) of them.
+    pure subroutine fixed_steps(t0, t_end, h, budget, n_total, nsteps)
+        real(dp), intent(in) :: t0, t_end, h    !! interval and step size [s]
+        integer(8), intent(in) :: budget        !! most steps the run may take
+        integer(8), intent(out) :: n_total      !! steps to t_end
+        integer(8), intent(out) :: nsteps       !! steps to take
+        real(dp) :: nsteps_real
+        nsteps_real = step_count(t0, t_end, h)
+        n_total = huge(n_total)
+        if (nsteps_real < 9.0e18_dp) n_total = int(nsteps_real, 8)
+        nsteps = min(n_total, budget)
+    end subroutine fixed_steps
+
+    !> The end of step i of a fixed-step run (`fixed_steps`): t0 + i h, t_end exactly at the
+    !! last step n_total [s].
+    pure real(dp) function step_end(t0, t_end, h, i, n_total) result(t1)
+        real(dp), intent(in) :: t0, t_end, h    !! interval and step size [s]
+        integer(8), intent(in) :: i, n_total    !! the step, and the steps to t_end
+        if (i == n_total) then
+            t1 = t_end
+        else
+            t1 = t0 + real(i, dp) * h
+        end if
+    end function step_end
 
     !> The default bound on |y_i|: DEFAULT_BOUND_GROWTH max(1, max_j |y0_j|) for every i.
     function default_state_bound(self, t0, y0, t_end) result(bound)

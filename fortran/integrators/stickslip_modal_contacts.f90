@@ -40,7 +40,7 @@
 module stickslip_modal_contacts
     use stickslip_kinds, only: dp, SS_OK, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_INTERRUPTED, &
                                SS_CONTACT_FAILED, SS_JUMP_MANY_CONTACTS
-    use stickslip_ode, only: ode_stats, step_controls, output_start, step_count, stop_requested, all_finite, &
+    use stickslip_ode, only: ode_stats, step_controls, output_start, fixed_steps, step_end, stop_requested, all_finite, &
                              diverged, linear_output
     use stickslip_friction, only: friction_law, MODE_MU, MODE_V, MODE_KEEP
     use stickslip_contact, only: contact_system
@@ -83,7 +83,7 @@ contains
         real(dp), allocatable :: q(:), u(:), qp(:), f1(:), du(:), g(:), y(:), y1(:)
         real(dp), allocatable :: wf(:), w0(:), p(:), c(:), d(:, :), w(:), b(:), wl(:), wd(:), wr(:)
         integer, allocatable :: mode(:), coord_contact(:)
-        real(dp) :: t, t1, hs, nsteps_real, t_next, resid
+        real(dp) :: t, t1, hs, t_next, resid
         integer(8) :: i, nsteps, n_total
         integer :: nd, nc, m, next, j, k, sweeps
         logical :: ok, tri
@@ -95,19 +95,10 @@ contains
         mode = 0    ! none yet
         ! W tridiagonal and each contact on one coordinate of its own (the chain): the sweeps on
         ! W itself, O(n) each; otherwise on the dense Delassus matrix
-        allocate(coord_contact(nd), source=0)
-        call cs%w_tridiagonal(ctl%h, ctl%h**2, wl, wd, wr, tri)
-        if (tri) call cs%own_coordinates(coord_contact, tri)
-        if (tri) then
-            allocate(d(0, 0))
-        else
-            allocate(d(nc, nc))
-        end if
+        allocate(coord_contact(nd))
+        call cs%step_layout(ctl%h, ctl%h**2, wl, wd, wr, coord_contact, tri, d)
         m = size(t_out)
-        nsteps_real = step_count(t0, t_end, ctl%h)
-        n_total = huge(n_total)
-        if (nsteps_real < 9.0e18_dp) n_total = int(nsteps_real, 8)
-        nsteps = min(n_total, ctl%max_steps)
+        call fixed_steps(t0, t_end, ctl%h, ctl%max_steps, n_total, nsteps)
         y = y0
         q = y0(:nd)
         u = y0(nd + 1:)
@@ -122,11 +113,7 @@ contains
                 stats%status = SS_INTERRUPTED
                 exit
             end if
-            if (i == n_total) then
-                t1 = t_end
-            else
-                t1 = t0 + real(i, dp) * ctl%h
-            end if
+            t1 = step_end(t0, t_end, ctl%h, i, n_total)
             hs = t1 - t
             stats%nstep = stats%nstep + 1
             stats%h_last = hs

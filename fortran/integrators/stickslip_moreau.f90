@@ -48,7 +48,7 @@ module stickslip_moreau
                                SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_INTERRUPTED, SS_BAD_THETA_MJ, &
                                SS_BAD_CONTACT_CTL, SS_CONTACT_FAILED
     use stickslip_ode, only: ode_stats, step_controls, method_info, check_problem, output_start, &
-                             step_count, stop_requested, all_finite
+                             fixed_steps, step_end, stop_requested, all_finite
     use stickslip_contact, only: contact_system, local_solve
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -117,7 +117,7 @@ contains
         integer, allocatable :: coord_contact(:), cmode(:)
         type(contact_solve_info) :: cinfo
         logical :: tri
-        real(dp) :: t, t1, hs, th, h_d, nsteps_real, resid, t_next
+        real(dp) :: t, t1, hs, th, h_d, resid, t_next
         integer(8) :: i, nsteps, n_total
         integer :: nd, nc, m, next, sweeps, c, k, iworst
 
@@ -143,20 +143,9 @@ contains
         th = opts%theta
         allocate(wfree(nc), p(nc), hn(nc), wloc(nc), wl(nd), wd(nd), wr(nd), boff(nc), coord_contact(nd))
         allocate(cmode(nc), source=-9)   ! no previous mode
-        call cs%w_tridiagonal(opts%h * th, (opts%h * th)**2, wl, wd, wr, tri)
-        ! the tridiagonal solver needs each contact on one coordinate of its own
-        coord_contact = 0
-        if (tri) call cs%own_coordinates(coord_contact, tri)
-        if (tri) then
-            allocate(dmat(0, 0))
-        else
-            allocate(dmat(nc, nc))
-        end if
+        call cs%step_layout(opts%h * th, (opts%h * th)**2, wl, wd, wr, coord_contact, tri, dmat)
         m = size(t_out)
-        nsteps_real = step_count(t0, t_end, opts%h)
-        n_total = huge(n_total)
-        if (nsteps_real < 9.0e18_dp) n_total = int(nsteps_real, 8)
-        nsteps = min(n_total, opts%max_steps)
+        call fixed_steps(t0, t_end, opts%h, opts%max_steps, n_total, nsteps)
 
         y = y0
         q = y0(:nd)
@@ -173,11 +162,7 @@ contains
                 stats%status = SS_INTERRUPTED
                 exit
             end if
-            if (i == n_total) then
-                t1 = t_end
-            else
-                t1 = t0 + real(i, dp) * opts%h
-            end if
+            t1 = step_end(t0, t_end, opts%h, i, n_total)
             hs = t1 - t
             stats%nstep = stats%nstep + 1
             stats%h_last = hs

@@ -8,7 +8,8 @@
 module stickslip_rk4
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_MAX_STEPS, SS_STEP_BUDGET, &
                                SS_NONFINITE, SS_OUTPUT_FULL, SS_INTERRUPTED, SS_DIVERGED
-    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, hermite, step_count, STOP_CHECK_MASK
+    use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, hermite, fixed_steps, &
+                             step_end, STOP_CHECK_MASK
     use stickslip_scenes, only: slope_scene, belt_scene
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_recurdyn, only: recurdyn_law
