@@ -9,13 +9,31 @@
 !! solve of pivoting alone)
 !! (microseconds a solve, the median of `repeats` passes over the problems; Gauss-Seidel alone
 !! counts as solved where its answer meets the conditions to 1e-12 m/s).
-!! Usage: bench_contact n_max repeats
+!!
+!! Then the chain (when chain_n_max >= 10): the step problem of `moreau` on a chain of n = 10,
+!! 100, 1000, 10000 blocks (Coulomb mu_s = 0.35, mu_k = 0.3, the scene's springs and masses,
+!! h = 1 ms, theta = 1/2): five states of a run started stuck on the belt (moreau itself, at
+!! t = 1, 2, 3, 4, 5 s), each giving the step's free velocities and capacities as moreau forms
+!! them. Solved by the chain's own path (`tridiagonal_sweeps`: nonsmooth Gauss-Seidel on the
+!! tridiagonal W, what moreau runs on a chain), and, up to 1000 blocks, on the dense Delassus
+!! matrix D = W^-1 by the general solver (`solve_contacts`) and by projected Gauss-Seidel alone
+!! (`gauss_seidel`, the solver before its fallback). One line per n:
+!!   chain  n  tri_us  tri_solved  tri_sweeps  solver_us  solver_solved  gs_us  gs_solved
+!!   gs_sweeps  both_solved  max_du
+!! (microseconds a solve, medians of `repeats` passes; solver and Gauss-Seidel columns -1 beyond
+!! 1000 blocks; both_solved: problems that both dense solvers solved, over which their times
+!! are taken; max_du: the largest difference of the step's velocities between the
+!! tridiagonal path and the general solver [m/s]).
+!! Usage: bench_contact n_max repeats [chain_n_max]
 program bench_contact
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, gauss_seidel, contact_residual, &
                                         SOLVER_PIVOTING
     use stickslip_linalg, only: psd_solve
+    use stickslip_chain, only: chain_contact
+    use stickslip_moreau, only: moreau_options, moreau_integrate, tridiagonal_sweeps
+    use stickslip_ode, only: ode_stats
     implicit none
     integer, parameter :: nprob = 50
     character(len=32) :: arg
@@ -29,11 +47,17 @@ program bench_contact
     integer :: nok, ngs, sweeps, worst, ns_list(10), nfall, npiv
     real(dp) :: pivots
     logical :: ok_inv
+    integer :: chain_n_max
 
     call get_command_argument(1, arg)
     read (arg, *) n_max
     call get_command_argument(2, arg)
     read (arg, *) repeats
+    chain_n_max = 0
+    if (command_argument_count() >= 3) then
+        call get_command_argument(3, arg)
+        read (arg, *) chain_n_max
+    end if
     call random_seed(size=iseed)
     allocate(seed(iseed), source=4242)
     call random_seed(put=seed)
@@ -118,7 +142,153 @@ program bench_contact
         deallocate(d, wf, cap, laws, p, w, mode, hm, wm, winv, times, gtimes, ptimes)
     end do
 
+    n = 10
+    do while (n <= chain_n_max)
+        call bench_chain(n)
+        n = 10 * n
+    end do
+
 contains
+
+    !> The chain section (program notes) for n blocks.
+    subroutine bench_chain(n)
+        integer, intent(in) :: n    !! blocks (and contacts)
+        integer, parameter :: nst = 5               ! states (problems)
+        real(dp), parameter :: h = 1.0e-3_dp, th = 0.5_dp, tol = 1.0e-12_dp
+        type(chain_contact) :: cc
+        type(moreau_options) :: mo
+        type(ode_stats) :: st
+        type(contact_solve_info) :: inf
+        real(dp) :: t_out(nst + 1), y_out(2 * n, nst + 1), y0(2 * n), phi, rr
+        real(dp) :: uf(n, nst), wf(n, nst), hn(n), boff(n), wl(n), wd(n), wr(n), f0(n), f1(n), qp(n)
+        real(dp) :: ut(n, nst), ud(n), pp(n), ww(n), wl2(n), res, du_max, tm
+        real(dp) :: tt(repeats), ts(repeats), tg(repeats)
+        real(dp), allocatable :: dm(:, :)
+        integer :: cmap(n), i, j, r, sw, iw, nin, k, ntri, nsol, ngs, nboth, cm(n)
+        integer :: tri_sweeps, gs_sweeps
+        logical :: dense, ok, both(nst)
+        ! The chain scene's contact system (chain_contact_model), Coulomb, k_p = 0.
+        cc%n_dof = n
+        cc%n_c = n
+        cc%h_ptr = [(i, i = 1, n + 1)]
+        cc%h_col = [(i, i = 1, n)]
+        allocate(cc%h_val(n), source=1.0_dp)
+        allocate(cc%laws(n), source=contact_law(mu_s=0.35_dp, mu_k=0.3_dp))
+        cc%w_constant = .true.
+        cc%k_m = 30.0_dp
+        cc%kp_m = 0.0_dp
+        cc%kc_m = 30.0_dp
+        cc%v_b = 1.5_dp
+        phi = (sqrt(5.0_dp) - 1.0_dp) / 2.0_dp
+        allocate(cc%g(n))
+        do i = 1, n
+            rr = 0.5_dp + (i - 1) * phi
+            cc%g(i) = 9.81_dp * (1.0_dp + 0.01_dp * (2.0_dp * (rr - floor(rr)) - 1.0_dp))
+        end do
+        ! States of a run started stuck on the belt.
+        mo%h = h
+        mo%theta = th
+        y0 = 0.0_dp
+        y0(n + 1:) = cc%v_b
+        t_out = [(real(i, dp), i = 0, nst)]
+        call moreau_integrate(cc, 0.0_dp, y0, real(nst, dp), mo, t_out, y_out, st)
+        if (st%status /= 0) error stop 'bench_contact: the chain run failed'
+        ! The step problems, as moreau forms them.
+        call cc%w_tridiagonal(h * th, (h * th)**2, wl, wd, wr, ok)
+        call cc%own_coordinates(cmap, ok)
+        call cc%slip_offset(0.0_dp, boff)
+        call cc%normal_forces(0.0_dp, y0(:n), hn)
+        hn = h * hn
+        do j = 1, nst
+            associate (q => y_out(:n, j + 1), u => y_out(n + 1:, j + 1))
+                call cc%force(0.0_dp, q, u, f0)
+                qp = q + h * u
+                call cc%force(h, qp, u, f1)
+                uf(:, j) = h * ((1.0_dp - th) * f0 + th * f1)
+                call cc%solve_w(0.0_dp, q, u, h * th, (h * th)**2, uf(:, j))
+                uf(:, j) = u + uf(:, j)
+                call cc%relative_velocities(h, uf(:, j), wf(:, j))
+            end associate
+        end do
+        dense = n <= 1000
+        if (dense) then
+            allocate(dm(n, n))
+            call cc%delassus(0.0_dp, y0(:n), y0(n + 1:), h * th, (h * th)**2, dm)
+        end if
+        nin = max(1, 20000 / n)     ! solves per timing, for a measurable time
+        du_max = 0.0_dp
+        ntri = 0
+        nsol = 0
+        ngs = 0
+        tri_sweeps = 0
+        gs_sweeps = 0
+        both = .true.
+        do r = 1, repeats
+            ! the chain's own path, warm-started at the step's start as moreau does
+            tt(r) = 0.0_dp
+            do j = 1, nst
+                call cpu_time(t0)
+                do k = 1, nin
+                    ut(:, j) = y_out(n + 1:, j + 1)
+                    call tridiagonal_sweeps(cc, wl, wd, wr, uf(:, j), cmap, boff, hn, tol, 1000, ut(:, j), wl2, sw, &
+                                            res, iw)
+                end do
+                call cpu_time(t1)
+                tt(r) = tt(r) + (t1 - t0) / (nin * nst)
+                if (r == 1 .and. res <= tol) ntri = ntri + 1
+                if (r == 1) tri_sweeps = tri_sweeps + sw
+            end do
+            if (.not. dense) cycle
+            ! the general solver and Gauss-Seidel alone on D, from p = 0
+            ts(r) = 0.0_dp
+            tg(r) = 0.0_dp
+            do j = 1, nst
+                call cpu_time(t0)
+                do k = 1, nin
+                    pp = 0.0_dp
+                    cm = -9
+                    call solve_contacts(cc%laws, dm, wf(:, j), hn, .false., tol, 1000, pp, ww, cm, inf)
+                end do
+                call cpu_time(t1)
+                tm = (t1 - t0) / nin
+                if (r == 1) then
+                    if (inf%ok) nsol = nsol + 1
+                    both(j) = both(j) .and. inf%ok
+                    ud = 0.0_dp
+                    call cc%add_ht(pp, ud)
+                    call cc%solve_w(0.0_dp, y0(:n), y0(n + 1:), h * th, (h * th)**2, ud)
+                    ud = uf(:, j) + ud
+                    du_max = max(du_max, maxval(abs(ud - ut(:, j))))
+                end if
+                if (both(j)) ts(r) = ts(r) + tm
+                call cpu_time(t0)
+                do k = 1, nin
+                    pp = 0.0_dp
+                    call gauss_seidel(cc%laws, dm, wf(:, j), hn, .false., tol, 1000, pp, ww, sw)
+                end do
+                call cpu_time(t1)
+                tm = (t1 - t0) / nin
+                if (r == 1) then
+                    cm = merge(0, nint(sign(1.0_dp, ww)), ww == 0.0_dp)
+                    call contact_residual(cc%laws, dm, wf(:, j), hn, .false., pp, ww, cm, res, iw)
+                    if (res <= tol) ngs = ngs + 1
+                    both(j) = both(j) .and. res <= tol
+                    gs_sweeps = gs_sweeps + sw
+                end if
+                if (both(j)) tg(r) = tg(r) + tm
+            end do
+        end do
+        nboth = count(both)
+        if (dense) then
+            print '(a, i7, es12.4, f8.3, f8.1, es12.4, f8.3, es12.4, f8.3, f8.1, f8.3, es12.4)', 'chain', n, &
+                1.0e6_dp * median(tt), real(ntri, dp) / nst, real(tri_sweeps, dp) / nst, &
+                1.0e6_dp * median(ts) / max(nboth, 1), real(nsol, dp) / nst, 1.0e6_dp * median(tg) / max(nboth, 1), &
+                real(ngs, dp) / nst, real(gs_sweeps, dp) / nst, real(nboth, dp) / nst, du_max
+        else
+            print '(a, i7, es12.4, f8.3, f8.1, a)', 'chain', n, 1.0e6_dp * median(tt), real(ntri, dp) / nst, &
+                real(tri_sweeps, dp) / nst, '  -1  -1  -1  -1  -1  -1  -1'
+        end if
+    end subroutine bench_chain
 
     real(dp) function median(x)
         real(dp), intent(in) :: x(:)

@@ -110,12 +110,23 @@ def test_quick_contact_benchmark(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
     from benchmarks.run import main
 
     assert main(["--contact", "--quick", "--outdir", str(tmp_path)]) == 0
-    rows = [line.split("|")[1:-1] for line in (tmp_path / "contact.md").read_text().splitlines()
-            if line.startswith("| ") and line[2].isdigit()]
+    random_part, chain_part = (tmp_path / "contact.md").read_text().split("**The chain**")
+
+    def table(text: str) -> list[list[str]]:
+        return [line.split("|")[1:-1] for line in text.splitlines() if line.startswith("| ") and line[2].isdigit()]
+
+    rows = table(random_part)
     assert [int(r[0]) for r in rows] == [2, 3, 4, 5, 6, 8]
     for r in rows:
         assert r[2].strip() == "100 %" and r[7].strip() == "100 %"
         assert math.isfinite(float(r[1])) and float(r[1]) > 0
+    # the chain (10 and 100 blocks in --quick): the tridiagonal path and the general solver
+    # solve every step problem, to the same velocities
+    rows = table(chain_part)
+    assert [int(r[0]) for r in rows] == [10, 100]
+    for r in rows:
+        assert r[2].strip() == "100 %" and r[5].strip() == "100 %"
+        assert float(r[10]) < 1e-10
 
 
 def test_lmfit_benchmark_writes_the_same_fit(monkeypatch: pytest.MonkeyPatch) -> None:

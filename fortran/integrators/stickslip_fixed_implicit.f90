@@ -21,7 +21,7 @@
 !! lambda h = 1e10, needed that to converge at all). After newton_max_iter iterations without
 !! convergence the stage is solved again from the same guess by Newton's method with the
 !! Jacobian at every iterate and a backtracking line search (at most 4 newton_max_iter
-!! iterations), and if that fails, by the same from the rest guess k = 0 (a guess carrying a
+!! iterations, converged only on a full step), and if that fails, by the same from the rest guess k = 0 (a guess carrying a
 !! large rate, LuGre's bristle from rest on the belt, can draw the iteration onto a kink of
 !! |v_rel| where no descent direction is left); if that fails too, by the system's own solve
 !! of the stage where it has one (`scalar_stage`: a one-contact scene with a static law solves

@@ -56,7 +56,7 @@ module stickslip_moreau
     implicit none
     private
 
-    public :: moreau_options, moreau_integrate
+    public :: moreau_options, moreau_integrate, tridiagonal_sweeps
 
     !> What the Moreau-Jean method is and which controls it reads (registry entry).
     type(method_info), parameter, public :: MOREAU_INFO = method_info(name='moreau', order=1, &

@@ -255,8 +255,11 @@ contains
     !! per sweep is c^2 k_c / m against 1 + c^2 (k + 2 k_c) / m where the law's slope is >= 0, so
     !! the sweeps contract for any step a stable explicit method would take, and far beyond.
     !! Each block starts from its velocity at the stage's start (so one block is the belt's
-    !! `scalar_stage`, operation for operation). ok = .false. for a law that is not static, or
-    !! when a block has no bracket or 1000 sweeps do not converge.
+    !! `scalar_stage`, operation for operation). k returns f at the roots, except the
+    !! accelerations, which are the roots' own, (v_s - u_v) / c: a block stuck at the cusp has
+    !! its root between two floats, where f jumps by ~ g mu_s (2e-16 / v_s)^(1/3), and f there
+    !! would feed that jump into the method's derivative each step. ok = .false. for a law that
+    !! is not static, or when a block has no bracket or 1000 sweeps do not converge.
     subroutine chain_scalar_stage(self, t, u, c, k, nfev, ok)
         class(chain_scene), intent(inout) :: self
         real(dp), intent(in)    :: t        !! stage time [s]
@@ -287,6 +290,7 @@ contains
         if (change > 8.0_dp * epsilon(1.0_dp) .and. n > 1) return
         call self%rhs(t, [xs, vs], k)
         nfev = nfev + 1
+        k(n + 1:2 * n) = (vs - u(n + 1:2 * n)) / c   ! the roots' own accelerations (notes)
         ok = all(ieee_is_finite(k))
     contains
         !> phi_i(v) [m/s] of the block i of the sweep

@@ -290,8 +290,9 @@ contains
     !! phi is continuous where f is (the proposed law's mu ~ |w|^(1/3) has an infinite slope at
     !! w = 0, where Newton's method cycles), so a sign change is bracketed, from v_s = u_v
     !! outwards in steps that double, and closed by Illinois regula falsi with bisection to
-    !! rounding. ok = .false. for a law with internal states, or when no bracket is found within
-    !! 1e6 (1 + |u_v| + |phi(u_v)|).
+    !! rounding. k = (v_s, (v_s - u_v) / c): the root's own acceleration, not f at the root,
+    !! which at the cusp jumps between the two floats that hold the root. ok = .false. for a
+    !! law with internal states, or when no bracket is found within 1e6 (1 + |u_v| + |phi(u_v)|).
     subroutine scene_scalar_stage(self, t, u, c, k, nfev, ok)
         class(friction_scene), intent(inout) :: self
         real(dp), intent(in)    :: t        !! stage time [s]
@@ -322,7 +323,7 @@ contains
             ys = [u(1) + c * vs, vs]
             call self%rhs(t, ys, f)
             nfev = nfev + 1
-            k = f
+            k = [f(1), (vs - u(2)) / c]   ! the root's own acceleration (notes)
             ok = all(ieee_is_finite(k))
         end subroutine finish
     end subroutine scene_scalar_stage
