@@ -168,11 +168,28 @@ def split_unit(name: str) -> tuple[str, str]:
 # --------------------------------------------------------------------------------------------
 # Plot styling
 # --------------------------------------------------------------------------------------------
-def new_figure(ncols: int = 1, *, width: float | None = None) -> tuple[Any, Any]:
-    """A figure in the common style (cases._style) with `ncols` axes side by side."""
-    _style.apply()
-    w = width if width is not None else FIGSIZE[0] * (1.0 if ncols == 1 else 0.8 * ncols)
-    fig, axes = plt.subplots(1, ncols, figsize=(w, FIGSIZE[1]), squeeze=False)
+#: Width of a figure's first panel and of each further one [in]: one panel is a column wide
+#: (cases._style.COLUMN_WIDTH), so its fonts are at their size there.
+PANEL_WIDTHS: tuple[float, float] = (3.4, 2.7)
+
+
+def figure_width(ncols: int) -> float:
+    """The width [in] of a figure of `ncols` panels side by side (PANEL_WIDTHS)."""
+    return PANEL_WIDTHS[0] + PANEL_WIDTHS[1] * (ncols - 1)
+
+
+def new_figure(ncols: int = 1, *, nrows: int = 1, width: float | None = None,
+               height: float | None = None, **kwargs: Any) -> tuple[Any, Any]:
+    """A figure in the common style (cases._style) with `ncols` axes side by side (in `nrows`
+    rows: then a 2-D array of axes), `width` inches wide (default figure_width(ncols)) and
+    `height` high (default 0.62 of the width, at least 3 in), its fonts legible once scaled to a
+    column (cases._style.column_fonts); `kwargs` go to plt.subplots (sharex, ...)."""
+    w = width if width is not None else figure_width(ncols)
+    _style.apply(w)
+    h = height if height is not None else max(3.0, 0.62 * w)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(w, h), squeeze=False, **kwargs)
+    if nrows > 1:
+        return fig, axes
     return fig, axes[0] if ncols > 1 else axes[0][0]
 
 
@@ -188,7 +205,7 @@ def figure_legend(fig: Any, axes: Iterable[Any], ncol: int = 3, caption: str | N
     title = textwrap.fill(caption, width=width) if caption else None
     return fig.legend(list(handles.values()), list(handles), loc="lower center",
                       ncol=min(ncol, max(len(handles), 1)), frameon=False, title=title,
-                      title_fontsize=8, alignment="left" if caption else "center")
+                      alignment="left" if caption else "center")
 
 
 def save_figure(fig: Any, path: str | os.PathLike[str]) -> Path:
@@ -266,7 +283,7 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
         same_as = ", ".join(series_label(series[k]).split(" (")[0] for k in close)
         close = []
     panels = 1 + wide + bool(close)
-    fig, axes = new_figure(panels, width=FIGSIZE[0] * (1.0 + 0.75 * (panels - 1)))
+    fig, axes = new_figure(panels)
     axes = list(axes) if panels > 1 else [axes]
     base, unit = split_unit(series[0])
     quantity = base.split()[0]
@@ -297,8 +314,7 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
         diff_ax.axhline(0.0, color="k", linewidth=0.6)
     if same_as:
         note = f"{same_as} identical to {first} (difference exactly 0)"
-        axes[0].set_title(f"{quantity}: {note}" if log_ax is None else f"{quantity} on a linear axis; {note}",
-                          fontsize=8)
+        axes[0].set_title(f"{quantity}: {note}" if log_ax is None else f"{quantity} on a linear axis; {note}")
     if panels > 1 or same_as:
         fig.suptitle(title)
     else:

@@ -259,8 +259,7 @@ def plot(csv_path: str | Path, outdir: str | Path) -> list[Path]:
     from matplotlib.transforms import blended_transform_factory
     rows = _rows(Path(csv_path))
     methods = list(dict.fromkeys(r["method [-]"] for r in rows))
-    style.apply()
-    plt.rcParams.update(style.column_fonts(PLOT_WIDTH))
+    style.apply(PLOT_WIDTH)
     fig, axes = plt.subplots(len(ERRORS), len(PLOT_LAWS), figsize=(PLOT_WIDTH, 8.4), squeeze=False,
                              sharey="row", layout="constrained")
     handles: dict[str, Any] = {}
