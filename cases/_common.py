@@ -196,16 +196,22 @@ def new_figure(ncols: int = 1, *, nrows: int = 1, width: float | None = None,
 def figure_legend(fig: Any, axes: Iterable[Any], ncol: int = 3, caption: str | None = None,
                   width: int = 150) -> Any:
     """One legend for the whole figure, below the axes (where it covers no data), with every
-    distinct label of `axes` once: a marker shown in any panel is explained. `caption` (what the
+    distinct label of `axes` once: a marker shown in any panel is explained; in at most `ncol`
+    columns, fewer when they would not fit the figure's width. `caption` (what the
     figure shows, how to read it) is set above the entries, wrapped at `width` characters."""
     handles: dict[str, Any] = {}
     for ax in axes:
         for handle, label in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(label, handle)
     title = textwrap.fill(caption, width=width) if caption else None
-    return fig.legend(list(handles.values()), list(handles), loc="lower center",
-                      ncol=min(ncol, max(len(handles), 1)), frameon=False, title=title,
-                      alignment="left" if caption else "center")
+    n = min(ncol, max(len(handles), 1))
+    while True:              # the most columns up to `ncol` with which it fits the figure's width
+        legend = fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=n,
+                            frameon=False, title=title, alignment="left" if caption else "center")
+        if n == 1 or legend.get_window_extent(fig.canvas.get_renderer()).width <= fig.bbox.width:
+            return legend
+        legend.remove()
+        n -= 1
 
 
 def save_figure(fig: Any, path: str | os.PathLike[str]) -> Path:
