@@ -289,8 +289,9 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
         same_as = ", ".join(series_label(series[k]).split(" (")[0] for k in close)
         close = []
     panels = 1 + wide + bool(close)
-    fig, axes = new_figure(panels)
-    axes = list(axes) if panels > 1 else [axes]
+    # the panels one above the other, a column wide
+    fig, axes = new_figure(1, nrows=panels, height=1.7 + 2.4 * panels, sharex=True)
+    axes = list(axes[:, 0]) if panels > 1 else [axes]
     base, unit = split_unit(series[0])
     quantity = base.split()[0]
     first = series_label(series[ref]).split(" (")[0].split(", atol")[0]
@@ -308,25 +309,24 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
     axes[0].set_ylabel(f"{quantity} [{unit}]")
     if log_ax is not None:
         axes[0].set_title(f"{quantity} on a linear axis")
-        log_ax.set_ylabel(f"|{quantity}| [{unit}], log axis")
-        log_ax.set_title("the same on a log axis (every series visible)")
+        log_ax.set_ylabel(f"|{quantity}| [{unit}]")
+        log_ax.set_title("the same on a log axis")
     if diff_ax is not None:
         spread = max(float(np.abs(ys[k] - ys[ref]).max()) for k in close)
         if log_ax is None:
             axes[0].set_title(f"{quantity}: curves that lie on each other")
         diff_ax.set_ylabel(f"difference in {quantity} [{unit}]")
-        diff_ax.set_title(f"minus {first}: at most {spread:.2g} {unit} apart" if spread > 0 else
+        diff_ax.set_title(f"minus {first}: within {spread:.2g} {unit}" if spread > 0 else
                           f"minus {first}: identical (difference exactly 0)", pad=14)
         diff_ax.axhline(0.0, color="k", linewidth=0.6)
     if same_as:
-        note = f"{same_as} identical to {first} (difference exactly 0)"
+        note = f"{same_as} identical to {first}"
         axes[0].set_title(f"{quantity}: {note}" if log_ax is None else f"{quantity} on a linear axis; {note}")
     if panels > 1 or same_as:
         fig.suptitle(title)
     else:
         axes[0].set_title(title)
-    for ax in axes:
-        ax.set_xlabel("time t [s]" if names[0] == "t [s]" else names[0])
+    axes[-1].set_xlabel("time t [s]" if names[0] == "t [s]" else names[0])
     figure_legend(fig, axes)
     return save_figure(fig, png_path)
 

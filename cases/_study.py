@@ -205,19 +205,17 @@ def plot_table(csv_path: Path, png_path: Path, note: str = "") -> Path:
 
 
 def title_for(stem: str, note: str = "") -> str:
-    """A plot title from a file stem such as fig06_slope_steps_recurdyn: the figure, the scene,
-    the law and the runs shown (their parameters are in the legend); `note` names parameters
-    that differ from the paper's."""
+    """A plot title from a file stem such as fig06_slope_steps_recurdyn: the figure, the scene
+    and the law (the runs shown and their parameters are in the legend); `note` names
+    parameters that differ from the paper's."""
     parts = stem.split("_")
     number = int(parts[0][3:])
     scene = c._style.name(parts[1])
     tail = f" ({note})" if note else ""
     if parts[2] == "automatic":
-        return f"Fig. {number}: {scene}, the three laws, DOPRI5 with automatic step size{tail}"
-    law = c.LAW_LABELS[parts[3]]
-    what = ("RK4 at two step sizes and DOPRI5 automatic" if parts[2] == "steps"
-            else "DOPRI5 at three error tolerances")
-    return f"Fig. {number}: {scene}, {law} law, {what}{tail}"
+        return f"Fig. {number}: {scene}, DOPRI5 automatic{tail}"
+    law = c.LAW_LABELS[parts[3]].split(" (")[0]
+    return f"Fig. {number}: {scene}, {law} law{tail}"
 
 
 def plot(csv_path: str | Path, outdir: str | Path, note: str = "") -> Path:
