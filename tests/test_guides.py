@@ -154,8 +154,7 @@ COLUMN_FONT_DRIVERS: tuple[str, ...] = (
     "cases/stability.py", "cases/identify.py", "cases/chain.py", "cases/engines.py",
     "cases/implicit.py", "cases/workprecision.py", "cases/stick.py", "benchmarks/run.py")
 #: Figures of those drivers not yet redrawn, and why (each an exception with its reason).
-NOT_YET_AT_COLUMN_FONTS: dict[str, str] = {
-    "plot_fig14": "fig14_implicit.csv is not committed: redrawn at the next run of cases.implicit"}
+NOT_YET_AT_COLUMN_FONTS: dict[str, str] = {}
 
 
 def test_column_fonts_are_legible_at_a_column_width() -> None:
