@@ -121,7 +121,7 @@ def apply(width: float | None = None) -> None:
     the figure's `width` [in], fonts legible once it is scaled to a column (column_fonts)."""
     plt.rcParams.update({"font.size": 9, "axes.grid": True, "grid.alpha": 0.3,
                          "legend.fontsize": 8, "axes.titlesize": 9, "figure.titlesize": 10,
-                         "legend.title_fontsize": 8, "xtick.labelsize": "medium",
+                         "legend.title_fontsize": None, "xtick.labelsize": "medium",
                          "ytick.labelsize": "medium", "axes.labelsize": "medium",
                          "lines.linewidth": 1.2, "axes.prop_cycle": cycler(color=list(SEQUENCE)),
                          "savefig.dpi": DPI, "pdf.fonttype": 42})
