@@ -168,27 +168,50 @@ def split_unit(name: str) -> tuple[str, str]:
 # --------------------------------------------------------------------------------------------
 # Plot styling
 # --------------------------------------------------------------------------------------------
-def new_figure(ncols: int = 1, *, width: float | None = None) -> tuple[Any, Any]:
-    """A figure in the common style (cases._style) with `ncols` axes side by side."""
-    _style.apply()
-    w = width if width is not None else FIGSIZE[0] * (1.0 if ncols == 1 else 0.8 * ncols)
-    fig, axes = plt.subplots(1, ncols, figsize=(w, FIGSIZE[1]), squeeze=False)
+#: Width of a figure's first panel and of each further one [in]: one panel is a column wide
+#: (cases._style.COLUMN_WIDTH), so its fonts are at their size there.
+PANEL_WIDTHS: tuple[float, float] = (3.4, 2.7)
+
+
+def figure_width(ncols: int) -> float:
+    """The width [in] of a figure of `ncols` panels side by side (PANEL_WIDTHS)."""
+    return PANEL_WIDTHS[0] + PANEL_WIDTHS[1] * (ncols - 1)
+
+
+def new_figure(ncols: int = 1, *, nrows: int = 1, width: float | None = None,
+               height: float | None = None, **kwargs: Any) -> tuple[Any, Any]:
+    """A figure in the common style (cases._style) with `ncols` axes side by side (in `nrows`
+    rows: then a 2-D array of axes), `width` inches wide (default figure_width(ncols)) and
+    `height` high (default 0.62 of the width, at least 3 in), its fonts legible once scaled to a
+    column (cases._style.column_fonts); `kwargs` go to plt.subplots (sharex, ...)."""
+    w = width if width is not None else figure_width(ncols)
+    _style.apply(w)
+    h = height if height is not None else max(3.0, 0.62 * w)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(w, h), squeeze=False, **kwargs)
+    if nrows > 1:
+        return fig, axes
     return fig, axes[0] if ncols > 1 else axes[0][0]
 
 
 def figure_legend(fig: Any, axes: Iterable[Any], ncol: int = 3, caption: str | None = None,
                   width: int = 150) -> Any:
     """One legend for the whole figure, below the axes (where it covers no data), with every
-    distinct label of `axes` once: a marker shown in any panel is explained. `caption` (what the
+    distinct label of `axes` once: a marker shown in any panel is explained; in at most `ncol`
+    columns, fewer when they would not fit the figure's width. `caption` (what the
     figure shows, how to read it) is set above the entries, wrapped at `width` characters."""
     handles: dict[str, Any] = {}
     for ax in axes:
         for handle, label in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(label, handle)
     title = textwrap.fill(caption, width=width) if caption else None
-    return fig.legend(list(handles.values()), list(handles), loc="lower center",
-                      ncol=min(ncol, max(len(handles), 1)), frameon=False, title=title,
-                      title_fontsize=8, alignment="left" if caption else "center")
+    n = min(ncol, max(len(handles), 1))
+    while True:              # the most columns up to `ncol` with which it fits the figure's width
+        legend = fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=n,
+                            frameon=False, title=title, alignment="left" if caption else "center")
+        if n == 1 or legend.get_window_extent(fig.canvas.get_renderer()).width <= fig.bbox.width:
+            return legend
+        legend.remove()
+        n -= 1
 
 
 def save_figure(fig: Any, path: str | os.PathLike[str]) -> Path:
@@ -266,8 +289,9 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
         same_as = ", ".join(series_label(series[k]).split(" (")[0] for k in close)
         close = []
     panels = 1 + wide + bool(close)
-    fig, axes = new_figure(panels, width=FIGSIZE[0] * (1.0 + 0.75 * (panels - 1)))
-    axes = list(axes) if panels > 1 else [axes]
+    # the panels one above the other, a column wide
+    fig, axes = new_figure(1, nrows=panels, height=1.7 + 2.4 * panels, sharex=True)
+    axes = list(axes[:, 0]) if panels > 1 else [axes]
     base, unit = split_unit(series[0])
     quantity = base.split()[0]
     first = series_label(series[ref]).split(" (")[0].split(", atol")[0]
@@ -285,26 +309,24 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
     axes[0].set_ylabel(f"{quantity} [{unit}]")
     if log_ax is not None:
         axes[0].set_title(f"{quantity} on a linear axis")
-        log_ax.set_ylabel(f"|{quantity}| [{unit}], log axis")
-        log_ax.set_title("the same on a log axis (every series visible)")
+        log_ax.set_ylabel(f"|{quantity}| [{unit}]")
+        log_ax.set_title("the same on a log axis")
     if diff_ax is not None:
         spread = max(float(np.abs(ys[k] - ys[ref]).max()) for k in close)
         if log_ax is None:
             axes[0].set_title(f"{quantity}: curves that lie on each other")
         diff_ax.set_ylabel(f"difference in {quantity} [{unit}]")
-        diff_ax.set_title(f"minus {first}: at most {spread:.2g} {unit} apart" if spread > 0 else
+        diff_ax.set_title(f"minus {first}: within {spread:.2g} {unit}" if spread > 0 else
                           f"minus {first}: identical (difference exactly 0)", pad=14)
         diff_ax.axhline(0.0, color="k", linewidth=0.6)
     if same_as:
-        note = f"{same_as} identical to {first} (difference exactly 0)"
-        axes[0].set_title(f"{quantity}: {note}" if log_ax is None else f"{quantity} on a linear axis; {note}",
-                          fontsize=8)
+        note = f"{same_as} identical to {first}"
+        axes[0].set_title(f"{quantity}: {note}" if log_ax is None else f"{quantity} on a linear axis; {note}")
     if panels > 1 or same_as:
         fig.suptitle(title)
     else:
         axes[0].set_title(title)
-    for ax in axes:
-        ax.set_xlabel("time t [s]" if names[0] == "t [s]" else names[0])
+    axes[-1].set_xlabel("time t [s]" if names[0] == "t [s]" else names[0])
     figure_legend(fig, axes)
     return save_figure(fig, png_path)
 

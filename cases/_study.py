@@ -180,44 +180,42 @@ def plot_table(csv_path: Path, png_path: Path, note: str = "") -> Path:
     rows = [i for i, p in enumerate(cols["paper_cpu_seconds [s]"]) if p != ""]
     def mode(text: str) -> str:
         if text == "automatic":
-            return "DOPRI5\nautomatic"
-        return f"RK4\nh = {float(text[2:]):.0e} s".replace("e-0", "e-")
+            return "DOPRI5 automatic"
+        return f"RK4, h = {float(text[2:]):.0e} s".replace("e-0", "e-")
 
-    labels = [f"{c.LAW_LABELS[cols['law [-]'][i]].split(' (')[0]}\n{mode(cols['mode [-]'][i])}"
+    labels = [f"{c.LAW_LABELS[cols['law [-]'][i]].split(' (')[0]}, {mode(cols['mode [-]'][i])}"
               for i in rows]
-    series = (("paper_ratio_to_h1e-3 [-]", "paper's CPU time, ratio [-]"),
-              ("cpu_ratio_to_h1e-3 [-]", "our CPU time, ratio [-]"),
-              ("nfev_ratio_to_h1e-3 [-]", "our function evaluations, ratio [-]"))
-    fig, ax = c.new_figure(width=8.5)
-    x = np.arange(len(rows))
+    series = (("paper_ratio_to_h1e-3 [-]", "paper's CPU time"),
+              ("cpu_ratio_to_h1e-3 [-]", "our CPU time"),
+              ("nfev_ratio_to_h1e-3 [-]", "our function evaluations"))
+    fig, ax = c.new_figure(width=c.figure_width(1), height=4.0)
+    y = np.arange(len(rows))
     # points, not bars, on the log axis (a bar's length from an arbitrary baseline means nothing)
     for k, (name, label) in enumerate(series):
-        ax.semilogy(x + (k - 1) * 0.2, [float(cols[name][i]) for i in rows], ("o", "s", "^")[k],
-                    ms=6, label=label, color=c._style.SEQUENCE[k], linestyle="none")
-    ax.axhline(1.0, color="k", linewidth=0.6)
-    ax.set_xticks(x, labels, fontsize=7)
-    ax.set_ylabel("cost relative to RK4 with h = 1e-3 s [-]")
+        ax.semilogx([float(cols[name][i]) for i in rows], y + (k - 1) * 0.2, ("o", "s", "^")[k],
+                    ms=5, label=label, color=c._style.SEQUENCE[k], linestyle="none")
+    ax.axvline(1.0, color="k", linewidth=0.6)
+    ax.set_yticks(y, labels)
+    ax.invert_yaxis()
+    ax.set_xlabel("cost relative to RK4, h = 1e-3 s [-]")
     number, scene = csv_path.stem.split("_")[:2]
-    ax.set_title(f"Table {number[5:]}: {c._style.name(scene)}, cost of each law's runs relative to "
-                 f"its RK4 run with h = 1e-3 s" + (f" ({note})" if note else ""))
+    fig.suptitle(f"Table {number[5:]}: {c._style.name(scene)}" + (f" ({note})" if note else ""))
     c.figure_legend(fig, [ax])
     return c.save_figure(fig, png_path)
 
 
 def title_for(stem: str, note: str = "") -> str:
-    """A plot title from a file stem such as fig06_slope_steps_recurdyn: the figure, the scene,
-    the law and the runs shown (their parameters are in the legend); `note` names parameters
-    that differ from the paper's."""
+    """A plot title from a file stem such as fig06_slope_steps_recurdyn: the figure, the scene
+    and the law (the runs shown and their parameters are in the legend); `note` names
+    parameters that differ from the paper's."""
     parts = stem.split("_")
     number = int(parts[0][3:])
     scene = c._style.name(parts[1])
     tail = f" ({note})" if note else ""
     if parts[2] == "automatic":
-        return f"Fig. {number}: {scene}, the three laws, DOPRI5 with automatic step size{tail}"
-    law = c.LAW_LABELS[parts[3]]
-    what = ("RK4 at two step sizes and DOPRI5 automatic" if parts[2] == "steps"
-            else "DOPRI5 at three error tolerances")
-    return f"Fig. {number}: {scene}, {law} law, {what}{tail}"
+        return f"Fig. {number}: {scene}, DOPRI5 automatic{tail}"
+    law = c.LAW_LABELS[parts[3]].split(" (")[0]
+    return f"Fig. {number}: {scene}, {law} law{tail}"
 
 
 def plot(csv_path: str | Path, outdir: str | Path, note: str = "") -> Path:

@@ -5,7 +5,8 @@
   the words a figure shows ("RecurDyn (haversine)", "implicit Euler", "mass on a moving
   belt"); a code it does not know is shown as it is, so a new law still plots.
 - `LAW_COLORS`, `METHOD_COLORS`, `SEQUENCE`: colours by code, and the default colour cycle.
-- `apply()` sets matplotlib's parameters (Agg backend, fonts, the colour cycle); `save(fig,
+- `apply(width)` sets matplotlib's parameters (Agg backend, fonts legible at a column width of
+  8.5 cm for a figure `width` inches wide, the colour cycle); `save(fig,
   path)` writes a PNG at `DPI` (>= 200) and a vector PDF beside it, each whole or not at all.
 
 Use it through `cases._common` (`new_figure`, `save_figure`, `LAW_LABELS`, ...) or directly.
@@ -108,19 +109,24 @@ def color(code: str, index: int = 0) -> str:
 def column_fonts(width: float) -> dict[str, float]:
     """matplotlib's font sizes [pt] for a figure `width` inches wide that is legible when
     scaled to COLUMN_WIDTH: its smallest font (ticks, legend) reads MIN_FONT_AT_COLUMN there.
-    Use as ``plt.rcParams.update(column_fonts(w))`` after apply()."""
+    apply(width) sets them."""
     small = MIN_FONT_AT_COLUMN * max(width / COLUMN_WIDTH, 1.0)
     return {"font.size": small, "axes.titlesize": small, "axes.labelsize": small,
             "xtick.labelsize": small, "ytick.labelsize": small, "legend.fontsize": small,
             "legend.title_fontsize": small, "figure.titlesize": small * 1.1}
 
 
-def apply() -> None:
-    """matplotlib's parameters for every figure: fonts, grid, the Okabe-Ito colour cycle."""
+def apply(width: float | None = None) -> None:
+    """matplotlib's parameters for every figure: fonts, grid, the Okabe-Ito colour cycle; given
+    the figure's `width` [in], fonts legible once it is scaled to a column (column_fonts)."""
     plt.rcParams.update({"font.size": 9, "axes.grid": True, "grid.alpha": 0.3,
                          "legend.fontsize": 8, "axes.titlesize": 9, "figure.titlesize": 10,
+                         "legend.title_fontsize": None, "xtick.labelsize": "medium",
+                         "ytick.labelsize": "medium", "axes.labelsize": "medium",
                          "lines.linewidth": 1.2, "axes.prop_cycle": cycler(color=list(SEQUENCE)),
                          "savefig.dpi": DPI, "pdf.fonttype": 42})
+    if width is not None:
+        plt.rcParams.update(column_fonts(width))
 
 
 def save(fig: Any, path: str | os.PathLike[str],

@@ -283,6 +283,12 @@ def events_summary(ev_path: Path) -> str:
             + f"Sizes 1-10: counts = {a:.3g} size^-{b:.3g} (least squares in log-log).\n")
 
 
+#: The rows of the scaling figure: groups of methods, at most five lines a panel.
+PLOT_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("explicit, set-valued", ("rk4", "dopri5", "dop853", "moreau", "event_driven")),
+    ("implicit", ("radau5", "implicit_euler", "galpha")))
+
+
 def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
     """The scaling figure and the event-size figure, from the CSV files alone (named after
     them: <stem>.png and <stem>_events.png)."""
@@ -293,36 +299,39 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
     per_step = np.array(cols["cpu_per_step [s]"], dtype=float)
     error = np.array(cols["error [m]"], dtype=float)
     target = float(cols["target [m]"][0]) if len(cols["target [m]"]) else math.nan
-    fig, (ax_t, ax_s) = c.new_figure(2)
-    for m in METHODS:
-        sel = method == m
-        if not sel.any():
-            continue
-        color, marker = style.METHOD_COLORS.get(m, "black"), MARKERS[m]
-        p_t, p_s = fit_exponent(n[sel], per_second[sel]), fit_exponent(n[sel], per_step[sel])
-        fits = (f"exponents {p_t:.2f}, {p_s:.2f}" if math.isfinite(p_t) and math.isfinite(p_s)
-                else f"run to N = {n[sel].max():.0f}: no fit")
-        kw = dict(color=color, marker=marker, markeredgecolor="black", markeredgewidth=0.4)
-        ax_t.loglog(n[sel], per_second[sel], label=f"{style.name(m)} ({fits})", **kw)
-        hollow = sel & ~np.isfinite(error)
-        if hollow.any():
-            ax_t.loglog(n[hollow], per_second[hollow], linestyle="none", marker=marker, markersize=9,
-                        markerfacecolor="white", markeredgecolor=color)
-        missed = sel & np.isfinite(error) & (error > target)
-        if missed.any():
-            ax_t.loglog(n[missed], per_second[missed], linestyle="none", marker="o", markersize=14,
-                        markerfacecolor="none", markeredgecolor=style.OKABE_ITO["vermillion"],
-                        markeredgewidth=1.5, label="target not met (the finest setting)")
-        ax_s.loglog(n[sel], per_step[sel] * 1e6, **kw)
-    ax_t.set_xlabel("number of blocks N [-]")
-    ax_t.set_ylabel("CPU seconds per simulated second [-]")
-    ax_t.set_title(f"At position error <= {target:g} m")
-    ax_s.set_xlabel("number of blocks N [-]")
-    ax_s.set_ylabel("CPU time per step [microseconds]")
-    ax_s.set_title("Per step, same runs")
+    # a row per group of methods (at most five lines a panel); the fitted exponents are the
+    # table's (chain_exponents.md), not the legend's
+    fig, axes = c.new_figure(2, nrows=len(PLOT_GROUPS), height=8.0, sharex=True)
+    for row, (group, members) in enumerate(PLOT_GROUPS):
+        ax_t, ax_s = axes[row]
+        for m in members:
+            sel = method == m
+            if not sel.any():
+                continue
+            color, marker = style.METHOD_COLORS.get(m, "black"), MARKERS[m]
+            kw = dict(color=color, marker=marker, markeredgecolor="black", markeredgewidth=0.4)
+            ax_t.loglog(n[sel], per_second[sel], label=style.name(m).split(" (")[0], **kw)
+            hollow = sel & ~np.isfinite(error)
+            if hollow.any():
+                ax_t.loglog(n[hollow], per_second[hollow], linestyle="none", marker=marker, markersize=9,
+                            markerfacecolor="white", markeredgecolor=color)
+            missed = sel & np.isfinite(error) & (error > target)
+            if missed.any():
+                ax_t.loglog(n[missed], per_second[missed], linestyle="none", marker="o", markersize=14,
+                            markerfacecolor="none", markeredgecolor=style.OKABE_ITO["vermillion"],
+                            markeredgewidth=1.5, label="target not met")
+            ax_s.loglog(n[sel], per_step[sel] * 1e6, **kw)
+        ax_t.set_ylabel("CPU s / simulated s")
+        ax_s.set_ylabel("CPU per step [µs]")
+        ax_t.set_title(group)
+        ax_s.set_title("per step")
+        if row == len(PLOT_GROUPS) - 1:
+            ax_t.set_xlabel("number of blocks N [-]")
+            ax_s.set_xlabel("number of blocks N [-]")
     # how to read it (exponents fitted over N >= 100, hollow markers) is the page's text:
     # docs/guide/chain.md
-    c.figure_legend(fig, [ax_t], ncol=3)
+    fig.suptitle(f"Runs at position error <= {target:g} m")
+    c.figure_legend(fig, axes[:, 0], ncol=2)
     out = [c.save_figure(fig, outdir / f"{csv_path.stem}.png")]
 
     sizes = np.array(c.read_csv(ev_path)["size [blocks]"], dtype=int)
@@ -342,9 +351,9 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
             ax.loglog(s, a * s ** -b, color=style.OKABE_ITO["vermillion"], linestyle="--",
                       label=f"{a:.0f} size^-{b:.2f}, fitted to sizes 1-10")
         whole = int((sizes >= EVENT_BLOCKS).sum())
-        ax.set_title(f"Slip-event sizes, {EVENT_BLOCKS} blocks: {sizes.size} events, {whole} of the whole chain")
-        ax.legend()
-    ax.set_xlabel("event size: blocks that slip together [-]")
+        ax.set_title(f"{EVENT_BLOCKS} blocks: {sizes.size} events, {whole} whole")
+        c.figure_legend(fig, [ax], ncol=1)
+    ax.set_xlabel("event size: blocks slipping together [-]")
     ax.set_ylabel("events per unit size [-]")
     out.append(c.save_figure(fig, outdir / f"{ev_path.stem}.png"))
     return out

@@ -695,6 +695,13 @@ def label(name: str) -> str:
     return LABELS.get(name) or c._style.name(name)
 
 
+#: The rows of engines_slope_creep.png: groups of engines (ENGINE_STYLE's keys).
+CREEP_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("MuJoCo, Drake", ("mujoco", "mujoco_elliptic", "drake_lagged", "drake_tamsi",
+                       "drake_continuous", "drake_sap")),
+    ("Newton, Bullet", ("newton_semi_implicit", "bullet")))
+
+
 def plot(outdir: str | Path) -> list[Path]:
     """engines_slope_creep.png (left: measured against predicted creep of every engine with a
     law; right: measured creep against the time step at each engine's default friction
@@ -708,45 +715,51 @@ def plot(outdir: str | Path) -> list[Path]:
     for i, e in enumerate(rows["engine [-]"]):
         kind = e + ("_elliptic" if rows["cone [-]"][i] == "elliptic" else "")
         kinds.setdefault(kind, []).append(i)
-    fig, (ax, bx) = c.new_figure(2)
+    # a row per group of engines (CREEP_GROUPS), at most six series a panel
+    fig, axes = c.new_figure(2, nrows=len(CREEP_GROUPS), height=7.4, sharex="col")
     lim = []
-    for kind, idx in kinds.items():
-        if kind not in ENGINE_STYLE:
-            continue
-        col, mark = ENGINE_STYLE[kind]
-        pairs = [(float(rows[pred_col][i]) * 1e3, abs(float(rows[creep_col][i])) * 1e3)
-                 for i in idx if rows[pred_col][i] != ""]
-        if pairs:
-            p, m = np.array(pairs).T
-            lim += [p.min(), p.max(), m.min(), m.max()]
-            ax.loglog(p, m, mark, color=col, mfc="none", ms=7, label=label(kind))
-        # right panel: every run at the engine's default friction setting, by time step
-        steps = [(float(rows["timestep [s]"][i]), abs(float(rows[creep_col][i])) * 1e3)
-                 for i in idx if rows["timestep [s]"][i] != ""
-                 and _default_friction(kind, rows["setting [-]"][i])]
-        steps = sorted({s for s in steps if s[0] > 0})
-        if steps:
-            h, m = np.array(steps).T
-            bx.loglog(h, m, mark + "-", color=col, mfc="none", ms=6, label=label(kind))
+    for row, (group, members) in enumerate(CREEP_GROUPS):
+        ax, bx = axes[row]
+        for kind in members:
+            if kind not in kinds:
+                continue
+            idx = kinds[kind]
+            col, mark = ENGINE_STYLE[kind]
+            pairs = [(float(rows[pred_col][i]) * 1e3, abs(float(rows[creep_col][i])) * 1e3)
+                     for i in idx if rows[pred_col][i] != ""]
+            if pairs:
+                p, m = np.array(pairs).T
+                lim += [p.min(), p.max(), m.min(), m.max()]
+                ax.loglog(p, m, mark, color=col, mfc="none", ms=7, label=label(kind))
+            # right panel: every run at the engine's default friction setting, by time step
+            steps = [(float(rows["timestep [s]"][i]), abs(float(rows[creep_col][i])) * 1e3)
+                     for i in idx if rows["timestep [s]"][i] != ""
+                     and _default_friction(kind, rows["setting [-]"][i])]
+            steps = sorted({s for s in steps if s[0] > 0})
+            if steps:
+                h, m = np.array(steps).T
+                bx.loglog(h, m, mark + "-", color=col, mfc="none", ms=6, label=label(kind))
+        ax.set_title(f"{group}, every run")
+        bx.set_title("default friction")
+        ax.set_ylabel(f"creep in {t_end} [mm]")
+        bx.set_ylabel(f"|creep| in {t_end} [mm]")
+        if row == len(CREEP_GROUPS) - 1:
+            ax.set_xlabel(f"predicted creep in {t_end} [mm]")
+            bx.set_xlabel("time step [s]")
     if lim:
         lo, hi = min(lim) / 1.5, max(lim) * 1.5
-        ax.plot([lo, hi], [lo, hi], "-", color="0.5", lw=0.8, label="measured = predicted")
-    ax.set_xlabel(f"predicted creep in {t_end} [mm]")
-    ax.set_title("creep against the prediction, every run")
-    bx.set_title("creep against the time step, default friction")
-    ax.set_ylabel(f"measured creep in {t_end} [mm]")
-    ax.legend(fontsize=7)
-    bx.set_xlabel("time step [s]")
-    bx.set_ylabel(f"|creep| in {t_end} [mm]")
-    lo, hi = bx.get_ylim()
-    bx.set_ylim(lo / 30, hi)                  # room for the legend below the lowest run
-    bx.legend(fontsize=7, ncol=2, loc="lower right")
+        for ax in axes[:, 0]:
+            ax.plot([lo, hi], [lo, hi], "-", color="0.5", lw=0.8, zorder=0, label="measured = predicted")
+            ax.set_xlim(lo, hi)
+            ax.set_ylim(lo, hi)
+    c.figure_legend(fig, axes.ravel(), ncol=2)
     files = [c.save_figure(fig, outdir / "engines_slope_creep.png")]
 
     s = c.read_numeric_csv(outdir / "engines_belt_series.csv")
     # two panels (at most seven lines each): the library's exact-stick methods, then the
     # engines beside the best a one-coefficient engine can do (Coulomb with mu_s = mu_k, grey)
-    fig, (ax, bx) = c.new_figure(2)
+    fig, axes = c.new_figure(1, nrows=2, height=7.6, sharex=True)
+    ax, bx = axes[:, 0]
     extra = {"event_driven_one_mu": ("0.45", "--"),
              "mujoco_elliptic_ir100": (c._style.OKABE_ITO["reddish purple"], "--"),
              "newton_semi_implicit": (c._style.OKABE_ITO["black"], "-.")}   # not Moreau's line
@@ -762,9 +775,9 @@ def plot(outdir: str | Path) -> list[Path]:
     ax.set_title("stickslip's exact-stick methods")
     bx.set_title("physics engines")
     for a in (ax, bx):
-        a.set_xlabel("time [s]")
         a.set_ylabel("velocity of the mass [m/s]")
-    c.figure_legend(fig, (ax, bx), ncol=3)
+    bx.set_xlabel("time [s]")
+    c.figure_legend(fig, (ax, bx), ncol=1)
     files.append(c.save_figure(fig, outdir / "engines_belt.png"))
     return files
 

@@ -242,6 +242,14 @@ def shown_laws(chosen: str, available: Sequence[str]) -> list[str]:
     return out[:3]
 
 
+#: Widths of the figures [in] (loops, residuals, correlations, scores); their fonts are scaled to
+#: stay legible at a column width (cases._style.apply).
+LOOPS_WIDTH: float = 4.6
+RESIDUALS_WIDTH: float = 5.0
+CORRELATION_WIDTH: float = 4.6
+SCORES_WIDTH: float = 4.0
+
+
 def plot(outdir: str | Path) -> list[Path]:
     """Loops and residuals of the held-out records, correlations of the chosen law's
     parameters, and the scores of every law."""
@@ -250,7 +258,6 @@ def plot(outdir: str | Path) -> list[Path]:
     scores = _rows(outdir / "identify_scores.csv")
     groups = sorted({r["group [-]"] for r in scores})
     files: list[Path] = []
-    plt.rcParams.update({"font.size": 8, "axes.grid": True, "grid.alpha": 0.3, "legend.fontsize": 7})
     for g in groups:
         chosen, _ = choose(scores, g)
         pred_path = outdir / f"identify_predictions_{g}.csv"
@@ -261,26 +268,31 @@ def plot(outdir: str | Path) -> list[Path]:
             laws = shown_laws(chosen, avail)
             col = {k: np.array(v, dtype=float) for k, v in pr.items() if k != "record [-]"}
             which = np.array(pr["record [-]"])
-            fig, axes = plt.subplots(len(laws), len(names), figsize=(2.4 * len(names), 2.1 * len(laws)),
+            # a row per record, a column per law: a column of the page holds it at its fonts
+            width = LOOPS_WIDTH
+            _style.apply(width)
+            fig, axes = plt.subplots(len(names), len(laws), figsize=(width, 1.2 + 1.9 * len(names)),
                                      squeeze=False, sharey=True)
-            for j, name in enumerate(names):
+            for i, name in enumerate(names):
                 sel = which == name
-                for i, law in enumerate(laws):
+                for j, law in enumerate(laws):
                     ax = axes[i][j]
                     ax.plot(1e3 * col["x [m]"][sel], 1e-3 * col["F measured [N]"][sel], color=MEASURED_COLOR,
                             lw=0.6, label="measured")
                     ax.plot(1e3 * col["x [m]"][sel], 1e-3 * col[f"F {law} [N]"][sel], color=_style.color(law),
                             lw=0.9, label=f"{LAW_NAMES.get(law, law)} (predicted)")
                     if i == 0:
-                        ax.set_title(name.replace("sine_", "").replace("_", ", "), fontsize=7)
-                    if i == len(laws) - 1:
+                        ax.set_title(LAW_NAMES.get(law, law))
+                    if i == len(names) - 1:
                         ax.set_xlabel("displacement [mm]")
                     if j == 0:
-                        ax.set_ylabel(f"{LAW_NAMES.get(law, law)}\nforce [kN]")
-            fig.suptitle(f"Held-out records at {g}: measured (grey) and predicted force against displacement",
-                         fontsize=8)
+                        ax.set_ylabel(f"{name.replace('sine_', '').replace('_', ', ')}\nforce [kN]")
+            fig.suptitle(f"Held-out records at {g}: measured (grey), predicted")
             files += _save(fig, outdir / f"identify_loops_{g}")
-            fig, axes = plt.subplots(len(laws), 1, figsize=(7.0, 1.7 * len(laws)), squeeze=False, sharex=True)
+            width = RESIDUALS_WIDTH
+            _style.apply(width)
+            fig, axes = plt.subplots(len(laws), 1, figsize=(width, 1.0 + 1.9 * len(laws)), squeeze=False,
+                                     sharex=True)
             for i, law in enumerate(laws):
                 ax = axes[i][0]
                 offset = 0.0
@@ -292,8 +304,8 @@ def plot(outdir: str | Path) -> list[Path]:
                     ax.axvline(offset, color="k", lw=0.4)
                     offset += tt[-1] + 0.5
                 ax.set_ylabel(f"{LAW_NAMES.get(law, law)}\nresidual [kN]")
-            axes[-1][0].set_xlabel("time [s], the held-out records one after the other (black lines: starts)")
-            fig.suptitle(f"Residual force (predicted - measured) on the held-out records at {g}", fontsize=8)
+            axes[-1][0].set_xlabel("time [s], held-out records in turn (lines: starts)")
+            fig.suptitle(f"Residual force (predicted - measured) at {g}")
             files += _save(fig, outdir / f"identify_residuals_{g}")
         # the chosen law's parameter correlations (run() writes them: a result of the fit)
         corr_path = outdir / f"identify_correlation_{g}.csv"
@@ -301,20 +313,24 @@ def plot(outdir: str | Path) -> list[Path]:
             cc = c.read_csv(corr_path)
             labels = cc["parameter [-]"]
             m = np.array([[float(x) for x in cc[f"{k} [-]"]] for k in labels])
-            fig, ax = plt.subplots(figsize=(4.6, 4.0))
+            width = CORRELATION_WIDTH
+            _style.apply(width)
+            fig, ax = plt.subplots(figsize=(width, 0.9 * width))
             im = ax.imshow(m, vmin=-1, vmax=1, cmap="PuOr")
             ax.set_xticks(range(len(labels)), labels, rotation=60, ha="right")
             ax.set_yticks(range(len(labels)), labels)
             ax.grid(False)
             for (i, j), val in np.ndenumerate(m):
-                ax.text(j, i, f"{val:.2f}", ha="center", va="center", fontsize=6,
+                ax.text(j, i, f"{val:.2f}", ha="center", va="center",
                         color="white" if abs(val) > 0.6 else "black")
             fig.colorbar(im, ax=ax, label="correlation of the estimates [-]")
-            ax.set_title(f"{LAW_NAMES.get(chosen, chosen)} at {g}: parameter correlations", fontsize=8)
+            ax.set_title(f"{LAW_NAMES.get(chosen, chosen)} at {g}: correlations")
             files += _save(fig, outdir / f"identify_correlation_{g}")
     # scores of every law
     laws = list(dict.fromkeys(r["law [-]"] for r in scores))
-    fig, axes = plt.subplots(1, 2, figsize=(8.0, 3.2))
+    width = SCORES_WIDTH
+    _style.apply(width)
+    fig, axes = plt.subplots(2, 1, figsize=(width, 2.0 * width), sharex=True)
     width = 0.8 / max(len(groups), 1)
     for k, g in enumerate(groups):
         mine = {r["law [-]"]: r for r in scores if r["group [-]"] == g}
@@ -322,20 +338,22 @@ def plot(outdir: str | Path) -> list[Path]:
         held = [float(mine[l]["nrmse held out [-]"] or "nan") for l in laws]
         fitted = [float(mine[l]["nrmse fitted [-]"]) for l in laws]
         axes[0].bar(xs, 100 * np.array(held), width, color=GROUP_COLORS[k % len(GROUP_COLORS)],
-                    label=f"{g}, held out")
-        axes[0].plot(xs, 100 * np.array(fitted), "k_", ms=8, label="fitted records" if k == 0 else None)
+                    label=g)
+        axes[0].plot(xs, 100 * np.array(fitted), "k_", ms=8, label="fitted" if k == 0 else None)
         # points, not bars, on the log axis (a bar's length from an arbitrary baseline means nothing)
         axes[1].semilogy(xs, [float(mine[l]["delta BIC [-]"]) + 1.0 for l in laws], "o", ms=5,
                          color=GROUP_COLORS[k % len(GROUP_COLORS)], label=g)
-    for ax in axes:
-        ax.set_xticks(range(len(laws)), [LAW_NAMES.get(l, l) for l in laws], rotation=40, ha="right")
+    axes[1].set_xticks(range(len(laws)), [LAW_NAMES.get(l, l).split(" (")[0] for l in laws], rotation=90)
     axes[0].set_ylabel("RMS error / force range [%]")
-    axes[0].set_title("error on held-out records (bars) and fitted ones (ticks)", fontsize=8)
+    axes[0].set_title("error: held out (bars), fitted (ticks)")
     axes[1].set_yscale("log")
-    axes[1].set_ylabel("BIC - best BIC + 1 [-], log axis")
-    axes[1].set_title("BIC on the fitted records (lower is better)", fontsize=8)
-    axes[0].legend()
-    axes[1].legend()
+    axes[1].set_ylabel("BIC - best BIC + 1 [-]")
+    axes[1].set_title("BIC of the fits (lower: better)")
+    for ax, room in ((axes[0], 1.6), (axes[1], 1e3)):     # room for the legend above the data
+        low, high = ax.get_ylim()
+        ax.set_ylim(low, high * room)
+        ax.legend(loc="upper right", ncol=len(groups) + (ax is axes[0]), handlelength=1.2,
+                  columnspacing=0.8)
     files += _save(fig, outdir / "identify_scores")
     return files
 

@@ -55,15 +55,16 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     fig, (ax_full, ax_zoom) = c.new_figure(2)
     zoom = np.abs(ratio) <= ZOOM
     for ax, sel, title in ((ax_full, slice(None), "full range"),
-                           (ax_zoom, zoom, f"near zero: |v| <= {ZOOM:g} v_s")):
+                           (ax_zoom, zoom, f"|v| <= {ZOOM:g} v_s")):
         ax.plot(v[sel], mu[sel], color=c.LAW_COLORS[law])
         ax.axhline(0.0, color="k", linewidth=0.5)
         ax.axvline(0.0, color="k", linewidth=0.5)
         ax.set_xlabel("relative velocity v [m/s]")
-        ax.set_ylabel("friction coefficient μ [-]")
+        if ax is ax_full:
+            ax.set_ylabel("friction coefficient μ [-]")
         ax.set_title(title)
-    fig.suptitle(f"Fig. {FIGURES[law]}: friction coefficient of the {c.LAW_LABELS[law]} law against "
-                 f"the relative velocity (v_s = {v[np.argmax(ratio)] / ratio.max():g} m/s)")
+    fig.suptitle(f"Fig. {FIGURES[law]}: {c.LAW_LABELS[law].split(' (')[0]} law, "
+                 f"v_s = {v[np.argmax(ratio)] / ratio.max():g} m/s")
     return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
 
 

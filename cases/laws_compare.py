@@ -359,16 +359,13 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: boo
 #: What each CSV's figure shows: (column, log scale of its absolute value, y label, title).
 FIGURES: dict[str, tuple[str, bool, str, str]] = {
     "slope": ("x_20 [m]", True, "distance slid |x(20 s)| [m] (truth: 0)",
-              "Box on a 10° slope from rest (static friction holds it): how far each law lets it "
-              "slide in 20 s"),
+              "Box on a 10° slope from rest: distance slid in 20 s"),
     "belt": ("err_x_max [m]", True, "|x_max - exact Coulomb x_max| [m]",
-             "Mass on a moving belt, started stuck: error of the stick-slip cycle's largest "
-             "excursion"),
+             "Belt, started stuck: error of the largest excursion"),
     "rest": ("rate_measured [1/s]", False, "growth rate of the oscillation [1/s]",
-             "Mass on a moving belt from rest: growth rate (bars) against -g μ'(v_b)/2 (dots)"),
-    "hmax": ("h_bounded [s]", True, "largest step h [s] (1e-2: the largest tried)",
-             "Largest step that stays bounded (circles: slope, squares: belt) and within 1 % of a "
-             "DOPRI5 reference (dashes)"),
+             "Belt from rest: growth rates"),
+    "hmax": ("h_bounded [s]", True, "largest step h [s]",
+             "Largest bounded step: ○ slope, □ belt"),
 }
 
 
@@ -380,6 +377,11 @@ def series_name(tag: str) -> str:
         return f"{words[0]}: {c._style.name(words[1]) if len(words) > 1 else 'RK4'}"
     text = c._style.name(words[0]) if words else tag
     return text + "".join(f", h = {w[2:]} s" for w in words[1:] if w.startswith("h="))
+
+
+#: Width of the figures of runs grouped by law [in]; their fonts are scaled to stay legible at a
+#: column width (cases._style.apply).
+WIDTH: float = 6.4
 
 
 def plot(csv: str | Path, outdir: str | Path) -> Path:
@@ -397,7 +399,8 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
         names = list(data)
         # two panels, one quantity each: the body's position, the laws' internal states (the
         # generalized Maxwell-slip law's elements in line styles of the law's colour)
-        fig, (ax, zx) = c.new_figure(2)
+        fig, axes = c.new_figure(1, nrows=2, height=7.4, sharex=True)
+        ax, zx = axes[:, 0]
         for name in names[1:]:
             what, law = c.split_unit(name)[0].split()
             index = int(what[1:]) - 1 if what[1:].isdigit() else 0
@@ -407,9 +410,9 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
                 label=c._style.name(law) + (f", element {index + 1}" if what[1:].isdigit() else ""))
         for a, title, ylabel in ((ax, "position of the box", "position x [µm]"),
                                  (zx, "the laws' internal states", "bristle deflection z [µm]")):
-            a.set_xlabel("time t [ms]")
             a.set_ylabel(ylabel)
             a.set_title(title)
+        zx.set_xlabel("time t [ms]")
         fig.suptitle("Box on a 10° slope from rest: presliding")
         c.figure_legend(fig, [ax, zx], ncol=3)
         return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
@@ -427,7 +430,8 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     others = [t for t in series if not any(t in group for _, group in families)]
     if others:
         families.append(("other", others))
-    fig, axes = c.plt.subplots(len(families), 1, figsize=(10.0, 1.3 + 2.4 * len(families)),
+    c._style.apply(WIDTH)
+    fig, axes = c.plt.subplots(len(families), 1, figsize=(WIDTH, 4.4 + 2.4 * max(len(families), 2)),
                                squeeze=False, sharex=True, sharey=True)
     lowest = math.inf                     # the smallest value drawn on a log axis
     marks = False
@@ -443,18 +447,18 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     if log and marks and math.isfinite(lowest):   # the foot's marks below every value
         axes[0, 0].set_ylim(bottom=lowest / 30.0)
 
-    def tick(law: str) -> str:           # "lugre sigma2=0" -> "LuGre\nσ2 = 0"
+    def tick(law: str) -> str:           # "lugre sigma2=0" -> "LuGre, σ2 = 0"
         base, _, variant = law.partition(" ")
         name = textwrap.fill(c._style.name(base).split(" (")[0], 12)   # "generalized\nMaxwell-slip"
-        return name + ("\n" + variant.replace("sigma", "σ").replace("=", " = ") if variant else "")
+        return name + (", " + variant.replace("sigma", "σ").replace("=", " = ") if variant else "")
 
     axes[-1, 0].set_xticks(range(len(laws)))
-    axes[-1, 0].set_xticklabels([tick(law) for law in laws], fontsize=8)
+    axes[-1, 0].set_xticklabels([tick(law) for law in laws], rotation=90)
     if len(families) > 1:
         fig.suptitle(title)
     else:
         axes[0, 0].set_title(title)
-    c.figure_legend(fig, axes[:, 0], ncol=4)
+    c.figure_legend(fig, axes[:, 0], ncol=2)
     return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
 
 
@@ -462,7 +466,7 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
 FAMILIES: tuple[tuple[str, frozenset[str]], ...] = (
     ("explicit", frozenset({"rk4", "dopri5", "dop853"})),
     ("implicit", frozenset({"implicit_euler", "galpha", "radau5"})),
-    ("set-valued (exact stick; the other laws are refused)", frozenset({"moreau", "event_driven"})))
+    ("set-valued (other laws refused)", frozenset({"moreau", "event_driven"})))
 
 
 def _draw_group(ax: Any, kind: str, log: bool, cols: dict[str, list[str]], laws: list[str],

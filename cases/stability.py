@@ -260,12 +260,21 @@ def implicit_map(v_ss: Sequence[float], n_h: int, threads: int, client: Any = No
     return out
 
 
+#: Widths of the implicit methods' figure and of the maps [in]; their fonts are scaled to stay
+#: legible at a column width (cases._style.apply).
+IMPLICIT_WIDTH: float = 6.4
+MAP_WIDTH: float = 6.4
+
+
 def plot_implicit(csv: str | Path, outdir: str | Path) -> Path:
     """Render stability_implicit.csv: class over h / h_lin per method, one panel per law and v_s."""
     cols = c.read_csv(csv)
     keys = list(dict.fromkeys((cols["law [-]"][i], cols["v_s [m/s]"][i]) for i in range(len(cols["law [-]"]))))
-    c._style.apply()
-    fig, axes = c.plt.subplots(1, len(keys), figsize=(2.6 * len(keys) + 1.8, 3.6), squeeze=False)
+    width = IMPLICIT_WIDTH
+    c._style.apply(width)
+    fig, axes = c.plt.subplots(len(keys), 1, figsize=(width, 2.4 + 1.5 * len(keys)), squeeze=False,
+                               sharex=True)
+    axes = axes.T
     colors = c._style.CLASS_COLORS
     labels = [m if rho is None else f"{m} {rho:g}" for m, rho in IMPLICIT_METHODS]
     shown = [c._style.name(m) if rho is None else f"{c._style.name(m)}, ρ∞ = {rho:g}"
@@ -282,12 +291,12 @@ def plot_implicit(csv: str | Path, outdir: str | Path) -> Path:
                         color=colors[k], ms=5, label=None if k in seen else c._style.name(k))
             seen.add(k)
         ax.axvline(1.0, color="k", lw=0.8)
-        ax.set_yticks(range(len(labels)), shown if ax is axes[0][0] else [""] * len(labels), fontsize=7)
-        ax.set_xlabel("step h / RK4's stability bound h_lin [-]")
-        ax.set_title(f"{c.LAW_LABELS[l].split(' (')[0]} law, v_s = {float(vs):g} m/s", fontsize=8)
-    fig.suptitle("Fixed-step implicit methods on the box on a 10° slope, from rest: outcome by step "
-                 "size (vertical line: RK4's linear stability bound)")
-    c.figure_legend(fig, axes.ravel(), ncol=5)
+        ax.set_yticks(range(len(labels)), shown)
+        ax.set_ylim(-0.6, len(labels) - 0.4)
+        ax.set_title(f"{c.LAW_LABELS[l].split(' (')[0]}, v_s = {float(vs):g} m/s")
+    axes[0][-1].set_xlabel("step h / RK4's bound h_lin [-]")
+    fig.suptitle("Implicit methods on the slope (line: h = h_lin)")
+    c.figure_legend(fig, axes.ravel(), ncol=3)
     return c.save_figure(fig, Path(outdir) / "stability_implicit.png")
 
 
@@ -440,12 +449,14 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
     from matplotlib.colors import LogNorm
     cols = c.read_csv(csv)
     is_rk4 = "h [s]" in cols
-    c._style.apply()
-    fig, axes = c.plt.subplots(len(SCENES), len(LAWS), figsize=(11.0, 6.6), squeeze=False)
+    c._style.apply(MAP_WIDTH)
+    # a row per law, a column per scene
+    fig, axes = c.plt.subplots(len(LAWS), len(SCENES), figsize=(MAP_WIDTH, 2.8 + 2.4 * len(LAWS)),
+                               squeeze=False, sharex=True)
     colors = c._style.CLASS_COLORS
     for a, s in enumerate(SCENES):
         for b, l in enumerate(LAWS):
-            ax = axes[a][b]
+            ax = axes[b][a]
             sel = [i for i in range(len(cols["law [-]"]))
                    if cols["scene [-]"][i] == s and cols["law [-]"][i] == l]
             vs = np.array([float(cols["v_s [m/s]"][i]) for i in sel])
@@ -460,7 +471,8 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                 if l != "coulomb":
                     ax.loglog(v_line, [linear_bound(s, l, v)[1] for v in v_line], "k-", lw=1.2,
                               label="linear stability bound h_lin = 2.785/|λ| [s]")
-                ax.set_ylabel("RK4 step h [s]")
+                if a == 0:
+                    ax.set_ylabel("RK4 step h [s]")
             else:
                 rt = np.array([float(cols["rtol [-]"][i]) for i in sel])
                 nfev = np.array([float(cols["nfev [-]"][i]) for i in sel])
@@ -469,17 +481,19 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                 sc = ax.scatter(vs, rt, c=nfev, norm=LogNorm(), cmap="viridis", marker="s", s=30)
                 ax.set_xscale("log")
                 ax.set_yscale("log")
-                fig.colorbar(sc, ax=ax, label="function evaluations nfev [-]")
+                fig.colorbar(sc, ax=ax, label="nfev [-]")
                 ax.scatter(vs[forced > 0], rt[forced > 0], marker="x", color=c._style.OKABE_ITO["vermillion"], s=14,
                            label="forced steps at h_min (nforced > 0)")
                 ax.scatter(vs[stiff], rt[stiff], marker="o", facecolors="none",
                            edgecolors=c._style.OKABE_ITO["sky blue"], s=40, label="stiffness detected (stiff flag)")
-                ax.set_ylabel("relative tolerance rtol [-]")
-            ax.set_title(f"{c._style.name(s)}, {c.LAW_LABELS[l]} law", fontsize=9)
-            ax.set_xlabel("static threshold velocity v_s [m/s]")
-    fig.suptitle("RK4 from rest: outcome over step size and v_s" if is_rk4 else
-                 "DOPRI5 from rest: cost over tolerance and v_s (h_min = 1e-6 s, atol = 1e-3 rtol)")
-    c.figure_legend(fig, axes.ravel(), ncol=3)
+                if a == 0:
+                    ax.set_ylabel("rtol [-]")
+            ax.set_title(f"{s}, {c.LAW_LABELS[l].split(' (')[0]}")
+            if b == len(LAWS) - 1:
+                ax.set_xlabel("v_s [m/s]")
+    fig.suptitle("RK4 from rest: outcome over h and v_s" if is_rk4 else
+                 "DOPRI5 from rest: cost over rtol and v_s")
+    c.figure_legend(fig, axes.ravel(), ncol=2)
     name = "stability_rk4.png" if is_rk4 else "stability_dopri5.png"
     return [c.save_figure(fig, Path(outdir) / name)]
 

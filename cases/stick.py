@@ -35,6 +35,7 @@ against CPU time per problem, one colour per method, one marker per law).
 from __future__ import annotations
 
 import math
+import textwrap
 import time
 from pathlib import Path
 from typing import Any, Sequence
@@ -259,8 +260,7 @@ def plot(csv_path: str | Path, outdir: str | Path) -> list[Path]:
     from matplotlib.transforms import blended_transform_factory
     rows = _rows(Path(csv_path))
     methods = list(dict.fromkeys(r["method [-]"] for r in rows))
-    style.apply()
-    plt.rcParams.update(style.column_fonts(PLOT_WIDTH))
+    style.apply(PLOT_WIDTH)
     fig, axes = plt.subplots(len(ERRORS), len(PLOT_LAWS), figsize=(PLOT_WIDTH, 8.4), squeeze=False,
                              sharey="row", layout="constrained")
     handles: dict[str, Any] = {}
@@ -370,6 +370,12 @@ def write_best(csv_path: str | Path, outdir: str | Path) -> Path:
     return c.write_text(Path(outdir) / "stick_best.md", "\n".join(parts))
 
 
+#: Width of stick_best.png [in]; its fonts are scaled to stay legible at a column width.
+BEST_WIDTH: float = 6.4
+#: Its panels' titles (the problems of ERRORS, short enough for a third of its width).
+BEST_TITLES: dict[str, str] = {"slope_rest": "(a) rest", "slope_stop": "(b) stop", "belt_stuck": "(c) belt"}
+
+
 def plot_best(csv_path: str | Path, outdir: str | Path) -> list[Path]:
     """stick_best.png and .pdf: per problem, for each law (a row) the smallest error each method
     reached over its settings, a marker per method in the method's colour on a log axis; "exact"
@@ -380,10 +386,10 @@ def plot_best(csv_path: str | Path, outdir: str | Path) -> list[Path]:
     rows = _rows(Path(csv_path))
     methods = list(dict.fromkeys(r["method [-]"] for r in rows))
     laws = list(dict.fromkeys(r["law [-]"] for r in rows))
-    style.apply()
+    style.apply(BEST_WIDTH)
     lo, hi = 1e-12, 10.0                 # the error axis; exact drawn at exact_at, failures at fail_at
     exact_at, fail_at = 1e-14, 1e3
-    fig, axes = plt.subplots(1, len(ERRORS), figsize=(7.0, 0.3 * len(laws) + 1.9), sharey=True,
+    fig, axes = plt.subplots(1, len(ERRORS), figsize=(BEST_WIDTH, 0.42 * len(laws) + 4.0), sharey=True,
                              layout="constrained")
     for ax, (problem, errs) in zip(axes, ERRORS.items()):
         best = best_runs(rows, problem)
@@ -404,25 +410,25 @@ def plot_best(csv_path: str | Path, outdir: str | Path) -> list[Path]:
         ax.set_xscale("log")
         ax.set_xlim(exact_at / 4, fail_at * 4)
         ticks = [exact_at, 1e-10, 1e-5, 1.0, fail_at]
-        ax.set_xticks(ticks, ["exact", "1e-10", "1e-5", "1", "failed"], fontsize=7)
+        ax.set_xticks(ticks, ["exact", "1e-10", "1e-5", "1", "failed"], rotation=90)
         ax.minorticks_off()
         for edge in (exact_at * 10 ** 0.5, fail_at / 10 ** 0.5):
             ax.axvline(edge, color="0.6", linewidth=0.6)
         unit = errs[0].split("[")[1].rstrip("]")
-        ax.set_xlabel(f"smallest error [{unit}]")
-        ax.set_title(SHORT_TITLES[problem], fontsize=8)
+        ax.set_xlabel(f"error [{unit}]")
+        ax.set_title(BEST_TITLES[problem])
         ax.set_ylim(len(laws) - 0.5, -0.5)
         ax.grid(axis="y", visible=False)
         for li in range(len(laws) - 1):
             ax.axhline(li + 0.5, color="0.9", linewidth=0.5)
-    axes[0].set_yticks(range(len(laws)), [style.name(law) for law in laws], fontsize=7)
+    axes[0].set_yticks(range(len(laws)), [textwrap.fill(style.name(law).split(" (")[0], 14) for law in laws])
     handles = [plt.Line2D([], [], color=style.METHOD_COLORS.get(m, "0.3"), marker="o", linestyle="none",
                           markersize=4, label=style.name(m)) for m in methods]
     handles += [plt.Line2D([], [], color="0.3", marker="o", markerfacecolor="white", linestyle="none",
                            markersize=4, label="other settings failed"),
                 plt.Line2D([], [], color="0.3", marker="x", linestyle="none", markersize=4,
                            label="no setting finished")]
-    fig.legend(handles=handles, loc="outside lower center", ncol=5, frameon=False, fontsize=7)
+    fig.legend(handles=handles, loc="outside lower center", ncol=2, frameon=False)
     png = style.save(fig, Path(outdir) / "stick_best.png", c.atomic_write)
     return [png, png.with_suffix(".pdf")]
 

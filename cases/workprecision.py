@@ -308,8 +308,7 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
     for xkey, stem, xlabel in (("nfev [-]", "workprecision_nfev", "evaluations [-]"),
                                ("cpu [s]", "workprecision_cpu", "CPU time per run [s]")):
         for s in SCENES:
-            c._style.apply()
-            c.plt.rcParams.update(c._style.column_fonts(WIDTH))
+            c._style.apply(WIDTH)
             fig, axes = c.plt.subplots(len(LAWS), len(GROUPS), figsize=(WIDTH, 8.2),
                                        squeeze=False, sharex="col", sharey="row", layout="constrained")
             legend: dict[str, Any] = {}
