@@ -163,7 +163,7 @@ contains
         real(dp) :: uf(n, nst), wf(n, nst), hn(n), boff(n), wl(n), wd(n), wr(n), f0(n), f1(n), qp(n)
         real(dp) :: ut(n, nst), ud(n), pp(n), ww(n), wl2(n), res, du_max, tm
         real(dp) :: tt(repeats), ts(repeats), tg(repeats)
-        real(dp), allocatable :: dm(:, :)
+        real(dp), allocatable :: dm(:, :), dlay(:, :)   ! dlay: step_layout's room for D (none on the chain)
         integer :: cmap(n), i, j, r, sw, iw, nin, k, ntri, nsol, ngs, nboth, cm(n)
         integer :: tri_sweeps, gs_sweeps
         logical :: dense, ok, both(nst)
@@ -194,8 +194,7 @@ contains
         call moreau_integrate(cc, 0.0_dp, y0, real(nst, dp), mo, t_out, y_out, st)
         if (st%status /= 0) error stop 'bench_contact: the chain run failed'
         ! The step problems, as moreau forms them.
-        call cc%w_tridiagonal(h * th, (h * th)**2, wl, wd, wr, ok)
-        call cc%own_coordinates(cmap, ok)
+        call cc%step_layout(h * th, (h * th)**2, wl, wd, wr, cmap, ok, dlay)
         call cc%slip_offset(0.0_dp, boff)
         call cc%normal_forces(0.0_dp, y0(:n), hn)
         hn = h * hn
