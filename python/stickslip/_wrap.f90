@@ -361,6 +361,8 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
     elem_kind = 0
     elem_index = 0
     cpu = 0.0_c_double
+    ! gfortran -Wuninitialized on keys here (its offset and bounds): a false positive; an
+    ! unallocated allocatable array assigned is allocated by the assignment
     keys = split_names(pkeys)
     if (size(keys) /= npv .or. ncp /= nc + 1) then
         status = SS_BAD_DIM
