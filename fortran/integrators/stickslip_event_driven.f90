@@ -192,7 +192,7 @@ contains
                 rs(j, 1) = -(ha(i) + bd(i))
                 cap(j) = max(cs%laws(i)%mu_s * nn(i), tiny(1.0_dp))
             end do
-            call holding_forces(self, t, y, cap(:ns), rs(:ns, :), ok)
+            call holding_forces(self, cap(:ns), rs(:ns, :), ok)
             if (.not. ok) then
                 self%singular = .true.
                 return
@@ -209,20 +209,22 @@ contains
         end associate
     end subroutine mode_forces
 
-    !> self%idx := the stuck contacts, unless the stuck set is the one they were formed for;
-    !! where W at a = b = 0 is constant (`w_constant`), the set's Delassus block (or its
-    !! diagonal) and the block's LU with it.
+    !> self%idx := the stuck contacts and the set's Delassus block (its diagonal `dgl` where
+    !! it is diagonal, otherwise `amat` and its LU `fac`) at (t, y). Where W at a = b = 0 is
+    !! constant (`w_constant`) both are formed again only when the stuck set changes.
     subroutine stuck_set(self, t, y)
         class(mode_system), intent(inout) :: self
         real(dp), intent(in) :: t           !! time [s]
         real(dp), intent(in) :: y(:)        !! (q, u)
         integer :: i, ns
-        if (allocated(self%cached)) then
-            if (all(self%cached .eqv. self%stuck)) return
+        logical :: same
+        same = .false.
+        if (allocated(self%cached)) same = all(self%cached .eqv. self%stuck)
+        if (same .and. self%cs%w_constant) return
+        if (.not. same) then
+            self%cached = self%stuck
+            self%idx = pack([(i, i = 1, self%cs%n_c)], self%stuck)
         end if
-        self%cached = self%stuck
-        self%idx = pack([(i, i = 1, self%cs%n_c)], self%stuck)
-        if (.not. self%cs%w_constant) return
         ns = size(self%idx)
         if (self%diagonal) then
             if (allocated(self%dgl)) deallocate(self%dgl)
@@ -237,33 +239,21 @@ contains
     end subroutine stuck_set
 
     !> x := the forces r_S of the stuck contacts (self%idx) that give them the relative
-    !! accelerations H_S M^-1 H_S^T r_S = x: from the diagonal of the Delassus matrix when it
-    !! is diagonal (`delassus_diagonal`, O(n)), otherwise from the dense block
-    !! (`delassus_block`) by `psd_solve`, whose weighted minimum-norm solution shares a
-    !! redundant stuck set's load in proportion to the capacities cap (mu_s N). Where W is
-    !! constant the block is the one `stuck_set` formed. ok = .false. when no forces give x
-    !! (inconsistent, or not finite).
-    subroutine holding_forces(self, t, y, cap, x, ok)
+    !! accelerations H_S M^-1 H_S^T r_S = x, with the block `stuck_set` formed: from its
+    !! diagonal when it is diagonal (O(n)), otherwise by `psd_solve`, whose weighted
+    !! minimum-norm solution shares a redundant stuck set's load in proportion to the
+    !! capacities cap (mu_s N). ok = .false. when no forces give x (inconsistent, or not
+    !! finite).
+    subroutine holding_forces(self, cap, x, ok)
         class(mode_system), intent(in) :: self
-        real(dp), intent(in)    :: t, y(:)
         real(dp), intent(in)    :: cap(:)      !! the capacities mu_s N, at least tiny [N]
         real(dp), intent(inout) :: x(:, :)     !! (n_s, 1) relative accelerations in, forces out
         logical, intent(out)    :: ok
-        real(dp), allocatable :: amat(:, :), dg(:)
-        if (self%diagonal .and. self%cs%w_constant) then
+        if (self%diagonal) then
             ok = all(self%dgl /= 0.0_dp)
             if (ok) x(:, 1) = x(:, 1) / self%dgl
-        else if (self%diagonal) then
-            allocate(dg(size(self%idx)))
-            call delassus_diagonal(self, t, y, self%idx, dg)
-            ok = all(dg /= 0.0_dp)
-            if (ok) x(:, 1) = x(:, 1) / dg
-        else if (self%cs%w_constant) then
-            call psd_solve(self%amat, x, cap, ok, self%fac)
         else
-            allocate(amat(size(self%idx), size(self%idx)))
-            call delassus_block(self, t, y, self%idx, amat)
-            call psd_solve(amat, x, cap, ok)
+            call psd_solve(self%amat, x, cap, ok, self%fac)
         end if
     end subroutine holding_forces
 
