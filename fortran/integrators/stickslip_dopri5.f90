@@ -15,7 +15,7 @@
 !! error (SS_STEP_TOO_SMALL) instead.
 module stickslip_dopri5
     use stickslip_kinds, only: dp, SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, SS_STIFF, &
-                               SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL_NAME, SS_INTERRUPTED
+                               SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_CONTROL_NAME, SS_INTERRUPTED, SS_BAD_DIM
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
                              check_step_controls, all_finite, diverged, output_start, RTOL_MIN, stop_requested, &
                              limit_after_forced, set_erk_constant, check_erk_constants
@@ -28,7 +28,7 @@ module stickslip_dopri5
     implicit none
     private
 
-    public :: dopri5_options, dopri5_integrate
+    public :: dopri5_options, dopri5_integrate, dopri5_dense, DOPRI5_DENSE_ROWS
 
     !> Smallest accepted nonzero rtol: 100 units of round-off.
     real(dp), parameter, public :: DOPRI5_RTOL_MIN = RTOL_MIN
@@ -78,10 +78,17 @@ module stickslip_dopri5
         real(dp) :: beta = 0.04_dp      !! PI (Lund) stabilisation exponent (0: plain I control)
         integer  :: nstiff = 1000       !! test stiffness every nstiff accepted steps
         logical  :: stop_on_stiff = .false. !! stop with SS_STIFF when the stiffness test fires
+        !> Every-step mode only: when associated, column k >= 2 of this (DOPRI5_DENSE_ROWS n + 1,
+        !! size(t_out)) array receives the continuous extension over [t_out(k-1), t_out(k)]:
+        !! its coefficients r2..r5 (n each) and the step h [s]; `dopri5_dense` evaluates it.
+        real(dp), pointer :: dense_rows(:, :) => null()
     contains
         procedure :: set => set_dopri5_option
         !! set a control by name (the step_controls ones and DOPRI5's own)
     end type dopri5_options
+
+    !> Coefficient vectors per state component stored for a step's continuous extension.
+    integer, parameter :: DOPRI5_DENSE_ROWS = 4
 
     !> What DOPRI5 is and which controls it reads (registry entry).
     type(method_info), parameter, public :: DOPRI5_INFO = method_info(name='dopri5', order=5, &
@@ -133,9 +140,32 @@ contains
 #include "stickslip_kernel_instances.inc"
 #undef KERNEL_BODY
 
+    !> One component of the order-4 continuous extension at the step fraction s in [0, 1]:
+    !! r1 is the component at the step's start, r2..r5 its coefficients.
+    elemental real(dp) function dense_value(r1, r2, r3, r4, r5, s) result(yq)
+        real(dp), intent(in) :: r1, r2, r3, r4, r5, s
+        real(dp) :: s1
+        s1 = 1.0_dp - s
+        yq = r1 + s * (r2 + s1 * (r3 + s * (r4 + s1 * r5)))
+    end function dense_value
+
+    !> The state at time tq in a step stored by every-step mode with `dense_rows`: y_start is the
+    !! state at the step's start t_start [s], coef the step's column of dense_rows.
+    pure function dopri5_dense(y_start, coef, t_start, tq) result(yq)
+        real(dp), intent(in) :: y_start(:)  !! state at the step's start
+        real(dp), intent(in) :: coef(:)     !! the step's column of dense_rows (4 n + 1)
+        real(dp), intent(in) :: t_start     !! the step's start [s]
+        real(dp), intent(in) :: tq          !! the time wanted, in the step [s]
+        real(dp) :: yq(size(y_start))
+        integer :: n
+        n = size(y_start)
+        yq = dense_value(y_start, coef(1:n), coef(n + 1:2 * n), coef(2 * n + 1:3 * n), coef(3 * n + 1:4 * n), &
+                         (tq - t_start) / coef(4 * n + 1))
+    end function dopri5_dense
+
     !> Validate tolerances, the shared controls and DOPRI5's own.
-    pure function check_options(n, t0, t_end, rtol, atol, opts) result(status)
-        integer, intent(in) :: n
+    pure function check_options(n, m, t0, t_end, rtol, atol, opts) result(status)
+        integer, intent(in) :: n, m   ! the state's size, the output's
         real(dp), intent(in) :: t0, t_end, rtol(:), atol(:)
         type(dopri5_options), intent(in) :: opts
         integer :: status
@@ -143,6 +173,10 @@ contains
         if (status == SS_OK) status = check_step_controls(opts, t0, t_end)
         if (status == SS_OK) status = check_erk_constants(opts%safety, opts%fac1, opts%fac2, opts%beta, &
                                                           opts%nstiff)
+        if (status == SS_OK .and. associated(opts%dense_rows)) then
+            if (size(opts%dense_rows, 1) /= DOPRI5_DENSE_ROWS * n + 1 .or. size(opts%dense_rows, 2) < m) &
+                status = SS_BAD_DIM
+        end if
     end function check_options
 
 end module stickslip_dopri5

@@ -25,8 +25,9 @@
 !! interpolant of sigma w dips below half its end values) is searched for its minimum: a
 !! grazing touch of w = 0 inside one step is found, and a minimum within the integration's
 !! tolerance of 0 (atol + rtol |u| over the contact's row of H) counts as touching. The
-!! state at a trial time t is integrated afresh from the start of the step (a DOPRI5 run
-!! from the step's start to t, as accurate as the steps themselves).
+!! state at a trial time t comes from the step's continuous extension (DOPRI5's dense output
+!! of order 4, kept for every step of the mode's run: `dopri5_options%dense_rows`), so a
+!! trial costs one force evaluation, not a DOPRI5 run.
 !!
 !! At an event the modes are decided together: every stuck contact and every contact that
 !! has reached w = 0 is a candidate, and the problem at rest (their relative accelerations
@@ -55,11 +56,10 @@
 !! holding force that exceeds the limit only within one such step, by less than about 2 % of
 !! the sine's amplitude, can still pass unseen.)
 !!
-!! Output on the grid: DOPRI5's dense output, from a second DOPRI5 run over each stretch
-!! between events that holds grid points (the same steps as the first until the event).
+!! Output on the grid: the same continuous extension of the mode's steps up to the event
+!! (a grid time on a step's end takes the step's state).
 !! Counters: nstep/naccept/nreject of the mode integration; nfev counts every evaluation
-!! (the event checks, the root-finding runs and the output runs included); nevents the
-!! transitions.
+!! (the event checks and the root-finding's included); nevents the transitions.
 !!
 !! Ends: SS_EVENT_BUDGET after more than max_events events; SS_EVENT_ZENO when events
 !! accumulate: 10 instants with events in a row closer than zeno_gap (events at one instant
@@ -72,7 +72,7 @@ module stickslip_event_driven
                                SS_CONTACT_FAILED
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, &
                              check_tolerances, output_start
-    use stickslip_dopri5, only: dopri5_options, dopri5_integrate
+    use stickslip_dopri5, only: dopri5_options, dopri5_integrate, dopri5_dense, DOPRI5_DENSE_ROWS
     use stickslip_contact, only: contact_system
     use stickslip_linalg, only: psd_solve, psd_factors, psd_factor
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, STICK_RTOL, MODE_STICK, MODE_OPEN
@@ -123,8 +123,9 @@ module stickslip_event_driven
         real(dp), allocatable :: amat(:, :)        !! their Delassus block [1/kg]
         real(dp), allocatable :: dgl(:)            !! its diagonal, where it is diagonal [1/kg]
         type(psd_factors) :: fac                   !! amat's LU
-        !> Work arrays of mode_forces (n_dof: wf, wg; n_c: the others; rhs2: (n_c, 1))
-        real(dp), allocatable :: wf(:), wg(:), wn(:), ww(:), wb(:), wh(:), wc(:), wcap(:), rhs2(:, :)
+        !> Work arrays of mode_forces (n_dof: wf, wg; n_c: the others; rhs2: (n_c, 1)) and of
+        !! mode_rhs (wr, n_c), allocated with the mode (no allocation at an evaluation)
+        real(dp), allocatable :: wf(:), wg(:), wn(:), ww(:), wb(:), wh(:), wc(:), wcap(:), rhs2(:, :), wr(:)
     contains
         procedure :: rhs => mode_rhs
         !! (u, acceleration) in the current mode
@@ -168,8 +169,6 @@ contains
         t = min(t_in, self%t_cap)
         nd = self%cs%n_dof
         nc = self%cs%n_c
-        if (.not. allocated(self%wf)) allocate(self%wf(nd), self%wg(nd), self%wn(nc), self%ww(nc), self%wb(nc), &
-                                               self%wh(nc), self%wc(nc), self%wcap(nc), self%rhs2(nc, 1))
         associate (cs => self%cs, f => self%wf, g => self%wg, nn => self%wn, w => self%ww, bd => self%wb, &
                    ha => self%wh, col => self%wc, cap => self%wcap, rs => self%rhs2)
             call cs%force(t, y(:nd), y(nd + 1:), f)
@@ -324,11 +323,10 @@ contains
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: y(:)       !! (q, u)
         real(dp), intent(out) :: dydt(:)    !! (u, acceleration)
-        real(dp) :: r(self%cs%n_c)
         integer :: nd
         nd = self%cs%n_dof
         dydt(:nd) = y(nd + 1:)
-        call mode_forces(self, t, y, dydt(nd + 1:), r)
+        call mode_forces(self, t, y, dydt(nd + 1:), self%wr)
     end subroutine mode_rhs
 
     !> The event functions of the mode at (t, y): sigma_i w_i (slipping) and
@@ -422,6 +420,7 @@ contains
         type(dopri5_options) :: d5
         type(ode_stats) :: st
         real(dp), allocatable :: tb(:), yb(:, :), y(:), ya(:), ystar(:), g_a(:), g_b(:), r(:), dg_a(:), dg_b(:)
+        real(dp), allocatable, target :: cb(:, :)   ! pass 1's continuous extension of each step
         real(dp) :: t, ta, tstar, h_carry, t_last_event, t_seg
         integer :: nd, nc, n, next, m, k, nrows, i, zeno_run, ievent, same_instant
         logical :: hit
@@ -447,11 +446,14 @@ contains
 
         allocate(ms%cs, source=cs)
         ms%diagonal = diagonal_delassus(cs)
+        allocate(ms%wf(nd), ms%wg(nd), ms%wn(nc), ms%ww(nc), ms%wb(nc), ms%wh(nc), ms%wc(nc), ms%wcap(nc), &
+                 ms%rhs2(nc, 1), ms%wr(nc))
         allocate(ms%stuck(nc), ms%sig(nc), g_a(nc), g_b(nc), r(nc), dg_a(nc), dg_b(nc), cand(nc))
         allocate(cand_now(nc), touch(nc), source=.false.)
         t_touch = -huge(1.0_dp)
-        allocate(tb(CHUNK), yb(n, CHUNK), y(n), ya(n), ystar(n))
+        allocate(tb(CHUNK), yb(n, CHUNK), y(n), ya(n), ystar(n), cb(DOPRI5_DENSE_ROWS * n + 1, CHUNK))
         d5%every_step = .true.
+        d5%dense_rows => cb
         d5%stop_flag => opts%stop_flag
         m = size(t_out)
         call output_start(t0, y0, t_out, y_out, .false., next)
@@ -515,7 +517,6 @@ contains
                     if (hermite_min(g_a(i), g_b(i), (tb(k) - ta) * dg_a(i), (tb(k) - ta) * dg_b(i)) &
                         >= 0.5_dp * min(g_a(i), g_b(i))) cycle
                     call graze(i, dg_a(i), dg_b(i), cand(i))
-                    if (stats%status /= SS_OK) exit segment
                     hit = hit .or. cand(i)
                 end do
                 if (hit) exit
@@ -524,7 +525,6 @@ contains
             end do
             if (.not. hit) then
                 call output_to(tb(nrows))
-                if (stats%status /= SS_OK) exit segment
                 t = tb(nrows)
                 y = yb(:, nrows)
                 if (st%status == SS_OK .and. t_seg >= t_end) exit segment     ! reached t_end
@@ -540,10 +540,8 @@ contains
             h_carry = tb(k) - ta
             do i = 1, nc
                 if (cand(i)) call locate(i, g_a(i))
-                if (stats%status /= SS_OK) exit segment
             end do
             call output_to(tstar)
-            if (stats%status /= SS_OK) exit segment
             t = tstar
             y = ystar
             call switch_mode()
@@ -708,7 +706,6 @@ contains
                 if (.not. (tm > lo .and. tm < hi)) tm = 0.5_dp * (lo + hi)
                 if (tm <= lo .or. tm >= hi) exit
                 call advance(tm, yq)
-                if (stats%status /= SS_OK) return
                 call event_values(ms, tm, yq, gv, rr, dgv)
                 if (gv(i) <= 0.0_dp) then
                     tstar = tm
@@ -756,24 +753,15 @@ contains
             end do
         end function w_tolerance
 
-        !> The state at time tq in [ta, tb(k)] from (ta, ya); a failed run sets stats%status.
+        !> The state at time tq in [ta, tb(k)]: pass 1's continuous extension of step k.
         subroutine advance(tq, yq)
             real(dp), intent(in)  :: tq
             real(dp), intent(out) :: yq(:)
-            type(dopri5_options) :: o
-            type(ode_stats) :: s1
-            real(dp) :: tt(1), yy(n, 1)
             if (tq <= ta) then
                 yq = ya
-                return
+            else
+                yq = dopri5_dense(ya, cb(:, k), ta, tq)
             end if
-            o%h0 = tq - ta
-            o%max_steps = 100000_8
-            tt(1) = tq
-            call dopri5_integrate(ms, ta, ya, tq, rtol, atol, o, tt, yy, s1)
-            stats%nfev = stats%nfev + s1%nfev
-            yq = yy(:, 1)
-            if (s1%status /= SS_OK) stats%status = s1%status
         end subroutine advance
 
         !> Earliest crossing of contact i's event function in (ta, tstar]: shrink tstar.
@@ -800,7 +788,6 @@ contains
                 if (.not. (tm > lo .and. tm < hi)) tm = 0.5_dp * (lo + hi)
                 if (tm <= lo .or. tm >= hi) exit
                 call advance(tm, yq)
-                if (stats%status /= SS_OK) return
                 call event_values(ms, tm, yq, gv, rr, dgv)
                 gm = gv(i)
                 if (crossed(ms%stuck(i), gm)) then
@@ -877,27 +864,24 @@ contains
             if (ievent > opts%max_events .and. stats%status == SS_OK) stats%status = SS_EVENT_BUDGET
         end subroutine record
 
-        !> Grid rows with times in (t, t_to], by DOPRI5's dense output over the stretch
-        !! (a second run from (t, y) with the first run's initial step); a failed run sets
-        !! stats%status.
+        !> Grid rows with times in (t, t_to], from pass 1's steps (tb(1) = t, t_to <= tb(nrows)):
+        !! a step's end state where a grid time falls on it, its continuous extension between.
         subroutine output_to(t_to)
             real(dp), intent(in) :: t_to
-            integer :: last
-            type(dopri5_options) :: o
-            type(ode_stats) :: s2
-            if (next > m .or. t_to <= t) return
-            last = next
-            do while (last + 1 <= m)
-                if (t_out(last + 1) > t_to) exit
-                last = last + 1
+            integer :: j
+            j = 2
+            do while (next <= m)
+                if (t_out(next) > t_to) exit
+                do while (tb(j) < t_out(next))
+                    j = j + 1
+                end do
+                if (t_out(next) == tb(j)) then
+                    y_out(:, next) = yb(:, j)
+                else
+                    y_out(:, next) = dopri5_dense(yb(:, j - 1), cb(:, j), tb(j - 1), t_out(next))
+                end if
+                next = next + 1
             end do
-            if (t_out(next) > t_to) return
-            o%h0 = d5%h0
-            o%max_steps = opts%max_steps
-            call dopri5_integrate(ms, t, y, t_to, rtol, atol, o, t_out(next:last), y_out(:, next:last), s2)
-            stats%nfev = stats%nfev + s2%nfev
-            next = next + s2%n_written
-            if (s2%status /= SS_OK) stats%status = s2%status
         end subroutine output_to
 
     end subroutine event_driven_integrate
