@@ -702,3 +702,69 @@ def test_frozen_substeps_reproduce_the_adaptive_force():
     np.testing.assert_allclose(d[0], d[1], atol=1e-6 * np.abs(d[1]).max())
     with pytest.raises(ValueError, match=r"substeps: must be 400 integers in \[1, 65536\]"):
         _force_on("lugre", p, t, x, v, nf, 2e-4, 1.2, 1e-6, np.zeros(t.size - 1, dtype=np.int32))
+
+
+# ---------------------------------------------------------------------------------------------
+# Profile-likelihood intervals
+# ---------------------------------------------------------------------------------------------
+def test_profile_interval_of_a_linear_model_is_the_t_interval():
+    # capped viscous friction with v_s held and an offset fitted: the force is linear in mu_k
+    # and the offset, so the profile of the sum of squares is exactly the parabola of linear
+    # regression and the profile interval is estimate +- t(0.975, n - k) stderr (closed form)
+    t, x, v = sine_record(4.0, 401, 0.01, 0.5)
+    f = pm("capped_viscous", t, x, v, mu_k=1000.0, v_s=0.004).force + 20.0
+    f = f + 10.0 * np.random.default_rng(11).standard_normal(t.size)
+    fit = stickslip.fit_friction("capped_viscous", t, x, f, v=v, fixed={"v_s": 0.004}, offset="fit",
+                                 interval="profile")
+    assert fit.interval == "profile" and fit.profile_evals > 0
+    tq = stats.t.ppf(0.975, fit.n_samples - len(fit.free))
+    for name in fit.free:
+        half = tq * fit.stderr[name]
+        lo, hi = fit.ci95[name]
+        # within the search's tolerance on the statistic (3 % of the half-width)
+        assert lo == pytest.approx(fit.params[name] - half, abs=0.04 * half), name
+        assert hi == pytest.approx(fit.params[name] + half, abs=0.04 * half), name
+
+
+def test_profile_interval_ends_where_a_full_refit_reaches_the_threshold():
+    # the Stribeck law on one record: each end of v_s's and mu_k's profile intervals, held
+    # fixed in a full refit of the other parameters (scipy's optimiser from the estimate), must
+    # raise the sum of squares by t^2 s^2 (variance inflation included) within the tolerance
+    t, x, v = sine_record(duration=2.0, n=301)
+    f = pm("stribeck", t, x, v, **STRIBECK).force
+    f = f + 0.01 * np.random.default_rng(5).standard_normal(f.size)
+    names = ("mu_s", "mu_k", "v_s", "c_v")
+    kw = dict(v=v, normal_force=1.0, n_starts=1)
+    fit = stickslip.fit_friction("stribeck", t, x, f, fixed=STRIBECK_FIXED, interval="profile",
+                                 params0={k: STRIBECK[k] for k in names}, **kw)
+    ssr0 = fit.rmse ** 2 * fit.n_samples
+    unit = fit.residual_sd ** 2 * fit.variance_inflation
+    tq = stats.t.ppf(0.975, fit.n_samples - len(fit.free))
+    for name in ("v_s", "mu_k"):
+        for end in fit.ci95[name]:
+            others = {k: fit.params[k] for k in names if k != name}
+            others["mu_s"] = max(others["mu_s"], 1.001 * end) if name == "mu_k" else others["mu_s"]
+            refit = stickslip.fit_friction("stribeck", t, x, f, fixed=dict(STRIBECK_FIXED, **{name: end}),
+                                           params0=others, interval="wald", **kw)
+            tau = math.sqrt(max(refit.rmse ** 2 * refit.n_samples - ssr0, 0.0) / unit)
+            # the chord refit's sum of squares is an upper bound of the full refit's: the end
+            # is at most a little inside the exact one
+            assert tau == pytest.approx(tq, rel=0.08), (name, end, tau, tq)
+
+
+def test_profile_interval_stops_at_a_bound_and_flags_it():
+    # no play in the data, backlash fitted: the profile reaches the bound 0 below the
+    # threshold; the interval starts at 0 and the parameter is flagged at its bound
+    truth, fixed = STATE_CASES["lugre"]
+    t, x, f, v = noisy_records("lugre", truth, 10.0, seed=7, n=401)
+    fit = stickslip.fit_friction("lugre", t, x, f, v=v, fixed=fixed, backlash="fit", n_starts=1,
+                                 interval="profile")
+    assert fit.ci95["backlash"][0] == pytest.approx(0.0, abs=1e-12)
+    assert "backlash" in fit.at_bound
+
+
+def test_interval_option_is_checked():
+    t, x, v = sine_record(2.0, 101)
+    f = pm("coulomb", t, x, v, mu_s=1.0, mu_k=1.0, v_s=1e-3).force
+    with pytest.raises(ValueError, match="interval: must be one of auto, wald, profile"):
+        stickslip.fit_friction("coulomb", t, x, f, v=v, interval="bootstrap")

@@ -428,6 +428,8 @@ class FitResult(_Estimates):
     undetermined: tuple[str, ...] = ()
     start: dict[str, float] = field(default_factory=dict)
     cv_nrmse: tuple[float, float] | None = None
+    interval: str = "wald"
+    profile_evals: int = 0
 
     @property
     def law_params(self) -> dict[str, float]:
@@ -626,7 +628,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
                  bounds: Mapping[str, tuple[float, float]] | None = None,
                  backlash: float | str = 0.0, asymmetry: float | str = 1.0,
                  offset: float | str = 0.0, drift: float | str = 0.0, n_starts: int | None = None, seed: int = 0, max_nfev: int | None = None,
-                 rtol: float = 1e-6, diff_step: float = 1e-4) -> FitResult:
+                 rtol: float = 1e-6, diff_step: float = 1e-4, interval: str = "auto") -> FitResult:
     """Fit the parameters of friction `law` to measured forces along measured motions.
 
     Parameters
@@ -739,6 +741,9 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         n_starts = 3 if REGISTRY["law"][law]["n_states"] > 0 else 2
     if not (isinstance(n_starts, (int, np.integer)) and n_starts >= 1):
         raise ValueError(f"n_starts: must be an integer >= 1, got {n_starts!r}")
+    if not (isinstance(interval, str) and interval in INTERVAL_METHODS):
+        raise ValueError(f"interval: must be one of {', '.join(INTERVAL_METHODS)}, got {interval!r}")
+    method = "profile" if interval == "auto" else interval
     diff_step = _finite("diff_step", diff_step, "in (0, 0.1]")
     if not 0.0 < diff_step <= 0.1:
         raise ValueError(f"diff_step: must be in (0, 0.1], got {diff_step!r}")
@@ -855,7 +860,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     meshes = mesh_at(best.x)[1]
     result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
                          force_levels, normal_force, nfev, tuple(costs), diff_step, rtol,
-                         frozen=lambda w: residuals(w, meshes))
+                         frozen=lambda w: residuals(w, meshes), interval=method)
     result.rtol = rtol
     result.start = dict(zip(free, space.to_params(best_start).tolist()))
     return result
@@ -885,6 +890,147 @@ def _interval(name: str, value: float, sd: float, tq: float) -> tuple[float, flo
         h = tq * sd / (value - low)
         return (low + (value - low) * math.exp(-min(h, 700.0)), low + (value - low) * math.exp(min(h, 700.0)))
     return (value - tq * sd, value + tq * sd)
+
+
+#: The ways `fit_friction` makes the parameters' 95 % intervals (see its `interval`).
+INTERVAL_METHODS: tuple[str, ...] = ("auto", "wald", "profile")
+#: Tolerance of a profile-likelihood interval's end: the profile statistic there within this
+#: fraction of its target t(0.975, n - k).
+PROFILE_TOL: float = 0.03
+#: Farthest a profile search goes from the estimate, in Wald half-widths (t stderr), before it
+#: counts the side as not determined by the data.
+PROFILE_REACH: float = 50.0
+#: Largest number of chord Gauss-Newton steps of the refit at one point of a profile.
+PROFILE_STEPS: int = 5
+
+
+def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, space: _Space,
+                       q_lo: np.ndarray, q_hi: np.ndarray, p_hat: np.ndarray, sd: np.ndarray, tq: float,
+                       var_unit: float) -> tuple[dict[int, tuple[float, float]], set[int], set[int], int]:
+    """Profile-likelihood 95 % intervals of the free parameters.
+
+    For parameter i held at c, the others are refitted (chord Gauss-Newton: the Jacobian
+    `jac_p` [d r / d p] of the optimum held, at most PROFILE_STEPS steps, each one model
+    evaluation, within the bounds); the profile statistic is tau(c) = sqrt((S(c) - S_min) /
+    var_unit), var_unit = s^2 times the variance inflation, and each end of the interval is the
+    c where tau = tq (secant search from the Wald end p_i +- tq sd). The refit's S is an upper
+    bound of the true profile's (the chord steps may stop short), so an interval is at most
+    as wide as the exact profile one. `residuals` takes the optimiser's coordinates u.
+
+    Returns the intervals (index -> (lower, upper)), the indices whose interval reached a
+    bound of the range (the data cannot tell the parameter from it), those whose interval is
+    unbounded on a side with no bound (not determined by the data), and the number of model
+    evaluations used. A parameter whose sd is not finite is left out."""
+    k = p_hat.size
+    ssr0 = float(r_hat @ r_hat)
+    with np.errstate(invalid="ignore"):
+        lim_lo = space.to_params(np.where(np.isfinite(q_lo), q_lo, -np.inf))
+        lim_hi = space.to_params(np.where(np.isfinite(q_hi), q_hi, np.inf))
+    upper_of = {lo: hi for hi, lo in space.lower_of.items()}
+    evals = 0
+
+    def place(p: np.ndarray, i: int) -> np.ndarray | None:
+        """Coordinates u of p with p_i kept, the others moved into the bounds; None when p_i
+        cannot be kept (beyond what the bounds of an ordered pair allow)."""
+        u = np.clip(space.from_params(p), q_lo, q_hi)
+        if i in space.lower_of:      # p_i = excess + lower: move the lower member to keep p_i
+            lo_i = space.lower_of[i]
+            u[lo_i] = np.clip((p[i] - space.scale[i] * u[i]) / space.scale[lo_i], q_lo[lo_i], q_hi[lo_i])
+            u[i] = np.clip((p[i] - space.scale[lo_i] * u[lo_i]) / space.scale[i], q_lo[i], q_hi[i])
+        q = space.to_params(u)
+        return u if abs(q[i] - p[i]) <= 1e-9 * max(abs(p[i]), 1e-300) else None
+
+    def refit(i: int, c: float, p_start: np.ndarray) -> tuple[float, np.ndarray] | None:
+        nonlocal evals
+        others = np.array([j for j in range(k) if j != i], dtype=int)
+        pinv = np.linalg.pinv(jac_p[:, others], rcond=1e-10) if others.size else np.zeros((0, r_hat.size))
+        p = p_start.copy()
+        p[i] = c
+        u = place(p, i)
+        if u is None:
+            return None
+        p = space.to_params(u)
+        try:
+            r = residuals(u)
+        except (RuntimeError, ValueError):
+            return None
+        evals += 1
+        ssr = float(r @ r)
+        for _ in range(PROFILE_STEPS):
+            if not others.size:
+                break
+            d = -(pinv @ r)
+            accepted = False
+            for lam in (1.0, 0.5, 0.25):
+                trial = p.copy()
+                trial[others] += lam * d
+                w = place(trial, i)
+                if w is None:
+                    continue
+                try:
+                    rw = residuals(w)
+                except (RuntimeError, ValueError):
+                    continue
+                evals += 1
+                sw = float(rw @ rw)
+                if sw < ssr:
+                    gain = ssr - sw
+                    p, r, ssr, accepted = space.to_params(w), rw, sw, True
+                    break
+            if not accepted or gain < 0.01 * var_unit:
+                break
+        return ssr, p
+
+    def side(i: int, sgn: float) -> tuple[float, str]:
+        """The end of the interval of parameter i on side sgn, and 'ok', 'bound' (the range's
+        bound reached below the target) or 'open' (no bound and no end within reach)."""
+        lim = lim_hi[i] if sgn > 0 else lim_lo[i]
+        reach = PROFILE_REACH * tq * sd[i]
+        c_prev, tau_prev, p_start = p_hat[i], 0.0, p_hat
+        c = p_hat[i] + sgn * tq * sd[i]
+        for _ in range(6):
+            at_lim = (c >= lim) if sgn > 0 else (c <= lim)
+            if at_lim:
+                c = lim
+            out = refit(i, c, p_start) if math.isfinite(c) else None
+            if out is None:
+                return (lim, "bound") if math.isfinite(lim) else (c_prev, "ok")
+            ssr, p_start = out
+            tau = math.sqrt(max(ssr - ssr0, 0.0) / var_unit)
+            if abs(tau - tq) <= PROFILE_TOL * tq:
+                return c, "ok"
+            if at_lim and tau < tq:
+                return lim, "bound"
+            if tau > tau_prev:
+                c_new = c + (tq - tau) * (c - c_prev) / (tau - tau_prev)
+            else:
+                c_new = c + 4.0 * (c - p_hat[i])
+            # no more than four times as far, nor nearer than a quarter of the way
+            dist, new = abs(c - p_hat[i]), abs(c_new - p_hat[i])
+            c_new = p_hat[i] + sgn * min(max(new, 0.25 * dist), 4.0 * dist) if (c_new - p_hat[i]) * sgn > 0 \
+                else p_hat[i] + sgn * 0.25 * dist
+            c_prev, tau_prev, c = c, tau, c_new
+            if abs(c - p_hat[i]) > reach:
+                if math.isfinite(lim) and abs(lim - p_hat[i]) <= 4.0 * reach:
+                    c = lim
+                    continue
+                return (lim if math.isfinite(lim) else sgn * math.inf), ("bound" if math.isfinite(lim) else "open")
+        return c, "ok"
+
+    out: dict[int, tuple[float, float]] = {}
+    bound: set[int] = set()
+    open_: set[int] = set()
+    for i in range(k):
+        if not (math.isfinite(sd[i]) and sd[i] > 0.0):
+            continue
+        lo, how_lo = side(i, -1.0)
+        hi, how_hi = side(i, 1.0)
+        out[i] = (float(lo), float(hi))
+        if "bound" in (how_lo, how_hi):
+            bound.add(i)
+        if "open" in (how_lo, how_hi):
+            open_.add(i)
+    return out, bound, open_, evals
 
 
 def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray,
@@ -926,10 +1072,11 @@ def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.
 def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: Any, forces: np.ndarray,
                 data: list[_Data], q_lo: np.ndarray, q_hi: np.ndarray, force_levels: bool,
                 normal_force: Any, nfev: int, costs: tuple[float, ...], step: float,
-                rtol: float = 1e-6, frozen: Any = None) -> FitResult:
+                rtol: float = 1e-6, frozen: Any = None, interval: str = "wald") -> FitResult:
     """Covariance, intervals and scores at the optimum (see the module notes). `frozen`: the
-    residuals on the substeps of the integration at the optimum (for the Jacobian; default
-    `residuals`)."""
+    residuals on the substeps of the integration at the optimum (for the Jacobian and the
+    profiles; default `residuals`). `interval`: "wald" (on the transformed scale, `_interval`)
+    or "profile" (`_profile_intervals`)."""
     from scipy import stats
 
     u = sol.x
@@ -974,6 +1121,13 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     p = params_of(u)
     pv = space.to_params(u)
     ci = {name: _interval(name, float(pv[i]), float(sd[i]), tq) for i, name in enumerate(free)}
+    prof_bound: set[int] = set()
+    prof_open: set[int] = set()
+    profile_evals = 0
+    if interval == "profile" and ssr > 0.0:
+        prof, prof_bound, prof_open, profile_evals = _profile_intervals(
+            frozen or residuals, r, jac_p, space, q_lo, q_hi, pv, sd, tq, inflation * s2)
+        ci.update({free[i]: ends for i, ends in prof.items()})
     tol = 1e-6
     # on a bound, or nearer to it than the half-width of a plain interval (the bound is then
     # inside estimate +- t sd: the data cannot tell the estimate from the bound)
@@ -982,7 +1136,8 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
                      if (math.isfinite(q_lo[i]) and (u[i] - q_lo[i] <= tol * max(1.0, abs(q_lo[i]))
                                                      or (u[i] - q_lo[i]) * scale[i] <= tq * sd[i]))
                      or (math.isfinite(q_hi[i]) and (q_hi[i] - u[i] <= tol * max(1.0, abs(q_hi[i]))
-                                                     or (q_hi[i] - u[i]) * scale[i] <= tq * sd[i])))
+                                                     or (q_hi[i] - u[i]) * scale[i] <= tq * sd[i]))
+                     or i in prof_bound)
     if undetermined.any():
         warnings.warn(f"fit of {law!r}: the data do not determine {', '.join(np.array(free)[undetermined])} "
                       "(stderr inf); fix them or use records that excite them", stacklevel=3)
@@ -1037,7 +1192,8 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
         message=message, start_costs=costs, optimality=optimality, noise_correlation=rho,
         variance_inflation=inflation, residual_sd=math.sqrt(s2),
         undetermined=tuple(name for i, name in enumerate(free)
-                           if not math.isfinite(sd[i]) or sd[i] > abs(pv[i])))
+                           if not math.isfinite(sd[i]) or sd[i] > abs(pv[i]) or i in prof_open),
+        interval=interval if interval == "profile" and ssr > 0.0 else "wald", profile_evals=profile_evals)
 
 
 # --------------------------------------------------------------------------------------------
