@@ -1034,13 +1034,19 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
 
 
 def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray,
-                      step: float, floor: float = 0.0) -> np.ndarray:
+                      step: float, floor: float = 0.0, reference: np.ndarray | None = None) -> np.ndarray:
     """d residuals / d u by central differences (one-sided at a bound), step `step` |u| (at
     least step 1e-3). The step grows tenfold, up to 0.1 max(|u|, 1), while the change of the
     residuals is below `floor` (the integration's own error) or the derivative still differs
     by more than 10 % from the one at the tenfold step: the difference must measure the model,
     not the integrator's step-doubling decisions (a parameter near 0, such as a backlash, got
-    a near-infinite derivative from them, and a near-zero standard error)."""
+    a near-infinite derivative from them, and a near-zero standard error).
+
+    `reference`: another difference quotient of the same residuals at u (the optimiser's last
+    forward-difference Jacobian). A column then starts at the step whose change the reference
+    predicts to be 10 floor (when that is larger), and is kept at once if it agrees with the
+    reference's within 10 % (two evaluations instead of four to eight); otherwise the tenfold
+    search above decides."""
     def column(i: int, h: float) -> tuple[np.ndarray, float]:
         up, down = u.copy(), u.copy()
         up[i] = min(u[i] + h, q_hi[i])
@@ -1052,7 +1058,17 @@ def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.
     for i in range(u.size):
         h = step * max(abs(u[i]), 1e-3)
         cap = 0.1 * max(abs(u[i]), 1.0)
-        d, change = column(i, h)
+        if reference is not None:
+            ref = reference[:, i]
+            slope = float(np.abs(ref).max())
+            if slope > 0.0 and floor > 0.0:
+                h = min(max(h, 10.0 * floor / slope), cap)
+            d, change = column(i, h)
+            if change >= floor and np.linalg.norm(d - ref) <= 0.1 * np.linalg.norm(ref):
+                jac[:, i] = d
+                continue
+        else:
+            d, change = column(i, h)
         if 0.0 < change < floor:
             # the change grows in proportion to the step: skip the tenfold steps whose change
             # would still be below the floor (they would be rejected; two evaluations each)
@@ -1082,13 +1098,15 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     u = sol.x
     free = space.free
     k = len(free)
-    r = residuals(u)
+    r = (frozen or residuals)(u)      # the frozen mesh at u reproduces the adaptive model there
     n = r.size
     ssr = float(r @ r)
     dof = n - k
     s2 = ssr / dof
+    reference = getattr(sol, "jac", None)
+    reference = reference if isinstance(reference, np.ndarray) and reference.shape == (n, k) else None
     jac_u = _central_jacobian(frozen or residuals, u, q_lo, q_hi, 0.1 * step,
-                              floor=100.0 * rtol * float(np.ptp(forces)))
+                              floor=100.0 * rtol * float(np.ptp(forces)), reference=reference)
     # in the physical parameters: J_p = J_u (dp/du)^-1, cov_p = s2 (J_p^T J_p)^+
     jac_p = jac_u @ np.linalg.inv(space.matrix())
     col = np.linalg.norm(jac_p, axis=0)
