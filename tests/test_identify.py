@@ -578,8 +578,13 @@ def test_lugre_with_backlash_intervals_cover_the_truth_95_percent():
     # residual bootstrap around each estimate gives intervals as wide as these. Over 100 seeds
     # LuGre's mu_k and v_s intervals cover 89-93 % with the backlash held at its true value or
     # absent, at rtol 1e-4, 1e-6 and 1e-9 alike: the Stribeck part's nonlinearity, not the
-    # backlash alone nor the integration. The bound checks the intervals are not far off, not
-    # that they are exact
+    # backlash alone nor the integration. Profile-likelihood intervals (interval="profile",
+    # 2026-11-26, the same 50 draws; both kinds from the same fits): mu_s 98/98 %, mu_k 84/84 %,
+    # v_s 90/88 %, sigma0 94/94 %, sigma2 88/88 %, backlash 94/94 %, asymmetry 96/96 % (Wald /
+    # profile); seeds 3000-3049: mu_s 92/98 %, mu_k 94/92 %, v_s 96/94 %, sigma2 86/86 %,
+    # backlash 84/84 %: an exact refit at the truth of the draws that miss raises the cost as
+    # the linearisation says (the cost is quadratic there). The bound checks the intervals are
+    # not far off, not that they are exact
     cover = backlash_coverage(50)
     assert min(cover.values()) >= 0.80, cover
 

@@ -27,7 +27,9 @@ independent from sample to sample (the damper's is not): the covariance is multi
 (1 + rho)/(1 - rho), rho the residuals' lag-1 correlation within the records (the variance
 inflation of an AR(1) noise), and the intervals are taken on a scale where the parameter's
 accepted range is the whole line (log above a lower bound, logit between two), so they stay
-in it. The error on held-out records is the honest measure of a law: `select_friction_law`
+in it, or (`interval="profile"`, the default for laws without states) by profile likelihood:
+where the sum of squares with the other parameters refitted exceeds its minimum by
+t^2 s^2 times the inflation. The error on held-out records is the honest measure of a law: `select_friction_law`
 chooses by it (cross-validation over records), BIC is information only.
 
 The normal force. A force measured without its normal force cannot separate the friction
