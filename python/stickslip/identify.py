@@ -913,6 +913,9 @@ def _interval(name: str, value: float, sd: float, tq: float) -> tuple[float, flo
     return (value - tq * sd, value + tq * sd)
 
 
+#: Largest relative difference between a central-difference column of the standard errors'
+#: Jacobian and the optimiser's forward-difference one for the first to be kept at once.
+REFERENCE_AGREEMENT: float = 0.02
 #: The ways `fit_friction` makes the parameters' 95 % intervals (see its `interval`).
 INTERVAL_METHODS: tuple[str, ...] = ("auto", "wald", "profile")
 #: Tolerance of a profile-likelihood interval's end: the profile statistic there within this
@@ -1064,10 +1067,11 @@ def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.
     a near-infinite derivative from them, and a near-zero standard error).
 
     `reference`: another difference quotient of the same residuals at u (the optimiser's last
-    forward-difference Jacobian). A column then starts at the step whose change the reference
-    predicts to be 10 floor (when that is larger), and is kept at once if it agrees with the
-    reference's within 10 % (two evaluations instead of four to eight); otherwise the tenfold
-    search above decides."""
+    forward-difference Jacobian). A column is first taken at the step whose change the
+    reference predicts to be 10 floor, and kept if it agrees with the reference's within
+    REFERENCE_AGREEMENT (two evaluations instead of four to eight: the model is smooth at the
+    scale of both steps); otherwise the search above decides, with the same steps as without
+    a reference (two evaluations more)."""
     def column(i: int, h: float) -> tuple[np.ndarray, float]:
         up, down = u.copy(), u.copy()
         up[i] = min(u[i] + h, q_hi[i])
@@ -1075,21 +1079,21 @@ def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.
         diff = residuals(up) - residuals(down)
         return diff / (up[i] - down[i]), float(np.abs(diff).max())
 
-    jac = np.empty((residuals(u).size, u.size))
+    jac = np.empty((reference.shape[0] if reference is not None else residuals(u).size, u.size))
     for i in range(u.size):
         h = step * max(abs(u[i]), 1e-3)
         cap = 0.1 * max(abs(u[i]), 1.0)
         if reference is not None:
-            ref = reference[:, i]
-            slope = float(np.abs(ref).max())
-            if slope > 0.0 and floor > 0.0:
-                h = min(max(h, 10.0 * floor / slope), cap)
-            d, change = column(i, h)
-            if change >= floor and np.linalg.norm(d - ref) <= 0.1 * np.linalg.norm(ref):
+            # the step at which the reference predicts a change of 10 floor: kept when the
+            # central difference there agrees with the reference
+            slope = float(np.abs(reference[:, i]).max())
+            h_ref = min(max(h, 10.0 * floor / slope), cap) if slope > 0.0 else h
+            d, change = column(i, h_ref)
+            if (change >= floor and np.linalg.norm(d - reference[:, i])
+                    <= REFERENCE_AGREEMENT * np.linalg.norm(reference[:, i])):
                 jac[:, i] = d
                 continue
-        else:
-            d, change = column(i, h)
+        d, change = column(i, h)
         if 0.0 < change < floor:
             # the change grows in proportion to the step: skip the tenfold steps whose change
             # would still be below the floor (they would be rejected; two evaluations each)
