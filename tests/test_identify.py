@@ -721,7 +721,7 @@ def test_profile_interval_of_a_linear_model_is_the_t_interval():
     f = f + 10.0 * np.random.default_rng(11).standard_normal(t.size)
     fit = stickslip.fit_friction("capped_viscous", t, x, f, v=v, fixed={"v_s": 0.004}, offset="fit",
                                  interval="profile")
-    assert fit.interval == "profile" and fit.profile_evals > 0
+    assert fit.profiled == fit.free and fit.profile_evals > 0
     tq = stats.t.ppf(0.975, fit.n_samples - len(fit.free))
     for name in fit.free:
         half = tq * fit.stderr[name]

@@ -395,8 +395,9 @@ class FitResult(_Estimates):
     included), `n_samples`, `n_records`; `cv_nrmse` (mean, standard error) when
     `select_friction_law` made the fit.
 
-    `interval` says how `ci95` was made ("wald" or "profile", see `fit_friction`) and
-    `profile_evals` how many model evaluations the profiles took.
+    `profiled` names the parameters whose `ci95` is a profile-likelihood interval (the others'
+    are Wald intervals, see `fit_friction`'s `interval`) and `profile_evals` counts the model
+    evaluations the profiles took.
 
     The residuals: `residual_sd` [N], `noise_correlation` (lag-1, within records) and the
     `variance_inflation` (1 + rho)/(1 - rho) applied to the covariance. `undetermined` names
@@ -433,7 +434,7 @@ class FitResult(_Estimates):
     undetermined: tuple[str, ...] = ()
     start: dict[str, float] = field(default_factory=dict)
     cv_nrmse: tuple[float, float] | None = None
-    interval: str = "wald"
+    profiled: tuple[str, ...] = ()
     profile_evals: int = 0
 
     @property
@@ -527,8 +528,10 @@ class FitResult(_Estimates):
                  f"    message            = {self.message}",
                  f"    model evaluations  = {self.nfev} (Jacobians not counted), starts = {self.n_starts}",
                  f"    fitted parameters  = {len(self.free)}",
-                 f"    95% intervals      = " + ("profile likelihood" + f" ({self.profile_evals} model evaluations)"
-                                                if self.interval == "profile" else "Wald, on the range's scale"),
+                 f"    95% intervals      = " + (f"profile likelihood for {', '.join(self.profiled)} "
+                                                f"({self.profile_evals} model evaluations), " if self.profiled else "")
+                 + ("Wald (on the range's scale) for the others" if self.profiled and len(self.profiled) < len(self.free)
+                    else "" if self.profiled else "Wald, on the range's scale"),
                  "[[Scores]]",
                  f"    rmse               = {self.rmse:.6g} N",
                  f"    nrmse              = {self.nrmse:.6g} (rmse / range of the measured force)",
@@ -699,10 +702,13 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         below the threshold up to it (the parameter is then in `at_bound`) and is infinite on
         a side with no bound and no end within 50 Wald half-widths (the parameter is then in
         `undetermined`). The refits are chord Gauss-Newton steps with the optimum's Jacobian on
-        its frozen substeps (about 25 model evaluations a parameter: 1.4-1.6 times the cost of
-        a static law's fit, twice that of LuGre's). "auto" (default): "profile" for the laws
-        without internal states, "wald" for the others. On synthetic records both give the
-        same coverage (see the identification guide).
+        its frozen substeps (about 25 model evaluations a parameter: 1.1-1.6 times the cost of
+        a static law's fit on short synthetic records, 2-3 times on the damper's records, twice
+        that of LuGre's). "auto" (default): for the laws without internal states, profiles of
+        the parameters in turn while the profiles' evaluations stay below the fit's own (so at
+        most about twice the cost), Wald intervals for the rest and for the laws with states.
+        `FitResult.profiled` names the profiled parameters. On synthetic records both kinds
+        give the same coverage (see the identification guide).
 
     Returns
     -------
@@ -802,7 +808,10 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     last: dict[str, Any] = {}
     at_jacobian: dict[str, Any] = {}
 
+    n_evals = [0]          # model evaluations (all of them: the budget of interval="auto")
+
     def residuals(u: np.ndarray, meshes: list[np.ndarray] | None = None) -> np.ndarray:
+        n_evals[0] += 1
         p = params_of(u)
         parts = [_model_mesh(law, d, p, rtol, None if meshes is None else meshes[i]) for i, d in enumerate(data)]
         r = np.concatenate([f for f, _ in parts]) - forces
@@ -888,7 +897,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     meshes = mesh_at(best.x)[1]
     result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
                          force_levels, normal_force, nfev, tuple(costs), diff_step, rtol,
-                         frozen=lambda w: residuals(w, meshes), interval=method)
+                         frozen=lambda w: residuals(w, meshes), interval=method,
+                         profile_budget=n_evals[0] if interval == "auto" else None)
     result.rtol = rtol
     result.start = dict(zip(free, space.to_params(best_start).tolist()))
     return result
@@ -934,7 +944,8 @@ PROFILE_STEPS: int = 5
 
 def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, space: _Space,
                        q_lo: np.ndarray, q_hi: np.ndarray, p_hat: np.ndarray, sd: np.ndarray, tq: float,
-                       var_unit: float) -> tuple[dict[int, tuple[float, float]], set[int], set[int], int]:
+                       var_unit: float, budget: int | None = None
+                       ) -> tuple[dict[int, tuple[float, float]], set[int], set[int], int]:
     """Profile-likelihood 95 % intervals of the free parameters.
 
     For parameter i held at c, the others are refitted (chord Gauss-Newton: the Jacobian
@@ -948,7 +959,8 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
     Returns the intervals (index -> (lower, upper)), the indices whose interval reached a
     bound of the range (the data cannot tell the parameter from it), those whose interval is
     unbounded on a side with no bound (not determined by the data), and the number of model
-    evaluations used. A parameter whose sd is not finite is left out."""
+    evaluations used. A parameter whose sd is not finite is left out, and so are the parameters
+    after the evaluations exceed `budget` (given)."""
     k = p_hat.size
     ssr0 = float(r_hat @ r_hat)
     with np.errstate(invalid="ignore"):
@@ -1051,6 +1063,8 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
     for i in range(k):
         if not (math.isfinite(sd[i]) and sd[i] > 0.0):
             continue
+        if budget is not None and evals >= budget:
+            break
         lo, how_lo = side(i, -1.0)
         hi, how_hi = side(i, 1.0)
         out[i] = (float(lo), float(hi))
@@ -1115,11 +1129,12 @@ def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.
 def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: Any, forces: np.ndarray,
                 data: list[_Data], q_lo: np.ndarray, q_hi: np.ndarray, force_levels: bool,
                 normal_force: Any, nfev: int, costs: tuple[float, ...], step: float,
-                rtol: float = 1e-6, frozen: Any = None, interval: str = "wald") -> FitResult:
+                rtol: float = 1e-6, frozen: Any = None, interval: str = "wald",
+                profile_budget: int | None = None) -> FitResult:
     """Covariance, intervals and scores at the optimum (see the module notes). `frozen`: the
     residuals on the substeps of the integration at the optimum (for the Jacobian and the
     profiles; default `residuals`). `interval`: "wald" (on the transformed scale, `_interval`)
-    or "profile" (`_profile_intervals`)."""
+    or "profile" (`_profile_intervals`, within `profile_budget` model evaluations if given)."""
     from scipy import stats
 
     u = sol.x
@@ -1169,10 +1184,12 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     prof_bound: set[int] = set()
     prof_open: set[int] = set()
     profile_evals = 0
+    profiled: tuple[str, ...] = ()
     if interval == "profile" and ssr > 0.0:
         prof, prof_bound, prof_open, profile_evals = _profile_intervals(
-            frozen or residuals, r, jac_p, space, q_lo, q_hi, pv, sd, tq, inflation * s2)
+            frozen or residuals, r, jac_p, space, q_lo, q_hi, pv, sd, tq, inflation * s2, profile_budget)
         ci.update({free[i]: ends for i, ends in prof.items()})
+        profiled = tuple(free[i] for i in sorted(prof))
     tol = 1e-6
     # on a bound, or nearer to it than the half-width of a plain interval (the bound is then
     # inside estimate +- t sd: the data cannot tell the estimate from the bound)
@@ -1238,7 +1255,7 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
         variance_inflation=inflation, residual_sd=math.sqrt(s2),
         undetermined=tuple(name for i, name in enumerate(free)
                            if not math.isfinite(sd[i]) or sd[i] > abs(pv[i]) or i in prof_open),
-        interval=interval if interval == "profile" and ssr > 0.0 else "wald", profile_evals=profile_evals)
+        profiled=profiled, profile_evals=profile_evals)
 
 
 # --------------------------------------------------------------------------------------------
