@@ -513,7 +513,7 @@ def test_fit_report_is_complete():
     text = fit.report()
     for piece in ("[[Fit]]", "success", fit.message, f"model evaluations  = {fit.nfev}", "rmse", "nrmse",
                   "AIC", "BIC", "cross-validated", "lag-1 correlation", "[[Parameters]]", "[[Correlations]]",
-                  "(fixed)"):
+                  "(fixed)", "95% intervals      = Wald, on the range's scale"):
         assert piece in text, piece
     for name in fit.free:
         line = next(ln for ln in text.splitlines() if ln.strip().startswith(name + ":"))
@@ -722,6 +722,8 @@ def test_profile_interval_of_a_linear_model_is_the_t_interval():
     fit = stickslip.fit_friction("capped_viscous", t, x, f, v=v, fixed={"v_s": 0.004}, offset="fit",
                                  interval="profile")
     assert fit.profiled == fit.free and fit.profile_evals > 0
+    assert f"95% intervals      = profile likelihood for mu_k, offset ({fit.profile_evals} model evaluations)\n" \
+        in fit.report()
     tq = stats.t.ppf(0.975, fit.n_samples - len(fit.free))
     for name in fit.free:
         half = tq * fit.stderr[name]

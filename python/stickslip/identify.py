@@ -528,10 +528,7 @@ class FitResult(_Estimates):
                  f"    message            = {self.message}",
                  f"    model evaluations  = {self.nfev} (Jacobians not counted), starts = {self.n_starts}",
                  f"    fitted parameters  = {len(self.free)}",
-                 f"    95% intervals      = " + (f"profile likelihood for {', '.join(self.profiled)} "
-                                                f"({self.profile_evals} model evaluations), " if self.profiled else "")
-                 + ("Wald (on the range's scale) for the others" if self.profiled and len(self.profiled) < len(self.free)
-                    else "" if self.profiled else "Wald, on the range's scale"),
+                 f"    95% intervals      = {self._interval_kinds()}",
                  "[[Scores]]",
                  f"    rmse               = {self.rmse:.6g} N",
                  f"    nrmse              = {self.nrmse:.6g} (rmse / range of the measured force)",
@@ -567,6 +564,13 @@ class FitResult(_Estimates):
         lines.append("[[Correlations]] (|c| > 0.5)")
         lines += [f"    C({a}, {b}) = {c:+.4f}" for _, c, a, b in sorted(pairs, reverse=True)] or ["    none"]
         return "\n".join(lines)
+
+    def _interval_kinds(self) -> str:
+        """How the 95 % intervals were made, for the report."""
+        if not self.profiled:
+            return "Wald, on the range's scale"
+        others = "; Wald (on the range's scale) for the others" if len(self.profiled) < len(self.free) else ""
+        return f"profile likelihood for {', '.join(self.profiled)} ({self.profile_evals} model evaluations){others}"
 
     def _shown(self) -> list[tuple[str, float]]:
         """The parameters a report lists: all but an offset or drift held at 0 (not used)."""
