@@ -414,6 +414,28 @@ def test_select_on_one_record_uses_blocks():
                                         fixed={"coulomb": {"v_s": 1e-3}})
     assert sel.folds == "blocks" and len(sel.fold_scores["dahl"]) == 4
     assert sel.best == "dahl"
+    # the fit on all the data has the default intervals (a static law: profiled), the folds'
+    # fits, scored only, none profiled
+    assert sel.fits["coulomb"].profiled and not sel.fits["dahl"].profiled
+
+
+def test_select_profiles_only_the_fits_on_all_the_data(monkeypatch):
+    t, x, v = sine_record(8.0, 401, 0.01, 0.5)
+    f = pm("coulomb", t, x, v, mu_s=1000.0, mu_k=1000.0, v_s=1e-3).force
+    f = f + 10.0 * np.random.default_rng(3).standard_normal(t.size)
+    kinds = []
+    real = identify.fit_friction
+
+    def spy(*args, **kw):
+        fit = real(*args, **kw)
+        kinds.append(bool(fit.profiled))
+        return fit
+
+    monkeypatch.setattr(identify, "fit_friction", spy)
+    stickslip.select_friction_law(["coulomb", "capped_viscous"], t, x, f, v=v, n_blocks=3,
+                                  fixed={"coulomb": {"v_s": 1e-3}})
+    # per law: the fit on all the data (profiled), then three folds (Wald)
+    assert kinds == [True, False, False, False] * 2
 
 
 @pytest.mark.parametrize("kw, match", [
