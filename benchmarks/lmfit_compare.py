@@ -77,8 +77,9 @@ def run_lmfit(log: Callable[[str], None], repeats: int = 3, laws: tuple[str, ...
     recs = [r for r, _ in ci.load_groups(stickslip.damper_files(36))["36lb"]]
     rows = []
     for law in laws or stickslip.LAWS:
+        # Wald intervals, as lmfit's (its conf_interval is a separate, much costlier call)
         kw = dict(fixed=ci.fixed_for(law), backlash="fit", asymmetry="fit", n_starts=1, rtol=ci.RTOL,
-                  diff_step=ci.DIFF_STEP)
+                  diff_step=ci.DIFF_STEP, interval="wald")
         walls, cpus, fit = [], [], None
         for _ in range(repeats):
             w0, c0 = time.perf_counter(), time.process_time()
@@ -129,14 +130,14 @@ def run_lmfit(log: Callable[[str], None], repeats: int = 3, laws: tuple[str, ...
              f"cycle; backlash and asymmetry fitted; rtol {ci.RTOL:g}, diff_step {ci.DIFF_STEP:g}, one start) by "
              "`stickslip.fit_friction` and by the same fit written with lmfit (same model, start, bounds, "
              f"optimiser; `benchmarks/lmfit_compare.py`), medians of {repeats}. Time ratio: stickslip's CPU time "
-             "over lmfit's (stickslip's includes its standard errors and checks). max |dp|/s.e.: the largest "
+             "over lmfit's (stickslip's includes its standard errors, Wald intervals as lmfit's, and checks). max |dp|/s.e.: the largest "
              "difference of a parameter between the two fits in stickslip's standard errors (without the "
              "correlation inflation); s.e. ratio: lmfit's standard error over that one, median over the "
              "parameters (blank where lmfit gives none: a parameter at a bound makes its covariance singular). "
              "lmfit's nfev counts the Jacobian's evaluations, stickslip's does not. Wall times are of a machine "
              f"shared with other jobs; the budget, a fit in under {BUDGET_S:g} s, is checked on CPU time. Last "
-             "column: stickslip once more at fit_friction's default rtol 1e-6 and diff_step 1e-4 (one start), "
-             "CPU time.", "",
+             "column: stickslip once more at fit_friction's default rtol 1e-6 and diff_step 1e-4 (one start; "
+             "default intervals: profile likelihood for the laws without states), CPU time.", "",
              "| law | k | stickslip [s] (CPU) | lmfit [s] (CPU) | time ratio | nfev stickslip / lmfit | "
              "nrmse stickslip / lmfit | max dp/s.e. | s.e. ratio | under 5 s CPU | default rtol [s CPU] |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
