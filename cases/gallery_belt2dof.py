@@ -128,7 +128,7 @@ def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]],
     top.axhline(V_BELT, color="0.6", lw=0.6)
     top.set_xlabel("time t [s]")
     top.set_ylabel("speed of block 1 [m/s]")
-    top.set_title("Two blocks on a belt: Stribeck friction", fontsize=9)
+    top.set_title("Two blocks on a belt: Stribeck friction")
     _gallery.legend_above_data(top, ncol=2, room=0.45)
     pts = [(w, e) for w, e in rel if np.isfinite(w)]
     ws = np.array([w for w, _ in pts])
@@ -139,7 +139,7 @@ def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]],
         bottom.loglog(ws, np.maximum(e, 1e-6), marker=marker, color=color, label=name, ms=4)
     bottom.set_xlabel("regularisation width v_eps [m/s]")
     bottom.set_ylabel("abs(relative error) [-]")
-    bottom.legend(fontsize=7, loc="lower right")
+    bottom.legend(loc="lower right")
     return _gallery.save(fig, path)
 
 

@@ -178,7 +178,7 @@ def plot(t: np.ndarray, cols: dict[str, np.ndarray], steps: Sequence[float],
     top.plot([], [], "o", ms=2.5, mfc="none", color="0.3", label="scipy reference")
     top.set_xlabel("time t [s]")
     top.set_ylabel("position x [mm]")
-    top.set_title("Stacked blocks on a belt (B slips on A)", fontsize=9)
+    top.set_title("Stacked blocks on a belt (B slips on A)")
     _gallery.legend_above_data(top, ncol=3)
     markers = ("o", "s", "^")
     for i, (label, errs) in enumerate(conv.items()):
@@ -187,7 +187,7 @@ def plot(t: np.ndarray, cols: dict[str, np.ndarray], steps: Sequence[float],
     bottom.loglog(h, conv[next(iter(conv))][0] * h / h[0], ":", color="0.5", label="slope 1")
     bottom.set_xlabel("Moreau-Jean step h [s]")
     bottom.set_ylabel("max abs(x − x_ref) [m]")
-    bottom.legend(fontsize=7, loc="upper left")
+    bottom.legend(loc="upper left")
     return _gallery.save(fig, path)
 
 

@@ -152,7 +152,8 @@ def test_no_caption_in_the_image_and_one_line_titles() -> None:
 COLUMN_FONT_DRIVERS: tuple[str, ...] = (
     "cases/_common.py", "cases/_study.py", "cases/laws.py", "cases/laws_compare.py",
     "cases/stability.py", "cases/identify.py", "cases/chain.py", "cases/engines.py",
-    "cases/implicit.py", "cases/workprecision.py", "cases/stick.py", "benchmarks/run.py")
+    "cases/implicit.py", "cases/workprecision.py", "cases/stick.py", "benchmarks/run.py",
+    "cases/_gallery.py", *(f"cases/{p.name}" for p in sorted((ROOT / "cases").glob("gallery_*.py"))))
 #: Figures of those drivers not yet redrawn, and why (each an exception with its reason).
 NOT_YET_AT_COLUMN_FONTS: dict[str, str] = {}
 
@@ -214,3 +215,48 @@ def test_work_precision_shows_every_method_or_says_why_not() -> None:
                     with pytest.raises(ValueError):
                         ss.simulate(scene, law, method=method, t_end=0.01,
                                     **({"h": 1e-3} if method in wp.FIXED_STEP else {}))
+
+
+def gallery_figures(monkeypatch: pytest.MonkeyPatch) -> dict[str, object]:
+    """Every gallery figure drawn again from the files the gallery's drivers committed to
+    docs/figures (the CSVs; the measures the two-block and stacked-block figures take from
+    their run, given here as numbers of the right sizes): {name: the matplotlib figure}."""
+    sys.path.insert(0, str(ROOT))
+    import numpy as np
+    from cases import _common, _style, gallery_belt2dof, gallery_clutches, gallery_denhartog
+    from cases import gallery_frame, gallery_stacked
+    drawn: dict[str, object] = {}
+    monkeypatch.setattr(_style, "save", lambda fig, path, atomic_write: drawn.setdefault(Path(path).stem, fig))
+    figures = ROOT / "docs" / "figures"
+    gallery_denhartog.plot(figures)
+    gallery_frame.plot(figures)
+    gallery_clutches.plot(_common.read_numeric_csv(figures / "gallery_clutches.csv"), Path("gallery_clutches.png"))
+    errors = {"period": 0.1, "amplitude": 0.01, "stick": 0.2}
+    gallery_belt2dof.plot(_common.read_numeric_csv(figures / "gallery_belt2dof.csv"),
+                          [(w, {k: e * w / 1e-2 for k, e in errors.items()}) for w in gallery_belt2dof.WIDTHS],
+                          Path("gallery_belt2dof.png"))
+    cols = _common.read_numeric_csv(figures / "gallery_stacked.csv")
+    steps = gallery_stacked.STEPS
+    gallery_stacked.plot(cols["time t [s]"], cols, steps,
+                         {name: [h / 10 for h in steps] for name in ("held", "slips", "feet")},
+                         Path("gallery_stacked.png"))
+    return drawn
+
+
+def test_gallery_figures_are_legible_at_a_column_width(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The figure checklist, point 7, on the drawn gallery figures: every piece of text
+    (ticks, labels, titles, legends, colour bars) reads at least MIN_FONT_AT_COLUMN points once
+    the figure is scaled to a column of 8.5 cm, and no figure is wider than a column needs."""
+    from matplotlib.text import Text
+    from cases import _style
+    drawn = gallery_figures(monkeypatch)
+    assert set(drawn) == {"denhartog_amplitude", "denhartog_regions", "frame_drift", "frame_loop",
+                          "gallery_clutches", "gallery_belt2dof", "gallery_stacked"}
+    for name, fig in drawn.items():
+        fig.canvas.draw()
+        scale = min(_style.COLUMN_WIDTH / fig.get_figwidth(), 1.0)
+        small = [(t.get_text(), t.get_fontsize()) for t in fig.findobj(Text)
+                 if t.get_visible() and t.get_text().strip()
+                 and t.get_fontsize() * scale < _style.MIN_FONT_AT_COLUMN - 1e-9]
+        assert not small, f"{name}: text below {_style.MIN_FONT_AT_COLUMN} pt at a column width: {small[:5]}"
+        _style.plt.close(fig)
