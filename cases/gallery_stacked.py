@@ -170,7 +170,7 @@ def plot(t: np.ndarray, cols: dict[str, np.ndarray], steps: Sequence[float],
          conv: dict[str, list[float]], path: Path) -> Path:
     """Top: the stacked blocks' positions (B slipping), event_driven as lines, the scipy
     reference as dots; bottom: Moreau-Jean's largest error against the step size."""
-    fig, top, bottom = _gallery.two_panels()
+    fig, top, bottom = _gallery.two_panels(5.6)
     for body, color in (("A", _style.SEQUENCE[0]), ("B", _style.SEQUENCE[1])):
         top.plot(t, 1e3 * cols[f"x stacked, B slips {body} event_driven [m]"], color=color, label=f"block {body}")
         top.plot(t[::12], 1e3 * cols[f"x stacked, B slips {body} reference [m]"][::12], "o", ms=2.5,
@@ -179,7 +179,7 @@ def plot(t: np.ndarray, cols: dict[str, np.ndarray], steps: Sequence[float],
     top.set_xlabel("time t [s]")
     top.set_ylabel("position x [mm]")
     top.set_title("Stacked blocks on a belt (B slips on A)")
-    _gallery.legend_above_data(top, ncol=3)
+    _gallery.legend_above_data(top, ncol=2, room=0.5)
     markers = ("o", "s", "^")
     for i, (label, errs) in enumerate(conv.items()):
         bottom.loglog(steps, errs, marker=markers[i], color=_style.SEQUENCE[i + 2], label=label, ms=4)
@@ -187,7 +187,8 @@ def plot(t: np.ndarray, cols: dict[str, np.ndarray], steps: Sequence[float],
     bottom.loglog(h, conv[next(iter(conv))][0] * h / h[0], ":", color="0.5", label="slope 1")
     bottom.set_xlabel("Moreau-Jean step h [s]")
     bottom.set_ylabel("max abs(x − x_ref) [m]")
-    bottom.legend(loc="upper left")
+    bottom.legend(loc="upper center", bbox_to_anchor=(0.5, -0.28), ncol=2, frameon=False,
+                  handlelength=1.5, columnspacing=0.8)     # below the panel: the lines cross it
     return _gallery.save(fig, path)
 
 
