@@ -116,7 +116,7 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: boo
 def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]], path: Path) -> Path:
     """Top: block 1's speed over the last 1.5 s (exact and three widths); bottom: the
     measures' relative errors against v_eps."""
-    fig, top, bottom = _gallery.two_panels()
+    fig, top, bottom = _gallery.two_panels(5.4)
     t = cols["time t [s]"]
     series = [k for k in cols if k.startswith("v1 Stribeck")]
     shown = [series[0]] + [k for k in series[1:] if "0.01 " in k or "0.001 " in k]
@@ -129,7 +129,7 @@ def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]],
     top.set_xlabel("time t [s]")
     top.set_ylabel("speed of block 1 [m/s]")
     top.set_title("Two blocks on a belt: Stribeck friction")
-    _gallery.legend_above_data(top, ncol=2, room=0.45)
+    _gallery.legend_above_data(top, ncol=1, room=0.8)
     pts = [(w, e) for w, e in rel if np.isfinite(w)]
     ws = np.array([w for w, _ in pts])
     for key, name, marker, color in (("period", "mean period", "o", _style.SEQUENCE[0]),
