@@ -260,3 +260,26 @@ def test_gallery_figures_are_legible_at_a_column_width(monkeypatch: pytest.Monke
                  and t.get_fontsize() * scale < _style.MIN_FONT_AT_COLUMN - 1e-9]
         assert not small, f"{name}: text below {_style.MIN_FONT_AT_COLUMN} pt at a column width: {small[:5]}"
         _style.plt.close(fig)
+
+
+def test_belt_engines_and_presliding_figures_have_at_most_six_series_a_panel(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The figure checklist, point 7 (at most about six series a panel), on the two figures
+    that had seven in one: engines_belt and laws_compare_presliding, drawn again from their
+    committed CSVs, keep every series of the CSV and put at most six in a panel."""
+    sys.path.insert(0, str(ROOT))
+    from cases import _common, _style, engines, laws_compare
+    drawn: dict[str, object] = {}
+    monkeypatch.setattr(_style, "save", lambda fig, path, atomic_write: drawn.setdefault(Path(path).stem, fig))
+    figures = ROOT / "docs" / "figures"
+    engines.plot(figures)
+    laws_compare.plot(figures / "laws_compare_presliding.csv", figures)
+    panels = {name: [[line for line in ax.get_lines() if not line.get_label().startswith("_")]
+                     for ax in drawn[name].axes] for name in ("engines_belt", "laws_compare_presliding")}
+    for name, lines in panels.items():
+        assert len(lines) >= 3 and all(0 < len(p) <= 6 for p in lines), (name, [len(p) for p in lines])
+    runs = [k[2:].split(" [")[0] for k in _common.read_csv(figures / "engines_belt_series.csv") if k.startswith("v_")]
+    assert {line.get_label() for p in panels["engines_belt"] for line in p} == {engines.label(r) for r in runs}
+    states = list(_common.read_csv(figures / "laws_compare_presliding.csv"))[1:]
+    assert sum(len(p) for p in panels["laws_compare_presliding"]) == len(states)
+    _style.plt.close("all")
