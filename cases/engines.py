@@ -767,24 +767,26 @@ def plot(outdir: str | Path) -> list[Path]:
     # a panel per message (BELT_PANELS, at most five lines each): the library's exact-stick
     # methods, then each group of engines beside the best a one-coefficient engine can do
     # (Coulomb with mu_s = mu_k, grey dashes)
-    fig, axes = c.new_figure(1, nrows=len(BELT_PANELS), height=2.6 * len(BELT_PANELS) + 1.6, sharex=True,
-                             sharey=True)
-    extra = {"event_driven_one_mu": ("0.45", "--"),
-             "mujoco_elliptic_ir100": (c._style.OKABE_ITO["reddish purple"], "--"),
-             "newton_semi_implicit": (c._style.OKABE_ITO["black"], "-.")}   # not Moreau's line
     runs = [key[2:].split(" [")[0] for key in s if key.startswith("v_")]
     unplaced = sorted(set(runs) - {m for _, members in BELT_PANELS for m in members})
     if unplaced:
         raise ValueError(f"engines_belt_series.csv: runs {unplaced} have no panel in BELT_PANELS")
-    for ax, (title, members) in zip(axes[:, 0], BELT_PANELS):
-        for name in [m for m in members if m in runs] + ["event_driven_one_mu"] * (title != BELT_PANELS[0][0]):
+    panels = [(title, [m for m in members if m in runs]) for title, members in BELT_PANELS]
+    panels = [panels[0]] + [(title, shown + ["event_driven_one_mu"] * ("event_driven_one_mu" in runs))
+                            for title, shown in panels[1:] if shown]     # the engines installed
+    fig, _ = c.new_figure(1, nrows=len(panels), height=2.6 * len(panels) + 1.6, sharex=True, sharey=True)
+    extra = {"event_driven_one_mu": ("0.45", "--"),
+             "mujoco_elliptic_ir100": (c._style.OKABE_ITO["reddish purple"], "--"),
+             "newton_semi_implicit": (c._style.OKABE_ITO["black"], "-.")}   # not Moreau's line
+    for ax, (title, shown) in zip(fig.axes, panels):
+        for name in shown:
             col, ls = extra.get(name, ((ENGINE_STYLE.get(name) or (c._style.color(name),))[0], "-"))
             ax.plot(s["t [s]"], s[f"v_{name} [m/s]"], ls, color=col,
                     lw=2.0 if name == "event_driven" else 1.0, label=label(name))
         ax.set_title(title)
         ax.set_ylabel("velocity of the mass [m/s]")
-    axes[-1, 0].set_xlabel("time t [s]")
-    c.figure_legend(fig, axes[:, 0], ncol=1)
+    fig.axes[-1].set_xlabel("time t [s]")
+    c.figure_legend(fig, fig.axes, ncol=1)
     files.append(c.save_figure(fig, outdir / "engines_belt.png"))
     return files
 

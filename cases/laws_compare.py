@@ -406,8 +406,8 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
             element = int(what[1:]) - 1 if what[1:].isdigit() else None
             key = "x" if what == "x" else "z" if element is None else law
             panels.setdefault(key, []).append((name, law, element))
-        fig, axes = c.new_figure(1, nrows=len(panels), height=2.6 * len(panels) + 1.4, sharex=True)
-        for a, (key, series) in zip(axes[:, 0], panels.items()):
+        fig, _ = c.new_figure(1, nrows=len(panels), height=2.6 * len(panels) + 1.4, sharex=True)
+        for a, (key, series) in zip(fig.axes, panels.items()):
             for name, law, element in series:
                 # elements that stick move together: staggered markers keep each one visible
                 marks = {} if element is None else {
@@ -420,10 +420,9 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
             a.set_title("position of the box" if key == "x" else "one bristle per law" if key == "z"
                         else f"{c._style.name(key)}: its elements")
             a.set_ylabel("position x [µm]" if key == "x" else "bristle deflection z [µm]")
-        zx = axes[-1, 0]
-        zx.set_xlabel("time t [ms]")
+        fig.axes[-1].set_xlabel("time t [ms]")
         fig.suptitle("Box on a 10° slope from rest: presliding")
-        c.figure_legend(fig, axes[:, 0], ncol=2)
+        c.figure_legend(fig, fig.axes, ncol=2)
         return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
     column, log, ylabel, title = FIGURES[kind]
     cols = c.read_csv(csv)
