@@ -222,7 +222,6 @@ def gallery_figures(monkeypatch: pytest.MonkeyPatch) -> dict[str, object]:
     docs/figures (the CSVs; the measures the two-block and stacked-block figures take from
     their run, given here as numbers of the right sizes): {name: the matplotlib figure}."""
     sys.path.insert(0, str(ROOT))
-    import numpy as np
     from cases import _common, _style, gallery_belt2dof, gallery_clutches, gallery_denhartog
     from cases import gallery_frame, gallery_stacked
     drawn: dict[str, object] = {}
