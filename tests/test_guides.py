@@ -218,9 +218,8 @@ def test_work_precision_shows_every_method_or_says_why_not() -> None:
 
 
 def gallery_figures(monkeypatch: pytest.MonkeyPatch) -> dict[str, object]:
-    """Every gallery figure drawn again from the files the gallery's drivers committed to
-    docs/figures (the CSVs; the measures the two-block and stacked-block figures take from
-    their run, given here as numbers of the right sizes): {name: the matplotlib figure}."""
+    """Every gallery figure drawn again from the CSVs the gallery's drivers committed to
+    docs/figures (each driver's plot reads its CSVs alone): {name: the matplotlib figure}."""
     sys.path.insert(0, str(ROOT))
     from cases import _common, _style, gallery_belt2dof, gallery_clutches, gallery_denhartog
     from cases import gallery_frame, gallery_stacked
@@ -230,14 +229,9 @@ def gallery_figures(monkeypatch: pytest.MonkeyPatch) -> dict[str, object]:
     gallery_denhartog.plot(figures)
     gallery_frame.plot(figures)
     gallery_clutches.plot(_common.read_numeric_csv(figures / "gallery_clutches.csv"), Path("gallery_clutches.png"))
-    errors = {"period": 0.1, "amplitude": 0.01, "stick": 0.2}
-    gallery_belt2dof.plot(_common.read_numeric_csv(figures / "gallery_belt2dof.csv"),
-                          [(w, {k: e * w / 1e-2 for k, e in errors.items()}) for w in gallery_belt2dof.WIDTHS],
+    gallery_belt2dof.plot(figures / "gallery_belt2dof.csv", figures / "gallery_belt2dof_errors.csv",
                           Path("gallery_belt2dof.png"))
-    cols = _common.read_numeric_csv(figures / "gallery_stacked.csv")
-    steps = gallery_stacked.STEPS
-    gallery_stacked.plot(cols["time t [s]"], cols, steps,
-                         {name: [h / 10 for h in steps] for name in ("held", "slips", "feet")},
+    gallery_stacked.plot(figures / "gallery_stacked.csv", figures / "gallery_stacked_convergence.csv",
                          Path("gallery_stacked.png"))
     return drawn
 
