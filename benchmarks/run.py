@@ -76,7 +76,7 @@ BIN = Path(sys.executable).parent
 FIELDS: tuple[str, ...] = (
     "section", "impl", "method", "scene", "law", "t_end_s", "h_s", "tol", "target_err",
     "repeats", "median_s", "nstep", "nfev", "ns_per_step", "ns_per_eval", "instr_per_eval", "x_end_m",
-    "v_end_m_s", "err", "reference", "ratio_step", "ratio_eval", "ratio_time", "overhead_s", "n_blocks",
+    "v_end_m_s", "err", "err_x_m", "err_v_m_s", "reference", "ratio_step", "ratio_eval", "ratio_time", "overhead_s", "n_blocks",
 )
 REFERENCE_TOL = 1e-13
 #: Fixed-step implicit methods timed beside RK4 (from Python, default controls).
@@ -200,15 +200,24 @@ OVERHEAD: tuple[tuple[str, str, str, float, float], ...] = (
 def _row(section: str, impl: str, method: str, scene: str, law: str, t_end: float, *,
          h: float = float("nan"), tol: float = float("nan"), target: float = float("nan"),
          repeats: int = 0, median_s: float = float("nan"), nstep: int = 0, nfev: int = 0,
-         x: float = float("nan"), v: float = float("nan"), err: float = float("nan")) -> dict:
+         x: float = float("nan"), v: float = float("nan"), err: float = float("nan"),
+         err_x: float = float("nan"), err_v: float = float("nan")) -> dict:
     return {"section": section, "impl": impl, "method": method, "scene": scene, "law": law,
             "t_end_s": t_end, "h_s": h, "tol": tol, "target_err": target, "repeats": repeats,
             "median_s": median_s, "nstep": nstep, "nfev": nfev,
             "ns_per_step": 1e9 * median_s / nstep if nstep else float("nan"),
             "ns_per_eval": 1e9 * median_s / nfev if nfev else float("nan"), "instr_per_eval": float("nan"),
-            "x_end_m": x, "v_end_m_s": v, "err": err, "reference": "",
+            "x_end_m": x, "v_end_m_s": v, "err": err, "err_x_m": err_x, "err_v_m_s": err_v, "reference": "",
             "ratio_step": float("nan"), "ratio_eval": float("nan"), "ratio_time": float("nan"),
             "overhead_s": float("nan"), "n_blocks": 1}
+
+
+def state_errors(x: float, v: float, yref: np.ndarray) -> dict[str, float]:
+    """_row's error arguments for a run ending at position x [m] and speed v [m/s] against the
+    reference state `yref` = (x, v): err_x [m] and err_v [m/s], each floored at 1e-16 (a log
+    axis), and err, the larger of the two: the norm every tool's atol = rtol controls."""
+    err_x, err_v = max(abs(x - float(yref[0])), 1e-16), max(abs(v - float(yref[1])), 1e-16)
+    return {"err": max(err_x, err_v), "err_x": err_x, "err_v": err_v}
 
 
 def run_fixed(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -> list[dict]:
@@ -264,20 +273,18 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
         if "bench_gsl" in exes:
             chk = run_program(exes["bench_gsl"], scene, law, "rk8pd", t_end, REFERENCE_TOL,
                               Config(**{**cfg.__dict__, "repeats": 1, "min_sample": 0.0}))
-            floor = float(np.max(np.abs(np.array([chk["x"], chk["v"]]) - yref)))
+            check = state_errors(chk["x"], chk["v"], yref)
+            floor = check["err"]
             rows.append(_row("reference", "gsl", "rk8pd", scene, law, t_end, tol=REFERENCE_TOL,
-                             x=chk["x"], v=chk["v"], err=floor))
+                             x=chk["x"], v=chk["v"], **check))
             log(f"reference {scene} {law}: stickslip dopri5 vs gsl rk8pd at 1e-13 differ by {floor:.2e}")
-
-        def err_of(x: float, v: float) -> float:
-            return max(float(np.max(np.abs(np.array([x, v]) - yref))), 1e-16)
 
         for tol in cfg.tols:
             group: list[dict] = []
             r = run_program(exes["bench_fortran"], scene, law, "dopri5", t_end, tol, cfg)
             group.append(_row("adaptive", "stickslip_fortran", "dopri5", scene, law, t_end, tol=tol,
                               repeats=cfg.repeats, median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"],
-                              x=r["x"], v=r["v"], err=err_of(r["x"], r["v"])))
+                              x=r["x"], v=r["v"], **state_errors(r["x"], r["v"], yref)))
             if cfg.callgrind:
                 group[-1]["instr_per_eval"] = count_instructions(exes["bench_fortran"], scene, law, "dopri5",
                                                                  t_end, tol) / r["nfev"]
@@ -288,13 +295,13 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
                 x, v = float(res.x[-1]), float(res.v[-1])
                 group.append(_row("adaptive", "stickslip_python", method, scene, law, t_end, tol=tol,
                                   repeats=cfg.repeats, median_s=med, nstep=res.stats["nstep"],
-                                  nfev=res.stats["nfev"], x=x, v=v, err=err_of(x, v)))
+                                  nfev=res.stats["nfev"], x=x, v=v, **state_errors(x, v, yref)))
             if "bench_gsl" in exes:
                 for m in ("rkf45", "rkck", "rk8pd"):
                     r = run_program(exes["bench_gsl"], scene, law, m, t_end, tol, cfg)
                     group.append(_row("adaptive", "gsl", m, scene, law, t_end, tol=tol, repeats=cfg.repeats,
                                       median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"],
-                                      x=r["x"], v=r["v"], err=err_of(r["x"], r["v"])))
+                                      x=r["x"], v=r["v"], **state_errors(r["x"], r["v"], yref)))
                     if cfg.callgrind:
                         group[-1]["instr_per_eval"] = count_instructions(exes["bench_gsl"], scene, law, m,
                                                                          t_end, tol) / r["nfev"]
@@ -308,7 +315,7 @@ def run_adaptive(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
                 nstep = len(sol.t) - 1
                 group.append(_row("adaptive", "scipy", m, scene, law, t_end, tol=tol, repeats=sc.repeats,
                                   median_s=med, nstep=nstep, nfev=int(sol.nfev), x=x, v=v,
-                                  err=err_of(x, v) if sol.success else float("nan")))
+                                  **(state_errors(x, v, yref) if sol.success else {})))
             base = group[0]
             for row in group:
                 row["reference"] = "stickslip_fortran dopri5"
@@ -413,10 +420,11 @@ def run_exact_stick(cfg: Config, log: Callable[[str], None]) -> tuple[list[dict]
             except stickslip.IntegrationError as exc:
                 notes.append(f"{scene}/{law} {method} {ctl}: {type(exc).__name__}")
                 continue
+            err_x = max(error(res), 1e-16)           # both problems' errors are of the position [m]
             row = _row("exact_stick", "stickslip_python", method, scene, law, t_end, h=ctl.get("h", float("nan")),
                        tol=ctl.get("rtol", float("nan")), repeats=cfg.repeats, median_s=med,
                        nstep=res.stats["nstep"], nfev=res.stats["nfev"], x=float(res.x[-1]), v=float(res.v[-1]),
-                       err=max(error(res), 1e-16))
+                       err=err_x, err_x=err_x)
             row["reference"] = "exact (cases.stick)"
             here.append(row)
             log(f"exact_stick {scene:5s} {law:8s} {method:12s} {ctl} {1e6 * med:9.0f} us  err={row['err']:.1e}")
@@ -457,9 +465,10 @@ def run_dop853(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -
     for tol in cfg.dop853_tols:
         for impl, exe, method in runs:
             r = run_program(exes[exe], scene, law, method, t_end, tol, cfg)
-            err = max(float(np.max(np.abs(np.array([r["x"], r["v"]]) - yref))), 1e-16)
+            errors = state_errors(r["x"], r["v"], yref)
+            err = errors["err"]
             row = _row("dop853", impl, method, scene, law, t_end, tol=tol, repeats=cfg.repeats,
-                       median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"], x=r["x"], v=r["v"], err=err)
+                       median_s=r["median_s"], nstep=r["nstep"], nfev=r["nfev"], x=r["x"], v=r["v"], **errors)
             if cfg.callgrind:
                 row["instr_per_eval"] = count_instructions(exes[exe], scene, law, method, t_end, tol) / r["nfev"]
             row["reference"] = "stickslip_fortran dopri5 at 1e-13 (error)"
@@ -646,9 +655,8 @@ def plot(rows: list[dict], path: Path) -> None:
     evaluation of every tool on the first scene and law (bars on a linear axis); (b, c) the
     adaptive methods' error against time on the first adaptive scene and law, the library
     against GSL and against scipy (a marker per method, a line style per tool). The error is
-    the largest component of the state's error at t_end, |x - x_ref| and |v - v_ref| in SI
-    units: the norm every tool's atol = rtol controls, a number without unit. A run that
-    failed (no finite error) is a cross on the top edge."""
+    that of the position at t_end, |x - x_ref| [m] (the err_x_m column; one quantity an axis).
+    A run that failed (no finite error) is a cross on the top edge."""
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
     from matplotlib.transforms import blended_transform_factory
@@ -682,7 +690,7 @@ def plot(rows: list[dict], path: Path) -> None:
             ax = fig.add_subplot(grid[1 + k])
             top = blended_transform_factory(ax.transData, ax.transAxes)
             for impl, method in series:
-                pts = sorted((r["median_s"], r["err"]) for r in sel
+                pts = sorted((r["median_s"], r["err_x_m"]) for r in sel
                              if (r["impl"], r["method"]) == (impl, method))
                 if not pts:
                     continue
@@ -699,7 +707,7 @@ def plot(rows: list[dict], path: Path) -> None:
                             label=f"{TOOL_WORDS.get(impl, impl)}: {method_words(method)} failed")
             ax.set_title(f"({'bc'[k]}) adaptive, {title}")
             ax.set_xlabel("time per integration [s]")
-            ax.set_ylabel("state error at t_end [-]")
+            ax.set_ylabel("position error at t_end [m]")
             lo, hi = ax.get_xlim()
             if hi / lo < 20.0:                    # less than about a decade: label 3e-n too
                 ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 3.0)))
@@ -1108,8 +1116,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.replot:
         if not (args.outdir / "benchmarks.csv").exists():
             parser.error(f"argument --replot: no benchmarks.csv in {args.outdir}")
+        rows = read_rows(args.outdir / "benchmarks.csv")
+        if any(not isinstance(r.get("err_x_m"), float) for r in rows if r["section"] == "adaptive"):
+            parser.error(f"argument --replot: {args.outdir}/benchmarks.csv has no position error "
+                         f"err_x_m in its adaptive rows (written before that column): run python -m "
+                         f"benchmarks again")
         png = args.outdir / "benchmarks.png"
-        plot(read_rows(args.outdir / "benchmarks.csv"), png)
+        plot(rows, png)
         write_provenance(args.outdir, "benchmarks", [png, png.with_suffix(".pdf")], argv)
         print(png)
         return 0

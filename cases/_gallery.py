@@ -1,5 +1,6 @@
-"""What the gallery's drivers (cases/gallery_*.py) share: two stacked panels sized for a column
-of 8.5 cm, a legend kept clear of the data, and saving in the common style (cases._style)."""
+"""What the gallery's drivers (cases/gallery_*.py) share: figures one column (8.5 cm) wide made
+by cases._common.new_figure (fonts of cases._style.column_fonts: 8 pt or more at that width),
+two stacked panels, a legend kept clear of the data, and saving in the common style."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -8,16 +9,18 @@ from typing import Any
 from . import _common as c
 from . import _style
 
-#: Width of a gallery figure [in]: one column of 8.5 cm, fonts at their size.
-WIDTH: float = 3.4
+
+def figure(height: float, **kwargs: Any) -> tuple[Any, Any]:
+    """A one-column figure `height` inches high with one panel: (fig, ax); `kwargs` go to
+    plt.subplots (layout, ...)."""
+    return c.new_figure(1, height=height, **kwargs)
 
 
 def two_panels(height: float = 4.6, **kwargs: Any) -> tuple[Any, Any, Any]:
-    """A figure with two panels one above the other: (fig, top, bottom)."""
-    import matplotlib.pyplot as plt
-    _style.apply()
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(WIDTH, height), **kwargs)
-    return fig, top, bottom
+    """A one-column figure with two panels one above the other: (fig, top, bottom); `kwargs`
+    go to plt.subplots (sharex, gridspec_kw, layout, ...)."""
+    fig, axes = c.new_figure(1, nrows=2, height=height, **kwargs)
+    return fig, axes[0, 0], axes[1, 0]
 
 
 def legend_above_data(ax: Any, ncol: int, room: float = 0.35, **kwargs: Any) -> Any:
@@ -25,10 +28,12 @@ def legend_above_data(ax: Any, ncol: int, room: float = 0.35, **kwargs: Any) -> 
     columns, so that it covers no data."""
     low, high = ax.get_ylim()
     ax.set_ylim(low, high + room * (high - low))
-    return ax.legend(fontsize=7, loc="upper center", ncol=ncol, handlelength=1.5, columnspacing=0.8, **kwargs)
+    return ax.legend(loc="upper center", ncol=ncol, handlelength=1.5, columnspacing=0.8, **kwargs)
 
 
 def save(fig: Any, path: Path) -> Path:
-    """Lay the figure out and write it as PNG and PDF (cases._style.save); the PNG's path."""
-    fig.tight_layout()
+    """Lay the figure out (unless it has a layout engine of its own) and write it as PNG and
+    PDF (cases._style.save); the PNG's path."""
+    if fig.get_layout_engine() is None:
+        fig.tight_layout()
     return _style.save(fig, path, c.atomic_write)

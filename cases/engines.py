@@ -702,6 +702,14 @@ CREEP_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("Newton, Bullet", ("newton_semi_implicit", "bullet")))
 
 
+#: The panels of engines_belt.png: a title and the runs (engines_belt_series.csv's v_<run>)
+#: each shows; the engines' panels also show event_driven_one_mu, their best possible cycle.
+BELT_PANELS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("stickslip's exact-stick methods", ("event_driven", "moreau", "event_driven_one_mu")),
+    ("MuJoCo and Drake", ("mujoco", "mujoco_elliptic_ir100", "drake_tamsi", "drake_continuous")),
+    ("Newton and Bullet", ("newton_semi_implicit", "bullet")))
+
+
 def plot(outdir: str | Path) -> list[Path]:
     """engines_slope_creep.png (left: measured against predicted creep of every engine with a
     law; right: measured creep against the time step at each engine's default friction
@@ -716,7 +724,7 @@ def plot(outdir: str | Path) -> list[Path]:
         kind = e + ("_elliptic" if rows["cone [-]"][i] == "elliptic" else "")
         kinds.setdefault(kind, []).append(i)
     # a row per group of engines (CREEP_GROUPS), at most six series a panel
-    fig, axes = c.new_figure(2, nrows=len(CREEP_GROUPS), height=7.4, sharex="col")
+    fig, axes = c.new_figure(2, nrows=len(CREEP_GROUPS), height=9.4, sharex="col")
     lim = []
     for row, (group, members) in enumerate(CREEP_GROUPS):
         ax, bx = axes[row]
@@ -756,28 +764,29 @@ def plot(outdir: str | Path) -> list[Path]:
     files = [c.save_figure(fig, outdir / "engines_slope_creep.png")]
 
     s = c.read_numeric_csv(outdir / "engines_belt_series.csv")
-    # two panels (at most seven lines each): the library's exact-stick methods, then the
-    # engines beside the best a one-coefficient engine can do (Coulomb with mu_s = mu_k, grey)
-    fig, axes = c.new_figure(1, nrows=2, height=7.6, sharex=True)
-    ax, bx = axes[:, 0]
+    # a panel per message (BELT_PANELS, at most five lines each): the library's exact-stick
+    # methods, then each group of engines beside the best a one-coefficient engine can do
+    # (Coulomb with mu_s = mu_k, grey dashes)
+    runs = [key[2:].split(" [")[0] for key in s if key.startswith("v_")]
+    unplaced = sorted(set(runs) - {m for _, members in BELT_PANELS for m in members})
+    if unplaced:
+        raise ValueError(f"engines_belt_series.csv: runs {unplaced} have no panel in BELT_PANELS")
+    panels = [(title, [m for m in members if m in runs]) for title, members in BELT_PANELS]
+    panels = [panels[0]] + [(title, shown + ["event_driven_one_mu"] * ("event_driven_one_mu" in runs))
+                            for title, shown in panels[1:] if shown]     # the engines installed
+    fig, _ = c.new_figure(1, nrows=len(panels), height=2.6 * len(panels) + 1.6, sharex=True, sharey=True)
     extra = {"event_driven_one_mu": ("0.45", "--"),
              "mujoco_elliptic_ir100": (c._style.OKABE_ITO["reddish purple"], "--"),
              "newton_semi_implicit": (c._style.OKABE_ITO["black"], "-.")}   # not Moreau's line
-    for key, val in s.items():
-        if not key.startswith("v_"):
-            continue
-        name = key[2:].split(" [")[0]
-        col, ls = extra.get(name, ((ENGINE_STYLE.get(name) or (c._style.color(name),))[0], "-"))
-        library = name in c._style.METHOD_COLORS or name == "event_driven_one_mu"
-        for target in ((ax, bx) if name == "event_driven_one_mu" else (ax,) if library else (bx,)):
-            target.plot(s["t [s]"], val, ls, color=col, lw=2.0 if name == "event_driven" else 1.0,
-                        label=label(name))
-    ax.set_title("stickslip's exact-stick methods")
-    bx.set_title("physics engines")
-    for a in (ax, bx):
-        a.set_ylabel("velocity of the mass [m/s]")
-    bx.set_xlabel("time [s]")
-    c.figure_legend(fig, (ax, bx), ncol=1)
+    for ax, (title, shown) in zip(fig.axes, panels):
+        for name in shown:
+            col, ls = extra.get(name, ((ENGINE_STYLE.get(name) or (c._style.color(name),))[0], "-"))
+            ax.plot(s["t [s]"], s[f"v_{name} [m/s]"], ls, color=col,
+                    lw=2.0 if name == "event_driven" else 1.0, label=label(name))
+        ax.set_title(title)
+        ax.set_ylabel("velocity of the mass [m/s]")
+    fig.axes[-1].set_xlabel("time t [s]")
+    c.figure_legend(fig, fig.axes, ncol=1)
     files.append(c.save_figure(fig, outdir / "engines_belt.png"))
     return files
 

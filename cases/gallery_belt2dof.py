@@ -15,8 +15,9 @@ peak-to-peak) and its stick fraction (the share of time with abs(slip) < 1 mm/s)
 largest deviation of block 1's position from the exact one over the whole run.
 
 Writes gallery_belt2dof.csv (block 1's speed of each run over the last 1.5 s),
-gallery_belt2dof.png (speeds, and the three measures' relative errors against v_eps) and
-gallery_belt2dof.md (the table). --quick leaves out the narrowest width.
+gallery_belt2dof_errors.csv (the three measures' relative errors at each v_eps),
+gallery_belt2dof.png (drawn from the two CSVs alone: speeds, and the relative errors against
+v_eps) and gallery_belt2dof.md (the table). --quick leaves out the narrowest width.
 """
 from __future__ import annotations
 
@@ -109,14 +110,26 @@ def run(outdir: str | Path, *, quick: bool = False, threads: int = 2, quiet: boo
     for label, _, res in results:
         cols[f"v1 {label} [m/s]"] = res.v[0][last]
     files.append(c.write_columns(outdir / "gallery_belt2dof.csv", cols))
-    files.append(plot(cols, rel, outdir / "gallery_belt2dof.png"))
+    widths = [(w, e) for w, e in rel if np.isfinite(w)]
+    files.append(c.write_columns(outdir / "gallery_belt2dof_errors.csv", {
+        "v_eps [m/s]": np.array([w for w, _ in widths]),
+        **{f"{name} relative error [-]": np.array([e[key] for _, e in widths]) for key, name in MEASURES}}))
+    files.append(plot(outdir / "gallery_belt2dof.csv", outdir / "gallery_belt2dof_errors.csv",
+                      outdir / "gallery_belt2dof.png"))
     return files
 
 
-def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]], path: Path) -> Path:
-    """Top: block 1's speed over the last 1.5 s (exact and three widths); bottom: the
-    measures' relative errors against v_eps."""
-    fig, top, bottom = _gallery.two_panels()
+#: The measures of a run: (key of `measures`, name in the figure and the errors' CSV).
+MEASURES: tuple[tuple[str, str], ...] = (("period", "mean period"), ("amplitude", "amplitude"),
+                                         ("stick", "stick fraction"))
+
+
+def plot(series: Path, errors: Path, path: Path) -> Path:
+    """From the CSVs alone (`series`: gallery_belt2dof.csv, `errors`:
+    gallery_belt2dof_errors.csv): top, block 1's speed over the last 1.5 s (exact and two
+    widths); bottom, the measures' relative errors against v_eps."""
+    cols, rel = c.read_numeric_csv(series), c.read_numeric_csv(errors)
+    fig, top, bottom = _gallery.two_panels(5.4)
     t = cols["time t [s]"]
     series = [k for k in cols if k.startswith("v1 Stribeck")]
     shown = [series[0]] + [k for k in series[1:] if "0.01 " in k or "0.001 " in k]
@@ -128,18 +141,14 @@ def plot(cols: dict[str, np.ndarray], rel: list[tuple[float, dict[str, float]]],
     top.axhline(V_BELT, color="0.6", lw=0.6)
     top.set_xlabel("time t [s]")
     top.set_ylabel("speed of block 1 [m/s]")
-    top.set_title("Two blocks on a belt: Stribeck friction", fontsize=9)
-    _gallery.legend_above_data(top, ncol=2, room=0.45)
-    pts = [(w, e) for w, e in rel if np.isfinite(w)]
-    ws = np.array([w for w, _ in pts])
-    for key, name, marker, color in (("period", "mean period", "o", _style.SEQUENCE[0]),
-                                     ("amplitude", "amplitude", "s", _style.SEQUENCE[1]),
-                                     ("stick", "stick fraction", "^", _style.SEQUENCE[2])):
-        e = np.array([abs(err[key]) for _, err in pts])
-        bottom.loglog(ws, np.maximum(e, 1e-6), marker=marker, color=color, label=name, ms=4)
+    top.set_title("Two blocks on a belt: Stribeck friction")
+    _gallery.legend_above_data(top, ncol=1, room=0.8)
+    for (_, name), marker, color in zip(MEASURES, "os^", _style.SEQUENCE):
+        e = np.abs(rel[f"{name} relative error [-]"])
+        bottom.loglog(rel["v_eps [m/s]"], np.maximum(e, 1e-6), marker=marker, color=color, label=name, ms=4)
     bottom.set_xlabel("regularisation width v_eps [m/s]")
     bottom.set_ylabel("abs(relative error) [-]")
-    bottom.legend(fontsize=7, loc="lower right")
+    bottom.legend(loc="lower right")
     return _gallery.save(fig, path)
 
 

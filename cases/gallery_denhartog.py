@@ -45,6 +45,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _common as c
+from . import _gallery
 from . import _style as style
 
 #: Friction ratios F / P0 of the figure and the tables.
@@ -276,18 +277,13 @@ def tables(outdir: Path) -> list[Path]:
     return [c.write_text(outdir / "denhartog_amplitude.md", amp), c.write_text(outdir / "denhartog_stops.md", st)]
 
 
-#: Width of the figures: one column of a paper (8.5 cm).
-WIDTH_IN: float = 8.5 / 2.54
-
-
 def plot(outdir: Path) -> list[Path]:
     """denhartog_amplitude.png/.pdf and denhartog_regions.png/.pdf."""
     import matplotlib.pyplot as plt
-    style.apply()
     rows = _rows(outdir / "denhartog.csv")
     cur = c.read_numeric_csv(outdir / "denhartog_curves.csv")
     ratios = list(dict.fromkeys(r["r [-]"] for r in rows))
-    fig, ax = plt.subplots(figsize=(WIDTH_IN, 3.0), layout="constrained")
+    fig, ax = _gallery.figure(4.4, layout="constrained")
     for i, r in enumerate(ratios):
         col = style.SEQUENCE[i]
         y = cur[f"X k/P0 r={r:g} [-]"]
@@ -302,21 +298,19 @@ def plot(outdir: Path) -> list[Path]:
                     mfc=col if not stop else "white", mew=0.9)
     lines, _ = ax.get_legend_handles_labels()
     lines.append(plt.Line2D([], [], color="k", lw=0.8, ls=":", label="not the motion"))
-    first = ax.legend(handles=lines, fontsize=6.5, loc="upper left", handlelength=1.4, title="closed form",
-                      title_fontsize=6.5)
-    ax.add_artist(first)
+    # the legends below the axes, where they cover no data
+    fig.legend(handles=lines, loc="outside lower left", handlelength=1.4, title="closed form", frameon=False)
     marks = [plt.Line2D([], [], color="k", marker="o", ms=3.5, ls="none", label="no stops"),
              plt.Line2D([], [], color="k", marker="s", ms=3.5, mfc="white", ls="none", label="with stops")]
-    ax.legend(handles=marks, fontsize=6.5, loc="upper right", title="event-driven", title_fontsize=6.5,
-              handlelength=1.4)
+    fig.legend(handles=marks, loc="outside lower right", title="event-driven", handlelength=1.4, frameon=False)
     ax.set_yscale("log")
     ax.set_ylim(0.02, 30.0)
     ax.set_xlim(0.15, 3.2)
     ax.set_xlabel("frequency ratio ω/ω$_n$ [-]")
     ax.set_ylabel("amplitude ratio X k/P$_0$ [-]")
-    files = [style.save(fig, outdir / "denhartog_amplitude.png", c.atomic_write)]
+    files = [_gallery.save(fig, outdir / "denhartog_amplitude.png")]
     # the (beta, r) plane
-    fig, ax = plt.subplots(figsize=(WIDTH_IN, 2.8), layout="constrained")
+    fig, ax = _gallery.figure(3.8, layout="constrained")
     bb = np.linspace(0.15, 3.2, 160)
     rr = np.linspace(0.01, 1.0, 100)
     holds = np.array([[nonstop_valid(b, r) for b in bb] for r in rr])
@@ -336,8 +330,8 @@ def plot(outdir: Path) -> list[Path]:
     from matplotlib.patches import Patch
     handles, _ = ax.get_legend_handles_labels()
     handles.append(Patch(facecolor="0.85", edgecolor="0.3", label="non-stop closed form fails"))
-    ax.legend(handles=handles, fontsize=6.5, loc="upper right")
-    files.append(style.save(fig, outdir / "denhartog_regions.png", c.atomic_write))
+    fig.legend(handles=handles, loc="outside lower center", frameon=False)
+    files.append(_gallery.save(fig, outdir / "denhartog_regions.png"))
     return files
 
 

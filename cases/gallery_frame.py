@@ -45,6 +45,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _common as c
+from . import _gallery
 from . import _style as style
 
 ROOT: Path = Path(__file__).resolve().parent.parent
@@ -57,7 +58,6 @@ DT_OUT: float = 2e-3                  # output grid [s]
 SERIES_EVERY: int = 2                 # frame_series.csv keeps every 2nd output point (4 ms)
 QUICK_END: float = 12.0               # [s] of the record with --quick
 RTOL_FIT: float = 1e-4                # the fit's state integration (as cases.identify)
-WIDTH_IN: float = 8.5 / 2.54          # one column (8.5 cm)
 LOOP_END: float = 8.0                 # [s]: the hysteresis figure shows the strong motion
 RUNS: tuple[str, ...] = ("none", "dahl", "coulomb")
 RUN_NAMES: dict[str, str] = {"none": "no damper", "dahl": "damper, Dahl (identified)",
@@ -254,12 +254,10 @@ def write_summary(outdir: Path, k: dict[str, float], f_d: float, t_end: float) -
 
 def plot(outdir: Path) -> list[Path]:
     """frame_drift.png/.pdf and frame_loop.png/.pdf from frame_series.csv."""
-    import matplotlib.pyplot as plt
-    style.apply()
     s = c.read_numeric_csv(outdir / "frame_series.csv")
     t = s["t [s]"]
-    fig, (ax0, ax1) = plt.subplots(2, 1, figsize=(WIDTH_IN, 3.6), sharex=True, layout="constrained",
-                                   gridspec_kw={"height_ratios": [1, 2.2]})
+    fig, ax0, ax1 = _gallery.two_panels(3.6, sharex=True, layout="constrained",
+                                        gridspec_kw={"height_ratios": [1, 2.2]})
     ax0.plot(t, s["a_g [m/s^2]"] / G, color="k", lw=0.6)
     ax0.set_ylabel("a$_g$ [g]")
     for n in RUNS:
@@ -267,11 +265,11 @@ def plot(outdir: Path) -> list[Path]:
                  label=RUN_NAMES[n].replace("damper, ", "").replace(" (same sliding force)", ""))
     ax1.set_ylabel("storey drift u [mm]")
     ax1.set_xlabel("time t [s]")
-    ax1.legend(fontsize=6.5, ncol=3, loc="upper center", bbox_to_anchor=(0.5, 1.17), frameon=False,
+    ax1.legend(ncol=3, loc="upper center", bbox_to_anchor=(0.5, 1.17), frameon=False,
                handlelength=1.4, columnspacing=0.8)
     ax1.set_xlim(0.0, t[-1])
-    files = [style.save(fig, outdir / "frame_drift.png", c.atomic_write)]
-    fig, ax = plt.subplots(figsize=(WIDTH_IN, 2.9), layout="constrained")
+    files = [_gallery.save(fig, outdir / "frame_drift.png")]
+    fig, ax = _gallery.figure(3.4, layout="constrained")
     strong = t <= LOOP_END
     for n in ("coulomb", "dahl"):
         ax.plot(1e3 * s[f"u {n} [m]"][strong], 1e-3 * s[f"R {n} [N]"][strong], color=RUN_COLORS[n], lw=0.6,
@@ -279,9 +277,9 @@ def plot(outdir: Path) -> list[Path]:
     ax.set_xlabel("storey drift u [mm]")
     ax.set_ylabel("damper force [kN]")
     ax.set_ylim(-14.0, 14.0)
-    ax.set_title(f"the strong motion, 0 to {LOOP_END:g} s", fontsize=7)
-    ax.legend(fontsize=6.5, loc="upper left", ncol=2, handlelength=1.4, columnspacing=0.8, framealpha=1.0)
-    files.append(style.save(fig, outdir / "frame_loop.png", c.atomic_write))
+    ax.set_title(f"the strong motion, 0 to {LOOP_END:g} s")
+    fig.legend(loc="outside lower center", handlelength=1.4, frameon=False)   # below: covers no loop
+    files.append(_gallery.save(fig, outdir / "frame_loop.png"))
     return files
 
 

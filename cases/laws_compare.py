@@ -397,24 +397,32 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     if kind == "presliding":
         data = c.read_numeric_csv(csv)
         names = list(data)
-        # two panels, one quantity each: the body's position, the laws' internal states (the
-        # generalized Maxwell-slip law's elements in line styles of the law's colour)
-        fig, axes = c.new_figure(1, nrows=2, height=7.4, sharex=True)
-        ax, zx = axes[:, 0]
+        # a panel per quantity and message: the body's position; the one bristle of each law
+        # that has one; the elements of each law with several (generalized Maxwell-slip), in
+        # line styles of the law's colour
+        panels: dict[str, list[tuple[str, str, int | None]]] = {"x": []}
         for name in names[1:]:
             what, law = c.split_unit(name)[0].split()
-            index = int(what[1:]) - 1 if what[1:].isdigit() else 0
-            (ax if what == "x" else zx).plot(
-                data[names[0]] * 1e3, data[name] * 1e6, color=c._style.color(law),
-                linestyle=c.VARIANT_STYLES[index % len(c.VARIANT_STYLES)],
-                label=c._style.name(law) + (f", element {index + 1}" if what[1:].isdigit() else ""))
-        for a, title, ylabel in ((ax, "position of the box", "position x [µm]"),
-                                 (zx, "the laws' internal states", "bristle deflection z [µm]")):
-            a.set_ylabel(ylabel)
-            a.set_title(title)
-        zx.set_xlabel("time t [ms]")
+            element = int(what[1:]) - 1 if what[1:].isdigit() else None
+            key = "x" if what == "x" else "z" if element is None else law
+            panels.setdefault(key, []).append((name, law, element))
+        fig, _ = c.new_figure(1, nrows=len(panels), height=2.6 * len(panels) + 1.4, sharex=True)
+        for a, (key, series) in zip(fig.axes, panels.items()):
+            for name, law, element in series:
+                # elements that stick move together: staggered markers keep each one visible
+                marks = {} if element is None else {
+                    "marker": "osv^"[element % 4], "markevery": (12 * element, 48), "ms": 4,
+                    "mfc": "white"}
+                a.plot(data[names[0]] * 1e3, data[name] * 1e6, color=c._style.color(law),
+                       linestyle=c.VARIANT_STYLES[(element or 0) % len(c.VARIANT_STYLES)],
+                       label=c._style.name(law) + ("" if element is None else f", element {element + 1}"),
+                       **marks)
+            a.set_title("position of the box" if key == "x" else "one bristle per law" if key == "z"
+                        else f"{c._style.name(key)}: its elements")
+            a.set_ylabel("position x [µm]" if key == "x" else "bristle deflection z [µm]")
+        fig.axes[-1].set_xlabel("time t [ms]")
         fig.suptitle("Box on a 10° slope from rest: presliding")
-        c.figure_legend(fig, [ax, zx], ncol=3)
+        c.figure_legend(fig, fig.axes, ncol=2)
         return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
     column, log, ylabel, title = FIGURES[kind]
     cols = c.read_csv(csv)

@@ -8,6 +8,7 @@ import shutil
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -50,9 +51,20 @@ def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> No
     assert {("scipy", m) for m in QUICK.scipy_methods} <= methods
     assert len(adaptive) == len(methods) * len(QUICK.tols) * len(QUICK.adaptive)
     for r in adaptive:
-        for key in ("ratio_step", "ratio_eval", "ratio_time", "err"):
+        for key in ("ratio_step", "ratio_eval", "ratio_time", "err", "err_x_m", "err_v_m_s"):
             x = float(r[key])
             assert math.isfinite(x) and x > 0, (r["impl"], r["method"], key, r[key])
+    # The error by component: err the larger of err_x_m [m] and err_v_m_s [m/s]; the position's
+    # error agrees with the end position's distance from GSL rk8pd's check of the reference,
+    # within the two references' difference and the CSV's six digits.
+    checks = {(r["scene"], r["law"]): r for r in rows if r["section"] == "reference"}
+    for r in adaptive:
+        ex, ev = float(r["err_x_m"]), float(r["err_v_m_s"])
+        assert float(r["err"]) == pytest.approx(max(ex, ev), rel=1e-5)
+        chk = checks.get((r["scene"], r["law"]))
+        if chk is not None:
+            x, x_chk = float(r["x_end_m"]), float(chk["x_end_m"])
+            assert abs(abs(x - x_chk) - ex) <= float(chk["err"]) + 5e-6 * (abs(x) + abs(x_chk)), r
 
     # The facade's overhead: each short run through the bare f2py wrapper, then through simulate.
     over = [r for r in rows if r["section"] == "overhead"]
@@ -192,3 +204,54 @@ def test_overhead_alone_replaces_its_block_and_rows(tmp_path: Path, monkeypatch:
     over = rows[1:]
     assert [r["impl"] for r in over] == ["f2py_wrapper", "stickslip_python"] * len(OVERHEAD)
     assert all(float(r["median_s"]) > 0 for r in over)
+
+
+def test_state_errors_keep_each_unit_apart() -> None:
+    """A run's end-state error by component: err_x [m] and err_v [m/s] each against its own
+    reference, err the larger (the norm atol = rtol controls), 1e-16 at the least (a log axis)."""
+    sys.path.insert(0, str(ROOT))
+    import numpy as np
+    from benchmarks.run import state_errors
+    assert state_errors(1.0, 2.0, np.array([1.5, 1.0])) == {"err": 1.0, "err_x": 0.5, "err_v": 1.0}
+    assert state_errors(0.3, -0.2, np.array([0.3, -0.2 + 2e-9])) == pytest.approx(
+        {"err": 2e-9, "err_x": 1e-16, "err_v": 2e-9})
+
+
+def test_replot_draws_position_error_and_refuses_an_old_csv(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """--replot draws the figure from benchmarks.csv alone, its error axis the position's in
+    metres (err_x_m), not the mixed err; a CSV without err_x_m in its adaptive rows (written
+    before the column) is refused with a one-line error, not plotted with the mixed norm."""
+    monkeypatch.syspath_prepend(str(ROOT))
+    from benchmarks import run
+
+    def row(section: str, impl: str, method: str, tol: float, t: float, ex: float, ev: float) -> dict:
+        r = dict.fromkeys(run.FIELDS, "nan") | {"section": section, "impl": impl, "method": method,
+                                               "scene": "belt", "law": "proposed", "tol": tol,
+                                               "median_s": t, "h_s": 1e-5, "ns_per_eval": 20.0,
+                                               "ratio_eval": 1.0, "err_x_m": ex, "err_v_m_s": ev,
+                                               "err": max(ex, ev)}
+        return r
+
+    rows = [row("fixed", "c_loop", "rk4", float("nan"), 0.1, float("nan"), float("nan"))]
+    rows += [row("adaptive", impl, "dopri5", tol, t, ex, 100 * ex)
+             for impl in ("stickslip_fortran", "stickslip_python")
+             for tol, t, ex in ((1e-4, 1e-3, 3e-5), (1e-8, 4e-3, 2e-9))]
+    run.write_csv(rows, tmp_path / "benchmarks.csv")
+    from cases import _style
+    axes: list = []
+    save = _style.save
+    monkeypatch.setattr(_style, "save", lambda fig, path, write: (axes.extend(fig.axes), save(fig, path, write))[1])
+    assert run.main(["--replot", "--outdir", str(tmp_path)]) == 0
+    assert (tmp_path / "benchmarks.png").stat().st_size > 0
+    panels = [ax for ax in axes if ax.get_yscale() == "log"]
+    assert panels and all(ax.get_ylabel().endswith("[m]") for ax in panels)
+    plotted = np.concatenate([line.get_ydata() for ax in panels for line in ax.get_lines()])
+    assert set(plotted) == {3e-5, 2e-9}                      # err_x_m, not err (= err_v here)
+
+    old = [{k: v for k, v in r.items() if k not in ("err_x_m", "err_v_m_s")} for r in rows]
+    with (tmp_path / "benchmarks.csv").open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=[f for f in run.FIELDS if f not in ("err_x_m", "err_v_m_s")])
+        w.writeheader()
+        w.writerows(old)
+    with pytest.raises(SystemExit):
+        run.main(["--replot", "--outdir", str(tmp_path)])

@@ -152,7 +152,8 @@ def test_no_caption_in_the_image_and_one_line_titles() -> None:
 COLUMN_FONT_DRIVERS: tuple[str, ...] = (
     "cases/_common.py", "cases/_study.py", "cases/laws.py", "cases/laws_compare.py",
     "cases/stability.py", "cases/identify.py", "cases/chain.py", "cases/engines.py",
-    "cases/implicit.py", "cases/workprecision.py", "cases/stick.py", "benchmarks/run.py")
+    "cases/implicit.py", "cases/workprecision.py", "cases/stick.py", "benchmarks/run.py",
+    "cases/_gallery.py", *(f"cases/{p.name}" for p in sorted((ROOT / "cases").glob("gallery_*.py"))))
 #: Figures of those drivers not yet redrawn, and why (each an exception with its reason).
 NOT_YET_AT_COLUMN_FONTS: dict[str, str] = {}
 
@@ -214,3 +215,64 @@ def test_work_precision_shows_every_method_or_says_why_not() -> None:
                     with pytest.raises(ValueError):
                         ss.simulate(scene, law, method=method, t_end=0.01,
                                     **({"h": 1e-3} if method in wp.FIXED_STEP else {}))
+
+
+def gallery_figures(monkeypatch: pytest.MonkeyPatch) -> dict[str, object]:
+    """Every gallery figure drawn again from the CSVs the gallery's drivers committed to
+    docs/figures (each driver's plot reads its CSVs alone): {name: the matplotlib figure}."""
+    sys.path.insert(0, str(ROOT))
+    from cases import _common, _style, gallery_belt2dof, gallery_clutches, gallery_denhartog
+    from cases import gallery_frame, gallery_stacked
+    drawn: dict[str, object] = {}
+    monkeypatch.setattr(_style, "save", lambda fig, path, atomic_write: drawn.setdefault(Path(path).stem, fig))
+    figures = ROOT / "docs" / "figures"
+    gallery_denhartog.plot(figures)
+    gallery_frame.plot(figures)
+    gallery_clutches.plot(_common.read_numeric_csv(figures / "gallery_clutches.csv"), Path("gallery_clutches.png"))
+    gallery_belt2dof.plot(figures / "gallery_belt2dof.csv", figures / "gallery_belt2dof_errors.csv",
+                          Path("gallery_belt2dof.png"))
+    gallery_stacked.plot(figures / "gallery_stacked.csv", figures / "gallery_stacked_convergence.csv",
+                         Path("gallery_stacked.png"))
+    return drawn
+
+
+def test_gallery_figures_are_legible_at_a_column_width(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The figure checklist, point 7, on the drawn gallery figures: every piece of text
+    (ticks, labels, titles, legends, colour bars) reads at least MIN_FONT_AT_COLUMN points once
+    the figure is scaled to a column of 8.5 cm, and no figure is wider than a column needs."""
+    from matplotlib.text import Text
+    from cases import _style
+    drawn = gallery_figures(monkeypatch)
+    assert set(drawn) == {"denhartog_amplitude", "denhartog_regions", "frame_drift", "frame_loop",
+                          "gallery_clutches", "gallery_belt2dof", "gallery_stacked"}
+    for name, fig in drawn.items():
+        fig.canvas.draw()
+        scale = min(_style.COLUMN_WIDTH / fig.get_figwidth(), 1.0)
+        small = [(t.get_text(), t.get_fontsize()) for t in fig.findobj(Text)
+                 if t.get_visible() and t.get_text().strip()
+                 and t.get_fontsize() * scale < _style.MIN_FONT_AT_COLUMN - 1e-9]
+        assert not small, f"{name}: text below {_style.MIN_FONT_AT_COLUMN} pt at a column width: {small[:5]}"
+        _style.plt.close(fig)
+
+
+def test_belt_engines_and_presliding_figures_have_at_most_six_series_a_panel(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The figure checklist, point 7 (at most about six series a panel), on the two figures
+    that had seven in one: engines_belt and laws_compare_presliding, drawn again from their
+    committed CSVs, keep every series of the CSV and put at most six in a panel."""
+    sys.path.insert(0, str(ROOT))
+    from cases import _common, _style, engines, laws_compare
+    drawn: dict[str, object] = {}
+    monkeypatch.setattr(_style, "save", lambda fig, path, atomic_write: drawn.setdefault(Path(path).stem, fig))
+    figures = ROOT / "docs" / "figures"
+    engines.plot(figures)
+    laws_compare.plot(figures / "laws_compare_presliding.csv", figures)
+    panels = {name: [[line for line in ax.get_lines() if not line.get_label().startswith("_")]
+                     for ax in drawn[name].axes] for name in ("engines_belt", "laws_compare_presliding")}
+    for name, lines in panels.items():
+        assert len(lines) >= 3 and all(0 < len(p) <= 6 for p in lines), (name, [len(p) for p in lines])
+    runs = [k[2:].split(" [")[0] for k in _common.read_csv(figures / "engines_belt_series.csv") if k.startswith("v_")]
+    assert {line.get_label() for p in panels["engines_belt"] for line in p} == {engines.label(r) for r in runs}
+    states = list(_common.read_csv(figures / "laws_compare_presliding.csv"))[1:]
+    assert sum(len(p) for p in panels["laws_compare_presliding"]) == len(states)
+    _style.plt.close("all")
