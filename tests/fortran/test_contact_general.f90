@@ -264,7 +264,7 @@ contains
                                     w(:n), mode(:n), info)
                 if (info%method == SOLVER_PIVOTING) nforced = nforced + 1
             end if
-            if (.not. brute) call check_gap(n)
+            if (.not. brute) call check_gap(n, worst_gap)
             if (.not. info%ok) then
                 nfail = nfail + 1
                 cycle
@@ -300,7 +300,7 @@ contains
             if (.not. brute) then
                 ! Gauss-Seidel's gap (the solver's check reads it instead of forming wf + D p)
                 write (line, '(a, a, es9.2, a)') label, ': Gauss-Seidel''s gap against wf + D p - w formed '// &
-                    'here, largest difference ', worst_gap, ' m/s (after 1, 2, 3 and up to 1000 sweeps)'
+                    'here, largest difference ', worst_gap, ' of max|wf| + max|D| max|p| (after 1, 2, 3, 1000 sweeps)'
                 call check(worst_gap <= 1.0e-13_dp, trim(line))
             end if
             if (brute) then
@@ -318,13 +318,14 @@ contains
                 end if
             end if
         end block
-    contains
+    end subroutine random_problems
 
         !> Gauss-Seidel's gap (wf + D p - w from its last sweep) against wf + D p - w formed
         !! here from its answer, on active contacts, after 1, 2, 3 and up to 1000 sweeps (converged
         !! or not): the largest difference, relative to max |wf| + max |D| max |p|, in worst_gap.
-        subroutine check_gap(n)
+        subroutine check_gap(n, worst_gap)
             integer, intent(in) :: n
+            real(dp), intent(inout) :: worst_gap
             real(dp) :: pg(n), wg(n), gap(n), scale
             integer :: k, it, sweeps, i
             do k = 1, 4
@@ -338,7 +339,6 @@ contains
                 end do
             end do
         end subroutine check_gap
-    end subroutine random_problems
 
         !> The largest violation of the problem's conditions by (p, w), written here: w = wf + D p
         !! (w = 0 if stuck), |p| <= mu_s c (stuck), p = -sign(w) mu_k c (slip) [m/s].
