@@ -92,9 +92,7 @@ contains
         real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
         real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
         type(ode_stats), intent(inout) :: stats      !! counters and status
-        !> generalized-alpha's alpha_m, alpha_f, gamma (`galpha_parameters`) [-]: its own steps
-        !! within slip phases; absent (or not of size 3): backward Euler steps only
-        real(dp), intent(in), optional :: par(:)
+        real(dp), intent(in), optional :: par(:)     !! galpha's alpha_m, alpha_f, gamma [-], or none
 
         real(dp), allocatable :: q(:), u(:), qp(:), f1(:), du(:), g(:), y(:), y1(:), ydot(:)
         real(dp), allocatable :: wf(:), w0(:), p(:), c(:), d(:, :), w(:), b(:), wl(:), wd(:), wr(:)
