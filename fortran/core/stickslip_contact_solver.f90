@@ -548,11 +548,12 @@ contains
     !! p: warm start in, impulses out [N s]; w: each contact's velocity from its last solve
     !! (exactly 0: stuck; open contacts: wf + D p).
     !! gap (optional): wf + D p - w of every active contact at the answer, from the last sweep's
-    !! own sums, no extra pass over D: contact i's solve forms wf_i + sum_j D_ij p_j in full with
-    !! the impulses of that moment, and the later updates of the sweep add sum_(j>i) D_ij dp_j
-    !! (the sums the stopping test forms anyway). Each is a dot product formed afresh, never an
-    !! accumulation over sweeps, so gap is wf + D p - w to the rounding of one dot product, as
-    !! if formed from the answer; 0 for open contacts, whose w the caller forms.
+    !! own sums, no extra pass over D: contact i's solve forms wf_i + sum_(j/=i) D_ij p_j in full
+    !! with the impulses of that moment (a slipping contact's w_i is then that plus D_ii p_i, a
+    !! stuck one's 0 with p_i = -that / D_ii, both to rounding), and the sweep's later updates add
+    !! sum_(j>i) D_ij dp_j (the sums the stopping test forms anyway). Each is a dot product formed
+    !! afresh, never an accumulation over sweeps, so gap is wf + D p - w to the rounding of one
+    !! dot product, as if formed from the answer; 0 for open contacts, whose w the caller forms.
     subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, gap)
         type(contact_law), intent(in) :: laws(:)  !! (n) each contact's law
         real(dp), intent(in)    :: d(:, :)        !! (n, n) Delassus matrix [1/kg]
@@ -571,7 +572,6 @@ contains
         nc = size(p)
         lw = law_at(laws, at_rest)
         w = wf
-        if (present(gap)) gap = 0.0_dp
         do sweeps = 1, max_iter
             do i = 1, nc
                 if (.not. (cap(i) > 0.0_dp .and. lw(i)%mu_s > 0.0_dp)) then
@@ -583,9 +583,10 @@ contains
                     if (j /= i) wfi = wfi + d(i, j) * p(j)
                 end do
                 call local_solve(lw(i), wfi, d(i, i), cap(i), w(i), pnew)
+                ! a slip: its velocity from the impulses themselves (the law's root, to rounding)
+                if (w(i) /= 0.0_dp) w(i) = wfi + d(i, i) * pnew
                 dp_(i) = pnew - p(i)
                 p(i) = pnew
-                if (present(gap)) gap(i) = (wfi + d(i, i) * pnew) - w(i)   ! the local solve's rounding
             end do
             resid = 0.0_dp
             do i = 1, nc - 1
@@ -594,12 +595,14 @@ contains
                     r = r + d(i, j) * dp_(j)
                 end do
                 resid = max(resid, abs(r))
-                if (present(gap)) gap(i) = gap(i) + r
+                dp_(i) = r          ! (no longer needed as an update: rows below i are done)
             end do
             if (resid <= tol) exit
         end do
         sweeps = min(sweeps, max_iter)
-        if (present(gap)) then   ! (open contacts: 0)
+        if (present(gap)) then   ! the last sweep's later updates (open contacts: 0)
+            gap(:nc - 1) = dp_(:nc - 1)
+            if (nc > 0) gap(nc) = 0.0_dp
             where (.not. (cap > 0.0_dp .and. lw%mu_s > 0.0_dp)) gap = 0.0_dp
         end if
     end subroutine gauss_seidel
