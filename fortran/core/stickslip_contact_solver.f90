@@ -35,7 +35,9 @@
 !! enumeration finds no mode (a Stribeck slip speed without a root), static-first pivoting
 !! (`pivoting`: rounds of box-constrained problems solved by Lemke's algorithm, `stickslip_lcp`)
 !! finds a solution: it always exists for Coulomb and the pivoting ends with it. The answer is
-!! then checked against the problem itself (`contact_residual`), whichever way it was found,
+!! then checked against the problem itself (`contact_residual`), whichever way it was found
+!! (Gauss-Seidel's answer with the w = wf + D p its last sweep formed, each w_i a dot product
+!! over the final impulses to rounding, so the check costs no pass over D of its own),
 !! and info%ok is .false. when the residual exceeds tol (or the rounding floor
 !! 1000 eps (max|wf| + max|D| max|p|), where that is larger) or no method found a solution: the
 !! caller ends with a named status. The answer of more than ENUM_MAX contacts is a solution
@@ -98,6 +100,7 @@ contains
         integer, intent(in), optional :: method    !! force SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL
         logical :: active(size(wf)), found
         integer :: n, na, i, forced
+        real(dp) :: gap(size(wf))
         n = size(wf)
         active = cap > 0.0_dp .and. laws%mu_s > 0.0_dp
         na = count(active)
@@ -127,13 +130,16 @@ contains
             end if
         else
             info%method = SOLVER_GAUSS_SEIDEL
-            call gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, info%sweeps)
+            call gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, info%sweeps, gap)
             do i = 1, n
                 if (active(i)) mode(i) = slip_sign(w(i))
             end do
             call finish_velocities()
+            ! the check with the last sweep's wf + D p - w (open contacts: w formed just now)
+            call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst, gap)
         end if
-        call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
+        if (info%method /= SOLVER_GAUSS_SEIDEL) &
+            call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
         info%ok = info%residual <= residual_limit(tol, wf, d, p)
         if (.not. info%ok .and. info%method == SOLVER_GAUSS_SEIDEL) call pivoting_fallback()
     contains
@@ -273,8 +279,9 @@ contains
     !> The complementarity residual of (p, w, mode) [m/s]: for every contact the largest of
     !! |wf + D p - w| (w = 0 if stuck), and, scaled by D_ii, the excess of a stuck impulse over
     !! mu_s c (1 + STICK_RTOL), the distance of a slipping impulse from -sign(w) c mu(|w|),
-    !! and a slip whose direction disagrees with its mode.
-    subroutine contact_residual(laws, d, wf, cap, at_rest, p, w, mode, resid, worst)
+    !! and a slip whose direction disagrees with its mode. With gap, wf + D p - w is read from
+    !! it (formed by the caller to rounding: Gauss-Seidel's last sweep) instead of formed here.
+    subroutine contact_residual(laws, d, wf, cap, at_rest, p, w, mode, resid, worst, gap)
         type(contact_law), intent(in) :: laws(:)  !! (n) each contact's law
         real(dp), intent(in)  :: d(:, :)    !! (n, n) Delassus matrix [1/kg]
         real(dp), intent(in)  :: wf(:)      !! (n) velocities without friction [m/s]
@@ -285,13 +292,18 @@ contains
         integer, intent(in)   :: mode(:)    !! (n) MODE_STICK, +-1 or MODE_OPEN
         real(dp), intent(out) :: resid      !! the largest residual [m/s]
         integer, intent(out)  :: worst      !! its contact (0: none)
+        real(dp), intent(in), optional :: gap(:)  !! (n) wf + D p - w, formed to rounding [m/s]
         real(dp) :: r, dii
         integer :: i
         resid = 0.0_dp
         worst = 0
         do i = 1, size(wf)
             dii = max(d(i, i), tiny(1.0_dp))
-            r = abs(wf(i) + dot_product(d(i, :), p) - w(i))
+            if (present(gap)) then
+                r = abs(gap(i))
+            else
+                r = abs(wf(i) + dot_product(d(i, :), p) - w(i))
+            end if
             select case (mode(i))
             case (MODE_OPEN)
                 r = max(r, abs(p(i)) * dii)
@@ -535,7 +547,14 @@ contains
     !! made to an earlier contact's velocity is <= tol [m/s] or max_iter sweeps are done.
     !! p: warm start in, impulses out [N s]; w: each contact's velocity from its last solve
     !! (exactly 0: stuck; open contacts: wf + D p).
-    subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps)
+    !! gap (optional): wf + D p - w of every active contact at the answer, from the last sweep's
+    !! own sums, no extra pass over D: contact i's solve forms wf_i + sum_(j/=i) D_ij p_j in full
+    !! with the impulses of that moment (a slipping contact's w_i is then that plus D_ii p_i, a
+    !! stuck one's 0 with p_i = -that / D_ii, both to rounding), and the sweep's later updates add
+    !! sum_(j>i) D_ij dp_j (the sums the stopping test forms anyway). Each is a dot product formed
+    !! afresh, never an accumulation over sweeps, so gap is wf + D p - w to the rounding of one
+    !! dot product, as if formed from the answer; 0 for open contacts, whose w the caller forms.
+    subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, gap)
         type(contact_law), intent(in) :: laws(:)  !! (n) each contact's law
         real(dp), intent(in)    :: d(:, :)        !! (n, n) Delassus matrix [1/kg]
         real(dp), intent(in)    :: wf(:)          !! (n) velocities without friction [m/s]
@@ -546,6 +565,7 @@ contains
         real(dp), intent(inout) :: p(:)           !! (n) impulses: warm start in, answer out
         real(dp), intent(out)   :: w(:)           !! (n) velocities from the last solves [m/s]
         integer, intent(out)    :: sweeps         !! sweeps done
+        real(dp), intent(out), optional :: gap(:) !! (n) wf + D p - w at the answer [m/s]
         real(dp) :: dp_(size(p)), wfi, pnew, r, resid
         type(contact_law) :: lw(size(p))
         integer :: i, j, nc
@@ -563,6 +583,8 @@ contains
                     if (j /= i) wfi = wfi + d(i, j) * p(j)
                 end do
                 call local_solve(lw(i), wfi, d(i, i), cap(i), w(i), pnew)
+                ! a slip: its velocity from the impulses themselves (the law's root, to rounding)
+                if (w(i) /= 0.0_dp) w(i) = wfi + d(i, i) * pnew
                 dp_(i) = pnew - p(i)
                 p(i) = pnew
             end do
@@ -573,10 +595,16 @@ contains
                     r = r + d(i, j) * dp_(j)
                 end do
                 resid = max(resid, abs(r))
+                dp_(i) = r          ! (no longer needed as an update: rows below i are done)
             end do
             if (resid <= tol) exit
         end do
         sweeps = min(sweeps, max_iter)
+        if (present(gap)) then   ! the last sweep's later updates (open contacts: 0)
+            gap(:nc - 1) = dp_(:nc - 1)
+            if (nc > 0) gap(nc) = 0.0_dp
+            where (.not. (cap > 0.0_dp .and. lw%mu_s > 0.0_dp)) gap = 0.0_dp
+        end if
     end subroutine gauss_seidel
 
 end module stickslip_contact_solver

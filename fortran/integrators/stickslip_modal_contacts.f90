@@ -35,8 +35,21 @@
 !! (the chain), the same sweeps run on W u1 = W u_free + H^T p itself, O(n) a sweep, as moreau's
 !! chain path; otherwise on the dense D (n_c solves with W a step).
 !!
-!! Order: first (backward Euler) for both methods on such a system; galpha's second order
-!! within slip phases is not kept.
+!! Generalized-alpha within slip phases. Where every contact is on a slip piece of its law
+!! (MODE_MU: mu_i fixed) the system is smooth, and galpha takes its own step instead (par =
+!! its alpha_m, alpha_f, gamma): the stage k = F(tau, U + ch k) of `stickslip_galpha` with
+!! F(t, q, u) = (u, M^-1 (f(t, q, u) + H^T r)), r_i = N_i mu_i, solved as the backward Euler
+!! step above is, linearly implicit: W = M + ch C + ch^2 K at the step's start, forces and
+!! normal forces at the stage's base point (exact for linear forces, as the chain's; otherwise
+!! one Newton iteration, whose O(h^2) error in k keeps second order). The step is kept if every
+!! contact stays on its piece at the stage and at the step's end (`admits`); otherwise the
+!! step is the backward Euler step over the modes, and galpha's derivative restarts from that
+!! step's stage derivative (u1, (u1 - u) / h), as on one contact (stickslip_fixed_implicit).
+!!
+!! Order: implicit_euler first. galpha second within a slip phase that no transition
+!! interrupts (its first step from the initial state, whose modes are not yet known, is a
+!! backward Euler step: one local error of O(h^2)), and first across transitions (the
+!! backward Euler steps there), as on one contact.
 module stickslip_modal_contacts
     use stickslip_kinds, only: dp, SS_OK, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_INTERRUPTED, &
                                SS_CONTACT_FAILED, SS_JUMP_MANY_CONTACTS
@@ -69,7 +82,7 @@ contains
     !! naccept, nfev (2 force evaluations a step), ncontact_iter (sweeps), contact_residual,
     !! contact_worst; status SS_OK, SS_CONTACT_FAILED, SS_NONFINITE, SS_DIVERGED,
     !! SS_OUTPUT_FULL, SS_STEP_BUDGET or SS_INTERRUPTED (the input is checked by the caller).
-    subroutine modal_contacts_integrate(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+    subroutine modal_contacts_integrate(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats, par)
         class(contact_system), intent(inout) :: cs   !! the system
         type(modal_law), intent(in) :: laws(:)       !! (n_c) each contact's law, with modes
         real(dp), intent(in)    :: t0                !! initial time [s]
@@ -79,16 +92,20 @@ contains
         real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
         real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
         type(ode_stats), intent(inout) :: stats      !! counters and status
+        real(dp), intent(in), optional :: par(:)     !! galpha's alpha_m, alpha_f, gamma [-], or none
 
-        real(dp), allocatable :: q(:), u(:), qp(:), f1(:), du(:), g(:), y(:), y1(:)
+        real(dp), allocatable :: q(:), u(:), qp(:), f1(:), du(:), g(:), y(:), y1(:), ydot(:)
         real(dp), allocatable :: wf(:), w0(:), p(:), c(:), d(:, :), w(:), b(:), wl(:), wd(:), wr(:)
         integer, allocatable :: mode(:), coord_contact(:)
         real(dp) :: t, t1, hs, t_next, resid
         integer(8) :: i, nsteps, n_total
         integer :: nd, nc, m, next, j, k, sweeps
-        logical :: ok, tri
+        logical :: ok, tri, galpha, kept
 
         nd = cs%n_dof
+        galpha = .false.
+        if (present(par)) galpha = size(par) == 3
+        allocate(ydot(2 * cs%n_dof))
         nc = cs%n_c
         allocate(q(nd), u(nd), qp(nd), f1(nd), du(nd), g(nd), y(2 * nd), y1(2 * nd))
         allocate(wf(nc), w0(nc), p(nc), c(nc), w(nc), b(nc), mode(nc), wl(nd), wd(nd), wr(nd))
@@ -118,47 +135,53 @@ contains
             stats%nstep = stats%nstep + 1
             stats%h_last = hs
 
-            ! the free step, with W = M + h C + h^2 K at the step's start
-            qp = q + hs * u
-            call cs%force(t1, qp, u, f1)
-            stats%nfev = stats%nfev + 2
-            du = hs * f1
-            call cs%solve_w(t, q, u, hs, hs**2, du)
-            du = u + du
-            call cs%relative_velocities(t, u, w0)
-            call cs%normal_forces(t1, qp, c)
-            c = hs * c
-            call cs%slip_offset(t1, b)
-            if (tri) then
-                call cs%w_tridiagonal(hs, hs**2, wl, wd, wr, ok)   ! (structural: still tridiagonal)
-                call tridiagonal_modes(laws, cs, wl, wd, wr, du, coord_contact, b, c, w0, g, p, w, mode, &
-                                       sweeps, ok, k, resid)
-            else
-                call cs%relative_velocities(t1, du, wf)
-                call cs%delassus(t, q, u, hs, hs**2, d)
-                call gauss_seidel_modes(laws, d, wf, w0, c, p, w, mode, sweeps, ok, k, resid)
+            kept = .false.
+            if (galpha) kept = galpha_slip_step()
+            if (.not. kept) then
+                ! the free step, with W = M + h C + h^2 K at the step's start
+                qp = q + hs * u
+                call cs%force(t1, qp, u, f1)
+                stats%nfev = stats%nfev + 2
+                du = hs * f1
+                call cs%solve_w(t, q, u, hs, hs**2, du)
+                du = u + du
+                call cs%relative_velocities(t, u, w0)
+                call cs%normal_forces(t1, qp, c)
+                c = hs * c
+                call cs%slip_offset(t1, b)
+                if (tri) then
+                    call cs%w_tridiagonal(hs, hs**2, wl, wd, wr, ok)   ! (structural: still tridiagonal)
+                    call tridiagonal_modes(laws, cs, wl, wd, wr, du, coord_contact, b, c, w0, g, p, w, mode, &
+                                           sweeps, ok, k, resid)
+                else
+                    call cs%relative_velocities(t1, du, wf)
+                    call cs%delassus(t, q, u, hs, hs**2, d)
+                    call gauss_seidel_modes(laws, d, wf, w0, c, p, w, mode, sweeps, ok, k, resid)
+                end if
+                stats%ncontact_iter = stats%ncontact_iter + sweeps
+                stats%contact_residual = max(stats%contact_residual, resid)
+                if (.not. ok) then
+                    stats%status = SS_CONTACT_FAILED
+                    stats%contact_worst = k
+                    exit
+                end if
+                if (.not. tri) then
+                    g = 0.0_dp
+                    call cs%add_ht(p, g)
+                    call cs%solve_w(t, q, u, hs, hs**2, g)
+                    g = du + g
+                    ! a contact of one coordinate whose mode fixes its velocity keeps it exactly
+                    do j = 1, nc
+                        k = cs%h_ptr(j)
+                        if (cs%h_ptr(j + 1) - k == 1 .and. fixes_velocity(laws(j), mode(j))) &
+                            g(cs%h_col(k)) = (w(j) - b(j)) / cs%h_val(k)
+                    end do
+                end if
+                y1(:nd) = q + hs * g
+                y1(nd + 1:) = g
+                ydot(:nd) = g                   ! the stage derivative (galpha restarts from it)
+                ydot(nd + 1:) = (g - u) / hs
             end if
-            stats%ncontact_iter = stats%ncontact_iter + sweeps
-            stats%contact_residual = max(stats%contact_residual, resid)
-            if (.not. ok) then
-                stats%status = SS_CONTACT_FAILED
-                stats%contact_worst = k
-                exit
-            end if
-            if (.not. tri) then
-                g = 0.0_dp
-                call cs%add_ht(p, g)
-                call cs%solve_w(t, q, u, hs, hs**2, g)
-                g = du + g
-                ! a contact of one coordinate whose mode fixes its velocity keeps it exactly
-                do j = 1, nc
-                    k = cs%h_ptr(j)
-                    if (cs%h_ptr(j + 1) - k == 1 .and. fixes_velocity(laws(j), mode(j))) &
-                        g(cs%h_col(k)) = (w(j) - b(j)) / cs%h_val(k)
-                end do
-            end if
-            y1(:nd) = q + hs * g
-            y1(nd + 1:) = g
             if (.not. all_finite(y1)) then
                 stats%status = SS_NONFINITE
                 exit
@@ -176,6 +199,56 @@ contains
         stats%n_written = next - 1
         if (stats%status == SS_OK .and. nsteps < n_total) stats%status = SS_STEP_BUDGET
 
+    contains
+
+        !> Generalized-alpha's own step from (t, y) to t1 where every contact slips on a piece
+        !! of its law (module notes): .true. with y1 and ydot updated if every contact stays on
+        !! its piece at the stage and at the step's end; .false. (nothing changed) otherwise.
+        logical function galpha_slip_step() result(kept)
+            real(dp) :: tau, ch, mu(nc), yu(2 * nd), k(2 * nd), ydot1(2 * nd)
+            integer :: kind, jj
+            kept = .false.
+            do jj = 1, nc
+                if (mode(jj) < 1) return
+                call laws(jj)%law%mode(mode(jj), kind, mu(jj))
+                if (kind /= MODE_MU) return
+            end do
+            associate (alpha_m => par(1), alpha_f => par(2), gamma => par(3))
+                ! the stage k = F(tau, yu + ch k), linearly implicit about (qp, u) = yu + ch (yu_u, 0)
+                tau = t + alpha_f * hs
+                yu = y + (alpha_f * hs * (1.0_dp - gamma / alpha_m)) * ydot
+                ch = alpha_f * gamma / alpha_m * hs
+                qp = yu(:nd) + ch * yu(nd + 1:)
+                call cs%force(tau, qp, yu(nd + 1:), f1)
+                call cs%normal_forces(tau, qp, c)
+                stats%nfev = stats%nfev + 1
+                call cs%add_ht(c * mu, f1)
+                call cs%solve_w(t, q, u, ch, ch**2, f1)
+                k(nd + 1:) = f1
+                k(:nd) = yu(nd + 1:) + ch * f1
+                yu = yu + ch * k                                ! the stage state
+                if (.not. on_pieces(tau, yu(nd + 1:))) return
+                ydot1 = ydot + (k - ydot) / alpha_m
+                y1 = y + hs * ydot + (gamma * hs) * (ydot1 - ydot)
+            end associate
+            if (.not. on_pieces(t1, y1(nd + 1:))) return
+            ydot = ydot1
+            kept = .true.
+        end function galpha_slip_step
+
+        !> Every contact on its slip piece (mode) at velocities uu at time tt.
+        logical function on_pieces(tt, uu)
+            real(dp), intent(in) :: tt, uu(:)
+            integer :: jj, kind
+            real(dp) :: value
+            call cs%relative_velocities(tt, uu, w)
+            on_pieces = .false.
+            do jj = 1, nc
+                call laws(jj)%law%mode(mode(jj), kind, value)
+                if (.not. laws(jj)%law%admits(mode(jj), -w(jj), value, value)) return
+            end do
+            on_pieces = .true.
+        end function on_pieces
     end subroutine modal_contacts_integrate
 
     !> A friction scene of several contacts whose law has modes (the chain with Coulomb or
@@ -189,7 +262,7 @@ contains
         real(dp), intent(in)    :: y0(:)             !! initial state (x, v)
         real(dp), intent(in)    :: t_end             !! final time, > t0 [s]
         class(step_controls), intent(in) :: ctl      !! h, max_steps, every_step, y_bound
-        real(dp), intent(in)    :: par(:)            !! the method's parameters (not read)
+        real(dp), intent(in)    :: par(:)            !! the method's parameters (galpha's: module notes)
         real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
         real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
         type(ode_stats), intent(out) :: stats        !! counters and status
@@ -203,7 +276,7 @@ contains
                 allocate(laws(i)%law, source=sys%law)
             end do
         end if
-        call run_modal(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+        call run_modal(cs, laws, t0, y0, t_end, ctl, par, t_out, y_out, stats)
     end subroutine scene_modal_contacts
 
     !> A user's model (`stickslip_model_system`) whose contacts' laws jump, run by
@@ -218,7 +291,7 @@ contains
         real(dp), intent(in)    :: y0(:)             !! initial state (x, v)
         real(dp), intent(in)    :: t_end             !! final time, > t0 [s]
         class(step_controls), intent(in) :: ctl      !! h, max_steps, every_step, y_bound
-        real(dp), intent(in)    :: par(:)            !! the method's parameters (not read)
+        real(dp), intent(in)    :: par(:)            !! the method's parameters (galpha's: module notes)
         real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
         real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
         type(ode_stats), intent(out) :: stats        !! counters and status
@@ -232,19 +305,20 @@ contains
                 if (sys%laws(i)%law%n_modes() > 0) allocate(laws(i)%law, source=sys%laws(i)%law)
             end do
         end if
-        call run_modal(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+        call run_modal(cs, laws, t0, y0, t_end, ctl, par, t_out, y_out, stats)
     end subroutine model_modal_contacts
 
     !> `modal_contacts_integrate` on a system's contact model and its laws, or
     !! SS_JUMP_MANY_CONTACTS when there is no model, a contact has no law with modes, or y0 is
     !! not the model's (q, u).
-    subroutine run_modal(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+    subroutine run_modal(cs, laws, t0, y0, t_end, ctl, par, t_out, y_out, stats)
         class(contact_system), allocatable, intent(inout) :: cs  !! the contact model (if any)
         type(modal_law), allocatable, intent(in) :: laws(:)      !! each contact's law with modes
         real(dp), intent(in)    :: t0                !! initial time [s]
         real(dp), intent(in)    :: y0(:)             !! initial state (q, u)
         real(dp), intent(in)    :: t_end             !! final time, > t0 [s]
         class(step_controls), intent(in) :: ctl      !! h, max_steps, every_step, y_bound
+        real(dp), intent(in)    :: par(:)            !! the method's parameters (galpha's: module notes)
         real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
         real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
         type(ode_stats), intent(out) :: stats        !! counters and status
@@ -256,7 +330,7 @@ contains
             if (.not. allocated(laws(i)%law)) return
         end do
         stats%status = SS_OK
-        call modal_contacts_integrate(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats)
+        call modal_contacts_integrate(cs, laws, t0, y0, t_end, ctl, t_out, y_out, stats, par)
     end subroutine run_modal
 
     !> Whether mode j of a contact's law fixes its relative velocity (a point, or the hold).

@@ -112,7 +112,8 @@ program test_contact_general
     use stickslip_kinds, only: dp
     use stickslip_ode, only: ode_stats
     use stickslip_contact, only: contact_law, CONTACT_STRIBECK
-    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, SOLVER_PIVOTING, SOLVER_GAUSS_SEIDEL
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, SOLVER_PIVOTING, SOLVER_GAUSS_SEIDEL, &
+                                        gauss_seidel
     use stickslip_linalg, only: lu_decompose, lu_solve, psd_solve
     use stickslip_moreau, only: moreau_options, moreau_integrate
     use stickslip_event_driven, only: event_driven_options, event_driven_integrate
@@ -198,11 +199,13 @@ contains
         type(contact_solve_info) :: info
         integer :: msol(nhi)
         integer, allocatable :: seed(:)
+        real(dp) :: worst_gap
         call random_seed(size=nseed)
         allocate(seed(nseed), source=12345 + nhi - 6)
         call random_seed(put=seed)
         nbad = 0; nuniq = 0; ndiff = 0; nbetter = 0; nfail = 0; nfewer = 0; nforced = 0
         worst_res = 0.0_dp
+        worst_gap = 0.0_dp
         do trial = 1, ntrial
             call random_number(u)
             n = nlo + int(u * (nhi - nlo + 1))          ! nlo .. nhi contacts
@@ -261,6 +264,7 @@ contains
                                     w(:n), mode(:n), info)
                 if (info%method == SOLVER_PIVOTING) nforced = nforced + 1
             end if
+            if (.not. brute) call check_gap(n, worst_gap)
             if (.not. info%ok) then
                 nfail = nfail + 1
                 cycle
@@ -293,6 +297,12 @@ contains
                 write (line, '(a, a, i0, a, i0)') label, ': the pivoting fallback solved ', nforced, ' of ', ntrial
                 call check(nforced > 0, trim(line))
             end if
+            if (.not. brute) then
+                ! Gauss-Seidel's gap (the solver's check reads it instead of forming wf + D p)
+                write (line, '(a, a, es9.2, a)') label, ': Gauss-Seidel''s gap against wf + D p - w formed '// &
+                    'here, largest difference ', worst_gap, ' of max|wf| + max|D| max|p| (after 1, 2, 3, 1000 sweeps)'
+                call check(worst_gap <= 1.0e-13_dp, trim(line))
+            end if
             if (brute) then
                 write (line, '(a, a, i0, a, i0, a)') label, ': the only solution (brute force) in ', nuniq - ndiff, &
                     ' of ', nuniq, ' problems with one'
@@ -309,6 +319,26 @@ contains
             end if
         end block
     end subroutine random_problems
+
+        !> Gauss-Seidel's gap (wf + D p - w from its last sweep) against wf + D p - w formed
+        !! here from its answer, on active contacts, after 1, 2, 3 and up to 1000 sweeps (converged
+        !! or not): the largest difference, relative to max |wf| + max |D| max |p|, in worst_gap.
+        subroutine check_gap(n, worst_gap)
+            integer, intent(in) :: n
+            real(dp), intent(inout) :: worst_gap
+            real(dp) :: pg(n), wg(n), gap(n), scale
+            integer :: k, it, sweeps, i
+            do k = 1, 4
+                it = merge(1000, k, k == 4)
+                pg = 0.0_dp
+                call gauss_seidel(laws(:n), d(:n, :n), wf(:n), cap(:n), .false., 1.0e-12_dp, it, pg, wg, sweeps, gap)
+                scale = maxval(abs(wf(:n))) + maxval(abs(d(:n, :n))) * maxval(abs(pg))
+                do i = 1, n
+                    if (cap(i) > 0.0_dp .and. laws(i)%mu_s > 0.0_dp) worst_gap = max(worst_gap, &
+                        abs(gap(i) - (wf(i) + dot_product(d(i, :n), pg) - wg(i))) / scale)
+                end do
+            end do
+        end subroutine check_gap
 
         !> The largest violation of the problem's conditions by (p, w), written here: w = wf + D p
         !! (w = 0 if stuck), |p| <= mu_s c (stuck), p = -sign(w) mu_k c (slip) [m/s].
