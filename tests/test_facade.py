@@ -69,6 +69,42 @@ def test_cpu_seconds_is_the_cpu_time_of_the_library_call() -> None:
         assert 0.0 < r.stats["cpu_seconds"] <= outer
 
 
+def test_cpu_seconds_of_a_long_run_on_a_worker_thread_is_on_the_cpu_clock() -> None:
+    """A long run on another thread is not armed for Ctrl-C but still timed with the CPU clock:
+    positive and within what time.process_time (the same clock) sees around the call."""
+    import threading
+
+    out: dict[str, float] = {}
+
+    def work() -> None:
+        before = time.process_time()
+        r = ss.simulate("belt", "proposed", method="dopri5", t_end=20.0, rtol=1e-8, atol=1e-8)
+        out["outer"], out["cpu"] = time.process_time() - before, r.stats["cpu_seconds"]
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    worker.join()
+    assert 0.0 < out["cpu"] <= out["outer"]
+
+
+def test_cpu_seconds_of_a_short_run_is_its_wall_time() -> None:
+    """A fixed-step run too short to be armed is timed with the monotonic clock (two reads of
+    the CPU clock cost more than the run): positive and within what time.perf_counter (the same
+    clock) sees around the whole simulate call, on the main thread and on a worker thread."""
+    import threading
+
+    def run() -> tuple[float, float]:
+        before = time.perf_counter()
+        r = ss.simulate("slope", "proposed", method="rk4", t_end=0.01, h=1e-3, n_out=2)
+        return time.perf_counter() - before, r.stats["cpu_seconds"]
+
+    seen = [run() for _ in range(3)]                       # the first validates, the others not
+    worker = threading.Thread(target=lambda: seen.append(run()))
+    worker.start()
+    worker.join()
+    assert len(seen) == 4 and all(0.0 < cpu <= outer for outer, cpu in seen)
+
+
 @pytest.mark.parametrize("name, good, bad", [
     ("t_end", 1, True), ("x0", 0, False), ("v0", 1, True), ("n_out", 1, True), ("max_steps", 10**4, True),
     ("h", 1e-3, "1e-3"), ("mu_s", 1, True), ("t_end", 1, np.True_), ("h", 1e-3, complex(1e-3, 0.0)),
