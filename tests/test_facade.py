@@ -336,3 +336,40 @@ def test_the_examples_of_the_docstrings_run_as_written() -> None:
     import doctest
     result = doctest.testmod(core, optionflags=doctest.ELLIPSIS)
     assert result.attempted >= 5 and result.failed == 0
+
+
+#: Settings across scenes, laws (static, with states, several states) and methods (fixed step,
+#: adaptive, implicit, set-valued), for the interleaving test below.
+_MIXED = [
+    ("slope", "proposed", dict(method="rk4", t_end=0.05, h=1e-3, n_out=5)),
+    ("belt", "lugre", dict(method="dopri5", t_end=0.5, rtol=1e-7, atol=1e-9, n_out=7)),
+    ("belt", "gms", dict(method="radau5", t_end=0.2, n_elements=3, n_out=4)),
+    ("slope", "stribeck", dict(method="dop853", t_end=0.3, every_step=True, theta_deg=25.0)),
+    ("belt", "coulomb", dict(method="moreau", t_end=0.1, h=1e-3, n_out=3)),
+    ("belt", "stribeck", dict(method="event_driven", t_end=2.0, n_out=3)),
+    ("chain", "recurdyn", dict(method="implicit_euler", t_end=0.02, h=1e-3, n_blocks=3, n_out=3)),
+    ("belt", "elastoplastic", dict(method="galpha", t_end=0.02, h=1e-4, n_out=3, v0=0.2)),
+]
+
+
+def _numbers(r: ss.Result) -> tuple:
+    """Everything a Result holds except the measured CPU time, as bytes and plain values."""
+    stats = {k: v for k, v in r.stats.items() if k != "cpu_seconds"}
+    return (r.t.tobytes(), r.y.tobytes(), r.events.tobytes(), sorted(stats.items()), sorted(r.params.items()),
+            r.state_labels)
+
+
+def test_interleaved_settings_give_bitwise_the_numbers_of_their_first_calls() -> None:
+    """Nothing a call leaves behind (in the facade's cache or in the library) changes another
+    call: each setting, validated on its first call, gives bitwise the same output when called
+    again from the cache after every other setting ran, in both orders, and with another
+    parameter value of the same names in between."""
+    core._CALLS.clear()
+    first = [_numbers(ss.simulate(scene, law, **kw)) for scene, law, kw in _MIXED]
+    assert len(core._CALLS) == len(_MIXED)
+    for order in (range(len(_MIXED)), reversed(range(len(_MIXED)))):
+        for i in order:
+            scene, law, kw = _MIXED[i]
+            other = ss.simulate(scene, law, **{**kw, "x0": 1e-3})      # same names, another value
+            assert _numbers(other) != first[i]
+            assert _numbers(ss.simulate(scene, law, **kw)) == first[i], (scene, law, kw["method"])
