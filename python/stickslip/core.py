@@ -990,11 +990,9 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     try:
         # A setting seen before (equal arguments of equal types) is not validated again.
         # (The types keep True from meeting 1, which is valid where True is not.)
-        # One flat tuple (no nested ones to build and hash): the fixed arguments and their types,
-        # then the keyword arguments' (name, value) pairs, then their types.
         key = (scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused,
-               type(t_end), type(n_out), type(max_steps), type(x0), type(v0),
-               *kwargs.items(), *map(type, kwargs.values()))
+               tuple(kwargs.items()), tuple(map(type, kwargs.values())), type(t_end), type(n_out),
+               type(max_steps), type(x0), type(v0))
         call = _CALLS[key]
     except KeyError:
         call = None
