@@ -865,9 +865,10 @@ def overhead_markdown(over: list[dict], measured: str = "") -> list[str]:
                     f"{p['h_s']:g} s) through simulate in at most {1e6 * OVERHEAD_GOAL_S:g} us on a quiet "
                     f"machine; this run: {1e6 * p['median_s']:.1f} us ({met} here).")
     lines = [f"{OVERHEAD_HEAD} (short runs, output at t_end: stickslip.simulate against "
-             "a bare call of the f2py wrapper with the same arguments, which includes its two reads "
-             "of the CPU clock for `stats['cpu_seconds']` and, for runs long enough to look at the stop "
-             "flag, the SIGINT handler simulate arms; medians of "
+             "a bare call of the f2py wrapper with the same arguments, which includes its timing of "
+             "the run for `stats['cpu_seconds']` (two reads of the CPU clock for runs long enough to "
+             "look at the stop flag, of the monotonic clock for shorter ones) and, for the long runs, "
+             "the SIGINT handler simulate arms; medians of "
              f"{int(over[0]['repeats'])} interleaved calls each, overhead = median of the differences)."
              + goal + (f" {measured}" if measured else ""), "",
              "| scene / law | method | h or tol | steps | wrapper us | simulate us | overhead us | ratio |",

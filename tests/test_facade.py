@@ -69,6 +69,42 @@ def test_cpu_seconds_is_the_cpu_time_of_the_library_call() -> None:
         assert 0.0 < r.stats["cpu_seconds"] <= outer
 
 
+def test_cpu_seconds_of_a_long_run_on_a_worker_thread_is_on_the_cpu_clock() -> None:
+    """A long run on another thread is not armed for Ctrl-C but still timed with the CPU clock:
+    positive and within what time.process_time (the same clock) sees around the call."""
+    import threading
+
+    out: dict[str, float] = {}
+
+    def work() -> None:
+        before = time.process_time()
+        r = ss.simulate("belt", "proposed", method="dopri5", t_end=20.0, rtol=1e-8, atol=1e-8)
+        out["outer"], out["cpu"] = time.process_time() - before, r.stats["cpu_seconds"]
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    worker.join()
+    assert 0.0 < out["cpu"] <= out["outer"]
+
+
+def test_cpu_seconds_of_a_short_run_is_its_wall_time() -> None:
+    """A fixed-step run too short to be armed is timed with the monotonic clock (two reads of
+    the CPU clock cost more than the run): positive and within what time.perf_counter (the same
+    clock) sees around the whole simulate call, on the main thread and on a worker thread."""
+    import threading
+
+    def run() -> tuple[float, float]:
+        before = time.perf_counter()
+        r = ss.simulate("slope", "proposed", method="rk4", t_end=0.01, h=1e-3, n_out=2)
+        return time.perf_counter() - before, r.stats["cpu_seconds"]
+
+    seen = [run() for _ in range(3)]                       # the first validates, the others not
+    worker = threading.Thread(target=lambda: seen.append(run()))
+    worker.start()
+    worker.join()
+    assert len(seen) == 4 and all(0.0 < cpu <= outer for outer, cpu in seen)
+
+
 @pytest.mark.parametrize("name, good, bad", [
     ("t_end", 1, True), ("x0", 0, False), ("v0", 1, True), ("n_out", 1, True), ("max_steps", 10**4, True),
     ("h", 1e-3, "1e-3"), ("mu_s", 1, True), ("t_end", 1, np.True_), ("h", 1e-3, complex(1e-3, 0.0)),
@@ -300,3 +336,40 @@ def test_the_examples_of_the_docstrings_run_as_written() -> None:
     import doctest
     result = doctest.testmod(core, optionflags=doctest.ELLIPSIS)
     assert result.attempted >= 5 and result.failed == 0
+
+
+#: Settings across scenes, laws (static, with states, several states) and methods (fixed step,
+#: adaptive, implicit, set-valued), for the interleaving test below.
+_MIXED = [
+    ("slope", "proposed", dict(method="rk4", t_end=0.05, h=1e-3, n_out=5)),
+    ("belt", "lugre", dict(method="dopri5", t_end=0.5, rtol=1e-7, atol=1e-9, n_out=7)),
+    ("belt", "gms", dict(method="radau5", t_end=0.2, n_elements=3, n_out=4)),
+    ("slope", "stribeck", dict(method="dop853", t_end=0.3, every_step=True, theta_deg=25.0)),
+    ("belt", "coulomb", dict(method="moreau", t_end=0.1, h=1e-3, n_out=3)),
+    ("belt", "stribeck", dict(method="event_driven", t_end=2.0, n_out=3)),
+    ("chain", "recurdyn", dict(method="implicit_euler", t_end=0.02, h=1e-3, n_blocks=3, n_out=3)),
+    ("belt", "elastoplastic", dict(method="galpha", t_end=0.02, h=1e-4, n_out=3, v0=0.2)),
+]
+
+
+def _numbers(r: ss.Result) -> tuple:
+    """Everything a Result holds except the measured CPU time, as bytes and plain values."""
+    stats = {k: v for k, v in r.stats.items() if k != "cpu_seconds"}
+    return (r.t.tobytes(), r.y.tobytes(), r.events.tobytes(), sorted(stats.items()), sorted(r.params.items()),
+            r.state_labels)
+
+
+def test_interleaved_settings_give_bitwise_the_numbers_of_their_first_calls() -> None:
+    """Nothing a call leaves behind (in the facade's cache or in the library) changes another
+    call: each setting, validated on its first call, gives bitwise the same output when called
+    again from the cache after every other setting ran, in both orders, and with another
+    parameter value of the same names in between."""
+    core._CALLS.clear()
+    first = [_numbers(ss.simulate(scene, law, **kw)) for scene, law, kw in _MIXED]
+    assert len(core._CALLS) == len(_MIXED)
+    for order in (range(len(_MIXED)), reversed(range(len(_MIXED)))):
+        for i in order:
+            scene, law, kw = _MIXED[i]
+            other = ss.simulate(scene, law, **{**kw, "x0": 1e-3})      # same names, another value
+            assert _numbers(other) != first[i]
+            assert _numbers(ss.simulate(scene, law, **kw)) == first[i], (scene, law, kw["method"])

@@ -243,13 +243,14 @@ contains
         character(len=*), intent(in) :: keys(:)     !! control names
         real(dp), intent(in) :: vals(:)             !! their values (counts and flags as reals)
         integer :: status
-        integer :: i, n
+        integer :: i, n, last
         status = SS_OK
         if (size(keys) /= size(vals)) status = SS_BAD_DIM
+        last = len_trim(info%controls)   ! once, not once per name
         do i = 1, size(keys)
             if (status /= SS_OK) exit
             n = len_trim(keys(i))
-            if (.not. has_word(info%controls, keys(i)(1:n)) .or. keys(i) == 'rtol' .or. keys(i) == 'atol') then
+            if (.not. has_word(info%controls(1:last), keys(i)(1:n)) .or. is_tolerance(keys(i)(1:n))) then
                 status = SS_BAD_CONTROL_NAME
             else
                 status = ctl%set(keys(i)(1:n), vals(i))
@@ -257,15 +258,24 @@ contains
         end do
     end function apply_controls
 
+    !> Whether `name` (without blanks) is rtol or atol, which travel as arrays, not as controls:
+    !! compared at equal lengths, without padding (apply_controls runs on every call).
+    pure logical function is_tolerance(name)
+        character(len=*), intent(in) :: name   !! a control name, without blanks
+        is_tolerance = .false.
+        if (len(name) == 4) is_tolerance = name == 'rtol' .or. name == 'atol'
+    end function is_tolerance
+
     !> Whether `word` is one of the blank-separated words of `list` (a blank word is none);
-    !! no temporary strings: apply_controls runs on every call.
+    !! no temporary strings: apply_controls runs on every call. Trailing blanks of `list` are
+    !! scanned like any other blank (the caller may cut them off).
     pure logical function has_word(list, word)
         character(len=*), intent(in) :: list   !! words separated by blanks
         character(len=*), intent(in) :: word   !! the word sought, without blanks
         integer :: i, n, last
         has_word = .false.
         n = len(word)
-        last = len_trim(list)
+        last = len(list)
         if (n == 0) return
         do i = 1, last - n + 1
             if (list(i:i + n - 1) /= word) cycle

@@ -43,7 +43,10 @@ contains
         type(param_values) :: p
 
         stats%status = new_system(scene, law, pkeys, pvals, sys, p)
-        if (present(p_out)) p_out = p
+        if (present(p_out)) then          ! moved, not copied: p is not read again
+            call move_alloc(p%names, p_out%names)
+            call move_alloc(p%values, p_out%values)
+        end if
         if (stats%status /= SS_OK) return
         if (size(y0) /= sys%n_states()) then
             stats%status = SS_BAD_DIM

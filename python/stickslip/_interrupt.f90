@@ -2,18 +2,24 @@
 
 !> Ctrl-C while a call runs (_interrupt.c): arm sets the stop flag on SIGINT, disarm puts the
 !! previous handler back. Only the main thread arms (stop(1) = -1 asks for it). cpu_seconds:
-!! the process's CPU clock that times a call.
+!! the process's CPU clock that times a long call; wall_seconds: the monotonic clock that
+!! times a short one.
 module stickslip_wrap_interrupt
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     implicit none
     private
-    public :: arm, disarm, cpu_seconds
+    public :: arm, disarm, cpu_seconds, wall_seconds
     interface
         !> The process's CPU time [s] (CLOCK_PROCESS_CPUTIME_ID, as time.process_time).
         function cpu_seconds() bind(C, name='ss_py_cpu_seconds')
             import :: c_double
             real(c_double) :: cpu_seconds
         end function cpu_seconds
+        !> A monotonic wall clock [s] (CLOCK_MONOTONIC), read without a system call on Linux.
+        function wall_seconds() bind(C, name='ss_py_wall_seconds')
+            import :: c_double
+            real(c_double) :: wall_seconds
+        end function wall_seconds
         subroutine ss_py_arm(flag) bind(C, name='ss_py_arm')
             import :: c_int
             integer(c_int), intent(inout) :: flag

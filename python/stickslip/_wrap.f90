@@ -55,8 +55,11 @@ end subroutine friction
 !! (overwritten with step times). stats(ni + nr + npar) receives the integer counters, the real
 !! counters named by the registry's 'stats' record, then every parameter as resolved (registry
 !! order); the caller gives the sizes, which must match the registry's. events(4, nev): room for
-!! event_driven's events (t, kind, position, contact), nev = 0 for other methods. cpu: the
-!! process's CPU time spent in the library's simulate [s].
+!! event_driven's events (t, kind, position, contact), nev = 0 for other methods. stop(1) on
+!! entry: -1 a long run on the main thread (arm the SIGINT handler), -2 a long run elsewhere,
+!! 0 a run too short for the integrators to look at the flag. cpu: the time spent in the
+!! library's simulate [s], the process's CPU time for a long run, the monotonic wall time for
+!! a short one (two reads of the CPU clock are system calls that cost more than such a run).
 subroutine run_simulation(scene, law, method, keys, vals, nv, np, n, nrt, nat, t_end, &
                           nrow, t_out, y_out, ni, nr, npar, nst, stats, stop, events, nev, status, cpu)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
@@ -65,7 +68,7 @@ subroutine run_simulation(scene, law, method, keys, vals, nv, np, n, nrt, nat, t
     use stickslip_ode, only: ode_stats, stats_integers, stats_reals
     use stickslip_simulate, only: simulate
     use stickslip_registry, only: split_names
-    use stickslip_wrap_interrupt, only: arm, disarm, cpu_seconds
+    use stickslip_wrap_interrupt, only: arm, disarm, cpu_seconds, wall_seconds
     implicit none
     integer(c_int), intent(in) :: scene, law, method
     character(len=*), intent(in) :: keys
@@ -88,7 +91,7 @@ subroutine run_simulation(scene, law, method, keys, vals, nv, np, n, nrt, nat, t
     type(ode_stats) :: st
     type(param_values) :: p
     integer, pointer :: flag
-    logical :: armed
+    logical :: armed, long_run
     integer :: bar, o
     y_out = 0.0_c_double
     stats = 0.0_c_double
@@ -100,12 +103,21 @@ subroutine run_simulation(scene, law, method, keys, vals, nv, np, n, nrt, nat, t
         return
     end if
     flag => stop(1)
+    long_run = stop(1) < 0
     call arm(stop(1), armed)
-    cpu = cpu_seconds()
+    if (long_run) then
+        cpu = cpu_seconds()
+    else
+        cpu = wall_seconds()
+    end if
     call simulate(scene, law, method, split_names(keys(:bar - 1)), vals(1:np), vals(np + 1:np + n), t_end, &
                   vals(np + n + 1:np + n + nrt), vals(np + n + nrt + 1:o), split_names(keys(bar + 1:)), &
                   vals(o + 1:nv), t_out, y_out, st, p_out=p, stop_flag=flag, events=events)
-    cpu = cpu_seconds() - cpu
+    if (long_run) then
+        cpu = cpu_seconds() - cpu
+    else
+        cpu = wall_seconds() - cpu
+    end if
     call disarm(armed)
     status = st%status
     if (ni /= size(stats_integers(st)) .or. nr /= size(stats_reals(st)) .or. npar /= size(p%values)) then

@@ -932,7 +932,10 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         - ``t_reached``: the time the run reached [s] (t_end on success).
         - ``h_last``: the last step size tried [s].
         - ``cpu_seconds``: CPU time of the library call [s]: the process's CPU clock (that of
-          time.process_time), read by the compiled wrapper before and after the run.
+          time.process_time), read by the compiled wrapper before and after the run; for a
+          fixed-step run of fewer than 2048 steps the monotonic clock (time.perf_counter's)
+          instead, since two reads of the CPU clock are system calls that cost more than such
+          a run (the two agree unless the thread waited for a core during the call).
 
         All values of a returned Result are finite.
 
@@ -1134,8 +1137,14 @@ _MAIN_IDLE = np.zeros(1, dtype=np.int32)
 #: (stickslip_ode's STOP_CHECK_MASK + 1): a fixed-step run of fewer steps never looks again,
 #: and the facade does not arm a SIGINT handler for it (two system calls saved per call; a
 #: Ctrl-C during such a run is Python's own, raised as KeyboardInterrupt once the call returns).
-#: Runs of half as many steps or more, and every adaptive run, are armed.
+#: Runs of half as many steps or more, and every adaptive run, are armed. The same line decides
+#: how the wrapper times the call (stats["cpu_seconds"]): a long run with the CPU clock, a
+#: short one with the monotonic clock (two reads of the CPU clock are system calls costing more
+#: than such a run: about 2 us each on a virtual machine).
 _STOP_CHECK_STEPS = 4096
+#: The stop flag of a long run on a thread other than the main one: no SIGINT handler, but
+#: timed with the CPU clock.
+_LONG_ELSEWHERE = -2
 _MAIN_IDENT = threading.main_thread().ident
 #: What simulate's call path looks up on every call, bound once.
 _run_simulation, _get_ident, _new_result = _ext.run_simulation, threading.get_ident, Result.__new__
@@ -1182,7 +1191,8 @@ def _execute(call: _Call, key: tuple | None = None) -> Result:
         t_grid = _linspace(call.t_end, call.n_out)
     room = call.events_room
     raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
-    # the wrapper measures the CPU time of its library call itself (cpu)
+    # the wrapper times its library call itself (cpu): with the CPU clock when the stop flag
+    # says the run is long (-1, -2), with the monotonic clock when it is short (0)
     if _get_ident() == _MAIN_IDENT:
         if call.arm:
             _MAIN_FLAG[0] = -1                # asks the wrapper for a SIGINT handler (interruptible)
@@ -1192,8 +1202,8 @@ def _execute(call: _Call, key: tuple | None = None) -> Result:
         else:                                 # too short for the library to look at the flag
             y, istats, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, _MAIN_IDLE, raw_events)
     else:                                     # a worker thread: Python's own SIGINT handling stays
-        y, istats, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, np.zeros(1, dtype=np.int32),
-                                                 raw_events)
+        stop = np.array([_LONG_ELSEWHERE if call.arm else 0], dtype=np.int32)
+        y, istats, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, stop, raw_events)
     if status != STATUS_OK or call.rows:
         if status <= _FIRST_INPUT_CODE:
             raise ValueError(_with_values(status_message(status), call.known))
