@@ -527,6 +527,23 @@ def test_intervals_stay_in_the_allowed_range():
         assert "sigma1" in fit.undetermined
 
 
+def test_ordered_pair_interval_on_the_log_of_the_excess():
+    # mu_s fitted over mu_k ranges over (mu_k, inf): its Wald interval is mu_k + e exp(+-t sd / e),
+    # e = mu_s - mu_k (closed form), inside the range, asymmetric (longer upwards); near the
+    # bound (e < t sd) the plain interval cut at mu_k; an unknown error: (mu_k, inf)
+    space = identify._Space(("mu_k", "mu_s", "v_s"), np.ones(3), {1: 0})
+    pv, tq = np.array([1000.0, 1400.0, 0.005]), 1.96
+    ci = identify._wald_intervals(space, pv, np.array([2.0, 100.0, 1e-3]), tq)
+    e = 400.0
+    np.testing.assert_allclose(ci["mu_s"], (1000.0 + e * math.exp(-tq * 100.0 / e), 1000.0 + e * math.exp(tq * 100.0 / e)))
+    assert ci["mu_s"][1] - 1400.0 > 1400.0 - ci["mu_s"][0] > 0.0
+    np.testing.assert_allclose(ci["v_s"], (0.005 * math.exp(-tq * 0.2), 0.005 * math.exp(tq * 0.2)))
+    near = identify._wald_intervals(space, np.array([1000.0, 1100.0, 0.005]), np.array([2.0, 100.0, 1e-3]), tq)
+    assert near["mu_s"] == (1000.0, 1100.0 + tq * 100.0)
+    blind = identify._wald_intervals(space, pv, np.array([2.0, math.inf, 1e-3]), tq)
+    assert blind["mu_s"] == (1000.0, math.inf)
+
+
 def test_fit_report_is_complete():
     truth, fixed = STATE_CASES["lugre"]
     t, x, f, v = three_records("lugre", truth, 10.0, seed=8, n=201)
