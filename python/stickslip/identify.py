@@ -699,7 +699,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     interval : {"auto", "wald", "profile"}
         How the 95 % intervals `ci95` are made. "wald": estimate +- t(0.975, n - k) stderr on a
         scale where the parameter's range is the whole line (log above a lower bound, logit
-        between two), so they stay in it. "profile": profile likelihood: each end is the value
+        between two; for mu_s fitted with mu_k, and v_d with v_s, the log of its excess over
+        the other), so they stay in it. "profile": profile likelihood: each end is the value
         at which the sum of squares, the other parameters refitted, exceeds its minimum by
         t(0.975, n - k)^2 s^2 (times the variance inflation); the interval follows the cost's
         own shape (asymmetric where it is), stops at a bound of the range when the cost stays
