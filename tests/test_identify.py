@@ -527,6 +527,23 @@ def test_intervals_stay_in_the_allowed_range():
         assert "sigma1" in fit.undetermined
 
 
+def test_ordered_pair_interval_on_the_log_of_the_excess():
+    # mu_s fitted over mu_k ranges over (mu_k, inf): its Wald interval is mu_k + e exp(+-t sd / e),
+    # e = mu_s - mu_k (closed form), inside the range, asymmetric (longer upwards); near the
+    # bound (e < t sd) the plain interval cut at mu_k; an unknown error: (mu_k, inf)
+    space = identify._Space(("mu_k", "mu_s", "v_s"), np.ones(3), {1: 0})
+    pv, tq = np.array([1000.0, 1400.0, 0.005]), 1.96
+    ci = identify._wald_intervals(space, pv, np.array([2.0, 100.0, 1e-3]), tq)
+    e = 400.0
+    np.testing.assert_allclose(ci["mu_s"], (1000.0 + e * math.exp(-tq * 100.0 / e), 1000.0 + e * math.exp(tq * 100.0 / e)))
+    assert ci["mu_s"][1] - 1400.0 > 1400.0 - ci["mu_s"][0] > 0.0
+    np.testing.assert_allclose(ci["v_s"], (0.005 * math.exp(-tq * 0.2), 0.005 * math.exp(tq * 0.2)))
+    near = identify._wald_intervals(space, np.array([1000.0, 1100.0, 0.005]), np.array([2.0, 100.0, 1e-3]), tq)
+    assert near["mu_s"] == (1000.0, 1100.0 + tq * 100.0)
+    blind = identify._wald_intervals(space, pv, np.array([2.0, math.inf, 1e-3]), tq)
+    assert blind["mu_s"] == (1000.0, math.inf)
+
+
 def test_fit_report_is_complete():
     truth, fixed = STATE_CASES["lugre"]
     t, x, f, v = three_records("lugre", truth, 10.0, seed=8, n=201)
@@ -567,48 +584,98 @@ def test_identify_driver_refuses_bad_data_and_outdir_before_any_work(tmp_path, c
 # ---------------------------------------------------------------------------------------------
 # Coverage of the 95 % intervals with a fitted backlash and asymmetry
 # ---------------------------------------------------------------------------------------------
-def backlash_coverage(draws):
-    truth, fixed = STATE_CASES["lugre"]
-    opts = dict(backlash=0.001, asymmetry=1.3)
+BACKLASH_OPTS = dict(backlash=0.001, asymmetry=1.3)
+
+
+def linear_oracle(law: str, truth: dict, names: tuple[str, ...], n: int = 401, rel: float = 1e-4,
+                  **opts) -> tuple[np.ndarray, np.ndarray]:
+    """The linearised least-squares estimator at the truth, independent of fit_friction: the
+    Jacobian of the noise-free records of `noisy_records` (prescribed_motion at rtol 1e-10,
+    central differences of relative step `rel`) with respect to `names`; returns its
+    pseudo-inverse P (the estimate's deviation is P @ noise) and the standard errors of that
+    estimator for the generator's noise of 1 N (the rows' norms of P)."""
+    recs = [sine_record(4.0, n, 0.01, 0.5), sine_record(2.0, n, 0.004, 1.0, phase=0.3)]
     full = dict(truth, **opts)
-    hits: dict[str, list[bool]] = {}
-    for seed in range(draws):
-        t, x, f, v = noisy_records("lugre", truth, 10.0, seed=1000 + seed, n=401, **opts)
+
+    def force(p: dict) -> np.ndarray:
+        law_p = {k: v for k, v in p.items() if k not in opts}
+        return np.concatenate([pm(law, t, x, v, rtol=1e-10, backlash=p["backlash"], asymmetry=p["asymmetry"],
+                                  **law_p).force for t, x, v in recs])
+
+    cols = []
+    for k in names:
+        h = rel * abs(full[k])
+        cols.append((force({**full, k: full[k] + h}) - force({**full, k: full[k] - h})) / (2.0 * h))
+    p_inv = np.linalg.pinv(np.array(cols).T)
+    return p_inv, np.linalg.norm(p_inv, axis=1)
+
+
+def backlash_coverage(draws: int, seed0: int = 1000) -> tuple[dict[str, int], dict[str, int], dict[str, np.ndarray]]:
+    """Over `draws` noisy record pairs (10 N of white noise) of LuGre with a backlash and an
+    asymmetry, all fitted: how many of each parameter's 95 % intervals hold the truth; how many
+    intervals of the linearised estimator at the truth (`linear_oracle`, the same noise) hold
+    it, the yardstick of what these draws allow; and per draw the fit's error and the
+    oracle's in the oracle's standard errors."""
+    truth, fixed = STATE_CASES["lugre"]
+    full = dict(truth, **BACKLASH_OPTS)
+    names = ("mu_s", "mu_k", "v_s", "sigma0", "sigma2", "backlash", "asymmetry")
+    p_inv, sd = linear_oracle("lugre", truth, names, **BACKLASH_OPTS)
+    noise_free = None
+    hits, oracle = dict.fromkeys(names, 0), dict.fromkeys(names, 0)
+    errors: dict[str, list] = {k: [] for k in names}
+    tq = stats.t.ppf(0.975, 2 * 401 - len(names))
+    for seed in range(seed0, seed0 + draws):
+        t, x, f, v = noisy_records("lugre", truth, 10.0, seed=seed, n=401, **BACKLASH_OPTS)
+        if noise_free is None:
+            noise_free = np.concatenate([pm("lugre", *r, **BACKLASH_OPTS, **truth).force for r in zip(t, x, v)])
+        z_lin = p_inv @ (np.concatenate(f) - noise_free) / (10.0 * sd)
         fit = stickslip.fit_friction("lugre", t, x, f, v=v, fixed=fixed, backlash="fit", asymmetry="fit",
                                      n_starts=1)
-        for k in fit.free:
+        assert fit.free == names
+        for i, k in enumerate(names):
             lo, hi = fit.ci95[k]
-            hits.setdefault(k, []).append(lo <= full[k] <= hi)
-    return {k: float(np.mean(h)) for k, h in hits.items()}
+            hits[k] += lo <= full[k] <= hi
+            oracle[k] += int(abs(z_lin[i]) <= tq)
+            errors[k].append(((fit.params[k] - full[k]) / (10.0 * sd[i]), z_lin[i], fit.stderr[k] / (10.0 * sd[i])))
+    return hits, oracle, {k: np.array(e) for k, e in errors.items()}
 
 
 def test_lugre_with_backlash_intervals_cover_a_few_draws():
     # (the finite-difference step of the standard errors used to measure the integrator's
     # step-doubling decisions: the backlash's interval was a few nanometres wide)
-    cover = backlash_coverage(4)
-    assert cover["backlash"] >= 0.75 and min(cover.values()) >= 0.5
+    hits, _, errors = backlash_coverage(4)
+    assert hits["backlash"] >= 3 and min(hits.values()) >= 2, hits
+    # the fit's errors are those of the linearised estimator at the truth on the same noise
+    # (measured over 100 draws: within 0.65 of its standard errors, v_s 1.44; mu_s, the
+    # Stribeck part's nonlinearity, not), and its standard errors are that estimator's on
+    # average (per draw 0.79-1.31 times, the Jacobian at the estimate): standard errors 1.3
+    # times too small, the suspicion of issue 31, would put the mean ratio near 0.77
+    for k, e in errors.items():
+        err, err_lin, ratio = e.T
+        if k != "mu_s":
+            assert np.abs(err - err_lin).max() <= 1.5, (k, err, err_lin)
+            assert 0.85 <= ratio.mean() <= 1.2, (k, ratio)
 
 
 @pytest.mark.slow
 def test_lugre_with_backlash_intervals_cover_the_truth_95_percent():
-    # 50 draws. Measured (2026-11-25): mu_s 98 %, mu_k 84 %, v_s 90 %, sigma0 94 %, sigma2 88 %,
-    # backlash 94 %, asymmetry 96 % (before the Jacobian's step was made to measure the model:
-    # 7-53 %); 50 other seeds (3000-3049): mu_k 94 %, sigma2 86 %, backlash 84 %. The cause is
-    # not the Jacobian: on 40 draws the standard errors agree within 1 % with those of a plain
-    # central-difference Jacobian at rtol 1e-10 without the correlation inflation, but the
-    # estimates scatter 1.2-1.35 times their standard errors (mu_k, sigma2, backlash), and a
-    # residual bootstrap around each estimate gives intervals as wide as these. Over 100 seeds
-    # LuGre's mu_k and v_s intervals cover 89-93 % with the backlash held at its true value or
-    # absent, at rtol 1e-4, 1e-6 and 1e-9 alike: the Stribeck part's nonlinearity, not the
-    # backlash alone nor the integration. Profile-likelihood intervals (interval="profile",
-    # 2026-11-26, the same 50 draws; both kinds from the same fits): mu_s 98/98 %, mu_k 84/84 %,
-    # v_s 90/88 %, sigma0 94/94 %, sigma2 88/88 %, backlash 94/94 %, asymmetry 96/96 % (Wald /
-    # profile); seeds 3000-3049: mu_s 92/98 %, mu_k 94/92 %, v_s 96/94 %, sigma2 86/86 %,
-    # backlash 84/84 %: an exact refit at the truth of the draws that miss raises the cost as
-    # the linearisation says (the cost is quadratic there). The bound checks the intervals are
-    # not far off, not that they are exact
-    cover = backlash_coverage(50)
-    assert min(cover.values()) >= 0.80, cover
+    # 400 draws (seeds 1000-1399): each parameter's count within the central 99.8 % of
+    # Binomial(400, 0.95), 365-392 (a coverage of 0.90 falls outside with probability 0.82),
+    # and within 5 % of the draws of the count of the linearised estimator at the truth on the
+    # same noise, whose standard errors are exact. The 50-draw sets once used here had mu_k at
+    # 84 % (seeds 1000-1049) and backlash at 84 % (3000-3049): that estimator covers as rarely
+    # on those very draws (84 % and 84 %), and over 20000 draws 94.8-95.3 % for every
+    # parameter; one 50-draw set in 40 has a parameter at 84 % or less. Measured (2026-11-26),
+    # fit / linearised estimator: mu_s 386/386, mu_k 378/376, v_s 374/378, sigma0 385/380,
+    # sigma2 382/380, backlash 376/377, asymmetry 385/385 (mu_s's interval on the log of
+    # mu_s itself, before: 92.5 % over seeds 10000-10999, all misses low; now 95.2 %)
+    draws = 400
+    lo, hi = coverage_band(draws)
+    hits, oracle, _ = backlash_coverage(draws)
+    assert all(lo <= h <= hi for h in hits.values()), (hits, oracle, (lo, hi))
+    # the fit misses where the exact linearisation misses (mu_s, whose interval follows its
+    # standard error at the estimate, within 5 % of the draws)
+    assert all(abs(hits[k] - oracle[k]) <= 0.05 * draws for k in hits), (hits, oracle)
 
 
 # ---------------------------------------------------------------------------------------------
