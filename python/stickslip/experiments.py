@@ -21,7 +21,7 @@ import numpy as np
 
 from .core import LAWS, REGISTRY, _choice, _finite, friction_coefficient
 from .identify import (FitResult, _Estimates, _central_jacobian, _check_keys, _coordinates, _in_range, _interval,
-                       _model_mesh, _range_of, _records, _start, fit_friction, parameter_unit)
+                       _model_mesh, _range_of, _records, _start, _wald_intervals, fit_friction, parameter_unit)
 
 __all__ = ["SteadyPoints", "SteadyCurve", "TwoStepFit", "steady_friction", "fit_stribeck_curve", "fit_two_step"]
 
@@ -392,7 +392,7 @@ def fit_stribeck_curve(points: SteadyPoints | tuple, law: str = "lugre", *,
     return SteadyCurve(
         law=law, params=params, units=units, free=free,
         stderr={n: float(sd[i]) for i, n in enumerate(free)},
-        ci95={n: _interval(n, float(pv[i]), float(sd[i]), tq) for i, n in enumerate(free)},
+        ci95=_wald_intervals(space, pv, sd, tq),
         covariance=cov, correlation=corr, points=pts, rmse=float(np.sqrt(np.mean(resid_force ** 2))),
         reduced_chi2=chi2, dof=dof, force_levels=force_levels, success=bool(sol.success),
         message=str(sol.message),
