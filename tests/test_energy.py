@@ -104,3 +104,26 @@ def test_signals_evaluate_as_the_library_does():
     cum = np.concatenate([[0.0], np.cumsum(_value(force, mid) * np.diff(fine))])
     np.testing.assert_allclose(r.v[0], 0.3 + np.interp(r.t, fine, cum) / 2.0, rtol=0, atol=1e-10)
     assert math.isclose(float(_value(S.step(0.2), np.array([0.2]))[0]), 1.0)   # right-continuous
+
+
+def test_cached_bound_follows_a_changed_model():
+    """The signals' integrals are cached by the model's arrays and the grid: a model changed in
+    place (a force's amplitude, a mass) gets the bound of a model built new with the change,
+    and the same model on the same grid the same bound as before."""
+    def pushed(force: float, mass: float) -> ss.Model:
+        m = ss.Model()
+        b = m.add_body(mass, v0=1.0)
+        m.add_force(b, S.sine(force, 2.0))
+        return m
+
+    m = pushed(3.0, 2.0)
+    t = np.linspace(0.0, 1.0, 21)
+    x = np.zeros((1, t.size))
+    v = np.ones((1, t.size))
+    first = energy_bound(m, t, x, v)[1]
+    np.testing.assert_array_equal(energy_bound(m, t, x, v)[1], first)
+    m.forces[0] = (0, S.sine(6.0, 2.0))
+    np.testing.assert_array_equal(energy_bound(m, t, x, v)[1], energy_bound(pushed(6.0, 2.0), t, x, v)[1])
+    assert energy_bound(m, t, x, v)[1][-1] > first[-1]
+    m.bodies[0].mass = 8.0
+    np.testing.assert_array_equal(energy_bound(m, t, x, v)[1], energy_bound(pushed(6.0, 8.0), t, x, v)[1])

@@ -22,6 +22,9 @@ bristles store energy) or whose mu does not oppose the slip are not checked.
 from __future__ import annotations
 
 import math
+import threading
+from collections import OrderedDict
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -88,21 +91,59 @@ def _mu_max(law: str, params: dict[str, float]) -> float | None:
     return top
 
 
-def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray,
+                 arrays: Mapping[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray] | None:
     """The mechanical energy E [J] of `model` at the output times `t` [s] (positions x and
     velocities v, shape (n_bodies, n_t), t[0] = 0) and its bound B [J] (see the module): a
     correct run has E <= B. None when the model is not checked (a law with internal states, a
-    law whose mu does not oppose the slip or has no bound, signals too fast for the grid)."""
+    law whose mu does not oppose the slip or has no bound, signals too fast for the grid).
+    `arrays`: `model.arrays()` where the caller has it (it identifies the model in the cache of
+    the signals' integrals)."""
     if t.size == 0 or t[0] != 0.0:
         return None
-    for c in model.contacts:
-        if REGISTRY["law"][c.law]["n_states"] != 0 or c.law == "gms":
-            return None
+    integrals = _integrals(model, t, model.arrays() if arrays is None else arrays)
+    if integrals is None:
+        return None
     mass = np.array([b.mass for b in model.bodies])
     e = 0.5 * (mass[:, None] * v * v).sum(axis=0)
     for a, b, k, l0 in model.springs:
         d = x[a] - (x[b] if b is not None else 0.0) - l0
         e = e + 0.5 * k * d * d
+    return e, _bound(float(e[0]), *integrals)
+
+
+#: `_signal_integrals` of the last CACHE_SIZE (model, output grid) pairs, by the model's arrays
+#: and the grid: a model run again on the same grid (a sweep's rows that change only x0 or v0,
+#: a benchmark) does not integrate its signals again.
+CACHE_SIZE: int = 16
+_CACHE: OrderedDict[bytes, tuple[np.ndarray, np.ndarray] | None] = OrderedDict()
+_CACHE_LOCK = threading.Lock()
+
+
+def _integrals(model: Any, t: np.ndarray, arrays: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
+    """`_signal_integrals(model, t)`, from the cache where the model (its `arrays`) and the grid
+    were seen."""
+    key = b"|".join([np.ascontiguousarray(arrays[k]).tobytes() for k in sorted(arrays) if k != "pkeys"]
+                    + [arrays["pkeys"].encode(), np.ascontiguousarray(t, dtype=np.float64).tobytes()])
+    with _CACHE_LOCK:
+        if key in _CACHE:
+            _CACHE.move_to_end(key)
+            return _CACHE[key]
+    found = _signal_integrals(model, t)
+    with _CACHE_LOCK:
+        _CACHE[key] = found
+        while len(_CACHE) > CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    return found
+
+
+def _signal_integrals(model: Any, t: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """int_0^t a and int_0^t b (see the module) at the output times t, or None when the model
+    is not checked (`energy_bound`)."""
+    for c in model.contacts:
+        if REGISTRY["law"][c.law]["n_states"] != 0 or c.law == "gms":
+            return None
+    mass = np.array([b.mass for b in model.bodies])
     corners: list[float] = []
     f_max = 0.0
     terms_a = [(s, math.sqrt(2.0 / mass[i])) for i, s in model.forces]
@@ -118,7 +159,7 @@ def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray) -> tup
         f_max = max(f_max, _features(s, corners))
     t_end = float(t[-1])
     if not terms_a and not terms_b:           # nothing puts energy in: E <= E(0)
-        return e, _bound(float(e[0]), np.zeros_like(t), np.zeros_like(t))
+        return np.zeros_like(t), np.zeros_like(t)
     points = max(MIN_POINTS, int(64 * f_max * t_end) + 1)
     if points > MAX_POINTS:
         return None
@@ -137,7 +178,7 @@ def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray) -> tup
         corners are grid points, above the integral where y is monotone between points)."""
         cum = np.concatenate([[0.0], np.cumsum(np.maximum(y[1:], y[:-1]) * np.diff(fine))])
         return np.interp(t, fine, cum)
-    return e, _bound(float(e[0]), integral(a_t), integral(b_t))
+    return integral(a_t), integral(b_t)
 
 
 def _bound(e0: float, int_a: np.ndarray, int_b: np.ndarray) -> np.ndarray:

@@ -537,14 +537,14 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
-    _check_energy(model, result)
+    _check_energy(model, result, arrays)
     return result
 
 
-def _check_energy(model: Model, result: Result) -> None:
+def _check_energy(model: Model, result: Result, arrays: dict[str, Any]) -> None:
     """An EnergyBoundWarning where the result's mechanical energy exceeds its bound
-    (stickslip.energy.energy_bound; models it does not check pass)."""
-    checked = energy_bound(model, result.t, result.x, result.v)
+    (stickslip.energy.energy_bound; models it does not check pass); `arrays`: the model's."""
+    checked = energy_bound(model, result.t, result.x, result.v, arrays)
     if checked is None:
         return
     e, bound = checked
