@@ -113,8 +113,8 @@ def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray,
 
 
 #: `_signal_integrals` of the last CACHE_SIZE (model, output grid) pairs, by the model's arrays
-#: and the grid: a model run again on the same grid (a sweep's rows that change only x0 or v0,
-#: a benchmark) does not integrate its signals again.
+#: (its initial state included) and the grid: the same model run again on the same grid (a
+#: benchmark, a study repeating a run) does not integrate its signals again.
 CACHE_SIZE: int = 16
 _CACHE: OrderedDict[bytes, tuple[np.ndarray, np.ndarray] | None] = OrderedDict()
 _CACHE_LOCK = threading.Lock()
