@@ -70,6 +70,12 @@ module stickslip_ode
         !! leaves them ends the run with SS_DIVERGED. The default, DEFAULT_BOUND_GROWTH max(1,
         !! max |y0|), is conservative; the scenes give theirs from their energy.
         procedure :: state_bound => default_state_bound
+        !> Called by DOPRI5's every-step mode after each accepted step when its option
+        !! notify_steps is set, with the step's end: the integrator's last evaluation of the
+        !! right-hand side was there (its FSAL stage), so the system may keep what that
+        !! evaluation found; halt = .true. ends the run after this step (status SS_OK,
+        !! t_reached the step's end). The default: nothing kept, no halt.
+        procedure :: step_accepted => no_step_accepted
     end type ode_system
 
     !> The controls every integrator shares; each method reads those its registry entry
@@ -324,6 +330,18 @@ contains
         logical, intent(out)    :: ok       !! .true.: k solves the stage
         ok = .false.
     end subroutine no_scalar_stage
+
+    !> The default: nothing to keep, never halt.
+    subroutine no_step_accepted(self, t, h, y, dydt, halt)
+        class(ode_system), intent(inout) :: self
+        !! the system
+        real(dp), intent(in)  :: t          !! the step's end [s]
+        real(dp), intent(in)  :: h          !! the step's length [s]
+        real(dp), intent(in)  :: y(:)       !! the state at t
+        real(dp), intent(in)  :: dydt(:)    !! f(t, y), the integrator's last evaluation
+        logical, intent(out)  :: halt       !! .true.: end the run after this step
+        halt = .false.
+    end subroutine no_step_accepted
 
     !> The default: f(t, y), nothing condensed.
     subroutine plain_stage_rhs(self, t, y, k, f)

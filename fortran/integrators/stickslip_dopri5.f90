@@ -82,6 +82,9 @@ module stickslip_dopri5
         !! size(t_out)) array receives the continuous extension over [t_out(k-1), t_out(k)]:
         !! its coefficients r2..r5 (n each) and the step h [s]; `dopri5_dense` evaluates it.
         real(dp), pointer :: dense_rows(:, :) => null()
+        !> Every-step mode only: call sys%step_accepted after each accepted step (the system
+        !! sees the step's end, where the last evaluation was, and may end the run there)
+        logical :: notify_steps = .false.
     contains
         procedure :: set => set_dopri5_option
         !! set a control by name (the step_controls ones and DOPRI5's own)

@@ -126,9 +126,16 @@ module stickslip_event_driven
         !> Work arrays of mode_forces (n_dof: wf, wg; n_c: the others; rhs2: (n_c, 1)) and of
         !! mode_rhs (wr, n_c), allocated with the mode (no allocation at an evaluation)
         real(dp), allocatable :: wf(:), wg(:), wn(:), ww(:), wb(:), wh(:), wc(:), wcap(:), rhs2(:, :), wr(:)
+        !> The event functions and their rates (`event_values`) at the last two step ends
+        !! (ga, dga: the one before; gb, dgb: the last), kept by `mode_step_accepted`
+        real(dp), allocatable :: ga(:), dga(:), gb(:), dgb(:)
+        logical :: halted = .false.   !! mode_step_accepted ended DOPRI5's run after its last step
+        real(dp) :: t_prev = 0.0_dp   !! the time of ga, dga [s]
     contains
         procedure :: rhs => mode_rhs
         !! (u, acceleration) in the current mode
+        procedure :: step_accepted => mode_step_accepted
+        !! the event functions at each step's end, from DOPRI5's last evaluation there
     end type mode_system
 
     integer, parameter :: ZENO_ROW = 10
@@ -336,27 +343,60 @@ contains
         class(mode_system), intent(inout) :: ms
         real(dp), intent(in)  :: t_in, y(:)
         real(dp), intent(out) :: gv(:), r(:), dg(:)
-        real(dp) :: a(ms%cs%n_dof), w(ms%cs%n_c), nn(ms%cs%n_c), bd(ms%cs%n_c), t
-        integer :: nd
-        nd = ms%cs%n_dof
-        t = min(t_in, ms%t_cap)
-        call mode_forces(ms, t, y, a, r)
+        real(dp) :: a(ms%cs%n_dof)
+        call mode_forces(ms, t_in, y, a, r)
         ms%nfev = ms%nfev + 1
-        call ms%cs%relative_velocities(t, y(nd + 1:), w)
-        call ms%cs%normal_forces(t, y(:nd), nn)
+        call values_from_forces(ms, min(t_in, ms%t_cap), a, r, gv, dg)
+    end subroutine event_values
+
+    !> The event functions gv and their rates dg (as `event_values`) from an evaluation of
+    !! `mode_forces` at time t just made: its acceleration a and contact forces r, and the
+    !! normal forces and relative velocities it left in wn and ww.
+    subroutine values_from_forces(ms, t, a, r, gv, dg)
+        class(mode_system), intent(inout) :: ms
+        real(dp), intent(in)  :: t          !! time, at most t_cap [s]
+        real(dp), intent(in)  :: a(:)       !! acceleration [m/s^2]
+        real(dp), intent(in)  :: r(:)       !! contact forces [N]
+        real(dp), intent(out) :: gv(:)      !! event functions
+        real(dp), intent(out) :: dg(:)      !! their rates (slipping contacts) [m/s^2]
         call ms%cs%apply_h(a, dg)
-        call ms%cs%offset_rate(t, bd)
+        call ms%cs%offset_rate(t, ms%wb)
         where (ms%stuck)
-            gv = ms%cs%laws%mu_s * nn * (1.0_dp + 2.0_dp * STICK_RTOL) - abs(r)
+            gv = ms%cs%laws%mu_s * ms%wn * (1.0_dp + 2.0_dp * STICK_RTOL) - abs(r)
             dg = 0.0_dp
-        elsewhere (nn > 0.0_dp)
-            gv = ms%sig * w
-            dg = ms%sig * (dg + bd)
+        elsewhere (ms%wn > 0.0_dp)
+            gv = ms%sig * ms%ww
+            dg = ms%sig * (dg + ms%wb)
         elsewhere     ! an open contact (N = 0) carries no force: no event until it closes
             gv = 1.0_dp
             dg = 0.0_dp
         end where
-    end subroutine event_values
+    end subroutine values_from_forces
+
+    !> After each accepted DOPRI5 step: the event functions at its end from DOPRI5's last
+    !! evaluation there (the FSAL stage at (t, y), which left its forces in wr, wn, ww; no
+    !! evaluation of its own), the previous end's moved to ga, dga. DOPRI5 halts after a step
+    !! in which an event function crossed (`crossed`) or a slipping contact's may dip to 0
+    !! (`dips`), or when the stuck set was singular: event_driven_integrate takes it from there.
+    subroutine mode_step_accepted(self, t, h, y, dydt, halt)
+        class(mode_system), intent(inout) :: self
+        real(dp), intent(in)  :: t          !! the step's end [s]
+        real(dp), intent(in)  :: h          !! the step's length [s]
+        real(dp), intent(in)  :: y(:)       !! (q, u) at t
+        real(dp), intent(in)  :: dydt(:)    !! (u, acceleration) at t
+        logical, intent(out)  :: halt       !! .true.: an event (or a dip) in the step
+        integer :: nd
+        real(dp) :: step
+        nd = self%cs%n_dof
+        self%ga = self%gb
+        self%dga = self%dgb
+        call values_from_forces(self, min(t, self%t_cap), dydt(nd + 1:), self%wr, self%gb, self%dgb)
+        step = t - self%t_prev      ! as event_driven_integrate's scan takes it (not h: rounding)
+        self%t_prev = t
+        halt = self%singular .or. any(crossed(self%stuck, self%gb)) .or. &
+               any(dips(self%stuck, self%ga, self%gb, step * self%dga, step * self%dgb))
+        self%halted = halt
+    end subroutine mode_step_accepted
 
     !> Has contact i's event function crossed? A slipping contact when sigma w <= 0 (it
     !! reached w = 0), a stuck one when its holding force exceeds the static limit (g < 0).
@@ -369,6 +409,18 @@ contains
             crossed = g <= 0.0_dp
         end if
     end function crossed
+
+    !> May a slipping contact's event function sigma w, positive at both ends of a step
+    !! (ga, gb) with slopes in the step's fraction sa, sb (its rate times the step), dip to 0
+    !! inside it? When it falls at the start, rises at the end and its cubic Hermite
+    !! interpolant's minimum is below half the smaller end value (`graze` then searches it).
+    elemental logical function dips(stuck, ga, gb, sa, sb)
+        logical, intent(in) :: stuck
+        real(dp), intent(in) :: ga, gb, sa, sb
+        dips = .not. stuck .and. .not. crossed(stuck, gb)
+        if (dips) dips = ga > 0.0_dp .and. sa < 0.0_dp .and. sb > 0.0_dp
+        if (dips) dips = .not. (hermite_min(ga, gb, sa, sb) >= 0.5_dp * min(ga, gb))
+    end function dips
 
     !> The minimum over theta in [0, 1] of the cubic Hermite interpolant of g with values
     !! ga, gb and slopes (in theta) sa, sb at the ends: at the ends or where its derivative,
@@ -449,11 +501,13 @@ contains
         allocate(ms%wf(nd), ms%wg(nd), ms%wn(nc), ms%ww(nc), ms%wb(nc), ms%wh(nc), ms%wc(nc), ms%wcap(nc), &
                  ms%rhs2(nc, 1), ms%wr(nc))
         allocate(ms%stuck(nc), ms%sig(nc), g_a(nc), g_b(nc), r(nc), dg_a(nc), dg_b(nc), cand(nc))
+        allocate(ms%ga(nc), ms%dga(nc), ms%gb(nc), ms%dgb(nc))
         allocate(cand_now(nc), touch(nc), source=.false.)
         t_touch = -huge(1.0_dp)
         allocate(tb(CHUNK), yb(n, CHUNK), y(n), ya(n), ystar(n), cb(DOPRI5_DENSE_ROWS * n + 1, CHUNK))
         d5%every_step = .true.
         d5%dense_rows => cb
+        d5%notify_steps = .true.
         d5%stop_flag => opts%stop_flag
         m = size(t_out)
         call output_start(t0, y0, t_out, y_out, .false., next)
@@ -482,6 +536,11 @@ contains
             t_seg = min(t_end, cs%next_time_event(t))   ! a corner of the forces: the mode ends there
             ms%t_cap = huge(1.0_dp)
             if (t_seg < t_end) ms%t_cap = nearest(t_seg, -1.0_dp)
+            ! the event functions at the start; mode_step_accepted takes them at each step's end
+            ! and halts DOPRI5 after a step with an event (or a dip) in it
+            call event_values(ms, t, y, ms%gb, r, ms%dgb)
+            ms%t_prev = t
+            ms%halted = .false.
             call dopri5_integrate(ms, t, y, t_seg, rtol, atol, d5, tb, yb, st)
             stats%nfev = stats%nfev + st%nfev
             stats%nstep = stats%nstep + st%nstep
@@ -500,33 +559,33 @@ contains
                 exit segment
             end if
             if (diverged(yb(:, nrows), stats, opts%y_bound)) exit segment   ! left the bound: SS_DIVERGED
+            ! The run ends after the first step with an event or a dip (ms%halted): only its last
+            ! step is searched, from the event functions mode_step_accepted kept at its ends.
             hit = .false.
-            call event_values(ms, tb(1), yb(:, 1), g_a, r, dg_a)
-            do k = 2, nrows
-                call event_values(ms, tb(k), yb(:, k), g_b, r, dg_b)
+            k = nrows
+            if (ms%halted) then
                 ta = tb(k - 1)
                 ya = yb(:, k - 1)
                 tstar = tb(k)
                 ystar = yb(:, k)
+                g_a = ms%ga
+                dg_a = ms%dga
+                g_b = ms%gb
+                dg_b = ms%dgb
                 cand = crossed(ms%stuck, g_b)
                 hit = any(cand)
                 ! a slipping contact whose w turns back within the step: its minimum
                 do i = 1, nc
-                    if (ms%stuck(i) .or. cand(i)) cycle
-                    if (.not. (g_a(i) > 0.0_dp .and. dg_a(i) < 0.0_dp .and. dg_b(i) > 0.0_dp)) cycle
-                    if (hermite_min(g_a(i), g_b(i), (tb(k) - ta) * dg_a(i), (tb(k) - ta) * dg_b(i)) &
-                        >= 0.5_dp * min(g_a(i), g_b(i))) cycle
+                    if (.not. dips(ms%stuck(i), g_a(i), g_b(i), (tb(k) - ta) * dg_a(i), (tb(k) - ta) * dg_b(i))) cycle
                     call graze(i, dg_a(i), dg_b(i), cand(i))
                     hit = hit .or. cand(i)
                 end do
-                if (hit) exit
-                g_a = g_b
-                dg_a = dg_b
-            end do
+            end if
             if (.not. hit) then
                 call output_to(tb(nrows))
                 t = tb(nrows)
                 y = yb(:, nrows)
+                if (st%status == SS_OK .and. t < t_seg) cycle segment          ! a dip that did not touch
                 if (st%status == SS_OK .and. t_seg >= t_end) exit segment     ! reached t_end
                 if (st%status == SS_OK) then                                   ! reached a corner
                     t = t_seg                  ! exactly: the next corner is the one after it
