@@ -18,8 +18,10 @@
 !! mu_s N_i (1 + 2 STICK_RTOL) - |r_i| for a stuck one (stick -> slip when the holding force
 !! exceeds the static limit; |r| = mu_s N exactly is stuck, as in moreau, and the margin
 !! 2 STICK_RTOL keeps rounding from undoing the release at the located instant). They are
-!! evaluated at the end of every accepted step (one more force evaluation a step); where one
-!! has crossed, the crossing time is found by bracketing (Illinois regula falsi with
+!! evaluated at the end of every accepted step from DOPRI5's own last evaluation there (its
+!! FSAL stage: `ode_system%step_accepted`, no evaluation of their own), and DOPRI5 stops
+!! after the first step in which one crosses or may dip to 0, so no step past an event is
+!! integrated and thrown away. Where one has crossed, the crossing time is found by bracketing (Illinois regula falsi with
 !! bisection) to within 4 units of round-off in t. A slipping contact whose w turns back
 !! within a step (its rate sigma dw/dt changes sign from - to + and the cubic Hermite
 !! interpolant of sigma w dips below half its end values) is searched for its minimum: a
