@@ -98,38 +98,40 @@ def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray,
     correct run has E <= B. None when the model is not checked (a law with internal states, a
     law whose mu does not oppose the slip or has no bound, signals too fast for the grid).
     `arrays`: `model.arrays()` where the caller has it (it identifies the model in the cache of
-    the signals' integrals)."""
+    the bounds)."""
     if t.size == 0 or t[0] != 0.0:
         return None
-    integrals = _integrals(model, t, model.arrays() if arrays is None else arrays)
-    if integrals is None:
-        return None
     mass = np.array([b.mass for b in model.bodies])
-    e = 0.5 * (mass[:, None] * v * v).sum(axis=0)
+    e = (0.5 * mass) @ np.square(v)
     for a, b, k, l0 in model.springs:
         d = x[a] - (x[b] if b is not None else 0.0) - l0
         e = e + 0.5 * k * d * d
-    return e, _bound(float(e[0]), *integrals)
+    bound = _cached_bound(model, t, model.arrays() if arrays is None else arrays, float(e[0]))
+    return None if bound is None else (e, bound)
 
 
-#: `_signal_integrals` of the last CACHE_SIZE (model, output grid) pairs, by the model's arrays
-#: (its initial state included) and the grid: the same model run again on the same grid (a
-#: benchmark, a study repeating a run) does not integrate its signals again.
+#: The bounds of the last CACHE_SIZE (model, output grid, initial energy) triples, by the
+#: model's arrays, the grid and E(0): the same model run again on the same grid (a benchmark, a
+#: study repeating a run) does not integrate its signals again.
 CACHE_SIZE: int = 16
-_CACHE: OrderedDict[bytes, tuple[np.ndarray, np.ndarray] | None] = OrderedDict()
+_CACHE: OrderedDict[bytes, np.ndarray | None] = OrderedDict()
 _CACHE_LOCK = threading.Lock()
 
 
-def _integrals(model: Any, t: np.ndarray, arrays: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
-    """`_signal_integrals(model, t)`, from the cache where the model (its `arrays`) and the grid
-    were seen."""
+def _cached_bound(model: Any, t: np.ndarray, arrays: Mapping[str, Any], e0: float) -> np.ndarray | None:
+    """`_bound(e0, *_signal_integrals(model, t))` (None where that is None), from the cache
+    where the model (its `arrays`), the grid and e0 were seen."""
     key = b"|".join([np.ascontiguousarray(arrays[k]).tobytes() for k in sorted(arrays) if k != "pkeys"]
-                    + [arrays["pkeys"].encode(), np.ascontiguousarray(t, dtype=np.float64).tobytes()])
+                    + [arrays["pkeys"].encode(), np.ascontiguousarray(t, dtype=np.float64).tobytes(),
+                       np.float64(e0).tobytes()])
     with _CACHE_LOCK:
         if key in _CACHE:
             _CACHE.move_to_end(key)
             return _CACHE[key]
-    found = _signal_integrals(model, t)
+    integrals = _signal_integrals(model, t)
+    found = None if integrals is None else _bound(e0, *integrals)
+    if found is not None:
+        found.flags.writeable = False      # shared by the calls that find it here
     with _CACHE_LOCK:
         _CACHE[key] = found
         while len(_CACHE) > CACHE_SIZE:
