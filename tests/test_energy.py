@@ -107,7 +107,7 @@ def test_signals_evaluate_as_the_library_does():
 
 
 def test_cached_bound_follows_a_changed_model():
-    """The signals' integrals are cached by the model's arrays and the grid: a model changed in
+    """The bounds are cached by the model's arrays, the grid and E(0): a model changed in
     place (a force's amplitude, a mass) gets the bound of a model built new with the change,
     and the same model on the same grid the same bound as before."""
     def pushed(force: float, mass: float) -> ss.Model:
