@@ -54,7 +54,7 @@ module stickslip_contact_solver
     implicit none
     private
 
-    public :: contact_solve_info, solve_contacts, contact_residual, gauss_seidel
+    public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
     !> Most active contacts solved by exact mode enumeration (3^n modes at most).
     integer, parameter, public :: ENUM_MAX = 6
@@ -79,13 +79,23 @@ module stickslip_contact_solver
         integer :: worst = 0            !! the contact with the largest residual (0: none)
     end type contact_solve_info
 
+    !> Work room of `solve_contacts` and `gauss_seidel`, for a caller that solves one problem
+    !! after another (a time step each): passed to every call, it is sized on the first and then
+    !! reused, so that a Gauss-Seidel solve allocates nothing (without it each call allocates its
+    !! own). One per caller and per thread: the solver keeps no state in it between calls.
+    type :: contact_workspace
+        real(dp), allocatable :: gap(:)  !! (n) Gauss-Seidel's gap, wf + D p - w at its answer [m/s]
+    end type contact_workspace
+
 contains
 
     !> Solve the problem of the module notes. p: warm start in (Gauss-Seidel), impulses out;
     !! mode: the previous mode in (a guess, any values), the solution's out. method (tests and
     !! benchmarks): SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL forces that method on any number of
-    !! active contacts above one (Gauss-Seidel then still falls back to pivoting).
-    subroutine solve_contacts(laws, d, wf, cap, at_rest, tol, max_iter, p, w, mode, info, method)
+    !! active contacts above one (Gauss-Seidel then still falls back to pivoting). work: room
+    !! reused from call to call (a caller solving many problems keeps one; without it, a
+    !! Gauss-Seidel solve allocates its own).
+    subroutine solve_contacts(laws, d, wf, cap, at_rest, tol, max_iter, p, w, mode, info, method, work)
         type(contact_law), intent(in) :: laws(:)   !! (n) each contact's law
         real(dp), intent(in)    :: d(:, :)         !! (n, n) Delassus matrix [1/kg]
         real(dp), intent(in)    :: wf(:)           !! (n) velocities without friction [m/s]
@@ -98,56 +108,81 @@ contains
         integer, intent(inout)  :: mode(:)         !! (n) MODE_STICK, +-1, MODE_OPEN
         type(contact_solve_info), intent(out) :: info  !! how it was solved, residual, ok
         integer, intent(in), optional :: method    !! force SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL
-        logical :: active(size(wf)), found
-        integer :: n, na, i, forced
-        real(dp) :: gap(size(wf))
+        type(contact_workspace), intent(inout), optional :: work  !! room reused between calls
+        logical :: found
+        integer :: n, na, i, ia, forced
+        real(dp), allocatable :: own_gap(:)
         n = size(wf)
-        active = cap > 0.0_dp .and. laws%mu_s > 0.0_dp
-        na = count(active)
+        ! the active contacts (capacity and a static limit), the others open
+        na = 0
+        ia = 0
+        do i = 1, n
+            if (is_active(laws(i), cap(i))) then
+                na = na + 1
+                ia = i
+            else
+                p(i) = 0.0_dp
+                mode(i) = MODE_OPEN
+            end if
+        end do
         forced = 0
         if (present(method)) forced = method
-        where (.not. active)
-            p = 0.0_dp
-            mode = MODE_OPEN
-        end where
         if (na == 0) then
             w = wf
         else if (na == 1) then
             info%method = SOLVER_LOCAL
-            i = findloc(active, .true., dim=1)
-            call local_solve(law_at(laws(i), at_rest), wf(i), d(i, i), cap(i), w(i), p(i))
-            mode(i) = slip_sign(w(i))
+            call local_solve(law_at(laws(ia), at_rest), wf(ia), d(ia, ia), cap(ia), w(ia), p(ia))
+            mode(ia) = slip_sign(w(ia))
             call finish_velocities()
         else if (forced == SOLVER_PIVOTING) then
             call pivoting_fallback()
             return
         else if (na <= ENUM_MAX .and. forced /= SOLVER_GAUSS_SEIDEL) then
             info%method = SOLVER_ENUMERATION
-            call enumerate(laws, d, wf, cap, at_rest, active, p, w, mode, found, info%sweeps)
+            call enumerate(laws, d, wf, cap, at_rest, is_active(laws, cap), p, w, mode, found, info%sweeps)
             if (.not. found) then
                 call pivoting_fallback()
                 return
             end if
         else
             info%method = SOLVER_GAUSS_SEIDEL
-            call gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, info%sweeps, gap)
-            do i = 1, n
-                if (active(i)) mode(i) = slip_sign(w(i))
-            end do
-            call finish_velocities()
-            ! the check with the last sweep's wf + D p - w (open contacts: w formed just now)
-            call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst, gap)
+            if (present(work)) then
+                call reserve(work, n)
+                call gauss_seidel_checked(work%gap(:n))
+            else
+                allocate(own_gap(n))
+                call gauss_seidel_checked(own_gap)
+            end if
         end if
         if (info%method /= SOLVER_GAUSS_SEIDEL) &
             call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
-        info%ok = info%residual <= residual_limit(tol, wf, d, p)
+        ! residual_limit(...) >= tol: formed only where the residual exceeds tol
+        info%ok = info%residual <= tol
+        if (.not. info%ok) info%ok = info%residual <= residual_limit(tol, wf, d, p)
         if (.not. info%ok .and. info%method == SOLVER_GAUSS_SEIDEL) call pivoting_fallback()
     contains
+        !> Gauss-Seidel, the modes of its answer, the open contacts' velocities, and the check
+        !! with the last sweep's wf + D p - w (gap: room for it).
+        subroutine gauss_seidel_checked(gap)
+            real(dp), intent(out) :: gap(:)
+            integer :: j
+            call gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, info%sweeps, gap)
+            do j = 1, n
+                if (is_active(laws(j), cap(j))) then
+                    mode(j) = slip_sign(w(j))
+                else
+                    w(j) = wf(j) + dot_product(d(j, :), p)
+                end if
+            end do
+            call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst, gap)
+        end subroutine gauss_seidel_checked
+
         !> Where enumeration finds no mode or Gauss-Seidel does not converge: `pivoting`,
         !! and its answer checked like the others.
         subroutine pivoting_fallback()
             info%method = SOLVER_PIVOTING
-            call pivoting(laws, d, wf, cap, at_rest, active, p, w, mode, found, info%pivots, info%rounds)
+            call pivoting(laws, d, wf, cap, at_rest, is_active(laws, cap), p, w, mode, found, info%pivots, &
+                          info%rounds)
             if (.not. found) then
                 info%ok = .false.
                 info%residual = huge(1.0_dp)
@@ -165,6 +200,13 @@ contains
             end do
         end subroutine finish_velocities
     end subroutine solve_contacts
+
+    !> A contact that can carry friction: capacity c > 0 and a static limit mu_s > 0.
+    elemental logical function is_active(law, cap)
+        type(contact_law), intent(in) :: law
+        real(dp), intent(in) :: cap
+        is_active = cap > 0.0_dp .and. law%mu_s > 0.0_dp
+    end function is_active
 
     !> The residual an answer may have: tol, or the rounding of wf + D p where that is
     !! larger [m/s]. D is positive semidefinite (|D_ij| <= sqrt(D_ii D_jj)), so its largest
@@ -554,7 +596,8 @@ contains
     !! sum_(j>i) D_ij dp_j (the sums the stopping test forms anyway). Each is a dot product formed
     !! afresh, never an accumulation over sweeps, so gap is wf + D p - w to the rounding of one
     !! dot product, as if formed from the answer; 0 for open contacts, whose w the caller forms.
-    subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, gap)
+    !! work: room reused from call to call (without it and without gap, a call allocates its own).
+    subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, gap, work)
         type(contact_law), intent(in) :: laws(:)  !! (n) each contact's law
         real(dp), intent(in)    :: d(:, :)        !! (n, n) Delassus matrix [1/kg]
         real(dp), intent(in)    :: wf(:)          !! (n) velocities without friction [m/s]
@@ -566,16 +609,46 @@ contains
         real(dp), intent(out)   :: w(:)           !! (n) velocities from the last solves [m/s]
         integer, intent(out)    :: sweeps         !! sweeps done
         real(dp), intent(out), optional :: gap(:) !! (n) wf + D p - w at the answer [m/s]
-        real(dp) :: dp_(size(p)), wfi, pnew, r, resid
-        type(contact_law) :: lw(size(p))
+        type(contact_workspace), intent(inout), optional :: work  !! room reused between calls
+        real(dp), allocatable :: own(:)
+        ! the sweeps' updates need room for n numbers, which end as the gap: gap's own if given
+        if (present(gap)) then
+            call sweeps_with(gap)
+        else if (present(work)) then
+            call reserve(work, size(p))
+            call sweeps_with(work%gap(:size(p)))
+        else
+            allocate(own(size(p)))
+            call sweeps_with(own)
+        end if
+    contains
+        subroutine sweeps_with(upd)
+            real(dp), intent(out) :: upd(:)
+            if (at_rest) then
+                call gs_sweeps(law_at(laws, at_rest), d, wf, cap, tol, max_iter, p, w, sweeps, upd)
+            else
+                call gs_sweeps(laws, d, wf, cap, tol, max_iter, p, w, sweeps, upd)
+            end if
+        end subroutine sweeps_with
+    end subroutine gauss_seidel
+
+    !> The sweeps of `gauss_seidel` with the laws as the solver uses them (`law_at`); upd: room
+    !! for each sweep's updates, and out the gap (`gauss_seidel`'s notes).
+    subroutine gs_sweeps(lw, d, wf, cap, tol, max_iter, p, w, sweeps, upd)
+        type(contact_law), intent(in) :: lw(:)
+        real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
+        integer, intent(in)     :: max_iter
+        real(dp), intent(inout) :: p(:)
+        real(dp), intent(out)   :: w(:), upd(:)
+        integer, intent(out)    :: sweeps
+        real(dp) :: wfi, pnew, r, resid
         integer :: i, j, nc
         nc = size(p)
-        lw = law_at(laws, at_rest)
         w = wf
         do sweeps = 1, max_iter
             do i = 1, nc
-                if (.not. (cap(i) > 0.0_dp .and. lw(i)%mu_s > 0.0_dp)) then
-                    dp_(i) = 0.0_dp
+                if (.not. is_active(lw(i), cap(i))) then
+                    upd(i) = 0.0_dp
                     cycle
                 end if
                 wfi = wf(i)
@@ -585,26 +658,37 @@ contains
                 call local_solve(lw(i), wfi, d(i, i), cap(i), w(i), pnew)
                 ! a slip: its velocity from the impulses themselves (the law's root, to rounding)
                 if (w(i) /= 0.0_dp) w(i) = wfi + d(i, i) * pnew
-                dp_(i) = pnew - p(i)
+                upd(i) = pnew - p(i)
                 p(i) = pnew
             end do
             resid = 0.0_dp
             do i = 1, nc - 1
                 r = 0.0_dp
                 do j = i + 1, nc
-                    r = r + d(i, j) * dp_(j)
+                    r = r + d(i, j) * upd(j)
                 end do
                 resid = max(resid, abs(r))
-                dp_(i) = r          ! (no longer needed as an update: rows below i are done)
+                upd(i) = r          ! (no longer needed as an update: rows below i are done)
             end do
             if (resid <= tol) exit
         end do
         sweeps = min(sweeps, max_iter)
-        if (present(gap)) then   ! the last sweep's later updates (open contacts: 0)
-            gap(:nc - 1) = dp_(:nc - 1)
-            if (nc > 0) gap(nc) = 0.0_dp
-            where (.not. (cap > 0.0_dp .and. lw%mu_s > 0.0_dp)) gap = 0.0_dp
+        ! the gap: the last sweep's later updates (the last contact's: none; open contacts: 0)
+        if (nc > 0) upd(nc) = 0.0_dp
+        do i = 1, nc - 1
+            if (.not. is_active(lw(i), cap(i))) upd(i) = 0.0_dp
+        end do
+    end subroutine gs_sweeps
+
+    !> Room for n numbers in work%gap (kept where there is enough).
+    subroutine reserve(work, n)
+        type(contact_workspace), intent(inout) :: work
+        integer, intent(in) :: n
+        if (allocated(work%gap)) then
+            if (size(work%gap) >= n) return
+            deallocate(work%gap)
         end if
-    end subroutine gauss_seidel
+        allocate(work%gap(n))
+    end subroutine reserve
 
 end module stickslip_contact_solver
