@@ -109,9 +109,10 @@ contains
         type(contact_solve_info), intent(out) :: info  !! how it was solved, residual, ok
         integer, intent(in), optional :: method    !! force SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL
         type(contact_workspace), intent(inout), optional :: work  !! room reused between calls
-        logical :: found
         integer :: n, na, i, ia, forced
-        real(dp), allocatable :: own_gap(:)
+        logical :: found
+        real(dp) :: g
+        real(dp), allocatable :: gap(:)
         n = size(wf)
         ! the active contacts (capacity and a static limit), the others open
         na = 0
@@ -133,73 +134,82 @@ contains
             info%method = SOLVER_LOCAL
             call local_solve(law_at(laws(ia), at_rest), wf(ia), d(ia, ia), cap(ia), w(ia), p(ia))
             mode(ia) = slip_sign(w(ia))
-            call finish_velocities()
+            call open_velocities(d, wf, p, mode, w)
         else if (forced == SOLVER_PIVOTING) then
-            call pivoting_fallback()
+            call pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
             return
         else if (na <= ENUM_MAX .and. forced /= SOLVER_GAUSS_SEIDEL) then
             info%method = SOLVER_ENUMERATION
             call enumerate(laws, d, wf, cap, at_rest, is_active(laws, cap), p, w, mode, found, info%sweeps)
             if (.not. found) then
-                call pivoting_fallback()
+                call pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
                 return
             end if
         else
+            ! Gauss-Seidel (its updates and gap in the caller's room when given), then in one
+            ! pass the modes of the answer, the open contacts' velocities (wf + D p, formed
+            ! here) and the check (`contact_residual`, with the last sweep's wf + D p - w of
+            ! each active contact)
             info%method = SOLVER_GAUSS_SEIDEL
-            if (present(work)) then
-                call reserve(work, n)
-                call gauss_seidel_checked(work%gap(:n))
-            else
-                allocate(own_gap(n))
-                call gauss_seidel_checked(own_gap)
-            end if
+            if (present(work)) call move_alloc(work%gap, gap)
+            call reserve(gap, n)
+            call gs_run(laws, d, wf, cap, at_rest, tol, max_iter, p, w, info%sweeps, gap(:n))
+            info%residual = 0.0_dp
+            info%worst = 0
+            do i = 1, n
+                if (is_active(laws(i), cap(i))) then
+                    mode(i) = slip_sign(w(i))
+                    g = abs(gap(i))
+                else
+                    w(i) = wf(i) + dot_product(d(i, :), p)
+                    g = 0.0_dp
+                end if
+                call keep_worst(residual_of(laws(i), d(i, i), cap(i), at_rest, p(i), w(i), mode(i), g), i, &
+                                info%residual, info%worst)
+            end do
+            if (present(work)) call move_alloc(gap, work%gap)
         end if
         if (info%method /= SOLVER_GAUSS_SEIDEL) &
             call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
         ! residual_limit(...) >= tol: formed only where the residual exceeds tol
         info%ok = info%residual <= tol
         if (.not. info%ok) info%ok = info%residual <= residual_limit(tol, wf, d, p)
-        if (.not. info%ok .and. info%method == SOLVER_GAUSS_SEIDEL) call pivoting_fallback()
-    contains
-        !> Gauss-Seidel, the modes of its answer, the open contacts' velocities, and the check
-        !! with the last sweep's wf + D p - w (gap: room for it).
-        subroutine gauss_seidel_checked(gap)
-            real(dp), intent(out) :: gap(:)
-            integer :: j
-            call gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, info%sweeps, gap)
-            do j = 1, n
-                if (is_active(laws(j), cap(j))) then
-                    mode(j) = slip_sign(w(j))
-                else
-                    w(j) = wf(j) + dot_product(d(j, :), p)
-                end if
-            end do
-            call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst, gap)
-        end subroutine gauss_seidel_checked
-
-        !> Where enumeration finds no mode or Gauss-Seidel does not converge: `pivoting`,
-        !! and its answer checked like the others.
-        subroutine pivoting_fallback()
-            info%method = SOLVER_PIVOTING
-            call pivoting(laws, d, wf, cap, at_rest, is_active(laws, cap), p, w, mode, found, info%pivots, &
-                          info%rounds)
-            if (.not. found) then
-                info%ok = .false.
-                info%residual = huge(1.0_dp)
-                return
-            end if
-            call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
-            info%ok = info%residual <= residual_limit(tol, wf, d, p)
-        end subroutine pivoting_fallback
-
-        !> Velocities of open contacts (and exact zeros of stuck ones) from the impulses.
-        subroutine finish_velocities()
-            integer :: j
-            do j = 1, n
-                if (mode(j) == MODE_OPEN) w(j) = wf(j) + dot_product(d(j, :), p)
-            end do
-        end subroutine finish_velocities
+        if (.not. info%ok .and. info%method == SOLVER_GAUSS_SEIDEL) &
+            call pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
     end subroutine solve_contacts
+
+    !> Where enumeration finds no mode or Gauss-Seidel does not converge: `pivoting`, and its
+    !! answer checked like the others (`solve_contacts`).
+    subroutine pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
+        type(contact_law), intent(in) :: laws(:)
+        real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
+        logical, intent(in)     :: at_rest
+        real(dp), intent(inout) :: p(:)
+        real(dp), intent(out)   :: w(:)
+        integer, intent(inout)  :: mode(:)
+        type(contact_solve_info), intent(inout) :: info
+        logical :: found
+        info%method = SOLVER_PIVOTING
+        call pivoting(laws, d, wf, cap, at_rest, is_active(laws, cap), p, w, mode, found, info%pivots, info%rounds)
+        if (.not. found) then
+            info%ok = .false.
+            info%residual = huge(1.0_dp)
+            return
+        end if
+        call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
+        info%ok = info%residual <= residual_limit(tol, wf, d, p)
+    end subroutine pivoting_fallback
+
+    !> Velocities of open contacts from the impulses, wf + D p.
+    subroutine open_velocities(d, wf, p, mode, w)
+        real(dp), intent(in)    :: d(:, :), wf(:), p(:)
+        integer, intent(in)     :: mode(:)
+        real(dp), intent(inout) :: w(:)
+        integer :: j
+        do j = 1, size(wf)
+            if (mode(j) == MODE_OPEN) w(j) = wf(j) + dot_product(d(j, :), p)
+        end do
+    end subroutine open_velocities
 
     !> A contact that can carry friction: capacity c > 0 and a static limit mu_s > 0.
     elemental logical function is_active(law, cap)
@@ -335,36 +345,56 @@ contains
         real(dp), intent(out) :: resid      !! the largest residual [m/s]
         integer, intent(out)  :: worst      !! its contact (0: none)
         real(dp), intent(in), optional :: gap(:)  !! (n) wf + D p - w, formed to rounding [m/s]
-        real(dp) :: r, dii
+        real(dp) :: g
         integer :: i
         resid = 0.0_dp
         worst = 0
         do i = 1, size(wf)
-            dii = max(d(i, i), tiny(1.0_dp))
             if (present(gap)) then
-                r = abs(gap(i))
+                g = abs(gap(i))
             else
-                r = abs(wf(i) + dot_product(d(i, :), p) - w(i))
+                g = abs(wf(i) + dot_product(d(i, :), p) - w(i))
             end if
-            select case (mode(i))
-            case (MODE_OPEN)
-                r = max(r, abs(p(i)) * dii)
-            case (MODE_STICK)
-                r = max(r, abs(w(i)), dii * max(0.0_dp, abs(p(i)) - laws(i)%mu_s * cap(i) * (1.0_dp + STICK_RTOL)))
-            case default
-                if (real(mode(i), dp) * w(i) <= 0.0_dp) then
-                    r = huge(1.0_dp)
-                else
-                    r = max(r, dii * abs(p(i) + mode(i) * cap(i) * slip_coefficient(laws(i), abs(w(i)), at_rest)))
-                end if
-            end select
-            if (.not. ieee_is_finite(r)) r = huge(1.0_dp)
-            if (r > resid .or. worst == 0) then
-                resid = max(resid, r)
-                worst = i
-            end if
+            call keep_worst(residual_of(laws(i), d(i, i), cap(i), at_rest, p(i), w(i), mode(i), g), i, resid, worst)
         end do
     end subroutine contact_residual
+
+    !> One contact's term of `contact_residual` [m/s], given g = |wf_i + (D p)_i - w_i| [m/s].
+    pure real(dp) function residual_of(law, d_ii, cap, at_rest, p, w, mode, g) result(r)
+        type(contact_law), intent(in) :: law
+        real(dp), intent(in) :: d_ii, cap, p, w, g
+        logical, intent(in)  :: at_rest
+        integer, intent(in)  :: mode
+        real(dp) :: dii
+        dii = max(d_ii, tiny(1.0_dp))
+        r = g
+        select case (mode)
+        case (MODE_OPEN)
+            r = max(r, abs(p) * dii)
+        case (MODE_STICK)
+            r = max(r, abs(w), dii * max(0.0_dp, abs(p) - law%mu_s * cap * (1.0_dp + STICK_RTOL)))
+        case default
+            if (real(mode, dp) * w <= 0.0_dp) then
+                r = huge(1.0_dp)
+            else
+                r = max(r, dii * abs(p + mode * cap * slip_coefficient(law, abs(w), at_rest)))
+            end if
+        end select
+        if (.not. ieee_is_finite(r)) r = huge(1.0_dp)
+    end function residual_of
+
+    !> The largest residual so far and its contact: contact i's residual r taken where larger
+    !! (or where none is yet).
+    pure subroutine keep_worst(r, i, resid, worst)
+        real(dp), intent(in)    :: r
+        integer, intent(in)     :: i
+        real(dp), intent(inout) :: resid
+        integer, intent(inout)  :: worst
+        if (r > resid .or. worst == 0) then
+            resid = max(resid, r)
+            worst = i
+        end if
+    end subroutine keep_worst
 
     elemental real(dp) function slip_coefficient(law, s, at_rest) result(mu)
         type(contact_law), intent(in) :: law
@@ -610,30 +640,38 @@ contains
         integer, intent(out)    :: sweeps         !! sweeps done
         real(dp), intent(out), optional :: gap(:) !! (n) wf + D p - w at the answer [m/s]
         type(contact_workspace), intent(inout), optional :: work  !! room reused between calls
-        real(dp), allocatable :: own(:)
+        real(dp), allocatable :: upd(:)
         ! the sweeps' updates need room for n numbers, which end as the gap: gap's own if given
         if (present(gap)) then
-            call sweeps_with(gap)
-        else if (present(work)) then
-            call reserve(work, size(p))
-            call sweeps_with(work%gap(:size(p)))
+            call gs_run(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, gap)
+            where (.not. is_active(laws, cap)) gap = 0.0_dp     ! open contacts
         else
-            allocate(own(size(p)))
-            call sweeps_with(own)
+            if (present(work)) call move_alloc(work%gap, upd)
+            call reserve(upd, size(p))
+            call gs_run(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, upd(:size(p)))
+            if (present(work)) call move_alloc(upd, work%gap)
         end if
-    contains
-        subroutine sweeps_with(upd)
-            real(dp), intent(out) :: upd(:)
-            if (at_rest) then
-                call gs_sweeps(law_at(laws, at_rest), d, wf, cap, tol, max_iter, p, w, sweeps, upd)
-            else
-                call gs_sweeps(laws, d, wf, cap, tol, max_iter, p, w, sweeps, upd)
-            end if
-        end subroutine sweeps_with
     end subroutine gauss_seidel
 
+    !> `gs_sweeps` with the laws as the solver uses them (`law_at`: at rest, a copy).
+    subroutine gs_run(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, upd)
+        type(contact_law), intent(in) :: laws(:)
+        real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
+        logical, intent(in)     :: at_rest
+        integer, intent(in)     :: max_iter
+        real(dp), intent(inout) :: p(:)
+        real(dp), intent(out)   :: w(:), upd(:)
+        integer, intent(out)    :: sweeps
+        if (at_rest) then
+            call gs_sweeps(law_at(laws, at_rest), d, wf, cap, tol, max_iter, p, w, sweeps, upd)
+        else
+            call gs_sweeps(laws, d, wf, cap, tol, max_iter, p, w, sweeps, upd)
+        end if
+    end subroutine gs_run
+
     !> The sweeps of `gauss_seidel` with the laws as the solver uses them (`law_at`); upd: room
-    !! for each sweep's updates, and out the gap (`gauss_seidel`'s notes).
+    !! for each sweep's updates, and out the gap of the active contacts (`gauss_seidel`'s notes;
+    !! an open contact's entry is left as it is).
     subroutine gs_sweeps(lw, d, wf, cap, tol, max_iter, p, w, sweeps, upd)
         type(contact_law), intent(in) :: lw(:)
         real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
@@ -673,22 +711,19 @@ contains
             if (resid <= tol) exit
         end do
         sweeps = min(sweeps, max_iter)
-        ! the gap: the last sweep's later updates (the last contact's: none; open contacts: 0)
+        ! the gap of the active contacts: the last sweep's later updates (the last contact's: none)
         if (nc > 0) upd(nc) = 0.0_dp
-        do i = 1, nc - 1
-            if (.not. is_active(lw(i), cap(i))) upd(i) = 0.0_dp
-        end do
     end subroutine gs_sweeps
 
-    !> Room for n numbers in work%gap (kept where there is enough).
-    subroutine reserve(work, n)
-        type(contact_workspace), intent(inout) :: work
+    !> Room for n numbers in buf (kept where there is enough).
+    subroutine reserve(buf, n)
+        real(dp), allocatable, intent(inout) :: buf(:)
         integer, intent(in) :: n
-        if (allocated(work%gap)) then
-            if (size(work%gap) >= n) return
-            deallocate(work%gap)
+        if (allocated(buf)) then
+            if (size(buf) >= n) return
+            deallocate(buf)
         end if
-        allocate(work%gap(n))
+        allocate(buf(n))
     end subroutine reserve
 
 end module stickslip_contact_solver
