@@ -109,9 +109,9 @@ contains
         type(contact_solve_info), intent(out) :: info  !! how it was solved, residual, ok
         integer, intent(in), optional :: method    !! force SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL
         type(contact_workspace), intent(inout), optional :: work  !! room reused between calls
-        integer :: n, na, i, ia, forced
+        integer :: n, na, i, ia, forced, worst
         logical :: found
-        real(dp) :: g
+        real(dp) :: g, resid
         real(dp), allocatable :: gap(:)
         n = size(wf)
         ! the active contacts (capacity and a static limit), the others open
@@ -154,8 +154,8 @@ contains
             if (present(work)) call move_alloc(work%gap, gap)
             call reserve(gap, n)
             call gs_run(laws, d, wf, cap, at_rest, tol, max_iter, p, w, info%sweeps, gap(:n))
-            info%residual = 0.0_dp
-            info%worst = 0
+            resid = 0.0_dp
+            worst = 0
             do i = 1, n
                 if (is_active(laws(i), cap(i))) then
                     mode(i) = slip_sign(w(i))
@@ -164,9 +164,10 @@ contains
                     w(i) = wf(i) + dot_product(d(i, :), p)
                     g = 0.0_dp
                 end if
-                call keep_worst(residual_of(laws(i), d(i, i), cap(i), at_rest, p(i), w(i), mode(i), g), i, &
-                                info%residual, info%worst)
+                call keep_worst(residual_of(laws(i), d(i, i), cap(i), at_rest, p(i), w(i), mode(i), g), i, resid, worst)
             end do
+            info%residual = resid
+            info%worst = worst
             if (present(work)) call move_alloc(gap, work%gap)
         end if
         if (info%method /= SOLVER_GAUSS_SEIDEL) &
