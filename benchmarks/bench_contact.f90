@@ -117,8 +117,8 @@ program bench_contact
             call cpu_time(t0)
             do j = 1, nprob
                 p = 0.0_dp
-                call gauss_seidel(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., 1.0e-12_dp, 1000, p, w, sweeps, &
-                                  work=cw)
+                call gauss_seidel(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., 1.0e-12_dp, 1000, p, w, &
+                                  sweeps, work=cw)
                 mode = merge(0, nint(sign(1.0_dp, w)), w == 0.0_dp)
                 call contact_residual(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., p, w, mode, resid, worst)
                 if (resid <= 1.0e-12_dp) ngs = ngs + 1

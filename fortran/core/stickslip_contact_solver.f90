@@ -94,18 +94,19 @@ contains
     !! benchmarks): SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL forces that method on any number of
     !! active contacts above one (Gauss-Seidel then still falls back to pivoting). work: room
     !! reused from call to call (a caller solving many problems keeps one; without it, a
-    !! Gauss-Seidel solve allocates its own).
+    !! Gauss-Seidel solve allocates its own). The arrays are declared contiguous (a strided
+    !! section is passed as a copy).
     subroutine solve_contacts(laws, d, wf, cap, at_rest, tol, max_iter, p, w, mode, info, method, work)
-        type(contact_law), intent(in) :: laws(:)   !! (n) each contact's law
-        real(dp), intent(in)    :: d(:, :)         !! (n, n) Delassus matrix [1/kg]
-        real(dp), intent(in)    :: wf(:)           !! (n) velocities without friction [m/s]
-        real(dp), intent(in)    :: cap(:)          !! (n) capacities c_i >= 0 [N s] (or [N])
+        type(contact_law), intent(in), contiguous :: laws(:)   !! (n) each contact's law
+        real(dp), intent(in), contiguous :: d(:, :)         !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in), contiguous :: wf(:)           !! (n) velocities without friction [m/s]
+        real(dp), intent(in), contiguous :: cap(:)          !! (n) capacities c_i >= 0 [N s] (or [N])
         logical, intent(in)     :: at_rest         !! slip coefficient fixed at mu(0+)
         real(dp), intent(in)    :: tol             !! tolerance on the residual [m/s]
         integer, intent(in)     :: max_iter        !! Gauss-Seidel sweep limit
-        real(dp), intent(inout) :: p(:)            !! (n) impulses [N s] (or forces [N])
-        real(dp), intent(out)   :: w(:)            !! (n) velocities, exactly 0 when stuck [m/s]
-        integer, intent(inout)  :: mode(:)         !! (n) MODE_STICK, +-1, MODE_OPEN
+        real(dp), intent(inout), contiguous :: p(:)            !! (n) impulses [N s] (or forces [N])
+        real(dp), intent(out), contiguous :: w(:)            !! (n) velocities, exactly 0 when stuck [m/s]
+        integer, intent(inout), contiguous :: mode(:)         !! (n) MODE_STICK, +-1, MODE_OPEN
         type(contact_solve_info), intent(out) :: info  !! how it was solved, residual, ok
         integer, intent(in), optional :: method    !! force SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL
         type(contact_workspace), intent(inout), optional :: work  !! room reused between calls
@@ -153,7 +154,11 @@ contains
             info%method = SOLVER_GAUSS_SEIDEL
             if (present(work)) call move_alloc(work%gap, gap)
             call reserve(gap, n)
-            call gs_run(laws, d, wf, cap, at_rest, tol, max_iter, p, w, info%sweeps, gap(:n))
+            if (at_rest) then
+                call gs_sweeps(law_at(laws, at_rest), d, wf, cap, tol, max_iter, p, w, info%sweeps, gap(:n))
+            else
+                call gs_sweeps(laws, d, wf, cap, tol, max_iter, p, w, info%sweeps, gap(:n))
+            end if
             resid = 0.0_dp
             worst = 0
             do i = 1, n
@@ -627,48 +632,36 @@ contains
     !! sum_(j>i) D_ij dp_j (the sums the stopping test forms anyway). Each is a dot product formed
     !! afresh, never an accumulation over sweeps, so gap is wf + D p - w to the rounding of one
     !! dot product, as if formed from the answer; 0 for open contacts, whose w the caller forms.
-    !! work: room reused from call to call (without it and without gap, a call allocates its own).
+    !! work: room reused from call to call (without it, a call allocates its own). The arrays
+    !! are declared contiguous, as in `solve_contacts` (a strided section is passed as a copy).
     subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, gap, work)
-        type(contact_law), intent(in) :: laws(:)  !! (n) each contact's law
-        real(dp), intent(in)    :: d(:, :)        !! (n, n) Delassus matrix [1/kg]
-        real(dp), intent(in)    :: wf(:)          !! (n) velocities without friction [m/s]
-        real(dp), intent(in)    :: cap(:)         !! (n) capacities [N s] (or [N])
+        type(contact_law), intent(in), contiguous :: laws(:)  !! (n) each contact's law
+        real(dp), intent(in), contiguous :: d(:, :)        !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in), contiguous :: wf(:)          !! (n) velocities without friction [m/s]
+        real(dp), intent(in), contiguous :: cap(:)         !! (n) capacities [N s] (or [N])
         logical, intent(in)     :: at_rest        !! slip coefficient fixed at mu(0+)
         real(dp), intent(in)    :: tol            !! tolerance on the sweep residual [m/s]
         integer, intent(in)     :: max_iter       !! sweep limit
-        real(dp), intent(inout) :: p(:)           !! (n) impulses: warm start in, answer out
-        real(dp), intent(out)   :: w(:)           !! (n) velocities from the last solves [m/s]
+        real(dp), intent(inout), contiguous :: p(:)           !! (n) impulses: warm start in, answer out
+        real(dp), intent(out), contiguous :: w(:)           !! (n) velocities from the last solves [m/s]
         integer, intent(out)    :: sweeps         !! sweeps done
         real(dp), intent(out), optional :: gap(:) !! (n) wf + D p - w at the answer [m/s]
         type(contact_workspace), intent(inout), optional :: work  !! room reused between calls
         real(dp), allocatable :: upd(:)
-        ! the sweeps' updates need room for n numbers, which end as the gap: gap's own if given
+        ! the sweeps' updates need room for n numbers, which end as the gap
+        if (present(work)) call move_alloc(work%gap, upd)
+        call reserve(upd, size(p))
+        if (at_rest) then     ! (the laws as the solver uses them, `law_at`: at rest, a copy)
+            call gs_sweeps(law_at(laws, at_rest), d, wf, cap, tol, max_iter, p, w, sweeps, upd(:size(p)))
+        else
+            call gs_sweeps(laws, d, wf, cap, tol, max_iter, p, w, sweeps, upd(:size(p)))
+        end if
         if (present(gap)) then
-            call gs_run(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, gap)
+            gap = upd(:size(p))
             where (.not. is_active(laws, cap)) gap = 0.0_dp     ! open contacts
-        else
-            if (present(work)) call move_alloc(work%gap, upd)
-            call reserve(upd, size(p))
-            call gs_run(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, upd(:size(p)))
-            if (present(work)) call move_alloc(upd, work%gap)
         end if
+        if (present(work)) call move_alloc(upd, work%gap)
     end subroutine gauss_seidel
-
-    !> `gs_sweeps` with the laws as the solver uses them (`law_at`: at rest, a copy).
-    subroutine gs_run(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, upd)
-        type(contact_law), intent(in) :: laws(:)
-        real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
-        logical, intent(in)     :: at_rest
-        integer, intent(in)     :: max_iter
-        real(dp), intent(inout) :: p(:)
-        real(dp), intent(out)   :: w(:), upd(:)
-        integer, intent(out)    :: sweeps
-        if (at_rest) then
-            call gs_sweeps(law_at(laws, at_rest), d, wf, cap, tol, max_iter, p, w, sweeps, upd)
-        else
-            call gs_sweeps(laws, d, wf, cap, tol, max_iter, p, w, sweeps, upd)
-        end if
-    end subroutine gs_run
 
     !> The sweeps of `gauss_seidel` with the laws as the solver uses them (`law_at`); upd: room
     !! for each sweep's updates, and out the gap of the active contacts (`gauss_seidel`'s notes;
