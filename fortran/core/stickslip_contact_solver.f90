@@ -97,19 +97,19 @@ contains
     !! Gauss-Seidel solve allocates its own). The arrays are declared contiguous (a strided
     !! section is passed as a copy).
     subroutine solve_contacts(laws, d, wf, cap, at_rest, tol, max_iter, p, w, mode, info, method, work)
-        type(contact_law), intent(in), contiguous :: laws(:)   !! (n) each contact's law
-        real(dp), intent(in), contiguous :: d(:, :)         !! (n, n) Delassus matrix [1/kg]
-        real(dp), intent(in), contiguous :: wf(:)           !! (n) velocities without friction [m/s]
-        real(dp), intent(in), contiguous :: cap(:)          !! (n) capacities c_i >= 0 [N s] (or [N])
-        logical, intent(in)     :: at_rest         !! slip coefficient fixed at mu(0+)
-        real(dp), intent(in)    :: tol             !! tolerance on the residual [m/s]
-        integer, intent(in)     :: max_iter        !! Gauss-Seidel sweep limit
-        real(dp), intent(inout), contiguous :: p(:)            !! (n) impulses [N s] (or forces [N])
-        real(dp), intent(out), contiguous :: w(:)            !! (n) velocities, exactly 0 when stuck [m/s]
-        integer, intent(inout), contiguous :: mode(:)         !! (n) MODE_STICK, +-1, MODE_OPEN
-        type(contact_solve_info), intent(out) :: info  !! how it was solved, residual, ok
-        integer, intent(in), optional :: method    !! force SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL
-        type(contact_workspace), intent(inout), optional :: work  !! room reused between calls
+        type(contact_law), intent(in), contiguous        :: laws(:)   !! (n) each contact's law
+        real(dp), intent(in), contiguous                 :: d(:, :)   !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in), contiguous                 :: wf(:)     !! (n) velocities without friction [m/s]
+        real(dp), intent(in), contiguous                 :: cap(:)    !! (n) capacities c_i >= 0 [N s] (or [N])
+        logical, intent(in)                              :: at_rest   !! slip coefficient fixed at mu(0+)
+        real(dp), intent(in)                             :: tol       !! tolerance on the residual [m/s]
+        integer, intent(in)                              :: max_iter  !! Gauss-Seidel sweep limit
+        real(dp), intent(inout), contiguous              :: p(:)      !! (n) impulses [N s] (or forces [N])
+        real(dp), intent(out), contiguous                :: w(:)      !! (n) velocities, exactly 0 when stuck [m/s]
+        integer, intent(inout), contiguous               :: mode(:)   !! (n) MODE_STICK, +-1, MODE_OPEN
+        type(contact_solve_info), intent(out)            :: info      !! how it was solved, residual, ok
+        integer, intent(in), optional                    :: method    !! force SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL
+        type(contact_workspace), intent(inout), optional :: work      !! room reused between calls
         integer :: n, na, i, ia, forced, worst
         logical :: found
         real(dp) :: g, resid
@@ -635,18 +635,18 @@ contains
     !! work: room reused from call to call (without it, a call allocates its own). The arrays
     !! are declared contiguous, as in `solve_contacts` (a strided section is passed as a copy).
     subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, gap, work)
-        type(contact_law), intent(in), contiguous :: laws(:)  !! (n) each contact's law
-        real(dp), intent(in), contiguous :: d(:, :)        !! (n, n) Delassus matrix [1/kg]
-        real(dp), intent(in), contiguous :: wf(:)          !! (n) velocities without friction [m/s]
-        real(dp), intent(in), contiguous :: cap(:)         !! (n) capacities [N s] (or [N])
-        logical, intent(in)     :: at_rest        !! slip coefficient fixed at mu(0+)
-        real(dp), intent(in)    :: tol            !! tolerance on the sweep residual [m/s]
-        integer, intent(in)     :: max_iter       !! sweep limit
-        real(dp), intent(inout), contiguous :: p(:)           !! (n) impulses: warm start in, answer out
-        real(dp), intent(out), contiguous :: w(:)           !! (n) velocities from the last solves [m/s]
-        integer, intent(out)    :: sweeps         !! sweeps done
-        real(dp), intent(out), optional :: gap(:) !! (n) wf + D p - w at the answer [m/s]
-        type(contact_workspace), intent(inout), optional :: work  !! room reused between calls
+        type(contact_law), intent(in), contiguous        :: laws(:)   !! (n) each contact's law
+        real(dp), intent(in), contiguous                 :: d(:, :)   !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in), contiguous                 :: wf(:)     !! (n) velocities without friction [m/s]
+        real(dp), intent(in), contiguous                 :: cap(:)    !! (n) capacities [N s] (or [N])
+        logical, intent(in)                              :: at_rest   !! slip coefficient fixed at mu(0+)
+        real(dp), intent(in)                             :: tol       !! tolerance on the sweep residual [m/s]
+        integer, intent(in)                              :: max_iter  !! sweep limit
+        real(dp), intent(inout), contiguous              :: p(:)      !! (n) impulses: warm start in, answer out
+        real(dp), intent(out), contiguous                :: w(:)      !! (n) velocities from the last solves [m/s]
+        integer, intent(out)                             :: sweeps    !! sweeps done
+        real(dp), intent(out), optional                  :: gap(:)    !! (n) wf + D p - w at the answer [m/s]
+        type(contact_workspace), intent(inout), optional :: work      !! room reused between calls
         real(dp), allocatable :: upd(:)
         ! the sweeps' updates need room for n numbers, which end as the gap
         if (present(work)) call move_alloc(work%gap, upd)
