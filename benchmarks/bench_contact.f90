@@ -28,8 +28,8 @@
 program bench_contact
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law
-    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, gauss_seidel, contact_residual, &
-                                        SOLVER_PIVOTING
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, gauss_seidel, &
+                                        contact_residual, SOLVER_PIVOTING
     use stickslip_linalg, only: psd_solve
     use stickslip_chain, only: chain_contact
     use stickslip_moreau, only: moreau_options, moreau_integrate, tridiagonal_sweeps
@@ -43,6 +43,7 @@ program bench_contact
     real(dp), allocatable :: ptimes(:)
     type(contact_law), allocatable :: laws(:, :)
     type(contact_solve_info) :: info
+    type(contact_workspace) :: cw     ! the solvers' room, reused from solve to solve as moreau does
     real(dp) :: u, t0, t1, resid, work
     integer :: nok, ngs, sweeps, worst, ns_list(10), nfall, npiv
     real(dp) :: pivots
@@ -105,7 +106,7 @@ program bench_contact
                 p = 0.0_dp
                 mode = -9
                 call solve_contacts(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., 1.0e-12_dp, 1000, &
-                                    p, w, mode, info)
+                                    p, w, mode, info, work=cw)
                 if (info%ok) nok = nok + 1
                 if (info%method == SOLVER_PIVOTING) nfall = nfall + 1
                 work = work + info%sweeps
@@ -116,7 +117,8 @@ program bench_contact
             call cpu_time(t0)
             do j = 1, nprob
                 p = 0.0_dp
-                call gauss_seidel(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., 1.0e-12_dp, 1000, p, w, sweeps)
+                call gauss_seidel(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., 1.0e-12_dp, 1000, p, w, &
+                                  sweeps, work=cw)
                 mode = merge(0, nint(sign(1.0_dp, w)), w == 0.0_dp)
                 call contact_residual(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., p, w, mode, resid, worst)
                 if (resid <= 1.0e-12_dp) ngs = ngs + 1
@@ -129,7 +131,7 @@ program bench_contact
                 p = 0.0_dp
                 mode = -9
                 call solve_contacts(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., 1.0e-12_dp, 1000, &
-                                    p, w, mode, info, method=SOLVER_PIVOTING)
+                                    p, w, mode, info, method=SOLVER_PIVOTING, work=cw)
                 if (info%ok) npiv = npiv + 1
                 pivots = pivots + info%pivots
             end do
@@ -159,6 +161,7 @@ contains
         type(moreau_options) :: mo
         type(ode_stats) :: st
         type(contact_solve_info) :: inf
+        type(contact_workspace) :: cwk      ! the solvers' room, reused from solve to solve as moreau does
         real(dp) :: t_out(nst + 1), y_out(2 * n, nst + 1), y0(2 * n), phi, rr
         real(dp) :: uf(n, nst), wf(n, nst), hn(n), boff(n), wl(n), wd(n), wr(n), f0(n), f1(n), qp(n)
         real(dp) :: ut(n, nst), ud(n), pp(n), ww(n), wl2(n), res, du_max, tm
@@ -246,7 +249,7 @@ contains
                 do k = 1, nin
                     pp = 0.0_dp
                     cm = -9
-                    call solve_contacts(cc%laws, dm, wf(:, j), hn, .false., tol, 1000, pp, ww, cm, inf)
+                    call solve_contacts(cc%laws, dm, wf(:, j), hn, .false., tol, 1000, pp, ww, cm, inf, work=cwk)
                 end do
                 call cpu_time(t1)
                 tm = (t1 - t0) / nin
@@ -263,7 +266,7 @@ contains
                 call cpu_time(t0)
                 do k = 1, nin
                     pp = 0.0_dp
-                    call gauss_seidel(cc%laws, dm, wf(:, j), hn, .false., tol, 1000, pp, ww, sw)
+                    call gauss_seidel(cc%laws, dm, wf(:, j), hn, .false., tol, 1000, pp, ww, sw, work=cwk)
                 end do
                 call cpu_time(t1)
                 tm = (t1 - t0) / nin

@@ -54,7 +54,7 @@ module stickslip_contact_solver
     implicit none
     private
 
-    public :: contact_solve_info, solve_contacts, contact_residual, gauss_seidel
+    public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
     !> Most active contacts solved by exact mode enumeration (3^n modes at most).
     integer, parameter, public :: ENUM_MAX = 6
@@ -79,92 +79,150 @@ module stickslip_contact_solver
         integer :: worst = 0            !! the contact with the largest residual (0: none)
     end type contact_solve_info
 
+    !> Work room of `solve_contacts` and `gauss_seidel`, for a caller that solves one problem
+    !! after another (a time step each): passed to every call, it is sized on the first and then
+    !! reused, so that a Gauss-Seidel solve allocates nothing (without it each call allocates its
+    !! own). One per caller and per thread: the solver keeps no state in it between calls.
+    type :: contact_workspace
+        real(dp), allocatable :: gap(:)  !! (n) Gauss-Seidel's gap, wf + D p - w at its answer [m/s]
+    end type contact_workspace
+
 contains
 
     !> Solve the problem of the module notes. p: warm start in (Gauss-Seidel), impulses out;
     !! mode: the previous mode in (a guess, any values), the solution's out. method (tests and
     !! benchmarks): SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL forces that method on any number of
-    !! active contacts above one (Gauss-Seidel then still falls back to pivoting).
-    subroutine solve_contacts(laws, d, wf, cap, at_rest, tol, max_iter, p, w, mode, info, method)
-        type(contact_law), intent(in) :: laws(:)   !! (n) each contact's law
-        real(dp), intent(in)    :: d(:, :)         !! (n, n) Delassus matrix [1/kg]
-        real(dp), intent(in)    :: wf(:)           !! (n) velocities without friction [m/s]
-        real(dp), intent(in)    :: cap(:)          !! (n) capacities c_i >= 0 [N s] (or [N])
-        logical, intent(in)     :: at_rest         !! slip coefficient fixed at mu(0+)
-        real(dp), intent(in)    :: tol             !! tolerance on the residual [m/s]
-        integer, intent(in)     :: max_iter        !! Gauss-Seidel sweep limit
-        real(dp), intent(inout) :: p(:)            !! (n) impulses [N s] (or forces [N])
-        real(dp), intent(out)   :: w(:)            !! (n) velocities, exactly 0 when stuck [m/s]
-        integer, intent(inout)  :: mode(:)         !! (n) MODE_STICK, +-1, MODE_OPEN
-        type(contact_solve_info), intent(out) :: info  !! how it was solved, residual, ok
-        integer, intent(in), optional :: method    !! force SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL
-        logical :: active(size(wf)), found
-        integer :: n, na, i, forced
-        real(dp) :: gap(size(wf))
+    !! active contacts above one (Gauss-Seidel then still falls back to pivoting). work: room
+    !! reused from call to call (a caller solving many problems keeps one; without it, a
+    !! Gauss-Seidel solve allocates its own). The arrays are declared contiguous (a strided
+    !! section is passed as a copy).
+    subroutine solve_contacts(laws, d, wf, cap, at_rest, tol, max_iter, p, w, mode, info, method, work)
+        type(contact_law), intent(in), contiguous        :: laws(:)   !! (n) each contact's law
+        real(dp), intent(in), contiguous                 :: d(:, :)   !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in), contiguous                 :: wf(:)     !! (n) velocities without friction [m/s]
+        real(dp), intent(in), contiguous                 :: cap(:)    !! (n) capacities c_i >= 0 [N s] (or [N])
+        logical, intent(in)                              :: at_rest   !! slip coefficient fixed at mu(0+)
+        real(dp), intent(in)                             :: tol       !! tolerance on the residual [m/s]
+        integer, intent(in)                              :: max_iter  !! Gauss-Seidel sweep limit
+        real(dp), intent(inout), contiguous              :: p(:)      !! (n) impulses [N s] (or forces [N])
+        real(dp), intent(out), contiguous                :: w(:)      !! (n) velocities, exactly 0 when stuck [m/s]
+        integer, intent(inout), contiguous               :: mode(:)   !! (n) MODE_STICK, +-1, MODE_OPEN
+        type(contact_solve_info), intent(out)            :: info      !! how it was solved, residual, ok
+        integer, intent(in), optional                    :: method    !! force SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL
+        type(contact_workspace), intent(inout), optional :: work      !! room reused between calls
+        integer :: n, na, i, ia, forced, worst
+        logical :: found
+        real(dp) :: g, resid
+        real(dp), allocatable :: gap(:)
         n = size(wf)
-        active = cap > 0.0_dp .and. laws%mu_s > 0.0_dp
-        na = count(active)
+        ! the active contacts (capacity and a static limit), the others open
+        na = 0
+        ia = 0
+        do i = 1, n
+            if (is_active(laws(i), cap(i))) then
+                na = na + 1
+                ia = i
+            else
+                p(i) = 0.0_dp
+                mode(i) = MODE_OPEN
+            end if
+        end do
         forced = 0
         if (present(method)) forced = method
-        where (.not. active)
-            p = 0.0_dp
-            mode = MODE_OPEN
-        end where
         if (na == 0) then
             w = wf
         else if (na == 1) then
             info%method = SOLVER_LOCAL
-            i = findloc(active, .true., dim=1)
-            call local_solve(law_at(laws(i), at_rest), wf(i), d(i, i), cap(i), w(i), p(i))
-            mode(i) = slip_sign(w(i))
-            call finish_velocities()
+            call local_solve(law_at(laws(ia), at_rest), wf(ia), d(ia, ia), cap(ia), w(ia), p(ia))
+            mode(ia) = slip_sign(w(ia))
+            call open_velocities(d, wf, p, mode, w)
         else if (forced == SOLVER_PIVOTING) then
-            call pivoting_fallback()
+            call pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
             return
         else if (na <= ENUM_MAX .and. forced /= SOLVER_GAUSS_SEIDEL) then
             info%method = SOLVER_ENUMERATION
-            call enumerate(laws, d, wf, cap, at_rest, active, p, w, mode, found, info%sweeps)
+            call enumerate(laws, d, wf, cap, at_rest, is_active(laws, cap), p, w, mode, found, info%sweeps)
             if (.not. found) then
-                call pivoting_fallback()
+                call pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
                 return
             end if
         else
+            ! Gauss-Seidel (its updates and gap in the caller's room when given), then in one
+            ! pass the modes of the answer, the open contacts' velocities (wf + D p, formed
+            ! here) and the check (`contact_residual`, with the last sweep's wf + D p - w of
+            ! each active contact)
             info%method = SOLVER_GAUSS_SEIDEL
-            call gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, info%sweeps, gap)
+            if (present(work)) call move_alloc(work%gap, gap)
+            call reserve(gap, n)
+            if (at_rest) then
+                call gs_sweeps(law_at(laws, at_rest), d, wf, cap, tol, max_iter, p, w, info%sweeps, gap(:n))
+            else
+                call gs_sweeps(laws, d, wf, cap, tol, max_iter, p, w, info%sweeps, gap(:n))
+            end if
+            resid = 0.0_dp
+            worst = 0
             do i = 1, n
-                if (active(i)) mode(i) = slip_sign(w(i))
+                if (is_active(laws(i), cap(i))) then
+                    mode(i) = slip_sign(w(i))
+                    g = abs(gap(i))
+                else
+                    w(i) = wf(i) + dot_product(d(i, :), p)
+                    g = 0.0_dp
+                end if
+                call keep_worst(residual_of(laws(i), d(i, i), cap(i), at_rest, p(i), w(i), mode(i), g), i, resid, worst)
             end do
-            call finish_velocities()
-            ! the check with the last sweep's wf + D p - w (open contacts: w formed just now)
-            call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst, gap)
+            info%residual = resid
+            info%worst = worst
+            if (present(work)) call move_alloc(gap, work%gap)
         end if
         if (info%method /= SOLVER_GAUSS_SEIDEL) &
             call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
-        info%ok = info%residual <= residual_limit(tol, wf, d, p)
-        if (.not. info%ok .and. info%method == SOLVER_GAUSS_SEIDEL) call pivoting_fallback()
-    contains
-        !> Where enumeration finds no mode or Gauss-Seidel does not converge: `pivoting`,
-        !! and its answer checked like the others.
-        subroutine pivoting_fallback()
-            info%method = SOLVER_PIVOTING
-            call pivoting(laws, d, wf, cap, at_rest, active, p, w, mode, found, info%pivots, info%rounds)
-            if (.not. found) then
-                info%ok = .false.
-                info%residual = huge(1.0_dp)
-                return
-            end if
-            call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
-            info%ok = info%residual <= residual_limit(tol, wf, d, p)
-        end subroutine pivoting_fallback
-
-        !> Velocities of open contacts (and exact zeros of stuck ones) from the impulses.
-        subroutine finish_velocities()
-            integer :: j
-            do j = 1, n
-                if (mode(j) == MODE_OPEN) w(j) = wf(j) + dot_product(d(j, :), p)
-            end do
-        end subroutine finish_velocities
+        ! residual_limit(...) >= tol: formed only where the residual exceeds tol
+        info%ok = info%residual <= tol
+        if (.not. info%ok) info%ok = info%residual <= residual_limit(tol, wf, d, p)
+        if (.not. info%ok .and. info%method == SOLVER_GAUSS_SEIDEL) &
+            call pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
     end subroutine solve_contacts
+
+    !> Where enumeration finds no mode or Gauss-Seidel does not converge: `pivoting`, and its
+    !! answer checked like the others (`solve_contacts`).
+    subroutine pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
+        type(contact_law), intent(in) :: laws(:)
+        real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
+        logical, intent(in)     :: at_rest
+        real(dp), intent(inout) :: p(:)
+        real(dp), intent(out)   :: w(:)
+        integer, intent(inout)  :: mode(:)
+        type(contact_solve_info), intent(inout) :: info
+        logical :: found
+        info%method = SOLVER_PIVOTING
+        call pivoting(laws, d, wf, cap, at_rest, is_active(laws, cap), p, w, mode, found, info%pivots, info%rounds)
+        if (.not. found) then
+            info%ok = .false.
+            info%residual = huge(1.0_dp)
+            return
+        end if
+        call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
+        info%ok = info%residual <= residual_limit(tol, wf, d, p)
+    end subroutine pivoting_fallback
+
+    !> Velocities of open contacts from the impulses, wf + D p.
+    subroutine open_velocities(d, wf, p, mode, w)
+        real(dp), intent(in)    :: d(:, :), wf(:), p(:)
+        integer, intent(in)     :: mode(:)
+        real(dp), intent(inout) :: w(:)
+        integer :: j
+        do j = 1, size(wf)
+            if (mode(j) == MODE_OPEN) w(j) = wf(j) + dot_product(d(j, :), p)
+        end do
+    end subroutine open_velocities
+
+    !> A contact that can carry friction: capacity c > 0 and a static limit mu_s > 0.
+    elemental logical function is_active(law, cap)
+        type(contact_law), intent(in) :: law
+        real(dp), intent(in) :: cap
+        is_active = cap > 0.0_dp .and. law%mu_s > 0.0_dp
+    end function is_active
 
     !> The residual an answer may have: tol, or the rounding of wf + D p where that is
     !! larger [m/s]. D is positive semidefinite (|D_ij| <= sqrt(D_ii D_jj)), so its largest
@@ -293,36 +351,56 @@ contains
         real(dp), intent(out) :: resid      !! the largest residual [m/s]
         integer, intent(out)  :: worst      !! its contact (0: none)
         real(dp), intent(in), optional :: gap(:)  !! (n) wf + D p - w, formed to rounding [m/s]
-        real(dp) :: r, dii
+        real(dp) :: g
         integer :: i
         resid = 0.0_dp
         worst = 0
         do i = 1, size(wf)
-            dii = max(d(i, i), tiny(1.0_dp))
             if (present(gap)) then
-                r = abs(gap(i))
+                g = abs(gap(i))
             else
-                r = abs(wf(i) + dot_product(d(i, :), p) - w(i))
+                g = abs(wf(i) + dot_product(d(i, :), p) - w(i))
             end if
-            select case (mode(i))
-            case (MODE_OPEN)
-                r = max(r, abs(p(i)) * dii)
-            case (MODE_STICK)
-                r = max(r, abs(w(i)), dii * max(0.0_dp, abs(p(i)) - laws(i)%mu_s * cap(i) * (1.0_dp + STICK_RTOL)))
-            case default
-                if (real(mode(i), dp) * w(i) <= 0.0_dp) then
-                    r = huge(1.0_dp)
-                else
-                    r = max(r, dii * abs(p(i) + mode(i) * cap(i) * slip_coefficient(laws(i), abs(w(i)), at_rest)))
-                end if
-            end select
-            if (.not. ieee_is_finite(r)) r = huge(1.0_dp)
-            if (r > resid .or. worst == 0) then
-                resid = max(resid, r)
-                worst = i
-            end if
+            call keep_worst(residual_of(laws(i), d(i, i), cap(i), at_rest, p(i), w(i), mode(i), g), i, resid, worst)
         end do
     end subroutine contact_residual
+
+    !> One contact's term of `contact_residual` [m/s], given g = |wf_i + (D p)_i - w_i| [m/s].
+    pure real(dp) function residual_of(law, d_ii, cap, at_rest, p, w, mode, g) result(r)
+        type(contact_law), intent(in) :: law
+        real(dp), intent(in) :: d_ii, cap, p, w, g
+        logical, intent(in)  :: at_rest
+        integer, intent(in)  :: mode
+        real(dp) :: dii
+        dii = max(d_ii, tiny(1.0_dp))
+        r = g
+        select case (mode)
+        case (MODE_OPEN)
+            r = max(r, abs(p) * dii)
+        case (MODE_STICK)
+            r = max(r, abs(w), dii * max(0.0_dp, abs(p) - law%mu_s * cap * (1.0_dp + STICK_RTOL)))
+        case default
+            if (real(mode, dp) * w <= 0.0_dp) then
+                r = huge(1.0_dp)
+            else
+                r = max(r, dii * abs(p + mode * cap * slip_coefficient(law, abs(w), at_rest)))
+            end if
+        end select
+        if (.not. ieee_is_finite(r)) r = huge(1.0_dp)
+    end function residual_of
+
+    !> The largest residual so far and its contact: contact i's residual r taken where larger
+    !! (or where none is yet).
+    pure subroutine keep_worst(r, i, resid, worst)
+        real(dp), intent(in)    :: r
+        integer, intent(in)     :: i
+        real(dp), intent(inout) :: resid
+        integer, intent(inout)  :: worst
+        if (r > resid .or. worst == 0) then
+            resid = max(resid, r)
+            worst = i
+        end if
+    end subroutine keep_worst
 
     elemental real(dp) function slip_coefficient(law, s, at_rest) result(mu)
         type(contact_law), intent(in) :: law
@@ -554,28 +632,55 @@ contains
     !! sum_(j>i) D_ij dp_j (the sums the stopping test forms anyway). Each is a dot product formed
     !! afresh, never an accumulation over sweeps, so gap is wf + D p - w to the rounding of one
     !! dot product, as if formed from the answer; 0 for open contacts, whose w the caller forms.
-    subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, gap)
-        type(contact_law), intent(in) :: laws(:)  !! (n) each contact's law
-        real(dp), intent(in)    :: d(:, :)        !! (n, n) Delassus matrix [1/kg]
-        real(dp), intent(in)    :: wf(:)          !! (n) velocities without friction [m/s]
-        real(dp), intent(in)    :: cap(:)         !! (n) capacities [N s] (or [N])
-        logical, intent(in)     :: at_rest        !! slip coefficient fixed at mu(0+)
-        real(dp), intent(in)    :: tol            !! tolerance on the sweep residual [m/s]
-        integer, intent(in)     :: max_iter       !! sweep limit
-        real(dp), intent(inout) :: p(:)           !! (n) impulses: warm start in, answer out
-        real(dp), intent(out)   :: w(:)           !! (n) velocities from the last solves [m/s]
-        integer, intent(out)    :: sweeps         !! sweeps done
-        real(dp), intent(out), optional :: gap(:) !! (n) wf + D p - w at the answer [m/s]
-        real(dp) :: dp_(size(p)), wfi, pnew, r, resid
-        type(contact_law) :: lw(size(p))
+    !! work: room reused from call to call (without it, a call allocates its own). The arrays
+    !! are declared contiguous, as in `solve_contacts` (a strided section is passed as a copy).
+    subroutine gauss_seidel(laws, d, wf, cap, at_rest, tol, max_iter, p, w, sweeps, gap, work)
+        type(contact_law), intent(in), contiguous        :: laws(:)   !! (n) each contact's law
+        real(dp), intent(in), contiguous                 :: d(:, :)   !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in), contiguous                 :: wf(:)     !! (n) velocities without friction [m/s]
+        real(dp), intent(in), contiguous                 :: cap(:)    !! (n) capacities [N s] (or [N])
+        logical, intent(in)                              :: at_rest   !! slip coefficient fixed at mu(0+)
+        real(dp), intent(in)                             :: tol       !! tolerance on the sweep residual [m/s]
+        integer, intent(in)                              :: max_iter  !! sweep limit
+        real(dp), intent(inout), contiguous              :: p(:)      !! (n) impulses: warm start in, answer out
+        real(dp), intent(out), contiguous                :: w(:)      !! (n) velocities from the last solves [m/s]
+        integer, intent(out)                             :: sweeps    !! sweeps done
+        real(dp), intent(out), optional                  :: gap(:)    !! (n) wf + D p - w at the answer [m/s]
+        type(contact_workspace), intent(inout), optional :: work      !! room reused between calls
+        real(dp), allocatable :: upd(:)
+        ! the sweeps' updates need room for n numbers, which end as the gap
+        if (present(work)) call move_alloc(work%gap, upd)
+        call reserve(upd, size(p))
+        if (at_rest) then     ! (the laws as the solver uses them, `law_at`: at rest, a copy)
+            call gs_sweeps(law_at(laws, at_rest), d, wf, cap, tol, max_iter, p, w, sweeps, upd(:size(p)))
+        else
+            call gs_sweeps(laws, d, wf, cap, tol, max_iter, p, w, sweeps, upd(:size(p)))
+        end if
+        if (present(gap)) then
+            gap = upd(:size(p))
+            where (.not. is_active(laws, cap)) gap = 0.0_dp     ! open contacts
+        end if
+        if (present(work)) call move_alloc(upd, work%gap)
+    end subroutine gauss_seidel
+
+    !> The sweeps of `gauss_seidel` with the laws as the solver uses them (`law_at`); upd: room
+    !! for each sweep's updates, and out the gap of the active contacts (`gauss_seidel`'s notes;
+    !! an open contact's entry is left as it is).
+    subroutine gs_sweeps(lw, d, wf, cap, tol, max_iter, p, w, sweeps, upd)
+        type(contact_law), intent(in) :: lw(:)
+        real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
+        integer, intent(in)     :: max_iter
+        real(dp), intent(inout) :: p(:)
+        real(dp), intent(out)   :: w(:), upd(:)
+        integer, intent(out)    :: sweeps
+        real(dp) :: wfi, pnew, r, resid
         integer :: i, j, nc
         nc = size(p)
-        lw = law_at(laws, at_rest)
         w = wf
         do sweeps = 1, max_iter
             do i = 1, nc
-                if (.not. (cap(i) > 0.0_dp .and. lw(i)%mu_s > 0.0_dp)) then
-                    dp_(i) = 0.0_dp
+                if (.not. is_active(lw(i), cap(i))) then
+                    upd(i) = 0.0_dp
                     cycle
                 end if
                 wfi = wf(i)
@@ -585,26 +690,34 @@ contains
                 call local_solve(lw(i), wfi, d(i, i), cap(i), w(i), pnew)
                 ! a slip: its velocity from the impulses themselves (the law's root, to rounding)
                 if (w(i) /= 0.0_dp) w(i) = wfi + d(i, i) * pnew
-                dp_(i) = pnew - p(i)
+                upd(i) = pnew - p(i)
                 p(i) = pnew
             end do
             resid = 0.0_dp
             do i = 1, nc - 1
                 r = 0.0_dp
                 do j = i + 1, nc
-                    r = r + d(i, j) * dp_(j)
+                    r = r + d(i, j) * upd(j)
                 end do
                 resid = max(resid, abs(r))
-                dp_(i) = r          ! (no longer needed as an update: rows below i are done)
+                upd(i) = r          ! (no longer needed as an update: rows below i are done)
             end do
             if (resid <= tol) exit
         end do
         sweeps = min(sweeps, max_iter)
-        if (present(gap)) then   ! the last sweep's later updates (open contacts: 0)
-            gap(:nc - 1) = dp_(:nc - 1)
-            if (nc > 0) gap(nc) = 0.0_dp
-            where (.not. (cap > 0.0_dp .and. lw%mu_s > 0.0_dp)) gap = 0.0_dp
+        ! the gap of the active contacts: the last sweep's later updates (the last contact's: none)
+        if (nc > 0) upd(nc) = 0.0_dp
+    end subroutine gs_sweeps
+
+    !> Room for n numbers in buf (kept where there is enough).
+    subroutine reserve(buf, n)
+        real(dp), allocatable, intent(inout) :: buf(:)
+        integer, intent(in) :: n
+        if (allocated(buf)) then
+            if (size(buf) >= n) return
+            deallocate(buf)
         end if
-    end subroutine gauss_seidel
+        allocate(buf(n))
+    end subroutine reserve
 
 end module stickslip_contact_solver

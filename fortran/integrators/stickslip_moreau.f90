@@ -50,7 +50,7 @@ module stickslip_moreau
     use stickslip_ode, only: ode_stats, step_controls, method_info, check_problem, output_start, &
                              fixed_steps, step_end, stop_requested, all_finite
     use stickslip_contact, only: contact_system, local_solve
-    use stickslip_contact_solver, only: solve_contacts, contact_solve_info
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use stickslip_ode, only: diverged, linear_output
     implicit none
@@ -116,6 +116,7 @@ contains
         real(dp), allocatable :: wl(:), wd(:), wr(:), boff(:)
         integer, allocatable :: coord_contact(:), cmode(:)
         type(contact_solve_info) :: cinfo
+        type(contact_workspace) :: cwork   ! the contact solver's room, reused from step to step
         logical :: tri
         real(dp) :: t, t1, hs, th, h_d, resid, t_next
         integer(8) :: i, nsteps, n_total
@@ -197,7 +198,7 @@ contains
                 h_d = hs
             end if
             call solve_contacts(cs%laws, dmat, wfree, hn, .false., opts%contact_tol, opts%contact_max_iter, &
-                                p, wloc, cmode, cinfo)
+                                p, wloc, cmode, cinfo, work=cwork)
             stats%ncontact_iter = stats%ncontact_iter + cinfo%sweeps
             stats%contact_residual = max(stats%contact_residual, cinfo%residual)
             resid = 0.0_dp
