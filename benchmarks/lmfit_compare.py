@@ -59,7 +59,9 @@ def _lmfit_fit(law: str, recs: list, fit, rtol: float, diff_step: float):
         except (RuntimeError, ValueError):
             return np.full(forces.size, 100.0 * float(np.ptp(forces)) + 1.0)
 
-    with warnings.catch_warnings():
+    # BLAS on one thread, as inside fit_friction (when threadpoolctl is installed): the same
+    # linear-algebra setting on both sides
+    with warnings.catch_warnings(), I._one_blas_thread():
         warnings.simplefilter("ignore")
         out = lmfit.minimize(residual, params, method="least_squares", x_scale="jac", diff_step=diff_step,
                              max_nfev=30 * len(fit.free))
@@ -75,6 +77,11 @@ def run_lmfit(log: Callable[[str], None], repeats: int = 3, laws: tuple[str, ...
     from cases._provenance import machine
 
     recs = [r for r, _ in ci.load_groups(stickslip.damper_files(36))["36lb"]]
+    try:
+        import threadpoolctl
+        blas = f"Both fits run with BLAS on one thread (threadpoolctl {threadpoolctl.__version__}). "
+    except ImportError:
+        blas = "BLAS threads as the environment sets them, for both fits (threadpoolctl not installed). "
     rows = []
     for law in laws or stickslip.LAWS:
         # Wald intervals, as lmfit's (its conf_interval is a separate, much costlier call)
@@ -134,7 +141,7 @@ def run_lmfit(log: Callable[[str], None], repeats: int = 3, laws: tuple[str, ...
              "difference of a parameter between the two fits in stickslip's standard errors (without the "
              "correlation inflation); s.e. ratio: lmfit's standard error over that one, median over the "
              "parameters (blank where lmfit gives none: a parameter at a bound makes its covariance singular). "
-             "lmfit's nfev counts the Jacobian's evaluations, stickslip's does not. Wall times are of a machine "
+             "lmfit's nfev counts the Jacobian's evaluations, stickslip's does not. " + blas + "Wall times are of a machine "
              f"shared with other jobs; the budget, a fit in under {BUDGET_S:g} s, is checked on CPU time. Last "
              "column: stickslip once more at fit_friction's default rtol 1e-6 and diff_step 1e-4 (one start; "
              "default intervals: profile likelihood for the laws without states), CPU time.", "",

@@ -864,3 +864,32 @@ def test_interval_option_is_checked():
     f = pm("coulomb", t, x, v, mu_s=1.0, mu_k=1.0, v_s=1e-3).force
     with pytest.raises(ValueError, match="interval: must be one of auto, wald, profile"):
         stickslip.fit_friction("coulomb", t, x, f, v=v, interval="bootstrap")
+
+
+def test_fit_runs_blas_on_one_thread_and_restores_it():
+    """Inside a fit the BLAS libraries loaded (numpy's, scipy's) run on one thread (their idle
+    threads spun between the optimiser's small SVDs); after it they are as before (two threads
+    set here). Checked by threadpoolctl's own report, from within the model's evaluations."""
+    threadpoolctl = pytest.importorskip("threadpoolctl")
+    import scipy.linalg  # noqa: F401  (loads scipy's BLAS too)
+
+    def blas_threads() -> list[int]:
+        return [d["num_threads"] for d in threadpoolctl.threadpool_info() if d["user_api"] == "blas"]
+
+    t, x, _ = sine_record(n=201)
+    f = stickslip.prescribed_motion("coulomb", t, x, normal_force=N_LOAD, mu_s=0.5, mu_k=0.4, v_s=0.001).force
+    f = f + np.random.default_rng(3).normal(0.0, 5.0, f.size)
+    seen: list[list[int]] = []
+    model = identify._model_mesh
+
+    def spy(*args, **kwargs):
+        seen.append(blas_threads())
+        return model(*args, **kwargs)
+
+    with threadpoolctl.threadpool_limits(limits=2, user_api="blas"), pytest.MonkeyPatch.context() as mp:
+        mp.setattr(identify, "_model_mesh", spy)
+        identify.fit_friction("coulomb", t, x, f, fixed={"v_s": 0.001}, n_starts=1, interval="wald")
+        after = blas_threads()
+    assert after and all(n == 2 for n in after)
+    # the start's evaluation comes before the optimiser; every one after it sees one thread
+    assert len(seen) > 2 and all(n == 1 for counts in seen[1:] for n in counts)

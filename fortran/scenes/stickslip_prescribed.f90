@@ -18,8 +18,8 @@
 !! advances its states (its `advance`: exact in the travel for Dahl, an exponential step with
 !! a target linear over the substep for LuGre and the generalized Maxwell-slip model, exact
 !! for both at a constant velocity and in the stiff limit; for the elasto-plastic law its own
-!! flow in the travel (exact while elastic or fully sliding, RK4 between); one L-stable
-!! TR-BDF2 step with the velocity linear from v0 to v1 otherwise). The error of a substep is of second order in its
+!! flow in the travel (exact while elastic or fully sliding, a fourth-order Taylor step
+!! between); one L-stable TR-BDF2 step with the velocity linear from v0 to v1 otherwise). The error of a substep is of second order in its
 !! length where the states are smooth, larger across a stick-slip switch of GMS or a kink of
 !! the elasto-plastic attachment; the step doubling below takes care of it.
 !! m is chosen per interval by step doubling: the coefficient the states give at rest

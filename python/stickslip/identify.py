@@ -39,6 +39,7 @@ levels in newtons (N/m, N s/m, N/s), which `FitResult.units` says and `FitResult
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import re
 import warnings
@@ -636,6 +637,20 @@ def _model(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1e-8) 
 # --------------------------------------------------------------------------------------------
 # The fit
 # --------------------------------------------------------------------------------------------
+def _one_blas_thread() -> contextlib.AbstractContextManager:
+    """A context in which BLAS and LAPACK run on one thread, when threadpoolctl is installed
+    (else no change). A fit's linear algebra (the optimiser's SVD of a samples x parameters
+    Jacobian, a few per iteration) is too small to gain from threads, and between two such calls
+    the model's evaluations leave the idle BLAS threads spinning: on the damper's ten records an
+    elasto-plastic fit spent about a quarter more CPU time with two threads, for the same wall
+    time (the identification guide)."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        return contextlib.nullcontext()
+    return threadpool_limits(limits=1, user_api="blas")
+
+
 def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = None, *,
                  normal_force: Any = None, fixed: Mapping[str, float] | None = None,
                  params0: Mapping[str, float] | None = None,
@@ -889,21 +904,22 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     costs = []
     nfev = 0
     best_start = u0
-    for u_start in starts:
-        # strictly inside the bounds (trf's requirement)
-        u_start = np.minimum(np.maximum(u_start, np.nextafter(q_lo, np.inf)), np.nextafter(q_hi, -np.inf))
-        sol = least_squares(trial_residuals, u_start, jac=jacobian, bounds=(q_lo, q_hi), method="trf",
-                            x_scale=1.0, max_nfev=max_nfev)
-        nfev += int(sol.nfev)
-        costs.append(float(sol.cost))
-        if best is None or sol.cost < best.cost:
-            best, best_start = sol, u_start
-    assert best is not None
-    meshes = mesh_at(best.x)[1]
-    result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
-                         force_levels, normal_force, nfev, tuple(costs), diff_step, rtol,
-                         frozen=lambda w: residuals(w, meshes), interval=method,
-                         profile_budget=n_evals[0] if interval == "auto" else None)
+    with _one_blas_thread():
+        for u_start in starts:
+            # strictly inside the bounds (trf's requirement)
+            u_start = np.minimum(np.maximum(u_start, np.nextafter(q_lo, np.inf)), np.nextafter(q_hi, -np.inf))
+            sol = least_squares(trial_residuals, u_start, jac=jacobian, bounds=(q_lo, q_hi), method="trf",
+                                x_scale=1.0, max_nfev=max_nfev)
+            nfev += int(sol.nfev)
+            costs.append(float(sol.cost))
+            if best is None or sol.cost < best.cost:
+                best, best_start = sol, u_start
+        assert best is not None
+        meshes = mesh_at(best.x)[1]
+        result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
+                             force_levels, normal_force, nfev, tuple(costs), diff_step, rtol,
+                             frozen=lambda w: residuals(w, meshes), interval=method,
+                             profile_budget=n_evals[0] if interval == "auto" else None)
     result.rtol = rtol
     result.start = dict(zip(free, space.to_params(best_start).tolist()))
     return result
