@@ -893,3 +893,17 @@ def test_fit_runs_blas_on_one_thread_and_restores_it():
     assert after and all(n == 2 for n in after)
     # the start's evaluation comes before the optimiser; every one after it sees one thread
     assert len(seen) > 2 and all(n == 1 for counts in seen[1:] for n in counts)
+
+
+def test_a_perfect_fit_has_unbounded_information_criteria():
+    """Noise-free data that the model reproduces from the start (the sum of squares exactly 0):
+    the fit ends with rmse 0 and AIC = BIC = -inf (the Gaussian likelihood is unbounded), not
+    with a math domain error."""
+    t, x, _ = sine_record(n=201)
+    f = stickslip.prescribed_motion("coulomb", t, x, normal_force=N_LOAD, mu_s=0.5, mu_k=0.4, v_s=0.001).force
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = identify.fit_friction("coulomb", t, x, f, fixed={"v_s": 0.001}, normal_force=N_LOAD,
+                                    params0={"mu_s": 0.5, "mu_k": 0.4}, n_starts=1, interval="wald")
+    assert fit.rmse == 0.0 and fit.aic == -math.inf and fit.bic == -math.inf
+    assert fit.params["mu_k"] == pytest.approx(0.4, rel=1e-12)

@@ -1286,7 +1286,9 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     if problems:
         warnings.warn(f"fit of {law!r} failed: {message}; try other params0, more n_starts or max_nfev",
                       RuntimeWarning, stacklevel=3)
-    loglik_term = n * math.log(2.0 * math.pi * ssr / n) + n     # -2 ln L at the ML variance
+    # -2 ln L at the ML variance; a fit with no residual at all (noise-free data the model
+    # reproduces) has an unbounded likelihood: AIC and BIC are -inf
+    loglik_term = n * math.log(2.0 * math.pi * ssr / n) + n if ssr > 0.0 else -math.inf
     n_par = k + 1
     rmse = math.sqrt(ssr / n)
     units = {name: parameter_unit(name, force_levels) for name in p}
