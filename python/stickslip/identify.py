@@ -656,7 +656,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
                  params0: Mapping[str, float] | None = None,
                  bounds: Mapping[str, tuple[float, float]] | None = None,
                  backlash: float | str = 0.0, asymmetry: float | str = 1.0,
-                 offset: float | str = 0.0, drift: float | str = 0.0, n_starts: int | None = None, seed: int = 0, max_nfev: int | None = None,
+                 offset: float | str = 0.0, drift: float | str = 0.0, n_starts: int = 1, seed: int = 0, max_nfev: int | None = None,
                  rtol: float = 1e-6, diff_step: float = 1e-4, interval: str = "auto") -> FitResult:
     """Fit the parameters of friction `law` to measured forces along measured motions.
 
@@ -697,10 +697,12 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         Relative rate of change of the friction level over each record [1/s] (default 0): the
         law's force is multiplied by 1 + drift (t - t_mid), t_mid the record's middle time (the
         level of a contact that heats or wears during a record). One value for all records.
-    n_starts : int, optional
+    n_starts : int
         Starts of the local optimiser: the data-derived start, then starts drawn log-uniformly
-        within a factor of 10 of it (seeded by `seed`); the best fit is kept. Default 3 for a
-        law with internal states (whose stiffness makes the problem non-convex), else 2.
+        within a factor of 10 of it (seeded by `seed`); the best fit is kept. Default 1: give
+        more where the cost may have several minima (a law with internal states is not convex
+        in its stiffness). Each start costs a fit, and a draw far from the data's start can
+        cost many (a stiff bristle).
     seed : int
         Seed of the extra starts.
     rtol : float
@@ -784,8 +786,6 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
             raise ValueError(f"{what}: {', '.join(map(repr, clash))} is fixed, so it has no {what}")
     if not free:
         raise ValueError("fixed: every parameter is fixed; nothing to fit")
-    if n_starts is None:
-        n_starts = 3 if REGISTRY["law"][law]["n_states"] > 0 else 2
     if not (isinstance(n_starts, (int, np.integer)) and n_starts >= 1):
         raise ValueError(f"n_starts: must be an integer >= 1, got {n_starts!r}")
     if not (isinstance(interval, str) and interval in INTERVAL_METHODS):
