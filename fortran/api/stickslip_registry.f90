@@ -50,6 +50,7 @@ module stickslip_registry
 
     public :: entry_info, stickslip_message, registry_text, code_of, split_names
     public :: resolve_params, new_law, make_law, new_system, integrate, apply_controls
+    public :: new_controls, integrate_with
 
     !> A law or scene: its name, the parameters it reads (space-separated), a line of doc, and
     !! whether the integrators have kernels specialised to it.
@@ -311,72 +312,112 @@ contains
         integer, pointer, intent(in), optional :: stop_flag
         !> (4, room): the events of event_driven, (t [s], kind, position [m], contact)
         real(dp), intent(inout), optional :: events(:, :)
-        type(step_controls) :: fixed
-        type(dopri5_options) :: d5
-        type(radau5_options) :: r5
-        type(implicit_euler_options) :: ie
-        type(galpha_options) :: ga
-        type(moreau_options) :: mj
-        type(event_driven_options) :: ev
-        class(contact_system), allocatable :: cs
-        real(dp), allocatable :: no_events(:, :)
-        type(dop853_options) :: d8
+        class(step_controls), allocatable :: ctl
 
-        if (present(stop_flag)) then
-            mj%stop_flag => stop_flag
-            ev%stop_flag => stop_flag
-            fixed%stop_flag => stop_flag
-            d5%stop_flag => stop_flag
-            r5%stop_flag => stop_flag
-            ie%stop_flag => stop_flag
-            ga%stop_flag => stop_flag
-            d8%stop_flag => stop_flag
-        end if
+        stats%status = new_controls(method, sys, keys, vals, ctl)
+        if (stats%status /= SS_OK) return
+        if (present(stop_flag)) ctl%stop_flag => stop_flag
+        call integrate_with(method, sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, events)
+    end subroutine integrate
+
+    !> The options of the method of code `method` (its own options type) with the named
+    !! controls set: SS_OK, SS_BAD_METHOD, or the code of the first bad control. For the
+    !! nonsmooth methods a system without a set-valued contact model (SS_NOT_SETVALUED) is
+    !! named before a bad control, as `integrate_with` would name it.
+    function new_controls(method, sys, keys, vals, ctl) result(status)
+        use stickslip_ode, only: ode_system
+        integer, intent(in) :: method                          !! method code
+        class(ode_system), intent(in) :: sys                   !! the system it will integrate
+        character(len=*), intent(in) :: keys(:)                !! control names
+        real(dp), intent(in) :: vals(:)                        !! their values (counts and flags as reals)
+        class(step_controls), allocatable, intent(out) :: ctl  !! the method's options
+        integer :: status
+        class(contact_system), allocatable :: cs
+        integer :: contact_status
+
+        status = SS_OK
         select case (method)
         case (METHOD_RK4)
-            stats%status = apply_controls(fixed, RK4_INFO, keys, vals)
-            ! rk4_integrate looks at the flag only when it is associated
-            if (stats%status == SS_OK) call rk4_integrate(sys, t0, y0, t_end, fixed%h, t_out, y_out, &
-                stats, every_step=fixed%every_step, max_steps=fixed%max_steps, stop_flag=fixed%stop_flag)
+            allocate(step_controls :: ctl)
         case (METHOD_DOPRI5)
-            stats%status = apply_controls(d5, DOPRI5_INFO, keys, vals)
-            if (stats%status == SS_OK) call dopri5_integrate(sys, t0, y0, t_end, rtol, atol, d5, &
-                t_out, y_out, stats)
+            allocate(dopri5_options :: ctl)
         case (METHOD_RADAU5)
-            stats%status = apply_controls(r5, RADAU5_INFO, keys, vals)
-            if (stats%status == SS_OK) call radau5_integrate(sys, t0, y0, t_end, rtol, atol, r5, &
-                t_out, y_out, stats)
+            allocate(radau5_options :: ctl)
         case (METHOD_IMPLICIT_EULER)
-            stats%status = apply_controls(ie, IMPLICIT_EULER_INFO, keys, vals)
-            if (stats%status == SS_OK) call implicit_euler_integrate(sys, t0, y0, t_end, ie, t_out, y_out, stats)
+            allocate(implicit_euler_options :: ctl)
         case (METHOD_GALPHA)
-            stats%status = apply_controls(ga, GALPHA_INFO, keys, vals)
-            if (stats%status == SS_OK) call galpha_integrate(sys, t0, y0, t_end, ga, t_out, y_out, stats)
+            allocate(galpha_options :: ctl)
         case (METHOD_MOREAU)
-            call contact_model_of(sys, cs, stats%status)
-            if (stats%status == SS_OK) stats%status = apply_controls(mj, MOREAU_INFO, keys, vals)
-            ! moreau and event_driven see the contact model only: the system's bounds go with them
-            mj%y_bound = sys%state_bound(t0, y0, t_end)
-            if (stats%status == SS_OK) call moreau_integrate(cs, t0, y0, t_end, mj, t_out, y_out, stats)
+            allocate(moreau_options :: ctl)
         case (METHOD_EVENT_DRIVEN)
+            allocate(event_driven_options :: ctl)
+        case (METHOD_DOP853)
+            allocate(dop853_options :: ctl)
+        case default
+            status = SS_BAD_METHOD
+            return
+        end select
+        status = apply_controls(ctl, METHOD_TABLE(method), keys, vals)
+        if (status /= SS_OK .and. (method == METHOD_MOREAU .or. method == METHOD_EVENT_DRIVEN)) then
+            call contact_model_of(sys, cs, contact_status)
+            if (contact_status /= SS_OK) status = contact_status
+        end if
+    end function new_controls
+
+    !> Integrate sys with the method of code `method` and its options `ctl` from
+    !! `new_controls` (stop flag included). Output and status as for the methods'
+    !! `<method>_integrate`.
+    subroutine integrate_with(method, sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, events)
+        use stickslip_ode, only: ode_system
+        integer, intent(in) :: method                !! method code
+        class(ode_system), intent(inout) :: sys      !! the right-hand side
+        real(dp), intent(in) :: t0                   !! initial time [s]
+        real(dp), intent(in) :: y0(:)                !! initial state
+        real(dp), intent(in) :: t_end                !! final time [s]
+        real(dp), intent(in) :: rtol(:)              !! relative tolerances, size 1 or size(y0)
+        real(dp), intent(in) :: atol(:)              !! absolute tolerances, size 1 or size(y0)
+        class(step_controls), intent(inout) :: ctl   !! the method's options (new_controls)
+        real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
+        real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
+        type(ode_stats), intent(out) :: stats        !! counters and status
+        !> (4, room): the events of event_driven, (t [s], kind, position [m], contact)
+        real(dp), intent(inout), optional :: events(:, :)
+        class(contact_system), allocatable :: cs
+        real(dp), allocatable :: no_events(:, :)
+
+        stats%status = SS_BAD_METHOD
+        select type (ctl)
+        type is (step_controls)
+            ! rk4_integrate looks at the flag only when it is associated
+            if (method == METHOD_RK4) call rk4_integrate(sys, t0, y0, t_end, ctl%h, t_out, y_out, &
+                stats, every_step=ctl%every_step, max_steps=ctl%max_steps, stop_flag=ctl%stop_flag)
+        type is (dopri5_options)
+            call dopri5_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
+        type is (radau5_options)
+            call radau5_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
+        type is (implicit_euler_options)
+            call implicit_euler_integrate(sys, t0, y0, t_end, ctl, t_out, y_out, stats)
+        type is (galpha_options)
+            call galpha_integrate(sys, t0, y0, t_end, ctl, t_out, y_out, stats)
+        type is (moreau_options)
             call contact_model_of(sys, cs, stats%status)
-            if (stats%status == SS_OK) stats%status = apply_controls(ev, EVENT_DRIVEN_INFO, keys, vals)
-            ev%y_bound = sys%state_bound(t0, y0, t_end)
+            ! moreau and event_driven see the contact model only: the system's bounds go with them
+            ctl%y_bound = sys%state_bound(t0, y0, t_end)
+            if (stats%status == SS_OK) call moreau_integrate(cs, t0, y0, t_end, ctl, t_out, y_out, stats)
+        type is (event_driven_options)
+            call contact_model_of(sys, cs, stats%status)
+            ctl%y_bound = sys%state_bound(t0, y0, t_end)
             if (stats%status /= SS_OK) return
             if (present(events)) then
-                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, events)
+                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, events)
             else
                 allocate(no_events(4, 0))
-                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, no_events)
+                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, no_events)
             end if
-        case (METHOD_DOP853)
-            stats%status = apply_controls(d8, DOP853_INFO, keys, vals)
-            if (stats%status == SS_OK) call dop853_integrate(sys, t0, y0, t_end, rtol, atol, d8, &
-                t_out, y_out, stats)
-        case default
-            stats%status = SS_BAD_METHOD
+        type is (dop853_options)
+            call dop853_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
         end select
-    end subroutine integrate
+    end subroutine integrate_with
 
     !> The contact model of a system for the nonsmooth methods: a scene's or a model's `contact_model`;
     !! SS_NOT_SETVALUED for a law without a set-valued counterpart or another system.
