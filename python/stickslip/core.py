@@ -1014,14 +1014,68 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     except TypeError:                        # an unhashable argument (a list): validated each time
         key = call = None
     if call is not None:
+        key = None                           # kept already
         if call.warnings:
             for message, category in call.warnings:
                 warnings.warn(message, category, stacklevel=2)
-        return _execute(call)
-    call = _prepare(scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused, kwargs)
-    if key is not None and any(isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):
-        key = None                           # tuples may hide bools: validated each time
-    return _execute(call, key)
+    else:
+        call = _prepare(scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused,
+                        kwargs)
+        if key is not None and any(isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):
+            key = None                       # tuples may hide bools: validated each time
+
+    # Run the validated setting (the one place simulate calls the library, written out here:
+    # a function call more would cost a tenth of a short run). A new setting (key not None)
+    # is kept in _CALLS once the library has run it without naming a bad input.
+    grid = call.grid
+    if grid is not None:
+        t_grid = grid.copy()
+    elif call.rows:
+        t_grid = np.zeros(call.rows)
+    else:
+        t_grid = _linspace(call.t_end, call.n_out)
+    room = call.events_room
+    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
+    # the wrapper times its library call itself (cpu): with the CPU clock when the stop flag
+    # says the run is long (-1, -2), with the monotonic clock when it is short (0)
+    if _get_ident() == _MAIN_IDENT:
+        if call.arm:
+            _MAIN_FLAG[0] = -1                # asks the wrapper for a SIGINT handler (interruptible)
+            y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, _MAIN_STOP, raw_events)
+            if _MAIN_FLAG[0] == 1:
+                raise KeyboardInterrupt
+        else:                                 # too short for the library to look at the flag
+            y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, _MAIN_IDLE, raw_events)
+    else:                                     # a worker thread: Python's own SIGINT handling stays
+        stop = np.array([_LONG_ELSEWHERE if call.arm else 0], dtype=np.int32)
+        y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, stop, raw_events)
+    if status != STATUS_OK or call.rows:
+        if status <= _FIRST_INPUT_CODE:
+            raise ValueError(_with_values(status_message(status), call.known))
+        rows = int(istats[_I_WRITTEN])        # an early end, or every step: the rows written
+        y, t_grid = y[:, :rows], t_grid[:rows].copy()
+    if key is not None:
+        if len(_CALLS) >= _CALLS_MAX:
+            _CALLS.clear()
+        _CALLS[key] = call
+
+    result = _new_result(Result)
+    result.scene, result.law, result.method, result.t_end = call.scene, call.law, call.method, call.t_end
+    nb = call.n_blocks
+    if nb == 1:
+        result.t, result.x, result.v = t_grid, y[0], y[1]
+        result.z = y[2] if call.n_states == 1 else y[2:]
+    else:                                     # the chain: one row per block
+        result.t, result.x, result.v = t_grid, y[:nb], y[nb:2 * nb]
+        result.z = y[2 * nb:]
+    result.state_labels = call.state_labels
+    result._params = result._stats = None     # built on first use from _raw
+    # istats: the counters and the real counters in one vector
+    result._raw = (istats, None, status, cpu, call.resolved, call.used)
+    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
+    if status != STATUS_OK:
+        raise _ERRORS.get(status, IntegrationError)(status, result)
+    return result
 
 
 def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_step: Any, max_steps: Any,
@@ -1120,7 +1174,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
         if n_out <= _GRID_CACHE_ROWS:
             grid = _linspace(t_end, n_out)
-            grid.setflags(write=False)       # copied for each call (_execute)
+            grid.setflags(write=False)       # copied for each call (simulate)
 
     n_rows = rows if every_step else n_out
     if scene == "chain" and n * n_rows > _MAX_OUTPUT_VALUES:
@@ -1197,57 +1251,3 @@ def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
         flag[0] = arm
         return run(handle, t_grid, n, _N_COUNTERS, stop, events)
     return bare
-
-
-def _execute(call: _Call, key: tuple | None = None) -> Result:
-    """Run a validated setting: the one place `simulate` calls the library. A new setting
-    (`key` not None) is kept in _CALLS once the library has accepted its input."""
-    grid = call.grid
-    if grid is not None:
-        t_grid = grid.copy()
-    elif call.rows:
-        t_grid = np.zeros(call.rows)
-    else:
-        t_grid = _linspace(call.t_end, call.n_out)
-    room = call.events_room
-    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
-    # the wrapper times its library call itself (cpu): with the CPU clock when the stop flag
-    # says the run is long (-1, -2), with the monotonic clock when it is short (0)
-    if _get_ident() == _MAIN_IDENT:
-        if call.arm:
-            _MAIN_FLAG[0] = -1                # asks the wrapper for a SIGINT handler (interruptible)
-            y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, _MAIN_STOP, raw_events)
-            if _MAIN_FLAG[0] == 1:
-                raise KeyboardInterrupt
-        else:                                 # too short for the library to look at the flag
-            y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, _MAIN_IDLE, raw_events)
-    else:                                     # a worker thread: Python's own SIGINT handling stays
-        stop = np.array([_LONG_ELSEWHERE if call.arm else 0], dtype=np.int32)
-        y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, stop, raw_events)
-    if status != STATUS_OK or call.rows:
-        if status <= _FIRST_INPUT_CODE:
-            raise ValueError(_with_values(status_message(status), call.known))
-        rows = int(istats[_I_WRITTEN])        # an early end, or every step: the rows written
-        y, t_grid = y[:, :rows], t_grid[:rows].copy()
-    if key is not None:
-        if len(_CALLS) >= _CALLS_MAX:
-            _CALLS.clear()
-        _CALLS[key] = call
-
-    result = _new_result(Result)
-    result.scene, result.law, result.method, result.t_end = call.scene, call.law, call.method, call.t_end
-    nb = call.n_blocks
-    if nb == 1:
-        result.t, result.x, result.v = t_grid, y[0], y[1]
-        result.z = y[2] if call.n_states == 1 else y[2:]
-    else:                                     # the chain: one row per block
-        result.t, result.x, result.v = t_grid, y[:nb], y[nb:2 * nb]
-        result.z = y[2 * nb:]
-    result.state_labels = call.state_labels
-    result._params = result._stats = None     # built on first use from _raw
-    # istats: the counters and the real counters in one vector
-    result._raw = (istats, None, status, cpu, call.resolved, call.used)
-    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
-    if status != STATUS_OK:
-        raise _ERRORS.get(status, IntegrationError)(status, result)
-    return result
