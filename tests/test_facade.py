@@ -381,3 +381,23 @@ def test_interleaved_settings_give_bitwise_the_numbers_of_their_first_calls() ->
             other = ss.simulate(scene, law, **{**kw, "x0": 1e-3})      # same names, another value
             assert _numbers(other) != first[i]
             assert _numbers(ss.simulate(scene, law, **kw)) == first[i], (scene, law, kw["method"])
+
+
+@pytest.mark.parametrize("scene, law, kw", [
+    (scene, law, {k: v for k, v in kw.items() if k not in ("n_out", "every_step")}) for scene, law, kw in _MIXED
+    if "every_step" not in kw])
+def test_a_setting_run_from_its_handle_matches_the_library_building_it_anew(scene, law, kw) -> None:
+    """simulate runs a cached setting from the library's handle (prepare_run once, run_prepared
+    on a copy of the scene and options per call); the batch path builds the scene, its law
+    and the options from names on every row (stickslip_simulate's simulate, no copy): the
+    same numbers bit for bit, on the first call and from the cache, on 1 and 2 threads."""
+    from concurrent.futures import ThreadPoolExecutor
+    core._CALLS.clear()
+    runs = [ss.simulate(scene, law, n_out=21, **kw) for _ in range(2)]
+    with ThreadPoolExecutor(2) as pool:
+        runs += list(pool.map(lambda _: ss.simulate(scene, law, n_out=21, **kw), range(4)))
+    assert len(core._CALLS) == 1
+    ref = ss.simulate_batch(scene, law, n_grid=21, keep_grid=True, **kw)
+    n = runs[0].y.shape[0]
+    for r in runs:
+        assert r.y.tobytes() == ref.y_grid[0, :n].tobytes() and r.stats["nfev"] == ref.nfev[0]
