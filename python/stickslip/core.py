@@ -1024,9 +1024,9 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         if key is not None and any(isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):
             key = None                       # tuples may hide bools: validated each time
 
-    # Run the validated setting (the one place simulate calls the library, written out here:
-    # a function call more would cost a tenth of a short run). A new setting (key not None)
-    # is kept in _CALLS once the library has run it without naming a bad input.
+    # Run the validated setting: the one place simulate calls the library (written out here,
+    # one Python call fewer per run). A new setting (key not None) is kept in _CALLS once the
+    # library has run it without naming a bad input.
     grid = call.grid
     if grid is not None:
         t_grid = grid.copy()
