@@ -50,7 +50,7 @@ module stickslip_registry
 
     public :: entry_info, stickslip_message, registry_text, code_of, split_names
     public :: resolve_params, new_law, make_law, new_system, integrate, apply_controls
-    public :: new_controls, integrate_with
+    public :: new_controls
 
     !> A law or scene: its name, the parameters it reads (space-separated), a line of doc, and
     !! whether the integrators have kernels specialised to it.
@@ -292,9 +292,12 @@ contains
     end function has_word
 
     !> Integrate sys with the method of code `method` and its named controls (rtol and atol
-    !! as arrays, read by the adaptive methods only). Output and status as for the methods'
+    !! as arrays, read by the adaptive methods only), or with the options `controls` built by
+    !! `new_controls` (keys and vals are then not read; a copy is run, so that `controls` may
+    !! serve runs on several threads at once). Output and status as for the methods'
     !! `<method>_integrate`.
-    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats, stop_flag, events)
+    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats, stop_flag, events, &
+                         controls)
         use stickslip_ode, only: ode_system
         integer, intent(in) :: method                !! method code
         class(ode_system), intent(inout) :: sys      !! the right-hand side
@@ -312,18 +315,57 @@ contains
         integer, pointer, intent(in), optional :: stop_flag
         !> (4, room): the events of event_driven, (t [s], kind, position [m], contact)
         real(dp), intent(inout), optional :: events(:, :)
+        !> The method's options from `new_controls` (for `method`), in place of keys and vals.
+        class(step_controls), intent(in), optional :: controls
         class(step_controls), allocatable :: ctl
+        class(contact_system), allocatable :: cs
+        real(dp), allocatable :: no_events(:, :)
 
-        stats%status = new_controls(method, sys, keys, vals, ctl)
-        if (stats%status /= SS_OK) return
+        if (present(controls)) then
+            allocate(ctl, source=controls)
+        else
+            stats%status = new_controls(method, sys, keys, vals, ctl)
+            if (stats%status /= SS_OK) return
+        end if
         if (present(stop_flag)) ctl%stop_flag => stop_flag
-        call integrate_with(method, sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, events)
+        stats%status = SS_BAD_METHOD
+        select type (ctl)
+        type is (step_controls)
+            ! rk4_integrate looks at the flag only when it is associated
+            if (method == METHOD_RK4) call rk4_integrate(sys, t0, y0, t_end, ctl%h, t_out, y_out, &
+                stats, every_step=ctl%every_step, max_steps=ctl%max_steps, stop_flag=ctl%stop_flag)
+        type is (dopri5_options)
+            call dopri5_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
+        type is (radau5_options)
+            call radau5_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
+        type is (implicit_euler_options)
+            call implicit_euler_integrate(sys, t0, y0, t_end, ctl, t_out, y_out, stats)
+        type is (galpha_options)
+            call galpha_integrate(sys, t0, y0, t_end, ctl, t_out, y_out, stats)
+        type is (moreau_options)
+            call contact_model_of(sys, cs, stats%status)
+            ! moreau and event_driven see the contact model only: the system's bounds go with them
+            ctl%y_bound = sys%state_bound(t0, y0, t_end)
+            if (stats%status == SS_OK) call moreau_integrate(cs, t0, y0, t_end, ctl, t_out, y_out, stats)
+        type is (event_driven_options)
+            call contact_model_of(sys, cs, stats%status)
+            ctl%y_bound = sys%state_bound(t0, y0, t_end)
+            if (stats%status /= SS_OK) return
+            if (present(events)) then
+                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, events)
+            else
+                allocate(no_events(4, 0))
+                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, no_events)
+            end if
+        type is (dop853_options)
+            call dop853_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
+        end select
     end subroutine integrate
 
     !> The options of the method of code `method` (its own options type) with the named
     !! controls set: SS_OK, SS_BAD_METHOD, or the code of the first bad control. For the
     !! nonsmooth methods a system without a set-valued contact model (SS_NOT_SETVALUED) is
-    !! named before a bad control, as `integrate_with` would name it.
+    !! named before a bad control, as `integrate` would name it.
     function new_controls(method, sys, keys, vals, ctl) result(status)
         use stickslip_ode, only: ode_system
         integer, intent(in) :: method                          !! method code
@@ -364,60 +406,6 @@ contains
         end if
     end function new_controls
 
-    !> Integrate sys with the method of code `method` and its options `ctl` from
-    !! `new_controls` (stop flag included). Output and status as for the methods'
-    !! `<method>_integrate`.
-    subroutine integrate_with(method, sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, events)
-        use stickslip_ode, only: ode_system
-        integer, intent(in) :: method                !! method code
-        class(ode_system), intent(inout) :: sys      !! the right-hand side
-        real(dp), intent(in) :: t0                   !! initial time [s]
-        real(dp), intent(in) :: y0(:)                !! initial state
-        real(dp), intent(in) :: t_end                !! final time [s]
-        real(dp), intent(in) :: rtol(:)              !! relative tolerances, size 1 or size(y0)
-        real(dp), intent(in) :: atol(:)              !! absolute tolerances, size 1 or size(y0)
-        class(step_controls), intent(inout) :: ctl   !! the method's options (new_controls)
-        real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
-        real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
-        type(ode_stats), intent(out) :: stats        !! counters and status
-        !> (4, room): the events of event_driven, (t [s], kind, position [m], contact)
-        real(dp), intent(inout), optional :: events(:, :)
-        class(contact_system), allocatable :: cs
-        real(dp), allocatable :: no_events(:, :)
-
-        stats%status = SS_BAD_METHOD
-        select type (ctl)
-        type is (step_controls)
-            ! rk4_integrate looks at the flag only when it is associated
-            if (method == METHOD_RK4) call rk4_integrate(sys, t0, y0, t_end, ctl%h, t_out, y_out, &
-                stats, every_step=ctl%every_step, max_steps=ctl%max_steps, stop_flag=ctl%stop_flag)
-        type is (dopri5_options)
-            call dopri5_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
-        type is (radau5_options)
-            call radau5_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
-        type is (implicit_euler_options)
-            call implicit_euler_integrate(sys, t0, y0, t_end, ctl, t_out, y_out, stats)
-        type is (galpha_options)
-            call galpha_integrate(sys, t0, y0, t_end, ctl, t_out, y_out, stats)
-        type is (moreau_options)
-            call contact_model_of(sys, cs, stats%status)
-            ! moreau and event_driven see the contact model only: the system's bounds go with them
-            ctl%y_bound = sys%state_bound(t0, y0, t_end)
-            if (stats%status == SS_OK) call moreau_integrate(cs, t0, y0, t_end, ctl, t_out, y_out, stats)
-        type is (event_driven_options)
-            call contact_model_of(sys, cs, stats%status)
-            ctl%y_bound = sys%state_bound(t0, y0, t_end)
-            if (stats%status /= SS_OK) return
-            if (present(events)) then
-                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, events)
-            else
-                allocate(no_events(4, 0))
-                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, no_events)
-            end if
-        type is (dop853_options)
-            call dop853_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
-        end select
-    end subroutine integrate_with
 
     !> The contact model of a system for the nonsmooth methods: a scene's or a model's `contact_model`;
     !! SS_NOT_SETVALUED for a law without a set-valued counterpart or another system.

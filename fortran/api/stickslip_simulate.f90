@@ -9,10 +9,10 @@
 !! threads at once: a run never writes into the prepared setting. `simulate` is the two in one.
 module stickslip_simulate
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM
-    use stickslip_params, only: param_values
+    use stickslip_params, only: param_values, NAME_LEN
     use stickslip_ode, only: ode_stats, step_controls
     use stickslip_scenes, only: friction_scene
-    use stickslip_registry, only: new_system, new_controls, integrate_with
+    use stickslip_registry, only: new_system, new_controls, integrate
     implicit none
     private
 
@@ -59,33 +59,33 @@ contains
         real(dp), intent(inout), optional :: events(:, :)
         type(prepared_simulation) :: prep
 
-        stats%status = prepare_simulation(scene, law, method, pkeys, pvals, y0, t_end, rtol, atol, ckeys, &
-                                          cvals, prep, p_out)
+        stats%status = prepare_simulation(scene, law, pkeys, pvals, method, ckeys, cvals, y0, t_end, rtol, atol, &
+                                          prep, p_out)
         if (stats%status /= SS_OK) return
-        ! the prepared setting is used once: run on it, not on a copy
-        if (present(stop_flag)) prep%ctl%stop_flag => stop_flag
-        call integrate_with(prep%method, prep%sys, 0.0_dp, y0, t_end, rtol, atol, prep%ctl, t_out, y_out, &
-                            stats, events)
+        ! the prepared setting is used once: its scene is run, not a copy
+        call integrate(method, prep%sys, 0.0_dp, y0, t_end, rtol, atol, [character(len=NAME_LEN) ::], [real(dp) ::], &
+                       t_out, y_out, stats, stop_flag, events, controls=prep%ctl)
         if (present(sys_out)) call move_alloc(prep%sys, sys_out)
     end subroutine simulate
 
-    !> Build a setting of `simulate` (same arguments) for `run_prepared`: the scene with its
-    !! law from the named parameters, the method's options from the named controls. SS_OK or
-    !! the code of the first bad input, in the order `simulate` names them (parameters, the
+    !> Build a setting of `simulate` (its arguments, grouped: the scene with its law and their
+    !! parameters, the method with its controls, the run) for `run_prepared`: the scene with
+    !! its law from the named parameters, the method's options from the named controls. SS_OK
+    !! or the code of the first bad input, in the order `simulate` names them (parameters, the
     !! state's size, the method and its controls).
-    function prepare_simulation(scene, law, method, pkeys, pvals, y0, t_end, rtol, atol, ckeys, cvals, &
+    function prepare_simulation(scene, law, pkeys, pvals, method, ckeys, cvals, y0, t_end, rtol, atol, &
                                 prep, p_out) result(status)
         integer, intent(in) :: scene                !! scene code (registry)
         integer, intent(in) :: law                  !! law code (registry)
-        integer, intent(in) :: method               !! method code (registry)
         character(len=*), intent(in) :: pkeys(:)    !! names of the given physical parameters
         real(dp), intent(in) :: pvals(:)            !! their values [SI units]
+        integer, intent(in) :: method               !! method code (registry)
+        character(len=*), intent(in) :: ckeys(:)    !! names of the given controls
+        real(dp), intent(in) :: cvals(:)            !! their values (counts and flags as reals)
         real(dp), intent(in) :: y0(:)               !! initial state, size 2 + the law's states
         real(dp), intent(in) :: t_end               !! final time [s]
         real(dp), intent(in) :: rtol(:)             !! relative tolerance(s), size 1 or size(y0)
         real(dp), intent(in) :: atol(:)             !! absolute tolerance(s), size 1 or size(y0)
-        character(len=*), intent(in) :: ckeys(:)    !! names of the given controls
-        real(dp), intent(in) :: cvals(:)            !! their values (counts and flags as reals)
         type(prepared_simulation), intent(out) :: prep       !! the setting, ready to run
         type(param_values), intent(out), optional :: p_out  !! every parameter as resolved
         integer :: status
@@ -123,17 +123,15 @@ contains
         !> (4, room): the stick/slip events of event_driven, (t [s], kind, position [m], contact)
         real(dp), intent(inout), optional :: events(:, :)
         class(friction_scene), allocatable :: sys
-        class(step_controls), allocatable :: ctl
 
         if (.not. (allocated(prep%sys) .and. allocated(prep%ctl))) then
             stats%status = SS_BAD_DIM
             return
         end if
-        allocate(sys, source=prep%sys)
-        allocate(ctl, source=prep%ctl)
-        if (present(stop_flag)) ctl%stop_flag => stop_flag
-        call integrate_with(prep%method, sys, 0.0_dp, prep%y0, prep%t_end, prep%rtol, prep%atol, ctl, t_out, &
-                            y_out, stats, events)
+        allocate(sys, source=prep%sys)       ! integrate copies the options
+        call integrate(prep%method, sys, 0.0_dp, prep%y0, prep%t_end, prep%rtol, prep%atol, &
+                       [character(len=NAME_LEN) ::], [real(dp) ::], t_out, y_out, stats, stop_flag, events, &
+                       controls=prep%ctl)
     end subroutine run_prepared
 
 end module stickslip_simulate

@@ -71,10 +71,9 @@ contains
             status = SS_BAD_DIM
             return
         end if
-        status = prepare_simulation(scene, law, method, split_names(keys(:bar - 1)), vals(1:np), &
-                                    vals(np + 1:np + n), t_end, vals(np + n + 1:np + n + nrt), &
-                                    vals(np + n + nrt + 1:o), split_names(keys(bar + 1:)), vals(o + 1:), &
-                                    prep, p_out=p)
+        status = prepare_simulation(scene, law, split_names(keys(:bar - 1)), vals(1:np), method, &
+                                    split_names(keys(bar + 1:)), vals(o + 1:), vals(np + 1:np + n), t_end, &
+                                    vals(np + n + 1:np + n + nrt), vals(np + n + nrt + 1:o), prep, p_out=p)
         if (.not. allocated(p%values)) return
         if (size(resolved) /= size(p%values)) then
             if (status == SS_OK) status = SS_BAD_DIM
