@@ -8,7 +8,8 @@
 !! `registry_text` at build time). Adding a law: one module extending `friction_law`,
 !! plus its entry in LAW_TABLE, its parameters in PARAMS and a line in `new_law`.
 !! Adding a method: one module with its `method_info`, options type and
-!! `<method>_integrate`, plus its entry in METHOD_TABLE and a case in `integrate`.
+!! `<method>_integrate`, plus its entry in METHOD_TABLE, a case in `new_controls` (its
+!! options type) and a `type is` in `integrate`.
 !!
 !! Codes are positions in the tables (1-based) and never change for a given name.
 module stickslip_registry
