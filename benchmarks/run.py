@@ -14,8 +14,9 @@ Sections (the ``section`` column of the CSV):
 - ``equal_accuracy``: for each method the time to reach an error target, interpolated in
   log-log along its work-precision curve, as a ratio to stickslip DOPRI5 (Fortran).
 - ``overhead``: short runs (OVERHEAD) through ``stickslip.simulate`` and through a bare call
-  of the f2py wrapper with the same arguments, interleaved; ``overhead_s`` is the median of the
-  per-call differences, what the Python facade adds per call.
+  of the f2py wrapper's run of the setting's handle (what simulate calls per run),
+  interleaved; ``overhead_s`` is the median of the per-call differences, what the Python
+  facade adds per call.
 - ``exact_stick`` and ``exact_stick_equal``: set-valued Coulomb friction by ``moreau`` and
   ``event_driven`` against the smooth laws (RK4, DOPRI5) on two problems with exact answers
   (``cases.stick``: the slope sliding to a stop, error |x(t_end) - x_stop|; the belt started
@@ -340,9 +341,9 @@ OVERHEAD_GOAL_S = 5e-6
 def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None]) -> list[dict]:
     """Rows of the ``overhead`` section: for each OVERHEAD run (rtol = atol = tol, hmin = 0,
     hmax = t_end; output at t_end), OVERHEAD_CALLS calls of ``stickslip.simulate`` interleaved
-    with as many bare calls of the f2py wrapper with the same arguments (the library call
-    simulate makes, and nothing else: stickslip.core._bare_call; the wrapper reads the CPU clock
-    for stats["cpu_seconds"] itself), alternating which goes first.
+    with as many bare calls of the f2py wrapper's run_prepared on the handle of the setting (the
+    library call simulate makes per run, and nothing else: stickslip.core._bare_call; the
+    wrapper reads the clock for stats["cpu_seconds"] itself), alternating which goes first.
     median_s: the median time of each; overhead_s (on the simulate row): the median of the
     per-pair differences, what the facade adds per call."""
     import stickslip
@@ -865,7 +866,9 @@ def overhead_markdown(over: list[dict], measured: str = "") -> list[str]:
                     f"{p['h_s']:g} s) through simulate in at most {1e6 * OVERHEAD_GOAL_S:g} us on a quiet "
                     f"machine; this run: {1e6 * p['median_s']:.1f} us ({met} here).")
     lines = [f"{OVERHEAD_HEAD} (short runs, output at t_end: stickslip.simulate against "
-             "a bare call of the f2py wrapper with the same arguments, which includes its timing of "
+             "a bare call of the f2py wrapper's run of the setting simulate built and keeps (its "
+             "handle: the library copies the built scene and options and integrates), which "
+             "includes its timing of "
              "the run for `stats['cpu_seconds']` (two reads of the CPU clock for runs long enough to "
              "look at the stop flag, of the monotonic clock for shorter ones) and, for the long runs, "
              "the SIGINT handler simulate arms; medians of "

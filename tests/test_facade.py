@@ -173,9 +173,17 @@ def test_bare_call_is_the_call_simulate_makes() -> None:
     r = ss.simulate("belt", "proposed", **RK4)
     assert status == 0 and np.array_equal(y[0], r.x) and np.array_equal(y[1], r.v)
     ni, nr = len(core._STATS_INT), len(core._STATS_REAL)
+    assert stats.size == ni + nr
     assert stats[core._STATS_INT.index("nstep")] == r.stats["nstep"] == 10
-    assert stats[ni:ni + nr].tolist() == [r.stats[k] for k in core._STATS_REAL]
-    resolved = dict(zip(core._PARAM_ORDER, stats[ni + nr:].tolist()))
+    assert stats[ni:].tolist() == [r.stats[k] for k in core._STATS_REAL]
+    # the one-call wrapper (run_simulation) gives the same numbers and the resolved parameters
+    plan = core._plan("belt", "proposed", "rk4")
+    vals = np.array([0.0, 0.0, 1.0, 1.0, 1e-5, 1e8])     # y0 (2), rtol, atol, h, max_steps
+    y1, stats1, status1, _ = core._ext.run_simulation(*plan.codes, "|h,max_steps", vals, 0, 2, 1, 1, 1e-4,
+                                                  np.linspace(0.0, 1e-4, 3), *core._SIZES,
+                                                  np.zeros(1, dtype=np.int32), core._NO_EVENT_ROWS)
+    assert status1 == 0 and np.array_equal(y1, y) and np.array_equal(stats1[:ni + nr], stats)
+    resolved = dict(zip(core._PARAM_ORDER, stats1[ni + nr:].tolist()))
     assert r.params and all(resolved[k] == v for k, v in r.params.items())
     assert resolved["v_d"] == 1.5 * resolved["v_s"]                       # a derived default
 
@@ -191,7 +199,7 @@ def test_the_wrapper_refuses_values_that_do_not_match_their_counts() -> None:
 
     def run(keys: str, counts: tuple[int, int, int, int]) -> int:
         stop = np.zeros(1, dtype=np.int32)
-        return int(core._run_simulation(*codes, keys, vals, *counts, 1e-2, grid, *core._SIZES, stop,
+        return int(core._ext.run_simulation(*codes, keys, vals, *counts, 1e-2, grid, *core._SIZES, stop,
                                         core._NO_EVENT_ROWS)[2])
     assert run("|h", (0, 2, 1, 1)) == 0
     assert run("h", (0, 2, 1, 1)) == bad_dim
@@ -373,3 +381,23 @@ def test_interleaved_settings_give_bitwise_the_numbers_of_their_first_calls() ->
             other = ss.simulate(scene, law, **{**kw, "x0": 1e-3})      # same names, another value
             assert _numbers(other) != first[i]
             assert _numbers(ss.simulate(scene, law, **kw)) == first[i], (scene, law, kw["method"])
+
+
+@pytest.mark.parametrize("scene, law, kw", [
+    (scene, law, {k: v for k, v in kw.items() if k not in ("n_out", "every_step")}) for scene, law, kw in _MIXED
+    if "every_step" not in kw])
+def test_a_setting_run_from_its_handle_matches_the_library_building_it_anew(scene, law, kw) -> None:
+    """simulate runs a cached setting from the library's handle (prepare_run once, run_prepared
+    on a copy of the scene and options per call); the batch path builds the scene, its law
+    and the options from names on every row (stickslip_simulate's simulate, no copy): the
+    same numbers bit for bit, on the first call and from the cache, on 1 and 2 threads."""
+    from concurrent.futures import ThreadPoolExecutor
+    core._CALLS.clear()
+    runs = [ss.simulate(scene, law, n_out=21, **kw) for _ in range(2)]
+    with ThreadPoolExecutor(2) as pool:
+        runs += list(pool.map(lambda _: ss.simulate(scene, law, n_out=21, **kw), range(4)))
+    assert len(core._CALLS) == 1
+    ref = ss.simulate_batch(scene, law, n_grid=21, keep_grid=True, **kw)
+    n = runs[0].y.shape[0]
+    for r in runs:
+        assert r.y.tobytes() == ref.y_grid[0, :n].tobytes() and r.stats["nfev"] == ref.nfev[0]

@@ -8,7 +8,8 @@
 !! `registry_text` at build time). Adding a law: one module extending `friction_law`,
 !! plus its entry in LAW_TABLE, its parameters in PARAMS and a line in `new_law`.
 !! Adding a method: one module with its `method_info`, options type and
-!! `<method>_integrate`, plus its entry in METHOD_TABLE and a case in `integrate`.
+!! `<method>_integrate`, plus its entry in METHOD_TABLE, a case in `new_controls` (its
+!! options type) and a `type is` in `integrate`.
 !!
 !! Codes are positions in the tables (1-based) and never change for a given name.
 module stickslip_registry
@@ -50,6 +51,7 @@ module stickslip_registry
 
     public :: entry_info, stickslip_message, registry_text, code_of, split_names
     public :: resolve_params, new_law, make_law, new_system, integrate, apply_controls
+    public :: new_controls
 
     !> A law or scene: its name, the parameters it reads (space-separated), a line of doc, and
     !! whether the integrators have kernels specialised to it.
@@ -291,9 +293,12 @@ contains
     end function has_word
 
     !> Integrate sys with the method of code `method` and its named controls (rtol and atol
-    !! as arrays, read by the adaptive methods only). Output and status as for the methods'
+    !! as arrays, read by the adaptive methods only), or with the options `controls` built by
+    !! `new_controls` (keys and vals are then not read; a copy is run, so that `controls` may
+    !! serve runs on several threads at once). Output and status as for the methods'
     !! `<method>_integrate`.
-    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats, stop_flag, events)
+    subroutine integrate(method, sys, t0, y0, t_end, rtol, atol, keys, vals, t_out, y_out, stats, stop_flag, events, &
+                         controls)
         use stickslip_ode, only: ode_system
         integer, intent(in) :: method                !! method code
         class(ode_system), intent(inout) :: sys      !! the right-hand side
@@ -311,72 +316,97 @@ contains
         integer, pointer, intent(in), optional :: stop_flag
         !> (4, room): the events of event_driven, (t [s], kind, position [m], contact)
         real(dp), intent(inout), optional :: events(:, :)
-        type(step_controls) :: fixed
-        type(dopri5_options) :: d5
-        type(radau5_options) :: r5
-        type(implicit_euler_options) :: ie
-        type(galpha_options) :: ga
-        type(moreau_options) :: mj
-        type(event_driven_options) :: ev
+        !> The method's options from `new_controls` (for `method`), in place of keys and vals.
+        class(step_controls), intent(in), optional :: controls
+        class(step_controls), allocatable :: ctl
         class(contact_system), allocatable :: cs
         real(dp), allocatable :: no_events(:, :)
-        type(dop853_options) :: d8
 
-        if (present(stop_flag)) then
-            mj%stop_flag => stop_flag
-            ev%stop_flag => stop_flag
-            fixed%stop_flag => stop_flag
-            d5%stop_flag => stop_flag
-            r5%stop_flag => stop_flag
-            ie%stop_flag => stop_flag
-            ga%stop_flag => stop_flag
-            d8%stop_flag => stop_flag
+        if (present(controls)) then
+            allocate(ctl, source=controls)
+        else
+            stats%status = new_controls(method, sys, keys, vals, ctl)
+            if (stats%status /= SS_OK) return
         end if
-        select case (method)
-        case (METHOD_RK4)
-            stats%status = apply_controls(fixed, RK4_INFO, keys, vals)
+        if (present(stop_flag)) ctl%stop_flag => stop_flag
+        stats%status = SS_BAD_METHOD
+        select type (ctl)
+        type is (step_controls)
             ! rk4_integrate looks at the flag only when it is associated
-            if (stats%status == SS_OK) call rk4_integrate(sys, t0, y0, t_end, fixed%h, t_out, y_out, &
-                stats, every_step=fixed%every_step, max_steps=fixed%max_steps, stop_flag=fixed%stop_flag)
-        case (METHOD_DOPRI5)
-            stats%status = apply_controls(d5, DOPRI5_INFO, keys, vals)
-            if (stats%status == SS_OK) call dopri5_integrate(sys, t0, y0, t_end, rtol, atol, d5, &
-                t_out, y_out, stats)
-        case (METHOD_RADAU5)
-            stats%status = apply_controls(r5, RADAU5_INFO, keys, vals)
-            if (stats%status == SS_OK) call radau5_integrate(sys, t0, y0, t_end, rtol, atol, r5, &
-                t_out, y_out, stats)
-        case (METHOD_IMPLICIT_EULER)
-            stats%status = apply_controls(ie, IMPLICIT_EULER_INFO, keys, vals)
-            if (stats%status == SS_OK) call implicit_euler_integrate(sys, t0, y0, t_end, ie, t_out, y_out, stats)
-        case (METHOD_GALPHA)
-            stats%status = apply_controls(ga, GALPHA_INFO, keys, vals)
-            if (stats%status == SS_OK) call galpha_integrate(sys, t0, y0, t_end, ga, t_out, y_out, stats)
-        case (METHOD_MOREAU)
+            if (method == METHOD_RK4) call rk4_integrate(sys, t0, y0, t_end, ctl%h, t_out, y_out, &
+                stats, every_step=ctl%every_step, max_steps=ctl%max_steps, stop_flag=ctl%stop_flag)
+        type is (dopri5_options)
+            call dopri5_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
+        type is (radau5_options)
+            call radau5_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
+        type is (implicit_euler_options)
+            call implicit_euler_integrate(sys, t0, y0, t_end, ctl, t_out, y_out, stats)
+        type is (galpha_options)
+            call galpha_integrate(sys, t0, y0, t_end, ctl, t_out, y_out, stats)
+        type is (moreau_options)
             call contact_model_of(sys, cs, stats%status)
-            if (stats%status == SS_OK) stats%status = apply_controls(mj, MOREAU_INFO, keys, vals)
             ! moreau and event_driven see the contact model only: the system's bounds go with them
-            mj%y_bound = sys%state_bound(t0, y0, t_end)
-            if (stats%status == SS_OK) call moreau_integrate(cs, t0, y0, t_end, mj, t_out, y_out, stats)
-        case (METHOD_EVENT_DRIVEN)
+            ctl%y_bound = sys%state_bound(t0, y0, t_end)
+            if (stats%status == SS_OK) call moreau_integrate(cs, t0, y0, t_end, ctl, t_out, y_out, stats)
+        type is (event_driven_options)
             call contact_model_of(sys, cs, stats%status)
-            if (stats%status == SS_OK) stats%status = apply_controls(ev, EVENT_DRIVEN_INFO, keys, vals)
-            ev%y_bound = sys%state_bound(t0, y0, t_end)
+            ctl%y_bound = sys%state_bound(t0, y0, t_end)
             if (stats%status /= SS_OK) return
             if (present(events)) then
-                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, events)
+                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, events)
             else
                 allocate(no_events(4, 0))
-                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ev, t_out, y_out, stats, no_events)
+                call event_driven_integrate(cs, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats, no_events)
             end if
-        case (METHOD_DOP853)
-            stats%status = apply_controls(d8, DOP853_INFO, keys, vals)
-            if (stats%status == SS_OK) call dop853_integrate(sys, t0, y0, t_end, rtol, atol, d8, &
-                t_out, y_out, stats)
-        case default
-            stats%status = SS_BAD_METHOD
+        type is (dop853_options)
+            call dop853_integrate(sys, t0, y0, t_end, rtol, atol, ctl, t_out, y_out, stats)
         end select
     end subroutine integrate
+
+    !> The options of the method of code `method` (its own options type) with the named
+    !! controls set: SS_OK, SS_BAD_METHOD, or the code of the first bad control. For the
+    !! nonsmooth methods a system without a set-valued contact model (SS_NOT_SETVALUED) is
+    !! named before a bad control, as `integrate` would name it.
+    function new_controls(method, sys, keys, vals, ctl) result(status)
+        use stickslip_ode, only: ode_system
+        integer, intent(in) :: method                          !! method code
+        class(ode_system), intent(in) :: sys                   !! the system it will integrate
+        character(len=*), intent(in) :: keys(:)                !! control names
+        real(dp), intent(in) :: vals(:)                        !! their values (counts and flags as reals)
+        class(step_controls), allocatable, intent(out) :: ctl  !! the method's options
+        integer :: status
+        class(contact_system), allocatable :: cs
+        integer :: contact_status
+
+        status = SS_OK
+        select case (method)
+        case (METHOD_RK4)
+            allocate(step_controls :: ctl)
+        case (METHOD_DOPRI5)
+            allocate(dopri5_options :: ctl)
+        case (METHOD_RADAU5)
+            allocate(radau5_options :: ctl)
+        case (METHOD_IMPLICIT_EULER)
+            allocate(implicit_euler_options :: ctl)
+        case (METHOD_GALPHA)
+            allocate(galpha_options :: ctl)
+        case (METHOD_MOREAU)
+            allocate(moreau_options :: ctl)
+        case (METHOD_EVENT_DRIVEN)
+            allocate(event_driven_options :: ctl)
+        case (METHOD_DOP853)
+            allocate(dop853_options :: ctl)
+        case default
+            status = SS_BAD_METHOD
+            return
+        end select
+        status = apply_controls(ctl, METHOD_TABLE(method), keys, vals)
+        if (status /= SS_OK .and. (method == METHOD_MOREAU .or. method == METHOD_EVENT_DRIVEN)) then
+            call contact_model_of(sys, cs, contact_status)
+            if (contact_status /= SS_OK) status = contact_status
+        end if
+    end function new_controls
+
 
     !> The contact model of a system for the nonsmooth methods: a scene's or a model's `contact_model`;
     !! SS_NOT_SETVALUED for a law without a set-valued counterpart or another system.

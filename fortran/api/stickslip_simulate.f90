@@ -1,16 +1,34 @@
 !> One entry point that runs a scene with a friction law and an integrator chosen by
 !! code, with the physical parameters and the controls given by name: what the Python
 !! layer, the C layer and the batch runs call, so that none repeats the set-up.
+!!
+!! A run is set up in two parts: `prepare_simulation` builds the scene, its law and the
+!! method's options from names once (the part of a short run that is not integration), and
+!! `run_prepared` integrates a copy of them. A caller that repeats one setting (the Python
+!! facade) keeps the prepared setting and runs it as often as it likes, from any number of
+!! threads at once: a run never writes into the prepared setting. `simulate` is the two in one.
 module stickslip_simulate
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM
-    use stickslip_params, only: param_values
-    use stickslip_ode, only: ode_stats
+    use stickslip_params, only: param_values, NAME_LEN
+    use stickslip_ode, only: ode_stats, step_controls
     use stickslip_scenes, only: friction_scene
-    use stickslip_registry, only: new_system, integrate
+    use stickslip_registry, only: new_system, new_controls, integrate
     implicit none
     private
 
-    public :: simulate
+    public :: simulate, prepare_simulation, run_prepared
+
+    !> A setting of `simulate` built once: the scene with its law, the method's options and
+    !! the run's initial state, tolerances and end time. Read-only for `run_prepared`.
+    type, public :: prepared_simulation
+        integer :: method = 0                               !! method code (registry)
+        class(friction_scene), allocatable :: sys          !! the scene with its law, initialised
+        class(step_controls), allocatable :: ctl           !! the method's options, controls set
+        real(dp), allocatable :: y0(:)                     !! initial state
+        real(dp), allocatable :: rtol(:)                   !! relative tolerance(s)
+        real(dp), allocatable :: atol(:)                   !! absolute tolerance(s)
+        real(dp) :: t_end = 0.0_dp                         !! final time [s]
+    end type prepared_simulation
 
 contains
 
@@ -39,22 +57,81 @@ contains
         integer, pointer, intent(in), optional :: stop_flag
         !> (4, room): the stick/slip events of event_driven, (t [s], kind, position [m], contact)
         real(dp), intent(inout), optional :: events(:, :)
-        class(friction_scene), allocatable :: sys
+        type(prepared_simulation) :: prep
+
+        stats%status = prepare_simulation(scene, law, pkeys, pvals, method, ckeys, cvals, y0, t_end, rtol, atol, &
+                                          prep, p_out)
+        if (stats%status /= SS_OK) return
+        ! the prepared setting is used once: its scene is run, not a copy
+        call integrate(method, prep%sys, 0.0_dp, y0, t_end, rtol, atol, [character(len=NAME_LEN) ::], [real(dp) ::], &
+                       t_out, y_out, stats, stop_flag, events, controls=prep%ctl)
+        if (present(sys_out)) call move_alloc(prep%sys, sys_out)
+    end subroutine simulate
+
+    !> Build a setting of `simulate` (its arguments, grouped: the scene with its law and their
+    !! parameters, the method with its controls, the run) for `run_prepared`: the scene with
+    !! its law from the named parameters, the method's options from the named controls. SS_OK
+    !! or the code of the first bad input, in the order `simulate` names them (parameters, the
+    !! state's size, the method and its controls).
+    function prepare_simulation(scene, law, pkeys, pvals, method, ckeys, cvals, y0, t_end, rtol, atol, &
+                                prep, p_out) result(status)
+        integer, intent(in) :: scene                !! scene code (registry)
+        integer, intent(in) :: law                  !! law code (registry)
+        character(len=*), intent(in) :: pkeys(:)    !! names of the given physical parameters
+        real(dp), intent(in) :: pvals(:)            !! their values [SI units]
+        integer, intent(in) :: method               !! method code (registry)
+        character(len=*), intent(in) :: ckeys(:)    !! names of the given controls
+        real(dp), intent(in) :: cvals(:)            !! their values (counts and flags as reals)
+        real(dp), intent(in) :: y0(:)               !! initial state, size 2 + the law's states
+        real(dp), intent(in) :: t_end               !! final time [s]
+        real(dp), intent(in) :: rtol(:)             !! relative tolerance(s), size 1 or size(y0)
+        real(dp), intent(in) :: atol(:)             !! absolute tolerance(s), size 1 or size(y0)
+        type(prepared_simulation), intent(out) :: prep       !! the setting, ready to run
+        type(param_values), intent(out), optional :: p_out  !! every parameter as resolved
+        integer :: status
         type(param_values) :: p
 
-        stats%status = new_system(scene, law, pkeys, pvals, sys, p)
+        status = new_system(scene, law, pkeys, pvals, prep%sys, p)
         if (present(p_out)) then          ! moved, not copied: p is not read again
             call move_alloc(p%names, p_out%names)
             call move_alloc(p%values, p_out%values)
         end if
-        if (stats%status /= SS_OK) return
-        if (size(y0) /= sys%n_states()) then
+        if (status /= SS_OK) return
+        if (size(y0) /= prep%sys%n_states()) then
+            status = SS_BAD_DIM
+            return
+        end if
+        status = new_controls(method, prep%sys, ckeys, cvals, prep%ctl)
+        if (status /= SS_OK) return
+        prep%method = method
+        prep%y0 = y0
+        prep%rtol = rtol
+        prep%atol = atol
+        prep%t_end = t_end
+    end function prepare_simulation
+
+    !> Run a setting built by `prepare_simulation` on a copy of its scene and options, so
+    !! that runs of one setting on several threads at once share nothing they write. Output
+    !! and status as for `simulate`; SS_BAD_DIM for a setting that was not prepared.
+    subroutine run_prepared(prep, t_out, y_out, stats, stop_flag, events)
+        type(prepared_simulation), intent(in) :: prep  !! the setting (prepare_simulation)
+        real(dp), intent(inout) :: t_out(:)         !! requested output times, or step times [s]
+        real(dp), intent(inout) :: y_out(:, :)      !! (size(y0), size(t_out)) states
+        type(ode_stats), intent(out) :: stats       !! counters and status
+        !> A flag another thread may set nonzero to stop the run (SS_INTERRUPTED).
+        integer, pointer, intent(in), optional :: stop_flag
+        !> (4, room): the stick/slip events of event_driven, (t [s], kind, position [m], contact)
+        real(dp), intent(inout), optional :: events(:, :)
+        class(friction_scene), allocatable :: sys
+
+        if (.not. (allocated(prep%sys) .and. allocated(prep%ctl))) then
             stats%status = SS_BAD_DIM
             return
         end if
-        call integrate(method, sys, 0.0_dp, y0, t_end, rtol, atol, ckeys, cvals, t_out, y_out, stats, stop_flag, &
-                       events)
-        if (present(sys_out)) call move_alloc(sys, sys_out)
-    end subroutine simulate
+        allocate(sys, source=prep%sys)       ! integrate copies the options
+        call integrate(prep%method, sys, 0.0_dp, prep%y0, prep%t_end, prep%rtol, prep%atol, &
+                       [character(len=NAME_LEN) ::], [real(dp) ::], t_out, y_out, stats, stop_flag, events, &
+                       controls=prep%ctl)
+    end subroutine run_prepared
 
 end module stickslip_simulate

@@ -55,20 +55,15 @@ end subroutine friction
 !! (overwritten with step times). stats(ni + nr + npar) receives the integer counters, the real
 !! counters named by the registry's 'stats' record, then every parameter as resolved (registry
 !! order); the caller gives the sizes, which must match the registry's. events(4, nev): room for
-!! event_driven's events (t, kind, position, contact), nev = 0 for other methods. stop(1) on
-!! entry: -1 a long run on the main thread (arm the SIGINT handler), -2 a long run elsewhere,
-!! 0 a run too short for the integrators to look at the flag. cpu: the time spent in the
-!! library's simulate [s], the process's CPU time for a long run, the monotonic wall time for
-!! a short one (two reads of the CPU clock are system calls that cost more than such a run).
+!! event_driven's events (t, kind, position, contact), nev = 0 for other methods. stop(1) and
+!! cpu: as for run_prepared. prepare_run and run_prepared are this call in two parts, for a
+!! setting run many times.
 subroutine run_simulation(scene, law, method, keys, vals, nv, np, n, nrt, nat, t_end, &
                           nrow, t_out, y_out, ni, nr, npar, nst, stats, stop, events, nev, status, cpu)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
-    use stickslip_kinds, only: SS_BAD_DIM
-    use stickslip_params, only: param_values
-    use stickslip_ode, only: ode_stats, stats_integers, stats_reals
-    use stickslip_simulate, only: simulate
-    use stickslip_registry, only: split_names
-    use stickslip_wrap_interrupt, only: arm, disarm, cpu_seconds, wall_seconds
+    use stickslip_kinds, only: SS_OK, SS_BAD_DIM
+    use stickslip_simulate, only: prepared_simulation
+    use stickslip_wrap_interrupt, only: prepare_setting, timed_run
     implicit none
     integer(c_int), intent(in) :: scene, law, method
     character(len=*), intent(in) :: keys
@@ -81,53 +76,108 @@ subroutine run_simulation(scene, law, method, keys, vals, nv, np, n, nrt, nat, t
     real(c_double), intent(out) :: y_out(n, nrow)
     !f2py integer intent(hide), depend(ni, nr, npar) :: nst = ni + nr + npar
     real(c_double), intent(out) :: stats(nst)
-    integer(c_int), intent(inout), target :: stop(1)
+    integer(c_int), intent(inout) :: stop(1)
     integer(c_int), intent(in) :: nev
     real(c_double), intent(inout) :: events(4, nev)
     !f2py integer intent(hide), depend(events) :: nev = shape(events, 1)
     integer(c_int), intent(out) :: status
     real(c_double), intent(out) :: cpu
     !f2py threadsafe
-    type(ode_stats) :: st
-    type(param_values) :: p
-    integer, pointer :: flag
-    logical :: armed, long_run
-    integer :: bar, o
+    type(prepared_simulation) :: prep
+    real(c_double) :: resolved(npar)
     y_out = 0.0_c_double
     stats = 0.0_c_double
     cpu = 0.0_c_double
-    bar = index(keys, '|')
-    o = np + n + nrt + nat          ! cvals start after o
-    if (bar == 0 .or. min(np, n, nrt, nat) < 0 .or. o > nv) then
-        status = SS_BAD_DIM
+    call prepare_setting(scene, law, method, keys, vals, np, n, nrt, nat, t_end, prep, resolved, status)
+    if (status /= SS_OK .or. ni < 0 .or. nr < 0) then
+        if (status == SS_OK) status = SS_BAD_DIM
         return
     end if
-    flag => stop(1)
-    long_run = stop(1) < 0
-    call arm(stop(1), armed)
-    if (long_run) then
-        cpu = cpu_seconds()
-    else
-        cpu = wall_seconds()
-    end if
-    call simulate(scene, law, method, split_names(keys(:bar - 1)), vals(1:np), vals(np + 1:np + n), t_end, &
-                  vals(np + n + 1:np + n + nrt), vals(np + n + nrt + 1:o), split_names(keys(bar + 1:)), &
-                  vals(o + 1:nv), t_out, y_out, st, p_out=p, stop_flag=flag, events=events)
-    if (long_run) then
-        cpu = cpu_seconds() - cpu
-    else
-        cpu = wall_seconds() - cpu
-    end if
-    call disarm(armed)
-    status = st%status
-    if (ni /= size(stats_integers(st)) .or. nr /= size(stats_reals(st)) .or. npar /= size(p%values)) then
-        status = SS_BAD_DIM
-        return
-    end if
-    stats(1:ni) = real(stats_integers(st), c_double)   ! exact below 2^53
-    stats(ni + 1:ni + nr) = stats_reals(st)
-    stats(ni + nr + 1:) = p%values
+    call timed_run(prep, t_out, y_out, stop(1), events, stats(1:ni + nr), status, cpu)
+    stats(ni + nr + 1:) = resolved
 end subroutine run_simulation
+
+!> The first part of run_simulation (same arguments up to t_end): build the setting once (the
+!! scene with its law and the method's options), for run_prepared to run as often as asked,
+!! from any thread. handle: the setting's address (0 on bad input), to be given to run_prepared
+!! and, once no run needs it, to free_prepared. resolved(npar): every parameter as resolved
+!! (registry order; npar must match the registry's). status: SS_OK or the bad input's code.
+subroutine prepare_run(scene, law, method, keys, vals, nv, np, n, nrt, nat, t_end, npar, resolved, &
+                       handle, status)
+    use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_loc
+    use stickslip_kinds, only: SS_OK
+    use stickslip_simulate, only: prepared_simulation
+    use stickslip_wrap_interrupt, only: prepare_setting
+    implicit none
+    integer(c_int), intent(in) :: scene, law, method
+    character(len=*), intent(in) :: keys
+    integer(c_int), intent(in) :: nv, np, n, nrt, nat, npar
+    real(c_double), intent(in) :: vals(nv)
+    !f2py integer intent(hide), depend(vals) :: nv = len(vals)
+    real(c_double), intent(in) :: t_end
+    real(c_double), intent(out) :: resolved(npar)
+    integer(c_int64_t), intent(out) :: handle
+    integer(c_int), intent(out) :: status
+    type(prepared_simulation), pointer :: prep
+    handle = 0
+    allocate(prep)
+    call prepare_setting(scene, law, method, keys, vals, np, n, nrt, nat, t_end, prep, resolved, status)
+    if (status /= SS_OK) then
+        deallocate(prep)
+        return
+    end if
+    handle = transfer(c_loc(prep), handle)
+end subroutine prepare_run
+
+!> Run a setting of prepare_run: output, counters and status as run_simulation's, stats(nst)
+!! without the resolved parameters (nst = ni + nr, the registry's counts), y_out(n, nrow) with
+!! n the setting's state size. stop(1) on entry: -1 a long run on the main thread (arm the
+!! SIGINT handler), -2 a long run elsewhere, 0 a run too short for the integrators to look at
+!! the flag. cpu: the run's time [s], the process's CPU time for a long run, the monotonic wall
+!! time for a short one (two reads of the CPU clock are system calls that cost more than such
+!! a run). SS_BAD_DIM for handle 0 or sizes that are not the setting's.
+subroutine run_prepared(handle, nrow, t_out, n, y_out, nst, stats, stop, events, nev, status, cpu)
+    use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_ptr, c_null_ptr, c_f_pointer
+    use stickslip_kinds, only: SS_BAD_DIM
+    use stickslip_simulate, only: prepared_simulation
+    use stickslip_wrap_interrupt, only: timed_run
+    implicit none
+    integer(c_int64_t), intent(in) :: handle
+    integer(c_int), intent(in) :: nrow, n, nst, nev
+    real(c_double), intent(inout) :: t_out(nrow)
+    !f2py integer intent(hide), depend(t_out) :: nrow = len(t_out)
+    real(c_double), intent(out) :: y_out(n, nrow)
+    real(c_double), intent(out) :: stats(nst)
+    integer(c_int), intent(inout) :: stop(1)
+    real(c_double), intent(inout) :: events(4, nev)
+    !f2py integer intent(hide), depend(events) :: nev = shape(events, 1)
+    integer(c_int), intent(out) :: status
+    real(c_double), intent(out) :: cpu
+    !f2py threadsafe
+    type(prepared_simulation), pointer :: prep
+    type(c_ptr) :: address
+    y_out = 0.0_c_double
+    stats = 0.0_c_double
+    cpu = 0.0_c_double
+    status = SS_BAD_DIM
+    if (handle == 0) return
+    address = transfer(handle, c_null_ptr)
+    call c_f_pointer(address, prep)
+    if (n /= size(prep%y0)) return
+    call timed_run(prep, t_out, y_out, stop(1), events, stats, status, cpu)
+end subroutine run_prepared
+
+!> Release a setting of prepare_run (handle 0: nothing to do). The handle is invalid after.
+subroutine free_prepared(handle)
+    use, intrinsic :: iso_c_binding, only: c_int64_t, c_ptr, c_null_ptr, c_f_pointer
+    use stickslip_simulate, only: prepared_simulation
+    implicit none
+    integer(c_int64_t), intent(in) :: handle
+    type(prepared_simulation), pointer :: prep
+    if (handle == 0) return
+    call c_f_pointer(transfer(handle, c_null_ptr), prep)
+    deallocate(prep)
+end subroutine free_prepared
 
 !> Simulate nset parameter sets in one call (stickslip_batch), OpenMP over the sets.
 !! Per set: codes scene/law/method, pvals(:, i) for the names pkeys (NaN: default),

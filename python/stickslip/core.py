@@ -257,12 +257,12 @@ def _events(raw: np.ndarray, count: int) -> np.ndarray:
 
 def _unpack(raw: tuple) -> tuple:
     """A Result's raw library output as (istats, rstats, status, cpu, resolved, used): simulate
-    keeps the wrapper's one vector of counters, real counters and resolved parameters (rstats
-    None), the model path its two arrays of counters."""
+    keeps the wrapper's one vector of counters and real counters (rstats None) and its setting's
+    resolved parameters, the model path its two arrays of counters."""
     if raw[1] is not None:
         return raw
-    out, ni, nr = raw[0], len(_STATS_INT), len(_STATS_REAL)
-    return (out[:ni], out[ni:ni + nr], raw[2], raw[3], out[ni + nr:], raw[5])
+    out, ni = raw[0], len(_STATS_INT)
+    return (out[:ni], out[ni:], *raw[2:])
 
 
 class Result:
@@ -720,6 +720,8 @@ _I_WRITTEN = _STATS_INT.index("n_written")
 _I_NEVENTS = _STATS_INT.index("nevents")
 #: The sizes run_simulation checks against the registry: counters, reals, parameters.
 _SIZES = (len(_STATS_INT), len(_STATS_REAL), len(_PARAM_ORDER))
+#: The size of run_prepared's counters: the integer ones, then the real ones.
+_N_COUNTERS = len(_STATS_INT) + len(_STATS_REAL)
 
 
 class UnusedParameterWarning(UserWarning):
@@ -777,15 +779,28 @@ def _with_values(message: str, known: Mapping[str, Any]) -> str:
 
 
 class _Call:
-    """One distinct setting of `simulate`, validated once (_prepare): the arguments of its
-    Fortran call and what its Result needs. Never changed after _prepare."""
+    """One distinct setting of `simulate`, validated once (_prepare): the library's handle of
+    the setting it built (prepare_run: the scene, its law and the method's options, run by
+    run_prepared on a copy, so that threads may run one setting at once), its size `n` and
+    resolved parameters, and what its Result needs. Never changed after _prepare; the handle is
+    released with the _Call (never copied: a copy would release it twice)."""
 
     __slots__ = ("scene", "law", "method", "t_end", "args", "grid", "n_out", "rows", "warnings",
-                 "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "arm")
+                 "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "arm",
+                 "handle", "n", "resolved")
 
     def __init__(self, **kw: Any) -> None:
         for k, v in kw.items():
             setattr(self, k, v)
+
+    def __del__(self, _free: Callable[[int], None] = _ext.free_prepared) -> None:
+        handle = getattr(self, "handle", 0)
+        if handle:
+            self.handle = 0
+            _free(handle)
+
+    def __reduce__(self) -> Any:
+        raise TypeError("a _Call holds a library handle: it cannot be copied or pickled")
 
 
 #: Settings simulate has validated (keyed on its arguments and their types), at most
@@ -999,14 +1014,68 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     except TypeError:                        # an unhashable argument (a list): validated each time
         key = call = None
     if call is not None:
+        key = None                           # kept already
         if call.warnings:
             for message, category in call.warnings:
                 warnings.warn(message, category, stacklevel=2)
-        return _execute(call)
-    call = _prepare(scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused, kwargs)
-    if key is not None and any(isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):
-        key = None                           # tuples may hide bools: validated each time
-    return _execute(call, key)
+    else:
+        call = _prepare(scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused,
+                        kwargs)
+        if key is not None and any(isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):
+            key = None                       # tuples may hide bools: validated each time
+
+    # Run the validated setting: the one place simulate calls the library (written out here,
+    # one Python call fewer per run). A new setting (key not None) is kept in _CALLS once the
+    # library has run it without naming a bad input.
+    grid = call.grid
+    if grid is not None:
+        t_grid = grid.copy()
+    elif call.rows:
+        t_grid = np.zeros(call.rows)
+    else:
+        t_grid = _linspace(call.t_end, call.n_out)
+    room = call.events_room
+    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
+    # the wrapper times its library call itself (cpu): with the CPU clock when the stop flag
+    # says the run is long (-1, -2), with the monotonic clock when it is short (0)
+    if _get_ident() == _MAIN_IDENT:
+        if call.arm:
+            _MAIN_FLAG[0] = -1                # asks the wrapper for a SIGINT handler (interruptible)
+            y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, _MAIN_STOP, raw_events)
+            if _MAIN_FLAG[0] == 1:
+                raise KeyboardInterrupt
+        else:                                 # too short for the library to look at the flag
+            y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, _MAIN_IDLE, raw_events)
+    else:                                     # a worker thread: Python's own SIGINT handling stays
+        stop = np.array([_LONG_ELSEWHERE if call.arm else 0], dtype=np.int32)
+        y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, stop, raw_events)
+    if status != STATUS_OK or call.rows:
+        if status <= _FIRST_INPUT_CODE:
+            raise ValueError(_with_values(status_message(status), call.known))
+        rows = int(istats[_I_WRITTEN])        # an early end, or every step: the rows written
+        y, t_grid = y[:, :rows], t_grid[:rows].copy()
+    if key is not None:
+        if len(_CALLS) >= _CALLS_MAX:
+            _CALLS.clear()
+        _CALLS[key] = call
+
+    result = _new_result(Result)
+    result.scene, result.law, result.method, result.t_end = call.scene, call.law, call.method, call.t_end
+    nb = call.n_blocks
+    if nb == 1:
+        result.t, result.x, result.v = t_grid, y[0], y[1]
+        result.z = y[2] if call.n_states == 1 else y[2:]
+    else:                                     # the chain: one row per block
+        result.t, result.x, result.v = t_grid, y[:nb], y[nb:2 * nb]
+        result.z = y[2 * nb:]
+    result.state_labels = call.state_labels
+    result._params = result._stats = None     # built on first use from _raw
+    # istats: the counters and the real counters in one vector
+    result._raw = (istats, None, status, cpu, call.resolved, call.used)
+    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
+    if status != STATUS_OK:
+        raise _ERRORS.get(status, IntegrationError)(status, result)
+    return result
 
 
 def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_step: Any, max_steps: Any,
@@ -1105,7 +1174,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
         if n_out <= _GRID_CACHE_ROWS:
             grid = _linspace(t_end, n_out)
-            grid.setflags(write=False)       # copied for each call (_execute)
+            grid.setflags(write=False)       # copied for each call (simulate)
 
     n_rows = rows if every_step else n_out
     if scene == "chain" and n * n_rows > _MAX_OUTPUT_VALUES:
@@ -1120,9 +1189,14 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     # room for event_driven's events (max_events of them, range-checked by the library)
     room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
         if "max_events" in plan.reads else 0
-    return _Call(scene=scene, law=law, method=method, t_end=t_end,
-                 args=(*plan.codes, f"{pkeys}|{ckeys}", vals, pvals.size, y0.size, rtol.size, atol.size, t_end),
-                 grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
+    args = (*plan.codes, f"{pkeys}|{ckeys}", vals, pvals.size, y0.size, rtol.size, atol.size, t_end)
+    # the library builds the setting once (its scene, law and the method's options); a bad
+    # input it names is raised here, before anything runs
+    resolved, handle, status = _ext.prepare_run(*args, len(_PARAM_ORDER))
+    if status != STATUS_OK:
+        raise ValueError(_with_values(status_message(status), known))
+    return _Call(scene=scene, law=law, method=method, t_end=t_end, args=args, handle=int(handle), n=y0.size,
+                 resolved=resolved, grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
                  state_labels=state_labels, used=plan.used, known=known, events_room=room,
                  n_blocks=n_blocks, arm=plan.adaptive or needed >= _STOP_CHECK_STEPS // 2)
 
@@ -1147,7 +1221,7 @@ _STOP_CHECK_STEPS = 4096
 _LONG_ELSEWHERE = -2
 _MAIN_IDENT = threading.main_thread().ident
 #: What simulate's call path looks up on every call, bound once.
-_run_simulation, _get_ident, _new_result = _ext.run_simulation, threading.get_ident, Result.__new__
+_run_prepared, _get_ident, _new_result = _ext.run_prepared, threading.get_ident, Result.__new__
 
 
 def _after_fork() -> None:
@@ -1168,66 +1242,12 @@ def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
     t_grid = np.zeros(call.rows) if call.rows else _linspace(call.t_end, call.n_out)
     stop = np.zeros(1, dtype=np.int32)
     flag = memoryview(stop)
-    run, args, sizes = _run_simulation, call.args, _SIZES
+    run, handle, n = _run_prepared, call.handle, call.n
     events = np.zeros((4, call.events_room), order="F")
 
     arm = -1 if call.arm else 0
 
-    def bare() -> Any:
+    def bare(_owner: _Call = call) -> Any:            # _owner: the handle lives as long as bare
         flag[0] = arm
-        return run(*args, t_grid, *sizes, stop, events)
+        return run(handle, t_grid, n, _N_COUNTERS, stop, events)
     return bare
-
-
-def _execute(call: _Call, key: tuple | None = None) -> Result:
-    """Run a validated setting: the one place `simulate` calls the library. A new setting
-    (`key` not None) is kept in _CALLS once the library has accepted its input."""
-    grid = call.grid
-    if grid is not None:
-        t_grid = grid.copy()
-    elif call.rows:
-        t_grid = np.zeros(call.rows)
-    else:
-        t_grid = _linspace(call.t_end, call.n_out)
-    room = call.events_room
-    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
-    # the wrapper times its library call itself (cpu): with the CPU clock when the stop flag
-    # says the run is long (-1, -2), with the monotonic clock when it is short (0)
-    if _get_ident() == _MAIN_IDENT:
-        if call.arm:
-            _MAIN_FLAG[0] = -1                # asks the wrapper for a SIGINT handler (interruptible)
-            y, istats, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, _MAIN_STOP, raw_events)
-            if _MAIN_FLAG[0] == 1:
-                raise KeyboardInterrupt
-        else:                                 # too short for the library to look at the flag
-            y, istats, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, _MAIN_IDLE, raw_events)
-    else:                                     # a worker thread: Python's own SIGINT handling stays
-        stop = np.array([_LONG_ELSEWHERE if call.arm else 0], dtype=np.int32)
-        y, istats, status, cpu = _run_simulation(*call.args, t_grid, *_SIZES, stop, raw_events)
-    if status != STATUS_OK or call.rows:
-        if status <= _FIRST_INPUT_CODE:
-            raise ValueError(_with_values(status_message(status), call.known))
-        rows = int(istats[_I_WRITTEN])        # an early end, or every step: the rows written
-        y, t_grid = y[:, :rows], t_grid[:rows].copy()
-    if key is not None:
-        if len(_CALLS) >= _CALLS_MAX:
-            _CALLS.clear()
-        _CALLS[key] = call
-
-    result = _new_result(Result)
-    result.scene, result.law, result.method, result.t_end = call.scene, call.law, call.method, call.t_end
-    nb = call.n_blocks
-    if nb == 1:
-        result.t, result.x, result.v = t_grid, y[0], y[1]
-        result.z = y[2] if call.n_states == 1 else y[2:]
-    else:                                     # the chain: one row per block
-        result.t, result.x, result.v = t_grid, y[:nb], y[nb:2 * nb]
-        result.z = y[2 * nb:]
-    result.state_labels = call.state_labels
-    result._params = result._stats = None     # built on first use from _raw
-    # istats: the counters, the real counters and the resolved parameters in one vector
-    result._raw = (istats, None, status, cpu, None, call.used)
-    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
-    if status != STATUS_OK:
-        raise _ERRORS.get(status, IntegrationError)(status, result)
-    return result
