@@ -1152,7 +1152,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     if args.model:
         from .model_chain import run_model_chain
-        write_text(args.outdir / "model.md", run_model_chain(log, 2 if args.quick else 5, 20 if args.quick else 100))
+        write_text(args.outdir / "model.md", run_model_chain(log, 2 if args.quick else 9, 20 if args.quick else 100))
         write_provenance(args.outdir, "model", [args.outdir / "model.md"], argv)
         return 0
     if args.clutches:
