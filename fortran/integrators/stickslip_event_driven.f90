@@ -21,12 +21,14 @@
 !! evaluated at the end of every accepted step from DOPRI5's own last evaluation there (its
 !! FSAL stage: `ode_system%step_accepted`, no evaluation of their own), and DOPRI5 stops
 !! after the first step in which one crosses or may dip to 0, so no step past an event is
-!! integrated and thrown away. Where one has crossed, the crossing time is found by bracketing (Illinois regula falsi with
-!! bisection) to within 4 units of round-off in t. A slipping contact whose w turns back
-!! within a step (its rate sigma dw/dt changes sign from - to + and the cubic Hermite
-!! interpolant of sigma w dips below half its end values) is searched for its minimum: a
-!! grazing touch of w = 0 inside one step is found, and a minimum within the integration's
-!! tolerance of 0 (atol + rtol |u| over the contact's row of H) counts as touching. The
+!! integrated and thrown away. Where one has crossed, the crossing time is found by
+!! bracketing (Illinois regula falsi with bisection) to within 4 units of round-off in t. A
+!! slipping contact whose w turns back within a step (its rate sigma dw/dt changes sign from
+!! - to + and the cubic Hermite interpolant of sigma w dips below half its end values) is
+!! searched for its minimum (`dips`, then `graze`; DOPRI5 starts the mode again after that
+!! step where it does not touch): a grazing touch of w = 0 inside one step is found, and a
+!! minimum within the integration's tolerance of 0 (atol + rtol |u| over the contact's row
+!! of H) counts as touching. The
 !! state at a trial time t comes from the step's continuous extension (DOPRI5's dense output
 !! of order 4, kept for every step of the mode's run: `dopri5_options%dense_rows`), so a
 !! trial costs one force evaluation, not a DOPRI5 run.
@@ -578,7 +580,8 @@ contains
                 hit = any(cand)
                 ! a slipping contact whose w turns back within the step: its minimum
                 do i = 1, nc
-                    if (.not. dips(ms%stuck(i), g_a(i), g_b(i), (tb(k) - ta) * dg_a(i), (tb(k) - ta) * dg_b(i))) cycle
+                    if (.not. dips(ms%stuck(i), g_a(i), g_b(i), (tb(k) - ta) * dg_a(i), &
+                                   (tb(k) - ta) * dg_b(i))) cycle
                     call graze(i, dg_a(i), dg_b(i), cand(i))
                     hit = hit .or. cand(i)
                 end do
