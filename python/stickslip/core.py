@@ -785,7 +785,7 @@ class _Call:
     resolved parameters, and what its Result needs. Never changed after _prepare; the handle is
     released with the _Call (never copied: a copy would release it twice)."""
 
-    __slots__ = ("scene", "law", "method", "t_end", "args", "grid", "n_out", "rows", "warnings",
+    __slots__ = ("scene", "law", "method", "t_end", "grid", "n_out", "rows", "warnings",
                  "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "arm",
                  "handle", "n", "resolved")
 
@@ -1195,7 +1195,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     resolved, handle, status = _ext.prepare_run(*args, len(_PARAM_ORDER))
     if status != STATUS_OK:
         raise ValueError(_with_values(status_message(status), known))
-    return _Call(scene=scene, law=law, method=method, t_end=t_end, args=args, handle=int(handle), n=y0.size,
+    return _Call(scene=scene, law=law, method=method, t_end=t_end, handle=int(handle), n=y0.size,
                  resolved=resolved, grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
                  state_labels=state_labels, used=plan.used, known=known, events_room=room,
                  n_blocks=n_blocks, arm=plan.adaptive or needed >= _STOP_CHECK_STEPS // 2)
