@@ -13,10 +13,11 @@ import threading
 import warnings
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any, Callable, Mapping
+from typing import Any, Callable, Mapping, NoReturn
 
 import numpy as np
 
+from . import _runner
 from . import _stickslip as _ext
 
 
@@ -782,12 +783,14 @@ class _Call:
     """One distinct setting of `simulate`, validated once (_prepare): the library's handle of
     the setting it built (prepare_run: the scene, its law and the method's options, run by
     run_prepared on a copy, so that threads may run one setting at once), its size `n` and
-    resolved parameters, and what its Result needs. Never changed after _prepare; the handle is
-    released with the _Call (never copied: a copy would release it twice)."""
+    resolved parameters, and what its Result needs; `fast` when _runner's fast path may run
+    it without Python (no warnings to repeat; a kept grid or output every step). Never changed after
+    _prepare; the handle is released with the _Call (never copied: a copy would release it
+    twice)."""
 
     __slots__ = ("scene", "law", "method", "t_end", "grid", "n_out", "rows", "warnings",
                  "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "arm",
-                 "handle", "n", "resolved")
+                 "handle", "n", "resolved", "fast")
 
     def __init__(self, **kw: Any) -> None:
         for k, v in kw.items():
@@ -1002,80 +1005,44 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
                              "state (give them to add_body and add_contact)")
         return scene.run_model(method=method, t_end=t_end, n_out=n_out, every_step=every_step,
                                max_steps=max_steps, **kwargs)
-    try:
-        # A setting seen before (equal arguments of equal types) is not validated again.
-        # (The types keep True from meeting 1, which is valid where True is not.)
-        key = (scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused,
-               tuple(kwargs.items()), tuple(map(type, kwargs.values())), type(t_end), type(n_out),
-               type(max_steps), type(x0), type(v0))
-        call = _CALLS[key]
-    except KeyError:
-        call = None
-    except TypeError:                        # an unhashable argument (a list): validated each time
-        key = call = None
+    # Reached when _runner's fast path (the FastPath standing for this function, below) has not
+    # finished the call: a new setting, one with warnings to repeat or a long run, a Model, or
+    # bad arguments. A setting seen before (equal arguments of equal types) is not validated
+    # again.
+    key, call = _lookup(_CALLS, kwargs, scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0,
+                        ignore_unused)
     if call is not None:
         key = None                           # kept already
-        if call.warnings:
-            for message, category in call.warnings:
-                warnings.warn(message, category, stacklevel=2)
+        for message, category in call.warnings:
+            warnings.warn(message, category, stacklevel=2)
     else:
         call = _prepare(scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0, ignore_unused,
                         kwargs)
         if key is not None and any(isinstance(v, tuple) for v in (x0, v0, z0, *kwargs.values())):
             key = None                       # tuples may hide bools: validated each time
-
-    # Run the validated setting: the one place simulate calls the library (written out here,
-    # one Python call fewer per run). A new setting (key not None) is kept in _CALLS once the
-    # library has run it without naming a bad input.
-    grid = call.grid
-    if grid is not None:
-        t_grid = grid.copy()
-    elif call.rows:
-        t_grid = np.zeros(call.rows)
-    else:
-        t_grid = _linspace(call.t_end, call.n_out)
-    room = call.events_room
-    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
-    # the wrapper times its library call itself (cpu): with the CPU clock when the stop flag
-    # says the run is long (-1, -2), with the monotonic clock when it is short (0)
-    if _get_ident() == _MAIN_IDENT:
-        if call.arm:
-            _MAIN_FLAG[0] = -1                # asks the wrapper for a SIGINT handler (interruptible)
-            y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, _MAIN_STOP, raw_events)
-            if _MAIN_FLAG[0] == 1:
-                raise KeyboardInterrupt
-        else:                                 # too short for the library to look at the flag
-            y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, _MAIN_IDLE, raw_events)
-    else:                                     # a worker thread: Python's own SIGINT handling stays
-        stop = np.array([_LONG_ELSEWHERE if call.arm else 0], dtype=np.int32)
-        y, istats, status, cpu = _run_prepared(call.handle, t_grid, call.n, _N_COUNTERS, stop, raw_events)
-    if status != STATUS_OK or call.rows:
-        if status <= _FIRST_INPUT_CODE:
-            raise ValueError(_with_values(status_message(status), call.known))
-        rows = int(istats[_I_WRITTEN])        # an early end, or every step: the rows written
-        y, t_grid = y[:, :rows], t_grid[:rows].copy()
-    if key is not None:
+    result = _run(call)
+    status = result._raw[2]
+    if key is not None and status > _FIRST_INPUT_CODE:     # new, and the library named no bad input
         if len(_CALLS) >= _CALLS_MAX:
             _CALLS.clear()
         _CALLS[key] = call
+    return result if status == STATUS_OK else _failed(call, result)
 
-    result = _new_result(Result)
-    result.scene, result.law, result.method, result.t_end = call.scene, call.law, call.method, call.t_end
-    nb = call.n_blocks
-    if nb == 1:
-        result.t, result.x, result.v = t_grid, y[0], y[1]
-        result.z = y[2] if call.n_states == 1 else y[2:]
-    else:                                     # the chain: one row per block
-        result.t, result.x, result.v = t_grid, y[:nb], y[nb:2 * nb]
-        result.z = y[2 * nb:]
-    result.state_labels = call.state_labels
-    result._params = result._stats = None     # built on first use from _raw
-    # istats: the counters and the real counters in one vector
-    result._raw = (istats, None, status, cpu, call.resolved, call.used)
-    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
-    if status != STATUS_OK:
-        raise _ERRORS.get(status, IntegrationError)(status, result)
-    return result
+
+def _failed(call: _Call, result: Result) -> NoReturn:
+    """Raise for a run of `call` that did not reach t_end: ValueError for a bad input the
+    library named, else the IntegrationError of its status, holding `result`."""
+    status = result._raw[2]
+    if status <= _FIRST_INPUT_CODE:
+        raise ValueError(_with_values(status_message(status), call.known))
+    raise _ERRORS.get(status, IntegrationError)(status, result)
+
+
+def _run(call: _Call) -> Result:
+    """One run of a validated setting (its Result, whatever its status) by _runner: on the grid
+    its _Call keeps or with room for every step, else on a new grid; a long run on the main
+    thread arms the SIGINT handler (a Ctrl-C raises KeyboardInterrupt once it returns)."""
+    return _execute(call, None if call.grid is not None or call.rows else _linspace(call.t_end, call.n_out))
 
 
 def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_step: Any, max_steps: Any,
@@ -1193,20 +1160,15 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     # the library builds the setting once (its scene, law and the method's options); a bad
     # input it names is raised here, before anything runs
     resolved, handle, status = _ext.prepare_run(*args, len(_PARAM_ORDER))
+    arm = plan.adaptive or needed >= _STOP_CHECK_STEPS // 2
     if status != STATUS_OK:
         raise ValueError(_with_values(status_message(status), known))
     return _Call(scene=scene, law=law, method=method, t_end=t_end, handle=int(handle), n=y0.size,
                  resolved=resolved, grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
                  state_labels=state_labels, used=plan.used, known=known, events_room=room,
-                 n_blocks=n_blocks, arm=plan.adaptive or needed >= _STOP_CHECK_STEPS // 2)
+                 n_blocks=n_blocks, arm=arm, fast=not said and (rows > 0 or grid is not None))
 
 
-#: The main thread's stop flag (interruptible), reused: only the main thread writes it; read
-#: and written through a memoryview (faster than numpy's indexing).
-_MAIN_STOP = np.zeros(1, dtype=np.int32)
-_MAIN_FLAG = memoryview(_MAIN_STOP)
-#: The main thread's flag for the runs it does not arm (never -1, so the wrapper never arms).
-_MAIN_IDLE = np.zeros(1, dtype=np.int32)
 #: The integrators look at the stop flag as a run starts, then every 4096 steps
 #: (stickslip_ode's STOP_CHECK_MASK + 1): a fixed-step run of fewer steps never looks again,
 #: and the facade does not arm a SIGINT handler for it (two system calls saved per call; a
@@ -1216,20 +1178,25 @@ _MAIN_IDLE = np.zeros(1, dtype=np.int32)
 #: short one with the monotonic clock (two reads of the CPU clock are system calls costing more
 #: than such a run: about 2 us each on a virtual machine).
 _STOP_CHECK_STEPS = 4096
-#: The stop flag of a long run on a thread other than the main one: no SIGINT handler, but
-#: timed with the CPU clock.
-_LONG_ELSEWHERE = -2
-_MAIN_IDENT = threading.main_thread().ident
 #: What simulate's call path looks up on every call, bound once.
-_run_prepared, _get_ident, _new_result = _ext.run_prepared, threading.get_ident, Result.__new__
+_lookup, _execute = _runner.lookup, _runner.execute
+_runner.setup(_ext.run_prepared._cpointer, Result, _Call, _NO_EVENTS, _NO_EVENT_ROWS, _events, _N_COUNTERS,
+              _I_WRITTEN, _I_NEVENTS)
 
 
-def _after_fork() -> None:
-    global _MAIN_IDENT
-    _MAIN_IDENT = threading.main_thread().ident
+#: simulate as called: _runner's FastPath runs a setting kept in _CALLS that needs nothing of
+#: Python in C (binding the arguments, the key, the library call, the Result); any other call
+#: goes on, unchanged, to the function above (its name, docstring and signature are this one's).
+simulate = functools.update_wrapper(_runner.FastPath(simulate, _CALLS, _failed), simulate)
 
 
-os.register_at_fork(after_in_child=_after_fork)
+def _set_main_thread() -> None:
+    """Tell _runner which thread is the main one (its long runs arm the SIGINT handler)."""
+    _runner.set_main_thread(threading.main_thread().ident)
+
+
+_set_main_thread()
+os.register_at_fork(after_in_child=_set_main_thread)
 
 
 def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
@@ -1242,7 +1209,7 @@ def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
     t_grid = np.zeros(call.rows) if call.rows else _linspace(call.t_end, call.n_out)
     stop = np.zeros(1, dtype=np.int32)
     flag = memoryview(stop)
-    run, handle, n = _run_prepared, call.handle, call.n
+    run, handle, n = _ext.run_prepared, call.handle, call.n
     events = np.zeros((4, call.events_room), order="F")
 
     arm = -1 if call.arm else 0
