@@ -254,6 +254,10 @@ def test_scripts_docs_builds_the_site_and_the_fortran_pages(tmp_path) -> None:
     api = (out / "api.html").read_text()
     missing = [name for name in stickslip.__all__ if f'id="stickslip.{name}"' not in api]
     assert not missing, f"exported but not in the API reference: {missing}"
+    # simulate is a C object standing for the Python function: its entry shows the function's
+    # signature and docstring
+    entry = re.sub(r"<[^>]+>", "", api[api.index('id="stickslip.simulate"'):][:3000])
+    assert "simulate(scene, law=None, *, method, t_end" in entry and "Simulate scene with friction law" in entry
     for page in sorted((ROOT / "docs" / "guide").glob("*.md")):
         assert f'href="guide/{page.stem}.html"' in (out / "index.html").read_text(), page.name
 

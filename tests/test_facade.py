@@ -401,3 +401,84 @@ def test_a_setting_run_from_its_handle_matches_the_library_building_it_anew(scen
     n = runs[0].y.shape[0]
     for r in runs:
         assert r.y.tobytes() == ref.y_grid[0, :n].tobytes() and r.stats["nfev"] == ref.nfev[0]
+
+
+def _python_calls(fn) -> int:
+    """How many times a call of fn() enters the Python function simulate stands for."""
+    import sys
+    code, count = ss.simulate.__wrapped__.__code__, [0]
+
+    def profile(frame, event, arg):
+        if event == "call" and frame.f_code is code:
+            count[0] += 1
+    sys.setprofile(profile)
+    try:
+        fn()
+    finally:
+        sys.setprofile(None)
+    return count[0]
+
+
+@pytest.mark.parametrize("kw", [
+    dict(method="rk4", t_end=1e-4, h=1e-5, n_out=3),                     # short: not armed
+    dict(method="dopri5", t_end=0.05, n_out=5),                          # adaptive: armed
+    dict(method="dopri5", t_end=0.05, every_step=True),                  # every step
+    dict(method="rk4", t_end=1e-4, h=1e-5, n_out=5000),                  # a grid not kept
+])
+def test_a_kept_setting_is_run_without_entering_python_and_gives_the_same_numbers(kw) -> None:
+    """simulate is stickslip._runner's FastPath: a setting kept in _CALLS (no warnings to
+    repeat; a kept grid or every step) runs in C, bit for bit as its first call, which went
+    through the Python function; a grid too long to keep goes through Python every time."""
+    core._CALLS.clear()
+    first = []
+    assert _python_calls(lambda: first.append(ss.simulate("belt", "lugre", **kw))) == 1
+    again = []
+    entered = _python_calls(lambda: again.append(ss.simulate("belt", "lugre", **kw)))
+    assert entered == (1 if kw.get("n_out") == 5000 else 0)
+    a, b = first[0], again[0]
+    assert a.y.tobytes() == b.y.tobytes() and a.t.tobytes() == b.t.tobytes()
+    same = lambda st: {k: v for k, v in st.items() if k != "cpu_seconds"}      # noqa: E731
+    assert same(a.stats) == same(b.stats) and a.params == b.params and a.state_labels == b.state_labels
+
+
+def test_a_setting_with_warnings_goes_through_python_and_warns_each_time() -> None:
+    core._CALLS.clear()
+    kw = dict(method="rk4", h=1e-3, t_end=1e-2, n_out=3, k=5.0)           # k: not on the slope
+    for _ in range(2):
+        with pytest.warns(ss.UnusedParameterWarning, match="k: not read by scene 'slope'"):
+            assert _python_calls(lambda: ss.simulate("slope", "proposed", **kw)) == 1
+    assert len(core._CALLS) == 1
+
+
+def test_simulate_binds_its_arguments_as_the_function_it_stands_for() -> None:
+    """The fast path binds positional and keyword arguments to the function's parameters itself:
+    by name or by position, the same setting; whatever Python would refuse, the function
+    refuses (the fast path passes it on)."""
+    core._CALLS.clear()
+    ref = ss.simulate("belt", "lugre", **RK4)
+    by_name = ss.simulate(scene="belt", law="lugre", **RK4)
+    built = {"".join(["met", "hod"]): "rk4", "".join(["h"]) + "": 1e-5}   # keyword names not interned
+    odd = ss.simulate("belt", "lugre", t_end=1e-4, n_out=3, **built)
+    assert len(core._CALLS) <= 2 and by_name.y.tobytes() == ref.y.tobytes() == odd.y.tobytes()
+    fn = ss.simulate.__wrapped__
+    bad_calls = [
+        lambda f: f("belt", "lugre", "rk4", t_end=1e-4, h=1e-5),            # method is keyword-only
+        lambda f: f("belt", "lugre", t_end=1e-4, h=1e-5),                   # method missing
+        lambda f: f("belt", "lugre", law="lugre", **RK4),                   # law twice
+        lambda f: f(law="lugre", **RK4),                                    # scene missing
+    ]
+    for bad in bad_calls:
+        with pytest.raises(TypeError) as fast:
+            bad(ss.simulate)
+        with pytest.raises(TypeError) as slow:
+            bad(fn)
+        assert str(fast.value) == str(slow.value)
+
+
+def test_simulate_pickles_by_name_and_reads_as_its_function() -> None:
+    import inspect
+    import pickle
+    assert pickle.loads(pickle.dumps(ss.simulate)) is ss.simulate
+    assert ss.simulate.__name__ == "simulate" and ss.simulate.__module__ == "stickslip.core"
+    assert inspect.signature(ss.simulate) == inspect.signature(ss.simulate.__wrapped__)
+    assert ss.simulate.__doc__ == ss.simulate.__wrapped__.__doc__ and "Parameters" in ss.simulate.__doc__

@@ -118,6 +118,29 @@ def test_ctrl_c_stops_a_long_fortran_call_promptly(call):
     assert float(proc.stdout.split()[-2]) < 1.0, proc.stdout
 
 
+def test_ctrl_c_stops_a_long_run_of_a_kept_setting_promptly():
+    """The second call of a setting runs in C (stickslip._runner's fast path), which arms the
+    SIGINT handler itself: interrupted as promptly as a first call. The first call (about 2 s)
+    runs whole, so that the setting is kept."""
+    import subprocess
+    import sys
+    code = ("import os, signal, threading, time\n"
+            "import stickslip as ss\n"
+            "kw = dict(method='rk4', h=1e-6, t_end=20.0, n_out=2)\n"
+            "ss.simulate('slope', 'recurdyn', **kw)\n"
+            "assert len(ss.core._CALLS) == 1\n"
+            "threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()\n"
+            "t = time.perf_counter()\n"
+            "try:\n"
+            "    ss.simulate('slope', 'recurdyn', **kw)\n"
+            "    print('finished')\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted after %.3f s' % (time.perf_counter() - t))\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert "interrupted after" in proc.stdout, proc.stdout + proc.stderr
+    assert float(proc.stdout.split()[-2]) < 1.0, proc.stdout
+
+
 def test_rk4_beyond_its_stability_bound_on_the_slope_warns():
     """The bound docs/guide/choosing-h.md derives, 2.785/(g cos(theta) mu'(v*)) with mu(v*) = tan(theta), computed
     here independently from the haversine's derivative on its first branch."""

@@ -1184,9 +1184,10 @@ _runner.setup(_ext.run_prepared._cpointer, Result, _Call, _NO_EVENTS, _NO_EVENT_
               _I_WRITTEN, _I_NEVENTS)
 
 
-#: simulate as called: _runner's FastPath runs a setting kept in _CALLS that needs nothing of
-#: Python in C (binding the arguments, the key, the library call, the Result); any other call
-#: goes on, unchanged, to the function above (its name, docstring and signature are this one's).
+# simulate as called: _runner's FastPath runs a setting kept in _CALLS that needs nothing of
+# Python in C (binding the arguments, the key, the library call, the Result); any other call
+# goes on, unchanged, to the function above (its name, docstring and signature are this one's).
+# (A plain comment: Sphinx would take a "#:" comment for simulate's documentation.)
 simulate = functools.update_wrapper(_runner.FastPath(simulate, _CALLS, _failed), simulate)
 
 
