@@ -2,12 +2,14 @@
  *
  * The facade (core.py) validates a setting once and keeps it, with the library's handle of the
  * built setting, in a _Call; every later call with equal arguments only runs it. This module
- * does that run without the interpreter: it looks the setting up (lookup_run), calls the
- * library's run_prepared (the Fortran routine of _wrap.f90, reached through the function
- * pointer f2py publishes as run_prepared._cpointer, so that the one copy of the library in
- * _stickslip runs it) and builds the Result (execute). Validation, warnings, Ctrl-C and the
- * exceptions stay in core.py. Nothing here is module state a run writes: the references kept
- * by setup() are read-only after it. */
+ * does that without the interpreter. FastPath, which stands for core.simulate, binds a call's
+ * arguments, finds the kept setting and runs it; everything else it passes on to the Python
+ * function. execute runs a setting for both paths: it calls the library's run_prepared (the
+ * Fortran routine of _wrap.f90, reached through the function pointer f2py publishes as
+ * run_prepared._cpointer, so that the one copy of the library in _stickslip runs it), arms
+ * the SIGINT handler for a long run on the main thread, and builds the Result. Validation,
+ * warnings and the exceptions stay in core.py. What setup() and set_main_thread() keep is read
+ * by the runs, never written; the only flag written is the main thread's stop flag. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
