@@ -1201,9 +1201,11 @@ os.register_at_fork(after_in_child=_set_main_thread)
 
 
 def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
-    """The library call that ``simulate(scene, law, **kwargs)`` makes, as a function that makes
-    it with the same arguments and does nothing else (for the benchmarks' overhead table: what
-    simulate adds beyond it). Main thread only (it arms the SIGINT handler when simulate does)."""
+    """The library call that ``simulate(scene, law, **kwargs)`` makes (run_prepared on the
+    setting's handle), through f2py's wrapper of it, as a function that makes it with the same
+    arguments and does nothing else (the benchmarks' overhead table: simulate reaches the same
+    routine through its pointer, _runner). Main thread only (it arms the SIGINT handler when
+    simulate does)."""
     call = _prepare(scene, law, kwargs.pop("method"), kwargs.pop("t_end"), kwargs.pop("n_out", None),
                     kwargs.pop("every_step", False), kwargs.pop("max_steps", None), kwargs.pop("x0", 0.0),
                     kwargs.pop("v0", None), kwargs.pop("z0", None), kwargs.pop("ignore_unused", False), kwargs)
