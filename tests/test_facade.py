@@ -482,3 +482,26 @@ def test_simulate_pickles_by_name_and_reads_as_its_function() -> None:
     assert ss.simulate.__name__ == "simulate" and ss.simulate.__module__ == "stickslip.core"
     assert inspect.signature(ss.simulate) == inspect.signature(ss.simulate.__wrapped__)
     assert ss.simulate.__doc__ == ss.simulate.__wrapped__.__doc__ and "Parameters" in ss.simulate.__doc__
+
+
+def test_the_extensions_do_not_need_an_executable_stack() -> None:
+    """An internal procedure passed as an argument makes gfortran build a trampoline on the
+    stack, and the linker then marks the extension as needing an executable stack, which
+    recent C libraries (glibc 2.41) refuse to load. The ELF program header PT_GNU_STACK of
+    each compiled module must not have the execute flag."""
+    import struct
+    import sys
+    from stickslip import _runner, _stickslip
+    if not sys.platform.startswith("linux"):
+        pytest.skip("ELF only")
+    for module in (_stickslip, _runner):
+        data = open(module.__file__, "rb").read()
+        assert data[:4] == b"\x7fELF" and data[4] == 2, module.__file__            # ELF64
+        phoff, = struct.unpack_from("<Q", data, 0x20)
+        phentsize, phnum = struct.unpack_from("<HH", data, 0x36)
+        flags = {}
+        for i in range(phnum):
+            p_type, p_flags = struct.unpack_from("<II", data, phoff + i * phentsize)
+            flags[p_type] = p_flags
+        assert 0x6474E551 in flags, "no PT_GNU_STACK header"
+        assert not flags[0x6474E551] & 1, f"{module.__file__} asks for an executable stack"

@@ -143,3 +143,14 @@ def test_rk4_beyond_its_stability_bound_on_the_slope_warns():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         ss.simulate("slope", "recurdyn", method="rk4", h=1e-3, t_end=0.1)
+
+
+def test_ranges_in_messages_are_written_as_a_reader_writes_them():
+    """The library writes a bound in the fewest digits that read back as it (0.5, not
+    0.50000000000000000), in the error and in every rule of the registry."""
+    with pytest.raises(ValueError, match=r"perturbation: must be finite and in \[0, 0\.5\] \(got perturbation = 0\.7\)"):
+        ss.simulate("chain", "coulomb", method="moreau", h=1e-3, t_end=0.01, perturbation=0.7)
+    import re
+    rules = [v["rule"] for v in ss.REGISTRY["param"].values()]
+    assert ss.REGISTRY["param"]["perturbation"]["rule"].endswith("in [0, 0.5]")
+    assert not [r for r in rules if re.search(r"\d\.\d*0{4,}|\d{10,}", r)]

@@ -80,16 +80,40 @@ contains
         if (len_trim(spec%relation) > 0) msg = msg // ' and ' // trim(spec%relation)
         if (trim(spec%unit) /= '-') msg = msg // ' [' // trim(spec%unit) // ']'
     contains
+        !> x as written for a reader: an integer as one, else the fewest significant digits
+        !! that read back as x, in plain decimals from 1e-4 to 1e7, else as 1.5e-14.
         pure function fmt(x) result(s)
             real(dp), intent(in) :: x
             character(len=:), allocatable :: s
-            character(len=48) :: buf
+            character(len=40) :: buf
+            character(len=24) :: form
+            real(dp) :: back
+            integer :: digits, ios, e, at
             if (x == aint(x) .and. abs(x) < 1.0e9_dp) then
                 write (buf, '(i0)') int(x, 8)
-            else
-                write (buf, '(g0)') x
+                s = trim(adjustl(buf))
+                return
             end if
-            s = trim(adjustl(buf))
+            do digits = 1, 17
+                write (form, '(a,i0,a)') '(es40.', digits - 1, 'e4)'
+                write (buf, form) x
+                read (buf, *, iostat=ios) back
+                if (ios == 0 .and. .not. (back < x .or. back > x)) exit
+            end do
+            at = index(buf, 'E')
+            read (buf(at + 1:), *) e
+            if (e >= -4 .and. e < 7) then
+                write (form, '(a,i0,a)') '(f40.', max(digits - 1 - e, 1), ')'
+                write (buf, form) x
+                s = trim(adjustl(buf))
+                if (s(1:1) == '.') s = '0' // s
+                if (s(1:2) == '-.') s = '-0' // s(2:)
+            else
+                s = trim(adjustl(buf(:at - 1)))
+                if (s(len(s):) == '.') s = s(:len(s) - 1)
+                write (buf, '(i0)') e
+                s = s // 'e' // trim(buf)
+            end if
         end function fmt
     end function param_rule
 

@@ -34,7 +34,7 @@ module stickslip_chain
     use stickslip_scenes, only: friction_scene, M_SPEC, G_SPEC, K_SPEC, V_B_SPEC
     use stickslip_contact, only: contact_system, contact_law, contact_law_of
     use stickslip_linalg, only: tridiagonal_solve
-    use stickslip_roots, only: bracketed_root
+    use stickslip_roots, only: root_search
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -250,7 +250,7 @@ contains
     !! law's infinite slope at v_rel = 0, where a chain started stuck has every block): nonlinear
     !! Gauss-Seidel over the blocks. Block i's stage velocity v_i solves
     !! phi_i(v_i) = v_i - u_v,i - c a_i(x_s, v_i) = 0 with x_s = u_x + c v_s and its neighbours'
-    !! stage velocities fixed, by the bracketed root of the one-contact scenes (`bracketed_root`);
+    !! stage velocities fixed, by the bracketed root of the one-contact scenes (`root_search`);
     !! sweeps repeat until no stage velocity changes by more than 8 eps (1 + |v|). The coupling
     !! per sweep is c^2 k_c / m against 1 + c^2 (k + 2 k_c) / m where the law's slope is >= 0, so
     !! the sweeps contract for any step a stable explicit method would take, and far beyond.
@@ -270,7 +270,7 @@ contains
         logical, intent(out)    :: ok       !! .true.: k solves the stage
         real(dp) :: vs(self%nb), xs(self%nb), vnew, change
         integer :: i, n, sweep
-        logical :: found
+        type(root_search) :: search
         ok = .false.
         n = self%nb
         if (self%nz /= 0 .or. .not. self%static_law .or. size(u) /= 2 * n) return
@@ -279,8 +279,12 @@ contains
         do sweep = 1, 1000
             change = 0.0_dp
             do i = 1, n
-                call bracketed_root(phi, vs(i), vnew, found)
-                if (.not. found) return
+                call search%start(vs(i))
+                do while (.not. search%done)
+                    call search%tell(phi(search%x))
+                end do
+                if (.not. search%found) return
+                vnew = search%root
                 change = max(change, abs(vnew - vs(i)) / (1.0_dp + abs(vnew)))
                 vs(i) = vnew
                 xs(i) = u(i) + c * vnew

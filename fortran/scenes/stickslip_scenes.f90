@@ -19,7 +19,7 @@ module stickslip_scenes
     use stickslip_friction, only: friction_law
     use stickslip_ode, only: ode_system, fd_jacobian, BOUND_MARGIN
     use stickslip_contact, only: contact_system, contact_law, contact_law_of
-    use stickslip_roots, only: bracketed_root
+    use stickslip_roots, only: root_search
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
@@ -301,12 +301,14 @@ contains
         real(dp), intent(inout) :: k(:)     !! stage derivative: a guess in, the solution out
         integer(8), intent(inout) :: nfev   !! evaluations of f, counted
         logical, intent(out)    :: ok       !! .true.: k solves the stage
-        real(dp) :: vs
-        logical :: found
+        type(root_search) :: search
         ok = .false.
         if (self%nz /= 0 .or. size(u) /= 2) return
-        call bracketed_root(phi, u(2), vs, found)
-        if (found) call finish(vs)
+        call search%start(u(2))
+        do while (.not. search%done)
+            call search%tell(phi(search%x))
+        end do
+        if (search%found) call finish(search%root)
     contains
         !> phi(v_s) [m/s]
         real(dp) function phi(vs)
