@@ -27,12 +27,18 @@ module stickslip_roots
         logical :: done = .true.         !! .true.: the search has ended
         logical :: found = .false.       !! .true. once ended: root is a root to rounding
         real(dp) :: root = 0.0_dp        !! the root (the bracket's end nearer a zero of phi)
-        real(dp), private :: lo = 0.0_dp, hi = 0.0_dp, plo = 0.0_dp, phi_hi = 0.0_dp
-        real(dp), private :: step = 0.0_dp, reach = 0.0_dp
-        integer, private :: stage = 0, it = 0, side = 0
+        real(dp), private :: lo = 0.0_dp       !! the bracket's end where phi has phi(x0)'s sign
+        real(dp), private :: hi = 0.0_dp       !! its other end
+        real(dp), private :: plo = 0.0_dp      !! phi(lo) (halved by the Illinois rule)
+        real(dp), private :: phi_hi = 0.0_dp   !! phi(hi) (halved by the Illinois rule)
+        real(dp), private :: step = 0.0_dp     !! the bracketing step, doubled each time
+        real(dp), private :: reach = 0.0_dp    !! the farthest step tried
+        integer, private :: stage = 0          !! AT_START, BRACKETING or CLOSING
+        integer, private :: it = 0             !! iterations of the stage
+        integer, private :: side = 0           !! the end that moved last (Illinois rule)
     contains
-        procedure :: start => root_start
-        procedure :: tell => root_tell
+        procedure :: start => root_start   !! begin from x0 (root_start)
+        procedure :: tell => root_tell     !! phi at x: move on or end (root_tell)
     end type root_search
 
     integer, parameter :: AT_START = 0, BRACKETING = 1, CLOSING = 2
