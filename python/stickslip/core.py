@@ -784,9 +784,9 @@ class _Call:
     the setting it built (prepare_run: the scene, its law and the method's options, run by
     run_prepared on a copy, so that threads may run one setting at once), its size `n` and
     resolved parameters, and what its Result needs; `fast` when _runner's fast path may run
-    it without Python (no warnings to repeat; a kept grid or output every step). Never changed after
-    _prepare; the handle is released with the _Call (never copied: a copy would release it
-    twice)."""
+    it without Python (no warnings to repeat; a kept grid or output every step). Never changed
+    after _prepare; the handle is released with the _Call (never copied: a copy would release
+    it twice)."""
 
     __slots__ = ("scene", "law", "method", "t_end", "grid", "n_out", "rows", "warnings",
                  "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "arm",
@@ -1006,9 +1006,9 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         return scene.run_model(method=method, t_end=t_end, n_out=n_out, every_step=every_step,
                                max_steps=max_steps, **kwargs)
     # Reached when _runner's fast path (the FastPath standing for this function, below) has not
-    # finished the call: a new setting, one with warnings to repeat or a long run, a Model, or
-    # bad arguments. A setting seen before (equal arguments of equal types) is not validated
-    # again.
+    # finished the call: a new setting, one with warnings to repeat or a grid too long to keep,
+    # a Model, or bad arguments. A setting seen before (equal arguments of equal types) is not
+    # validated again.
     key, call = _lookup(_CALLS, kwargs, scene, law, method, t_end, n_out, every_step, max_steps, x0, v0, z0,
                         ignore_unused)
     if call is not None:
