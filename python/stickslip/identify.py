@@ -468,6 +468,7 @@ class FitResult(_Estimates):
     heldout_residuals: np.ndarray | None = None
     probe_gain: float = 0.0
     restarts: int = 0
+    _lower_point: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     @property
     def law_params(self) -> dict[str, float]:
@@ -1024,24 +1025,35 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
                 best, best_start = sol, u_start
         assert best is not None
         # a cheap probe about the end; a lower point found starts a second local search
+        # (a decrease below the state integration's own error, (rtol x force range)^2 a sample,
+        # is no lower point); the profiles of the intervals may find one too: a search from it
         restarts = 0
+        floor = n_total * (rtol * float(np.ptp(all_forces))) ** 2
         while True:
             r_end = residuals(best.x)
             s2_end = float(r_end @ r_end) / max(n_total - k, 1)
             probe = _probe(residuals, best.x, r_end, best.jac, q_lo, q_hi, s2_end, free)
-            if probe[0] <= PROBE_GAIN * s2_end or restarts >= MAX_RESTARTS:
+            needed = max(PROBE_GAIN * s2_end, floor)
+            if probe[0] > needed and restarts < MAX_RESTARTS:
+                restarts += 1
+                sol = local(probe[1])
+                nfev += int(sol.nfev)
+                if sol.cost < best.cost:
+                    best = sol
+                continue
+            meshes = mesh_at(best.x)[1]
+            result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
+                                 force_levels, normal_force, nfev, tuple(costs), diff_step, rtol,
+                                 frozen=lambda w, m=meshes: residuals(w, m), interval=method,
+                                 profile_budget=n_evals[0] if interval == "auto" else None,
+                                 probe=(probe[0], probe[2], restarts, needed))
+            if result._lower_point is None or restarts >= MAX_RESTARTS:
                 break
             restarts += 1
-            sol = local(probe[1])
+            sol = local(result._lower_point)
             nfev += int(sol.nfev)
             if sol.cost < best.cost:
                 best = sol
-        meshes = mesh_at(best.x)[1]
-        result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
-                             force_levels, normal_force, nfev, tuple(costs), diff_step, rtol,
-                             frozen=lambda w: residuals(w, meshes), interval=method,
-                             profile_budget=n_evals[0] if interval == "auto" else None,
-                             probe=(probe[0], probe[2], restarts))
     result.restarts, result.probe_gain = restarts, probe[0]
     result.rtol = rtol
     result.start = dict(zip(free, space.to_params(best_start).tolist()))
@@ -1064,7 +1076,7 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
 
 #: Backlash widths, as fractions of the records' amplitude, at which the cost of a static law
 #: is evaluated (the other parameters at their start) to pick extra starts.
-BACKLASH_GRID: tuple[float, ...] = (0.0, 0.003, 0.01, 0.03, 0.1, 0.3)
+BACKLASH_GRID: tuple[float, ...] = (0.0, 0.003, 0.01, 0.03, 0.1, 0.2, 0.3, 0.45)
 #: Extra starts taken from that scan (the lowest costs).
 BACKLASH_STARTS: int = 2
 
@@ -1091,7 +1103,7 @@ def _backlash_starts(cost_of: Any, u0: np.ndarray, i: int, scale: np.ndarray, am
 #: many reduced chi-squares (s^2) is "a lower point nearby": the fit restarts from it.
 PROBE_GAIN: float = 1.0
 #: Most local searches restarted from a lower point found by the probe.
-MAX_RESTARTS: int = 2
+MAX_RESTARTS: int = 3
 
 
 def _probe(residuals: Any, u: np.ndarray, r: np.ndarray, jac: np.ndarray, q_lo: np.ndarray,
@@ -1202,6 +1214,8 @@ PROFILE_TOL: float = 0.03
 #: Farthest a profile search goes from the estimate, in Wald half-widths (t stderr), before it
 #: counts the side as not determined by the data.
 PROFILE_REACH: float = 50.0
+#: Largest number of points a profile's search of one end evaluates.
+PROFILE_ITERATIONS: int = 10
 #: Largest number of chord Gauss-Newton steps of the refit at one point of a profile.
 PROFILE_STEPS: int = 5
 
@@ -1209,7 +1223,7 @@ PROFILE_STEPS: int = 5
 def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, space: _Space,
                        q_lo: np.ndarray, q_hi: np.ndarray, p_hat: np.ndarray, sd: np.ndarray, tq: float,
                        var_unit: float, budget: int | None = None, only: set[int] | None = None
-                       ) -> tuple[dict[int, tuple[float, float]], set[int], set[int], int]:
+                       ) -> tuple[dict[int, tuple[float, float]], set[int], set[int], int, tuple]:
     """Profile-likelihood 95 % intervals of the free parameters.
 
     For parameter i held at c, the others are refitted (chord Gauss-Newton: the Jacobian
@@ -1223,15 +1237,18 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
     Returns the intervals (index -> (lower, upper)), the indices whose interval reached a
     bound of the range (the data cannot tell the parameter from it), those whose interval is
     unbounded on a side with no bound (not determined by the data), and the number of model
-    evaluations used. A parameter whose sd is not finite is left out, and so are the parameters
-    after the evaluations exceed `budget` (given) and those not in `only` (given)."""
+    evaluations used, and the lowest sum of squares a refit reached with the parameter it held,
+    its value and the parameters there (below the optimum's: the fit stopped short of a
+    minimum). A parameter whose
+    sd is not finite is left out, and so are the parameters after the evaluations exceed
+    `budget` (given) and those not in `only` (given)."""
     k = p_hat.size
     ssr0 = float(r_hat @ r_hat)
     with np.errstate(invalid="ignore"):
         lim_lo = space.to_params(np.where(np.isfinite(q_lo), q_lo, -np.inf))
         lim_hi = space.to_params(np.where(np.isfinite(q_hi), q_hi, np.inf))
-    upper_of = {lo: hi for hi, lo in space.lower_of.items()}
     evals = 0
+    lowest: tuple[float, str, float, np.ndarray | None] = (ssr0, "", math.nan, None)
 
     def place(p: np.ndarray, i: int) -> np.ndarray | None:
         """Coordinates u of p with p_i kept, the others moved into the bounds; None when p_i
@@ -1245,7 +1262,7 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
         return u if abs(q[i] - p[i]) <= 1e-9 * max(abs(p[i]), 1e-300) else None
 
     def refit(i: int, c: float, p_start: np.ndarray) -> tuple[float, np.ndarray] | None:
-        nonlocal evals
+        nonlocal evals, lowest
         others = np.array([j for j in range(k) if j != i], dtype=int)
         pinv = np.linalg.pinv(jac_p[:, others], rcond=1e-10) if others.size else np.zeros((0, r_hat.size))
         p = p_start.copy()
@@ -1283,43 +1300,59 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
                     break
             if not accepted or gain < 0.01 * var_unit:
                 break
+        if ssr < lowest[0]:
+            lowest = (ssr, space.free[i], c, p.copy())
         return ssr, p
 
     def side(i: int, sgn: float) -> tuple[float, str]:
         """The end of the interval of parameter i on side sgn, and 'ok', 'bound' (the range's
-        bound reached below the target) or 'open' (no bound and no end within reach)."""
+        bound reached below the target) or 'open' (no bound and no end within reach).
+        Outward steps (secant, at most fourfold) until tau exceeds the target, then regula
+        falsi within the bracket (inner point below the target, outer above); not converged,
+        the outer end (the wider interval)."""
         lim = lim_hi[i] if sgn > 0 else lim_lo[i]
         reach = PROFILE_REACH * tq * sd[i]
-        c_prev, tau_prev, p_start = p_hat[i], 0.0, p_hat
+        inner, tau_in, p_start = p_hat[i], 0.0, p_hat
+        outer, tau_out = None, math.inf
         c = p_hat[i] + sgn * tq * sd[i]
-        for _ in range(6):
+        lim_tried = False
+        for _ in range(PROFILE_ITERATIONS):
             at_lim = (c >= lim) if sgn > 0 else (c <= lim)
             if at_lim:
                 c = lim
+                lim_tried = True
             out = refit(i, c, p_start) if math.isfinite(c) else None
-            if out is None:
-                return (lim, "bound") if math.isfinite(lim) else (c_prev, "ok")
-            ssr, p_start = out
+            if out is None:         # the model fails there: nearer
+                c = 0.5 * (c + inner) if math.isfinite(c) else inner + sgn * 4.0 * abs(inner - p_hat[i])
+                continue
+            ssr, p_found = out
             tau = math.sqrt(max(ssr - ssr0, 0.0) / var_unit)
             if abs(tau - tq) <= PROFILE_TOL * tq:
                 return c, "ok"
-            if at_lim and tau < tq:
-                return lim, "bound"
-            if tau > tau_prev:
-                c_new = c + (tq - tau) * (c - c_prev) / (tau - tau_prev)
+            if tau < tq:
+                if at_lim:
+                    return lim, "bound"
+                inner, tau_in, p_start = c, tau, p_found
             else:
-                c_new = c + 4.0 * (c - p_hat[i])
-            # no more than four times as far, nor nearer than a quarter of the way
-            dist, new = abs(c - p_hat[i]), abs(c_new - p_hat[i])
-            c_new = p_hat[i] + sgn * min(max(new, 0.25 * dist), 4.0 * dist) if (c_new - p_hat[i]) * sgn > 0 \
-                else p_hat[i] + sgn * 0.25 * dist
-            c_prev, tau_prev, c = c, tau, c_new
-            if abs(c - p_hat[i]) > reach:
-                if math.isfinite(lim) and abs(lim - p_hat[i]) <= 4.0 * reach:
+                outer, tau_out = c, tau
+            if outer is not None:       # bracketed: regula falsi, kept off the bracket's ends
+                w = outer - inner
+                c = inner + w * min(max((tq - tau_in) / (tau_out - tau_in), 0.1), 0.9)
+                continue
+            dist = abs(c - p_hat[i])
+            grow = 4.0 if tau <= 0.0 else min(max(tq / tau, 1.25), 4.0)
+            c = p_hat[i] + sgn * grow * dist
+            if abs(c - p_hat[i]) > reach and not lim_tried:
+                # beyond reach: the range's bound, if any, decides (below the target there: the
+                # data cannot tell the parameter from it; above: the end lies between)
+                if math.isfinite(lim):
                     c = lim
                     continue
-                return (lim if math.isfinite(lim) else sgn * math.inf), ("bound" if math.isfinite(lim) else "open")
-        return c, "ok"
+                return sgn * math.inf, "open"
+        if outer is not None:
+            return outer, "ok"
+        return (lim, "bound") if lim_tried else (sgn * math.inf if not math.isfinite(lim) else lim,
+                                                  "open" if not math.isfinite(lim) else "bound")
 
     out: dict[int, tuple[float, float]] = {}
     bound: set[int] = set()
@@ -1336,7 +1369,7 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
             bound.add(i)
         if "open" in (how_lo, how_hi):
             open_.add(i)
-    return out, bound, open_, evals
+    return out, bound, open_, evals, lowest
 
 
 def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray,
@@ -1394,7 +1427,8 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
                 data: list[_Data], q_lo: np.ndarray, q_hi: np.ndarray, force_levels: bool,
                 normal_force: Any, nfev: int, costs: tuple[float, ...], step: float,
                 rtol: float = 1e-6, frozen: Any = None, interval: str = "wald",
-                profile_budget: int | None = None, probe: tuple[float, str, int] = (0.0, "", 0)) -> FitResult:
+                profile_budget: int | None = None,
+                probe: tuple[float, str, int, float] = (0.0, "", 0, 0.0)) -> FitResult:
     """Covariance, intervals and scores at the optimum (see the module notes). `frozen`: the
     residuals on the substeps of the integration at the optimum (for the Jacobian and the
     profiles; default `residuals`). `interval`: "wald" (on the transformed scale, `_interval`)
@@ -1449,8 +1483,9 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     prof_open: set[int] = set()
     profile_evals = 0
     profiled: tuple[str, ...] = ()
+    lowest: tuple = (ssr, "", math.nan, None)
     if interval == "profile" and ssr > 0.0:
-        prof, prof_bound, prof_open, profile_evals = _profile_intervals(
+        prof, prof_bound, prof_open, profile_evals, lowest = _profile_intervals(
             frozen or residuals, r, jac_p, space, q_lo, q_hi, pv, sd, tq, inflation * s2, profile_budget)
         ci.update({free[i]: ends for i, ends in prof.items()})
         profiled = tuple(free[i] for i in sorted(prof))
@@ -1470,12 +1505,13 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     # as large as the amplitude): its interval is its profile, one-sided at the bound.
     near = {i for i in range(k) if near_bound(i) and math.isfinite(sd[i]) and free[i] not in profiled}
     if near and ssr > 0.0:
-        prof, bound_b, open_b, evals_b = _profile_intervals(
+        prof, bound_b, open_b, evals_b, lowest_b = _profile_intervals(
             frozen or residuals, r, jac_p, space, q_lo, q_hi, pv, sd, tq, inflation * s2, only=near)
         ci.update({free[i]: ends for i, ends in prof.items()})
         prof_bound |= bound_b
         prof_open |= open_b
         profile_evals += evals_b
+        lowest = min(lowest, lowest_b, key=lambda low: low[0])
         profiled = tuple(name for i, name in enumerate(free) if name in profiled or i in prof)
     at_bound = tuple(name for i, name in enumerate(free) if near_bound(i) or i in prof_bound)
     if undetermined.any():
@@ -1494,11 +1530,17 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     problems = []
     if sol.status == 0:
         problems.append(f"the optimiser used its evaluation budget (max_nfev) and stopped")
-    gain, how, restarts = probe
-    if gain > PROBE_GAIN * s2:
+    gain, how, restarts, needed = probe
+    lower_point = None
+    if gain > needed:
         problems.append(f"the optimiser stopped far from a minimum: {how} from its end lowers the sum of "
                         f"squares by {gain:.4g} N^2 ({gain / s2:.3g} reduced chi-squares) after {restarts} "
                         "restart(s) from such points")
+    elif ssr - lowest[0] > max(needed, PROBE_GAIN * s2):
+        lower_point = np.clip(space.from_params(lowest[3]), q_lo, q_hi)
+        problems.append(f"the optimiser stopped short of a minimum: the profile of {lowest[1]} found a sum of "
+                        f"squares lower by {ssr - lowest[0]:.4g} N^2 ({(ssr - lowest[0]) / s2:.3g} reduced "
+                        f"chi-squares) at {lowest[1]} = {lowest[2]:.6g} (its intervals are not valid)")
     zero_ssr = float(forces @ forces)
     if ssr >= (1.0 - ZERO_GAIN) * zero_ssr:
         problems.append(f"the fit is no better than predicting zero force (rmse {math.sqrt(ssr / n):.4g} N, "
@@ -1529,7 +1571,7 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
         undetermined=tuple(name for i, name in enumerate(free)
                            if not math.isfinite(sd[i]) or sd[i] > abs(pv[i]) or i in prof_open),
         profiled=profiled, profile_evals=profile_evals, chisqr=ssr, redchi=s2,
-        aic_lmfit=neg2_lmfit + 2.0 * k, bic_lmfit=neg2_lmfit + k * math.log(n))
+        aic_lmfit=neg2_lmfit + 2.0 * k, bic_lmfit=neg2_lmfit + k * math.log(n), _lower_point=lower_point)
 
 
 # --------------------------------------------------------------------------------------------
