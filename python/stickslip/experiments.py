@@ -78,6 +78,15 @@ def _steps(v: np.ndarray, rel: float, floor: float) -> list[tuple[int, int]]:
     return runs
 
 
+def _flat(t: np.ndarray, v: np.ndarray, rel: float) -> bool:
+    """Whether a run's velocity is constant: a quadratic least-squares fit over the run varies
+    by at most rel |mean| (a run about a sine's velocity peak, or along a ramp, drifts across
+    the whole tolerance band; a plateau's fit is flat to its noise)."""
+    tau = (t - t.mean()) / (np.ptp(t) or 1.0)
+    fit = np.polyval(np.polyfit(tau, v, 2 if v.size > 3 else 0), tau)
+    return float(np.ptp(fit)) <= rel * abs(float(np.mean(v)))
+
+
 def steady_friction(t: Any, x: Any = None, force: Any = None, v: Any = None, *, normal_force: Any = None,
                     v_tol: float = 0.05, v_floor: float | None = None, settle: float = 0.5,
                     min_samples: int = 10, min_fraction: float = 0.5) -> SteadyPoints:
@@ -107,11 +116,12 @@ def steady_friction(t: Any, x: Any = None, force: Any = None, v: Any = None, *, 
         Fewest samples of a step (>= 4); at least 2 are averaged.
     min_fraction : float
         Least fraction of each record's moving time (|v| > v_floor) that its steps must cover,
-        in (0, 1] (default 0.5). A velocity staircase is steps joined by short ramps (the
-        synthetic one of the guide: 98 %); a record of continuously varying velocity (a sine)
-        also has short runs within v_tol of their mean, about its velocity peaks, which are not
-        steady sliding: such a record is refused, the message naming the runs found and their
-        durations.
+        in (0, 1] (default 0.5). A step must also hold a constant velocity: a quadratic fit of
+        its velocity varies by at most v_tol/2 of its speed. A velocity staircase is such
+        steps joined by short ramps (the synthetic one of the guide: 98 % of the moving time);
+        a record of continuously varying velocity (a sine) is cut into runs within v_tol of
+        their mean too, but their velocity drifts across the band: such a record is refused,
+        the message naming the runs found, their durations and how many were constant.
 
     Returns
     -------
@@ -149,19 +159,21 @@ def steady_friction(t: Any, x: Any = None, force: Any = None, v: Any = None, *, 
         nf = np.broadcast_to(np.asarray(d.normal_force, dtype=float), d.t.shape)
         runs = [(a, b) for a, b in _steps(vel, v_tol, floor)
                 if b - a >= min_samples and abs(float(np.mean(vel[a:b]))) > floor]
+        plateaus = [(a, b) for a, b in runs if _flat(d.t[a:b], vel[a:b], 0.5 * v_tol)]
         dt = np.gradient(d.t)
         moving = float(dt[np.abs(vel) > floor].sum())
-        covered = sum(float(dt[a:b].sum()) for a, b in runs)
+        covered = sum(float(dt[a:b].sum()) for a, b in plateaus)
         if runs and covered < min_fraction * moving:
             span = np.array([d.t[b - 1] - d.t[a] for a, b in runs])
             tag = f"[{j}]" if len(data) > 1 else ""
             raise ValueError(
-                f"t{tag}: not a velocity staircase: {len(runs)} constant-velocity run(s) (within v_tol "
-                f"{v_tol:g}) of {1e3 * span.min():.3g}-{1e3 * span.max():.3g} ms cover "
-                f"{100 * covered / moving:.3g} % of the record's moving time ({moving:.4g} s), "
-                f"below min_fraction {100 * min_fraction:g} %; steady friction needs constant-velocity "
-                "plateaus (fit a law to this record with fit_friction instead)")
-        for a, b in runs:
+                f"t{tag}: not a velocity staircase: {len(runs)} run(s) within v_tol {v_tol:g} of their mean "
+                f"velocity ({1e3 * span.min():.3g}-{1e3 * span.max():.3g} ms), {len(plateaus)} of them at a "
+                f"constant velocity (a quadratic fit varying by less than v_tol/2), covering "
+                f"{100 * covered / moving:.3g} % of the record's moving time ({moving:.4g} s), below "
+                f"min_fraction {100 * min_fraction:g} %; steady friction needs constant-velocity plateaus "
+                "(fit a law to this record with fit_friction instead)")
+        for a, b in plateaus:
             a = a + int(math.ceil(settle * (b - a)))
             if b - a < 2 or abs(float(np.mean(vel[a:b]))) <= floor:
                 continue
