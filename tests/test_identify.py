@@ -1114,3 +1114,42 @@ def test_report_matches_lmfit_on_the_same_fit():
     assert "(|c| > 0.9)" in fit.report(min_correl=0.9)
     with pytest.raises(ValueError, match=r"min_correl: must be in \[0, 1\), got 1.5"):
         fit.report(min_correl=1.5)
+
+
+def test_decimate_filters_what_the_new_rate_cannot_hold():
+    # a 0.5 Hz sine sampled at 200 Hz, plus a 90 Hz tone (above the Nyquist frequency of every
+    # 8th sample, 12.5 Hz): decimated by 8 the sine is kept to 1e-4 of its amplitude away from
+    # the ends and the tone removed (plain subsampling folds it onto 10 Hz at full amplitude)
+    from stickslip.data import Record, decimate
+    t = np.arange(0.0, 8.0, 0.005)
+    slow, tone = np.sin(np.pi * t), 0.3 * np.sin(2 * np.pi * 90.0 * t)
+    rec = Record("r", t, slow + tone, 2.0 * (slow + tone))
+    dec = rec.decimate(8)
+    np.testing.assert_array_equal(dec.t, t[::8])
+    inner = slice(20, -20)
+    assert np.abs(dec.x - slow[::8])[inner].max() < 1e-4
+    assert np.abs(rec.subsample(8).x - slow[::8]).max() > 0.25
+    np.testing.assert_allclose(dec.force, 2.0 * dec.x)
+    assert dec.v is None and dec.meta["decimate"] == 8
+    with pytest.raises(ValueError, match="step: must be an integer >= 1, got 0"):
+        decimate(t, [slow], 0)
+
+
+def test_select_with_screening_chooses_as_at_full_rate():
+    # three Dahl records at 200 samples a cycle: screened at 48 a cycle, the same law is
+    # chosen, the folds are scored on the full-rate records, the chosen law refitted at full rate
+    t, x, f, v = three_records("dahl", DAHL, 10.0, seed=8, n=401)
+    kw = dict(fixed={"coulomb": {"v_s": 1e-3}})
+    full = stickslip.select_friction_law(["coulomb", "dahl"], t, x, f, v=v, **kw)
+    screened = stickslip.select_friction_law(["coulomb", "dahl"], t, x, f, v=v, screen=48, **kw)
+    assert screened.best == full.best == "dahl" and screened.screen == 48
+    assert screened.fits["dahl"].n_samples == sum(ti.size for ti in t)
+    assert screened.screen_fits["dahl"].n_samples < 0.4 * screened.fits["dahl"].n_samples
+    assert screened.fits["dahl"].heldout_residuals.size == sum(ti.size for ti in t)
+    for law in ("coulomb", "dahl"):
+        assert screened.scores[law][0] == pytest.approx(full.scores[law][0], rel=0.05), law
+    assert "screening: fits to the records decimated to 48 samples per cycle" in screened.table()
+    with pytest.raises(ValueError, match="screen: must be an integer >= 8"):
+        stickslip.select_friction_law(["coulomb", "dahl"], t, x, f, v=v, screen=4, **kw)
+    with pytest.raises(ValueError, match="screen: screening decimates whole records"):
+        stickslip.select_friction_law(["coulomb", "dahl"], t[0], x[0], f[0], v=v[0], screen=48, **kw)

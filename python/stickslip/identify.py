@@ -50,7 +50,7 @@ import numpy as np
 
 from .core import DEFAULTS, LAWS, REGISTRY, _choice, _finite
 from .core import _shown as _plain
-from .data import Record, decimate, smooth_step
+from .data import Record, decimate
 from .prescribed import _samples
 
 #: Parameters of the prescribed-motion model that are not the law's: unit, accepted range.
@@ -412,10 +412,17 @@ class FitResult(_Estimates):
     their range or nearer to it than t(0.975) stderr (the data cannot tell them from the
     bound), whose intervals mean little.
 
-    Scores over the fitted samples: `rmse` [N], `nrmse` (rmse over the range of the measured
-    force) [-], `aic`, `bic` (Gaussian likelihood; k = len(free) + 1, the noise variance
-    included), `n_samples`, `n_records`; `cv_nrmse` (mean, standard error) when
-    `select_friction_law` made the fit.
+    Scores over the fitted samples: `chisqr` (sum of squared residuals) [N^2], `redchi`
+    (chisqr / (n - k)) [N^2], `rmse` [N], `nrmse` (rmse over the range of the measured force)
+    [-], `aic`, `bic` (the full Gaussian likelihood; k = len(free) + 1, the noise variance
+    included), `aic_lmfit`, `bic_lmfit` (lmfit's: n ln(chisqr / n) + 2 k and + k ln n, k =
+    len(free); they differ from `aic`, `bic` by n (1 + ln 2 pi) + 2 and + ln n), `n_samples`,
+    `n_records`; `cv_nrmse` (mean, standard error) when `select_friction_law` made the fit,
+    and `heldout_residuals` [N] (the residuals of fits without each record on it, which
+    calibrate `predict`'s intervals) when it or `calibrate` did. `optimizer` names the
+    optimiser, `bounds` the range each free parameter was fitted in, `nfev` counts the
+    optimiser's model evaluations (not its Jacobians'), `n_evaluations` every model evaluation
+    of the fit (Jacobians, restarts, standard errors, profiles and probes included).
 
     `profiled` names the parameters whose `ci95` is a profile-likelihood interval (the others'
     are Wald intervals, see `fit_friction`'s `interval`) and `profile_evals` counts the model
@@ -427,10 +434,13 @@ class FitResult(_Estimates):
     of the best local fit.
 
     The outcome: `success` is False (with `message` saying why, and a RuntimeWarning at the
-    fit) when the optimiser used its budget, stopped on a slope (a Gauss-Newton step from its
-    end lowers the sum of squares by more than 1 %; `optimality` is the largest cosine
-    between the residual and a free parameter's Jacobian column, 0 at a minimum), or the fit
-    is no better than predicting zero. `report()` prints all of it.
+    fit) when the optimiser used its budget, stopped short of a minimum (after `restarts`
+    further local searches, MAX_RESTARTS at most, from the lower points found, a cheap probe
+    about its end, a Gauss-Newton step or two standard errors along a parameter, still
+    lowers the sum of squares by more than PROBE_GAIN reduced chi-squares, `probe_gain` [N^2]
+    the best decrease; or a profile of the intervals found such a point), or the fit is no
+    better than predicting zero. `optimality` is the largest cosine between the residual and
+    a free parameter's Jacobian column (0 at a minimum). `report()` prints all of it.
     """
 
     rmse: float
@@ -1584,7 +1594,7 @@ def _decimated(d: _Data, per_cycle: int) -> _Data:
     spectrum = np.abs(np.fft.rfft(d.x - d.x.mean()))
     spectrum[0] = 0.0
     f0 = int(np.argmax(spectrum)) / (d.t.size * dt)
-    step = smooth_step(1.0 / (f0 * dt * per_cycle)) if f0 > 0.0 else 1
+    step = max(1, int(1.0 / (f0 * dt * per_cycle))) if f0 > 0.0 else 1
     if step == 1:
         return d
     nf = d.normal_force
@@ -1729,7 +1739,7 @@ def select_friction_law(laws: Sequence[str], t: Any, x: Any = None, force: Any =
         Samples per cycle of a screening pass (>= 8; the damper study's 48): every law is
         fitted, fold by fold and on all the data, to the records decimated to about that many
         samples per cycle of their fundamental (`stickslip.data.decimate`: an anti-aliasing
-        order-8 Chebyshev low-pass filter at 0.8 times the new Nyquist frequency, run forward
+        order-8 Butterworth low-pass filter at 0.8 times the new Nyquist frequency, run forward
         and backward, then every q-th sample); the folds' fits are scored on the held-out
         records at their full rate, and the chosen law is refitted at the full rate (its
         `fits` entry; the other laws' entries are their screening fits). With several records
