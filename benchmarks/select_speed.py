@@ -52,7 +52,7 @@ def run_select_speed(log: Callable[[str], None], laws: Sequence[str] = LAWS) -> 
              f"Machine: {machine()}. `select_friction_law({list(laws)!r}, ...)` over the ten 36 lb damper records "
              "(each held out in turn; backlash and asymmetry fitted; cases.identify's fixed parameters, rtol "
              f"{ci.RTOL:g}, diff_step {ci.DIFF_STEP:g}). Full rate with a screening pass (screen={PER_CYCLE}: the "
-             "fits on the records decimated through an order-8 Chebyshev anti-aliasing filter, zero phase, the "
+             "fits on the records decimated through an order-8 Butterworth anti-aliasing filter, zero phase, the "
              "folds scored on the held-out records at full rate, the chosen law refitted at full rate), and the "
              f"records subsampled to {PER_CYCLE} samples per cycle (cases.identify's). CPU time of the process "
              f"(budget {BUDGET_CPU_S:g} s at full rate); the same choice: {'yes' if same else 'NO'}.", "",
