@@ -67,9 +67,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "select_speed.md",
                         help="markdown file to write (default: benchmarks/results/select_speed.md)")
     args = parser.parse_args(argv)
+    from cases._common import write_text
+    from cases._provenance import write_provenance
     _, table = run_select_speed(print)
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(table, encoding="utf-8")
+    write_text(args.out, table)
+    write_provenance(args.out.parent, "benchmarks.select_speed", [args.out], argv)
     print(table)
     return 0
 
