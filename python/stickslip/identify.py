@@ -29,8 +29,12 @@ inflation of an AR(1) noise), and the intervals are taken on a scale where the p
 accepted range is the whole line (log above a lower bound, logit between two), so they stay
 in it, or (`interval="profile"`, the default for laws without states) by profile likelihood:
 where the sum of squares with the other parameters refitted exceeds its minimum by
-t^2 s^2 times the inflation. The error on held-out records is the honest measure of a law: `select_friction_law`
-chooses by it (cross-validation over records), BIC is information only.
+t^2 s^2 times the inflation; a parameter near a bound is always profiled (its interval
+one-sided there). The error on held-out records is the honest measure of a law:
+`select_friction_law` chooses by it (cross-validation over records or groups of records), BIC
+is information only, and the held-out residuals calibrate the prediction intervals. Every fit
+ends with a cheap probe for a lower point about its end, and restarts from one it (or a profile)
+finds; a fit that still has one reports success=False.
 
 The normal force. A force measured without its normal force cannot separate the friction
 coefficient from N. `normal_force=None` (the default) sets N = 1 N: the "coefficients" and the
