@@ -587,7 +587,8 @@ class FitResult(_Estimates):
     def score(self, t: Any, x: Any = None, force: Any = None, v: Any = None,
               normal_force: Any = None) -> dict[str, float]:
         """The error of the fitted model on other records (held out): rmse [N] and nrmse (over
-        the range of their measured force) [-], pooled over every sample given."""
+        the range of their measured force) [-], pooled over every sample given. Per-record
+        terms (offset, drift, asymmetry "per_record") are not carried over, as in `predict`."""
         data = _records(t, x, force, v, normal_force if normal_force is not None else
                         (None if self.force_levels else self.normal_force))
         r = np.concatenate([_model(self.law, d, _new_record_params(self.params), self.rtol) - d.force for d in data])
