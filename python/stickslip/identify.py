@@ -423,7 +423,7 @@ class FitResult(_Estimates):
     len(free); they differ from `aic`, `bic` by n (1 + ln 2 pi) + 2 and + ln n), `n_samples`,
     `n_records`; `cv_nrmse` (mean, standard error) when `select_friction_law` made the fit,
     and `heldout_residuals` [N] (the residuals of fits without each record on it, which
-    calibrate `predict`'s intervals) when it or `calibrate` did. `optimizer` names the
+    calibrate `predict`'s intervals) when it or `fit_friction(..., calibrate=True)` did. `optimizer` names the
     optimiser, `bounds` the range each free parameter was fitted in, `nfev` counts the
     optimiser's model evaluations (not its Jacobians'), `n_evaluations` every model evaluation
     of the fit (Jacobians, restarts, standard errors, profiles and probes included).
@@ -500,8 +500,8 @@ class FitResult(_Estimates):
         interval : float in (0, 1), optional
             Also return a prediction interval of that probability for a measured force at each
             sample: (force, lower, upper). Calibrated, when the fit holds held-out residuals
-            (`heldout_residuals`: `select_friction_law`'s folds, `fit_friction(...,
-            calibrate=True)` on several records, or `calibrate`): the half-width is that
+            (`heldout_residuals`: `select_friction_law`'s folds, or `fit_friction(...,
+            calibrate=True)` on several records): the half-width is that
             quantile of their magnitudes, the same at every sample (the scatter of new records
             about a model fitted without them, parameter error included). Otherwise from the
             fit alone: z sqrt(s^2 + d^T R d), z the normal quantile, s the residual standard
@@ -1254,9 +1254,8 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
     unbounded on a side with no bound (not determined by the data), and the number of model
     evaluations used, and the lowest sum of squares a refit reached with the parameter it held,
     its value and the parameters there (below the optimum's: the fit stopped short of a
-    minimum). A parameter whose
-    sd is not finite is left out, and so are the parameters after the evaluations exceed
-    `budget` (given) and those not in `only` (given)."""
+    minimum). A parameter whose sd is not finite is left out, and so are the parameters after
+    the evaluations exceed `budget` (given) and those not in `only` (given)."""
     k = p_hat.size
     ssr0 = float(r_hat @ r_hat)
     with np.errstate(invalid="ignore"):
