@@ -1078,6 +1078,29 @@ def test_offsets_per_record_are_not_carried_over():
         stickslip.fit_friction("dahl", t, x, f, v=v, backlash="per_record")
 
 
+def test_asymmetry_and_drift_per_record():
+    # two records of different asymmetry (1.2, 1.4): fitted per record, each is recovered within
+    # its interval and a new record is predicted symmetric (the default), not at their mean
+    t, x, v = [], [], []
+    f = []
+    rng = np.random.default_rng(13)
+    for (dur, amp, hz, ph), asym in zip(((4.0, 0.01, 0.5, 0.0), (2.0, 0.004, 1.0, 0.3)), (1.2, 1.4)):
+        ti, xi, vi = sine_record(dur, 401, amp, hz, ph)
+        t.append(ti), x.append(xi), v.append(vi)
+        f.append(pm("dahl", ti, xi, vi, asymmetry=asym, **DAHL).force + 10.0 * rng.standard_normal(ti.size))
+    fit = stickslip.fit_friction("dahl", t, x, f, v=v, asymmetry="per_record", drift="per_record")
+    assert set(fit.free) >= {"asymmetry[0]", "asymmetry[1]", "drift[0]", "drift[1]"}
+    assert fit.params["asymmetry"] == 1.0 and fit.units["asymmetry[1]"] == "-" and fit.units["drift[0]"] == "1/s"
+    for i, want in enumerate((1.2, 1.4)):
+        lo, hi = fit.ci95[f"asymmetry[{i}]"]
+        assert lo <= want <= hi, (i, lo, hi)
+        assert fit.ci95[f"drift[{i}]"][0] <= 0.0 <= fit.ci95[f"drift[{i}]"][1]
+    new_t, new_x, new_v = sine_record(3.0, 401, 0.009, 0.8, phase=0.4)
+    exact = pm("dahl", new_t, new_x, new_v, **DAHL).force
+    assert np.sqrt(np.mean((fit.predict(new_t, new_x, new_v) - exact) ** 2)) < 10.0
+    assert set(fit.law_params) == set(DAHL)
+
+
 def test_report_matches_lmfit_on_the_same_fit():
     lmfit = pytest.importorskip("lmfit")
     t, x, v = sine_record(n=401)
