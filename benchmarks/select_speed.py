@@ -16,8 +16,8 @@ import warnings
 from pathlib import Path
 from typing import Callable, Sequence
 
-#: The laws of the identification guide's selection on the damper records.
-LAWS: tuple[str, ...] = ("coulomb", "dahl")
+#: The laws of the identification guide's selection example (Coulomb, Dahl, LuGre).
+LAWS: tuple[str, ...] = ("coulomb", "dahl", "lugre")
 #: Samples per cycle of the screening pass and of the subsampled selection.
 PER_CYCLE: int = 48
 #: The selection at full rate must take less CPU time than this [s].
