@@ -344,12 +344,12 @@ def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
     hmax = t_end; output at t_end), OVERHEAD_CALLS calls of ``stickslip.simulate`` (its arguments
     written out in the call, as in a user's code) interleaved
     with as many bare calls of the f2py wrapper's run_prepared on the handle of the setting (the
-    library call simulate makes per run, and nothing else: stickslip.core._bare_call; the
+    library call simulate makes per run, and nothing else: stickslip.core.bare_call; the
     wrapper reads the clock for stats["cpu_seconds"] itself), alternating which goes first.
     median_s: the median time of each; overhead_s (on the simulate row): the median of the
     per-pair differences, what the facade adds per call."""
     import stickslip
-    from stickslip.core import _bare_call
+    from stickslip.core import bare_call
 
     rows: list[dict] = []
     clock = time.perf_counter
@@ -362,7 +362,7 @@ def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
         written = ", ".join(f"{k}={v!r}" for k, v in kw.items())
         sim = eval(f"lambda: simulate({scene!r}, {law!r}, method={method!r}, t_end={t_end!r}, n_out=2, "
                    f"{written})", {"simulate": stickslip.simulate})
-        bare = _bare_call(scene, law, method=method, t_end=t_end, n_out=2, **kw)
+        bare = bare_call(scene, law, method=method, t_end=t_end, n_out=2, **kw)
         res = sim()
         t_bare, t_sim = np.empty(OVERHEAD_CALLS), np.empty(OVERHEAD_CALLS)
         for i in range(OVERHEAD_CALLS):

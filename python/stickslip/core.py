@@ -1348,7 +1348,7 @@ _set_main_thread()
 os.register_at_fork(after_in_child=_set_main_thread)
 
 
-def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
+def bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
     """The library call that ``simulate(scene, law, **kwargs)`` makes (run_prepared on the
     setting's handle), through f2py's wrapper of it, as a function that makes it with the same
     arguments and does nothing else (the benchmarks' overhead table: simulate reaches the same
