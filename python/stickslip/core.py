@@ -740,8 +740,8 @@ def _states(law: str, params: tuple[tuple[str, float], ...]) -> tuple[int, tuple
 
 
 #: Most bodies whose natural frequencies are computed exactly (one dense symmetric eigenvalue
-#: problem, about 20 ms at 500 bodies); a larger system takes Gershgorin's bound.
-_EXACT_PERIOD_BODIES = 500
+#: problem, about 10 ms at 200 bodies); a larger system takes Gershgorin's bound.
+_EXACT_PERIOD_BODIES = 200
 
 
 @dataclass(frozen=True)
@@ -860,7 +860,7 @@ def shortest_period(system: Any, law: str = "coulomb", **params: Any) -> float |
     Returns
     -------
     float or None
-        2 pi / w_max, w_max^2 the largest eigenvalue of K x = w^2 M x (exact up to 500 bodies,
+        2 pi / w_max, w_max^2 the largest eigenvalue of K x = w^2 M x (exact up to 200 bodies,
         Gershgorin's lower bound on the period beyond); None without a spring (the slope).
         Simulate warns where a fixed step h is longer (UnstableStepWarning).
     """
@@ -915,7 +915,7 @@ def _warn_model_steps(model: Any, method: Any, t_end: Any, controls: Mapping[str
     if not (math.isfinite(h) and math.isfinite(t) and h > 0.0 and t > 0.0):
         return
     for message, category in _step_warnings(_model_oscillators(model), method, h, t):
-        warnings.warn(message, category, stacklevel=4)      # the caller of simulate
+        warnings.warn(message, category, stacklevel=3)      # the caller of simulate
 
 
 def _check_code(status: int, given: Mapping[str, Any] | None = None) -> None:
