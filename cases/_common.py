@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
+import stickslip.core
 
 from harness import style as _style
 from harness.cli import add_outdir, check_writable, cli_description, float_in, int_at_least
@@ -219,7 +220,7 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
 # Command line
 # --------------------------------------------------------------------------------------------
 #: Smallest relative tolerance the library accepts: 100 units of round-off (2.2e-14).
-RTOL_MIN: float = 100.0 * float(np.finfo(float).eps)
+RTOL_MIN: float = stickslip.core.RTOL_MIN
 
 
 #: argparse types: a finite float > 0; a relative tolerance in [100 eps, 1); a number of output

@@ -24,16 +24,20 @@ from . import _stickslip as _ext
 
 def _read_registry() -> dict[str, Any]:
     """The core's registry (stickslip_registry::registry_text): laws, scenes, methods,
-    parameters, counters and status codes, one '|'-separated record per line."""
+    parameters, counters, status codes, event kinds and shared constants, one '|'-separated
+    record per line."""
     text = _ext.registry().decode().rstrip("\x00 \n")
-    reg: dict[str, Any] = {"law": {}, "scene": {}, "method": {}, "param": {}, "status": {}}
+    reg: dict[str, Any] = {"law": {}, "scene": {}, "method": {}, "param": {}, "status": {}, "event": {},
+                           "const": {}}
     for line in text.splitlines():
         kind, *f = line.split("|")
         if kind == "law":
             reg["law"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "n_states": int(f[3]),
-                                "states": tuple(x for x in f[4].split(";") if x), "doc": f[5]}
+                                # > 0: a law with jumps, solved over its modes (implicit_euler, galpha)
+                                "modes": int(f[4]),
+                                "states": tuple(x for x in f[5].split(";") if x), "doc": "|".join(f[6:])}
         elif kind == "scene":
-            reg["scene"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "doc": f[3]}
+            reg["scene"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "doc": "|".join(f[3:])}
         elif kind == "method":
             reg["method"][f[1]] = {"code": int(f[0]), "order": int(f[2]), "adaptive": f[3] == "1",
                                    "implicit": f[4] == "1", "controls": tuple(f[5].split()), "doc": f[6],
@@ -42,11 +46,15 @@ def _read_registry() -> dict[str, Any]:
         elif kind == "param":
             reg["param"][f[0]] = {"code": int(f[1]), "default": float(f[2]), "unit": f[3],
                                   "default_of": f[4] or None, "scale": float(f[5]), "rule": f[6],
-                                  "doc": f[7]}
+                                  "doc": "|".join(f[7:])}
         elif kind == "stats":
             reg["stats_int"], reg["stats_real"] = tuple(f[0].split()), tuple(f[1].split())
         elif kind == "status":
             reg["status"][f[0]] = int(f[1])
+        elif kind == "event":
+            reg["event"][f[1]] = {"code": int(f[0]), "doc": "|".join(f[2:])}
+        elif kind == "const":
+            reg["const"][f[0]] = {"value": float(f[1]), "unit": f[2], "doc": "|".join(f[3:])}
     return reg
 
 
@@ -78,13 +86,18 @@ STATUS_OUTPUT_FULL = _STATUS["OUTPUT_FULL"]
 _FIRST_INPUT_CODE = -100          # codes <= this name one bad input
 
 #: The facade's defaults of the shared controls; each is passed only to the methods that read
-#: it. hmax = 0 lets a step span the whole run [0, t_end] (Hairer's default): the step is then
-#: limited by the error test alone. The paper's "automatic" range [hmin, hmax] = [1e-6, 1e-2] s
+#: it. hmin is the library's HMIN_DEFAULT (1e-6 s, stickslip_registry: the same default in
+#: Fortran, C and Python). hmax = 0 lets a step span the whole run [0, t_end] (Hairer's
+#: default): the step is then limited by the error test alone. The paper's "automatic" range [hmin, hmax] = [1e-6, 1e-2] s
 #: is what its drivers (cases/) pass explicitly. Read-only: simulate reads them once per method
 #: (_plan).
 CONTROL_DEFAULTS: Mapping[str, Any] = MappingProxyType(
-    {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 0.0, "h0": 0.0, "allow_forced": True,
-     "stop_on_stiff": False})
+    {"rtol": 1e-6, "atol": 1e-9, "hmin": REGISTRY["const"]["hmin"]["value"], "hmax": 0.0, "h0": 0.0,
+     "allow_forced": True, "stop_on_stiff": False})
+
+#: Smallest nonzero relative tolerance the adaptive methods accept (the library's RTOL_MIN,
+#: 100 units of round-off).
+RTOL_MIN: float = REGISTRY["const"]["rtol_min"]["value"]
 
 #: Largest every-step output the facade allocates [rows]: 3 arrays of 8-byte floats.
 MAX_ROWS = 50_000_000
@@ -215,9 +228,9 @@ _ERRORS: dict[int, type[IntegrationError]] = {
 #: "reversal": the relative velocity reached 0 and the contact could not be held), position x
 #: of the contact's body [m], contact index (0-based).
 EVENT_DTYPE = np.dtype([("t", "f8"), ("kind", "U8"), ("x", "f8"), ("contact", "i4")])
-_EVENT_KINDS = ("stick", "slip", "reversal")
+_EVENT_KINDS = tuple(sorted(REGISTRY["event"], key=lambda k: REGISTRY["event"][k]["code"]))
 #: Events the facade makes room for when max_events is not given (the library's default).
-_DEFAULT_MAX_EVENTS = 10000
+_DEFAULT_MAX_EVENTS = int(REGISTRY["const"]["max_events"]["value"])
 #: Most events Result.events holds (32 MB of rows); a run may count more (stats["nevents"]).
 _EVENT_ROOM = 1_000_000
 #: The events of a run without any (read-only, shared), and the library's empty event buffer.
@@ -979,7 +992,7 @@ _MAX_DENSE_STATES = 4000
 
 
 #: Most blocks of the chain (the library's MAX_BLOCKS in stickslip_chain).
-_MAX_BLOCKS = 1_000_000
+_MAX_BLOCKS = int(REGISTRY["const"]["max_blocks"]["value"])
 
 
 def _n_blocks(given: Mapping[str, float], method: str, n_per_block: int, dense: bool) -> int:

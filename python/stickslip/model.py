@@ -41,9 +41,9 @@ __all__ = ["Model"]
 
 #: The library's kinds of model element (stickslip_user_model's ELEM_*), as messages name them.
 _ELEMENTS = {1: "body", 2: "spring", 3: "damper", 4: "force", 5: "contact", 6: "signal"}
-#: The laws with jumps (modes), which implicit_euler and galpha solve over their modes on a
-#: model (stickslip_modal_contacts), and those methods.
-_JUMP_LAWS = ("coulomb", "karnopp")
+#: The laws with jumps (modes: the registry's n_modes > 0), which implicit_euler and galpha
+#: solve over their modes on a model (stickslip_modal_contacts), and those methods.
+_JUMP_LAWS = tuple(law for law in LAWS if REGISTRY["law"][law]["modes"] > 0)
 _MODAL_METHODS = ("implicit_euler", "galpha")
 
 
