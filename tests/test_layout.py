@@ -232,3 +232,32 @@ def test_the_python_checks_find_what_they_look_for():
              "cases.stick": {"cases._common", "stickslip.core"}}
     assert private_imports(graph) == ["benchmarks.run imports cases._common",
                                       "benchmarks.run imports stickslip.core._private"]
+
+
+# --- The extending guide's layout section names what the tree holds ------------------------------
+def layout_block() -> str:
+    text = (ROOT / "docs" / "guide" / "extending.md").read_text()
+    section = text.split("## Layout", 1)[1]
+    return section.split("```", 2)[1]
+
+
+def test_the_guides_layout_names_the_tree():
+    """Every top-level folder with tracked files, every Fortran module (by its name after
+    stickslip, as the section writes them), every Python module of the package and of
+    harness/, and every private module of cases/ appear in the layout section: a file added
+    without a line there fails."""
+    block = layout_block()
+    tracked = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True,
+                             check=True).stdout.split()
+    folders = {p.split("/")[0] for p in tracked if "/" in p and not p.startswith(".")}
+    missing = [f"{d}/" for d in sorted(folders) if f"{d}/" not in block]
+    for f in sorted((ROOT / "fortran").glob("*/*.f90")):
+        short = f.stem.removeprefix("stickslip")
+        if f.stem not in block and short not in block and not f.stem.startswith("stickslip_law_"):
+            missing.append(str(f.relative_to(ROOT)))
+    for folder in (ROOT / "python" / "stickslip", ROOT / "harness"):
+        missing += [str(p.relative_to(ROOT)) for p in sorted(folder.glob("*.py"))
+                    if p.stem != "__init__" and p.stem != "__main__" and p.name not in block]
+    missing += [str(p.relative_to(ROOT)) for p in sorted((ROOT / "cases").glob("_*.py"))
+                if not p.stem.startswith("__") and p.name not in block]
+    assert not missing, f"not in docs/guide/extending.md's layout section: {missing}"
