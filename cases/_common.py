@@ -10,15 +10,11 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import csv
 import inspect
-import math
 import multiprocessing
 import os
 import queue
-import secrets
 import sys
-import tempfile
 import textwrap
 import time
 import warnings
@@ -31,8 +27,9 @@ import stickslip.core
 
 from harness import style as _style
 from harness.cli import add_outdir, check_writable, cli_description, float_in, int_at_least
-from harness.files import (FLOAT_FORMAT, atomic_write, markdown_table, read_csv, read_numeric_csv, split_unit,
-                           write_columns, write_csv, write_text)
+# the drivers write and read their files as c.write_csv, c.read_csv, ... (harness.files)
+from harness.files import (FLOAT_FORMAT, atomic_write, markdown_table, read_csv, read_numeric_csv,  # noqa: F401
+                           split_unit, write_columns, write_csv, write_text)
 from harness.provenance import write_provenance
 from harness.style import plt  # the Agg backend and the common style, set once
 

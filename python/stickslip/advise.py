@@ -63,6 +63,8 @@ MAX_LADDER: int = 14
 N0: int = 16
 #: First and tightest tolerance of an adaptive method's ladder (the library accepts >= 100 eps).
 RTOL0: float = 1e-3
+#: Tightest rtol of an adaptive ladder: the advisor's own floor, above the library's
+#: stickslip.core.RTOL_MIN (100 eps = 2.2e-14), where round-off still leaves an order to see.
 RTOL_MIN: float = 1e-13
 #: atol = ATOL_RATIO rtol (as the work-precision study).
 ATOL_RATIO: float = 1e-3

@@ -182,8 +182,9 @@ class NewtonFailure(IntegrationError):
 
 class UnstableStepWarning(UserWarning):
     """A fixed step beyond the method's linear stability bound (`rk4_stability_bound`), or
-    longer than the scene's shortest period of oscillation: the run may chatter, settle on a
-    wrong state, blow up, or (moreau, the implicit methods) damp or skip the oscillation."""
+    longer than the system's shortest period of oscillation (`shortest_period`): the run may
+    chatter, settle on a wrong state, blow up, or (moreau, the implicit methods) damp or skip
+    the oscillation."""
 
 
 class ContactSolverFailure(IntegrationError):
@@ -1151,10 +1152,14 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     UnusedParameterWarning
         A physical parameter the scene and the law do not read (unless ignore_unused).
     UnstableStepWarning
-        RK4 with h beyond its stability bound at the creep speed on the slope
-        (`rk4_stability_bound`).
+        A fixed step h longer than the system's shortest period of oscillation
+        (`shortest_period`: from its springs and masses), or RK4 with h beyond its stability
+        bound at the creep speed on the slope (`rk4_stability_bound`).
     UserWarning
         A fixed step h longer than the whole run.
+
+    The checks of a fixed step are the same for a scene and a `Model` (a model from
+    `Model.from_scene` warns as its scene).
 
     Examples
     --------
