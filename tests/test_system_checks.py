@@ -57,10 +57,12 @@ def test_a_model_from_a_scene_warns_exactly_as_the_scene(scene, law, method, con
 
 
 def test_the_issues_belt_warns_of_its_period():
-    """h = 2 s on the belt (period 2 pi sqrt(m / k) = 1.147 s): the model warns too."""
+    """h = 2 s on the belt (period 2 pi sqrt(m / k) = 1.147 s): the model warns too, at the
+    caller's line."""
     model = ss.Model.from_scene("belt", "coulomb")
-    with pytest.warns(ss.UnstableStepWarning, match=r"shortest period of oscillation 1\.15 s"):
+    with pytest.warns(ss.UnstableStepWarning, match=r"shortest period of oscillation 1\.15 s") as caught:
         ss.simulate(model, method="moreau", h=2.0, t_end=10.0)
+    assert caught[0].filename == __file__
 
 
 def drill_string() -> ss.Model:
