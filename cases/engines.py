@@ -706,7 +706,7 @@ def tables(outdir: Path) -> list[Path]:
 
 
 #: Colour and marker of every engine run kind (fixed across the figures); the exact methods
-#: keep the colours of cases._style.
+#: keep the colours of harness.style.
 ENGINE_STYLE: dict[str, tuple[str, str]] = {
     "mujoco": (c._style.OKABE_ITO["reddish purple"], "o"),
     "mujoco_elliptic": (c._style.OKABE_ITO["reddish purple"], "s"),
@@ -849,7 +849,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     [--threads N] [--quiet]."""
     parser = argparse.ArgumentParser(prog="python -m cases.engines",
                                      description=c.cli_description(__doc__))
-    parser.add_argument("--outdir", type=Path, default=Path("out"), help="output directory")
+    c.add_outdir(parser, help="output directory (default: out/)")
     parser.add_argument("--quick", action="store_true",
                         help="defaults and one setting per engine, t_end 4 s (for tests)")
     parser.add_argument("--replot", action="store_true",
@@ -866,7 +866,6 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     args = parser.parse_args(argv)
     if args.threads < 1:
         parser.error(f"argument --threads: must be >= 1, got {args.threads}")
-    c.check_writable(parser, args.outdir)
     if args.replot:
         missing = [f for f in ("engines_slope.csv", "engines_belt.csv", "engines_belt_series.csv")
                    if not (args.outdir / f).exists()]

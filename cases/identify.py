@@ -39,9 +39,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from . import _common as c
-from . import _style
+from harness import style as _style
 
+from . import _common as c
 SAMPLES_PER_CYCLE: int = 48
 JUMP_VELOCITY: float = 1e-3        # [m/s]
 GMS_C: float = 1e6                 # [N/s]
@@ -49,9 +49,9 @@ RTOL: float = 1e-4                 # state integration of the fits (force error 
 DIFF_STEP: float = 1e-2            # finite-difference step, well above RTOL
 TIE: float = 0.05                  # held-out errors within 5 % of the best count as equal
 STATIC_REFERENCE: str = "stribeck"  # the static (velocity-only) law the report sets beside the chosen one
-#: Display names of the laws (cases._style's, one set for every figure).
+#: Display names of the laws (harness.style's, one set for every figure).
 LAW_NAMES: dict[str, str] = _style.LAW_NAMES
-#: Colour of the measured force (a model's is its law's: cases._style.LAW_COLORS).
+#: Colour of the measured force (a model's is its law's: harness.style.LAW_COLORS).
 MEASURED_COLOR: str = "0.6"
 #: Colours of the load groups in the score figure (not laws or methods: the cycle's).
 GROUP_COLORS: tuple[str, ...] = _style.VARIANT_COLORS[1:]
@@ -236,7 +236,7 @@ def shown_laws(chosen: str, available: Sequence[str]) -> list[str]:
 
 
 #: Widths of the figures [in] (loops, residuals, correlations, scores); their fonts are scaled to
-#: stay legible at a column width (cases._style.apply).
+#: stay legible at a column width (harness.style.apply).
 LOOPS_WIDTH: float = 4.6
 RESIDUALS_WIDTH: float = 5.0
 CORRELATION_WIDTH: float = 4.6
@@ -420,13 +420,11 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                              "default: the repository's data/friction-damper/*.csv.gz)")
     parser.add_argument("--laws", nargs="+", choices=stickslip.LAWS, default=None, metavar="LAW",
                         help=f"candidate laws (default: all, {' '.join(stickslip.LAWS)})")
-    parser.add_argument("--outdir", type=Path, default=Path("out"),
-                        help="directory for CSV, PNG, PDF and Markdown files (default: out/)")
+    c.add_outdir(parser, help="directory for CSV, PNG, PDF and Markdown files (default: out/)")
     parser.add_argument("--threads", type=c.count, default=2,
                         help="fits run at once, each in its own process, >= 1 (default 2)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
-    c.check_writable(parser, args.outdir)
     for f in args.data or ():
         if not f.is_file():
             parser.error(f"argument --data: {f}: no such file")

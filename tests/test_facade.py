@@ -168,7 +168,7 @@ def test_calls_from_another_thread_work_and_match() -> None:
 
 def test_bare_call_is_the_call_simulate_makes() -> None:
     """The benchmarks' reference: the same arguments, hence the same numbers."""
-    bare = core._bare_call("belt", "proposed", **RK4)
+    bare = core.bare_call("belt", "proposed", **RK4)
     y, stats, status, cpu = bare()
     r = ss.simulate("belt", "proposed", **RK4)
     assert status == 0 and np.array_equal(y[0], r.x) and np.array_equal(y[1], r.v)

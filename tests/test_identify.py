@@ -690,19 +690,30 @@ def test_lugre_with_backlash_intervals_cover_the_truth_95_percent():
 # default a = 1.5 the decay is 1 % of mu_s - mu_k, mu_k and a are then not determined (its
 # intervals held mu_k in 35 of 50 draws, 21 fits said they had failed); ten times the
 # amplitudes and a = 20 make the curve's shape visible.
-COVERAGE_CASES: dict[str, tuple[dict, dict, float]] = {
+TUNED_CASES: dict[str, tuple[dict, dict, float]] = {
     "coulomb": (dict(mu_s=1500.0, mu_k=1000.0, v_s=1e-3), {"v_s": 1e-3}, 1.0),
     "karnopp": (dict(mu_s=1500.0, mu_k=1000.0, dv=1e-3), {"dv": 1e-3}, 1.0),
     "recurdyn": (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.003, v_d=0.006), {}, 1.0),
     "proposed": (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.02, beta=1.0 / 3.0, a=20.0), {}, 10.0),
     "stribeck": (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.004, delta=2.0, c_v=2000.0, v_eps=0.001), STRIBECK_FIXED, 1.0),
     **{law: (truth, fixed, 1.0) for law, (truth, fixed) in STATE_CASES.items()},
-    # the physics engines' regularised laws (their v_s: the engine's regularisation speed)
-    "drake_continuous": (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.004), {}, 1.0),
-    "drake_tamsi": (dict(mu_k=1000.0, v_s=0.004), {}, 1.0),
-    "capped_viscous": (dict(mu_k=1000.0, v_s=0.004), {}, 1.0),
-    "mujoco_pyramidal": (dict(mu_k=1000.0, v_s=0.004), {}, 1.0),
 }
+#: Force levels of a law without a tuned case (the physics engines' regularised laws have
+#: theirs: v_s, the engine's regularisation speed); its other parameters at their defaults.
+DEFAULT_LEVELS: dict[str, float] = dict(mu_s=1500.0, mu_k=1000.0, v_s=0.004)
+
+
+def default_case(law: str) -> tuple[dict, dict, float]:
+    """The coverage case of a law from the registry alone: its parameters at DEFAULT_LEVELS or
+    their defaults, none fixed, the records at their own amplitude."""
+    return ({k: DEFAULT_LEVELS.get(k, stickslip.REGISTRY["param"][k]["default"])
+             for k in stickslip.REGISTRY["law"][law]["params"]}, {}, 1.0)
+
+
+#: Every law of the registry: its tuned case, else the default one (a new law is covered with
+#: no edit here).
+COVERAGE_CASES: dict[str, tuple[dict, dict, float]] = {
+    law: TUNED_CASES.get(law) or default_case(law) for law in stickslip.LAWS}
 
 
 def law_coverage(law: str, draws: int, seed0: int = 2000) -> dict[str, int]:
@@ -722,8 +733,14 @@ def law_coverage(law: str, draws: int, seed0: int = 2000) -> dict[str, int]:
     return hits
 
 
-def test_coverage_cases_cover_every_law():
+def test_coverage_cases_follow_the_registry():
+    """Every law has a case; a tuned case names a law of the registry and only its parameters;
+    the default case of the engines' laws is the one they had by hand."""
     assert sorted(COVERAGE_CASES) == sorted(stickslip.LAWS)
+    for law, (truth, fixed, _) in TUNED_CASES.items():
+        assert set(truth) | set(fixed) <= set(stickslip.REGISTRY["law"][law]["params"]), law
+    assert default_case("drake_tamsi") == (dict(mu_k=1000.0, v_s=0.004), {}, 1.0)
+    assert default_case("drake_continuous") == (dict(mu_s=1500.0, mu_k=1000.0, v_s=0.004), {}, 1.0)
 
 
 @pytest.mark.parametrize("law", sorted(COVERAGE_CASES))

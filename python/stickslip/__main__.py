@@ -39,6 +39,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     import stickslip as ss
     from stickslip.model import write_whole
+    from stickslip.outputs import output_problem
 
     def fail(message: str) -> int:
         print(f"python -m stickslip: error: {message}", file=sys.stderr)
@@ -47,9 +48,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return fail(f"model: no such file {args.model!r}")
     outs = [args.out] + ([os.path.splitext(args.out)[0] + ".png"] if args.plot else [])
     for out in outs:
-        folder = os.path.dirname(os.path.abspath(out))
-        if not os.path.isdir(folder) or not os.access(folder, os.W_OK):
-            return fail(f"--out: cannot write into {folder!r}")
+        problem = output_problem(out, directory=False)      # the rule of every CLI (stickslip.outputs)
+        if problem:
+            return fail(f"--out: {problem}")
         if os.path.exists(out) and not args.force:
             return fail(f"--out: {out!r} exists (another result?); give --force to overwrite it")
     controls = {k: v for k, v in (("h", args.h), ("rtol", args.rtol), ("atol", args.atol)) if v is not None}

@@ -51,7 +51,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from .core import (LAWS, METHODS, REGISTRY, SCENES, CONTROLS, IntegrationError, _choice, _physical,
-                   _shortest_period, friction_coefficient, _shown, simulate)
+                   shortest_period, friction_coefficient, _shown, simulate)
 
 #: Aim at target/SAFETY, so that a prediction off by this factor still meets the target.
 SAFETY: float = 2.0
@@ -63,6 +63,8 @@ MAX_LADDER: int = 14
 N0: int = 16
 #: First and tightest tolerance of an adaptive method's ladder (the library accepts >= 100 eps).
 RTOL0: float = 1e-3
+#: Tightest rtol of an adaptive ladder: the advisor's own floor, above the library's
+#: stickslip.core.RTOL_MIN (100 eps = 2.2e-14), where round-off still leaves an order to see.
 RTOL_MIN: float = 1e-13
 #: atol = ATOL_RATIO rtol (as the work-precision study).
 ATOL_RATIO: float = 1e-3
@@ -452,7 +454,7 @@ def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega:
             n = max(n, math.ceil(prob.t_end * omega * (omega * prob.t_end) ** (1.0 / p)))
         if bound is not None:
             n = max(n, math.ceil(prob.t_end / (STABILITY_MARGIN * bound)))
-        period = _model_period(prob.model) if prob.model is not None else _shortest_period(prob.scene, prob.params, 1)
+        period = shortest_period(prob.model if prob.model is not None else prob.scene, **prob.params)
         if period is not None:          # never beyond the scene's own oscillation
             n = max(n, math.ceil(prob.t_end / (PERIOD_FRACTION * period)))
         setting = prob.t_end / n
@@ -994,23 +996,6 @@ def _model_alternatives(model: Any, tried: Sequence[str]) -> str:
     jumps = [c for c in model.contacts if _has_jump(c.law, c.params)]
     c = (jumps or model.contacts)[0]
     return _alternatives(c.law, dict(c.params), tried)
-
-
-def _model_period(model: Any) -> float | None:
-    """The model's shortest period of free oscillation [s]: 2 pi / sqrt of the largest
-    eigenvalue of M^-1 K, K from the springs (None without springs)."""
-    n = model.n_bodies
-    k = np.zeros((n, n))
-    for a, b, ks, _ in model.springs:
-        k[a, a] += ks
-        if b is not None:
-            k[b, b] += ks
-            k[a, b] -= ks
-            k[b, a] -= ks
-    mass = np.array([b.mass for b in model.bodies])
-    s = 1.0 / np.sqrt(mass)
-    lam = float(np.max(np.linalg.eigvalsh(s[:, None] * k * s[None, :]))) if n else 0.0
-    return 2.0 * math.pi / math.sqrt(lam) if lam > 0.0 else None
 
 
 def model_jacobian_eigenvalues(model: Any, states: np.ndarray) -> np.ndarray:

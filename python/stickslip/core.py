@@ -24,16 +24,20 @@ from . import _stickslip as _ext
 
 def _read_registry() -> dict[str, Any]:
     """The core's registry (stickslip_registry::registry_text): laws, scenes, methods,
-    parameters, counters and status codes, one '|'-separated record per line."""
+    parameters, counters, status codes, event kinds and shared constants, one '|'-separated
+    record per line."""
     text = _ext.registry().decode().rstrip("\x00 \n")
-    reg: dict[str, Any] = {"law": {}, "scene": {}, "method": {}, "param": {}, "status": {}}
+    reg: dict[str, Any] = {"law": {}, "scene": {}, "method": {}, "param": {}, "status": {}, "event": {},
+                           "const": {}}
     for line in text.splitlines():
         kind, *f = line.split("|")
         if kind == "law":
             reg["law"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "n_states": int(f[3]),
-                                "states": tuple(x for x in f[4].split(";") if x), "doc": f[5]}
+                                # > 0: a law with jumps, solved over its modes (implicit_euler, galpha)
+                                "modes": int(f[4]),
+                                "states": tuple(x for x in f[5].split(";") if x), "doc": "|".join(f[6:])}
         elif kind == "scene":
-            reg["scene"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "doc": f[3]}
+            reg["scene"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "doc": "|".join(f[3:])}
         elif kind == "method":
             reg["method"][f[1]] = {"code": int(f[0]), "order": int(f[2]), "adaptive": f[3] == "1",
                                    "implicit": f[4] == "1", "controls": tuple(f[5].split()), "doc": f[6],
@@ -42,11 +46,15 @@ def _read_registry() -> dict[str, Any]:
         elif kind == "param":
             reg["param"][f[0]] = {"code": int(f[1]), "default": float(f[2]), "unit": f[3],
                                   "default_of": f[4] or None, "scale": float(f[5]), "rule": f[6],
-                                  "doc": f[7]}
+                                  "doc": "|".join(f[7:])}
         elif kind == "stats":
             reg["stats_int"], reg["stats_real"] = tuple(f[0].split()), tuple(f[1].split())
         elif kind == "status":
             reg["status"][f[0]] = int(f[1])
+        elif kind == "event":
+            reg["event"][f[1]] = {"code": int(f[0]), "doc": "|".join(f[2:])}
+        elif kind == "const":
+            reg["const"][f[0]] = {"value": float(f[1]), "unit": f[2], "doc": "|".join(f[3:])}
     return reg
 
 
@@ -78,13 +86,18 @@ STATUS_OUTPUT_FULL = _STATUS["OUTPUT_FULL"]
 _FIRST_INPUT_CODE = -100          # codes <= this name one bad input
 
 #: The facade's defaults of the shared controls; each is passed only to the methods that read
-#: it. hmax = 0 lets a step span the whole run [0, t_end] (Hairer's default): the step is then
-#: limited by the error test alone. The paper's "automatic" range [hmin, hmax] = [1e-6, 1e-2] s
+#: it. hmin is the library's HMIN_DEFAULT (1e-6 s, stickslip_registry: the same default in
+#: Fortran, C and Python). hmax = 0 lets a step span the whole run [0, t_end] (Hairer's
+#: default): the step is then limited by the error test alone. The paper's "automatic" range [hmin, hmax] = [1e-6, 1e-2] s
 #: is what its drivers (cases/) pass explicitly. Read-only: simulate reads them once per method
 #: (_plan).
 CONTROL_DEFAULTS: Mapping[str, Any] = MappingProxyType(
-    {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 0.0, "h0": 0.0, "allow_forced": True,
-     "stop_on_stiff": False})
+    {"rtol": 1e-6, "atol": 1e-9, "hmin": REGISTRY["const"]["hmin"]["value"], "hmax": 0.0, "h0": 0.0,
+     "allow_forced": True, "stop_on_stiff": False})
+
+#: Smallest nonzero relative tolerance the adaptive methods accept (the library's RTOL_MIN,
+#: 100 units of round-off).
+RTOL_MIN: float = REGISTRY["const"]["rtol_min"]["value"]
 
 #: Largest every-step output the facade allocates [rows]: 3 arrays of 8-byte floats.
 MAX_ROWS = 50_000_000
@@ -169,28 +182,9 @@ class NewtonFailure(IntegrationError):
 
 class UnstableStepWarning(UserWarning):
     """A fixed step beyond the method's linear stability bound (`rk4_stability_bound`), or
-    longer than the scene's shortest period of oscillation: the run may chatter, settle on a
-    wrong state, blow up, or (moreau, the implicit methods) damp or skip the oscillation."""
-
-
-def _shortest_period(scene: str, given: Mapping[str, Any], n_blocks: int) -> float | None:
-    """The scene's shortest period of free oscillation [s] (springs and masses only; None on
-    the slope, which has no spring). On the chain, from Gershgorin's bound on the largest
-    eigenvalue of M^-1 K: max(k + k_p + 2 k_c, k_p + 4 k_c) / m (exact for one block)."""
-    if scene == "slope":
-        return None
-    m = float(given.get("m", DEFAULTS["m"]))
-    k = float(given.get("k", DEFAULTS["k"]))
-    if scene == "belt":
-        stiff = k
-    else:
-        k_c = given.get("k_c")
-        k_c = k if k_c is None else float(k_c)
-        k_p = float(given.get("k_p", DEFAULTS["k_p"]))
-        stiff = k + k_p if n_blocks == 1 else max(k + k_p + 2 * k_c, k_p + 4 * k_c)
-    if not stiff > 0.0 or not m > 0.0:
-        return None
-    return 2.0 * math.pi * math.sqrt(m / stiff)
+    longer than the system's shortest period of oscillation (`shortest_period`): the run may
+    chatter, settle on a wrong state, blow up, or (moreau, the implicit methods) damp or skip
+    the oscillation."""
 
 
 class ContactSolverFailure(IntegrationError):
@@ -235,9 +229,9 @@ _ERRORS: dict[int, type[IntegrationError]] = {
 #: "reversal": the relative velocity reached 0 and the contact could not be held), position x
 #: of the contact's body [m], contact index (0-based).
 EVENT_DTYPE = np.dtype([("t", "f8"), ("kind", "U8"), ("x", "f8"), ("contact", "i4")])
-_EVENT_KINDS = ("stick", "slip", "reversal")
+_EVENT_KINDS = tuple(sorted(REGISTRY["event"], key=lambda k: REGISTRY["event"][k]["code"]))
 #: Events the facade makes room for when max_events is not given (the library's default).
-_DEFAULT_MAX_EVENTS = 10000
+_DEFAULT_MAX_EVENTS = int(REGISTRY["const"]["max_events"]["value"])
 #: Most events Result.events holds (32 MB of rows); a run may count more (stats["nevents"]).
 _EVENT_ROOM = 1_000_000
 #: The events of a run without any (read-only, shared), and the library's empty event buffer.
@@ -759,6 +753,185 @@ def _states(law: str, params: tuple[tuple[str, float], ...]) -> tuple[int, tuple
     return int(nz), tuple(s for s in text.split(";") if s)
 
 
+#: Most bodies whose natural frequencies are computed exactly (one dense symmetric eigenvalue
+#: problem, about 10 ms at 200 bodies); a larger system takes Gershgorin's bound.
+_EXACT_PERIOD_BODIES = 200
+
+
+@dataclass(frozen=True)
+class _Oscillators:
+    """A system (a scene with its parameters, or a Model) as the checks of a fixed step see it:
+    its bodies' masses [kg], its springs as rows (a, b, k [N/m]) with b = -1 the ground, and,
+    where it is a box on a slope (one body, no spring, constant forces), the law and the
+    parameters of RK4's creep bound (`rk4_stability_bound`), else None."""
+
+    masses: np.ndarray
+    springs: np.ndarray
+    slope: tuple[str, tuple[tuple[str, float], ...]] | None = None
+
+
+def _scene_oscillators(scene: str, law: str, given: Mapping[str, Any], n_blocks: int) -> _Oscillators:
+    """A scene's bodies and springs (the system `Model.from_scene` builds): the slope one body
+    and no spring, the belt mass m on spring k, the chain n_blocks masses m, spring k + k_p to
+    the ground for block 0, k_p for the others, k_c between neighbours."""
+    def value(name: str) -> float:
+        v = given.get(name, DEFAULTS.get(name))
+        return float(given.get("k", DEFAULTS["k"]) if v is None and name == "k_c" else v)
+
+    if scene == "slope":
+        return _Oscillators(np.ones(1), np.zeros((0, 3)), (law, tuple(sorted(given.items()))))
+    m, k = value("m"), value("k")
+    if scene == "belt":
+        return _Oscillators(np.full(1, m), np.array([[0.0, -1.0, k]]))
+    k_p, k_c = value("k_p"), value("k_c")
+    i = np.arange(1, n_blocks, dtype=np.float64)
+    springs = np.concatenate([[[0.0, -1.0, k + k_p]], np.column_stack([i, np.full_like(i, -1.0), np.full_like(i, k_p)]),
+                              np.column_stack([i, i - 1.0, np.full_like(i, k_c)])])
+    return _Oscillators(np.full(n_blocks, m), springs)
+
+
+def _constant(signal: Any) -> float | None:
+    """The value of a constant signal (stickslip.signal), else None."""
+    return float(signal.args[0]) if signal.kind == "constant" else None
+
+
+def _model_oscillators(model: Any) -> _Oscillators:
+    """A Model's bodies and springs; a box on a slope where it has one body, no spring or
+    damper, constant forces F and one contact with the still ground under a constant normal
+    force N > 0: theta = atan(F / N), g = |(F, N)| / m, as `Model.from_scene("slope", ...)`
+    builds it."""
+    masses = np.array([b.mass for b in model.bodies], dtype=np.float64)
+    springs = np.array([(a, -1 if b is None else b, k) for a, b, k, *_ in model.springs],
+                       dtype=np.float64).reshape(-1, 3)
+    slope = None
+    if len(masses) == 1 and not model.springs and not model.dampers and len(model.contacts) == 1:
+        c = model.contacts[0]
+        forces = [_constant(s) for _, s in model.forces]
+        normal = _constant(c.normal_force)
+        still = c.surface_velocity is None or _constant(c.surface_velocity) == 0.0
+        if c.b is None and still and normal is not None and normal > 0.0 and None not in forces:
+            f = math.fsum(forces)
+            slope = (c.law, tuple(sorted({**c.params, "theta_deg": math.degrees(math.atan2(f, normal)),
+                                          "g": math.hypot(f, normal) / masses[0]}.items())))
+    return _Oscillators(masses, springs, slope)
+
+
+@functools.lru_cache(maxsize=256)
+def _period_of(masses: bytes, springs: bytes) -> tuple[float, bool] | None:
+    """(the shortest period of free oscillation [s], exact) of bodies of `masses` (float64
+    bytes) on `springs` (rows a, b, k; b = -1 the ground): 2 pi / sqrt of the largest
+    eigenvalue of K x = w^2 M x, exactly up to _EXACT_PERIOD_BODIES bodies, else from
+    Gershgorin's bound on it (exact False: the period is at least that). None without a spring.
+    Dampers are left out (the undamped frequencies), and so are the contacts: sticking a
+    contact constrains the motion to a subspace, where the largest w^2 (a maximum of the
+    Rayleigh quotient) can only be lower, so the free system has the shortest period."""
+    m = np.frombuffer(masses)
+    s = np.frombuffer(springs).reshape(-1, 3)
+    s = s[s[:, 2] > 0.0]
+    if not s.size or not m.size:
+        return None
+    a, b, k = s[:, 0].astype(np.intp), s[:, 1].astype(np.intp), s[:, 2]
+    inv = 1.0 / np.sqrt(m)
+    pair = b >= 0
+    if m.size <= _EXACT_PERIOD_BODIES:
+        stiff = np.zeros((m.size, m.size))
+        np.add.at(stiff, (a, a), k)
+        ab, kb = (a[pair], b[pair]), k[pair]
+        np.add.at(stiff, (ab[1], ab[1]), kb)
+        np.add.at(stiff, ab, -kb)
+        np.add.at(stiff, ab[::-1], -kb)
+        lam, exact = float(np.linalg.eigvalsh(inv[:, None] * stiff * inv[None, :])[-1]), True
+    else:
+        row = np.zeros(m.size)
+        np.add.at(row, a, k * inv[a] ** 2)
+        ap, bp, kp = a[pair], b[pair], k[pair]
+        np.add.at(row, bp, kp * inv[bp] ** 2)
+        np.add.at(row, ap, kp * inv[ap] * inv[bp])
+        np.add.at(row, bp, kp * inv[ap] * inv[bp])
+        lam, exact = float(row.max()), False
+    return (2.0 * math.pi / math.sqrt(lam), exact) if lam > 0.0 else None
+
+
+def _system_period(system: _Oscillators) -> tuple[float, bool] | None:
+    """`_period_of` the system, computed once per distinct set of masses and springs."""
+    return _period_of(np.ascontiguousarray(system.masses, dtype=np.float64).tobytes(),
+                      np.ascontiguousarray(system.springs, dtype=np.float64).tobytes())
+
+
+def shortest_period(system: Any, law: str = "coulomb", **params: Any) -> float | None:
+    """The shortest period of free oscillation of a system [s], from its springs and masses.
+
+    Parameters
+    ----------
+    system : str or Model
+        A scene of `SCENES` (with its physical parameters in `params`, the others at their
+        defaults) or a `Model`.
+    law : str
+        The scene's friction law (it does not change the period).
+    **params : float
+        The scene's physical parameters (n_blocks on the chain); others are ignored.
+
+    Returns
+    -------
+    float or None
+        2 pi / w_max, w_max^2 the largest eigenvalue of K x = w^2 M x (exact up to 200 bodies,
+        Gershgorin's lower bound on the period beyond); None without a spring (the slope).
+        Simulate warns where a fixed step h is longer (UnstableStepWarning).
+    """
+    if isinstance(system, str):
+        _choice("scene", system, SCENES)
+        given = {k: v for k, v in params.items() if k in _PARAM_SET}
+        osc = _scene_oscillators(system, law, given, int(given.get("n_blocks", DEFAULTS["n_blocks"]))
+                                 if system == "chain" else 1)
+    else:
+        osc = _model_oscillators(system)
+    found = _system_period(osc)
+    return None if found is None else found[0]
+
+
+def _step_warnings(system: _Oscillators, method: str, h: float, t_end: float) -> list[tuple[str, type[Warning]]]:
+    """The warnings of a fixed step h [s] on `system` until t_end [s], the same for a scene and
+    a Model: h longer than the run, longer than the system's shortest period of oscillation, or
+    (RK4 on a box on a slope) beyond RK4's stability bound at the creep speed."""
+    said: list[tuple[str, type[Warning]]] = []
+    if h > t_end > 0.0:
+        said.append((f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
+                     "shortened to t_end; the result is that single step (docs/guide/choosing-h.md)", UserWarning))
+    found = _system_period(system)
+    if found is not None and h > found[0]:
+        period, exact = found
+        how = ("2 pi / the largest natural frequency of its springs and masses" if exact else
+               "at least: Gershgorin's bound on the largest natural frequency of its springs and masses")
+        said.append((f"h = {h:g} s is longer than the system's shortest period of oscillation {period:.3g} s "
+                     f"({how}): {method} cannot follow the oscillation; take h below a tenth of it "
+                     "(docs/guide/choosing-h.md)", UnstableStepWarning))
+    if method == "rk4" and system.slope is not None and h > 0.0:
+        law, params = system.slope
+        bound = rk4_stability_bound(law, params)
+        if bound is not None and h > bound:
+            said.append((f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
+                         f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
+                         "wrong creep speed (docs/guide/choosing-h.md)", UnstableStepWarning))
+    return said
+
+
+def _warn_model_steps(model: Any, method: Any, t_end: Any, controls: Mapping[str, Any]) -> None:
+    """Issue `_step_warnings` for a Model run with a fixed-step method, as simulate issues them
+    for a scene (before the run; input that is not a positive finite h and t_end is left to
+    the model's own validation)."""
+    info = REGISTRY["method"].get(method) if isinstance(method, str) else None
+    if info is None or "h" not in info["controls"]:
+        return
+    try:
+        h, t = float(controls.get("h")), float(t_end)
+    except (TypeError, ValueError):
+        return
+    if not (math.isfinite(h) and math.isfinite(t) and h > 0.0 and t > 0.0):
+        return
+    for message, category in _step_warnings(_model_oscillators(model), method, h, t):
+        warnings.warn(message, category, stacklevel=3)      # the caller of simulate
+
+
 def _check_code(status: int, given: Mapping[str, Any] | None = None) -> None:
     """Raise ValueError for a bad-input status: the library's message, which names the parameter
     and its accepted range, with the values of the parameters it names (`given` over the
@@ -820,7 +993,7 @@ _MAX_DENSE_STATES = 4000
 
 
 #: Most blocks of the chain (the library's MAX_BLOCKS in stickslip_chain).
-_MAX_BLOCKS = 1_000_000
+_MAX_BLOCKS = int(REGISTRY["const"]["max_blocks"]["value"])
 
 
 def _n_blocks(given: Mapping[str, float], method: str, n_per_block: int, dense: bool) -> int:
@@ -979,10 +1152,14 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     UnusedParameterWarning
         A physical parameter the scene and the law do not read (unless ignore_unused).
     UnstableStepWarning
-        RK4 with h beyond its stability bound at the creep speed on the slope
-        (`rk4_stability_bound`).
+        A fixed step h longer than the system's shortest period of oscillation
+        (`shortest_period`: from its springs and masses), or RK4 with h beyond its stability
+        bound at the creep speed on the slope (`rk4_stability_bound`).
     UserWarning
         A fixed step h longer than the whole run.
+
+    The checks of a fixed step are the same for a scene and a `Model` (a model from
+    `Model.from_scene` warns as its scene).
 
     Examples
     --------
@@ -1003,6 +1180,7 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         if extra:
             raise ValueError(f"{', '.join(extra)}: a Model carries its own laws, parameters and initial "
                              "state (give them to add_body and add_contact)")
+        _warn_model_steps(scene, method, t_end, kwargs)
         return scene.run_model(method=method, t_end=t_end, n_out=n_out, every_step=every_step,
                                max_steps=max_steps, **kwargs)
     # Reached when _runner's fast path (the FastPath standing for this function, below) has not
@@ -1085,21 +1263,9 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     if plan.needs_h:
         if "h" not in ctl:
             raise ValueError(f"h: required for method {method!r} (finite, > 0 [s])")
-        h = ctl["h"]
-        if h > t_end > 0.0:
-            warn(f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
-                 "shortened to t_end; the result is that single step (docs/guide/choosing-h.md)")
-        period = _shortest_period(scene, given, n_blocks)
-        if period is not None and h > period:
-            warn(f"h = {h:g} s is longer than the scene's shortest period of oscillation "
-                 f"{period:.3g} s (2 pi sqrt(m / k)): {method} cannot follow the oscillation; "
-                 "take h below a tenth of it (docs/guide/choosing-h.md)", UnstableStepWarning)
-        if method == "rk4" and scene == "slope" and h > 0.0:
-            bound = rk4_stability_bound(law, tuple(sorted(given.items())))
-            if bound is not None and h > bound:
-                warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
-                     f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
-                     "wrong creep speed (docs/guide/choosing-h.md)", UnstableStepWarning)
+        for message, category in _step_warnings(_scene_oscillators(scene, law, given, n_blocks), method,
+                                                ctl["h"], t_end):
+            warn(message, category)
     if scene == "chain":
         if v0 is None:   # every block stuck on the belt
             v0 = given.get("v_b", DEFAULTS["v_b"])
@@ -1200,7 +1366,7 @@ _set_main_thread()
 os.register_at_fork(after_in_child=_set_main_thread)
 
 
-def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
+def bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
     """The library call that ``simulate(scene, law, **kwargs)`` makes (run_prepared on the
     setting's handle), through f2py's wrapper of it, as a function that makes it with the same
     arguments and does nothing else (the benchmarks' overhead table: simulate reaches the same

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 import os
-import tempfile
 import tomllib
 import warnings
 from dataclasses import dataclass, field
@@ -34,6 +33,7 @@ from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
                    IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
                    _physical, MAX_ROWS)
+from .outputs import atomic_write
 from .signal import Signal, SignalLike, as_signal
 from .energy import EnergyBoundWarning, energy_bound
 
@@ -41,9 +41,9 @@ __all__ = ["Model"]
 
 #: The library's kinds of model element (stickslip_user_model's ELEM_*), as messages name them.
 _ELEMENTS = {1: "body", 2: "spring", 3: "damper", 4: "force", 5: "contact", 6: "signal"}
-#: The laws with jumps (modes), which implicit_euler and galpha solve over their modes on a
-#: model (stickslip_modal_contacts), and those methods.
-_JUMP_LAWS = ("coulomb", "karnopp")
+#: The laws with jumps (modes: the registry's n_modes > 0), which implicit_euler and galpha
+#: solve over their modes on a model (stickslip_modal_contacts), and those methods.
+_JUMP_LAWS = tuple(law for law in LAWS if REGISTRY["law"][law]["modes"] > 0)
 _MODAL_METHODS = ("implicit_euler", "galpha")
 
 
@@ -387,18 +387,8 @@ class Model:
 
 
 def write_whole(path: str | os.PathLike, data: str | bytes) -> None:
-    """Write `data` to `path` whole or not at all: into a temporary file beside it, renamed
-    over it once complete (a failure leaves no partial file)."""
-    path = os.fspath(path)
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".stickslip-")
-    try:
-        with os.fdopen(fd, "wb" if isinstance(data, bytes) else "w") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write `data` to `path` whole or not at all (stickslip.outputs.atomic_write)."""
+    atomic_write(path, lambda fh: fh.write(data), binary=isinstance(data, bytes))
 
 
 def _fields(where: str, row: Any, required: set[str], optional: set[str]) -> None:
