@@ -28,7 +28,7 @@ def run_select_speed(log: Callable[[str], None], laws: Sequence[str] = LAWS) -> 
     """Rows (full rate with screening; subsampled) and the markdown table."""
     import stickslip
     from cases import identify as ci
-    from cases._provenance import machine
+    from harness.provenance import machine
 
     files = stickslip.damper_files(36)
     full = [stickslip.load_damper_record(f) for f in files]
@@ -67,8 +67,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "select_speed.md",
                         help="markdown file to write (default: benchmarks/results/select_speed.md)")
     args = parser.parse_args(argv)
-    from cases._common import write_text
-    from cases._provenance import write_provenance
+    from harness.files import write_text
+    from harness.provenance import write_provenance
     _, table = run_select_speed(print)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     write_text(args.out, table)
