@@ -208,6 +208,17 @@ class Advice:
                 format_table(["role", "method", "setting", f"{self.quantity}(t_end) [{unit}]",
                              f"error [{unit}]", "nfev", "CPU [s]", "status"], runs))
 
+    def _explicit_fixed_question(self) -> bool:
+        """Whether an explicit fixed-step method (RK4) is the question: the advised method, or,
+        when none is advised, one the advisor tried (the bound may say why it fails). Elsewhere its stability bound is not printed
+        (it can be far below any step the advised method takes: 6e-10 s on a stiff drill string
+        that radau5 runs at its own steps)."""
+        def explicit_fixed(m: str | None) -> bool:
+            return m is not None and _fixed(m) and not REGISTRY["method"][m]["implicit"]
+        if self.feasible:
+            return explicit_fixed(self.method)
+        return any(explicit_fixed(c.method) and not c.note.startswith("refused") for c in self.candidates)
+
     def __str__(self) -> str:
         unit = "m" if self.quantity == "x" else "m/s"
         head = [f"advise: {self.scene}, {self.law}, t_end = {self.t_end:g} s, target |error of "
@@ -220,7 +231,7 @@ class Advice:
                         f"{self.predicted_cost['nfev']:.0f} evaluations, "
                         f"{self.predicted_cost['seconds']:.3g} s CPU")
         head.append(self.message)
-        if self.stability_bound is not None:
+        if self.stability_bound is not None and self._explicit_fixed_question():
             head.append(f"explicit fixed-step stability bound along the trajectory: h < "
                         f"{self.stability_bound:.4g} s")
         head.append(f"all {len(self.runs)} runs cost {self.pilot_cost['nfev']:.0f} evaluations, "
