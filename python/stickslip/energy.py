@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from .batch import CHATTER_FRACTION
 from .core import CONTROL_DEFAULTS, REGISTRY, friction_coefficient
 from .signal import Signal
 
@@ -89,6 +90,9 @@ def _mu_max(law: str, params: dict[str, float]) -> float | None:
     top = float(np.max(np.abs(mu)))
     if abs(mu[0]) > (1.0 - 1e-6) * top and abs(mu[0]) > abs(mu[1]):   # still rising at 1e3 m/s
         return None
+    if law in ("karnopp", "stribeck"):  # their stick (Karnopp's band; the set-valued methods'
+        # and the modal steps' static set) holds with up to mu_s, which mu(v) alone may not reach
+        top = max(top, abs(params.get("mu_s", REGISTRY["param"]["mu_s"]["default"])))
     return top
 
 
@@ -205,6 +209,24 @@ class ConsistencyWarning(UserWarning):
 SAFETY: float = 4.0
 #: Rounding: the allowance never falls below ROUNDING eps times the scale of the quantity.
 ROUNDING: float = 64.0
+#: The kinematic check needs an output grid that resolves the motion: at least MIN_INTERVALS
+#: intervals, and v reversing its direction between fewer than CHATTER_FRACTION of them (the
+#: batch's rule for a run that chattered at the grid's scale, stickslip.batch). On a coarser
+#: grid the acceleration's variation within an interval cannot be estimated from its
+#: neighbours, and the run is not checked.
+MIN_INTERVALS: int = 64
+
+
+def _resolved(v: np.ndarray) -> bool:
+    """Whether an output grid resolves a body's motion (rows of v at distinct times): at least
+    MIN_INTERVALS intervals, and v reversing its direction between fewer than CHATTER_FRACTION
+    of them (as stickslip.batch counts a row's reversals)."""
+    dv = np.diff(v)
+    if dv.size < MIN_INTERVALS:
+        return False
+    big = np.abs(dv) > ROUNDING * np.finfo(float).eps * np.max(np.abs(v))
+    reversals = np.count_nonzero((dv[1:] * dv[:-1] < 0.0) & big[1:] & big[:-1])
+    return reversals < CHATTER_FRACTION * (dv.size - 1)
 
 
 def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str, Any], h: float | None,
@@ -218,7 +240,7 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
     if not keep.all():                       # repeated times (every_step at an event): one row each
         idx = np.concatenate([[0], 1 + np.flatnonzero(keep)])
         t, x, v, dt = t[idx], x[idx], v[idx], dt[keep]
-    if dt.size == 0:
+    if not _resolved(v):
         return None
     dv = np.diff(v)
     d = np.diff(x) - dt * 0.5 * (v[1:] + v[:-1])
@@ -314,6 +336,9 @@ def _friction_excess(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray, dv
         return None
     dt = np.diff(t)
     ok = dt > 0.0
+    resolved = np.array([_resolved(row[np.concatenate([[True], ok])]) for row in v])
+    if not resolved.any():
+        return None
     nb = model.n_bodies
     mass = np.array([b.mass for b in model.bodies])
     mean_f = np.zeros((nb, dt.size))                    # mean non-friction force [N]
@@ -348,7 +373,7 @@ def _friction_excess(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray, dv
         friction = mass[:, None] * np.diff(v, axis=1) / dt - mean_f
         allow = SAFETY * (slack + mass[:, None] * dv[:, None] / dt) \
             + ROUNDING * np.finfo(float).eps * (np.abs(mean_f) + limit)
-        excess = (np.abs(friction) - limit - allow) * ok
+        excess = (np.abs(friction) - limit - allow) * ok * resolved[:, None]
     bad = np.argwhere(excess > 0.0)
     if bad.size == 0:
         return None
@@ -389,7 +414,7 @@ def check_result(result: Any, method: str, controls: Mapping[str, Any], model: A
         return []
     nstep = int(result.stats.get("nstep", 0))
     h = float(controls["h"]) if "h" in controls and not info["adaptive"] else None
-    where = f"{'model' if model is not None else result.scene} ({result.law}, {method})"
+    where = f"{'model' if model is not None else result.scene} ({result.law or 'no contact'}, {method})"
     found: list[tuple[str, type[Warning]]] = []
     tol_x = _tolerances(info, controls, x.shape[0], x)
     for j in range(x.shape[0]):
