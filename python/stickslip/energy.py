@@ -215,6 +215,9 @@ ROUNDING: float = 64.0
 #: grid the acceleration's variation within an interval cannot be estimated from its
 #: neighbours, and the run is not checked.
 MIN_INTERVALS: int = 64
+#: An absolute floor of the kinematic check's allowance [m], far below any length a run
+#: resolves (a body held at x = 0 may carry velocities of 1e-31 m/s).
+TINY: float = 1e-20
 
 
 def _resolved(v: np.ndarray) -> bool:
@@ -246,19 +249,27 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
     d = np.diff(x) - dt * 0.5 * (v[1:] + v[:-1])
     s = dv / dt                               # mean acceleration of each interval
     jump = np.abs(np.diff(s))
-    tv = np.concatenate([[0.0], jump]) + np.concatenate([jump, [0.0]])   # variation of a, estimated
+    # the variation of a on each interval, from its neighbours' mean accelerations (the first
+    # and last intervals, with one neighbour, count its difference twice)
+    tv = np.concatenate([[2.0 * jump[0]], jump]) + np.concatenate([jump, [2.0 * jump[-1]]])
     step = np.maximum(dt, h or 0.0)
     # |int v - trapezoid| <= dt^2/8 TV(a) on the interval (Peano kernel t (dt - t)/2 <= dt^2/8);
     # a fixed step h straddling a corner of a errs like a trapezoid of width h
     q = step * step / 8.0 * tv
-    if h and method["order"] == 1:            # x1 = x0 + h v1 (theta): a defect h |dv| / 2 a step
+    if h and (method["order"] == 1 or method["implicit"]):
+        # x1 = x0 + h v1 (backward Euler; moreau's theta; galpha's steps across transitions):
+        # a defect of h |dv| / 2 a step
         q = q + 0.5 * h * np.abs(dv)
+    span = max(float(t[-1] - t[0]), 1e-300)
     if method["adaptive"]:                    # each step's error test lets x err by tol_x
-        q = q + tol_x * nstep * dt / max(float(t[-1] - t[0]), 1e-300)
-    floor = ROUNDING * np.finfo(float).eps * (np.max(np.abs(x)) + float(t[-1] - t[0]) * np.max(np.abs(v)))
-    local = np.abs(d) > SAFETY * q + floor
+        q = q + tol_x * nstep * dt / span
+    # rounding: each step rounds x, of size up to max|x| + dt max|v|
+    steps = np.maximum(nstep * dt / span, dt / h if h else 1.0) + 1.0
+    q = q + ROUNDING / SAFETY * np.finfo(float).eps * steps * (np.max(np.abs(x)) + dt * np.max(np.abs(v))) \
+        + TINY / SAFETY
+    local = np.abs(d) > SAFETY * q
     big_d, big_q = np.cumsum(d), np.cumsum(q)
-    total = np.abs(big_d) > SAFETY * big_q + floor
+    total = np.abs(big_d) > SAFETY * big_q
     if not (local.any() or total.any()):
         return None
     if total.any():
