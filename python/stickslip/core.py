@@ -781,6 +781,8 @@ def _with_values(message: str, known: Mapping[str, Any]) -> str:
     """A library message about bad input, with the values of the parameters it names: the
     one(s) before the colon and those it compares with, e.g. 'mu_k: must be finite and >= 0
     and <= mu_s (got mu_k = 0.5, mu_s = 0.35)'."""
+    # the facade's runs start at t0 = 0, a name its users never set: its messages say t_end
+    message = message.replace("t_end - t0", "t_end").replace("[t0, t_end]", "[0, t_end]").replace("> t0", "> 0")
     head, sep, rule = message.partition(":")
     if not sep:
         return message
@@ -1042,6 +1044,10 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         - ``message``: the library's message for that status.
         - ``t_reached``: the time the run reached [s] (t_end on success).
         - ``h_last``: the last step size tried [s].
+        - ``notes``: a list of sentences (str) about the run: its warnings (the law it computes
+          under this method, RegularisedLawWarning; a step beyond a stability bound) and the
+          failures of its consistency check (ConsistencyWarning, EnergyBoundWarning; see
+          docs/guide/results.md); empty for a run that needed none.
         - ``cpu_seconds``: CPU time of the library call [s]: the process's CPU clock (that of
           time.process_time), read by the compiled wrapper before and after the run; for a
           fixed-step run of fewer than 2048 steps the monotonic clock (time.perf_counter's)
@@ -1076,6 +1082,13 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         (`rk4_stability_bound`).
     UserWarning
         A fixed step h longer than the whole run.
+    RegularisedLawWarning
+        ``coulomb``, or ``stribeck`` with mu_s > mu_k, under a method without stick/slip events:
+        what the run computes instead of the set-valued law (`regularised_note`).
+    ConsistencyWarning, EnergyBoundWarning
+        A run that reached t_end but fails the consistency check (x against the integral of
+        v; on a model its energy and its friction forces too): the numbers are in the message
+        and in ``stats["notes"]`` (docs/guide/results.md).
 
     Examples
     --------
