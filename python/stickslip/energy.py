@@ -253,13 +253,22 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
     # and last intervals, with one neighbour, count its difference twice)
     tv = np.concatenate([[2.0 * jump[0]], jump]) + np.concatenate([jump, [2.0 * jump[-1]]])
     step = np.maximum(dt, h or 0.0)
+    change = np.abs(dv)
+    if h and np.median(dt) < h:
+        # an output grid finer than the fixed step: its points interpolate within a step, and an
+        # interval is allowed what the step that holds it is (the variations over the intervals
+        # within a step of either side)
+        w = int(math.ceil(h / float(np.median(dt))))
+        window = np.ones(2 * w + 1)
+        tv = np.convolve(tv, window, mode="same")
+        change = np.convolve(change, window, mode="same")
     # |int v - trapezoid| <= dt^2/8 TV(a) on the interval (Peano kernel t (dt - t)/2 <= dt^2/8);
     # a fixed step h straddling a corner of a errs like a trapezoid of width h
     q = step * step / 8.0 * tv
     if h and (method["order"] == 1 or method["implicit"]):
         # x1 = x0 + h v1 (backward Euler; moreau's theta; galpha's steps across transitions):
         # a defect of h |dv| / 2 a step
-        q = q + 0.5 * h * np.abs(dv)
+        q = q + 0.5 * h * change
     span = max(float(t[-1] - t[0]), 1e-300)
     if method["adaptive"]:                    # each step's error test lets x err by tol_x
         q = q + tol_x * nstep * dt / span
@@ -267,8 +276,11 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
     steps = np.maximum(nstep * dt / span, dt / h if h else 1.0) + 1.0
     q = q + ROUNDING / SAFETY * np.finfo(float).eps * steps * (np.max(np.abs(x)) + dt * np.max(np.abs(v))) \
         + TINY / SAFETY
-    local = np.abs(d) > SAFETY * q
-    big_d, big_q = np.cumsum(d), np.cumsum(q)
+    # an adaptive method's x at the two ends of an interval (or of the run) may each be off by
+    # what its error test allows: once per interval, once for the whole run
+    ends = 2.0 * tol_x if method["adaptive"] else 0.0
+    local = np.abs(d) > SAFETY * (q + ends)
+    big_d, big_q = np.cumsum(d), np.cumsum(q) + ends
     total = np.abs(big_d) > SAFETY * big_q
     if not (local.any() or total.any()):
         return None
@@ -281,7 +293,7 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
     j = int(np.flatnonzero(local)[0])
     return (f"x changed by {x[j + 1] - x[j]:.6g} m from t = {t[j]:.6g} to {t[j + 1]:.6g} s while the "
             f"integral of v over that interval is {x[j + 1] - x[j] - d[j]:.6g} m: a defect of {d[j]:.3g} m, "
-            f"more than {SAFETY:g} x its allowance {q[j]:.3g} m")
+            f"more than {SAFETY:g} x its allowance {q[j] + ends:.3g} m")
 
 
 def _tolerances(method: Mapping[str, Any], controls: Mapping[str, Any], n_bodies: int,
