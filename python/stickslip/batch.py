@@ -23,6 +23,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from . import _stickslip as _ext
+from .core import CHATTER_FRACTION as _CHATTER_FRACTION
 from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATE_COUNT_PARAMS,
                    STATUS_OK, _states, _shown, RegularisedLawWarning, regularised_note,
                    UnstableStepWarning, UnusedParameterWarning, _FIRST_INPUT_CODE, _PARAM_ORDER,
@@ -38,8 +39,9 @@ MAX_GRID_VALUES = 20_000_000
 #: of its row, and the kept grids (2 GB).
 MAX_BATCH_VALUES = 250_000_000
 #: A row chattered when the velocity reversed between at least this fraction of the monitor
-#: grid's intervals over t >= t_end/2 (BatchResult).
-CHATTER_FRACTION = 0.25
+#: grid's intervals over t >= t_end/2 (BatchResult); stickslip.core's, which the consistency
+#: check reads too.
+CHATTER_FRACTION = _CHATTER_FRACTION
 
 
 @dataclass

@@ -86,6 +86,11 @@ CONTROL_DEFAULTS: Mapping[str, Any] = MappingProxyType(
     {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 0.0, "h0": 0.0, "allow_forced": True,
      "stop_on_stiff": False})
 
+#: A grid on which the velocity reverses its direction between at least this fraction of the
+#: intervals chattered at the grid's scale, which a motion the grid resolves does not do (the
+#: batches' chattered flag, the consistency check's resolved grids).
+CHATTER_FRACTION = 0.25
+
 #: Largest every-step output the facade allocates [rows]: 3 arrays of 8-byte floats.
 MAX_ROWS = 50_000_000
 
@@ -864,14 +869,18 @@ def _checked(law: str, method: str) -> bool:
     return law in ("coulomb", "karnopp", "stribeck") and REGISTRY["method"][method]["laws"] is None
 
 
+#: The consistency check of a result, `stickslip.energy.check_result`: energy, which imports
+#: this module, sets it as it is imported (the package imports it).
+_CHECK_RESULT: Callable[..., list[str]] | None = None
+
+
 def _after_run(call: "_Call", result: Result) -> None:
     """A run of `call` that reached t_end, on simulate's Python path: its warnings into
     ``result.stats["notes"]`` (all but UnusedParameterWarning), then the consistency check
     (`stickslip.energy.check_result`), whose failures are warned and noted there too."""
-    from .energy import check_result          # (energy imports this module)
     result.stats["notes"].extend(m for m, c in call.warnings if not issubclass(c, UnusedParameterWarning))
-    if _checked(call.law, call.method):
-        check_result(result, call.method, call.known, stacklevel=3)
+    if _CHECK_RESULT is not None and _checked(call.law, call.method):
+        _CHECK_RESULT(result, call.method, call.known, stacklevel=3)
 
 
 class _Call:
