@@ -204,7 +204,8 @@ def test_advice_prints_the_rk4_bound_only_where_rk4_is_the_question():
     from stickslip.advise import Advice
     common = dict(scene="belt", law="stribeck", t_end=1.0, quantity="x", target_error=1e-3, params={},
                   x0=0.0, v0=0.0, feasible=True, message="", predicted_error=1e-4,
-                  predicted_cost={"nfev": 10.0, "seconds": 0.1}, pilot_cost={"nfev": 10.0, "seconds": 0.1, "ratio": 1.0},
+                  predicted_cost={"nfev": 10.0, "seconds": 0.1},
+                  pilot_cost={"nfev": 10.0, "seconds": 0.1, "ratio": 1.0},
                   stability_bound=6.25e-10)
     assert "stability bound" not in str(Advice(method="radau5", controls={"rtol": 1e-6}, **common))
     assert "h < 6.25e-10 s" in str(Advice(method="rk4", controls={"h": 1e-10}, **common))

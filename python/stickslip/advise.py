@@ -50,8 +50,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .core import (LAWS, METHODS, REGISTRY, SCENES, CONTROLS, IntegrationError, _choice, _physical,
-                   _shortest_period, friction_coefficient, _shown, simulate)
+from .core import (LAWS, METHODS, REGISTRY, SCENES, CONTROLS, IntegrationError, RegularisedLawWarning, _choice,
+                   _physical, _shortest_period, friction_coefficient, _shown, simulate)
 
 #: Aim at target/SAFETY, so that a prediction off by this factor still meets the target.
 SAFETY: float = 2.0
@@ -306,8 +306,10 @@ def _rhs(scene: str, law: str, y: np.ndarray, params: dict[str, float]) -> np.nd
     """The right-hand side f(y) of the scene (autonomous), from one RK4 step of DELTA s: (y(DELTA)
     - y) / DELTA = f + O(DELTA |J| |f|)."""
     delta = 1e-9
-    r = simulate(scene, law, method="rk4", h=delta, t_end=delta, n_out=1, x0=float(y[0]),
-                 v0=float(y[1]), z0=y[2:] if y.size > 2 else None, **params)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RegularisedLawWarning)   # one step: the law is the question
+        r = simulate(scene, law, method="rk4", h=delta, t_end=delta, n_out=1, x0=float(y[0]),
+                     v0=float(y[1]), z0=y[2:] if y.size > 2 else None, **params)
     return (r.y[:, -1] - y) / delta
 
 
@@ -1038,7 +1040,9 @@ def model_jacobian_eigenvalues(model: Any, states: np.ndarray) -> np.ndarray:
     def rhs(y: np.ndarray) -> np.ndarray:
         for i, row in enumerate(base["body"]):
             row["x0"], row["v0"] = float(y[i]), float(y[nb + i])
-        r = simulate(Model.from_dict(base), method="rk4", h=delta, t_end=delta, n_out=1)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RegularisedLawWarning)   # one step: the law is the question
+            r = simulate(Model.from_dict(base), method="rk4", h=delta, t_end=delta, n_out=1)
         return (np.concatenate([r.x[:, -1], r.v[:, -1]]) - y) / delta
 
     out = []
