@@ -832,11 +832,13 @@ def regularised_note(law: str, params: Mapping[str, float], method: str) -> str 
                 "(stick at v = 0 is exact): a slip slower than v_s meets mu_s instead of mu_k, which "
                 f"shifts a stick-slip cycle by O(v_s); {exact}")
     if law == "coulomb":
+        cost = ("its steps are forced at h_min at every crossing of v = 0 (tens of millions of evaluations "
+                "for seconds of stick) and the body creeps" if REGISTRY["method"][method]["adaptive"] else
+                "the velocity chatters across 0 by about |a| h a step, and the body creeps or stays with x "
+                "and v inconsistent")
         return (f"coulomb under {method}: the paper's discontinuous Coulomb law (mu = 0 at v = 0 exactly, "
                 f"mu_s = {p['mu_s']:g} for 0 < |v| < v_s = {p['v_s']:g} m/s, mu_k = {p['mu_k']:g} beyond), not "
-                "stick: near rest the velocity chatters across 0 by about |a| h a step, the body creeps, "
-                "and an adaptive method takes steps at h_min at every crossing (millions of evaluations); "
-                + exact)
+                f"stick: near rest {cost}; " + exact)
     return (f"stribeck under {method}: the regularised curve mu(v) tanh(v/v_eps), v_eps = {p['v_eps']:g} m/s, "
             f"not stick: below break-away (mu_s = {p['mu_s']:g}) the body creeps at about v_eps "
             "atanh(mu_hold/mu_s), and the steps must resolve the band (cost growing as 1/v_eps); " + exact)
