@@ -303,11 +303,15 @@ def _tolerances(method: Mapping[str, Any], controls: Mapping[str, Any], n_bodies
     component (positions first)."""
     if not method["adaptive"]:
         return np.zeros(n_bodies)
+    return _tolerance_of(controls, "atol", 0, n_bodies) + _tolerance_of(controls, "rtol", 0, n_bodies) \
+        * np.max(np.abs(x), axis=1)
 
-    def first(name: str) -> np.ndarray:
-        a = np.atleast_1d(np.asarray(controls.get(name, CONTROL_DEFAULTS[name]), dtype=np.float64))
-        return a[:n_bodies] if a.size >= n_bodies else np.full(n_bodies, a[0])
-    return first("atol") + first("rtol") * np.max(np.abs(x), axis=1)
+
+def _tolerance_of(controls: Mapping[str, Any], name: str, start: int, n: int) -> np.ndarray:
+    """Components start .. start + n - 1 of the tolerance `name` (rtol or atol: one value for
+    every component, or one per component) [-] or [state units]."""
+    a = np.atleast_1d(np.asarray(controls.get(name, CONTROL_DEFAULTS[name]), dtype=np.float64))
+    return a[start:start + n] if a.size >= start + n else np.full(n, a[0])
 
 
 def _velocity_allowance(method: Mapping[str, Any], controls: Mapping[str, Any], t: np.ndarray, v: np.ndarray,
@@ -317,10 +321,8 @@ def _velocity_allowance(method: Mapping[str, Any], controls: Mapping[str, Any], 
     velocity change at the largest mean acceleration of the output grid (h max|dv/dt|)."""
     nb = v.shape[0]
     if method["adaptive"]:
-        def comp(name: str) -> np.ndarray:
-            a = np.atleast_1d(np.asarray(controls.get(name, CONTROL_DEFAULTS[name]), dtype=np.float64))
-            return a[nb:2 * nb] if a.size >= 2 * nb else np.full(nb, a[0])
-        return nstep * (comp("atol") + comp("rtol") * np.max(np.abs(v), axis=1))
+        return nstep * (_tolerance_of(controls, "atol", nb, nb)
+                        + _tolerance_of(controls, "rtol", nb, nb) * np.max(np.abs(v), axis=1))
     dt = np.diff(t)
     ok = dt > 0.0
     if not ok.any():
