@@ -254,14 +254,13 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
     tv = np.concatenate([[2.0 * jump[0]], jump]) + np.concatenate([jump, [2.0 * jump[-1]]])
     step = np.maximum(dt, h or 0.0)
     change = np.abs(dv)
-    if h and np.median(dt) < h:
+    span = max(float(t[-1] - t[0]), 1e-300)
+    if h and span < h * dt.size:
         # an output grid finer than the fixed step: its points interpolate within a step, and an
         # interval is allowed what the step that holds it is (the variations over the intervals
         # within a step of either side)
-        w = int(math.ceil(h / float(np.median(dt))))
-        window = np.ones(2 * w + 1)
-        tv = np.convolve(tv, window, mode="same")
-        change = np.convolve(change, window, mode="same")
+        w = int(math.ceil(h * dt.size / span))
+        tv, change = _window_sum(tv, w), _window_sum(change, w)
     # |int v - trapezoid| <= dt^2/8 TV(a) on the interval (Peano kernel t (dt - t)/2 <= dt^2/8);
     # a fixed step h straddling a corner of a errs like a trapezoid of width h
     q = step * step / 8.0 * tv
@@ -269,7 +268,6 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
         # x1 = x0 + h v1 (backward Euler; moreau's theta; galpha's steps across transitions):
         # a defect of h |dv| / 2 a step
         q = q + 0.5 * h * change
-    span = max(float(t[-1] - t[0]), 1e-300)
     if method["adaptive"]:                    # each step's error test lets x err by tol_x
         q = q + tol_x * nstep * dt / span
     # rounding: each step rounds x, of size up to max|x| + dt max|v|
@@ -294,6 +292,13 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
     return (f"x changed by {x[j + 1] - x[j]:.6g} m from t = {t[j]:.6g} to {t[j + 1]:.6g} s while the "
             f"integral of v over that interval is {x[j + 1] - x[j] - d[j]:.6g} m: a defect of {d[j]:.3g} m, "
             f"more than {SAFETY:g} x its allowance {q[j] + ends:.3g} m")
+
+
+def _window_sum(a: np.ndarray, w: int) -> np.ndarray:
+    """a[i - w] + ... + a[i + w] for each i (the terms that exist)."""
+    c = np.concatenate([[0.0], np.cumsum(a)])
+    i = np.arange(a.size)
+    return c[np.minimum(i + w + 1, a.size)] - c[np.maximum(i - w, 0)]
 
 
 def _tolerances(method: Mapping[str, Any], controls: Mapping[str, Any], n_bodies: int,
