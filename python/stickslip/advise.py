@@ -50,8 +50,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .core import (LAWS, METHODS, REGISTRY, SCENES, CONTROLS, IntegrationError, _choice, _physical,
-                   shortest_period, friction_coefficient, _shown, simulate)
+from .core import (LAWS, METHODS, REGISTRY, SCENES, CONTROLS, IntegrationError, RegularisedLawWarning, _choice,
+                   _physical, shortest_period, friction_coefficient, _shown, simulate)
 
 #: Aim at target/SAFETY, so that a prediction off by this factor still meets the target.
 SAFETY: float = 2.0
@@ -210,6 +210,17 @@ class Advice:
                 format_table(["role", "method", "setting", f"{self.quantity}(t_end) [{unit}]",
                              f"error [{unit}]", "nfev", "CPU [s]", "status"], runs))
 
+    def _explicit_fixed_question(self) -> bool:
+        """Whether an explicit fixed-step method (RK4) is the question: the advised method, or,
+        when none is advised, one the advisor tried (the bound may say why it fails). Elsewhere its stability bound is not printed
+        (it can be far below any step the advised method takes: 6e-10 s on a stiff drill string
+        that radau5 runs at its own steps)."""
+        def explicit_fixed(m: str | None) -> bool:
+            return m is not None and _fixed(m) and not REGISTRY["method"][m]["implicit"]
+        if self.feasible:
+            return explicit_fixed(self.method)
+        return any(explicit_fixed(c.method) and not c.note.startswith("refused") for c in self.candidates)
+
     def __str__(self) -> str:
         unit = "m" if self.quantity == "x" else "m/s"
         head = [f"advise: {self.scene}, {self.law}, t_end = {self.t_end:g} s, target |error of "
@@ -222,7 +233,7 @@ class Advice:
                         f"{self.predicted_cost['nfev']:.0f} evaluations, "
                         f"{self.predicted_cost['seconds']:.3g} s CPU")
         head.append(self.message)
-        if self.stability_bound is not None:
+        if self.stability_bound is not None and self._explicit_fixed_question():
             head.append(f"explicit fixed-step stability bound along the trajectory: h < "
                         f"{self.stability_bound:.4g} s")
         head.append(f"all {len(self.runs)} runs cost {self.pilot_cost['nfev']:.0f} evaluations, "
@@ -297,8 +308,10 @@ def _rhs(scene: str, law: str, y: np.ndarray, params: dict[str, float]) -> np.nd
     """The right-hand side f(y) of the scene (autonomous), from one RK4 step of DELTA s: (y(DELTA)
     - y) / DELTA = f + O(DELTA |J| |f|)."""
     delta = 1e-9
-    r = simulate(scene, law, method="rk4", h=delta, t_end=delta, n_out=1, x0=float(y[0]),
-                 v0=float(y[1]), z0=y[2:] if y.size > 2 else None, **params)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RegularisedLawWarning)   # one step: the law is the question
+        r = simulate(scene, law, method="rk4", h=delta, t_end=delta, n_out=1, x0=float(y[0]),
+                     v0=float(y[1]), z0=y[2:] if y.size > 2 else None, **params)
     return (r.y[:, -1] - y) / delta
 
 
@@ -1012,7 +1025,9 @@ def model_jacobian_eigenvalues(model: Any, states: np.ndarray) -> np.ndarray:
     def rhs(y: np.ndarray) -> np.ndarray:
         for i, row in enumerate(base["body"]):
             row["x0"], row["v0"] = float(y[i]), float(y[nb + i])
-        r = simulate(Model.from_dict(base), method="rk4", h=delta, t_end=delta, n_out=1)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RegularisedLawWarning)   # one step: the law is the question
+            r = simulate(Model.from_dict(base), method="rk4", h=delta, t_end=delta, n_out=1)
         return (np.concatenate([r.x[:, -1], r.v[:, -1]]) - y) / delta
 
     out = []

@@ -99,6 +99,11 @@ CONTROL_DEFAULTS: Mapping[str, Any] = MappingProxyType(
 #: 100 units of round-off).
 RTOL_MIN: float = REGISTRY["const"]["rtol_min"]["value"]
 
+#: A grid on which the velocity reverses its direction between at least this fraction of the
+#: intervals chattered at the grid's scale, which a motion the grid resolves does not do (the
+#: batches' chattered flag, the consistency check's resolved grids).
+CHATTER_FRACTION = 0.25
+
 #: Largest every-step output the facade allocates [rows]: 3 arrays of 8-byte floats.
 MAX_ROWS = 50_000_000
 
@@ -334,6 +339,7 @@ class Result:
             stats["contact_worst"] -= 1           # 0-based, as Result.events; -1: none
             stats["message"] = status_message(status)
             stats["cpu_seconds"] = cpu
+            stats["notes"] = []                   # what the run's warnings and checks said
             del stats["n_written"]
             self._stats = stats
         return self._stats
@@ -391,6 +397,15 @@ def _finite(name: str, value: Any, accepted: str) -> float:
     if not math.isfinite(x):
         raise ValueError(f"{name}: must be finite ({accepted}), got {_shown(x)}")
     return x
+
+
+def _end_time(value: Any) -> float:
+    """t_end as given: a finite number > 0 [s] (every run starts at t = 0), or ValueError
+    with the value given."""
+    t_end = _finite("t_end", value, "> 0 [s]: the run starts at t = 0")
+    if not t_end > 0.0:
+        raise ValueError(f"t_end: must be > 0 [s] (the run starts at t = 0), got t_end = {_show(t_end)}")
+    return t_end
 
 
 def _count(name: str, value: Any, low: int = 1, high: int | None = None) -> int:
@@ -944,12 +959,103 @@ def _with_values(message: str, known: Mapping[str, Any]) -> str:
     """A library message about bad input, with the values of the parameters it names: the
     one(s) before the colon and those it compares with, e.g. 'mu_k: must be finite and >= 0
     and <= mu_s (got mu_k = 0.5, mu_s = 0.35)'."""
+    # the facade's runs start at t0 = 0, a name its users never set: its messages say t_end
+    message = message.replace("t_end - t0", "t_end").replace("[t0, t_end]", "[0, t_end]").replace("> t0", "> 0")
     head, sep, rule = message.partition(":")
     if not sep:
         return message
     names = [n.strip() for n in head.split(",")] + re.findall(r"[<>]=?\s*([A-Za-z_]\w*)", rule)
     shown = [f"{n} = {_show(known[n])}" for n in dict.fromkeys(names) if n in known]
     return f"{message} (got {', '.join(shown)})" if shown else message
+
+
+class RegularisedLawWarning(UserWarning):
+    """``coulomb``, or ``stribeck`` with mu_s > mu_k, under a method without stick/slip events:
+    the run computes the regularised law (its band), not the set-valued one (`regularised_note`)."""
+
+
+#: The laws with a static level above the kinetic one that the set-valued methods solve exactly.
+_SET_VALUED = ("coulomb", "stribeck")
+
+
+def regularised_note(law: str, params: Mapping[str, float], method: str) -> str | None:
+    """What a run of `law` under `method` computes when the method has no stick/slip events and
+    the law's stick is a regularisation: ``coulomb``, or ``stribeck`` with mu_s > mu_k, under
+    any method but ``event_driven`` and ``moreau`` (None for any other law and method). The
+    sentence of the warning (`RegularisedLawWarning`) and of ``Result.stats["notes"]``.
+
+    Parameters
+    ----------
+    law : str
+        A friction law of `LAWS`.
+    params : mapping
+        Its parameters as used (mu_s, mu_k, v_s, v_eps; defaults where not given).
+    method : str
+        A method of `METHODS`.
+    """
+    if law not in _SET_VALUED or REGISTRY["method"][method]["laws"] is not None:
+        return None
+    p = _known(params)
+    if law == "stribeck" and not p["mu_s"] > p["mu_k"]:
+        return None
+    exact = "event_driven or moreau give the set-valued answer (exact stick at v = 0, docs/guide/exact-stick.md)"
+    if law == "coulomb" and method in _MODAL_METHODS:
+        return (f"coulomb under {method}: the paper's Coulomb law with its band, mu = mu_s = {p['mu_s']:g} for "
+                f"0 < |v| < v_s = {p['v_s']:g} m/s and mu_k = {p['mu_k']:g} beyond, solved over its modes "
+                "(stick at v = 0 is exact): a slip slower than v_s meets mu_s instead of mu_k, which "
+                f"shifts a stick-slip cycle by O(v_s); {exact}")
+    if law == "coulomb":
+        cost = ("its steps are forced at h_min at every crossing of v = 0 (tens of millions of evaluations "
+                "for seconds of stick) and the body creeps" if REGISTRY["method"][method]["adaptive"] else
+                "the velocity chatters across 0 by about |a| h a step, and the body creeps or stays with x "
+                "and v inconsistent")
+        return (f"coulomb under {method}: the paper's discontinuous Coulomb law (mu = 0 at v = 0 exactly, "
+                f"mu_s = {p['mu_s']:g} for 0 < |v| < v_s = {p['v_s']:g} m/s, mu_k = {p['mu_k']:g} beyond), not "
+                f"stick: near rest {cost}; " + exact)
+    return (f"stribeck under {method}: the regularised curve mu(v) tanh(v/v_eps), v_eps = {p['v_eps']:g} m/s, "
+            f"not stick: below break-away (mu_s = {p['mu_s']:g}) the body creeps at about v_eps "
+            "atanh(mu_hold/mu_s), and the steps must resolve the band (cost growing as 1/v_eps); " + exact)
+
+
+#: implicit_euler and galpha solve the laws with jumps over their modes on a model and on
+#: one contact (stickslip_modal_contacts, stickslip_fixed_implicit).
+_MODAL_METHODS = ("implicit_euler", "galpha")
+
+
+def model_notes(model: Any, method: str, stacklevel: int = 2) -> list[str]:
+    """`regularised_note` for each contact of a `stickslip.Model` under `method` (one per law and
+    parameter set, prefixed with the first contact that has it), each warned once
+    (RegularisedLawWarning); the list of them, for ``Result.stats["notes"]``."""
+    notes: dict[str, str] = {}
+    for i, c in enumerate(model.contacts):
+        note = regularised_note(c.law, c.params, method)
+        if note is not None and note not in notes:
+            notes[note] = f"{model.contact_label(i)}: {note}"
+    for message in notes.values():
+        warnings.warn(message, RegularisedLawWarning, stacklevel=stacklevel + 1)
+    return list(notes.values())
+
+
+def _checked(law: str, method: str) -> bool:
+    """Whether runs of `law` under `method` take simulate's Python path for the consistency
+    check (`_after_run`): the laws that jump or stick in a band (coulomb, karnopp, stribeck)
+    under the methods without stick/slip events, whose output can leave x and v inconsistent
+    (RK4's frozen states). The others keep the fast path, unchecked."""
+    return law in ("coulomb", "karnopp", "stribeck") and REGISTRY["method"][method]["laws"] is None
+
+
+#: The consistency check of a result, `stickslip.energy.check_result`: energy, which imports
+#: this module, sets it as it is imported (the package imports it).
+_CHECK_RESULT: Callable[..., list[str]] | None = None
+
+
+def _after_run(call: "_Call", result: Result) -> None:
+    """A run of `call` that reached t_end, on simulate's Python path: its warnings into
+    ``result.stats["notes"]`` (all but UnusedParameterWarning), then the consistency check
+    (`stickslip.energy.check_result`), whose failures are warned and noted there too."""
+    result.stats["notes"].extend(m for m, c in call.warnings if not issubclass(c, UnusedParameterWarning))
+    if _CHECK_RESULT is not None and _checked(call.law, call.method):
+        _CHECK_RESULT(result, call.method, call.known, stacklevel=3)
 
 
 class _Call:
@@ -1122,6 +1228,10 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         - ``message``: the library's message for that status.
         - ``t_reached``: the time the run reached [s] (t_end on success).
         - ``h_last``: the last step size tried [s].
+        - ``notes``: a list of sentences (str) about the run: its warnings (the law it computes
+          under this method, RegularisedLawWarning; a step beyond a stability bound) and the
+          failures of its consistency check (ConsistencyWarning, EnergyBoundWarning; see
+          docs/guide/results.md); empty for a run that needed none.
         - ``cpu_seconds``: CPU time of the library call [s]: the process's CPU clock (that of
           time.process_time), read by the compiled wrapper before and after the run; for a
           fixed-step run of fewer than 2048 steps the monotonic clock (time.perf_counter's)
@@ -1157,6 +1267,13 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         bound at the creep speed on the slope (`rk4_stability_bound`).
     UserWarning
         A fixed step h longer than the whole run.
+    RegularisedLawWarning
+        ``coulomb``, or ``stribeck`` with mu_s > mu_k, under a method without stick/slip events:
+        what the run computes instead of the set-valued law (`regularised_note`).
+    ConsistencyWarning, EnergyBoundWarning
+        A run that reached t_end but fails the consistency check (x against the integral of
+        v; on a model its energy and its friction forces too): the numbers are in the message
+        and in ``stats["notes"]`` (docs/guide/results.md).
 
     The checks of a fixed step are the same for a scene and a `Model` (a model from
     `Model.from_scene` warns as its scene).
@@ -1204,7 +1321,11 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         if len(_CALLS) >= _CALLS_MAX:
             _CALLS.clear()
         _CALLS[key] = call
-    return result if status == STATUS_OK else _failed(call, result)
+    if status != STATUS_OK:
+        _failed(call, result)
+    if not call.fast:
+        _after_run(call, result)
+    return result
 
 
 def _failed(call: _Call, result: Result) -> NoReturn:
@@ -1234,7 +1355,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
                          f"{', '.join(_PARAM_ORDER)}; controls: {', '.join(CONTROLS)})")
     given = _physical({k: v for k, v in kwargs.items() if k in _PARAM_SET})
     ctl = _controls(method, plan, {k: v for k, v in kwargs.items() if k in _CONTROL_SET})
-    t_end = _finite("t_end", t_end, "> 0 [s]")
+    t_end = _end_time(t_end)
     n_states, state_labels = plan.n - 2, plan.state_labels
     if plan.sized_by:                        # a law whose number of states is a parameter (gms)
         n_states, state_labels = _states(law, tuple((k, given[k]) for k in plan.sized_by if k in given))
@@ -1260,6 +1381,9 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
         warn(f"{', '.join(unused)}: not read by scene {scene!r} with law {law!r}, ignored (range-checked "
              "only; ignore_unused=True silences this for parameter sets shared across laws)",
              UnusedParameterWarning)
+    note = regularised_note(law, _known(given), method)
+    if note is not None:
+        warn(note, RegularisedLawWarning)
     if plan.needs_h:
         if "h" not in ctl:
             raise ValueError(f"h: required for method {method!r} (finite, > 0 [s])")
@@ -1332,7 +1456,8 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     return _Call(scene=scene, law=law, method=method, t_end=t_end, handle=int(handle), n=y0.size,
                  resolved=resolved, grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
                  state_labels=state_labels, used=plan.used, known=known, events_room=room,
-                 n_blocks=n_blocks, arm=arm, fast=not said and (rows > 0 or grid is not None))
+                 n_blocks=n_blocks, arm=arm,
+                 fast=not said and (rows > 0 or grid is not None) and not _checked(law, method))
 
 
 #: The integrators look at the stop flag as a run starts, then every 4096 steps

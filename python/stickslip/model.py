@@ -29,13 +29,13 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result, _ERRORS,
-                   _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _events, _finite,
+                   _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _end_time, _events, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
                    IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
-                   _physical, MAX_ROWS)
+                   _physical, MAX_ROWS, model_notes)
 from .outputs import atomic_write
 from .signal import Signal, SignalLike, as_signal
-from .energy import EnergyBoundWarning, energy_bound
+from .energy import check_result
 
 __all__ = ["Model"]
 
@@ -461,11 +461,12 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     if not isinstance(model, Model):
         raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
     check_method(model, method)
+    notes = model_notes(model, method, stacklevel=4)
     info = REGISTRY["method"][method]
     laws = [c.law for c in model.contacts]
     arrays = model.arrays()
     n = model.n_states()
-    t_end = _finite("t_end", t_end, "> 0 [s]")
+    t_end = _end_time(t_end)
     ctl = {k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]}
     for name, value in controls.items():
         if name not in info["controls"]:
@@ -527,21 +528,6 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
-    _check_energy(model, result, arrays)
+    result.stats["notes"].extend(notes)
+    check_result(result, method, {**ctl, "rtol": rtol, "atol": atol}, model, arrays, stacklevel=4)
     return result
-
-
-def _check_energy(model: Model, result: Result, arrays: dict[str, Any]) -> None:
-    """An EnergyBoundWarning where the result's mechanical energy exceeds its bound
-    (stickslip.energy.energy_bound; models it does not check pass); `arrays`: the model's."""
-    checked = energy_bound(model, result.t, result.x, result.v, arrays)
-    if checked is None:
-        return
-    e, bound = checked
-    over = np.flatnonzero(~(e <= bound))
-    if over.size:
-        i = int(over[0])
-        warnings.warn(f"model ({result.method}): the mechanical energy {e[i]:.6g} J at t = {result.t[i]:.6g} s "
-                      f"exceeds {bound[i]:.6g} J, the most its forces and moving surfaces can have put in "
-                      "(stickslip.energy): the result is wrong; take a smaller step or tolerance",
-                      EnergyBoundWarning, stacklevel=4)
