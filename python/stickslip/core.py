@@ -930,10 +930,12 @@ def _step_warnings(system: _Oscillators, method: str, h: float, t_end: float) ->
     return said
 
 
-def _warn_model_steps(model: Any, method: Any, t_end: Any, controls: Mapping[str, Any]) -> None:
+def _warn_model_steps(model: Any, method: Any, t_end: Any, controls: Mapping[str, Any],
+                      stacklevel: int = 3) -> None:
     """Issue `_step_warnings` for a Model run with a fixed-step method, as simulate issues them
-    for a scene (before the run; input that is not a positive finite h and t_end is left to
-    the model's own validation)."""
+    for a scene (before the run, after the law's notes as for a scene; input that is not a
+    positive finite h and t_end is left to the model's own validation). stacklevel: that of
+    the warnings, counted from this function."""
     info = REGISTRY["method"].get(method) if isinstance(method, str) else None
     if info is None or "h" not in info["controls"]:
         return
@@ -944,7 +946,7 @@ def _warn_model_steps(model: Any, method: Any, t_end: Any, controls: Mapping[str
     if not (math.isfinite(h) and math.isfinite(t) and h > 0.0 and t > 0.0):
         return
     for message, category in _step_warnings(_model_oscillators(model), method, h, t):
-        warnings.warn(message, category, stacklevel=3)      # the caller of simulate
+        warnings.warn(message, category, stacklevel=stacklevel)
 
 
 def _check_code(status: int, given: Mapping[str, Any] | None = None) -> None:
@@ -1297,7 +1299,6 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         if extra:
             raise ValueError(f"{', '.join(extra)}: a Model carries its own laws, parameters and initial "
                              "state (give them to add_body and add_contact)")
-        _warn_model_steps(scene, method, t_end, kwargs)
         return scene.run_model(method=method, t_end=t_end, n_out=n_out, every_step=every_step,
                                max_steps=max_steps, **kwargs)
     # Reached when _runner's fast path (the FastPath standing for this function, below) has not

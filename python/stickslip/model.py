@@ -32,7 +32,7 @@ from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
                    _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _end_time, _events, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
                    IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
-                   _physical, MAX_ROWS, model_notes)
+                   _physical, MAX_ROWS, model_notes, _warn_model_steps)
 from .outputs import atomic_write
 from .signal import Signal, SignalLike, as_signal
 from .energy import check_result
@@ -462,6 +462,7 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
     check_method(model, method)
     notes = model_notes(model, method, stacklevel=4)
+    _warn_model_steps(model, method, t_end, controls, stacklevel=5)    # the caller of simulate
     info = REGISTRY["method"][method]
     laws = [c.law for c in model.contacts]
     arrays = model.arrays()
