@@ -1,0 +1,174 @@
+"""Measured numbers in the documentation's prose, each read from the results file that measured it.
+
+A page writes a measured number as a MyST role that holds the number as the reader should see it
+and, in angle brackets, where it comes from:
+
+    the drivers' CPU times add up to {num}`31.9 s <docs/figures/cases.run.json:cpu_s>`
+
+The source is a path relative to the top of the repository, a colon and a key:
+
+- a named-numbers JSON file (written by `numbers_json`, below): the key is a name of its
+  `numbers`, e.g. `docs/figures/cases.run.json:slope.cpu_s`;
+- a CSV file with a header row: the key is a column as its header writes it and, in brackets,
+  the cells that pick exactly one row, e.g.
+  `docs/figures/table2_slope_cpu.csv:nfev [-][law=coulomb,mode=automatic]`.
+
+A source may end with `*FACTOR` (the number shown is the value times FACTOR: `*1e6` shows
+seconds as microseconds, `*100` a fraction as a percentage) and `~N` (rounded to N significant
+digits first). The number keeps the form it is written in: as many decimals as written
+(`0.1005`), or the exponent form (`8.5e-6`) with as many mantissa decimals. The words around
+the number (a unit, "times") are the author's.
+
+`python tools/doctables.py` rewrites every such number from its source (with the tables) and
+`--check` lists those that disagree; the documentation site (docs/_ext/docnumbers_role.py) shows
+the number read from the source, with the source and the run that wrote it (its provenance
+sidecar) as the number's tooltip, and fails the -W build when the page's text disagrees. On
+GitHub the role shows as written: the number and its source in code type.
+
+A command that measures a number writes it with `numbers_json` into a results file beside its
+other results (and names that file in its provenance sidecar, like every results file):
+
+    write_text(outdir / "cases.run.json", numbers_json({"cpu_s": (31.9, "s", "CPU time ...")}))
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
+
+ROOT: Path = Path(__file__).resolve().parent.parent
+
+#: A number written through the role: {num}`TEXT <SOURCE>`.
+ROLE = re.compile(r"\{num\}`(?P<text>[^`<]*?)\s*<(?P<source>[^`>]+)>`")
+#: The number inside the role's text (the first one).
+NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+_SOURCE = re.compile(r"^(?P<path>[^:]+):(?P<key>.+?)(?:\*(?P<factor>[0-9.eE+-]+))?(?:~(?P<sig>\d+))?$")
+_CSV_KEY = re.compile(r"^(?P<column>[^\[]+?)\s*\[(?P<where>[^\[\]]*=[^\[\]]*)\]$")
+
+
+class SourceError(ValueError):
+    """A role's source cannot be read: no such file, key, column or row."""
+
+
+@dataclass(frozen=True)
+class Source:
+    """What a role's source names."""
+
+    path: Path           #: the results file
+    key: str             #: the name (JSON) or column[row selection] (CSV)
+    factor: float = 1.0  #: shown = value * factor
+    sig: int | None = None   #: significant digits to round to first
+
+    @property
+    def relative(self) -> str:
+        return self.path.relative_to(ROOT).as_posix() if self.path.is_relative_to(ROOT) else str(self.path)
+
+
+def parse_source(text: str, root: Path = ROOT) -> Source:
+    """The Source of `PATH:KEY[*FACTOR][~N]`."""
+    m = _SOURCE.match(text.strip())
+    if m is None:
+        raise SourceError(f"source {text!r}: expected PATH:KEY, optionally *FACTOR and ~DIGITS")
+    return Source(root / m["path"], m["key"].strip(), float(m["factor"]) if m["factor"] else 1.0,
+                  int(m["sig"]) if m["sig"] else None)
+
+
+def numbers_json(numbers: Mapping[str, float | tuple[float, str] | tuple[float, str, str]]) -> str:
+    """The text of a named-numbers file: {"numbers": {name: {"value", "unit", "what"}}}.
+
+    Parameters
+    ----------
+    numbers : mapping
+        name -> value, (value, unit) or (value, unit, what it is); names sorted in the file.
+
+    Returns
+    -------
+    str
+        The JSON text, to be written by the caller's (atomic) writer.
+    """
+    out: dict[str, dict[str, object]] = {}
+    for name, item in sorted(numbers.items()):
+        value, unit, what = (item, "", "") if not isinstance(item, tuple) else (*item, "", "")[:3]
+        if not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise ValueError(f"numbers_json: {name} = {value!r}: expected a finite number")
+        out[name] = {"value": value, "unit": unit, "what": what}
+    return json.dumps({"numbers": out}, indent=1) + "\n"
+
+
+def _csv_value(source: Source) -> float:
+    m = _CSV_KEY.match(source.key)
+    if m is None:
+        raise SourceError(f"{source.relative}: key {source.key!r}: expected COLUMN[NAME=VALUE,...]")
+    with open(source.path, newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    header, data = rows[0], rows[1:]
+    where = [tuple(part.split("=", 1)) for part in m["where"].split(",")]
+    for name in [m["column"], *(w[0] for w in where)]:
+        if name.strip() not in header:
+            raise SourceError(f"{source.relative} has no column {name.strip()!r} (it has: {', '.join(header)})")
+    col = header.index(m["column"].strip())
+    picked = [r for r in data if all(r[header.index(n.strip())] == v.strip() for n, v in where)]
+    if len(picked) != 1:
+        raise SourceError(f"{source.relative}: [{m['where']}] picks {len(picked)} rows, not one")
+    return float(picked[0][col])
+
+
+def value_of(source: Source) -> float:
+    """The number the source names, times its factor, rounded to its significant digits."""
+    if not source.path.exists():
+        raise SourceError(f"{source.relative} does not exist")
+    if source.path.suffix == ".csv":
+        value = _csv_value(source)
+    else:
+        numbers = json.loads(source.path.read_text()).get("numbers", {})
+        if source.key not in numbers:
+            raise SourceError(f"{source.relative} has no number {source.key!r} (it has: {', '.join(numbers)})")
+        value = float(numbers[source.key]["value"])
+    value *= source.factor
+    if source.sig is not None and value != 0:
+        value = round(value, source.sig - 1 - math.floor(math.log10(abs(value))))
+    return value
+
+
+def format_like(written: str, value: float) -> str:
+    """`value` in the form of the first number of `written` (its decimals, or its exponent form
+    with as many mantissa decimals), with the words around it kept."""
+    m = NUMBER.search(written)
+    if m is None:
+        raise SourceError(f"{written!r} holds no number to show the source's value in")
+    literal = m.group(0)
+    if "e" in literal.lower():
+        mantissa = literal.lower().split("e")[0]
+        decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+        mant, exp = f"{value:.{decimals}e}".split("e")
+        shown = f"{mant}e{int(exp)}"
+    else:
+        decimals = len(literal.split(".")[1]) if "." in literal else 0
+        shown = f"{value:.{decimals}f}"
+    if shown.startswith("-") and float(shown) == 0:
+        shown = shown[1:]
+    return written[:m.start()] + shown + written[m.end():]
+
+
+def shown(text: str, source_text: str, root: Path = ROOT) -> tuple[str, Source]:
+    """What the role {num}`text <source_text>` shows: the text with the source's number."""
+    source = parse_source(source_text, root)
+    return format_like(text, value_of(source)), source
+
+
+def refresh_text(text: str, root: Path = ROOT) -> tuple[str, list[tuple[int, str, str]]]:
+    """`text` with every role's number rewritten from its source, and (line, written, shown) of
+    each that changed."""
+    changed: list[tuple[int, str, str]] = []
+
+    def fill(m: re.Match[str]) -> str:
+        new, _ = shown(m["text"], m["source"], root)
+        if new != m["text"]:
+            changed.append((text.count("\n", 0, m.start()) + 1, m["text"], new))
+        return m.group(0).replace(f"`{m['text']}", f"`{new}", 1)
+
+    return ROLE.sub(fill, text), changed
