@@ -336,5 +336,152 @@ def test_doc_tables_format_a_column_one_way(tmp_path) -> None:
     assert "| 61 | 2.79e+04 |" in text and "| 50 | 5.97e+05 |" in text
 
 
+# ---------------------------------------------------------------- numbers in the prose, from their sources
+def _docnumbers():
+    sys.path.insert(0, str(ROOT))
+    from tools import docnumbers
+    return docnumbers
+
+
+def test_a_number_is_shown_from_its_source(tmp_path) -> None:
+    """The role's number is read from a named-numbers file or a CSV cell, shown in the form it
+    is written (decimals, exponent form, a factor, significant digits), and a refresh rewrites
+    the page's number when the source changes; a bad key names what the file has."""
+    dn = _docnumbers()
+    (tmp_path / "r.json").write_text(dn.numbers_json({"cpu_s": (231.46, "s", "CPU"), "err": 8.46e-6}))
+    (tmp_path / "t.csv").write_text("law [-],mode [-],nfev [-]\na,h=1e-3,20000\na,auto,30012345\n")
+    assert dn.shown("230 s", "r.json:cpu_s", tmp_path)[0] == "231 s"
+    assert dn.shown("about 231.5 s of CPU", "r.json:cpu_s", tmp_path)[0] == "about 231.5 s of CPU"
+    assert dn.shown("8.5e-6 m", "r.json:err", tmp_path)[0] == "8.5e-6 m"
+    assert dn.shown("8.46 um", "r.json:err*1e6", tmp_path)[0] == "8.46 um"
+    assert dn.shown("30000000", "t.csv:nfev [-][law [-]=a,mode [-]=auto]~2", tmp_path)[0] == "30000000"
+    assert dn.shown("1500 times", "t.csv:nfev [-][mode [-]=auto]*5e-5~2", tmp_path)[0] == "1500 times"
+    with pytest.raises(dn.SourceError, match="has no number 'cpu' .*it has: cpu_s, err"):
+        dn.shown("1 s", "r.json:cpu", tmp_path)
+    with pytest.raises(dn.SourceError, match="picks 2 rows, not one"):
+        dn.shown("1", "t.csv:nfev [-][law [-]=a]", tmp_path)
+    page = "It took {num}`230 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"
+    text, changed = dn.refresh_text(page, tmp_path)
+    assert text == "It took {num}`231 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"
+    assert changed == [(1, "230 s", "231 s")] and dn.refresh_text(text, tmp_path)[1] == []
+
+
+#: The prose of these pages is checked for measured-looking numbers without a source.
+NUMBER_PAGES: tuple[str, ...] = tuple(
+    p.relative_to(ROOT / "docs").as_posix()
+    for p in sorted((ROOT / "docs" / "guide").glob("*.md")) + sorted((ROOT / "docs").glob("*.md"))
+    + sorted((ROOT / "docs" / "gallery").glob("*.md")))
+#: A number that looks measured: a decimal, an exponent, a grouped integer, or a number with a
+#: unit of time, length, speed, force, a factor, a percentage or a count of work.
+MEASURED = re.compile(r"(?<![\w.{])(\d+\.\d+(e[-+]?\d+)?|\d+e[-+]?\d+|\d{2,}(,\d{3})+|\d+(\.\d+)?\s?"
+                      r"(s|ms|us|µs|x|%|mm|m/s|rad/s|kN|N|evaluations|steps)\b)")
+#: Facts, not measurements, that a converted page may write as text: {page: {number: why}}.
+FACTS: dict[str, dict[str, str]] = {
+    "guide/getting-started.md": {
+        "0.35": "the paper's static friction coefficient", "0.176": "tan 10°, arithmetic",
+        "1e-2": "a tolerance chosen", "1e-4": "a tolerance or step chosen",
+        "1e-6": "a tolerance chosen", "1e-3": "a step or factor chosen", "20 s": "the paper's duration",
+        "30 s": "the belt's duration chosen", "10 kg": "the paper's mass",
+        "3.11": "the Python version required",
+    },
+}
+#: Pages whose numbers are not yet read from their sources: this list may only shrink.
+NOT_YET_CONVERTED: frozenset[str] = frozenset({
+    "benchmarks.md", "results.md", "reproduction.md", "paper.md", "index.md",
+    "guide/results.md", "guide/choosing-h.md", "guide/integrators.md", "guide/dop853.md",
+    "guide/chain.md", "guide/engines.md", "guide/identification.md", "guide/implicit-nonsmooth.md",
+    "guide/exact-stick.md", "guide/friction-laws.md", "guide/models.md", "guide/advisor.md",
+    "guide/controls.md", "guide/dask.md", "guide/fortran-c.md", "guide/prescribed-motion.md",
+    "guide/python-api.md", "guide/extending.md", "guide/fpm.md", "guide/steady-states.md",
+    "gallery/belt-2dof.md", "gallery/coupled-clutches.md", "gallery/den-hartog.md",
+    "gallery/friction-damper-frame.md", "gallery/stacked-blocks.md", "gallery/index.md",
+})
+TABLE_BLOCK = re.compile(r"<!-- table: .*?<!-- end table -->", re.S)
+
+
+def prose_lines(text: str, raw: bool = False) -> list[tuple[int, str]]:
+    """(line number, text) of a Markdown page's prose: outside fenced code, tables (a row, or a
+    generated table between its markers) and HTML comments; unless `raw`, inline code, roles
+    such as {num}`...`, and math spans blanked."""
+    text = TABLE_BLOCK.sub(lambda m: "\n" * m.group(0).count("\n"), text)
+    text = re.sub(r"<!--.*?-->", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
+    out, fence = [], None
+    for number, line in enumerate(text.splitlines(), 1):
+        s = line.strip()
+        mark = re.match(r"(`{3,}|~{3,})", s)
+        if mark and (fence is None or s.startswith(fence)):
+            fence = None if fence else mark.group(1)
+            continue
+        if fence or s.startswith("|"):
+            continue
+        if raw:
+            out.append((number, line))
+            continue
+        s = re.sub(r"\{[a-z-]+\}`[^`]*`", "", s)
+        s = re.sub(r"`[^`]*`", "", s)
+        s = re.sub(r"\$[^$]*\$", "", s)
+        out.append((number, s))
+    return out
+
+
+def bare_numbers(page: str) -> list[tuple[int, str]]:
+    """(line, number) of the measured-looking numbers of docs/`page` without a source that are
+    not among its FACTS."""
+    facts = FACTS.get(page, {})
+    return [(n, m.group(0)) for n, line in prose_lines((ROOT / "docs" / page).read_text())
+            for m in MEASURED.finditer(line) if m.group(0) not in facts]
+
+
+def test_the_number_checker_tells_a_measurement_from_a_source() -> None:
+    text = ("It took 231 s and {num}`231 s <a.json:b>`; `1.5 s` is code.\n| 2.5 s | a table |\n"
+            "```python\nprint(3.5)\n```\n<!-- table: x.csv\n-->\nMachine: 4.5 s\n<!-- end table -->\n"
+            "$h = 0.5$ and 1e-3 and 12 evaluations\n")
+    found = [m.group(0) for _, line in prose_lines(text) for m in MEASURED.finditer(line)]
+    assert found == ["231 s", "1e-3", "12 evaluations"]
+
+
+@pytest.mark.parametrize("page", NUMBER_PAGES)
+def test_measured_numbers_in_the_docs_come_from_their_sources(page: str) -> None:
+    """A converted page writes every measured number as {num}`TEXT <SOURCE>` (its value then
+    checked against the source by test_doc_tables_agree_with_their_results_files); only the
+    facts of FACTS stay as text. A page of NOT_YET_CONVERTED must still need its place there."""
+    bare = bare_numbers(page)
+    if page in NOT_YET_CONVERTED:
+        assert bare, f"docs/{page} has no bare measured number any more: remove it from NOT_YET_CONVERTED"
+    else:
+        assert not bare, (f"docs/{page}: numbers without a source (write {{num}}`TEXT <PATH:KEY>`, "
+                          f"tools/docnumbers.py, or add a fact to FACTS): {bare}")
+
+
+def test_the_unconverted_list_names_only_pages_that_exist() -> None:
+    assert NOT_YET_CONVERTED <= set(NUMBER_PAGES), NOT_YET_CONVERTED - set(NUMBER_PAGES)
+    assert set(FACTS) <= set(NUMBER_PAGES) - NOT_YET_CONVERTED
+
+
+# ---------------------------------------------------------------- the sources' form: no history, no long lines
+MARKDOWN: tuple[Path, ...] = (ROOT / "README.md", *(
+    p for p in sorted((ROOT / "docs").rglob("*.md")) if "figures" not in p.relative_to(ROOT / "docs").parts))
+#: Pages that still name an issue of the project, edited elsewhere this round: may only shrink.
+HISTORY_LEFT: frozenset[str] = frozenset({"docs/guide/identification.md"})
+MAX_LINE: int = 400
+
+
+def test_the_docs_speak_of_the_package_not_of_its_history() -> None:
+    """No page names an issue of the project ("issue 31"): a reader needs what the package does."""
+    named = {p.relative_to(ROOT).as_posix(): re.findall(r"\bissues? #?\d+", p.read_text(), re.I)
+             for p in MARKDOWN}
+    found = {page: hits for page, hits in named.items() if hits and page not in HISTORY_LEFT}
+    assert not found, found
+    assert all(named[page] for page in HISTORY_LEFT), "remove the page from HISTORY_LEFT"
+
+
+def test_no_paragraph_is_one_long_line() -> None:
+    """Markdown prose is wrapped: no line of prose over MAX_LINE characters (tables, code and
+    generated tables excepted), so that a change shows as a readable diff."""
+    long = [f"{p.relative_to(ROOT).as_posix()}:{n} ({len(line)} characters)"
+            for p in MARKDOWN for n, line in prose_lines(p.read_text(), raw=True) if len(line) > MAX_LINE]
+    assert not long, long
+
+
 if __name__ == "__main__":
     print("\n".join(all_undocumented()) or "every public entity is documented")

