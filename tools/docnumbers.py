@@ -11,7 +11,9 @@ The source is a path relative to the top of the repository, a colon and a key:
   `numbers`, e.g. `docs/figures/cases.run.json:slope.cpu_s`;
 - a CSV file with a header row: the key is a column as its header writes it and, in brackets,
   the cells that pick exactly one row, e.g.
-  `docs/figures/table2_slope_cpu.csv:nfev [-][law=coulomb,mode=automatic]`.
+  `docs/figures/table2_slope_cpu.csv:nfev [-][law [-]=coulomb,mode [-]=automatic]`, or several
+  rows (a cell may list values, `method=implicit_euler|galpha`) and how to make one number of them: `@min`, `@max`, `@median` or `@sum` after the
+  brackets (`ratio_step[section=fixed,impl=stickslip_fortran]@max`).
 
 A source may end with `*FACTOR` (the number shown is the value times FACTOR: `*1e6` shows
 seconds as microseconds, `*100` a fraction as a percentage) and `~N` (rounded to N significant
@@ -47,7 +49,9 @@ ROLE = re.compile(r"\{num\}`(?P<text>[^`<]*?)\s*<(?P<source>[^`>]+)>`")
 #: The number inside the role's text (the first one).
 NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 _SOURCE = re.compile(r"^(?P<path>[^:]+):(?P<key>.+?)(?:\*(?P<factor>[0-9.eE+-]+))?(?:~(?P<sig>\d+))?$")
-_CSV_KEY = re.compile(r"^(?P<column>[^\[]+?)\s*\[(?P<where>[^\[\]]*=[^\[\]]*)\]$")
+#: How the cells of several rows become one number (`@min` after the row selection).
+AGGREGATES = {"min": min, "max": max, "sum": sum, "median": lambda v: float(sorted(v)[len(v) // 2])
+              if len(v) % 2 else 0.5 * (sorted(v)[len(v) // 2 - 1] + sorted(v)[len(v) // 2])}
 
 
 class SourceError(ValueError):
@@ -99,8 +103,23 @@ def numbers_json(numbers: Mapping[str, float | tuple[float, str] | tuple[float, 
     return json.dumps({"numbers": out}, indent=1) + "\n"
 
 
+def _csv_key(key: str) -> dict[str, str | None] | None:
+    """{column, where, how} of `COLUMN[NAME=VALUE,...][@HOW]` (names and columns may hold
+    brackets, "x_end [m]"), or None."""
+    body, _, how = key.rpartition("@") if re.search(r"\]@\w+$", key) else (key, "", None)
+    if not body.endswith("]"):
+        return None
+    depth = 0
+    for i in range(len(body) - 1, -1, -1):
+        depth += {"]": 1, "[": -1}.get(body[i], 0)
+        if depth == 0:
+            where = body[i + 1:-1]
+            return {"column": body[:i].strip(), "where": where, "how": how} if "=" in where else None
+    return None
+
+
 def _csv_value(source: Source) -> float:
-    m = _CSV_KEY.match(source.key)
+    m = _csv_key(source.key)
     if m is None:
         raise SourceError(f"{source.relative}: key {source.key!r}: expected COLUMN[NAME=VALUE,...]")
     with open(source.path, newline="", encoding="utf-8") as f:
@@ -111,9 +130,16 @@ def _csv_value(source: Source) -> float:
         if name.strip() not in header:
             raise SourceError(f"{source.relative} has no column {name.strip()!r} (it has: {', '.join(header)})")
     col = header.index(m["column"].strip())
-    picked = [r for r in data if all(r[header.index(n.strip())] == v.strip() for n, v in where)]
+    picked = [r for r in data
+              if all(r[header.index(n.strip())] in {a.strip() for a in v.split("|")} for n, v in where)]
+    if m["how"] is not None:
+        if m["how"] not in AGGREGATES or not picked:
+            raise SourceError(f"{source.relative}: @{m['how']} of {len(picked)} rows "
+                              f"(one of {', '.join(AGGREGATES)}, over at least one row)")
+        return float(AGGREGATES[m["how"]]([float(r[col]) for r in picked]))
     if len(picked) != 1:
-        raise SourceError(f"{source.relative}: [{m['where']}] picks {len(picked)} rows, not one")
+        raise SourceError(f"{source.relative}: [{m['where']}] picks {len(picked)} rows, not one "
+                          f"(add cells, or @{'/@'.join(AGGREGATES)})")
     return float(picked[0][col])
 
 
