@@ -46,6 +46,8 @@ ROOT: Path = Path(__file__).resolve().parent.parent
 
 #: A number written through the role: {num}`TEXT <SOURCE>`.
 ROLE = re.compile(r"\{num\}`(?P<text>[^`<]*?)\s*<(?P<source>[^`>]+)>`")
+#: A fenced code block (kept whole by re.split).
+FENCE = re.compile(r"(^(?:```|~~~).*?^(?:```|~~~)[ \t]*$)", re.S | re.M)
 #: The number inside the role's text (the first one).
 NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 _SOURCE = re.compile(r"^(?P<path>[^:]+):(?P<key>.+?)(?:\*(?P<factor>[0-9.eE+-]+))?(?:~(?P<sig>\d+))?$")
@@ -197,4 +199,7 @@ def refresh_text(text: str, root: Path = ROOT) -> tuple[str, list[tuple[int, str
             changed.append((text.count("\n", 0, m.start()) + 1, m["text"], new))
         return m.group(0).replace(f"`{m['text']}", f"`{new}", 1)
 
-    return ROLE.sub(fill, text), changed
+    # fenced code shows a role as text (an example of the syntax): only the prose is refreshed
+    parts = FENCE.split(text)
+    return "".join(part if part.startswith(("```", "~~~")) else ROLE.sub(fill, part)
+                   for part in parts), changed
