@@ -362,6 +362,8 @@ def test_a_number_is_shown_from_its_source(tmp_path) -> None:
         dn.shown("1", "t.csv:nfev [-][law [-]=a]", tmp_path)
     assert dn.shown("20000 to", "t.csv:nfev [-][law [-]=a]@min", tmp_path)[0] == "20000 to"
     assert dn.shown("3e7", "t.csv:nfev [-][law [-]=a]@max", tmp_path)[0] == "3e7"
+    ratio = "t.csv:nfev [-][mode [-]=auto]/nfev [-][mode [-]=h=1e-3]"
+    assert dn.shown("1501 times", ratio, tmp_path)[0] == "1501 times"
     page = "It took {num}`230 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"
     text, changed = dn.refresh_text(page, tmp_path)
     assert text == "It took {num}`231 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"
@@ -421,6 +423,15 @@ FACTS: dict[str, dict[str, str]] = {
         "1e-10": "a tolerance chosen", "1e-11": "a tolerance chosen", "1e-12": "a tolerance chosen",
         "1e-13": "the reference's tolerance",
     },
+    "guide/engines.md": {
+        "0.35": "the paper's mu_s", "0.30": "the paper's mu_k", "0.176": "tan 10°, arithmetic",
+        "0.01": "a time step named", "0.2": "the box's size [m]", "0.1": "a size, step or threshold chosen",
+        "1 mm": "the contact spheres' radius, a threshold chosen", "20 s": "the paper's duration",
+        "2 s": "Newton's run, chosen", "2.5": "m/(4 k_f) [ms], arithmetic", "1e-4": "a threshold chosen",
+        "1 ms": "a time step chosen", "0.17": "the stability bound 2m/(3 · 4 k_f) [ms], arithmetic",
+        "0.7265": "the root of mu_d s/sqrt(1 + s^2) = tan 10°", "1e-7": "the test's tolerance",
+        "300 N": "the paper's spring", "1.5": "the paper's belt speed", "5 ms": "a time step chosen",
+    },
     "guide/choosing-h.md": {
         "2.785": "RK4's stability bound on the real axis", "3.3": "DOPRI5's stability bound",
         "0.4": "the advice (h <= 0.4 v_s)", "0.5": "the advice (h_min < 0.5 v_s), rho_inf chosen",
@@ -445,7 +456,7 @@ FACTS: dict[str, dict[str, str]] = {
 NOT_YET_CONVERTED: frozenset[str] = frozenset({
     "benchmarks.md", "reproduction.md",
     "guide/results.md",
-    "guide/chain.md", "guide/engines.md", "guide/identification.md", "guide/implicit-nonsmooth.md",
+    "guide/chain.md", "guide/identification.md", "guide/implicit-nonsmooth.md",
     "guide/exact-stick.md", "guide/friction-laws.md", "guide/models.md", "guide/advisor.md",
     "guide/dask.md", "guide/fortran-c.md", "guide/prescribed-motion.md",
     "gallery/belt-2dof.md", "gallery/coupled-clutches.md", "gallery/den-hartog.md",

@@ -13,9 +13,11 @@ The source is a path relative to the top of the repository, a colon and a key:
   the cells that pick exactly one row, e.g.
   `docs/figures/table2_slope_cpu.csv:nfev [-][law [-]=coulomb,mode [-]=automatic]`, or several
   rows (a cell may list values, `method=implicit_euler|galpha`) and how to make one number of them: `@min`, `@max`, `@median` or `@sum` after the
-  brackets (`ratio_step[section=fixed,impl=stickslip_fortran]@max`).
+  brackets (`ratio_step[section=fixed,impl=stickslip_fortran]@max`). A cell value cannot hold
+  a comma (pick the row by other columns).
 
-A source may end with `*FACTOR` (the number shown is the value times FACTOR: `*1e6` shows
+A key may be the ratio of two keys of the same file, `A/B` (e.g. a run's CPU time over the
+reference run's). A source may end with `*FACTOR` (the number shown is the value times FACTOR: `*1e6` shows
 seconds as microseconds, `*100` a fraction as a percentage) and `~N` (rounded to N significant
 digits first). The number keeps the form it is written in: as many decimals as written
 (`0.1005`), or the exponent form (`8.5e-6`) with as many mantissa decimals. The words around
@@ -145,11 +147,26 @@ def _csv_value(source: Source) -> float:
     return float(picked[0][col])
 
 
+def _split_ratio(key: str) -> tuple[str, str] | None:
+    """(numerator, denominator) of a key `A/B` with the slash outside brackets, or None."""
+    depth = 0
+    for i, ch in enumerate(key):
+        depth += {"[": 1, "]": -1}.get(ch, 0)
+        if ch == "/" and depth == 0:
+            return key[:i].strip(), key[i + 1:].strip()
+    return None
+
+
 def value_of(source: Source) -> float:
-    """The number the source names, times its factor, rounded to its significant digits."""
+    """The number the source names (or the ratio of two, `A/B`), times its factor, rounded to
+    its significant digits."""
     if not source.path.exists():
         raise SourceError(f"{source.relative} does not exist")
-    if source.path.suffix == ".csv":
+    ratio = _split_ratio(source.key)
+    if ratio is not None:
+        num, den = (value_of(Source(source.path, k)) for k in ratio)
+        value = num / den
+    elif source.path.suffix == ".csv":
         value = _csv_value(source)
     else:
         numbers = json.loads(source.path.read_text()).get("numbers", {})
