@@ -370,6 +370,32 @@ def test_a_number_is_shown_from_its_source(tmp_path) -> None:
     assert changed == [(1, "230 s", "231 s")] and dn.refresh_text(text, tmp_path)[1] == []
 
 
+def test_the_site_shows_a_number_from_its_source_and_fails_on_a_stale_one(tmp_path) -> None:
+    """The Sphinx role renders the source's number with its provenance as a tooltip, and a
+    page whose number disagrees with its source fails a -W build, naming both."""
+    pytest.importorskip("myst_parser")
+    src = tmp_path / "src"
+    src.mkdir()
+    (src / "conf.py").write_text(
+        "import sys\n"
+        f"sys.path.insert(0, {str(ROOT / 'docs' / '_ext')!r})\n"
+        "extensions = ['myst_parser', 'docnumbers_role']\n")
+    source = "docs/figures/table2_slope_cpu.csv:x_end [m][law [-]=recurdyn,mode [-]=automatic]"
+
+    def build(number: str) -> subprocess.CompletedProcess[str]:
+        (src / "index.md").write_text(f"# Page\n\nIt creeps {{num}}`{number} m <{source}>` in 20 s.\n")
+        return subprocess.run([sys.executable, "-m", "sphinx", "-b", "html", "-W", "-q", "-E", str(src),
+                               str(tmp_path / "out")], capture_output=True, text=True)
+
+    good = build("0.1005")
+    assert good.returncode == 0, good.stderr
+    html = (tmp_path / "out" / "index.html").read_text()
+    assert re.search(r'<abbr title="docs/figures/table2_slope_cpu.csv: x_end \[m\].*written by python -m '
+                     r'cases[^"]*">0.1005 m</abbr>', html), html
+    stale = build("0.1006")
+    assert stale.returncode != 0 and "the page says '0.1006 m'" in stale.stderr and "'0.1005 m'" in stale.stderr
+
+
 #: The prose of these pages is checked for measured-looking numbers without a source.
 NUMBER_PAGES: tuple[str, ...] = tuple(
     p.relative_to(ROOT / "docs").as_posix()
