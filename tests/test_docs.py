@@ -364,6 +364,11 @@ def test_a_number_is_shown_from_its_source(tmp_path) -> None:
     assert dn.shown("3e7", "t.csv:nfev [-][law [-]=a]@max", tmp_path)[0] == "3e7"
     ratio = "t.csv:nfev [-][mode [-]=auto]/nfev [-][mode [-]=h=1e-3]"
     assert dn.shown("1501 times", ratio, tmp_path)[0] == "1501 times"
+    (tmp_path / "t.md").write_text("Intro.\n\n| n | a / b | solved |\n|---|---|---|\n| 10 | 1.15 | 100 % |\n"
+                                   "| 100 | 1.02 | 98 % |\n\n| other | n |\n|---|---|\n| 3 | 4 |\n")
+    assert dn.shown("1.20", "t.md:a / b[n=10]", tmp_path)[0] == "1.15"
+    assert dn.shown("90 %", "t.md:solved[n=10|100]@min", tmp_path)[0] == "98 %"
+    assert dn.shown("1", "t.md:other[n=4]", tmp_path)[0] == "3"
     page = "It took {num}`230 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"
     text, changed = dn.refresh_text(page, tmp_path)
     assert text == "It took {num}`231 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"

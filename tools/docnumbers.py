@@ -9,7 +9,9 @@ The source is a path relative to the top of the repository, a colon and a key:
 
 - a named-numbers JSON file (written by `numbers_json`, below): the key is a name of its
   `numbers`, e.g. `docs/figures/cases.run.json:slope.cpu_s`;
-- a CSV file with a header row: the key is a column as its header writes it and, in brackets,
+- a CSV file with a header row, or a generated Markdown file of pipe tables (the first table
+  with the named columns; a cell's first number is its value, "100 %" is 100): the key is a
+  column as its header writes it and, in brackets,
   the cells that pick exactly one row, e.g.
   `docs/figures/table2_slope_cpu.csv:nfev [-][law [-]=coulomb,mode [-]=automatic]`, or several
   rows (a cell may list values, `method=implicit_euler|galpha`) and how to make one number of them: `@min`, `@max`, `@median` or `@sum` after the
@@ -122,37 +124,69 @@ def _csv_key(key: str) -> dict[str, str | None] | None:
     return None
 
 
-def _csv_value(source: Source) -> float:
+def _tables(path: Path) -> list[tuple[list[str], list[list[str]]]]:
+    """The (header, rows) of every table of a results file: the CSV's one, or each Markdown
+    pipe table of a generated `.md` (cells stripped)."""
+    if path.suffix == ".csv":
+        with open(path, newline="", encoding="utf-8") as f:
+            rows = list(csv.reader(f))
+        return [(rows[0], rows[1:])]
+    tables, block = [], []
+    for line in path.read_text(encoding="utf-8").splitlines() + [""]:
+        if line.lstrip().startswith("|"):
+            block.append([c.strip() for c in line.strip().strip("|").split("|")])
+        elif block:
+            if len(block) > 2:
+                tables.append((block[0], block[2:]))     # the second line is |---|---|
+            block = []
+    return tables
+
+
+def _cell(text: str, where: str) -> float:
+    """The number of a cell: the cell itself, or the first number in it ("100 %")."""
+    try:
+        return float(text)
+    except ValueError:
+        m = NUMBER.search(text)
+        if m is None:
+            raise SourceError(f"{where}: the cell {text!r} holds no number") from None
+        return float(m.group(0))
+
+
+def _table_value(source: Source) -> float:
     m = _csv_key(source.key)
     if m is None:
         raise SourceError(f"{source.relative}: key {source.key!r}: expected COLUMN[NAME=VALUE,...]")
-    with open(source.path, newline="", encoding="utf-8") as f:
-        rows = list(csv.reader(f))
-    header, data = rows[0], rows[1:]
     where = [tuple(part.split("=", 1)) for part in m["where"].split(",")]
-    for name in [m["column"], *(w[0] for w in where)]:
-        if name.strip() not in header:
-            raise SourceError(f"{source.relative} has no column {name.strip()!r} (it has: {', '.join(header)})")
-    col = header.index(m["column"].strip())
+    names = [m["column"], *(w[0].strip() for w in where)]
+    tables = _tables(source.path)
+    found = [(h, rows) for h, rows in tables if all(n in h for n in names)]
+    if not found:
+        heads = "; ".join(", ".join(h) for h, _ in tables)
+        raise SourceError(f"{source.relative} has no table with the columns {', '.join(map(repr, names))} "
+                          f"(it has: {heads})")
+    header, data = found[0]
+    col = header.index(m["column"])
     picked = [r for r in data
               if all(r[header.index(n.strip())] in {a.strip() for a in v.split("|")} for n, v in where)]
     if m["how"] is not None:
         if m["how"] not in AGGREGATES or not picked:
             raise SourceError(f"{source.relative}: @{m['how']} of {len(picked)} rows "
                               f"(one of {', '.join(AGGREGATES)}, over at least one row)")
-        return float(AGGREGATES[m["how"]]([float(r[col]) for r in picked]))
+        return float(AGGREGATES[m["how"]]([_cell(r[col], source.relative) for r in picked]))
     if len(picked) != 1:
         raise SourceError(f"{source.relative}: [{m['where']}] picks {len(picked)} rows, not one "
                           f"(add cells, or @{'/@'.join(AGGREGATES)})")
-    return float(picked[0][col])
+    return _cell(picked[0][col], source.relative)
 
 
 def _split_ratio(key: str) -> tuple[str, str] | None:
-    """(numerator, denominator) of a key `A/B` with the slash outside brackets, or None."""
+    """(numerator, denominator) of a key `A[...]/B` (the slash outside brackets, right after a
+    row selection or its aggregate: a column's own name may hold a slash), or None."""
     depth = 0
     for i, ch in enumerate(key):
         depth += {"[": 1, "]": -1}.get(ch, 0)
-        if ch == "/" and depth == 0:
+        if ch == "/" and depth == 0 and re.search(r"\](?:@\w+)?\s*$", key[:i]):
             return key[:i].strip(), key[i + 1:].strip()
     return None
 
@@ -166,8 +200,8 @@ def value_of(source: Source) -> float:
     if ratio is not None:
         num, den = (value_of(Source(source.path, k)) for k in ratio)
         value = num / den
-    elif source.path.suffix == ".csv":
-        value = _csv_value(source)
+    elif source.path.suffix in (".csv", ".md"):
+        value = _table_value(source)
     else:
         numbers = json.loads(source.path.read_text()).get("numbers", {})
         if source.key not in numbers:
