@@ -477,6 +477,10 @@ FACTS: dict[str, dict[str, str]] = {
         "5 s": "the fit's budget", "1e-4": "a tolerance chosen", "1e-2": "a difference step chosen",
         "1e-6": "a tolerance chosen",
     },
+    "guide/dask.md": {
+        "10,000": "chunk_rows' largest default", "100,000": "the benchmark's rows, chosen",
+        "1e-3": "a step chosen", "0.2": "a duration chosen",
+    },
     "guide/choosing-h.md": {
         "2.785": "RK4's stability bound on the real axis", "3.3": "DOPRI5's stability bound",
         "0.4": "the advice (h <= 0.4 v_s)", "0.5": "the advice (h_min < 0.5 v_s), rho_inf chosen",
@@ -502,7 +506,7 @@ NOT_YET_CONVERTED: frozenset[str] = frozenset({
     "reproduction.md",
     "guide/chain.md", "guide/identification.md", "guide/implicit-nonsmooth.md",
     "guide/exact-stick.md", "guide/friction-laws.md", "guide/models.md", "guide/advisor.md",
-    "guide/dask.md", "guide/fortran-c.md", "guide/prescribed-motion.md",
+    "guide/fortran-c.md", "guide/prescribed-motion.md",
     "gallery/belt-2dof.md", "gallery/coupled-clutches.md", "gallery/den-hartog.md",
     "gallery/friction-damper-frame.md", "gallery/stacked-blocks.md",
 })

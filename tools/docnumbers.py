@@ -15,8 +15,8 @@ The source is a path relative to the top of the repository, a colon and a key:
   the cells that pick exactly one row, e.g.
   `docs/figures/table2_slope_cpu.csv:nfev [-][law [-]=coulomb,mode [-]=automatic]`, or several
   rows (a cell may list values, `method=implicit_euler|galpha`) and how to make one number of them: `@min`, `@max`, `@median` or `@sum` after the
-  brackets (`ratio_step[section=fixed,impl=stickslip_fortran]@max`). A cell value cannot hold
-  a comma (pick the row by other columns).
+  brackets (`ratio_step[section=fixed,impl=stickslip_fortran]@max`). A value with a comma is
+  written in double quotes (`run="local, 1 thread"`).
 
 A key may be the ratio of two keys of the same file, `A/B` (e.g. a run's CPU time over the
 reference run's). A source may end with `*FACTOR` (the number shown is the value times FACTOR: `*1e6` shows
@@ -157,7 +157,11 @@ def _table_value(source: Source) -> float:
     m = _csv_key(source.key)
     if m is None:
         raise SourceError(f"{source.relative}: key {source.key!r}: expected COLUMN[NAME=VALUE,...]")
-    where = [tuple(part.split("=", 1)) for part in m["where"].split(",")]
+    # NAME=VALUE pairs split at commas outside double quotes (run="local, 1 thread")
+    parts = [p for p in re.split(r',(?=(?:[^"]*"[^"]*")*[^"]*$)', m["where"]) if p.strip()]
+    if not all("=" in p for p in parts):
+        raise SourceError(f"{source.relative}: [{m['where']}]: expected NAME=VALUE, ...")
+    where = [(n.strip(), v.strip().strip('"')) for n, v in (p.split("=", 1) for p in parts)]
     names = [m["column"], *(w[0].strip() for w in where)]
     tables = _tables(source.path)
     found = [(h, rows) for h, rows in tables if all(n in h for n in names)]
