@@ -481,6 +481,17 @@ FACTS: dict[str, dict[str, str]] = {
         "10,000": "chunk_rows' largest default", "100,000": "the benchmark's rows, chosen",
         "1e-3": "a step chosen", "0.2": "a duration chosen",
     },
+    "guide/chain.md": {
+        "0.618": "the golden ratio's fraction", "2 s": "2 s + 1, the band Jacobian's evaluations (s states)",
+        "1 evaluations": "2 s + 1, a formula", "1e-10": "a tolerance chosen", "10 N": "k_p, chosen",
+        "300 N": "k_c, the paper's spring", "0.2": "a perturbation, duration or precision stated",
+        "0.01": "the belt's speed, chosen", "0.35": "the paper's mu_s", "0.3": "the paper's mu_k",
+        "1e-2": "a step chosen", "1e-3": "a step, tolerance or target chosen",
+        "1e-4": "a step, tolerance or target chosen", "1e-5": "a step chosen", "1e-6": "a tolerance or threshold chosen",
+        "1e-9": "a tolerance chosen", "0.5": "a duration chosen", "1 s": "a duration chosen",
+        "10,000": "a chain size or step count, chosen", "000 s": "1,000 s and 5,000 s runs, chosen",
+        "0.05": "the output grid's step, chosen", "10 s": "a duration chosen", "1.5": "the paper's belt speed",
+    },
     "guide/choosing-h.md": {
         "2.785": "RK4's stability bound on the real axis", "3.3": "DOPRI5's stability bound",
         "0.4": "the advice (h <= 0.4 v_s)", "0.5": "the advice (h_min < 0.5 v_s), rho_inf chosen",
@@ -504,7 +515,7 @@ FACTS: dict[str, dict[str, str]] = {
 #: Pages whose numbers are not yet read from their sources: this list may only shrink.
 NOT_YET_CONVERTED: frozenset[str] = frozenset({
     "reproduction.md",
-    "guide/chain.md", "guide/identification.md", "guide/implicit-nonsmooth.md",
+    "guide/identification.md", "guide/implicit-nonsmooth.md",
     "guide/exact-stick.md", "guide/friction-laws.md", "guide/models.md", "guide/advisor.md",
     "guide/fortran-c.md", "guide/prescribed-motion.md",
     "gallery/belt-2dof.md", "gallery/coupled-clutches.md", "gallery/den-hartog.md",
