@@ -373,6 +373,9 @@ def test_a_number_is_shown_from_its_source(tmp_path) -> None:
     text, changed = dn.refresh_text(page, tmp_path)
     assert text == "It took {num}`231 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"
     assert changed == [(1, "230 s", "231 s")] and dn.refresh_text(text, tmp_path)[1] == []
+    fenced = "```text\n{num}`1 s <r.json:cpu_s>`\n```\n\nIt took {num}`230 s <r.json:cpu_s>`.\n"
+    text, changed = dn.refresh_text(fenced, tmp_path)        # the example in code stays as written
+    assert changed == [(5, "230 s", "231 s")] and text.startswith("```text\n{num}`1 s")
 
 
 def test_the_site_shows_a_number_from_its_source_and_fails_on_a_stale_one(tmp_path) -> None:

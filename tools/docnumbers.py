@@ -11,19 +11,19 @@ The source is a path relative to the top of the repository, a colon and a key:
   `numbers`, e.g. `docs/figures/cases.run.json:slope.cpu_s`;
 - a CSV file with a header row, or a generated Markdown file of pipe tables (the first table
   with the named columns; a cell's first number is its value, "100 %" is 100): the key is a
-  column as its header writes it and, in brackets,
-  the cells that pick exactly one row, e.g.
-  `docs/figures/table2_slope_cpu.csv:nfev [-][law [-]=coulomb,mode [-]=automatic]`, or several
-  rows (a cell may list values, `method=implicit_euler|galpha`) and how to make one number of them: `@min`, `@max`, `@median` or `@sum` after the
-  brackets (`ratio_step[section=fixed,impl=stickslip_fortran]@max`). A value with a comma is
-  written in double quotes (`run="local, 1 thread"`).
+  column as its header writes it and, in brackets, the cells that pick exactly one row, e.g.
+  `docs/figures/table2_slope_cpu.csv:nfev [-][law [-]=coulomb,mode [-]=automatic]`; or several
+  rows (a cell may list values, `method=implicit_euler|galpha`) and how to make one number of
+  them, `@min`, `@max`, `@median` or `@sum` after the brackets
+  (`ratio_step[section=fixed,impl=stickslip_fortran]@max`). A value with a comma is written in
+  double quotes (`run="local, 1 thread"`).
 
 A key may be the ratio of two keys of the same file, `A/B` (e.g. a run's CPU time over the
-reference run's). A source may end with `*FACTOR` (the number shown is the value times FACTOR: `*1e6` shows
-seconds as microseconds, `*100` a fraction as a percentage) and `~N` (rounded to N significant
-digits first). The number keeps the form it is written in: as many decimals as written
-(`0.1005`), or the exponent form (`8.5e-6`) with as many mantissa decimals. The words around
-the number (a unit, "times") are the author's.
+reference run's). A source may end with `*FACTOR` (the number shown is the value times FACTOR:
+`*1e6` shows seconds as microseconds, `*100` a fraction as a percentage) and `~N` (rounded to N
+significant digits first). The number keeps the form it is written in: as many decimals as
+written (`0.1005`), or the exponent form (`8.5e-6`) with as many mantissa decimals. The words
+around the number (a unit, "times") are the author's.
 
 `python tools/doctables.py` rewrites every such number from its source (with the tables) and
 `--check` lists those that disagree; the documentation site (docs/_ext/docnumbers_role.py) shows
@@ -69,7 +69,7 @@ class Source:
     """What a role's source names."""
 
     path: Path           #: the results file
-    key: str             #: the name (JSON) or column[row selection] (CSV)
+    key: str             #: the name (JSON) or column[row selection] (CSV, Markdown table)
     factor: float = 1.0  #: shown = value * factor
     sig: int | None = None   #: significant digits to round to first
 
@@ -109,7 +109,7 @@ def numbers_json(numbers: Mapping[str, float | tuple[float, str] | tuple[float, 
     return json.dumps({"numbers": out}, indent=1) + "\n"
 
 
-def _csv_key(key: str) -> dict[str, str | None] | None:
+def _table_key(key: str) -> dict[str, str | None] | None:
     """{column, where, how} of `COLUMN[NAME=VALUE,...][@HOW]` (names and columns may hold
     brackets, "x_end [m]"), or None."""
     body, _, how = key.rpartition("@") if re.search(r"\]@\w+$", key) else (key, "", None)
@@ -154,7 +154,7 @@ def _cell(text: str, where: str) -> float:
 
 
 def _table_value(source: Source) -> float:
-    m = _csv_key(source.key)
+    m = _table_key(source.key)
     if m is None:
         raise SourceError(f"{source.relative}: key {source.key!r}: expected COLUMN[NAME=VALUE,...]")
     # NAME=VALUE pairs split at commas outside double quotes (run="local, 1 thread")
@@ -247,14 +247,16 @@ def refresh_text(text: str, root: Path = ROOT) -> tuple[str, list[tuple[int, str
     """`text` with every role's number rewritten from its source, and (line, written, shown) of
     each that changed."""
     changed: list[tuple[int, str, str]] = []
+    out, line = [], 1
 
     def fill(m: re.Match[str]) -> str:
         new, _ = shown(m["text"], m["source"], root)
         if new != m["text"]:
-            changed.append((text.count("\n", 0, m.start()) + 1, m["text"], new))
+            changed.append((line + m.string.count("\n", 0, m.start()), m["text"], new))
         return m.group(0).replace(f"`{m['text']}", f"`{new}", 1)
 
     # fenced code shows a role as text (an example of the syntax): only the prose is refreshed
-    parts = FENCE.split(text)
-    return "".join(part if part.startswith(("```", "~~~")) else ROLE.sub(fill, part)
-                   for part in parts), changed
+    for part in FENCE.split(text):
+        out.append(part if part.startswith(("```", "~~~")) else ROLE.sub(fill, part))
+        line += part.count("\n")
+    return "".join(out), changed
