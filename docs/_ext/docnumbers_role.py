@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import Any
 
 from docutils import nodes
 
@@ -16,10 +17,11 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 from cases._provenance import provenance_of  # noqa: E402 - after the path above
-from tools.docnumbers import ROLE, SourceError, shown  # noqa: E402
+from tools.docnumbers import ROLE, Source, SourceError, shown  # noqa: E402
 
 
-def _tooltip(source) -> str:
+def _tooltip(source: Source) -> str:
+    """The file and key, and the run that wrote the file (its provenance), for the tooltip."""
     run = provenance_of(source.path)
     where = f"{source.relative}: {source.key}"
     if run is None:
@@ -27,8 +29,10 @@ def _tooltip(source) -> str:
     return f"{where}; written by {run['command']} on {run['date']}, {run['machine']}"
 
 
-def num_role(name, rawtext, text, lineno, inliner, options=None, content=None):
-    """Sphinx role: the number of `text` ("TEXT <SOURCE>") from its source."""
+def num_role(name: str, rawtext: str, text: str, lineno: int, inliner: Any,
+             options: dict | None = None, content: list[str] | None = None) -> tuple[list, list]:
+    """The role's nodes: the number of `text` ("TEXT <SOURCE>") read from its source, as an
+    abbreviation whose title names the source; a warning when TEXT disagrees with it."""
     m = ROLE.fullmatch(f"{{num}}`{text}`")
     if m is None:
         msg = inliner.reporter.error(f"{{num}}`{text}`: expected TEXT <PATH:KEY>", line=lineno)
@@ -46,6 +50,6 @@ def num_role(name, rawtext, text, lineno, inliner, options=None, content=None):
     return [nodes.abbreviation(value, value, explanation=_tooltip(source))], messages
 
 
-def setup(app) -> dict:
+def setup(app: Any) -> dict[str, bool]:
     app.add_role("num", num_role)
     return {"parallel_read_safe": True, "parallel_write_safe": True}
