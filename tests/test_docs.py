@@ -576,9 +576,14 @@ def test_measured_numbers_in_the_docs_come_from_their_sources(page: str) -> None
                           f"tools/docnumbers.py, or add a fact to FACTS): {bare}")
 
 
-def test_the_unconverted_list_names_only_pages_that_exist() -> None:
+def test_the_lists_name_only_what_exists() -> None:
+    """NOT_YET_CONVERTED and FACTS name pages that exist, and each fact is still on its page."""
     assert NOT_YET_CONVERTED <= set(NUMBER_PAGES), NOT_YET_CONVERTED - set(NUMBER_PAGES)
     assert set(FACTS) <= set(NUMBER_PAGES) - NOT_YET_CONVERTED
+    for page, facts in FACTS.items():
+        found = {m.group(0) for _, line in prose_lines((ROOT / "docs" / page).read_text())
+                 for m in MEASURED.finditer(line)}
+        assert set(facts) <= found, f"docs/{page}: facts no longer on the page: {set(facts) - found}"
 
 
 # ---------------------------------------------------------------- the sources' form: no history, no long lines
