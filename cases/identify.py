@@ -23,7 +23,8 @@ carries over to a new combination of speed and stroke, not to speeds it has neve
 Records without that metadata alternate (even positions fitted).
 
 Every law is fitted with backlash and asymmetry (options of stickslip.prescribed_motion) fitted
-too, the static laws from two backlash starts (BACKLASH_STARTS); the thresholds at which Coulomb's and Karnopp's laws jump (v_s, dv) are fixed at
+too (the static laws from the backlash starts fit_friction picks from a scan of widths); the thresholds at
+which Coulomb's and Karnopp's laws jump (v_s, dv) are fixed at
 JUMP_VELOCITY (a gradient method cannot move a jump), GMS's element count at its default and
 its attraction constant at GMS_C (it barely changes the force on sines).
 """
@@ -46,7 +47,6 @@ JUMP_VELOCITY: float = 1e-3        # [m/s]
 GMS_C: float = 1e6                 # [N/s]
 RTOL: float = 1e-4                 # state integration of the fits (force error ~ 1e-4 of its level)
 DIFF_STEP: float = 1e-2            # finite-difference step, well above RTOL
-BACKLASH_STARTS: tuple[float, ...] = (0.15, 0.3)   # of the amplitude, for the static laws
 TIE: float = 0.05                  # held-out errors within 5 % of the best count as equal
 STATIC_REFERENCE: str = "stribeck"  # the static (velocity-only) law the report sets beside the chosen one
 #: Display names of the laws (cases._style's, one set for every figure).
@@ -97,19 +97,12 @@ def fit_one(job: tuple[str, str, list[Any], list[Any]]) -> dict[str, Any]:
     group, law, train, held = job
     t0 = time.perf_counter()
     # a static law can only imitate the lag after a reversal by a wide backlash, and the cost
-    # is far from convex in it: such laws start from BACKLASH_STARTS (fractions of the median
-    # amplitude) and keep the best fit of the fitted records
-    static = stickslip.REGISTRY["law"][law]["n_states"] == 0
-    amp = float(np.median([0.5 * np.ptp(r.x) for r in train]))
-    starts = [{"backlash": f * amp} for f in BACKLASH_STARTS] if static else [None]
-    fit = None
+    # is far from convex in it: fit_friction starts such laws from the lowest widths of a scan
+    # (identify.BACKLASH_GRID) too
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        for p0 in starts:
-            trial = stickslip.fit_friction(law, train, fixed=fixed_for(law), backlash="fit", asymmetry="fit",
-                                           params0=p0, n_starts=1, rtol=RTOL, diff_step=DIFF_STEP)
-            if fit is None or trial.cost < fit.cost:
-                fit = trial
+        fit = stickslip.fit_friction(law, train, fixed=fixed_for(law), backlash="fit", asymmetry="fit",
+                                     n_starts=1, rtol=RTOL, diff_step=DIFF_STEP)
     seconds = time.perf_counter() - t0
     held_score = fit.score(held) if held else None
     per_record = [(r.name, "fitted", fit.score(r)) for r in train] + [(r.name, "held out", fit.score(r)) for r in held]
