@@ -454,7 +454,8 @@ FACTS: dict[str, dict[str, str]] = {
         "2 s": "Newton's run, chosen", "2.5": "m/(4 k_f) [ms], arithmetic",
         "1 ms": "a time step chosen", "0.17": "the stability bound 2m/(3 · 4 k_f) [ms], arithmetic",
         "0.7265": "the root of mu_d s/sqrt(1 + s^2) = tan 10°",
-        "5 ms": "a time step chosen",
+        "5 ms": "a time step chosen", "10 s": "the rocking runs' length, chosen", "0.7": "a damping ratio chosen",
+        "4.0": "MuJoCo's version", "0.5": "solimp's midpoint",
     },
     "guide/results.md": {
         "2.785": "RK4's stability bound on the real axis", "2.828": "RK4's bound on the imaginary axis",

@@ -287,41 +287,27 @@ def test_mujoco_creep_matches_the_engine(cone, ir, h, tol):
     assert out["creep"] == pytest.approx(pred, rel=tol)
 
 
-def _mujoco_flat_slope_creep(cone: str, mu: float, solimp: str, h: float = 0.002,
-                             t_end: float = 2.0) -> tuple[float, int]:
-    """MuJoCo's own run of the slope box with friction mu and impedance solimp on both geoms:
-    (creep speed [m/s], contacts)."""
-    import mujoco
-    import numpy as np
-    from cases import engines as ce
-    g, half = ce._gravity(ce.THETA_DEG), ce.HALF
-    fr = f'friction="{mu} 0.005 0.0001" solimp="{solimp}"'
-    xml = (f'<mujoco><option timestep="{h}" cone="{cone}" impratio="1" gravity="{g[0]} {g[1]} {g[2]}"/>'
-           f'<worldbody><geom type="plane" size="100 5 0.1" {fr}/><body pos="0 0 {half[2]}"><freejoint/>'
-           f'<geom type="box" size="{half[0]} {half[1]} {half[2]}" mass="{ce.MASS}" {fr}/></body>'
-           f'</worldbody></mujoco>')
-    m = mujoco.MjModel.from_xml_string(xml)
-    d = mujoco.MjData(m)
-    t, x = [0.0], [0.0]
-    for _ in range(int(round(t_end / h))):
-        mujoco.mj_step(m, d)
-        t.append(d.time)
-        x.append(float(d.qpos[0]))
-    return ce._creep_of(np.array(t), np.array(x)), int(d.ncon)
-
-
 @needs_mujoco
 @pytest.mark.parametrize("cone,mu", [("pyramidal", 0.5), ("pyramidal", 0.3), ("elliptic", 0.3)])
 def test_mujoco_flat_impedance_creep_is_the_engines(cone, mu):
     """Flat impedance d = 0.9, both pyramid regimes (mu = 0.5 >= 2 tan(theta): all four edges
     push; mu = 0.3: the edge against the slip drops out) and the elliptic cone: engine_creep
-    against MuJoCo's own run, not against its closed form typed again."""
+    against MuJoCo's own run of the same settings (`mujoco_slope_xml`), not against its closed
+    form typed again."""
+    import mujoco
+    import numpy as np
     from cases import engines as ce
-    got, contacts = _mujoco_flat_slope_creep(cone, mu, "0.9 0.9 0.001 0.5 2")
-    assert contacts == 4
-    pred = ss.engine_creep("mujoco", cone=cone, mu=mu, solimp=(0.9, 0.9, 0.001, 0.5, 2),
-                           aspect=ce.HALF[2] / ce.HALF[0])
-    assert got == pytest.approx(pred, rel=1e-6)
+    settings = dict(cone=cone, mu=mu, solimp=(0.9, 0.9, 0.001, 0.5, 2), aspect=ce.HALF[2] / ce.HALF[0])
+    m = mujoco.MjModel.from_xml_string(en.mujoco_slope_xml(**settings))
+    d = mujoco.MjData(m)
+    t, x = [0.0], [0.0]
+    for _ in range(1000):                                   # 2 s at the default 2 ms step
+        mujoco.mj_step(m, d)
+        t.append(d.time)
+        x.append(float(d.qpos[0]))
+    assert d.ncon == 4
+    assert ce._creep_of(np.array(t), np.array(x)) == pytest.approx(ss.engine_creep("mujoco", **settings),
+                                                                   rel=1e-6)
 
 
 @needs_mujoco
