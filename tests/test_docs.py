@@ -404,6 +404,36 @@ def test_the_site_shows_a_number_from_its_source_and_fails_on_a_stale_one(tmp_pa
     assert stale.returncode != 0 and "the page says '0.1006 m'" in stale.stderr and "'0.1005 m'" in stale.stderr
 
 
+def test_python_m_cases_writes_the_times_the_guide_quotes(tmp_path, monkeypatch) -> None:
+    """A whole run of `python -m cases` (drivers replaced by stand-ins that burn a known share of
+    CPU) writes cases.run.json: each driver's wall and CPU time, their sum, and its provenance;
+    a run with --only writes none (a part's sum would mislead)."""
+    import json
+    import time
+    sys.path.insert(0, str(ROOT))
+    from cases import __main__ as cases_main
+    from cases._provenance import provenance_of
+
+    def busy(name: str, argv: list[str]) -> list[Path]:
+        end = time.process_time() + 0.2
+        while time.process_time() < end:
+            pass
+        return []
+
+    monkeypatch.setattr(cases_main, "_run_driver", busy)
+    cases_main.main(["--outdir", str(tmp_path), "--jobs", "1", "--quiet"])
+    numbers = json.loads((tmp_path / "cases.run.json").read_text())["numbers"]
+    drivers = [d.name for d in cases_main.DRIVERS if d.kind != "study"]
+    assert {f"{d}.cpu_s" for d in drivers} <= set(numbers)
+    assert all(numbers[f"{d}.cpu_s"]["value"] >= 0.15 for d in drivers)   # written to 0.1 s
+    assert numbers["cpu_s"]["value"] == pytest.approx(sum(numbers[f"{d}.cpu_s"]["value"] for d in drivers),
+                                                      abs=0.05 * len(drivers))
+    assert provenance_of(tmp_path / "cases.run.json")["command"].startswith("python -m cases")
+    (tmp_path / "only").mkdir()
+    cases_main.main(["--outdir", str(tmp_path / "only"), "--jobs", "1", "--quiet", "--only", "laws"])
+    assert not (tmp_path / "only" / "cases.run.json").exists()
+
+
 #: The prose of these pages is checked for measured-looking numbers without a source.
 NUMBER_PAGES: tuple[str, ...] = tuple(
     p.relative_to(ROOT / "docs").as_posix()
