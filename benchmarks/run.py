@@ -868,7 +868,7 @@ def overhead_markdown(over: list[dict], measured: str = "") -> list[str]:
     for p in over[1::2]:
         if (p["scene"], p["law"], p["method"], p["nstep"]) == OVERHEAD_GOAL_RUN:
             met = "met" if p["median_s"] <= OVERHEAD_GOAL_S else "not met"
-            goal = (f" Goal (issue 32): the {p['nstep']}-step RK4 run ({p['scene']} / {p['law']}, h = "
+            goal = (f" Goal: the {p['nstep']}-step RK4 run ({p['scene']} / {p['law']}, h = "
                     f"{p['h_s']:g} s) through simulate in at most {1e6 * OVERHEAD_GOAL_S:g} us on a quiet "
                     f"machine; this run: {1e6 * p['median_s']:.1f} us ({met} here).")
     lines = [f"{OVERHEAD_HEAD} (short runs, output at t_end: stickslip.simulate, its arguments "
