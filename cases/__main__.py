@@ -91,7 +91,7 @@ def write_run_times(outdir: Path, name: str, times: dict[str, tuple[float, float
         sys.path.insert(0, str(root))
     from tools.docnumbers import numbers_json
     from ._common import write_text
-    from ._provenance import write_provenance
+    from harness.provenance import write_provenance
     numbers: dict[str, tuple[float, str, str]] = {
         "wall_s": (round(wall, 1), "s", "wall time of the run"),
         "cpu_s": (round(sum(c for _, c in times.values()), 1), "s", "sum of the drivers' CPU times"),

@@ -412,7 +412,7 @@ def test_python_m_cases_writes_the_times_the_guide_quotes(tmp_path, monkeypatch)
     import time
     sys.path.insert(0, str(ROOT))
     from cases import __main__ as cases_main
-    from cases._provenance import provenance_of
+    from harness.provenance import provenance_of
 
     def busy(name: str, argv: list[str]) -> list[Path]:
         end = time.process_time() + 0.2
