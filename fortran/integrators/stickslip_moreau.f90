@@ -200,6 +200,7 @@ contains
             call solve_contacts(cs%laws, dmat, wfree, hn, .false., opts%contact_tol, opts%contact_max_iter, &
                                 p, wloc, cmode, cinfo, work=cwork)
             stats%ncontact_iter = stats%ncontact_iter + cinfo%sweeps
+            if (cinfo%nonunique) stats%nonunique = stats%nonunique + 1
             stats%contact_residual = max(stats%contact_residual, cinfo%residual)
             resid = 0.0_dp
             if (.not. cinfo%ok) then
