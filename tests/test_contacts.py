@@ -6,6 +6,7 @@ test_contact_general.f90, which also prints the general systems' runs compared h
 from __future__ import annotations
 
 import math
+import re
 import subprocess
 import warnings
 from collections import defaultdict
@@ -40,12 +41,22 @@ def general(native_build):
 
 
 def test_contact_solver_random_problems(general):
-    """Random 2-6 contact problems (coupled and redundant rows, mu_s >= mu_k): every answer
-    meets the problem's conditions, equals the only solution where brute force finds one, and
-    no solution has more stuck contacts (checked in the Fortran program, reported here)."""
+    """Random 2-9 contact problems (coupled and redundant rows, mu_s >= mu_k, with and without
+    a previous mode): every answer meets the problem's conditions, equals the only solution
+    where brute force finds one, follows the solver's rule (its modes equal those of the rule
+    written independently in the Fortran program, each box problem by exhaustive search), and
+    info%nonunique is never set where brute force finds no other solution with as many stuck
+    contacts (checked in the Fortran program, reported here)."""
     out = general[2]
-    assert "400 of 400 solved" in out
-    assert "brute-force solutions with more stuck contacts: 0" in out
+    assert "all general contact checks passed" in out
+    for label, n in (("random problems", 400), ("pivoting", 300)):
+        assert f"{label}: {n} of {n} solved" in out
+        assert f"{label}: the rule's modes (reference written here) in {n} of {n}" in out
+        assert re.search(label + r": another solution with as many stuck contacts in \d+, reported in [1-9]\d*, "
+                         r"falsely in 0", out), out
+    # no enumeration: a few linear solves a problem
+    for m in re.finditer(r"linear solves a problem, median (\d+), largest (\d+)", out):
+        assert int(m.group(1)) <= 40 and int(m.group(2)) <= 200, m.group(0)
 
 
 def _order(hs, errs):
