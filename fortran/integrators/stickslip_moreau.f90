@@ -295,7 +295,9 @@ contains
     !! that the update of coordinate i + 1 made to coordinate i's velocity, [m/s]) is <= tol,
     !! and, where the sweeps contract it slowly (by rho >= 1/2 a sweep: W ill-conditioned, a
     !! stiff spring or a tiny mass), until the distance to the answer that this leaves, about
-    !! resid rho / (1 - rho), is <= tol too; or max_iter sweeps are done. resid: that estimate.
+    !! resid rho / (1 - rho), is <= tol too; or max_iter sweeps are done, or (after 8 sweeps)
+    !! the contraction seen would need more than the sweeps left. resid: that estimate (> tol:
+    !! not converged).
     !! u1: starting guess in, velocities out [m/s].
     subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
                                   iworst)
@@ -362,6 +364,11 @@ contains
             resid_prev = resid
             if (rho >= 0.5_dp) resid = resid * rho / max(1.0_dp - rho, epsilon(1.0_dp))
             if (resid <= tol) exit
+            ! contracting too slowly to reach tol within max_iter sweeps: stop (not converged)
+            if (sweeps >= 8 .and. rho >= 0.5_dp) then
+                if (rho >= 1.0_dp) exit
+                if (log(tol / resid) / log(rho) > real(max_iter - sweeps, dp)) exit
+            end if
         end do
         sweeps = min(sweeps, max_iter)
     end subroutine tridiagonal_sweeps
