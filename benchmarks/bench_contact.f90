@@ -16,13 +16,13 @@
 !! h = 1 ms, theta = 1/2): five states of a run started stuck on the belt (moreau itself, at
 !! t = 1, 2, 3, 4, 5 s), each giving the step's free velocities and capacities as moreau forms
 !! them. Solved by the chain's own path (`tridiagonal_sweeps`: nonsmooth Gauss-Seidel on the
-!! tridiagonal W, what moreau runs on a chain), and, up to 1000 blocks, on the dense Delassus
+!! tridiagonal W, what moreau runs on a chain), and, up to 100 blocks, on the dense Delassus
 !! matrix D = W^-1 by the general solver (`solve_contacts`) and by projected Gauss-Seidel alone
 !! (`gauss_seidel`, the solver before its fallback). One line per n:
 !!   chain  n  tri_us  tri_solved  tri_sweeps  solver_us  solver_solved  gs_us  gs_solved
 !!   gs_sweeps  both_solved  max_du
 !! (microseconds a solve, medians of `repeats` passes; solver and Gauss-Seidel columns -1 beyond
-!! 1000 blocks; both_solved: problems that both dense solvers solved, over which their times
+!! 100 blocks; both_solved: problems that both dense solvers solved, over which their times
 !! are taken; max_du: the largest difference of the step's velocities between the
 !! tridiagonal path and the general solver [m/s]).
 !!
@@ -314,7 +314,7 @@ contains
                 call cc%relative_velocities(h, uf(:, j), wf(:, j))
             end associate
         end do
-        dense = n <= 1000
+        dense = n <= 100     ! the general solver on D: O(n^3) a linear solve
         if (dense) then
             allocate(dm(n, n))
             call cc%delassus(0.0_dp, y0(:n), y0(n + 1:), h * th, (h * th)**2, dm)

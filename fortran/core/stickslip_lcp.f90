@@ -18,12 +18,11 @@
 !!
 !! `box_solve` solves the same box problem by a primal-dual active-set method (a semismooth
 !! Newton method on the problem's projection form, Hintermueller, Ito and Kunisch, SIAM J.
-!! Optim. 13, 2003): each iteration fixes the contacts at a bound, solves the free block
-!! (`psd_solve`: the weighted minimum-norm solution where the free block is singular) and moves
-!! contacts between the sets where the bounds or the signs of y are violated. It ends, typically
-!! after 1 to 4 linear solves from a warm start, when no set changes; where it does not within
-!! 2 m + 10 iterations (it may cycle where D is not an M-matrix) or a free block has no
-!! solution, Lemke's method (`box_lcp`) is the exact fallback. y = D p + q is the same at every
+!! Optim. 13, 2003): each iteration fixes the contacts at a bound, solves the free block by LU
+!! and moves contacts between the sets where the bounds or the signs of y are violated. It
+!! ends, typically after 1 to 4 linear solves from a warm start, when no set changes; where it
+!! does not within 2 m + 10 iterations (it may cycle where D is not an M-matrix) or a free
+!! block is singular (redundant contacts), Lemke's method (`box_lcp`) is the exact fallback. y = D p + q is the same at every
 !! solution of the box problem (D p is constant on the minimisers of a convex quadratic), so
 !! which contacts end with y_i /= 0 does not depend on the method that solved it.
 module stickslip_lcp
@@ -286,7 +285,7 @@ contains
                     end do
                     a(:nf, k) = d(fr(:nf), i)
                 end do
-                call psd_solve(a(:nf, :nf), rhs(:nf, :), wts(fr(:nf)), ok)
+                call psd_solve(a(:nf, :nf), rhs(:nf, :), wts(fr(:nf)), ok, regular_only=.true.)
                 if (.not. ok) exit
                 p(fr(:nf)) = rhs(:nf, 1)
             end if
