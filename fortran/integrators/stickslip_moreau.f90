@@ -108,7 +108,9 @@ contains
     !> Integrate M u' = f + H^T r, q' = u with set-valued friction from t0 to t_end.
     !! y0 = (q0, u0) of size 2 n_dof. Output as for the other fixed-step methods.
     !! stats: nfev counts force evaluations (2 a step), ncontact_iter the contact sweeps (or
-    !! modes tried), contact_residual the largest final residual of a step [m/s],
+    !! the contact solver's linear solves), nonunique the steps whose problem had another
+    !! solution with as many stuck contacts, contact_residual the largest final residual of a
+    !! step [m/s],
     !! contact_worst the contact whose residual failed (SS_CONTACT_FAILED). Status: SS_OK,
     !! SS_CONTACT_FAILED, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET,
     !! SS_INTERRUPTED or a bad-input code.

@@ -315,10 +315,11 @@ contains
             end if
             if (nsolved > 0) then
                 ! the work: linear solves of a problem (no enumeration of modes)
-                call sort_ints(solves(:nsolved))
+                ! the median: the smallest count with half the problems at or below it
                 write (line, '(a, a, i0, a, i0)') label, ': linear solves a problem, median ', &
-                    solves((nsolved + 1) / 2), ', largest ', solves(nsolved)
-                call check(solves(nsolved) <= 60 * nhi, trim(line))
+                    minval(solves(:nsolved), mask=[(count(solves(:nsolved) <= solves(i)) >= (nsolved + 1) / 2, &
+                                                    i = 1, nsolved)]), ', largest ', maxval(solves(:nsolved))
+                call check(maxval(solves(:nsolved)) <= 60 * nhi, trim(line))
             end if
             if (.not. brute) then
                 ! Gauss-Seidel's gap (the solver's check reads it instead of forming wf + D p)
@@ -399,9 +400,8 @@ contains
             integer, intent(in) :: n
             integer, intent(out) :: nsol, msol(:), nbetter_out, ntie_out
             real(dp), intent(out) :: pb(:), wb(:)
-            integer :: code, i, m(NBRUTE), c, ns, info, ipiv(NBRUTE)
-            integer :: is(NBRUTE)
-            real(dp) :: a(NBRUTE, NBRUTE), rhs(NBRUTE), pp(NBRUTE), ww(NBRUTE)
+            integer :: code, i, m(NBRUTE), c, ns
+            real(dp) :: pp(NBRUTE), ww(NBRUTE)
             logical :: ok
             nsol = 0
             nbetter_out = 0
@@ -416,23 +416,9 @@ contains
                 do i = 1, n
                     if (m(i) /= 0) pp(i) = -m(i) * laws(i)%mu_k * cap(i)
                 end do
-                ns = 0
-                do i = 1, n
-                    if (m(i) == 0) then
-                        ns = ns + 1
-                        is(ns) = i
-                    end if
-                end do
-                if (ns > 0) then
-                    a(:ns, :ns) = d(is(:ns), is(:ns))
-                    rhs(:ns) = -(wf(is(:ns)) + matmul(d(is(:ns), :n), pp(:n)))
-                    call lu_decompose(a(:ns, :ns), ipiv(:ns), info)
-                    if (info /= 0) cycle
-                    if (minval([(abs(a(i, i)), i = 1, ns)]) < 1.0e-10_dp * maxval(abs(d(:n, :n)))) cycle
-                    call lu_solve(a(:ns, :ns), ipiv(:ns), rhs(:ns))
-                    pp(is(:ns)) = rhs(:ns)
-                end if
-                ww(:n) = wf(:n) + matmul(d(:n, :n), pp(:n))
+                ns = count(m(:n) == 0)
+                call solve_free(n, m(:n) == 0, pp, ww, ok)
+                if (.not. ok) cycle
                 ok = .true.
                 do i = 1, n
                     if (m(i) == 0) then
@@ -514,31 +500,18 @@ contains
             integer, intent(in) :: n
             real(dp), intent(in) :: bound(:)
             real(dp), intent(out) :: pp(:), yy(:)
-            integer :: code, c, i, nf, fr(NBRUTE), st(NBRUTE), ipiv(NBRUTE), info
-            real(dp) :: a(NBRUTE, NBRUTE), rhs(NBRUTE), tl
+            integer :: code, c, i, st(NBRUTE)
+            real(dp) :: tl
             logical :: ok
             do code = 0, 3**n - 1
                 c = code
-                nf = 0
                 do i = 1, n
                     st(i) = mod(c, 3) - 1              ! -1 at -bound, 0 free, +1 at +bound
                     c = c / 3
                     pp(i) = st(i) * bound(i)
-                    if (st(i) == 0) then
-                        nf = nf + 1
-                        fr(nf) = i
-                    end if
                 end do
-                if (nf > 0) then
-                    a(:nf, :nf) = d(fr(:nf), fr(:nf))
-                    rhs(:nf) = -(wf(fr(:nf)) + matmul(d(fr(:nf), :n), pp(:n)))
-                    call lu_decompose(a(:nf, :nf), ipiv(:nf), info)
-                    if (info /= 0) cycle
-                    if (minval([(abs(a(i, i)), i = 1, nf)]) < 1.0e-10_dp * maxval(abs(d(:n, :n)))) cycle
-                    call lu_solve(a(:nf, :nf), ipiv(:nf), rhs(:nf))
-                    pp(fr(:nf)) = rhs(:nf)
-                end if
-                yy(:n) = wf(:n) + matmul(d(:n, :n), pp(:n))
+                call solve_free(n, st(:n) == 0, pp, yy, ok)
+                if (.not. ok) cycle
                 tl = 1.0e-10_dp * (maxval(abs(wf(:n))) + maxval(abs(d(:n, :n))) * maxval(abs(pp(:n))))
                 ok = .true.
                 do i = 1, n
@@ -557,20 +530,32 @@ contains
             yy = huge(1.0_dp)
         end subroutine box_brute
 
-        !> Sort a short list of integers in place (insertion).
-        pure subroutine sort_ints(v)
-            integer, intent(inout) :: v(:)
-            integer :: i, j, x
-            do i = 2, size(v)
-                x = v(i)
-                j = i - 1
-                do while (j >= 1)
-                    if (v(j) <= x) exit
-                    v(j + 1) = v(j)
-                    j = j - 1
-                end do
-                v(j + 1) = x
-            end do
-        end subroutine sort_ints
+        !> With the entries of pp outside free fixed, the free ones from D_FF p_F = -(wf_F + D_FB p_B)
+        !! by LU, and yy = wf + D pp. regular: .false. (pp, yy not formed) where D_FF has a pivot
+        !! below 1e-10 of max|D|.
+        subroutine solve_free(n, free, pp, yy, regular)
+            integer, intent(in) :: n
+            logical, intent(in) :: free(:)
+            real(dp), intent(inout) :: pp(:)
+            real(dp), intent(out) :: yy(:)
+            logical, intent(out) :: regular
+            integer :: fr(NBRUTE), nf, i, ipiv(NBRUTE), info
+            real(dp) :: a(NBRUTE, NBRUTE), rhs(NBRUTE)
+            nf = count(free(:n))
+            fr(:nf) = pack([(i, i = 1, n)], free(:n))
+            regular = .true.
+            if (nf > 0) then
+                where (free(:n)) pp(:n) = 0.0_dp
+                a(:nf, :nf) = d(fr(:nf), fr(:nf))
+                rhs(:nf) = -(wf(fr(:nf)) + matmul(d(fr(:nf), :n), pp(:n)))
+                call lu_decompose(a(:nf, :nf), ipiv(:nf), info)
+                regular = info == 0
+                if (regular) regular = minval([(abs(a(i, i)), i = 1, nf)]) >= 1.0e-10_dp * maxval(abs(d(:n, :n)))
+                if (.not. regular) return
+                call lu_solve(a(:nf, :nf), ipiv(:nf), rhs(:nf))
+                pp(fr(:nf)) = rhs(:nf)
+            end if
+            yy(:n) = wf(:n) + matmul(d(:n, :n), pp(:n))
+        end subroutine solve_free
 
 end program test_contact_general
