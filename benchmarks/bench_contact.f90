@@ -124,10 +124,10 @@ program bench_contact
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, gauss_seidel, &
-                                        contact_residual, SOLVER_PIVOTING
+                                        contact_residual, SOLVER_PIVOTING, tridiagonal_sweeps
     use stickslip_linalg, only: psd_solve
     use stickslip_chain, only: chain_contact
-    use stickslip_moreau, only: moreau_options, moreau_integrate, tridiagonal_sweeps
+    use stickslip_moreau, only: moreau_options, moreau_integrate
     use stickslip_ode, only: ode_stats
     use bench_contact_stack, only: stack_system, stack_of
     implicit none

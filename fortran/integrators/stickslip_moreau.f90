@@ -24,7 +24,8 @@
 !! W), otherwise every step. Dense D: fine for a few hundred contacts.
 !!
 !! When W is tridiagonal (`w_tridiagonal`, e.g. a chain of blocks) and every contact acts on
-!! one coordinate of its own, the same problem is solved on W itself (`tridiagonal_sweeps`):
+!! one coordinate of its own, the same problem is solved on W itself (`tridiagonal_sweeps` of
+!! `stickslip_contact_solver`):
 !! W u1 = W u_free + H^T p, coordinate by coordinate, each contact's one-contact problem in
 !! closed form given its neighbours' velocities (nonsmooth Gauss-Seidel; W is symmetric
 !! positive definite, so the sweeps converge). A sweep costs O(n) instead of O(n_c^2), and D
@@ -56,14 +57,14 @@ module stickslip_moreau
                                SS_BAD_CONTACT_CTL, SS_CONTACT_FAILED
     use stickslip_ode, only: ode_stats, step_controls, method_info, check_problem, output_start, &
                              fixed_steps, step_end, stop_requested, all_finite
-    use stickslip_contact, only: contact_system, local_solve
-    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace
+    use stickslip_contact, only: contact_system
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, tridiagonal_sweeps
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use stickslip_ode, only: diverged, linear_output
     implicit none
     private
 
-    public :: moreau_options, moreau_integrate, tridiagonal_sweeps
+    public :: moreau_options, moreau_integrate
 
     !> Most contacts for which a step whose tridiagonal sweeps do not converge is solved again
     !! on the dense Delassus matrix (n_c^2 numbers); beyond, the step fails (SS_CONTACT_FAILED).
@@ -289,90 +290,5 @@ contains
         end subroutine snap_stuck
 
     end subroutine moreau_integrate
-
-    !> Nonsmooth Gauss-Seidel on W u1 = W uf + H^T p with W tridiagonal (l, d, r) and each
-    !! contact on one coordinate of its own: coordinate by coordinate, u1_i from its row given
-    !! the neighbours, through the contact's one-contact solution (`local_solve`) where it has
-    !! one; a stuck contact gets w = 0 exactly. Sweeps until the residual (the largest change
-    !! that the update of coordinate i + 1 made to coordinate i's velocity, [m/s]) is <= tol,
-    !! and, where the sweeps contract it slowly (by rho >= 1/2 a sweep: W ill-conditioned, a
-    !! stiff spring or a tiny mass), until the distance to the answer that this leaves, about
-    !! resid rho / (1 - rho), is <= tol too; or max_iter sweeps are done, or (after 8 sweeps)
-    !! the contraction seen would need more than the sweeps left. resid: that estimate (> tol:
-    !! not converged).
-    !! u1: starting guess in, velocities out [m/s].
-    subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
-                                  iworst)
-        class(contact_system), intent(in) :: cs  !! the system (its laws and H)
-        real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
-        real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
-        real(dp), intent(in)    :: r(:)          !! W(i, i + 1) [-]
-        real(dp), intent(in)    :: uf(:)         !! velocities without friction [m/s]
-        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
-        real(dp), intent(in)    :: boff(:)       !! offsets of the relative velocities [m/s]
-        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
-        real(dp), intent(in)    :: tol           !! tolerance on the residual [m/s]
-        integer, intent(in)     :: max_iter      !! sweep limit, >= 1
-        real(dp), intent(inout) :: u1(:)         !! velocities [m/s]
-        real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
-        integer, intent(out)    :: sweeps        !! sweeps done
-        real(dp), intent(out)   :: resid         !! final residual [m/s]
-        integer, intent(out)    :: iworst        !! the coordinate with the largest residual
-        real(dp) :: b(size(u1)), du(size(u1)), s, ufree, hv, w, pnew, rho, resid_prev
-        integer :: i, n, c
-        n = size(u1)
-        resid = 0.0_dp
-        iworst = 1
-        ! b = W uf
-        do i = 1, n
-            b(i) = d(i) * uf(i)
-            if (i > 1) b(i) = b(i) + l(i) * uf(i - 1)
-            if (i < n) b(i) = b(i) + r(i) * uf(i + 1)
-        end do
-        resid_prev = 0.0_dp
-        do sweeps = 1, max_iter
-            do i = 1, n
-                s = b(i)
-                if (i > 1) s = s - l(i) * u1(i - 1)
-                if (i < n) s = s - r(i) * u1(i + 1)
-                ufree = s / d(i)
-                c = coord_contact(i)
-                if (c > 0) then
-                    hv = cs%h_val(cs%h_ptr(c))
-                    call local_solve(cs%laws(c), hv * ufree + boff(c), hv * hv / d(i), hn(c), w, pnew)
-                    wloc(c) = w
-                    if (w == 0.0_dp) then
-                        ufree = -boff(c) / hv
-                    else
-                        ufree = ufree + hv * pnew / d(i)
-                    end if
-                end if
-                du(i) = ufree - u1(i)
-                u1(i) = ufree
-            end do
-            resid = 0.0_dp
-            iworst = 1
-            do i = 1, n - 1
-                if (abs(r(i) * du(i + 1) / d(i)) > resid) then
-                    resid = abs(r(i) * du(i + 1) / d(i))
-                    iworst = i
-                end if
-            end do
-            ! the sweeps contract the residual by rho = resid / resid_prev a sweep: what remains
-            ! to the answer is about resid rho / (1 - rho), which must be within tol too
-            ! (rho >= 1: not contracting, no end)
-            rho = 0.0_dp
-            if (resid_prev > 0.0_dp) rho = resid / resid_prev
-            resid_prev = resid
-            if (rho >= 0.5_dp) resid = resid * rho / max(1.0_dp - rho, epsilon(1.0_dp))
-            if (resid <= tol) exit
-            ! contracting too slowly to reach tol within max_iter sweeps: stop (not converged)
-            if (sweeps >= 8 .and. rho >= 0.5_dp) then
-                if (rho >= 1.0_dp) exit
-                if (log(tol / resid) / log(rho) > real(max_iter - sweeps, dp)) exit
-            end if
-        end do
-        sweeps = min(sweeps, max_iter)
-    end subroutine tridiagonal_sweeps
 
 end module stickslip_moreau
