@@ -79,7 +79,7 @@ module stickslip_moreau
     type, extends(step_controls) :: moreau_options
         real(dp) :: theta = 0.5_dp          !! theta of the theta-method, in [1/2, 1] [-]
         real(dp) :: contact_tol = 1.0e-12_dp  !! tolerance of the contact solve [m/s]
-        integer  :: contact_max_iter = 1000   !! sweeps of the contact solve per step, >= 1
+        integer  :: contact_max_iter = 1000   !! Gauss-Seidel sweeps per step on a chain (W tridiagonal), >= 1
     contains
         procedure :: set => set_moreau_option
         !! set a control by name (the step_controls ones and the method's own)
