@@ -36,7 +36,8 @@ from typing import Any, NamedTuple, Sequence
 # on the core the other job needs: one BLAS thread, set before numpy is first imported.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from ._common import check_writable, cli_description, count  # noqa: E402 - after the environment above
+from harness.cli import add_outdir, check_writable, cli_description  # noqa: E402 - after the environment above
+from ._common import count  # noqa: E402
 from ._progress import bar  # noqa: E402
 
 class Driver(NamedTuple):
@@ -154,8 +155,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Run the drivers; returns every file written."""
     parser = argparse.ArgumentParser(prog="python -m cases", description=cli_description(__doc__),
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--outdir", type=Path, default=Path("out"),
-                        help="directory for all files (default: out/)")
+    add_outdir(parser, help="directory for all files (default: out/)")
     parser.add_argument("--docs", action="store_true",
                         help="write into docs/figures/ (the figures and tables the documentation shows)")
     parser.add_argument("--only", nargs="+", choices=[d.name for d in DRIVERS],

@@ -308,7 +308,7 @@ def test_doc_tables_notice_a_changed_number(tmp_path) -> None:
     number in the CSV changes, the check reports the table, and a refresh makes them agree."""
     doctables = _doctables()
     from cases import _common
-    from cases._provenance import write_provenance
+    from harness.provenance import write_provenance
     csv = _common.write_csv(tmp_path / "r.csv", ["law [-]", "x [m]", "n [-]"],
                             [["a", 0.123456789, 7], ["b", 2.5e-9, 8]])
     write_provenance(tmp_path, "cases.demo", [csv], ["--outdir", "x"])

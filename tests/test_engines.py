@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import warnings
 
+import numpy as np
 import pytest
 
 import stickslip as ss
@@ -213,7 +215,7 @@ def test_engine_mu_balances_at_the_creep(engine, extra):
                                           ("newton_semi_implicit", {})])
 @pytest.mark.parametrize("budget", [1e-4, 1e-2])
 def test_advise_engine_meets_the_budget_within_2x(engine, extra, budget):
-    a = ss.advise_engine(engine, budget, 20.0, **extra)
+    a = ss.advise_engine(engine, budget, 20.0, settle=0.0, **extra)
     name = en.ADVISED_SETTING[engine]
     creep = ss.engine_creep(engine, **extra, **{name: a[name]}) * 20.0
     assert creep <= budget * (1 + 1e-9)
@@ -226,7 +228,7 @@ def test_advise_engine_meets_the_budget_within_2x(engine, extra, budget):
 
 
 def test_advise_engine_cost_of_drake_continuous_is_its_stability_bound():
-    a = ss.advise_engine("drake_continuous", 1e-3, 20.0)
+    a = ss.advise_engine("drake_continuous", 1e-3, 20.0, settle=0.0)
     N = M * G * math.cos(TH)
     slope = 0.35 * 1.875 * N / a["stiction_tolerance"]     # steepest dF/dv: step5'(1/2) = 15/8
     # the box's yaw on its four corners: I_z = m (0.2^2 + 0.2^2) / 12, lever^2 = 0.1^2 + 0.1^2
@@ -243,8 +245,8 @@ def test_advise_engine_cost_of_drake_continuous_is_its_stability_bound():
      "'stiction_tolerance'; accepted: cone, impratio"),
     (lambda: ss.engine_creep("drake_tamsi", impratio=3), "accepted: stiction_tolerance"),
     (lambda: ss.engine_creep("mujoco", cone="round"), "accepted: pyramidal, elliptic"),
-    (lambda: ss.engine_creep("newton_semi_implicit", k_f=-1.0), "k_f must be > 0"),
-    (lambda: ss.engine_creep("drake_tamsi", stiction_tolerance=0), "must be > 0"),
+    (lambda: ss.engine_creep("newton_semi_implicit", k_f=-1.0), "k_f must be a finite number > 0, got -1"),
+    (lambda: ss.engine_creep("drake_tamsi", stiction_tolerance=0), "must be a finite number > 0, got 0"),
     (lambda: ss.engine_creep("mujoco", n_contacts=2.5), "n_contacts must be an integer"),
     (lambda: ss.engine_creep("mujoco", solref=(0.02, -1)), "solref must be"),
     (lambda: ss.advise_engine("mujoco", 0.0, 20.0), "max_creep must be a finite number > 0"),
@@ -287,9 +289,7 @@ def test_mujoco_inverse_weight_is_one_over_m():
     """engine_creep takes a free box's translational inverse weight as 1 / m: MuJoCo's own."""
     import mujoco
     from cases import engines as ce
-    m = mujoco.MjModel.from_xml_string(ce._mujoco_xml(timestep=0.002, cone="elliptic",
-                                                      impratio=1.0, gravity=(0, 0, -9.81),
-                                                      belt=False))
+    m = mujoco.MjModel.from_xml_string(en.mujoco_slope_xml(cone="elliptic", m=ce.MASS))
     assert m.body_invweight0[1, 0] == pytest.approx(1 / ce.MASS, rel=1e-9)
 
 
@@ -382,3 +382,130 @@ def test_engines_driver_keeps_results_of_engines_not_installed(tmp_path, monkeyp
     err = capsys.readouterr().err
     assert "holds results of drake" in err and "pip install .[drake]" in err and "--force" in err
     assert [p.name for p in tmp_path.iterdir()] == ["engines_versions.csv"]
+
+
+# ---------------------------------------------------------------- edges of the domain
+def test_solimp_takes_three_to_five_numbers_as_mujoco_does():
+    """MuJoCo fills solimp's midpoint and power with 0.5 and 2 where they are not given."""
+    full = ss.engine_creep("mujoco", solimp=(0.8, 0.9, 0.002, 0.5, 2.0))
+    assert ss.engine_creep("mujoco", solimp=(0.8, 0.9, 0.002)) == full
+    assert ss.engine_creep("mujoco", solimp=[0.8, 0.9, 0.002, 0.5]) == full
+    with pytest.raises(ValueError, match="solimp must be 3 to 5 numbers"):
+        ss.engine_creep("mujoco", solimp=(0.8, 0.9))
+
+
+def test_numpy_scalars_are_numbers():
+    assert ss.engine_creep("mujoco", impratio=np.float32(3)) == ss.engine_creep("mujoco", impratio=3.0)
+    assert ss.engine_creep("newton_semi_implicit", n_contacts=np.int64(4), k_f=np.float64(500)) \
+        == ss.engine_creep("newton_semi_implicit", n_contacts=4, k_f=500.0)
+    a = ss.advise_engine("drake_tamsi", np.float32(1e-3), np.int32(20), settle=np.float64(0.0))
+    assert a == ss.advise_engine("drake_tamsi", float(np.float32(1e-3)), 20.0, settle=0.0)
+    with pytest.raises(ValueError, match="max_creep must be a real number, got '1e-3'"):
+        ss.advise_engine("drake_tamsi", "1e-3", 20.0)
+
+
+def test_drake_continuous_between_mu_d_and_mu_s_slides():
+    """With mu_d < tan(theta) < mu_s the law has a creep below v_s, but past 3 v_s it gives
+    mu_d < tan(theta): metastable, so infinite with the named warning; below mu_d finite."""
+    th = math.degrees(math.atan(0.32))                      # mu_d 0.30 < 0.32 < mu_s 0.35
+    with pytest.warns(en.EngineDomainWarning, match="between mu_d = 0.3 and mu_s = 0.35"):
+        assert ss.engine_creep("drake_continuous", theta_deg=th) == math.inf
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert math.isfinite(ss.engine_creep("drake_continuous", theta_deg=16.0))  # tan 0.287
+
+
+@pytest.mark.parametrize("cone,zeta,warns", [("pyramidal", 1.0, False), ("pyramidal", 0.75, False),
+                                             ("pyramidal", 0.6, True), ("elliptic", 0.6, False),
+                                             ("elliptic", 0.4, True)])
+def test_mujoco_rocking_threshold_warns(cone, zeta, warns):
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        v = ss.engine_creep("mujoco", cone=cone, solref=(0.02, zeta))
+    rocking = [w for w in got if issubclass(w.category, en.EngineDomainWarning)]
+    assert bool(rocking) == warns and math.isfinite(v)
+    # the direct format (-stiffness, -damping) has the same damping ratio B / (2 sqrt(K))
+    own = en._split("mujoco", {"cone": cone, "solref": (0.02, zeta)})[1]
+    K, B = en._mujoco_kb(own)
+    assert en.mujoco_dampratio({**own, "solref": (-K * 0.95 ** 2, -B * 0.95)}) == pytest.approx(zeta)
+
+
+def test_mujoco_rocking_threshold_rises_with_impratio():
+    values = [en.rocking_dampratio("pyramidal", ir) for ir in (1, 2, 10, 50, 1e4)]
+    assert values == sorted(values) and values[0] == 0.72 and values[-1] == 0.85
+
+
+def test_noslip_iterations():
+    assert ss.engine_creep("mujoco", noslip_iterations=10) == ss.engine_creep("mujoco")
+    with pytest.raises(ValueError, match="noslip_iterations > 0 with the elliptic cone has no "
+                                         "equivalent law"):
+        ss.engine_creep("mujoco", cone="elliptic", noslip_iterations=1)
+    with pytest.raises(ValueError, match="noslip_iterations must be an integer >= 0, got 1.5"):
+        ss.engine_creep("mujoco", noslip_iterations=1.5)
+
+
+@pytest.mark.parametrize("engine", ["drake_continuous", "drake_tamsi", "newton_semi_implicit"])
+def test_advise_engine_budgets_settle_and_margin(engine):
+    """The steady creep gets max_creep / (1 + margin) - settle; nothing budgeted without settle
+    (for engines the package cannot run), with a warning that says so."""
+    a = ss.advise_engine(engine, 1e-3, 20.0, settle=2e-4, margin=0.25)
+    assert a["budget"] == pytest.approx(8e-4) and a["settle"] == 2e-4
+    assert a["total"] == pytest.approx(a["creep"] + 2e-4)
+    assert 3e-4 <= a["creep"] <= 6e-4 * (1 + 1e-9)
+    with pytest.warns(UserWarning, match="settling slip from rest is not budgeted"):
+        b = ss.advise_engine(engine, 1e-3, 20.0)
+    assert b["settle"] is None
+    with pytest.raises(ValueError, match="the settling slip 0.002 m alone exceeds the budget"):
+        ss.advise_engine(engine, 1e-3, 20.0, settle=2e-3)
+
+
+@needs_mujoco
+@pytest.mark.parametrize("cone", ["pyramidal", "elliptic"])
+def test_advise_engine_holds_mujoco_from_rest(cone):
+    """MuJoCo's own run from rest at the advised impratio stays within the budget, and the
+    advice's total (settling slip measured with MuJoCo plus the steady creep) is what the
+    engine does."""
+    import mujoco
+    a = ss.advise_engine("mujoco", 1e-3, 20.0, cone=cone)
+    assert a["settle"] > 0
+    model = mujoco.MjModel.from_xml_string(en.mujoco_slope_xml(cone=cone, impratio=a["impratio"]))
+    data = mujoco.MjData(model)
+    for _ in range(int(round(20.0 / model.opt.timestep))):
+        mujoco.mj_step(model, data)
+    assert data.qpos[0] <= 1e-3
+    assert data.qpos[0] == pytest.approx(a["total"], rel=1e-6)
+    assert data.qpos[0] > 0.5e-3
+
+
+@needs_mujoco
+def test_mujoco_rocks_where_engine_creep_warns():
+    """The warning's threshold against MuJoCo itself: below it the box loses contacts and
+    creeps faster than the law; above it all four hold and the law is exact."""
+    from cases import engines as ce
+    for zeta, rocks in ((0.6, True), (0.8, False)):
+        out = ce.mujoco_slope(solref=(0.02, zeta), t_end=10.0)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", en.EngineDomainWarning)
+            pred = ss.engine_creep("mujoco", solref=(0.02, zeta), mu=ce.MU)
+        assert (out["fewest_contacts"] < 4 and out["creep"] > 1.5 * pred) == rocks
+        assert rocks or out["creep"] == pytest.approx(pred, rel=1e-4)
+
+
+def test_rocking_thresholds_cover_the_measured_runs():
+    """`ROCKING_DAMPRATIO` against MuJoCo's own runs (engines_rocking.csv, committed; written by
+    python -m cases.engines --rocking): at every setting measured, the warning's threshold is at
+    or above the damping ratio where the box first holds, and within 0.01 of the largest such
+    ratio at its impratio (pyramidal) or overall (elliptic)."""
+    import csv
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "docs" / "figures" / "engines_rocking.csv"
+    rows = list(csv.DictReader(path.open()))
+    assert len(rows) >= 20
+    worst: dict[tuple[str, float], float] = {}
+    for r in rows:
+        cone, ir, holds = r["cone [-]"], float(r["impratio [-]"]), float(r["holds_at_dampratio [-]"])
+        assert en.rocking_dampratio(cone, ir) >= holds
+        key = (cone, ir if cone == "pyramidal" else 0.0)
+        worst[key] = max(worst.get(key, 0.0), holds)
+    for (cone, ir), holds in worst.items():
+        assert en.rocking_dampratio(cone, ir or 1.0) - holds <= 0.01

@@ -20,7 +20,7 @@ one-line description, so the guides cannot fall behind a law, scene or method ad
 `columns` (the CSV header as written, then `= label` for the column's title in the page; all
 columns when omitted), keeping the rows whose cells match every `where` line (any of the listed
 values), numbers to `digits` significant digits (default 4; a column of integers whole). Under each table
-a line names the file and, from its provenance sidecar (cases/_provenance.py), the command,
+a line names the file and, from its provenance sidecar (harness/provenance.py), the command,
 date and machine that wrote it. HTML comments show in neither GitHub's rendering nor the site.
 
     python tools/doctables.py            # refresh every marked table of README.md and docs/
@@ -39,7 +39,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from cases._provenance import provenance_of  # noqa: E402 - after the path above
+from harness.provenance import provenance_of  # noqa: E402 - after the path above
 
 BLOCK = re.compile(r"(?P<open><!-- table: (?P<spec>.*?)-->\n)(?P<body>.*?)(?P<close><!-- end table -->)",
                    re.S)
