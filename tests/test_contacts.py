@@ -41,12 +41,14 @@ def general(native_build):
 
 
 def test_contact_solver_random_problems(general):
-    """Random 2-9 contact problems (coupled and redundant rows, mu_s >= mu_k, with and without
+    """Random 2-12 contact problems (coupled and redundant rows, mu_s >= mu_k, with and without
     a previous mode): every answer meets the problem's conditions, equals the only solution
     where brute force finds one, follows the solver's rule (its modes equal those of the rule
     written independently in the Fortran program, each box problem by exhaustive search), and
     info%nonunique is never set where brute force finds no other solution with as many stuck
-    contacts (checked in the Fortran program, reported here)."""
+    contacts (up to 9 contacts); from 7 to 128 contacts the modes are the same whether the box
+    problems are solved by the active-set Newton method or by Lemke's method alone (checked in
+    the Fortran program, reported here)."""
     out = general[2]
     assert "all general contact checks passed" in out
     for label, n in (("random problems", 400), ("pivoting", 300)):
@@ -54,6 +56,10 @@ def test_contact_solver_random_problems(general):
         assert f"{label}: the rule's modes (reference written here) in {n} of {n}" in out
         assert re.search(label + r": another solution with as many stuck contacts in \d+, reported in [1-9]\d*, "
                          r"falsely in 0", out), out
+    # 7 to 12 contacts and larger sets: the same modes whichever method solves the box problems
+    for label, n in (("random problems of 7-12", 200), ("large sets", 40), ("large Stribeck sets", 40)):
+        assert f"{label}: {n} of {n} solved" in out
+        assert f"{label}: the same modes with Lemke's method for every box problem in {n} of {n}" in out
     # no enumeration: a few linear solves a problem
     for m in re.finditer(r"linear solves a problem, median (\d+), largest (\d+)", out):
         assert int(m.group(1)) <= 40 and int(m.group(2)) <= 200, m.group(0)

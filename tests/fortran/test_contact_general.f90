@@ -140,6 +140,8 @@ program test_contact_general
         ! the same rounds with every box problem by Lemke's method, against brute force
         call random_problems('pivoting', 2, NBRUTE, 5, 300, SOLVER_PIVOTING, .true.)
         ! large strongly coupled sets (the benchmark's kind), where Gauss-Seidel alone fails
+        ! 7 to 12 contacts (beyond brute force): the rule's modes by both box solvers
+        call random_problems('random problems of 7-12', 7, 12, 7, 200, 0, .false.)
         call random_problems('large sets', 8, NMAX, NMAX / 2 + 1, 40, 0, .false.)
         ! the same with Stribeck curves (slip speeds by Newton's method in every mode)
         call random_problems('large Stribeck sets', 8, 32, 17, 40, 0, .false., stribeck=.true.)
@@ -285,7 +287,18 @@ contains
             res = conditions(n, p, w)
             worst_res = max(worst_res, res)
             if (res > 1.0e-12_dp * (1.0_dp + maxval(abs(wf(:n))))) nbad = nbad + 1
-            if (.not. brute) cycle
+            if (.not. brute) then
+                ! the rule's modes the same with every box problem by Lemke's method (each box
+                ! problem's w is unique, so the modes do not depend on how it is solved)
+                if (forced == 0) then
+                    mref(:n) = mprev(:n)
+                    pb(:n) = 0.0_dp
+                    call solve_contacts(laws(:n), d(:n, :n), wf(:n), cap(:n), .false., 1.0e-12_dp, 1000, pb(:n), &
+                                        wb(:n), mref(:n), info, method=SOLVER_PIVOTING)
+                    if (info%ok .and. all(mref(:n) == mode(:n))) nrule = nrule + 1
+                end if
+                cycle
+            end if
             ! brute force over all 3^n modes (regular stuck blocks only): solutions, and whether
             ! one has more stuck contacts than the solver's
             call brute_force(n, nsol, msol, pb, wb, nbetter_out=i, ntie_out=j)
@@ -320,6 +333,11 @@ contains
                     minval(solves(:nsolved), mask=[(count(solves(:nsolved) <= solves(i)) >= (nsolved + 1) / 2, &
                                                     i = 1, nsolved)]), ', largest ', maxval(solves(:nsolved))
                 call check(maxval(solves(:nsolved)) <= 60 * nhi, trim(line))
+            end if
+            if (.not. brute .and. forced == 0) then
+                write (line, '(a, a, i0, a, i0)') label, ': the same modes with Lemke''s method for every box '// &
+                    'problem in ', nrule, ' of ', ntrial
+                call check(nrule == ntrial, trim(line))
             end if
             if (.not. brute) then
                 ! Gauss-Seidel's gap (the solver's check reads it instead of forming wf + D p)
