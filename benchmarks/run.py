@@ -924,17 +924,18 @@ def replace_overhead(outdir: Path, over: list[dict], quick: bool) -> None:
     # says so and the documentation's captions quote it); the block names its own run
 
 
-def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 128, repeats: int = 3,
+def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 64, repeats: int = 3,
                 chain_n_max: int = 10000) -> str:
     """The per-step contact solver (stickslip_contact_solver) on random coupled problems of n
     contacts (bench_contact: 50 problems per n, rows of H with one or two +-1 entries over
     n/2 + 1 coordinates, Coulomb mu_s in [0.3, 0.7] against mu_k = 0.3, capacities of a 1 ms
-    step), against projected Gauss-Seidel alone and the pivoting fallback alone on the same
+    step), against projected Gauss-Seidel alone and Lemke's method alone on the same
     problems: microseconds a solve (medians of `repeats` passes), the fraction solved to
-    1e-12 m/s, the fraction that fell back to pivoting. Then moreau's step problem on a chain of
+    1e-12 m/s, the fraction that needed Lemke's fallback. Then moreau on a stack of 1 to 64
+    blocks (every contact coupled): microseconds a step. Then moreau's step problem on a chain of
     10 to `chain_n_max` blocks (bench_contact's chain section): the chain's tridiagonal path, and
-    up to 1000 blocks the general solver against Gauss-Seidel alone on the dense Delassus
-    matrix, with their ratio over the problems both solve. Returns contact.md."""
+    the general solver against Gauss-Seidel alone on the dense Delassus
+    matrix (up to 100 blocks), with their ratio over the problems both solve. Returns contact.md."""
     meson = _tool("meson")
     if not (build_dir / "build.ninja").exists():
         subprocess.run([meson, "setup", str(build_dir), str(ROOT)], check=True, env=_env(),
@@ -952,19 +953,20 @@ def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 128, r
     out = subprocess.run([str(build_dir / "bench_contact"), str(n_max), str(repeats), str(chain_n_max)],
                          check=True, capture_output=True, text=True).stdout
     chain = [line.split()[1:] for line in out.split("\n") if line.startswith("chain")]
-    out = "\n".join(line for line in out.split("\n") if not line.startswith("chain"))
+    stack = [line.split()[1:] for line in out.split("\n") if line.startswith("stack")]
+    out = "\n".join(line for line in out.split("\n") if not line.startswith(("chain", "stack")))
     lines = ["**The contact solver** (`python -m benchmarks --contact`)", "",
              f"Machine: {machine()}. 50 random coupled problems per number of contacts n (rows of H "
              "with one or two +-1 entries over n/2 + 1 coordinates, so contacts share bodies; Coulomb "
              "mu_s in [0.3, 0.7], mu_k = 0.3; impulses of a 1 ms step), medians of "
-             f"{repeats} passes. The solver enumerates modes up to 6 active contacts and runs "
-             "projected Gauss-Seidel beyond (up to 1000 sweeps), falling back to static-first pivoting "
-             "(rounds of box problems by Lemke's algorithm) where Gauss-Seidel does not converge; "
-             "\"Gauss-Seidel alone\" is the solver before the fallback, \"pivoting alone\" the fallback "
-             "run on every problem. Solved: the answer meets the problem's conditions to 1e-12 m/s (the "
-             "solver says so itself; a miss ends a run with ContactSolverFailure).", "",
-             "| n | solver [us/solve] | solved | fell back to pivoting | Gauss-Seidel alone [us/solve] | solved "
-             "| pivoting alone [us/solve] | solved | modes or sweeps | Lemke pivots |",
+             f"{repeats} passes. The solver follows its rule at every n (static first: rounds of box "
+             "problems, each by an active-set Newton method with Lemke's algorithm as the exact fallback, "
+             "then the final mode solved exactly; no enumeration of modes); \"Gauss-Seidel alone\" is "
+             "projected Gauss-Seidel (up to 1000 sweeps, no rule), \"Lemke alone\" the rule with every box "
+             "problem by Lemke's algorithm. Solved: the answer meets the problem's conditions to 1e-12 m/s "
+             "(the solver says so itself; a miss ends a run with ContactSolverFailure).", "",
+             "| n | solver [us/solve] | solved | needed Lemke | Gauss-Seidel alone [us/solve] | solved "
+             "| Lemke alone [us/solve] | solved | linear solves | Lemke pivots |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     for line in out.split("\n"):
         if not line.strip():
@@ -974,14 +976,24 @@ def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 128, r
                      f"{float(gus):.3g} | {100 * float(gok):.0f} % | {float(pus):.3g} | {100 * float(pok):.0f} % | "
                      f"{float(work):.0f} | {float(piv):.0f} |")
         log(f"contact n={n}: {float(us):.3g} us, {100 * float(ok):.0f} % solved")
+    if stack:
+        lines += ["", "**A stack of n blocks** (moreau itself, h = 1 ms, theta = 1/2, 2 s from rest): block 1 on "
+                  "a belt at 0.3 m/s, block i on block i - 1, so every contact is coupled to its neighbours; "
+                  "masses 2, 1, 0.5 kg, springs 200, 60, 30 N/m to the wall and (mu_s, mu_k) = (0.5, 0.35), "
+                  "(0.4, 0.3), (0.3, 0.2) repeated up the stack; normal forces the weight above each contact. "
+                  f"Medians of {repeats} runs.", "",
+                  "| n | moreau [us/step] | linear solves a step | steps with another solution | "
+                  "largest residual [m/s] | status |", "|---|---|---|---|---|---|"]
+        for n, us, solves, nonu, res, status in stack:
+            lines.append(f"| {n} | {float(us):.3g} | {float(solves):.2f} | {nonu} | {float(res):.2g} | {status} |")
+            log(f"contact stack n={n}: {float(us):.3g} us a step")
     if chain:
         lines += ["", "**The chain** (moreau's step problem, h = 1 ms, theta = 1/2; Coulomb mu_s = 0.35, "
                   "mu_k = 0.3): five states of a run of the chain started stuck on the belt (t = 1 to 5 s), "
                   f"medians of {repeats} passes. \"Tridiagonal\" is what moreau runs on a chain: nonsmooth "
                   "Gauss-Seidel on W itself, O(n) a sweep, warm-started at the step's start velocities. Up to "
-                  "1000 blocks the same problems on the dense Delassus matrix D = W^-1, from p = 0: the general "
-                  "solver (Gauss-Seidel, then its answer checked against the problem, pivoting where it "
-                  "fails) against Gauss-Seidel alone; their times over the problems both solve, and the "
+                  "100 blocks the same problems on the dense Delassus matrix D = W^-1, from p = 0: the general "
+                  "solver (its rule: rounds of box problems) against Gauss-Seidel alone; their times over the problems both solve, and the "
                   "ratio. Largest velocity difference: tridiagonal against the general solver.", "",
                   "| n | tridiagonal [us/solve] | solved | sweeps | general solver on D [us/solve] | solved "
                   "| Gauss-Seidel alone on D [us/solve] | solved | sweeps | solver / Gauss-Seidel "
@@ -1103,8 +1115,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--prescribed", action="store_true",
                         help="only prescribed_motion's cost per law (a sine of 10^4 samples): writes prescribed.md")
     parser.add_argument("--contact", action="store_true",
-                        help="only the contact-solver benchmark (random coupled problems of 2 to 128 "
-                             "contacts, against Gauss-Seidel alone): writes contact.md")
+                        help="only the contact-solver benchmark (random coupled problems of 2 to 64 "
+                             "contacts, against Gauss-Seidel alone; moreau on a stack of 1 to 64 blocks; "
+                             "the chain): writes contact.md")
     parser.add_argument("--model", action="store_true",
                         help="only the model path against the chain's own code (100 blocks, every method "
                              "family): writes model.md")
@@ -1180,7 +1193,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     if args.contact:
         write_text(args.outdir / "contact.md",
-                   run_contact(args.build_dir, log, 8 if args.quick else 128, 1 if args.quick else 3,
+                   run_contact(args.build_dir, log, 8 if args.quick else 64, 1 if args.quick else 3,
                                100 if args.quick else 10000))
         write_provenance(args.outdir, "contact", [args.outdir / "contact.md"], argv)
         return 0

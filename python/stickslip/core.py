@@ -1221,7 +1221,9 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         - ``nevents``: stick/slip transitions of event_driven (``Result.events`` holds them;
           0 for the other methods).
         - ``ncontact_iter``: work of moreau's contact solver, summed over the steps (sweeps of
-          Gauss-Seidel, or modes tried by the exact enumeration).
+          the chain's Gauss-Seidel, or linear solves of the coupled solver).
+        - ``nonunique``: the steps (moreau) whose contact problem had another solution with as
+          many stuck contacts (the solver's rule chose one; a RuntimeWarning names the count).
         - ``contact_residual``: the largest residual of moreau's contact solve [m/s], measured
           on each step's friction problem (its complementarity conditions).
         - ``contact_worst``: the contact (0-based) whose friction problem had no solution
@@ -1299,8 +1301,10 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         if extra:
             raise ValueError(f"{', '.join(extra)}: a Model carries its own laws, parameters and initial "
                              "state (give them to add_body and add_contact)")
-        return scene.run_model(method=method, t_end=t_end, n_out=n_out, every_step=every_step,
-                               max_steps=max_steps, **kwargs)
+        result = scene.run_model(method=method, t_end=t_end, n_out=n_out, every_step=every_step,
+                                 max_steps=max_steps, **kwargs)
+        _warn_nonunique(result)
+        return result
     # Reached when _runner's fast path (the FastPath standing for this function, below) has not
     # finished the call: a new setting, one with warnings to repeat or a grid too long to keep,
     # a Model, or bad arguments. A setting seen before (equal arguments of equal types) is not
@@ -1318,6 +1322,8 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
             key = None                       # tuples may hide bools: validated each time
     result = _run(call)
     status = result._raw[2]
+    if status == STATUS_OK:
+        _warn_nonunique(result)
     if key is not None and status > _FIRST_INPUT_CODE:     # new, and the library named no bad input
         if len(_CALLS) >= _CALLS_MAX:
             _CALLS.clear()
@@ -1327,6 +1333,16 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     if not call.fast:
         _after_run(call, result)
     return result
+
+
+def _warn_nonunique(result: Result) -> None:
+    """One RuntimeWarning for a run in which some contact problem had another solution with as
+    many stuck contacts (``stats["nonunique"]`` counts them; the rule chose one)."""
+    count = int(result.stats.get("nonunique", 0))
+    if count:
+        warnings.warn(f"{count} contact problem(s) of this {result.method} run had another solution with as many "
+                      "stuck contacts; the solver's rule chose one (stats['nonunique']; see the exact-stick "
+                      "guide, 'When a step has several solutions')", RuntimeWarning, stacklevel=3)
 
 
 def _failed(call: _Call, result: Result) -> NoReturn:
