@@ -95,6 +95,7 @@ def measure_brake(log: Callable[[str], None]) -> dict[str, tuple[float, str, str
         out[f"brake.{method}.nfev"] = (int(r.stats["nfev"]), "-", f"right-hand-side evaluations, {method}")
         out[f"brake.{method}.nforced"] = (int(r.stats["nforced"]), "-", f"steps forced at h_min, {method}")
         out[f"brake.{method}.x_past_stop_m"] = (x_end - X_STOP, "m", f"x(t_end) - 26/3 m, {method}")
+        out[f"brake.{method}.x_error_m"] = (abs(x_end - X_STOP), "m", f"|x(t_end) - 26/3 m|, {method}")
         out[f"brake.{method}.warnings"] = (sum(map(len, said.values())), "-",
                                            f"warnings of the {method} run (all categories)")
         log(f"brake, {method}: nfev {r.stats['nfev']}, nforced {r.stats['nforced']}, "
