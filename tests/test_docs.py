@@ -492,6 +492,8 @@ FACTS: dict[str, dict[str, str]] = {
         "0.5164": "2 sqrt(2)/omega of the paper's belt [s], a closed form",
         "5.1643e-4": "the closed-form bound at v_s = 1e-3 m/s [s]",
         "2048 steps": "half the library's interval between looks at the stop flag",
+        "10 m/s": "the brake's initial speed", "1000 N": "the brake's largest normal force",
+        "0.5": "the brake's ramp [s]", "0.4": "the brake's mu", "5 s": "the runs' length, chosen",
     },
     "benchmarks.md": {
         "1.2": "a goal (at most 1.2 times the reference)", "0.5": "GSL's step-keeping interval",
