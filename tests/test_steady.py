@@ -1,0 +1,196 @@
+"""Periodic orbits, continuation and response curves (stickslip.steady) against closed forms,
+scipy's variational equations and independent event-driven transients."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import stickslip as ss
+from cases import gallery_denhartog as dh
+
+G = 9.81
+
+
+def belt(v_b: float, mu_s: float = 0.4, mu_k: float = 0.3, m: float = 1.0, k: float = 4.0) -> ss.Model:
+    """The paper's belt: mass m on a spring k to the wall, on a belt at v_b, Coulomb friction."""
+    return ss.Model.from_scene("belt", "coulomb", m=m, k=k, v_b=v_b, g=G, mu_s=mu_s, mu_k=mu_k, v0=v_b)
+
+
+def belt_closed_form(v_b: float, mu_s: float = 0.4, mu_k: float = 0.3, m: float = 1.0,
+                     k: float = 4.0) -> tuple[float, float]:
+    """Period and slip amplitude of the stick-slip cycle: the slip arc about mu_k m g / k
+    starts at mu_s m g / k with velocity v_b (amplitude A), the stick phase covers the
+    2 (mu_s - mu_k) m g / k between the arc's ends at v_b."""
+    w = math.sqrt(k / m)
+    amp = math.hypot((mu_s - mu_k) * m * G / k, v_b / w)
+    period = (math.pi + 2.0 * math.asin(v_b / (amp * w))) / w + 2.0 * (mu_s - mu_k) * m * G / (k * v_b)
+    return period, amp
+
+
+@pytest.mark.parametrize("v_b", [0.1, 0.3, 0.8])
+def test_belt_cycle_equals_closed_form(v_b: float) -> None:
+    orb = ss.periodic_orbit(belt(v_b))
+    period, amp = belt_closed_form(v_b)
+    assert orb.autonomous and orb.monodromy_method == "saltation"
+    assert orb.period == pytest.approx(period, rel=1e-8, abs=0)
+    assert orb.amplitude[0] == pytest.approx(amp, rel=1e-8, abs=0)
+    # one stick phase: the trivial multiplier 1, the other collapsed to 0
+    assert abs(orb.multipliers[orb.trivial] - 1.0) < 1e-8
+    assert abs(orb.nontrivial[0]) < 1e-10
+    assert orb.stable
+    stick = 2 * (0.4 - 0.3) * G / (4.0 * v_b)
+    assert orb.stick_fraction[0] == pytest.approx(stick / period, rel=1e-8)
+    assert sorted(set(orb.events["kind"])) == ["slip", "stick"]
+
+
+def test_belt_continuation_in_belt_speed_follows_the_closed_form() -> None:
+    br = ss.continuation(lambda p: belt(p), 0.2, 0.6, step=0.1, max_step=0.25)
+    assert br.p[0] == 0.2 and br.p[-1] == 0.6 and len(br) >= 3
+    for p, t, a, mult in zip(br.p, br.period, br.amplitude, br.multipliers):
+        period, amp = belt_closed_form(float(p))
+        assert t == pytest.approx(period, rel=1e-8, abs=0)
+        assert a == pytest.approx(amp, rel=1e-8, abs=0)
+        assert np.sort(np.abs(mult))[0] < 1e-10
+    assert br.stable.all() and not br.bifurcations
+    assert br.stop_reason.startswith("reached stop")
+
+
+def forced_linear(zeta: float = 0.05, f: float = 0.3) -> ss.Model:
+    m = ss.Model()
+    b = m.add_body(1.0)
+    m.add_spring(b, None, k=4.0)
+    m.add_damper(b, None, c=2 * zeta * 2.0)
+    m.add_force(b, ss.signal.sine(1.0, f))
+    return m
+
+
+def test_forced_linear_oscillator_against_closed_form_and_scipy() -> None:
+    f, zeta, wn = 0.3, 0.05, 2.0
+    orb = ss.periodic_orbit(forced_linear(zeta, f), method="dopri5")
+    w = 2 * math.pi * f
+    amp = 1.0 / math.hypot(wn**2 - w**2, 2 * zeta * wn * w)
+    assert orb.period == pytest.approx(1 / f, rel=1e-14)
+    assert orb.amplitude[0] == pytest.approx(amp, rel=1e-8)
+    # the monodromy is exp(A T) for x'' + 2 zeta wn x' + wn^2 x = 0: by scipy, independently
+    from scipy.integrate import solve_ivp
+    a = np.array([[0.0, 1.0], [-wn**2, -2 * zeta * wn]])
+    sol = solve_ivp(lambda t, y: (a @ y.reshape(2, 2)).ravel(), (0, 1 / f), np.eye(2).ravel(),
+                    method="DOP853", rtol=1e-12, atol=1e-14)
+    ref = np.linalg.eigvals(sol.y[:, -1].reshape(2, 2))
+    assert orb.monodromy_method == "finite differences"
+    np.testing.assert_allclose(np.sort_complex(orb.multipliers), np.sort_complex(ref), rtol=0, atol=1e-6)
+    assert orb.stable
+
+
+def regularised_belt(v_b: float = 0.2, c: float = 0.0) -> ss.Model:
+    m = ss.Model.from_scene("belt", "tanh", m=1.0, k=4.0, v_b=v_b, g=G, v0=0.0)
+    if c:
+        m.add_damper(0, None, c)
+    return m
+
+
+def test_regularised_multipliers_against_scipy_variational_equations() -> None:
+    """A smooth belt (tanh law with a falling part? no: tanh is monotone, so the cycle is
+    the damped one of a forced-free system): we force it to have a limit cycle by a sine
+    on the mass and compare the monodromy with the variational equations by scipy."""
+    params = ss.DEFAULTS
+    model = ss.Model()
+    b = model.add_body(1.0)
+    model.add_spring(b, None, k=4.0)
+    model.add_force(b, ss.signal.sine(3.0, 0.25))
+    model.add_contact(b, None, "tanh", normal_force=G, mu_k=0.3, v_t=0.05)
+    orb = ss.periodic_orbit(model, method="dopri5")
+    from scipy.integrate import solve_ivp
+
+    def mu(s: np.ndarray) -> np.ndarray:
+        return ss.friction_coefficient("tanh", s, mu_k=0.3, v_t=0.05)
+
+    def rhs(t: float, z: np.ndarray) -> np.ndarray:
+        x, v = z[0], z[1]
+        phi = z[2:].reshape(2, 2)
+        h = 1e-7
+        dmu = (mu(np.array([v + h]))[0] - mu(np.array([v - h]))[0]) / (2 * h)
+        jac = np.array([[0.0, 1.0], [-4.0, -G * dmu]])
+        acc = -4.0 * x + 3.0 * math.sin(2 * math.pi * 0.25 * t) - G * mu(np.array([v]))[0]
+        return np.concatenate([[v, acc], (jac @ phi).ravel()])
+    sol = solve_ivp(rhs, (0, 4.0), np.concatenate([orb.y0, np.eye(2).ravel()]), method="DOP853",
+                    rtol=1e-11, atol=1e-13)
+    assert np.max(np.abs(sol.y[:2, -1] - orb.y0)) < 1e-7         # the orbit closes under scipy too
+    ref = np.linalg.eigvals(sol.y[2:, -1].reshape(2, 2))
+    np.testing.assert_allclose(np.sort_complex(orb.multipliers), np.sort_complex(ref), rtol=0, atol=2e-5)
+    del params
+
+
+def test_saltation_against_finite_differences_on_den_hartog_without_stops() -> None:
+    """The exact route and the finite-difference route agree on an orbit with reversals."""
+    beta, r = 2.0, 0.3
+    model = dh.model(beta, r)
+    orb = ss.periodic_orbit(model)
+    assert orb.monodromy_method == "saltation"
+    assert set(orb.events["kind"]) == {"reversal"}
+    from stickslip import steady
+    fd = steady._fd_monodromy(steady._Runner(model, "event_driven", {"rtol": 1e-12, "atol": 1e-14}),
+                              orb.y0, orb.period)
+    np.testing.assert_allclose(orb.monodromy, fd, rtol=0, atol=1e-5)
+
+
+def test_den_hartog_response_equals_closed_form() -> None:
+    r = 0.3
+    betas = [b for b in (0.6, 0.7, 0.8, 1.3, 1.5, 2.0, 2.5) if dh.nonstop_valid(b, r)]
+    assert len(betas) >= 5
+    freqs = [b / (2 * math.pi) for b in betas]
+    br = ss.frequency_response(lambda f: dh.model(2 * math.pi * f, r), freqs, follow=False)
+    np.testing.assert_array_equal(br.p, freqs)
+    for b, a in zip(betas, br.amplitude):
+        assert a == pytest.approx(dh.amplitude(b, r), rel=1e-8, abs=0)
+    assert (br.stick_fraction == 0).all()
+
+
+def test_den_hartog_with_stops_against_an_event_driven_transient() -> None:
+    beta, r = 0.5, 0.7
+    assert not dh.nonstop_valid(beta, r)
+    orb = ss.periodic_orbit(dh.model(beta, r))
+    assert orb.stick_fraction[0] > 0.05
+    assert abs(orb.nontrivial).max() < 1e-10       # a stop per half period: every variation collapses
+    # the independent check: 80 periods from rest, amplitude from the last turning points
+    T = 2 * math.pi / beta
+    res = ss.simulate(dh.model(beta, r), method="event_driven", t_end=80 * T, n_out=3, rtol=1e-12, atol=1e-14)
+    xs = [e["x"] for e in res.events if e["t"] > 78 * T and e["kind"] in ("stick", "reversal")]
+    assert orb.amplitude[0] == pytest.approx(0.5 * (max(xs) - min(xs)), rel=1e-8)
+    stick, _ = dh._stick_intervals(res.events, 78 * T, 80 * T)
+    assert orb.stick_fraction[0] == pytest.approx(stick / (2 * T), rel=1e-8)
+
+
+def test_non_periodic_forcing_is_a_named_failure() -> None:
+    m = forced_linear()
+    m.add_force(0, ss.signal.ramp(1.0, 2.0, 1.0))
+    with pytest.raises(ss.NonPeriodicForcing, match="ramp"):
+        ss.periodic_orbit(m, method="dopri5")
+    with pytest.raises(ss.NonPeriodicForcing, match="does not repeat"):
+        ss.periodic_orbit(forced_linear(f=0.3), period=2.0, method="dopri5")
+
+
+def test_guess_of_the_wrong_shape_is_a_named_failure() -> None:
+    with pytest.raises(ss.GuessShapeError, match="got shape"):
+        ss.periodic_orbit(forced_linear(), guess=[0.0, 0.0, 0.0], method="dopri5")
+    with pytest.raises(ss.GuessShapeError, match="period"):
+        ss.periodic_orbit(belt(0.3), guess=[0.0, 0.3])
+
+
+def test_no_convergence_is_a_named_failure_not_an_orbit() -> None:
+    # an undamped forced oscillator at resonance has no periodic orbit
+    m = ss.Model()
+    b = m.add_body(1.0)
+    m.add_spring(b, None, k=4.0)
+    m.add_force(b, ss.signal.sine(1.0, 1.0 / math.pi))
+    with pytest.raises(ss.NoConvergence) as err:
+        ss.periodic_orbit(m, method="dopri5", max_iter=5)
+    assert err.value.residual > 1e-10
+
+
+def test_laws_with_states_are_refused() -> None:
+    m = ss.Model.from_scene("belt", "lugre")
+    with pytest.raises(ValueError, match="internal states"):
+        ss.periodic_orbit(m, method="dopri5")
