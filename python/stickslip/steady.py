@@ -50,7 +50,7 @@ from .core import EVENT_DTYPE, REGISTRY, Result, _known, friction_coefficient, s
 from .model import Model, check_method
 from .signal import Signal
 
-__all__ = ["Orbit", "Branch", "SteadyStateError", "NoConvergence", "NonPeriodicForcing", "GuessShapeError",
+__all__ = ["Orbit", "Branch", "SteadyStateError", "NoConvergence", "NonPeriodicForcing", "GuessShapeError", "retuned",
            "periodic_orbit", "continuation", "frequency_response"]
 
 #: Tolerances of the runs when the method is adaptive and none are given.
@@ -222,23 +222,31 @@ class _System:
         val, der = _signal(w, t)
         return float(val), float(der)
 
-    def slip(self, y: np.ndarray, t: float) -> np.ndarray:
-        """Each contact's slip velocity s [m/s] at state y, time t."""
-        return self.G @ y[self.n:] - np.array([self.surface(i, t)[0] for i in range(len(self.contacts))])
+    def slip(self, y: np.ndarray, t: Any) -> np.ndarray:
+        """Each contact's slip velocity s [m/s] at state y (shape (2n,) or (2n, n_t)), time(s) t."""
+        w = [np.zeros(np.shape(t)) if c.surface_velocity is None else _signal(c.surface_velocity, t)[0]
+             for c in self.contacts]
+        return self.G @ y[self.n:] - np.array(w).reshape((len(self.contacts),) + np.shape(t))
 
-    def _free(self, y: np.ndarray, t: float, modes: Sequence[int]) -> np.ndarray:
-        """Every force but the holding forces of stuck contacts."""
+    def _free(self, y: np.ndarray, t: Any, modes: Sequence[int] | None) -> np.ndarray:
+        """Every force but the holding forces of stuck contacts [N], at state y (shape (2n,)
+        or (2n, n_t)) and time(s) t; `modes` None: every contact's law regularised (its
+        friction at the signed slip); else every law set-valued Coulomb (mu_k N in slip)."""
         x, v = y[:self.n], y[self.n:]
-        f = -self.K @ x - self.C @ v + self.f0
+        col = (slice(None),) + (None,) * (y.ndim - 1)
+        f = -self.K @ x - self.C @ v + self.f0[col]
         for body, s in self.forces:
-            f[body] += float(_signal(s, t)[0])
+            f[body] = f[body] + _signal(s, t)[0]
         s = self.slip(y, t)
         for i, c in enumerate(self.contacts):
-            normal = float(_signal(c.normal_force, t)[0])
-            if modes[i] == 0 or normal <= 0.0:
+            normal = np.maximum(_signal(c.normal_force, t)[0], 0.0)
+            if modes is None:
+                mu = friction_coefficient(c.law, s[i], **c.params)
+            elif modes[i] == 0:
                 continue
-            mu = float(friction_coefficient(c.law, modes[i] * max(abs(s[i]), 0.0), **c.params))
-            f -= self.G[i] * mu * normal
+            else:                        # set-valued Coulomb in slip: mu_k (the modes' route only)
+                mu = modes[i] * self.params[i]["mu_k"]
+            f = f - self.G[i][col] * (mu * normal)
         return f
 
     def rates(self, y: np.ndarray, t: float, modes: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
@@ -610,22 +618,26 @@ def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, no
     stable = bool(np.all(others < 1.0))
     sys_ = _System(model)
     return Orbit(period=period, x0=y0[:n].copy(), v0=y0[n:].copy(), z0=np.zeros(0), multipliers=mult,
-                 trivial=trivial, stable=stable, amplitude=_amplitude(res), stick_fraction=_stick(sys_, res, period),
+                 trivial=trivial, stable=stable, amplitude=_amplitude(res, [c.a for c in model.contacts]), stick_fraction=_stick(sys_, res, period),
                  events=events, result=res, monodromy=mono, monodromy_method=how, residual=norm, iterations=it,
                  autonomous=autonomous, method=runner.method, runs=runner.runs)
 
 
-def _amplitude(res: Result) -> np.ndarray:
+def _amplitude(res: Result, contacts: Sequence[int]) -> np.ndarray:
     """Half the peak-to-peak x of each body over the run: the grid's extremes refined by the
     cubic (Hermite, from x and v) through the two grid points around each, and the positions
-    at events."""
+    at events (of body `contacts[c]`, the first body of contact c)."""
     t, x, v = res.t, res.x, res.v
     out = np.empty(x.shape[0])
+    # an interval with an event (a kink in x'') is not refined: the event's position stands in
+    kinked = set((np.searchsorted(t, res.events["t"]) - 1).tolist())
     for b in range(x.shape[0]):
         cand = [float(x[b, 0]), float(x[b, -1])]
         xb, vb = x[b], v[b]
         idx = np.flatnonzero(np.sign(vb[:-1]) != np.sign(vb[1:]))
         for i in idx:
+            if i in kinked:
+                continue
             h = t[i + 1] - t[i]
             p0, p1, m0, m1 = xb[i], xb[i + 1], vb[i] * h, vb[i + 1] * h
             # derivative of the Hermite cubic in s in [0, 1]: a s^2 + b s + c
@@ -638,6 +650,7 @@ def _amplitude(res: Result) -> np.ndarray:
                     cand.append(float((2 * s**3 - 3 * s**2 + 1) * p0 + (s**3 - 2 * s**2 + s) * m0
                                       + (-2 * s**3 + 3 * s**2) * p1 + (s**3 - s**2) * m1))
         cand.extend(float(xb[i]) for i in range(xb.size) if vb[i] == 0.0)
+        cand.extend(float(e["x"]) for e in res.events if contacts[int(e["contact"])] == b)
         out[b] = 0.5 * (max(cand) - min(cand))
     return out
 
@@ -705,8 +718,13 @@ def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events:
         t, c, kind = float(e["t"]), int(e["contact"]), str(e["kind"])
         if not 0.0 < t < period:
             continue
-        y = runner.flow(y0, t)
+        # the state at the event: a run that ends just before it (one ending on an event can
+        # fail at h_min), then the Taylor step of the affine mode over the last delta
+        delta = 1e-9 * period
+        y = runner.flow(y0, t - delta)
         jac, _ = sys_.jacobian(y, t, modes)
+        rate = sys_.rates(y, t - delta, modes)[0]
+        y = y + delta * rate + 0.5 * delta**2 * (jac @ rate)
         mono = _expm(jac * (t - t_prev)) @ mono
         t_prev = t
         before = list(modes)
@@ -735,8 +753,7 @@ def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events:
                                    "(dh/dt = 0): the saltation matrix is undefined there")
         mono = (np.eye(y0.size) + np.outer(f_plus - f_minus, n_vec) / dhdt) @ mono
         modes = after
-    y_end = runner.flow(y0, period) if t_prev > 0.0 else y0
-    jac, _ = sys_.jacobian(y_end if t_prev > 0.0 else y0, period, modes)
+    jac, _ = sys_.jacobian(y0, period, modes)
     return _expm(jac * (period - t_prev)) @ mono
 
 
@@ -1060,3 +1077,23 @@ def _first_on_curve(curve: Branch, f: float) -> np.ndarray | None:
             s = (f - a) / (b - a)
             return (1 - s) * curve.orbits[i - 1].y0 + s * curve.orbits[i].y0
     return None
+
+
+def retuned(model: Model, frequency: float) -> Model:
+    """A copy of `model` with every sine of its signals at `frequency` [Hz] (the `build` of
+    ``python -m stickslip response``: a model file forced at one frequency, retuned)."""
+    if not (isinstance(frequency, (int, float)) and math.isfinite(frequency) and frequency > 0.0):
+        raise ValueError(f"frequency: must be a finite number > 0 [Hz], got {frequency!r}")
+
+    def tune(s: Signal) -> Signal:
+        if s.kind == "sine":
+            return Signal("sine", (s.args[0], float(frequency)) + tuple(s.args[2:]))
+        if s.children:
+            return Signal(s.kind, s.args, tuple(tune(c) for c in s.children))
+        return s
+    m = copy.copy(model)
+    m.forces = [(b, tune(s)) for b, s in model.forces]
+    m.contacts = [dataclasses.replace(c, normal_force=tune(c.normal_force),
+                                      surface_velocity=None if c.surface_velocity is None else tune(c.surface_velocity))
+                  for c in model.contacts]
+    return m
