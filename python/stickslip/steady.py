@@ -19,9 +19,11 @@ Floquet multipliers. Two routes, named in `Orbit.monodromy_method`:
   variations across it. A stick phase collapses directions: its multipliers are 0 to
   rounding.
 * ``"finite differences"`` (every other case): central differences of the chosen method's
-  flow over the period at the orbit's tolerances (step 1e-6 of each component's scale), so
-  multipliers are good to about 1e-6 at rtol = 1e-12 and a stick phase's zero multipliers
-  appear as numbers of that size.
+  flow over the period at the orbit's tolerances, step 1e-4 of each component's scale (an
+  adaptive method's flow jitters with its step-size choices at smaller steps: on a forced
+  oscillator with the `proposed` law, steps of 1e-5 and 1e-6 moved the multipliers by 3e-4
+  where 1e-4 was within 1e-5 of scipy's variational equations), so multipliers are good to
+  about 1e-5, and a stick phase's zero multipliers appear as numbers of that size.
 
 Models whose laws have internal states (LuGre, Dahl, ...) are not handled: a Model's run
 starts its law states at 0, so an orbit's start state cannot be set.
@@ -59,7 +61,7 @@ DEFAULT_ATOL = 1e-14
 #: Forward-difference step of the shooting Jacobian and central-difference step of the
 #: finite-difference monodromy, relative to each component's scale.
 _FD_NEWTON = 1e-7
-_FD_MONODROMY = 1e-6
+_FD_MONODROMY = 1e-4
 
 
 # ------------------------------------------------------------------------------------------
@@ -363,7 +365,8 @@ class Orbit:
     monodromy_method : str
         "saltation" or "finite differences" (see the module).
     residual : float
-        Infinity norm of the shooting residual at the answer [state units].
+        Infinity norm of the shooting residual at the answer [state units; the phase
+        condition's row in m or m/s].
     iterations : int
         Newton iterations made.
     autonomous : bool
@@ -468,10 +471,12 @@ def _transient_guess(runner: _Runner, period: float | None, periods: int) -> tup
 
 def _newton(residual: Callable[[np.ndarray], np.ndarray], u: np.ndarray, scale: np.ndarray, tol: float,
             max_iter: int, what: str) -> tuple[np.ndarray, float, int, np.ndarray]:
-    """Newton's method with a forward-difference Jacobian and step halving; (u, |R|, iterations, J)."""
+    """Newton's method with a forward-difference Jacobian and step halving; (u, |R|, iterations, J).
+    Converged when the residual's infinity norm is at most tol max(1, |u|_inf)."""
     r = residual(u)
     norm = float(np.max(np.abs(r)))
     jac = np.zeros((r.size, u.size))
+    tol = tol * max(1.0, float(np.max(np.abs(u))))
     for it in range(max_iter + 1):
         if norm <= tol:
             return u, norm, it, jac
@@ -504,7 +509,7 @@ def _newton(residual: Callable[[np.ndarray], np.ndarray], u: np.ndarray, scale: 
 
 
 def periodic_orbit(model: Model, period: float | None = None, guess: Any = None, method: str = "event_driven",
-                   *, tol: float = 1e-10, max_iter: int = 30, transient: int = 30, n_out: int = 4001,
+                   *, tol: float = 1e-9, max_iter: int = 30, transient: int = 30, n_out: int = 4001,
                    **controls: Any) -> Orbit:
     """A periodic orbit of `model` by single shooting, with its Floquet multipliers.
 
@@ -527,7 +532,8 @@ def periodic_orbit(model: Model, period: float | None = None, guess: Any = None,
         fixed-step ones).
     tol : float, optional
         Tolerance on the infinity norm of the shooting residual (state after a period minus
-        state at the section, and the phase condition) [state units], default 1e-10.
+        state at the section, and the phase condition), relative to max(1, the largest
+        unknown); default 1e-9 (the runs' own error at rtol = 1e-12 is about 1e-10).
     max_iter : int, optional
         Newton iterations at most (default 30).
     transient : int, optional
@@ -867,7 +873,7 @@ def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float]) -> lis
 
 def continuation(build: Callable[[float], Model], start: float, stop: float, guess: Any = None, *,
                  step: float | None = None, min_step: float | None = None, max_step: float | None = None,
-                 max_points: int = 200, method: str = "event_driven", tol: float = 1e-10, progress: bool = False,
+                 max_points: int = 200, method: str = "event_driven", tol: float = 1e-9, progress: bool = False,
                  **options: Any) -> Branch:
     """Pseudo-arclength continuation of periodic orbits in a parameter p from `start` to `stop`.
 
@@ -1017,7 +1023,7 @@ class _Progress:
 
 
 def frequency_response(build: Callable[[float], Model], frequencies: Sequence[float], *, follow: bool = True,
-                       method: str = "event_driven", tol: float = 1e-10, guess: Any = None, progress: bool = False,
+                       method: str = "event_driven", tol: float = 1e-9, guess: Any = None, progress: bool = False,
                        **options: Any) -> Branch:
     """The forced response curve: the periodic orbit at each of `frequencies` [Hz].
 
