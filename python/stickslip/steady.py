@@ -702,8 +702,20 @@ def _fd_monodromy(runner: _Runner, y0: np.ndarray, period: float) -> np.ndarray:
 
 
 def _expm(a: np.ndarray) -> np.ndarray:
-    from scipy.linalg import expm
-    return expm(a)
+    """exp(a) by scaling and squaring of its Taylor series (18 terms on a / 2^s with
+    |a / 2^s| <= 1/2: truncation below 1e-22); numpy only, for the small matrices of a mode
+    (scipy's expm costs milliseconds per call here)."""
+    norm = float(np.max(np.sum(np.abs(a), axis=1))) if a.size else 0.0
+    s = max(0, int(math.ceil(math.log2(norm / 0.5)))) if norm > 0.5 else 0
+    b = a / 2.0**s
+    out = np.eye(a.shape[0])
+    term = np.eye(a.shape[0])
+    for k in range(1, 19):
+        term = term @ b / k
+        out = out + term
+    for _ in range(s):
+        out = out @ out
+    return out
 
 
 def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events: np.ndarray) -> np.ndarray:
