@@ -190,3 +190,68 @@ def test_laws_with_states_are_refused() -> None:
     m = ss.Model.from_scene("belt", "lugre")
     with pytest.raises(ValueError, match="internal states"):
         ss.periodic_orbit(m, method="dopri5")
+
+
+def test_den_hartog_curve_followed_by_pseudo_arclength() -> None:
+    r = 0.3
+    betas = np.linspace(1.3, 3.0, 4)
+    br = ss.frequency_response(lambda f: dh.model(2 * math.pi * f, r), betas[::-1] / (2 * math.pi))
+    np.testing.assert_array_equal(br.p, betas[::-1] / (2 * math.pi))      # rows in the order given
+    for b, a in zip(betas[::-1], br.amplitude):
+        assert a == pytest.approx(dh.amplitude(b, r), rel=1e-8, abs=0)
+    curve = br.curve
+    assert curve is not None and len(curve) > 4 and curve.stop_reason.startswith("reached stop")
+    assert np.all(np.diff(curve.p) > 0) and not [b for b in curve.bifurcations if b["kind"] == "fold"]
+    exact = np.array([dh.amplitude(2 * math.pi * f, r) for f in curve.p])
+    np.testing.assert_allclose(curve.amplitude, exact, rtol=1e-8)
+
+
+def proposed_oscillator() -> ss.Model:
+    model = ss.Model()
+    b = model.add_body(1.0)
+    model.add_spring(b, None, k=4.0)
+    model.add_force(b, ss.signal.sine(10.0, 0.25))
+    model.add_contact(b, None, "proposed", normal_force=G, mu_s=0.4, mu_k=0.3, v_s=0.5)
+    return model
+
+
+def test_harmonic_balance_converges_to_shooting() -> None:
+    from stickslip.harmonic import harmonic_balance
+    model = proposed_oscillator()
+    orb = ss.periodic_orbit(model, method="dopri5")
+    errors, prev = [], None
+    for h in (1, 5, 15, 41):
+        hb = harmonic_balance(model, h, guess=prev)
+        prev = hb
+        assert hb.residual < 1e-9
+        errors.append(abs(hb.amplitude[0] / orb.amplitude[0] - 1.0))
+    assert all(b < a for a, b in zip(errors, errors[1:])), errors
+    assert errors[-1] < 1e-3
+
+
+def test_harmonic_balance_of_a_linear_oscillator_is_exact_with_one_harmonic() -> None:
+    from stickslip.harmonic import harmonic_balance
+    hb = harmonic_balance(forced_linear(0.05, 0.3), 1)
+    w = 2 * math.pi * 0.3
+    assert hb.amplitude[0] == pytest.approx(1.0 / math.hypot(4.0 - w**2, 0.2 * w), rel=1e-10)
+    with pytest.raises(ValueError, match="set-valued"):
+        harmonic_balance(dh.model(2.0, 0.3), 3)
+
+
+def test_retuned_and_the_cli(tmp_path) -> None:
+    from stickslip.__main__ import main
+    from stickslip.steady import retuned
+    model = dh.model(2.0, 0.3)
+    assert ss.steady.forcing_period(retuned(model, 0.5)) == pytest.approx(2.0)
+    path = tmp_path / "dh.toml"
+    model.to_toml(path)
+    out = tmp_path / "orbit.csv"
+    assert main(["orbit", str(path), "--out", str(out), "--plot"]) == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert data[-1, 0] == pytest.approx(math.pi)
+    assert (tmp_path / "orbit.png").stat().st_size > 1000
+    out = tmp_path / "response.csv"
+    assert main(["response", str(path), "--frequencies", "0.25,0.4", "--out", str(out)]) == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(data[:, 1], [dh.amplitude(2 * math.pi * f, 0.3) for f in (0.25, 0.4)], rtol=1e-8)
+    assert main(["response", str(path), "--frequencies", "0.25", "--out", str(out)]) == 2   # exists

@@ -153,10 +153,30 @@ def harmonic_balance(model: Model, n_harmonics: int = 5, period: float | None = 
     u, norm, it, _ = _newton(residual, coef0.ravel(), scale, tol, max_iter, "harmonic_balance")
     coef = u.reshape(n, 2 * h + 1)
     b0, db0, _ = _basis(h, w, np.zeros(1))
+    return HarmonicSolution(period=period, n_harmonics=h, coefficients=coef, x0=(coef @ b0)[:, 0],
+                            v0=(coef @ db0)[:, 0], amplitude=_amplitude(coef, h, w, period), residual=norm,
+                            iterations=it)
+
+
+def _amplitude(coef: np.ndarray, h: int, w: float, period: float) -> np.ndarray:
+    """Half the peak-to-peak of each body's series: its extremes on 4096 instants, each
+    refined by Newton steps on x'(t) = 0."""
     fine = np.linspace(0.0, period, 4096, endpoint=False)
     xs = coef @ _basis(h, w, fine)[0]
-    return HarmonicSolution(period=period, n_harmonics=h, coefficients=coef, x0=(coef @ b0)[:, 0],
-                            v0=(coef @ db0)[:, 0], amplitude=0.5 * np.ptp(xs, axis=1), residual=norm, iterations=it)
+    out = np.empty(coef.shape[0])
+    for b in range(coef.shape[0]):
+        ext = []
+        for i in (int(np.argmax(xs[b])), int(np.argmin(xs[b]))):
+            t = np.array([fine[i]])
+            for _ in range(4):
+                _, d1, d2 = _basis(h, w, t)
+                a = float(coef[b] @ d2[:, 0])
+                if a == 0.0:
+                    break
+                t = t - float(coef[b] @ d1[:, 0]) / a
+            ext.append(float(coef[b] @ _basis(h, w, t)[0][:, 0]))
+        out[b] = 0.5 * (max(ext[0], float(xs[b].max())) - min(ext[1], float(xs[b].min())))
+    return out
 
 
 def _start(guess: Any, sys_: _System, h: int, w: float, period: float) -> np.ndarray:

@@ -1074,8 +1074,9 @@ def frequency_response(build: Callable[[float], Model], frequencies: Sequence[fl
     for k in order:
         fk = float(f[k])
         start = prev
-        if curve is not None:
-            start = _first_on_curve(curve, fk) or prev
+        on_curve = None if curve is None else _first_on_curve(curve, fk)
+        if on_curve is not None:
+            start = on_curve
         orb = periodic_orbit(build(fk), period=1.0 / fk, guess=start, method=method, tol=tol, n_out=n_out,
                              **options)
         solved[int(k)] = orb
