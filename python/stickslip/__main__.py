@@ -119,6 +119,7 @@ def _steady(args: argparse.Namespace, fail: "Callable[[str], int]") -> int:
             ax.legend(loc="best", fontsize="small")
         else:
             br.plot(ax)
+            ax.set_yscale("log")
             ax.set_xlabel("frequency [Hz]")
         fig.tight_layout()
         buffer = io.BytesIO()
