@@ -255,3 +255,11 @@ def test_retuned_and_the_cli(tmp_path) -> None:
     data = np.loadtxt(out, delimiter=",", skiprows=1)
     np.testing.assert_allclose(data[:, 1], [dh.amplitude(2 * math.pi * f, 0.3) for f in (0.25, 0.4)], rtol=1e-8)
     assert main(["response", str(path), "--frequencies", "0.25", "--out", str(out)]) == 2   # exists
+
+
+def test_module_examples() -> None:
+    import doctest
+    from stickslip import harmonic, steady
+    for mod in (steady, harmonic):
+        result = doctest.testmod(mod, optionflags=doctest.ELLIPSIS)
+        assert result.attempted >= 3 and result.failed == 0

@@ -19,7 +19,7 @@ Examples
 >>> m.add_force(b, ss.signal.sine(1.0, 0.3))
 >>> hb = harmonic_balance(m, n_harmonics=1)
 >>> round(float(hb.amplitude[0]), 6)
-0.361005
+1.710264
 """
 from __future__ import annotations
 

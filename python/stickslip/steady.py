@@ -31,10 +31,10 @@ starts its law states at 0, so an orbit's start state cannot be set.
 Examples
 --------
 >>> import stickslip as ss
->>> belt = ss.Model.from_scene("belt", "coulomb", mu_s=0.4, mu_k=0.3, v_b=0.5)
->>> orb = ss.periodic_orbit(belt)
->>> round(orb.period, 6), orb.monodromy_method
-(..., 'saltation')
+>>> belt = ss.Model.from_scene("belt", "coulomb", mu_s=0.4, mu_k=0.3, v_b=0.5, v0=0.5)
+>>> orb = ss.periodic_orbit(belt)          # started stuck: the stick-slip cycle
+>>> round(orb.period, 6), orb.monodromy_method, orb.stable
+(1.152347, 'saltation', True)
 """
 from __future__ import annotations
 
