@@ -263,3 +263,28 @@ def test_module_examples() -> None:
     for mod in (steady, harmonic):
         result = doctest.testmod(mod, optionflags=doctest.ELLIPSIS)
         assert result.attempted >= 3 and result.failed == 0
+
+
+def test_multiple_shooting_finds_the_same_orbits() -> None:
+    beta, r = 0.5, 0.7                                  # forced, with stops: segments start at k T / 3
+    one = ss.periodic_orbit(dh.model(beta, r))
+    three = ss.periodic_orbit(dh.model(beta, r), segments=3, guess=one.y0 + 0.01)
+    np.testing.assert_allclose(three.y0, one.y0, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(three.amplitude, one.amplitude, rtol=1e-9)
+    orb = ss.periodic_orbit(belt(0.3), segments=4)      # autonomous
+    period, amp = belt_closed_form(0.3)
+    assert orb.period == pytest.approx(period, rel=1e-8) and orb.amplitude[0] == pytest.approx(amp, rel=1e-8)
+    with pytest.raises(ValueError, match="segments"):
+        ss.periodic_orbit(belt(0.3), segments=0)
+
+
+def test_shifted_signals_are_the_signals_later() -> None:
+    from stickslip.steady import _shifted, _signal
+    s = ss.signal.sine(2.0, 0.7, 0.3, 0.1) * ss.signal.step(1.0) + ss.signal.ramp(0.5, 1.0, 3.0) \
+        + ss.signal.table([0.0, 1.0, 2.0], [0.0, 2.0, 1.0])
+    m = ss.Model()
+    b = m.add_body(1.0)
+    m.add_force(b, s)
+    later = _shifted(m, 0.8).forces[0][1]
+    t = np.linspace(0.0, 3.0, 31)
+    np.testing.assert_allclose(_signal(later, t)[0], _signal(s, t + 0.8)[0], rtol=0, atol=1e-13)

@@ -297,15 +297,22 @@ class _Runner:
     controls: dict[str, Any]
     runs: int = 0
 
-    def run(self, y0: np.ndarray, t_end: float, n_out: int = 2) -> Result:
+    shifts: dict[float, Model] = field(default_factory=dict)
+
+    def run(self, y0: np.ndarray, t_end: float, n_out: int = 2, t_start: float = 0.0) -> Result:
+        """A run of `t_end` seconds from state y0 at time `t_start` (the result's times from 0)."""
         self.runs += 1
+        model = self.model
+        if t_start != 0.0:
+            if t_start not in self.shifts:
+                self.shifts[t_start] = _shifted(self.model, t_start)
+            model = self.shifts[t_start]
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return simulate(_with_state(self.model, y0), method=self.method, t_end=t_end, n_out=n_out,
-                            **self.controls)
+            return simulate(_with_state(model, y0), method=self.method, t_end=t_end, n_out=n_out, **self.controls)
 
-    def flow(self, y0: np.ndarray, t_end: float) -> np.ndarray:
-        r = self.run(y0, t_end)
+    def flow(self, y0: np.ndarray, t_end: float, t_start: float = 0.0) -> np.ndarray:
+        r = self.run(y0, t_end, t_start=t_start)
         return np.concatenate([r.x[:, -1], r.v[:, -1]])
 
 
@@ -509,9 +516,9 @@ def _newton(residual: Callable[[np.ndarray], np.ndarray], u: np.ndarray, scale: 
 
 
 def periodic_orbit(model: Model, period: float | None = None, guess: Any = None, method: str = "event_driven",
-                   *, tol: float = 1e-9, max_iter: int = 30, transient: int = 30, n_out: int = 4001,
-                   **controls: Any) -> Orbit:
-    """A periodic orbit of `model` by single shooting, with its Floquet multipliers.
+                   *, segments: int = 1, tol: float = 1e-9, max_iter: int = 30, transient: int = 30,
+                   n_out: int = 4001, **controls: Any) -> Orbit:
+    """A periodic orbit of `model` by single or multiple shooting, with its Floquet multipliers.
 
     Parameters
     ----------
@@ -530,6 +537,10 @@ def periodic_orbit(model: Model, period: float | None = None, guess: Any = None,
         The integration method (default "event_driven"); its controls as keywords (rtol and
         atol default to 1e-12 and 1e-14 for the adaptive methods; `h` is required for the
         fixed-step ones).
+    segments : int, optional
+        1 (default): single shooting; more: multiple shooting over that many equal segments of
+        the period (for long or unstable orbits: each run is shorter, so the residual grows
+        less), the unknowns the states at their starts.
     tol : float, optional
         Tolerance on the infinity norm of the shooting residual (state after a period minus
         state at the section, and the phase condition), relative to max(1, the largest
@@ -570,31 +581,46 @@ def periodic_orbit(model: Model, period: float | None = None, guess: Any = None,
         t_guess = t_est if t_guess is None else t_guess
     if autonomous and t_guess is None:
         raise GuessShapeError("guess: an autonomous model needs the period too (2 n_bodies + 1 values, or an Orbit)")
-    return _solve(runner, y_guess, forced if not autonomous else t_guess, autonomous, tol, max_iter, n_out)
+    if isinstance(segments, bool) or not isinstance(segments, (int, np.integer)) or segments < 1:
+        raise ValueError(f"segments: must be an integer >= 1, got {segments!r}")
+    return _solve(runner, y_guess, forced if not autonomous else t_guess, autonomous, tol, max_iter, n_out,
+                  segments=int(segments))
 
 
 def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: bool, tol: float, max_iter: int,
-           n_out: int, ref: tuple[np.ndarray, np.ndarray] | None = None) -> Orbit:
-    """Shooting from (y_guess, t_guess); `ref`: the phase condition's reference state and
+           n_out: int, ref: tuple[np.ndarray, np.ndarray] | None = None, segments: int = 1) -> Orbit:
+    """Shooting from (y_guess, t_guess) over `segments` segments of the period (multiple
+    shooting when > 1: the unknowns are the states at k T / segments, each segment's end
+    matched to the next one's start); `ref`: the phase condition's reference state and
     direction (default: the guess and the flow there)."""
     n2 = y_guess.size
+    m = segments
     if autonomous and ref is None:
         eps = 1e-6 * t_guess
         ref = (y_guess, (runner.flow(y_guess, eps) - y_guess) / eps)
 
     def residual(u: np.ndarray) -> np.ndarray:
+        period = float(u[-1]) if autonomous else t_guess
+        if not period > 0.0:
+            raise NoConvergence("the period went negative")
+        ys = u[:m * n2].reshape(m, n2)
+        h = period / m
+        # an autonomous model's signals are constant: every segment starts at t = 0
+        r = np.concatenate([runner.flow(ys[k], h, 0.0 if autonomous else k * h) - ys[(k + 1) % m]
+                            for k in range(m)])
         if autonomous:
-            if not u[-1] > 0.0:
-                raise NoConvergence("the period went negative")
-            r = runner.flow(u[:n2], u[-1]) - u[:n2]
-            return np.append(r, (u[:n2] - ref[0]) @ ref[1] / max(float(np.max(np.abs(ref[1]))), 1e-300))
-        return runner.flow(u, t_guess) - u
+            r = np.append(r, (ys[0] - ref[0]) @ ref[1] / max(float(np.max(np.abs(ref[1]))), 1e-300))
+        return r
 
-    u0 = np.append(y_guess, t_guess) if autonomous else y_guess.copy()
-    typ = _scales(y_guess, runner.model.n_bodies)
+    starts = [y_guess]
+    if m > 1:
+        r0 = runner.run(y_guess, t_guess, n_out=m + 1)
+        starts = [np.concatenate([r0.x[:, k], r0.v[:, k]]) for k in range(m)]
+    u0 = np.concatenate(starts + ([np.array([t_guess])] if autonomous else []))
+    typ = np.tile(_scales(y_guess, runner.model.n_bodies), m)
     scale = np.append(typ, t_guess) if autonomous else typ
     u, norm, it, _ = _newton(residual, u0, scale, tol, max_iter, "periodic_orbit")
-    y0, period = (u[:n2], float(u[-1])) if autonomous else (u, t_guess)
+    y0, period = u[:n2], (float(u[-1]) if autonomous else t_guess)
     return _finish(runner, y0, period, autonomous, norm, it, n_out)
 
 
@@ -1098,21 +1124,40 @@ def _first_on_curve(curve: Branch, f: float) -> np.ndarray | None:
     return None
 
 
-def retuned(model: Model, frequency: float) -> Model:
-    """A copy of `model` with every sine of its signals at `frequency` [Hz] (the `build` of
-    ``python -m stickslip response``: a model file forced at one frequency, retuned)."""
-    if not (isinstance(frequency, (int, float)) and math.isfinite(frequency) and frequency > 0.0):
-        raise ValueError(f"frequency: must be a finite number > 0 [Hz], got {frequency!r}")
-
+def _map_signals(model: Model, leaf: Callable[[Signal], Signal]) -> Model:
+    """A copy of `model` whose every signal has each primitive replaced by leaf(primitive)."""
     def tune(s: Signal) -> Signal:
-        if s.kind == "sine":
-            return Signal("sine", (s.args[0], float(frequency)) + tuple(s.args[2:]))
         if s.children:
             return Signal(s.kind, s.args, tuple(tune(c) for c in s.children))
-        return s
+        return leaf(s)
     m = copy.copy(model)
     m.forces = [(b, tune(s)) for b, s in model.forces]
     m.contacts = [dataclasses.replace(c, normal_force=tune(c.normal_force),
                                       surface_velocity=None if c.surface_velocity is None else tune(c.surface_velocity))
                   for c in model.contacts]
     return m
+
+
+def retuned(model: Model, frequency: float) -> Model:
+    """A copy of `model` with every sine of its signals at `frequency` [Hz] (the `build` of
+    ``python -m stickslip response``: a model file forced at one frequency, retuned)."""
+    if not (isinstance(frequency, (int, float)) and math.isfinite(frequency) and frequency > 0.0):
+        raise ValueError(f"frequency: must be a finite number > 0 [Hz], got {frequency!r}")
+    return _map_signals(model, lambda s: Signal("sine", (s.args[0], float(frequency)) + tuple(s.args[2:]))
+                        if s.kind == "sine" else s)
+
+
+def _shifted(model: Model, t0: float) -> Model:
+    """A copy of `model` whose signals are those of `model` advanced by t0 [s]: s'(t) = s(t + t0)."""
+    def leaf(s: Signal) -> Signal:
+        a = s.args
+        if s.kind == "sine":
+            return Signal("sine", (a[0], a[1], a[2] + 2.0 * math.pi * a[1] * t0, a[3]))
+        if s.kind == "step":
+            return Signal("step", (a[0] - t0, a[1], a[2]))
+        if s.kind == "ramp":
+            return Signal("ramp", (a[0] - t0, a[1], a[2]))
+        if s.kind == "table":
+            return Signal("table", (tuple(t - t0 for t in a[0]), a[1]))
+        return s
+    return _map_signals(model, leaf)
