@@ -288,3 +288,31 @@ def test_shifted_signals_are_the_signals_later() -> None:
     later = _shifted(m, 0.8).forces[0][1]
     t = np.linspace(0.0, 3.0, 31)
     np.testing.assert_allclose(_signal(later, t)[0], _signal(s, t + 0.8)[0], rtol=0, atol=1e-13)
+
+
+def damped_belt(c: float) -> ss.Model:
+    """The paper's belt (m = 10 kg, k = 300 N/m, v_b = 1.5 m/s) with the falling `proposed` law
+    and a damper c to the wall."""
+    m = ss.Model.from_scene("belt", "proposed", v0=1.5)
+    m.add_damper(0, None, c)
+    return m
+
+
+def test_hopf_point_of_steady_sliding_against_the_linearisation() -> None:
+    """Steady sliding on the belt loses stability where c + N mu'(v_b) = 0 (the linearised
+    damping vanishes). The Hopf is subcritical: unstable cycles exist for c above it; followed
+    down in c, the branch shrinks to the equilibrium at the Hopf point and turns back."""
+    mass, k, n = 10.0, 300.0, 10.0 * 9.81
+    slope = np.diff(ss.friction_coefficient("proposed", np.array([1.5 - 1e-6, 1.5 + 1e-6])))[0] / 2e-6
+    c_hopf = -n * slope
+    w = math.sqrt(k / mass)
+    x_slide = n * ss.friction_coefficient("proposed", np.array([1.5]))[0] / k
+    start = ss.periodic_orbit(damped_belt(1.11), guess=[x_slide + 0.18, 0.0, 2 * math.pi / w], method="dopri5")
+    assert not start.stable
+    br = ss.continuation(damped_belt, 1.11, 1.0, guess=start, method="dopri5", step=0.05, max_points=20)
+    hopf = [b for b in br.bifurcations if b["kind"] == "Hopf"]
+    assert len(hopf) == 1 and not [b for b in br.bifurcations if b["kind"] == "fold"]
+    i = hopf[0]["index"]
+    assert br.p[i] == pytest.approx(c_hopf, rel=1e-4)
+    assert br.period[i] == pytest.approx(2 * math.pi / w, rel=1e-6)
+    assert not br.stable.any()

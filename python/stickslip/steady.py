@@ -60,7 +60,7 @@ DEFAULT_RTOL = 1e-12
 DEFAULT_ATOL = 1e-14
 #: Forward-difference step of the shooting Jacobian and central-difference step of the
 #: finite-difference monodromy, relative to each component's scale.
-_FD_NEWTON = 1e-7
+_FD_NEWTON = 1e-5
 _FD_MONODROMY = 1e-4
 
 
@@ -823,10 +823,13 @@ class Branch:
     stick_fraction : numpy.ndarray, shape (n, n_contacts)
     orbits : list of Orbit
     bifurcations : list of dict
-        Each with "kind" ("fold", "period doubling", "Neimark-Sacker", "stability change",
-        "events": the number or kind of events per period changed, e.g. a stick phase
-        appeared), "index" (the point after it) and "p" (interpolated where the test
-        function is continuous).
+        Each with "kind" ("fold": p turns back; "Hopf": p turns back where the cycle's
+        amplitude shrinks to under a tenth of its neighbours', the branch passing through
+        the equilibrium it is born from; "period doubling", "Neimark-Sacker", "stability
+        change": a multiplier leaves the unit circle through -1, as a complex pair, through
+        +1; "events": the number or kind of events per period changed, e.g. a stick phase
+        appeared), "index" (the point at the turn, or the point after the change) and "p"
+        (interpolated where the test function is continuous).
     stop_reason : str
         Why the continuation ended.
     curve : Branch or None
@@ -889,8 +892,11 @@ def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float]) -> lis
     out: list[dict[str, Any]] = []
     for i in range(1, len(orbits)):
         a, b = orbits[i - 1], orbits[i]
-        if dps[i - 1] * dps[i] < 0.0:
-            out.append({"kind": "fold", "index": i, "p": ps[i]})
+        if i + 1 < len(orbits) and dps[i] * dps[i + 1] < 0.0:
+            # p turns back at point i: a fold, or, where the cycle shrinks to nothing there,
+            # the Hopf point of the equilibrium the branch passes through
+            small = np.max(b.amplitude) < 0.1 * min(np.max(a.amplitude), np.max(orbits[i + 1].amplitude))
+            out.append({"kind": "Hopf" if small else "fold", "index": i, "p": ps[i]})
         if _signature(a) != _signature(b) or (a.stick_fraction > 0).tolist() != (b.stick_fraction > 0).tolist():
             out.append({"kind": "events", "index": i, "p": 0.5 * (ps[i - 1] + ps[i]),
                         "before": _signature(a), "after": _signature(b)})
@@ -928,7 +934,9 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
         The first orbit's guess, as for `periodic_orbit`.
     step, min_step, max_step : float, optional
         Arclength step control in the scaled (p, state, period) space: p is scaled by
-        |stop - start|, so the default first step 1/50 is 2 % of the range.
+        |stop - start|, so the default first step 1/50 is 2 % of the range. A step is halved
+        when its corrector fails, lands farther than step / 2 from the prediction, or turns
+        the branch by more than 18 degrees (a jump to another branch).
     max_points : int, optional
         Points at most (default 200).
     method, tol, **options
@@ -975,7 +983,14 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
             try:
                 orb, u_new, its = _corrector(build, pred, tangent, scale, autonomous, method, tol, n_out, options,
                                              orbits[-1])
-                ok = True
+                # a corrector that lands far from the prediction, or turns the branch sharply,
+                # may have jumped to another branch: a shorter step (AUTO's and COCO's guards)
+                # (not on the first step, whose tangent is p's axis, not yet the branch's)
+                chord = u_new - prev_u
+                turned = float(chord @ tangent) < 0.95 * float(np.linalg.norm(chord))
+                ok = len(orbits) == 1 or not (float(np.linalg.norm(u_new - pred)) > 0.5 * ds or turned)
+                if not ok:
+                    raise SteadyStateError("the step jumped")
             except (SteadyStateError, ValueError, RuntimeError):
                 ds *= 0.5
                 if ds < ds_min:
