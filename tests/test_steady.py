@@ -316,3 +316,22 @@ def test_hopf_point_of_steady_sliding_against_the_linearisation() -> None:
     assert br.p[i] == pytest.approx(c_hopf, rel=1e-4)
     assert br.period[i] == pytest.approx(2 * math.pi / w, rel=1e-6)
     assert not br.stable.any()
+
+
+def test_continuation_through_the_end_of_den_hartogs_stops() -> None:
+    """From motion with stops into non-stop motion (r = 0.5): the branch marks where the stick
+    phases vanish (an "events" bifurcation) at the border of his closed form's validity, and
+    beyond it equals the closed form."""
+    r = 0.5
+    br = ss.continuation(lambda f: dh.model(2 * math.pi * f, r), 0.4 / (2 * math.pi), 0.9 / (2 * math.pi))
+    assert br.stop_reason.startswith("reached stop")
+    events = [b for b in br.bifurcations if b["kind"] == "events"]
+    assert len(events) == 1
+    i = events[0]["index"]
+    assert dict(events[0]["before"]) == {"slip@0": 2, "stick@0": 2}
+    assert dict(events[0]["after"]) == {"reversal@0": 2}
+    beta = 2 * math.pi * br.p
+    assert not dh.nonstop_valid(beta[i - 1], r) and dh.nonstop_valid(beta[i], r)
+    assert (br.stick_fraction[:i, 0] > 0).all() and (br.stick_fraction[i:, 0] == 0).all()
+    exact = np.array([dh.amplitude(b, r) for b in beta[i:]])
+    np.testing.assert_allclose(br.amplitude[i:], exact, rtol=1e-8)

@@ -598,6 +598,11 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
     if autonomous and ref is None:
         eps = 1e-6 * t_guess
         ref = (y_guess, (runner.flow(y_guess, eps) - y_guess) / eps)
+    # a forced orbit is shot from a time in a slip phase (a section inside a stick phase makes
+    # the flow map kink there), then reported from t = 0
+    t_sec = 0.0 if autonomous else _section_phase(runner, y_guess, t_guess) * t_guess
+    if t_sec:
+        y_guess = runner.flow(y_guess, t_sec)
 
     def residual(u: np.ndarray) -> np.ndarray:
         period = float(u[-1]) if autonomous else t_guess
@@ -606,22 +611,43 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
         ys = u[:m * n2].reshape(m, n2)
         h = period / m
         # an autonomous model's signals are constant: every segment starts at t = 0
-        r = np.concatenate([runner.flow(ys[k], h, 0.0 if autonomous else k * h) - ys[(k + 1) % m]
-                            for k in range(m)])
+        r = np.concatenate([runner.flow(ys[k], h, 0.0 if autonomous else (t_sec + k * h) % period)
+                            - ys[(k + 1) % m] for k in range(m)])
         if autonomous:
             r = np.append(r, (ys[0] - ref[0]) @ ref[1] / max(float(np.max(np.abs(ref[1]))), 1e-300))
         return r
 
     starts = [y_guess]
     if m > 1:
-        r0 = runner.run(y_guess, t_guess, n_out=m + 1)
+        r0 = runner.run(y_guess, t_guess, n_out=m + 1, t_start=t_sec)
         starts = [np.concatenate([r0.x[:, k], r0.v[:, k]]) for k in range(m)]
     u0 = np.concatenate(starts + ([np.array([t_guess])] if autonomous else []))
     typ = np.tile(_scales(y_guess, runner.model.n_bodies), m)
     scale = np.append(typ, t_guess) if autonomous else typ
     u, norm, it, _ = _newton(residual, u0, scale, tol, max_iter, "periodic_orbit")
     y0, period = u[:n2], (float(u[-1]) if autonomous else t_guess)
+    if t_sec:
+        y0 = runner.flow(y0, period - t_sec, t_sec)
     return _finish(runner, y0, period, autonomous, norm, it, n_out)
+
+
+def _section_phase(runner: _Runner, y0: np.ndarray, period: float) -> float:
+    """Where to shoot a forced orbit from, as a fraction of the period: under event_driven the
+    middle of the longest stretch between events (round the period) in which no contact is
+    stuck; 0 for the other methods, or when there are no events."""
+    if runner.method != "event_driven" or not runner.model.contacts:
+        return 0.0
+    t = np.unique(runner.run(y0, period).events["t"])
+    t = t[(t > 0.0) & (t < period)]
+    if t.size == 0:
+        return 0.0
+    ends = np.append(t[1:], t[0] + period)
+    sys_ = _System(runner.model)
+    for i in np.argsort(-(ends - t), kind="stable"):
+        mid = 0.5 * (t[i] + ends[i]) % period
+        if np.all(sys_.slip(runner.flow(y0, mid), mid) != 0.0):
+            return mid / period
+    return 0.0
 
 
 def _scales(y: np.ndarray, n: int) -> np.ndarray:
@@ -962,10 +988,16 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
                            transient=transient, **options)
     autonomous = first.autonomous
 
+    phase = 0.0
+    if not autonomous:                  # the section of a forced branch: a slip phase (see _solve)
+        r0 = _Runner(_check_model(build(float(start))), method, _controls(build(float(start)), method, options))
+        phase = _section_phase(r0, first.y0, first.period)
+
     def unknowns(o: Orbit, p: float) -> np.ndarray:
-        u = o.y0
+        u = o.y0 if not phase else r0.flow(o.y0, phase * o.period)
         return np.concatenate([u, [o.period] if autonomous else [], [p]])
-    scale = np.append(np.maximum(_scales(first.y0, first.x0.size), 1e-300), [first.period] if autonomous else [])
+    y_sec = unknowns(first, float(start))[:first.y0.size]
+    scale = np.append(_scales(y_sec, first.x0.size), [first.period] if autonomous else [])
     scale = np.append(scale, abs(span))
     ps, orbits, dps = [float(start)], [first], [math.copysign(1.0, span)]
     prev_u = unknowns(first, float(start)) / scale
@@ -982,7 +1014,7 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
             pred = prev_u + ds * tangent
             try:
                 orb, u_new, its = _corrector(build, pred, tangent, scale, autonomous, method, tol, n_out, options,
-                                             orbits[-1])
+                                             orbits[-1], phase)
                 # a corrector that lands far from the prediction, or turns the branch sharply,
                 # may have jumped to another branch: a shorter step (AUTO's and COCO's guards)
                 # (not on the first step, whose tangent is p's axis, not yet the branch's)
@@ -1025,8 +1057,9 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
 
 def _corrector(build: Callable[[float], Model], pred: np.ndarray, tangent: np.ndarray, scale: np.ndarray,
                autonomous: bool, method: str, tol: float, n_out: int, options: dict[str, Any],
-               last: Orbit) -> tuple[Orbit, np.ndarray, int]:
-    """Newton on (state, [period,] p) with the pseudo-arclength condition tangent . (u - pred) = 0."""
+               last: Orbit, phase: float = 0.0) -> tuple[Orbit, np.ndarray, int]:
+    """Newton on (state, [period,] p) with the pseudo-arclength condition tangent . (u - pred) = 0;
+    a forced branch's state is taken at `phase` of the period."""
     n2 = last.y0.size
     runners: dict[float, _Runner] = {}
     ref = (last.y0, (last.result.y[:n2, 1] - last.result.y[:n2, 0]) / (last.result.t[1] - last.result.t[0]))
@@ -1046,7 +1079,7 @@ def _corrector(build: Callable[[float], Model], pred: np.ndarray, tangent: np.nd
         t = float(u[n2]) if autonomous else t_forced
         if not t > 0.0:
             raise NoConvergence("the period went negative")
-        res = r.flow(y, t) - y
+        res = r.flow(y, t, phase * t) - y
         extra = [(y - ref[0]) @ ref[1] / max(float(np.max(np.abs(ref[1]))), 1e-300)] if autonomous else []
         return np.concatenate([res, extra, [tangent @ (w - pred)]])
 
@@ -1054,7 +1087,9 @@ def _corrector(build: Callable[[float], Model], pred: np.ndarray, tangent: np.nd
     u = w * scale
     p = float(u[-1])
     r, t_forced = runner_at(p)
-    orb = _finish(r, u[:n2], float(u[n2]) if autonomous else t_forced, autonomous, norm, it, n_out)
+    period = float(u[n2]) if autonomous else t_forced
+    y0 = r.flow(u[:n2], period - phase * period, phase * period) if phase else u[:n2]
+    orb = _finish(r, y0, period, autonomous, norm, it, n_out)
     return orb, w, it
 
 
