@@ -335,3 +335,23 @@ def test_continuation_through_the_end_of_den_hartogs_stops() -> None:
     assert (br.stick_fraction[:i, 0] > 0).all() and (br.stick_fraction[i:, 0] == 0).all()
     exact = np.array([dh.amplitude(b, r) for b in beta[i:]])
     np.testing.assert_allclose(br.amplitude[i:], exact, rtol=1e-8)
+
+
+def test_two_blocks_saltation_against_finite_differences() -> None:
+    """The gallery's two coupled blocks on a belt with Coulomb friction: a cycle where block 2
+    sticks while block 1 slips; the saltation monodromy (the stuck contact's holding force
+    coupling the modes) against central differences of event_driven's flow."""
+    from cases import gallery_belt2dof as g2
+    from stickslip import steady
+    model = g2.model("coulomb", mu_s=0.4, mu_k=0.25)
+    orb = ss.periodic_orbit(model, transient=60)
+    assert orb.monodromy_method == "saltation" and orb.stick_fraction[0] == 0 and orb.stick_fraction[1] > 0.1
+    fd = steady._fd_monodromy(steady._Runner(model, "event_driven", {"rtol": 1e-12, "atol": 1e-14}),
+                              orb.y0, orb.period)
+    np.testing.assert_allclose(orb.monodromy, fd, rtol=0, atol=1e-6)
+    assert abs(orb.multipliers[orb.trivial] - 1) < 1e-9 and np.abs(orb.multipliers).min() < 1e-12
+    # started stuck on the belt, Newton shrinks the period to nothing: refused, not an orbit
+    for b in model.bodies:
+        b.v0 = 0.2
+    with pytest.raises(ss.NoConvergence, match="collapsed"):
+        ss.periodic_orbit(model, transient=60)

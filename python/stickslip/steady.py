@@ -626,9 +626,18 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
     scale = np.append(typ, t_guess) if autonomous else typ
     u, norm, it, _ = _newton(residual, u0, scale, tol, max_iter, "periodic_orbit")
     y0, period = u[:n2], (float(u[-1]) if autonomous else t_guess)
+    _check_period(period, t_guess)
     if t_sec:
         y0 = runner.flow(y0, period - t_sec, t_sec)
     return _finish(runner, y0, period, autonomous, norm, it, n_out)
+
+
+def _check_period(period: float, guess: float) -> None:
+    """NoConvergence for a period that collapsed (below 1e-3 of its guess): Newton found an
+    equilibrium or a point of the flow, not an orbit."""
+    if not period > 1e-3 * guess:
+        raise NoConvergence(f"periodic_orbit: the period collapsed to {period:.3g} s from a guess of {guess:.6g} s "
+                            "(an equilibrium, not an orbit); give a guess on the orbit")
 
 
 def _section_phase(runner: _Runner, y0: np.ndarray, period: float) -> float:
@@ -1088,6 +1097,7 @@ def _corrector(build: Callable[[float], Model], pred: np.ndarray, tangent: np.nd
     p = float(u[-1])
     r, t_forced = runner_at(p)
     period = float(u[n2]) if autonomous else t_forced
+    _check_period(period, last.period)
     y0 = r.flow(u[:n2], period - phase * period, phase * period) if phase else u[:n2]
     orb = _finish(r, y0, period, autonomous, norm, it, n_out)
     return orb, w, it
