@@ -355,3 +355,23 @@ def test_two_blocks_saltation_against_finite_differences() -> None:
         b.v0 = 0.2
     with pytest.raises(ss.NoConvergence, match="collapsed"):
         ss.periodic_orbit(model, transient=60)
+
+
+def test_an_untrustworthy_monodromy_warns() -> None:
+    """Moreau-Jean's fixed steps put the belt's stick-slip transitions inside steps: the flow
+    map jumps, no multiplier is near 1, and the orbit says so (the period is still first-order
+    close to the closed form)."""
+    with pytest.warns(ss.MonodromyWarning, match="not to be trusted"):
+        orb = ss.periodic_orbit(belt(0.3), method="moreau", h=1e-3)
+    assert orb.trivial_error > 1e-3
+    assert orb.period == pytest.approx(belt_closed_form(0.3)[0], rel=1e-4)
+    assert orb.stick_fraction[0] == pytest.approx(0.4355, abs=1e-3)
+
+
+def test_branch_plot_and_progress(capsys) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    br = ss.continuation(belt, 0.3, 0.4, progress=True)
+    assert capsys.readouterr().err.rstrip().endswith("] p = 0.4")
+    ax = br.plot()
+    assert ax.get_ylabel() == "amplitude [m]" and len(ax.lines) >= 2

@@ -44,7 +44,7 @@ from .engines import ENGINES, advise_engine, engine_creep, engine_mu
 from . import signal
 from .model import Model
 from .energy import EnergyBoundWarning
-from .steady import (Branch, GuessShapeError, NoConvergence, NonPeriodicForcing, Orbit, SteadyStateError,
+from .steady import (Branch, GuessShapeError, MonodromyWarning, NoConvergence, NonPeriodicForcing, Orbit, SteadyStateError,
                      continuation, frequency_response, periodic_orbit)
 
 __all__ = [
@@ -60,7 +60,7 @@ __all__ = [
     "SteadyPoints", "SteadyCurve", "TwoStepFit", "steady_friction", "fit_stribeck_curve", "fit_two_step",
     "ENGINES", "advise_engine", "engine_creep", "engine_mu",
     "Model", "signal", "EnergyBoundWarning",
-    "Orbit", "Branch", "SteadyStateError", "NoConvergence", "NonPeriodicForcing", "GuessShapeError",
+    "Orbit", "Branch", "SteadyStateError", "NoConvergence", "NonPeriodicForcing", "GuessShapeError", "MonodromyWarning",
     "periodic_orbit", "continuation", "frequency_response",
 ]
 __version__ = "0.1.0"

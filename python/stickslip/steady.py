@@ -53,6 +53,7 @@ from .model import Model, check_method
 from .signal import Signal
 
 __all__ = ["Orbit", "Branch", "SteadyStateError", "NoConvergence", "NonPeriodicForcing", "GuessShapeError", "retuned",
+           "MonodromyWarning",
            "periodic_orbit", "continuation", "frequency_response"]
 
 #: Tolerances of the runs when the method is adaptive and none are given.
@@ -88,6 +89,12 @@ class NonPeriodicForcing(SteadyStateError, ValueError):
 
 class GuessShapeError(SteadyStateError, ValueError):
     """A guess of the wrong shape or kind."""
+
+
+class MonodromyWarning(UserWarning):
+    """An autonomous orbit's monodromy has no multiplier within 1e-3 of 1 (the flow direction's
+    multiplier): its multipliers and `stable` are not to be trusted (e.g. a fixed-step method
+    whose stick-slip transitions fall inside steps makes the flow map jump)."""
 
 
 # ------------------------------------------------------------------------------------------
@@ -356,6 +363,9 @@ class Orbit:
         autonomous orbit one of them is the trivial 1 (`trivial`).
     trivial : int or None
         Index in `multipliers` of the trivial multiplier (autonomous), else None.
+    trivial_error : float
+        |trivial multiplier - 1|, a check of the monodromy's accuracy (NaN when forced); above
+        1e-3 a `MonodromyWarning` was issued.
     stable : bool
         Every nontrivial multiplier inside the unit circle.
     amplitude : numpy.ndarray, shape (n_bodies,)
@@ -390,6 +400,7 @@ class Orbit:
     z0: np.ndarray
     multipliers: np.ndarray
     trivial: int | None
+    trivial_error: float
     stable: bool
     amplitude: np.ndarray
     stick_fraction: np.ndarray
@@ -681,11 +692,16 @@ def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, no
     if np.all(np.abs(mult.imag) <= 1e-14 * np.maximum(1.0, np.abs(mult))):
         mult = mult.real
     trivial = int(np.argmin(np.abs(mult - 1.0))) if autonomous else None
+    trivial_error = float(abs(mult[trivial] - 1.0)) if trivial is not None else math.nan
+    if trivial_error > 1e-3:
+        warnings.warn(f"periodic_orbit ({runner.method}, {how}): no multiplier within 1e-3 of 1 (closest "
+                      f"{mult[trivial]:.6g}); the multipliers and `stable` are not to be trusted",
+                      MonodromyWarning, stacklevel=3)
     others = np.delete(np.abs(mult), trivial) if trivial is not None else np.abs(mult)
     stable = bool(np.all(others < 1.0))
     sys_ = _System(model)
     return Orbit(period=period, x0=y0[:n].copy(), v0=y0[n:].copy(), z0=np.zeros(0), multipliers=mult,
-                 trivial=trivial, stable=stable, amplitude=_amplitude(res, [c.a for c in model.contacts]), stick_fraction=_stick(sys_, res, period),
+                 trivial=trivial, trivial_error=trivial_error, stable=stable, amplitude=_amplitude(res, [c.a for c in model.contacts]), stick_fraction=_stick(sys_, res, period),
                  events=events, result=res, monodromy=mono, monodromy_method=how, residual=norm, iterations=it,
                  autonomous=autonomous, method=runner.method, runs=runner.runs)
 
@@ -1048,6 +1064,7 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
                 ps.append(float(stop))
                 orbits.append(orb)
                 dps.append(new_t[-1])
+                bar.show(float(stop))
             except SteadyStateError as err:
                 reason = f"the orbit at stop failed: {err}"
             break
