@@ -323,7 +323,7 @@ def test_continuation_through_the_end_of_den_hartogs_stops() -> None:
     phases vanish (an "events" bifurcation) at the border of his closed form's validity, and
     beyond it equals the closed form."""
     r = 0.5
-    br = ss.continuation(lambda f: dh.model(2 * math.pi * f, r), 0.4 / (2 * math.pi), 0.9 / (2 * math.pi))
+    br = ss.continuation(lambda f: dh.model(2 * math.pi * f, r), 0.5 / (2 * math.pi), 0.7 / (2 * math.pi))
     assert br.stop_reason.startswith("reached stop")
     events = [b for b in br.bifurcations if b["kind"] == "events"]
     assert len(events) == 1
