@@ -46,7 +46,8 @@ def _steady_parsers(sub: argparse._SubParsersAction) -> None:
     """The subcommands orbit and response (stickslip.steady)."""
     for name, text in (("orbit", "the periodic orbit of a model file: one period as CSV, multipliers printed"),
                        ("response", "the forced response curve of a model file: amplitude per frequency as CSV")):
-        q = sub.add_parser(name, help=text, epilog=STEADY_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
+        q = sub.add_parser(name, help=text, epilog=STEADY_EXAMPLES,
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
         q.add_argument("model", help="the model file (TOML; schema in docs/guide/models.md)")
         if name == "orbit":
             q.add_argument("--period", type=float, help="forcing period [s] (default: its sines'; none: autonomous)")
@@ -91,7 +92,8 @@ def _steady(args: argparse.Namespace, fail: "Callable[[str], int]") -> int:
             try:
                 freqs = _frequencies(args.frequencies)
             except ValueError:
-                return fail(f"--frequencies: START:STOP:N or a comma-separated list of numbers, got {args.frequencies!r}")
+                return fail("--frequencies: START:STOP:N or a comma-separated list of numbers, "
+                            f"got {args.frequencies!r}")
             br = ss.frequency_response(lambda f: retuned(model, f), freqs, follow=False, method=args.method,
                                        **controls)
             amp = br.amplitude.reshape(len(br), -1)

@@ -48,7 +48,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from .core import EVENT_DTYPE, REGISTRY, Result, _known, friction_coefficient, simulate
+from .core import REGISTRY, Result, _known, friction_coefficient, simulate
 from .model import Model, check_method
 from .signal import Signal
 
@@ -701,7 +701,8 @@ def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, no
     stable = bool(np.all(others < 1.0))
     sys_ = _System(model)
     return Orbit(period=period, x0=y0[:n].copy(), v0=y0[n:].copy(), z0=np.zeros(0), multipliers=mult,
-                 trivial=trivial, trivial_error=trivial_error, stable=stable, amplitude=_amplitude(res, [c.a for c in model.contacts]), stick_fraction=_stick(sys_, res, period),
+                 trivial=trivial, trivial_error=trivial_error, stable=stable,
+                 amplitude=_amplitude(res, [c.a for c in model.contacts]), stick_fraction=_stick(sys_, res, period),
                  events=events, result=res, monodromy=mono, monodromy_method=how, residual=norm, iterations=it,
                  autonomous=autonomous, method=runner.method, runs=runner.runs)
 
@@ -805,7 +806,8 @@ def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events:
     if any(m == 0 for m in modes):          # a contact stuck at the section: its holding force decides
         _, lam = sys_.rates(y0, 0.0, modes)
         for c in range(nc):
-            if modes[c] == 0 and abs(lam[c]) > sys_.params[c]["mu_s"] * float(_signal(sys_.contacts[c].normal_force, 0.0)[0]):
+            normal = float(_signal(sys_.contacts[c].normal_force, 0.0)[0])
+            if modes[c] == 0 and abs(lam[c]) > sys_.params[c]["mu_s"] * normal:
                 modes[c] = -int(np.sign(lam[c]))
     mono = np.eye(y0.size)
     t_prev = 0.0
