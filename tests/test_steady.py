@@ -375,3 +375,18 @@ def test_branch_plot_and_progress(capsys) -> None:
     assert capsys.readouterr().err.rstrip().endswith("] p = 0.4")
     ax = br.plot()
     assert ax.get_ylabel() == "amplitude [m]" and len(ax.lines) >= 2
+
+
+@pytest.mark.parametrize("beta", [0.6, 1.5, 2.0, 3.0, 5.0])
+def test_den_hartog_multipliers_product_in_closed_form(beta: float) -> None:
+    """Without viscous damping the flow between events keeps volume (det 1), and a reversal at
+    the turning point X, where the spring and the force pull back with k X beta^2 (m = k = 1)
+    and friction F = r flips, has a saltation matrix of determinant (k X beta^2 - F) /
+    (k X beta^2 + F): two per period give det M = ((X beta^2 - r) / (X beta^2 + r))^2."""
+    r = 0.3
+    assert dh.nonstop_valid(beta, r)
+    orb = ss.periodic_orbit(dh.model(beta, r))
+    x = dh.amplitude(beta, r)
+    expected = ((x * beta**2 - r) / (x * beta**2 + r)) ** 2
+    assert abs(np.prod(orb.multipliers)) == pytest.approx(expected, rel=1e-9)
+    assert np.all(np.abs(orb.multipliers) < 1) and orb.stable
