@@ -234,7 +234,7 @@ def test_harmonic_balance_of_a_linear_oscillator_is_exact_with_one_harmonic() ->
     hb = harmonic_balance(forced_linear(0.05, 0.3), 1)
     w = 2 * math.pi * 0.3
     assert hb.amplitude[0] == pytest.approx(1.0 / math.hypot(4.0 - w**2, 0.2 * w), rel=1e-10)
-    with pytest.raises(ValueError, match="set-valued"):
+    with pytest.raises(ValueError, match="jumps at zero slip"):
         harmonic_balance(dh.model(2.0, 0.3), 3)
 
 

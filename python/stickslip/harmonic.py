@@ -5,8 +5,9 @@ is written as a truncated Fourier series, x_i(t) = a_i0 + sum_k (a_ik cos(k w t)
 sin(k w t)), k = 1 .. n_harmonics. The equations of motion, M x'' = F(x, x', t), are sampled
 at `n_samples` instants of the period (the forces and the friction law evaluated in time),
 and their residual is projected back on the same harmonics; Newton's method
-(stickslip.steady's, forward-difference Jacobian) zeroes the projected residual. Set-valued
-laws are refused: a stick phase has no finite Fourier series, use `periodic_orbit` there.
+(stickslip.steady's, forward-difference Jacobian) zeroes the projected residual. Laws that
+jump at zero slip (coulomb, karnopp) are refused: the friction force is evaluated as the law's
+curve mu(s) N, which jumps there; use `periodic_orbit` for exact stick.
 
 Examples
 --------
@@ -29,8 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from .core import REGISTRY
-from .model import Model
+from .model import _JUMP_LAWS, Model
 from .steady import GuessShapeError, Orbit, _check_model, _newton, _signal, _System, forcing_period
 
 __all__ = ["HarmonicSolution", "harmonic_balance"]
@@ -91,7 +91,8 @@ def harmonic_balance(model: Model, n_harmonics: int = 5, period: float | None = 
     Parameters
     ----------
     model : Model
-        A forced model whose contacts all have regularised laws without internal states.
+        A forced model whose contacts all have laws without internal states whose curve is
+        continuous at zero slip (not coulomb or karnopp).
     n_harmonics : int, optional
         Harmonics of the series (default 5), >= 1.
     period : float, optional
@@ -116,15 +117,16 @@ def harmonic_balance(model: Model, n_harmonics: int = 5, period: float | None = 
     Raises
     ------
     ValueError
-        A set-valued law, a law with states, an autonomous model, or bad arguments.
+        A law that jumps at zero slip, a law with states, an autonomous model, or bad
+        arguments.
     stickslip.NoConvergence
         Newton's method did not converge.
     """
     model = _check_model(model)
     for i, c in enumerate(model.contacts):
-        if REGISTRY["law"][c.law].get("set_valued") or c.law in REGISTRY["method"]["event_driven"]["laws"]:
-            raise ValueError(f"{model.contact_label(i)}: law {c.law!r} is set-valued; harmonic balance needs "
-                             "regularised laws (use periodic_orbit for stick phases)")
+        if c.law in _JUMP_LAWS:
+            raise ValueError(f"{model.contact_label(i)}: law {c.law!r} jumps at zero slip; harmonic balance needs "
+                             "a continuous friction curve (a regularised law; periodic_orbit for exact stick)")
     if isinstance(n_harmonics, bool) or not isinstance(n_harmonics, (int, np.integer)) or n_harmonics < 1:
         raise ValueError(f"n_harmonics: must be an integer >= 1, got {n_harmonics!r}")
     period = forcing_period(model, period)
