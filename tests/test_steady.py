@@ -390,3 +390,18 @@ def test_den_hartog_multipliers_product_in_closed_form(beta: float) -> None:
     expected = ((x * beta**2 - r) / (x * beta**2 + r)) ** 2
     assert abs(np.prod(orb.multipliers)) == pytest.approx(expected, rel=1e-9)
     assert np.all(np.abs(orb.multipliers) < 1) and orb.stable
+
+
+def test_stribeck_cycle_saltation_with_integrated_variations() -> None:
+    """Set-valued Stribeck on the belt under event_driven: the variational equation of the slip
+    mode integrated by scipy, saltation at the events; the stick phase's multiplier is 0, the
+    trivial one 1, and the monodromy equals central differences of the flow."""
+    from stickslip import steady
+    model = ss.Model.from_scene("belt", "stribeck", m=1.0, k=4.0, v_b=0.3, g=G, mu_s=0.4, mu_k=0.3, v_s=0.1,
+                                delta=2.0, v0=0.3)
+    orb = ss.periodic_orbit(model)
+    assert orb.monodromy_method == "saltation" and orb.stick_fraction[0] > 0.4
+    assert abs(orb.multipliers[orb.trivial] - 1) < 1e-8 and abs(orb.nontrivial[0]) < 1e-12
+    fd = steady._fd_monodromy(steady._Runner(model, "event_driven", {"rtol": 1e-12, "atol": 1e-14}),
+                              orb.y0, orb.period)
+    np.testing.assert_allclose(orb.monodromy, fd, rtol=0, atol=1e-6)

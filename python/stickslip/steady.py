@@ -11,13 +11,14 @@ Jacobian of the shooting residual is taken by forward differences of the flow.
 The monodromy matrix (the flow's derivative over one period at the start state) gives the
 Floquet multipliers. Two routes, named in `Orbit.monodromy_method`:
 
-* ``"saltation"`` (``event_driven`` on a model whose contacts all use ``coulomb``): every mode
-  of such a model is affine in the state, so its variational equation has a constant matrix
-  and is solved exactly by a matrix exponential between events; at every stick, slip and
-  reversal event the saltation matrix S = I + (f+ - f-) n^T / (dh/dt) (Leine & Nijmeijer,
-  "Dynamics and bifurcations of non-smooth mechanical systems", 2004, ch. 7) maps the
-  variations across it. A stick phase collapses directions: its multipliers are 0 to
-  rounding.
+* ``"saltation"`` (``event_driven`` on a model whose contacts all use ``coulomb`` or
+  ``stribeck``): between events the variational equation of the mode; with Coulomb every mode
+  is affine in the state, its matrix constant, and a matrix exponential solves it exactly;
+  with Stribeck it is integrated with the state by scipy's DOP853 (rtol 1e-11, the mode's
+  Jacobian by central differences of step 1e-6). At every stick, slip and reversal event the
+  saltation matrix S = I + (f+ - f-) n^T / (dh/dt) (Leine & Nijmeijer, "Dynamics and
+  bifurcations of non-smooth mechanical systems", 2004, ch. 7) maps the variations across
+  it. A stick phase collapses directions: its multipliers are 0 to rounding.
 * ``"finite differences"`` (every other case): central differences of the chosen method's
   flow over the period at the orbit's tolerances, step 1e-4 of each component's scale (an
   adaptive method's flow jitters with its step-size choices at smaller steps: on a forced
@@ -209,6 +210,8 @@ class _System:
         self.forces = model.forces
         self.contacts = model.contacts
         self.G = np.zeros((len(model.contacts), n))
+        #: every mode affine in the state (Coulomb: mu_k in slip): exact unit-difference Jacobians
+        self.affine = all(c.law == "coulomb" for c in model.contacts)
         self.params = []
         for i, c in enumerate(model.contacts):
             self.G[i, c.a] = 1.0
@@ -240,7 +243,9 @@ class _System:
     def _free(self, y: np.ndarray, t: Any, modes: Sequence[int] | None) -> np.ndarray:
         """Every force but the holding forces of stuck contacts [N], at state y (shape (2n,)
         or (2n, n_t)) and time(s) t; `modes` None: every contact's law regularised (its
-        friction at the signed slip); else every law set-valued Coulomb (mu_k N in slip)."""
+        friction at the signed slip); else every law set-valued, Coulomb (mu_k N in slip) or
+        Stribeck (its curve, the tanh ramp at rest narrowed to 1e-100 m/s, as event_driven's
+        slip modes have it)."""
         x, v = y[:self.n], y[self.n:]
         col = (slice(None),) + (None,) * (y.ndim - 1)
         f = -self.K @ x - self.C @ v + self.f0[col]
@@ -253,8 +258,11 @@ class _System:
                 mu = friction_coefficient(c.law, s[i], **c.params)
             elif modes[i] == 0:
                 continue
-            else:                        # set-valued Coulomb in slip: mu_k (the modes' route only)
+            elif c.law == "coulomb":     # set-valued Coulomb in slip: mu_k
                 mu = modes[i] * self.params[i]["mu_k"]
+            else:                        # set-valued Stribeck in slip: its curve without the tanh ramp
+                mu = friction_coefficient(c.law, modes[i] * np.maximum(np.abs(s[i]), 1e-80),
+                                          **{**c.params, "v_eps": 1e-100})
             f = f - self.G[i][col] * (mu * normal)
         return f
 
@@ -273,17 +281,46 @@ class _System:
         return np.concatenate([y[self.n:], f / self.mass]), lam
 
     def jacobian(self, y: np.ndarray, t: float, modes: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
-        """d(dy/dt)/dy and d(holding force)/dy in a mode, by unit differences: exact for a
-        model whose modes are affine in the state (Coulomb friction)."""
-        f0, l0 = self.rates(y, t, modes)
+        """d(dy/dt)/dy and d(holding force)/dy in a mode: by unit differences when every mode
+        is affine in the state (Coulomb friction; exact), else by central differences of step
+        1e-6 max(1, |y_j|)."""
         jf = np.empty((y.size, y.size))
         jl = np.empty((len(self.contacts), y.size))
+        base = self.rates(y, t, modes) if self.affine else None
         for j in range(y.size):
+            h = 1.0 if self.affine else 1e-6 * max(1.0, abs(float(y[j])))
             e = y.copy()
-            e[j] += 1.0
-            fj, lj = self.rates(e, t, modes)
-            jf[:, j], jl[:, j] = fj - f0, lj - l0
+            e[j] += h
+            fp, lp = self.rates(e, t, modes)
+            if base is None:
+                e[j] -= 2 * h
+                fm, lm = self.rates(e, t, modes)
+            else:
+                fm, lm = base
+                h = 0.5
+            jf[:, j], jl[:, j] = (fp - fm) / (2 * h), (lp - lm) / (2 * h)
         return jf, jl
+
+    def propagator(self, y: np.ndarray, t0: float, t1: float, modes: Sequence[int]) -> np.ndarray:
+        """The variational equation's solution over [t0, t1] in one mode from state y at t0:
+        exp(J (t1 - t0)) for affine modes (J constant), else the state and its variations
+        integrated together by scipy's DOP853 (rtol 1e-11, atol 1e-13)."""
+        if self.affine:
+            return _expm(self.jacobian(y, t0, modes)[0] * (t1 - t0))
+        if t1 <= t0:
+            return np.eye(y.size)
+        from scipy.integrate import solve_ivp
+        n2 = y.size
+
+        def rhs(t: float, z: np.ndarray) -> np.ndarray:
+            yy = z[:n2]
+            return np.concatenate([self.rates(yy, t, modes)[0],
+                                   (self.jacobian(yy, t, modes)[0] @ z[n2:].reshape(n2, n2)).ravel()])
+        sol = solve_ivp(rhs, (t0, t1), np.concatenate([y, np.eye(n2).ravel()]), method="DOP853",
+                        rtol=1e-11, atol=1e-13)
+        if not sol.success:
+            raise SteadyStateError(f"the variational equation between t = {t0!r} and {t1!r} s failed: {sol.message}")
+        return sol.y[n2:, -1].reshape(n2, n2)
 
 
 # ------------------------------------------------------------------------------------------
@@ -683,7 +720,8 @@ def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, no
     n = model.n_bodies
     res = runner.run(y0, period, n_out=n_out)
     events = res.events
-    if runner.method == "event_driven" and model.contacts and all(c.law == "coulomb" for c in model.contacts):
+    if runner.method == "event_driven" and model.contacts \
+            and all(c.law in ("coulomb", "stribeck") for c in model.contacts):
         mono, how = _saltation_monodromy(runner, y0, period, events), "saltation"
     else:
         mono, how = _fd_monodromy(runner, y0, period), "finite differences"
@@ -797,8 +835,9 @@ def _expm(a: np.ndarray) -> np.ndarray:
 
 
 def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events: np.ndarray) -> np.ndarray:
-    """The monodromy of a Coulomb model under event_driven: exact propagators of the affine
-    modes between events and a saltation matrix at each event (see the module)."""
+    """The monodromy of a set-valued model under event_driven: the variational equation of
+    each mode between events (exact for Coulomb's affine modes, integrated for Stribeck's) and
+    a saltation matrix at each event (see the module)."""
     sys_ = _System(runner.model)
     nc = len(sys_.contacts)
     s0 = sys_.slip(y0, 0.0)
@@ -810,7 +849,7 @@ def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events:
             if modes[c] == 0 and abs(lam[c]) > sys_.params[c]["mu_s"] * normal:
                 modes[c] = -int(np.sign(lam[c]))
     mono = np.eye(y0.size)
-    t_prev = 0.0
+    t_prev, y_prev = 0.0, y0
     for e in events:
         t, c, kind = float(e["t"]), int(e["contact"]), str(e["kind"])
         if not 0.0 < t < period:
@@ -822,8 +861,8 @@ def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events:
         jac, _ = sys_.jacobian(y, t, modes)
         rate = sys_.rates(y, t - delta, modes)[0]
         y = y + delta * rate + 0.5 * delta**2 * (jac @ rate)
-        mono = _expm(jac * (t - t_prev)) @ mono
-        t_prev = t
+        mono = sys_.propagator(y_prev, t_prev, t, modes) @ mono
+        t_prev, y_prev = t, y
         before = list(modes)
         after = list(modes)
         f_minus, lam = sys_.rates(y, t, before)
@@ -850,8 +889,7 @@ def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events:
                                    "(dh/dt = 0): the saltation matrix is undefined there")
         mono = (np.eye(y0.size) + np.outer(f_plus - f_minus, n_vec) / dhdt) @ mono
         modes = after
-    jac, _ = sys_.jacobian(y0, period, modes)
-    return _expm(jac * (period - t_prev)) @ mono
+    return sys_.propagator(y_prev, t_prev, period, modes) @ mono
 
 
 # ------------------------------------------------------------------------------------------
