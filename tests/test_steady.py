@@ -405,3 +405,11 @@ def test_stribeck_cycle_saltation_with_integrated_variations() -> None:
     fd = steady._fd_monodromy(steady._Runner(model, "event_driven", {"rtol": 1e-12, "atol": 1e-14}),
                               orb.y0, orb.period)
     np.testing.assert_allclose(orb.monodromy, fd, rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize("kwargs,match", [(dict(tol=0.0), "tol"), (dict(max_iter=0), "max_iter"),
+                                          (dict(n_out=1), "n_out"), (dict(segments=1.5), "segments"),
+                                          (dict(period=-1.0), "period"), (dict(transient=True), "transient")])
+def test_bad_options_name_the_parameter(kwargs, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        ss.periodic_orbit(forced_linear(), method="dopri5", **kwargs)

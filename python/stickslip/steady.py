@@ -49,7 +49,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from .core import REGISTRY, Result, _known, friction_coefficient, simulate
+from .core import REGISTRY, Result, _count, _finite, _known, friction_coefficient, simulate
 from .model import Model, check_method
 from .signal import Signal
 
@@ -617,8 +617,9 @@ def periodic_orbit(model: Model, period: float | None = None, guess: Any = None,
         A bad model, method or control (as `simulate`).
     """
     model = _check_model(model)
-    if period is not None and not (isinstance(period, (int, float)) and math.isfinite(period) and period > 0.0):
-        raise ValueError(f"period: must be a finite number > 0 [s], got {period!r}")
+    if period is not None and not _finite("period", period, "> 0 [s]") > 0.0:
+        raise ValueError(f"period: must be > 0 [s], got {period!r}")
+    _check_options(tol, max_iter, transient, n_out)
     forced = forcing_period(model, None if period is None else float(period))
     runner = _Runner(model, method, _controls(model, method, controls))
     n = model.n_bodies
@@ -629,10 +630,17 @@ def periodic_orbit(model: Model, period: float | None = None, guess: Any = None,
         t_guess = t_est if t_guess is None else t_guess
     if autonomous and t_guess is None:
         raise GuessShapeError("guess: an autonomous model needs the period too (2 n_bodies + 1 values, or an Orbit)")
-    if isinstance(segments, bool) or not isinstance(segments, (int, np.integer)) or segments < 1:
-        raise ValueError(f"segments: must be an integer >= 1, got {segments!r}")
     return _solve(runner, y_guess, forced if not autonomous else t_guess, autonomous, tol, max_iter, n_out,
-                  segments=int(segments))
+                  segments=_count("segments", segments))
+
+
+def _check_options(tol: Any, max_iter: Any, transient: Any, n_out: Any) -> None:
+    """ValueError naming the first of the solver's options out of its range."""
+    if not _finite("tol", tol, "> 0") > 0.0:
+        raise ValueError(f"tol: must be > 0, got {tol!r}")
+    _count("max_iter", max_iter)
+    _count("transient", transient)
+    _count("n_out", n_out, 2)
 
 
 def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: bool, tol: float, max_iter: int,
