@@ -1034,8 +1034,11 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
     step, min_step, max_step : float, optional
         Arclength step control in the scaled (p, state, period) space: p is scaled by
         |stop - start|, so the default first step 1/50 is 2 % of the range. A step is halved
-        when its corrector fails, lands farther than step / 2 from the prediction, or turns
-        the branch by more than 18 degrees (a jump to another branch).
+        when its corrector fails, lands farther than one step from the prediction, or turns
+        the branch by more than 25 degrees (a jump to another branch); it grows 1.5 times
+        after a corrector of at most 3 iterations, up to `max_step` (default 0.1; min_step
+        1e-5). The states are scaled by the first orbit's largest |x| and |v|: a response
+        whose amplitude grows tenfold is a long branch in these units.
     max_points : int, optional
         Points at most (default 200).
     method, tol, **options
@@ -1069,8 +1072,11 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
     def unknowns(o: Orbit, p: float) -> np.ndarray:
         u = o.y0 if not phase else r0.flow(o.y0, phase * o.period)
         return np.concatenate([u, [o.period] if autonomous else [], [p]])
-    y_sec = unknowns(first, float(start))[:first.y0.size]
-    scale = np.append(_scales(y_sec, first.x0.size), [first.period] if autonomous else [])
+    # the states scaled by the first orbit's largest |x| and |v| over its period (not the
+    # section's values, which may be near 0)
+    scale = np.append(_scales(np.concatenate([np.max(np.abs(first.result.x), axis=1),
+                                              np.max(np.abs(first.result.v), axis=1)]), first.x0.size),
+                      [first.period] if autonomous else [])
     scale = np.append(scale, abs(span))
     ps, orbits, dps = [float(start)], [first], [math.copysign(1.0, span)]
     prev_u = unknowns(first, float(start)) / scale
@@ -1092,8 +1098,8 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
                 # may have jumped to another branch: a shorter step (AUTO's and COCO's guards)
                 # (not on the first step, whose tangent is p's axis, not yet the branch's)
                 chord = u_new - prev_u
-                turned = float(chord @ tangent) < 0.95 * float(np.linalg.norm(chord))
-                ok = len(orbits) == 1 or not (float(np.linalg.norm(u_new - pred)) > 0.5 * ds or turned)
+                turned = float(chord @ tangent) < 0.9 * float(np.linalg.norm(chord))
+                ok = len(orbits) == 1 or not (float(np.linalg.norm(u_new - pred)) > ds or turned)
                 if not ok:
                     raise SteadyStateError("the step jumped")
             except (SteadyStateError, ValueError, RuntimeError):
@@ -1105,9 +1111,14 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
             break
         p_new = float(u_new[-1] * scale[-1])
         new_t = (u_new - prev_u) / np.linalg.norm(u_new - prev_u)
-        if (p_new - float(stop)) * span > 0.0:            # beyond stop: land on it exactly
+        if (p_new - float(stop)) * span > 0.0:            # beyond stop: land on it exactly,
+            # from the orbits on either side interpolated to it
+            frac = (float(stop) - ps[-1]) / (p_new - ps[-1])
+            last = orbits[-1]
+            start_y = last.y0 + frac * (orb.y0 - last.y0)
+            landing = np.append(start_y, last.period + frac * (orb.period - last.period)) if autonomous else start_y
             try:
-                orb = periodic_orbit(build(float(stop)), guess=orbits[-1], method=method, tol=tol, n_out=n_out,
+                orb = periodic_orbit(build(float(stop)), guess=landing, method=method, tol=tol, n_out=n_out,
                                      **options)
                 ps.append(float(stop))
                 orbits.append(orb)
