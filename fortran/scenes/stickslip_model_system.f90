@@ -91,6 +91,8 @@ module stickslip_model_system
         !! 2 nb + the laws' states
         procedure :: free_forces => model_free_forces
         !! springs, dampers and forces on each body [N]
+        procedure :: friction => model_friction
+        !! each contact's friction force on its body a at (t, y) [N]
         procedure :: contact_model => model_contact_model
         !! the model as a `model_contact`
         procedure :: next_break => model_next_break
@@ -290,12 +292,39 @@ contains
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
-        real(dp) :: s, n, wdot, mu, mu_hold, c, fa, fb
-        integer :: i, nb, a, b, z0, z1
+        integer :: nb
         nb = self%nb
         if (.not. allocated(self%work)) allocate(self%work(nb, 2))
         associate (f => self%work(:, 1), f0 => self%work(:, 2))
         call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), f0)
+        call contact_forces(self, t, y, f0, f, dydt)
+        dydt(1:nb) = y(nb + 1:2 * nb)
+        dydt(nb + 1:2 * nb) = f / self%mass
+        end associate
+    end subroutine model_rhs
+
+    !> Each contact's friction force on its body a at (t, y), -mu N [N] (b gets the opposite).
+    subroutine model_friction(self, t, y, fric)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out) :: fric(:)    !! (number of contacts) [N]
+        real(dp) :: f0(self%nb), f(self%nb), dydt(size(y))
+        call self%free_forces(t, y(1:self%nb), y(self%nb + 1:2 * self%nb), f0)
+        call contact_forces(self, t, y, f0, f, dydt, fric)
+    end subroutine model_friction
+
+    !> The forces f on each body [N]: f0 (springs, dampers, forces) and every contact's
+    !! friction (each also in fric when present); the law states' rates into dydt.
+    subroutine contact_forces(self, t, y, f0, f, dydt, fric)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)  :: t, y(:), f0(:)
+        real(dp), intent(out) :: f(:)
+        real(dp), intent(inout) :: dydt(:)
+        real(dp), intent(out), optional :: fric(:)
+        real(dp) :: s, n, wdot, mu, mu_hold, c, fa, fb
+        integer :: i, nb, a, b, z0, z1
+        nb = self%nb
         f = f0
         do i = 1, size(self%con_a)
             a = self%con_a(i)
@@ -318,11 +347,9 @@ contains
             end if
             f(a) = f(a) - mu * n
             if (b > 0) f(b) = f(b) + mu * n
+            if (present(fric)) fric(i) = -mu * n
         end do
-        dydt(1:nb) = y(nb + 1:2 * nb)
-        dydt(nb + 1:2 * nb) = f / self%mass
-        end associate
-    end subroutine model_rhs
+    end subroutine contact_forces
 
     !> df/dy: analytic when every law is static (springs, dampers, and each contact's
     !! d mu/ds N on the velocities of its bodies), finite differences otherwise.
