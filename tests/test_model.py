@@ -299,6 +299,7 @@ def test_every_law_every_method_small_model(method):
 
 
 # -- fuzz ----------------------------------------------------------------------------------------
+@pytest.mark.filterwarnings("ignore::stickslip.ModelWarning")    # its normal forces may stay negative
 @pytest.mark.parametrize("trials", [8, pytest.param(12, marks=pytest.mark.slow)])
 def test_fuzz_random_models(trials):
     """Random models (1-8 bodies, random springs, dampers, forces, contacts and signals) never
@@ -370,3 +371,65 @@ def test_command_line_run(tmp_path, capsys):
                  "--out", str(tmp_path / "d.csv")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "method" in err and not (tmp_path / "d.csv").exists()
+
+
+# -- issue 42's smaller items: negative normal forces, values and names in messages, TOML words --
+def test_negative_normal_force_is_warned_with_its_value_and_names():
+    """A constant negative normal force, or a signal that stays negative, is warned as the
+    contact is added (naming the contact by the user's body names and giving the value); a
+    signal that is positive somewhere is not."""
+    m = ss.Model()
+    j1 = m.add_body(1.0, name="disc")
+    m.add_body(1.0, name="pad")
+    with pytest.warns(ss.ModelWarning, match=r"contact 0 \(disc-ground\): normal_force is negative \(-5\.0 N\)"):
+        m.add_contact(j1, None, "coulomb", -5.0)
+    with pytest.warns(ss.ModelWarning, match=r"contact 1 \(disc-pad\): normal_force is negative .*at most -2 N"):
+        m.add_contact(j1, 1, "coulomb", S.sine(3.0, 1.0, 0.0, -5.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m.add_contact(j1, None, "coulomb", S.ramp(0.0, 1.0, 10.0) - 2.0)     # positive after 0.2 s
+        m.add_contact(j1, None, "coulomb", 0.0)                             # an open contact, said so
+
+
+def test_signal_bounds_contain_the_signal():
+    """Signal.bounds encloses the signal's values, sampled here, and is exact for primitives."""
+    t = np.linspace(-1.0, 4.0, 5001)
+    sig = 2.0 * S.sine(1.5, 0.7, 0.3, -0.5) - S.table([0.0, 1.0, 2.0], [1.0, -3.0, 2.0]) * S.step(1.0, 0.5, 2.0) \
+        + S.ramp(0.5, 1.0, -4.0)
+    low, high = sig.bounds()
+    values = (2.0 * (1.5 * np.sin(2 * np.pi * 0.7 * t + 0.3) - 0.5)
+              - np.interp(t, [0.0, 1.0, 2.0], [1.0, -3.0, 2.0]) * np.where(t >= 1.0, 2.0, 0.5)
+              - 4.0 * np.clip(t - 0.5, 0.0, 1.0))
+    assert low <= values.min() and values.max() <= high
+    assert S.sine(1.5, 0.7, 0.3, -0.5).bounds() == (-2.0, 1.0)
+    assert S.table([0.0, 1.0], [3.0, -1.0]).bounds() == (-1.0, 3.0)
+
+
+def test_library_errors_name_elements_by_the_users_names():
+    """An element the library refuses is named with its bodies' names, with the value given."""
+    m = ss.Model()
+    a = m.add_body(1.0, name="top")
+    b = m.add_body(1.0, name="bit")
+    m.add_spring(a, b, 10.0)
+    m.add_drive(a, velocity=S.sine(1.0, 1.0))
+    m.drives[0].signal = S.table([0.0, 1.0], [0.0, 1.0]) * S.sine(1.0, 1.0)   # past add_drive's check
+    with pytest.raises(ValueError, match=r"^drive 0 \(top\): signal: malformed"):
+        ss.simulate(m, method="dopri5", t_end=1.0)
+    with pytest.raises(ValueError, match=r"t_end: must be > 0 \[s\] \(a model's run starts at t = 0\), got -1\.0"):
+        ss.simulate(clutch(), method="dopri5", t_end=-1.0)
+
+
+def test_toml_errors_in_tomls_words(tmp_path):
+    """An empty model file names the missing [[body]] table, not a Python method; a section
+    that is not an array of tables says so; every message starts with the file's path."""
+    bad = tmp_path / "empty.toml"
+    bad.write_text("")
+    with pytest.raises(ValueError, match=r"empty\.toml: model file: no \[\[body\]\] table") as err:
+        ss.Model.from_toml(bad)
+    assert "add_body" not in str(err.value)
+    bad.write_text('[body]\nmass = 1.0\n')
+    with pytest.raises(ValueError, match=r"model file: body must be an array of tables, \[\[body\]\]"):
+        ss.Model.from_toml(bad)
+    bad.write_text('[[body]]\nmass = 1.0\n[[drive]]\nbody = "body0"\n')
+    with pytest.raises(ValueError, match=r"drive 0: give exactly one of position and velocity, got neither"):
+        ss.Model.from_toml(bad)

@@ -42,7 +42,7 @@ from .experiments import (SteadyCurve, SteadyPoints, TwoStepFit, fit_stribeck_cu
                           steady_friction)
 from .engines import ENGINES, advise_engine, engine_creep, engine_mu
 from . import signal
-from .model import Model
+from .model import Model, ModelWarning
 from .energy import EnergyBoundWarning
 
 __all__ = [
@@ -57,6 +57,6 @@ __all__ = [
     "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction", "Selection", "select_friction_law",
     "SteadyPoints", "SteadyCurve", "TwoStepFit", "steady_friction", "fit_stribeck_curve", "fit_two_step",
     "ENGINES", "advise_engine", "engine_creep", "engine_mu",
-    "Model", "signal", "EnergyBoundWarning",
+    "Model", "ModelWarning", "signal", "EnergyBoundWarning",
 ]
 __version__ = "0.1.0"

@@ -37,7 +37,7 @@ from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
 from .signal import Signal, SignalLike, as_signal
 from .energy import EnergyBoundWarning, energy_bound
 
-__all__ = ["Model"]
+__all__ = ["Model", "ModelWarning"]
 
 #: The library's kinds of model element (stickslip_user_model's ELEM_*), as messages name them.
 _ELEMENTS = {1: "body", 2: "spring", 3: "damper", 4: "force", 5: "contact", 6: "signal", 7: "drive"}
@@ -47,6 +47,11 @@ _DRIVES = {"position": 1, "velocity": 2}
 #: model (stickslip_modal_contacts), and those methods.
 _JUMP_LAWS = ("coulomb", "karnopp")
 _MODAL_METHODS = ("implicit_euler", "galpha")
+
+
+class ModelWarning(UserWarning):
+    """A model that runs but is probably not what was meant: a normal force that never closes
+    its contact, or a tolerance coarser than a contact's velocity band."""
 
 
 @dataclass
@@ -192,8 +197,14 @@ class Model:
         params = {k: _finite(f"{where}: {k}", v, "see REGISTRY") for k, v in law_params.items()}
         surface = None if (not isinstance(surface_velocity, Signal) and surface_velocity == 0.0) \
             else as_signal(surface_velocity, f"{where}: surface_velocity")
-        self.contacts.append(_Contact(ia, ib, law, as_signal(normal_force, f"{where}: normal_force"), surface,
-                                      params))
+        normal = as_signal(normal_force, f"{where}: normal_force")
+        low, high = normal.bounds()
+        if high < 0.0:
+            given = f"{low!r} N" if normal.kind == "constant" else f"{normal!r}, at most {high:.6g} N at every time"
+            warnings.warn(f"{where}: normal_force is negative ({given}): the contact stays open, with no friction, "
+                          "for the whole run; give the normal force's magnitude (>= 0) if it is meant to press",
+                          ModelWarning, stacklevel=2)
+        self.contacts.append(_Contact(ia, ib, law, normal, surface, params))
 
     def add_drive(self, body: int, position: SignalLike | None = None,
                   velocity: SignalLike | None = None) -> None:
@@ -237,6 +248,23 @@ class Model:
     def driven(self, index: int | None) -> bool:
         """True when body `index` has a drive (the ground: False)."""
         return index is not None and any(d.body == index for d in self.drives)
+
+    def element_label(self, kind: str, i: int) -> str:
+        """'kind i (A-B)' with the bodies' names as the user gave them, as messages name
+        element `i` of `kind` (body, spring, damper, force, contact, drive, signal)."""
+        name = self.label
+        if kind == "contact":
+            return self.contact_label(i)
+        if kind in ("spring", "damper") and i < len(getattr(self, kind + "s")):
+            a, b = getattr(self, kind + "s")[i][:2]
+            return f"{kind} {i} ({name(a)}-{name(b)})"
+        if kind == "force" and i < len(self.forces):
+            return f"force {i} ({name(self.forces[i][0])})"
+        if kind == "drive" and i < len(self.drives):
+            return f"drive {i} ({name(self.drives[i].body)})"
+        if kind == "body" and i < self.n_bodies:
+            return f"body {i} ({name(i)})"
+        return f"{kind} {i}"
 
     def contact_label(self, i: int) -> str:
         """'contact i (A-B)' with the bodies' names, as messages name contact `i`."""
@@ -342,6 +370,13 @@ class Model:
         if unknown:
             raise ValueError(f"model file: unknown section(s) {', '.join(sorted(unknown))} "
                              "(accepted: body, spring, damper, force, contact, drive)")
+        if not data.get("body"):
+            raise ValueError("model file: no [[body]] table: a model needs at least one body "
+                             "([[body]] with mass = ..., and optionally name, x0, v0)")
+        for section, rows in data.items():
+            if not isinstance(rows, list):
+                raise ValueError(f"model file: {section} must be an array of tables, [[{section}]], "
+                                 f"got {section} = {rows!r}")
         m = cls()
         for i, b in enumerate(data.get("body", [])):
             _fields(f"body {i}", b, {"mass"}, {"name", "x0", "v0"})
@@ -393,7 +428,10 @@ class Model:
                 data = tomllib.load(fh)
         except tomllib.TOMLDecodeError as err:
             raise ValueError(f"{os.fspath(path)}: not a valid TOML file ({err})") from None
-        return cls.from_dict(data)
+        try:
+            return cls.from_dict(data)
+        except ValueError as err:
+            raise ValueError(f"{os.fspath(path)}: {err}") from None
 
     # -- the built-in scenes ----------------------------------------------------------------
     @classmethod
@@ -573,6 +611,8 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     arrays = model.arrays()
     n = model.n_states()
     t_end = _finite("t_end", t_end, "> 0 [s]")
+    if not t_end > 0.0:
+        raise ValueError(f"t_end: must be > 0 [s] (a model's run starts at t = 0), got {t_end!r}")
     ctl = {k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]}
     for name, value in controls.items():
         if name not in info["controls"]:
@@ -619,7 +659,7 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
             c = model.contacts[elem_index - 1]
             message = f"{model.contact_label(elem_index - 1)}: " + _with_values(message, _known(c.params))
         elif elem_kind:
-            message = f"{_ELEMENTS[int(elem_kind)]} {int(elem_index) - 1}: {message}"
+            message = f"{model.element_label(_ELEMENTS[int(elem_kind)], int(elem_index) - 1)}: {message}"
         raise ValueError(message)
     if status != STATUS_OK or rows:
         written = int(istats[_I_WRITTEN])
