@@ -433,3 +433,49 @@ def test_toml_errors_in_tomls_words(tmp_path):
     bad.write_text('[[body]]\nmass = 1.0\n[[drive]]\nbody = "body0"\n')
     with pytest.raises(ValueError, match=r"drive 0: give exactly one of position and velocity, got neither"):
         ss.Model.from_toml(bad)
+
+
+# -- error control on the slip (issue 42 item 3) --------------------------------------------------
+def drill_on_surface() -> ss.Model:
+    """A one-body drill string in the top's frame: the bit (inertia 374) on a torsional spring
+    473 to the ground, on a surface turning at 5 rad/s, Stribeck with v_eps = 1e-5, starting
+    stuck (v0 = 5). Its slip, 5 - v, is what the law sees; v itself is about 5."""
+    m = ss.Model()
+    b = m.add_body(374.0, v0=5.0, name="bit")
+    m.add_spring(b, None, 473.0)
+    m.add_contact(b, None, "stribeck", 3669.0, 5.0, v_eps=1e-5, mu_s=0.8, mu_k=0.5)
+    return m
+
+
+@pytest.fixture(scope="module")
+def drill_exact_peak() -> tuple[float, float]:
+    """The peak slip speed over 8 s: event_driven at rtol 1e-12 with the set-valued law, and a
+    converged run (radau5, rtol 1e-10) of the regularised one."""
+    exact = ss.simulate(drill_on_surface(), method="event_driven", t_end=8.0, n_out=8001, rtol=1e-12, atol=1e-12)
+    conv = ss.simulate(drill_on_surface(), method="radau5", t_end=8.0, n_out=8001, rtol=1e-10, atol=1e-12)
+    return float(np.max(5.0 - exact.v[0])), float(np.max(5.0 - conv.v[0]))
+
+
+@pytest.mark.parametrize("method", ["dopri5", "dop853", "radau5"])
+def test_moving_surface_peak_at_default_tolerances(method, drill_exact_peak):
+    """At default tolerances the peak slip speed (10.7229 exact) is within 1e-3 of the exact
+    one and within 1e-4 of the converged run: the error test weighs the bit's velocity by its
+    slip (model_error_size). Weighed by |v| (about 5) radau5 gave 15.398 and dopri5 10.7217."""
+    exact, converged = drill_exact_peak
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ss.ModelWarning)        # no band warning at the defaults
+        res = ss.simulate(drill_on_surface(), method=method, t_end=8.0, n_out=8001)
+    peak = float(np.max(5.0 - res.v[0]))
+    assert abs(peak - exact) < 1e-3, (peak, exact)
+    assert abs(peak - converged) < 1e-4, (peak, converged)
+
+
+def test_band_narrower_than_rtol_times_slip_is_warned():
+    """rtol times the slip scale (5 m/s here) above the law's v_eps is warned, naming the
+    contact, the numbers and the rtol that would do; event_driven (no band) is not."""
+    with pytest.warns(ss.ModelWarning, match=r"contact 0 \(bit-ground\): rtol = 0\.0001 times the slip scale 10 m/s "
+                                             r".* more than its law's v_eps = 1e-05 m/s: dopri5's .*rtol <= 1e-06"):
+        ss.simulate(drill_on_surface(), method="dopri5", t_end=0.1, rtol=1e-4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ss.ModelWarning)
+        ss.simulate(drill_on_surface(), method="event_driven", t_end=0.1, rtol=1e-4)

@@ -93,6 +93,8 @@ module stickslip_model_system
         !! springs, dampers and forces on each body [N]
         procedure :: friction => model_friction
         !! each contact's friction force on its body a at (t, y) [N]
+        procedure :: error_size => model_error_size
+        !! a body's velocity sized by the smallest slip of its contacts (what the laws see)
         procedure :: contact_model => model_contact_model
         !! the model as a `model_contact`
         procedure :: next_break => model_next_break
@@ -302,6 +304,32 @@ contains
         dydt(nb + 1:2 * nb) = f / self%mass
         end associate
     end subroutine model_rhs
+
+    !> The sizes the adaptive methods' relative tolerance scales (`ode_system%error_size`):
+    !! |y_i|, except that a body's velocity counts as the smallest |slip| of its contacts when
+    !! that is smaller: on a moving surface, or against another moving body, the law sees the
+    !! slip s = v_a - v_b - w, not v_a, and an error of rtol |v_a| in v_a may exceed the law's
+    !! band (v_eps, v_s) where s is small. The tolerance then acts on the slip, as it does on
+    !! the same system written in the surface's frame.
+    subroutine model_error_size(self, t, y, size_y)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out) :: size_y(:)  !! the size of each component
+        real(dp) :: s, w, wdot
+        integer :: i, nb, a, b
+        nb = self%nb
+        size_y = abs(y)
+        do i = 1, size(self%con_a)
+            a = self%con_a(i)
+            b = self%con_b(i)
+            call surface(self, i, t, w, wdot)
+            s = y(nb + a) - w
+            if (b > 0) s = s - y(nb + b)
+            size_y(nb + a) = min(size_y(nb + a), abs(s))
+            if (b > 0) size_y(nb + b) = min(size_y(nb + b), abs(s))
+        end do
+    end subroutine model_error_size
 
     !> Each contact's friction force on its body a at (t, y), -mu N [N] (b gets the opposite).
     subroutine model_friction(self, t, y, fric)

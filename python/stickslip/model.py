@@ -621,6 +621,8 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         ctl[name] = _flag(value)
     rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
     atol = _tolerance("atol", ctl.pop("atol", 1.0), n)
+    if info["adaptive"] and not info["laws"]:        # dopri5, dop853, radau5: the laws' bands
+        _check_band(model, method, float(np.max(rtol)))
     for name, value in ctl.items():
         ctl[name] = _finite(name, value, "see simulate()")
     if "h" in info["controls"] and "h" not in ctl:
@@ -677,6 +679,41 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         raise _ERRORS.get(status, IntegrationError)(status, result)
     _check_energy(model, result, arrays)
     return result
+
+
+def slip_scale(model: Model, i: int) -> float:
+    """A scale of contact `i`'s slip [m/s]: the largest speed of its surface plus its bodies'
+    initial speeds (a driven body's: the largest of its velocity signal, or of its position
+    signal's rate where that is known only by running it: the initial speed then)."""
+    c = model.contacts[i]
+    scale = max(map(abs, c.surface_velocity.bounds())) if c.surface_velocity is not None else 0.0
+    for body in (c.a, c.b):
+        if body is None:
+            continue
+        drive = next((d for d in model.drives if d.body == body), None)
+        if drive is not None and drive.kind == "velocity":
+            scale += max(map(abs, drive.signal.bounds()))
+        else:
+            scale += abs(model.bodies[body].v0)
+    return scale
+
+
+def _check_band(model: Model, method: str, rtol: float) -> None:
+    """A ModelWarning for each contact whose law has a velocity band (v_eps, v_s) narrower than
+    rtol times the contact's slip scale (`slip_scale`): an error of rtol times the slip may
+    then cross the band the law turns in."""
+    for i, c in enumerate(model.contacts):
+        names = [k for k in ("v_eps", "v_s") if k in REGISTRY["law"][c.law]["params"]]
+        if not names:
+            continue
+        known = _known(c.params)
+        band_name = min(names, key=lambda k: known[k])
+        band, scale = known[band_name], slip_scale(model, i)
+        if rtol * scale > band:
+            warnings.warn(f"{model.contact_label(i)}: rtol = {rtol:.3g} times the slip scale {scale:.6g} m/s "
+                          f"(its surface's and bodies' speeds) is {rtol * scale:.3g} m/s, more than its law's "
+                          f"{band_name} = {band:.3g} m/s: {method}'s error test may not resolve the law's band; "
+                          f"take rtol <= {band / scale:.3g}", ModelWarning, stacklevel=4)
 
 
 def _check_energy(model: Model, result: Result, arrays: dict[str, Any]) -> None:
