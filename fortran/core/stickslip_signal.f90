@@ -395,11 +395,7 @@ contains
         integer, intent(in) :: s                    !! one of its signals
         integer, intent(out) :: d                   !! the derivative's index (0 when not ok)
         logical, intent(out) :: ok                  !! .true. when s has a derivative
-        type(program_t) :: p
-        d = 0
-        ok = .true.
-        p = derive(sig, sig%start(s + 1) - 1, ok)
-        if (ok) d = append(sig, p)
+        call transform(sig, s, .false., d, ok)
     end subroutine signal_derivative
 
     !> The integral of signal s from t = 0, appended to the set (index in d): exact for sums,
@@ -410,12 +406,22 @@ contains
         integer, intent(in) :: s                    !! one of its signals
         integer, intent(out) :: d                   !! the integral's index (0 when not ok)
         logical, intent(out) :: ok                  !! .true. when it has a closed form here
+        call transform(sig, s, .true., d, ok)
+    end subroutine signal_integral
+
+    !> Append the integral (integral = .true.) or the derivative of signal s; d its index.
+    subroutine transform(sig, s, integral, d, ok)
+        type(signal_set), intent(inout) :: sig
+        integer, intent(in) :: s
+        logical, intent(in) :: integral
+        integer, intent(out) :: d
+        logical, intent(out) :: ok
         type(program_t) :: p
         d = 0
         ok = .true.
-        p = integrate(sig, sig%start(s + 1) - 1, ok)
+        p = calculus(sig, sig%start(s + 1) - 1, integral, ok)
         if (ok) d = append(sig, p)
-    end subroutine signal_integral
+    end subroutine transform
 
     !> Append a program as a new signal; its index.
     integer function append(sig, p) result(index)
@@ -506,106 +512,110 @@ contains
         end do
     end function operand_start
 
-    !> The derivative of the operand ending at operation last (ok = .false. at a step).
-    recursive function derive(sig, last, ok) result(p)
+    !> The derivative (integral = .false.; ok = .false. at a step) or the integral from t = 0
+    !! (integral = .true.; ok = .false. at a product of two signals that are not numbers) of
+    !! the operand ending at operation last.
+    recursive function calculus(sig, last, integral, ok) result(p)
         type(signal_set), intent(in) :: sig
         integer, intent(in) :: last
+        logical, intent(in) :: integral
         logical, intent(inout) :: ok
         type(program_t) :: p
-        real(dp) :: a(4), slope0, slope1
+        real(dp) :: a(4), w
+        real(dp), allocatable :: corner(:), change(:)
         integer :: r, first, j
         a = sig%arg(:, last)
+        r = 0
+        first = 0
+        if (any(sig%op(last) == [SIG_ADD, SIG_SUB, SIG_MUL])) then
+            r = operand_start(sig, last - 1)            ! the operands: first .. r - 1, r .. last - 1
+            first = operand_start(sig, r - 1)
+        end if
         select case (sig%op(last))
         case (SIG_ADD, SIG_SUB)
-            r = operand_start(sig, last - 1)
-            p = join(derive(sig, r - 1, ok), derive(sig, last - 1, ok), sig%op(last))
-        case (SIG_MUL)          ! (u w)' = u' w + u w'
-            r = operand_start(sig, last - 1)
-            first = operand_start(sig, r - 1)
-            p = join(join(derive(sig, r - 1, ok), span(sig, r, last - 1), SIG_MUL), &
-                     join(span(sig, first, r - 1), derive(sig, last - 1, ok), SIG_MUL), SIG_ADD)
-        case (SIG_STEP)
-            ok = .false.
-            p = number(0.0_dp)
-        case (SIG_RAMP)
-            p = join(leaf(SIG_STEP, [a(1), 0.0_dp, a(3) / a(2), 0.0_dp]), &
-                     leaf(SIG_STEP, [a(1) + a(2), 0.0_dp, -a(3) / a(2), 0.0_dp]), SIG_ADD)
-        case (SIG_SINE)
-            p = leaf(SIG_SINE, [two_pi * a(2) * a(1), a(2), a(3) + 0.25_dp * two_pi, 0.0_dp])
-        case (SIG_TABLE)        ! a step at each point by the change of slope there
-            first = nint(a(1))
-            p = number(0.0_dp)
-            slope0 = 0.0_dp
-            do j = first, first + nint(a(2)) - 1
-                slope1 = 0.0_dp
-                if (j < first + nint(a(2)) - 1) &
-                    slope1 = (sig%tab_v(j + 1) - sig%tab_v(j)) / (sig%tab_t(j + 1) - sig%tab_t(j))
-                if (slope1 /= slope0) &
-                    p = join(p, leaf(SIG_STEP, [sig%tab_t(j), 0.0_dp, slope1 - slope0, 0.0_dp]), SIG_ADD)
-                slope0 = slope1
-            end do
-        case default            ! SIG_CONST
-            p = number(0.0_dp)
-        end select
-    end function derive
-
-    !> The integral from t = 0 of the operand ending at operation last (ok = .false. at a
-    !! product of two signals that are not numbers).
-    recursive function integrate(sig, last, ok) result(p)
-        type(signal_set), intent(in) :: sig
-        integer, intent(in) :: last
-        logical, intent(inout) :: ok
-        type(program_t) :: p
-        real(dp) :: a(4), slope0, slope1, w
-        integer :: r, first, j
-        a = sig%arg(:, last)
-        select case (sig%op(last))
-        case (SIG_ADD, SIG_SUB)
-            r = operand_start(sig, last - 1)
-            p = join(integrate(sig, r - 1, ok), integrate(sig, last - 1, ok), sig%op(last))
-        case (SIG_MUL)          ! a number times a signal
-            r = operand_start(sig, last - 1)
-            first = operand_start(sig, r - 1)
-            if (r - first == 1 .and. sig%op(first) == SIG_CONST) then
-                p = affine(integrate(sig, last - 1, ok), sig%arg(1, first), 0.0_dp)
+            p = join(calculus(sig, r - 1, integral, ok), calculus(sig, last - 1, integral, ok), sig%op(last))
+        case (SIG_MUL)
+            if (.not. integral) then                    ! (u w)' = u' w + u w'
+                p = join(join(calculus(sig, r - 1, integral, ok), span(sig, r, last - 1), SIG_MUL), &
+                         join(span(sig, first, r - 1), calculus(sig, last - 1, integral, ok), SIG_MUL), SIG_ADD)
+            else if (r - first == 1 .and. sig%op(first) == SIG_CONST) then    ! a number times a signal
+                p = affine(calculus(sig, last - 1, integral, ok), sig%arg(1, first), 0.0_dp)
             else if (last - r == 1 .and. sig%op(r) == SIG_CONST) then
-                p = affine(integrate(sig, r - 1, ok), sig%arg(1, r), 0.0_dp)
+                p = affine(calculus(sig, r - 1, integral, ok), sig%arg(1, r), 0.0_dp)
             else
                 ok = .false.
                 p = number(0.0_dp)
             end if
-        case (SIG_STEP)         ! before t, then after (t - time) more
-            p = join(affine(hinge(0.0_dp, 1), a(2), 0.0_dp), &
-                     affine(hinge(max(a(1), 0.0_dp), 1), a(3) - a(2), 0.0_dp), SIG_ADD)
-        case (SIG_RAMP)         ! slope h / d between start and start + d
-            w = 0.5_dp * a(3) / a(2)
-            p = affine(join(hinge(a(1), 2), hinge(a(1) + a(2), 2), SIG_SUB), w, &
-                       -w * (max(-a(1), 0.0_dp)**2 - max(-a(1) - a(2), 0.0_dp)**2))
+        case (SIG_STEP)
+            if (integral) then                          ! before t, then after (t - time) more
+                p = join(affine(hinge(0.0_dp, 1), a(2), 0.0_dp), &
+                         affine(hinge(max(a(1), 0.0_dp), 1), a(3) - a(2), 0.0_dp), SIG_ADD)
+            else
+                ok = .false.
+                p = number(0.0_dp)
+            end if
+        case (SIG_RAMP)                                 ! slope h / d between start and start + d
+            if (integral) then
+                w = 0.5_dp * a(3) / a(2)
+                p = affine(join(hinge(a(1), 2), hinge(a(1) + a(2), 2), SIG_SUB), w, &
+                           -w * (max(-a(1), 0.0_dp)**2 - max(-a(1) - a(2), 0.0_dp)**2))
+            else
+                p = join(leaf(SIG_STEP, [a(1), 0.0_dp, a(3) / a(2), 0.0_dp]), &
+                         leaf(SIG_STEP, [a(1) + a(2), 0.0_dp, -a(3) / a(2), 0.0_dp]), SIG_ADD)
+            end if
         case (SIG_SINE)
-            if (a(2) == 0.0_dp) then
+            if (.not. integral) then
+                p = leaf(SIG_SINE, [two_pi * a(2) * a(1), a(2), a(3) + 0.25_dp * two_pi, 0.0_dp])
+            else if (a(2) == 0.0_dp) then
                 p = affine(hinge(0.0_dp, 1), a(1) * sin(a(3)) + a(4), 0.0_dp)
             else
                 w = a(1) / (two_pi * a(2))
                 p = join(leaf(SIG_SINE, [w, a(2), a(3) - 0.25_dp * two_pi, w * cos(a(3))]), &
                          affine(hinge(0.0_dp, 1), a(4), 0.0_dp), SIG_ADD)
             end if
-        case (SIG_TABLE)        ! v_1 t, and a quadratic from each point by the change of slope there
-            first = nint(a(1))
-            p = affine(hinge(0.0_dp, 1), sig%tab_v(first), 0.0_dp)
-            slope0 = 0.0_dp
-            do j = first, first + nint(a(2)) - 1
-                slope1 = 0.0_dp
-                if (j < first + nint(a(2)) - 1) &
-                    slope1 = (sig%tab_v(j + 1) - sig%tab_v(j)) / (sig%tab_t(j + 1) - sig%tab_t(j))
-                if (slope1 /= slope0) then
-                    w = 0.5_dp * (slope1 - slope0)
-                    p = join(p, affine(hinge(sig%tab_t(j), 2), w, -w * max(-sig%tab_t(j), 0.0_dp)**2), SIG_ADD)
+        case (SIG_TABLE)        ! at each point, a step (or, integrated, a quadratic) by the change of slope there
+            call slope_changes(sig, nint(a(1)), nint(a(2)), corner, change)
+            if (integral) then
+                p = affine(hinge(0.0_dp, 1), sig%tab_v(nint(a(1))), 0.0_dp)
+            else
+                p = number(0.0_dp)
+            end if
+            do j = 1, size(corner)
+                if (integral) then
+                    w = 0.5_dp * change(j)
+                    p = join(p, affine(hinge(corner(j), 2), w, -w * max(-corner(j), 0.0_dp)**2), SIG_ADD)
+                else
+                    p = join(p, leaf(SIG_STEP, [corner(j), 0.0_dp, change(j), 0.0_dp]), SIG_ADD)
                 end if
-                slope0 = slope1
             end do
         case default            ! SIG_CONST
-            p = affine(hinge(0.0_dp, 1), a(1), 0.0_dp)
+            if (integral) then
+                p = affine(hinge(0.0_dp, 1), a(1), 0.0_dp)
+            else
+                p = number(0.0_dp)
+            end if
         end select
-    end function integrate
+    end function calculus
+
+    !> The points of the table tab(first : first + count - 1) where its slope changes (0 before
+    !! its first point and after its last), and the change there.
+    pure subroutine slope_changes(sig, first, count, corner, change)
+        type(signal_set), intent(in) :: sig
+        integer, intent(in) :: first, count
+        real(dp), allocatable, intent(out) :: corner(:), change(:)
+        real(dp) :: slope0, slope1
+        integer :: j
+        allocate(corner(0), change(0))
+        slope0 = 0.0_dp
+        do j = first, first + count - 1
+            slope1 = 0.0_dp
+            if (j < first + count - 1) slope1 = (sig%tab_v(j + 1) - sig%tab_v(j)) / (sig%tab_t(j + 1) - sig%tab_t(j))
+            if (slope1 /= slope0) then
+                corner = [corner, sig%tab_t(j)]
+                change = [change, slope1 - slope0]
+            end if
+            slope0 = slope1
+        end do
+    end subroutine slope_changes
 
 end module stickslip_signal
