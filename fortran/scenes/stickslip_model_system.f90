@@ -75,6 +75,9 @@ module stickslip_model_system
         !! are numbers (`prepare`), read without evaluating the signal
         real(dp), allocatable :: con_fixed(:, :)
         logical, allocatable :: con_is_fixed(:, :) !! (2, nc) which of them are numbers
+        !> (nc) the slip speed over which each contact's law turns, max |mu| / |mu'(0)| (its v_eps
+        !! or v_s) [m/s]; huge where mu'(0) is 0 (`prepare`; read by `error_size`)
+        real(dp), allocatable :: con_band(:)
     contains
         procedure :: rhs => model_rhs
         !! (x, v, z)' at (t, y)
@@ -306,11 +309,13 @@ contains
     end subroutine model_rhs
 
     !> The sizes the adaptive methods' relative tolerance scales (`ode_system%error_size`):
-    !! |y_i|, except that a body's velocity counts as the smallest |slip| of its contacts when
-    !! that is smaller: on a moving surface, or against another moving body, the law sees the
-    !! slip s = v_a - v_b - w, not v_a, and an error of rtol |v_a| in v_a may exceed the law's
-    !! band (v_eps, v_s) where s is small. The tolerance then acts on the slip, as it does on
-    !! the same system written in the surface's frame.
+    !! |y_i|, except that a body's velocity counts as the smallest max(|s|, band) of its
+    !! contacts when that is smaller: on a moving surface, or against another moving body, the
+    !! law sees the slip s = v_a - v_b - w, not v_a, and an error of rtol |v_a| in v_a may
+    !! exceed the law's band (v_eps, v_s: `con_band`) where s is small. The tolerance then acts
+    !! on the slip, as it does on the same system written in the surface's frame, down to the
+    !! band's width, within which the law is resolved at rtol of its band (a law flat at rest,
+    !! Karnopp's, keeps |v|).
     subroutine model_error_size(self, t, y, size_y)
         class(model_system), intent(in) :: self
         real(dp), intent(in)  :: t          !! time [s]
@@ -326,8 +331,9 @@ contains
             call surface(self, i, t, w, wdot)
             s = y(nb + a) - w
             if (b > 0) s = s - y(nb + b)
-            size_y(nb + a) = min(size_y(nb + a), abs(s))
-            if (b > 0) size_y(nb + b) = min(size_y(nb + b), abs(s))
+            s = max(abs(s), self%con_band(i))
+            size_y(nb + a) = min(size_y(nb + a), s)
+            if (b > 0) size_y(nb + b) = min(size_y(nb + b), s)
         end do
     end subroutine model_error_size
 
@@ -413,8 +419,13 @@ contains
         nc = size(self%con_a)
         n = self%n_states()
         ! the contacts' signals that are numbers
-        allocate(self%con_fixed(2, nc), self%con_is_fixed(2, nc))
+        allocate(self%con_fixed(2, nc), self%con_is_fixed(2, nc), self%con_band(nc))
         do c = 1, nc
+            associate (law => self%laws(c)%law)
+                self%con_band(c) = huge(1.0_dp)
+                if (abs(law%dmu(0.0_dp)) > 0.0_dp) self%con_band(c) = max(law%mu_s, law%mu_k) / abs(law%dmu(0.0_dp))
+                if (.not. self%con_band(c) < huge(1.0_dp)) self%con_band(c) = huge(1.0_dp)
+            end associate
             self%con_is_fixed(1, c) = self%sig%is_number(self%con_n(c))
             self%con_is_fixed(2, c) = self%con_w(c) == 0
             if (.not. self%con_is_fixed(2, c)) self%con_is_fixed(2, c) = self%sig%is_number(self%con_w(c))
