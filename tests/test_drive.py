@@ -251,3 +251,18 @@ def test_velocity_drive_under_every_method(method):
     assert r.stats["status"] == 0 and np.all(np.isfinite(r.x[1]))
     assert np.max(np.abs(r.x[0] - x)) < 1e-12
     assert np.max(np.abs(r.v[0] - (np.clip(t, 0.0, 1.0) * 2.0 + 0.5 * np.sin(2 * np.pi * t)))) < 1e-12
+
+
+def test_command_line_writes_the_drive_force(tmp_path):
+    """python -m stickslip run on a model file with a [[drive]]: the CSV's last column is the
+    drive's force, equal to the Python run's."""
+    from stickslip.__main__ import main
+    m = drill_two_body("stribeck", mu_s=0.8, mu_k=0.5)
+    m.to_toml(tmp_path / "drill.toml")
+    out = tmp_path / "drill.csv"
+    assert main(["run", str(tmp_path / "drill.toml"), "--method", "dopri5", "--t-end", "2.0", "--n-out", "21",
+                 "--out", str(out)]) == 0
+    assert out.read_text().startswith("t,x_top,x_bit,v_top,v_bit,F_drive_top\n")
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    res = ss.simulate(m, method="dopri5", t_end=2.0, n_out=21)
+    assert np.array_equal(data[:, 5], res.drive_force[:, 0]) and np.ptp(data[:, 5]) > 0.0
