@@ -65,9 +65,10 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from cases._common import atomic_write, check_writable, cli_description, int_at_least, write_text   # one way to write a file whole or not at all
-from cases._provenance import machine, write_provenance
-from cases._timing import median_time, python_jac, python_rhs, time_at_error
+from harness.cli import add_outdir, check_writable, cli_description, int_at_least
+from harness.files import atomic_write, write_text   # one way to write a file whole or not at all
+from harness.provenance import machine, write_provenance
+from harness.timing import median_time, python_jac, python_rhs, time_at_error
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The tracked results the documentation quotes (written only with --results).
@@ -343,12 +344,12 @@ def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
     hmax = t_end; output at t_end), OVERHEAD_CALLS calls of ``stickslip.simulate`` (its arguments
     written out in the call, as in a user's code) interleaved
     with as many bare calls of the f2py wrapper's run_prepared on the handle of the setting (the
-    library call simulate makes per run, and nothing else: stickslip.core._bare_call; the
+    library call simulate makes per run, and nothing else: stickslip.core.bare_call; the
     wrapper reads the clock for stats["cpu_seconds"] itself), alternating which goes first.
     median_s: the median time of each; overhead_s (on the simulate row): the median of the
     per-pair differences, what the facade adds per call."""
     import stickslip
-    from stickslip.core import _bare_call
+    from stickslip.core import bare_call
 
     rows: list[dict] = []
     clock = time.perf_counter
@@ -361,7 +362,7 @@ def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
         written = ", ".join(f"{k}={v!r}" for k, v in kw.items())
         sim = eval(f"lambda: simulate({scene!r}, {law!r}, method={method!r}, t_end={t_end!r}, n_out=2, "
                    f"{written})", {"simulate": stickslip.simulate})
-        bare = _bare_call(scene, law, method=method, t_end=t_end, n_out=2, **kw)
+        bare = bare_call(scene, law, method=method, t_end=t_end, n_out=2, **kw)
         res = sim()
         t_bare, t_sim = np.empty(OVERHEAD_CALLS), np.empty(OVERHEAD_CALLS)
         for i in range(OVERHEAD_CALLS):
@@ -619,7 +620,7 @@ def read_rows(path: Path) -> list[dict]:
 
 
 #: The line style of each tool in the work-precision panels (its colour is
-#: cases._style.TOOL_COLORS', the same in every panel; the marker says the method).
+#: harness.style.TOOL_COLORS', the same in every panel; the marker says the method).
 TOOL_STYLE: dict[str, str] = {"stickslip_fortran": "-", "stickslip_python": "--", "gsl": ":",
                               "scipy": "-."}
 #: Other tools' names of the library's methods (the same marker), and markers for the others.
@@ -641,23 +642,23 @@ FIGURE_WIDTH: float = 6.0
 
 
 def method_marker(method: str) -> str:
-    """The marker of a method in the benchmark figure: the library's own (cases._style) for its
+    """The marker of a method in the benchmark figure: the library's own (harness.style) for its
     methods and the other tools' names of them, a fixed one for the others."""
-    from cases import _style
+    from harness import style as _style
     name = SAME_METHOD.get(method, method.split()[0])
     return _style.METHOD_MARKERS.get(name) or OTHER_MARKERS.get(method, "o")
 
 
 def method_words(method: str) -> str:
     """A method's name as the figure shows it: "rk4 (step doubling)" -> "RK4 (step doubling)"."""
-    from cases import _style
+    from harness import style as _style
     head, _, rest = method.partition(" ")
     return f"{_style.name(head)} {rest}".strip()
 
 
 def plot(rows: list[dict], path: Path) -> None:
     """The figure of a run (PNG at path, PDF beside it), one colour per tool in every panel
-    (cases._style.TOOL_COLORS), three panels one above the other: (a) fixed-step time per
+    (harness.style.TOOL_COLORS), three panels one above the other: (a) fixed-step time per
     evaluation of every tool on the first scene and law (bars on a linear axis); (b, c) the
     adaptive methods' error against time on the first adaptive scene and law, the library
     against GSL and against scipy (a marker per method, a line style per tool). The error is
@@ -666,7 +667,7 @@ def plot(rows: list[dict], path: Path) -> None:
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
     from matplotlib.transforms import blended_transform_factory
-    from cases import _common, _style
+    from harness import style as _style
 
     _style.apply()
     plt.rcParams.update(_style.column_fonts(FIGURE_WIDTH))
@@ -727,7 +728,7 @@ def plot(rows: list[dict], path: Path) -> None:
     cases = dict.fromkeys((r["scene"], r["law"]) for r in (fixed[:1] + adaptive[:1]))
     fig.suptitle("; ".join(f"{_style.name(sc)}, {_style.name(lw).split(' (')[0]} law"
                            for sc, lw in cases), fontsize=plt.rcParams["font.size"])
-    _style.save(fig, path, _common.atomic_write)
+    _style.save(fig, path, atomic_write)
 
 
 def _fmt(x: float, digits: int = 2) -> str:
@@ -867,7 +868,7 @@ def overhead_markdown(over: list[dict], measured: str = "") -> list[str]:
     for p in over[1::2]:
         if (p["scene"], p["law"], p["method"], p["nstep"]) == OVERHEAD_GOAL_RUN:
             met = "met" if p["median_s"] <= OVERHEAD_GOAL_S else "not met"
-            goal = (f" Goal (issue 32): the {p['nstep']}-step RK4 run ({p['scene']} / {p['law']}, h = "
+            goal = (f" Goal: the {p['nstep']}-step RK4 run ({p['scene']} / {p['law']}, h = "
                     f"{p['h_s']:g} s) through simulate in at most {1e6 * OVERHEAD_GOAL_S:g} us on a quiet "
                     f"machine; this run: {1e6 * p['median_s']:.1f} us ({met} here).")
     lines = [f"{OVERHEAD_HEAD} (short runs, output at t_end: stickslip.simulate, its arguments "
@@ -1079,9 +1080,8 @@ def run_identify(log: Callable[[str], None], repeats: int = 3) -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=cli_description(__doc__),
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--outdir", type=Path, default=None,
-                        help="where benchmarks.csv, benchmarks.png and summary.md go "
-                             "(default: out/benchmarks/)")
+    add_outdir(parser, default=None, help="where benchmarks.csv, benchmarks.png and summary.md go "
+                                          "(default: out/benchmarks/)")
     parser.add_argument("--results", action="store_true",
                         help=f"write into the tracked {RESULTS_DIR.relative_to(ROOT)}/ instead, the "
                              "tables the documentation quotes (not with --quick)")

@@ -237,7 +237,7 @@ def test_replot_draws_position_error_and_refuses_an_old_csv(tmp_path: Path, monk
              for impl in ("stickslip_fortran", "stickslip_python")
              for tol, t, ex in ((1e-4, 1e-3, 3e-5), (1e-8, 4e-3, 2e-9))]
     run.write_csv(rows, tmp_path / "benchmarks.csv")
-    from cases import _style
+    from harness import style as _style
     axes: list = []
     save = _style.save
     monkeypatch.setattr(_style, "save", lambda fig, path, write: (axes.extend(fig.axes), save(fig, path, write))[1])

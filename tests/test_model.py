@@ -424,7 +424,7 @@ def test_library_errors_name_elements_by_the_users_names():
     m.drives[0].signal = S.table([0.0, 1.0], [0.0, 1.0]) * S.sine(1.0, 1.0)   # past add_drive's check
     with pytest.raises(ValueError, match=r"^drive 0 \(top\): signal: malformed"):
         ss.simulate(m, method="dopri5", t_end=1.0)
-    with pytest.raises(ValueError, match=r"t_end: must be > 0 \[s\] \(a model's run starts at t = 0\), got -1\.0"):
+    with pytest.raises(ValueError, match=r"t_end: must be > 0 \[s\] \(the run starts at t = 0\), got t_end = -1"):
         ss.simulate(clutch(), method="dopri5", t_end=-1.0)
 
 

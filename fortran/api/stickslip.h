@@ -49,7 +49,7 @@ typedef struct {
 /* Integration controls of the explicit adaptive methods: ss_dopri5_options_default() gives
  * Hairer's DOPRI5 defaults, ss_dop853_options_default() his DOP853 ones (for ss_dop853). */
 typedef struct {
-    double hmin;          /* step floor; steps forced there when the error test fails (0: none) [s] */
+    double hmin;          /* step floor; steps forced there when the error test fails (1e-6; 0: none) [s] */
     double hmax;          /* largest step (0: t_end - t0) [s] */
     double h0;            /* initial step (0: automatic) [s] */
     double safety;        /* 0.9 */

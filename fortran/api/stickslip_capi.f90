@@ -30,7 +30,7 @@ module stickslip_capi
     use stickslip_rk4, only: rk4_integrate
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_dop853, only: dop853_options, dop853_integrate
-    use stickslip_registry, only: stickslip_message, registry_text, make_law, split_names, code_of, &
+    use stickslip_registry, only: stickslip_message, registry_text, make_law, split_names, code_of, HMIN_DEFAULT, &
                                   PARAMS, METHOD_TABLE, METHOD_RK4, METHOD_DOPRI5, METHOD_DOP853, LAW_TABLE
     use stickslip_simulate, only: simulate
     use stickslip_model_system, only: model_system
@@ -64,7 +64,7 @@ module stickslip_capi
 
     !> Integration controls (C struct `ss_dopri5_options`); flags are 0/1.
     type, bind(C) :: ss_dopri5_options
-        real(c_double) :: hmin          !! step size floor, forced steps there (0: none) [s]
+        real(c_double) :: hmin          !! step size floor, forced steps there (default 1e-6; 0: none) [s]
         real(c_double) :: hmax          !! largest step (0: t_end - t0) [s]
         real(c_double) :: h0            !! initial step (0: automatic) [s]
         real(c_double) :: safety        !! safety factor of the step control
@@ -155,18 +155,20 @@ contains
     end subroutine ss_params_default
 
     !> Fill `o` with DOPRI5's default controls (Hairer's: safety 0.9, fac1 0.2, fac2 10,
-    !! beta 0.04; h_min = 0, max_steps = 10^8).
+    !! beta 0.04; h_min = HMIN_DEFAULT = 1e-6 s, the registry's, max_steps = 10^8).
     subroutine ss_dopri5_options_default(o) bind(C, name='ss_dopri5_options_default')
         type(ss_dopri5_options), intent(out) :: o   !! controls to fill
         type(dopri5_options) :: d
+        d%hmin = HMIN_DEFAULT
         call from_f_options(d%step_controls, d%safety, d%fac1, d%fac2, d%beta, d%nstiff, d%stop_on_stiff, o)
     end subroutine ss_dopri5_options_default
 
     !> Fill `o` with DOP853's default controls (Hairer's: safety 0.9, fac1 0.333, fac2 6,
-    !! beta 0; h_min = 0, max_steps = 10^8), for `ss_dop853`.
+    !! beta 0; h_min = HMIN_DEFAULT = 1e-6 s, max_steps = 10^8), for `ss_dop853`.
     subroutine ss_dop853_options_default(o) bind(C, name='ss_dop853_options_default')
         type(ss_dopri5_options), intent(out) :: o   !! controls to fill
         type(dop853_options) :: d
+        d%hmin = HMIN_DEFAULT
         call from_f_options(d%step_controls, d%safety, d%fac1, d%fac2, d%beta, d%nstiff, d%stop_on_stiff, o)
     end subroutine ss_dop853_options_default
 
@@ -1111,6 +1113,8 @@ contains
         if (c_associated(opts)) then
             call c_f_pointer(opts, o)
             call to_f_options(o, c, safety, fac1, fac2, beta, nstiff, stop_on_stiff)
+        else
+            c%hmin = HMIN_DEFAULT                           ! NULL: the defaults of every entry point
         end if
     end subroutine get_options
 

@@ -61,7 +61,7 @@ module stickslip_moreau
     !> What the Moreau-Jean method is and which controls it reads (registry entry).
     type(method_info), parameter, public :: MOREAU_INFO = method_info(name='moreau', order=1, &
         adaptive=.false., implicit=.true., controls='h theta contact_tol contact_max_iter max_steps every_step', &
-        doc='Moreau-Jean theta time-stepping, set-valued friction', laws='coulomb stribeck')
+        doc='Moreau-Jean theta time-stepping, set-valued friction', laws='coulomb stribeck karnopp')
 
     !> Controls of the Moreau-Jean method: h, max_steps, every_step (shared) and its own.
     type, extends(step_controls) :: moreau_options

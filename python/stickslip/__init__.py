@@ -43,7 +43,8 @@ from .experiments import (SteadyCurve, SteadyPoints, TwoStepFit, fit_stribeck_cu
 from .engines import ENGINES, advise_engine, engine_creep, engine_mu
 from . import signal
 from .model import Model, ModelWarning
-from .energy import EnergyBoundWarning
+from .energy import ConsistencyWarning, EnergyBoundWarning
+from .core import RegularisedLawWarning
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
@@ -57,6 +58,6 @@ __all__ = [
     "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction", "Selection", "select_friction_law",
     "SteadyPoints", "SteadyCurve", "TwoStepFit", "steady_friction", "fit_stribeck_curve", "fit_two_step",
     "ENGINES", "advise_engine", "engine_creep", "engine_mu",
-    "Model", "ModelWarning", "signal", "EnergyBoundWarning",
+    "Model", "ModelWarning", "signal", "EnergyBoundWarning", "ConsistencyWarning", "RegularisedLawWarning",
 ]
 __version__ = "0.1.0"

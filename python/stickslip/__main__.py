@@ -6,6 +6,7 @@ import argparse
 import io
 import os
 import sys
+import warnings
 from typing import Sequence
 
 import numpy as np
@@ -40,6 +41,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     import stickslip as ss
     from stickslip.model import write_whole
+    from stickslip.outputs import output_problem
 
     def fail(message: str) -> int:
         print(f"python -m stickslip: error: {message}", file=sys.stderr)
@@ -48,15 +50,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         return fail(f"model: no such file {args.model!r}")
     outs = [args.out] + ([os.path.splitext(args.out)[0] + ".png"] if args.plot else [])
     for out in outs:
-        folder = os.path.dirname(os.path.abspath(out))
-        if not os.path.isdir(folder) or not os.access(folder, os.W_OK):
-            return fail(f"--out: cannot write into {folder!r}")
+        problem = output_problem(out, directory=False)      # the rule of every CLI (stickslip.outputs)
+        if problem:
+            return fail(f"--out: {problem}")
         if os.path.exists(out) and not args.force:
             return fail(f"--out: {out!r} exists (another result?); give --force to overwrite it")
     controls = {k: v for k, v in (("h", args.h), ("rtol", args.rtol), ("atol", args.atol)) if v is not None}
     try:
         model = ss.Model.from_toml(args.model)
-        res = ss.simulate(model, method=args.method, t_end=args.t_end, n_out=args.n_out, **controls)
+        with warnings.catch_warnings():      # said once, as notes below
+            warnings.simplefilter("ignore", ss.RegularisedLawWarning)
+            warnings.simplefilter("ignore", ss.ConsistencyWarning)
+            warnings.simplefilter("ignore", ss.EnergyBoundWarning)
+            res = ss.simulate(model, method=args.method, t_end=args.t_end, n_out=args.n_out, **controls)
     except ValueError as err:
         return fail(str(err))
     except ss.IntegrationError as err:
@@ -86,6 +92,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         plt.close(fig)
     print(f"{args.out}: {res.t.size} rows, {len(names)} bodies, {res.stats['nfev']} evaluations, "
           f"{len(res.events)} events ({args.method})")
+    for note in res.stats["notes"]:          # what the law computes here, failed consistency checks
+        print(f"note: {note}")
     return 0
 
 

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 import os
-import tempfile
 import tomllib
 import warnings
 from dataclasses import dataclass, field
@@ -30,12 +29,13 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result, _ERRORS,
-                   _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _events, _finite,
+                   _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _end_time, _events, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
                    IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
-                   _physical, MAX_ROWS)
+                   _physical, MAX_ROWS, model_notes, _warn_model_steps)
+from .outputs import atomic_write
 from .signal import Signal, SignalLike, as_signal
-from .energy import EnergyBoundWarning, energy_bound
+from .energy import check_result
 
 __all__ = ["Model", "ModelWarning"]
 
@@ -43,9 +43,9 @@ __all__ = ["Model", "ModelWarning"]
 _ELEMENTS = {1: "body", 2: "spring", 3: "damper", 4: "force", 5: "contact", 6: "signal", 7: "drive"}
 #: What a drive prescribes, by the library's code (stickslip_user_model's DRIVE_*).
 _DRIVES = {"position": 1, "velocity": 2}
-#: The laws with jumps (modes), which implicit_euler and galpha solve over their modes on a
-#: model (stickslip_modal_contacts), and those methods.
-_JUMP_LAWS = ("coulomb", "karnopp")
+#: The laws with jumps (modes: the registry's n_modes > 0), which implicit_euler and galpha
+#: solve over their modes on a model (stickslip_modal_contacts), and those methods.
+_JUMP_LAWS = tuple(law for law in LAWS if REGISTRY["law"][law]["modes"] > 0)
 _MODAL_METHODS = ("implicit_euler", "galpha")
 
 
@@ -499,18 +499,8 @@ class Model:
 
 
 def write_whole(path: str | os.PathLike, data: str | bytes) -> None:
-    """Write `data` to `path` whole or not at all: into a temporary file beside it, renamed
-    over it once complete (a failure leaves no partial file)."""
-    path = os.fspath(path)
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".stickslip-")
-    try:
-        with os.fdopen(fd, "wb" if isinstance(data, bytes) else "w") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write `data` to `path` whole or not at all (stickslip.outputs.atomic_write)."""
+    atomic_write(path, lambda fh: fh.write(data), binary=isinstance(data, bytes))
 
 
 def _drive_problem(sig: Signal, kind: str) -> str:
@@ -606,13 +596,13 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     if not isinstance(model, Model):
         raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
     check_method(model, method)
+    notes = model_notes(model, method, stacklevel=4)
+    _warn_model_steps(model, method, t_end, controls, stacklevel=5)    # the caller of simulate
     info = REGISTRY["method"][method]
     laws = [c.law for c in model.contacts]
     arrays = model.arrays()
     n = model.n_states()
-    t_end = _finite("t_end", t_end, "> 0 [s]")
-    if not t_end > 0.0:
-        raise ValueError(f"t_end: must be > 0 [s] (a model's run starts at t = 0), got {t_end!r}")
+    t_end = _end_time(t_end)
     ctl = {k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]}
     for name, value in controls.items():
         if name not in info["controls"]:
@@ -677,7 +667,8 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     result.drive_force = drive_force.T
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
-    _check_energy(model, result, arrays)
+    result.stats["notes"].extend(notes)
+    check_result(result, method, {**ctl, "rtol": rtol, "atol": atol}, model, arrays, stacklevel=4)
     return result
 
 
@@ -714,21 +705,3 @@ def _check_band(model: Model, method: str, rtol: float) -> None:
                           f"(its surface's and bodies' speeds) is {rtol * scale:.3g} m/s, more than its law's "
                           f"{band_name} = {band:.3g} m/s: {method}'s error test may not resolve the law's band; "
                           f"take rtol <= {band / scale:.3g}", ModelWarning, stacklevel=4)
-
-
-def _check_energy(model: Model, result: Result, arrays: dict[str, Any]) -> None:
-    """An EnergyBoundWarning where the result's mechanical energy exceeds its bound
-    (stickslip.energy.energy_bound; models it does not check pass); `arrays`: the model's."""
-    if model.drives:           # a drive's work is not bounded by the model's forces
-        return
-    checked = energy_bound(model, result.t, result.x, result.v, arrays)
-    if checked is None:
-        return
-    e, bound = checked
-    over = np.flatnonzero(~(e <= bound))
-    if over.size:
-        i = int(over[0])
-        warnings.warn(f"model ({result.method}): the mechanical energy {e[i]:.6g} J at t = {result.t[i]:.6g} s "
-                      f"exceeds {bound[i]:.6g} J, the most its forces and moving surfaces can have put in "
-                      "(stickslip.energy): the result is wrong; take a smaller step or tolerance",
-                      EnergyBoundWarning, stacklevel=4)
