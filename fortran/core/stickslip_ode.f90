@@ -76,6 +76,11 @@ module stickslip_ode
         !! evaluation found; halt = .true. ends the run after this step (status SS_OK,
         !! t_reached the step's end). The default: nothing kept, no halt.
         procedure :: step_accepted => no_step_accepted
+        !> The size of each component that the relative tolerance scales, read by the error
+        !! norms of dopri5, dop853 and radau5 (weights atol + rtol size): |y_i| by default. A
+        !! system overrides it where what matters is smaller than |y_i|: a model gives a
+        !! velocity's size as the slip its friction law sees (`stickslip_model_system`).
+        procedure :: error_size => plain_error_size
     end type ode_system
 
     !> The controls every integrator shares; each method reads those its registry entry
@@ -172,6 +177,15 @@ module stickslip_ode
     !! names of the real counters, in the order of `stats_reals`
 
 contains
+
+    !> |y_i| (the default `error_size`).
+    subroutine plain_error_size(self, t, y, size_y)
+        class(ode_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! state
+        real(dp), intent(out) :: size_y(:)  !! the size of each component
+        size_y = abs(y)
+    end subroutine plain_error_size
 
     !> .true. when the caller has asked the run to stop: the flag is looked at only every
     !! STOP_CHECK_MASK + 1 steps, so that the check costs nothing in the hot loop.

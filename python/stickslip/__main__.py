@@ -26,7 +26,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("model", help="the model file (TOML; schema in docs/guide/models.md)")
     r.add_argument("--method", required=True, help="integration method (one of stickslip.METHODS)")
     r.add_argument("--t-end", type=float, required=True, help="end time [s]")
-    r.add_argument("--out", required=True, help="CSV file to write (t, then x and v of every body)")
+    r.add_argument("--out", required=True,
+                   help="CSV file to write (t, then x and v of every body, then each drive's force)")
     r.add_argument("--n-out", type=int, default=1001, help="output points on [0, t_end] (default 1001)")
     r.add_argument("--h", type=float, help="step size of the fixed-step methods [s]")
     r.add_argument("--rtol", type=float, help="relative tolerance of the adaptive methods")
@@ -166,8 +167,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ss.IntegrationError as err:
         return fail(f"the run ended early: {err}")
     names = [b.name for b in model.bodies]
-    header = ",".join(["t"] + [f"x_{n}" for n in names] + [f"v_{n}" for n in names])
-    rows = np.vstack([res.t, res.x, res.v]).T
+    driven = [f"F_drive_{names[d.body]}" for d in model.drives]       # the drives' forces [N]
+    header = ",".join(["t"] + [f"x_{n}" for n in names] + [f"v_{n}" for n in names] + driven)
+    rows = np.vstack([res.t, res.x, res.v, res.drive_force.T]).T
     lines = [header] + [",".join(repr(float(v)) for v in row) for row in rows]
     write_whole(args.out, "\n".join(lines) + "\n")
     if args.plot:

@@ -298,6 +298,8 @@ class Result:
         ``event_driven``'s stick/slip transitions (time, kind, position, contact; at most the
         first 1,000,000, while ``stats["nevents"]`` counts them all); empty for the other
         methods.
+    drive_force : numpy.ndarray, shape (n_t, n_drives)
+        A model's drives' forces on their bodies [N] (`Model.add_drive`); (n_t, 0) otherwise.
 
     Notes
     -----
@@ -306,7 +308,7 @@ class Result:
     """
 
     __slots__ = ("scene", "law", "method", "t_end", "t", "x", "v", "z", "state_labels",
-                 "events", "_params", "_stats", "_raw")
+                 "events", "drive_force", "_params", "_stats", "_raw")
 
     def __init__(self, scene: str, law: str, method: str, t_end: float, params: dict[str, float],
                  t: np.ndarray, x: np.ndarray, v: np.ndarray, stats: dict[str, Any] | None = None,
@@ -317,6 +319,7 @@ class Result:
         self.z = np.zeros((0, np.size(t))) if z is None else z
         self.state_labels = state_labels
         self.events = _NO_EVENTS if events is None else events
+        self.drive_force = np.zeros((np.size(t), 0))
         self._params, self._stats, self._raw = params, ({} if stats is None else stats), None
 
     @property

@@ -101,10 +101,11 @@ def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray,
     """The mechanical energy E [J] of `model` at the output times `t` [s] (positions x and
     velocities v, shape (n_bodies, n_t), t[0] = 0) and its bound B [J] (see the module): a
     correct run has E <= B. None when the model is not checked (a law with internal states, a
-    law whose mu does not oppose the slip or has no bound, signals too fast for the grid).
+    law whose mu does not oppose the slip or has no bound, signals too fast for the grid, a
+    drive, whose work no force of the model bounds).
     `arrays`: `model.arrays()` where the caller has it (it identifies the model in the cache of
     the bounds)."""
-    if t.size == 0 or t[0] != 0.0:
+    if t.size == 0 or t[0] != 0.0 or getattr(model, "drives", None):
         return None
     mass = np.array([b.mass for b in model.bodies])
     e = (0.5 * mass) @ np.square(v)
@@ -340,7 +341,7 @@ def _energy_rise(model: Any, t: np.ndarray, e: np.ndarray, v: np.ndarray, dv: np
     """Where `model` is conservative apart from friction and dampers (no force, no moving
     surface), its energy E [J] cannot rise: E(t) against its smallest earlier value, allowing
     SAFETY sum m |v|max dv + m dv^2 / 2 (dv: `_velocity_allowance`). A sentence, or None."""
-    if model.forces or any(c.surface_velocity is not None for c in model.contacts):
+    if model.forces or model.drives or any(c.surface_velocity is not None for c in model.contacts):
         return None
     mass = np.array([b.mass for b in model.bodies])
     allow = SAFETY * float(np.sum(mass * (np.max(np.abs(v), axis=1) * dv + 0.5 * dv * dv))) \
@@ -366,7 +367,8 @@ def _friction_excess(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray, dv
         return None
     dt = np.diff(t)
     ok = dt > 0.0
-    resolved = np.array([_resolved(row[np.concatenate([[True], ok])]) for row in v])
+    resolved = np.array([_resolved(row[np.concatenate([[True], ok])]) and not model.driven(j)
+                         for j, row in enumerate(v)])     # a driven body's force includes its drive's
     if not resolved.any():
         return None
     nb = model.n_bodies
