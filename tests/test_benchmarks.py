@@ -198,7 +198,7 @@ def test_overhead_alone_replaces_its_block_and_rows(tmp_path: Path, monkeypatch:
     lines = (tmp_path / "summary.md").read_text().splitlines()
     assert lines[:8] == before[:8] and lines[-2:] == before[-2:]
     block = lines[8:-2]
-    assert block[0].startswith(OVERHEAD_HEAD) and "Goal (issue 32)" in block[0] and "at most 5 us" in block[0]
+    assert block[0].startswith(OVERHEAD_HEAD) and "Goal: " in block[0] and "at most 5 us" in block[0]
     assert "--overhead" in block[0] and "| old |" not in lines
     table = [line for line in block if line.startswith("| ") and not line.startswith("| scene")]
     assert len(table) == len(OVERHEAD)

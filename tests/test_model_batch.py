@@ -136,8 +136,8 @@ def test_chunked_rows_equal_local(tmp_path):
 
 # -- every law x method on the small general model ------------------------------------------------
 #: The laws the set-valued methods take (docs/guide/models.md: `moreau` and `event_driven` take
-#: "coulomb and stribeck (set-valued: exact stick)"); they refuse every other law.
-SET_VALUED_METHODS, SET_VALUED_LAWS = ("moreau", "event_driven"), ("coulomb", "stribeck")
+#: "`coulomb`, `stribeck` and `karnopp` (set-valued: exact stick ...)"); they refuse every other law.
+SET_VALUED_METHODS, SET_VALUED_LAWS = ("moreau", "event_driven"), ("coulomb", "stribeck", "karnopp")
 #: Every run that ends is compared with a reference run by another method (event_driven for the
 #: set-valued laws, radau5 otherwise, both at rtol 1e-10): positions at t_end within this [m].
 AGREE = 2e-3
