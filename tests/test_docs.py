@@ -499,7 +499,7 @@ FACTS: dict[str, dict[str, str]] = {
         "1.2": "a goal (at most 1.2 times the reference)", "0.5": "GSL's step-keeping interval",
         "1.1": "GSL's step-keeping interval",
         "50,000": "the callgrind run's steps, chosen", "2e6": "the Lotka-Volterra run's steps, chosen",
-        "2.3": "mu_s/mu_k up to 0.7/0.3, the problems' range", "10,000": "the largest chain, chosen",
+        "10,000": "the largest chain, chosen",
         "5 s": "the fit's budget",
     },
     "guide/dask.md": {
