@@ -73,7 +73,7 @@
 module stickslip_event_driven
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_EVENT_ZENO, &
                                SS_BAD_EVENT_CTL, SS_SINGULAR, SS_BAD_MAX_STEPS, SS_EVENT_BUDGET, &
-                               SS_CONTACT_FAILED
+                               SS_CONTACT_FAILED, SS_INTERRUPTED
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, &
                              check_tolerances, output_start
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, dopri5_dense, DOPRI5_DENSE_ROWS
@@ -81,7 +81,7 @@ module stickslip_event_driven
     use stickslip_linalg, only: psd_solve, psd_factors, psd_factor
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, STICK_RTOL, MODE_STICK, MODE_OPEN
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-    use stickslip_ode, only: diverged
+    use stickslip_ode, only: diverged, stop_requested
     implicit none
     private
 
@@ -134,6 +134,11 @@ module stickslip_event_driven
         !! (ga, dga: the one before; gb, dgb: the last), kept by `mode_step_accepted`
         real(dp), allocatable :: ga(:), dga(:), gb(:), dgb(:)
         logical :: halted = .false.   !! mode_step_accepted ended DOPRI5's run after its last step
+        !> (n_c) contact i carried a normal force (N_i > 0) where the mode's run started
+        logical, allocatable :: closed(:)
+        !> (n_c) its normal force has crossed 0 since (`closed` differs at the last step's end)
+        logical, allocatable :: flip(:)
+        integer :: singular_contact = 0   !! a contact of the stuck set found singular
         real(dp) :: t_prev = 0.0_dp   !! the time of ga, dga [s]
     contains
         procedure :: rhs => mode_rhs
@@ -183,6 +188,8 @@ module stickslip_event_driven
         integer :: zeno_run = 0                    !! instants with events in a row closer than zeno_gap
         integer :: ievent = 0                      !! events so far
         integer :: same_instant = 0                !! events at the current instant
+        real(dp) :: t_last_switch = 0.0_dp         !! time of the last switch of mode (`switch_mode`) [s]
+        integer :: close_switches = 0              !! switches in a row closer than zeno_gap
     end type ed_run
 
 contains
@@ -243,6 +250,7 @@ contains
             end do
             call holding_forces(self, cap(:ns), rs(:ns, :), ok)
             if (.not. ok) then
+                if (.not. self%singular) self%singular_contact = self%idx(1)
                 self%singular = .true.
                 return
             end if
@@ -436,7 +444,8 @@ contains
         call values_from_forces(self, min(t, self%t_cap), dydt(nd + 1:), self%wr, self%gb, self%dgb)
         step = t - self%t_prev      ! as event_driven_integrate's scan takes it (not h: rounding)
         self%t_prev = t
-        halt = self%singular .or. any(crossed(self%stuck, self%gb)) .or. &
+        self%flip = (self%wn > 0.0_dp) .neqv. self%closed
+        halt = self%singular .or. any(crossed(self%stuck, self%gb)) .or. any(self%flip) .or. &
                any(dips(self%stuck, self%ga, self%gb, step * self%dga, step * self%dgb))
         self%halted = halt
     end subroutine mode_step_accepted
@@ -570,6 +579,7 @@ contains
                  s%ms%wcap(nc), s%ms%rhs2(nc, 1), s%ms%wr(nc))
         allocate(s%ms%stuck(nc), s%ms%sig(nc), s%r(nc))
         allocate(s%ms%ga(nc), s%ms%dga(nc), s%ms%gb(nc), s%ms%dgb(nc))
+        allocate(s%ms%closed(nc), s%ms%flip(nc), source=.false.)
         allocate(s%cand_now(nc), s%touch(nc), source=.false.)
         s%t_touch = -huge(1.0_dp)
         allocate(s%tb(CHUNK), s%yb(n, CHUNK), s%y(n), s%ya(n), s%ystar(n), s%cb(DOPRI5_DENSE_ROWS * n + 1, CHUNK))
@@ -582,6 +592,8 @@ contains
         s%ms%sig = 1.0_dp
         s%h_carry = 0.0_dp
         s%t_last_event = -huge(1.0_dp)
+        s%t_last_switch = -huge(1.0_dp)
+        s%close_switches = 0
         s%zeno_run = 0
         s%ievent = 0
         s%same_instant = 0
@@ -598,9 +610,19 @@ contains
         real(dp), intent(inout) :: y_out(:, :)   !! output states
         type(ode_stats) :: st
         real(dp) :: g_a(s%nc), g_b(s%nc), dg_a(s%nc), dg_b(s%nc)
-        logical :: cand(s%nc), hit
+        logical :: cand(s%nc), flip(s%nc), hit
         integer :: i, k, nrows
         more = .false.
+        flip = .false.
+        ! the budgets and the stop flag, before every mode's run (DOPRI5 takes at least a step)
+        if (s%stats%nstep >= s%opts%max_steps) then
+            s%stats%status = SS_STEP_BUDGET
+            return
+        end if
+        if (stop_requested(s%opts, 0_8)) then
+            s%stats%status = SS_INTERRUPTED
+            return
+        end if
         associate (ms => s%ms, cs => s%ms%cs, d5 => s%d5)
             ! Pass 1: the mode's steps, CHUNK rows at a time, looking for an event.
             d5%h0 = s%h_carry
@@ -608,14 +630,19 @@ contains
             ! A stuck contact's state barely moves, so DOPRI5's error estimate does not limit
             ! the step, while the forces may follow a sine: keep the steps, at whose ends the
             ! holding forces are checked, to 1/STEPS_PER_PERIOD of the shortest period.
-            d5%hmax = 0.0_dp
-            if (any(ms%stuck) .and. cs%time_scale() < huge(1.0_dp)) d5%hmax = cs%time_scale() / STEPS_PER_PERIOD
             s%t_seg = min(t_end, cs%next_time_event(s%t))   ! a corner of the forces: the mode ends there
             ms%t_cap = huge(1.0_dp)
             if (s%t_seg < t_end) ms%t_cap = nearest(s%t_seg, -1.0_dp)
             ! the event functions at the start; mode_step_accepted takes them at each step's end
             ! and halts DOPRI5 after a step with an event (or a dip) in it
             call event_values(ms, s%t, s%y, ms%gb, s%r, ms%dgb)
+            ms%closed = ms%wn > 0.0_dp
+            ms%flip = .false.
+            ! So does an open contact's normal force, which the state does not follow while it
+            ! is open: it is sampled at the same density, to see where it closes.
+            d5%hmax = 0.0_dp
+            if ((any(ms%stuck) .or. .not. all(ms%closed)) .and. cs%time_scale() < huge(1.0_dp)) &
+                d5%hmax = cs%time_scale() / STEPS_PER_PERIOD
             ms%t_prev = s%t
             ms%halted = .false.
             call dopri5_integrate(ms, s%t, s%y, s%t_seg, s%rtol, s%atol, d5, s%tb, s%yb, st)
@@ -630,11 +657,15 @@ contains
                 s%stats%status = st%status
                 if (s%stats%status == SS_STEP_BUDGET .or. s%stats%nstep >= s%opts%max_steps) &
                     s%stats%status = SS_STEP_BUDGET
-                if (nrows >= 1) call output_to(s, s%tb(nrows), t_out, y_out)
+                call keep_rows(s, nrows, t_out, y_out)
                 return
             end if
             if (ms%singular) then
-                s%stats%status = SS_SINGULAR
+                ! the stuck set's holding forces have no solution: the run's friction problem
+                ! failed (not a Newton matrix: there is none); its last step is not kept
+                s%stats%status = SS_CONTACT_FAILED
+                s%stats%contact_worst = ms%singular_contact
+                call keep_rows(s, nrows - 1, t_out, y_out)
                 return
             end if
             if (diverged(s%yb(:, nrows), s%stats, s%opts%y_bound)) return   ! left the bound: SS_DIVERGED
@@ -653,7 +684,8 @@ contains
                 g_b = ms%gb
                 dg_b = ms%dgb
                 cand = crossed(ms%stuck, g_b)
-                hit = any(cand)
+                flip = ms%flip
+                hit = any(cand) .or. any(flip)
                 ! a slipping contact whose w turns back within the step: its minimum
                 do i = 1, s%nc
                     if (.not. dips(ms%stuck(i), g_a(i), g_b(i), (s%tb(k) - s%ta) * dg_a(i), &
@@ -681,6 +713,9 @@ contains
             s%h_carry = s%tb(k) - s%ta
             do i = 1, s%nc
                 if (cand(i)) call locate(s, i, g_a(i))
+            end do
+            do i = 1, s%nc
+                if (flip(i)) call locate_normal(s, i)
             end do
             call output_to(s, s%tstar, t_out, y_out)
             s%t = s%tstar
@@ -962,16 +997,86 @@ contains
         end do
     end subroutine locate
 
+    !> After a failed mode's run: the output rows and the state up to its step `last` (none
+    !! when last < 1), so that t_reached and the rows written say how far the motion is known.
+    subroutine keep_rows(s, last, t_out, y_out)
+        type(ed_run), intent(inout) :: s
+        integer, intent(in)     :: last          !! the last step of the run to keep
+        real(dp), intent(in)    :: t_out(:)      !! output times [s]
+        real(dp), intent(inout) :: y_out(:, :)   !! output states
+        if (last < 2) return                     ! tb(1) is the run's start: nothing new
+        call output_to(s, s%tb(last), t_out, y_out)
+        s%t = s%tb(last)
+        s%y = s%yb(:, last)
+    end subroutine keep_rows
+
+    !> Earliest crossing of 0 by contact i's normal force in (ta, tstar] (it closes where the
+    !! run started open, or opens where it started closed: `closed`), by bisection on the
+    !! state's continuous extension to 4 units of round-off in t: shrink tstar.
+    subroutine locate_normal(s, i)
+        type(ed_run), intent(inout) :: s
+        integer, intent(in) :: i          !! the contact
+        real(dp) :: lo, hi, tm, yq(s%n)
+        integer :: it
+        if (.not. normal_flipped(s, i, s%tstar, s%ystar)) return   ! after an earlier event: not now
+        lo = s%ta
+        hi = s%tstar
+        do it = 1, 200
+            if (hi - lo <= 4.0_dp * epsilon(1.0_dp) * max(abs(lo), abs(hi), 1.0e-300_dp)) exit
+            tm = 0.5_dp * (lo + hi)
+            if (tm <= lo .or. tm >= hi) exit
+            call advance(s, tm, yq)
+            if (normal_flipped(s, i, tm, yq)) then
+                hi = tm
+                s%tstar = tm
+                s%ystar = yq
+            else
+                lo = tm
+            end if
+        end do
+    end subroutine locate_normal
+
+    !> Has contact i's normal force at (tq, yq) crossed 0 since the mode's run started?
+    logical function normal_flipped(s, i, tq, yq) result(flipped)
+        type(ed_run), intent(inout) :: s
+        integer, intent(in) :: i          !! the contact
+        real(dp), intent(in) :: tq        !! time [s]
+        real(dp), intent(in) :: yq(:)     !! the state (q, u) there
+        real(dp) :: nn(s%nc)
+        call s%ms%cs%normal_forces(min(tq, s%ms%t_cap), yq(:s%nd), nn)
+        flipped = (nn(i) > 0.0_dp) .neqv. s%ms%closed(i)
+    end function normal_flipped
+
     !> Switch the mode at (t, y): the contacts whose event functions have crossed and every
     !! stuck contact are decided together (`decide`); a contact that reached w = 0 and has
-    !! one entry in H gets w = 0 exactly. If that changes no mode although a holding force
-    !! exceeds its limit here (rounding at the limit), that contact gives way.
+    !! one entry in H gets w = 0 exactly. A contact whose normal force rose above 0 (it was
+    !! open where the mode's run started) slips the way it moves, and is decided with the
+    !! others where it closes at w = 0. If that changes no mode although a holding force
+    !! exceeds its limit here (rounding at the limit), that contact gives way. More than
+    !! 4 n_c + 8 switches in a row each within zeno_gap of the last (with or without a change
+    !! of mode) end the run with SS_EVENT_ZENO: no input turns at one instant for ever.
     subroutine switch_mode(s)
         type(ed_run), intent(inout) :: s
-        real(dp) :: gv(s%nc), rr(s%nc), dgv(s%nc), b(s%nc)
+        real(dp) :: gv(s%nc), rr(s%nc), dgv(s%nc), b(s%nc), nn(s%nc), w(s%nc)
         integer :: j, kk, nchanged
         logical :: now(s%nc), over(s%nc)
+        if (s%t - s%t_last_switch <= s%opts%zeno_gap) then
+            s%close_switches = s%close_switches + 1
+            if (s%close_switches > 4 * s%nc + 8) then
+                s%stats%status = SS_EVENT_ZENO
+                return
+            end if
+        else
+            s%close_switches = 0
+        end if
+        s%t_last_switch = s%t
         associate (ms => s%ms, cs => s%ms%cs)
+            if (.not. all(ms%closed)) then
+                call cs%normal_forces(min(s%t, ms%t_cap), s%y(:s%nd), nn)
+                call cs%relative_velocities(s%t, s%y(s%nd + 1:), w)
+                where (nn > 0.0_dp .and. .not. ms%closed .and. .not. ms%stuck .and. w /= 0.0_dp) &
+                    ms%sig = sign(1.0_dp, w)
+            end if
             call event_values(ms, s%t, s%y, gv, rr, dgv)
             call cs%slip_offset(s%t, b)
             now = crossed(ms%stuck, gv)
