@@ -8,9 +8,9 @@ their relative accelerations at zero (least squares with the weights 1 / (mu_s N
 redundant contacts spreads the load in proportion to capacity); scipy's solve_ivp integrates
 the mode (DOP853) with events for w_i = 0 (slipping, closed), |r_i| = mu_s N_i (stuck) and
 N_i = 0 (a table crossing zero, either way), and stops at the tables' points. At each event
-the new mode is found by exhaustive search over every mode of the contacts at w = 0 (3^k of
-them), keeping a consistent one with the most stuck contacts; a contact that closes slips the
-way it moves. Where several modes with that many stuck contacts are consistent (a tie), the
+the new mode is found by exhaustive search over the modes of the contacts at w = 0, by
+increasing number of slipping contacts (all 3^k of them where none holds), keeping a
+consistent one with the most stuck contacts; a contact that closes slips the way it moves. Where several modes with that many stuck contacts are consistent (a tie), the
 time is kept in `ties`: another rule may pick another of them.
 """
 from __future__ import annotations
@@ -87,29 +87,36 @@ class Reference:
         over = [i for i in cands if abs(r[i]) > self.mu_s[i] * nn[i] * (1 + 1e-12) or i in at_limit]
         for i in over:
             guess[i] = -int(np.sign(r[i]))
+        # every mode of the candidates, by the number of slipping ones (fewest first): the first
+        # count with a consistent mode holds the most stuck contacts
         best, best_key, n_best = None, None, 0
-        for choice in itertools.product((0, 1, -1), repeat=len(cands)):
-            trial = mode.copy()
-            trial[cands] = choice
-            r = self.forces(q, u, trial, t)
-            acc = self.h @ self.accel(q, u, trial, t)
-            ok = True
-            for i, c in zip(cands, choice):
-                if c == 0:
-                    lim = self.mu_s[i] * nn[i] * (1 - 1e-9 if i in at_limit else 1 + 1e-9)
-                    ok &= abs(r[i]) <= lim and abs(acc[i]) < 1e-8
-                else:      # slipping away from w = 0 (to rounding: at mu_s = mu_k the limit is 0)
-                    ok &= c * acc[i] > -1e-9
-            if not ok:
-                continue
-            key = (-choice.count(0), 0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
-                   sum(abs(acc[i]) for i, c in zip(cands, choice) if c != 0))
-            if best_key is None or key[0] < best_key[0]:
-                n_best = 1
-            elif key[0] == best_key[0]:
-                n_best += 1
-            if best_key is None or key < best_key:
-                best, best_key = trial, key
+        cands = list(cands)
+        for n_slip in range(len(cands) + 1):
+            for slipping in itertools.combinations(range(len(cands)), n_slip):
+                for signs in itertools.product((1, -1), repeat=n_slip):
+                    choice = [0] * len(cands)
+                    for j, sg in zip(slipping, signs):
+                        choice[j] = sg
+                    trial = mode.copy()
+                    trial[cands] = choice
+                    r = self.forces(q, u, trial, t)
+                    acc = self.h @ self.accel(q, u, trial, t)
+                    ok = True
+                    for i, c in zip(cands, choice):
+                        if c == 0:
+                            lim = self.mu_s[i] * nn[i] * (1 - 1e-9 if i in at_limit else 1 + 1e-9)
+                            ok &= abs(r[i]) <= lim and abs(acc[i]) < 1e-8
+                        else:      # slipping away from w = 0 (to rounding: at mu_s = mu_k the limit is 0)
+                            ok &= c * acc[i] > -1e-9
+                    if not ok:
+                        continue
+                    n_best += 1
+                    key = (0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
+                           sum(abs(acc[i]) for i, c in zip(cands, choice) if c != 0))
+                    if best_key is None or key < best_key:
+                        best, best_key = trial, key
+            if best is not None:
+                break
         if best is None:
             raise RuntimeError("no consistent mode")
         if n_best > 1 and any(self.mu_s[i] > self.mu_k[i] for i in cands):
@@ -132,9 +139,12 @@ class Reference:
         out = np.full((2 * nd, t_eval.size), np.nan)
         events = []
         corners = [c for c in self.corners() if c > 0.0]
+        stalled = 0
         for _ in range(max_segments):
             if t >= t_end:
                 break
+            if stalled > 50:
+                raise RuntimeError(f"reference: no progress at t = {t}")
             t_stop_at = min([c for c in corners if c > t] + [t_end])
             closed = self._closed(t)
 
@@ -144,8 +154,9 @@ class Reference:
             funcs, kinds = [], []
             for i in range(nc):
                 if mode[i] == 0:
-                    def f(_t, y, i=i, mode=mode):
-                        return self.mu_s[i] * self.normal(_t)[i] - abs(self.forces(y[:nd], y[nd:], mode, _t)[i])
+                    slack = 0.0 if closed[i] else 1e-9     # held while open: only a force that appears
+                    def f(_t, y, i=i, mode=mode, slack=slack):
+                        return self.mu_s[i] * self.normal(_t)[i] + slack - abs(self.forces(y[:nd], y[nd:], mode, _t)[i])
                     f.direction = -1
                     f.terminal = True
                     funcs.append(f)
@@ -171,6 +182,7 @@ class Reference:
             if sel.any() and t_stop > t:
                 out[:, sel] = sol.sol(t_eval[sel])
             y = sol.y[:, -1]
+            stalled = stalled + 1 if t_stop == t else 0
             q, u, t = y[:nd].copy(), y[nd:].copy(), t_stop
             if sol.status == -1 or (sol.status == 0 and t >= t_end):
                 break
@@ -184,7 +196,8 @@ class Reference:
                 if np.count_nonzero(self.h[i]) == 1:      # exact stick
                     j = np.flatnonzero(self.h[i])[0]
                     u[j] = -self.b[i] / self.h[i, j]
-            closing = [i for kind, i in hit if kind == "normal" and not closed[i]]
+            now_closed = self._closed(t)     # every table that crossed with them (the same table: halves)
+            closing = [i for i in range(nc) if now_closed[i] and not closed[i]] if hit else []
             w = self.h @ u + self.b
             new_mode = mode.copy()
             for i in closing:                             # a closing contact slips the way it moves
@@ -193,6 +206,10 @@ class Reference:
             at_w0 = [i for i in closing if w[i] == 0.0]
             cands = sorted(set(w_hit) | set(at_w0) | set(np.flatnonzero(mode == 0)))
             limit = {i for kind, i in hit if kind == "limit"}
+            if limit:      # every stuck contact at its limit with them (the same row: redundant)
+                r = self.forces(q, u, mode, t)
+                lim = self.mu_s * self.normal(t)
+                limit |= {i for i in range(nc) if mode[i] == 0 and lim[i] > 0 and abs(r[i]) >= lim[i] * (1 - 1e-7)}
             cands = sorted(set(cands) | limit)
             new = self.decide(q, u, np.array(cands, int), new_mode, at_limit=limit, t=t) if cands else new_mode
             for i in range(nc):
