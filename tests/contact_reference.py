@@ -87,10 +87,22 @@ class Reference:
         over = [i for i in cands if abs(r[i]) > self.mu_s[i] * nn[i] * (1 + 1e-12) or i in at_limit]
         for i in over:
             guess[i] = -int(np.sign(r[i]))
-        # every mode of the candidates, by the number of slipping ones (fewest first): the first
-        # count with a consistent mode holds the most stuck contacts
-        best, best_key, n_best = None, None, 0
         cands = list(cands)
+        for slack in (0.0, 1e-9):      # slipping away from w = 0 (then to rounding: at mu_s = mu_k)
+            best, n_best = self._search(q, u, cands, mode, at_limit, t, nn, held, guess, slack)
+            if best is not None:
+                break
+        if best is None:
+            raise RuntimeError("no consistent mode")
+        if n_best > 1 and any(self.mu_s[i] > self.mu_k[i] for i in cands):
+            self.ties.append(t)
+        return best
+
+    def _search(self, q, u, cands, mode, at_limit, t, nn, held, guess, slack):
+        """The best consistent mode of the candidates (see `decide`), searched by increasing
+        number of slipping ones (fewest first: the first count with a consistent mode holds the
+        most stuck contacts), and how many consistent modes hold that many (None, 0: none)."""
+        best, best_key, n_best = None, None, 0
         for n_slip in range(len(cands) + 1):
             for slipping in itertools.combinations(range(len(cands)), n_slip):
                 for signs in itertools.product((1, -1), repeat=n_slip):
@@ -106,8 +118,8 @@ class Reference:
                         if c == 0:
                             lim = self.mu_s[i] * nn[i] * (1 - 1e-9 if i in at_limit else 1 + 1e-9)
                             ok &= abs(r[i]) <= lim and abs(acc[i]) < 1e-8
-                        else:      # slipping away from w = 0 (to rounding: at mu_s = mu_k the limit is 0)
-                            ok &= c * acc[i] > -1e-9
+                        else:
+                            ok &= c * acc[i] > -slack
                     if not ok:
                         continue
                     n_best += 1
@@ -117,11 +129,7 @@ class Reference:
                         best, best_key = trial, key
             if best is not None:
                 break
-        if best is None:
-            raise RuntimeError("no consistent mode")
-        if n_best > 1 and any(self.mu_s[i] > self.mu_k[i] for i in cands):
-            self.ties.append(t)
-        return best
+        return best, n_best
 
     def _closed(self, t):
         """Which contacts carry a normal force just after t (a table at 0 there: by its slope)."""

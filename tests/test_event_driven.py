@@ -270,7 +270,10 @@ def check_against_reference(seed: int) -> str:
     assert res.stats["nevents"] <= MAX_EVENTS + 4 * nc + 8, seed
     ref = spec.reference()
     t_grid = np.linspace(0.0, spec.t_end, n_out)
-    y_ref, _ = ref.run(spec.x0, spec.v0, spec.t_end, t_grid, rtol=1e-11, atol=1e-13)
+    try:
+        y_ref, _ = ref.run(spec.x0, spec.v0, spec.t_end, t_grid, rtol=1e-11, atol=1e-13)
+    except RuntimeError:
+        return "reference stalled"      # the reference's own limit (no mode, or no progress)
     if failed is not None:
         # the motion up to where it stopped is kept, and agrees with the reference there
         reached = res.stats["t_reached"]
@@ -309,7 +312,10 @@ def merged_agrees(spec: Spec) -> bool:
                           atol=1e-12, max_steps=MAX_STEPS, max_events=MAX_EVENTS)
     except ss.IntegrationError:
         return False
-    y_ref, _ = merged.reference().run(merged.x0, merged.v0, merged.t_end, t_grid, rtol=1e-11, atol=1e-13)
+    try:
+        y_ref, _ = merged.reference().run(merged.x0, merged.v0, merged.t_end, t_grid, rtol=1e-11, atol=1e-13)
+    except RuntimeError:
+        return False
     return bool(np.all(np.abs(res.x - y_ref[:len(spec.masses)]) < 1e-6))
 
 
@@ -320,7 +326,8 @@ def test_random_models_against_the_reference(seed: int) -> None:
 
 @pytest.mark.slow
 def test_random_campaign_of_200_models() -> None:
-    outcome: dict[str, list[int]] = {"agree": [], "tie": [], "halves": [], "failed": []}
+    outcome: dict[str, list[int]] = {"agree": [], "tie": [], "halves": [], "failed": [],
+                                     "reference stalled": []}
     for seed in range(200):
         outcome[check_against_reference(1000 + seed)].append(1000 + seed)
     print({k: len(v) for k, v in outcome.items()}, {k: v for k, v in outcome.items() if k != "agree"})
