@@ -326,12 +326,20 @@ def test_random_models_against_the_reference(seed: int) -> None:
 
 @pytest.mark.slow
 def test_random_campaign_of_200_models() -> None:
+    """200 random models: none may end in success with a motion other than the reference's
+    (ties between consistent modes, and the two-halves rule of the contact solver, are counted
+    apart); every run within its budgets. The outcome counts are printed."""
     outcome: dict[str, list[int]] = {"agree": [], "tie": [], "halves": [], "failed": [],
-                                     "reference stalled": []}
-    for seed in range(200):
-        outcome[check_against_reference(1000 + seed)].append(1000 + seed)
+                                     "reference stalled": [], "wrong": []}
+    wrong = []
+    for seed in range(1000, 1200):
+        try:
+            outcome[check_against_reference(seed)].append(seed)
+        except pytest.fail.Exception as err:
+            outcome["wrong"].append(seed)
+            wrong.append(str(err))
     print({k: len(v) for k, v in outcome.items()}, {k: v for k, v in outcome.items() if k != "agree"})
-    assert len(outcome["agree"]) >= 150
+    assert not wrong, "\n".join(wrong)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -358,3 +366,25 @@ def test_step_budget_is_honoured_with_events_in_every_mode() -> None:
         res = info.value.result
         assert "event_driven" in str(info.value)
         assert res.stats["nstep"] <= budget
+
+
+def test_ctrl_c_stops_a_run_of_many_short_modes() -> None:
+    """SIGINT half a second into a stick-slip run of about a million events (a minute or more):
+    KeyboardInterrupt, not the end of the run (the stop flag is looked at before every mode's
+    run, each of a few steps)."""
+    import subprocess
+    import sys
+    code = ("import os, signal, threading\n"
+            "import stickslip as ss\n"
+            "m = ss.Model()\n"
+            "b = m.add_body(1.0)\n"
+            "m.add_spring(b, None, k=100.0)\n"
+            "m.add_contact(b, None, 'coulomb', normal_force=10.0, surface_velocity=0.3, mu_s=0.5, mu_k=0.3)\n"
+            "threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()\n"
+            "try:\n"
+            "    ss.simulate(m, method='event_driven', t_end=1e6, n_out=2, max_events=10**8)\n"
+            "    print('finished')\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted')\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert proc.stdout.split() == ["interrupted"], proc.stdout + proc.stderr

@@ -50,8 +50,13 @@
 !! stuck contact and every contact at w = 0 is decided afresh (a normal force that stepped
 !! down releases what it can no longer hold). An open contact (N = 0: a disengaged clutch)
 !! has no events while it is open; its slip direction is taken from its w at the corner where
-!! it closes. (A normal force that rises above 0 between corners, a sine, keeps the direction
-!! of the last event: give such a contact a step, ramp or table where it closes.)
+!! it closes. A normal force that crosses 0 between corners (a table or ramp through 0, a
+!! sine) is an event too: each step's end compares every contact's N > 0 with its state where
+!! the mode's run started (`closed`), and the crossing is located by bisection on the step's
+!! continuous extension to 4 units of round-off in t (`locate_normal`). There a contact that
+!! closes slips the way it moves (at w = 0 it is decided with the others), and every stuck
+!! contact is decided afresh. While a contact is open, the steps are kept to 1/16 of the
+!! forces' shortest period as for a stuck one (its normal force does not limit them).
 !!
 !! Where forces vary smoothly in time (a sine, `contact_system%time_scale`), a mode with a
 !! stuck contact keeps its steps to 1/16 of their shortest period: while a body is stuck its
@@ -68,11 +73,15 @@
 !! Ends: SS_EVENT_BUDGET after more than max_events events; SS_EVENT_ZENO when events
 !! accumulate: 10 instants with events in a row closer than zeno_gap (events at one instant
 !! count once: a row of identical blocks switching together is not Zeno), or more than
-!! 4 n_c + 8 events at one instant; SS_CONTACT_FAILED when an event's problem has no solution
-!! (contact_worst names the contact).
+!! 4 n_c + 8 events at one instant, or more than 4 n_c + 8 switches of mode in a row each within
+!! zeno_gap of the last (changing a mode or not: nothing turns at one instant for ever);
+!! SS_CONTACT_FAILED when an event's problem has no solution, or a stuck set's holding forces
+!! have none (contact_worst names the contact); SS_STEP_BUDGET and SS_INTERRUPTED (the stop
+!! flag), looked at before every mode's run as well as in DOPRI5's. A failed run keeps its
+!! output rows and t_reached up to the last step it trusts.
 module stickslip_event_driven
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_EVENT_ZENO, &
-                               SS_BAD_EVENT_CTL, SS_SINGULAR, SS_BAD_MAX_STEPS, SS_EVENT_BUDGET, &
+                               SS_BAD_EVENT_CTL, SS_BAD_MAX_STEPS, SS_EVENT_BUDGET, &
                                SS_CONTACT_FAILED, SS_INTERRUPTED
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, &
                              check_tolerances, output_start
@@ -505,7 +514,7 @@ contains
     !> Integrate with stick/slip switching from t0 to t_end. y0 = (q0, u0), size 2 n_dof.
     !! events(:, k) = (t [s], kind, position [m], contact) of the k-th event, for as many as
     !! there are columns. Status: SS_OK, SS_EVENT_ZENO, SS_EVENT_BUDGET, SS_STEP_BUDGET,
-    !! SS_SINGULAR, SS_CONTACT_FAILED, DOPRI5's run-time codes, or a bad-input code.
+    !! SS_INTERRUPTED, SS_CONTACT_FAILED, DOPRI5's run-time codes, or a bad-input code.
     subroutine event_driven_integrate(cs, t0, y0, t_end, rtol, atol, opts, t_out, y_out, stats, events)
         class(contact_system), intent(in) :: cs   !! the system
         real(dp), intent(in)    :: t0            !! initial time [s]
