@@ -319,9 +319,12 @@ def merged_agrees(spec: Spec) -> bool:
     return bool(np.all(np.abs(res.x - y_ref[:len(spec.masses)]) < 1e-6))
 
 
-@pytest.mark.parametrize("seed", [1, 2, 5, 9, 11, 14])
+@pytest.mark.parametrize("seed", [1, 2, 5, 9, 11, 14, 6, 1024])
 def test_random_models_against_the_reference(seed: int) -> None:
-    check_against_reference(seed)
+    """A handful of the random models (6 and 1024 hold cycles of contacts, e.g. two bodies on
+    the ground and on each other, whose stuck set has a singular Delassus block: they ended in
+    a contact failure before psd_solve kept its right-hand side for the pseudo-solve)."""
+    assert check_against_reference(seed) == "agree"
 
 
 @pytest.mark.slow
