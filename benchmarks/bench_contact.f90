@@ -1,12 +1,13 @@
 !> The per-step contact solver (`stickslip_contact_solver`) on random coupled problems, against
-!! projected Gauss-Seidel alone and static-first pivoting (Lemke) alone on the same problems. For each number of contacts n: problems
+!! projected Gauss-Seidel alone and the solver's rule with every box problem by Lemke's method
+!! alone (SOLVER_PIVOTING) on the same problems. For each number of contacts n: problems
 !! w = wf + D p with D = H W^-1 H^T (H: rows of one or two +-1 entries over n/2 + 1 coordinates,
 !! so contacts are coupled; W symmetric positive definite), Coulomb laws with mu_s >= mu_k, and
 !! capacities scaled like a step of 1 ms. Prints one line per n:
-!!   n  us_per_solve  solved_fraction  gs_us_per_solve  gs_solved_fraction  modes_or_sweeps
+!!   n  us_per_solve  solved_fraction  gs_us_per_solve  gs_solved_fraction  linear_solves
 !!   fallback_fraction  piv_us_per_solve  piv_solved_fraction  pivots
-!! (fallback_fraction: problems where the solver fell back to pivoting; pivots: Lemke pivots a
-!! solve of pivoting alone)
+!! (linear_solves: the solver's a problem; fallback_fraction: problems where a box problem needed
+!! Lemke's fallback; pivots: Lemke pivots a solve of Lemke alone)
 !! (microseconds a solve, the median of `repeats` passes over the problems; Gauss-Seidel alone
 !! counts as solved where its answer meets the conditions to 1e-12 m/s).
 !!
@@ -15,25 +16,120 @@
 !! h = 1 ms, theta = 1/2): five states of a run started stuck on the belt (moreau itself, at
 !! t = 1, 2, 3, 4, 5 s), each giving the step's free velocities and capacities as moreau forms
 !! them. Solved by the chain's own path (`tridiagonal_sweeps`: nonsmooth Gauss-Seidel on the
-!! tridiagonal W, what moreau runs on a chain), and, up to 1000 blocks, on the dense Delassus
+!! tridiagonal W, what moreau runs on a chain), and, up to 100 blocks, on the dense Delassus
 !! matrix D = W^-1 by the general solver (`solve_contacts`) and by projected Gauss-Seidel alone
 !! (`gauss_seidel`, the solver before its fallback). One line per n:
 !!   chain  n  tri_us  tri_solved  tri_sweeps  solver_us  solver_solved  gs_us  gs_solved
 !!   gs_sweeps  both_solved  max_du
 !! (microseconds a solve, medians of `repeats` passes; solver and Gauss-Seidel columns -1 beyond
-!! 1000 blocks; both_solved: problems that both dense solvers solved, over which their times
+!! 100 blocks; both_solved: problems that both dense solvers solved, over which their times
 !! are taken; max_du: the largest difference of the step's velocities between the
 !! tridiagonal path and the general solver [m/s]).
+!!
+!! Then the stack (`bench_stack`): moreau itself on a stack of n = 1 to min(n_max, 64) blocks on
+!! a belt, every contact coupled to its neighbours, 2 s from rest at h = 1 ms: microseconds a
+!! step, the contact solver's linear solves a step, the steps with another solution
+!! (stats%nonunique), the largest residual and the status.
 !! Usage: bench_contact n_max repeats [chain_n_max]
+!> A stack of n blocks on a belt for the stack section of bench_contact: block 1 on the belt,
+!! block i on block i - 1 (contact i: w_i = v_i - v_(i-1), a row of H with two entries, so
+!! every contact is coupled to its neighbours), each block tied to the wall by a spring; normal
+!! forces the weight of the blocks above and on the contact. W = M + b K is diagonal.
+module bench_contact_stack
+    use stickslip_kinds, only: dp
+    use stickslip_contact, only: contact_system, contact_law
+    implicit none
+    private
+    public :: stack_system, stack_of
+
+    !> The stack (module notes).
+    type, extends(contact_system) :: stack_system
+        real(dp), allocatable :: m(:)       !! masses [kg]
+        real(dp), allocatable :: k(:)       !! springs to the wall [N/m]
+        real(dp), allocatable :: nf(:)      !! normal forces [N]
+        real(dp) :: v_b = 0.3_dp            !! belt speed [m/s]
+    contains
+        procedure :: force => stack_force
+        procedure :: solve_w => stack_solve_w
+        procedure :: normal_forces => stack_normal
+        procedure :: slip_offset => stack_offset
+    end type stack_system
+
+contains
+
+    !> n blocks: masses 2, 1, 0.5, 2, 1, ... kg, springs 200, 60, 30, ... N/m, Coulomb
+    !! (mu_s, mu_k) = (0.5, 0.35), (0.4, 0.3), (0.3, 0.2), ... from the belt up.
+    function stack_of(n) result(s)
+        integer, intent(in) :: n
+        type(stack_system) :: s
+        integer :: i, j
+        real(dp), parameter :: ms(3) = [2.0_dp, 1.0_dp, 0.5_dp], ks(3) = [200.0_dp, 60.0_dp, 30.0_dp]
+        real(dp), parameter :: mus(3) = [0.5_dp, 0.4_dp, 0.3_dp], muk(3) = [0.35_dp, 0.3_dp, 0.2_dp]
+        s%n_dof = n
+        s%n_c = n
+        allocate(s%m(n), s%k(n), s%nf(n), s%laws(n), s%h_ptr(n + 1))
+        allocate(s%h_col(2 * n - 1), s%h_val(2 * n - 1))
+        s%h_ptr(1) = 1
+        s%h_col(1) = 1
+        s%h_val(1) = 1.0_dp
+        do i = 1, n
+            j = 1 + mod(i - 1, 3)
+            s%m(i) = ms(j)
+            s%k(i) = ks(j)
+            s%laws(i) = contact_law(mu_s=mus(j), mu_k=muk(j))
+            if (i > 1) then
+                s%h_col(2 * i - 2:2 * i - 1) = [i - 1, i]
+                s%h_val(2 * i - 2:2 * i - 1) = [-1.0_dp, 1.0_dp]
+            end if
+            s%h_ptr(i + 1) = 2 * i
+        end do
+        do i = 1, n
+            s%nf(i) = 9.81_dp * sum(s%m(i:))
+        end do
+        s%w_constant = .true.
+    end function stack_of
+
+    subroutine stack_force(self, t, q, u, f)
+        class(stack_system), intent(in) :: self
+        real(dp), intent(in)  :: t, q(:), u(:)
+        real(dp), intent(out) :: f(:)
+        f = -self%k * q
+    end subroutine stack_force
+
+    subroutine stack_solve_w(self, t, q, u, a, b, x)
+        class(stack_system), intent(in) :: self
+        real(dp), intent(in)    :: t, q(:), u(:), a, b
+        real(dp), intent(inout) :: x(:)
+        x = x / (self%m + b * self%k)
+    end subroutine stack_solve_w
+
+    subroutine stack_normal(self, t, q, n)
+        class(stack_system), intent(in) :: self
+        real(dp), intent(in)  :: t, q(:)
+        real(dp), intent(out) :: n(:)
+        n = self%nf
+    end subroutine stack_normal
+
+    subroutine stack_offset(self, t, b)
+        class(stack_system), intent(in) :: self
+        real(dp), intent(in)  :: t
+        real(dp), intent(out) :: b(:)
+        b = 0.0_dp
+        b(1) = -self%v_b
+    end subroutine stack_offset
+
+end module bench_contact_stack
+
 program bench_contact
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, gauss_seidel, &
-                                        contact_residual, SOLVER_PIVOTING
+                                        contact_residual, SOLVER_PIVOTING, tridiagonal_sweeps
     use stickslip_linalg, only: psd_solve
     use stickslip_chain, only: chain_contact
-    use stickslip_moreau, only: moreau_options, moreau_integrate, tridiagonal_sweeps
+    use stickslip_moreau, only: moreau_options, moreau_integrate
     use stickslip_ode, only: ode_stats
+    use bench_contact_stack, only: stack_system, stack_of
     implicit none
     integer, parameter :: nprob = 50
     character(len=32) :: arg
@@ -45,7 +141,7 @@ program bench_contact
     type(contact_solve_info) :: info
     type(contact_workspace) :: cw     ! the solvers' room, reused from solve to solve as moreau does
     real(dp) :: u, t0, t1, resid, work
-    integer :: nok, ngs, sweeps, worst, ns_list(10), nfall, npiv
+    integer :: nok, ngs, sweeps, worst, ns_list(12), nfall, npiv
     real(dp) :: pivots
     logical :: ok_inv
     integer :: chain_n_max
@@ -62,7 +158,7 @@ program bench_contact
     call random_seed(size=iseed)
     allocate(seed(iseed), source=4242)
     call random_seed(put=seed)
-    ns_list = [2, 3, 4, 5, 6, 8, 16, 32, 64, 128]
+    ns_list = [2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 128]
     do k = 1, size(ns_list)
         n = ns_list(k)
         if (n > n_max) exit
@@ -108,7 +204,7 @@ program bench_contact
                 call solve_contacts(laws(:, j), d(:, :, j), wf(:, j), cap(:, j), .false., 1.0e-12_dp, 1000, &
                                     p, w, mode, info, work=cw)
                 if (info%ok) nok = nok + 1
-                if (info%method == SOLVER_PIVOTING) nfall = nfall + 1
+                if (info%pivots > 0) nfall = nfall + 1      ! Lemke's fallback was needed
                 work = work + info%sweeps
             end do
             call cpu_time(t1)
@@ -142,6 +238,12 @@ program bench_contact
             real(nok, dp) / nprob, 1.0e6_dp * median(gtimes), real(ngs, dp) / nprob, work / (repeats * nprob), &
             real(nfall, dp) / nprob, 1.0e6_dp * median(ptimes), real(npiv, dp) / nprob, pivots / (repeats * nprob)
         deallocate(d, wf, cap, laws, p, w, mode, hm, wm, winv, times, gtimes, ptimes)
+    end do
+
+    do k = 1, size(ns_list)
+        if (ns_list(k) > min(n_max, 64)) exit
+        if (k == 1) call bench_stack(1)
+        call bench_stack(ns_list(k))
     end do
 
     n = 10
@@ -212,7 +314,7 @@ contains
                 call cc%relative_velocities(h, uf(:, j), wf(:, j))
             end associate
         end do
-        dense = n <= 1000
+        dense = n <= 100     ! the general solver on D: O(n^3) a linear solve
         if (dense) then
             allocate(dm(n, n))
             call cc%delassus(0.0_dp, y0(:n), y0(n + 1:), h * th, (h * th)**2, dm)
@@ -291,6 +393,30 @@ contains
                 real(tri_sweeps, dp) / nst, '  -1  -1  -1  -1  -1  -1  -1'
         end if
     end subroutine bench_chain
+
+    !> The stack section: moreau (h = 1 ms, theta = 1/2) on a stack of n blocks on a belt
+    !! (`bench_contact_stack`) for 2 s from rest, `repeats` times: one line
+    !!   stack  n  us_per_step  linear_solves_per_step  nonunique_steps  largest_residual  status
+    subroutine bench_stack(n)
+        integer, intent(in) :: n        !! blocks (and contacts)
+        type(stack_system) :: s
+        type(moreau_options) :: mo
+        type(ode_stats) :: st
+        real(dp) :: t_out(2), y_out(2 * n, 2), y0(2 * n), tm(repeats), c0, c1
+        integer :: r
+        s = stack_of(n)
+        mo%h = 1.0e-3_dp
+        y0 = 0.0_dp
+        do r = 1, repeats
+            t_out = [0.0_dp, 2.0_dp]
+            call cpu_time(c0)
+            call moreau_integrate(s, 0.0_dp, y0, 2.0_dp, mo, t_out, y_out, st)
+            call cpu_time(c1)
+            tm(r) = (c1 - c0) / max(st%nstep, 1_8)
+        end do
+        print '(a, i5, es12.4, f10.2, i8, es12.4, i5)', 'stack', n, 1.0e6_dp * median(tm), &
+            real(st%ncontact_iter, dp) / max(st%nstep, 1_8), st%nonunique, st%contact_residual, st%status
+    end subroutine bench_stack
 
     real(dp) function median(x)
         real(dp), intent(in) :: x(:)

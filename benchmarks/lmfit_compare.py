@@ -74,7 +74,7 @@ def run_lmfit(log: Callable[[str], None], repeats: int = 3, laws: tuple[str, ...
     import scipy
     import stickslip
     from cases import identify as ci
-    from cases._provenance import machine
+    from harness.provenance import machine
 
     recs = [r for r, _ in ci.load_groups(stickslip.damper_files(36))["36lb"]]
     try:
@@ -163,5 +163,5 @@ def _blank(value: float, fmt: str) -> str:
 
 def write_rows(rows: list[dict], path: Path) -> None:
     """The rows as a CSV with units in the header."""
-    from cases._common import write_csv
+    from harness.files import write_csv
     write_csv(path, COLUMNS, ([f"{r[c]:.6g}" if isinstance(r[c], float) else r[c] for c in COLUMNS] for r in rows))

@@ -29,7 +29,7 @@ T_END: float = 0.5
 def run_model_chain(log: Callable[[str], None], repeats: int = 9, n_blocks: int = N_BLOCKS) -> str:
     """The markdown table (medians of `repeats` interleaved runs each)."""
     import stickslip as ss
-    from cases._provenance import machine
+    from harness.provenance import machine
 
     lines = ["**The model path against the chain's own code** (`python -m benchmarks --model`)", "",
              f"Machine: {machine()}. A chain of {n_blocks} blocks on the belt over {T_END:g} s, as a "

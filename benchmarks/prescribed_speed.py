@@ -37,7 +37,7 @@ def run_prescribed(log: Callable[[str], None], repeats: int = 15) -> str:
     """The markdown table (medians and minima of `repeats` calls)."""
     import stickslip as ss
     from scipy.integrate import solve_ivp
-    from cases._provenance import machine
+    from harness.provenance import machine
 
     t = np.linspace(0.0, 2.0, 10000)
     x = 1e-3 * np.sin(2.0 * np.pi * t)

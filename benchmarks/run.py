@@ -65,9 +65,10 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from cases._common import atomic_write, check_writable, cli_description, int_at_least, write_text   # one way to write a file whole or not at all
-from cases._provenance import machine, write_provenance
-from cases._timing import median_time, python_jac, python_rhs, time_at_error
+from harness.cli import add_outdir, check_writable, cli_description, int_at_least
+from harness.files import atomic_write, write_text   # one way to write a file whole or not at all
+from harness.provenance import machine, write_provenance
+from harness.timing import median_time, python_jac, python_rhs, time_at_error
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The tracked results the documentation quotes (written only with --results).
@@ -343,12 +344,12 @@ def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
     hmax = t_end; output at t_end), OVERHEAD_CALLS calls of ``stickslip.simulate`` (its arguments
     written out in the call, as in a user's code) interleaved
     with as many bare calls of the f2py wrapper's run_prepared on the handle of the setting (the
-    library call simulate makes per run, and nothing else: stickslip.core._bare_call; the
+    library call simulate makes per run, and nothing else: stickslip.core.bare_call; the
     wrapper reads the clock for stats["cpu_seconds"] itself), alternating which goes first.
     median_s: the median time of each; overhead_s (on the simulate row): the median of the
     per-pair differences, what the facade adds per call."""
     import stickslip
-    from stickslip.core import _bare_call
+    from stickslip.core import bare_call
 
     rows: list[dict] = []
     clock = time.perf_counter
@@ -361,7 +362,7 @@ def run_overhead(cfg: Config, exes: dict[str, Path], log: Callable[[str], None])
         written = ", ".join(f"{k}={v!r}" for k, v in kw.items())
         sim = eval(f"lambda: simulate({scene!r}, {law!r}, method={method!r}, t_end={t_end!r}, n_out=2, "
                    f"{written})", {"simulate": stickslip.simulate})
-        bare = _bare_call(scene, law, method=method, t_end=t_end, n_out=2, **kw)
+        bare = bare_call(scene, law, method=method, t_end=t_end, n_out=2, **kw)
         res = sim()
         t_bare, t_sim = np.empty(OVERHEAD_CALLS), np.empty(OVERHEAD_CALLS)
         for i in range(OVERHEAD_CALLS):
@@ -619,7 +620,7 @@ def read_rows(path: Path) -> list[dict]:
 
 
 #: The line style of each tool in the work-precision panels (its colour is
-#: cases._style.TOOL_COLORS', the same in every panel; the marker says the method).
+#: harness.style.TOOL_COLORS', the same in every panel; the marker says the method).
 TOOL_STYLE: dict[str, str] = {"stickslip_fortran": "-", "stickslip_python": "--", "gsl": ":",
                               "scipy": "-."}
 #: Other tools' names of the library's methods (the same marker), and markers for the others.
@@ -641,23 +642,23 @@ FIGURE_WIDTH: float = 6.0
 
 
 def method_marker(method: str) -> str:
-    """The marker of a method in the benchmark figure: the library's own (cases._style) for its
+    """The marker of a method in the benchmark figure: the library's own (harness.style) for its
     methods and the other tools' names of them, a fixed one for the others."""
-    from cases import _style
+    from harness import style as _style
     name = SAME_METHOD.get(method, method.split()[0])
     return _style.METHOD_MARKERS.get(name) or OTHER_MARKERS.get(method, "o")
 
 
 def method_words(method: str) -> str:
     """A method's name as the figure shows it: "rk4 (step doubling)" -> "RK4 (step doubling)"."""
-    from cases import _style
+    from harness import style as _style
     head, _, rest = method.partition(" ")
     return f"{_style.name(head)} {rest}".strip()
 
 
 def plot(rows: list[dict], path: Path) -> None:
     """The figure of a run (PNG at path, PDF beside it), one colour per tool in every panel
-    (cases._style.TOOL_COLORS), three panels one above the other: (a) fixed-step time per
+    (harness.style.TOOL_COLORS), three panels one above the other: (a) fixed-step time per
     evaluation of every tool on the first scene and law (bars on a linear axis); (b, c) the
     adaptive methods' error against time on the first adaptive scene and law, the library
     against GSL and against scipy (a marker per method, a line style per tool). The error is
@@ -666,7 +667,7 @@ def plot(rows: list[dict], path: Path) -> None:
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
     from matplotlib.transforms import blended_transform_factory
-    from cases import _common, _style
+    from harness import style as _style
 
     _style.apply()
     plt.rcParams.update(_style.column_fonts(FIGURE_WIDTH))
@@ -727,7 +728,7 @@ def plot(rows: list[dict], path: Path) -> None:
     cases = dict.fromkeys((r["scene"], r["law"]) for r in (fixed[:1] + adaptive[:1]))
     fig.suptitle("; ".join(f"{_style.name(sc)}, {_style.name(lw).split(' (')[0]} law"
                            for sc, lw in cases), fontsize=plt.rcParams["font.size"])
-    _style.save(fig, path, _common.atomic_write)
+    _style.save(fig, path, atomic_write)
 
 
 def _fmt(x: float, digits: int = 2) -> str:
@@ -867,7 +868,7 @@ def overhead_markdown(over: list[dict], measured: str = "") -> list[str]:
     for p in over[1::2]:
         if (p["scene"], p["law"], p["method"], p["nstep"]) == OVERHEAD_GOAL_RUN:
             met = "met" if p["median_s"] <= OVERHEAD_GOAL_S else "not met"
-            goal = (f" Goal (issue 32): the {p['nstep']}-step RK4 run ({p['scene']} / {p['law']}, h = "
+            goal = (f" Goal: the {p['nstep']}-step RK4 run ({p['scene']} / {p['law']}, h = "
                     f"{p['h_s']:g} s) through simulate in at most {1e6 * OVERHEAD_GOAL_S:g} us on a quiet "
                     f"machine; this run: {1e6 * p['median_s']:.1f} us ({met} here).")
     lines = [f"{OVERHEAD_HEAD} (short runs, output at t_end: stickslip.simulate, its arguments "
@@ -923,17 +924,18 @@ def replace_overhead(outdir: Path, over: list[dict], quick: bool) -> None:
     # says so and the documentation's captions quote it); the block names its own run
 
 
-def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 128, repeats: int = 3,
+def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 64, repeats: int = 3,
                 chain_n_max: int = 10000) -> str:
     """The per-step contact solver (stickslip_contact_solver) on random coupled problems of n
     contacts (bench_contact: 50 problems per n, rows of H with one or two +-1 entries over
     n/2 + 1 coordinates, Coulomb mu_s in [0.3, 0.7] against mu_k = 0.3, capacities of a 1 ms
-    step), against projected Gauss-Seidel alone and the pivoting fallback alone on the same
+    step), against projected Gauss-Seidel alone and Lemke's method alone on the same
     problems: microseconds a solve (medians of `repeats` passes), the fraction solved to
-    1e-12 m/s, the fraction that fell back to pivoting. Then moreau's step problem on a chain of
+    1e-12 m/s, the fraction that needed Lemke's fallback. Then moreau on a stack of 1 to 64
+    blocks (every contact coupled): microseconds a step. Then moreau's step problem on a chain of
     10 to `chain_n_max` blocks (bench_contact's chain section): the chain's tridiagonal path, and
-    up to 1000 blocks the general solver against Gauss-Seidel alone on the dense Delassus
-    matrix, with their ratio over the problems both solve. Returns contact.md."""
+    the general solver against Gauss-Seidel alone on the dense Delassus
+    matrix (up to 100 blocks), with their ratio over the problems both solve. Returns contact.md."""
     meson = _tool("meson")
     if not (build_dir / "build.ninja").exists():
         subprocess.run([meson, "setup", str(build_dir), str(ROOT)], check=True, env=_env(),
@@ -951,19 +953,20 @@ def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 128, r
     out = subprocess.run([str(build_dir / "bench_contact"), str(n_max), str(repeats), str(chain_n_max)],
                          check=True, capture_output=True, text=True).stdout
     chain = [line.split()[1:] for line in out.split("\n") if line.startswith("chain")]
-    out = "\n".join(line for line in out.split("\n") if not line.startswith("chain"))
+    stack = [line.split()[1:] for line in out.split("\n") if line.startswith("stack")]
+    out = "\n".join(line for line in out.split("\n") if not line.startswith(("chain", "stack")))
     lines = ["**The contact solver** (`python -m benchmarks --contact`)", "",
              f"Machine: {machine()}. 50 random coupled problems per number of contacts n (rows of H "
              "with one or two +-1 entries over n/2 + 1 coordinates, so contacts share bodies; Coulomb "
              "mu_s in [0.3, 0.7], mu_k = 0.3; impulses of a 1 ms step), medians of "
-             f"{repeats} passes. The solver enumerates modes up to 6 active contacts and runs "
-             "projected Gauss-Seidel beyond (up to 1000 sweeps), falling back to static-first pivoting "
-             "(rounds of box problems by Lemke's algorithm) where Gauss-Seidel does not converge; "
-             "\"Gauss-Seidel alone\" is the solver before the fallback, \"pivoting alone\" the fallback "
-             "run on every problem. Solved: the answer meets the problem's conditions to 1e-12 m/s (the "
-             "solver says so itself; a miss ends a run with ContactSolverFailure).", "",
-             "| n | solver [us/solve] | solved | fell back to pivoting | Gauss-Seidel alone [us/solve] | solved "
-             "| pivoting alone [us/solve] | solved | modes or sweeps | Lemke pivots |",
+             f"{repeats} passes. The solver follows its rule at every n (static first: rounds of box "
+             "problems, each by an active-set Newton method with Lemke's algorithm as the exact fallback, "
+             "then the final mode solved exactly; no enumeration of modes); \"Gauss-Seidel alone\" is "
+             "projected Gauss-Seidel (up to 1000 sweeps, no rule), \"Lemke alone\" the rule with every box "
+             "problem by Lemke's algorithm. Solved: the answer meets the problem's conditions to 1e-12 m/s "
+             "(the solver says so itself; a miss ends a run with ContactSolverFailure).", "",
+             "| n | solver [us/solve] | solved | needed Lemke | Gauss-Seidel alone [us/solve] | solved "
+             "| Lemke alone [us/solve] | solved | linear solves | Lemke pivots |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     for line in out.split("\n"):
         if not line.strip():
@@ -973,14 +976,24 @@ def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 128, r
                      f"{float(gus):.3g} | {100 * float(gok):.0f} % | {float(pus):.3g} | {100 * float(pok):.0f} % | "
                      f"{float(work):.0f} | {float(piv):.0f} |")
         log(f"contact n={n}: {float(us):.3g} us, {100 * float(ok):.0f} % solved")
+    if stack:
+        lines += ["", "**A stack of n blocks** (moreau itself, h = 1 ms, theta = 1/2, 2 s from rest): block 1 on "
+                  "a belt at 0.3 m/s, block i on block i - 1, so every contact is coupled to its neighbours; "
+                  "masses 2, 1, 0.5 kg, springs 200, 60, 30 N/m to the wall and (mu_s, mu_k) = (0.5, 0.35), "
+                  "(0.4, 0.3), (0.3, 0.2) repeated up the stack; normal forces the weight above each contact. "
+                  f"Medians of {repeats} runs.", "",
+                  "| n | moreau [us/step] | linear solves a step | steps with another solution | "
+                  "largest residual [m/s] | status |", "|---|---|---|---|---|---|"]
+        for n, us, solves, nonu, res, status in stack:
+            lines.append(f"| {n} | {float(us):.3g} | {float(solves):.2f} | {nonu} | {float(res):.2g} | {status} |")
+            log(f"contact stack n={n}: {float(us):.3g} us a step")
     if chain:
         lines += ["", "**The chain** (moreau's step problem, h = 1 ms, theta = 1/2; Coulomb mu_s = 0.35, "
                   "mu_k = 0.3): five states of a run of the chain started stuck on the belt (t = 1 to 5 s), "
                   f"medians of {repeats} passes. \"Tridiagonal\" is what moreau runs on a chain: nonsmooth "
                   "Gauss-Seidel on W itself, O(n) a sweep, warm-started at the step's start velocities. Up to "
-                  "1000 blocks the same problems on the dense Delassus matrix D = W^-1, from p = 0: the general "
-                  "solver (Gauss-Seidel, then its answer checked against the problem, pivoting where it "
-                  "fails) against Gauss-Seidel alone; their times over the problems both solve, and the "
+                  "100 blocks the same problems on the dense Delassus matrix D = W^-1, from p = 0: the general "
+                  "solver (its rule: rounds of box problems) against Gauss-Seidel alone; their times over the problems both solve, and the "
                   "ratio. Largest velocity difference: tridiagonal against the general solver.", "",
                   "| n | tridiagonal [us/solve] | solved | sweeps | general solver on D [us/solve] | solved "
                   "| Gauss-Seidel alone on D [us/solve] | solved | sweeps | solver / Gauss-Seidel "
@@ -1079,9 +1092,8 @@ def run_identify(log: Callable[[str], None], repeats: int = 3) -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=cli_description(__doc__),
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--outdir", type=Path, default=None,
-                        help="where benchmarks.csv, benchmarks.png and summary.md go "
-                             "(default: out/benchmarks/)")
+    add_outdir(parser, default=None, help="where benchmarks.csv, benchmarks.png and summary.md go "
+                                          "(default: out/benchmarks/)")
     parser.add_argument("--results", action="store_true",
                         help=f"write into the tracked {RESULTS_DIR.relative_to(ROOT)}/ instead, the "
                              "tables the documentation quotes (not with --quick)")
@@ -1103,8 +1115,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--prescribed", action="store_true",
                         help="only prescribed_motion's cost per law (a sine of 10^4 samples): writes prescribed.md")
     parser.add_argument("--contact", action="store_true",
-                        help="only the contact-solver benchmark (random coupled problems of 2 to 128 "
-                             "contacts, against Gauss-Seidel alone): writes contact.md")
+                        help="only the contact-solver benchmark (random coupled problems of 2 to 64 "
+                             "contacts, against Gauss-Seidel alone; moreau on a stack of 1 to 64 blocks; "
+                             "the chain): writes contact.md")
     parser.add_argument("--model", action="store_true",
                         help="only the model path against the chain's own code (100 blocks, every method "
                              "family): writes model.md")
@@ -1180,7 +1193,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     if args.contact:
         write_text(args.outdir / "contact.md",
-                   run_contact(args.build_dir, log, 8 if args.quick else 128, 1 if args.quick else 3,
+                   run_contact(args.build_dir, log, 8 if args.quick else 64, 1 if args.quick else 3,
                                100 if args.quick else 10000))
         write_provenance(args.outdir, "contact", [args.outdir / "contact.md"], argv)
         return 0

@@ -27,8 +27,9 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from cases._common import check_writable, cli_description, int_at_least, markdown_table, write_text
-from cases._provenance import machine, write_provenance
+from harness.cli import add_outdir, check_writable, cli_description, int_at_least
+from harness.files import markdown_table, write_text
+from harness.provenance import machine, write_provenance
 
 #: The tracked results the documentation quotes (written only with --results).
 RESULTS_DIR = Path(__file__).resolve().parent / "results"
@@ -50,8 +51,7 @@ def main(argv: Sequence[str] | None = None) -> str:
                         help="chunk sizes to time on the cluster (besides the default)")
     parser.add_argument("--overhead-chunks", type=int_at_least(1), default=200,
                         help="one-row chunks timed for the per-chunk overhead")
-    parser.add_argument("--outdir", type=Path, default=Path("out") / "benchmarks",
-                        help="where sweep_dask.md goes (default: out/benchmarks/)")
+    add_outdir(parser, default="out/benchmarks", help="where sweep_dask.md goes (default: out/benchmarks/)")
     parser.add_argument("--results", action="store_true",
                         help="write into the tracked benchmarks/results/ instead, the table the "
                              "documentation quotes")

@@ -36,7 +36,8 @@ from typing import Any, NamedTuple, Sequence
 # on the core the other job needs: one BLAS thread, set before numpy is first imported.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from ._common import check_writable, cli_description, count  # noqa: E402 - after the environment above
+from harness.cli import add_outdir, check_writable, cli_description  # noqa: E402 - after the environment above
+from ._common import count  # noqa: E402
 from ._progress import bar  # noqa: E402
 
 class Driver(NamedTuple):
@@ -71,6 +72,37 @@ def _cores() -> int:
         return os.cpu_count() or 1
 
 
+def cpu_seconds() -> float:
+    """CPU time of this process (every thread) and of its children that ended [s]: a driver's
+    worker processes count."""
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
+def write_run_times(outdir: Path, name: str, times: dict[str, tuple[float, float]], wall: float,
+                    n_jobs: int, argv: Sequence[str] | None) -> list[Path]:
+    """Write each driver's wall and CPU time, the run's wall time and the sum of the CPU times
+    into `<outdir>/<name>.json` (a named-numbers file, tools/docnumbers.py, which the
+    documentation quotes) with its provenance; nothing from a copy without tools/ beside it."""
+    root = Path(__file__).resolve().parent.parent
+    if not (root / "tools" / "docnumbers.py").is_file():
+        return []
+    if str(root) not in sys.path:
+        sys.path.insert(0, str(root))
+    from tools.docnumbers import numbers_json
+    from ._common import write_text
+    from harness.provenance import write_provenance
+    numbers: dict[str, tuple[float, str, str]] = {
+        "wall_s": (round(wall, 1), "s", "wall time of the run"),
+        "cpu_s": (round(sum(c for _, c in times.values()), 1), "s", "sum of the drivers' CPU times"),
+        "jobs": (n_jobs, "", "drivers run at once")}
+    for driver, (seconds, cpu) in times.items():
+        numbers[f"{driver}.wall_s"] = (round(seconds, 1), "s", f"wall time of cases.{driver}")
+        numbers[f"{driver}.cpu_s"] = (round(cpu, 1), "s", f"CPU time of cases.{driver} and its workers")
+    path = write_text(outdir / f"{name}.json", numbers_json(numbers))
+    return [path, write_provenance(outdir, name, [path], argv)]
+
+
 def _run_driver(name: str, argv: list[str]) -> list[Path]:
     return importlib.import_module(f"cases.{name}").main(argv)
 
@@ -78,12 +110,12 @@ def _run_driver(name: str, argv: list[str]) -> list[Path]:
 def _job(index: int, name: str, argv: list[str], results: Any) -> None:
     """A job process: run one driver with its stdout captured; send (index, ok, payload)."""
     out = io.StringIO()
-    t0, cpu0 = time.perf_counter(), time.process_time()
+    t0, cpu0 = time.perf_counter(), cpu_seconds()
     try:
         with contextlib.redirect_stdout(out):
             files = _run_driver(name, argv)
         results.put((index, True, (files, out.getvalue(), time.perf_counter() - t0,
-                                   time.process_time() - cpu0)))
+                                   cpu_seconds() - cpu0)))
     except BaseException as exc:    # noqa: BLE001 - reported to the parent, which raises it
         text = f"cases.{name} failed:\n{out.getvalue()}{traceback.format_exc()}"
         results.put((index, False, (type(exc).__name__, str(exc), text)))
@@ -94,10 +126,11 @@ class DriverFailed(RuntimeError):
 
 
 def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
-             costs: Sequence[float]) -> list[list[Path]]:
+             costs: Sequence[float], times: dict[str, tuple[float, float]] | None = None) -> list[list[Path]]:
     """Run the drivers `jobs` ((name, argv)) in up to n_jobs processes, the costliest first;
-    returns each one's files, in the order of `jobs`. The first failure ends the run: the
-    other jobs are terminated and DriverFailed raised."""
+    returns each one's files, in the order of `jobs`, and puts each one's (wall, CPU) seconds
+    into `times`. The first failure ends the run: the other jobs are terminated and
+    DriverFailed raised."""
     ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods()
                                       else None)
     results = ctx.Queue()
@@ -137,6 +170,8 @@ def run_jobs(jobs: list[tuple[str, list[str]]], n_jobs: int, quiet: bool,
                 raise DriverFailed(f"{kind}: {message}\n{text}")
             files, report, seconds, cpu = payload
             done[i] = files
+            if times is not None:
+                times[jobs[i][0]] = (seconds, cpu)
             sys.stdout.write(report)
             sys.stdout.flush()
             if not quiet:
@@ -154,8 +189,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Run the drivers; returns every file written."""
     parser = argparse.ArgumentParser(prog="python -m cases", description=cli_description(__doc__),
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--outdir", type=Path, default=Path("out"),
-                        help="directory for all files (default: out/)")
+    add_outdir(parser, help="directory for all files (default: out/)")
     parser.add_argument("--docs", action="store_true",
                         help="write into docs/figures/ (the figures and tables the documentation shows)")
     parser.add_argument("--only", nargs="+", choices=[d.name for d in DRIVERS],
@@ -187,23 +221,31 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
 
     start = time.perf_counter()
     by_driver: dict[str, list[Path]] = {}
+    times: dict[str, tuple[float, float]] = {}
     if n_jobs > 1:
         # in parallel, the reports are printed whole at the end of each driver: no bars
         jobs = [(d.name, ["--outdir", str(outdir), *driver_argv(d.kind, max(1, _cores() // n_jobs), True)])
                 for d in together]
-        found = run_jobs(jobs, n_jobs, args.quiet, [d.cost for d in together])
+        found = run_jobs(jobs, n_jobs, args.quiet, [d.cost for d in together], times)
         by_driver.update(zip([d.name for d in together], found))
     for name, kind, _, _ in chosen:        # with --jobs 1 all of them, else the "alone" ones
         if name in by_driver:
             continue
-        t0 = time.perf_counter()
+        t0, cpu0 = time.perf_counter(), cpu_seconds()
         if not args.quiet:
             print(f"== cases.{name} -> {outdir}", file=sys.stderr, flush=True)
         by_driver[name] = _run_driver(name, ["--outdir", str(outdir), *driver_argv(kind, _cores(), args.quiet)])
+        times[name] = (time.perf_counter() - t0, cpu_seconds() - cpu0)
         if not args.quiet:
-            print(f"== cases.{name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
+            print(f"== cases.{name}: {times[name][0]:.1f} s (CPU {times[name][1]:.1f} s)",
+                  file=sys.stderr, flush=True)
     files = [f for d in chosen for f in by_driver[d.name]]
-    print(f"{len(files)} files in {outdir}; wall time {time.perf_counter() - start:.1f} s")
+    wall = time.perf_counter() - start
+    if not args.only:       # a whole run (the paper's part, or --all): its times for the docs
+        files += write_run_times(outdir, "cases.run_all" if args.all else "cases.run", times, wall,
+                                 n_jobs, argv)
+    print(f"{len(files)} files in {outdir}; wall time {wall:.1f} s, the drivers' CPU time "
+          f"{sum(c for _, c in times.values()):.1f} s")
     return files
 
 

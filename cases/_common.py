@@ -10,15 +10,11 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import csv
 import inspect
-import math
 import multiprocessing
 import os
 import queue
-import secrets
 import sys
-import tempfile
 import textwrap
 import time
 import warnings
@@ -27,14 +23,20 @@ from pathlib import Path
 from typing import Any, Callable, Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
+import stickslip.core
 
-from . import _style
-from ._style import plt  # the Agg backend and the common style, set once
+from harness import style as _style
+from harness.cli import add_outdir, check_writable, cli_description, float_in, int_at_least
+# the drivers write and read their files as c.write_csv, c.read_csv, ... (harness.files)
+from harness.files import (FLOAT_FORMAT, atomic_write, markdown_table, read_csv, read_numeric_csv,  # noqa: F401
+                           split_unit, write_columns, write_csv, write_text)
+from harness.provenance import write_provenance
+from harness.style import plt  # the Agg backend and the common style, set once
 
 #: The three friction laws of the paper (Figs. 1-19 and Tables 2-3 are about these; the
 #: library's full list is stickslip.LAWS).
 PAPER_LAWS: tuple[str, ...] = ("coulomb", "recurdyn", "proposed")
-#: Display names and colours of every friction law, shared by every plot (cases._style).
+#: Display names and colours of every friction law, shared by every plot (harness.style).
 LAW_LABELS: dict[str, str] = _style.LAW_NAMES
 LAW_COLORS: dict[str, str] = _style.LAW_COLORS
 #: Colours and line styles for the variants (step sizes or tolerances) of one law.
@@ -43,133 +45,13 @@ VARIANT_STYLES: tuple[str, ...] = _style.VARIANT_STYLES
 #: Size [in] of a one-panel figure and resolution [dpi] of every PNG (a PDF copy beside it).
 FIGSIZE: tuple[float, float] = _style.FIGSIZE
 DPI: int = _style.DPI
-#: Float format of every CSV: 10 significant digits.
-FLOAT_FORMAT: str = "%.10g"
-
-
-# --------------------------------------------------------------------------------------------
-# Atomic writing
-# --------------------------------------------------------------------------------------------
-def atomic_write(path: str | os.PathLike[str], write: Callable[[Any], None], *,
-                 binary: bool = False) -> Path:
-    """Call `write(fileobj)` on a temporary file beside `path`, then `os.replace` it onto
-    `path`. On any exception the temporary file is removed and `path` is left untouched.
-    The file gets the permissions of any new file (0666 less the user's umask), not
-    mkstemp's 0600. Returns `path` as a Path."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    while True:
-        tmp = path.parent / f".{path.name}.{secrets.token_hex(6)}.tmp"
-        try:
-            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-            break
-        except FileExistsError:            # another writer drew the same name: draw again
-            continue
-    try:
-        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else
-                                                        {"newline": "", "encoding": "utf-8"})) as f:
-            write(f)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    return path
-
-
-def writable_problem(outdir: str | os.PathLike[str]) -> str | None:
-    """Why files cannot be written into `outdir` (created if missing), or None if they can:
-    checked by creating and removing a file there, so permissions, read-only file systems and
-    a file in the way are all found before any work starts."""
-    outdir = Path(outdir)
-    try:
-        outdir.mkdir(parents=True, exist_ok=True)
-        fd, probe = tempfile.mkstemp(prefix=".write-test-", dir=outdir)
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        return f"cannot write into {outdir}: {exc.strerror or exc}"
-    return None
-
-
-def check_writable(parser: argparse.ArgumentParser, outdir: str | os.PathLike[str]) -> None:
-    """End the command with a usage error (exit 2, no traceback) if `outdir` is not writable."""
-    problem = writable_problem(outdir)
-    if problem:
-        parser.error(f"argument --outdir: {problem}")
-
-
-def write_text(path: str | os.PathLike[str], text: str) -> Path:
-    """Write `text` to `path` atomically."""
-    return atomic_write(path, lambda f: f.write(text))
-
-
-def write_csv(path: str | os.PathLike[str], header: Sequence[str],
-              rows: Iterable[Sequence[Any]]) -> Path:
-    """Write a CSV atomically: `header` (each name with its unit in brackets, e.g. "t [s]"),
-    then `rows`; floats are written with FLOAT_FORMAT, None as an empty cell."""
-    for name in header:
-        if "[" not in name or not name.endswith("]"):
-            raise ValueError(f"CSV column {name!r} has no unit in brackets")
-
-    def cell(value: Any) -> str:
-        if value is None:
-            return ""
-        if isinstance(value, (float, np.floating)):
-            return FLOAT_FORMAT % value
-        return str(value)
-
-    def write(f: Any) -> None:
-        w = csv.writer(f, lineterminator="\n")
-        w.writerow(header)
-        for row in rows:
-            if len(row) != len(header):
-                raise ValueError(f"CSV row of {len(row)} cells for {len(header)} columns")
-            w.writerow([cell(v) for v in row])
-
-    return atomic_write(path, write)
-
-
-def write_columns(path: str | os.PathLike[str], columns: Mapping[str, np.ndarray]) -> Path:
-    """Write equal-length numeric columns {"name [unit]": array} as a CSV atomically."""
-    arrays = [np.asarray(a, dtype=float) for a in columns.values()]
-    if len({a.shape for a in arrays}) != 1:
-        raise ValueError("columns of different lengths")
-    return write_csv(path, list(columns), zip(*arrays))
-
-
-def read_csv(path: str | os.PathLike[str]) -> dict[str, list[str]]:
-    """Read a CSV into {header: list of cell strings} (in column order)."""
-    with open(path, newline="", encoding="utf-8") as f:
-        reader = csv.reader(f)
-        header = next(reader)
-        cols: dict[str, list[str]] = {name: [] for name in header}
-        for row in reader:
-            for name, value in zip(header, row):
-                cols[name].append(value)
-    return cols
-
-
-def read_numeric_csv(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
-    """Read an all-numeric CSV into {header: float array}."""
-    return {k: np.array(v, dtype=float) for k, v in read_csv(path).items()}
-
-
-def split_unit(name: str) -> tuple[str, str]:
-    """Split "x coulomb [m]" into ("x coulomb", "m")."""
-    base, _, unit = name.rpartition("[")
-    return base.strip(), unit.rstrip("]").strip()
 
 
 # --------------------------------------------------------------------------------------------
 # Plot styling
 # --------------------------------------------------------------------------------------------
 #: Width of a figure's first panel and of each further one [in]: one panel is a column wide
-#: (cases._style.COLUMN_WIDTH), so its fonts are at their size there.
+#: (harness.style.COLUMN_WIDTH), so its fonts are at their size there.
 PANEL_WIDTHS: tuple[float, float] = (3.4, 2.7)
 
 
@@ -180,10 +62,10 @@ def figure_width(ncols: int) -> float:
 
 def new_figure(ncols: int = 1, *, nrows: int = 1, width: float | None = None,
                height: float | None = None, **kwargs: Any) -> tuple[Any, Any]:
-    """A figure in the common style (cases._style) with `ncols` axes side by side (in `nrows`
+    """A figure in the common style (harness.style) with `ncols` axes side by side (in `nrows`
     rows: then a 2-D array of axes), `width` inches wide (default figure_width(ncols)) and
     `height` high (default 0.62 of the width, at least 3 in), its fonts legible once scaled to a
-    column (cases._style.column_fonts); `kwargs` go to plt.subplots (sharex, ...)."""
+    column (harness.style.column_fonts); `kwargs` go to plt.subplots (sharex, ...)."""
     w = width if width is not None else figure_width(ncols)
     _style.apply(w)
     h = height if height is not None else max(3.0, 0.62 * w)
@@ -331,63 +213,11 @@ def plot_time_series(csv_path: str | os.PathLike[str], png_path: str | os.PathLi
     return save_figure(fig, png_path)
 
 
-def markdown_table(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
-    """A Markdown (GitHub) table of `rows` under `header`; None renders as an empty cell."""
-    def cell(v: Any) -> str:
-        if v is None or v == "":
-            return ""
-        if isinstance(v, (float, np.floating)):
-            return f"{v:.4g}"
-        return str(v)
-
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in rows]
-    return "\n".join(lines) + "\n"
-
-
 # --------------------------------------------------------------------------------------------
 # Command line
 # --------------------------------------------------------------------------------------------
 #: Smallest relative tolerance the library accepts: 100 units of round-off (2.2e-14).
-RTOL_MIN: float = 100.0 * float(np.finfo(float).eps)
-
-
-def float_in(low: float, high: float = math.inf, *, low_closed: bool = False,
-             what: str | None = None) -> Callable[[str], float]:
-    """argparse type: a finite float in (low, high), or [low, high) with low_closed. argparse
-    names the option in its error; the message states the accepted range (`what` replaces the
-    printed lower bound, e.g. "100 eps = 2.2e-14")."""
-    lo = what or f"{low:g}"
-    accepted = (f"> {lo}" if not low_closed else f">= {lo}") if math.isinf(high) else \
-        f"in {'[' if low_closed else '('}{lo}, {high:g})"
-
-    def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-        ok = math.isfinite(value) and value < high and (value >= low if low_closed else value > low)
-        if not ok:
-            raise argparse.ArgumentTypeError(f"must be finite and {accepted}, got {text}")
-        return value
-
-    parse.__name__ = "float"        # argparse's "invalid float value" wording for other errors
-    return parse
-
-
-def int_at_least(minimum: int) -> Callable[[str], int]:
-    """argparse type: an integer >= minimum."""
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}, got {text}")
-        return value
-
-    parse.__name__ = "int"
-    return parse
+RTOL_MIN: float = stickslip.core.RTOL_MIN
 
 
 #: argparse types: a finite float > 0; a relative tolerance in [100 eps, 1); a number of output
@@ -400,24 +230,11 @@ count = int_at_least(1)
 
 def add_common_options(parser: argparse.ArgumentParser) -> None:
     """--outdir, --workers and --quiet, shared by every driver."""
-    parser.add_argument("--outdir", type=Path, default=Path("out"),
-                        help="directory for CSV, PNG and Markdown files (default: out/)")
+    add_outdir(parser)
     parser.add_argument("--workers", type=count, default=2,
                         help="simulations run in parallel, >= 1 (default 2: the machine has 2 "
                         "cores)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
-
-
-def cli_description(doc: str) -> str:
-    """The --help description of a command from its module docstring: the first paragraph and,
-    when it announces them with a colon, the paragraphs that follow (a usage block, a list),
-    whole; reST's "::" shown as ":". Use with argparse.RawDescriptionHelpFormatter."""
-    out = []
-    for paragraph in inspect.cleandoc(doc).split("\n\n"):
-        out.append(paragraph.replace("::\n", ":\n").rstrip(":") + (":" if paragraph.rstrip().endswith(":") else ""))
-        if not paragraph.rstrip().endswith(":"):
-            break
-    return "\n\n".join(out)
 
 
 def changed_options(parser: argparse.ArgumentParser, args: argparse.Namespace,
@@ -462,8 +279,7 @@ def study_main(module: str, doc: str, quick_help: str, run: Callable[..., list[P
     threads=, quiet=)."""
     parser = argparse.ArgumentParser(prog=f"python -m {module}", description=cli_description(doc),
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--outdir", type=Path, default=Path("out"),
-                        help="directory for CSV and PNG files (default: out/)")
+    add_outdir(parser, help="directory for CSV and PNG files (default: out/)")
     parser.add_argument("--quick", action="store_true", help=quick_help)
     parser.add_argument("--threads", type=count, default=2, help="OpenMP threads, >= 1 (default 2)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
@@ -488,9 +304,8 @@ def print_files(files: Iterable[Path]) -> None:
 
 def finish(module: str, argv: Sequence[str] | None, files: list[Path]) -> list[Path]:
     """The end of every driver: record the command, date and machine beside the files
-    (`<dir>/<module>.provenance.json` in each directory written, cases._provenance), print
+    (`<dir>/<module>.provenance.json` in each directory written, harness.provenance), print
     where every file went, and return the files with their sidecars."""
-    from ._provenance import write_provenance
     files = list(files)
     files += [f.with_suffix(".pdf") for f in files        # the vector copy of every figure
               if f.suffix == ".png" and f.with_suffix(".pdf").exists() and f.with_suffix(".pdf") not in files]

@@ -1,14 +1,14 @@
 """What the gallery's drivers (cases/gallery_*.py) share: figures one column (8.5 cm) wide made
-by cases._common.new_figure (fonts of cases._style.column_fonts: 8 pt or more at that width),
+by cases._common.new_figure (fonts of harness.style.column_fonts: 8 pt or more at that width),
 two stacked panels, a legend kept clear of the data, and saving in the common style."""
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
 
-from . import _common as c
-from . import _style
+from harness import style as _style
 
+from . import _common as c
 
 def figure(height: float, **kwargs: Any) -> tuple[Any, Any]:
     """A one-column figure `height` inches high with one panel: (fig, ax); `kwargs` go to
@@ -33,7 +33,7 @@ def legend_above_data(ax: Any, ncol: int, room: float = 0.35, **kwargs: Any) -> 
 
 def save(fig: Any, path: Path) -> Path:
     """Lay the figure out (unless it has a layout engine of its own) and write it as PNG and
-    PDF (cases._style.save); the PNG's path."""
+    PDF (harness.style.save); the PNG's path."""
     if fig.get_layout_engine() is None:
         fig.tight_layout()
     return _style.save(fig, path, c.atomic_write)

@@ -59,8 +59,8 @@ def brute_force(scene: str, law: str, t_end: float, target: float, ref: float, *
     out. kw: x0, v0 and physical parameters."""
     import stickslip as ss
     from stickslip.advise import controls_at, takes
-    from stickslip.core import _shortest_period
-    period = _shortest_period(scene, kw, 1)
+    from stickslip.core import shortest_period
+    period = shortest_period(scene, law, **kw)
     out: dict[str, dict[str, float]] = {}
     for m in ss.METHODS:
         if not takes(m, law):

@@ -42,9 +42,9 @@ from typing import Any, NamedTuple, Sequence
 
 import numpy as np
 
-from . import _common as c
-from . import _style as style
+from harness import style
 
+from . import _common as c
 #: The study's chain: the scene's parameters that differ from the defaults.
 SCENE: dict[str, float] = {"k_p": 10.0, "k_c": 300.0, "perturbation": 0.2, "v_b": 0.01}
 #: Law of each method: the smooth ones take the regularised Stribeck law, the set-valued ones
@@ -362,8 +362,7 @@ def plot(csv_path: Path, ev_path: Path, outdir: Path) -> list[Path]:
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     """Command line: python -m cases.chain [--outdir DIR] [--full] [--threads N] [--quiet]."""
     parser = argparse.ArgumentParser(prog="python -m cases.chain", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--outdir", type=Path, default=Path("out"),
-                        help="directory for CSV and figure files (default: out/)")
+    c.add_outdir(parser, help="directory for CSV and figure files (default: out/)")
     parser.add_argument("--full", action="store_true",
                         help="t_end = 1 s, N up to 10,000, target 1e-4 m, 5,000 s of slip events "
                              "(default: 0.5 s, N up to 1,000, 1e-3 m, 1,000 s)")

@@ -84,58 +84,102 @@ def _creep_of(t: np.ndarray, x: np.ndarray) -> float:
 # ------------------------------------------------------------------------------------------
 # MuJoCo
 # ------------------------------------------------------------------------------------------
-def _mujoco_xml(*, timestep: float, cone: str, impratio: float, gravity: Sequence[float],
-                belt: bool, solref: Sequence[float] | None = None) -> str:
-    ref = f'solref="{solref[0]} {solref[1]}"' if solref else ""
+def _mujoco_belt_xml(*, timestep: float, cone: str, impratio: float) -> str:
+    """MuJoCo's model of the mass on the belt: the box on a slide joint with a spring to the
+    wall (k = 300 N/m) and free to move vertically, on a 1000 kg belt body on its own slide."""
     fr = f'friction="{MU} 0.005 0.0001"'
-    if not belt:
-        world = (f'<geom type="plane" size="100 5 0.1" {fr} {ref}/>'
-                 f'<body pos="0 0 {HALF[2]}"><freejoint/>'
-                 f'<geom type="box" size="{HALF[0]} {HALF[1]} {HALF[2]}" mass="{MASS}" {fr} {ref}/>'
-                 f'</body>')
-    else:
-        k = 300.0
-        world = (f'<body name="belt" pos="0 0 -0.05"><joint name="belt" type="slide" axis="1 0 0"/>'
-                 f'<geom type="box" size="100 1 0.05" mass="1000" {fr} {ref}/></body>'
-                 f'<body name="mass" pos="0 0 {HALF[2]}">'
-                 f'<joint name="x" type="slide" axis="1 0 0" stiffness="{k}"/>'
-                 f'<joint name="z" type="slide" axis="0 0 1"/>'
-                 f'<geom type="box" size="{HALF[0]} {HALF[1]} {HALF[2]}" mass="{MASS}" {fr} {ref}/>'
-                 f'</body>')
+    k = 300.0
+    g = _gravity(0.0)
+    world = (f'<body name="belt" pos="0 0 -0.05"><joint name="belt" type="slide" axis="1 0 0"/>'
+             f'<geom type="box" size="100 1 0.05" mass="1000" {fr}/></body>'
+             f'<body name="mass" pos="0 0 {HALF[2]}">'
+             f'<joint name="x" type="slide" axis="1 0 0" stiffness="{k}"/>'
+             f'<joint name="z" type="slide" axis="0 0 1"/>'
+             f'<geom type="box" size="{HALF[0]} {HALF[1]} {HALF[2]}" mass="{MASS}" {fr}/>'
+             f'</body>')
     return (f'<mujoco><option timestep="{timestep}" cone="{cone}" impratio="{impratio}" '
-            f'gravity="{gravity[0]} {gravity[1]} {gravity[2]}"/>'
+            f'gravity="{g[0]} {g[1]} {g[2]}"/>'
             f'<worldbody>{world}</worldbody></mujoco>')
 
 
 def mujoco_slope(*, timestep: float = 0.002, cone: str = "pyramidal", impratio: float = 1.0,
-                 t_end: float = T_END, theta_deg: float = THETA_DEG) -> dict[str, Any]:
-    """The slope box in MuJoCo: creep speed [m/s], contacts, CPU time per simulated second."""
+                 t_end: float = T_END, theta_deg: float = THETA_DEG,
+                 solref: Sequence[float] | None = None) -> dict[str, Any]:
+    """The slope box in MuJoCo (its model: `stickslip.engines.mujoco_slope_xml`): creep speed
+    [m/s], contacts (the fewest active at any sampled step), CPU time per simulated second."""
     import mujoco
-    m = mujoco.MjModel.from_xml_string(_mujoco_xml(timestep=timestep, cone=cone,
-                                                   impratio=impratio, gravity=_gravity(theta_deg),
-                                                   belt=False))
+    import stickslip.engines as en
+    m = mujoco.MjModel.from_xml_string(en.mujoco_slope_xml(
+        timestep=timestep, cone=cone, impratio=impratio, theta_deg=theta_deg, mu=MU, m=MASS,
+        g=G, aspect=HALF[2] / HALF[0], **({} if solref is None else {"solref": solref})))
     d = mujoco.MjData(m)
     n = int(round(t_end / timestep))
     every = max(1, n // 2000)
     t, x = [0.0], [0.0]
+    fewest = 1 << 30
     cpu = time.process_time()
     for i in range(1, n + 1):
         mujoco.mj_step(m, d)
         if i % every == 0:
             t.append(d.time)
             x.append(float(d.qpos[0]))
+            fewest = min(fewest, int(d.ncon))
     cpu = time.process_time() - cpu
     return {"creep": _creep_of(np.array(t), np.array(x)), "x_end": x[-1], "n_contacts": int(d.ncon),
-            "cpu_per_s": cpu / t_end}
+            "fewest_contacts": fewest, "cpu_per_s": cpu / t_end}
+
+
+#: The settings over which ``--rocking`` measures MuJoCo's rocking threshold: (cone, timestep
+#: [s], solref timeconst [s], impratio).
+ROCKING_GRID: tuple[tuple[str, float, float, float], ...] = tuple(
+    [("pyramidal", 0.002, 0.02, ir) for ir in (1.0, 3.0, 10.0, 30.0, 100.0)]
+    + [(cone, h, tc, 1.0) for cone in ("pyramidal", "elliptic")
+       for h, tc in ((0.0005, 0.02), (0.001, 0.02), (0.005, 0.02), (0.002, 0.05), (0.002, 0.1),
+                     (0.001, 0.01))]
+    + [("elliptic", 0.002, 0.02, ir) for ir in (1.0, 10.0, 100.0)])
+
+
+def mujoco_rocking_threshold(cone: str, timestep: float, timeconst: float, impratio: float,
+                             t_end: float = 10.0, rounds: int = 7) -> tuple[float, float]:
+    """The damping ratio (solref's second number) below which the slope box rocks in MuJoCo:
+    by bisection on [0.2, 1], a run "holds" when all four contacts stay active and its creep is
+    within 1 % of `stickslip.engine_creep`'s. Returns (rocks at, holds at)."""
+    import warnings
+    import stickslip as ss
+    lo, hi = 0.2, 1.0
+    for _ in range(rounds):
+        mid = 0.5 * (lo + hi)
+        out = mujoco_slope(timestep=timestep, cone=cone, impratio=impratio, t_end=t_end,
+                           solref=(timeconst, mid))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ss.engines.EngineDomainWarning)
+            pred = ss.engine_creep("mujoco", cone=cone, impratio=impratio, timestep=timestep,
+                                   solref=(timeconst, mid), mu=MU, aspect=HALF[2] / HALF[0])
+        holds = out["fewest_contacts"] == 4 and abs(out["creep"] / pred - 1) < 0.01
+        lo, hi = (lo, mid) if holds else (mid, hi)
+    return lo, hi
+
+
+def rocking(outdir: Path, quiet: bool = False) -> list[Path]:
+    """MuJoCo's rocking threshold over `ROCKING_GRID` (engines_rocking.csv), the measurement
+    behind `stickslip.engines.ROCKING_DAMPRATIO`."""
+    rows = []
+    for cone, h, tc, ir in ROCKING_GRID:
+        lo, hi = mujoco_rocking_threshold(cone, h, tc, ir)
+        c.log(f"  mujoco {cone:9s} timestep {h:g} s, timeconst {tc:g} s, impratio {ir:g}: "
+              f"rocks at dampratio {lo:.4g}, holds at {hi:.4g}", quiet)
+        rows.append([cone, h, tc, ir, lo, hi])
+    return [c.write_csv(Path(outdir) / "engines_rocking.csv",
+                        ["cone [-]", "timestep [s]", "timeconst [s]", "impratio [-]",
+                         "rocks_at_dampratio [-]", "holds_at_dampratio [-]"], rows)]
 
 
 def mujoco_belt(*, timestep: float = 0.002, cone: str = "pyramidal", impratio: float = 1.0,
                 t_end: float = BELT_T_END, v_b: float = BELT_SPEED) -> dict[str, np.ndarray]:
     """The mass on the belt in MuJoCo (the belt's velocity held at v_b every step): t, x, v."""
     import mujoco
-    m = mujoco.MjModel.from_xml_string(_mujoco_xml(timestep=timestep, cone=cone,
-                                                   impratio=impratio, gravity=(0, 0, -G),
-                                                   belt=True))
+    m = mujoco.MjModel.from_xml_string(_mujoco_belt_xml(timestep=timestep, cone=cone,
+                                                        impratio=impratio))
     d = mujoco.MjData(m)
     jb = m.joint("belt").dofadr[0]
     jx = m.joint("x").qposadr[0]
@@ -662,7 +706,7 @@ def tables(outdir: Path) -> list[Path]:
 
 
 #: Colour and marker of every engine run kind (fixed across the figures); the exact methods
-#: keep the colours of cases._style.
+#: keep the colours of harness.style.
 ENGINE_STYLE: dict[str, tuple[str, str]] = {
     "mujoco": (c._style.OKABE_ITO["reddish purple"], "o"),
     "mujoco_elliptic": (c._style.OKABE_ITO["reddish purple"], "s"),
@@ -805,7 +849,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     [--threads N] [--quiet]."""
     parser = argparse.ArgumentParser(prog="python -m cases.engines",
                                      description=c.cli_description(__doc__))
-    parser.add_argument("--outdir", type=Path, default=Path("out"), help="output directory")
+    c.add_outdir(parser, help="output directory (default: out/)")
     parser.add_argument("--quick", action="store_true",
                         help="defaults and one setting per engine, t_end 4 s (for tests)")
     parser.add_argument("--replot", action="store_true",
@@ -815,11 +859,13 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser.add_argument("--threads", type=int, default=1,
                         help="accepted for python -m cases; the engines run one after another "
                              "on one thread (each engine's own timing)")
+    parser.add_argument("--rocking", action="store_true",
+                        help="measure MuJoCo's rocking threshold in solref's damping ratio "
+                             "(engines_rocking.csv) instead of the comparison")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     args = parser.parse_args(argv)
     if args.threads < 1:
         parser.error(f"argument --threads: must be >= 1, got {args.threads}")
-    c.check_writable(parser, args.outdir)
     if args.replot:
         missing = [f for f in ("engines_slope.csv", "engines_belt.csv", "engines_belt_series.csv")
                    if not (args.outdir / f).exists()]
@@ -827,6 +873,10 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
             parser.error(f"argument --replot: {args.outdir} has no {', '.join(missing)} "
                          f"(run python -m cases.engines --outdir {args.outdir} first)")
         files = tables(args.outdir) + plot(args.outdir)
+    elif args.rocking:
+        if "mujoco" not in versions():
+            parser.error(f"argument --rocking: mujoco is not installed ({INSTALL['mujoco']})")
+        return c.finish("engines_rocking", argv, rocking(args.outdir, quiet=args.quiet))
     elif not args.force and (kept := recorded_but_absent(args.outdir)):
         c.log(f"cases.engines: {args.outdir} holds results of {', '.join(kept)}, not installed "
               f"here ({'; '.join(INSTALL[k] for k in kept)}): left as they are (--force "

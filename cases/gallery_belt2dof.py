@@ -26,8 +26,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from harness import style as _style
+
 from . import _common as c
-from . import _gallery, _style
+from . import _gallery
 
 G: float = 9.81
 V_BELT: float = 0.2

@@ -25,8 +25,10 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
+from harness import style as _style
+
 from . import _common as c
-from . import _gallery, _style
+from . import _gallery
 
 ROOT: Path = Path(__file__).resolve().parent.parent
 DATA: Path = ROOT / "data" / "coupled-clutches" / "CoupledClutches.csv"
@@ -193,7 +195,7 @@ def _span(summary: dict[str, float], method: str) -> str:
 def bench_markdown(repeats: int, quiet: bool = True) -> str:
     """The benchmark as Markdown: a paragraph (machine, what is measured, the ratios) and the
     table of `benchmark` (`repeats` timed runs of ours, repeats // 5 of scipy's)."""
-    from ._provenance import machine
+    from harness.provenance import machine
     c.log("gallery_clutches: benchmark against scipy", quiet)
     bench, summary = benchmark(repeats, quiet)
     text = (f"Machine: {machine()}. CPU time of one run to t = 1.5 s with 601 output points, the smallest of "

@@ -46,7 +46,7 @@ import numpy as np
 
 from . import _common as c
 from . import _gallery
-from . import _style as style
+from harness import style
 
 #: Friction ratios F / P0 of the figure and the tables.
 RATIOS: tuple[float, ...] = (0.1, 0.3, 0.5, 0.7)

@@ -46,7 +46,7 @@ import numpy as np
 
 from . import _common as c
 from . import _gallery
-from . import _style as style
+from harness import style
 
 ROOT: Path = Path(__file__).resolve().parent.parent
 RECORD: Path = ROOT / "data" / "el-centro-1940" / "elcentro_1940_ns.csv"

@@ -23,7 +23,8 @@ carries over to a new combination of speed and stroke, not to speeds it has neve
 Records without that metadata alternate (even positions fitted).
 
 Every law is fitted with backlash and asymmetry (options of stickslip.prescribed_motion) fitted
-too, the static laws from two backlash starts (BACKLASH_STARTS); the thresholds at which Coulomb's and Karnopp's laws jump (v_s, dv) are fixed at
+too (the static laws from the backlash starts fit_friction picks from a scan of widths); the thresholds at
+which Coulomb's and Karnopp's laws jump (v_s, dv) are fixed at
 JUMP_VELOCITY (a gradient method cannot move a jump), GMS's element count at its default and
 its attraction constant at GMS_C (it barely changes the force on sines).
 """
@@ -38,20 +39,19 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from . import _common as c
-from . import _style
+from harness import style as _style
 
+from . import _common as c
 SAMPLES_PER_CYCLE: int = 48
 JUMP_VELOCITY: float = 1e-3        # [m/s]
 GMS_C: float = 1e6                 # [N/s]
 RTOL: float = 1e-4                 # state integration of the fits (force error ~ 1e-4 of its level)
 DIFF_STEP: float = 1e-2            # finite-difference step, well above RTOL
-BACKLASH_STARTS: tuple[float, ...] = (0.15, 0.3)   # of the amplitude, for the static laws
 TIE: float = 0.05                  # held-out errors within 5 % of the best count as equal
 STATIC_REFERENCE: str = "stribeck"  # the static (velocity-only) law the report sets beside the chosen one
-#: Display names of the laws (cases._style's, one set for every figure).
+#: Display names of the laws (harness.style's, one set for every figure).
 LAW_NAMES: dict[str, str] = _style.LAW_NAMES
-#: Colour of the measured force (a model's is its law's: cases._style.LAW_COLORS).
+#: Colour of the measured force (a model's is its law's: harness.style.LAW_COLORS).
 MEASURED_COLOR: str = "0.6"
 #: Colours of the load groups in the score figure (not laws or methods: the cycle's).
 GROUP_COLORS: tuple[str, ...] = _style.VARIANT_COLORS[1:]
@@ -97,19 +97,12 @@ def fit_one(job: tuple[str, str, list[Any], list[Any]]) -> dict[str, Any]:
     group, law, train, held = job
     t0 = time.perf_counter()
     # a static law can only imitate the lag after a reversal by a wide backlash, and the cost
-    # is far from convex in it: such laws start from BACKLASH_STARTS (fractions of the median
-    # amplitude) and keep the best fit of the fitted records
-    static = stickslip.REGISTRY["law"][law]["n_states"] == 0
-    amp = float(np.median([0.5 * np.ptp(r.x) for r in train]))
-    starts = [{"backlash": f * amp} for f in BACKLASH_STARTS] if static else [None]
-    fit = None
+    # is far from convex in it: fit_friction starts such laws from the lowest widths of a scan
+    # (identify.BACKLASH_GRID) too
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        for p0 in starts:
-            trial = stickslip.fit_friction(law, train, fixed=fixed_for(law), backlash="fit", asymmetry="fit",
-                                           params0=p0, n_starts=1, rtol=RTOL, diff_step=DIFF_STEP)
-            if fit is None or trial.cost < fit.cost:
-                fit = trial
+        fit = stickslip.fit_friction(law, train, fixed=fixed_for(law), backlash="fit", asymmetry="fit",
+                                     n_starts=1, rtol=RTOL, diff_step=DIFF_STEP)
     seconds = time.perf_counter() - t0
     held_score = fit.score(held) if held else None
     per_record = [(r.name, "fitted", fit.score(r)) for r in train] + [(r.name, "held out", fit.score(r)) for r in held]
@@ -243,7 +236,7 @@ def shown_laws(chosen: str, available: Sequence[str]) -> list[str]:
 
 
 #: Widths of the figures [in] (loops, residuals, correlations, scores); their fonts are scaled to
-#: stay legible at a column width (cases._style.apply).
+#: stay legible at a column width (harness.style.apply).
 LOOPS_WIDTH: float = 4.6
 RESIDUALS_WIDTH: float = 5.0
 CORRELATION_WIDTH: float = 4.6
@@ -427,13 +420,11 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                              "default: the repository's data/friction-damper/*.csv.gz)")
     parser.add_argument("--laws", nargs="+", choices=stickslip.LAWS, default=None, metavar="LAW",
                         help=f"candidate laws (default: all, {' '.join(stickslip.LAWS)})")
-    parser.add_argument("--outdir", type=Path, default=Path("out"),
-                        help="directory for CSV, PNG, PDF and Markdown files (default: out/)")
+    c.add_outdir(parser, help="directory for CSV, PNG, PDF and Markdown files (default: out/)")
     parser.add_argument("--threads", type=c.count, default=2,
                         help="fits run at once, each in its own process, >= 1 (default 2)")
     parser.add_argument("--quiet", action="store_true", help="no progress on stderr")
     args = parser.parse_args(argv)
-    c.check_writable(parser, args.outdir)
     for f in args.data or ():
         if not f.is_file():
             parser.error(f"argument --data: {f}: no such file")

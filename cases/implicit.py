@@ -9,11 +9,11 @@ Three studies, each a CSV (header with units) and a PNG rendered from it:
    rest, rtol = 1e-3 .. 1e-10 (atol = 1e-3 rtol): evaluations, Jacobians, LU decompositions,
    steps and CPU time of stickslip's RADAU5 (h_max unbounded, and at the paper's automatic
    h_max = 1e-2 s) and DOPRI5 against scipy's solve_ivp Radau, BDF and LSODA with a Python
-   right-hand side and analytic Jacobian (`cases._timing.python_rhs`, `python_jac`). Error:
+   right-hand side and analytic Jacobian (`harness.timing.python_rhs`, `python_jac`). Error:
    |x(20 s) - x_ref| against DOPRI5 at rtol = 1e-13 (`cases.workprecision.references`). CPU:
-   median wall time of the whole Python call (`cases._timing.median_time`).
+   median wall time of the whole Python call (`harness.timing.median_time`).
    ``implicit_slope_equal.csv``: for each solver the time to reach |error| <= 1e-8 m and 1e-10 m,
-   interpolated in log-log along its curve (`cases._timing.time_at_error`).
+   interpolated in log-log along its curve (`harness.timing.time_at_error`).
 2. ``fig14_implicit.csv``, ``implicit_fig14_amplitude.csv``: Fig. 14 again (belt, RecurDyn law,
    h = 1e-3 and 1e-4 s, T_END_BELT) with implicit Euler and generalized-alpha (rho_inf = 0, 0.5,
    0.9, 1). On this orbit mu = mu_k throughout (v_rel > v_d), so the motion is the linear
@@ -114,7 +114,7 @@ def slope_runs(rtols: Sequence[float], t_end: float, repeats: int, quiet: bool) 
     import stickslip
     from scipy.integrate import solve_ivp
     from . import workprecision
-    from ._timing import median_time, python_jac, python_rhs
+    from harness.timing import median_time, python_jac, python_rhs
     refs = workprecision.references(t_end, 1)
     rows = []
     for law in SMOOTH:
@@ -147,7 +147,7 @@ def slope_runs(rtols: Sequence[float], t_end: float, repeats: int, quiet: bool) 
 
 def equal_error(rows: list[list[Any]]) -> list[list[Any]]:
     """Time to reach each target error, per law and solver, and its ratio to RADAU5's."""
-    from ._timing import time_at_error
+    from harness.timing import time_at_error
     out = []
     for law in SMOOTH:
         for target in TARGETS:
@@ -258,7 +258,7 @@ SOLVER_NAMES: dict[str, str] = {"radau5": "stickslip RADAU5 (h_max unbounded)",
                                 "scipy BDF": "scipy BDF", "scipy LSODA": "scipy LSODA"}
 
 
-#: Colour (the tool's, cases._style.TOOL_COLORS), marker (the method's) and line style of each
+#: Colour (the tool's, harness.style.TOOL_COLORS), marker (the method's) and line style of each
 #: solver of implicit_slope.csv: the same method has the same marker whatever the tool.
 SOLVER_STYLE: dict[str, tuple[str, str, str]] = {
     "radau5": ("stickslip_python", c._style.METHOD_MARKERS["radau5"], "-"),

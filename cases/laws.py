@@ -73,8 +73,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     parser = argparse.ArgumentParser(prog="python -m cases.laws",
                                      description=c.cli_description(__doc__),
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--outdir", type=Path, default=Path("out"),
-                        help="directory for CSV and PNG files (default: out/)")
+    c.add_outdir(parser, help="directory for CSV and PNG files (default: out/)")
     parser.add_argument("--v-max", type=c.positive_float, default=V_MAX,
                         help="plotted range |v| <= v_max [m/s] (default %(default)s)")
     parser.add_argument("--points", type=c.positive_int, default=N_POINTS,

@@ -380,14 +380,14 @@ def series_name(tag: str) -> str:
 
 
 #: Width of the figures of runs grouped by law [in]; their fonts are scaled to stay legible at a
-#: column width (cases._style.apply).
+#: column width (harness.style.apply).
 WIDTH: float = 6.4
 
 
 def plot(csv: str | Path, outdir: str | Path) -> Path:
     """Render one laws_compare CSV grouped by law (PNG and PDF, from the CSV alone): a point per
     run on a log axis (a bar's length from an arbitrary baseline would mean nothing there), bars
-    on a linear one; each method in its colour (cases._style), its second step hollow or
+    on a linear one; each method in its colour (harness.style), its second step hollow or
     hatched. A run that failed (status != 0, or no value) is marked with a cross at the foot of
     its place, a value of exactly 0 on a log axis with a circle there, a law a method has no row
     for (it refuses the law) with a grey dash; on a log axis of every method, a panel per family
@@ -490,7 +490,7 @@ def _draw_group(ax: Any, kind: str, log: bool, cols: dict[str, list[str]], laws:
     lowest = math.inf
 
     def bar_style(s: str, j: int) -> dict[str, Any]:
-        """A method's own colour (cases._style), its second step hatched; on "hmax" (series
+        """A method's own colour (harness.style), its second step hatched; on "hmax" (series
         "scene method") the method's colour too, the belt's marked by a square."""
         if kind == "hmax":
             scene, _, method = s.partition(" ")

@@ -261,7 +261,7 @@ def implicit_map(v_ss: Sequence[float], n_h: int, threads: int, client: Any = No
 
 
 #: Widths of the implicit methods' figure and of the maps [in]; their fonts are scaled to stay
-#: legible at a column width (cases._style.apply).
+#: legible at a column width (harness.style.apply).
 IMPLICIT_WIDTH: float = 6.4
 MAP_WIDTH: float = 6.4
 

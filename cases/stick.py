@@ -42,9 +42,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from . import _common as c
-from . import _style as style
+from harness import style
 
+from . import _common as c
 MU_S, MU_K, G = 0.35, 0.30, 9.81
 THETA_DEG = 10.0
 V0_SLOPE = 2.0                        # (b) initial speed [m/s]
@@ -253,7 +253,7 @@ SHORT_TITLES: dict[str, str] = {"slope_rest": "slope, from rest", "slope_stop": 
 def plot(csv_path: str | Path, outdir: str | Path) -> list[Path]:
     """stick.png and stick.pdf: for each problem (a row) and each of PLOT_LAWS (a column) its
     first error against CPU time, a line per method through its settings (the method's colour
-    and marker of cases._style); exact results (error 0) on the dotted line at FLOOR; a run
+    and marker of harness.style); exact results (error 0) on the dotted line at FLOOR; a run
     that failed (status other than ok, e.g. its step budget) a cross at the top of its panel;
     the methods refused by a law named in the panel."""
     import matplotlib.pyplot as plt

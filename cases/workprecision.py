@@ -248,7 +248,7 @@ def _run(outdir: str | Path, *, quick: bool, threads: int, quiet: bool,
 #: Errors below this are drawn at it (exact zeros cannot be shown on a log axis) [m].
 ERR_DRAWN: float = 1e-16
 #: Width of a work-precision figure [in]; its fonts are scaled to stay legible at a column
-#: width (cases._style.column_fonts).
+#: width (harness.style.column_fonts).
 WIDTH: float = 5.6
 #: The two panels of each law: the methods swept over h, and those swept over rtol.
 GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
@@ -290,7 +290,7 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
     """Render workprecision.csv: error against function evaluations and against CPU time, one
     figure per scene and cost (workprecision_<cost>_<scene>.png), a row per law and two panels
     a row (fixed-step methods, adaptive methods; at most four methods a panel, each with its
-    colour and marker of cases._style), log-log. Lines: discretisation error; grey dashed line:
+    colour and marker of harness.style), log-log. Lines: discretisation error; grey dashed line:
     the law's model error (its converged solution against the physical truth); grey dotted
     line: ERR_DRAWN, where exact zeros are drawn; a cross at the top: a failed run. A note in
     the panel names the methods refused or not run there, and those whose error is exactly 0

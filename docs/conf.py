@@ -10,6 +10,10 @@ from __future__ import annotations
 import datetime
 import logging
 import re
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "_ext"))
 
 project = "stickslip"
 author = "the stickslip authors"
@@ -20,11 +24,12 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.mathjax",
     "numpydoc",
+    "docnumbers_role",   # {num}`TEXT <SOURCE>`: a measured number read from its results file
 ]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
 # figures/*.md are results tables the pages embed (tools/doctables.py), not pages of their own
-exclude_patterns = ["_build", "figures/*.md", "**/.ipynb_checkpoints"]
+exclude_patterns = ["_build", "_ext", "figures/*.md", "**/.ipynb_checkpoints"]
 
 myst_enable_extensions = ["colon_fence", "deflist", "dollarmath"]
 myst_heading_anchors = 3

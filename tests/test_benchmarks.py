@@ -110,10 +110,10 @@ def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> No
 
 @pytest.mark.slow     # builds the contact benchmark's Fortran program (minutes on two busy cores)
 def test_quick_contact_benchmark(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """`python -m benchmarks --contact --quick`: a table row per n up to 8; the solver (exact
-    up to 6 contacts, Gauss-Seidel with the pivoting fallback beyond) and the pivoting alone
-    solve every random coupled problem. No timing assertions. Slow (CI): the default run
-    checks the same solver on random coupled problems of 2 to 6 contacts in
+    """`python -m benchmarks --contact --quick`: a table row per n up to 8; the solver (its
+    rule's rounds of box problems) and Lemke's method alone solve every random coupled problem;
+    moreau runs the stack of 1 to 8 blocks to the end. No timing assertions. Slow (CI): the
+    default run checks the same solver on random coupled problems of 2 to 9 contacts in
     tests/test_contacts.py::test_contact_solver_random_problems."""
     if shutil.which("gfortran") is None:
         pytest.skip("compilers not found")
@@ -123,15 +123,19 @@ def test_quick_contact_benchmark(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 
     assert main(["--contact", "--quick", "--outdir", str(tmp_path)]) == 0
     random_part, chain_part = (tmp_path / "contact.md").read_text().split("**The chain**")
+    random_part, stack_part = random_part.split("**A stack of n blocks**")
 
     def table(text: str) -> list[list[str]]:
         return [line.split("|")[1:-1] for line in text.splitlines() if line.startswith("| ") and line[2].isdigit()]
 
     rows = table(random_part)
-    assert [int(r[0]) for r in rows] == [2, 3, 4, 5, 6, 8]
+    assert [int(r[0]) for r in rows] == [2, 3, 4, 6, 8]
     for r in rows:
         assert r[2].strip() == "100 %" and r[7].strip() == "100 %"
         assert math.isfinite(float(r[1])) and float(r[1]) > 0
+    rows = table(stack_part)
+    assert [int(r[0]) for r in rows] == [1, 2, 3, 4, 6, 8]
+    assert all(r[5].strip() == "0" and float(r[4]) <= 1e-12 for r in rows)     # status 0, residual
     # the chain (10 and 100 blocks in --quick): the tridiagonal path and the general solver
     # solve every step problem, to the same velocities
     rows = table(chain_part)
@@ -237,7 +241,7 @@ def test_replot_draws_position_error_and_refuses_an_old_csv(tmp_path: Path, monk
              for impl in ("stickslip_fortran", "stickslip_python")
              for tol, t, ex in ((1e-4, 1e-3, 3e-5), (1e-8, 4e-3, 2e-9))]
     run.write_csv(rows, tmp_path / "benchmarks.csv")
-    from cases import _style
+    from harness import style as _style
     axes: list = []
     save = _style.save
     monkeypatch.setattr(_style, "save", lambda fig, path, write: (axes.extend(fig.axes), save(fig, path, write))[1])

@@ -21,7 +21,7 @@ from conftest import compile_target
 S = ss.signal
 STATUS = ss.REGISTRY["status"]
 #: stickslip_user_model's ELEM_* (SS_ELEM_* in C).
-BODY, SPRING, DAMPER, FORCE, CONTACT, SIGNAL = 1, 2, 3, 4, 5, 6
+BODY, SPRING, DAMPER, FORCE, CONTACT, SIGNAL, DRIVE = 1, 2, 3, 4, 5, 6, 7
 EVENT_KINDS = {1: "stick", 2: "slip", 3: "reversal"}
 
 
@@ -31,19 +31,22 @@ def cases(native_build) -> dict:
     exe = compile_target(native_build, "capi_model_cases")
     proc = subprocess.run([str(exe)], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    rows, events, stats, out = defaultdict(list), defaultdict(list), {}, {}
+    rows, events, stats, out, drives = defaultdict(list), defaultdict(list), {}, {}, defaultdict(list)
     for line in proc.stdout.splitlines():
         kind, name, *rest = line.split(" ")
         if kind == "row":
             rows[name].append([float(f) for f in rest[1:]])
         elif kind == "event":
             events[name].append([float(f) for f in rest[1:]])
+        elif kind == "drive":
+            drives[name].append([float(f) for f in rest[1:]])
         elif kind == "stats":
             stats[name] = [int(f) for f in rest]
         elif kind == "case":
             status, ekind, eindex = (int(f) for f in rest[:3])
             out[name] = (status, ekind, eindex, line.split(" | ", 1)[1])
-    return {"rows": {k: np.array(v) for k, v in rows.items()}, "events": events, "stats": stats, "cases": out}
+    return {"rows": {k: np.array(v) for k, v in rows.items()}, "events": events, "stats": stats, "cases": out,
+            "drives": {k: np.array(v) for k, v in drives.items()}}
 
 
 def model_a() -> ss.Model:
@@ -75,6 +78,17 @@ def model_b() -> ss.Model:
     return m
 
 
+def model_c() -> ss.Model:
+    """capi_model_cases.c's model C: a drill string with its top driven at 5 rad/s."""
+    m = ss.Model()
+    top = m.add_body(50.0)
+    bit = m.add_body(374.0)
+    m.add_spring(top, bit, k=473.0)
+    m.add_contact(bit, None, "stribeck", normal_force=1000.0, mu_s=0.8, mu_k=0.5)
+    m.add_drive(top, velocity=5.0)
+    return m
+
+
 #: The same runs in Python (the facade's hmin defaults to 1e-6, the library's to 0: given here).
 RUNS = {
     "a_dopri5": (model_a, dict(method="dopri5", t_end=1.0, n_out=21, rtol=1e-9, atol=1e-11, hmin=1e-6,
@@ -83,6 +97,8 @@ RUNS = {
     "a_dopri5_every": (model_a, dict(method="dopri5", t_end=0.5, every_step=True, rtol=1e-6, atol=1e-8,
                                      hmin=0.0)),
     "b_event_driven": (model_b, dict(method="event_driven", t_end=1.5, n_out=301, rtol=1e-10, atol=1e-12)),
+    "c_drive_dopri5": (model_c, dict(method="dopri5", t_end=4.0, n_out=41, rtol=1e-9, atol=1e-11, hmin=1e-6)),
+    "c_drive_event_driven": (model_c, dict(method="event_driven", t_end=10.0, n_out=41, rtol=1e-10, atol=1e-12)),
 }
 
 
@@ -104,6 +120,8 @@ def test_c_model_runs_as_the_python_model(cases: dict, run: str) -> None:
     for (t, kind, pos, contact), ev in zip(cases["events"][run], res.events):
         assert abs(t - ev["t"]) < 1e-12 and abs(pos - ev["x"]) < 1e-12
         assert EVENT_KINDS[int(kind)] == ev["kind"] and int(contact) - 1 == ev["contact"]
+    if res.drive_force.shape[1]:
+        np.testing.assert_allclose(cases["drives"][run], res.drive_force, rtol=1e-12, atol=1e-9)
 
 
 def test_event_driven_run_has_events(cases: dict) -> None:
@@ -114,7 +132,7 @@ def test_event_driven_run_has_events(cases: dict) -> None:
 
 def test_bad_handles_are_refused_by_every_function(cases: dict) -> None:
     handles = {k: v for k, v in cases["cases"].items() if "_handle_" in k}
-    assert len(handles) == 32
+    assert len(handles) == 36
     for name, (status, *_, message) in handles.items():
         assert status == STATUS["BAD_HANDLE"], name
         assert message.startswith("model: not a live handle"), name
@@ -124,6 +142,8 @@ def test_bad_handles_are_refused_by_every_function(cases: dict) -> None:
     ("empty", "BAD_MODEL_EMPTY", 0, 0, "model: has no bodies"),
     ("spring_body", "BAD_BODY", SPRING, 1, "spring 1 (body 1 - body 2): body:"),
     ("damper_self", "BAD_BODY", DAMPER, 1, "damper 1 (body 1 - body 1): body:"),
+    ("drive_body", "BAD_BODY", DRIVE, 1, "drive 1 (body 5): body:"),
+    ("drive_step", "BAD_SIGNAL", DRIVE, 1, "drive 1 (body 2): signal:"),
     ("negative_mass", "BAD_MASS", BODY, 2, "body 2: mass: must be finite and > 0"),
     ("negative_k", "BAD_SPRING", SPRING, 1, "spring 1 (body 1 - ground): k:"),
     ("negative_c", "BAD_DAMPER", DAMPER, 2, "damper 2 (body 1 - ground): c:"),

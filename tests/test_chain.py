@@ -212,8 +212,8 @@ def test_moreau_solver_converges_on_a_thousand_blocks():
 
 def test_moreau_failed_solve_is_reported():
     with pytest.raises(ss.ContactSolverFailure):
-        ss.simulate("chain", "coulomb", method="moreau", h=1e-2, n_blocks=50, t_end=5.0, v_b=0.2,
-                    x0=np.linspace(0.0, 0.05, 50), contact_max_iter=1, contact_tol=1e-15)
+        ss.simulate("chain", "coulomb", method="moreau", h=1e-2, n_blocks=2001, t_end=5.0, v_b=0.2,
+                    x0=np.linspace(0.0, 0.05, 2001), contact_max_iter=1, contact_tol=1e-15)
 
 
 CHAIN4 = dict(n_blocks=4, t_end=5.0, n_out=501, v_b=0.2, perturbation=0.1, x0=[0.0, 0.01, -0.01, 0.02])

@@ -308,7 +308,7 @@ def test_doc_tables_notice_a_changed_number(tmp_path) -> None:
     number in the CSV changes, the check reports the table, and a refresh makes them agree."""
     doctables = _doctables()
     from cases import _common
-    from cases._provenance import write_provenance
+    from harness.provenance import write_provenance
     csv = _common.write_csv(tmp_path / "r.csv", ["law [-]", "x [m]", "n [-]"],
                             [["a", 0.123456789, 7], ["b", 2.5e-9, 8]])
     write_provenance(tmp_path, "cases.demo", [csv], ["--outdir", "x"])
@@ -334,6 +334,314 @@ def test_doc_tables_format_a_column_one_way(tmp_path) -> None:
     page.write_text("<!-- table: r.csv\ndigits: 3\n-->\n<!-- end table -->\n")
     text, _ = doctables.refresh(page)
     assert "| 61 | 2.79e+04 |" in text and "| 50 | 5.97e+05 |" in text
+
+
+# ---------------------------------------------------------------- numbers in the prose, from their sources
+def _docnumbers():
+    sys.path.insert(0, str(ROOT))
+    from tools import docnumbers
+    return docnumbers
+
+
+def test_a_number_is_shown_from_its_source(tmp_path) -> None:
+    """The role's number is read from a named-numbers file or a CSV cell, shown in the form it
+    is written (decimals, exponent form, a factor, significant digits), and a refresh rewrites
+    the page's number when the source changes; a bad key names what the file has."""
+    dn = _docnumbers()
+    (tmp_path / "r.json").write_text(dn.numbers_json({"cpu_s": (231.46, "s", "CPU"), "err": 8.46e-6}))
+    (tmp_path / "t.csv").write_text("law [-],mode [-],nfev [-]\na,h=1e-3,20000\na,auto,30012345\n")
+    assert dn.shown("230 s", "r.json:cpu_s", tmp_path)[0] == "231 s"
+    assert dn.shown("about 231.5 s of CPU", "r.json:cpu_s", tmp_path)[0] == "about 231.5 s of CPU"
+    assert dn.shown("8.5e-6 m", "r.json:err", tmp_path)[0] == "8.5e-6 m"
+    assert dn.shown("8.46 um", "r.json:err*1e6", tmp_path)[0] == "8.46 um"
+    assert dn.shown("30000000", "t.csv:nfev [-][law [-]=a,mode [-]=auto]~2", tmp_path)[0] == "30000000"
+    assert dn.shown("1500 times", "t.csv:nfev [-][mode [-]=auto]*5e-5~2", tmp_path)[0] == "1500 times"
+    with pytest.raises(dn.SourceError, match="has no number 'cpu' .*it has: cpu_s, err"):
+        dn.shown("1 s", "r.json:cpu", tmp_path)
+    with pytest.raises(dn.SourceError, match="picks 2 rows, not one"):
+        dn.shown("1", "t.csv:nfev [-][law [-]=a]", tmp_path)
+    assert dn.shown("20000 to", "t.csv:nfev [-][law [-]=a]@min", tmp_path)[0] == "20000 to"
+    assert dn.shown("3e7", "t.csv:nfev [-][law [-]=a]@max", tmp_path)[0] == "3e7"
+    ratio = "t.csv:nfev [-][mode [-]=auto]/nfev [-][mode [-]=h=1e-3]"
+    assert dn.shown("1501 times", ratio, tmp_path)[0] == "1501 times"
+    (tmp_path / "t.md").write_text("Intro.\n\n| n | a / b | solved |\n|---|---|---|\n| 10 | 1.15 | 100 % |\n"
+                                   "| 100 | 1.02 | 98 % |\n\n| other | n |\n|---|---|\n| 3 | 4 |\n")
+    assert dn.shown("1.20", "t.md:a / b[n=10]", tmp_path)[0] == "1.15"
+    assert dn.shown("90 %", "t.md:solved[n=10|100]@min", tmp_path)[0] == "98 %"
+    assert dn.shown("1", "t.md:other[n=4]", tmp_path)[0] == "3"
+    page = "It took {num}`230 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"
+    text, changed = dn.refresh_text(page, tmp_path)
+    assert text == "It took {num}`231 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"
+    assert changed == [(1, "230 s", "231 s")] and dn.refresh_text(text, tmp_path)[1] == []
+    fenced = "```text\n{num}`1 s <r.json:cpu_s>`\n```\n\nIt took {num}`230 s <r.json:cpu_s>`.\n"
+    text, changed = dn.refresh_text(fenced, tmp_path)        # the example in code stays as written
+    assert changed == [(5, "230 s", "231 s")] and text.startswith("```text\n{num}`1 s")
+
+
+def test_the_site_shows_a_number_from_its_source_and_fails_on_a_stale_one(tmp_path) -> None:
+    """The Sphinx role renders the source's number with its provenance as a tooltip, and a
+    page whose number disagrees with its source fails a -W build, naming both."""
+    pytest.importorskip("myst_parser")
+    src = tmp_path / "src"
+    src.mkdir()
+    (src / "conf.py").write_text(
+        "import sys\n"
+        f"sys.path.insert(0, {str(ROOT / 'docs' / '_ext')!r})\n"
+        "extensions = ['myst_parser', 'docnumbers_role']\n")
+    source = "docs/figures/table2_slope_cpu.csv:x_end [m][law [-]=recurdyn,mode [-]=automatic]"
+
+    def build(number: str) -> subprocess.CompletedProcess[str]:
+        (src / "index.md").write_text(f"# Page\n\nIt creeps {{num}}`{number} m <{source}>` in 20 s.\n")
+        return subprocess.run([sys.executable, "-m", "sphinx", "-b", "html", "-W", "-q", "-E", str(src),
+                               str(tmp_path / "out")], capture_output=True, text=True)
+
+    good = build("0.1005")
+    assert good.returncode == 0, good.stderr
+    html = (tmp_path / "out" / "index.html").read_text()
+    assert re.search(r'<abbr title="docs/figures/table2_slope_cpu.csv: x_end \[m\].*written by python -m '
+                     r'cases[^"]*">0.1005 m</abbr>', html), html
+    stale = build("0.1006")
+    assert stale.returncode != 0 and "the page says '0.1006 m'" in stale.stderr and "'0.1005 m'" in stale.stderr
+
+
+def test_python_m_cases_writes_the_times_the_guide_quotes(tmp_path, monkeypatch) -> None:
+    """A whole run of `python -m cases` (drivers replaced by stand-ins that burn a known share of
+    CPU) writes cases.run.json: each driver's wall and CPU time, their sum, and its provenance;
+    a run with --only writes none (a part's sum would mislead)."""
+    import json
+    import time
+    sys.path.insert(0, str(ROOT))
+    from cases import __main__ as cases_main
+    from harness.provenance import provenance_of
+
+    def busy(name: str, argv: list[str]) -> list[Path]:
+        end = time.process_time() + 0.2
+        while time.process_time() < end:
+            pass
+        return []
+
+    monkeypatch.setattr(cases_main, "_run_driver", busy)
+    cases_main.main(["--outdir", str(tmp_path), "--jobs", "1", "--quiet"])
+    numbers = json.loads((tmp_path / "cases.run.json").read_text())["numbers"]
+    drivers = [d.name for d in cases_main.DRIVERS if d.kind != "study"]
+    assert {f"{d}.cpu_s" for d in drivers} <= set(numbers)
+    assert all(numbers[f"{d}.cpu_s"]["value"] >= 0.15 for d in drivers)   # written to 0.1 s
+    assert numbers["cpu_s"]["value"] == pytest.approx(sum(numbers[f"{d}.cpu_s"]["value"] for d in drivers),
+                                                      abs=0.05 * len(drivers))
+    assert provenance_of(tmp_path / "cases.run.json")["command"].startswith("python -m cases")
+    (tmp_path / "only").mkdir()
+    cases_main.main(["--outdir", str(tmp_path / "only"), "--jobs", "1", "--quiet", "--only", "laws"])
+    assert not (tmp_path / "only" / "cases.run.json").exists()
+
+
+#: The prose of these pages is checked for measured-looking numbers without a source.
+NUMBER_PAGES: tuple[str, ...] = tuple(
+    p.relative_to(ROOT / "docs").as_posix()
+    for p in sorted((ROOT / "docs" / "guide").glob("*.md")) + sorted((ROOT / "docs").glob("*.md"))
+    + sorted((ROOT / "docs" / "gallery").glob("*.md")))
+#: A number that looks measured: a decimal, an exponent, a grouped integer, or a number with a
+#: unit of time, length, speed, force, a factor, a percentage or a count of work.
+MEASURED = re.compile(r"(?<![\w.{])(\d+\.\d+(e[-+]?\d+)?|\d+e[-+]?\d+|\d{2,}(,\d{3})+|\d+(\.\d+)?\s?"
+                      r"(s|ms|us|µs|x|%|mm|m/s|rad/s|kN|N|evaluations|steps)\b)")
+#: Facts every page may write: the paper's parameters and scenes (Table 1 of Yoo & Lee 2008).
+PAPER_FACTS: dict[str, str] = {
+    "0.35": "mu_s", "0.30": "mu_k", "0.3": "mu_k", "9.81": "g", "300 N": "the belt's spring k [N/m]",
+    "1.5": "the belt's speed [m/s]", "10 kg": "the mass", "0.176": "tan 10°", "20 s": "the slope's run",
+    "30 s": "the belt's run (ours: the paper gives none)",
+}
+#: A power of ten (1e-6, 1e5) is a setting chosen (a step, a tolerance, a target), not a
+#: measurement, on every page.
+SETTING = re.compile(r"1e[-+]?\d+")
+#: Facts, not measurements, that a converted page may write as text: {page: {number: why}}.
+FACTS: dict[str, dict[str, str]] = {
+    "guide/getting-started.md": {
+        "3.11": "the Python version required", "0.1": "the paper's words (\"about 0.1 m\")",
+        "0.0981": "x_k = mu_k m g / k of the paper's parameters",
+    },
+    "paper.md": {"3.1": "a section of the paper", "3.2": "a section of the paper"},
+    "guide/extending.md": {"8.5": "a journal column's width [cm]"},
+    "guide/integrators.md": {
+        "4 evaluations": "RK4's stages", "0.04": "Hairer's beta", "0.9": "Hairer's safety factor",
+        "0.2": "Hairer's step ratio bound",
+        "1442 evaluations": "Hairer's published Arenstorf run (tests/fortran/test_integrators.f90)",
+        "240 steps": "Hairer's published Arenstorf run", "0.9940021016": "Hairer's published Arenstorf run",
+        "0.89111849e-5": "the Arenstorf run's digits (tests/fortran/test_integrators.f90)",
+        "0.8911185692e-5": "Hairer's published value",
+        "19670 evaluations": "Hairer's dopri5.f on the same belt (tests/fortran/test_integrators.f90)",
+        "3278 steps": "Hairer's dopri5.f on the same belt",
+        "2 steps": "calm_steps' default",
+    },
+    "guide/dop853.md": {
+        "12 evaluations": "DOP853's stages a step", "11 evaluations": "DOP853's stages a rejected step",
+        "3 evaluations": "DOP853's dense output", "0.01": "a weight of Hairer's error estimate",
+        "0.9": "Hairer's safety factor", "0.333": "Hairer's fac1", "6.1": "Hairer's stiffness bound",
+        "12.2": "the gfortran version", "23 steps": "Hairer's stiffness stop (tests/fortran/test_integrators.f90)",
+        "275 evaluations": "Hairer's stiffness stop",
+    },
+    "guide/engines.md": {
+        "0.01": "a time step named", "0.2": "the box's size [m]", "0.1": "a size, step or threshold chosen",
+        "1 mm": "the contact spheres' radius, a threshold chosen",
+        "2 s": "Newton's run, chosen", "2.5": "m/(4 k_f) [ms], arithmetic",
+        "1 ms": "a time step chosen", "0.17": "the stability bound 2m/(3 · 4 k_f) [ms], arithmetic",
+        "0.7265": "the root of mu_d s/sqrt(1 + s^2) = tan 10°",
+        "5 ms": "a time step chosen", "10 s": "the rocking runs' length, chosen", "0.7": "a damping ratio chosen",
+        "4.0": "MuJoCo's version", "0.5": "solimp's midpoint",
+    },
+    "guide/results.md": {
+        "2.785": "RK4's stability bound on the real axis", "2.828": "RK4's bound on the imaginary axis",
+        "0.5164": "2 sqrt(2)/omega of the paper's belt [s], a closed form",
+        "5.1643e-4": "the closed-form bound at v_s = 1e-3 m/s [s]",
+        "2048 steps": "half the library's interval between looks at the stop flag",
+        "10 m/s": "the brake's initial speed", "1000 N": "the brake's largest normal force",
+        "0.5": "the brake's ramp [s]", "0.4": "the brake's mu", "5 s": "the runs' length, chosen",
+    },
+    "benchmarks.md": {
+        "1.2": "a goal (at most 1.2 times the reference)", "0.5": "GSL's step-keeping interval",
+        "1.1": "GSL's step-keeping interval",
+        "50,000": "the callgrind run's steps, chosen", "2e6": "the Lotka-Volterra run's steps, chosen",
+        "2.3": "mu_s/mu_k up to 0.7/0.3, the problems' range", "10,000": "the largest chain, chosen",
+        "5 s": "the fit's budget",
+    },
+    "guide/dask.md": {
+        "10,000": "chunk_rows' largest default", "100,000": "the benchmark's rows, chosen",
+        "0.2": "a duration chosen",
+    },
+    "guide/chain.md": {
+        "0.618": "the golden ratio's fraction", "2 s": "2 s + 1, the band Jacobian's evaluations (s states)",
+        "1 evaluations": "2 s + 1, a formula", "10 N": "k_p, chosen",
+        "0.2": "a perturbation, duration or precision stated",
+        "0.01": "the belt's speed, chosen",
+        "0.5": "a duration chosen", "1 s": "a duration chosen",
+        "10,000": "a chain size or step count, chosen", "000 s": "1,000 s and 5,000 s runs, chosen",
+        "0.05": "the output grid's step, chosen", "10 s": "a duration chosen",
+    },
+    "reproduction.md": {
+        "1 mm": "the error test's threshold, atol/rtol", "0.1": "a scale, threshold or grid named",
+        "1.3": "the proposed law's v* [mm/s], a closed form", "5.0": "RecurDyn's v* [mm/s], a closed form",
+        "10 ms": "the output grid", "1 ms": "a run's length named", "0.3273": "the proposed law's mu(1.5 m/s)",
+        "0.1763": "tan 10°", "5.024": "RecurDyn's v* [mm/s]", "0.1005": "RecurDyn's v* times 20 s [m]",
+        "1.279": "the proposed law's v* [mm/s]", "0.02557": "its v* times 20 s [m]",
+        "0.11": "the paper's ratio", "0.12": "the paper's ratio", "9.9": "the paper's ratio",
+        "10.2": "the paper's ratio", "65 s": "the paper's CPU time", "0.95": "the paper's ratio",
+        "1.0": "the paper's ratio", "6 evaluations": "DOPRI5's stages", "6.76": "2 mu_s g cos 10° [m/s^2]",
+        "2 steps": "calm_steps' default", "20.0": "t_end in a call", "30.0": "t_end in a call",
+        "0.0981": "x_k = mu_k m g / k [m]", "1.147": "the natural period 2 pi sqrt(m/k) [s]",
+        "0.963": "v_b - x_k w [m/s]", "0.015": "v_d = 1.5 v_s [m/s]", "0.74": "(1 + (w h)^2)^(-t/(2h)) at h = 1e-3",
+        "0.97": "the same at h = 1e-4", "3.3": "DOPRI5's stability bound", "1.1e6": "d mu/dv at 1e-6 v_s [1/s]",
+        "5e4": "d mu/dv at 1e-6 m/s [1/s]", "5.48": "sqrt(k/m) [1/s]", "0.25": "galpha_root's constant",
+        "0.009": "galpha_root's constant", "0.5": "rho_inf chosen", "0.9": "rho_inf chosen",
+        "4e-5": "galpha_root's constant", "5e-3": "w h at h = 1e-3", "0.99": "a tolerance chosen",
+        "2.785": "RK4's stability bound", "5.1": "1/(g cos 10° ln(a) (mu_s - mu_k)) [s]",
+    },
+    "guide/choosing-h.md": {
+        "2.785": "RK4's stability bound on the real axis", "3.3": "DOPRI5's stability bound",
+        "0.4": "the advice (h <= 0.4 v_s)", "0.5": "the advice (h_min < 0.5 v_s), rho_inf chosen",
+        "1.45": "the map's ratio between step sizes, chosen", "1.8": "10^(1/4), arithmetic",
+        "2.2e-14": "100 eps, the library's rule", "3 evaluations": "RADAU5's stages a Newton iteration",
+        "1 s": "a duration chosen",
+    },
+    "guide/python-api.md": {
+        "4096 steps": "the library's interval between looks at the stop flag",
+    },
+}
+#: Pages whose numbers are not yet read from their sources: this list may only shrink.
+NOT_YET_CONVERTED: frozenset[str] = frozenset({
+    "guide/identification.md", "guide/implicit-nonsmooth.md",
+    "guide/exact-stick.md", "guide/friction-laws.md", "guide/models.md", "guide/advisor.md",
+    "guide/fortran-c.md", "guide/prescribed-motion.md",
+    "gallery/belt-2dof.md", "gallery/coupled-clutches.md", "gallery/den-hartog.md",
+    "gallery/friction-damper-frame.md", "gallery/stacked-blocks.md",
+})
+TABLE_BLOCK = re.compile(r"<!-- table: .*?<!-- end table -->", re.S)
+
+
+def prose_lines(text: str, raw: bool = False) -> list[tuple[int, str]]:
+    """(line number, text) of a Markdown page's prose: outside fenced code, tables (a row, or a
+    generated table between its markers) and HTML comments; unless `raw`, inline code, roles
+    such as {num}`...`, and math spans blanked."""
+    text = TABLE_BLOCK.sub(lambda m: "\n" * m.group(0).count("\n"), text)
+    text = re.sub(r"<!--.*?-->", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
+    out, fence = [], None
+    for number, line in enumerate(text.splitlines(), 1):
+        s = line.strip()
+        mark = re.match(r"(`{3,}|~{3,})", s)
+        if mark and (fence is None or s.startswith(fence)):
+            fence = None if fence else mark.group(1)
+            continue
+        if fence or s.startswith("|"):
+            continue
+        if raw:
+            out.append((number, line))
+            continue
+        s = re.sub(r"\{[a-z-]+\}`[^`]*`", "", s)
+        s = re.sub(r"`[^`]*`", "", s)
+        s = re.sub(r"\$[^$]*\$", "", s)
+        out.append((number, s))
+    return out
+
+
+def bare_numbers(page: str) -> list[tuple[int, str]]:
+    """(line, number) of the measured-looking numbers of docs/`page` without a source that are
+    not among its FACTS."""
+    facts = PAPER_FACTS | FACTS.get(page, {})
+    return [(n, m.group(0)) for n, line in prose_lines((ROOT / "docs" / page).read_text())
+            for m in MEASURED.finditer(line) if m.group(0) not in facts and not SETTING.fullmatch(m.group(0))]
+
+
+def test_the_number_checker_tells_a_measurement_from_a_source() -> None:
+    text = ("It took 231 s and {num}`231 s <a.json:b>`; `1.5 s` is code.\n| 2.5 s | a table |\n"
+            "```python\nprint(3.5)\n```\n<!-- table: x.csv\n-->\nMachine: 4.5 s\n<!-- end table -->\n"
+            "$h = 0.5$ and 1e-3 and 12 evaluations\n")
+    found = [m.group(0) for _, line in prose_lines(text) for m in MEASURED.finditer(line)]
+    assert found == ["231 s", "1e-3", "12 evaluations"]
+
+
+@pytest.mark.parametrize("page", NUMBER_PAGES)
+def test_measured_numbers_in_the_docs_come_from_their_sources(page: str) -> None:
+    """A converted page writes every measured number as {num}`TEXT <SOURCE>` (its value then
+    checked against the source by test_doc_tables_agree_with_their_results_files); only the
+    facts of FACTS stay as text. A page of NOT_YET_CONVERTED must still need its place there."""
+    bare = bare_numbers(page)
+    if page in NOT_YET_CONVERTED:
+        assert bare, f"docs/{page} has no bare measured number any more: remove it from NOT_YET_CONVERTED"
+    else:
+        assert not bare, (f"docs/{page}: numbers without a source (write {{num}}`TEXT <PATH:KEY>`, "
+                          f"tools/docnumbers.py, or add a fact to FACTS): {bare}")
+
+
+def test_the_lists_name_only_what_exists() -> None:
+    """NOT_YET_CONVERTED and FACTS name pages that exist, and each fact is still on its page."""
+    assert NOT_YET_CONVERTED <= set(NUMBER_PAGES), NOT_YET_CONVERTED - set(NUMBER_PAGES)
+    assert set(FACTS) <= set(NUMBER_PAGES) - NOT_YET_CONVERTED
+    for page, facts in FACTS.items():
+        found = {m.group(0) for _, line in prose_lines((ROOT / "docs" / page).read_text())
+                 for m in MEASURED.finditer(line)}
+        assert set(facts) <= found, f"docs/{page}: facts no longer on the page: {set(facts) - found}"
+
+
+# ---------------------------------------------------------------- the sources' form: no history, no long lines
+MARKDOWN: tuple[Path, ...] = (ROOT / "README.md", *(
+    p for p in sorted((ROOT / "docs").rglob("*.md")) if "figures" not in p.relative_to(ROOT / "docs").parts))
+#: Pages that still name an issue of the project, edited elsewhere this round: may only shrink.
+HISTORY_LEFT: frozenset[str] = frozenset({"docs/guide/identification.md"})
+MAX_LINE: int = 400
+
+
+def test_the_docs_speak_of_the_package_not_of_its_history() -> None:
+    """No page names an issue of the project ("issue 31"): a reader needs what the package does."""
+    named = {p.relative_to(ROOT).as_posix(): re.findall(r"\bissues? #?\d+", p.read_text(), re.I)
+             for p in MARKDOWN}
+    found = {page: hits for page, hits in named.items() if hits and page not in HISTORY_LEFT}
+    assert not found, found
+    assert all(named[page] for page in HISTORY_LEFT), "remove the page from HISTORY_LEFT"
+
+
+def test_no_paragraph_is_one_long_line() -> None:
+    """Markdown prose is wrapped: no line of prose over MAX_LINE characters (tables, code and
+    generated tables excepted), so that a change shows as a readable diff."""
+    long = [f"{p.relative_to(ROOT).as_posix()}:{n} ({len(line)} characters)"
+            for p in MARKDOWN for n, line in prose_lines(p.read_text(), raw=True) if len(line) > MAX_LINE]
+    assert not long, long
 
 
 if __name__ == "__main__":

@@ -165,11 +165,11 @@ def test_bad_controls_name_the_parameter_and_range(kwargs, words):
     assert all(w in str(e.value) for w in words), str(e.value)
 
 
-@pytest.mark.parametrize("law", [law for law in ss.LAWS if law not in ("coulomb", "stribeck")])
+@pytest.mark.parametrize("law", [law for law in ss.LAWS if law not in ("coulomb", "stribeck", "karnopp")])
 @pytest.mark.parametrize("method, controls", [("moreau", {"h": 1e-2}), ("event_driven", {})])
 def test_other_laws_are_refused_before_running(law, method, controls):
-    assert ss.REGISTRY["method"][method]["laws"] == ("coulomb", "stribeck")
-    with pytest.raises(ValueError, match="coulomb, stribeck"):
+    assert ss.REGISTRY["method"][method]["laws"] == ("coulomb", "stribeck", "karnopp")
+    with pytest.raises(ValueError, match="coulomb, stribeck, karnopp"):
         ss.simulate("belt", law, method=method, t_end=1.0, **controls)
 
 

@@ -169,7 +169,7 @@ def test_offset_and_drift_fitted_beside_the_law():
     (lambda s: stickslip.steady_friction(*s[:2], s[3], v=s[2], settle=1.0), r"settle: must be in \[0, 1\)"),
     (lambda s: stickslip.steady_friction(*s[:2], s[3], v=s[2], min_samples=2), "min_samples: must be an integer >= 4"),
     (lambda s: stickslip.steady_friction(*s[:2], s[3], v=s[2], v_floor=-1.0), r"v_floor: must be >= 0"),
-    (lambda s: stickslip.steady_friction(s[0], np.zeros_like(s[0]), s[3]), "t: no constant-velocity step"),
+    (lambda s: stickslip.steady_friction(s[0], np.zeros_like(s[0]), s[3]), r"x: every sample is 0.0 m \(no motion\)"),
     (lambda s: stickslip.fit_stribeck_curve(([0.01, 0.02], [1.0, 1.1]), "lugre"), "points: 2 steps cannot determine 4"),
     (lambda s: stickslip.fit_stribeck_curve(([0.01, 0.02], [1.0]), "lugre"), "points: speed, force"),
     (lambda s: stickslip.fit_stribeck_curve(([0.01, 0.02], [1.0, 1.1]), "lugre", fixed={"sigma0": 1.0}),
@@ -242,3 +242,24 @@ def test_two_step_intervals_carry_step_one_uncertainty():
     assert (np.mean(own, axis=0) < 0.4 * scatter).all(), (np.mean(own, axis=0), scatter)
     # at least 15 of 20 intervals hold the truth (probability 0.3 % to miss that at 95 %)
     assert (hits >= 15).all(), hits
+
+
+def test_steady_friction_refuses_a_record_without_plateaus():
+    # a sine has runs within v_tol of their mean about its velocity peaks (short, a small part
+    # of the moving time): not steady sliding, refused with what was found; a staircase joined
+    # by long ramps too, below min_fraction
+    t = np.linspace(0.0, 8.0, 4001)
+    x = 0.02 * np.sin(np.pi * t)
+    v = 0.02 * np.pi * np.cos(np.pi * t)
+    f = pm("lugre", t, x, v, **LUGRE).force
+    with pytest.raises(ValueError, match=r"t: not a velocity staircase: \d+ run\(s\) within v_tol 0.05 of their mean "
+                                         r"velocity \([0-9.]+-[0-9.]+ ms\), 0 of them at a constant velocity .* "
+                                         r"covering 0 % of the record's moving time"):
+        stickslip.steady_friction(t, x, f, v=v)
+    with pytest.raises(ValueError, match="not a velocity staircase"):
+        stickslip.steady_friction([t, t], [x, x], [f, f], v=[v, v])
+    ts, xs, vs = staircase(SPEEDS[:4], n_ramp=100)
+    fs = pm("lugre", ts, xs, vs, **LUGRE).force
+    assert len(stickslip.steady_friction(ts, xs, fs, v=vs, min_fraction=0.3)) == 4
+    with pytest.raises(ValueError, match=r"min_fraction: must be in \(0, 1\]"):
+        stickslip.steady_friction(ts, xs, fs, v=vs, min_fraction=0.0)

@@ -97,7 +97,7 @@ def test_every_law_and_method_has_its_own_colour_and_name() -> None:
     """The figure checklist (docs/guide/extending.md): a law or a method has one colour in
     every figure, distinct from the others of its kind, and a display name."""
     sys.path.insert(0, str(ROOT))
-    from cases import _style
+    from harness import style as _style
     for kind, names, colours, labels in (("law", ss.LAWS, _style.LAW_COLORS, _style.LAW_NAMES),
                                          ("method", ss.METHODS, _style.METHOD_COLORS, _style.METHOD_NAMES)):
         missing_colour = [n for n in names if n not in colours]
@@ -109,15 +109,14 @@ def test_every_law_and_method_has_its_own_colour_and_name() -> None:
 
 #: The sources that draw the figures of docs/figures, docs/gallery and benchmarks/results.
 FIGURE_SOURCES: tuple[Path, ...] = tuple(
-    p for p in sorted((ROOT / "cases").glob("*.py")) + sorted((ROOT / "benchmarks").glob("*.py"))
-    if p.name != "_style.py")
+    p for p in sorted((ROOT / "cases").glob("*.py")) + sorted((ROOT / "benchmarks").glob("*.py")))
 
 
 def test_every_method_has_its_own_marker() -> None:
     """The figure checklist, point 2: where colour alone would not separate series, a method's
     marker does; every registered method has one, distinct from the others'."""
     sys.path.insert(0, str(ROOT))
-    from cases import _style
+    from harness import style as _style
     markers = [_style.METHOD_MARKERS.get(m) for m in ss.METHODS]
     assert None not in markers, [m for m in ss.METHODS if m not in _style.METHOD_MARKERS]
     assert len(set(markers)) == len(markers), f"two methods share a marker: {markers}"
@@ -125,14 +124,14 @@ def test_every_method_has_its_own_marker() -> None:
 
 def test_figure_colours_come_from_the_style() -> None:
     """The figure checklist, point 2: no driver spells a colour of its own as a hex code (a law,
-    method or tool takes its colour from cases/_style.py, the only place that names them), and
+    method or tool takes its colour from harness/style.py, the only place that names them), and
     the drivers that draw import the style (directly or through cases._common)."""
     hex_colour = re.compile(r"[\"']#[0-9A-Fa-f]{6}[\"']")
     for path in FIGURE_SOURCES:
         text = path.read_text()
-        assert not hex_colour.search(text), f"{path.name}: a colour outside cases/_style.py"
+        assert not hex_colour.search(text), f"{path.name}: a colour outside harness/style.py"
         if re.search(r"\.(plot|loglog|semilogy|bar|barh|scatter)\(", text):
-            assert "_style" in text or "_common" in text, f"{path.name}: draws without cases._style"
+            assert "_style" in text or "_common" in text, f"{path.name}: draws without harness.style"
 
 
 def test_no_caption_in_the_image_and_one_line_titles() -> None:
@@ -165,7 +164,8 @@ def test_column_fonts_are_legible_at_a_column_width() -> None:
     the drivers of COLUMN_FONT_DRIVERS make every figure that way, with no font size set by a
     number of points (which would not scale with the figure)."""
     sys.path.insert(0, str(ROOT))
-    from cases import _common, _style
+    from harness import style as _style
+    from cases import _common
     assert _style.COLUMN_WIDTH == pytest.approx(8.5 / 2.54)
     for width in (2.0, _style.COLUMN_WIDTH, 5.6, 12.0):
         fonts = _style.column_fonts(width)
@@ -221,7 +221,8 @@ def gallery_figures(monkeypatch: pytest.MonkeyPatch) -> dict[str, object]:
     """Every gallery figure drawn again from the CSVs the gallery's drivers committed to
     docs/figures (each driver's plot reads its CSVs alone): {name: the matplotlib figure}."""
     sys.path.insert(0, str(ROOT))
-    from cases import _common, _style, gallery_belt2dof, gallery_clutches, gallery_denhartog
+    from harness import style as _style
+    from cases import _common, gallery_belt2dof, gallery_clutches, gallery_denhartog
     from cases import gallery_frame, gallery_stacked
     drawn: dict[str, object] = {}
     monkeypatch.setattr(_style, "save", lambda fig, path, atomic_write: drawn.setdefault(Path(path).stem, fig))
@@ -241,7 +242,7 @@ def test_gallery_figures_are_legible_at_a_column_width(monkeypatch: pytest.Monke
     (ticks, labels, titles, legends, colour bars) reads at least MIN_FONT_AT_COLUMN points once
     the figure is scaled to a column of 8.5 cm, and no figure is wider than a column needs."""
     from matplotlib.text import Text
-    from cases import _style
+    from harness import style as _style
     drawn = gallery_figures(monkeypatch)
     assert set(drawn) == {"denhartog_amplitude", "denhartog_regions", "frame_drift", "frame_loop",
                           "gallery_clutches", "gallery_belt2dof", "gallery_stacked"}
@@ -261,7 +262,8 @@ def test_belt_engines_and_presliding_figures_have_at_most_six_series_a_panel(
     that had seven in one: engines_belt and laws_compare_presliding, drawn again from their
     committed CSVs, keep every series of the CSV and put at most six in a panel."""
     sys.path.insert(0, str(ROOT))
-    from cases import _common, _style, engines, laws_compare
+    from harness import style as _style
+    from cases import _common, engines, laws_compare
     drawn: dict[str, object] = {}
     monkeypatch.setattr(_style, "save", lambda fig, path, atomic_write: drawn.setdefault(Path(path).stem, fig))
     figures = ROOT / "docs" / "figures"

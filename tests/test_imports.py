@@ -1,5 +1,5 @@
 """Dependencies run one way: cases/ never imports benchmarks/ (the timing helpers both use live
-in cases/_timing.py), and the modules of python/stickslip import each other without a cycle.
+in harness/timing.py), and the modules of python/stickslip import each other without a cycle.
 
 Imports are read from the source with `ast`, every one of them: at the top of a module and
 inside functions (a deferred import is still a dependency).

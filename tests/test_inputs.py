@@ -51,12 +51,15 @@ def test_step_longer_than_the_run_warns_naming_h():
         ss.simulate("slope", "recurdyn", method="rk4", h=5.0, t_end=1.0)
 
 
-def test_hopeless_fixed_step_run_is_refused_before_it_starts():
-    import time
-    t0 = time.perf_counter()
+def test_hopeless_fixed_step_run_is_refused_before_it_starts(monkeypatch):
+    """Refused by the count of steps it needs, before any Fortran call: the call is replaced by
+    one that fails the test."""
+    def no_run(*args, **kwargs):
+        raise AssertionError("the run started")
+
+    monkeypatch.setattr(ss.core, "_execute", no_run)
     with pytest.raises(ValueError, match=r"^max_steps: rk4 with h = 1e-09 s needs 1e\+15 steps"):
         ss.simulate("slope", "recurdyn", method="rk4", h=1e-9, t_end=1e6)
-    assert time.perf_counter() - t0 < 1.0
 
 
 @pytest.mark.parametrize("kw", [
@@ -103,28 +106,30 @@ _KEPT = ("kw = dict(method='rk4', h=1e-6, t_end=20.0, n_out=2)\n"
 
 
 @pytest.mark.parametrize("before, call", [
-    ("", 'ss.simulate("slope", "coulomb", method="dopri5", t_end=1000.0)'),
-    ("", 'ss.simulate("slope", "recurdyn", method="rk4", h=1e-6, t_end=100.0)'),
-    ("", 'ss.simulate_batch("slope", "coulomb", method="dopri5", t_end=[1000.0, 1000.0])'),
+    ("", 'ss.simulate("slope", "coulomb", method="dopri5", t_end=1e6, max_steps=10**12)'),
+    ("", 'ss.simulate("slope", "recurdyn", method="rk4", h=1e-6, t_end=1e5, max_steps=10**12)'),
+    ("", 'ss.simulate_batch("slope", "coulomb", method="dopri5", t_end=[1e6, 1e6], max_steps=10**12)'),
     (_KEPT, "ss.simulate('slope', 'recurdyn', **kw)"),
 ])
-def test_ctrl_c_stops_a_long_fortran_call_promptly(before, call):
-    """SIGINT half a second into a run of many seconds: KeyboardInterrupt within 0.5 s more."""
+def test_ctrl_c_stops_a_long_fortran_call(before, call):
+    """SIGINT half a second into a run raises KeyboardInterrupt. The first three runs take hours
+    whole: had the signal not stopped them, the subprocess' timeout would end the test first.
+    The kept setting (its first call run whole) is as long as its first call, so here only the
+    exception is checked; how promptly each call stops is measured by
+    `python -m benchmarks.interrupt` (no clock is read in a test)."""
     import subprocess
     import sys
-    code = ("import os, signal, threading, time\n"
+    code = ("import os, signal, threading\n"
             "import stickslip as ss\n"
             f"{before}"
             "threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()\n"
-            "t = time.perf_counter()\n"
             "try:\n"
             f"    {call}\n"
             "    print('finished')\n"
             "except KeyboardInterrupt:\n"
-            "    print('interrupted after %.3f s' % (time.perf_counter() - t))\n")
+            "    print('interrupted')\n")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
-    assert "interrupted after" in proc.stdout, proc.stdout + proc.stderr
-    assert float(proc.stdout.split()[-2]) < 1.0, proc.stdout
+    assert proc.stdout.split() == ["interrupted"], proc.stdout + proc.stderr
 
 
 def test_rk4_beyond_its_stability_bound_on_the_slope_warns():

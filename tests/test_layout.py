@@ -42,3 +42,222 @@ def test_every_module_is_in_a_layer_and_built():
     listed = set(re.findall(r"'(fortran/\w+/stickslip\w*\.f90)'", meson))
     on_disk = {str(p.relative_to(ROOT)) for p in (ROOT / "fortran").glob("*/*.f90")}
     assert listed == on_disk
+
+
+# --- Fortran: `use` runs one way through the layers -------------------------------------------
+#: The layers of the Fortran library, in order: a module uses only modules of its own layer and
+#: of those before it. A module's layer is its folder's, except the scenes, which become
+#: presets (built on the model and run by the integrators like any other model).
+FORTRAN_LAYERS: tuple[str, ...] = ("core", "laws", "contact", "model", "integrators", "presets", "api")
+FOLDER_LAYER: dict[str, str] = {"core": "core", "laws": "laws", "contact": "contact", "scenes": "model",
+                                "model": "model", "integrators": "integrators", "presets": "presets",
+                                "api": "api"}
+PRESET_MODULES: frozenset[str] = frozenset({"stickslip_scenes", "stickslip_chain"})
+#: Today's uses against the layers, each with the reason it is still there: (module, used).
+#: A new violation fails; so does an entry here that is no longer needed (remove it).
+KNOWN_LAYER_EXCEPTIONS: dict[tuple[str, str], str] = {
+    **{("stickslip_contact", law): "until one friction interface serves the contact solver "
+       "(issue 41 item 2): the contact module names the set-valued laws"
+       for law in ("stickslip_law_coulomb", "stickslip_law_stribeck", "stickslip_law_karnopp")},
+    **{(f"stickslip_{m}", "stickslip_scenes"): "until the scenes become models (issue 41 item 1)"
+       for m in ("rk4", "dopri5", "dop853", "radau5", "implicit_euler", "galpha", "modal_contacts")},
+}
+USE = re.compile(r"^\s*use\s*(?:,\s*\w+\s*)?(?:::\s*)?(stickslip_\w+)", re.I | re.M)
+MODULE = re.compile(r"^\s*module\s+(stickslip_\w+)\s*$", re.I | re.M)
+
+
+def fortran_layer(path: Path) -> dict[str, tuple[str, set[str]]]:
+    """Module -> (its layer, the stickslip modules it uses) for every module under `path`."""
+    out: dict[str, tuple[str, set[str]]] = {}
+    for f in sorted(path.glob("*/*.f90")):
+        text = f.read_text()
+        for name in MODULE.findall(text):
+            layer = "presets" if name.lower() in PRESET_MODULES else FOLDER_LAYER[f.parent.name]
+            out[name.lower()] = (layer, {u.lower() for u in USE.findall(text)} - {name.lower()})
+    return out
+
+
+def layer_violations(modules: dict[str, tuple[str, set[str]]]) -> set[tuple[str, str]]:
+    """(module, used) pairs where the used module is of a later layer than the user."""
+    rank = {layer: i for i, layer in enumerate(FORTRAN_LAYERS)}
+    return {(m, u) for m, (layer, uses) in modules.items() for u in uses
+            if u in modules and rank[modules[u][0]] > rank[layer]}
+
+
+def test_fortran_use_follows_the_layers():
+    """core, laws, contact, model, integrators, presets, api: each uses only those before it,
+    apart from today's listed exceptions (and every listed exception is still needed)."""
+    modules = fortran_layer(ROOT / "fortran")
+    assert {"stickslip_kinds", "stickslip_registry", "stickslip_scenes"} <= modules.keys()
+    found = layer_violations(modules)
+    new = sorted(found - KNOWN_LAYER_EXCEPTIONS.keys())
+    stale = sorted(KNOWN_LAYER_EXCEPTIONS.keys() - found)
+    assert not new, "uses against the layers " + " > ".join(FORTRAN_LAYERS) + f": {new}"
+    assert not stale, f"no longer used, remove from KNOWN_LAYER_EXCEPTIONS: {stale}"
+
+
+def test_the_layer_check_finds_a_violation(tmp_path: Path):
+    """The reader sees `use, intrinsic`-free uses of every form, and a core module using an
+    integrator is a violation."""
+    (tmp_path / "core").mkdir()
+    (tmp_path / "integrators").mkdir()
+    (tmp_path / "core" / "a.f90").write_text("module stickslip_a\n  use stickslip_b, only: x\nend module\n")
+    (tmp_path / "integrators" / "b.f90").write_text(
+        "module stickslip_b\n  USE :: stickslip_a\n  use stickslip_a\nend module stickslip_b\n")
+    modules = fortran_layer(tmp_path)
+    assert modules == {"stickslip_a": ("core", {"stickslip_b"}), "stickslip_b": ("integrators", {"stickslip_a"})}
+    assert layer_violations(modules) == {("stickslip_a", "stickslip_b")}
+
+
+# --- Fortran: no procedure over MAX_PROCEDURE_LINES ----------------------------------------------
+MAX_PROCEDURE_LINES = 250
+#: Generated sources (tools/gen_kernels.py), not measured.
+GENERATED: frozenset[str] = frozenset({"stickslip_kernel_instances.inc", "stickslip_kernel_dispatch.inc"})
+#: Today's longer procedures (file, procedure), each being split; any other fails, and so does
+#: an entry here that is no longer long (remove it).
+LONG_PROCEDURES: dict[tuple[str, str], str] = {
+    ("stickslip_event_driven.f90", "event_driven_integrate"): "being split into procedures on a state type",
+    ("stickslip_fixed_implicit_body.inc", "KERNEL"): "the fixed-step implicit kernel body, to split "
+                                                     "with one contact module (issue 41 item 2)",
+    ("stickslip_radau5_body.inc", "KERNEL"): "RADAU5's kernel body (Hairer's RADCOR in one piece), to split",
+    ("stickslip_dop853_body.inc", "KERNEL"): "DOP853's kernel body, to split with DOPRI5's (their shared "
+                                             "driver loop)",
+    ("stickslip_dopri5_body.inc", "KERNEL"): "DOPRI5's kernel body, to split with DOP853's",
+    ("stickslip_prescribed.f90", "prescribed_motion"): "prescribed motion's law loop, to split per law family",
+}
+START = re.compile(r"^\s*(?:(?:pure|elemental|impure|recursive|module|non_recursive)\s+|"
+                   r"(?:integer|real|logical|complex|character|type|class)\b[^!]*?\s+)*"
+                   r"(subroutine|function)\s+(\w+)", re.I)
+END = re.compile(r"^\s*end\s*(subroutine|function)\b", re.I)
+INTERFACE = re.compile(r"^\s*(abstract\s+)?interface\b", re.I)
+END_INTERFACE = re.compile(r"^\s*end\s*interface\b", re.I)
+
+
+def procedure_lengths(text: str) -> dict[str, int]:
+    """Lines of each outermost procedure of `text`, its internal procedures included
+    (interface blocks are not procedures)."""
+    out: dict[str, int] = {}
+    stack: list[tuple[str, int]] = []
+    in_interface = False
+    for i, line in enumerate(text.splitlines()):
+        code = line.split("!", 1)[0]
+        if INTERFACE.match(code):
+            in_interface = True
+        elif END_INTERFACE.match(code):
+            in_interface = False
+        elif in_interface:
+            continue
+        elif END.match(code):
+            name, first = stack.pop()
+            if not stack:
+                out[name] = max(out.get(name, 0), i - first + 1)
+        elif (m := START.match(code)) and not re.match(r"^\s*end\b", code, re.I):
+            stack.append((m.group(2), i))
+    return out
+
+
+def test_no_procedure_is_longer_than_the_limit():
+    """No Fortran procedure over MAX_PROCEDURE_LINES lines outside generated code, except
+    today's listed ones (each still long)."""
+    long: dict[tuple[str, str], int] = {}
+    for f in sorted((ROOT / "fortran").glob("*/*")):
+        if f.suffix in (".f90", ".inc") and f.name not in GENERATED:
+            for name, n in procedure_lengths(f.read_text()).items():
+                if n > MAX_PROCEDURE_LINES:
+                    long[(f.name, name)] = n
+    new = {k: n for k, n in long.items() if k not in LONG_PROCEDURES}
+    stale = sorted(LONG_PROCEDURES.keys() - long.keys())
+    assert not new, f"procedures over {MAX_PROCEDURE_LINES} lines: {new}"
+    assert not stale, f"no longer over {MAX_PROCEDURE_LINES} lines, remove from LONG_PROCEDURES: {stale}"
+
+
+def test_procedure_lengths_count_internal_procedures():
+    text = ("module m\ncontains\n  pure function f(x) result(y)\n    real :: x, y\n    abstract interface\n"
+            "      subroutine g()\n      end subroutine g\n    end interface\n    y = h(x)\n  contains\n"
+            "    real function h(x)\n      real :: x\n      h = x\n    end function h\n  end function f\n"
+            "  subroutine s\n  end subroutine\nend module m\n")
+    assert procedure_lengths(text) == {"f": 13, "s": 2}
+
+
+# --- Python: one shared package, no private cross-package import, no cycle ----------------------
+#: The Python packages of the repository: the library, what cases/, benchmarks/ and tools/
+#: share (harness/), and those three. harness imports none of the last three.
+PY_PACKAGES: dict[str, Path] = {"stickslip": ROOT / "python" / "stickslip", "harness": ROOT / "harness",
+                                "cases": ROOT / "cases", "benchmarks": ROOT / "benchmarks", "tools": ROOT / "tools"}
+
+
+def python_imports(packages: dict[str, Path]) -> dict[str, set[str]]:
+    """Module -> every module or name it imports (deferred imports included), read with ast."""
+    from test_imports import imported_modules
+    graph: dict[str, set[str]] = {}
+    for pkg, folder in packages.items():
+        for p in sorted(folder.glob("*.py")):
+            name = pkg if p.stem == "__init__" else f"{pkg}.{p.stem}"
+            graph[name] = imported_modules(p, pkg)
+    return graph
+
+
+def private_imports(graph: dict[str, set[str]]) -> list[str]:
+    """'a imports b' where b is a private module or name (a part starting with one '_') of
+    another top-level package than a's."""
+    def private(name: str) -> bool:
+        return any(part.startswith("_") and not part.startswith("__") for part in name.split(".")[1:])
+    return sorted(f"{m} imports {i}" for m, imports in graph.items() for i in imports
+                  if private(i) and i.split(".")[0] != m.split(".")[0] and i.split(".")[0] in PY_PACKAGES)
+
+
+def test_python_packages_import_no_private_module_of_another():
+    graph = python_imports(PY_PACKAGES)
+    assert "harness.files" in graph["cases._common"]                # the graph is read
+    assert not private_imports(graph), "\n".join(private_imports(graph))
+
+
+def test_python_packages_have_no_import_cycle():
+    """No cycle among the modules of all five packages (cases/_common.py and _provenance.py
+    imported each other), and harness imports nothing of cases/, benchmarks/ or tools/."""
+    from test_imports import find_cycle
+    graph = python_imports(PY_PACKAGES)
+    modules = set(graph)
+    # an import of a module of one's own package through its name ("from . import x") runs the
+    # package's __init__ first, which is not an edge of a cycle
+    edges = {m: {i for i in imports if i in modules and i != m.split(".")[0]} for m, imports in graph.items()}
+    assert find_cycle(edges) is None, " -> ".join(find_cycle(edges) or [])
+    up = sorted(f"{m} imports {i}" for m in graph if m.startswith("harness")
+                for i in graph[m] if i.split(".")[0] in ("cases", "benchmarks", "tools"))
+    assert not up, up
+
+
+def test_the_python_checks_find_what_they_look_for():
+    graph = {"benchmarks.run": {"cases._common", "cases.stick", "stickslip.core._private"},
+             "cases.stick": {"cases._common", "stickslip.core"}}
+    assert private_imports(graph) == ["benchmarks.run imports cases._common",
+                                      "benchmarks.run imports stickslip.core._private"]
+
+
+# --- The extending guide's layout section names what the tree holds ------------------------------
+def layout_block() -> str:
+    text = (ROOT / "docs" / "guide" / "extending.md").read_text()
+    section = text.split("## Layout", 1)[1]
+    return section.split("```", 2)[1]
+
+
+def test_the_guides_layout_names_the_tree():
+    """Every top-level folder with tracked files, every Fortran module (by its name after
+    stickslip, as the section writes them), every Python module of the package and of
+    harness/, and every private module of cases/ appear in the layout section: a file added
+    without a line there fails."""
+    block = layout_block()
+    tracked = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True,
+                             check=True).stdout.split()
+    folders = {p.split("/")[0] for p in tracked if "/" in p and not p.startswith(".")}
+    missing = [f"{d}/" for d in sorted(folders) if f"{d}/" not in block]
+    for f in sorted((ROOT / "fortran").glob("*/*.f90")):
+        short = f.stem.removeprefix("stickslip")
+        if f.stem not in block and short not in block and not f.stem.startswith("stickslip_law_"):
+            missing.append(str(f.relative_to(ROOT)))
+    for folder in (ROOT / "python" / "stickslip", ROOT / "harness"):
+        missing += [str(p.relative_to(ROOT)) for p in sorted(folder.glob("*.py"))
+                    if p.stem != "__init__" and p.stem != "__main__" and p.name not in block]
+    missing += [str(p.relative_to(ROOT)) for p in sorted((ROOT / "cases").glob("_*.py"))
+                if not p.stem.startswith("__") and p.name not in block]
+    assert not missing, f"not in docs/guide/extending.md's layout section: {missing}"

@@ -20,11 +20,14 @@ one-line description, so the guides cannot fall behind a law, scene or method ad
 `columns` (the CSV header as written, then `= label` for the column's title in the page; all
 columns when omitted), keeping the rows whose cells match every `where` line (any of the listed
 values), numbers to `digits` significant digits (default 4; a column of integers whole). Under each table
-a line names the file and, from its provenance sidecar (cases/_provenance.py), the command,
+a line names the file and, from its provenance sidecar (harness/provenance.py), the command,
 date and machine that wrote it. HTML comments show in neither GitHub's rendering nor the site.
 
     python tools/doctables.py            # refresh every marked table of README.md and docs/
-    python tools/doctables.py --check    # list the tables that disagree with their sources (exit 1)
+    python tools/doctables.py --check    # list the tables and numbers that disagree with their sources (exit 1)
+
+A number in the prose is written as a role that names its source, {num}`0.1005 m <PATH:KEY>`
+(tools/docnumbers.py); this command refreshes and checks those numbers too.
 
 scripts/docs refreshes before it builds; tests/test_docs.py runs the check.
 """
@@ -39,7 +42,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from cases._provenance import provenance_of  # noqa: E402 - after the path above
+from harness.provenance import provenance_of  # noqa: E402 - after the path above
+from tools.docnumbers import refresh_text as refresh_numbers  # noqa: E402
 
 BLOCK = re.compile(r"(?P<open><!-- table: (?P<spec>.*?)-->\n)(?P<body>.*?)(?P<close><!-- end table -->)",
                    re.S)
@@ -178,8 +182,8 @@ def render(spec: Spec) -> str:
 
 
 def refresh(page: Path) -> tuple[str, list[int]]:
-    """The page's text with every marked table regenerated, and the line numbers of the
-    tables that changed."""
+    """The page's text with every marked table regenerated and every {num} role's number
+    rewritten from its source (tools/docnumbers.py), and the line numbers of what changed."""
     text = page.read_text()
     changed: list[int] = []
 
@@ -189,7 +193,9 @@ def refresh(page: Path) -> tuple[str, list[int]]:
             changed.append(text.count("\n", 0, m.start()) + 1)
         return m.group("open") + body + m.group("close")
 
-    return BLOCK.sub(fill, text), changed
+    text = BLOCK.sub(fill, text)
+    text, numbers = refresh_numbers(text)
+    return text, sorted(changed + [line for line, _, _ in numbers])
 
 
 def pages() -> list[Path]:
@@ -199,9 +205,9 @@ def pages() -> list[Path]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python tools/doctables.py",
                                      description="Refresh (or --check) the documentation's "
-                                                 "tables of measured numbers from their results files.")
+                                                 "tables and numbers measured, from their results files.")
     parser.add_argument("--check", action="store_true",
-                        help="change nothing; list the tables that disagree with their sources "
+                        help="change nothing; list the tables and numbers that disagree with their sources "
                              "and exit 1 if any does")
     args = parser.parse_args(argv)
     stale = []
@@ -212,7 +218,7 @@ def main(argv: list[str] | None = None) -> int:
         if changed and not args.check:
             page.write_text(new)
     if args.check and stale:
-        print("tables that disagree with their results files (python tools/doctables.py "
+        print("tables and numbers that disagree with their results files (python tools/doctables.py "
               "refreshes them):\n" + "\n".join(stale), file=sys.stderr)
         return 1
     if stale:

@@ -2,13 +2,15 @@
 !! runs it at build time so that the C header's codes come from the one registry.
 !! Laws, scenes and methods: SS_LAW_<NAME>, SS_SCENE_<NAME>, SS_METHOD_<NAME> (their codes);
 !! status codes: SS_<NAME>, and SS_BAD_<PARAMETER> for every physical parameter; for models,
-!! SS_GROUND, SS_NO_SIGNAL, the element kinds SS_ELEM_* and the event kinds SS_EVENT_*.
+!! SS_GROUND, SS_NO_SIGNAL, the element kinds SS_ELEM_*, the drive kinds SS_DRIVE_* and the
+!! event kinds SS_EVENT_*.
 program gen_codes
     use stickslip_kinds, only: STATUS_NAMES, STATUS_CODES
     use stickslip_registry, only: LAW_TABLE, SCENE_TABLE, METHOD_TABLE, PARAMS, split_names, &
                                   stickslip_message
     use stickslip_params, only: NAME_LEN
-    use stickslip_user_model, only: ELEM_BODY, ELEM_SPRING, ELEM_DAMPER, ELEM_FORCE, ELEM_CONTACT, ELEM_SIGNAL
+    use stickslip_user_model, only: ELEM_BODY, ELEM_SPRING, ELEM_DAMPER, ELEM_FORCE, ELEM_CONTACT, ELEM_SIGNAL, &
+                                    ELEM_DRIVE, DRIVE_POSITION, DRIVE_VELOCITY
     use stickslip_event_driven, only: EVENT_STICK, EVENT_SLIP, EVENT_REVERSAL
     implicit none
     character(len=NAME_LEN), allocatable :: names(:)
@@ -51,6 +53,9 @@ program gen_codes
     call define('SS_ELEM_FORCE', ELEM_FORCE, 'a force')
     call define('SS_ELEM_CONTACT', ELEM_CONTACT, 'a friction contact')
     call define('SS_ELEM_SIGNAL', ELEM_SIGNAL, 'a signal')
+    call define('SS_ELEM_DRIVE', ELEM_DRIVE, 'a drive')
+    call define('SS_DRIVE_POSITION', DRIVE_POSITION, 'a drive prescribes the position [m]')
+    call define('SS_DRIVE_VELOCITY', DRIVE_VELOCITY, 'a drive prescribes the velocity [m/s]')
     call define('SS_EVENT_STICK', EVENT_STICK, 'slip -> stick')
     call define('SS_EVENT_SLIP', EVENT_SLIP, 'stick -> slip')
     call define('SS_EVENT_REVERSAL', EVENT_REVERSAL, 'the slip reached 0 and the contact could not hold')

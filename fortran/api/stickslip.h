@@ -49,7 +49,7 @@ typedef struct {
 /* Integration controls of the explicit adaptive methods: ss_dopri5_options_default() gives
  * Hairer's DOPRI5 defaults, ss_dop853_options_default() his DOP853 ones (for ss_dop853). */
 typedef struct {
-    double hmin;          /* step floor; steps forced there when the error test fails (0: none) [s] */
+    double hmin;          /* step floor; steps forced there when the error test fails (1e-6; 0: none) [s] */
     double hmax;          /* largest step (0: t_end - t0) [s] */
     double h0;            /* initial step (0: automatic) [s] */
     double safety;        /* 0.9 */
@@ -185,6 +185,13 @@ int ss_model_add_force(ss_model *m, int body, int signal);
 int ss_model_add_contact(ss_model *m, int a, int b, int law, int normal_force, int surface_velocity,
                          const char *pkeys, int np, const double *pvals);
 
+/* Prescribe the motion of a body by a signal, exactly under every method: its position [m]
+ * (kind SS_DRIVE_POSITION; a signal without steps) or its velocity [m/s] (SS_DRIVE_VELOCITY;
+ * its position is then x0 plus the signal's integral: sums, differences and multiples of
+ * steps, ramps, sines and tables). The body leaves the state: every element joined to it acts
+ * on the other body as an element on the ground plus a signal. Returns the drive's index. */
+int ss_model_add_drive(ss_model *m, int body, int kind, int signal);
+
 /* Signals of a model (forces [N], normal forces [N], surface velocities [m/s] as functions of
  * time, evaluated in the library); each returns the new signal's index. */
 int ss_signal_constant(ss_model *m, double c);
@@ -227,6 +234,11 @@ int ss_model_simulate(ss_model *m, int method, double t_end, double h, double rt
                       const char *ckeys, int nc, const double *cvals, int n_out, double *t_out,
                       double *x, double *v, ss_stats *stats, int events_room, double *events,
                       int64_t *n_events);
+/* The forces [N] the drives applied to their bodies in the last ss_model_simulate, m_d a_d
+ * minus the other forces on the driven body: force[(d - 1) * n_out + i] = drive d at
+ * t_out[i], n = n_drives * n_out (NaN where a contact joins a driven body under event_driven
+ * or moreau: the stick force is set-valued there). SS_OK, or SS_BAD_DIM for another n. */
+int ss_model_drive_forces(ss_model *m, int n, double *force);
 
 #ifdef __cplusplus
 }

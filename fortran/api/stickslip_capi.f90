@@ -30,11 +30,12 @@ module stickslip_capi
     use stickslip_rk4, only: rk4_integrate
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_dop853, only: dop853_options, dop853_integrate
-    use stickslip_registry, only: stickslip_message, registry_text, make_law, split_names, code_of, &
+    use stickslip_registry, only: stickslip_message, registry_text, make_law, split_names, code_of, HMIN_DEFAULT, &
                                   PARAMS, METHOD_TABLE, METHOD_RK4, METHOD_DOPRI5, METHOD_DOP853, LAW_TABLE
     use stickslip_simulate, only: simulate
     use stickslip_model_system, only: model_system
-    use stickslip_user_model, only: stickslip_model, ELEM_SPRING, ELEM_DAMPER, ELEM_FORCE, ELEM_CONTACT
+    use stickslip_user_model, only: stickslip_model, ELEM_SPRING, ELEM_DAMPER, ELEM_FORCE, ELEM_CONTACT, &
+                                    ELEM_DRIVE
     implicit none
     private
 
@@ -44,7 +45,7 @@ module stickslip_capi
     public :: ss_model_new, ss_model_free, ss_model_add_body, ss_model_add_spring, ss_model_add_damper, &
               ss_model_add_force, ss_model_add_contact, ss_signal_constant, ss_signal_step, ss_signal_ramp, &
               ss_signal_sine, ss_signal_table, ss_signal_add, ss_signal_sub, ss_signal_mul, ss_model_check, &
-              ss_model_error, ss_model_message, ss_model_simulate
+              ss_model_error, ss_model_message, ss_model_simulate, ss_model_add_drive, ss_model_drive_forces
 
     !> Physical parameters of both scenes and all laws (C struct `ss_params`).
     type, bind(C) :: ss_params
@@ -63,7 +64,7 @@ module stickslip_capi
 
     !> Integration controls (C struct `ss_dopri5_options`); flags are 0/1.
     type, bind(C) :: ss_dopri5_options
-        real(c_double) :: hmin          !! step size floor, forced steps there (0: none) [s]
+        real(c_double) :: hmin          !! step size floor, forced steps there (default 1e-6; 0: none) [s]
         real(c_double) :: hmax          !! largest step (0: t_end - t0) [s]
         real(c_double) :: h0            !! initial step (0: automatic) [s]
         real(c_double) :: safety        !! safety factor of the step control
@@ -115,6 +116,8 @@ module stickslip_capi
         integer :: status = SS_OK                !! status of its last check or run
         integer :: elem_kind = 0                 !! ELEM_* of the element that status names (0: none)
         integer :: elem_index = 0                !! its index, from 1 (0: none)
+        !> (number of drives, n_out) the drives' forces of its last run [N] (ss_model_drive_forces)
+        real(dp), allocatable :: drive_force(:, :)
     end type model_handle
 
     !> The values of an empty C array.
@@ -152,18 +155,20 @@ contains
     end subroutine ss_params_default
 
     !> Fill `o` with DOPRI5's default controls (Hairer's: safety 0.9, fac1 0.2, fac2 10,
-    !! beta 0.04; h_min = 0, max_steps = 10^8).
+    !! beta 0.04; h_min = HMIN_DEFAULT = 1e-6 s, the registry's, max_steps = 10^8).
     subroutine ss_dopri5_options_default(o) bind(C, name='ss_dopri5_options_default')
         type(ss_dopri5_options), intent(out) :: o   !! controls to fill
         type(dopri5_options) :: d
+        d%hmin = HMIN_DEFAULT
         call from_f_options(d%step_controls, d%safety, d%fac1, d%fac2, d%beta, d%nstiff, d%stop_on_stiff, o)
     end subroutine ss_dopri5_options_default
 
     !> Fill `o` with DOP853's default controls (Hairer's: safety 0.9, fac1 0.333, fac2 6,
-    !! beta 0; h_min = 0, max_steps = 10^8), for `ss_dop853`.
+    !! beta 0; h_min = HMIN_DEFAULT = 1e-6 s, max_steps = 10^8), for `ss_dop853`.
     subroutine ss_dop853_options_default(o) bind(C, name='ss_dop853_options_default')
         type(ss_dopri5_options), intent(out) :: o   !! controls to fill
         type(dop853_options) :: d
+        d%hmin = HMIN_DEFAULT
         call from_f_options(d%step_controls, d%safety, d%fac1, d%fac2, d%beta, d%nstiff, d%stop_on_stiff, o)
     end subroutine ss_dop853_options_default
 
@@ -485,6 +490,45 @@ contains
         index = int(size(box%model%frc_body), c_int)
     end function ss_model_add_force
 
+    !> Prescribe the motion of a body by a signal: its position [m] (kind SS_DRIVE_POSITION;
+    !! a signal without steps) or its velocity [m/s] (SS_DRIVE_VELOCITY; the position is then
+    !! x0 plus its integral), exactly under every method (`stickslip_model%add_drive`). Returns
+    !! the drive's index (from 1) or SS_BAD_HANDLE.
+    function ss_model_add_drive(model, body, kind, signal) result(index) bind(C, name='ss_model_add_drive')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int), value :: body         !! the driven body, 1 .. n_bodies
+        integer(c_int), value :: kind         !! SS_DRIVE_POSITION or SS_DRIVE_VELOCITY
+        integer(c_int), value :: signal       !! the drive's signal [m or m/s], from ss_signal_*
+        integer(c_int) :: index
+        type(model_handle), pointer :: box
+        index = handle(model, box)
+        if (index /= SS_OK) return
+        call box%model%add_drive(int(body), int(signal), int(kind))
+        index = int(size(box%model%drv_body), c_int)
+    end function ss_model_add_drive
+
+    !> Copy the drives' forces on their bodies [N] of the model's last ss_model_simulate into
+    !! force[n_drives * n_out] (force[(d - 1) * n_out + i] = drive d at t_out[i]; NaN where a
+    !! contact joins the driven body under event_driven or moreau, see
+    !! `stickslip_model%drive_forces`). Returns SS_OK, SS_BAD_HANDLE, or SS_BAD_DIM when n
+    !! is not n_drives times the last run's n_out or force is NULL.
+    function ss_model_drive_forces(model, n, force) result(status) bind(C, name='ss_model_drive_forces')
+        type(c_ptr), value :: model           !! the model's handle
+        integer(c_int), value :: n            !! room in force [values]
+        type(c_ptr), value :: force           !! double *: the forces (n)
+        integer(c_int) :: status
+        type(model_handle), pointer :: box
+        real(c_double), pointer :: out(:, :)
+        status = handle(model, box)
+        if (status /= SS_OK) return
+        status = SS_BAD_DIM
+        if (.not. (allocated(box%drive_force) .and. c_associated(force))) return
+        if (n /= size(box%drive_force)) return
+        call c_f_pointer(force, out, [size(box%drive_force, 2), size(box%drive_force, 1)])
+        out = transpose(box%drive_force)
+        status = SS_OK
+    end function ss_model_drive_forces
+
     !> Add a frictional contact between bodies a and b (b = 0: the ground): the friction force
     !! on a opposes the slip v_a - v_b - w (w the surface velocity's signal, 0 for none), b gets
     !! the opposite force; a normal force <= 0 opens the contact. The law by code (SS_LAW_*,
@@ -734,7 +778,7 @@ contains
                 keys = [character(len=NAME_LEN) :: 'h', keys]
                 vals = [h, vals]
             end if
-            nb = sys%nb
+            nb = size(box%model%mass)
             call c_f_pointer(t_out, t, [n_out])
             call c_f_pointer(x, xo, [n_out, nb])
             call c_f_pointer(v, vo, [n_out, nb])
@@ -744,10 +788,12 @@ contains
                 allocate(no_events(4, 0))
                 ev => no_events
             end if
-            allocate(y(sys%n_states(), n_out))
+            allocate(y(box%model%state_size(sys), n_out))
             y = 0.0_dp
+            if (allocated(box%drive_force)) deallocate(box%drive_force)
+            allocate(box%drive_force(size(box%model%drv_body), n_out))
             call box%model%simulate(trim(METHOD_TABLE(method)%name), t_end, t, y, st, [rtol], [atol], keys, vals, &
-                                    box%elem_kind, box%elem_index, events=ev)
+                                    box%elem_kind, box%elem_index, events=ev, drive_force=box%drive_force)
             status = int(st%status, c_int)
             xo = transpose(y(:nb, :))
             vo = transpose(y(nb + 1:2 * nb, :))
@@ -846,8 +892,8 @@ contains
     function element_message(box) result(msg)
         type(model_handle), intent(in) :: box
         character(len=:), allocatable :: msg
-        character(len=*), parameter :: KINDS(6) = [character(len=7) :: 'body', 'spring', 'damper', 'force', &
-                                                    'contact', 'signal']
+        character(len=*), parameter :: KINDS(7) = [character(len=7) :: 'body', 'spring', 'damper', 'force', &
+                                                    'contact', 'signal', 'drive']
         integer :: i
         msg = stickslip_message(box%status)
         if (box%elem_kind < 1 .or. box%elem_kind > size(KINDS) .or. box%elem_index < 1) return
@@ -861,6 +907,8 @@ contains
             msg = pair(box%model%con_a(i), box%model%con_b(i)) // msg
         case (ELEM_FORCE)
             msg = ' (' // body_name(box%model%frc_body(i)) // '): ' // msg
+        case (ELEM_DRIVE)
+            msg = ' (' // body_name(box%model%drv_body(i)) // '): ' // msg
         case default
             msg = ': ' // msg
         end select
@@ -1065,6 +1113,8 @@ contains
         if (c_associated(opts)) then
             call c_f_pointer(opts, o)
             call to_f_options(o, c, safety, fac1, fac2, beta, nstiff, stop_on_stiff)
+        else
+            c%hmin = HMIN_DEFAULT                           ! NULL: the defaults of every entry point
         end if
     end subroutine get_options
 

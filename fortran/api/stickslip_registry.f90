@@ -18,7 +18,7 @@ module stickslip_registry
                                STATUS_NAMES, STATUS_CODES
     use stickslip_params, only: param_spec, param_values, param_ok, param_rule, NAME_LEN
     use stickslip_ode, only: ode_stats, step_controls, method_info, STATS_INTEGER_NAMES, &
-                             STATS_REAL_NAMES
+                             STATS_REAL_NAMES, RTOL_MIN
     use stickslip_friction, only: friction_law, MU_S_SPEC, MU_K_SPEC, V_S_SPEC
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_recurdyn, only: recurdyn_law, V_D_SPEC
@@ -35,7 +35,7 @@ module stickslip_registry
     use stickslip_law_mujoco_pyramidal, only: mujoco_pyramidal_law
     use stickslip_scenes, only: friction_scene, slope_scene, belt_scene, G_SPEC, THETA_SPEC, M_SPEC, &
                                 K_SPEC, V_B_SPEC
-    use stickslip_chain, only: chain_scene, N_BLOCKS_SPEC, K_C_SPEC, K_P_SPEC, PERTURBATION_SPEC
+    use stickslip_chain, only: chain_scene, N_BLOCKS_SPEC, K_C_SPEC, K_P_SPEC, PERTURBATION_SPEC, MAX_BLOCKS
     use stickslip_rk4, only: rk4_integrate, RK4_INFO
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, DOPRI5_INFO
     use stickslip_dop853, only: dop853_options, dop853_integrate, DOP853_INFO
@@ -45,7 +45,8 @@ module stickslip_registry
     use stickslip_contact, only: contact_system
     use stickslip_model_system, only: model_system
     use stickslip_moreau, only: moreau_options, moreau_integrate, MOREAU_INFO
-    use stickslip_event_driven, only: event_driven_options, event_driven_integrate, EVENT_DRIVEN_INFO
+    use stickslip_event_driven, only: event_driven_options, event_driven_integrate, EVENT_DRIVEN_INFO, &
+                                      EVENT_STICK, EVENT_SLIP, EVENT_REVERSAL
     implicit none
     private
 
@@ -121,6 +122,13 @@ module stickslip_registry
         SIGMA2_SPEC, Z_BA_RATIO_SPEC, M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC, &
         DAHL_ALPHA_SPEC, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC, N_BLOCKS_SPEC, K_C_SPEC, PERTURBATION_SPEC, &
         K_P_SPEC]
+    !> The default step size floor of the adaptive methods [s], the same through every entry
+    !! point: `new_controls` (Fortran and Python runs, models), the C API's option defaults
+    !! (ss_dopri5_options_default, and NULL options) and the Python facade's CONTROL_DEFAULTS
+    !! (read from `registry_text`). Where the error test fails at this step the step is taken
+    !! anyway and counted (nforced), unless allow_forced is off. (The type step_controls keeps
+    !! 0, no floor, for the integrators' internal runs, such as event_driven's modes.)
+    real(dp), parameter, public :: HMIN_DEFAULT = 1.0e-6_dp
     integer, private :: jp   ! the implied-do index of DEFAULT_SOURCE's constructor only
     !> Position in PARAMS of the parameter each default is derived from (v_d's is v_s's), 0 for
     !! a plain default: worked out at compile time, so that resolving costs no string search.
@@ -400,6 +408,7 @@ contains
             status = SS_BAD_METHOD
             return
         end select
+        if (has_word(METHOD_TABLE(method)%controls, 'hmin')) ctl%hmin = HMIN_DEFAULT
         status = apply_controls(ctl, METHOD_TABLE(method), keys, vals)
         if (status /= SS_OK .and. (method == METHOD_MOREAU .or. method == METHOD_EVENT_DRIVEN)) then
             call contact_model_of(sys, cs, contact_status)
@@ -514,12 +523,16 @@ contains
     end function stickslip_message
 
     !> The registry as text, one record per line, fields separated by '|':
-    !!   law|code|name|params|n_states|state labels (';')|doc
+    !!   law|code|name|params|n_states|n_modes|state labels (';')|doc
+    !!       (n_modes > 0: a law with jumps, solved over its modes by implicit_euler and galpha
+    !!       on a model; a doc may hold '|', as the last field of every record)
     !!   scene|code|name|params|doc
     !!   method|code|name|order|adaptive|implicit|controls|doc|laws (empty: every law)
     !!   param|name|code|default|unit|default_of|scale|message|doc
     !!   stats|integer names|real names
     !!   status|name|code|message
+    !!   event|code|kind|doc                 (event_driven's kinds of event)
+    !!   const|name|value|unit|doc           (limits and defaults the layers above share)
     function registry_text() result(text)
         character(len=:), allocatable :: text
         character(len=32) :: a, b, c
@@ -529,6 +542,7 @@ contains
         integer :: i, k, status
         character(len=:), allocatable :: labels
         character(len=1), parameter :: nl = new_line('a')
+        type(event_driven_options) :: edo
 
         text = ''
         status = resolve_params([character(len=NAME_LEN) ::], [real(dp) ::], p)
@@ -542,8 +556,8 @@ contains
             write (a, '(i0)') i
             write (b, '(i0)') fl%n_states()
             text = text // 'law|' // trim(a) // '|' // trim(LAW_TABLE(i)%name) // '|' // &
-                   trim(LAW_TABLE(i)%params) // '|' // trim(b) // '|' // trim(adjustl(labels)) // '|' // &
-                   trim(LAW_TABLE(i)%doc) // nl
+                   trim(LAW_TABLE(i)%params) // '|' // trim(b) // '|' // trim(num(real(fl%n_modes(), dp))) // &
+                   '|' // trim(adjustl(labels)) // '|' // trim(LAW_TABLE(i)%doc) // nl
         end do
         do i = 1, size(SCENE_TABLE)
             write (a, '(i0)') i
@@ -578,7 +592,30 @@ contains
             text = text // 'status|BAD_' // upper(trim(PARAMS(i)%name)) // '|' // trim(a) // '|' // &
                    param_rule(PARAMS(i)) // nl
         end do
+        text = text // 'event|' // trim(num(real(EVENT_STICK, dp))) // '|stick|slip -> stick' // nl // &
+               'event|' // trim(num(real(EVENT_SLIP, dp))) // '|slip|stick -> slip' // nl // &
+               'event|' // trim(num(real(EVENT_REVERSAL, dp))) // &
+               '|reversal|the relative velocity reached 0 and the contact could not be held' // nl
+        text = text // 'const|max_events|' // trim(num(real(edo%max_events, dp))) // &
+               '|-|event_driven: most events a run may have (default of its control max_events)' // nl // &
+               'const|max_blocks|' // trim(num(real(MAX_BLOCKS, dp))) // '|-|most blocks of the chain' // nl // &
+               'const|rtol_min|' // trim(num(RTOL_MIN)) // &
+               '|-|smallest nonzero relative tolerance the adaptive methods accept (100 eps)' // nl // &
+               'const|hmin|' // trim(num(HMIN_DEFAULT)) // &
+               '|s|default step size floor of the adaptive methods (forced steps there; 0: none)' // nl
     contains
+        !> A number as text: an integer exactly, else 17 significant digits.
+        pure function num(x) result(t)
+            real(dp), intent(in) :: x
+            character(len=32) :: t
+            if (x == aint(x) .and. abs(x) < 1.0e15_dp) then
+                write (t, '(i0)') int(x, 8)
+            else
+                write (t, '(es24.17)') x
+                t = adjustl(t)
+            end if
+        end function num
+
         pure function upper(s) result(u)
             character(len=*), intent(in) :: s
             character(len=len(s)) :: u

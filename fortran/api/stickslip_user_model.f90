@@ -22,10 +22,11 @@ module stickslip_user_model
     use stickslip_params, only: param_values, NAME_LEN
     use stickslip_ode, only: ode_stats
     use stickslip_signal, only: signal_set, SIG_CONST, SIG_STEP, SIG_RAMP, SIG_SINE, SIG_TABLE, SIG_ADD, &
-                                SIG_SUB, SIG_MUL
+                                SIG_SUB, SIG_MUL, signal_combine, signal_affine, signal_derivative, &
+                                signal_integral
     use stickslip_model_system, only: model_system
     use stickslip_registry, only: make_law, code_of, integrate
-    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
     implicit none
     private
 
@@ -33,7 +34,17 @@ module stickslip_user_model
 
     !> Kinds of model element, as `build` names the bad one.
     integer, parameter, public :: ELEM_BODY = 1, ELEM_SPRING = 2, ELEM_DAMPER = 3, ELEM_FORCE = 4, &
-                                  ELEM_CONTACT = 5, ELEM_SIGNAL = 6
+                                  ELEM_CONTACT = 5, ELEM_SIGNAL = 6, ELEM_DRIVE = 7
+
+    !> What a drive's signal prescribes (`add_drive`): the body's position [m] or its velocity [m/s].
+    integer, parameter, public :: DRIVE_POSITION = 1, DRIVE_VELOCITY = 2
+
+    !> How a model with drives maps onto its system (`build`): the driven bodies leave the
+    !! state, and each drive's position and velocity are signals of the system.
+    type, public :: drive_plan
+        integer, allocatable :: free(:)            !! (nb_free) the model's index of each body of the system
+        integer, allocatable :: pos(:), vel(:)     !! (nd) each drive's position [m] and velocity [m/s] signals in sys%sig
+    end type drive_plan
 
     !> A model under construction: the arrays of `model_system`, plus the laws by code and
     !! their given parameters (made and checked by `build`).
@@ -53,6 +64,9 @@ module stickslip_user_model
         integer, allocatable :: con_ptr(:)         !! (nc + 1) contact i's parameters are keys/vals(con_ptr(i) : con_ptr(i + 1) - 1)
         character(len=NAME_LEN), allocatable :: keys(:)  !! given law parameter names
         real(dp), allocatable :: vals(:)           !! their values [SI units]
+        integer, allocatable :: drv_body(:)        !! drives' bodies
+        integer, allocatable :: drv_kind(:)        !! drives' kinds (DRIVE_POSITION, DRIVE_VELOCITY)
+        integer, allocatable :: drv_sig(:)         !! drives' signals [m or m/s]
         type(signal_set) :: sig                    !! the signals
     contains
         !> Add a body of mass (inertia) m [kg] at x0 [m] moving at v0 [m/s]; its index (from 1).
@@ -65,6 +79,8 @@ module stickslip_user_model
         procedure :: add_force
         !> Add a frictional contact between a and b (0: the ground) with a law by name.
         procedure :: add_contact
+        !> Prescribe a body's position or velocity by a signal (a kinematic constraint).
+        procedure :: add_drive
         !> A signal: the number c; its index.
         procedure :: constant
         !> A signal: before up to time [s], after from then on; its index.
@@ -85,6 +101,10 @@ module stickslip_user_model
         procedure :: build
         !> The initial state (x0, v0, law states 0).
         procedure :: initial_state
+        !> The size of the model's state (every body's x, v, then the law states).
+        procedure :: state_size
+        !> Each drive's force on its body at the output rows of a run [N].
+        procedure :: drive_forces
         !> Run the model with a method by name from t = 0 to t_end.
         procedure :: simulate => model_simulate
     end type stickslip_model
@@ -98,7 +118,7 @@ contains
         allocate(self%mass(0), self%x0(0), self%v0(0), self%spr_a(0), self%spr_b(0), self%spr_k(0), &
                  self%spr_l0(0), self%dmp_a(0), self%dmp_b(0), self%dmp_c(0), self%frc_body(0), &
                  self%frc_sig(0), self%con_a(0), self%con_b(0), self%con_law(0), self%con_n(0), &
-                 self%con_w(0), self%keys(0), self%vals(0))
+                 self%con_w(0), self%keys(0), self%vals(0), self%drv_body(0), self%drv_kind(0), self%drv_sig(0))
         self%con_ptr = [1]
         allocate(self%sig%op(0), self%sig%arg(4, 0), self%sig%tab_t(0), self%sig%tab_v(0))
         self%sig%start = [1]
@@ -175,6 +195,21 @@ contains
         self%con_ptr = [self%con_ptr, size(self%keys) + 1]
     end subroutine add_contact
 
+    !> Prescribe the motion of a body: its position (kind DRIVE_POSITION, a signal without
+    !! steps [m]) or its velocity (DRIVE_VELOCITY, the position then x0 + its integral [m/s])
+    !! follows the signal exactly under every method. The body leaves the state: each element
+    !! joined to it acts on the other body as an element on the ground plus a signal.
+    subroutine add_drive(self, body, signal, kind)
+        class(stickslip_model), intent(inout) :: self
+        integer, intent(in) :: body                 !! body, >= 1
+        integer, intent(in) :: signal               !! the drive's signal
+        integer, intent(in) :: kind                 !! DRIVE_POSITION or DRIVE_VELOCITY
+        call ensure(self)
+        self%drv_body = [self%drv_body, body]
+        self%drv_sig = [self%drv_sig, signal]
+        self%drv_kind = [self%drv_kind, kind]
+    end subroutine add_drive
+
     !> Append one primitive operation as a new signal; its index.
     integer function primitive(self, op, arg) result(index)
         class(stickslip_model), intent(inout) :: self
@@ -245,30 +280,12 @@ contains
         if (size(values) /= size(t)) self%sig%arg(2, size(self%sig%op)) = 0.0_dp   ! malformed: build says so
     end function table
 
-    !> Append the programs of signals s1 and s2 and an operator as a new signal; its index.
+    !> Append s1 op s2 as a new signal (`signal_combine`); its index.
     integer function combine(self, s1, s2, op) result(index)
         class(stickslip_model), intent(inout) :: self
         integer, intent(in) :: s1, s2, op
-        integer :: k, n
-        integer, allocatable :: ops(:)
-        real(dp), allocatable :: args(:, :)
         call ensure(self)
-        n = self%sig%count()
-        if (s1 < 1 .or. s1 > n .or. s2 < 1 .or. s2 > n) then   ! an unknown signal: a malformed one
-            index = primitive(self, SIG_ADD, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp])
-            return
-        end if
-        ops = [self%sig%op(self%sig%start(s1):self%sig%start(s1 + 1) - 1), &
-               self%sig%op(self%sig%start(s2):self%sig%start(s2 + 1) - 1), op]
-        allocate(args(4, size(ops)))
-        k = self%sig%start(s1 + 1) - self%sig%start(s1)
-        args(:, :k) = self%sig%arg(:, self%sig%start(s1):self%sig%start(s1 + 1) - 1)
-        args(:, k + 1:size(ops) - 1) = self%sig%arg(:, self%sig%start(s2):self%sig%start(s2 + 1) - 1)
-        args(:, size(ops)) = 0.0_dp
-        self%sig%op = [self%sig%op, ops]
-        self%sig%arg = reshape([self%sig%arg, args], [4, size(self%sig%op)])
-        self%sig%start = [self%sig%start, size(self%sig%op) + 1]
-        index = size(self%sig%start) - 1
+        index = signal_combine(self%sig, s1, s2, op)
     end function combine
 
     integer function plus(self, s1, s2) result(index)
@@ -296,14 +313,17 @@ contains
     !! status names what is wrong (SS_BAD_BODY, SS_BAD_MASS, SS_BAD_SPRING, SS_BAD_DAMPER,
     !! SS_BAD_SIGNAL, SS_BAD_LAW, a law parameter's code, ...) and elem_kind (ELEM_*) and
     !! elem_index (from 1) the first bad element.
-    subroutine build(self, sys, status, elem_kind, elem_index)
+    subroutine build(self, sys, status, elem_kind, elem_index, plan)
         class(stickslip_model), intent(inout) :: self
         type(model_system), intent(out) :: sys      !! the system
         integer, intent(out) :: status              !! SS_OK or the error's code
         integer, intent(out) :: elem_kind           !! ELEM_* of the bad element (0: none)
         integer, intent(out) :: elem_index          !! its index, from 1 (0: none)
+        type(drive_plan), intent(out), optional :: plan  !! how the model maps onto sys (its drives)
         type(param_values) :: p
-        integer :: i, nb, nsig, err, nc
+        type(drive_plan) :: dp_
+        integer :: i, nb, nsig, err, nc, nd, a, b, da, db
+        integer, allocatable :: driven(:)
         call ensure(self)
         status = SS_OK
         elem_kind = 0
@@ -339,6 +359,23 @@ contains
             if (self%frc_sig(i) < 1 .or. self%frc_sig(i) > nsig) call fail(SS_BAD_SIGNAL, ELEM_FORCE, i)
             if (status /= SS_OK) return
         end do
+        nd = size(self%drv_body)
+        allocate(driven(0:nb))
+        driven = 0                                  ! the drive of each body (0: none; the ground: none)
+        do i = 1, nd
+            if (self%drv_body(i) < 1 .or. self%drv_body(i) > nb) then
+                call fail(SS_BAD_BODY, ELEM_DRIVE, i)
+            else if (driven(self%drv_body(i)) /= 0) then
+                call fail(SS_BAD_BODY, ELEM_DRIVE, i)
+            end if
+            if (self%drv_sig(i) < 1 .or. self%drv_sig(i) > nsig .or. &
+                (self%drv_kind(i) /= DRIVE_POSITION .and. self%drv_kind(i) /= DRIVE_VELOCITY)) &
+                call fail(SS_BAD_SIGNAL, ELEM_DRIVE, i)
+            if (status /= SS_OK) return
+            driven(self%drv_body(i)) = i
+        end do
+        if (nd > 0 .and. count(driven(1:) == 0) == 0) call fail(SS_BAD_MODEL_EMPTY, ELEM_DRIVE, nd)
+        if (status /= SS_OK) return
         nc = size(self%con_a)
         if (size(self%con_ptr) /= nc + 1 .or. size(self%keys) /= size(self%vals)) then
             status = SS_BAD_DIM
@@ -347,7 +384,11 @@ contains
         allocate(sys%laws(nc), sys%z_first(nc + 1))
         sys%z_first(1) = 1
         do i = 1, nc
-            if (.not. pair_ok(self%con_a(i), self%con_b(i))) call fail(SS_BAD_BODY, ELEM_CONTACT, i)
+            if (.not. pair_ok(self%con_a(i), self%con_b(i))) then
+                call fail(SS_BAD_BODY, ELEM_CONTACT, i)
+            else if (driven(self%con_a(i)) /= 0 .and. (self%con_b(i) == 0 .or. driven(self%con_b(i)) /= 0)) then
+                call fail(SS_BAD_BODY, ELEM_CONTACT, i)     ! no free body: it moves nothing
+            end if
             if (self%con_n(i) < 1 .or. self%con_n(i) > nsig .or. self%con_w(i) < 0 .or. self%con_w(i) > nsig) &
                 call fail(SS_BAD_SIGNAL, ELEM_CONTACT, i)
             if (self%con_law(i) < 1) call fail(SS_BAD_LAW, ELEM_CONTACT, i)
@@ -362,28 +403,132 @@ contains
             sys%z_first(i + 1) = sys%z_first(i) + sys%laws(i)%law%n_states()
             if (.not. sys%laws(i)%law%is_static()) sys%all_static = .false.
         end do
-        sys%nb = nb
-        sys%mass = self%mass
-        sys%spr_a = self%spr_a
-        sys%spr_b = self%spr_b
-        sys%spr_k = self%spr_k
-        sys%spr_l0 = self%spr_l0
-        sys%dmp_a = self%dmp_a
-        sys%dmp_b = self%dmp_b
-        sys%dmp_c = self%dmp_c
-        sys%frc_body = self%frc_body
-        sys%frc_sig = self%frc_sig
-        sys%con_a = self%con_a
-        sys%con_b = self%con_b
-        sys%con_n = self%con_n
-        sys%con_w = self%con_w
-        sys%sig = self%sig
+        call reduce(dp_)
+        if (status /= SS_OK) return
+        if (present(plan)) plan = dp_
         call sys%prepare()
     contains
         logical function pair_ok(a, b)
             integer, intent(in) :: a, b
             pair_ok = a >= 1 .and. a <= nb .and. b >= 0 .and. b <= nb .and. a /= b
         end function pair_ok
+
+        !> The system of the free bodies: each element joined to a driven body acts on the
+        !! other body as an element on the ground plus a signal (a spring k to a body at x_d(t):
+        !! a spring to the ground and the force k (x_d(t) + l0); a damper: c v_d(t); a contact:
+        !! a surface moving at v_d(t)); a driven body's forces leave the system.
+        subroutine reduce(plan)
+            type(drive_plan), intent(out) :: plan
+            integer :: red(0:nb), k, j
+            logical :: ok
+            sys%sig = self%sig
+            allocate(plan%pos(nd), plan%vel(nd))
+            do k = 1, nd
+                if (self%drv_kind(k) == DRIVE_POSITION) then
+                    plan%pos(k) = self%drv_sig(k)
+                    call signal_derivative(sys%sig, self%drv_sig(k), plan%vel(k), ok)
+                else
+                    plan%vel(k) = self%drv_sig(k)
+                    call signal_integral(sys%sig, self%drv_sig(k), j, ok)
+                    if (ok) plan%pos(k) = signal_affine(sys%sig, j, 1.0_dp, self%x0(self%drv_body(k)))
+                end if
+                if (.not. ok) then
+                    call fail(SS_BAD_SIGNAL, ELEM_DRIVE, k)
+                    return
+                end if
+            end do
+            plan%free = pack([(k, k = 1, nb)], driven(1:) == 0)
+            red = 0
+            red(plan%free) = [(k, k = 1, size(plan%free))]
+            sys%nb = size(plan%free)
+            sys%mass = self%mass(plan%free)
+            allocate(sys%spr_a(0), sys%spr_b(0), sys%spr_k(0), sys%spr_l0(0), sys%dmp_a(0), sys%dmp_b(0), &
+                     sys%dmp_c(0), sys%frc_body(0), sys%frc_sig(0))
+            do k = 1, size(self%spr_k)
+                call ends(self%spr_a(k), self%spr_b(k))
+                if (da == 0 .and. db == 0) then
+                    call spring(red(a), red(b), self%spr_k(k), self%spr_l0(k), 0)
+                else if (da == 0) then
+                    call spring(red(a), 0, self%spr_k(k), 0.0_dp, &
+                                signal_affine(sys%sig, plan%pos(db), self%spr_k(k), self%spr_k(k) * self%spr_l0(k)))
+                else if (b > 0 .and. db == 0) then
+                    call spring(red(b), 0, self%spr_k(k), 0.0_dp, &
+                                signal_affine(sys%sig, plan%pos(da), self%spr_k(k), -self%spr_k(k) * self%spr_l0(k)))
+                end if
+            end do
+            do k = 1, size(self%dmp_c)
+                call ends(self%dmp_a(k), self%dmp_b(k))
+                if (da == 0 .and. db == 0) then
+                    call damper(red(a), red(b), self%dmp_c(k), 0)
+                else if (da == 0) then
+                    call damper(red(a), 0, self%dmp_c(k), signal_affine(sys%sig, plan%vel(db), self%dmp_c(k), 0.0_dp))
+                else if (b > 0 .and. db == 0) then
+                    call damper(red(b), 0, self%dmp_c(k), signal_affine(sys%sig, plan%vel(da), self%dmp_c(k), 0.0_dp))
+                end if
+            end do
+            do k = 1, size(self%frc_body)
+                if (driven(self%frc_body(k)) /= 0) cycle
+                sys%frc_body = [sys%frc_body, red(self%frc_body(k))]
+                sys%frc_sig = [sys%frc_sig, self%frc_sig(k)]
+            end do
+            sys%con_a = self%con_a
+            sys%con_b = self%con_b
+            sys%con_n = self%con_n
+            sys%con_w = self%con_w
+            do k = 1, nc       ! a contact keeps its index; its free body becomes its side a
+                call ends(self%con_a(k), self%con_b(k))
+                if (da == 0 .and. db == 0) then
+                    sys%con_a(k) = red(a)
+                    sys%con_b(k) = red(b)
+                else if (da == 0) then          ! slip v_a - (v_d + w)
+                    sys%con_a(k) = red(a)
+                    sys%con_b(k) = 0
+                    sys%con_w(k) = plan%vel(db)
+                    if (self%con_w(k) > 0) sys%con_w(k) = signal_combine(sys%sig, plan%vel(db), self%con_w(k), SIG_ADD)
+                else                            ! slip v_b - (v_d - w): the opposite of v_d - v_b - w
+                    sys%con_a(k) = red(b)
+                    sys%con_b(k) = 0
+                    sys%con_w(k) = plan%vel(da)
+                    if (self%con_w(k) > 0) sys%con_w(k) = signal_combine(sys%sig, plan%vel(da), self%con_w(k), SIG_SUB)
+                end if
+            end do
+        end subroutine reduce
+
+        !> An element's bodies a, b and their drives da, db (0: free or the ground).
+        subroutine ends(ea, eb)
+            integer, intent(in) :: ea, eb
+            a = ea
+            b = eb
+            da = driven(a)
+            db = driven(b)
+        end subroutine ends
+
+        !> A spring of the system and, for a signal f > 0, the force f on body a.
+        subroutine spring(a, b, k, l0, f)
+            integer, intent(in) :: a, b, f
+            real(dp), intent(in) :: k, l0
+            sys%spr_a = [sys%spr_a, a]
+            sys%spr_b = [sys%spr_b, b]
+            sys%spr_k = [sys%spr_k, k]
+            sys%spr_l0 = [sys%spr_l0, l0]
+            if (f > 0) call force(a, f)
+        end subroutine spring
+
+        !> A damper of the system and, for a signal f > 0, the force f on body a.
+        subroutine damper(a, b, c, f)
+            integer, intent(in) :: a, b, f
+            real(dp), intent(in) :: c
+            sys%dmp_a = [sys%dmp_a, a]
+            sys%dmp_b = [sys%dmp_b, b]
+            sys%dmp_c = [sys%dmp_c, c]
+            if (f > 0) call force(a, f)
+        end subroutine damper
+
+        subroutine force(a, f)
+            integer, intent(in) :: a, f
+            sys%frc_body = [sys%frc_body, a]
+            sys%frc_sig = [sys%frc_sig, f]
+        end subroutine force
         subroutine fail(code, kind, index)
             integer, intent(in) :: code, kind, index
             if (status /= SS_OK) return
@@ -398,11 +543,83 @@ contains
         class(stickslip_model), intent(in) :: self
         type(model_system), intent(in) :: sys       !! the model's system (`build`)
         real(dp), allocatable :: y0(:)              !! the initial state
-        allocate(y0(sys%n_states()))
+        integer :: nb
+        nb = size(self%mass)
+        allocate(y0(self%state_size(sys)))
         y0 = 0.0_dp
-        y0(:sys%nb) = self%x0
-        y0(sys%nb + 1:2 * sys%nb) = self%v0
+        y0(:nb) = self%x0
+        y0(nb + 1:2 * nb) = self%v0
     end function initial_state
+
+    !> Every body's position and velocity (the driven ones' too), then the law states of a
+    !! built system.
+    pure integer function state_size(self, sys) result(n)
+        class(stickslip_model), intent(in) :: self
+        type(model_system), intent(in) :: sys       !! the model's system (`build`)
+        n = 2 * size(self%mass) + sys%n_states() - 2 * sys%nb
+    end function state_size
+
+    !> The force each drive applies to its body at the rows (t(j), y(:, j)) of a run of the
+    !! model: m_d a_d minus the other forces on the driven body (springs, dampers, forces,
+    !! and the friction of its contacts as their laws give it at that state). NaN where a
+    !! contact joins the driven body under a method that solves the laws' jumps (event_driven,
+    !! moreau; implicit_euler and galpha with coulomb or karnopp): the stick force is not a
+    !! function of the state there.
+    subroutine drive_forces(self, sys, plan, method, t, y, force)
+        class(stickslip_model), intent(in) :: self
+        type(model_system), intent(inout) :: sys    !! the model's system (`build`)
+        type(drive_plan), intent(in) :: plan        !! its drives (`build`)
+        character(len=*), intent(in) :: method      !! the run's method
+        real(dp), intent(in) :: t(:)                !! output times [s]
+        real(dp), intent(in) :: y(:, :)             !! (state_size, size(t)) every body's state [m, m/s, ...]
+        real(dp), intent(out) :: force(:, :)        !! (number of drives, size(t)) [N]
+        real(dp) :: fric(size(self%con_a)), x(size(self%mass)), v(size(self%mass)), yr(sys%n_states())
+        real(dp) :: f, fe, rate, pos, acc
+        integer :: j, k, i, d, nb, nf
+        logical :: set_valued, jumps
+        nb = size(self%mass)
+        nf = sys%nb
+        set_valued = method == 'event_driven' .or. method == 'moreau'
+        jumps = (method == 'implicit_euler' .or. method == 'galpha') .and. sys%has_jumps()
+        do j = 1, size(t)
+            x = y(1:nb, j)
+            v = y(nb + 1:2 * nb, j)
+            yr(1:nf) = x(plan%free)
+            yr(nf + 1:2 * nf) = v(plan%free)
+            yr(2 * nf + 1:) = y(2 * nb + 1:, j)
+            call sys%friction(t(j), yr, fric)
+            do k = 1, size(self%drv_body)
+                d = self%drv_body(k)
+                call sys%sig%eval(plan%vel(k), t(j), pos, acc)
+                f = self%mass(d) * acc
+                do i = 1, size(self%spr_k)
+                    if (self%spr_a(i) /= d .and. self%spr_b(i) /= d) cycle
+                    pos = 0.0_dp
+                    if (self%spr_b(i) > 0) pos = x(self%spr_b(i))
+                    fe = -self%spr_k(i) * (x(self%spr_a(i)) - pos - self%spr_l0(i))
+                    f = f - merge(fe, -fe, self%spr_a(i) == d)
+                end do
+                do i = 1, size(self%dmp_c)
+                    if (self%dmp_a(i) /= d .and. self%dmp_b(i) /= d) cycle
+                    pos = 0.0_dp
+                    if (self%dmp_b(i) > 0) pos = v(self%dmp_b(i))
+                    fe = -self%dmp_c(i) * (v(self%dmp_a(i)) - pos)
+                    f = f - merge(fe, -fe, self%dmp_a(i) == d)
+                end do
+                do i = 1, size(self%frc_body)
+                    if (self%frc_body(i) /= d) cycle
+                    call self%sig%eval(self%frc_sig(i), t(j), fe, rate)
+                    f = f - fe
+                end do
+                do i = 1, size(self%con_a)     ! the friction on d is the opposite of that on its free side
+                    if (self%con_a(i) /= d .and. self%con_b(i) /= d) cycle
+                    f = f + fric(i)
+                    if (set_valued .or. jumps) f = ieee_value(f, ieee_quiet_nan)
+                end do
+                force(k, j) = f
+            end do
+        end do
+    end subroutine drive_forces
 
     !> Run the model from t = 0 (its bodies' x0, v0; law states 0) to t_end with a method by
     !! name and its controls by name; output as `stickslip_simulate`'s. implicit_euler and
@@ -410,7 +627,7 @@ contains
     !! contacts' laws must then have jumps: SS_JUMP_MANY_CONTACTS otherwise); moreau and
     !! event_driven end with SS_NOT_SETVALUED when a contact's law has no set-valued form.
     subroutine model_simulate(self, method, t_end, t_out, y_out, stats, rtol, atol, ckeys, cvals, &
-                              elem_kind, elem_index, stop_flag, events, y0)
+                              elem_kind, elem_index, stop_flag, events, y0, drive_force)
         class(stickslip_model), intent(inout) :: self
         character(len=*), intent(in) :: method      !! the method's name (registry)
         real(dp), intent(in) :: t_end               !! final time [s]
@@ -428,12 +645,17 @@ contains
         !> (4, room): the stick/slip events of event_driven, (t [s], kind, position [m], contact)
         real(dp), intent(inout), optional :: events(:, :)
         real(dp), intent(in), optional :: y0(:)     !! an initial state other than the bodies' (with law states)
+        !> (number of drives, size(t_out)): each drive's force on its body [N] (`drive_forces`)
+        real(dp), intent(out), optional :: drive_force(:, :)
         type(model_system) :: sys
-        real(dp), allocatable :: rt(:), at(:), y_init(:)
+        type(drive_plan) :: plan
+        real(dp), allocatable :: rt(:), at(:), y_init(:), y_free(:, :)
+        real(dp) :: rate
+        integer :: nb, nf, j, k
         character(len=NAME_LEN), allocatable :: ck(:)
         real(dp), allocatable :: cv(:)
         integer :: ek, ei, code
-        call self%build(sys, stats%status, ek, ei)
+        call self%build(sys, stats%status, ek, ei, plan)
         if (present(elem_kind)) elem_kind = ek
         if (present(elem_index)) elem_index = ei
         if (stats%status /= SS_OK) return
@@ -456,11 +678,38 @@ contains
         else
             y_init = self%initial_state(sys)
         end if
-        if (size(y_init) /= sys%n_states() .or. size(y_out, 1) /= size(y_init)) then
+        if (size(y_init) /= self%state_size(sys) .or. size(y_out, 1) /= size(y_init) .or. &
+            size(y_out, 2) /= size(t_out)) then
             stats%status = SS_BAD_DIM
             return
         end if
-        call integrate(code, sys, 0.0_dp, y_init, t_end, rt, at, ck, cv, t_out, y_out, stats, stop_flag, events)
+        if (present(drive_force)) then
+            if (size(drive_force, 1) /= size(self%drv_body) .or. size(drive_force, 2) /= size(t_out)) then
+                stats%status = SS_BAD_DIM
+                return
+            end if
+        end if
+        if (size(self%drv_body) == 0) then
+            call integrate(code, sys, 0.0_dp, y_init, t_end, rt, at, ck, cv, t_out, y_out, stats, stop_flag, events)
+            return
+        end if
+        ! the free bodies' state; then every body's, the driven ones' from their signals
+        nb = size(self%mass)
+        nf = sys%nb
+        allocate(y_free(sys%n_states(), size(t_out)))
+        y_free = 0.0_dp
+        call integrate(code, sys, 0.0_dp, [y_init(plan%free), y_init(nb + plan%free), y_init(2 * nb + 1:)], &
+                       t_end, rt, at, ck, cv, t_out, y_free, stats, stop_flag, events)
+        y_out(plan%free, :) = y_free(1:nf, :)
+        y_out(nb + plan%free, :) = y_free(nf + 1:2 * nf, :)
+        y_out(2 * nb + 1:, :) = y_free(2 * nf + 1:, :)
+        do j = 1, size(t_out)
+            do k = 1, size(self%drv_body)
+                call sys%sig%eval(plan%pos(k), t_out(j), y_out(self%drv_body(k), j), rate)
+                call sys%sig%eval(plan%vel(k), t_out(j), y_out(nb + self%drv_body(k), j), rate)
+            end do
+        end do
+        if (present(drive_force)) call self%drive_forces(sys, plan, method, t_out, y_out, drive_force)
     end subroutine model_simulate
 
 end module stickslip_user_model

@@ -32,6 +32,7 @@ module stickslip_contact
     use stickslip_friction, only: friction_law
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_stribeck, only: stribeck_law, stribeck_curve, stribeck_curve_slope
+    use stickslip_law_karnopp, only: karnopp_law
     implicit none
     private
 
@@ -297,7 +298,9 @@ contains
     end function slip_dmu
 
     !> The set-valued law of a library law: Coulomb and Stribeck have one (their slip curve
-    !! without the regularisation at rest); any other law gives SS_NOT_SETVALUED.
+    !! without the regularisation at rest), Karnopp's is Coulomb's (its stick band dv is the
+    !! static set's stand-in: stick up to mu_s, slip at mu_k); any other law gives
+    !! SS_NOT_SETVALUED.
     subroutine contact_law_of(law, cl, status)
         class(friction_law), intent(in) :: law  !! a validated friction law
         type(contact_law), intent(out) :: cl    !! its set-valued counterpart
@@ -308,6 +311,8 @@ contains
         cl%v_s = law%v_s
         select type (law)
         type is (coulomb_law)
+            cl%kind = CONTACT_COULOMB
+        type is (karnopp_law)
             cl%kind = CONTACT_COULOMB
         type is (stribeck_law)
             cl%kind = CONTACT_STRIBECK

@@ -1,5 +1,7 @@
 !> The friction problem of one step (or one instant) of a system with set-valued contacts,
-!! for any number of contacts coupled through any Delassus matrix, and its solver.
+!! for any number of contacts coupled through any Delassus matrix, and its solver: the one
+!! place where moreau (velocity level) and event_driven (acceleration level, `at_rest`) decide
+!! which contacts stick and which slip.
 !!
 !! The problem. Relative velocities w = wf + D p (n contacts; D symmetric positive
 !! semidefinite, [1/kg]: D = H W^-1 H^T of a time step, or H M^-1 H^T at the acceleration
@@ -12,69 +14,77 @@
 !! mu_s,i = 0 is open: p_i = 0. |p_i| = mu_s c_i exactly counts as stuck (both nonsmooth
 !! methods treat the limit the same way, within the relative tolerance STICK_RTOL).
 !!
-!! Which solution. With mu_s > mu_k (or D singular: redundant contacts) the problem may have
-!! several solutions. This solver returns one with the most stuck contacts: it prefers
-!! stick, as the one-contact closed form (`local_solve`) does. Among the solutions with that
-!! many stuck contacts it keeps the previous mode (the caller's guess) if it is one (no switch
-!! without cause); else, where the previous mode would hold some contacts beyond their
-!! limits, the previous mode with just those contacts slipping against their holding
-!! impulses (the contact at its limit gives way, the others hold) if that is one; otherwise
-!! the one with the smallest total slip speed sum |w_i|. Among the impulses that
-!! hold a redundant stuck set the one that minimises sum p_i^2 / (mu_s,i c_i) (each contact
-!! loaded in proportion to its capacity: contacts on identical rows of H all reach their limit
-!! together, the distribution that holds longest).
+!! When the problem has several solutions (mu_s > mu_k: a contact held between mu_k c and
+!! mu_s c could also slip; D singular: redundant contacts), the solver returns the one of
+!! this rule, the same at every n and for every caller:
+!!   1. Keep a slip: a contact that slipped in the previous step (mode in = +-1) and whose free
+!!      velocity still goes that way faster than its own static limit could stop,
+!!      mode_i wf_i > D_ii mu_s,i c_i, starts at its slip level, |p_i| <= c_i mu_i; every other
+!!      contact starts at its static level, |p_i| <= mu_s,i c_i.
+!!   2. Static first: with those levels as bounds the box problem (`stickslip_lcp`, the
+!!      optimality condition of min 1/2 p^T D p + wf^T p over the box) is solved; its w is the
+!!      same at every solution. A contact at its static level with w_i /= 0 cannot hold given
+!!      the others and gives way: its bound drops to its slip level mu_i(|w_i|) c_i. A contact
+!!      at its slip level whose w_i turns against its slip direction (its velocity crossed
+!!      zero) is decided again from its static level, once. Rounds repeat until no contact
+!!      changes level (at most 3 n + 1 for constant coefficients). So only a contact whose
+!!      static limit cannot hold gives way, and a stuck contact never slips because another
+!!      solution would allow it.
+!!   3. Minimum norm: the stuck contacts' impulses are the ones that minimise
+!!      sum p_i^2 / (mu_s,i c_i) among those that hold them (each loaded in proportion to its
+!!      capacity), and the slip speeds solve the slip curves exactly (`solve_mode`).
+!! Contacts on identical rows of H (the same row up to sign) have the same w, so the rule
+!! treats them as one contact: splitting a contact into halves changes nothing (nothing is
+!! counted). On one contact the rule is the closed form `local_solve` (stick when
+!! |wf| <= D c mu_s). info%nonunique reports that another solution with at least as many
+!! stuck contacts exists: for each slipping contact with |w_i| <= D_ii (mu_s,i + mu_i) c_i
+!! (the others cannot let it stick otherwise) the mode with it stuck, and that mode with the
+!! stuck contacts it would overload slipping, are solved and tested (a sufficient test: a
+!! tie it does not reach is not reported).
 !!
-!! How. One active contact: its closed form (`local_solve`). Up to ENUM_MAX active contacts:
-!! exact enumeration of the modes (stick, slip +, slip -) by number of slipping contacts, the
-!! previous mode first (if it is a solution only modes with fewer slipping contacts remain to
-!! be tried); each mode is a linear solve of its stuck block (`psd_solve`, weighted minimum
-!! norm where singular) and, for the Stribeck curve at the velocity level, a safeguarded
-!! Newton iteration on the slip speeds. More contacts: projected Gauss-Seidel (one-contact
-!! closed forms in turn) until the residual is below tol. Where Gauss-Seidel does not converge
-!! within max_iter sweeps (it may cycle on strongly coupled contacts with mu_s > mu_k), or
-!! enumeration finds no mode (a Stribeck slip speed without a root), static-first pivoting
-!! (`pivoting`: rounds of box-constrained problems solved by Lemke's algorithm, `stickslip_lcp`)
-!! finds a solution: it always exists for Coulomb and the pivoting ends with it. The answer is
-!! then checked against the problem itself (`contact_residual`), whichever way it was found
-!! (Gauss-Seidel's answer with the w = wf + D p its last sweep formed, each w_i a dot product
-!! over the final impulses to rounding, so the check costs no pass over D of its own),
-!! and info%ok is .false. when the residual exceeds tol (or the rounding floor
-!! 1000 eps (max|wf| + max|D| max|p|), where that is larger) or no method found a solution: the
-!! caller ends with a named status. The answer of more than ENUM_MAX contacts is a solution
-!! when ok, but not necessarily the stick-preferring one where several exist: Gauss-Seidel
-!! takes the limit it converges to, pivoting lets a contact slip only where its static limit
-!! cannot hold it given the others (on random problems of 2-9 contacts, 22 of 300 had a
-!! solution with more stuck contacts; tests/fortran/test_contact_general.f90).
+!! How. One active contact: its closed form (`local_solve`). More: the rounds of the rule,
+!! each box problem by `box_solve` (an active-set Newton method, 1 to 4 linear solves from the
+!! previous round's sets, with Lemke's method as the exact fallback), then the final mode
+!! solved exactly (`solve_mode`). Cost: O(n^3) a linear solve, a few solves a round, a few
+!! rounds a step; no enumeration of modes. On a chain (W tridiagonal, each contact on a
+!! coordinate of its own) moreau runs `tridiagonal_sweeps` here, nonsmooth Gauss-Seidel on W
+!! itself, O(n) a sweep, and `solve_contacts` on a step it does not solve (its own notes).
+!! Projected Gauss-Seidel (`gauss_seidel`) is kept
+!! for benchmarks and where a caller forces it (method = SOLVER_GAUSS_SEIDEL); its answer is a
+!! solution when ok but follows no rule. The answer is checked against the problem itself
+!! (`contact_residual`) whichever way it was found, and info%ok is .false. when the residual
+!! exceeds the limit of the problem's scale (`residual_limit`) or no method found a solution:
+!! the caller ends with a named status.
 module stickslip_contact_solver
     use stickslip_kinds, only: dp
-    use stickslip_contact, only: contact_law, local_solve, CONTACT_COULOMB, STICK_RTOL
+    use stickslip_contact, only: contact_law, contact_system, local_solve, CONTACT_COULOMB, STICK_RTOL
     use stickslip_linalg, only: psd_solve, lu_decompose, lu_solve
-    use stickslip_lcp, only: box_lcp
+    use stickslip_lcp, only: box_solve
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
     public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
+    public :: tridiagonal_sweeps
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
-    !> Most active contacts solved by exact mode enumeration (3^n modes at most).
-    integer, parameter, public :: ENUM_MAX = 6
 
     integer, parameter, public :: MODE_STICK = 0    !! mode(i): stuck
     integer, parameter, public :: MODE_OPEN = 2     !! mode(i): open (no capacity), p_i = 0
     !! (slip is mode(i) = +1 or -1, the sign of w_i)
 
     integer, parameter, public :: SOLVER_LOCAL = 1          !! one active contact, closed form
-    integer, parameter, public :: SOLVER_ENUMERATION = 2    !! exact mode enumeration
-    integer, parameter, public :: SOLVER_GAUSS_SEIDEL = 3   !! projected Gauss-Seidel
-    integer, parameter, public :: SOLVER_PIVOTING = 4       !! static-first pivoting (Lemke)
+    integer, parameter, public :: SOLVER_RULE = 2           !! the rule's rounds, box problems by active-set Newton
+    integer, parameter, public :: SOLVER_GAUSS_SEIDEL = 3   !! projected Gauss-Seidel (forced only)
+    integer, parameter, public :: SOLVER_PIVOTING = 4       !! the rule's rounds, box problems by Lemke alone
 
     !> What the solver did and how well the answer satisfies the problem.
     type :: contact_solve_info
         logical :: ok = .true.          !! the answer satisfies the problem to tol
-        integer :: method = 0           !! SOLVER_LOCAL, SOLVER_ENUMERATION, SOLVER_GAUSS_SEIDEL or SOLVER_PIVOTING
-        integer :: sweeps = 0           !! Gauss-Seidel sweeps, or modes tried by enumeration
-        integer :: pivots = 0           !! Lemke pivots of the pivoting fallback (0: not used)
-        integer :: rounds = 0           !! box problems the pivoting fallback solved (0: not used)
+        integer :: method = 0           !! SOLVER_LOCAL, SOLVER_RULE, SOLVER_GAUSS_SEIDEL or SOLVER_PIVOTING
+        integer :: sweeps = 0           !! Gauss-Seidel sweeps, or the rule's linear solves
+        integer :: pivots = 0           !! Lemke pivots (0: not used)
+        integer :: rounds = 0           !! box problems solved by the rule's rounds
+        logical :: nonunique = .false.  !! another solution with as many stuck contacts exists
         real(dp) :: residual = 0.0_dp   !! complementarity residual (`contact_residual`) [m/s]
         integer :: worst = 0            !! the contact with the largest residual (0: none)
     end type contact_solve_info
@@ -89,13 +99,12 @@ module stickslip_contact_solver
 
 contains
 
-    !> Solve the problem of the module notes. p: warm start in (Gauss-Seidel), impulses out;
-    !! mode: the previous mode in (a guess, any values), the solution's out. method (tests and
-    !! benchmarks): SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL forces that method on any number of
-    !! active contacts above one (Gauss-Seidel then still falls back to pivoting). work: room
-    !! reused from call to call (a caller solving many problems keeps one; without it, a
-    !! Gauss-Seidel solve allocates its own). The arrays are declared contiguous (a strided
-    !! section is passed as a copy).
+    !> Solve the problem of the module notes. p: impulses out (a warm start for a forced
+    !! Gauss-Seidel); mode: the previous mode in (rule step 1; any other value: none), the
+    !! solution's out. method (tests and benchmarks): SOLVER_PIVOTING solves the rule's box
+    !! problems by Lemke's method alone, SOLVER_GAUSS_SEIDEL runs projected Gauss-Seidel (up to
+    !! max_iter sweeps; the rule where it fails). work: room reused from call to call. The
+    !! arrays are declared contiguous (a strided section is passed as a copy).
     subroutine solve_contacts(laws, d, wf, cap, at_rest, tol, max_iter, p, w, mode, info, method, work)
         type(contact_law), intent(in), contiguous        :: laws(:)   !! (n) each contact's law
         real(dp), intent(in), contiguous                 :: d(:, :)   !! (n, n) Delassus matrix [1/kg]
@@ -103,7 +112,7 @@ contains
         real(dp), intent(in), contiguous                 :: cap(:)    !! (n) capacities c_i >= 0 [N s] (or [N])
         logical, intent(in)                              :: at_rest   !! slip coefficient fixed at mu(0+)
         real(dp), intent(in)                             :: tol       !! tolerance on the residual [m/s]
-        integer, intent(in)                              :: max_iter  !! Gauss-Seidel sweep limit
+        integer, intent(in)                              :: max_iter  !! Gauss-Seidel sweep limit (forced Gauss-Seidel)
         real(dp), intent(inout), contiguous              :: p(:)      !! (n) impulses [N s] (or forces [N])
         real(dp), intent(out), contiguous                :: w(:)      !! (n) velocities, exactly 0 when stuck [m/s]
         integer, intent(inout), contiguous               :: mode(:)   !! (n) MODE_STICK, +-1, MODE_OPEN
@@ -111,7 +120,6 @@ contains
         integer, intent(in), optional                    :: method    !! force SOLVER_PIVOTING or SOLVER_GAUSS_SEIDEL
         type(contact_workspace), intent(inout), optional :: work      !! room reused between calls
         integer :: n, na, i, ia, forced, worst
-        logical :: found
         real(dp) :: g, resid
         real(dp), allocatable :: gap(:)
         n = size(wf)
@@ -136,17 +144,7 @@ contains
             call local_solve(law_at(laws(ia), at_rest), wf(ia), d(ia, ia), cap(ia), w(ia), p(ia))
             mode(ia) = slip_sign(w(ia))
             call open_velocities(d, wf, p, mode, w)
-        else if (forced == SOLVER_PIVOTING) then
-            call pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
-            return
-        else if (na <= ENUM_MAX .and. forced /= SOLVER_GAUSS_SEIDEL) then
-            info%method = SOLVER_ENUMERATION
-            call enumerate(laws, d, wf, cap, at_rest, is_active(laws, cap), p, w, mode, found, info%sweeps)
-            if (.not. found) then
-                call pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
-                return
-            end if
-        else
+        else if (forced == SOLVER_GAUSS_SEIDEL) then
             ! Gauss-Seidel (its updates and gap in the caller's room when given), then in one
             ! pass the modes of the answer, the open contacts' velocities (wf + D p, formed
             ! here) and the check (`contact_residual`, with the last sweep's wf + D p - w of
@@ -174,37 +172,166 @@ contains
             info%residual = resid
             info%worst = worst
             if (present(work)) call move_alloc(gap, work%gap)
+            info%ok = info%residual <= residual_limit(tol, wf, d, p)
+            if (info%ok) return
+            forced = 0
+            mode = -9           ! the rule from no previous mode
         end if
-        if (info%method /= SOLVER_GAUSS_SEIDEL) &
-            call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
-        ! residual_limit(...) >= tol: formed only where the residual exceeds tol
-        info%ok = info%residual <= tol
-        if (.not. info%ok) info%ok = info%residual <= residual_limit(tol, wf, d, p)
-        if (.not. info%ok .and. info%method == SOLVER_GAUSS_SEIDEL) &
-            call pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
-    end subroutine solve_contacts
-
-    !> Where enumeration finds no mode or Gauss-Seidel does not converge: `pivoting`, and its
-    !! answer checked like the others (`solve_contacts`).
-    subroutine pivoting_fallback(laws, d, wf, cap, at_rest, tol, p, w, mode, info)
-        type(contact_law), intent(in) :: laws(:)
-        real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
-        logical, intent(in)     :: at_rest
-        real(dp), intent(inout) :: p(:)
-        real(dp), intent(out)   :: w(:)
-        integer, intent(inout)  :: mode(:)
-        type(contact_solve_info), intent(inout) :: info
-        logical :: found
-        info%method = SOLVER_PIVOTING
-        call pivoting(laws, d, wf, cap, at_rest, is_active(laws, cap), p, w, mode, found, info%pivots, info%rounds)
-        if (.not. found) then
-            info%ok = .false.
-            info%residual = huge(1.0_dp)
+        if (na >= 2 .and. .not. (info%method == SOLVER_GAUSS_SEIDEL .and. info%ok)) then
+            call rule_solve(laws, d, wf, cap, at_rest, tol, forced == SOLVER_PIVOTING, p, w, mode, info)
+            if (.not. info%ok) return
+            call find_other_solution(laws, d, wf, cap, at_rest, w, mode, info)
             return
         end if
         call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
         info%ok = info%residual <= residual_limit(tol, wf, d, p)
-    end subroutine pivoting_fallback
+    end subroutine solve_contacts
+
+    !> The rule of the module notes (steps 1 to 3) on the active contacts, and its answer
+    !! checked (`contact_residual`). info: method, rounds, linear solves, pivots, residual, ok.
+    subroutine rule_solve(laws, d, wf, cap, at_rest, tol, lemke_only, p, w, mode, info)
+        type(contact_law), intent(in) :: laws(:)
+        real(dp), intent(in)    :: d(:, :), wf(:), cap(:), tol
+        logical, intent(in)     :: at_rest, lemke_only
+        real(dp), intent(inout) :: p(:)
+        real(dp), intent(out)   :: w(:)
+        integer, intent(inout)  :: mode(:)
+        type(contact_solve_info), intent(inout) :: info
+        logical :: active(size(wf))
+        integer :: idx(count(is_active(laws, cap))), na, j, its, piv, act(size(idx)), dir(size(idx)), s
+        integer :: m_new(size(wf)), worst, rounds
+        real(dp) :: da(size(idx), size(idx)), qa(size(idx)), bound(size(idx)), pa(size(idx)), ya(size(idx))
+        real(dp) :: mu(size(idx)), mu_new(size(idx)), wts(size(idx)), ca(size(idx)), dg(size(idx))
+        real(dp) :: wtol, pm(size(wf)), wm(size(wf)), r_box, r_mode
+        type(contact_law) :: lw(size(idx))
+        logical :: kin(size(idx)), reset(size(idx)), stuck(size(idx)), changed, ok
+        info%method = merge(SOLVER_PIVOTING, SOLVER_RULE, lemke_only)
+        active = is_active(laws, cap)
+        na = size(idx)
+        idx = pack([(j, j = 1, size(wf))], active)
+        lw = law_at(laws(idx), at_rest)
+        da = d(idx, idx)
+        qa = wf(idx)
+        ca = cap(idx)
+        do j = 1, na
+            dg(j) = da(j, j)
+        end do
+        wts = lw%mu_s * ca
+        ! step 1: a slip kept where its free velocity still goes its way past its static limit
+        kin = .false.
+        dir = 0
+        do j = 1, na
+            s = mode(idx(j))
+            if (abs(s) == 1) then
+                if (s * qa(j) > dg(j) * wts(j) * (1.0_dp + STICK_RTOL)) then
+                    kin(j) = .true.
+                    dir(j) = s
+                end if
+            end if
+        end do
+        reset = .false.
+        mu = lw%mu_s
+        where (kin) mu = lw%slip_mu(max(abs(qa) - dg * wts, tiny(1.0_dp)))
+        act = -dir           ! a kept slip starts on its bound against its direction
+        ! step 2: rounds of box problems, static first
+        do rounds = 1, 3 * na + 30
+            bound = ca * mu
+            call box_solve(da, qa, -bound, bound, wts, pa, ya, act, its, piv, ok, lemke_only)
+            info%sweeps = info%sweeps + its
+            info%pivots = info%pivots + piv
+            info%rounds = rounds
+            if (.not. ok) then
+                info%ok = .false.
+                info%residual = huge(1.0_dp)
+                return
+            end if
+            wtol = 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(qa)) + maxval(dg) * maxval(abs(pa)))
+            stuck = abs(ya) <= wtol
+            changed = .false.
+            mu_new = mu
+            do j = 1, na
+                if (stuck(j)) cycle
+                s = slip_sign(ya(j))
+                if (.not. kin(j)) then               ! gives way
+                    kin(j) = .true.
+                    dir(j) = s
+                    changed = .true.
+                else if (s /= dir(j)) then
+                    if (.not. reset(j)) then         ! crossed zero: decided again from rest
+                        kin(j) = .false.
+                        reset(j) = .true.
+                        dir(j) = 0
+                        mu_new(j) = lw(j)%mu_s
+                        changed = .true.
+                        cycle
+                    end if
+                    dir(j) = s
+                end if
+                mu_new(j) = lw(j)%slip_mu(abs(ya(j)))
+            end do
+            if (.not. changed .and. all(abs(mu_new - mu) <= 8.0_dp * epsilon(1.0_dp) * mu)) exit
+            mu = mu_new
+        end do
+        ! the answer of the last round, slips exactly on their bounds
+        p = 0.0_dp
+        where (.not. stuck) pa = -sign(bound, ya)
+        p(idx) = pa
+        w = wf + matmul(d, p)
+        mode(idx) = MODE_STICK
+        do j = 1, na
+            if (.not. stuck(j)) mode(idx(j)) = slip_sign(ya(j))
+            if (stuck(j)) w(idx(j)) = 0.0_dp
+        end do
+        call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, r_box, worst)
+        ! step 3: the same mode solved exactly (weighted minimum-norm stuck impulses, slip speeds)
+        m_new = mode
+        call solve_mode(laws, d, wf, cap, at_rest, m_new, pm, wm, ok)
+        info%sweeps = info%sweeps + 1
+        if (ok) then
+            call contact_residual(laws, d, wf, cap, at_rest, pm, wm, m_new, r_mode, worst)
+            if (r_mode <= max(r_box, residual_limit(0.0_dp, wf, d, pm))) then
+                p = pm
+                w = wm
+            end if
+        end if
+        call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
+        info%ok = info%residual <= residual_limit(tol, wf, d, p)
+    end subroutine rule_solve
+
+    !> info%nonunique: whether a solution with at least as many stuck contacts as the answer
+    !! (w, mode) exists in the neighbourhood the module notes name (each slipping contact that
+    !! could stick made stuck, with the stuck contacts it would overload slipping).
+    subroutine find_other_solution(laws, d, wf, cap, at_rest, w, mode, info)
+        type(contact_law), intent(in) :: laws(:)
+        real(dp), intent(in) :: d(:, :), wf(:), cap(:), w(:)
+        logical, intent(in)  :: at_rest
+        integer, intent(in)  :: mode(:)
+        type(contact_solve_info), intent(inout) :: info
+        integer :: j, nst, mt(size(wf))
+        real(dp) :: pt(size(wf)), wt(size(wf)), reach
+        logical :: ok, over(size(wf))
+        nst = count(mode == MODE_STICK)
+        do j = 1, size(wf)
+            if (abs(mode(j)) /= 1) cycle
+            reach = d(j, j) * (laws(j)%mu_s + slip_coefficient(laws(j), abs(w(j)), at_rest)) * cap(j)
+            if (abs(w(j)) > reach * (1.0_dp + 1.0e-9_dp)) cycle
+            mt = mode
+            mt(j) = MODE_STICK
+            call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
+            info%sweeps = info%sweeps + 1
+            if (.not. ok .and. all(ieee_is_finite(pt))) then
+                over = mt == MODE_STICK .and. abs(pt) > laws%mu_s * cap * (1.0_dp + STICK_RTOL)
+                if (over(j) .or. .not. any(over) .or. count(mt == MODE_STICK) - count(over) < nst) cycle
+                where (over) mt = -nint(sign(1.0_dp, pt))
+                call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
+                info%sweeps = info%sweeps + 1
+            end if
+            if (ok) then
+                info%nonunique = .true.
+                return
+            end if
+        end do
+    end subroutine find_other_solution
 
     !> Velocities of open contacts from the impulses, wf + D p.
     subroutine open_velocities(d, wf, p, mode, w)
@@ -238,84 +365,6 @@ contains
         end do
         lim = max(tol, 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(wf)) + dmax * maxval(abs(p))))
     end function residual_limit
-
-    !> Static-first pivoting, for contact sets where enumeration is too costly and Gauss-Seidel
-    !! does not converge. Rounds of box problems (`box_lcp`, Lemke's algorithm): in the first
-    !! every active contact may hold up to its static limit, |p_i| <= mu_s,i c_i; a contact
-    !! that slips even so (w_i /= 0 at its limit) gives way: from the next round on its bound is
-    !! its slip coefficient (mu_k for Coulomb; for the Stribeck curve mu(|w_i|) at its last
-    !! speed), and so on until no further contact gives way. Bounds only decrease, so at most
-    !! n + 1 rounds for constant coefficients; at the end every contact on its static bound is
-    !! stuck (w_i = 0) and every contact on its slip bound either slips against it or sticks
-    !! within it, which is a solution of the problem (for Coulomb the box problem with the
-    !! kinetic bounds always has one, so pivoting always ends with a solution in exact
-    !! arithmetic). The stuck set is then solved again by `solve_mode` (the weighted
-    !! minimum-norm impulses of a redundant stuck set, the Stribeck slip speeds by Newton's
-    !! method), which is kept where it is a solution. Contacts give way only where static
-    !! friction cannot hold them; the answer has no fewer stuck contacts than necessary in
-    !! that sense, but is not guaranteed to have the most stuck contacts of all solutions.
-    subroutine pivoting(laws, d, wf, cap, at_rest, active, p, w, mode, found, pivots, rounds)
-        type(contact_law), intent(in) :: laws(:)
-        real(dp), intent(in)    :: d(:, :), wf(:), cap(:)
-        logical, intent(in)     :: at_rest, active(:)
-        real(dp), intent(inout) :: p(:)
-        real(dp), intent(out)   :: w(:)
-        integer, intent(inout)  :: mode(:)
-        logical, intent(out)    :: found
-        integer, intent(out)    :: pivots, rounds
-        integer :: idx(count(active)), na, j, piv, m_new(size(wf))
-        real(dp) :: da(size(idx), size(idx)), bound(size(idx)), pa(size(idx)), ya(size(idx)), mu(size(idx))
-        real(dp) :: mu_new(size(idx)), wtol, pm(size(wf)), wm(size(wf)), r_lemke, r_mode
-        type(contact_law) :: lw(size(idx))
-        logical :: slipping(size(idx)), stuck(size(idx)), newly(size(idx)), ok
-        integer :: worst
-        na = size(idx)
-        idx = pack([(j, j = 1, size(wf))], active)
-        lw = law_at(laws(idx), at_rest)
-        da = d(idx, idx)
-        pivots = 0
-        found = .false.
-        slipping = .false.
-        mu = lw%mu_s
-        do rounds = 1, na + 30
-            bound = cap(idx) * mu
-            call box_lcp(da, wf(idx), -bound, bound, pa, ya, piv, ok)
-            pivots = pivots + piv
-            if (.not. ok) return
-            wtol = 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(wf(idx))) + maxval(abs(da)) * maxval(abs(pa)))
-            stuck = abs(ya) <= wtol
-            newly = .not. stuck .and. .not. slipping
-            slipping = slipping .or. newly
-            mu_new = mu
-            where (slipping) mu_new = lw%slip_mu(max(abs(ya), tiny(1.0_dp)))
-            where (slipping .and. stuck) mu_new = mu      ! stuck within a slip bound: keep it
-            if (.not. any(newly) .and. all(abs(mu_new - mu) <= 8.0_dp * epsilon(1.0_dp) * mu)) exit
-            mu = mu_new
-        end do
-        rounds = min(rounds, na + 30)
-        ! the answer of the last round, slips exactly on their bounds
-        p = 0.0_dp
-        where (.not. stuck) pa = -sign(bound, ya)
-        p(idx) = pa
-        w = wf + matmul(d, p)
-        mode(idx) = 0
-        do j = 1, na
-            if (.not. stuck(j)) mode(idx(j)) = slip_sign(ya(j))
-            if (stuck(j)) w(idx(j)) = 0.0_dp
-        end do
-        call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, r_lemke, worst)
-        ! the same mode solved exactly (weighted minimum-norm stuck impulses, Stribeck speeds)
-        m_new = mode
-        call solve_mode(laws, d, wf, cap, at_rest, m_new, pm, wm, ok)
-        if (ok) then
-            call contact_residual(laws, d, wf, cap, at_rest, pm, wm, m_new, r_mode, worst)
-            if (r_mode <= max(r_lemke, residual_limit(0.0_dp, wf, d, pm))) then
-                p = pm
-                w = wm
-            end if
-        end if
-        found = .true.
-    end subroutine pivoting
 
     !> The law of a contact as the solver uses it: at rest, the Coulomb law with the slip
     !! coefficient mu(0+) (mu_k for Coulomb, mu_s for the Stribeck curve).
@@ -412,112 +461,6 @@ contains
             mu = law%slip_mu(s)
         end if
     end function slip_coefficient
-
-    !> Exact enumeration: the previous mode first (or, where it holds contacts beyond their
-    !! limits, the previous mode with those contacts slipping against their holding impulses),
-    !! then the modes by number of slipping contacts (0, 1, ...), every subset and every sign
-    !! pattern; the first number of slipping contacts with a solution is taken, and in it that
-    !! first guess if it is a solution there, otherwise the solution with the smallest sum |w|.
-    subroutine enumerate(laws, d, wf, cap, at_rest, active, p, w, mode, found, tried)
-        type(contact_law), intent(in) :: laws(:)
-        real(dp), intent(in)    :: d(:, :), wf(:), cap(:)
-        logical, intent(in)     :: at_rest, active(:)
-        real(dp), intent(inout) :: p(:)
-        real(dp), intent(out)   :: w(:)
-        integer, intent(inout)  :: mode(:)
-        logical, intent(out)    :: found
-        integer, intent(out)    :: tried
-        integer :: idx(count(active)), comb(count(active)), trial(size(wf)), na, k, kmax, pattern, j
-        real(dp) :: pt(size(wf)), wt(size(wf)), best, p_prev(size(wf)), w_prev(size(wf))
-        integer :: m_prev(size(wf))
-        logical :: ok, more, prev, over(size(wf))
-        na = size(idx)
-        idx = pack([(j, j = 1, size(wf))], active)
-        found = .false.
-        tried = 0
-        best = huge(1.0_dp)
-        kmax = na
-        ! the previous mode, if it assigns every active contact and is a solution: only
-        ! modes with fewer slipping contacts can replace it
-        prev = all(abs(mode(idx)) <= 1)
-        if (prev) then
-            m_prev = mode
-            where (.not. active) m_prev = MODE_OPEN
-            call solve_mode(laws, d, wf, cap, at_rest, m_prev, p_prev, w_prev, prev)
-            tried = 1
-            if (.not. prev .and. all(ieee_is_finite(p_prev))) then
-                ! the contacts held beyond their limits in that mode give way, against their
-                ! holding impulses; the others keep their modes
-                over = m_prev == MODE_STICK .and. abs(p_prev) > laws%mu_s * cap * (1.0_dp + STICK_RTOL)
-                if (any(over)) then
-                    where (over) m_prev = -nint(sign(1.0_dp, p_prev))
-                    call solve_mode(laws, d, wf, cap, at_rest, m_prev, p_prev, w_prev, prev)
-                    tried = 2
-                end if
-            end if
-            if (prev) kmax = count(m_prev(idx) /= MODE_STICK) - 1
-        end if
-        do k = 0, kmax
-            comb(:k) = [(j, j = 1, k)]
-            more = .true.
-            do while (more)
-                do pattern = 0, 2**k - 1
-                    trial = MODE_OPEN
-                    trial(idx) = MODE_STICK
-                    do j = 1, k
-                        trial(idx(comb(j))) = merge(1, -1, btest(pattern, j - 1))
-                    end do
-                    call try_mode(trial, ok)
-                end do
-                call next_combination(comb(:k), na, more)
-            end do
-            if (found) exit
-        end do
-        if (.not. found .and. prev) then
-            found = .true.
-            p = p_prev
-            w = w_prev
-            mode = m_prev
-        end if
-    contains
-
-        subroutine try_mode(m, ok)
-            integer, intent(in) :: m(:)
-            logical, intent(out) :: ok
-            real(dp) :: slip
-            tried = tried + 1
-            call solve_mode(laws, d, wf, cap, at_rest, m, pt, wt, ok)
-            if (.not. ok) return
-            slip = sum(abs(wt), mask=(abs(m) == 1))
-            if (.not. found .or. slip < best) then
-                found = .true.
-                best = slip
-                p = pt
-                w = wt
-                mode = m
-            end if
-        end subroutine try_mode
-    end subroutine enumerate
-
-    !> The next k-subset of 1..n in lexicographic order (more = .false. after the last).
-    pure subroutine next_combination(c, n, more)
-        integer, intent(inout) :: c(:)
-        integer, intent(in) :: n
-        logical, intent(out) :: more
-        integer :: k, i, j
-        k = size(c)
-        more = .false.
-        do i = k, 1, -1
-            if (c(i) < n - k + i) then
-                c(i) = c(i) + 1
-                do j = i + 1, k
-                    c(j) = c(j - 1) + 1
-                end do
-                more = .true.
-                return
-            end if
-        end do
-    end subroutine next_combination
 
     !> The solution of one mode m (MODE_STICK, +-1 or MODE_OPEN per contact), if it has one:
     !! the stuck block's impulses by the weighted minimum-norm solve, the slip speeds in closed
@@ -708,6 +651,91 @@ contains
         ! the gap of the active contacts: the last sweep's later updates (the last contact's: none)
         if (nc > 0) upd(nc) = 0.0_dp
     end subroutine gs_sweeps
+
+    !> Nonsmooth Gauss-Seidel on W u1 = W uf + H^T p with W tridiagonal (l, d, r) and each
+    !! contact on one coordinate of its own: coordinate by coordinate, u1_i from its row given
+    !! the neighbours, through the contact's one-contact solution (`local_solve`) where it has
+    !! one; a stuck contact gets w = 0 exactly. Sweeps until the residual (the largest change
+    !! that the update of coordinate i + 1 made to coordinate i's velocity, [m/s]) is <= tol,
+    !! and, where the sweeps contract it slowly (by rho >= 1/2 a sweep: W ill-conditioned, a
+    !! stiff spring or a tiny mass), until the distance to the answer that this leaves, about
+    !! resid rho / (1 - rho), is <= tol too; or max_iter sweeps are done, or (after 8 sweeps)
+    !! the contraction seen would need more than the sweeps left. resid: that estimate (> tol:
+    !! not converged).
+    !! u1: starting guess in, velocities out [m/s].
+    subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
+                                  iworst)
+        class(contact_system), intent(in) :: cs  !! the system (its laws and H)
+        real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
+        real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
+        real(dp), intent(in)    :: r(:)          !! W(i, i + 1) [-]
+        real(dp), intent(in)    :: uf(:)         !! velocities without friction [m/s]
+        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
+        real(dp), intent(in)    :: boff(:)       !! offsets of the relative velocities [m/s]
+        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
+        real(dp), intent(in)    :: tol           !! tolerance on the residual [m/s]
+        integer, intent(in)     :: max_iter      !! sweep limit, >= 1
+        real(dp), intent(inout) :: u1(:)         !! velocities [m/s]
+        real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
+        integer, intent(out)    :: sweeps        !! sweeps done
+        real(dp), intent(out)   :: resid         !! final residual [m/s]
+        integer, intent(out)    :: iworst        !! the coordinate with the largest residual
+        real(dp) :: b(size(u1)), du(size(u1)), s, ufree, hv, w, pnew, rho, resid_prev
+        integer :: i, n, c
+        n = size(u1)
+        resid = 0.0_dp
+        iworst = 1
+        ! b = W uf
+        do i = 1, n
+            b(i) = d(i) * uf(i)
+            if (i > 1) b(i) = b(i) + l(i) * uf(i - 1)
+            if (i < n) b(i) = b(i) + r(i) * uf(i + 1)
+        end do
+        resid_prev = 0.0_dp
+        do sweeps = 1, max_iter
+            do i = 1, n
+                s = b(i)
+                if (i > 1) s = s - l(i) * u1(i - 1)
+                if (i < n) s = s - r(i) * u1(i + 1)
+                ufree = s / d(i)
+                c = coord_contact(i)
+                if (c > 0) then
+                    hv = cs%h_val(cs%h_ptr(c))
+                    call local_solve(cs%laws(c), hv * ufree + boff(c), hv * hv / d(i), hn(c), w, pnew)
+                    wloc(c) = w
+                    if (w == 0.0_dp) then
+                        ufree = -boff(c) / hv
+                    else
+                        ufree = ufree + hv * pnew / d(i)
+                    end if
+                end if
+                du(i) = ufree - u1(i)
+                u1(i) = ufree
+            end do
+            resid = 0.0_dp
+            iworst = 1
+            do i = 1, n - 1
+                if (abs(r(i) * du(i + 1) / d(i)) > resid) then
+                    resid = abs(r(i) * du(i + 1) / d(i))
+                    iworst = i
+                end if
+            end do
+            ! the sweeps contract the residual by rho = resid / resid_prev a sweep: what remains
+            ! to the answer is about resid rho / (1 - rho), which must be within tol too
+            ! (rho >= 1: not contracting, no end)
+            rho = 0.0_dp
+            if (resid_prev > 0.0_dp) rho = resid / resid_prev
+            resid_prev = resid
+            if (rho >= 0.5_dp) resid = resid * rho / max(1.0_dp - rho, epsilon(1.0_dp))
+            if (resid <= tol) exit
+            ! contracting too slowly to reach tol within max_iter sweeps: stop (not converged)
+            if (sweeps >= 8 .and. rho >= 0.5_dp) then
+                if (rho >= 1.0_dp) exit
+                if (log(tol / resid) / log(rho) > real(max_iter - sweeps, dp)) exit
+            end if
+        end do
+        sweeps = min(sweeps, max_iter)
+    end subroutine tridiagonal_sweeps
 
     !> Room for n numbers in buf (kept where there is enough).
     subroutine reserve(buf, n)

@@ -165,7 +165,7 @@ contains
                                         ' an integer >= 1'
         case (SS_BAD_EVENT_CTL); msg = 'max_events: an integer >= 1; zeno_gap: finite and >= 0 [s]'
         case (SS_NOT_SETVALUED);  msg = 'law: the methods moreau and event_driven take only the set-valued' // &
-                                        ' laws coulomb, stribeck (and a system with the contact interface)'
+                                        ' laws coulomb, stribeck, karnopp (and a system with the contact interface)'
         case (SS_JUMP_MANY_CONTACTS); msg = 'law: implicit_euler and galpha solve a law with jumps' // &
                                         ' (coulomb, karnopp) on several contacts only through the' // &
                                         ' system''s contact model, which this system does not give'

@@ -15,13 +15,24 @@
 !! the box, so it always has a solution. Written as LCP(M, q') of size 2n with
 !! z = (p - lo, nu), M = [[D, I], [-I, 0]] (positive semidefinite), q' = (q + D lo, hi - lo):
 !! the first block of y is the positive part of D p + q, nu its negative part.
+!!
+!! `box_solve` solves the same box problem by a primal-dual active-set method (a semismooth
+!! Newton method on the problem's projection form, Hintermueller, Ito and Kunisch, SIAM J.
+!! Optim. 13, 2003): each iteration fixes the contacts at a bound, solves the free block by LU
+!! and moves contacts between the sets where the bounds or the signs of y are violated. It
+!! ends, typically after 1 to 4 linear solves from a warm start, when no set changes; where it
+!! does not within 2 m + 10 iterations (it may cycle where D is not an M-matrix) or a free
+!! block is singular (redundant contacts), Lemke's method (`box_lcp`) is the exact fallback. y = D p + q is the same at every
+!! solution of the box problem (D p is constant on the minimisers of a convex quadratic), so
+!! which contacts end with y_i /= 0 does not depend on the method that solved it.
 module stickslip_lcp
     use stickslip_kinds, only: dp
+    use stickslip_linalg, only: psd_solve
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
-    public :: lemke, box_lcp
+    public :: lemke, box_lcp, box_solve
 
     integer, parameter, public :: LCP_SOLVED = 0     !! a solution was found
     integer, parameter, public :: LCP_RAY = 1        !! ended on a secondary ray (no solution found)
@@ -217,5 +228,104 @@ contains
         p = min(max(lo + z(:n), lo), hi)
         y = q + matmul(d, p)
     end subroutine box_lcp
+
+    !> The box problem of the module notes by the active-set Newton method, Lemke's method
+    !! (`box_lcp`) where that does not end (module notes). act: the set of each unknown in
+    !! (a warm start: -1 at lo, +1 at hi, 0 free) and out. ok: solved; then p is in the box
+    !! and y = D p + q.
+    subroutine box_solve(d, q, lo, hi, wts, p, y, act, its, pivots, ok, lemke_only)
+        real(dp), intent(in)    :: d(:, :)   !! (n, n) symmetric positive semidefinite matrix [1/kg]
+        real(dp), intent(in)    :: q(:)      !! (n) the free term [m/s]
+        real(dp), intent(in)    :: lo(:)     !! (n) lower bounds [N s]
+        real(dp), intent(in)    :: hi(:)     !! (n) upper bounds, > lo [N s]
+        real(dp), intent(in)    :: wts(:)    !! (n) weights of the minimum norm of a singular free block, > 0
+        real(dp), intent(out)   :: p(:)      !! (n) the solution [N s]
+        real(dp), intent(out)   :: y(:)      !! (n) D p + q [m/s]
+        integer, intent(inout)  :: act(:)    !! (n) -1 at lo, +1 at hi, 0 free: warm start in, sets out
+        integer, intent(out)    :: its       !! active-set iterations (linear solves) done
+        integer, intent(out)    :: pivots    !! Lemke pivots (0: not needed)
+        logical, intent(out)    :: ok        !! a solution was found
+        logical, intent(in), optional :: lemke_only  !! skip the Newton method (tests, benchmarks)
+        integer :: n, nf, i, j, k, fr(size(q))
+        real(dp) :: rhs(size(q), 1), a(size(q), size(q)), ytol, ptol(size(q)), dmax
+        logical :: changed
+        n = size(q)
+        pivots = 0
+        its = 0
+        ok = .true.
+        dmax = 0.0_dp
+        do i = 1, n
+            dmax = max(dmax, d(i, i))
+        end do
+        ptol = 1.0e-12_dp * (hi - lo)
+        if (present(lemke_only)) then
+            if (lemke_only) ok = .false.
+        end if
+        do while (ok .and. its < 2 * n + 10)
+            its = its + 1
+            nf = 0
+            do i = 1, n
+                if (act(i) > 0) then
+                    p(i) = hi(i)
+                else if (act(i) < 0) then
+                    p(i) = lo(i)
+                else
+                    p(i) = 0.0_dp
+                    nf = nf + 1
+                    fr(nf) = i
+                end if
+            end do
+            if (nf > 0) then
+                ! D_FF p_F = -(q_F + D_FB p_B)
+                do k = 1, nf
+                    i = fr(k)
+                    rhs(k, 1) = -q(i)
+                    do j = 1, n
+                        if (act(j) /= 0) rhs(k, 1) = rhs(k, 1) - d(i, j) * p(j)
+                    end do
+                    a(:nf, k) = d(fr(:nf), i)
+                end do
+                call psd_solve(a(:nf, :nf), rhs(:nf, :), wts(fr(:nf)), ok, regular_only=.true.)
+                if (.not. ok) exit
+                p(fr(:nf)) = rhs(:nf, 1)
+            end if
+            y = q + matmul(d, p)
+            ytol = 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(q)) + dmax * maxval(abs(p)))
+            changed = .false.
+            do i = 1, n
+                select case (act(i))
+                case (0)
+                    if (p(i) > hi(i) + ptol(i)) then
+                        act(i) = 1
+                        changed = .true.
+                    else if (p(i) < lo(i) - ptol(i)) then
+                        act(i) = -1
+                        changed = .true.
+                    end if
+                case (1)
+                    if (y(i) > ytol) then
+                        act(i) = 0
+                        changed = .true.
+                    end if
+                case default
+                    if (y(i) < -ytol) then
+                        act(i) = 0
+                        changed = .true.
+                    end if
+                end select
+            end do
+            if (.not. changed) then
+                p = min(max(p, lo), hi)
+                return
+            end if
+        end do
+        ! the exact fallback
+        call box_lcp(d, q, lo, hi, p, y, pivots, ok)
+        do i = 1, n
+            act(i) = 0
+            if (p(i) >= hi(i) .and. y(i) < 0.0_dp) act(i) = 1
+            if (p(i) <= lo(i) .and. y(i) > 0.0_dp) act(i) = -1
+        end do
+    end subroutine box_solve
 
 end module stickslip_lcp

@@ -122,13 +122,15 @@ contains
     !! matrix (cyclic Jacobi), eigenvalues below 1e-12 of the largest taken as 0. ok is
     !! .false. when b is not in the range of A (relative residual above 1e-9) or an entry is
     !! not finite; x is then not a solution. With `factors` (A's LU from `psd_factor`, where A
-    !! serves many solves) A is not factored again.
-    subroutine psd_solve(a, b, wts, ok, factors)
+    !! serves many solves) A is not factored again. With regular_only, a singular A gives
+    !! ok = .false. at once (no eigendecomposition: for a caller with another way on).
+    subroutine psd_solve(a, b, wts, ok, factors, regular_only)
         real(dp), intent(in)    :: a(:, :)   !! (m, m) symmetric positive semidefinite matrix
         real(dp), intent(inout) :: b(:, :)   !! (m, k) right-hand sides, solutions on exit
         real(dp), intent(in)    :: wts(:)    !! (m) weights of the norm, > 0
         logical, intent(out)    :: ok        !! .true.: b was in the range of A
         type(psd_factors), intent(in), optional :: factors  !! A's LU (`psd_factor`), if formed
+        logical, intent(in), optional :: regular_only       !! a singular A: ok = .false., b untouched
         type(psd_factors) :: own
         real(dp) :: big
         integer :: info, m, j
@@ -154,6 +156,12 @@ contains
         if (info == 0) then
             ok = all(ieee_is_finite(b))
             return
+        end if
+        if (present(regular_only)) then
+            if (regular_only) then
+                ok = .false.
+                return
+            end if
         end if
         call psd_pseudo_solve(a, b, wts, ok)
     contains

@@ -76,6 +76,11 @@ module stickslip_ode
         !! evaluation found; halt = .true. ends the run after this step (status SS_OK,
         !! t_reached the step's end). The default: nothing kept, no halt.
         procedure :: step_accepted => no_step_accepted
+        !> The size of each component that the relative tolerance scales, read by the error
+        !! norms of dopri5, dop853 and radau5 (weights atol + rtol size): |y_i| by default. A
+        !! system overrides it where what matters is smaller than |y_i|: a model gives a
+        !! velocity's size as the slip its friction law sees (`stickslip_model_system`).
+        procedure :: error_size => plain_error_size
     end type ode_system
 
     !> The controls every integrator shares; each method reads those its registry entry
@@ -142,6 +147,8 @@ module stickslip_ode
         integer(8) :: ncontact_iter = 0  !! sweeps of the contact solver, all steps together (moreau)
         real(dp)   :: contact_residual = 0.0_dp  !! largest final residual of a step's contact solve (moreau) [m/s]
         integer    :: contact_worst = 0  !! the contact (1-based) whose solve failed (SS_CONTACT_FAILED), else 0
+        integer(8) :: nonunique = 0      !! steps (moreau) or mode decisions (event_driven) whose contact
+                                         !! problem had another solution with as many stuck contacts
         logical    :: stiff = .false.   !! 15 such tests in a row: the problem is probably stiff
         integer    :: n_written = 0     !! output rows written
         real(dp)   :: t_reached = 0.0_dp  !! time reached when the run ended [s]
@@ -165,11 +172,20 @@ module stickslip_ode
     !! `stats_integers` and `stats_reals`: the Python and C layers read them by name.
     character(len=*), parameter, public :: STATS_INTEGER_NAMES = &
         'nfev nstep naccept nreject nforced nstiff stiff njac ndec nsol n_written status nevents ncontact_iter' // &
-        ' contact_worst'
+        ' contact_worst nonunique'
     character(len=*), parameter, public :: STATS_REAL_NAMES = 't_reached h_last contact_residual'
     !! names of the real counters, in the order of `stats_reals`
 
 contains
+
+    !> |y_i| (the default `error_size`).
+    subroutine plain_error_size(self, t, y, size_y)
+        class(ode_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! state
+        real(dp), intent(out) :: size_y(:)  !! the size of each component
+        size_y = abs(y)
+    end subroutine plain_error_size
 
     !> .true. when the caller has asked the run to stop: the flag is looked at only every
     !! STOP_CHECK_MASK + 1 steps, so that the check costs nothing in the hot loop.
@@ -185,10 +201,10 @@ contains
     !> The integer counters of st in the order of STATS_INTEGER_NAMES.
     pure function stats_integers(st) result(v)
         type(ode_stats), intent(in) :: st   !! counters of a run
-        integer(8) :: v(15)
+        integer(8) :: v(16)
         v = [st%nfev, st%nstep, st%naccept, st%nreject, st%nforced, st%nstiff, &
              merge(1_8, 0_8, st%stiff), st%njac, st%ndec, st%nsol, int(st%n_written, 8), &
-             int(st%status, 8), st%nevents, st%ncontact_iter, int(st%contact_worst, 8)]
+             int(st%status, 8), st%nevents, st%ncontact_iter, int(st%contact_worst, 8), st%nonunique]
     end function stats_integers
 
     !> The real counters of st in the order of STATS_REAL_NAMES.

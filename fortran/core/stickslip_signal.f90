@@ -26,6 +26,7 @@ module stickslip_signal
     private
 
     public :: signal_set
+    public :: signal_combine, signal_affine, signal_derivative, signal_integral
 
     integer, parameter, public :: SIG_CONST = 1   !! a number
     integer, parameter, public :: SIG_STEP = 2    !! a step at a time
@@ -43,6 +44,16 @@ module stickslip_signal
     integer, parameter, public :: SIG_ERR_TABLE = 4     !! a table empty, outside tab_t, or not strictly increasing
 
     real(dp), parameter :: two_pi = 2.0_dp * acos(-1.0_dp)
+
+    !> The duration and height of a ramp that never ends in any run (`signal_integral`):
+    !! 2^600 s (about 4e180 s), a power of 2 so that its value is t - start exactly.
+    real(dp), parameter :: ENDLESS = 2.0_dp**600
+
+    !> A postfix program (operations and their arguments), being built (`signal_combine`).
+    type :: program_t
+        integer, allocatable :: op(:)
+        real(dp), allocatable :: arg(:, :)
+    end type program_t
 
     !> Signals as one postfix program (see the module notes).
     type :: signal_set
@@ -344,5 +355,267 @@ contains
         end do
         which = 0
     end subroutine signal_check
+
+    ! ---- Signals made from signals (the drives of `stickslip_user_model`): sums, affine maps,
+    ! derivatives and integrals of a set's signal i, appended to the set as new signals. A
+    ! function of time that grows without end, t - T after T, is a ramp that never ends in any
+    ! run: ramp(T, ENDLESS, ENDLESS), whose value ENDLESS (t - T) / ENDLESS is t - T exactly
+    ! (ENDLESS a power of 2).
+
+
+    !> The signal s1 op s2 (op: SIG_ADD, SIG_SUB or SIG_MUL) appended to the set; its index.
+    !! An s1 or s2 outside 1 .. count appends a malformed signal (`check` names it).
+    integer function signal_combine(sig, s1, s2, op) result(index)
+        type(signal_set), intent(inout) :: sig      !! the signals
+        integer, intent(in) :: s1, s2               !! two of its signals
+        integer, intent(in) :: op                   !! SIG_ADD, SIG_SUB or SIG_MUL
+        integer :: n
+        n = sig%count()
+        if (s1 < 1 .or. s1 > n .or. s2 < 1 .or. s2 > n) then
+            index = append(sig, leaf(SIG_ADD, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp]))
+        else
+            index = append(sig, join(span(sig, sig%start(s1), sig%start(s1 + 1) - 1), &
+                                     span(sig, sig%start(s2), sig%start(s2 + 1) - 1), op))
+        end if
+    end function signal_combine
+
+    !> scale * (signal s) + offset appended to the set; its index.
+    integer function signal_affine(sig, s, scale, offset) result(index)
+        type(signal_set), intent(inout) :: sig      !! the signals
+        integer, intent(in) :: s                    !! one of its signals
+        real(dp), intent(in) :: scale               !! the factor
+        real(dp), intent(in) :: offset              !! the number added
+        index = append(sig, affine(span(sig, sig%start(s), sig%start(s + 1) - 1), scale, offset))
+    end function signal_affine
+
+    !> The time derivative of signal s appended to the set (index in d); ok = .false. (and
+    !! nothing appended) when s has a step, whose derivative is not a function.
+    subroutine signal_derivative(sig, s, d, ok)
+        type(signal_set), intent(inout) :: sig      !! the signals
+        integer, intent(in) :: s                    !! one of its signals
+        integer, intent(out) :: d                   !! the derivative's index (0 when not ok)
+        logical, intent(out) :: ok                  !! .true. when s has a derivative
+        call transform(sig, s, .false., d, ok)
+    end subroutine signal_derivative
+
+    !> The integral of signal s from t = 0, appended to the set (index in d): exact for sums,
+    !! differences and multiples (a number times a signal) of constants, steps, ramps, sines
+    !! and tables; ok = .false. (nothing appended) for other products.
+    subroutine signal_integral(sig, s, d, ok)
+        type(signal_set), intent(inout) :: sig      !! the signals
+        integer, intent(in) :: s                    !! one of its signals
+        integer, intent(out) :: d                   !! the integral's index (0 when not ok)
+        logical, intent(out) :: ok                  !! .true. when it has a closed form here
+        call transform(sig, s, .true., d, ok)
+    end subroutine signal_integral
+
+    !> Append the integral (integral = .true.) or the derivative of signal s; d its index.
+    subroutine transform(sig, s, integral, d, ok)
+        type(signal_set), intent(inout) :: sig
+        integer, intent(in) :: s
+        logical, intent(in) :: integral
+        integer, intent(out) :: d
+        logical, intent(out) :: ok
+        type(program_t) :: p
+        d = 0
+        ok = .true.
+        p = calculus(sig, sig%start(s + 1) - 1, integral, ok)
+        if (ok) d = append(sig, p)
+    end subroutine transform
+
+    !> Append a program as a new signal; its index.
+    integer function append(sig, p) result(index)
+        type(signal_set), intent(inout) :: sig
+        type(program_t), intent(in) :: p
+        real(dp), allocatable :: a(:, :)
+        integer :: n0
+        n0 = size(sig%op)
+        allocate(a(4, n0 + size(p%op)))
+        a(:, :n0) = sig%arg
+        a(:, n0 + 1:) = p%arg
+        call move_alloc(a, sig%arg)
+        sig%op = [sig%op, p%op]
+        sig%start = [sig%start, size(sig%op) + 1]
+        index = size(sig%start) - 1
+    end function append
+
+    pure function leaf(op, arg) result(p)
+        integer, intent(in) :: op
+        real(dp), intent(in) :: arg(4)
+        type(program_t) :: p
+        p%op = [op]
+        p%arg = reshape(arg, [4, 1])
+    end function leaf
+
+    pure function number(c) result(p)
+        real(dp), intent(in) :: c
+        type(program_t) :: p
+        p = leaf(SIG_CONST, [c, 0.0_dp, 0.0_dp, 0.0_dp])
+    end function number
+
+    !> p1 op p2.
+    pure function join(p1, p2, op) result(p)
+        type(program_t), intent(in) :: p1, p2
+        integer, intent(in) :: op
+        type(program_t) :: p
+        p%op = [p1%op, p2%op, op]
+        allocate(p%arg(4, size(p%op)))
+        p%arg(:, :size(p1%op)) = p1%arg
+        p%arg(:, size(p1%op) + 1:size(p%op) - 1) = p2%arg
+        p%arg(:, size(p%op)) = 0.0_dp
+    end function join
+
+    !> scale * p + offset (the product and sum left out where they change nothing).
+    pure function affine(p, scale, offset) result(q)
+        type(program_t), intent(in) :: p
+        real(dp), intent(in) :: scale, offset
+        type(program_t) :: q
+        q = p
+        if (scale /= 1.0_dp) q = join(number(scale), q, SIG_MUL)
+        if (offset /= 0.0_dp) q = join(q, number(offset), SIG_ADD)
+    end function affine
+
+    !> max(t - t_corner, 0)^power (power 1 or 2).
+    pure function hinge(t_corner, power) result(p)
+        real(dp), intent(in) :: t_corner
+        integer, intent(in) :: power
+        type(program_t) :: p
+        p = leaf(SIG_RAMP, [t_corner, ENDLESS, ENDLESS, 0.0_dp])
+        if (power == 2) p = join(p, p, SIG_MUL)
+    end function hinge
+
+    !> The operations first .. last of the set as a program.
+    pure function span(sig, first, last) result(p)
+        type(signal_set), intent(in) :: sig
+        integer, intent(in) :: first, last
+        type(program_t) :: p
+        p%op = sig%op(first:last)
+        p%arg = sig%arg(:, first:last)
+    end function span
+
+    !> The first operation of the operand that ends at operation last.
+    pure integer function operand_start(sig, last) result(k)
+        type(signal_set), intent(in) :: sig
+        integer, intent(in) :: last
+        integer :: need
+        need = 1
+        k = last
+        do
+            select case (sig%op(k))
+            case (SIG_ADD, SIG_SUB, SIG_MUL)
+                need = need + 1
+            case default
+                need = need - 1
+            end select
+            if (need == 0) return
+            k = k - 1
+        end do
+    end function operand_start
+
+    !> The derivative (integral = .false.; ok = .false. at a step) or the integral from t = 0
+    !! (integral = .true.; ok = .false. at a product of two signals that are not numbers) of
+    !! the operand ending at operation last.
+    recursive function calculus(sig, last, integral, ok) result(p)
+        type(signal_set), intent(in) :: sig
+        integer, intent(in) :: last
+        logical, intent(in) :: integral
+        logical, intent(inout) :: ok
+        type(program_t) :: p
+        real(dp) :: a(4), w
+        real(dp), allocatable :: corner(:), change(:)
+        integer :: r, first, j
+        a = sig%arg(:, last)
+        r = 0
+        first = 0
+        if (any(sig%op(last) == [SIG_ADD, SIG_SUB, SIG_MUL])) then
+            r = operand_start(sig, last - 1)            ! the operands: first .. r - 1, r .. last - 1
+            first = operand_start(sig, r - 1)
+        end if
+        select case (sig%op(last))
+        case (SIG_ADD, SIG_SUB)
+            p = join(calculus(sig, r - 1, integral, ok), calculus(sig, last - 1, integral, ok), sig%op(last))
+        case (SIG_MUL)
+            if (.not. integral) then                    ! (u w)' = u' w + u w'
+                p = join(join(calculus(sig, r - 1, integral, ok), span(sig, r, last - 1), SIG_MUL), &
+                         join(span(sig, first, r - 1), calculus(sig, last - 1, integral, ok), SIG_MUL), SIG_ADD)
+            else if (r - first == 1 .and. sig%op(first) == SIG_CONST) then    ! a number times a signal
+                p = affine(calculus(sig, last - 1, integral, ok), sig%arg(1, first), 0.0_dp)
+            else if (last - r == 1 .and. sig%op(r) == SIG_CONST) then
+                p = affine(calculus(sig, r - 1, integral, ok), sig%arg(1, r), 0.0_dp)
+            else
+                ok = .false.
+                p = number(0.0_dp)
+            end if
+        case (SIG_STEP)
+            if (integral) then                          ! before t, then after (t - time) more
+                p = join(affine(hinge(0.0_dp, 1), a(2), 0.0_dp), &
+                         affine(hinge(max(a(1), 0.0_dp), 1), a(3) - a(2), 0.0_dp), SIG_ADD)
+            else
+                ok = .false.
+                p = number(0.0_dp)
+            end if
+        case (SIG_RAMP)                                 ! slope h / d between start and start + d
+            if (integral) then
+                w = 0.5_dp * a(3) / a(2)
+                p = affine(join(hinge(a(1), 2), hinge(a(1) + a(2), 2), SIG_SUB), w, &
+                           -w * (max(-a(1), 0.0_dp)**2 - max(-a(1) - a(2), 0.0_dp)**2))
+            else
+                p = join(leaf(SIG_STEP, [a(1), 0.0_dp, a(3) / a(2), 0.0_dp]), &
+                         leaf(SIG_STEP, [a(1) + a(2), 0.0_dp, -a(3) / a(2), 0.0_dp]), SIG_ADD)
+            end if
+        case (SIG_SINE)
+            if (.not. integral) then
+                p = leaf(SIG_SINE, [two_pi * a(2) * a(1), a(2), a(3) + 0.25_dp * two_pi, 0.0_dp])
+            else if (a(2) == 0.0_dp) then
+                p = affine(hinge(0.0_dp, 1), a(1) * sin(a(3)) + a(4), 0.0_dp)
+            else
+                w = a(1) / (two_pi * a(2))
+                p = join(leaf(SIG_SINE, [w, a(2), a(3) - 0.25_dp * two_pi, w * cos(a(3))]), &
+                         affine(hinge(0.0_dp, 1), a(4), 0.0_dp), SIG_ADD)
+            end if
+        case (SIG_TABLE)        ! at each point, a step (or, integrated, a quadratic) by the change of slope there
+            call slope_changes(sig, nint(a(1)), nint(a(2)), corner, change)
+            if (integral) then
+                p = affine(hinge(0.0_dp, 1), sig%tab_v(nint(a(1))), 0.0_dp)
+            else
+                p = number(0.0_dp)
+            end if
+            do j = 1, size(corner)
+                if (integral) then
+                    w = 0.5_dp * change(j)
+                    p = join(p, affine(hinge(corner(j), 2), w, -w * max(-corner(j), 0.0_dp)**2), SIG_ADD)
+                else
+                    p = join(p, leaf(SIG_STEP, [corner(j), 0.0_dp, change(j), 0.0_dp]), SIG_ADD)
+                end if
+            end do
+        case default            ! SIG_CONST
+            if (integral) then
+                p = affine(hinge(0.0_dp, 1), a(1), 0.0_dp)
+            else
+                p = number(0.0_dp)
+            end if
+        end select
+    end function calculus
+
+    !> The points of the table tab(first : first + count - 1) where its slope changes (0 before
+    !! its first point and after its last), and the change there.
+    pure subroutine slope_changes(sig, first, count, corner, change)
+        type(signal_set), intent(in) :: sig
+        integer, intent(in) :: first, count
+        real(dp), allocatable, intent(out) :: corner(:), change(:)
+        real(dp) :: slope0, slope1
+        integer :: j
+        allocate(corner(0), change(0))
+        slope0 = 0.0_dp
+        do j = first, first + count - 1
+            slope1 = 0.0_dp
+            if (j < first + count - 1) slope1 = (sig%tab_v(j + 1) - sig%tab_v(j)) / (sig%tab_t(j + 1) - sig%tab_t(j))
+            if (slope1 /= slope0) then
+                corner = [corner, sig%tab_t(j)]
+                change = [change, slope1 - slope0]
+            end if
+            slope0 = slope1
+        end do
+    end subroutine slope_changes
 
 end module stickslip_signal

@@ -103,7 +103,7 @@ module stickslip_event_driven
     !> What the event-driven method is and which controls it reads (registry entry).
     type(method_info), parameter, public :: EVENT_DRIVEN_INFO = method_info(name='event_driven', order=5, &
         adaptive=.true., implicit=.false., controls='rtol atol max_steps max_events zeno_gap', &
-        doc='event-driven stick/slip switching, DOPRI5 in each mode', laws='coulomb stribeck')
+        doc='event-driven stick/slip switching, DOPRI5 in each mode', laws='coulomb stribeck karnopp')
 
     !> Controls of the event-driven method.
     type, extends(step_controls) :: event_driven_options

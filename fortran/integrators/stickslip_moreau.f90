@@ -11,24 +11,32 @@
 !! theta-method; otherwise it is its linearly implicit form (one Newton iteration).
 !!
 !! The friction problem w = w_free + D p, D = H W^-1 H^T (the Delassus matrix, n_c x n_c),
-!! is solved by `stickslip_contact_solver`: one contact in closed form (`local_solve`), up to
-!! ENUM_MAX contacts exactly by mode enumeration (coupled rows of H, redundant contacts and
-!! mu_s > mu_k included; the solution with the most stuck contacts where there are several),
-!! more by projected Gauss-Seidel, with static-first pivoting (Lemke) where that does not
-!! converge. The previous step's mode and impulses are the warm start.
-!! Every answer is checked against the step's problem: a residual above contact_tol [m/s]
-!! ends the run with SS_CONTACT_FAILED, the step's time in t_reached and the worst contact in
+!! is solved by `stickslip_contact_solver` (`solve_contacts`): one contact in closed form
+!! (`local_solve`), more by its rule for problems with several solutions (a slip kept while
+!! its free velocity goes its way, static first, minimum-norm impulses; the solver's notes),
+!! at a cost polynomial in n_c. The previous step's modes are the rule's previous mode (the
+!! first step's: each contact's initial relative velocity, slipping where it moves); a step
+!! whose problem had another solution with as many stuck contacts is counted in
+!! stats%nonunique. Every answer is checked against the step's problem: a residual above
+!! contact_tol [m/s] (or the rounding of the problem's own numbers, where larger) ends the
+!! run with SS_CONTACT_FAILED, the step's time in t_reached and the worst contact in
 !! contact_worst. When `w_constant` is set, D is formed once per step size (n_c solves with
 !! W), otherwise every step. Dense D: fine for a few hundred contacts.
 !!
 !! When W is tridiagonal (`w_tridiagonal`, e.g. a chain of blocks) and every contact acts on
-!! one coordinate of its own, the same problem is solved on W itself (`tridiagonal_sweeps`):
+!! one coordinate of its own, the same problem is solved on W itself (`tridiagonal_sweeps` of
+!! `stickslip_contact_solver`):
 !! W u1 = W u_free + H^T p, coordinate by coordinate, each contact's one-contact problem in
 !! closed form given its neighbours' velocities (nonsmooth Gauss-Seidel; W is symmetric
 !! positive definite, so the sweeps converge). A sweep costs O(n) instead of O(n_c^2), and D
 !! is never formed. Its residual is the same quantity: the largest change that a sweep's
 !! later update of coordinate i + 1 makes to coordinate i's velocity, |W(i, i+1) du_{i+1} /
-!! W(i, i)| [m/s].
+!! W(i, i)| [m/s], enlarged where the sweeps contract slowly to the distance to the answer it
+!! leaves. A step whose sweeps do not reach contact_tol within contact_max_iter (W
+!! ill-conditioned: two blocks joined by a spring with k h^2 >> m, a mass ratio of 1e-9) is
+!! solved again by `solve_contacts` on D, formed for it (up to DENSE_FALLBACK_MAX contacts).
+!! The sweeps follow the solver's rule only where the step has one solution (stick-slip
+!! transitions of a chain with mu_s > mu_k may differ at O(h)).
 !!
 !! A stuck contact whose row of H has a single entry has its coordinate's velocity set so
 !! that w = 0 exactly (the solve gives it to rounding otherwise).
@@ -49,25 +57,29 @@ module stickslip_moreau
                                SS_BAD_CONTACT_CTL, SS_CONTACT_FAILED
     use stickslip_ode, only: ode_stats, step_controls, method_info, check_problem, output_start, &
                              fixed_steps, step_end, stop_requested, all_finite
-    use stickslip_contact, only: contact_system, local_solve
-    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace
+    use stickslip_contact, only: contact_system
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, tridiagonal_sweeps
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use stickslip_ode, only: diverged, linear_output
     implicit none
     private
 
-    public :: moreau_options, moreau_integrate, tridiagonal_sweeps
+    public :: moreau_options, moreau_integrate
+
+    !> Most contacts for which a step whose tridiagonal sweeps do not converge is solved again
+    !! on the dense Delassus matrix (n_c^2 numbers); beyond, the step fails (SS_CONTACT_FAILED).
+    integer, parameter, public :: DENSE_FALLBACK_MAX = 2000
 
     !> What the Moreau-Jean method is and which controls it reads (registry entry).
     type(method_info), parameter, public :: MOREAU_INFO = method_info(name='moreau', order=1, &
         adaptive=.false., implicit=.true., controls='h theta contact_tol contact_max_iter max_steps every_step', &
-        doc='Moreau-Jean theta time-stepping, set-valued friction', laws='coulomb stribeck')
+        doc='Moreau-Jean theta time-stepping, set-valued friction', laws='coulomb stribeck karnopp')
 
     !> Controls of the Moreau-Jean method: h, max_steps, every_step (shared) and its own.
     type, extends(step_controls) :: moreau_options
         real(dp) :: theta = 0.5_dp          !! theta of the theta-method, in [1/2, 1] [-]
         real(dp) :: contact_tol = 1.0e-12_dp  !! tolerance of the contact solve [m/s]
-        integer  :: contact_max_iter = 1000   !! sweeps of the contact solve per step, >= 1
+        integer  :: contact_max_iter = 1000   !! Gauss-Seidel sweeps per step on a chain (W tridiagonal), >= 1
     contains
         procedure :: set => set_moreau_option
         !! set a control by name (the step_controls ones and the method's own)
@@ -97,7 +109,9 @@ contains
     !> Integrate M u' = f + H^T r, q' = u with set-valued friction from t0 to t_end.
     !! y0 = (q0, u0) of size 2 n_dof. Output as for the other fixed-step methods.
     !! stats: nfev counts force evaluations (2 a step), ncontact_iter the contact sweeps (or
-    !! modes tried), contact_residual the largest final residual of a step [m/s],
+    !! the contact solver's linear solves), nonunique the steps whose problem had another
+    !! solution with as many stuck contacts, contact_residual the largest final residual of a
+    !! step [m/s],
     !! contact_worst the contact whose residual failed (SS_CONTACT_FAILED). Status: SS_OK,
     !! SS_CONTACT_FAILED, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET,
     !! SS_INTERRUPTED or a bad-input code.
@@ -117,7 +131,7 @@ contains
         integer, allocatable :: coord_contact(:), cmode(:)
         type(contact_solve_info) :: cinfo
         type(contact_workspace) :: cwork   ! the contact solver's room, reused from step to step
-        logical :: tri
+        logical :: tri, dense
         real(dp) :: t, t1, hs, th, h_d, resid, t_next
         integer(8) :: i, nsteps, n_total
         integer :: nd, nc, m, next, sweeps, c, k, iworst
@@ -143,7 +157,11 @@ contains
         allocate(q(nd), u(nd), qp(nd), f0(nd), f1(nd), du(nd), g(nd), y(2 * nd), y1(2 * nd))
         th = opts%theta
         allocate(wfree(nc), p(nc), hn(nc), wloc(nc), wl(nd), wd(nd), wr(nd), boff(nc), coord_contact(nd))
-        allocate(cmode(nc), source=-9)   ! no previous mode
+        ! the previous mode of the first step: each contact's from its initial relative velocity
+        ! (slipping where it moves, stuck where it rests: the contact solver's rule, step 1)
+        allocate(cmode(nc))
+        call cs%relative_velocities(t0, y0(nd + 1:), wloc)
+        cmode = merge(0, nint(sign(1.0_dp, wloc)), wloc == 0.0_dp)
         call cs%step_layout(opts%h * th, (opts%h * th)**2, wl, wd, wr, coord_contact, tri, dmat)
         m = size(t_out)
         call fixed_steps(t0, t_end, opts%h, opts%max_steps, n_total, nsteps)
@@ -181,40 +199,59 @@ contains
             ! The friction problem, with D formed where it may have changed.
             call cs%normal_forces(t1, qp, hn)
             hn = hs * hn
+            dense = .not. tri
             if (tri) then   ! on W itself: u1 from W u1 = W u_free + H^T p
                 call cs%w_tridiagonal(hs * th, (hs * th)**2, wl, wd, wr, tri)
                 call cs%slip_offset(t1, boff)
                 g = u
                 call tridiagonal_sweeps(cs, wl, wd, wr, du, coord_contact, boff, hn, opts%contact_tol, &
                                         opts%contact_max_iter, g, wloc, sweeps, resid, iworst)
-                if (resid > opts%contact_tol) stats%contact_worst = coord_contact(iworst)
                 stats%ncontact_iter = stats%ncontact_iter + sweeps
-                stats%contact_residual = max(stats%contact_residual, resid)
+                if (resid <= opts%contact_tol) then
+                    stats%contact_residual = max(stats%contact_residual, resid)
+                    do c = 1, nc
+                        cmode(c) = merge(0, nint(sign(1.0_dp, wloc(c))), wloc(c) == 0.0_dp)
+                    end do
+                    y1(:nd) = q + hs * ((1.0_dp - th) * u + th * g)
+                    y1(nd + 1:) = g
+                else if (nc <= DENSE_FALLBACK_MAX) then
+                    ! the sweeps did not converge (W ill-conditioned: a stiff spring, a tiny mass):
+                    ! this step by the contact solver on the Delassus matrix, formed for it
+                    dense = .true.
+                    if (size(dmat, 1) /= nc) then
+                        deallocate(dmat)
+                        allocate(dmat(nc, nc))
+                        h_d = -1.0_dp
+                    end if
+                else
+                    stats%contact_worst = coord_contact(iworst)
+                    stats%contact_residual = max(stats%contact_residual, resid)
+                end if
+            end if
+            if (dense) then
+                if (.not. (cs%w_constant .and. hs == h_d)) then
+                    call cs%delassus(t, q, u, hs * th, (hs * th)**2, dmat)
+                    h_d = hs
+                end if
+                call solve_contacts(cs%laws, dmat, wfree, hn, .false., opts%contact_tol, opts%contact_max_iter, &
+                                    p, wloc, cmode, cinfo, work=cwork)
+                stats%ncontact_iter = stats%ncontact_iter + cinfo%sweeps
+                if (cinfo%nonunique) stats%nonunique = stats%nonunique + 1
+                stats%contact_residual = max(stats%contact_residual, cinfo%residual)
+                resid = 0.0_dp
+                if (.not. cinfo%ok) then
+                    resid = huge(1.0_dp)
+                    stats%contact_worst = cinfo%worst
+                end if
+
+                ! u1 = u_free + W^-1 H^T p, and the exact stick of single-coordinate contacts.
+                g = 0.0_dp
+                call cs%add_ht(p, g)
+                call cs%solve_w(t, q, u, hs * th, (hs * th)**2, g)
+                g = du + g
+                call snap_stuck(g)
                 y1(:nd) = q + hs * ((1.0_dp - th) * u + th * g)
                 y1(nd + 1:) = g
-            else
-            if (.not. (cs%w_constant .and. hs == h_d)) then
-                call cs%delassus(t, q, u, hs * th, (hs * th)**2, dmat)
-                h_d = hs
-            end if
-            call solve_contacts(cs%laws, dmat, wfree, hn, .false., opts%contact_tol, opts%contact_max_iter, &
-                                p, wloc, cmode, cinfo, work=cwork)
-            stats%ncontact_iter = stats%ncontact_iter + cinfo%sweeps
-            stats%contact_residual = max(stats%contact_residual, cinfo%residual)
-            resid = 0.0_dp
-            if (.not. cinfo%ok) then
-                resid = huge(1.0_dp)
-                stats%contact_worst = cinfo%worst
-            end if
-
-            ! u1 = u_free + W^-1 H^T p, and the exact stick of single-coordinate contacts.
-            g = 0.0_dp
-            call cs%add_ht(p, g)
-            call cs%solve_w(t, q, u, hs * th, (hs * th)**2, g)
-            g = du + g
-            call snap_stuck(g)
-            y1(:nd) = q + hs * ((1.0_dp - th) * u + th * g)
-            y1(nd + 1:) = g
             end if
 
             if (.not. all_finite(y1)) then
@@ -253,72 +290,5 @@ contains
         end subroutine snap_stuck
 
     end subroutine moreau_integrate
-
-    !> Nonsmooth Gauss-Seidel on W u1 = W uf + H^T p with W tridiagonal (l, d, r) and each
-    !! contact on one coordinate of its own: coordinate by coordinate, u1_i from its row given
-    !! the neighbours, through the contact's one-contact solution (`local_solve`) where it has
-    !! one; a stuck contact gets w = 0 exactly. Sweeps until the residual (the largest change
-    !! that the update of coordinate i + 1 made to coordinate i's velocity, [m/s]) is <= tol
-    !! or max_iter sweeps are done. u1: starting guess in, velocities out [m/s].
-    subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
-                                  iworst)
-        class(contact_system), intent(in) :: cs  !! the system (its laws and H)
-        real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
-        real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
-        real(dp), intent(in)    :: r(:)          !! W(i, i + 1) [-]
-        real(dp), intent(in)    :: uf(:)         !! velocities without friction [m/s]
-        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
-        real(dp), intent(in)    :: boff(:)       !! offsets of the relative velocities [m/s]
-        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
-        real(dp), intent(in)    :: tol           !! tolerance on the residual [m/s]
-        integer, intent(in)     :: max_iter      !! sweep limit, >= 1
-        real(dp), intent(inout) :: u1(:)         !! velocities [m/s]
-        real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
-        integer, intent(out)    :: sweeps        !! sweeps done
-        real(dp), intent(out)   :: resid         !! final residual [m/s]
-        integer, intent(out)    :: iworst        !! the coordinate with the largest residual
-        real(dp) :: b(size(u1)), du(size(u1)), s, ufree, hv, w, pnew
-        integer :: i, n, c
-        n = size(u1)
-        resid = 0.0_dp
-        iworst = 1
-        ! b = W uf
-        do i = 1, n
-            b(i) = d(i) * uf(i)
-            if (i > 1) b(i) = b(i) + l(i) * uf(i - 1)
-            if (i < n) b(i) = b(i) + r(i) * uf(i + 1)
-        end do
-        do sweeps = 1, max_iter
-            do i = 1, n
-                s = b(i)
-                if (i > 1) s = s - l(i) * u1(i - 1)
-                if (i < n) s = s - r(i) * u1(i + 1)
-                ufree = s / d(i)
-                c = coord_contact(i)
-                if (c > 0) then
-                    hv = cs%h_val(cs%h_ptr(c))
-                    call local_solve(cs%laws(c), hv * ufree + boff(c), hv * hv / d(i), hn(c), w, pnew)
-                    wloc(c) = w
-                    if (w == 0.0_dp) then
-                        ufree = -boff(c) / hv
-                    else
-                        ufree = ufree + hv * pnew / d(i)
-                    end if
-                end if
-                du(i) = ufree - u1(i)
-                u1(i) = ufree
-            end do
-            resid = 0.0_dp
-            iworst = 1
-            do i = 1, n - 1
-                if (abs(r(i) * du(i + 1) / d(i)) > resid) then
-                    resid = abs(r(i) * du(i + 1) / d(i))
-                    iworst = i
-                end if
-            end do
-            if (resid <= tol) exit
-        end do
-        sweeps = min(sweeps, max_iter)
-    end subroutine tridiagonal_sweeps
 
 end module stickslip_moreau

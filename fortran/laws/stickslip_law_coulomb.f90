@@ -12,7 +12,7 @@ module stickslip_law_coulomb
     implicit none
     private
 
-    public :: coulomb_law, coulomb
+    public :: coulomb_law, coulomb, band_mode, band_admits
 
     !> The Coulomb law; parameters mu_s, mu_k, v_s.
     type, extends(friction_law) :: coulomb_law
@@ -69,10 +69,7 @@ contains
         integer, intent(in) :: i            !! mode index, 1 .. 7
         integer, intent(out) :: kind        !! MODE_MU or MODE_V
         real(dp), intent(out) :: value      !! mu [-] (MODE_MU) or v [m/s] (MODE_V)
-        real(dp) :: values(7)
-        values = [-self%mu_k, -self%v_s, -self%mu_s, 0.0_dp, self%mu_s, self%v_s, self%mu_k]
-        kind = merge(MODE_V, MODE_MU, mod(i, 2) == 0)
-        value = values(i)
+        call band_mode(i, self%mu_s, self%mu_k, self%v_s, kind, value)
     end subroutine coulomb_mode
 
     pure logical function coulomb_admits(self, i, v, mu_hold, mu)
@@ -81,17 +78,7 @@ contains
         real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
         real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-] (not read)
         real(dp), intent(in) :: mu          !! friction coefficient [-]
-        real(dp), parameter :: inf = 0.25_dp * huge(1.0_dp)   ! (an open end; room for the slack)
-        select case (i)
-        case (1); coulomb_admits = between(v, -inf, -self%v_s)
-        case (2); coulomb_admits = between(mu, -self%mu_s, -self%mu_k)
-        case (3); coulomb_admits = between(v, -self%v_s, 0.0_dp)
-        case (4); coulomb_admits = between(mu, -self%mu_s, self%mu_s)
-        case (5); coulomb_admits = between(v, 0.0_dp, self%v_s)
-        case (6); coulomb_admits = between(mu, self%mu_k, self%mu_s)
-        case (7); coulomb_admits = between(v, self%v_s, inf)
-        case default; coulomb_admits = .false.
-        end select
+        coulomb_admits = band_admits(i, v, mu, self%mu_s, self%mu_k, self%v_s)
     end function coulomb_admits
 
     !> mu(v); at v = 0, the stick force: mu_hold clamped to [-mu_s, mu_s].
@@ -125,5 +112,42 @@ contains
             if (v < 0.0_dp) mu = -mu
         end if
     end function coulomb
+
+    !> Mode i (1 .. 7) of the graph with a static band: slip at -mu_k (v <= -edge), the point
+    !! -edge, slip at -mu_s (-edge <= v <= 0), the point 0 (stick), slip at mu_s, the point
+    !! edge, slip at mu_k (v >= edge). Coulomb's modes (edge = v_s) and Karnopp's (edge = dv).
+    pure subroutine band_mode(i, mu_s, mu_k, edge, kind, value)
+        integer, intent(in) :: i            !! mode index, 1 .. 7
+        real(dp), intent(in) :: mu_s        !! static coefficient [-]
+        real(dp), intent(in) :: mu_k        !! kinetic coefficient [-]
+        real(dp), intent(in) :: edge        !! half-width of the band [m/s]
+        integer, intent(out) :: kind        !! MODE_MU or MODE_V
+        real(dp), intent(out) :: value      !! mu [-] (MODE_MU) or v [m/s] (MODE_V)
+        real(dp) :: values(7)
+        values = [-mu_k, -edge, -mu_s, 0.0_dp, mu_s, edge, mu_k]
+        kind = merge(MODE_V, MODE_MU, mod(i, 2) == 0)
+        value = values(i)
+    end subroutine band_mode
+
+    !> Whether (v, mu) lies on mode i of `band_mode`'s graph.
+    pure logical function band_admits(i, v, mu, mu_s, mu_k, edge) result(ok)
+        integer, intent(in) :: i            !! mode index, 1 .. 7
+        real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
+        real(dp), intent(in) :: mu          !! friction coefficient [-]
+        real(dp), intent(in) :: mu_s        !! static coefficient [-]
+        real(dp), intent(in) :: mu_k        !! kinetic coefficient [-]
+        real(dp), intent(in) :: edge        !! half-width of the band [m/s]
+        real(dp), parameter :: inf = 0.25_dp * huge(1.0_dp)   ! (an open end; room for the slack)
+        select case (i)
+        case (1); ok = between(v, -inf, -edge)
+        case (2); ok = between(mu, -mu_s, -mu_k)
+        case (3); ok = between(v, -edge, 0.0_dp)
+        case (4); ok = between(mu, -mu_s, mu_s)
+        case (5); ok = between(v, 0.0_dp, edge)
+        case (6); ok = between(mu, mu_k, mu_s)
+        case (7); ok = between(v, edge, inf)
+        case default; ok = .false.
+        end select
+    end function band_admits
 
 end module stickslip_law_coulomb

@@ -15,10 +15,15 @@
 !! c > 0. The library's slope and belt do; a user's own scene can use the law the same way
 !! (e.g. a mass m pushed by a force F on a table: mu_hold = F / (m g), c = g).
 !!
-!! Its modes (for the implicit methods' generalized equation, see `stickslip_friction`):
-!! slip at -mu_k (v <= -dv), the band edge -dv (mu between -mu_k and the band's value), the
-!! hold (|v| <= dv, the relative velocity kept, |mu_hold| <= mu_s), the band saturated at
-!! -mu_s or mu_s (|v| <= dv, mu_hold beyond the limit), the band edge dv, slip at mu_k.
+!! Its modes (for the implicit methods' generalized equation, see `stickslip_friction`): the
+!! band as a static set, Coulomb's graph with its band v_s replaced by dv (`band_mode`): slip
+!! at -mu_k (v <= -dv), the band edge -dv, slip at -mu_s inside the band, stick at v = 0 with
+!! |mu| <= mu_s, slip at mu_s, the edge dv, slip at mu_k. Inside the band the stick force
+!! (up to mu_s) brings the relative velocity to exactly zero within a step and holds it there,
+!! where `evaluate` (the explicit methods' right-hand side) can only hold the velocity it
+!! entered the band with. The set-valued methods (moreau, event_driven) take the law as
+!! set-valued Coulomb (mu_s, mu_k; `stickslip_contact`'s contact_law_of): dv is the band of
+!! a regularisation they do not need and is not read there.
 !!
 !! `mu(v)` alone is the curve at zero holding force: 0 inside the band, mu_k sign(v) outside.
 !! dv defaults to 1e-3 m/s: the band must catch the relative velocity in one step, so dv must
@@ -28,7 +33,8 @@
 module stickslip_law_karnopp
     use stickslip_kinds, only: dp
     use stickslip_params, only: param_spec, param_values, param_read
-    use stickslip_friction, only: friction_law, MODE_MU, MODE_V, MODE_KEEP, between
+    use stickslip_friction, only: friction_law
+    use stickslip_law_coulomb, only: band_mode, band_admits
     implicit none
     private
 
@@ -54,7 +60,7 @@ module stickslip_law_karnopp
         procedure :: is_static => karnopp_is_static
         !> mu and the internal-state rates at (v, z, mu_hold).
         procedure :: evaluate => karnopp_evaluate
-        !> Seven modes: two slip pieces, two band edges, the hold and the saturated band.
+        !> Seven modes: Coulomb's with the band dv (`band_mode`).
         procedure :: n_modes => karnopp_n_modes
         !> Kind and value of a mode.
         procedure :: mode => karnopp_mode
@@ -110,39 +116,23 @@ contains
         karnopp_n_modes = 7
     end function karnopp_n_modes
 
-    !> Modes 1 .. 7: slip at -mu_k, the edge -dv, saturated at -mu_s, the hold, saturated at
-    !! mu_s, the edge dv, slip at mu_k.
+    !> Modes 1 .. 7 (`band_mode` with edge dv): slip at -mu_k, the edge -dv, slip at -mu_s, stick
+    !! at v = 0, slip at mu_s, the edge dv, slip at mu_k.
     pure subroutine karnopp_mode(self, i, kind, value)
         class(karnopp_law), intent(in) :: self
         integer, intent(in) :: i            !! mode index, 1 .. 7
-        integer, intent(out) :: kind        !! MODE_MU, MODE_V or MODE_KEEP
-        real(dp), intent(out) :: value      !! mu [-] (MODE_MU), v [m/s] (MODE_V), 0 (MODE_KEEP)
-        integer, parameter :: kinds(7) = [MODE_MU, MODE_V, MODE_MU, MODE_KEEP, MODE_MU, MODE_V, MODE_MU]
-        real(dp) :: values(7)
-        values = [-self%mu_k, -self%dv, -self%mu_s, 0.0_dp, self%mu_s, self%dv, self%mu_k]
-        kind = kinds(i)
-        value = values(i)
+        integer, intent(out) :: kind        !! MODE_MU or MODE_V
+        real(dp), intent(out) :: value      !! mu [-] (MODE_MU) or v [m/s] (MODE_V)
+        call band_mode(i, self%mu_s, self%mu_k, self%dv, kind, value)
     end subroutine karnopp_mode
 
     pure logical function karnopp_admits(self, i, v, mu_hold, mu)
         class(karnopp_law), intent(in) :: self
         integer, intent(in) :: i            !! mode index, 1 .. 7
         real(dp), intent(in) :: v           !! relative sliding velocity [m/s]
-        real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-]
+        real(dp), intent(in) :: mu_hold     !! coefficient that would hold v constant [-] (not read)
         real(dp), intent(in) :: mu          !! friction coefficient [-]
-        real(dp), parameter :: inf = 0.25_dp * huge(1.0_dp)   ! (an open end; room for the slack)
-        real(dp) :: band
-        band = max(-self%mu_s, min(self%mu_s, mu_hold))   ! the band's value at mu_hold
-        select case (i)
-        case (1); karnopp_admits = between(v, -inf, -self%dv)
-        case (2); karnopp_admits = between(mu, -self%mu_k, band)
-        case (3); karnopp_admits = between(v, -self%dv, self%dv) .and. mu_hold <= -self%mu_s
-        case (4); karnopp_admits = between(v, -self%dv, self%dv) .and. between(mu, -self%mu_s, self%mu_s)
-        case (5); karnopp_admits = between(v, -self%dv, self%dv) .and. mu_hold >= self%mu_s
-        case (6); karnopp_admits = between(mu, self%mu_k, band)
-        case (7); karnopp_admits = between(v, self%dv, inf)
-        case default; karnopp_admits = .false.
-        end select
+        karnopp_admits = band_admits(i, v, mu, self%mu_s, self%mu_k, self%dv)
     end function karnopp_admits
 
     pure function karnopp_select(self, v, mu_hold) result(mu)

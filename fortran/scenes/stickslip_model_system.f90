@@ -75,6 +75,9 @@ module stickslip_model_system
         !! are numbers (`prepare`), read without evaluating the signal
         real(dp), allocatable :: con_fixed(:, :)
         logical, allocatable :: con_is_fixed(:, :) !! (2, nc) which of them are numbers
+        !> (nc) the slip speed over which each contact's law turns, max |mu| / |mu'(0)| (its v_eps
+        !! or v_s) [m/s]; huge where mu'(0) is 0 (`prepare`; read by `error_size`)
+        real(dp), allocatable :: con_band(:)
     contains
         procedure :: rhs => model_rhs
         !! (x, v, z)' at (t, y)
@@ -91,6 +94,10 @@ module stickslip_model_system
         !! 2 nb + the laws' states
         procedure :: free_forces => model_free_forces
         !! springs, dampers and forces on each body [N]
+        procedure :: friction => model_friction
+        !! each contact's friction force on its body a at (t, y) [N]
+        procedure :: error_size => model_error_size
+        !! a body's velocity sized by the smallest slip of its contacts (what the laws see)
         procedure :: contact_model => model_contact_model
         !! the model as a `model_contact`
         procedure :: next_break => model_next_break
@@ -290,12 +297,68 @@ contains
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
-        real(dp) :: s, n, wdot, mu, mu_hold, c, fa, fb
-        integer :: i, nb, a, b, z0, z1
+        integer :: nb
         nb = self%nb
         if (.not. allocated(self%work)) allocate(self%work(nb, 2))
         associate (f => self%work(:, 1), f0 => self%work(:, 2))
         call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), f0)
+        call contact_forces(self, t, y, f0, f, dydt)
+        dydt(1:nb) = y(nb + 1:2 * nb)
+        dydt(nb + 1:2 * nb) = f / self%mass
+        end associate
+    end subroutine model_rhs
+
+    !> The sizes the adaptive methods' relative tolerance scales (`ode_system%error_size`):
+    !! |y_i|, except that a body's velocity counts as the smallest max(|s|, band) of its
+    !! contacts when that is smaller: on a moving surface, or against another moving body, the
+    !! law sees the slip s = v_a - v_b - w, not v_a, and an error of rtol |v_a| in v_a may
+    !! exceed the law's band (v_eps, v_s: `con_band`) where s is small. The tolerance then acts
+    !! on the slip, as it does on the same system written in the surface's frame, down to the
+    !! band's width, within which the law is resolved at rtol of its band (a law flat at rest,
+    !! Karnopp's, keeps |v|).
+    subroutine model_error_size(self, t, y, size_y)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out) :: size_y(:)  !! the size of each component
+        real(dp) :: s, w, wdot
+        integer :: i, nb, a, b
+        nb = self%nb
+        size_y = abs(y)
+        do i = 1, size(self%con_a)
+            a = self%con_a(i)
+            b = self%con_b(i)
+            call surface(self, i, t, w, wdot)
+            s = y(nb + a) - w
+            if (b > 0) s = s - y(nb + b)
+            s = max(abs(s), self%con_band(i))
+            size_y(nb + a) = min(size_y(nb + a), s)
+            if (b > 0) size_y(nb + b) = min(size_y(nb + b), s)
+        end do
+    end subroutine model_error_size
+
+    !> Each contact's friction force on its body a at (t, y), -mu N [N] (b gets the opposite).
+    subroutine model_friction(self, t, y, fric)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out) :: fric(:)    !! (number of contacts) [N]
+        real(dp) :: f0(self%nb), f(self%nb), dydt(size(y))
+        call self%free_forces(t, y(1:self%nb), y(self%nb + 1:2 * self%nb), f0)
+        call contact_forces(self, t, y, f0, f, dydt, fric)
+    end subroutine model_friction
+
+    !> The forces f on each body [N]: f0 (springs, dampers, forces) and every contact's
+    !! friction (each also in fric when present); the law states' rates into dydt.
+    subroutine contact_forces(self, t, y, f0, f, dydt, fric)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)  :: t, y(:), f0(:)
+        real(dp), intent(out) :: f(:)
+        real(dp), intent(inout) :: dydt(:)
+        real(dp), intent(out), optional :: fric(:)
+        real(dp) :: s, n, wdot, mu, mu_hold, c, fa, fb
+        integer :: i, nb, a, b, z0, z1
+        nb = self%nb
         f = f0
         do i = 1, size(self%con_a)
             a = self%con_a(i)
@@ -318,11 +381,9 @@ contains
             end if
             f(a) = f(a) - mu * n
             if (b > 0) f(b) = f(b) + mu * n
+            if (present(fric)) fric(i) = -mu * n
         end do
-        dydt(1:nb) = y(nb + 1:2 * nb)
-        dydt(nb + 1:2 * nb) = f / self%mass
-        end associate
-    end subroutine model_rhs
+    end subroutine contact_forces
 
     !> df/dy: analytic when every law is static (springs, dampers, and each contact's
     !! d mu/ds N on the velocities of its bodies), finite differences otherwise.
@@ -358,8 +419,13 @@ contains
         nc = size(self%con_a)
         n = self%n_states()
         ! the contacts' signals that are numbers
-        allocate(self%con_fixed(2, nc), self%con_is_fixed(2, nc))
+        allocate(self%con_fixed(2, nc), self%con_is_fixed(2, nc), self%con_band(nc))
         do c = 1, nc
+            associate (law => self%laws(c)%law)
+                self%con_band(c) = huge(1.0_dp)
+                if (abs(law%dmu(0.0_dp)) > 0.0_dp) self%con_band(c) = max(law%mu_s, law%mu_k) / abs(law%dmu(0.0_dp))
+                if (.not. self%con_band(c) < huge(1.0_dp)) self%con_band(c) = huge(1.0_dp)
+            end associate
             self%con_is_fixed(1, c) = self%sig%is_number(self%con_n(c))
             self%con_is_fixed(2, c) = self%con_w(c) == 0
             if (.not. self%con_is_fixed(2, c)) self%con_is_fixed(2, c) = self%sig%is_number(self%con_w(c))

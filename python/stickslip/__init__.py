@@ -42,8 +42,11 @@ from .experiments import (SteadyCurve, SteadyPoints, TwoStepFit, fit_stribeck_cu
                           steady_friction)
 from .engines import ENGINES, advise_engine, engine_creep, engine_mu
 from . import signal
-from .model import Model
-from .energy import EnergyBoundWarning
+from .model import Model, ModelWarning
+from .energy import ConsistencyWarning, EnergyBoundWarning
+from .core import RegularisedLawWarning
+from .steady import (Branch, GuessShapeError, MonodromyWarning, NoConvergence, NonPeriodicForcing, Orbit, SteadyStateError,
+                     continuation, frequency_response, periodic_orbit)
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
@@ -57,6 +60,8 @@ __all__ = [
     "Record", "damper_files", "load_damper_record", "FitResult", "fit_friction", "Selection", "select_friction_law",
     "SteadyPoints", "SteadyCurve", "TwoStepFit", "steady_friction", "fit_stribeck_curve", "fit_two_step",
     "ENGINES", "advise_engine", "engine_creep", "engine_mu",
-    "Model", "signal", "EnergyBoundWarning",
+    "Model", "ModelWarning", "signal", "EnergyBoundWarning", "ConsistencyWarning", "RegularisedLawWarning",
+    "Orbit", "Branch", "SteadyStateError", "NoConvergence", "NonPeriodicForcing", "GuessShapeError", "MonodromyWarning",
+    "periodic_orbit", "continuation", "frequency_response",
 ]
 __version__ = "0.1.0"

@@ -357,9 +357,9 @@ end subroutine prescribed
 !! y0 at t = 0 to t_end with the method named `method`; output as run_simulation's; on a bad
 !! element, status and (elem_kind, elem_index) name it.
 subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts, nc, con_ptr, ncp, &
-                     pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, &
+                     pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
                      method, y0, n, t_end, rtol, nrt, atol, nat, ckeys, cvals, ncv, nrow, t_out, y_out, &
-                     ni, istats, nr, rstats, stop, events, nev, status, elem_kind, elem_index, cpu)
+                     drive_force, ni, istats, nr, rstats, stop, events, nev, status, elem_kind, elem_index, cpu)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_BAD_DIM
     use stickslip_ode, only: ode_stats, stats_integers, stats_reals
@@ -368,7 +368,7 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
     use stickslip_user_model, only: stickslip_model
     use stickslip_wrap_interrupt, only: arm, disarm, cpu_seconds
     implicit none
-    integer(c_int), intent(in) :: nb, ns, nd, nf, nc, ncp, npv, nop, nss, ntab, n, nrt, nat, ncv, nrow, ni, nr, nev
+    integer(c_int), intent(in) :: nb, ns, nd, nf, nc, ncp, npv, nop, nss, ntab, ndr, n, nrt, nat, ncv, nrow, ni, nr, nev
     real(c_double), intent(in) :: bodies(3, nb)
     !f2py integer intent(hide), depend(bodies) :: nb = shape(bodies, 1)
     real(c_double), intent(in) :: springs(4, ns)
@@ -390,6 +390,8 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
     !f2py integer intent(hide), depend(sig_start) :: nss = len(sig_start)
     real(c_double), intent(in) :: tables(2, ntab)
     !f2py integer intent(hide), depend(tables) :: ntab = shape(tables, 1)
+    real(c_double), intent(in) :: drives(3, ndr)
+    !f2py integer intent(hide), depend(drives) :: ndr = shape(drives, 1)
     real(c_double), intent(in) :: y0(n)
     !f2py integer intent(hide), depend(y0) :: n = len(y0)
     real(c_double), intent(in) :: t_end
@@ -402,6 +404,7 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
     real(c_double), intent(inout) :: t_out(nrow)
     !f2py integer intent(hide), depend(t_out) :: nrow = len(t_out)
     real(c_double), intent(out) :: y_out(n, nrow)
+    real(c_double), intent(out) :: drive_force(ndr, nrow)
     real(c_double), intent(out) :: istats(ni)
     real(c_double), intent(out) :: rstats(nr)
     integer(c_int), intent(inout), target :: stop(1)
@@ -418,6 +421,7 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
     character(len=NAME_LEN), allocatable :: keys(:)
 
     y_out = 0.0_c_double
+    drive_force = 0.0_c_double
     istats = 0.0_c_double
     rstats = 0.0_c_double
     elem_kind = 0
@@ -455,12 +459,15 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
     m%sig%start = sig_start
     m%sig%tab_t = tables(1, :)
     m%sig%tab_v = tables(2, :)
+    m%drv_body = nint(drives(1, :))
+    m%drv_kind = nint(drives(2, :))
+    m%drv_sig = nint(drives(3, :))
 
     flag => stop(1)
     call arm(stop(1), armed)
     cpu = cpu_seconds()
     call m%simulate(method, t_end, t_out, y_out, st, rtol, atol, split_names(ckeys), cvals, ek, ei, &
-                    flag, events, y0)
+                    flag, events, y0, drive_force)
     cpu = cpu_seconds() - cpu
     call disarm(armed)
     status = st%status

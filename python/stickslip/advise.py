@@ -50,8 +50,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .core import (LAWS, METHODS, REGISTRY, SCENES, CONTROLS, IntegrationError, _choice, _physical,
-                   _shortest_period, friction_coefficient, _shown, simulate)
+from .core import (LAWS, METHODS, REGISTRY, SCENES, CONTROLS, IntegrationError, RegularisedLawWarning, _choice,
+                   _physical, shortest_period, friction_coefficient, _shown, simulate)
 
 #: Aim at target/SAFETY, so that a prediction off by this factor still meets the target.
 SAFETY: float = 2.0
@@ -63,6 +63,8 @@ MAX_LADDER: int = 14
 N0: int = 16
 #: First and tightest tolerance of an adaptive method's ladder (the library accepts >= 100 eps).
 RTOL0: float = 1e-3
+#: Tightest rtol of an adaptive ladder: the advisor's own floor, above the library's
+#: stickslip.core.RTOL_MIN (100 eps = 2.2e-14), where round-off still leaves an order to see.
 RTOL_MIN: float = 1e-13
 #: atol = ATOL_RATIO rtol (as the work-precision study).
 ATOL_RATIO: float = 1e-3
@@ -208,6 +210,17 @@ class Advice:
                 format_table(["role", "method", "setting", f"{self.quantity}(t_end) [{unit}]",
                              f"error [{unit}]", "nfev", "CPU [s]", "status"], runs))
 
+    def _explicit_fixed_question(self) -> bool:
+        """Whether an explicit fixed-step method (RK4) is the question: the advised method, or,
+        when none is advised, one the advisor tried (the bound may say why it fails). Elsewhere its stability bound is not printed
+        (it can be far below any step the advised method takes: 6e-10 s on a stiff drill string
+        that radau5 runs at its own steps)."""
+        def explicit_fixed(m: str | None) -> bool:
+            return m is not None and _fixed(m) and not REGISTRY["method"][m]["implicit"]
+        if self.feasible:
+            return explicit_fixed(self.method)
+        return any(explicit_fixed(c.method) and not c.note.startswith("refused") for c in self.candidates)
+
     def __str__(self) -> str:
         unit = "m" if self.quantity == "x" else "m/s"
         head = [f"advise: {self.scene}, {self.law}, t_end = {self.t_end:g} s, target |error of "
@@ -220,7 +233,7 @@ class Advice:
                         f"{self.predicted_cost['nfev']:.0f} evaluations, "
                         f"{self.predicted_cost['seconds']:.3g} s CPU")
         head.append(self.message)
-        if self.stability_bound is not None:
+        if self.stability_bound is not None and self._explicit_fixed_question():
             head.append(f"explicit fixed-step stability bound along the trajectory: h < "
                         f"{self.stability_bound:.4g} s")
         head.append(f"all {len(self.runs)} runs cost {self.pilot_cost['nfev']:.0f} evaluations, "
@@ -295,8 +308,10 @@ def _rhs(scene: str, law: str, y: np.ndarray, params: dict[str, float]) -> np.nd
     """The right-hand side f(y) of the scene (autonomous), from one RK4 step of DELTA s: (y(DELTA)
     - y) / DELTA = f + O(DELTA |J| |f|)."""
     delta = 1e-9
-    r = simulate(scene, law, method="rk4", h=delta, t_end=delta, n_out=1, x0=float(y[0]),
-                 v0=float(y[1]), z0=y[2:] if y.size > 2 else None, **params)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RegularisedLawWarning)   # one step: the law is the question
+        r = simulate(scene, law, method="rk4", h=delta, t_end=delta, n_out=1, x0=float(y[0]),
+                     v0=float(y[1]), z0=y[2:] if y.size > 2 else None, **params)
     return (r.y[:, -1] - y) / delta
 
 
@@ -452,7 +467,7 @@ def _pilot(prob: _Problem, method: str, goal: float, bound: float | None, omega:
             n = max(n, math.ceil(prob.t_end * omega * (omega * prob.t_end) ** (1.0 / p)))
         if bound is not None:
             n = max(n, math.ceil(prob.t_end / (STABILITY_MARGIN * bound)))
-        period = _model_period(prob.model) if prob.model is not None else _shortest_period(prob.scene, prob.params, 1)
+        period = shortest_period(prob.model if prob.model is not None else prob.scene, **prob.params)
         if period is not None:          # never beyond the scene's own oscillation
             n = max(n, math.ceil(prob.t_end / (PERIOD_FRACTION * period)))
         setting = prob.t_end / n
@@ -996,23 +1011,6 @@ def _model_alternatives(model: Any, tried: Sequence[str]) -> str:
     return _alternatives(c.law, dict(c.params), tried)
 
 
-def _model_period(model: Any) -> float | None:
-    """The model's shortest period of free oscillation [s]: 2 pi / sqrt of the largest
-    eigenvalue of M^-1 K, K from the springs (None without springs)."""
-    n = model.n_bodies
-    k = np.zeros((n, n))
-    for a, b, ks, _ in model.springs:
-        k[a, a] += ks
-        if b is not None:
-            k[b, b] += ks
-            k[a, b] -= ks
-            k[b, a] -= ks
-    mass = np.array([b.mass for b in model.bodies])
-    s = 1.0 / np.sqrt(mass)
-    lam = float(np.max(np.linalg.eigvalsh(s[:, None] * k * s[None, :]))) if n else 0.0
-    return 2.0 * math.pi / math.sqrt(lam) if lam > 0.0 else None
-
-
 def model_jacobian_eigenvalues(model: Any, states: np.ndarray) -> np.ndarray:
     """Eigenvalues [1/s] of a model's Jacobian in the bodies' positions and velocities at each
     state (columns of `states`: x, v, then internal states, which are ignored), by central
@@ -1027,7 +1025,9 @@ def model_jacobian_eigenvalues(model: Any, states: np.ndarray) -> np.ndarray:
     def rhs(y: np.ndarray) -> np.ndarray:
         for i, row in enumerate(base["body"]):
             row["x0"], row["v0"] = float(y[i]), float(y[nb + i])
-        r = simulate(Model.from_dict(base), method="rk4", h=delta, t_end=delta, n_out=1)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RegularisedLawWarning)   # one step: the law is the question
+            r = simulate(Model.from_dict(base), method="rk4", h=delta, t_end=delta, n_out=1)
         return (np.concatenate([r.x[:, -1], r.v[:, -1]]) - y) / delta
 
     out = []

@@ -17,14 +17,15 @@ import re
 import time
 import warnings
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from . import _stickslip as _ext
+from .core import CHATTER_FRACTION as _CHATTER_FRACTION
 from .core import (CONTROL_DEFAULTS, CONTROLS, LAWS, METHODS, REGISTRY, SCENES, STATE_COUNT_PARAMS,
-                   STATUS_OK, _states, _shown,
+                   STATUS_OK, _states, _shown, RegularisedLawWarning, regularised_note,
                    UnstableStepWarning, UnusedParameterWarning, _FIRST_INPUT_CODE, _PARAM_ORDER,
                    _check_names, _choice, _count, _n_blocks, accepted_range, interruptible, rk4_stability_bound,
                    status_message)
@@ -38,8 +39,9 @@ MAX_GRID_VALUES = 20_000_000
 #: of its row, and the kept grids (2 GB).
 MAX_BATCH_VALUES = 250_000_000
 #: A row chattered when the velocity reversed between at least this fraction of the monitor
-#: grid's intervals over t >= t_end/2 (BatchResult).
-CHATTER_FRACTION = 0.25
+#: grid's intervals over t >= t_end/2 (BatchResult); stickslip.core's, which the consistency
+#: check reads too.
+CHATTER_FRACTION = _CHATTER_FRACTION
 
 
 @dataclass
@@ -97,6 +99,10 @@ class BatchResult:
     x: np.ndarray | None = None
     v: np.ndarray | None = None
     y_grid: np.ndarray | None = None
+    #: What the rows' warnings and checks said, each sentence once with the rows it concerns
+    #: ("rows 0, 2: ..."): the law a method computes (RegularisedLawWarning), and for a model's
+    #: rows the failures of their consistency check (docs/guide/results.md).
+    notes: list[str] = field(default_factory=list)
 
     def __getattr__(self, name: str) -> np.ndarray:
         fields = self.__dict__.get("fields", {})
@@ -327,7 +333,8 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
     result = BatchResult(
         scene=rows["scene"].astype(str), law=rows["law"].astype(str), method=rows["method"].astype(str),
         params=resolved, t_end=rows["t_end"], h=np.where(np.isfinite(h_col), h_col, 0.0),
-        rtol=tol["rtol"], atol=tol["atol"], status=sstatus, fields=fields, y_end=y_end, threads=int(threads))
+        rtol=tol["rtol"], atol=tol["atol"], status=sstatus, fields=fields, y_end=y_end, threads=int(threads),
+        notes=_regularised_rows(rows, resolved))
     if keep:
         y_grid_rows = np.transpose(np.asarray(y_grid), (2, 0, 1)).copy()   # (n, nmax, n_grid)
         y_grid_rows[padding] = np.nan
@@ -338,6 +345,34 @@ def simulate_batch(scene: str | Sequence[str], law: str | Sequence[str], *,
         result.t, result.y_grid = t, y_grid_rows
         result.x, result.v = y_grid_rows[rows_i, 0], y_grid_rows[rows_i, result.v_column]
     return result
+
+
+def _grouped_notes(per_row: Sequence[Sequence[str]]) -> list[str]:
+    """Each distinct sentence of the rows' notes once, prefixed with the rows that have it
+    ("rows 0, 3 (2 of 5): ...", the first 10 rows named)."""
+    rows_of: dict[str, list[int]] = {}
+    for i, notes in enumerate(per_row):
+        for note in notes:
+            rows_of.setdefault(note, []).append(i)
+    out = []
+    for note, rows in rows_of.items():
+        named = ", ".join(str(i) for i in rows[:10]) + (", ..." if len(rows) > 10 else "")
+        out.append(f"row{'s' if len(rows) > 1 else ''} {named} ({len(rows)} of {len(per_row)}): {note}")
+    return out
+
+
+def _regularised_rows(rows: Mapping[str, np.ndarray], resolved: Mapping[str, np.ndarray]) -> list[str]:
+    """The batch's notes on the law each row's method computes (`regularised_note`), grouped
+    by rows, each warned once (RegularisedLawWarning)."""
+    per_row = []
+    for i, (law, method) in enumerate(zip(rows["law"], rows["method"])):
+        params = {k: float(resolved[k][i]) for k in ("mu_s", "mu_k", "v_s", "v_eps") if k in resolved}
+        note = regularised_note(str(law), params, str(method))
+        per_row.append([] if note is None else [note])
+    notes = _grouped_notes(per_row)
+    for note in notes:
+        warnings.warn(note, RegularisedLawWarning, stacklevel=3)
+    return notes
 
 
 def _state_sizes(rows: dict[str, np.ndarray], cvals: np.ndarray, cnames: list[str]) -> tuple[np.ndarray, np.ndarray]:
@@ -607,7 +642,7 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
     result = BatchResult(
         scene=np.full(n, "model"), law=np.full(n, laws), method=rows["method"].astype(str), params=params,
         t_end=rows["t_end"], h=h, rtol=tol["rtol"], atol=tol["atol"], status=status, fields=fields,
-        y_end=y_end, threads=int(threads))
+        y_end=y_end, threads=int(threads), notes=_grouped_notes([res.stats["notes"] for res, _ in done]))
     if y_grid is not None:
         result.t = np.array([np.linspace(0.0, te, int(n_grid)) if n_grid > 1 else np.array([te])
                              for te in rows["t_end"]])

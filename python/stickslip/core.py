@@ -24,16 +24,20 @@ from . import _stickslip as _ext
 
 def _read_registry() -> dict[str, Any]:
     """The core's registry (stickslip_registry::registry_text): laws, scenes, methods,
-    parameters, counters and status codes, one '|'-separated record per line."""
+    parameters, counters, status codes, event kinds and shared constants, one '|'-separated
+    record per line."""
     text = _ext.registry().decode().rstrip("\x00 \n")
-    reg: dict[str, Any] = {"law": {}, "scene": {}, "method": {}, "param": {}, "status": {}}
+    reg: dict[str, Any] = {"law": {}, "scene": {}, "method": {}, "param": {}, "status": {}, "event": {},
+                           "const": {}}
     for line in text.splitlines():
         kind, *f = line.split("|")
         if kind == "law":
             reg["law"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "n_states": int(f[3]),
-                                "states": tuple(x for x in f[4].split(";") if x), "doc": f[5]}
+                                # > 0: a law with jumps, solved over its modes (implicit_euler, galpha)
+                                "modes": int(f[4]),
+                                "states": tuple(x for x in f[5].split(";") if x), "doc": "|".join(f[6:])}
         elif kind == "scene":
-            reg["scene"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "doc": f[3]}
+            reg["scene"][f[1]] = {"code": int(f[0]), "params": tuple(f[2].split()), "doc": "|".join(f[3:])}
         elif kind == "method":
             reg["method"][f[1]] = {"code": int(f[0]), "order": int(f[2]), "adaptive": f[3] == "1",
                                    "implicit": f[4] == "1", "controls": tuple(f[5].split()), "doc": f[6],
@@ -42,11 +46,15 @@ def _read_registry() -> dict[str, Any]:
         elif kind == "param":
             reg["param"][f[0]] = {"code": int(f[1]), "default": float(f[2]), "unit": f[3],
                                   "default_of": f[4] or None, "scale": float(f[5]), "rule": f[6],
-                                  "doc": f[7]}
+                                  "doc": "|".join(f[7:])}
         elif kind == "stats":
             reg["stats_int"], reg["stats_real"] = tuple(f[0].split()), tuple(f[1].split())
         elif kind == "status":
             reg["status"][f[0]] = int(f[1])
+        elif kind == "event":
+            reg["event"][f[1]] = {"code": int(f[0]), "doc": "|".join(f[2:])}
+        elif kind == "const":
+            reg["const"][f[0]] = {"value": float(f[1]), "unit": f[2], "doc": "|".join(f[3:])}
     return reg
 
 
@@ -78,13 +86,23 @@ STATUS_OUTPUT_FULL = _STATUS["OUTPUT_FULL"]
 _FIRST_INPUT_CODE = -100          # codes <= this name one bad input
 
 #: The facade's defaults of the shared controls; each is passed only to the methods that read
-#: it. hmax = 0 lets a step span the whole run [0, t_end] (Hairer's default): the step is then
-#: limited by the error test alone. The paper's "automatic" range [hmin, hmax] = [1e-6, 1e-2] s
+#: it. hmin is the library's HMIN_DEFAULT (1e-6 s, stickslip_registry: the same default in
+#: Fortran, C and Python). hmax = 0 lets a step span the whole run [0, t_end] (Hairer's
+#: default): the step is then limited by the error test alone. The paper's "automatic" range [hmin, hmax] = [1e-6, 1e-2] s
 #: is what its drivers (cases/) pass explicitly. Read-only: simulate reads them once per method
 #: (_plan).
 CONTROL_DEFAULTS: Mapping[str, Any] = MappingProxyType(
-    {"rtol": 1e-6, "atol": 1e-9, "hmin": 1e-6, "hmax": 0.0, "h0": 0.0, "allow_forced": True,
-     "stop_on_stiff": False})
+    {"rtol": 1e-6, "atol": 1e-9, "hmin": REGISTRY["const"]["hmin"]["value"], "hmax": 0.0, "h0": 0.0,
+     "allow_forced": True, "stop_on_stiff": False})
+
+#: Smallest nonzero relative tolerance the adaptive methods accept (the library's RTOL_MIN,
+#: 100 units of round-off).
+RTOL_MIN: float = REGISTRY["const"]["rtol_min"]["value"]
+
+#: A grid on which the velocity reverses its direction between at least this fraction of the
+#: intervals chattered at the grid's scale, which a motion the grid resolves does not do (the
+#: batches' chattered flag, the consistency check's resolved grids).
+CHATTER_FRACTION = 0.25
 
 #: Largest every-step output the facade allocates [rows]: 3 arrays of 8-byte floats.
 MAX_ROWS = 50_000_000
@@ -172,28 +190,9 @@ class NewtonFailure(IntegrationError):
 
 class UnstableStepWarning(UserWarning):
     """A fixed step beyond the method's linear stability bound (`rk4_stability_bound`), or
-    longer than the scene's shortest period of oscillation: the run may chatter, settle on a
-    wrong state, blow up, or (moreau, the implicit methods) damp or skip the oscillation."""
-
-
-def _shortest_period(scene: str, given: Mapping[str, Any], n_blocks: int) -> float | None:
-    """The scene's shortest period of free oscillation [s] (springs and masses only; None on
-    the slope, which has no spring). On the chain, from Gershgorin's bound on the largest
-    eigenvalue of M^-1 K: max(k + k_p + 2 k_c, k_p + 4 k_c) / m (exact for one block)."""
-    if scene == "slope":
-        return None
-    m = float(given.get("m", DEFAULTS["m"]))
-    k = float(given.get("k", DEFAULTS["k"]))
-    if scene == "belt":
-        stiff = k
-    else:
-        k_c = given.get("k_c")
-        k_c = k if k_c is None else float(k_c)
-        k_p = float(given.get("k_p", DEFAULTS["k_p"]))
-        stiff = k + k_p if n_blocks == 1 else max(k + k_p + 2 * k_c, k_p + 4 * k_c)
-    if not stiff > 0.0 or not m > 0.0:
-        return None
-    return 2.0 * math.pi * math.sqrt(m / stiff)
+    longer than the system's shortest period of oscillation (`shortest_period`): the run may
+    chatter, settle on a wrong state, blow up, or (moreau, the implicit methods) damp or skip
+    the oscillation."""
 
 
 class ContactSolverFailure(IntegrationError):
@@ -238,9 +237,9 @@ _ERRORS: dict[int, type[IntegrationError]] = {
 #: "reversal": the relative velocity reached 0 and the contact could not be held), position x
 #: of the contact's body [m], contact index (0-based).
 EVENT_DTYPE = np.dtype([("t", "f8"), ("kind", "U8"), ("x", "f8"), ("contact", "i4")])
-_EVENT_KINDS = ("stick", "slip", "reversal")
+_EVENT_KINDS = tuple(sorted(REGISTRY["event"], key=lambda k: REGISTRY["event"][k]["code"]))
 #: Events the facade makes room for when max_events is not given (the library's default).
-_DEFAULT_MAX_EVENTS = 10000
+_DEFAULT_MAX_EVENTS = int(REGISTRY["const"]["max_events"]["value"])
 #: Most events Result.events holds (32 MB of rows); a run may count more (stats["nevents"]).
 _EVENT_ROOM = 1_000_000
 #: The events of a run without any (read-only, shared), and the library's empty event buffer.
@@ -302,6 +301,8 @@ class Result:
         ``event_driven``'s stick/slip transitions (time, kind, position, contact; at most the
         first 1,000,000, while ``stats["nevents"]`` counts them all); empty for the other
         methods.
+    drive_force : numpy.ndarray, shape (n_t, n_drives)
+        A model's drives' forces on their bodies [N] (`Model.add_drive`); (n_t, 0) otherwise.
 
     Notes
     -----
@@ -310,7 +311,7 @@ class Result:
     """
 
     __slots__ = ("scene", "law", "method", "t_end", "t", "x", "v", "z", "state_labels",
-                 "events", "_params", "_stats", "_raw")
+                 "events", "drive_force", "_params", "_stats", "_raw")
 
     def __init__(self, scene: str, law: str, method: str, t_end: float, params: dict[str, float],
                  t: np.ndarray, x: np.ndarray, v: np.ndarray, stats: dict[str, Any] | None = None,
@@ -321,6 +322,7 @@ class Result:
         self.z = np.zeros((0, np.size(t))) if z is None else z
         self.state_labels = state_labels
         self.events = _NO_EVENTS if events is None else events
+        self.drive_force = np.zeros((np.size(t), 0))
         self._params, self._stats, self._raw = params, ({} if stats is None else stats), None
 
     @property
@@ -343,6 +345,7 @@ class Result:
             stats["contact_worst"] -= 1           # 0-based, as Result.events; -1: none
             stats["message"] = status_message(status)
             stats["cpu_seconds"] = cpu
+            stats["notes"] = []                   # what the run's warnings and checks said
             del stats["n_written"]
             self._stats = stats
         return self._stats
@@ -400,6 +403,15 @@ def _finite(name: str, value: Any, accepted: str) -> float:
     if not math.isfinite(x):
         raise ValueError(f"{name}: must be finite ({accepted}), got {_shown(x)}")
     return x
+
+
+def _end_time(value: Any) -> float:
+    """t_end as given: a finite number > 0 [s] (every run starts at t = 0), or ValueError
+    with the value given."""
+    t_end = _finite("t_end", value, "> 0 [s]: the run starts at t = 0")
+    if not t_end > 0.0:
+        raise ValueError(f"t_end: must be > 0 [s] (the run starts at t = 0), got t_end = {_show(t_end)}")
+    return t_end
 
 
 def _count(name: str, value: Any, low: int = 1, high: int | None = None) -> int:
@@ -762,6 +774,187 @@ def _states(law: str, params: tuple[tuple[str, float], ...]) -> tuple[int, tuple
     return int(nz), tuple(s for s in text.split(";") if s)
 
 
+#: Most bodies whose natural frequencies are computed exactly (one dense symmetric eigenvalue
+#: problem, about 10 ms at 200 bodies); a larger system takes Gershgorin's bound.
+_EXACT_PERIOD_BODIES = 200
+
+
+@dataclass(frozen=True)
+class _Oscillators:
+    """A system (a scene with its parameters, or a Model) as the checks of a fixed step see it:
+    its bodies' masses [kg], its springs as rows (a, b, k [N/m]) with b = -1 the ground, and,
+    where it is a box on a slope (one body, no spring, constant forces), the law and the
+    parameters of RK4's creep bound (`rk4_stability_bound`), else None."""
+
+    masses: np.ndarray
+    springs: np.ndarray
+    slope: tuple[str, tuple[tuple[str, float], ...]] | None = None
+
+
+def _scene_oscillators(scene: str, law: str, given: Mapping[str, Any], n_blocks: int) -> _Oscillators:
+    """A scene's bodies and springs (the system `Model.from_scene` builds): the slope one body
+    and no spring, the belt mass m on spring k, the chain n_blocks masses m, spring k + k_p to
+    the ground for block 0, k_p for the others, k_c between neighbours."""
+    def value(name: str) -> float:
+        v = given.get(name, DEFAULTS.get(name))
+        return float(given.get("k", DEFAULTS["k"]) if v is None and name == "k_c" else v)
+
+    if scene == "slope":
+        return _Oscillators(np.ones(1), np.zeros((0, 3)), (law, tuple(sorted(given.items()))))
+    m, k = value("m"), value("k")
+    if scene == "belt":
+        return _Oscillators(np.full(1, m), np.array([[0.0, -1.0, k]]))
+    k_p, k_c = value("k_p"), value("k_c")
+    i = np.arange(1, n_blocks, dtype=np.float64)
+    springs = np.concatenate([[[0.0, -1.0, k + k_p]], np.column_stack([i, np.full_like(i, -1.0), np.full_like(i, k_p)]),
+                              np.column_stack([i, i - 1.0, np.full_like(i, k_c)])])
+    return _Oscillators(np.full(n_blocks, m), springs)
+
+
+def _constant(signal: Any) -> float | None:
+    """The value of a constant signal (stickslip.signal), else None."""
+    return float(signal.args[0]) if signal.kind == "constant" else None
+
+
+def _model_oscillators(model: Any) -> _Oscillators:
+    """A Model's bodies and springs; a box on a slope where it has one body, no spring or
+    damper, constant forces F and one contact with the still ground under a constant normal
+    force N > 0: theta = atan(F / N), g = |(F, N)| / m, as `Model.from_scene("slope", ...)`
+    builds it."""
+    masses = np.array([b.mass for b in model.bodies], dtype=np.float64)
+    springs = np.array([(a, -1 if b is None else b, k) for a, b, k, *_ in model.springs],
+                       dtype=np.float64).reshape(-1, 3)
+    slope = None
+    if len(masses) == 1 and not model.springs and not model.dampers and len(model.contacts) == 1:
+        c = model.contacts[0]
+        forces = [_constant(s) for _, s in model.forces]
+        normal = _constant(c.normal_force)
+        still = c.surface_velocity is None or _constant(c.surface_velocity) == 0.0
+        if c.b is None and still and normal is not None and normal > 0.0 and None not in forces:
+            f = math.fsum(forces)
+            slope = (c.law, tuple(sorted({**c.params, "theta_deg": math.degrees(math.atan2(f, normal)),
+                                          "g": math.hypot(f, normal) / masses[0]}.items())))
+    return _Oscillators(masses, springs, slope)
+
+
+@functools.lru_cache(maxsize=256)
+def _period_of(masses: bytes, springs: bytes) -> tuple[float, bool] | None:
+    """(the shortest period of free oscillation [s], exact) of bodies of `masses` (float64
+    bytes) on `springs` (rows a, b, k; b = -1 the ground): 2 pi / sqrt of the largest
+    eigenvalue of K x = w^2 M x, exactly up to _EXACT_PERIOD_BODIES bodies, else from
+    Gershgorin's bound on it (exact False: the period is at least that). None without a spring.
+    Dampers are left out (the undamped frequencies), and so are the contacts: sticking a
+    contact constrains the motion to a subspace, where the largest w^2 (a maximum of the
+    Rayleigh quotient) can only be lower, so the free system has the shortest period."""
+    m = np.frombuffer(masses)
+    s = np.frombuffer(springs).reshape(-1, 3)
+    s = s[s[:, 2] > 0.0]
+    if not s.size or not m.size:
+        return None
+    a, b, k = s[:, 0].astype(np.intp), s[:, 1].astype(np.intp), s[:, 2]
+    inv = 1.0 / np.sqrt(m)
+    pair = b >= 0
+    if m.size <= _EXACT_PERIOD_BODIES:
+        stiff = np.zeros((m.size, m.size))
+        np.add.at(stiff, (a, a), k)
+        ab, kb = (a[pair], b[pair]), k[pair]
+        np.add.at(stiff, (ab[1], ab[1]), kb)
+        np.add.at(stiff, ab, -kb)
+        np.add.at(stiff, ab[::-1], -kb)
+        lam, exact = float(np.linalg.eigvalsh(inv[:, None] * stiff * inv[None, :])[-1]), True
+    else:
+        row = np.zeros(m.size)
+        np.add.at(row, a, k * inv[a] ** 2)
+        ap, bp, kp = a[pair], b[pair], k[pair]
+        np.add.at(row, bp, kp * inv[bp] ** 2)
+        np.add.at(row, ap, kp * inv[ap] * inv[bp])
+        np.add.at(row, bp, kp * inv[ap] * inv[bp])
+        lam, exact = float(row.max()), False
+    return (2.0 * math.pi / math.sqrt(lam), exact) if lam > 0.0 else None
+
+
+def _system_period(system: _Oscillators) -> tuple[float, bool] | None:
+    """`_period_of` the system, computed once per distinct set of masses and springs."""
+    return _period_of(np.ascontiguousarray(system.masses, dtype=np.float64).tobytes(),
+                      np.ascontiguousarray(system.springs, dtype=np.float64).tobytes())
+
+
+def shortest_period(system: Any, law: str = "coulomb", **params: Any) -> float | None:
+    """The shortest period of free oscillation of a system [s], from its springs and masses.
+
+    Parameters
+    ----------
+    system : str or Model
+        A scene of `SCENES` (with its physical parameters in `params`, the others at their
+        defaults) or a `Model`.
+    law : str
+        The scene's friction law (it does not change the period).
+    **params : float
+        The scene's physical parameters (n_blocks on the chain); others are ignored.
+
+    Returns
+    -------
+    float or None
+        2 pi / w_max, w_max^2 the largest eigenvalue of K x = w^2 M x (exact up to 200 bodies,
+        Gershgorin's lower bound on the period beyond); None without a spring (the slope).
+        Simulate warns where a fixed step h is longer (UnstableStepWarning).
+    """
+    if isinstance(system, str):
+        _choice("scene", system, SCENES)
+        given = {k: v for k, v in params.items() if k in _PARAM_SET}
+        osc = _scene_oscillators(system, law, given, int(given.get("n_blocks", DEFAULTS["n_blocks"]))
+                                 if system == "chain" else 1)
+    else:
+        osc = _model_oscillators(system)
+    found = _system_period(osc)
+    return None if found is None else found[0]
+
+
+def _step_warnings(system: _Oscillators, method: str, h: float, t_end: float) -> list[tuple[str, type[Warning]]]:
+    """The warnings of a fixed step h [s] on `system` until t_end [s], the same for a scene and
+    a Model: h longer than the run, longer than the system's shortest period of oscillation, or
+    (RK4 on a box on a slope) beyond RK4's stability bound at the creep speed."""
+    said: list[tuple[str, type[Warning]]] = []
+    if h > t_end > 0.0:
+        said.append((f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
+                     "shortened to t_end; the result is that single step (docs/guide/choosing-h.md)", UserWarning))
+    found = _system_period(system)
+    if found is not None and h > found[0]:
+        period, exact = found
+        how = ("2 pi / the largest natural frequency of its springs and masses" if exact else
+               "at least: Gershgorin's bound on the largest natural frequency of its springs and masses")
+        said.append((f"h = {h:g} s is longer than the system's shortest period of oscillation {period:.3g} s "
+                     f"({how}): {method} cannot follow the oscillation; take h below a tenth of it "
+                     "(docs/guide/choosing-h.md)", UnstableStepWarning))
+    if method == "rk4" and system.slope is not None and h > 0.0:
+        law, params = system.slope
+        bound = rk4_stability_bound(law, params)
+        if bound is not None and h > bound:
+            said.append((f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
+                         f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
+                         "wrong creep speed (docs/guide/choosing-h.md)", UnstableStepWarning))
+    return said
+
+
+def _warn_model_steps(model: Any, method: Any, t_end: Any, controls: Mapping[str, Any],
+                      stacklevel: int = 3) -> None:
+    """Issue `_step_warnings` for a Model run with a fixed-step method, as simulate issues them
+    for a scene (before the run, after the law's notes as for a scene; input that is not a
+    positive finite h and t_end is left to the model's own validation). stacklevel: that of
+    the warnings, counted from this function."""
+    info = REGISTRY["method"].get(method) if isinstance(method, str) else None
+    if info is None or "h" not in info["controls"]:
+        return
+    try:
+        h, t = float(controls.get("h")), float(t_end)
+    except (TypeError, ValueError):
+        return
+    if not (math.isfinite(h) and math.isfinite(t) and h > 0.0 and t > 0.0):
+        return
+    for message, category in _step_warnings(_model_oscillators(model), method, h, t):
+        warnings.warn(message, category, stacklevel=stacklevel)
+
+
 def _check_code(status: int, given: Mapping[str, Any] | None = None) -> None:
     """Raise ValueError for a bad-input status: the library's message, which names the parameter
     and its accepted range, with the values of the parameters it names (`given` over the
@@ -774,12 +967,103 @@ def _with_values(message: str, known: Mapping[str, Any]) -> str:
     """A library message about bad input, with the values of the parameters it names: the
     one(s) before the colon and those it compares with, e.g. 'mu_k: must be finite and >= 0
     and <= mu_s (got mu_k = 0.5, mu_s = 0.35)'."""
+    # the facade's runs start at t0 = 0, a name its users never set: its messages say t_end
+    message = message.replace("t_end - t0", "t_end").replace("[t0, t_end]", "[0, t_end]").replace("> t0", "> 0")
     head, sep, rule = message.partition(":")
     if not sep:
         return message
     names = [n.strip() for n in head.split(",")] + re.findall(r"[<>]=?\s*([A-Za-z_]\w*)", rule)
     shown = [f"{n} = {_show(known[n])}" for n in dict.fromkeys(names) if n in known]
     return f"{message} (got {', '.join(shown)})" if shown else message
+
+
+class RegularisedLawWarning(UserWarning):
+    """``coulomb``, or ``stribeck`` with mu_s > mu_k, under a method without stick/slip events:
+    the run computes the regularised law (its band), not the set-valued one (`regularised_note`)."""
+
+
+#: The laws with a static level above the kinetic one that the set-valued methods solve exactly.
+_SET_VALUED = ("coulomb", "stribeck")
+
+
+def regularised_note(law: str, params: Mapping[str, float], method: str) -> str | None:
+    """What a run of `law` under `method` computes when the method has no stick/slip events and
+    the law's stick is a regularisation: ``coulomb``, or ``stribeck`` with mu_s > mu_k, under
+    any method but ``event_driven`` and ``moreau`` (None for any other law and method). The
+    sentence of the warning (`RegularisedLawWarning`) and of ``Result.stats["notes"]``.
+
+    Parameters
+    ----------
+    law : str
+        A friction law of `LAWS`.
+    params : mapping
+        Its parameters as used (mu_s, mu_k, v_s, v_eps; defaults where not given).
+    method : str
+        A method of `METHODS`.
+    """
+    if law not in _SET_VALUED or REGISTRY["method"][method]["laws"] is not None:
+        return None
+    p = _known(params)
+    if law == "stribeck" and not p["mu_s"] > p["mu_k"]:
+        return None
+    exact = "event_driven or moreau give the set-valued answer (exact stick at v = 0, docs/guide/exact-stick.md)"
+    if law == "coulomb" and method in _MODAL_METHODS:
+        return (f"coulomb under {method}: the paper's Coulomb law with its band, mu = mu_s = {p['mu_s']:g} for "
+                f"0 < |v| < v_s = {p['v_s']:g} m/s and mu_k = {p['mu_k']:g} beyond, solved over its modes "
+                "(stick at v = 0 is exact): a slip slower than v_s meets mu_s instead of mu_k, which "
+                f"shifts a stick-slip cycle by O(v_s); {exact}")
+    if law == "coulomb":
+        cost = ("its steps are forced at h_min at every crossing of v = 0 (tens of millions of evaluations "
+                "for seconds of stick) and the body creeps" if REGISTRY["method"][method]["adaptive"] else
+                "the velocity chatters across 0 by about |a| h a step, and the body creeps or stays with x "
+                "and v inconsistent")
+        return (f"coulomb under {method}: the paper's discontinuous Coulomb law (mu = 0 at v = 0 exactly, "
+                f"mu_s = {p['mu_s']:g} for 0 < |v| < v_s = {p['v_s']:g} m/s, mu_k = {p['mu_k']:g} beyond), not "
+                f"stick: near rest {cost}; " + exact)
+    return (f"stribeck under {method}: the regularised curve mu(v) tanh(v/v_eps), v_eps = {p['v_eps']:g} m/s, "
+            f"not stick: below break-away (mu_s = {p['mu_s']:g}) the body creeps at about v_eps "
+            "atanh(mu_hold/mu_s), and the steps must resolve the band (cost growing as 1/v_eps); " + exact)
+
+
+#: implicit_euler and galpha solve the laws with jumps over their modes on a model and on
+#: one contact (stickslip_modal_contacts, stickslip_fixed_implicit).
+_MODAL_METHODS = ("implicit_euler", "galpha")
+
+
+def model_notes(model: Any, method: str, stacklevel: int = 2) -> list[str]:
+    """`regularised_note` for each contact of a `stickslip.Model` under `method` (one per law and
+    parameter set, prefixed with the first contact that has it), each warned once
+    (RegularisedLawWarning); the list of them, for ``Result.stats["notes"]``."""
+    notes: dict[str, str] = {}
+    for i, c in enumerate(model.contacts):
+        note = regularised_note(c.law, c.params, method)
+        if note is not None and note not in notes:
+            notes[note] = f"{model.contact_label(i)}: {note}"
+    for message in notes.values():
+        warnings.warn(message, RegularisedLawWarning, stacklevel=stacklevel + 1)
+    return list(notes.values())
+
+
+def _checked(law: str, method: str) -> bool:
+    """Whether runs of `law` under `method` take simulate's Python path for the consistency
+    check (`_after_run`): the laws that jump or stick in a band (coulomb, karnopp, stribeck)
+    under the methods without stick/slip events, whose output can leave x and v inconsistent
+    (RK4's frozen states). The others keep the fast path, unchecked."""
+    return law in ("coulomb", "karnopp", "stribeck") and REGISTRY["method"][method]["laws"] is None
+
+
+#: The consistency check of a result, `stickslip.energy.check_result`: energy, which imports
+#: this module, sets it as it is imported (the package imports it).
+_CHECK_RESULT: Callable[..., list[str]] | None = None
+
+
+def _after_run(call: "_Call", result: Result) -> None:
+    """A run of `call` that reached t_end, on simulate's Python path: its warnings into
+    ``result.stats["notes"]`` (all but UnusedParameterWarning), then the consistency check
+    (`stickslip.energy.check_result`), whose failures are warned and noted there too."""
+    result.stats["notes"].extend(m for m, c in call.warnings if not issubclass(c, UnusedParameterWarning))
+    if _CHECK_RESULT is not None and _checked(call.law, call.method):
+        _CHECK_RESULT(result, call.method, call.known, stacklevel=3)
 
 
 class _Call:
@@ -823,7 +1107,7 @@ _MAX_DENSE_STATES = 4000
 
 
 #: Most blocks of the chain (the library's MAX_BLOCKS in stickslip_chain).
-_MAX_BLOCKS = 1_000_000
+_MAX_BLOCKS = int(REGISTRY["const"]["max_blocks"]["value"])
 
 
 def _n_blocks(given: Mapping[str, float], method: str, n_per_block: int, dense: bool) -> int:
@@ -943,7 +1227,9 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         - ``nevents``: stick/slip transitions of event_driven (``Result.events`` holds them;
           0 for the other methods).
         - ``ncontact_iter``: work of moreau's contact solver, summed over the steps (sweeps of
-          Gauss-Seidel, or modes tried by the exact enumeration).
+          the chain's Gauss-Seidel, or linear solves of the coupled solver).
+        - ``nonunique``: the steps (moreau) whose contact problem had another solution with as
+          many stuck contacts (the solver's rule chose one; a RuntimeWarning names the count).
         - ``contact_residual``: the largest residual of moreau's contact solve [m/s], measured
           on each step's friction problem (its complementarity conditions).
         - ``contact_worst``: the contact (0-based) whose friction problem had no solution
@@ -952,6 +1238,10 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         - ``message``: the library's message for that status.
         - ``t_reached``: the time the run reached [s] (t_end on success).
         - ``h_last``: the last step size tried [s].
+        - ``notes``: a list of sentences (str) about the run: its warnings (the law it computes
+          under this method, RegularisedLawWarning; a step beyond a stability bound) and the
+          failures of its consistency check (ConsistencyWarning, EnergyBoundWarning; see
+          docs/guide/results.md); empty for a run that needed none.
         - ``cpu_seconds``: CPU time of the library call [s]: the process's CPU clock (that of
           time.process_time), read by the compiled wrapper before and after the run; for a
           fixed-step run of fewer than 2048 steps the monotonic clock (time.perf_counter's)
@@ -982,10 +1272,21 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     UnusedParameterWarning
         A physical parameter the scene and the law do not read (unless ignore_unused).
     UnstableStepWarning
-        RK4 with h beyond its stability bound at the creep speed on the slope
-        (`rk4_stability_bound`).
+        A fixed step h longer than the system's shortest period of oscillation
+        (`shortest_period`: from its springs and masses), or RK4 with h beyond its stability
+        bound at the creep speed on the slope (`rk4_stability_bound`).
     UserWarning
         A fixed step h longer than the whole run.
+    RegularisedLawWarning
+        ``coulomb``, or ``stribeck`` with mu_s > mu_k, under a method without stick/slip events:
+        what the run computes instead of the set-valued law (`regularised_note`).
+    ConsistencyWarning, EnergyBoundWarning
+        A run that reached t_end but fails the consistency check (x against the integral of
+        v; on a model its energy and its friction forces too): the numbers are in the message
+        and in ``stats["notes"]`` (docs/guide/results.md).
+
+    The checks of a fixed step are the same for a scene and a `Model` (a model from
+    `Model.from_scene` warns as its scene).
 
     Examples
     --------
@@ -1006,8 +1307,10 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
         if extra:
             raise ValueError(f"{', '.join(extra)}: a Model carries its own laws, parameters and initial "
                              "state (give them to add_body and add_contact)")
-        return scene.run_model(method=method, t_end=t_end, n_out=n_out, every_step=every_step,
-                               max_steps=max_steps, **kwargs)
+        result = scene.run_model(method=method, t_end=t_end, n_out=n_out, every_step=every_step,
+                                 max_steps=max_steps, **kwargs)
+        _warn_nonunique(result)
+        return result
     # Reached when _runner's fast path (the FastPath standing for this function, below) has not
     # finished the call: a new setting, one with warnings to repeat or a grid too long to keep,
     # a Model, or bad arguments. A setting seen before (equal arguments of equal types) is not
@@ -1025,11 +1328,27 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
             key = None                       # tuples may hide bools: validated each time
     result = _run(call)
     status = result._raw[2]
+    if status == STATUS_OK:
+        _warn_nonunique(result)
     if key is not None and status > _FIRST_INPUT_CODE:     # new, and the library named no bad input
         if len(_CALLS) >= _CALLS_MAX:
             _CALLS.clear()
         _CALLS[key] = call
-    return result if status == STATUS_OK else _failed(call, result)
+    if status != STATUS_OK:
+        _failed(call, result)
+    if not call.fast:
+        _after_run(call, result)
+    return result
+
+
+def _warn_nonunique(result: Result) -> None:
+    """One RuntimeWarning for a run in which some contact problem had another solution with as
+    many stuck contacts (``stats["nonunique"]`` counts them; the rule chose one)."""
+    count = int(result.stats.get("nonunique", 0))
+    if count:
+        warnings.warn(f"{count} contact problem(s) of this {result.method} run had another solution with as many "
+                      "stuck contacts; the solver's rule chose one (stats['nonunique']; see the exact-stick "
+                      "guide, 'When a step has several solutions')", RuntimeWarning, stacklevel=3)
 
 
 def _failed(call: _Call, result: Result) -> NoReturn:
@@ -1059,7 +1378,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
                          f"{', '.join(_PARAM_ORDER)}; controls: {', '.join(CONTROLS)})")
     given = _physical({k: v for k, v in kwargs.items() if k in _PARAM_SET})
     ctl = _controls(method, plan, {k: v for k, v in kwargs.items() if k in _CONTROL_SET})
-    t_end = _finite("t_end", t_end, "> 0 [s]")
+    t_end = _end_time(t_end)
     n_states, state_labels = plan.n - 2, plan.state_labels
     if plan.sized_by:                        # a law whose number of states is a parameter (gms)
         n_states, state_labels = _states(law, tuple((k, given[k]) for k in plan.sized_by if k in given))
@@ -1085,24 +1404,15 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
         warn(f"{', '.join(unused)}: not read by scene {scene!r} with law {law!r}, ignored (range-checked "
              "only; ignore_unused=True silences this for parameter sets shared across laws)",
              UnusedParameterWarning)
+    note = regularised_note(law, _known(given), method)
+    if note is not None:
+        warn(note, RegularisedLawWarning)
     if plan.needs_h:
         if "h" not in ctl:
             raise ValueError(f"h: required for method {method!r} (finite, > 0 [s])")
-        h = ctl["h"]
-        if h > t_end > 0.0:
-            warn(f"h = {h:g} s is longer than the whole run (t_end = {t_end:g} s): one step, "
-                 "shortened to t_end; the result is that single step (docs/guide/choosing-h.md)")
-        period = _shortest_period(scene, given, n_blocks)
-        if period is not None and h > period:
-            warn(f"h = {h:g} s is longer than the scene's shortest period of oscillation "
-                 f"{period:.3g} s (2 pi sqrt(m / k)): {method} cannot follow the oscillation; "
-                 "take h below a tenth of it (docs/guide/choosing-h.md)", UnstableStepWarning)
-        if method == "rk4" and scene == "slope" and h > 0.0:
-            bound = rk4_stability_bound(law, tuple(sorted(given.items())))
-            if bound is not None and h > bound:
-                warn(f"h = {h:g} s is beyond RK4's stability bound 2.785/|lambda| = {bound:.3g} s "
-                     f"at the creep speed of {law!r} on this slope: RK4 may chatter or settle on a "
-                     "wrong creep speed (docs/guide/choosing-h.md)", UnstableStepWarning)
+        for message, category in _step_warnings(_scene_oscillators(scene, law, given, n_blocks), method,
+                                                ctl["h"], t_end):
+            warn(message, category)
     if scene == "chain":
         if v0 is None:   # every block stuck on the belt
             v0 = given.get("v_b", DEFAULTS["v_b"])
@@ -1169,7 +1479,8 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     return _Call(scene=scene, law=law, method=method, t_end=t_end, handle=int(handle), n=y0.size,
                  resolved=resolved, grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
                  state_labels=state_labels, used=plan.used, known=known, events_room=room,
-                 n_blocks=n_blocks, arm=arm, fast=not said and (rows > 0 or grid is not None))
+                 n_blocks=n_blocks, arm=arm,
+                 fast=not said and (rows > 0 or grid is not None) and not _checked(law, method))
 
 
 #: The integrators look at the stop flag as a run starts, then every 4096 steps
@@ -1203,7 +1514,7 @@ _set_main_thread()
 os.register_at_fork(after_in_child=_set_main_thread)
 
 
-def _bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
+def bare_call(scene: str, law: str, **kwargs: Any) -> Callable[[], Any]:
     """The library call that ``simulate(scene, law, **kwargs)`` makes (run_prepared on the
     setting's handle), through f2py's wrapper of it, as a function that makes it with the same
     arguments and does nothing else (the benchmarks' overhead table: simulate reaches the same

@@ -31,7 +31,6 @@ import math
 import os
 import re
 import sys
-import tempfile
 from pathlib import Path
 from typing import Any, Iterator
 
@@ -39,6 +38,7 @@ import numpy as np
 
 from .batch import BatchResult, simulate_batch, simulate_model_batch
 from .model import Model
+from .outputs import atomic_write
 
 #: Largest default chunk [rows].
 MAX_CHUNK_ROWS = 10_000
@@ -189,17 +189,7 @@ def save_chunk(path: Path, result: BatchResult) -> Path:
     arrays.update({f"p:{k}": v for k, v in result.params.items()})
     arrays.update({f"f:{k}": v for k, v in result.fields.items()})
     arrays["threads"] = np.array(result.threads)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            np.savez(f, **arrays)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
+    atomic_write(path, lambda f: np.savez(f, **arrays), binary=True)
     return path
 
 
@@ -275,10 +265,7 @@ class SweepStore:
         manifest = {"format": _FORMAT, "sweep": sweep, "n_rows": n_rows, "chunk_rows": chunk_rows,
                     "n_chunks": math.ceil(n_rows / chunk_rows),
                     "files": "chunk-NNNNNN.npz, rows NNNNNN*chunk_rows onwards"}
-        fd, tmp = tempfile.mkstemp(dir=path, prefix=f".{MANIFEST}.", suffix=".tmp")
-        with os.fdopen(fd, "w") as f:
-            json.dump(manifest, f, indent=1)
-        os.replace(tmp, mf)
+        atomic_write(mf, lambda f: json.dump(manifest, f, indent=1))
         return cls(path)
 
 

@@ -23,16 +23,18 @@ from __future__ import annotations
 
 import math
 import threading
+import warnings
 from collections import OrderedDict
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
-from .core import REGISTRY, friction_coefficient
+from . import core
+from .core import CHATTER_FRACTION, CONTROL_DEFAULTS, REGISTRY, friction_coefficient
 from .signal import Signal
 
-__all__ = ["EnergyBoundWarning", "energy_bound", "MARGIN"]
+__all__ = ["EnergyBoundWarning", "ConsistencyWarning", "energy_bound", "check_result", "MARGIN"]
 
 #: Relative margin on the signals' integrals and on the bound (their quadrature, mu_max's
 #: sampling, rounding).
@@ -88,6 +90,9 @@ def _mu_max(law: str, params: dict[str, float]) -> float | None:
     top = float(np.max(np.abs(mu)))
     if abs(mu[0]) > (1.0 - 1e-6) * top and abs(mu[0]) > abs(mu[1]):   # still rising at 1e3 m/s
         return None
+    if law in ("karnopp", "stribeck"):  # their stick (Karnopp's band; the set-valued methods'
+        # and the modal steps' static set) holds with up to mu_s, which mu(v) alone may not reach
+        top = max(top, abs(params.get("mu_s", REGISTRY["param"]["mu_s"]["default"])))
     return top
 
 
@@ -96,10 +101,11 @@ def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray,
     """The mechanical energy E [J] of `model` at the output times `t` [s] (positions x and
     velocities v, shape (n_bodies, n_t), t[0] = 0) and its bound B [J] (see the module): a
     correct run has E <= B. None when the model is not checked (a law with internal states, a
-    law whose mu does not oppose the slip or has no bound, signals too fast for the grid).
+    law whose mu does not oppose the slip or has no bound, signals too fast for the grid, a
+    drive, whose work no force of the model bounds).
     `arrays`: `model.arrays()` where the caller has it (it identifies the model in the cache of
     the bounds)."""
-    if t.size == 0 or t[0] != 0.0:
+    if t.size == 0 or t[0] != 0.0 or getattr(model, "drives", None):
         return None
     mass = np.array([b.mass for b in model.bodies])
     e = (0.5 * mass) @ np.square(v)
@@ -187,3 +193,293 @@ def _bound(e0: float, int_a: np.ndarray, int_b: np.ndarray) -> np.ndarray:
     """( sqrt(E0 + int b) + 1/2 int a )^2, with the margins."""
     int_a, int_b = int_a * (1.0 + MARGIN), int_b * (1.0 + MARGIN)
     return (np.sqrt(e0 + int_b) + 0.5 * int_a) ** 2 * (1.0 + MARGIN) + 1e-14 * max(e0, 1e-300)
+
+
+# -- the consistency check of a result (docs/guide/results.md, "The consistency check") --------
+
+class ConsistencyWarning(UserWarning):
+    """A result that fails the consistency check (`check_result`): its positions disagree with
+    the integral of its velocities, its energy rises where only friction and dampers act, or a
+    body's friction exceeds its laws' bound. The message gives the numbers; the same sentence
+    is in ``Result.stats["notes"]``."""
+
+
+#: Safety factor on the allowances of the consistency check (its error estimates are
+#: estimates: the variation of the acceleration within an output interval is taken from the
+#: mean accelerations of the interval and its neighbours).
+SAFETY: float = 4.0
+#: Rounding: the allowance never falls below ROUNDING eps times the scale of the quantity.
+ROUNDING: float = 64.0
+#: The kinematic check needs an output grid that resolves the motion: at least MIN_INTERVALS
+#: intervals, and v reversing its direction between fewer than CHATTER_FRACTION of them (the
+#: batch's rule for a run that chattered at the grid's scale, stickslip.batch). On a coarser
+#: grid the acceleration's variation within an interval cannot be estimated from its
+#: neighbours, and the run is not checked.
+MIN_INTERVALS: int = 64
+#: An absolute floor of the kinematic check's allowance [m], far below any length a run
+#: resolves (a body held at x = 0 may carry velocities of 1e-31 m/s).
+TINY: float = 1e-20
+
+
+def _resolved(v: np.ndarray) -> bool:
+    """Whether an output grid resolves a body's motion (rows of v at distinct times): at least
+    MIN_INTERVALS intervals, and v reversing its direction between fewer than CHATTER_FRACTION
+    of them (as stickslip.batch counts a row's reversals)."""
+    dv = np.diff(v)
+    if dv.size < MIN_INTERVALS:
+        return False
+    big = np.abs(dv) > ROUNDING * np.finfo(float).eps * np.max(np.abs(v))
+    reversals = np.count_nonzero((dv[1:] * dv[:-1] < 0.0) & big[1:] & big[:-1])
+    return reversals < CHATTER_FRACTION * (dv.size - 1)
+
+
+def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str, Any], h: float | None,
+               tol_x: float, nstep: int) -> str | None:
+    """The change of x against the trapezoid integral of v on the output grid, per interval
+    and from t = 0 (one body's row x, v; see the results guide): the defect beyond SAFETY
+    times its allowance, as a sentence, or None. tol_x: atol + rtol max|x| of an adaptive
+    method's error test on x [m]; nstep: its steps."""
+    dt = np.diff(t)
+    keep = dt > 0.0
+    if not keep.all():                       # repeated times (every_step at an event): one row each
+        idx = np.concatenate([[0], 1 + np.flatnonzero(keep)])
+        t, x, v, dt = t[idx], x[idx], v[idx], dt[keep]
+    if not _resolved(v):
+        return None
+    dv = np.diff(v)
+    d = np.diff(x) - dt * 0.5 * (v[1:] + v[:-1])
+    s = dv / dt                               # mean acceleration of each interval
+    jump = np.abs(np.diff(s))
+    # the variation of a on each interval, from its neighbours' mean accelerations (the first
+    # and last intervals, with one neighbour, count its difference twice)
+    tv = np.concatenate([[2.0 * jump[0]], jump]) + np.concatenate([jump, [2.0 * jump[-1]]])
+    step = np.maximum(dt, h or 0.0)
+    change = np.abs(dv)
+    span = max(float(t[-1] - t[0]), 1e-300)
+    if h and span < h * dt.size:
+        # an output grid finer than the fixed step: its points interpolate within a step, and an
+        # interval is allowed what the step that holds it is (the variations over the intervals
+        # within a step of either side)
+        w = int(math.ceil(h * dt.size / span))
+        tv, change = _window_sum(tv, w), _window_sum(change, w)
+    # |int v - trapezoid| <= dt^2/8 TV(a) on the interval (Peano kernel t (dt - t)/2 <= dt^2/8);
+    # a fixed step h straddling a corner of a errs like a trapezoid of width h
+    q = step * step / 8.0 * tv
+    if h and (method["order"] == 1 or method["implicit"]):
+        # x1 = x0 + h v1 (backward Euler; moreau's theta; galpha's steps across transitions):
+        # a defect of h |dv| / 2 a step
+        q = q + 0.5 * h * change
+    if method["adaptive"]:                    # each step's error test lets x err by tol_x
+        q = q + tol_x * nstep * dt / span
+    # rounding: each step rounds x, of size up to max|x| + dt max|v|
+    steps = np.maximum(nstep * dt / span, dt / h if h else 1.0) + 1.0
+    q = q + ROUNDING / SAFETY * np.finfo(float).eps * steps * (np.max(np.abs(x)) + dt * np.max(np.abs(v))) \
+        + TINY / SAFETY
+    # an adaptive method's x at the two ends of an interval (or of the run) may each be off by
+    # what its error test allows: once per interval, once for the whole run
+    ends = 2.0 * tol_x if method["adaptive"] else 0.0
+    local = np.abs(d) > SAFETY * (q + ends)
+    big_d, big_q = np.cumsum(d), np.cumsum(q) + ends
+    total = np.abs(big_d) > SAFETY * big_q
+    if not (local.any() or total.any()):
+        return None
+    if total.any():
+        j = int(np.flatnonzero(total)[0])
+        return (f"x changed by {x[j + 1] - x[0]:.6g} m from t = {t[0]:.6g} to {t[j + 1]:.6g} s while the "
+                f"integral of v over that time is {x[j + 1] - x[0] - big_d[j]:.6g} m: a defect of "
+                f"{big_d[j]:.3g} m, more than {SAFETY:g} x its allowance {big_q[j]:.3g} m (the output grid's "
+                f"quadrature and the method's error; {abs(big_d[-1]):.3g} m at t = {t[-1]:.6g} s)")
+    j = int(np.flatnonzero(local)[0])
+    return (f"x changed by {x[j + 1] - x[j]:.6g} m from t = {t[j]:.6g} to {t[j + 1]:.6g} s while the "
+            f"integral of v over that interval is {x[j + 1] - x[j] - d[j]:.6g} m: a defect of {d[j]:.3g} m, "
+            f"more than {SAFETY:g} x its allowance {q[j] + ends:.3g} m")
+
+
+def _window_sum(a: np.ndarray, w: int) -> np.ndarray:
+    """a[i - w] + ... + a[i + w] for each i (the terms that exist)."""
+    c = np.concatenate([[0.0], np.cumsum(a)])
+    i = np.arange(a.size)
+    return c[np.minimum(i + w + 1, a.size)] - c[np.maximum(i - w, 0)]
+
+
+def _tolerances(method: Mapping[str, Any], controls: Mapping[str, Any], n_bodies: int,
+                x: np.ndarray) -> np.ndarray:
+    """atol + rtol max|x| of each body's position in an adaptive method's error test [m]
+    (zeros for the fixed-step methods); controls' rtol and atol: one value, or one per state
+    component (positions first)."""
+    if not method["adaptive"]:
+        return np.zeros(n_bodies)
+    return _tolerance_of(controls, "atol", 0, n_bodies) + _tolerance_of(controls, "rtol", 0, n_bodies) \
+        * np.max(np.abs(x), axis=1)
+
+
+def _tolerance_of(controls: Mapping[str, Any], name: str, start: int, n: int) -> np.ndarray:
+    """Components start .. start + n - 1 of the tolerance `name` (rtol or atol: one value for
+    every component, or one per component) [-] or [state units]."""
+    a = np.atleast_1d(np.asarray(controls.get(name, CONTROL_DEFAULTS[name]), dtype=np.float64))
+    return a[start:start + n] if a.size >= start + n else np.full(n, a[0])
+
+
+def _velocity_allowance(method: Mapping[str, Any], controls: Mapping[str, Any], t: np.ndarray, v: np.ndarray,
+                        nstep: int) -> np.ndarray:
+    """How far each body's velocity may be off without the run being wrong [m/s]: an adaptive
+    method's error test summed over its steps (nstep (atol + rtol max|v|)), a fixed step's
+    velocity change at the largest mean acceleration of the output grid (h max|dv/dt|)."""
+    nb = v.shape[0]
+    if method["adaptive"]:
+        return nstep * (_tolerance_of(controls, "atol", nb, nb)
+                        + _tolerance_of(controls, "rtol", nb, nb) * np.max(np.abs(v), axis=1))
+    dt = np.diff(t)
+    ok = dt > 0.0
+    if not ok.any():
+        return np.zeros(nb)
+    s = np.abs(np.diff(v, axis=1)[:, ok]) / dt[ok]
+    return float(controls.get("h", 0.0)) * np.max(s, axis=1)
+
+
+def _energy_rise(model: Any, t: np.ndarray, e: np.ndarray, v: np.ndarray, dv: np.ndarray) -> str | None:
+    """Where `model` is conservative apart from friction and dampers (no force, no moving
+    surface), its energy E [J] cannot rise: E(t) against its smallest earlier value, allowing
+    SAFETY sum m |v|max dv + m dv^2 / 2 (dv: `_velocity_allowance`). A sentence, or None."""
+    if model.forces or model.drives or any(c.surface_velocity is not None for c in model.contacts):
+        return None
+    mass = np.array([b.mass for b in model.bodies])
+    allow = SAFETY * float(np.sum(mass * (np.max(np.abs(v), axis=1) * dv + 0.5 * dv * dv))) \
+        + ROUNDING * np.finfo(float).eps * float(np.max(e))
+    low = np.minimum.accumulate(e)
+    rise = e - low
+    j = int(np.argmax(rise))
+    if not rise[j] > allow:
+        return None
+    i = int(np.flatnonzero(e[:j + 1] == low[j])[0])
+    return (f"the mechanical energy rose from {e[i]:.6g} J at t = {t[i]:.6g} s to {e[j]:.6g} J at "
+            f"t = {t[j]:.6g} s, more than the {allow:.3g} J its error allowance admits, although only "
+            "friction and dampers act (they only take energy out)")
+
+
+def _friction_excess(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray, dv: np.ndarray) -> str | None:
+    """Each body's mean friction force over each output interval, m dv/dt minus the mean of its
+    springs, dampers and forces (trapezoids), against the sum of mu_max N+ of its contacts
+    (laws without internal states whose mu has a bound; others not checked): the first excess
+    beyond SAFETY times the allowance (the trapezoids' error for a monotone quantity, half its
+    change, and m dv over the interval), as a sentence, or None."""
+    if t.size < 2 or any(REGISTRY["law"][c.law]["n_states"] != 0 or c.law == "gms" for c in model.contacts):
+        return None
+    dt = np.diff(t)
+    ok = dt > 0.0
+    resolved = np.array([_resolved(row[np.concatenate([[True], ok])]) and not model.driven(j)
+                         for j, row in enumerate(v)])     # a driven body's force includes its drive's
+    if not resolved.any():
+        return None
+    nb = model.n_bodies
+    mass = np.array([b.mass for b in model.bodies])
+    mean_f = np.zeros((nb, dt.size))                    # mean non-friction force [N]
+    slack = np.zeros((nb, dt.size))                     # its trapezoid's allowance [N]
+    for a, b, k, l0 in model.springs:
+        f = -k * (x[a] - (x[b] if b is not None else 0.0) - l0)
+        for body, sign in ((a, 1.0), (b, -1.0)):
+            if body is not None:
+                mean_f[body] += sign * 0.5 * (f[1:] + f[:-1])
+                slack[body] += 0.5 * np.abs(np.diff(f))
+    for a, b, c in model.dampers:
+        f = -c * (v[a] - (v[b] if b is not None else 0.0))
+        for body, sign in ((a, 1.0), (b, -1.0)):
+            if body is not None:
+                mean_f[body] += sign * 0.5 * (f[1:] + f[:-1])
+                slack[body] += 0.5 * np.abs(np.diff(f))
+    limit = np.zeros((nb, dt.size))                     # sum of mu_max N+ [N]
+    for i, sig in model.forces:
+        f = _value(sig, t)
+        mean_f[i] += 0.5 * (f[1:] + f[:-1])
+        slack[i] += 0.5 * np.abs(np.diff(f))
+    for c in model.contacts:
+        mu = _mu_max(c.law, dict(c.params))
+        if mu is None:
+            return None
+        n = np.maximum(_value(c.normal_force, t), 0.0)
+        cap = mu * np.maximum(n[1:], n[:-1])
+        for body in (c.a, c.b):
+            if body is not None:
+                limit[body] += cap
+    with np.errstate(divide="ignore", invalid="ignore"):
+        friction = mass[:, None] * np.diff(v, axis=1) / dt - mean_f
+        allow = SAFETY * (slack + mass[:, None] * dv[:, None] / dt) \
+            + ROUNDING * np.finfo(float).eps * (np.abs(mean_f) + limit)
+        excess = (np.abs(friction) - limit - allow) * ok * resolved[:, None]
+    bad = np.argwhere(excess > 0.0)
+    if bad.size == 0:
+        return None
+    j, i = (int(u) for u in bad[0])
+    return (f"{model.label(j)}: its mean friction force from t = {t[i]:.6g} to {t[i + 1]:.6g} s is "
+            f"{friction[j, i]:.6g} N (m dv/dt minus its other forces), beyond the {limit[j, i]:.6g} N its "
+            f"contacts' laws can give (mu_max N) and the {allow[j, i]:.3g} N of error allowance")
+
+
+def check_result(result: Any, method: str, controls: Mapping[str, Any], model: Any = None,
+                 arrays: Mapping[str, Any] | None = None, stacklevel: int = 2) -> list[str]:
+    """The consistency check of a run that reached t_end (docs/guide/results.md): x against
+    the integral of v for every body, and for a `model` the energy bound (`energy_bound`), the
+    energy of a model conservative apart from friction against its friction's work (it cannot
+    rise) and each body's friction within its laws' bound. Each failure is a sentence naming
+    the run, warned (ConsistencyWarning, EnergyBoundWarning for the bound) and appended to
+    ``result.stats["notes"]``; the list of them is returned (empty: the run passed).
+
+    Parameters
+    ----------
+    result : Result
+        The run's result (t from 0).
+    method : str
+        Its method (a name of `stickslip.METHODS`).
+    controls : mapping
+        Its controls as passed to the library (h; rtol and atol as arrays or numbers).
+    model : Model, optional
+        The model run (None: a built-in scene; the kinematic part only).
+    arrays : mapping, optional
+        ``model.arrays()`` where the caller has it.
+    stacklevel : int
+        The warnings' stacklevel, counted from this function's caller.
+    """
+    info = REGISTRY["method"][method]
+    t = np.asarray(result.t, dtype=np.float64)
+    x, v = np.atleast_2d(result.x), np.atleast_2d(result.v)
+    if t.size < 2:
+        return []
+    nstep = int(result.stats.get("nstep", 0))
+    h = float(controls["h"]) if "h" in controls and not info["adaptive"] else None
+    where = f"{'model' if model is not None else result.scene} ({result.law or 'no contact'}, {method})"
+    found: list[tuple[str, type[Warning]]] = []
+    tol_x = _tolerances(info, controls, x.shape[0], x)
+    for j in range(x.shape[0]):
+        said = _kinematic(t, x[j], v[j], info, h, float(tol_x[j]), nstep)
+        if said is not None:
+            who = model.label(j) if model is not None else ("" if x.shape[0] == 1 else f"block {j}")
+            found.append((f"{where}: {who + ': ' if who else ''}{said}", ConsistencyWarning))
+            break
+    if model is not None:
+        checked = energy_bound(model, t, x, v, arrays)
+        if checked is not None:
+            e, bound = checked
+            over = np.flatnonzero(~(e <= bound))
+            if over.size:
+                i = int(over[0])
+                found.append((f"{where}: the mechanical energy {e[i]:.6g} J at t = {t[i]:.6g} s exceeds "
+                              f"{bound[i]:.6g} J, the most its forces and moving surfaces can have put in "
+                              "(stickslip.energy): the result is wrong; take a smaller step or tolerance",
+                              EnergyBoundWarning))
+            else:
+                dv = _velocity_allowance(info, controls, t, v, nstep)
+                rise = _energy_rise(model, t, e, v, dv)
+                if rise is not None:
+                    found.append((f"{where}: {rise}", ConsistencyWarning))
+        dv = _velocity_allowance(info, controls, t, v, nstep)
+        excess = _friction_excess(model, t, x, v, dv)
+        if excess is not None:
+            found.append((f"{where}: {excess}", ConsistencyWarning))
+    notes = result.stats.setdefault("notes", [])
+    for message, category in found:
+        warnings.warn(message, category, stacklevel=stacklevel + 1)
+        notes.append(message)
+    return [m for m, _ in found]
+
+
+core._CHECK_RESULT = check_result            # simulate's scene runs are checked by it too

@@ -59,6 +59,8 @@ predicted here (`NO_LAW`).
 from __future__ import annotations
 
 import math
+import numbers
+import warnings
 from typing import Any, Callable
 
 import numpy as np
@@ -73,7 +75,7 @@ ENGINE_SETTINGS: dict[str, dict[str, Any]] = {
     "drake_lagged": {"stiction_tolerance": 1e-4},
     "mujoco": {"cone": "pyramidal", "impratio": 1.0, "solref": (0.02, 1.0),
                "solimp": (0.9, 0.95, 0.001, 0.5, 2.0), "timestep": 0.002, "n_contacts": 4,
-               "mu": None},
+               "mu": None, "noslip_iterations": 0},
     "newton_semi_implicit": {"k_f": 1000.0, "n_contacts": 4, "mu": None},
 }
 #: The engines with an equivalent law (engine_creep, advise_engine and engine_mu take them).
@@ -92,6 +94,36 @@ NO_LAW: dict[str, str] = {
 SCENE_DEFAULTS: dict[str, float] = {"theta_deg": 10.0, "m": 10.0, "g": 9.81, "mu_s": 0.35,
                                     "mu_k": 0.30, "aspect": 0.5}
 CONES: tuple[str, ...] = ("pyramidal", "elliptic")
+#: solimp's last two numbers where fewer than five are given (MuJoCo's own defaults: midpoint
+#: 0.5, power 2).
+SOLIMP_TAIL: tuple[float, float] = (0.5, 2.0)
+
+#: MuJoCo's damping ratio (solref's second number, or B / (2 sqrt(K)) in the direct format)
+#: below which the slope box rocks on its contacts in MuJoCo's own runs: the number of active
+#: contacts drops from 4 to 2 or 0 and the box creeps faster than the steady law predicts
+#: (pyramidal: 1.9 to 3.7 times at dampratio 0.3-0.7 with the defaults otherwise). Measured with
+#: mujoco 4.0.0 by bisection on 10 s runs of the paper's box (``python -m cases.engines
+#: --rocking``, engines_rocking.csv), over timestep 0.5-5 ms, solref timeconst 0.01-0.1 s and
+#: impratio 1-100; each entry is the largest threshold found at that impratio (pyramidal) or at
+#: any (elliptic), rounded up to 0.01. Between the impratios listed the larger neighbour's
+#: threshold applies; beyond 100, the last.
+ROCKING_DAMPRATIO: dict[str, tuple[tuple[float, float], ...]] = {
+    "pyramidal": ((1.0, 0.72), (3.0, 0.77), (10.0, 0.81), (30.0, 0.83), (100.0, 0.85)),
+    "elliptic": ((math.inf, 0.51),),
+}
+
+
+class EngineDomainWarning(UserWarning):
+    """A prediction outside the domain where the engine's equivalent law describes its runs
+    (the engine's own motion differs: it rocks, or it slides past a creep that exists only for
+    small disturbances)."""
+
+
+def _real(key: str, value: Any) -> float:
+    """value as a float (Python or numpy real numbers, not bool); ValueError naming key."""
+    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+        raise ValueError(f"{key} must be a real number, got {value!r}")
+    return float(value)
 
 
 def _names(seq: Any) -> str:
@@ -107,7 +139,7 @@ def _split(engine: str, settings: dict[str, Any]) -> tuple[dict[str, float], dic
     scene, own = dict(SCENE_DEFAULTS), dict(ENGINE_SETTINGS[engine])
     for key, value in settings.items():
         if key in SCENE_DEFAULTS:
-            scene[key] = float(value)
+            scene[key] = _real(key, value)
         elif key in own:
             own[key] = value
         else:
@@ -126,12 +158,19 @@ def _split(engine: str, settings: dict[str, Any]) -> tuple[dict[str, float], dic
     if "mu" in own and own["mu"] is None:
         own["mu"] = scene["mu_k"]        # one coefficient: the kinetic one
     for key in ("stiction_tolerance", "impratio", "timestep", "k_f", "mu"):
-        if key in own and not float(own[key]) > 0:
-            raise ValueError(f"{key} must be > 0, got {own[key]}")
+        if key in own:
+            own[key] = _real(key, own[key])
+            if not (own[key] > 0 and math.isfinite(own[key])):
+                raise ValueError(f"{key} must be a finite number > 0, got {own[key]:g}")
+    if "noslip_iterations" in own:
+        n = own["noslip_iterations"]
+        if isinstance(n, bool) or not isinstance(n, (numbers.Integral, np.integer)) or n < 0:
+            raise ValueError(f"noslip_iterations must be an integer >= 0, got {n!r}")
+        own["noslip_iterations"] = int(n)
     if "n_contacts" in own:
         n = own["n_contacts"]
-        if isinstance(n, bool) or int(n) != n or n < 1:
-            raise ValueError(f"n_contacts must be an integer >= 1, got {n}")
+        if isinstance(n, bool) or not isinstance(n, (numbers.Real, np.number)) or int(n) != n or n < 1:
+            raise ValueError(f"n_contacts must be an integer >= 1, got {n!r}")
         own["n_contacts"] = int(n)
     if "cone" in own and own["cone"] not in CONES:
         raise ValueError(f"unknown cone {own['cone']!r}; accepted: {_names(CONES)}")
@@ -142,12 +181,22 @@ def _split(engine: str, settings: dict[str, Any]) -> tuple[dict[str, float], dic
                              f"-damping), got {own['solref']}")
         own["solref"] = ref
     if "solimp" in own:
-        imp = tuple(float(x) for x in own["solimp"])
+        imp = tuple(_real("solimp", x) for x in own["solimp"])
+        if 3 <= len(imp) < 5:           # MuJoCo takes 3 to 5 numbers: the rest its defaults
+            imp = imp + SOLIMP_TAIL[len(imp) - 3:]
         if len(imp) != 5 or not (0 < imp[0] < 1 and 0 < imp[1] < 1 and imp[2] >= 0
                                  and 0 < imp[3] < 1 and imp[4] >= 1):
-            raise ValueError(f"solimp must be (dmin, dmax in (0, 1), width >= 0, midpoint in "
-                             f"(0, 1), power >= 1), got {own['solimp']}")
+            raise ValueError(f"solimp must be 3 to 5 numbers (dmin, dmax in (0, 1), width >= 0"
+                             f"[, midpoint in (0, 1)[, power >= 1]]), got {own['solimp']!r}")
         own["solimp"] = imp
+    if own.get("cone") == "elliptic" and own.get("noslip_iterations", 0) > 0:
+        raise ValueError("mujoco: noslip_iterations > 0 with the elliptic cone has no "
+                         "equivalent law: MuJoCo's noslip pass then removes the soft cone's slip "
+                         "after each solve (mujoco 4.0.0's runs of the paper's box: 5.2e-6 m/s "
+                         "after 1 iteration, 5.9e-8 m/s after 3 or more, against 4.4e-4 m/s "
+                         "without), a creep set by the pass, not by a law; measure it with the "
+                         "engine (python -m cases.engines). With the pyramidal cone the pass "
+                         "changed nothing in those runs, and engine_creep takes it")
     return scene, own
 
 
@@ -194,6 +243,33 @@ def _mujoco_kb(own: dict[str, Any]) -> tuple[float, float]:
         tc = max(ref[0], 2 * float(own["timestep"]))
         return 1 / (dmax ** 2 * tc ** 2 * ref[1] ** 2), 2 / (dmax * tc)
     return -ref[0] / dmax ** 2, -ref[1] / dmax
+
+
+def mujoco_dampratio(own: dict[str, Any]) -> float:
+    """MuJoCo's damping ratio of solref: its second number (timeconst, dampratio), or
+    B / (2 sqrt(K)) in the direct format (-stiffness, -damping)."""
+    K, B = _mujoco_kb(own)
+    return B / (2.0 * math.sqrt(K))
+
+
+def rocking_dampratio(cone: str, impratio: float) -> float:
+    """The damping ratio below which the slope box rocks in MuJoCo (`ROCKING_DAMPRATIO`)."""
+    for upto, zeta in ROCKING_DAMPRATIO[cone]:
+        if impratio <= upto:
+            return zeta
+    return ROCKING_DAMPRATIO[cone][-1][1]
+
+
+def _check_rocking(own: dict[str, Any]) -> None:
+    """EngineDomainWarning where solref's damping ratio is below MuJoCo's rocking threshold."""
+    zeta, limit = mujoco_dampratio(own), rocking_dampratio(own["cone"], own["impratio"])
+    if zeta < limit:
+        warnings.warn(EngineDomainWarning(
+            f"mujoco: solref's damping ratio {zeta:.3g} is below {limit:g}, where the box rocks "
+            f"on its contacts in MuJoCo's runs ({own['cone']} cone, impratio "
+            f"{own['impratio']:g}) and creeps faster than this steady law predicts (the "
+            f"pyramidal cone 1.9-3.7 times at damping ratios 0.3-0.7); measure it with the "
+            f"engine (python -m cases.engines)"), stacklevel=3)
 
 
 def mujoco_v_s(own: dict[str, Any], inv_weight: float, load: float) -> float:
@@ -376,6 +452,15 @@ def engine_creep(engine: str, **settings: Any) -> float:
            "drake_lagged": scene["mu_k"]}.get(engine, own.get("mu"))
     if t >= cap:
         return math.inf
+    if engine == "drake_continuous" and t > min(scene["mu_k"], scene["mu_s"]):
+        warnings.warn(EngineDomainWarning(
+            f"drake_continuous: tan(theta) = {t:.4g} lies between mu_d = {scene['mu_k']:g} and "
+            f"mu_s = {scene['mu_s']:g}: the law has a creep below the stiction tolerance, but "
+            f"past it the coefficient falls to mu_d, which cannot hold the box, so any excursion "
+            f"(Drake's own runs from rest) slides away: math.inf"), stacklevel=2)
+        return math.inf
+    if engine == "mujoco":
+        _check_rocking(own)
     if engine == "drake_tamsi":
         return (1 - math.sqrt(1 - t / scene["mu_k"])) * own["stiction_tolerance"]
     if engine == "drake_lagged":
@@ -408,6 +493,44 @@ def _solve_increasing(f: Callable[[np.ndarray], np.ndarray], target: float, hi: 
     return 0.5 * (lo + hi)
 
 
+#: The box's footprint half-length along the slope [m] in `mujoco_slope_xml` (its height is
+#: 2 aspect times it; 0.2 x 0.2 x 0.1 m at the default aspect 0.5).
+BOX_HALF_LENGTH: float = 0.1
+
+
+def mujoco_slope_xml(**settings: Any) -> str:
+    """MuJoCo's model (MJCF) of the paper's slope box with the given engine and scene settings
+    (as for `engine_creep`): a free box of mass m resting on a plane under gravity tilted by
+    theta_deg, friction mu on both geoms (MuJoCo takes the larger), the contact's solref and
+    solimp on both, and the options timestep, cone, impratio and noslip_iterations."""
+    scene, own = _split("mujoco", settings)
+    th = math.radians(scene["theta_deg"])
+    gravity = f'{scene["g"] * math.sin(th)!r} 0 {-scene["g"] * math.cos(th)!r}'
+    half = (BOX_HALF_LENGTH, BOX_HALF_LENGTH, scene["aspect"] * BOX_HALF_LENGTH)
+    contact = (f'friction="{own["mu"]!r} 0.005 0.0001" '
+               f'solref="{own["solref"][0]!r} {own["solref"][1]!r}" '
+               f'solimp="{" ".join(repr(x) for x in own["solimp"])}"')
+    return (f'<mujoco><option timestep="{own["timestep"]!r}" cone="{own["cone"]}" '
+            f'impratio="{own["impratio"]!r}" noslip_iterations="{own["noslip_iterations"]}" '
+            f'gravity="{gravity}"/><worldbody>'
+            f'<geom type="plane" size="100 5 0.1" {contact}/>'
+            f'<body pos="0 0 {half[2]!r}"><freejoint/>'
+            f'<geom type="box" size="{half[0]!r} {half[1]!r} {half[2]!r}" mass="{scene["m"]!r}" '
+            f'{contact}/></body></worldbody></mujoco>')
+
+
+def mujoco_settle(t_end: float = 1.0, **settings: Any) -> float:
+    """The slip [m] of the slope box from rest in MuJoCo itself beyond its steady creep:
+    x(t_end) - v* t_end, v* = `engine_creep` (the slip while the contact forces build up, which
+    the steady law does not describe). Needs the mujoco package."""
+    import mujoco
+    model = mujoco.MjModel.from_xml_string(mujoco_slope_xml(**settings))
+    data = mujoco.MjData(model)
+    for _ in range(int(round(t_end / model.opt.timestep))):
+        mujoco.mj_step(model, data)
+    return float(data.qpos[0]) - engine_creep("mujoco", **settings) * float(data.time)
+
+
 #: The setting advise_engine chooses per engine.
 ADVISED_SETTING: dict[str, str] = {"drake_continuous": "stiction_tolerance",
                                    "drake_tamsi": "stiction_tolerance",
@@ -415,12 +538,18 @@ ADVISED_SETTING: dict[str, str] = {"drake_continuous": "stiction_tolerance",
                                    "newton_semi_implicit": "k_f"}
 
 
-def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) -> dict[str, Any]:
-    """Settings that keep the slope box's creep over t_end within max_creep.
+def advise_engine(engine: str, max_creep: float, t_end: float, *, margin: float = 0.0,
+                  settle: float | None = None, **settings: Any) -> dict[str, Any]:
+    """Settings that keep the slope box's slip from rest over t_end within max_creep.
 
-    The advised setting (`ADVISED_SETTING`: Drake's stiction tolerance, MuJoCo's impratio for
-    the given cone, Newton's k_f) is the loosest whose creep v* t_end meets the budget, rounded
-    to 3 significant digits toward the strict side: never more than 2x stricter than needed.
+    The slip from rest is the settling slip (while the engine's contact forces build up, before
+    the steady creep: `settle`) plus the steady creep v* t_end. The advised setting
+    (`ADVISED_SETTING`: Drake's stiction tolerance, MuJoCo's impratio for the given cone,
+    Newton's k_f) is the loosest whose creep meets max_creep / (1 + margin) - settle, rounded to
+    3 significant digits toward the strict side: never more than 2x stricter than needed.
+    With MuJoCo installed and settle not given, the settling slip is MuJoCo's own
+    (`mujoco_settle`, measured at the advised setting, the advice then made again with it until
+    the total meets the budget).
 
     Parameters
     ----------
@@ -430,6 +559,13 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
         Largest distance the box may creep [m] (> 0).
     t_end : float
         Duration [s] (> 0).
+    margin : float, optional
+        Relative reserve kept free of the budget (>= 0; 0.1: advise for max_creep / 1.1).
+    settle : float, optional
+        The engine's settling slip from rest [m] (>= 0), as measured with the engine
+        (``python -m cases.engines`` reports each run's). Not given: MuJoCo's is measured with
+        MuJoCo where it is installed; for the other engines (or without MuJoCo) it is not
+        budgeted, "settle" is None in the result and a UserWarning says so.
     **settings
         The engine's other settings and the scene's, as for `engine_creep` (not the advised
         one).
@@ -437,7 +573,9 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
     Returns
     -------
     dict
-        The advised setting by name, "creep" (v* t_end [m] at it), "v_star" [m/s], and where
+        The advised setting by name, "creep" (v* t_end [m] at it), "v_star" [m/s], "settle"
+        (the settling slip budgeted [m], None where it is not), "total" (creep + settle [m]),
+        "budget" (max_creep / (1 + margin) [m]), and where
         it is known the cost: "timestep" [s] and "steps_per_second" [1/s] (MuJoCo: its
         timestep; Drake continuous and Newton: the largest explicit (forward or semi-implicit
         Euler) step that is stable on the law's steepest slope dF/dv in the box's stiffest
@@ -452,13 +590,52 @@ def advise_engine(engine: str, max_creep: float, t_end: float, **settings: Any) 
     if engine in ENGINE_SETTINGS and ADVISED_SETTING[engine] in settings:
         raise ValueError(f"advise_engine chooses {ADVISED_SETTING[engine]} for {engine}; "
                          f"do not pass it")
-    if not (isinstance(max_creep, (int, float)) and max_creep > 0 and math.isfinite(max_creep)):
-        raise ValueError(f"max_creep must be a finite number > 0 [m], got {max_creep!r}")
-    if not (isinstance(t_end, (int, float)) and t_end > 0 and math.isfinite(t_end)):
-        raise ValueError(f"t_end must be a finite number > 0 [s], got {t_end!r}")
+    for key, value in (("max_creep", max_creep), ("t_end", t_end)):
+        if not (_real(key, value) > 0 and math.isfinite(float(value))):
+            raise ValueError(f"{key} must be a finite number > 0, got {value!r}")
+    if not (_real("margin", margin) >= 0 and math.isfinite(float(margin))):
+        raise ValueError(f"margin must be a finite number >= 0, got {margin!r}")
+    if settle is not None and not (_real("settle", settle) >= 0 and math.isfinite(float(settle))):
+        raise ValueError(f"settle must be a finite number >= 0 [m], got {settle!r}")
+    max_creep, t_end = float(max_creep), float(t_end)
+    budget = max_creep / (1.0 + float(margin))
+    _split(engine, settings)
+    name = ADVISED_SETTING[engine]
+    measure = settle is None and engine == "mujoco" and _have_mujoco()
+    amount = 0.0 if settle is None else float(settle)
+    for _ in range(4):                      # MuJoCo's settling slip depends on the setting
+        if amount >= budget:
+            raise ValueError(f"{engine}: the settling slip {amount:.3g} m alone exceeds the "
+                             f"budget {budget:.3g} m")
+        out = _advise_steady(engine, (budget - amount) / t_end, t_end, settings)
+        if not measure:
+            break
+        amount = max(mujoco_settle(**settings, **{name: out[name]}), 0.0)
+        if out["creep"] + amount <= budget:
+            break
+    out["settle"] = amount if (measure or settle is not None) else None
+    if out["settle"] is None:
+        warnings.warn(f"advise_engine: {engine}'s settling slip from rest is not budgeted (pass "
+                      f"settle=, measured with the engine: python -m cases.engines)",
+                      UserWarning, stacklevel=2)
+    out["total"] = out["creep"] + amount
+    out["budget"] = budget
+    return out
+
+
+def _have_mujoco() -> bool:
+    try:
+        import mujoco  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _advise_steady(engine: str, target: float, t_end: float,
+                   settings: dict[str, Any]) -> dict[str, Any]:
+    """advise_engine's choice for a steady creep speed target [m/s] (its rounding and cost)."""
     scene, _ = _split(engine, settings)
     name = ADVISED_SETTING[engine]
-    target = max_creep / t_end
 
     def creep(x: float) -> float:
         return engine_creep(engine, **settings, **{name: x})

@@ -21,7 +21,8 @@ import numpy as np
 
 from .core import LAWS, REGISTRY, _choice, _finite, friction_coefficient
 from .identify import (FitResult, _Estimates, _central_jacobian, _check_keys, _coordinates, _in_range, _interval,
-                       _model_mesh, _range_of, _records, _start, _wald_intervals, fit_friction, parameter_unit)
+                       _model_mesh, _range_of, _record_params, _records, _start, _wald_intervals, fit_friction,
+                       parameter_unit)
 
 __all__ = ["SteadyPoints", "SteadyCurve", "TwoStepFit", "steady_friction", "fit_stribeck_curve", "fit_two_step"]
 
@@ -77,9 +78,18 @@ def _steps(v: np.ndarray, rel: float, floor: float) -> list[tuple[int, int]]:
     return runs
 
 
+def _flat(t: np.ndarray, v: np.ndarray, rel: float) -> bool:
+    """Whether a run's velocity is constant: a quadratic least-squares fit over the run varies
+    by at most rel |mean| (a run about a sine's velocity peak, or along a ramp, drifts across
+    the whole tolerance band; a plateau's fit is flat to its noise)."""
+    tau = (t - t.mean()) / (np.ptp(t) or 1.0)
+    fit = np.polyval(np.polyfit(tau, v, 2 if v.size > 3 else 0), tau)
+    return float(np.ptp(fit)) <= rel * abs(float(np.mean(v)))
+
+
 def steady_friction(t: Any, x: Any = None, force: Any = None, v: Any = None, *, normal_force: Any = None,
                     v_tol: float = 0.05, v_floor: float | None = None, settle: float = 0.5,
-                    min_samples: int = 10) -> SteadyPoints:
+                    min_samples: int = 10, min_fraction: float = 0.5) -> SteadyPoints:
     """The steady friction force of each constant-velocity step of a record.
 
     A step is a run of samples whose velocity stays within v_tol |u| + v_floor of the run's
@@ -104,6 +114,14 @@ def steady_friction(t: Any, x: Any = None, force: Any = None, v: Any = None, *, 
         Fraction of each step left out as its transient, in [0, 1).
     min_samples : int
         Fewest samples of a step (>= 4); at least 2 are averaged.
+    min_fraction : float
+        Least fraction of each record's moving time (|v| > v_floor) that its steps must cover,
+        in (0, 1] (default 0.5). A step must also hold a constant velocity: a quadratic fit of
+        its velocity varies by at most v_tol/2 of its speed. A velocity staircase is such
+        steps joined by short ramps (the synthetic one of the guide: 98 % of the moving time);
+        a record of continuously varying velocity (a sine) is cut into runs within v_tol of
+        their mean too, but their velocity drifts across the band: such a record is refused,
+        the message naming the runs found, their durations and how many were constant.
 
     Returns
     -------
@@ -113,8 +131,9 @@ def steady_friction(t: Any, x: Any = None, force: Any = None, v: Any = None, *, 
     Raises
     ------
     ValueError
-        Bad data (as `fit_friction`), a v_tol, settle or min_samples out of range, or no step
-        found.
+        Bad data (as `fit_friction`), a v_tol, settle, min_samples or min_fraction out of
+        range, no step found, or a record whose steps cover less than min_fraction of its
+        moving time (not a velocity staircase).
     """
     v_tol = _finite("v_tol", v_tol, "in (0, 1)")
     if not 0.0 < v_tol < 1.0:
@@ -124,6 +143,9 @@ def steady_friction(t: Any, x: Any = None, force: Any = None, v: Any = None, *, 
         raise ValueError(f"settle: must be in [0, 1) (fraction of a step) [-], got {settle!r}")
     if not (isinstance(min_samples, (int, np.integer)) and min_samples >= 4):
         raise ValueError(f"min_samples: must be an integer >= 4, got {min_samples!r}")
+    min_fraction = _finite("min_fraction", min_fraction, "in (0, 1]")
+    if not 0.0 < min_fraction <= 1.0:
+        raise ValueError(f"min_fraction: must be in (0, 1] (fraction of the moving time) [-], got {min_fraction!r}")
     if v_floor is not None:
         v_floor = _finite("v_floor", v_floor, ">= 0 [m/s]")
         if v_floor < 0.0:
@@ -135,9 +157,23 @@ def steady_friction(t: Any, x: Any = None, force: Any = None, v: Any = None, *, 
         vel = d.v if d.v is not None else np.gradient(d.x, d.t)
         floor = 1e-3 * float(np.max(np.abs(vel))) if v_floor is None else v_floor
         nf = np.broadcast_to(np.asarray(d.normal_force, dtype=float), d.t.shape)
-        for a, b in _steps(vel, v_tol, floor):
-            if b - a < min_samples:
-                continue
+        runs = [(a, b) for a, b in _steps(vel, v_tol, floor)
+                if b - a >= min_samples and abs(float(np.mean(vel[a:b]))) > floor]
+        plateaus = [(a, b) for a, b in runs if _flat(d.t[a:b], vel[a:b], 0.5 * v_tol)]
+        dt = np.gradient(d.t)
+        moving = float(dt[np.abs(vel) > floor].sum())
+        covered = sum(float(dt[a:b].sum()) for a, b in plateaus)
+        if runs and covered < min_fraction * moving:
+            span = np.array([d.t[b - 1] - d.t[a] for a, b in runs])
+            tag = f"[{j}]" if len(data) > 1 else ""
+            raise ValueError(
+                f"t{tag}: not a velocity staircase: {len(runs)} run(s) within v_tol {v_tol:g} of their mean "
+                f"velocity ({1e3 * span.min():.3g}-{1e3 * span.max():.3g} ms), {len(plateaus)} of them at a "
+                f"constant velocity (a quadratic fit varying by less than v_tol/2), covering "
+                f"{100 * covered / moving:.3g} % of the record's moving time ({moving:.4g} s), below "
+                f"min_fraction {100 * min_fraction:g} %; steady friction needs constant-velocity plateaus "
+                "(fit a law to this record with fit_friction instead)")
+        for a, b in plateaus:
             a = a + int(math.ceil(settle * (b - a)))
             if b - a < 2 or abs(float(np.mean(vel[a:b]))) <= floor:
                 continue
@@ -498,7 +534,7 @@ def _carry_step_one(steady: SteadyCurve, dynamic: FitResult, data: list) -> tupl
     if not free1:
         return np.zeros((len(free2), 0)), cov2
     p = dict(dynamic.params)
-    meshes = [_model_mesh(dynamic.law, d, p, dynamic.rtol)[1] for d in data]
+    meshes = [_model_mesh(dynamic.law, d, _record_params(p, i), dynamic.rtol)[1] for i, d in enumerate(data)]
 
     def column(name: str) -> np.ndarray:
         low, high = _range_of(name)[:2]
@@ -506,8 +542,8 @@ def _carry_step_one(steady: SteadyCurve, dynamic: FitResult, data: list) -> tupl
         up, down = dict(p), dict(p)
         up[name] = min(p[name] + h, high)
         down[name] = max(p[name] - h, low)
-        f_up = np.concatenate([_model_mesh(dynamic.law, d, up, dynamic.rtol, m)[0] for d, m in zip(data, meshes)])
-        f_down = np.concatenate([_model_mesh(dynamic.law, d, down, dynamic.rtol, m)[0] for d, m in zip(data, meshes)])
+        f_up, f_down = (np.concatenate([_model_mesh(dynamic.law, d, _record_params(q, i), dynamic.rtol, m)[0]
+                                        for i, (d, m) in enumerate(zip(data, meshes))]) for q in (up, down))
         return (f_up - f_down) / (up[name] - down[name])
 
     j2 = np.column_stack([column(n) for n in free2])

@@ -29,8 +29,12 @@ inflation of an AR(1) noise), and the intervals are taken on a scale where the p
 accepted range is the whole line (log above a lower bound, logit between two), so they stay
 in it, or (`interval="profile"`, the default for laws without states) by profile likelihood:
 where the sum of squares with the other parameters refitted exceeds its minimum by
-t^2 s^2 times the inflation. The error on held-out records is the honest measure of a law: `select_friction_law`
-chooses by it (cross-validation over records), BIC is information only.
+t^2 s^2 times the inflation; a parameter near a bound is always profiled (its interval
+one-sided there). The error on held-out records is the honest measure of a law:
+`select_friction_law` chooses by it (cross-validation over records or groups of records), BIC
+is information only, and the held-out residuals calibrate the prediction intervals. Every fit
+ends with a cheap probe for a lower point about its end, and restarts from one it (or a profile)
+finds; a fit that still has one reports success=False.
 
 The normal force. A force measured without its normal force cannot separate the friction
 coefficient from N. `normal_force=None` (the default) sets N = 1 N: the "coefficients" and the
@@ -49,7 +53,8 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from .core import DEFAULTS, LAWS, REGISTRY, _choice, _finite
-from .data import Record
+from .core import _shown as _plain
+from .data import Record, decimate
 from .prescribed import _samples
 
 #: Parameters of the prescribed-motion model that are not the law's: unit, accepted range.
@@ -61,6 +66,14 @@ EXTRA_PARAMS: dict[str, tuple[str, str]] = {
 }
 #: Their values when not given: no play, symmetric, no sensor offset, no drift.
 EXTRA_DEFAULTS: dict[str, float] = {"backlash": 0.0, "asymmetry": 1.0, "offset": 0.0, "drift": 0.0}
+#: Those that may be fitted one value per record ("per_record"): fitted as `name[i]` for record
+#: i, and not carried over to a record the fit has not seen (which gets the default).
+PER_RECORD: tuple[str, ...] = ("asymmetry", "offset", "drift")
+
+
+def _base(name: str) -> str:
+    """The parameter's name without a record index: "offset[2]" -> "offset"."""
+    return name.split("[", 1)[0]
 #: Pairs (lower, upper) of parameters the library requires ordered (mu_k <= mu_s, v_s < v_d):
 #: when both are fitted, the upper one is fitted as its excess over the lower (>= 0).
 ORDERED_PAIRS: tuple[tuple[str, str], ...] = (("mu_k", "mu_s"), ("v_s", "v_d"))
@@ -74,12 +87,6 @@ _SHAPE_PARAMS: frozenset[str] = frozenset({"beta", "a", "delta", "z_ba_ratio", "
 #: Integer parameters: not fitted (least squares needs a continuum), held at the value given in
 #: `fixed` or at their default.
 DISCRETE_PARAMS: frozenset[str] = frozenset({"n_elements"})
-#: Largest cosine between the residual and a free parameter's Jacobian column (0 at a
-#: least-squares minimum) below which a fit's end counts as a minimum without a further check.
-OPTIMALITY_TOL: float = 0.05
-#: Above it, the relative decrease of the sum of squares that a Gauss-Newton step from the end
-#: must not reach for the fit to count as converged.
-STALL_GAIN: float = 0.01
 #: A fit that lowers the sum of squares of the force (the error of predicting zero) by less
 #: than this fraction is no better than zero.
 ZERO_GAIN: float = 0.01
@@ -87,6 +94,7 @@ ZERO_GAIN: float = 0.01
 
 def _force_scaled(name: str) -> bool:
     """Whether parameter `name` of a law scales with the friction coefficient."""
+    name = _base(name)
     if name in EXTRA_PARAMS or name in _SHAPE_PARAMS:
         return False
     return REGISTRY["param"][name]["unit"] in _FORCE_UNITS
@@ -95,6 +103,7 @@ def _force_scaled(name: str) -> bool:
 def parameter_unit(name: str, force_levels: bool) -> str:
     """The unit of parameter `name` in a fit: as a coefficient, or as a force level when the
     normal force was not given (force_levels)."""
+    name = _base(name)
     if name in EXTRA_PARAMS:
         return EXTRA_PARAMS[name][0]
     unit = REGISTRY["param"][name]["unit"]
@@ -105,6 +114,7 @@ def _range_of(name: str) -> tuple[float, float, bool, bool]:
     """(low, high, low_open, high_open) that the library accepts for a parameter, read from the
     registry's rule ("must be finite and > 0", "in (0, 1)", ...); an order constraint with another
     parameter (mu_k <= mu_s, v_d > v_s) is handled by ORDERED_PAIRS."""
+    name = _base(name)
     rule = EXTRA_PARAMS[name][1] if name in EXTRA_PARAMS else REGISTRY["param"][name]["rule"]
     m = re.search(r"in ([(\[])\s*(-?[0-9.eE+]+),\s*(-?[0-9.eE+]+)\s*([)\]])", rule)
     if m:
@@ -138,8 +148,8 @@ def _one_record(tag: str, t: Any, x: Any, force: Any, v: Any, normal_force: Any,
     step = np.diff(tt)
     if not (step > 0.0).all():
         i = int(np.flatnonzero(~(step > 0.0))[0])
-        raise ValueError(f"t{tag}: must be strictly increasing [s], got t[{i}] = {tt[i]!r} and "
-                         f"t[{i + 1}] = {tt[i + 1]!r}")
+        raise ValueError(f"t{tag}: must be strictly increasing [s], got t[{i}] = {_plain(tt[i])} and "
+                         f"t[{i + 1}] = {_plain(tt[i + 1])}")
     n = tt.size
     xx = _samples(f"x{tag}", x, n, "m")
     ff = None if force is None else _samples(f"force{tag}", force, n, "N")
@@ -153,7 +163,7 @@ def _one_record(tag: str, t: Any, x: Any, force: Any, v: Any, normal_force: Any,
     else:
         nf = _samples(f"normal_force{tag}", normal_force, n, "N")
         if (nf <= 0.0).any():
-            raise ValueError(f"normal_force{tag}: must be > 0 [N], got {nf[nf <= 0.0][0]!r}")
+            raise ValueError(f"normal_force{tag}: must be > 0 [N], got {_plain(nf[nf <= 0.0][0])}")
     return _Data(tt, xx, vv, ff, nf)
 
 
@@ -175,7 +185,20 @@ def _records(t: Any, x: Any, force: Any, v: Any, normal_force: Any, *, need_forc
     if need_force and force is None:
         raise ValueError("force: the measured force [N] is required")
     if not _is_list(t):
-        return [_one_record("", t, x, force, v, normal_force)]
+        out = [_one_record("", t, x, force, v, normal_force)]
+    else:
+        out = _record_list(t, x, force, v, normal_force)
+    if need_force:
+        for i, d in enumerate(out):
+            if not np.ptp(d.x) > 0.0:
+                tag = f"[{i}]" if len(out) > 1 else ""
+                raise ValueError(f"x{tag}: every sample is {_plain(d.x[0])} m (no motion); a record without "
+                                 "motion cannot identify friction (give the displacement of a moving contact)")
+    return out
+
+
+def _record_list(t: Any, x: Any, force: Any, v: Any, normal_force: Any) -> list[_Data]:
+    """Several records given as lists of arrays (see _records)."""
     m = len(t)
     for name, value in (("x", x), ("force", force), ("v", v), ("normal_force", normal_force)):
         if value is None or (name == "normal_force" and np.ndim(value) == 0):
@@ -311,7 +334,7 @@ def _coordinates(free: tuple[str, ...], p0: np.ndarray, bounds: Mapping[str, Any
             lo[free.index(b)] = max(lo[free.index(b)], fixed_all[a])
         elif b in fixed_all and a in free:
             hi[free.index(a)] = min(hi[free.index(a)], fixed_all[b])
-    scale = np.array([abs(p0[i]) if p0[i] != 0.0 else typical.get(n, 1.0) for i, n in enumerate(free)])
+    scale = np.array([abs(p0[i]) if p0[i] != 0.0 else typical.get(_base(n), 1.0) for i, n in enumerate(free)])
     for hi_i, lo_i in lower_of.items():     # the excess is scaled like the parameter itself
         scale[hi_i] = max(abs(p0[hi_i]), scale[lo_i])
     space = _Space(free, scale, lower_of)
@@ -330,12 +353,14 @@ def _check_keys(what: str, given: Mapping[str, Any], allowed: Sequence[str], law
                          f"(accepted: {', '.join(allowed)})")
 
 
-def _extra_option(name: str, value: Any) -> float | None:
-    """backlash, asymmetry, offset, drift: a fixed value (range-checked) or None for "fit"."""
+def _extra_option(name: str, value: Any) -> float | str | None:
+    """backlash, asymmetry, offset, drift: a fixed value (range-checked), None for "fit", or
+    "per_record" (asymmetry, offset, drift)."""
     if isinstance(value, str):
-        if value != "fit":
-            raise ValueError(f"{name}: must be a number or 'fit', got {value!r}")
-        return None
+        accepted = ("fit", "per_record") if name in PER_RECORD else ("fit",)
+        if value not in accepted:
+            raise ValueError(f"{name}: must be a number or {' or '.join(map(repr, accepted))}, got {value!r}")
+        return None if value == "fit" else value
     x = _finite(name, value, EXTRA_PARAMS[name][1])
     lo, _, lo_open, _ = _range_of(name)
     if x < lo or (lo_open and x == lo):
@@ -391,10 +416,17 @@ class FitResult(_Estimates):
     their range or nearer to it than t(0.975) stderr (the data cannot tell them from the
     bound), whose intervals mean little.
 
-    Scores over the fitted samples: `rmse` [N], `nrmse` (rmse over the range of the measured
-    force) [-], `aic`, `bic` (Gaussian likelihood; k = len(free) + 1, the noise variance
-    included), `n_samples`, `n_records`; `cv_nrmse` (mean, standard error) when
-    `select_friction_law` made the fit.
+    Scores over the fitted samples: `chisqr` (sum of squared residuals) [N^2], `redchi`
+    (chisqr / (n - k)) [N^2], `rmse` [N], `nrmse` (rmse over the range of the measured force)
+    [-], `aic`, `bic` (the full Gaussian likelihood; k = len(free) + 1, the noise variance
+    included), `aic_lmfit`, `bic_lmfit` (lmfit's: n ln(chisqr / n) + 2 k and + k ln n, k =
+    len(free); they differ from `aic`, `bic` by n (1 + ln 2 pi) + 2 and + ln n), `n_samples`,
+    `n_records`; `cv_nrmse` (mean, standard error) when `select_friction_law` made the fit,
+    and `heldout_residuals` [N] (the residuals of fits without each record on it, which
+    calibrate `predict`'s intervals) when it or `fit_friction(..., calibrate=True)` did. `optimizer` names the
+    optimiser, `bounds` the range each free parameter was fitted in, `nfev` counts the
+    optimiser's model evaluations (not its Jacobians'), `n_evaluations` every model evaluation
+    of the fit (Jacobians, restarts, standard errors, profiles and probes included).
 
     `profiled` names the parameters whose `ci95` is a profile-likelihood interval (the others'
     are Wald intervals, see `fit_friction`'s `interval`) and `profile_evals` counts the model
@@ -406,10 +438,13 @@ class FitResult(_Estimates):
     of the best local fit.
 
     The outcome: `success` is False (with `message` saying why, and a RuntimeWarning at the
-    fit) when the optimiser used its budget, stopped on a slope (a Gauss-Newton step from its
-    end lowers the sum of squares by more than 1 %; `optimality` is the largest cosine
-    between the residual and a free parameter's Jacobian column, 0 at a minimum), or the fit
-    is no better than predicting zero. `report()` prints all of it.
+    fit) when the optimiser used its budget, stopped short of a minimum (after `restarts`
+    further local searches, MAX_RESTARTS at most, from the lower points found, a cheap probe
+    about its end, a Gauss-Newton step or two standard errors along a parameter, still
+    lowers the sum of squares by more than PROBE_GAIN reduced chi-squares, `probe_gain` [N^2]
+    the best decrease; or a profile of the intervals found such a point), or the fit is no
+    better than predicting zero. `optimality` is the largest cosine between the residual and
+    a free parameter's Jacobian column (0 at a minimum). `report()` prints all of it.
     """
 
     rmse: float
@@ -437,11 +472,22 @@ class FitResult(_Estimates):
     cv_nrmse: tuple[float, float] | None = None
     profiled: tuple[str, ...] = ()
     profile_evals: int = 0
+    optimizer: str = "scipy.optimize.least_squares (trf, bounded)"
+    chisqr: float = 0.0
+    redchi: float = 0.0
+    aic_lmfit: float = 0.0
+    bic_lmfit: float = 0.0
+    n_evaluations: int = 0
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
+    heldout_residuals: np.ndarray | None = None
+    probe_gain: float = 0.0
+    restarts: int = 0
+    _lower_point: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     @property
     def law_params(self) -> dict[str, float]:
         """The law's parameters (without backlash, asymmetry, offset and drift)."""
-        return {k: v for k, v in self.params.items() if k not in EXTRA_PARAMS}
+        return {k: v for k, v in self.params.items() if _base(k) not in EXTRA_PARAMS}
 
     def predict(self, t: Any, x: Any = None, v: Any = None, normal_force: Any = None,
                 interval: float | None = None) -> Any:
@@ -453,13 +499,21 @@ class FitResult(_Estimates):
 
         interval : float in (0, 1), optional
             Also return a prediction interval of that probability for a measured force at each
-            sample: (force, lower, upper). Its half-width is z sqrt(s^2 + g^T C g), z the
-            normal quantile, s the residual standard deviation of the fit (the scatter of a
-            measurement about the model), g the force's sensitivity to the fitted parameters
-            (finite differences, one model evaluation per parameter) and C their covariance,
-            inflated for the residuals' correlation in time (`variance_inflation`). Gaussian
-            scatter is assumed; a parameter the data do not determine makes the interval
-            infinite where the force depends on it.
+            sample: (force, lower, upper). Calibrated, when the fit holds held-out residuals
+            (`heldout_residuals`: `select_friction_law`'s folds, or `fit_friction(...,
+            calibrate=True)` on several records): the half-width is that
+            quantile of their magnitudes, the same at every sample (the scatter of new records
+            about a model fitted without them, parameter error included). Otherwise from the
+            fit alone: z sqrt(s^2 + d^T R d), z the normal quantile, s the residual standard
+            deviation of the fit (the scatter of a measurement about the model), R the
+            parameters' correlation and d_i the force's change over one standard error of
+            parameter i (finite differences, one model evaluation per parameter, stepped to
+            the side the parameter's range and the ordered pairs mu_k <= mu_s, v_s < v_d
+            allow). For a parameter at a bound (`at_bound`), whose Jacobian there says little,
+            d_i is the force's change between the estimate and the far end of its 95 %
+            interval, over t(0.975): a secant over the range the data allow, not a tangent.
+            Gaussian scatter is assumed; a parameter the data do not determine makes the
+            interval infinite where the force depends on it.
         """
         if normal_force is None:
             if np.ndim(self.normal_force) != 0:
@@ -469,72 +523,114 @@ class FitResult(_Estimates):
         if interval is not None:
             q = _finite("interval", interval, "in (0, 1)")
             if not 0.0 < q < 1.0:
-                raise ValueError(f"interval: must be in (0, 1), got {interval!r}")
+                raise ValueError(f"interval: must be in (0, 1), got {_plain(interval)}")
         data = _records(t, x, None, v, normal_force, need_force=False)
-        out = [_model(self.law, d, self.params, self.rtol) for d in data]
+        out = [_model(self.law, d, _new_record_params(self.params), self.rtol) for d in data]
         if interval is None:
             return out if isinstance(t, (list, tuple)) else out[0]
         from scipy import stats
-        z = float(stats.norm.ppf(0.5 + 0.5 * q))
-        sd = np.array([self.stderr[name] for name in self.free])
-        cov = np.where(np.isfinite(self.covariance), self.covariance, 0.0)
         bands = []
-        for d, f in zip(data, out):
-            grad = np.zeros((f.size, len(self.free)))
-            for i, name in enumerate(self.free):
-                if not math.isfinite(sd[i]):
-                    grad[:, i] = 0.0
-                    continue
-                low, high = _range_of(name)[:2]
-                p = dict(self.params)
-                h = 1e-3 * max(abs(p[name]), sd[i], 1e-12)
-                h = h if p[name] + h < high else -h
-                if not low <= p[name] + h <= high:
-                    h = 0.5 * h
-                p[name] += h
-                grad[:, i] = (_model(self.law, d, p, self.rtol) - f) / h
-            var = self.residual_sd ** 2 + np.einsum("ij,jk,ik->i", grad, cov, grad)
+        if self.heldout_residuals is not None and self.heldout_residuals.size:
+            half_c = float(np.quantile(np.abs(self.heldout_residuals), q))
+            bands = [(f, f - half_c, f + half_c) for f in out]
+        else:
+            z = float(stats.norm.ppf(0.5 + 0.5 * q))
+            tq = float(stats.t.ppf(0.975, max(self.n_samples - len(self.free), 1)))
+            sd = np.array([self.stderr[name] for name in self.free])
             blind = [i for i in range(len(self.free)) if not math.isfinite(sd[i])]
-            half = z * np.sqrt(var)
-            if blind:
-                half = np.full_like(f, math.inf)
-            bands.append((f, f - half, f + half))
+            corr = np.where(np.isfinite(self.correlation), self.correlation, 0.0)
+            for d, f in zip(data, out):
+                if blind:
+                    bands.append((f, f - math.inf, f + math.inf))
+                    continue
+                change = np.column_stack([self._change(d, f, name, float(sd[i]), tq)
+                                          for i, name in enumerate(self.free)]) if self.free else np.zeros((f.size, 0))
+                var = self.residual_sd ** 2 + np.einsum("ij,jk,ik->i", change, corr, change)
+                half = z * np.sqrt(var)
+                bands.append((f, f - half, f + half))
         if isinstance(t, (list, tuple)):
             return [b[0] for b in bands], [b[1] for b in bands], [b[2] for b in bands]
         return bands[0]
 
+    def _change(self, d: _Data, f: np.ndarray, name: str, sd: float, tq: float) -> np.ndarray:
+        """The force's change on record `d` (force `f` at the estimate) over one standard error
+        of parameter `name` (see `predict`): a tangent by a small step to the side the range
+        and the ordered pairs allow, or at a bound the secant to the far end of the 95 %
+        interval over tq."""
+        value = self.params[name]
+        if name in self.at_bound and name in self.ci95:
+            lo, hi = self.ci95[name]
+            end = hi if abs(hi - value) >= abs(value - lo) else lo
+            if math.isfinite(end) and end != value:
+                return (self._model_with(d, name, end) - f) / tq
+        h = 1e-3 * max(abs(value), sd, 1e-12)
+        for step in (h, -h, 0.5 * h, -0.5 * h):
+            try:
+                return (self._model_with(d, name, value + step) - f) / step * sd
+            except ValueError:
+                continue
+        return np.zeros_like(f)
+
+    def _model_with(self, d: _Data, name: str, value: float) -> np.ndarray:
+        """The model's force on `d` with parameter `name` at `value`, or ValueError when that
+        leaves its range or breaks an ordered pair (mu_k <= mu_s, v_s < v_d)."""
+        low, high, low_open, high_open = _range_of(name)
+        if value < low or value > high or (low_open and value == low) or (high_open and value == high):
+            raise ValueError(f"{name}: {value!r} out of range")
+        p = dict(self.params)
+        p[name] = value
+        for a, b in ORDERED_PAIRS:
+            if a in p and b in p and not p[a] <= p[b]:
+                raise ValueError(f"{a} > {b}")
+        return _model(self.law, d, _new_record_params(p), self.rtol)
+
     def score(self, t: Any, x: Any = None, force: Any = None, v: Any = None,
               normal_force: Any = None) -> dict[str, float]:
         """The error of the fitted model on other records (held out): rmse [N] and nrmse (over
-        the range of their measured force) [-], pooled over every sample given."""
+        the range of their measured force) [-], pooled over every sample given. Per-record
+        terms (offset, drift, asymmetry "per_record") are not carried over, as in `predict`."""
         data = _records(t, x, force, v, normal_force if normal_force is not None else
                         (None if self.force_levels else self.normal_force))
-        r = np.concatenate([_model(self.law, d, self.params, self.rtol) - d.force for d in data])
+        r = np.concatenate([_model(self.law, d, _new_record_params(self.params), self.rtol) - d.force for d in data])
         f = np.concatenate([d.force for d in data])
         rmse = float(np.sqrt(np.mean(r**2)))
         return {"rmse": rmse, "nrmse": rmse / float(np.ptp(f)), "n_samples": int(r.size)}
 
-    def report(self) -> str:
-        """A full report of the fit (as lmfit's fit_report): the fit's outcome (success,
-        termination message, model evaluations, starts), the scores (rmse, nrmse, AIC, BIC and
-        the cross-validated NRMSE when `select_friction_law` made this fit), the residuals'
-        correlation in time and the variance inflation it brings, then each parameter with its
-        start, estimate, standard error (and relative %), 95 % interval and flags (fixed, at a
-        bound, not determined), and the correlations above 0.5 in magnitude."""
+    def report(self, min_correl: float = 0.1) -> str:
+        """A full report of the fit (at least lmfit's fit_report): the fit's outcome (optimiser,
+        success, termination message, model evaluations: the optimiser's and every one the fit
+        made, Jacobians, intervals and probes included; starts, restarts), the scores
+        (chi-square, reduced chi-square, rmse, nrmse, AIC and BIC in lmfit's definitions and in
+        the full Gaussian likelihood's, and the cross-validated NRMSE when `select_friction_law`
+        made this fit), the residuals' correlation in time and the variance inflation it
+        brings, then each parameter with its start, estimate, standard error (and relative %),
+        95 % interval, bounds and flags (fixed, at a bound, not determined), and the
+        correlations above `min_correl` in magnitude (lmfit's default 0.1)."""
+        q = _finite("min_correl", min_correl, "in [0, 1)")
+        if not 0.0 <= q < 1.0:
+            raise ValueError(f"min_correl: must be in [0, 1), got {_plain(min_correl)}")
         what = "force levels (normal force not given: N = 1 N)" if self.force_levels else "coefficients"
         lines = ["[[Fit]]",
                  f"    law                = {self.law}",
+                 f"    optimiser          = {self.optimizer}",
                  f"    data               = {self.n_records} record(s), {self.n_samples} samples, {what}",
                  f"    success            = {self.success}",
                  f"    message            = {self.message}",
-                 f"    model evaluations  = {self.nfev} (Jacobians not counted), starts = {self.n_starts}",
+                 f"    model evaluations  = {self.nfev} by the optimiser (Jacobians not counted); "
+                 f"{self.n_evaluations} in all (Jacobians, intervals and probes included)",
+                 f"    starts             = {self.n_starts}, restarts from a lower point = {self.restarts}",
                  f"    fitted parameters  = {len(self.free)}",
                  f"    95% intervals      = {self._interval_kinds()}",
                  "[[Scores]]",
+                 f"    chi-square         = {self.chisqr:.6g} N^2 (sum of squared residuals)",
+                 f"    reduced chi-square = {self.redchi:.6g} N^2 (over n - k = {self.n_samples - len(self.free)})",
                  f"    rmse               = {self.rmse:.6g} N",
                  f"    nrmse              = {self.nrmse:.6g} (rmse / range of the measured force)",
-                 f"    AIC                = {self.aic:.6g}",
-                 f"    BIC                = {self.bic:.6g}"]
+                 f"    AIC (lmfit)        = {self.aic_lmfit:.6g} (n ln(chi-square / n) + 2 k)",
+                 f"    BIC (lmfit)        = {self.bic_lmfit:.6g} (n ln(chi-square / n) + k ln n)",
+                 f"    AIC                = {self.aic:.6g} (full Gaussian -2 ln L + 2 (k + 1), the noise "
+                 "variance counted: `aic`)",
+                 f"    BIC                = {self.bic:.6g} (-2 ln L + (k + 1) ln n: `bic`)"]
         if self.cv_nrmse is not None:
             lines.append(f"    cross-validated    = {self.cv_nrmse[0]:.6g} +- {self.cv_nrmse[1]:.2g} (held-out NRMSE, "
                          "mean +- standard error over folds)")
@@ -554,15 +650,17 @@ class FitResult(_Estimates):
             flags = [f for f, on in (("at a bound", name in self.at_bound),
                                      ("not determined by the data", name in self.undetermined)) if on]
             start = self.start.get(name, float("nan"))
+            b_lo, b_hi = self.bounds.get(name, (-math.inf, math.inf))
             lines.append(f"    {name + ':':<12} {value:<14.7g} +/- {sd:<11.4g} {rel:<10} (start {start:.5g}) "
-                         f"[{unit}]  95% [{lo:.6g}, {hi:.6g}]" + (f"  {'; '.join(flags)}" if flags else ""))
+                         f"[{unit}]  95% [{lo:.6g}, {hi:.6g}]  bounds [{b_lo:.6g}, {b_hi:.6g}]"
+                         + (f"  {'; '.join(flags)}" if flags else ""))
         pairs = []
         for i, a in enumerate(self.free):
             for j in range(i + 1, len(self.free)):
                 c = self.correlation[i, j]
-                if math.isfinite(c) and abs(c) > 0.5:
+                if math.isfinite(c) and abs(c) > q:
                     pairs.append((abs(c), c, a, self.free[j]))
-        lines.append("[[Correlations]] (|c| > 0.5)")
+        lines.append(f"[[Correlations]] (|c| > {q:g})")
         lines += [f"    C({a}, {b}) = {c:+.4f}" for _, c, a, b in sorted(pairs, reverse=True)] or ["    none"]
         return "\n".join(lines)
 
@@ -613,7 +711,7 @@ def _model_mesh(law: str, d: _Data, params: Mapping[str, float], rtol: float = 1
     of each sample interval that its state integration used; `substeps` given: on that frozen
     mesh, a smooth function of the parameters (the finite-difference Jacobian's model)."""
     from .prescribed import _force_on
-    law_p = {k: v for k, v in params.items() if k not in EXTRA_PARAMS}
+    law_p = {k: v for k, v in params.items() if _base(k) not in EXTRA_PARAMS}
     v, nf = _motion(d)
     backlash = _finite("backlash", params["backlash"], ">= 0 [m]")
     asymmetry = _finite("asymmetry", params["asymmetry"], "> 0 [-]")
@@ -657,7 +755,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
                  bounds: Mapping[str, tuple[float, float]] | None = None,
                  backlash: float | str = 0.0, asymmetry: float | str = 1.0,
                  offset: float | str = 0.0, drift: float | str = 0.0, n_starts: int = 1, seed: int = 0, max_nfev: int | None = None,
-                 rtol: float = 1e-6, diff_step: float = 1e-4, interval: str = "auto") -> FitResult:
+                 rtol: float = 1e-6, diff_step: float = 1e-4, interval: str = "auto",
+                 calibrate: bool = False) -> FitResult:
     """Fit the parameters of friction `law` to measured forces along measured motions.
 
     Parameters
@@ -688,15 +787,22 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     backlash : float or "fit"
         Total width of the play after each reversal [m] (default 0): a value fixes it, "fit"
         fits it.
-    asymmetry : float or "fit"
+    asymmetry : float, "fit" or "per_record"
         Negative-direction sliding level over the positive one [-] (default 1).
-    offset : float or "fit"
+    offset : float, "fit" or "per_record"
         A constant added to the measured force, such as a load cell's zero offset [N]
-        (default 0). One value for all records.
-    drift : float or "fit"
+        (default 0). "fit": one value for all records.
+    drift : float, "fit" or "per_record"
         Relative rate of change of the friction level over each record [1/s] (default 0): the
         law's force is multiplied by 1 + drift (t - t_mid), t_mid the record's middle time (the
-        level of a contact that heats or wears during a record). One value for all records.
+        level of a contact that heats or wears during a record). "fit": one value for all
+        records.
+
+        "per_record" (asymmetry, offset, drift): one value per record, fitted as `name[i]`
+        for record i (`FitResult.params`, `free`), the common entry held at its default. These
+        are nuisance terms of each record's measurement: `predict` and `score` on another
+        record do not carry them over (that record gets the default: symmetric, no offset, no
+        drift), nor do the held-out folds of `select_friction_law` and `calibrate`.
     n_starts : int
         Starts of the local optimiser: the data-derived start, then starts drawn log-uniformly
         within a factor of 10 of it (seeded by `seed`); the best fit is kept. Default 1: give
@@ -730,7 +836,13 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         the parameters in turn while the profiles' evaluations stay below the fit's own (so at
         most about twice the cost), Wald intervals for the rest and for the laws with states.
         `FitResult.profiled` names the profiled parameters. On synthetic records both kinds
-        give the same coverage (see the identification guide).
+        give the same coverage (see the identification guide). A parameter near a bound (within
+        a Wald half-width) is profiled whatever the method: its interval is one-sided there.
+    calibrate : bool
+        With several records: also refit leaving one record out at a time (Wald intervals,
+        the same options) and keep the residuals of each refit on its held-out record
+        (`FitResult.heldout_residuals`), which then set the width of `predict`'s intervals.
+        Costs one fit per record.
 
     Returns
     -------
@@ -767,18 +879,20 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     for key in fixed:
         if key in EXTRA_PARAMS:
             raise ValueError(f"fixed: give {key} as its own argument ({key}=value), not in fixed")
+    extras = {name: _extra_option(name, value) for name, value in
+              (("backlash", backlash), ("asymmetry", asymmetry), ("offset", offset), ("drift", drift))}
+    per_record = [name for name, value in extras.items() if value == "per_record"]
+    names += tuple(f"{name}[{i}]" for name in per_record for i in range(len(data)))
     _check_keys("fixed", fixed, law_names, law)
     _check_keys("params0", params0, names, law)
     _check_keys("bounds", bounds, names, law)
-    extras = {name: _extra_option(name, value) for name, value in
-              (("backlash", backlash), ("asymmetry", asymmetry), ("offset", offset), ("drift", drift))}
     fixed_all = {k: _in_range(f"fixed[{k!r}]", k, v, force_levels) for k, v in fixed.items()}
     for a, b in ORDERED_PAIRS:
         if a in fixed_all and b in fixed_all and not fixed_all[a] <= fixed_all[b]:
             raise ValueError(f"fixed: {a} = {fixed_all[a]!r} must be <= {b} = {fixed_all[b]!r}")
     for k in DISCRETE_PARAMS.intersection(law_names) - fixed.keys():
         fixed_all[k] = float(REGISTRY["param"][k]["default"])
-    fixed_all.update({k: v for k, v in extras.items() if v is not None})
+    fixed_all.update({k: (EXTRA_DEFAULTS[k] if v == "per_record" else v) for k, v in extras.items() if v is not None})
     free = tuple(n for n in names if n not in fixed_all)
     for what, given in (("params0", params0), ("bounds", bounds)):
         clash = [k for k in given if k in fixed_all]
@@ -788,6 +902,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         raise ValueError("fixed: every parameter is fixed; nothing to fit")
     if not (isinstance(n_starts, (int, np.integer)) and n_starts >= 1):
         raise ValueError(f"n_starts: must be an integer >= 1, got {n_starts!r}")
+    if calibrate and len(data) < 2:
+        raise ValueError(f"calibrate: needs several records to hold one out, got {len(data)}")
     if not (isinstance(interval, str) and interval in INTERVAL_METHODS):
         raise ValueError(f"interval: must be one of {', '.join(INTERVAL_METHODS)}, got {interval!r}")
     method = interval if interval != "auto" else ("profile" if REGISTRY["law"][law]["n_states"] == 0 else "wald")
@@ -806,9 +922,9 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
 
     # starts, bounds and the scaled coordinates
     scales = _data_scales(data)
-    asym_free = "asymmetry" in free
+    asym_free = "asymmetry" in free or "asymmetry" in per_record
     p0 = np.array([_in_range(f"params0[{n!r}]", n, params0[n], force_levels) if n in params0
-                   else _start(n, scales, asym_free) for n in free])
+                   else _start(_base(n), scales, asym_free) for n in free])
     # a parameter starting at 0 gets the size of what it can do: an offset a hundredth of the
     # force's range, a drift that moves the level by 1 % over the longest record
     typical = {"offset": 0.01 * float(np.ptp(all_forces)),
@@ -833,7 +949,8 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     def residuals(u: np.ndarray, meshes: list[np.ndarray] | None = None) -> np.ndarray:
         n_evals[0] += 1
         p = params_of(u)
-        parts = [_model_mesh(law, d, p, rtol, None if meshes is None else meshes[i]) for i, d in enumerate(data)]
+        parts = [_model_mesh(law, d, _record_params(p, i), rtol, None if meshes is None else meshes[i])
+                 for i, d in enumerate(data)]
         r = np.concatenate([f for f, _ in parts]) - forces
         if meshes is None:
             last.update(u=u.copy(), r=r, meshes=[m for _, m in parts])
@@ -899,30 +1016,158 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
     for _ in range(int(n_starts) - 1):
         factor = np.exp(rng.uniform(-math.log(10.0), math.log(10.0), k))
         starts.append(np.clip(u0 * factor, lo_inside, q_hi))
+    if "backlash" in free and "backlash" not in params0 and REGISTRY["law"][law]["n_states"] == 0:
+        starts += _backlash_starts(trial_residuals, u0, free.index("backlash"), space.scale,
+                                   scales["amplitude"], q_lo, q_hi)
     max_nfev = max_nfev or 30 * k
     best = None
     costs = []
     nfev = 0
     best_start = u0
+
+    def local(u_start: np.ndarray) -> Any:
+        # strictly inside the bounds (trf's requirement)
+        u_start = np.minimum(np.maximum(u_start, np.nextafter(q_lo, np.inf)), np.nextafter(q_hi, -np.inf))
+        return least_squares(trial_residuals, u_start, jac=jacobian, bounds=(q_lo, q_hi), method="trf",
+                             x_scale=1.0, max_nfev=max_nfev)
+
     with _one_blas_thread():
         for u_start in starts:
-            # strictly inside the bounds (trf's requirement)
-            u_start = np.minimum(np.maximum(u_start, np.nextafter(q_lo, np.inf)), np.nextafter(q_hi, -np.inf))
-            sol = least_squares(trial_residuals, u_start, jac=jacobian, bounds=(q_lo, q_hi), method="trf",
-                                x_scale=1.0, max_nfev=max_nfev)
+            sol = local(u_start)
             nfev += int(sol.nfev)
             costs.append(float(sol.cost))
             if best is None or sol.cost < best.cost:
                 best, best_start = sol, u_start
         assert best is not None
-        meshes = mesh_at(best.x)[1]
-        result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
-                             force_levels, normal_force, nfev, tuple(costs), diff_step, rtol,
-                             frozen=lambda w: residuals(w, meshes), interval=method,
-                             profile_budget=n_evals[0] if interval == "auto" else None)
+        # a cheap probe about the end; a lower point found starts a second local search
+        # (a decrease below the state integration's own error, (rtol x force range)^2 a sample,
+        # is no lower point); the profiles of the intervals may find one too: a search from it
+        restarts = 0
+        floor = n_total * (rtol * float(np.ptp(all_forces))) ** 2
+        while True:
+            r_end = residuals(best.x)
+            s2_end = float(r_end @ r_end) / max(n_total - k, 1)
+            probe = _probe(residuals, best.x, r_end, best.jac, q_lo, q_hi, s2_end, free)
+            needed = max(PROBE_GAIN * s2_end, floor)
+            if probe[0] > needed and restarts < MAX_RESTARTS:
+                restarts += 1
+                sol = local(probe[1])
+                nfev += int(sol.nfev)
+                if sol.cost < best.cost:
+                    best = sol
+                continue
+            meshes = mesh_at(best.x)[1]
+            result = _statistics(law, best, space, params_of, residuals, forces, data, q_lo, q_hi,
+                                 force_levels, normal_force, nfev, tuple(costs), diff_step, rtol,
+                                 frozen=lambda w, m=meshes: residuals(w, m), interval=method,
+                                 profile_budget=n_evals[0] if interval == "auto" else None,
+                                 probe=(probe[0], probe[2], restarts, needed))
+            if result._lower_point is None or restarts >= MAX_RESTARTS:
+                break
+            restarts += 1
+            sol = local(result._lower_point)
+            nfev += int(sol.nfev)
+            if sol.cost < best.cost:
+                best = sol
+    result.restarts, result.probe_gain = restarts, probe[0]
     result.rtol = rtol
     result.start = dict(zip(free, space.to_params(best_start).tolist()))
+    result.n_evaluations = n_evals[0]
+    result.bounds = _physical_bounds(space, q_lo, q_hi, result.params)
+    if calibrate:
+        def fold(members: list[_Data]) -> FitResult:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                return fit_friction(
+                    law, [m.t for m in members], [m.x for m in members], [m.force for m in members],
+                    v=None if any(m.v is None for m in members) else [m.v for m in members],
+                    normal_force=None if force_levels else [m.normal_force for m in members],
+                    fixed=fixed, params0=params0, bounds=bounds, backlash=backlash, asymmetry=asymmetry,
+                    offset=offset, drift=drift, n_starts=n_starts, seed=seed, max_nfev=max_nfev, rtol=rtol,
+                    diff_step=diff_step, interval="wald")
+        result.heldout_residuals = _cross_validate(law, data, None, fold)[1]
     return result
+
+
+#: Backlash widths, as fractions of the records' amplitude, at which the cost of a static law
+#: is evaluated (the other parameters at their start) to pick extra starts.
+BACKLASH_GRID: tuple[float, ...] = (0.0, 0.003, 0.01, 0.03, 0.1, 0.2, 0.3, 0.45)
+#: Extra starts taken from that scan (the lowest costs).
+BACKLASH_STARTS: int = 2
+
+
+def _backlash_starts(cost_of: Any, u0: np.ndarray, i: int, scale: np.ndarray, amplitude: float,
+                     q_lo: np.ndarray, q_hi: np.ndarray) -> list[np.ndarray]:
+    """Extra starts of a static law's fit with the backlash fitted: its sum of squares is a
+    staircase in the backlash (a sample enters or leaves the play), on which a local search
+    started at one width stays near it. The cost at each width of BACKLASH_GRID (the other
+    parameters at the start `u0`) is evaluated; the BACKLASH_STARTS lowest give starts."""
+    tried = []
+    for frac in BACKLASH_GRID:
+        u = u0.copy()
+        u[i] = min(max(frac * amplitude / scale[i], q_lo[i]), q_hi[i])
+        if abs(u[i] - u0[i]) <= 1e-12 * max(abs(u0[i]), 1.0):
+            continue
+        r = cost_of(u)
+        tried.append((float(r @ r), u))
+    tried.sort(key=lambda c: c[0])
+    return [u for _, u in tried[:BACKLASH_STARTS]]
+
+
+#: A point found by `_probe` whose sum of squares is lower than the end's by more than this
+#: many reduced chi-squares (s^2) is "a lower point nearby": the fit restarts from it.
+PROBE_GAIN: float = 1.0
+#: Most local searches restarted from a lower point found by the probe.
+MAX_RESTARTS: int = 3
+
+
+def _probe(residuals: Any, u: np.ndarray, r: np.ndarray, jac: np.ndarray, q_lo: np.ndarray,
+           q_hi: np.ndarray, s2: float, free: Sequence[str]) -> tuple[float, np.ndarray, str]:
+    """A cheap search for a lower point near the end u of a local search (residuals r,
+    Jacobian jac in the optimiser's coordinates, s2 the reduced chi-square): a Gauss-Newton
+    step (whole, 0.3, 0.1) and a step of two standard errors (s2 (J^T J)^+, at most half the
+    coordinate) up and down each coordinate, within the bounds; 3 + 2k model evaluations. At a
+    least-squares minimum none lowers the sum of squares (the coordinate steps raise it by
+    about 4 s^2 or more). Returns the largest decrease [N^2], its point and what found it."""
+    ssr = float(r @ r)
+    tries = []
+    jac = np.asarray(jac, dtype=float)
+    if jac.shape == (r.size, u.size) and np.isfinite(jac).all():
+        step = np.linalg.lstsq(jac, -r, rcond=None)[0]
+        tries += [(u + lam * step, "a Gauss-Newton step") for lam in (1.0, 0.3, 0.1)]
+        sd = np.sqrt(np.maximum(s2 * np.diag(np.linalg.pinv(jac.T @ jac)), 0.0))
+        sd = np.minimum(sd, 0.5 * np.maximum(np.abs(u), 1.0))
+        for i in range(u.size):
+            for sgn in (1.0, -1.0):
+                w = u.copy()
+                w[i] += sgn * 2.0 * sd[i]
+                tries.append((w, f"a step of two standard errors along {free[i]}"))
+    gain, best, how = 0.0, u, ""
+    for w, what in tries:
+        w = np.clip(w, q_lo, q_hi)
+        if np.array_equal(w, u):
+            continue
+        try:
+            rw = residuals(w)
+        except (RuntimeError, ValueError):
+            continue
+        if ssr - float(rw @ rw) > gain:
+            gain, best, how = ssr - float(rw @ rw), w, what
+    return gain, best, how
+
+
+def _physical_bounds(space: _Space, q_lo: np.ndarray, q_hi: np.ndarray,
+                     params: Mapping[str, float]) -> dict[str, tuple[float, float]]:
+    """The bounds of the free parameters as the fit applied them, in their own units (the
+    upper member of a fitted ordered pair: from the lower member's estimate up)."""
+    out = {}
+    for i, name in enumerate(space.free):
+        lo, hi = float(q_lo[i] * space.scale[i]), float(q_hi[i] * space.scale[i])
+        if i in space.lower_of:
+            base = params[space.free[space.lower_of[i]]]
+            lo, hi = base + lo, base + hi
+        out[name] = (lo, hi)
+    return out
 
 
 def _interval(name: str, value: float, sd: float, tq: float,
@@ -936,7 +1181,7 @@ def _interval(name: str, value: float, sd: float, tq: float,
     lower one)."""
     if limits is not None:
         low, high = limits
-    elif name in EXTRA_PARAMS or name in REGISTRY["param"]:
+    elif _base(name) in EXTRA_PARAMS or _base(name) in REGISTRY["param"]:
         low, high = _range_of(name)[:2]
     else:
         low, high = -math.inf, math.inf
@@ -984,14 +1229,16 @@ PROFILE_TOL: float = 0.03
 #: Farthest a profile search goes from the estimate, in Wald half-widths (t stderr), before it
 #: counts the side as not determined by the data.
 PROFILE_REACH: float = 50.0
+#: Largest number of points a profile's search of one end evaluates.
+PROFILE_ITERATIONS: int = 10
 #: Largest number of chord Gauss-Newton steps of the refit at one point of a profile.
 PROFILE_STEPS: int = 5
 
 
 def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, space: _Space,
                        q_lo: np.ndarray, q_hi: np.ndarray, p_hat: np.ndarray, sd: np.ndarray, tq: float,
-                       var_unit: float, budget: int | None = None
-                       ) -> tuple[dict[int, tuple[float, float]], set[int], set[int], int]:
+                       var_unit: float, budget: int | None = None, only: set[int] | None = None
+                       ) -> tuple[dict[int, tuple[float, float]], set[int], set[int], int, tuple]:
     """Profile-likelihood 95 % intervals of the free parameters.
 
     For parameter i held at c, the others are refitted (chord Gauss-Newton: the Jacobian
@@ -1005,15 +1252,17 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
     Returns the intervals (index -> (lower, upper)), the indices whose interval reached a
     bound of the range (the data cannot tell the parameter from it), those whose interval is
     unbounded on a side with no bound (not determined by the data), and the number of model
-    evaluations used. A parameter whose sd is not finite is left out, and so are the parameters
-    after the evaluations exceed `budget` (given)."""
+    evaluations used, and the lowest sum of squares a refit reached with the parameter it held,
+    its value and the parameters there (below the optimum's: the fit stopped short of a
+    minimum). A parameter whose sd is not finite is left out, and so are the parameters after
+    the evaluations exceed `budget` (given) and those not in `only` (given)."""
     k = p_hat.size
     ssr0 = float(r_hat @ r_hat)
     with np.errstate(invalid="ignore"):
         lim_lo = space.to_params(np.where(np.isfinite(q_lo), q_lo, -np.inf))
         lim_hi = space.to_params(np.where(np.isfinite(q_hi), q_hi, np.inf))
-    upper_of = {lo: hi for hi, lo in space.lower_of.items()}
     evals = 0
+    lowest: tuple[float, str, float, np.ndarray | None] = (ssr0, "", math.nan, None)
 
     def place(p: np.ndarray, i: int) -> np.ndarray | None:
         """Coordinates u of p with p_i kept, the others moved into the bounds; None when p_i
@@ -1027,7 +1276,7 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
         return u if abs(q[i] - p[i]) <= 1e-9 * max(abs(p[i]), 1e-300) else None
 
     def refit(i: int, c: float, p_start: np.ndarray) -> tuple[float, np.ndarray] | None:
-        nonlocal evals
+        nonlocal evals, lowest
         others = np.array([j for j in range(k) if j != i], dtype=int)
         pinv = np.linalg.pinv(jac_p[:, others], rcond=1e-10) if others.size else np.zeros((0, r_hat.size))
         p = p_start.copy()
@@ -1065,49 +1314,65 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
                     break
             if not accepted or gain < 0.01 * var_unit:
                 break
+        if ssr < lowest[0]:
+            lowest = (ssr, space.free[i], c, p.copy())
         return ssr, p
 
     def side(i: int, sgn: float) -> tuple[float, str]:
         """The end of the interval of parameter i on side sgn, and 'ok', 'bound' (the range's
-        bound reached below the target) or 'open' (no bound and no end within reach)."""
+        bound reached below the target) or 'open' (no bound and no end within reach).
+        Outward steps (secant, at most fourfold) until tau exceeds the target, then regula
+        falsi within the bracket (inner point below the target, outer above); not converged,
+        the outer end (the wider interval)."""
         lim = lim_hi[i] if sgn > 0 else lim_lo[i]
         reach = PROFILE_REACH * tq * sd[i]
-        c_prev, tau_prev, p_start = p_hat[i], 0.0, p_hat
+        inner, tau_in, p_start = p_hat[i], 0.0, p_hat
+        outer, tau_out = None, math.inf
         c = p_hat[i] + sgn * tq * sd[i]
-        for _ in range(6):
+        lim_tried = False
+        for _ in range(PROFILE_ITERATIONS):
             at_lim = (c >= lim) if sgn > 0 else (c <= lim)
             if at_lim:
                 c = lim
+                lim_tried = True
             out = refit(i, c, p_start) if math.isfinite(c) else None
-            if out is None:
-                return (lim, "bound") if math.isfinite(lim) else (c_prev, "ok")
-            ssr, p_start = out
+            if out is None:         # the model fails there: nearer
+                c = 0.5 * (c + inner) if math.isfinite(c) else inner + sgn * 4.0 * abs(inner - p_hat[i])
+                continue
+            ssr, p_found = out
             tau = math.sqrt(max(ssr - ssr0, 0.0) / var_unit)
             if abs(tau - tq) <= PROFILE_TOL * tq:
                 return c, "ok"
-            if at_lim and tau < tq:
-                return lim, "bound"
-            if tau > tau_prev:
-                c_new = c + (tq - tau) * (c - c_prev) / (tau - tau_prev)
+            if tau < tq:
+                if at_lim:
+                    return lim, "bound"
+                inner, tau_in, p_start = c, tau, p_found
             else:
-                c_new = c + 4.0 * (c - p_hat[i])
-            # no more than four times as far, nor nearer than a quarter of the way
-            dist, new = abs(c - p_hat[i]), abs(c_new - p_hat[i])
-            c_new = p_hat[i] + sgn * min(max(new, 0.25 * dist), 4.0 * dist) if (c_new - p_hat[i]) * sgn > 0 \
-                else p_hat[i] + sgn * 0.25 * dist
-            c_prev, tau_prev, c = c, tau, c_new
-            if abs(c - p_hat[i]) > reach:
-                if math.isfinite(lim) and abs(lim - p_hat[i]) <= 4.0 * reach:
+                outer, tau_out = c, tau
+            if outer is not None:       # bracketed: regula falsi, kept off the bracket's ends
+                w = outer - inner
+                c = inner + w * min(max((tq - tau_in) / (tau_out - tau_in), 0.1), 0.9)
+                continue
+            dist = abs(c - p_hat[i])
+            grow = 4.0 if tau <= 0.0 else min(max(tq / tau, 1.25), 4.0)
+            c = p_hat[i] + sgn * grow * dist
+            if abs(c - p_hat[i]) > reach and not lim_tried:
+                # beyond reach: the range's bound, if any, decides (below the target there: the
+                # data cannot tell the parameter from it; above: the end lies between)
+                if math.isfinite(lim):
                     c = lim
                     continue
-                return (lim if math.isfinite(lim) else sgn * math.inf), ("bound" if math.isfinite(lim) else "open")
-        return c, "ok"
+                return sgn * math.inf, "open"
+        if outer is not None:
+            return outer, "ok"
+        return (lim, "bound") if lim_tried else (sgn * math.inf if not math.isfinite(lim) else lim,
+                                                  "open" if not math.isfinite(lim) else "bound")
 
     out: dict[int, tuple[float, float]] = {}
     bound: set[int] = set()
     open_: set[int] = set()
     for i in range(k):
-        if not (math.isfinite(sd[i]) and sd[i] > 0.0):
+        if not (math.isfinite(sd[i]) and sd[i] > 0.0) or (only is not None and i not in only):
             continue
         if budget is not None and evals >= budget:
             break
@@ -1118,7 +1383,7 @@ def _profile_intervals(residuals: Any, r_hat: np.ndarray, jac_p: np.ndarray, spa
             bound.add(i)
         if "open" in (how_lo, how_hi):
             open_.add(i)
-    return out, bound, open_, evals
+    return out, bound, open_, evals, lowest
 
 
 def _central_jacobian(residuals: Any, u: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray,
@@ -1176,7 +1441,8 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
                 data: list[_Data], q_lo: np.ndarray, q_hi: np.ndarray, force_levels: bool,
                 normal_force: Any, nfev: int, costs: tuple[float, ...], step: float,
                 rtol: float = 1e-6, frozen: Any = None, interval: str = "wald",
-                profile_budget: int | None = None) -> FitResult:
+                profile_budget: int | None = None,
+                probe: tuple[float, str, int, float] = (0.0, "", 0, 0.0)) -> FitResult:
     """Covariance, intervals and scores at the optimum (see the module notes). `frozen`: the
     residuals on the substeps of the integration at the optimum (for the Jacobian and the
     profiles; default `residuals`). `interval`: "wald" (on the transformed scale, `_interval`)
@@ -1231,8 +1497,9 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     prof_open: set[int] = set()
     profile_evals = 0
     profiled: tuple[str, ...] = ()
+    lowest: tuple = (ssr, "", math.nan, None)
     if interval == "profile" and ssr > 0.0:
-        prof, prof_bound, prof_open, profile_evals = _profile_intervals(
+        prof, prof_bound, prof_open, profile_evals, lowest = _profile_intervals(
             frozen or residuals, r, jac_p, space, q_lo, q_hi, pv, sd, tq, inflation * s2, profile_budget)
         ci.update({free[i]: ends for i, ends in prof.items()})
         profiled = tuple(free[i] for i in sorted(prof))
@@ -1240,12 +1507,27 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     # on a bound, or nearer to it than the half-width of a plain interval (the bound is then
     # inside estimate +- t sd: the data cannot tell the estimate from the bound)
     scale = space.scale
-    at_bound = tuple(name for i, name in enumerate(free)
-                     if (math.isfinite(q_lo[i]) and (u[i] - q_lo[i] <= tol * max(1.0, abs(q_lo[i]))
-                                                     or (u[i] - q_lo[i]) * scale[i] <= tq * sd[i]))
-                     or (math.isfinite(q_hi[i]) and (q_hi[i] - u[i] <= tol * max(1.0, abs(q_hi[i]))
-                                                     or (q_hi[i] - u[i]) * scale[i] <= tq * sd[i]))
-                     or i in prof_bound)
+
+    def near_bound(i: int) -> bool:
+        return bool((math.isfinite(q_lo[i]) and (u[i] - q_lo[i] <= tol * max(1.0, abs(q_lo[i]))
+                                                 or (u[i] - q_lo[i]) * scale[i] <= tq * sd[i]))
+                    or (math.isfinite(q_hi[i]) and (q_hi[i] - u[i] <= tol * max(1.0, abs(q_hi[i]))
+                                                    or (q_hi[i] - u[i]) * scale[i] <= tq * sd[i])))
+
+    # A parameter near a bound has a Wald interval that means little there (the cost is not
+    # quadratic up to the bound: a backlash at 0 has a near-zero slope and a standard error
+    # as large as the amplitude): its interval is its profile, one-sided at the bound.
+    near = {i for i in range(k) if near_bound(i) and math.isfinite(sd[i]) and free[i] not in profiled}
+    if near and ssr > 0.0:
+        prof, bound_b, open_b, evals_b, lowest_b = _profile_intervals(
+            frozen or residuals, r, jac_p, space, q_lo, q_hi, pv, sd, tq, inflation * s2, only=near)
+        ci.update({free[i]: ends for i, ends in prof.items()})
+        prof_bound |= bound_b
+        prof_open |= open_b
+        profile_evals += evals_b
+        lowest = min(lowest, lowest_b, key=lambda low: low[0])
+        profiled = tuple(name for i, name in enumerate(free) if name in profiled or i in prof)
+    at_bound = tuple(name for i, name in enumerate(free) if near_bound(i) or i in prof_bound)
     if undetermined.any():
         warnings.warn(f"fit of {law!r}: the data do not determine {', '.join(np.array(free)[undetermined])} "
                       "(stderr inf); fix them or use records that excite them", stacklevel=3)
@@ -1262,21 +1544,17 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     problems = []
     if sol.status == 0:
         problems.append(f"the optimiser used its evaluation budget (max_nfev) and stopped")
-    gain = 0.0
-    if optimality > OPTIMALITY_TOL and rn > 1e-9 * float(np.ptp(forces)) * math.sqrt(n):
-        # a slope (above the rounding of a noise-free fit) by the Jacobian: does a Gauss-Newton step (within the bounds) lower the SSR?
-        step = np.linalg.lstsq(jac_u, -r, rcond=None)[0]
-        for lam in (1.0, 0.3, 0.1):
-            u_try = np.clip(u + lam * step, q_lo, q_hi)
-            try:
-                r_try = residuals(u_try)
-            except (RuntimeError, ValueError):
-                continue
-            gain = max(gain, 1.0 - float(r_try @ r_try) / ssr)
-        if gain > STALL_GAIN:
-            worst = free[int(np.argmax(cosines))]
-            problems.append(f"the optimiser stopped far from a minimum: a Gauss-Newton step from its "
-                            f"end lowers the sum of squares by {100 * gain:.3g} % (steepest along {worst})")
+    gain, how, restarts, needed = probe
+    lower_point = None
+    if gain > needed:
+        problems.append(f"the optimiser stopped far from a minimum: {how} from its end lowers the sum of "
+                        f"squares by {gain:.4g} N^2 ({gain / s2:.3g} reduced chi-squares) after {restarts} "
+                        "restart(s) from such points")
+    elif ssr - lowest[0] > max(needed, PROBE_GAIN * s2):
+        lower_point = np.clip(space.from_params(lowest[3]), q_lo, q_hi)
+        problems.append(f"the optimiser stopped short of a minimum: the profile of {lowest[1]} found a sum of "
+                        f"squares lower by {ssr - lowest[0]:.4g} N^2 ({(ssr - lowest[0]) / s2:.3g} reduced "
+                        f"chi-squares) at {lowest[1]} = {lowest[2]:.6g} (its intervals are not valid)")
     zero_ssr = float(forces @ forces)
     if ssr >= (1.0 - ZERO_GAIN) * zero_ssr:
         problems.append(f"the fit is no better than predicting zero force (rmse {math.sqrt(ssr / n):.4g} N, "
@@ -1290,6 +1568,9 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
     # reproduces) has an unbounded likelihood: AIC and BIC are -inf
     loglik_term = n * math.log(2.0 * math.pi * ssr / n) + n if ssr > 0.0 else -math.inf
     n_par = k + 1
+    # lmfit's definitions (its fit_report's "Akaike info crit" and "Bayesian info crit"): the
+    # same likelihood without its constant n (1 + ln 2 pi), and k without the noise variance
+    neg2_lmfit = n * math.log(ssr / n) if ssr > 0.0 else -math.inf
     rmse = math.sqrt(ssr / n)
     units = {name: parameter_unit(name, force_levels) for name in p}
     return FitResult(
@@ -1303,12 +1584,64 @@ def _statistics(law: str, sol: Any, space: _Space, params_of: Any, residuals: An
         variance_inflation=inflation, residual_sd=math.sqrt(s2),
         undetermined=tuple(name for i, name in enumerate(free)
                            if not math.isfinite(sd[i]) or sd[i] > abs(pv[i]) or i in prof_open),
-        profiled=profiled, profile_evals=profile_evals)
+        profiled=profiled, profile_evals=profile_evals, chisqr=ssr, redchi=s2,
+        aic_lmfit=neg2_lmfit + 2.0 * k, bic_lmfit=neg2_lmfit + k * math.log(n), _lower_point=lower_point)
 
 
 # --------------------------------------------------------------------------------------------
 # Choosing a law: cross-validation over records
 # --------------------------------------------------------------------------------------------
+def _decimated(d: _Data, per_cycle: int) -> _Data:
+    """Record `d` decimated (`stickslip.data.decimate`) to about `per_cycle` samples per cycle
+    of its fundamental (the largest peak of the spectrum of x, the mean removed)."""
+    dt = float(np.median(np.diff(d.t)))
+    spectrum = np.abs(np.fft.rfft(d.x - d.x.mean()))
+    spectrum[0] = 0.0
+    f0 = int(np.argmax(spectrum)) / (d.t.size * dt)
+    step = max(1, int(1.0 / (f0 * dt * per_cycle))) if f0 > 0.0 else 1
+    if step == 1:
+        return d
+    nf = d.normal_force
+    t, (x, force, v, nf_d) = decimate(d.t, [d.x, d.force, d.v, None if np.ndim(nf) == 0 else nf], step)
+    return _Data(t, x, v, force, nf if nf_d is None else nf_d)
+
+
+def _record_params(params: Mapping[str, float], i: int) -> dict[str, float]:
+    """The parameters of the model of record i of a fit: its own per-record terms (`name[i]`)
+    in place of the common entries."""
+    out = {k: v for k, v in params.items() if "[" not in k}
+    out.update({_base(k): v for k, v in params.items() if k.endswith(f"[{i}]")})
+    return out
+
+
+def _new_record_params(params: Mapping[str, float]) -> dict[str, float]:
+    """The parameters of the model of a record the fit has not seen: the per-record terms
+    (`name[i]`, see `fit_friction`'s offset, drift, asymmetry "per_record") are not carried
+    over; their common entry (at its default) stands."""
+    return {k: v for k, v in params.items() if "[" not in k}
+
+
+def _cross_validate(law: str, parts: list[_Data], labels: Sequence[Any] | None,
+                    fit_fold: Any, scored: list[_Data] | None = None) -> tuple[list[float], np.ndarray, int]:
+    """Fold by fold, `fit_fold(members)` on all parts but those held out (one part at a time,
+    or all parts of one label at a time when `labels` are given) and the model's residuals on
+    the held-out parts (their versions in `scored`, when given: the records at full rate of
+    decimated parts): each fold's NRMSE (pooled rmse over the range of its held-out force),
+    every held-out residual [N], and how many fold fits reported success=False."""
+    groups = list(range(len(parts))) if labels is None else list(labels)
+    scored = parts if scored is None else scored
+    per_fold, residuals, failed = [], [], 0
+    for g in dict.fromkeys(groups):
+        held = [p for p, lab in zip(scored, groups) if lab == g]
+        fit = fit_fold([p for p, lab in zip(parts, groups) if lab != g])
+        failed += not fit.success
+        r = np.concatenate([_model(law, h, _new_record_params(fit.params), fit.rtol) - h.force for h in held])
+        f = np.concatenate([h.force for h in held])
+        per_fold.append(float(np.sqrt(np.mean(r ** 2)) / np.ptp(f)))
+        residuals.append(r)
+    return per_fold, np.concatenate(residuals), failed
+
+
 @dataclass
 class Selection:
     """The outcome of `select_friction_law`.
@@ -1317,9 +1650,13 @@ class Selection:
     `scores` maps it to (mean, standard error) of its cross-validated NRMSE [-] (each fold's
     held-out rmse over the range of that fold's measured force); `fold_scores` holds every
     fold's NRMSE; `folds` says how the data were split ("records": one record held out at a
-    time; "blocks": one contiguous block of the single record); `n_free` the number of fitted
+    time; "groups": the records of one label; "blocks": one contiguous block of the single record); `n_free` the number of fitted
     parameters of each law. `fold_failures` counts the folds whose fit reported
     success=False. BIC is in each fit (`fits[law].bic`) as information; it does not choose.
+    `screen`: the samples per cycle of the screening pass, when there was one (the scores are
+    on the held-out records at full rate); `screen_fits` then holds every law's fit to the
+    decimated records (the table's fit NRMSE and dBIC), and `fits` the same but for the chosen
+    law, refitted at full rate.
     """
 
     best: str
@@ -1329,14 +1666,17 @@ class Selection:
     folds: str
     n_free: dict[str, int]
     fold_failures: dict[str, int]
+    screen: int | None = None
+    screen_fits: dict[str, FitResult] | None = None
 
     def table(self) -> str:
         """A plain-text table: one row per law, best cross-validated score first."""
-        bic0 = min(f.bic for f in self.fits.values())
+        fits = self.screen_fits or self.fits
+        bic0 = min(f.bic for f in fits.values())
         rows = [f"{'law':<14} {'k':>2} {'CV NRMSE':>9} {'+- s.e.':>8} {'fit NRMSE':>9} {'dBIC':>9}  note",
                 "-" * 64]
         for law in sorted(self.scores, key=lambda name: self.scores[name][0]):
-            fit = self.fits[law]
+            fit = fits[law]
             mean, se = self.scores[law]
             note = ["chosen" if law == self.best else ""]
             if not fit.success:
@@ -1347,6 +1687,9 @@ class Selection:
                         f"{fit.bic - bic0:>9.1f}  {', '.join(n for n in note if n)}")
         rows.append(f"(cross-validation over {self.folds}; the simplest law within one standard error of "
                     "the best is chosen)")
+        if self.screen:
+            rows.append(f"(screening: fits to the records decimated to {self.screen} samples per cycle, scored on "
+                        "the held-out records at full rate; the chosen law refitted at full rate)")
         return "\n".join(rows)
 
 
@@ -1364,15 +1707,20 @@ def _law_kwargs(law: str, laws: Sequence[str], fit_kwargs: Mapping[str, Any]) ->
 
 def select_friction_law(laws: Sequence[str], t: Any, x: Any = None, force: Any = None, v: Any = None,
                         normal_force: Any = None, cv: str = "records", n_blocks: int = 5,
+                        groups: Sequence[Any] | None = None, screen: int | None = None,
                         **fit_kwargs: Any) -> Selection:
     """Choose a friction law by how well it predicts data it was not fitted to.
 
     Every candidate is fitted (`fit_friction`) to all the data and, fold by fold, to all but
     one part of it, and scored on the part left out: leave one record out when there are
-    several records (cv="records"), or, with one record (or cv="blocks"), n_blocks contiguous
-    blocks of the record (each block then a record of its own, its states starting at 0). A
-    law's score is the mean over folds of the held-out NRMSE (rmse over the range of the
-    held-out force), with its standard error (standard deviation over folds / sqrt(folds)).
+    several records (cv="records"), leave one group of records out (cv="groups": all the
+    records of one label of `groups`, such as one excitation type, at a time: a law must then
+    predict a kind of motion it was not fitted to), or, with one record (or cv="blocks"),
+    n_blocks contiguous blocks of the record (each block then a record of its own, its states
+    starting at 0). A law's score is the mean over folds of the held-out NRMSE (rmse over the
+    range of the held-out force), with its standard error (standard deviation over folds /
+    sqrt(folds)). The held-out residuals calibrate each fit's prediction intervals
+    (`FitResult.heldout_residuals`, see `FitResult.predict`).
     The chosen law is the one with the fewest fitted parameters among those whose mean is
     within one standard error of the best mean (the one-standard-error rule): a simpler law
     is preferred when the scores cannot tell them apart. BIC, which on correlated measurement
@@ -1384,10 +1732,22 @@ def select_friction_law(laws: Sequence[str], t: Any, x: Any = None, force: Any =
         Candidate laws (at least 2, each in `stickslip.LAWS`).
     t, x, force, v, normal_force
         As in `fit_friction` (several records as lists, or Record objects as t).
-    cv : "records" or "blocks"
+    cv : "records", "groups" or "blocks"
         How the folds are made (above). "records" with a single record falls back to blocks.
+        Default "groups" when `groups` is given, else "records".
     n_blocks : int
         Number of blocks of a single record (>= 2; default 5).
+    groups : sequence, optional
+        One label per record (at least 2 distinct labels), for cv="groups".
+    screen : int, optional
+        Samples per cycle of a screening pass (>= 8; the damper study's 48): every law is
+        fitted, fold by fold and on all the data, to the records decimated to about that many
+        samples per cycle of their fundamental (`stickslip.data.decimate`: an anti-aliasing
+        order-8 Butterworth low-pass filter at 0.8 times the new Nyquist frequency, run forward
+        and backward, then every q-th sample); the folds' fits are scored on the held-out
+        records at their full rate, and the chosen law is refitted at the full rate (its
+        `fits` entry; the other laws' entries are their screening fits). With several records
+        only.
     **fit_kwargs
         Passed to `fit_friction` for every law (fixed, backlash, asymmetry, rtol, ...); a value
         that is a dict keyed by candidate laws applies per law, e.g.
@@ -1411,11 +1771,22 @@ def select_friction_law(laws: Sequence[str], t: Any, x: Any = None, force: Any =
             raise ValueError(f"laws: unknown value {law!r} (accepted: {', '.join(LAWS)})")
     if len(set(laws)) != len(laws):
         raise ValueError(f"laws: each law once, got {list(laws)!r}")
-    if cv not in ("records", "blocks"):
-        raise ValueError(f"cv: unknown value {cv!r} (accepted: records, blocks)")
+    if groups is not None and cv == "records":
+        cv = "groups"
+    if cv not in ("records", "groups", "blocks"):
+        raise ValueError(f"cv: unknown value {cv!r} (accepted: records, groups, blocks)")
     if not (isinstance(n_blocks, (int, np.integer)) and n_blocks >= 2):
         raise ValueError(f"n_blocks: must be an integer >= 2, got {n_blocks!r}")
     data = _records(t, x, force, v, normal_force)
+    labels = None
+    if cv == "groups":
+        if groups is None or isinstance(groups, str) or len(groups) != len(data):
+            raise ValueError(f"groups: cv='groups' needs one label per record ({len(data)}), got {groups!r}")
+        labels = list(groups)
+        if len(set(labels)) < 2:
+            raise ValueError(f"groups: at least 2 distinct labels needed to hold one out, got {labels!r}")
+    elif groups is not None:
+        raise ValueError(f"groups: only with cv='groups', got cv={cv!r}")
     use_blocks = cv == "blocks" or len(data) == 1
     if use_blocks:
         if len(data) != 1:
@@ -1429,7 +1800,15 @@ def select_friction_law(laws: Sequence[str], t: Any, x: Any = None, force: Any =
                        nf if np.ndim(nf) == 0 else nf[a:b]) for a, b in zip(edges[:-1], edges[1:])]
     else:
         parts = data
-    folds = "blocks" if use_blocks else "records"
+    folds = "blocks" if use_blocks else cv
+    scored = parts
+    if screen is not None:
+        if not (isinstance(screen, (int, np.integer)) and screen >= 8):
+            raise ValueError(f"screen: must be an integer >= 8 (samples per cycle), got {screen!r}")
+        if use_blocks:
+            raise ValueError("screen: screening decimates whole records; it needs several records (cv='records' "
+                             "or 'groups'), got one")
+        parts = [_decimated(d, screen) for d in data]
 
     def fit_on(law: str, members: list[_Data], quiet: bool) -> FitResult:
         kw = _law_kwargs(law, laws, fit_kwargs)
@@ -1449,21 +1828,22 @@ def select_friction_law(laws: Sequence[str], t: Any, x: Any = None, force: Any =
     failures: dict[str, int] = {}
     for law in laws:
         fits[law] = fit_on(law, parts, quiet=False)
-        per_fold = []
-        failed = 0
-        for i, held in enumerate(parts):
-            fit = fit_on(law, [p for j, p in enumerate(parts) if j != i], quiet=True)
-            failed += not fit.success
-            pred = _model(law, held, fit.params, fit.rtol)
-            per_fold.append(float(np.sqrt(np.mean((pred - held.force) ** 2)) / np.ptp(held.force)))
+        per_fold, residuals, failed = _cross_validate(law, parts, labels, lambda m: fit_on(law, m, quiet=True),
+                                                      scored)
         arr = np.array(per_fold)
         scores[law] = (float(arr.mean()), float(arr.std(ddof=1) / math.sqrt(arr.size)))
         fits[law].cv_nrmse = scores[law]
+        fits[law].heldout_residuals = residuals
         fold_scores[law] = tuple(per_fold)
         failures[law] = failed
     n_free = {law: len(fits[law].free) for law in laws}
     best_mean, best_se = min(scores.values(), key=lambda s: s[0])
     within = [law for law in laws if scores[law][0] <= best_mean + best_se]
     best = min(within, key=lambda law: (n_free[law], scores[law][0]))
+    screen_fits = dict(fits) if screen is not None else None
+    if screen is not None:         # the chosen law refitted on the records at their full rate
+        screened = fits[best]
+        fits[best] = fit_on(best, scored, quiet=False)
+        fits[best].cv_nrmse, fits[best].heldout_residuals = screened.cv_nrmse, screened.heldout_residuals
     return Selection(best=best, fits=fits, scores=scores, fold_scores=fold_scores, folds=folds,
-                     n_free=n_free, fold_failures=failures)
+                     n_free=n_free, fold_failures=failures, screen=screen, screen_fits=screen_fits)

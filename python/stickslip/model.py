@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 import os
-import tempfile
 import tomllib
 import warnings
 from dataclasses import dataclass, field
@@ -30,21 +29,29 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result, _ERRORS,
-                   _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _events, _finite,
+                   _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _end_time, _events, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
                    IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
-                   _physical, MAX_ROWS)
+                   _physical, MAX_ROWS, model_notes, _warn_model_steps)
+from .outputs import atomic_write
 from .signal import Signal, SignalLike, as_signal
-from .energy import EnergyBoundWarning, energy_bound
+from .energy import check_result
 
-__all__ = ["Model"]
+__all__ = ["Model", "ModelWarning"]
 
 #: The library's kinds of model element (stickslip_user_model's ELEM_*), as messages name them.
-_ELEMENTS = {1: "body", 2: "spring", 3: "damper", 4: "force", 5: "contact", 6: "signal"}
-#: The laws with jumps (modes), which implicit_euler and galpha solve over their modes on a
-#: model (stickslip_modal_contacts), and those methods.
-_JUMP_LAWS = ("coulomb", "karnopp")
+_ELEMENTS = {1: "body", 2: "spring", 3: "damper", 4: "force", 5: "contact", 6: "signal", 7: "drive"}
+#: What a drive prescribes, by the library's code (stickslip_user_model's DRIVE_*).
+_DRIVES = {"position": 1, "velocity": 2}
+#: The laws with jumps (modes: the registry's n_modes > 0), which implicit_euler and galpha
+#: solve over their modes on a model (stickslip_modal_contacts), and those methods.
+_JUMP_LAWS = tuple(law for law in LAWS if REGISTRY["law"][law]["modes"] > 0)
 _MODAL_METHODS = ("implicit_euler", "galpha")
+
+
+class ModelWarning(UserWarning):
+    """A model that runs but is probably not what was meant: a normal force that never closes
+    its contact, or a tolerance coarser than a contact's velocity band."""
 
 
 @dataclass
@@ -53,6 +60,13 @@ class _Body:
     x0: float
     v0: float
     name: str
+
+
+@dataclass
+class _Drive:
+    body: int
+    kind: str          # "position" [m] or "velocity" [m/s]
+    signal: Signal
 
 
 @dataclass
@@ -68,8 +82,9 @@ class _Contact:
 class Model:
     """A system of bodies, springs, dampers, forces and friction contacts (see the module).
 
-    Elements are added with `add_body`, `add_spring`, `add_damper`, `add_force` and
-    `add_contact`; each is checked as it is added (a ValueError naming the element). Run it
+    Elements are added with `add_body`, `add_spring`, `add_damper`, `add_force`,
+    `add_contact` and `add_drive`; each is checked as it is added (a ValueError naming the
+    element). Run it
     with ``stickslip.simulate(model, method=..., t_end=...)``; save and load it with
     `to_toml` and `from_toml`; a built-in scene as a model: `from_scene`.
     """
@@ -80,6 +95,7 @@ class Model:
         self.dampers: list[tuple[int, int | None, float]] = []
         self.forces: list[tuple[int, Signal]] = []
         self.contacts: list[_Contact] = []
+        self.drives: list[_Drive] = []
 
     # -- building ----------------------------------------------------------------------
     @property
@@ -181,8 +197,74 @@ class Model:
         params = {k: _finite(f"{where}: {k}", v, "see REGISTRY") for k, v in law_params.items()}
         surface = None if (not isinstance(surface_velocity, Signal) and surface_velocity == 0.0) \
             else as_signal(surface_velocity, f"{where}: surface_velocity")
-        self.contacts.append(_Contact(ia, ib, law, as_signal(normal_force, f"{where}: normal_force"), surface,
-                                      params))
+        normal = as_signal(normal_force, f"{where}: normal_force")
+        low, high = normal.bounds()
+        if high < 0.0:
+            given = f"{low!r} N" if normal.kind == "constant" else f"{normal!r}, at most {high:.6g} N at every time"
+            warnings.warn(f"{where}: normal_force is negative ({given}): the contact stays open, with no friction, "
+                          "for the whole run; give the normal force's magnitude (>= 0) if it is meant to press",
+                          ModelWarning, stacklevel=2)
+        self.contacts.append(_Contact(ia, ib, law, normal, surface, params))
+
+    def add_drive(self, body: int, position: SignalLike | None = None,
+                  velocity: SignalLike | None = None) -> None:
+        """Prescribe the motion of `body`: its `position` [m] or its `velocity` [m/s] (give
+        exactly one) follows the signal exactly under every method (a kinematic constraint).
+
+        The body leaves the state: each element joined to it acts on the other body as an
+        element on the ground plus a signal (a spring k: the force k (x_d(t) + rest_length); a
+        damper c: c v_d(t); a contact: a surface moving at v_d(t)). Its position and velocity
+        are in the result's `x` and `v` rows as for any body, and the force the drive applies
+        to it, m a_d minus the other forces on it, in ``result.drive_force[:, i]`` (drive i, in
+        the order added).
+
+        Parameters
+        ----------
+        body : int
+            The driven body; its mass counts in the drive's force only. With `position` its x0
+            and v0 are not read; with `velocity` its position is x0 plus the integral of the
+            signal from t = 0.
+        position : float or Signal, optional
+            The position [m]: a signal without steps (a jump in position has no velocity).
+        velocity : float or Signal, optional
+            The velocity [m/s]: sums, differences and multiples (a number times a signal) of
+            constants, steps, ramps, sines and tables (their integrals are exact).
+        """
+        where = f"drive {len(self.drives)}"
+        i = self._body(where, "body", body, ground=False)
+        if (position is None) == (velocity is None):
+            raise ValueError(f"{where}: give exactly one of position= and velocity=, got "
+                             f"{'both' if position is not None else 'neither'}")
+        where = f"{where} ({self.label(i)})"
+        if any(d.body == i for d in self.drives):
+            raise ValueError(f"{where}: body {self.label(i)!r} already has a drive")
+        kind = "position" if position is not None else "velocity"
+        sig = as_signal(position if position is not None else velocity, f"{where}: {kind}")
+        bad = _drive_problem(sig, kind)
+        if bad:
+            raise ValueError(f"{where}: {kind} {bad}")
+        self.drives.append(_Drive(i, kind, sig))
+
+    def driven(self, index: int | None) -> bool:
+        """True when body `index` has a drive (the ground: False)."""
+        return index is not None and any(d.body == index for d in self.drives)
+
+    def element_label(self, kind: str, i: int) -> str:
+        """'kind i (A-B)' with the bodies' names as the user gave them, as messages name
+        element `i` of `kind` (body, spring, damper, force, contact, drive, signal)."""
+        name = self.label
+        if kind == "contact":
+            return self.contact_label(i)
+        if kind in ("spring", "damper") and i < len(getattr(self, kind + "s")):
+            a, b = getattr(self, kind + "s")[i][:2]
+            return f"{kind} {i} ({name(a)}-{name(b)})"
+        if kind == "force" and i < len(self.forces):
+            return f"force {i} ({name(self.forces[i][0])})"
+        if kind == "drive" and i < len(self.drives):
+            return f"drive {i} ({name(self.drives[i].body)})"
+        if kind == "body" and i < self.n_bodies:
+            return f"body {i} ({name(i)})"
+        return f"{kind} {i}"
 
     def contact_label(self, i: int) -> str:
         """'contact i (A-B)' with the bodies' names, as messages name contact `i`."""
@@ -209,6 +291,13 @@ class Model:
         """The model as the library's arrays (body indices from 1, 0 the ground)."""
         if not self.bodies:
             raise ValueError("model: has no bodies (add_body first)")
+        if self.drives and all(self.driven(i) for i in range(self.n_bodies)):
+            raise ValueError(f"model: every body has a drive ({', '.join(b.name for b in self.bodies)}): "
+                             "leave at least one body free")
+        for i, c in enumerate(self.contacts):
+            if self.driven(c.a) and (c.b is None or self.driven(c.b)):
+                raise ValueError(f"{self.contact_label(i)}: each side is driven or the ground, so its friction "
+                                 "moves no free body; remove the contact or a drive")
         one = lambda i: 0 if i is None else i + 1  # noqa: E731
         signals: list[Signal] = []
 
@@ -227,6 +316,7 @@ class Model:
         con_n = [sig(c.normal_force) for c in self.contacts]
         con_w = [sig(c.surface_velocity) for c in self.contacts]
         frc_sig = [sig(s) for _, s in self.forces]
+        drv_sig = [sig(d.signal) for d in self.drives]
         tables: list[float] = []
         tvalues: list[float] = []
         ops: list[tuple[int, tuple[float, ...]]] = []
@@ -245,7 +335,8 @@ class Model:
                            for c, n, w in zip(self.contacts, con_n, con_w)], 5),
             con_ptr=np.asarray(ptr, dtype=np.int32), pkeys=" ".join(keys), pvals=np.asarray(vals, dtype=np.float64),
             signals=rows([(o, *a) for o, a in ops], 5), sig_start=np.asarray(start, dtype=np.int32),
-            tables=rows(list(zip(tables, tvalues)), 2))
+            tables=rows(list(zip(tables, tvalues)), 2),
+            drives=rows([(d.body + 1, _DRIVES[d.kind], s) for d, s in zip(self.drives, drv_sig)], 3))
 
     # -- files ------------------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
@@ -268,15 +359,24 @@ class Model:
                 if c.params:
                     row["params"] = dict(c.params)
                 out["contact"].append(row)
+        if self.drives:
+            out["drive"] = [{"body": name(d.body), d.kind: d.signal.to_dict()} for d in self.drives]
         return out
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> "Model":
         """The inverse of `to_dict`; ValueError naming the bad entry."""
-        unknown = set(data) - {"body", "spring", "damper", "force", "contact"}
+        unknown = set(data) - {"body", "spring", "damper", "force", "contact", "drive"}
         if unknown:
             raise ValueError(f"model file: unknown section(s) {', '.join(sorted(unknown))} "
-                             "(accepted: body, spring, damper, force, contact)")
+                             "(accepted: body, spring, damper, force, contact, drive)")
+        if not data.get("body"):
+            raise ValueError("model file: no [[body]] table: a model needs at least one body "
+                             "([[body]] with mass = ..., and optionally name, x0, v0)")
+        for section, rows in data.items():
+            if not isinstance(rows, list):
+                raise ValueError(f"model file: {section} must be an array of tables, [[{section}]], "
+                                 f"got {section} = {rows!r}")
         m = cls()
         for i, b in enumerate(data.get("body", [])):
             _fields(f"body {i}", b, {"mass"}, {"name", "x0", "v0"})
@@ -305,6 +405,14 @@ class Model:
             surface = Signal.from_dict(c["surface_velocity"], where) if "surface_velocity" in c else 0.0
             m.add_contact(body(where, c["a"]), body(where, c["b"]), c["law"],
                           Signal.from_dict(c["normal_force"], where), surface, **c.get("params", {}))
+        for i, d in enumerate(data.get("drive", [])):
+            where = f"drive {i}"
+            _fields(where, d, {"body"}, {"position", "velocity"})
+            given = {k: Signal.from_dict(d[k], f"{where}: {k}") for k in ("position", "velocity") if k in d}
+            if len(given) != 1:
+                raise ValueError(f"{where}: give exactly one of position and velocity, got "
+                                 f"{', '.join(given) if given else 'neither'}")
+            m.add_drive(body(where, d["body"], False), **given)
         return m
 
     def to_toml(self, path: str | os.PathLike) -> None:
@@ -320,7 +428,10 @@ class Model:
                 data = tomllib.load(fh)
         except tomllib.TOMLDecodeError as err:
             raise ValueError(f"{os.fspath(path)}: not a valid TOML file ({err})") from None
-        return cls.from_dict(data)
+        try:
+            return cls.from_dict(data)
+        except ValueError as err:
+            raise ValueError(f"{os.fspath(path)}: {err}") from None
 
     # -- the built-in scenes ----------------------------------------------------------------
     @classmethod
@@ -382,23 +493,37 @@ class Model:
         return simulate_model(self, **kwargs)
 
     def __repr__(self) -> str:
+        drives = f", {len(self.drives)} drives" if self.drives else ""
         return (f"Model({self.n_bodies} bodies, {len(self.springs)} springs, {len(self.dampers)} dampers, "
-                f"{len(self.forces)} forces, {len(self.contacts)} contacts)")
+                f"{len(self.forces)} forces, {len(self.contacts)} contacts{drives})")
 
 
 def write_whole(path: str | os.PathLike, data: str | bytes) -> None:
-    """Write `data` to `path` whole or not at all: into a temporary file beside it, renamed
-    over it once complete (a failure leaves no partial file)."""
-    path = os.fspath(path)
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)), prefix=".stickslip-")
-    try:
-        with os.fdopen(fd, "wb" if isinstance(data, bytes) else "w") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write `data` to `path` whole or not at all (stickslip.outputs.atomic_write)."""
+    atomic_write(path, lambda fh: fh.write(data), binary=isinstance(data, bytes))
+
+
+def _drive_problem(sig: Signal, kind: str) -> str:
+    """Why `sig` cannot drive a body's `kind` ("position" or "velocity"), or "" when it can:
+    a position has no steps (their derivative is not a function); a velocity's integral is
+    exact for sums and differences of primitives and multiples of signals by numbers only."""
+    if kind == "position":
+        return ("has a step, whose derivative is not a function (a position cannot jump); use a "
+                "ramp, or drive the velocity") if _has(sig, "step") else ""
+    def integrable(s: Signal) -> bool:
+        if s.kind in ("add", "sub"):
+            return all(integrable(c) for c in s.children)
+        if s.kind == "mul":
+            a, b = s.children
+            return (a.kind == "constant" and integrable(b)) or (b.kind == "constant" and integrable(a))
+        return True
+    return "" if integrable(sig) else ("multiplies two signals that are not numbers, whose integral has no "
+                                       "closed form here; give the position instead")
+
+
+def _has(sig: Signal, kind: str) -> bool:
+    """True when `sig` has a primitive of `kind`."""
+    return sig.kind == kind or any(_has(c, kind) for c in sig.children)
 
 
 def _fields(where: str, row: Any, required: set[str], optional: set[str]) -> None:
@@ -471,11 +596,13 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     if not isinstance(model, Model):
         raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
     check_method(model, method)
+    notes = model_notes(model, method, stacklevel=4)
+    _warn_model_steps(model, method, t_end, controls, stacklevel=5)    # the caller of simulate
     info = REGISTRY["method"][method]
     laws = [c.law for c in model.contacts]
     arrays = model.arrays()
     n = model.n_states()
-    t_end = _finite("t_end", t_end, "> 0 [s]")
+    t_end = _end_time(t_end)
     ctl = {k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]}
     for name, value in controls.items():
         if name not in info["controls"]:
@@ -484,6 +611,8 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         ctl[name] = _flag(value)
     rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
     atol = _tolerance("atol", ctl.pop("atol", 1.0), n)
+    if info["adaptive"] and not info["laws"]:        # dopri5, dop853, radau5: the laws' bands
+        _check_band(model, method, float(np.max(rtol)))
     for name, value in ctl.items():
         ctl[name] = _finite(name, value, "see simulate()")
     if "h" in info["controls"] and "h" not in ctl:
@@ -511,9 +640,9 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     y0[model.n_bodies:2 * model.n_bodies] = arrays["bodies"][2]
     ckeys, cvals = _keys(ctl)
     stop = np.zeros(1, dtype=np.int32)
-    y, istats, rstats, status, elem_kind, elem_index, cpu = _ext.run_model(
+    y, drive_force, istats, rstats, status, elem_kind, elem_index, cpu = _ext.run_model(
         *(arrays[k] for k in ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals",
-                              "signals", "sig_start", "tables")),
+                              "signals", "sig_start", "tables", "drives")),
         method, y0, t_end, rtol, atol, ckeys, cvals, t_grid, _SIZES[0], _SIZES[1], stop, raw_events)
     status = int(status)
     if status <= _FIRST_INPUT_CODE:
@@ -522,11 +651,11 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
             c = model.contacts[elem_index - 1]
             message = f"{model.contact_label(elem_index - 1)}: " + _with_values(message, _known(c.params))
         elif elem_kind:
-            message = f"{_ELEMENTS[int(elem_kind)]} {int(elem_index) - 1}: {message}"
+            message = f"{model.element_label(_ELEMENTS[int(elem_kind)], int(elem_index) - 1)}: {message}"
         raise ValueError(message)
     if status != STATUS_OK or rows:
         written = int(istats[_I_WRITTEN])
-        y, t_grid = y[:, :written], t_grid[:written].copy()
+        y, t_grid, drive_force = y[:, :written], t_grid[:written].copy(), drive_force[:, :written]
     nb = model.n_bodies
     result = Result.__new__(Result)
     result.scene, result.law, result.method, result.t_end = "model", "+".join(dict.fromkeys(laws)), method, t_end
@@ -535,23 +664,44 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     result._params, result._stats = {}, None
     result._raw = (istats, rstats, status, cpu, None, ())
     result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
+    result.drive_force = drive_force.T
     if status != STATUS_OK:
         raise _ERRORS.get(status, IntegrationError)(status, result)
-    _check_energy(model, result, arrays)
+    result.stats["notes"].extend(notes)
+    check_result(result, method, {**ctl, "rtol": rtol, "atol": atol}, model, arrays, stacklevel=4)
     return result
 
 
-def _check_energy(model: Model, result: Result, arrays: dict[str, Any]) -> None:
-    """An EnergyBoundWarning where the result's mechanical energy exceeds its bound
-    (stickslip.energy.energy_bound; models it does not check pass); `arrays`: the model's."""
-    checked = energy_bound(model, result.t, result.x, result.v, arrays)
-    if checked is None:
-        return
-    e, bound = checked
-    over = np.flatnonzero(~(e <= bound))
-    if over.size:
-        i = int(over[0])
-        warnings.warn(f"model ({result.method}): the mechanical energy {e[i]:.6g} J at t = {result.t[i]:.6g} s "
-                      f"exceeds {bound[i]:.6g} J, the most its forces and moving surfaces can have put in "
-                      "(stickslip.energy): the result is wrong; take a smaller step or tolerance",
-                      EnergyBoundWarning, stacklevel=4)
+def slip_scale(model: Model, i: int) -> float:
+    """A scale of contact `i`'s slip [m/s]: the largest speed of its surface plus its bodies'
+    initial speeds (a driven body's: the largest of its velocity signal, or of its position
+    signal's rate where that is known only by running it: the initial speed then)."""
+    c = model.contacts[i]
+    scale = max(map(abs, c.surface_velocity.bounds())) if c.surface_velocity is not None else 0.0
+    for body in (c.a, c.b):
+        if body is None:
+            continue
+        drive = next((d for d in model.drives if d.body == body), None)
+        if drive is not None and drive.kind == "velocity":
+            scale += max(map(abs, drive.signal.bounds()))
+        else:
+            scale += abs(model.bodies[body].v0)
+    return scale
+
+
+def _check_band(model: Model, method: str, rtol: float) -> None:
+    """A ModelWarning for each contact whose law has a velocity band (v_eps, v_s) narrower than
+    rtol times the contact's slip scale (`slip_scale`): an error of rtol times the slip may
+    then cross the band the law turns in."""
+    for i, c in enumerate(model.contacts):
+        names = [k for k in ("v_eps", "v_s") if k in REGISTRY["law"][c.law]["params"]]
+        if not names:
+            continue
+        known = _known(c.params)
+        band_name = min(names, key=lambda k: known[k])
+        band, scale = known[band_name], slip_scale(model, i)
+        if rtol * scale > band:
+            warnings.warn(f"{model.contact_label(i)}: rtol = {rtol:.3g} times the slip scale {scale:.6g} m/s "
+                          f"(its surface's and bodies' speeds) is {rtol * scale:.3g} m/s, more than its law's "
+                          f"{band_name} = {band:.3g} m/s: {method}'s error test may not resolve the law's band; "
+                          f"take rtol <= {band / scale:.3g}", ModelWarning, stacklevel=4)

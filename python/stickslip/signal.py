@@ -94,6 +94,30 @@ class Signal:
             return [(_OPS["table"], (float(first), float(len(t)), 0.0, 0.0))]
         return [(_OPS[self.kind], tuple(self.args) + (0.0,) * (4 - len(self.args)))]
 
+    def bounds(self) -> tuple[float, float]:
+        """Bounds (low, high) on the signal's values over all times, by interval arithmetic
+        over its parts (exact for a primitive; a sum's or a product's may be wider than the
+        signal's own range)."""
+        if self.kind in ("add", "sub", "mul"):
+            (a, b), (c, d) = (child.bounds() for child in self.children)
+            if self.kind == "add":
+                return a + c, b + d
+            if self.kind == "sub":
+                return a - d, b - c
+            products = (a * c, a * d, b * c, b * d)
+            return min(products), max(products)
+        if self.kind == "constant":
+            return self.args[0], self.args[0]
+        if self.kind == "step":
+            return min(self.args[1], self.args[2]), max(self.args[1], self.args[2])
+        if self.kind == "ramp":
+            return min(0.0, self.args[2]), max(0.0, self.args[2])
+        if self.kind == "sine":
+            amplitude, offset = abs(self.args[0]), self.args[3]
+            return offset - amplitude, offset + amplitude
+        values = self.args[1]                               # a table
+        return min(values), max(values)
+
     def to_dict(self) -> Any:
         """The signal as plain data (a number, or a one-key dict), as a TOML model file holds it."""
         if self.kind == "constant":

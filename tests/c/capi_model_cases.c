@@ -5,6 +5,7 @@
  *   row RUN i t x_1 .. x_nb v_1 .. v_nb     the output of a run
  *   event RUN k t kind position contact     its events
  *   stats RUN status n_written nfev n_events
+ *   drive RUN i f_1 .. f_nd                 the drives' forces of a run
  *   case NAME status elem_kind elem_index | message
  */
 #include <stdio.h>
@@ -78,6 +79,20 @@ static ss_model *model_b(void) {
     return m;
 }
 
+/* Model C: a drill string, its top (body 1) driven at 5 rad/s through a torsional spring to
+ * the bit (body 2), which has Stribeck friction on the bottom. */
+static ss_model *model_c(void) {
+    ss_model *m = ss_model_new();
+    int top = ss_model_add_body(m, 50.0, 0.0, 0.0);
+    int bit = ss_model_add_body(m, 374.0, 0.0, 0.0);
+    ss_model_add_spring(m, top, bit, 473.0, 0.0);
+    const double stribeck[] = {0.8, 0.5};
+    ss_model_add_contact(m, bit, SS_GROUND, SS_LAW_STRIBECK, ss_signal_constant(m, 1000.0), SS_NO_SIGNAL,
+                         "mu_s,mu_k", 2, stribeck);
+    ss_model_add_drive(m, top, SS_DRIVE_VELOCITY, ss_signal_constant(m, 5.0));
+    return m;
+}
+
 static void run(const char *name, ss_model *m, int method, double t_end, double h, double rtol, double atol,
                 const char *ckeys, int nc, const double *cvals, int n) {
     double *t = calloc((size_t)n, sizeof *t), *x = calloc(2 * (size_t)n, sizeof *x);
@@ -87,18 +102,24 @@ static void run(const char *name, ss_model *m, int method, double t_end, double 
     for (int i = 0; i < n; i++) t[i] = n > 1 ? t_end * i / (n - 1) : t_end;
     ss_model_simulate(m, method, t_end, h, rtol, atol, ckeys, nc, cvals, n, t, x, v, &st, ROOM, events, &n_events);
     print_run(name, 2, st.n_written, n, t, x, v, &st, events, n_events);
+    double force[ROOM];
+    if (n <= ROOM && ss_model_drive_forces(m, n, force) == SS_OK)     /* one drive at most here */
+        for (int i = 0; i < n; i++) printf("drive %s %d %.17g\n", name, i, force[i]);
     free(t);
     free(x);
     free(v);
 }
 
 int main(void) {
-    ss_model *a = model_a(), *b = model_b();
+    ss_model *a = model_a(), *b = model_b(), *c = model_c();
     const double every[] = {1.0}, steps[] = {1e-6, 0.05};
     run("a_dopri5", a, SS_METHOD_DOPRI5, 1.0, 0.0, 1e-9, 1e-11, "hmin,hmax", 2, steps, 21);
     run("a_rk4", a, SS_METHOD_RK4, 1.0, 2e-5, 0.0, 0.0, "", 0, NULL, 21);
     run("a_dopri5_every", a, SS_METHOD_DOPRI5, 0.5, 0.0, 1e-6, 1e-8, "every_step", 1, every, STEPS);
     run("b_event_driven", b, SS_METHOD_EVENT_DRIVEN, 1.5, 0.0, 1e-10, 1e-12, NULL, 0, NULL, 301);
+    run("c_drive_dopri5", c, SS_METHOD_DOPRI5, 4.0, 0.0, 1e-9, 1e-11, "hmin", 1, steps, 41);
+    run("c_drive_event_driven", c, SS_METHOD_EVENT_DRIVEN, 10.0, 0.0, 1e-10, 1e-12, NULL, 0, NULL, 41);
+    ss_model_free(c);
 
     /* Bad handles: NULL and a pointer to something else, for every function. */
     double fake[64] = {0.0}, t[2] = {0.0, 1.0}, x[4], v[4], one = 1.0;
@@ -115,7 +136,8 @@ int main(void) {
             ss_signal_table(h, 1, &one, &one), ss_signal_add(h, 1, 1), ss_signal_sub(h, 1, 1), ss_signal_mul(h, 1, 1),
             ss_model_check(h), ss_model_error(h, NULL, NULL),
             ss_model_simulate(h, SS_METHOD_DOPRI5, 1.0, 0.0, 1e-6, 1e-9, NULL, 0, NULL, 2, t, x, v, NULL, 0, NULL,
-                              NULL)};
+                              NULL),
+            ss_model_add_drive(h, 1, SS_DRIVE_VELOCITY, 1), ss_model_drive_forces(h, 2, x)};
         for (size_t i = 0; i < sizeof statuses / sizeof statuses[0]; i++) {
             snprintf(line, sizeof line, "%s_handle_%zu", hnames[k], i);
             print_case(line, statuses[i], h);
@@ -139,6 +161,20 @@ int main(void) {
     ss_model_add_body(m, 1.0, 0.0, 0.0);
     ss_model_add_damper(m, 1, 1, 1.0);
     print_case("damper_self", ss_model_check(m), m);
+    ss_model_free(m);
+
+    m = ss_model_new();
+    ss_model_add_body(m, 1.0, 0.0, 0.0);
+    ss_model_add_body(m, 1.0, 0.0, 0.0);
+    ss_model_add_drive(m, 5, SS_DRIVE_POSITION, ss_signal_constant(m, 1.0));
+    print_case("drive_body", ss_model_check(m), m);
+    ss_model_free(m);
+
+    m = ss_model_new();
+    ss_model_add_body(m, 1.0, 0.0, 0.0);
+    ss_model_add_body(m, 1.0, 0.0, 0.0);
+    ss_model_add_drive(m, 2, SS_DRIVE_POSITION, ss_signal_step(m, 1.0, 0.0, 1.0));
+    print_case("drive_step", ss_model_check(m), m);
     ss_model_free(m);
 
     m = ss_model_new();

@@ -4,10 +4,12 @@
 !!   - stacked: block A on a belt, block B on A (the contact B-A has the row [-1, 1] of H);
 !!   - feet: one block on a belt standing on two feet (two identical rows of H, N/2 each).
 !! Without arguments it checks the per-step contact solver on random problems (coupled and
-!! redundant rows, mu_s >= mu_k): the answer satisfies the problem's conditions (checked here
-!! independently of the solver's own residual), it equals the only solution where a brute
-!! force search written here finds exactly one, and no mode with more stuck contacts is a
-!! solution (stick preferred). With the argument `dump` it prints the scenes' trajectories
+!! redundant rows, mu_s >= mu_k, with and without a previous mode): the answer satisfies the
+!! problem's conditions (checked here independently of the solver's own residual), it equals
+!! the only solution where a brute force search written here finds exactly one, its modes are
+!! those of the solver's rule as written here (`rule_reference`: the same rounds of box
+!! problems, each solved by exhaustive search over the 3^n active sets), and where it reports
+!! another solution (info%nonunique) the brute force finds one with as many stuck contacts. With the argument `dump` it prints the scenes' trajectories
 !! under event_driven and moreau for tests/test_contacts.py, which compares them with
 !! a scipy event-driven reference and the closed-form belt cycle.
 module test_linear_contact
@@ -133,11 +135,13 @@ program test_contact_general
         call dump('stacked', stacked_blocks(), [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], 4.0_dp)
         call dump('feet', two_feet(), [0.0_dp, 0.3_dp], 4.0_dp)
     else
-        ! the solver as it runs (enumeration up to ENUM_MAX = 6 contacts)
+        ! the solver as it runs (the rule's rounds, active-set Newton with Lemke's fallback)
         call random_problems('random problems', 2, 6, 4, 400, 0, .true.)
-        ! the static-first pivoting fallback alone, against brute force
+        ! the same rounds with every box problem by Lemke's method, against brute force
         call random_problems('pivoting', 2, NBRUTE, 5, 300, SOLVER_PIVOTING, .true.)
         ! large strongly coupled sets (the benchmark's kind), where Gauss-Seidel alone fails
+        ! 7 to 12 contacts (beyond brute force): the rule's modes by both box solvers
+        call random_problems('random problems of 7-12', 7, 12, 7, 200, 0, .false.)
         call random_problems('large sets', 8, NMAX, NMAX / 2 + 1, 40, 0, .false.)
         ! the same with Stribeck curves (slip speeds by Newton's method in every mode)
         call random_problems('large Stribeck sets', 8, 32, 17, 40, 0, .false., stribeck=.true.)
@@ -193,6 +197,7 @@ contains
         logical, intent(in) :: brute
         logical, intent(in), optional :: stribeck   ! Stribeck curves instead of Coulomb
         integer :: trial, n, nd, i, j, nsol, nbetter, nbad, nuniq, ndiff, nfail, nseed, nfewer, nforced
+        integer :: nrule, nflag, nfalse, ntie, mprev(nhi), mref(nhi), solves(ntrial), nsolved
         real(dp) :: hm(nhi, ndmax), wmat(ndmax, ndmax), winv(ndmax, ndmax), p(nhi), w(nhi), worst_res, u
         logical :: ok_inv
         real(dp) :: pb(nhi), wb(nhi), res
@@ -204,6 +209,7 @@ contains
         allocate(seed(nseed), source=12345 + nhi - 6)
         call random_seed(put=seed)
         nbad = 0; nuniq = 0; ndiff = 0; nbetter = 0; nfail = 0; nfewer = 0; nforced = 0
+        nrule = 0; nflag = 0; nfalse = 0; ntie = 0; nsolved = 0
         worst_res = 0.0_dp
         worst_gap = 0.0_dp
         do trial = 1, ntrial
@@ -255,6 +261,13 @@ contains
             end do
             p(:n) = 0.0_dp
             mode(:n) = -9
+            if (mod(trial, 2) == 0) then                ! a previous mode: stuck or slipping
+                do i = 1, n
+                    call random_number(u)
+                    mode(i) = int(3.0_dp * u) - 1
+                end do
+            end if
+            mprev(:n) = mode(:n)
             if (forced > 0) then
                 call solve_contacts(laws(:n), d(:n, :n), wf(:n), cap(:n), .false., 1.0e-12_dp, 1000, p(:n), &
                                     w(:n), mode(:n), info, method=forced)
@@ -269,15 +282,35 @@ contains
                 nfail = nfail + 1
                 cycle
             end if
+            nsolved = nsolved + 1
+            solves(nsolved) = info%sweeps
             res = conditions(n, p, w)
             worst_res = max(worst_res, res)
             if (res > 1.0e-12_dp * (1.0_dp + maxval(abs(wf(:n))))) nbad = nbad + 1
-            if (.not. brute) cycle
+            if (.not. brute) then
+                ! the rule's modes the same with every box problem by Lemke's method (each box
+                ! problem's w is unique, so the modes do not depend on how it is solved)
+                if (forced == 0) then
+                    mref(:n) = mprev(:n)
+                    pb(:n) = 0.0_dp
+                    call solve_contacts(laws(:n), d(:n, :n), wf(:n), cap(:n), .false., 1.0e-12_dp, 1000, pb(:n), &
+                                        wb(:n), mref(:n), info, method=SOLVER_PIVOTING)
+                    if (info%ok .and. all(mref(:n) == mode(:n))) nrule = nrule + 1
+                end if
+                cycle
+            end if
             ! brute force over all 3^n modes (regular stuck blocks only): solutions, and whether
             ! one has more stuck contacts than the solver's
-            call brute_force(n, nsol, msol, pb, wb, nbetter_out=i)
+            call brute_force(n, nsol, msol, pb, wb, nbetter_out=i, ntie_out=j)
             if (i > 0) nfewer = nfewer + 1
             nbetter = nbetter + i
+            ! the rule, as written here
+            call rule_reference(n, mprev(:n), mref(:n))
+            if (all(mref(:n) == mode(:n))) nrule = nrule + 1
+            ! another solution with as many stuck contacts: reported, and never falsely
+            if (i + j > 0) ntie = ntie + 1
+            if (info%nonunique) nflag = nflag + 1
+            if (info%nonunique .and. i + j == 0) nfalse = nfalse + 1
             if (nsol == 1) then
                 nuniq = nuniq + 1
                 if (maxval(abs(pb(:n) - p(:n))) > 1.0e-9_dp * (1.0_dp + maxval(abs(pb(:n)))) .or. &
@@ -292,10 +325,19 @@ contains
             if (forced > 0) then
                 write (line, '(a, a, i0, a, i0)') label, ': solved by the forced method in ', nforced, ' of ', ntrial
                 call check(nforced == ntrial, trim(line))
-            else if (.not. brute) then
-                ! the sets Gauss-Seidel alone does not solve reach the pivoting fallback
-                write (line, '(a, a, i0, a, i0)') label, ': the pivoting fallback solved ', nforced, ' of ', ntrial
-                call check(nforced > 0, trim(line))
+            end if
+            if (nsolved > 0) then
+                ! the work: linear solves of a problem (no enumeration of modes)
+                ! the median: the smallest count with half the problems at or below it
+                write (line, '(a, a, i0, a, i0)') label, ': linear solves a problem, median ', &
+                    minval(solves(:nsolved), mask=[(count(solves(:nsolved) <= solves(i)) >= (nsolved + 1) / 2, &
+                                                    i = 1, nsolved)]), ', largest ', maxval(solves(:nsolved))
+                call check(maxval(solves(:nsolved)) <= 60 * nhi, trim(line))
+            end if
+            if (.not. brute .and. forced == 0) then
+                write (line, '(a, a, i0, a, i0)') label, ': the same modes with Lemke''s method for every box '// &
+                    'problem in ', nrule, ' of ', ntrial
+                call check(nrule == ntrial, trim(line))
             end if
             if (.not. brute) then
                 ! Gauss-Seidel's gap (the solver's check reads it instead of forming wf + D p)
@@ -307,15 +349,16 @@ contains
                 write (line, '(a, a, i0, a, i0, a)') label, ': the only solution (brute force) in ', nuniq - ndiff, &
                     ' of ', nuniq, ' problems with one'
                 call check(ndiff == 0 .and. nuniq > 50, trim(line))
-                if (forced == 0) then
-                    write (line, '(a, a, i0)') label, ': brute-force solutions with more stuck contacts: ', nbetter
-                    call check(nbetter == 0, trim(line))
-                else
-                    ! pivoting prefers stick contact by contact, not globally: stated, counted
-                    write (line, '(a, a, i0, a, i0)') label, ': problems where another solution has more stuck '// &
-                        'contacts: ', nfewer, ' of ', ntrial
-                    call check(nfewer < ntrial / 4, trim(line))
-                end if
+                write (line, '(a, a, i0, a, i0)') label, ': the rule''s modes (reference written here) in ', nrule, &
+                    ' of ', ntrial
+                call check(nrule == ntrial, trim(line))
+                ! static first prefers stick contact by contact, not globally: stated, counted
+                write (line, '(a, a, i0, a, i0)') label, ': problems where another solution has more stuck '// &
+                    'contacts: ', nfewer, ' of ', ntrial
+                call check(nfewer < ntrial / 4, trim(line))
+                write (line, '(a, a, i0, a, i0, a, i0)') label, ': another solution with as many stuck contacts '// &
+                    'in ', ntie, ', reported in ', nflag, ', falsely in ', nfalse
+                call check(nfalse == 0 .and. (nflag > 0 .or. ntie == 0), trim(line))
             end if
         end block
     end subroutine random_problems
@@ -371,16 +414,16 @@ contains
         !> Every mode (stick, slip +, slip -) whose stuck block is regular, solved by LU: the
         !! number of solutions nsol (one returned in pb, wb), and how many have more stuck
         !! contacts than the solver's answer.
-        subroutine brute_force(n, nsol, msol, pb, wb, nbetter_out)
+        subroutine brute_force(n, nsol, msol, pb, wb, nbetter_out, ntie_out)
             integer, intent(in) :: n
-            integer, intent(out) :: nsol, msol(:), nbetter_out
+            integer, intent(out) :: nsol, msol(:), nbetter_out, ntie_out
             real(dp), intent(out) :: pb(:), wb(:)
-            integer :: code, i, m(NBRUTE), c, ns, info, ipiv(NBRUTE)
-            integer :: is(NBRUTE)
-            real(dp) :: a(NBRUTE, NBRUTE), rhs(NBRUTE), pp(NBRUTE), ww(NBRUTE)
+            integer :: code, i, m(NBRUTE), c, ns
+            real(dp) :: pp(NBRUTE), ww(NBRUTE)
             logical :: ok
             nsol = 0
             nbetter_out = 0
+            ntie_out = 0
             do code = 0, 3**n - 1
                 c = code
                 do i = 1, n
@@ -391,23 +434,9 @@ contains
                 do i = 1, n
                     if (m(i) /= 0) pp(i) = -m(i) * laws(i)%mu_k * cap(i)
                 end do
-                ns = 0
-                do i = 1, n
-                    if (m(i) == 0) then
-                        ns = ns + 1
-                        is(ns) = i
-                    end if
-                end do
-                if (ns > 0) then
-                    a(:ns, :ns) = d(is(:ns), is(:ns))
-                    rhs(:ns) = -(wf(is(:ns)) + matmul(d(is(:ns), :n), pp(:n)))
-                    call lu_decompose(a(:ns, :ns), ipiv(:ns), info)
-                    if (info /= 0) cycle
-                    if (minval([(abs(a(i, i)), i = 1, ns)]) < 1.0e-10_dp * maxval(abs(d(:n, :n)))) cycle
-                    call lu_solve(a(:ns, :ns), ipiv(:ns), rhs(:ns))
-                    pp(is(:ns)) = rhs(:ns)
-                end if
-                ww(:n) = wf(:n) + matmul(d(:n, :n), pp(:n))
+                ns = count(m(:n) == 0)
+                call solve_free(n, m(:n) == 0, pp, ww, ok)
+                if (.not. ok) cycle
                 ok = .true.
                 do i = 1, n
                     if (m(i) == 0) then
@@ -423,7 +452,128 @@ contains
                 pb(:n) = pp(:n)
                 wb(:n) = ww(:n)
                 if (ns > count(mode(:n) == 0)) nbetter_out = nbetter_out + 1
+                if (ns == count(mode(:n) == 0) .and. any(m(:n) /= mode(:n))) ntie_out = ntie_out + 1
             end do
         end subroutine brute_force
+
+        !> The solver's rule (stickslip_contact_solver's notes), written here: a slip kept where
+        !! mprev_i wf_i > D_ii mu_s c_i, every other contact at its static level; rounds of box
+        !! problems (`box_brute`), a contact at its static level with w /= 0 giving way to mu_k,
+        !! a kept slip whose w turns against it decided again from its static level (once). The
+        !! modes in mref (0 stuck, +-1 slip).
+        subroutine rule_reference(n, mprev, mref)
+            integer, intent(in) :: n, mprev(:)
+            integer, intent(out) :: mref(:)
+            real(dp) :: bound(n), pp(n), yy(n), wtol
+            logical :: kin(n), reset(n), changed
+            integer :: dir(n), i, round, sg
+            kin = .false.
+            reset = .false.
+            dir = 0
+            do i = 1, n
+                if (abs(mprev(i)) == 1) then
+                    if (mprev(i) * wf(i) > d(i, i) * laws(i)%mu_s * cap(i) * (1.0_dp + 1.0e-12_dp)) then
+                        kin(i) = .true.
+                        dir(i) = mprev(i)
+                    end if
+                end if
+            end do
+            do round = 1, 3 * n + 1
+                do i = 1, n
+                    bound(i) = cap(i) * merge(laws(i)%mu_k, laws(i)%mu_s, kin(i))
+                end do
+                call box_brute(n, bound, pp, yy)
+                wtol = 1.0e-9_dp * (maxval(abs(wf(:n))) + maxval(abs(d(:n, :n))) * maxval(abs(pp)))
+                changed = .false.
+                do i = 1, n
+                    if (abs(yy(i)) <= wtol) cycle
+                    sg = nint(sign(1.0_dp, yy(i)))
+                    if (.not. kin(i)) then
+                        kin(i) = .true.
+                        dir(i) = sg
+                        changed = .true.
+                    else if (sg /= dir(i)) then
+                        if (.not. reset(i)) then
+                            kin(i) = .false.
+                            reset(i) = .true.
+                            changed = .true.
+                        else
+                            dir(i) = sg
+                        end if
+                    end if
+                end do
+                if (.not. changed) exit
+            end do
+            do i = 1, n
+                mref(i) = 0
+                if (abs(yy(i)) > wtol) mref(i) = nint(sign(1.0_dp, yy(i)))
+            end do
+        end subroutine rule_reference
+
+        !> The box problem |p_i| <= bound_i, y = wf + D p (y_i >= 0 at -bound, <= 0 at +bound,
+        !! 0 between) by exhaustive search over the 3^n active sets (a regular free block solved
+        !! by LU): the first set whose solution meets the conditions. Its y is the same at every
+        !! solution.
+        subroutine box_brute(n, bound, pp, yy)
+            integer, intent(in) :: n
+            real(dp), intent(in) :: bound(:)
+            real(dp), intent(out) :: pp(:), yy(:)
+            integer :: code, c, i, st(NBRUTE)
+            real(dp) :: tl
+            logical :: ok
+            do code = 0, 3**n - 1
+                c = code
+                do i = 1, n
+                    st(i) = mod(c, 3) - 1              ! -1 at -bound, 0 free, +1 at +bound
+                    c = c / 3
+                    pp(i) = st(i) * bound(i)
+                end do
+                call solve_free(n, st(:n) == 0, pp, yy, ok)
+                if (.not. ok) cycle
+                tl = 1.0e-10_dp * (maxval(abs(wf(:n))) + maxval(abs(d(:n, :n))) * maxval(abs(pp(:n))))
+                ok = .true.
+                do i = 1, n
+                    select case (st(i))
+                    case (0)
+                        ok = ok .and. abs(pp(i)) <= bound(i) * (1.0_dp + 1.0e-12_dp)
+                    case (1)
+                        ok = ok .and. yy(i) <= tl
+                    case default
+                        ok = ok .and. yy(i) >= -tl
+                    end select
+                end do
+                if (ok) return
+            end do
+            pp = huge(1.0_dp)          ! (not reached: the box problem always has a solution)
+            yy = huge(1.0_dp)
+        end subroutine box_brute
+
+        !> With the entries of pp outside free fixed, the free ones from D_FF p_F = -(wf_F + D_FB p_B)
+        !! by LU, and yy = wf + D pp. regular: .false. (pp, yy not formed) where D_FF has a pivot
+        !! below 1e-10 of max|D|.
+        subroutine solve_free(n, free, pp, yy, regular)
+            integer, intent(in) :: n
+            logical, intent(in) :: free(:)
+            real(dp), intent(inout) :: pp(:)
+            real(dp), intent(out) :: yy(:)
+            logical, intent(out) :: regular
+            integer :: fr(NBRUTE), nf, i, ipiv(NBRUTE), info
+            real(dp) :: a(NBRUTE, NBRUTE), rhs(NBRUTE)
+            nf = count(free(:n))
+            fr(:nf) = pack([(i, i = 1, n)], free(:n))
+            regular = .true.
+            if (nf > 0) then
+                where (free(:n)) pp(:n) = 0.0_dp
+                a(:nf, :nf) = d(fr(:nf), fr(:nf))
+                rhs(:nf) = -(wf(fr(:nf)) + matmul(d(fr(:nf), :n), pp(:n)))
+                call lu_decompose(a(:nf, :nf), ipiv(:nf), info)
+                regular = info == 0
+                if (regular) regular = minval([(abs(a(i, i)), i = 1, nf)]) >= 1.0e-10_dp * maxval(abs(d(:n, :n)))
+                if (.not. regular) return
+                call lu_solve(a(:nf, :nf), ipiv(:nf), rhs(:nf))
+                pp(fr(:nf)) = rhs(:nf)
+            end if
+            yy(:n) = wf(:n) + matmul(d(:n, :n), pp(:n))
+        end subroutine solve_free
 
 end program test_contact_general

@@ -72,7 +72,7 @@ program test_core
     use stickslip_galpha, only: galpha_options, galpha_integrate
     use stickslip_registry, only: PARAMS, LAW_TABLE, SCENE_TABLE, METHOD_TABLE, stickslip_message, &
                                   code_of, split_names, make_law, new_system, apply_controls, &
-                                  resolve_params
+                                  resolve_params, new_controls, HMIN_DEFAULT
     use stickslip_simulate, only: simulate
     use stickslip_user_model, only: stickslip_model
     use stickslip_model_system, only: model_system
@@ -289,6 +289,13 @@ contains
         call check(ok, 'controls: every control dopri5 lists is accepted by name')
         call check(apply_controls(c, METHOD_TABLE(1), [character(len=NAME_LEN) :: 'hmin'], [1.0_dp]) == &
                    SS_BAD_CONTROL_NAME, 'controls: rk4 refuses hmin (not one of its controls)')
+        block
+            class(step_controls), allocatable :: ctl
+            type(decay) :: sys
+            call check(new_controls(2, sys, [character(len=NAME_LEN) ::], [real(dp) ::], ctl) == SS_OK .and. &
+                       ctl%hmin == HMIN_DEFAULT .and. HMIN_DEFAULT == 1.0e-6_dp, &
+                       'controls: a run without hmin gets HMIN_DEFAULT = 1e-6 s (as C and Python)')
+        end block
         call check(apply_controls(d5, METHOD_TABLE(2), [character(len=NAME_LEN) :: 'beta_pi'], [0.1_dp]) == SS_OK &
                    .and. d5%beta == 0.1_dp, 'controls: beta_pi sets DOPRI5''s PI exponent')
         t_out = 1.0_dp

@@ -104,7 +104,7 @@ program test_integrators
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, dp5_a, dp5_b, dp5_bhat, dp5_c
     use stickslip_dop853, only: dop853_options, dop853_integrate, dop853_a, dop853_b, dop853_c, dop853_er, &
                                 dop853_bhh
-    use stickslip_registry, only: new_system
+    use stickslip_registry, only: new_system, HMIN_DEFAULT
     use stickslip_capi, only: ss_params, ss_dopri5_options, ss_stats, ss_params_default, &
                               ss_dopri5_options_default, ss_simulate
     use, intrinsic :: iso_c_binding, only: c_loc, c_int, c_double
@@ -426,6 +426,7 @@ contains
         integer(c_int) :: status
         call ss_params_default(p)
         call ss_dopri5_options_default(o)
+        call check(o%hmin == HMIN_DEFAULT, 'C API: ss_dopri5_options_default gives hmin = HMIN_DEFAULT (as Fortran, Python)')
         tc = 30.0_dp
         status = ss_simulate(int(code_of('scene', 'belt'), c_int), int(code_of('law', 'proposed'), c_int), &
                              int(code_of('method', 'dop853'), c_int), p, 0.0_dp, 0.0_dp, 30.0_dp, 0.0_dp, &

@@ -56,11 +56,12 @@ contains
             end select
         end do
         call check(new_in_range, 'PARAMS: the new laws'' codes in -140 .. -199')
-        call check(size(LAW_TABLE) == 13 .and. code_of('law', 'elastoplastic') == 7 .and. &
+        call check(all([(code_of('law', LAW_TABLE(i)%name) == i, i = 1, size(LAW_TABLE))]) .and. &
+                   code_of('law', 'elastoplastic') == 7 .and. &
                    code_of('law', 'dahl') == 8 .and. code_of('law', 'gms') == 9 .and. &
                    code_of('law', 'drake_continuous') == 10 .and. code_of('law', 'drake_tamsi') == 11 .and. &
                    code_of('law', 'capped_viscous') == 12 .and. code_of('law', 'mujoco_pyramidal') == 13, &
-                   'LAW_TABLE: thirteen laws, codes never change')
+                   'LAW_TABLE: a law''s code is its position, and the codes given never change')
     end subroutine test_param_table
 
     !> dmu against a central difference of mu (relative 1e-6) away from kinks and jumps.

@@ -106,7 +106,7 @@ def write_provenance(outdir: str | os.PathLike[str], module: str, files: Iterabl
     its path. A sidecar left by an earlier run of the same module keeps the names of files this
     run did not write again (a --only or --quick run rewrites part of a directory), each with the
     record of the run that made it."""
-    from ._common import write_text               # atomic, like every results file
+    from .files import write_text                 # atomic, like every results file
     outdir = Path(outdir)
     path = outdir / f"{module}{SUFFIX}"
     record = provenance(module, argv)

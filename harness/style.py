@@ -5,6 +5,10 @@
   the words a figure shows ("RecurDyn (haversine)", "implicit Euler", "mass on a moving
   belt"); a code it does not know is shown as it is, so a new law still plots.
 - `LAW_COLORS`, `METHOD_COLORS`, `SEQUENCE`: colours by code, and the default colour cycle.
+  The tables of laws and methods are keyed from the library's registry (stickslip.LAWS,
+  stickslip.METHODS): a law or method added there gets a display name (its code, spaced), a
+  colour of its own from SPARE_COLORS and a marker from SPARE_MARKERS with no edit here; the
+  choices below only replace those defaults.
 - `apply(width)` sets matplotlib's parameters (Agg backend, fonts legible at a column width of
   8.5 cm for a figure `width` inches wide, the colour cycle); `save(fig,
   path)` writes a PNG at `DPI` (>= 200) and a vector PDF beside it, each whole or not at all.
@@ -15,13 +19,14 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Iterable, Mapping
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
 from cycler import cycler  # noqa: E402
+from stickslip import LAWS, METHODS  # noqa: E402
 
 #: Okabe & Ito's eight colours, named (https://jfly.uni-koeln.de/color/).
 OKABE_ITO: dict[str, str] = {"black": "#000000", "orange": "#E69F00", "sky blue": "#56B4E9",
@@ -32,17 +37,41 @@ _C = OKABE_ITO
 SEQUENCE: tuple[str, ...] = (_C["blue"], _C["vermillion"], _C["bluish green"], _C["orange"],
                              _C["reddish purple"], _C["sky blue"], _C["black"], _C["yellow"])
 
+#: Colours and markers a law or method the choices below do not name takes, in this order,
+#: skipping those already taken: Paul Tol's colour-blind-safe "muted" colours not chosen below,
+#: then his "light" ones.
+SPARE_COLORS: tuple[str, ...] = ("#CC6677", "#88CCEE", "#117733", "#44BB99", "#EE8866", "#BBCC33",
+                                 "#77AADD", "#EEDD88", "#FFAABB", "#DDDDDD")
+SPARE_MARKERS: tuple[str, ...] = ("*", "h", "p", "d", ">", "8", "H", "1", "2", "3", "4")
+
+
+def keyed(codes: Iterable[str], chosen: Mapping[str, str], spare: Iterable[str],
+          default: Callable[[str], str] | None = None) -> dict[str, str]:
+    """A value for every code of `codes` (a registry list): `chosen`'s where it names one, else
+    `default(code)` or, without `default`, the first of `spare` no code has yet."""
+    used = set(chosen.values())
+    free = iter([v for v in spare if v not in used])
+    return {c: chosen[c] if c in chosen else (default(c) if default else next(free)) for c in codes}
+
+
+def _spaced(code: str) -> str:
+    return code.replace("_", " ")
+
+
 #: Display names of the library's codes, in one place.
-LAW_NAMES: dict[str, str] = {
+_LAW_NAMES: dict[str, str] = {
     "coulomb": "Coulomb", "recurdyn": "RecurDyn (haversine)", "proposed": "proposed (Roh & Yoo)",
     "stribeck": "Stribeck", "karnopp": "Karnopp", "lugre": "LuGre", "elastoplastic": "elasto-plastic",
     "dahl": "Dahl", "gms": "generalized Maxwell-slip",
     "drake_continuous": "Drake continuous", "drake_tamsi": "Drake TAMSI",
     "capped_viscous": "capped viscous (MuJoCo elliptic, Newton)", "mujoco_pyramidal": "MuJoCo pyramidal"}
-METHOD_NAMES: dict[str, str] = {
+LAW_NAMES: dict[str, str] = keyed(LAWS, _LAW_NAMES, (), _spaced)
+_METHOD_NAMES: dict[str, str] = {
     "rk4": "RK4", "dopri5": "DOPRI5", "dop853": "DOP853", "radau5": "RADAU5",
     "implicit_euler": "implicit Euler", "galpha": "generalized-α",
-    "moreau": "Moreau-Jean (set-valued)", "event_driven": "event-driven (set-valued)",
+    "moreau": "Moreau-Jean (set-valued)", "event_driven": "event-driven (set-valued)"}
+METHOD_NAMES: dict[str, str] = {
+    **keyed(METHODS, _METHOD_NAMES, (), _spaced),
     # other tools of the comparisons
     "c_loop": "plain C loop", "stickslip_fortran": "stickslip from Fortran",
     "stickslip_python": "stickslip from Python", "gsl": "GSL", "scipy": "scipy"}
@@ -52,17 +81,19 @@ CLASS_NAMES: dict[str, str] = {"stable": "stable", "chattering": "chattering",
                                "spurious": "spurious (smooth but wrong)", "unstable": "unstable",
                                "newton failed": "Newton failed"}
 
-LAW_COLORS: dict[str, str] = {
+_LAW_COLORS: dict[str, str] = {
     "coulomb": _C["vermillion"], "recurdyn": _C["blue"], "proposed": _C["bluish green"],
     "stribeck": _C["orange"], "karnopp": _C["reddish purple"], "lugre": _C["sky blue"],
     "elastoplastic": _C["black"],
     # beyond Okabe & Ito's eight: Paul Tol's colour-blind-safe "muted" scheme
     "dahl": "#882255", "gms": "#999933", "drake_continuous": "#44AA99", "drake_tamsi": "#332288",
     "capped_viscous": "#DDCC77", "mujoco_pyramidal": "#AA4499"}
-METHOD_COLORS: dict[str, str] = {
+LAW_COLORS: dict[str, str] = keyed(LAWS, _LAW_COLORS, SPARE_COLORS)
+_METHOD_COLORS: dict[str, str] = {
     "rk4": _C["blue"], "dopri5": _C["vermillion"], "radau5": _C["bluish green"],
     "implicit_euler": _C["orange"], "galpha": _C["reddish purple"], "dop853": _C["sky blue"],
     "moreau": _C["black"], "event_driven": _C["yellow"]}
+METHOD_COLORS: dict[str, str] = keyed(METHODS, _METHOD_COLORS, SPARE_COLORS)
 CLASS_COLORS: dict[str, str] = {
     "stable": _C["bluish green"], "chattering": _C["orange"], "spurious": _C["reddish purple"],
     "unstable": _C["vermillion"], "newton failed": "0.45"}
@@ -85,9 +116,9 @@ TOOL_COLORS: dict[str, str] = {"c_loop": _C["black"], "stickslip_fortran": _C["b
                                "stickslip_python": _C["sky blue"], "gsl": _C["orange"],
                                "scipy": _C["vermillion"], "f2py_wrapper": _C["reddish purple"]}
 #: Markers of the methods, so that a series is told apart without its colour.
-METHOD_MARKERS: dict[str, str] = {
+METHOD_MARKERS: dict[str, str] = keyed(METHODS, {
     "rk4": "o", "dopri5": "s", "dop853": "<", "radau5": "^", "implicit_euler": "v",
-    "galpha": "D", "moreau": "P", "event_driven": "X"}
+    "galpha": "D", "moreau": "P", "event_driven": "X"}, SPARE_MARKERS)
 
 
 def name(code: str) -> str:

@@ -1,0 +1,415 @@
+"""Periodic orbits, continuation and response curves (stickslip.steady) against closed forms,
+scipy's variational equations and independent event-driven transients."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import stickslip as ss
+from cases import gallery_denhartog as dh
+
+G = 9.81
+
+
+def belt(v_b: float, mu_s: float = 0.4, mu_k: float = 0.3, m: float = 1.0, k: float = 4.0) -> ss.Model:
+    """The paper's belt: mass m on a spring k to the wall, on a belt at v_b, Coulomb friction."""
+    return ss.Model.from_scene("belt", "coulomb", m=m, k=k, v_b=v_b, g=G, mu_s=mu_s, mu_k=mu_k, v0=v_b)
+
+
+def belt_closed_form(v_b: float, mu_s: float = 0.4, mu_k: float = 0.3, m: float = 1.0,
+                     k: float = 4.0) -> tuple[float, float]:
+    """Period and slip amplitude of the stick-slip cycle: the slip arc about mu_k m g / k
+    starts at mu_s m g / k with velocity v_b (amplitude A), the stick phase covers the
+    2 (mu_s - mu_k) m g / k between the arc's ends at v_b."""
+    w = math.sqrt(k / m)
+    amp = math.hypot((mu_s - mu_k) * m * G / k, v_b / w)
+    period = (math.pi + 2.0 * math.asin(v_b / (amp * w))) / w + 2.0 * (mu_s - mu_k) * m * G / (k * v_b)
+    return period, amp
+
+
+@pytest.mark.parametrize("v_b", [0.1, 0.3, 0.8])
+def test_belt_cycle_equals_closed_form(v_b: float) -> None:
+    orb = ss.periodic_orbit(belt(v_b))
+    period, amp = belt_closed_form(v_b)
+    assert orb.autonomous and orb.monodromy_method == "saltation"
+    assert orb.period == pytest.approx(period, rel=1e-8, abs=0)
+    assert orb.amplitude[0] == pytest.approx(amp, rel=1e-8, abs=0)
+    # one stick phase: the trivial multiplier 1, the other collapsed to 0
+    assert abs(orb.multipliers[orb.trivial] - 1.0) < 1e-8
+    assert abs(orb.nontrivial[0]) < 1e-10
+    assert orb.stable
+    stick = 2 * (0.4 - 0.3) * G / (4.0 * v_b)
+    assert orb.stick_fraction[0] == pytest.approx(stick / period, rel=1e-8)
+    assert sorted(set(orb.events["kind"])) == ["slip", "stick"]
+
+
+def test_belt_continuation_in_belt_speed_follows_the_closed_form() -> None:
+    br = ss.continuation(lambda p: belt(p), 0.2, 0.6, step=0.1, max_step=0.25)
+    assert br.p[0] == 0.2 and br.p[-1] == 0.6 and len(br) >= 3
+    for p, t, a, mult in zip(br.p, br.period, br.amplitude, br.multipliers):
+        period, amp = belt_closed_form(float(p))
+        assert t == pytest.approx(period, rel=1e-8, abs=0)
+        assert a == pytest.approx(amp, rel=1e-8, abs=0)
+        assert np.sort(np.abs(mult))[0] < 1e-10
+    assert br.stable.all() and not br.bifurcations
+    assert br.stop_reason.startswith("reached stop")
+
+
+def forced_linear(zeta: float = 0.05, f: float = 0.3) -> ss.Model:
+    m = ss.Model()
+    b = m.add_body(1.0)
+    m.add_spring(b, None, k=4.0)
+    m.add_damper(b, None, c=2 * zeta * 2.0)
+    m.add_force(b, ss.signal.sine(1.0, f))
+    return m
+
+
+def test_forced_linear_oscillator_against_closed_form_and_scipy() -> None:
+    f, zeta, wn = 0.3, 0.05, 2.0
+    orb = ss.periodic_orbit(forced_linear(zeta, f), method="dopri5")
+    w = 2 * math.pi * f
+    amp = 1.0 / math.hypot(wn**2 - w**2, 2 * zeta * wn * w)
+    assert orb.period == pytest.approx(1 / f, rel=1e-14)
+    assert orb.amplitude[0] == pytest.approx(amp, rel=1e-8)
+    # the monodromy is exp(A T) for x'' + 2 zeta wn x' + wn^2 x = 0: by scipy, independently
+    from scipy.integrate import solve_ivp
+    a = np.array([[0.0, 1.0], [-wn**2, -2 * zeta * wn]])
+    sol = solve_ivp(lambda t, y: (a @ y.reshape(2, 2)).ravel(), (0, 1 / f), np.eye(2).ravel(),
+                    method="DOP853", rtol=1e-12, atol=1e-14)
+    ref = np.linalg.eigvals(sol.y[:, -1].reshape(2, 2))
+    assert orb.monodromy_method == "finite differences"
+    np.testing.assert_allclose(np.sort_complex(orb.multipliers), np.sort_complex(ref), rtol=0, atol=1e-6)
+    assert orb.stable
+
+
+def test_regularised_multipliers_against_scipy_variational_equations() -> None:
+    """A forced oscillator with a regularised law (proposed, smooth): the monodromy by finite
+    differences of DOPRI5's flow against the variational equations integrated by scipy."""
+    model = ss.Model()
+    b = model.add_body(1.0)
+    model.add_spring(b, None, k=4.0)
+    model.add_force(b, ss.signal.sine(10.0, 0.25))
+    model.add_contact(b, None, "proposed", normal_force=G, mu_s=0.4, mu_k=0.3, v_s=0.5)
+    orb = ss.periodic_orbit(model, method="dopri5")
+    from scipy.integrate import solve_ivp
+
+    def mu(s: np.ndarray) -> np.ndarray:
+        return ss.friction_coefficient("proposed", s, mu_s=0.4, mu_k=0.3, v_s=0.5)
+
+    def rhs(t: float, z: np.ndarray) -> np.ndarray:
+        x, v = z[0], z[1]
+        phi = z[2:].reshape(2, 2)
+        h = 1e-7
+        dmu = (mu(np.array([v + h]))[0] - mu(np.array([v - h]))[0]) / (2 * h)
+        jac = np.array([[0.0, 1.0], [-4.0, -G * dmu]])
+        acc = -4.0 * x + 10.0 * math.sin(2 * math.pi * 0.25 * t) - G * mu(np.array([v]))[0]
+        return np.concatenate([[v, acc], (jac @ phi).ravel()])
+    sol = solve_ivp(rhs, (0, 4.0), np.concatenate([orb.y0, np.eye(2).ravel()]), method="DOP853",
+                    rtol=1e-11, atol=1e-13)
+    assert np.max(np.abs(sol.y[:2, -1] - orb.y0)) < 1e-7         # the orbit closes under scipy too
+    ref = np.linalg.eigvals(sol.y[2:, -1].reshape(2, 2))
+    np.testing.assert_allclose(np.sort_complex(orb.multipliers), np.sort_complex(ref), rtol=0, atol=3e-5)
+
+
+def test_saltation_against_finite_differences_on_den_hartog_without_stops() -> None:
+    """The exact route and the finite-difference route agree on an orbit with reversals."""
+    beta, r = 2.0, 0.3
+    model = dh.model(beta, r)
+    orb = ss.periodic_orbit(model)
+    assert orb.monodromy_method == "saltation"
+    assert set(orb.events["kind"]) == {"reversal"}
+    from stickslip import steady
+    fd = steady._fd_monodromy(steady._Runner(model, "event_driven", {"rtol": 1e-12, "atol": 1e-14}),
+                              orb.y0, orb.period)
+    np.testing.assert_allclose(orb.monodromy, fd, rtol=0, atol=1e-5)
+
+
+def test_den_hartog_response_equals_closed_form() -> None:
+    r = 0.3
+    betas = [b for b in (0.6, 0.7, 0.8, 1.3, 1.5, 2.0, 2.5) if dh.nonstop_valid(b, r)]
+    assert len(betas) >= 5
+    freqs = [b / (2 * math.pi) for b in betas]
+    br = ss.frequency_response(lambda f: dh.model(2 * math.pi * f, r), freqs, follow=False)
+    np.testing.assert_array_equal(br.p, freqs)
+    for b, a in zip(betas, br.amplitude):
+        assert a == pytest.approx(dh.amplitude(b, r), rel=1e-8, abs=0)
+    assert (br.stick_fraction == 0).all()
+
+
+def test_den_hartog_with_stops_against_an_event_driven_transient() -> None:
+    beta, r = 0.5, 0.7
+    assert not dh.nonstop_valid(beta, r)
+    orb = ss.periodic_orbit(dh.model(beta, r))
+    assert orb.stick_fraction[0] > 0.05
+    # a stop collapses the velocity direction (multiplier 0); the position held during the
+    # stop sets the breakaway time, so the other multiplier is not 0: against finite differences
+    assert np.abs(orb.multipliers).min() < 1e-10
+    from stickslip import steady
+    fd = steady._fd_monodromy(steady._Runner(dh.model(beta, r), "event_driven",
+                                             {"rtol": 1e-12, "atol": 1e-14}), orb.y0, orb.period)
+    assert np.abs(orb.multipliers).max() == pytest.approx(np.abs(np.linalg.eigvals(fd)).max(), abs=1e-5)
+    # the independent check: 80 periods from rest, amplitude from the last turning points
+    T = 2 * math.pi / beta
+    res = ss.simulate(dh.model(beta, r), method="event_driven", t_end=80 * T, n_out=3, rtol=1e-12, atol=1e-14)
+    xs = [e["x"] for e in res.events if e["t"] > 78 * T and e["kind"] in ("stick", "reversal")]
+    assert orb.amplitude[0] == pytest.approx(0.5 * (max(xs) - min(xs)), rel=1e-8)
+    stick, _ = dh._stick_intervals(res.events, 78 * T, 80 * T)
+    assert orb.stick_fraction[0] == pytest.approx(stick / (2 * T), rel=1e-8)
+
+
+def test_non_periodic_forcing_is_a_named_failure() -> None:
+    m = forced_linear()
+    m.add_force(0, ss.signal.ramp(1.0, 2.0, 1.0))
+    with pytest.raises(ss.NonPeriodicForcing, match="ramp"):
+        ss.periodic_orbit(m, method="dopri5")
+    with pytest.raises(ss.NonPeriodicForcing, match="does not repeat"):
+        ss.periodic_orbit(forced_linear(f=0.3), period=2.0, method="dopri5")
+
+
+def test_guess_of_the_wrong_shape_is_a_named_failure() -> None:
+    with pytest.raises(ss.GuessShapeError, match="got shape"):
+        ss.periodic_orbit(forced_linear(), guess=[0.0, 0.0, 0.0], method="dopri5")
+    with pytest.raises(ss.GuessShapeError, match="period"):
+        ss.periodic_orbit(belt(0.3), guess=[0.0, 0.3])
+
+
+def test_no_convergence_is_a_named_failure_not_an_orbit() -> None:
+    # an undamped forced oscillator at resonance has no periodic orbit
+    m = ss.Model()
+    b = m.add_body(1.0)
+    m.add_spring(b, None, k=4.0)
+    m.add_force(b, ss.signal.sine(1.0, 1.0 / math.pi))
+    with pytest.raises(ss.NoConvergence) as err:
+        ss.periodic_orbit(m, method="dopri5", max_iter=5)
+    assert err.value.residual > 1e-10
+
+
+def test_laws_with_states_are_refused() -> None:
+    m = ss.Model.from_scene("belt", "lugre")
+    with pytest.raises(ValueError, match="internal states"):
+        ss.periodic_orbit(m, method="dopri5")
+
+
+def test_den_hartog_curve_followed_by_pseudo_arclength() -> None:
+    r = 0.3
+    betas = np.linspace(1.3, 3.0, 4)
+    br = ss.frequency_response(lambda f: dh.model(2 * math.pi * f, r), betas[::-1] / (2 * math.pi))
+    np.testing.assert_array_equal(br.p, betas[::-1] / (2 * math.pi))      # rows in the order given
+    for b, a in zip(betas[::-1], br.amplitude):
+        assert a == pytest.approx(dh.amplitude(b, r), rel=1e-8, abs=0)
+    curve = br.curve
+    assert curve is not None and len(curve) > 4 and curve.stop_reason.startswith("reached stop")
+    assert np.all(np.diff(curve.p) > 0) and not [b for b in curve.bifurcations if b["kind"] == "fold"]
+    exact = np.array([dh.amplitude(2 * math.pi * f, r) for f in curve.p])
+    np.testing.assert_allclose(curve.amplitude, exact, rtol=1e-8)
+
+
+def proposed_oscillator() -> ss.Model:
+    model = ss.Model()
+    b = model.add_body(1.0)
+    model.add_spring(b, None, k=4.0)
+    model.add_force(b, ss.signal.sine(10.0, 0.25))
+    model.add_contact(b, None, "proposed", normal_force=G, mu_s=0.4, mu_k=0.3, v_s=0.5)
+    return model
+
+
+def test_harmonic_balance_converges_to_shooting() -> None:
+    from stickslip.harmonic import harmonic_balance
+    model = proposed_oscillator()
+    orb = ss.periodic_orbit(model, method="dopri5")
+    errors, prev = [], None
+    for h in (1, 5, 15, 41):
+        hb = harmonic_balance(model, h, guess=prev)
+        prev = hb
+        assert hb.residual < 1e-9
+        errors.append(abs(hb.amplitude[0] / orb.amplitude[0] - 1.0))
+    assert all(b < a for a, b in zip(errors, errors[1:])), errors
+    assert errors[-1] < 1e-3
+
+
+def test_harmonic_balance_of_a_linear_oscillator_is_exact_with_one_harmonic() -> None:
+    from stickslip.harmonic import harmonic_balance
+    hb = harmonic_balance(forced_linear(0.05, 0.3), 1)
+    w = 2 * math.pi * 0.3
+    assert hb.amplitude[0] == pytest.approx(1.0 / math.hypot(4.0 - w**2, 0.2 * w), rel=1e-10)
+    with pytest.raises(ValueError, match="jumps at zero slip"):
+        harmonic_balance(dh.model(2.0, 0.3), 3)
+
+
+def test_retuned_and_the_cli(tmp_path) -> None:
+    from stickslip.__main__ import main
+    from stickslip.steady import retuned
+    model = dh.model(2.0, 0.3)
+    assert ss.steady.forcing_period(retuned(model, 0.5)) == pytest.approx(2.0)
+    path = tmp_path / "dh.toml"
+    model.to_toml(path)
+    out = tmp_path / "orbit.csv"
+    assert main(["orbit", str(path), "--out", str(out), "--plot"]) == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert data[-1, 0] == pytest.approx(math.pi)
+    assert (tmp_path / "orbit.png").stat().st_size > 1000
+    out = tmp_path / "response.csv"
+    assert main(["response", str(path), "--frequencies", "0.25,0.4", "--out", str(out)]) == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(data[:, 1], [dh.amplitude(2 * math.pi * f, 0.3) for f in (0.25, 0.4)], rtol=1e-8)
+    assert main(["response", str(path), "--frequencies", "0.25", "--out", str(out)]) == 2   # exists
+
+
+def test_module_examples() -> None:
+    import doctest
+    from stickslip import harmonic, steady
+    for mod in (steady, harmonic):
+        result = doctest.testmod(mod, optionflags=doctest.ELLIPSIS)
+        assert result.attempted >= 3 and result.failed == 0
+
+
+def test_multiple_shooting_finds_the_same_orbits() -> None:
+    beta, r = 0.5, 0.7                                  # forced, with stops: segments start at k T / 3
+    one = ss.periodic_orbit(dh.model(beta, r))
+    three = ss.periodic_orbit(dh.model(beta, r), segments=3, guess=one.y0 + 0.01)
+    np.testing.assert_allclose(three.y0, one.y0, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(three.amplitude, one.amplitude, rtol=1e-9)
+    orb = ss.periodic_orbit(belt(0.3), segments=4)      # autonomous
+    period, amp = belt_closed_form(0.3)
+    assert orb.period == pytest.approx(period, rel=1e-8) and orb.amplitude[0] == pytest.approx(amp, rel=1e-8)
+    with pytest.raises(ValueError, match="segments"):
+        ss.periodic_orbit(belt(0.3), segments=0)
+
+
+def test_shifted_signals_are_the_signals_later() -> None:
+    from stickslip.steady import _shifted, _signal
+    s = ss.signal.sine(2.0, 0.7, 0.3, 0.1) * ss.signal.step(1.0) + ss.signal.ramp(0.5, 1.0, 3.0) \
+        + ss.signal.table([0.0, 1.0, 2.0], [0.0, 2.0, 1.0])
+    m = ss.Model()
+    b = m.add_body(1.0)
+    m.add_force(b, s)
+    later = _shifted(m, 0.8).forces[0][1]
+    t = np.linspace(0.0, 3.0, 31)
+    np.testing.assert_allclose(_signal(later, t)[0], _signal(s, t + 0.8)[0], rtol=0, atol=1e-13)
+
+
+def damped_belt(c: float) -> ss.Model:
+    """The paper's belt (m = 10 kg, k = 300 N/m, v_b = 1.5 m/s) with the falling `proposed` law
+    and a damper c to the wall."""
+    m = ss.Model.from_scene("belt", "proposed", v0=1.5)
+    m.add_damper(0, None, c)
+    return m
+
+
+def test_hopf_point_of_steady_sliding_against_the_linearisation() -> None:
+    """Steady sliding on the belt loses stability where c + N mu'(v_b) = 0 (the linearised
+    damping vanishes). The Hopf is subcritical: unstable cycles exist for c above it; followed
+    down in c, the branch shrinks to the equilibrium at the Hopf point and turns back."""
+    mass, k, n = 10.0, 300.0, 10.0 * 9.81
+    slope = np.diff(ss.friction_coefficient("proposed", np.array([1.5 - 1e-6, 1.5 + 1e-6])))[0] / 2e-6
+    c_hopf = -n * slope
+    w = math.sqrt(k / mass)
+    x_slide = n * ss.friction_coefficient("proposed", np.array([1.5]))[0] / k
+    start = ss.periodic_orbit(damped_belt(1.11), guess=[x_slide + 0.18, 0.0, 2 * math.pi / w], method="dopri5")
+    assert not start.stable
+    br = ss.continuation(damped_belt, 1.11, 1.0, guess=start, method="dopri5", step=0.05, max_points=20)
+    hopf = [b for b in br.bifurcations if b["kind"] == "Hopf"]
+    assert len(hopf) == 1 and not [b for b in br.bifurcations if b["kind"] == "fold"]
+    i = hopf[0]["index"]
+    assert br.p[i] == pytest.approx(c_hopf, rel=1e-4)
+    assert br.period[i] == pytest.approx(2 * math.pi / w, rel=1e-6)
+    assert not br.stable.any()
+
+
+def test_continuation_through_the_end_of_den_hartogs_stops() -> None:
+    """From motion with stops into non-stop motion (r = 0.5): the branch marks where the stick
+    phases vanish (an "events" bifurcation) at the border of his closed form's validity, and
+    beyond it equals the closed form."""
+    r = 0.5
+    br = ss.continuation(lambda f: dh.model(2 * math.pi * f, r), 0.5 / (2 * math.pi), 0.7 / (2 * math.pi))
+    assert br.stop_reason.startswith("reached stop")
+    events = [b for b in br.bifurcations if b["kind"] == "events"]
+    assert len(events) == 1
+    i = events[0]["index"]
+    assert dict(events[0]["before"]) == {"slip@0": 2, "stick@0": 2}
+    assert dict(events[0]["after"]) == {"reversal@0": 2}
+    beta = 2 * math.pi * br.p
+    assert not dh.nonstop_valid(beta[i - 1], r) and dh.nonstop_valid(beta[i], r)
+    assert (br.stick_fraction[:i, 0] > 0).all() and (br.stick_fraction[i:, 0] == 0).all()
+    exact = np.array([dh.amplitude(b, r) for b in beta[i:]])
+    np.testing.assert_allclose(br.amplitude[i:], exact, rtol=1e-8)
+
+
+def test_two_blocks_saltation_against_finite_differences() -> None:
+    """The gallery's two coupled blocks on a belt with Coulomb friction: a cycle where block 2
+    sticks while block 1 slips; the saltation monodromy (the stuck contact's holding force
+    coupling the modes) against central differences of event_driven's flow."""
+    from cases import gallery_belt2dof as g2
+    from stickslip import steady
+    model = g2.model("coulomb", mu_s=0.4, mu_k=0.25)
+    orb = ss.periodic_orbit(model, transient=60)
+    assert orb.monodromy_method == "saltation" and orb.stick_fraction[0] == 0 and orb.stick_fraction[1] > 0.1
+    fd = steady._fd_monodromy(steady._Runner(model, "event_driven", {"rtol": 1e-12, "atol": 1e-14}),
+                              orb.y0, orb.period)
+    np.testing.assert_allclose(orb.monodromy, fd, rtol=0, atol=1e-6)
+    assert abs(orb.multipliers[orb.trivial] - 1) < 1e-9 and np.abs(orb.multipliers).min() < 1e-12
+    # started stuck on the belt, Newton shrinks the period to nothing: refused, not an orbit
+    for b in model.bodies:
+        b.v0 = 0.2
+    with pytest.raises(ss.NoConvergence, match="collapsed"):
+        ss.periodic_orbit(model, transient=60)
+
+
+def test_an_untrustworthy_monodromy_warns() -> None:
+    """Moreau-Jean's fixed steps put the belt's stick-slip transitions inside steps: the flow
+    map jumps, no multiplier is near 1, and the orbit says so (the period is still first-order
+    close to the closed form)."""
+    with pytest.warns(ss.MonodromyWarning, match="not to be trusted"):
+        orb = ss.periodic_orbit(belt(0.3), method="moreau", h=1e-3)
+    assert orb.trivial_error > 1e-3
+    assert orb.period == pytest.approx(belt_closed_form(0.3)[0], rel=1e-4)
+    assert orb.stick_fraction[0] == pytest.approx(0.4355, abs=1e-3)
+
+
+def test_branch_plot_and_progress(capsys) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    br = ss.continuation(belt, 0.3, 0.4, progress=True)
+    assert capsys.readouterr().err.rstrip().endswith("] p = 0.4")
+    ax = br.plot()
+    assert ax.get_ylabel() == "amplitude [m]" and len(ax.lines) >= 2
+
+
+@pytest.mark.parametrize("beta", [0.6, 1.5, 2.0, 3.0, 5.0])
+def test_den_hartog_multipliers_product_in_closed_form(beta: float) -> None:
+    """Without viscous damping the flow between events keeps volume (det 1), and a reversal at
+    the turning point X, where the spring and the force pull back with k X beta^2 (m = k = 1)
+    and friction F = r flips, has a saltation matrix of determinant (k X beta^2 - F) /
+    (k X beta^2 + F): two per period give det M = ((X beta^2 - r) / (X beta^2 + r))^2."""
+    r = 0.3
+    assert dh.nonstop_valid(beta, r)
+    orb = ss.periodic_orbit(dh.model(beta, r))
+    x = dh.amplitude(beta, r)
+    expected = ((x * beta**2 - r) / (x * beta**2 + r)) ** 2
+    assert abs(np.prod(orb.multipliers)) == pytest.approx(expected, rel=1e-9)
+    assert np.all(np.abs(orb.multipliers) < 1) and orb.stable
+
+
+def test_stribeck_cycle_saltation_with_integrated_variations() -> None:
+    """Set-valued Stribeck on the belt under event_driven: the variational equation of the slip
+    mode integrated by scipy, saltation at the events; the stick phase's multiplier is 0, the
+    trivial one 1, and the monodromy equals central differences of the flow."""
+    from stickslip import steady
+    model = ss.Model.from_scene("belt", "stribeck", m=1.0, k=4.0, v_b=0.3, g=G, mu_s=0.4, mu_k=0.3, v_s=0.1,
+                                delta=2.0, v0=0.3)
+    orb = ss.periodic_orbit(model)
+    assert orb.monodromy_method == "saltation" and orb.stick_fraction[0] > 0.4
+    assert abs(orb.multipliers[orb.trivial] - 1) < 1e-8 and abs(orb.nontrivial[0]) < 1e-12
+    fd = steady._fd_monodromy(steady._Runner(model, "event_driven", {"rtol": 1e-12, "atol": 1e-14}),
+                              orb.y0, orb.period)
+    np.testing.assert_allclose(orb.monodromy, fd, rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize("kwargs,match", [(dict(tol=0.0), "tol"), (dict(max_iter=0), "max_iter"),
+                                          (dict(n_out=1), "n_out"), (dict(segments=1.5), "segments"),
+                                          (dict(period=-1.0), "period"), (dict(transient=True), "transient")])
+def test_bad_options_name_the_parameter(kwargs, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        ss.periodic_orbit(forced_linear(), method="dopri5", **kwargs)
