@@ -1,13 +1,17 @@
 """An independent event-driven reference for small linear systems with set-valued Coulomb
 friction, written with numpy and scipy only (no stickslip code): M u' = -K q + H^T r,
-w = H u + b, constant normal forces.
+w = H u + b, normal forces constant or given as tables (linear between their points, held
+outside them, clipped at 0: a contact whose table is <= 0 is open and carries no force).
 
 In a mode (each contact stuck, or slipping in a direction) the stuck contacts' forces keep
 their relative accelerations at zero (least squares with the weights 1 / (mu_s N), which for
 redundant contacts spreads the load in proportion to capacity); scipy's solve_ivp integrates
-the mode (DOP853) with events for w_i = 0 (slipping) and |r_i| = mu_s N_i (stuck). At each
-event the new mode is found by exhaustive search over every mode of the contacts at w = 0
-(3^k of them), keeping a consistent one with the most stuck contacts.
+the mode (DOP853) with events for w_i = 0 (slipping, closed), |r_i| = mu_s N_i (stuck) and
+N_i = 0 (a table crossing zero, either way), and stops at the tables' points. At each event
+the new mode is found by exhaustive search over the modes of the contacts at w = 0, by
+increasing number of slipping contacts (all 3^k of them where none holds), keeping a
+consistent one with the most stuck contacts; a contact that closes slips the way it moves. Where several modes with that many stuck contacts are consistent (a tie), the
+time is kept in `ties`: another rule may pick another of them.
 """
 from __future__ import annotations
 
@@ -18,7 +22,7 @@ from scipy.integrate import solve_ivp
 
 
 class Reference:
-    def __init__(self, m, k, h, b, n, mu_s, mu_k):
+    def __init__(self, m, k, h, b, n, mu_s, mu_k, normal_tables=None):
         self.m = np.asarray(m, float)
         self.k = np.atleast_2d(np.asarray(k, float))
         self.h = np.atleast_2d(np.asarray(h, float))
@@ -28,102 +32,195 @@ class Reference:
         self.mu_k = np.asarray(mu_k, float)
         self.minv = np.diag(1.0 / self.m)
         self.a = self.h @ self.minv @ self.h.T          # Delassus matrix
+        tables = normal_tables if normal_tables is not None else [None] * self.n.size
+        self.tables = [None if tb is None else (np.asarray(tb[0], float), np.asarray(tb[1], float))
+                       for tb in tables]
+        self.ties: list[float] = []
 
-    def forces(self, q, u, mode):
-        """Contact forces of the mode (0 stuck, +-1 slip direction) at (q, u)."""
-        r = np.where(mode != 0, -mode * self.mu_k * self.n, 0.0)
+    def normal_raw(self, t):
+        """The normal forces before clipping at 0 [N] at time t."""
+        out = self.n.copy()
+        for i, tb in enumerate(self.tables):
+            if tb is not None:
+                out[i] = np.interp(t, tb[0], tb[1])
+        return out
+
+    def normal(self, t):
+        return np.maximum(self.normal_raw(t), 0.0)
+
+    def corners(self):
+        """Every table point [s], sorted."""
+        pts = set()
+        for tb in self.tables:
+            if tb is not None:
+                pts.update(float(x) for x in tb[0])
+        return sorted(pts)
+
+    def forces(self, q, u, mode, t=0.0):
+        """Contact forces of the mode (0 stuck, +-1 slip direction) at (t, q, u)."""
+        nn = self.normal(t)
+        r = np.where(mode != 0, -mode * self.mu_k * nn, 0.0)
         stuck = np.flatnonzero(mode == 0)
         if stuck.size:
             af = self.h @ (self.minv @ (-self.k @ q + self.h.T @ r))
-            wts = np.sqrt(self.mu_s[stuck] * self.n[stuck])
+            wts = np.sqrt(np.maximum(self.mu_s[stuck] * nn[stuck], 1e-300))
             a = self.a[np.ix_(stuck, stuck)] * np.outer(wts, wts)
             y = np.linalg.lstsq(a, -af[stuck] * wts, rcond=1e-12)[0]
             r[stuck] = wts * y
         return r
 
-    def accel(self, q, u, mode):
-        return self.minv @ (-self.k @ q + self.h.T @ self.forces(q, u, mode))
+    def accel(self, q, u, mode, t=0.0):
+        return self.minv @ (-self.k @ q + self.h.T @ self.forces(q, u, mode, t))
 
-    def decide(self, q, u, cands, mode, at_limit=()):
+    def decide(self, q, u, cands, mode, at_limit=(), t=0.0):
         """The mode of the candidate contacts (at w = 0): a consistent one with the most stuck
         contacts; among those, every candidate held if that is consistent, else the candidates
         held beyond their limits slipping against their forces and the others held, else the
         one with the smallest sum of |relative accelerations| (the library's stated choice).
-        Stuck contacts whose event located their limit (at_limit) count as beyond it."""
+        Stuck contacts whose event located their limit (at_limit) count as beyond it. A tie
+        (several consistent modes with the most stuck contacts) is recorded in `ties`."""
+        nn = self.normal(t)
         held = mode.copy()
         held[cands] = 0
-        r = self.forces(q, u, held)
+        r = self.forces(q, u, held, t)
         guess = held.copy()
-        over = [i for i in cands if abs(r[i]) > self.mu_s[i] * self.n[i] * (1 + 1e-12) or i in at_limit]
+        over = [i for i in cands if abs(r[i]) > self.mu_s[i] * nn[i] * (1 + 1e-12) or i in at_limit]
         for i in over:
             guess[i] = -int(np.sign(r[i]))
-        best, best_key = None, None
-        for choice in itertools.product((0, 1, -1), repeat=len(cands)):
-            trial = mode.copy()
-            trial[cands] = choice
-            r = self.forces(q, u, trial)
-            acc = self.h @ self.accel(q, u, trial)
-            ok = True
-            for i, c in zip(cands, choice):
-                if c == 0:
-                    lim = self.mu_s[i] * self.n[i] * (1 - 1e-9 if i in at_limit else 1 + 1e-9)
-                    ok &= abs(r[i]) <= lim and abs(acc[i]) < 1e-8
-                else:
-                    ok &= c * acc[i] > 0
-            if not ok:
-                continue
-            key = (-choice.count(0), 0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
-                   sum(abs(acc[i]) for i, c in zip(cands, choice) if c != 0))
-            if best_key is None or key < best_key:
-                best, best_key = trial, key
+        cands = list(cands)
+        for slack in (0.0, 1e-9):      # slipping away from w = 0 (then to rounding: at mu_s = mu_k)
+            best, n_best = self._search(q, u, cands, mode, at_limit, t, nn, held, guess, slack)
+            if best is not None:
+                break
         if best is None:
             raise RuntimeError("no consistent mode")
+        if n_best > 1 and any(self.mu_s[i] > self.mu_k[i] for i in cands):
+            self.ties.append(t)
         return best
 
-    def run(self, q0, u0, t_end, t_eval, rtol=1e-11, atol=1e-13):
+    def _search(self, q, u, cands, mode, at_limit, t, nn, held, guess, slack):
+        """The best consistent mode of the candidates (see `decide`), searched by increasing
+        number of slipping ones (fewest first: the first count with a consistent mode holds the
+        most stuck contacts), and how many consistent modes hold that many (None, 0: none)."""
+        best, best_key, n_best = None, None, 0
+        for n_slip in range(len(cands) + 1):
+            for slipping in itertools.combinations(range(len(cands)), n_slip):
+                for signs in itertools.product((1, -1), repeat=n_slip):
+                    choice = [0] * len(cands)
+                    for j, sg in zip(slipping, signs):
+                        choice[j] = sg
+                    trial = mode.copy()
+                    trial[cands] = choice
+                    r = self.forces(q, u, trial, t)
+                    acc = self.h @ self.accel(q, u, trial, t)
+                    ok = True
+                    for i, c in zip(cands, choice):
+                        if c == 0:
+                            lim = self.mu_s[i] * nn[i] * (1 - 1e-9 if i in at_limit else 1 + 1e-9)
+                            ok &= abs(r[i]) <= lim and abs(acc[i]) < 1e-8
+                        else:
+                            ok &= c * acc[i] > -slack
+                    if not ok:
+                        continue
+                    n_best += 1
+                    key = (0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
+                           sum(abs(acc[i]) for i, c in zip(cands, choice) if c != 0))
+                    if best_key is None or key < best_key:
+                        best, best_key = trial, key
+            if best is not None:
+                break
+        return best, n_best
+
+    def _closed(self, t):
+        """Which contacts carry a normal force just after t (a table at 0 there: by its slope)."""
+        return self.normal_raw(t + 1e-9) > 0.0
+
+    def run(self, q0, u0, t_end, t_eval, rtol=1e-11, atol=1e-13, max_segments=100000):
         nd = self.m.size
+        nc = self.n.size
         q, u, t = np.array(q0, float), np.array(u0, float), 0.0
         w = self.h @ u + self.b
         mode = np.sign(w).astype(int)
         at_zero = np.flatnonzero(w == 0)
         if at_zero.size:
-            mode = self.decide(q, u, at_zero, mode)
+            mode = self.decide(q, u, at_zero, mode, t=t)
         out = np.full((2 * nd, t_eval.size), np.nan)
         events = []
-        while t < t_end:
-            def rhs(_t, y, mode=mode):
-                return np.concatenate([y[nd:], self.accel(y[:nd], y[nd:], mode)])
+        corners = [c for c in self.corners() if c > 0.0]
+        stalled = 0
+        for _ in range(max_segments):
+            if t >= t_end:
+                break
+            if stalled > 50:
+                raise RuntimeError(f"reference: no progress at t = {t}")
+            t_stop_at = min([c for c in corners if c > t] + [t_end])
+            closed = self._closed(t)
 
-            funcs = []
-            for i in range(self.n.size):
+            def rhs(_t, y, mode=mode):
+                return np.concatenate([y[nd:], self.accel(y[:nd], y[nd:], mode, _t)])
+
+            funcs, kinds = [], []
+            for i in range(nc):
                 if mode[i] == 0:
-                    def f(_t, y, i=i, mode=mode):
-                        return self.mu_s[i] * self.n[i] - abs(self.forces(y[:nd], y[nd:], mode)[i])
+                    slack = 0.0 if closed[i] else 1e-9     # held while open: only a force that appears
+                    def f(_t, y, i=i, mode=mode, slack=slack):
+                        return self.mu_s[i] * self.normal(_t)[i] + slack - abs(self.forces(y[:nd], y[nd:], mode, _t)[i])
                     f.direction = -1
-                else:
+                    f.terminal = True
+                    funcs.append(f)
+                    kinds.append(("limit", i))
+                elif closed[i]:
                     def f(_t, y, i=i):
                         return float(self.h[i] @ y[nd:] + self.b[i])
                     f.direction = -mode[i]       # towards w = 0 only (a release starts at 0)
-                f.terminal = True
-                funcs.append(f)
-            sol = solve_ivp(rhs, (t, t_end), np.concatenate([q, u]), method="DOP853", rtol=rtol, atol=atol,
+                    f.terminal = True
+                    funcs.append(f)
+                    kinds.append(("w", i))
+                if self.tables[i] is not None:
+                    def f(_t, y, i=i):
+                        return float(self.normal_raw(_t)[i])
+                    f.direction = -1 if closed[i] else 1
+                    f.terminal = True
+                    funcs.append(f)
+                    kinds.append(("normal", i))
+            sol = solve_ivp(rhs, (t, t_stop_at), np.concatenate([q, u]), method="DOP853", rtol=rtol, atol=atol,
                             events=funcs, dense_output=True)
             t_stop = sol.t[-1]
             sel = (t_eval >= t) & (t_eval <= t_stop)
             if sel.any() and t_stop > t:
                 out[:, sel] = sol.sol(t_eval[sel])
             y = sol.y[:, -1]
+            stalled = stalled + 1 if t_stop == t else 0
             q, u, t = y[:nd].copy(), y[nd:].copy(), t_stop
-            if sol.status != 1:
+            if sol.status == -1 or (sol.status == 0 and t >= t_end):
                 break
-            hit = [i for i, te in enumerate(sol.t_events) if te.size]
-            for i in hit:
-                if mode[i] != 0 and np.count_nonzero(self.h[i]) == 1:      # exact stick
+            hit = [kinds[j] for j, te in enumerate(sol.t_events) if te.size] if sol.status == 1 else []
+            w_hit = [i for kind, i in hit if kind == "w"]
+            if w_hit:      # every closed slipping contact at w = 0 with them (the same row: redundant)
+                w = self.h @ u + self.b
+                w_hit = sorted(set(w_hit) | {i for i in range(nc) if mode[i] != 0 and closed[i]
+                                             and abs(w[i]) <= 1e-10 * (1.0 + np.abs(u).max())})
+            for i in w_hit:
+                if np.count_nonzero(self.h[i]) == 1:      # exact stick
                     j = np.flatnonzero(self.h[i])[0]
                     u[j] = -self.b[i] / self.h[i, j]
-            cands = sorted(set(hit) | set(np.flatnonzero(mode == 0)))
-            new = self.decide(q, u, np.array(cands), mode, at_limit={i for i in hit if mode[i] == 0})
-            for i in cands:
+            now_closed = self._closed(t)     # every table that crossed with them (the same table: halves)
+            closing = [i for i in range(nc) if now_closed[i] and not closed[i]] if hit else []
+            w = self.h @ u + self.b
+            new_mode = mode.copy()
+            for i in closing:                             # a closing contact slips the way it moves
+                if mode[i] != 0 and w[i] != 0.0:
+                    new_mode[i] = int(np.sign(w[i]))
+            at_w0 = [i for i in closing if w[i] == 0.0]
+            cands = sorted(set(w_hit) | set(at_w0) | set(np.flatnonzero(mode == 0)))
+            limit = {i for kind, i in hit if kind == "limit"}
+            if limit:      # every stuck contact at its limit with them (the same row: redundant)
+                r = self.forces(q, u, mode, t)
+                lim = self.mu_s * self.normal(t)
+                limit |= {i for i in range(nc) if mode[i] == 0 and lim[i] > 0 and abs(r[i]) >= lim[i] * (1 - 1e-7)}
+            cands = sorted(set(cands) | limit)
+            new = self.decide(q, u, np.array(cands, int), new_mode, at_limit=limit, t=t) if cands else new_mode
+            for i in range(nc):
                 if new[i] != mode[i]:
                     events.append((t, i, new[i]))
             mode = new

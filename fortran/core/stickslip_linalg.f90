@@ -175,6 +175,7 @@ contains
                 if (info /= 0) return
                 if (abs(f%lu(jj, jj)) * sqrt(wts(jj))**2 <= 1.0e-12_dp * big) info = 1
             end do
+            if (info /= 0) return          ! the last pivot too small: b stays for the pseudo-solve
             do jj = 1, size(b, 2)
                 call lu_solve(f%lu, f%ipiv, b(:, jj))
             end do

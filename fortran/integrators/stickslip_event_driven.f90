@@ -50,8 +50,13 @@
 !! stuck contact and every contact at w = 0 is decided afresh (a normal force that stepped
 !! down releases what it can no longer hold). An open contact (N = 0: a disengaged clutch)
 !! has no events while it is open; its slip direction is taken from its w at the corner where
-!! it closes. (A normal force that rises above 0 between corners, a sine, keeps the direction
-!! of the last event: give such a contact a step, ramp or table where it closes.)
+!! it closes. A normal force that crosses 0 between corners (a table or ramp through 0, a
+!! sine) is an event too: each step's end compares every contact's N > 0 with its state where
+!! the mode's run started (`closed`), and the crossing is located by bisection on the step's
+!! continuous extension to 4 units of round-off in t (`locate_normal`). There a contact that
+!! closes slips the way it moves (at w = 0 it is decided with the others), and every stuck
+!! contact is decided afresh. While a contact is open, the steps are kept to 1/16 of the
+!! forces' shortest period as for a stuck one (its normal force does not limit them).
 !!
 !! Where forces vary smoothly in time (a sine, `contact_system%time_scale`), a mode with a
 !! stuck contact keeps its steps to 1/16 of their shortest period: while a body is stuck its
@@ -68,12 +73,16 @@
 !! Ends: SS_EVENT_BUDGET after more than max_events events; SS_EVENT_ZENO when events
 !! accumulate: 10 instants with events in a row closer than zeno_gap (events at one instant
 !! count once: a row of identical blocks switching together is not Zeno), or more than
-!! 4 n_c + 8 events at one instant; SS_CONTACT_FAILED when an event's problem has no solution
-!! (contact_worst names the contact).
+!! 4 n_c + 8 events at one instant, or more than 4 n_c + 8 switches of mode in a row each within
+!! zeno_gap of the last (changing a mode or not: nothing turns at one instant for ever);
+!! SS_CONTACT_FAILED when an event's problem has no solution, or a stuck set's holding forces
+!! have none (contact_worst names the contact); SS_STEP_BUDGET and SS_INTERRUPTED (the stop
+!! flag), looked at before every mode's run as well as in DOPRI5's. A failed run keeps its
+!! output rows and t_reached up to the last step it trusts.
 module stickslip_event_driven
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_EVENT_ZENO, &
-                               SS_BAD_EVENT_CTL, SS_SINGULAR, SS_BAD_MAX_STEPS, SS_EVENT_BUDGET, &
-                               SS_CONTACT_FAILED
+                               SS_BAD_EVENT_CTL, SS_BAD_MAX_STEPS, SS_EVENT_BUDGET, &
+                               SS_CONTACT_FAILED, SS_INTERRUPTED
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, &
                              check_tolerances, output_start
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, dopri5_dense, DOPRI5_DENSE_ROWS
@@ -81,7 +90,7 @@ module stickslip_event_driven
     use stickslip_linalg, only: psd_solve, psd_factors, psd_factor
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, STICK_RTOL, MODE_STICK, MODE_OPEN
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-    use stickslip_ode, only: diverged
+    use stickslip_ode, only: diverged, stop_requested
     implicit none
     private
 
@@ -134,6 +143,11 @@ module stickslip_event_driven
         !! (ga, dga: the one before; gb, dgb: the last), kept by `mode_step_accepted`
         real(dp), allocatable :: ga(:), dga(:), gb(:), dgb(:)
         logical :: halted = .false.   !! mode_step_accepted ended DOPRI5's run after its last step
+        !> (n_c) contact i carried a normal force (N_i > 0) where the mode's run started
+        logical, allocatable :: closed(:)
+        !> (n_c) its normal force has crossed 0 since (`closed` differs at the last step's end)
+        logical, allocatable :: flip(:)
+        integer :: singular_contact = 0   !! a contact of the stuck set found singular
         real(dp) :: t_prev = 0.0_dp   !! the time of ga, dga [s]
     contains
         procedure :: rhs => mode_rhs
@@ -145,6 +159,47 @@ module stickslip_event_driven
     integer, parameter :: ZENO_ROW = 10
     !> Least steps per period of the forces' fastest sine of a mode with a stuck contact
     real(dp), parameter :: STEPS_PER_PERIOD = 16.0_dp
+    !> Rows of a mode's run kept at a time (DOPRI5 ends with SS_OUTPUT_FULL when they are full)
+    integer, parameter :: CHUNK = 512
+
+    !> One run of `event_driven_integrate`: the mode, the controls, the counters and the
+    !! variables its procedures share (the mode's steps, the step being searched, the event
+    !! bookkeeping). The run's procedures take it as their first argument.
+    type :: ed_run
+        type(mode_system) :: ms                    !! the current mode
+        type(dopri5_options) :: d5                 !! DOPRI5's controls of a mode's run
+        type(event_driven_options) :: opts         !! the run's controls
+        type(ode_stats) :: stats                   !! counters and status
+        real(dp), allocatable :: rtol(:), atol(:)  !! tolerances, size 1 or 2 n_dof
+        real(dp), allocatable :: tb(:)             !! the times of the mode's steps [s]
+        real(dp), allocatable :: yb(:, :)          !! (n, CHUNK) the states there
+        real(dp), allocatable :: cb(:, :)          !! their continuous extensions (DOPRI5's dense rows)
+        real(dp), allocatable :: y(:)              !! the state (q, u) at t
+        real(dp), allocatable :: ya(:), ystar(:)   !! the states at ta and tstar
+        real(dp), allocatable :: r(:)              !! contact forces at a mode's start [N]
+        real(dp), allocatable :: ev(:, :)          !! (4, grown as needed) the events recorded
+        integer :: room = 0                        !! columns of the caller's events array
+        logical, allocatable :: cand_now(:)        !! the contacts being decided (`decide`)
+        logical, allocatable :: touch(:)           !! contacts whose w came within tolerance of 0 at t_touch
+        real(dp) :: t = 0.0_dp                     !! time [s]
+        real(dp) :: ta = 0.0_dp                    !! the start of the step being searched [s]
+        real(dp) :: tstar = 0.0_dp                 !! the earliest crossing found in it so far [s]
+        real(dp) :: h_carry = 0.0_dp               !! DOPRI5's first step of the next mode's run [s]
+        real(dp) :: t_last_event = 0.0_dp          !! time of the last event [s]
+        real(dp) :: t_touch = 0.0_dp               !! time where `touch` holds [s]
+        real(dp) :: t_seg = 0.0_dp                 !! the end of the mode's run (a corner or t_end) [s]
+        integer :: nd = 0                          !! degrees of freedom
+        integer :: nc = 0                          !! contacts
+        integer :: n = 0                           !! states, 2 nd
+        integer :: next = 1                        !! the next output row
+        integer :: k = 0                           !! the step being searched (of tb)
+        integer :: nrows = 0                       !! steps of the mode's run in tb
+        integer :: zeno_run = 0                    !! instants with events in a row closer than zeno_gap
+        integer :: ievent = 0                      !! events so far
+        integer :: same_instant = 0                !! events at the current instant
+        real(dp) :: t_last_switch = 0.0_dp         !! time of the last switch of mode (`switch_mode`) [s]
+        integer :: close_switches = 0              !! switches in a row closer than zeno_gap
+    end type ed_run
 
 contains
 
@@ -204,6 +259,7 @@ contains
             end do
             call holding_forces(self, cap(:ns), rs(:ns, :), ok)
             if (.not. ok) then
+                if (.not. self%singular) self%singular_contact = self%idx(1)
                 self%singular = .true.
                 return
             end if
@@ -397,7 +453,8 @@ contains
         call values_from_forces(self, min(t, self%t_cap), dydt(nd + 1:), self%wr, self%gb, self%dgb)
         step = t - self%t_prev      ! as event_driven_integrate's scan takes it (not h: rounding)
         self%t_prev = t
-        halt = self%singular .or. any(crossed(self%stuck, self%gb)) .or. &
+        self%flip = (self%wn > 0.0_dp) .neqv. self%closed
+        halt = self%singular .or. any(crossed(self%stuck, self%gb)) .or. any(self%flip) .or. &
                any(dips(self%stuck, self%ga, self%gb, step * self%dga, step * self%dgb))
         self%halted = halt
     end subroutine mode_step_accepted
@@ -457,7 +514,7 @@ contains
     !> Integrate with stick/slip switching from t0 to t_end. y0 = (q0, u0), size 2 n_dof.
     !! events(:, k) = (t [s], kind, position [m], contact) of the k-th event, for as many as
     !! there are columns. Status: SS_OK, SS_EVENT_ZENO, SS_EVENT_BUDGET, SS_STEP_BUDGET,
-    !! SS_SINGULAR, SS_CONTACT_FAILED, DOPRI5's run-time codes, or a bad-input code.
+    !! SS_INTERRUPTED, SS_CONTACT_FAILED, DOPRI5's run-time codes, or a bad-input code.
     subroutine event_driven_integrate(cs, t0, y0, t_end, rtol, atol, opts, t_out, y_out, stats, events)
         class(contact_system), intent(in) :: cs   !! the system
         real(dp), intent(in)    :: t0            !! initial time [s]
@@ -470,28 +527,13 @@ contains
         real(dp), intent(inout) :: y_out(:, :)   !! (size(y0), size(t_out)) states
         type(ode_stats), intent(out) :: stats    !! counters and status
         real(dp), intent(inout) :: events(:, :)  !! (4, room) events (t, kind, position, contact)
-
-        integer, parameter :: CHUNK = 512
-        type(mode_system) :: ms
-        type(dopri5_options) :: d5
-        type(ode_stats) :: st
-        real(dp), allocatable :: tb(:), yb(:, :), y(:), ya(:), ystar(:), g_a(:), g_b(:), r(:), dg_a(:), dg_b(:)
-        real(dp), allocatable, target :: cb(:, :)   ! pass 1's continuous extension of each step
-        real(dp) :: t, ta, tstar, h_carry, t_last_event, t_seg
-        integer :: nd, nc, n, next, m, k, nrows, i, zeno_run, ievent, same_instant
-        logical :: hit
-        logical, allocatable :: cand(:)
-        logical, allocatable :: cand_now(:)   ! the contacts being decided (`decide`)
-        logical, allocatable :: touch(:)      ! contacts whose w came within tolerance of 0 at t_touch
-        real(dp) :: t_touch
+        type(ed_run), target :: s
+        integer :: nw
 
         stats%status = check_problem(t0, y0, t_end, t_out, y_out, .false.)
         if (stats%status == SS_OK) stats%status = check_tolerances(size(y0), rtol, atol)
         if (stats%status /= SS_OK) return
-        nd = cs%n_dof
-        nc = cs%n_c
-        n = 2 * nd
-        if (size(y0) /= n .or. size(events, 1) /= 4) then
+        if (size(y0) /= 2 * cs%n_dof .or. size(events, 1) /= 4) then
             stats%status = SS_BAD_DIM
         else if (.not. (ieee_is_finite(opts%zeno_gap) .and. opts%zeno_gap >= 0.0_dp) .or. opts%max_events < 1) then
             stats%status = SS_BAD_EVENT_CTL
@@ -500,182 +542,262 @@ contains
         end if
         if (stats%status /= SS_OK) return
 
-        allocate(ms%cs, source=cs)
-        ms%diagonal = diagonal_delassus(cs)
-        allocate(ms%wf(nd), ms%wg(nd), ms%wn(nc), ms%ww(nc), ms%wb(nc), ms%wh(nc), ms%wc(nc), ms%wcap(nc), &
-                 ms%rhs2(nc, 1), ms%wr(nc))
-        allocate(ms%stuck(nc), ms%sig(nc), g_a(nc), g_b(nc), r(nc), dg_a(nc), dg_b(nc), cand(nc))
-        allocate(ms%ga(nc), ms%dga(nc), ms%gb(nc), ms%dgb(nc))
-        allocate(cand_now(nc), touch(nc), source=.false.)
-        t_touch = -huge(1.0_dp)
-        allocate(tb(CHUNK), yb(n, CHUNK), y(n), ya(n), ystar(n), cb(DOPRI5_DENSE_ROWS * n + 1, CHUNK))
-        d5%every_step = .true.
-        d5%dense_rows => cb
-        d5%notify_steps = .true.
-        d5%stop_flag => opts%stop_flag
-        m = size(t_out)
-        call output_start(t0, y0, t_out, y_out, .false., next)
+        call run_start(s, cs, t0, y0, rtol, atol, opts, size(events, 2))
+        s%d5%dense_rows => s%cb
+        call output_start(t0, y0, t_out, y_out, .false., s%next)
+        call initial_mode(s)
+        do
+            if (s%stats%status /= SS_OK) exit
+            if (.not. run_mode(s, t_end, t_out, y_out)) exit
+        end do
 
-        t = t0
-        y = y0
-        ms%stuck = .false.
-        ms%sig = 1.0_dp
-        h_carry = 0.0_dp
-        t_last_event = -huge(1.0_dp)
-        zeno_run = 0
-        ievent = 0
-        same_instant = 0
-        call initial_mode()
+        stats = s%stats
+        stats%nfev = stats%nfev + s%ms%nfev
+        stats%t_reached = s%t
+        stats%n_written = s%next - 1
+        nw = min(s%ievent, s%room)
+        if (nw > 0) events(:, :nw) = s%ev(:, :nw)
+    end subroutine event_driven_integrate
 
-        segment: do
-            if (stats%status /= SS_OK) exit segment
+    !> The run's state at t0: the mode system (a copy of cs, its work arrays), the step
+    !! buffers, DOPRI5's controls (every step, dense rows, step notification, the stop flag);
+    !! every contact slipping forward until `initial_mode` decides.
+    subroutine run_start(s, cs, t0, y0, rtol, atol, opts, room)
+        type(ed_run), intent(inout) :: s
+        class(contact_system), intent(in) :: cs   !! the system
+        real(dp), intent(in) :: t0               !! initial time [s]
+        real(dp), intent(in) :: y0(:)            !! initial state (q0, u0)
+        real(dp), intent(in) :: rtol(:), atol(:) !! tolerances
+        type(event_driven_options), intent(in) :: opts  !! controls
+        integer, intent(in) :: room              !! columns of the caller's events array
+        integer :: nd, nc, n
+        nd = cs%n_dof
+        nc = cs%n_c
+        n = 2 * nd
+        s%nd = nd
+        s%nc = nc
+        s%n = n
+        s%opts = opts
+        s%rtol = rtol
+        s%atol = atol
+        s%room = room
+        allocate(s%ev(4, min(room, 64)))
+        allocate(s%ms%cs, source=cs)
+        s%ms%diagonal = diagonal_delassus(cs)
+        allocate(s%ms%wf(nd), s%ms%wg(nd), s%ms%wn(nc), s%ms%ww(nc), s%ms%wb(nc), s%ms%wh(nc), s%ms%wc(nc), &
+                 s%ms%wcap(nc), s%ms%rhs2(nc, 1), s%ms%wr(nc))
+        allocate(s%ms%stuck(nc), s%ms%sig(nc), s%r(nc))
+        allocate(s%ms%ga(nc), s%ms%dga(nc), s%ms%gb(nc), s%ms%dgb(nc))
+        allocate(s%ms%closed(nc), s%ms%flip(nc), source=.false.)
+        allocate(s%cand_now(nc), s%touch(nc), source=.false.)
+        s%t_touch = -huge(1.0_dp)
+        allocate(s%tb(CHUNK), s%yb(n, CHUNK), s%y(n), s%ya(n), s%ystar(n), s%cb(DOPRI5_DENSE_ROWS * n + 1, CHUNK))
+        s%d5%every_step = .true.
+        s%d5%notify_steps = .true.
+        s%d5%stop_flag => opts%stop_flag
+        s%t = t0
+        s%y = y0
+        s%ms%stuck = .false.
+        s%ms%sig = 1.0_dp
+        s%h_carry = 0.0_dp
+        s%t_last_event = -huge(1.0_dp)
+        s%t_last_switch = -huge(1.0_dp)
+        s%close_switches = 0
+        s%zeno_run = 0
+        s%ievent = 0
+        s%same_instant = 0
+    end subroutine run_start
+
+    !> One run of DOPRI5 in the current mode from t, up to the first step with an event (or a
+    !! dip), a corner of the forces (`next_time_event`) or t_end; then the event located and
+    !! the mode switched, or the corner's `time_event`. .false. when the run is over (t_end,
+    !! or a status set).
+    logical function run_mode(s, t_end, t_out, y_out) result(more)
+        type(ed_run), intent(inout) :: s
+        real(dp), intent(in)    :: t_end         !! final time [s]
+        real(dp), intent(in)    :: t_out(:)      !! output times [s]
+        real(dp), intent(inout) :: y_out(:, :)   !! output states
+        type(ode_stats) :: st
+        real(dp) :: g_a(s%nc), g_b(s%nc), dg_a(s%nc), dg_b(s%nc)
+        logical :: cand(s%nc), flip(s%nc), hit
+        integer :: i, k, nrows
+        more = .false.
+        flip = .false.
+        ! the budgets and the stop flag, before every mode's run (DOPRI5 takes at least a step)
+        if (s%stats%nstep >= s%opts%max_steps) then
+            s%stats%status = SS_STEP_BUDGET
+            return
+        end if
+        if (stop_requested(s%opts, 0_8)) then
+            s%stats%status = SS_INTERRUPTED
+            return
+        end if
+        associate (ms => s%ms, cs => s%ms%cs, d5 => s%d5)
             ! Pass 1: the mode's steps, CHUNK rows at a time, looking for an event.
-            d5%h0 = h_carry
-            d5%max_steps = max(1_8, opts%max_steps - stats%nstep)
+            d5%h0 = s%h_carry
+            d5%max_steps = max(1_8, s%opts%max_steps - s%stats%nstep)
             ! A stuck contact's state barely moves, so DOPRI5's error estimate does not limit
             ! the step, while the forces may follow a sine: keep the steps, at whose ends the
             ! holding forces are checked, to 1/STEPS_PER_PERIOD of the shortest period.
-            d5%hmax = 0.0_dp
-            if (any(ms%stuck) .and. cs%time_scale() < huge(1.0_dp)) d5%hmax = cs%time_scale() / STEPS_PER_PERIOD
-            t_seg = min(t_end, cs%next_time_event(t))   ! a corner of the forces: the mode ends there
+            s%t_seg = min(t_end, cs%next_time_event(s%t))   ! a corner of the forces: the mode ends there
             ms%t_cap = huge(1.0_dp)
-            if (t_seg < t_end) ms%t_cap = nearest(t_seg, -1.0_dp)
+            if (s%t_seg < t_end) ms%t_cap = nearest(s%t_seg, -1.0_dp)
             ! the event functions at the start; mode_step_accepted takes them at each step's end
             ! and halts DOPRI5 after a step with an event (or a dip) in it
-            call event_values(ms, t, y, ms%gb, r, ms%dgb)
-            ms%t_prev = t
+            call event_values(ms, s%t, s%y, ms%gb, s%r, ms%dgb)
+            ms%closed = ms%wn > 0.0_dp
+            ms%flip = .false.
+            ! So does an open contact's normal force, which the state does not follow while it
+            ! is open: it is sampled at the same density, to see where it closes.
+            d5%hmax = 0.0_dp
+            if ((any(ms%stuck) .or. .not. all(ms%closed)) .and. cs%time_scale() < huge(1.0_dp)) &
+                d5%hmax = cs%time_scale() / STEPS_PER_PERIOD
+            ms%t_prev = s%t
             ms%halted = .false.
-            call dopri5_integrate(ms, t, y, t_seg, rtol, atol, d5, tb, yb, st)
-            stats%nfev = stats%nfev + st%nfev
-            stats%nstep = stats%nstep + st%nstep
-            stats%naccept = stats%naccept + st%naccept
-            stats%nreject = stats%nreject + st%nreject
-            h_carry = st%h_last
+            call dopri5_integrate(ms, s%t, s%y, s%t_seg, s%rtol, s%atol, d5, s%tb, s%yb, st)
+            s%stats%nfev = s%stats%nfev + st%nfev
+            s%stats%nstep = s%stats%nstep + st%nstep
+            s%stats%naccept = s%stats%naccept + st%naccept
+            s%stats%nreject = s%stats%nreject + st%nreject
+            s%h_carry = st%h_last
             nrows = st%n_written
+            s%nrows = nrows
             if (st%status /= SS_OK .and. st%status /= SS_OUTPUT_FULL) then
-                stats%status = st%status
-                if (stats%status == SS_STEP_BUDGET .or. stats%nstep >= opts%max_steps) stats%status = SS_STEP_BUDGET
-                if (nrows >= 1) call output_to(tb(nrows))
-                exit segment
+                s%stats%status = st%status
+                if (s%stats%status == SS_STEP_BUDGET .or. s%stats%nstep >= s%opts%max_steps) &
+                    s%stats%status = SS_STEP_BUDGET
+                call keep_rows(s, nrows, t_out, y_out)
+                return
             end if
             if (ms%singular) then
-                stats%status = SS_SINGULAR
-                exit segment
+                ! the stuck set's holding forces have no solution: the run's friction problem
+                ! failed (not a Newton matrix: there is none); its last step is not kept
+                s%stats%status = SS_CONTACT_FAILED
+                s%stats%contact_worst = ms%singular_contact
+                call keep_rows(s, nrows - 1, t_out, y_out)
+                return
             end if
-            if (diverged(yb(:, nrows), stats, opts%y_bound)) exit segment   ! left the bound: SS_DIVERGED
+            if (diverged(s%yb(:, nrows), s%stats, s%opts%y_bound)) return   ! left the bound: SS_DIVERGED
             ! The run ends after the first step with an event or a dip (ms%halted): only its last
             ! step is searched, from the event functions mode_step_accepted kept at its ends.
             hit = .false.
             k = nrows
+            s%k = k
             if (ms%halted) then
-                ta = tb(k - 1)
-                ya = yb(:, k - 1)
-                tstar = tb(k)
-                ystar = yb(:, k)
+                s%ta = s%tb(k - 1)
+                s%ya = s%yb(:, k - 1)
+                s%tstar = s%tb(k)
+                s%ystar = s%yb(:, k)
                 g_a = ms%ga
                 dg_a = ms%dga
                 g_b = ms%gb
                 dg_b = ms%dgb
                 cand = crossed(ms%stuck, g_b)
-                hit = any(cand)
+                flip = ms%flip
+                hit = any(cand) .or. any(flip)
                 ! a slipping contact whose w turns back within the step: its minimum
-                do i = 1, nc
-                    if (.not. dips(ms%stuck(i), g_a(i), g_b(i), (tb(k) - ta) * dg_a(i), &
-                                   (tb(k) - ta) * dg_b(i))) cycle
-                    call graze(i, dg_a(i), dg_b(i), cand(i))
+                do i = 1, s%nc
+                    if (.not. dips(ms%stuck(i), g_a(i), g_b(i), (s%tb(k) - s%ta) * dg_a(i), &
+                                   (s%tb(k) - s%ta) * dg_b(i))) cycle
+                    call graze(s, i, dg_a(i), dg_b(i), cand(i))
                     hit = hit .or. cand(i)
                 end do
             end if
             if (.not. hit) then
-                call output_to(tb(nrows))
-                t = tb(nrows)
-                y = yb(:, nrows)
-                if (st%status == SS_OK .and. t < t_seg) cycle segment          ! a dip that did not touch
-                if (st%status == SS_OK .and. t_seg >= t_end) exit segment     ! reached t_end
-                if (st%status == SS_OK) then                                   ! reached a corner
-                    t = t_seg                  ! exactly: the next corner is the one after it
-                    ms%t_cap = huge(1.0_dp)    ! from here on, the values after the corner
-                    call time_event()
+                call output_to(s, s%tb(nrows), t_out, y_out)
+                s%t = s%tb(nrows)
+                s%y = s%yb(:, nrows)
+                more = .true.
+                if (st%status == SS_OK .and. s%t < s%t_seg) return          ! a dip that did not touch
+                if (st%status == SS_OK .and. s%t_seg >= t_end) more = .false.  ! reached t_end
+                if (st%status == SS_OK .and. more) then                       ! reached a corner
+                    s%t = s%t_seg                  ! exactly: the next corner is the one after it
+                    ms%t_cap = huge(1.0_dp)        ! from here on, the values after the corner
+                    call time_event(s)
                 end if
-                cycle segment
+                return
             end if
 
             ! An event in step (ta, tb(k)] (or before a grazing minimum): the earliest crossing.
-            h_carry = tb(k) - ta
-            do i = 1, nc
-                if (cand(i)) call locate(i, g_a(i))
+            s%h_carry = s%tb(k) - s%ta
+            do i = 1, s%nc
+                if (cand(i)) call locate(s, i, g_a(i))
             end do
-            call output_to(tstar)
-            t = tstar
-            y = ystar
-            call switch_mode()
-            if (stats%status /= SS_OK) exit segment
-            if (t >= t_end) exit segment
-        end do segment
+            do i = 1, s%nc
+                if (flip(i)) call locate_normal(s, i)
+            end do
+            call output_to(s, s%tstar, t_out, y_out)
+            s%t = s%tstar
+            s%y = s%ystar
+            call switch_mode(s)
+            more = s%stats%status == SS_OK .and. s%t < t_end
+        end associate
+    end function run_mode
 
-        stats%nfev = stats%nfev + ms%nfev
-        stats%t_reached = t
-        stats%n_written = next - 1
+    !> Contacts with w = 0 at t0 take the modes of the problem at rest (`decide`); the
+    !! others slip in the direction of w. Not recorded as events.
+    subroutine initial_mode(s)
+        type(ed_run), intent(inout) :: s
+        real(dp) :: w(s%nc)
+        logical :: at_zero(s%nc)
+        call s%ms%cs%relative_velocities(s%t, s%y(s%nd + 1:), w)
+        at_zero = w == 0.0_dp
+        where (.not. at_zero) s%ms%sig = sign(1.0_dp, w)
+        if (any(at_zero)) call decide(s, at_zero, .false.)
+    end subroutine initial_mode
 
-    contains
-
-        !> Contacts with w = 0 at t0 take the modes of the problem at rest (`decide`); the
-        !! others slip in the direction of w. Not recorded as events.
-        subroutine initial_mode()
-            real(dp) :: w(nc)
-            logical :: at_zero(nc)
-            call cs%relative_velocities(t, y(nd + 1:), w)
-            at_zero = w == 0.0_dp
-            where (.not. at_zero) ms%sig = sign(1.0_dp, w)
-            if (any(at_zero)) call decide(at_zero, .false.)
-        end subroutine initial_mode
-
-        !> At a corner of the forces (`next_time_event`: a step of a normal force, a table's
-        !! point): a stuck contact whose w has jumped away from 0 (a surface's speed stepped)
-        !! slips in the direction of w (recorded); every stuck contact and every contact at w = 0
-        !! is decided afresh, as at an event; DOPRI5 starts again with its automatic step.
-        subroutine time_event()
-            real(dp) :: w(nc)
-            integer :: j, nchanged
-            logical :: again(nc)
-            call cs%relative_velocities(t, y(nd + 1:), w)
-            do j = 1, nc
-                if (ms%stuck(j) .and. abs(w(j)) > w_tolerance(j, y)) then
+    !> At a corner of the forces (`next_time_event`: a step of a normal force, a table's
+    !! point): a stuck contact whose w has jumped away from 0 (a surface's speed stepped)
+    !! slips in the direction of w (recorded); every stuck contact and every contact at w = 0
+    !! is decided afresh, as at an event; DOPRI5 starts again with its automatic step.
+    subroutine time_event(s)
+        type(ed_run), intent(inout) :: s
+        real(dp) :: w(s%nc)
+        integer :: j, nchanged
+        logical :: again(s%nc)
+        associate (ms => s%ms)
+            call ms%cs%relative_velocities(s%t, s%y(s%nd + 1:), w)
+            do j = 1, s%nc
+                if (ms%stuck(j) .and. abs(w(j)) > w_tolerance(s, j, s%y)) then
                     ms%stuck(j) = .false.
                     ms%sig(j) = sign(1.0_dp, w(j))
-                    call record(j, EVENT_SLIP)
+                    call record(s, j, EVENT_SLIP)
                 else if (.not. ms%stuck(j) .and. w(j) /= 0.0_dp) then
                     ms%sig(j) = sign(1.0_dp, w(j))   ! a contact that was open slips the way it moves
                 end if
             end do
             again = ms%stuck .or. w == 0.0_dp
-            if (any(again) .and. stats%status == SS_OK) call decide(again, .true., nchanged)
-            h_carry = 0.0_dp
-        end subroutine time_event
+            if (any(again) .and. s%stats%status == SS_OK) call decide(s, again, .true., nchanged)
+            s%h_carry = 0.0_dp
+        end associate
+    end subroutine time_event
 
-        !> The modes of the contacts cand (each at w = 0: stuck, or just reached) from the
-        !! problem at rest: their relative accelerations a_C = af_C + A_CC r_C with the other
-        !! contacts' slip forces fixed, solved jointly by `solve_contacts` (stick preferred).
-        !! With record, every change of mode is an event (kind 1 stick, 2 slip, 3 reversal).
-        subroutine decide(cand, record_events, nchanged)
-            logical, intent(in) :: cand(:)
-            logical, intent(in) :: record_events
-            integer, intent(out), optional :: nchanged
-            integer, allocatable :: idx(:), cmode(:)
-            real(dp), allocatable :: amat(:, :), af(:), cap(:), p(:), wv(:), dgl(:)
-            real(dp) :: a(nd), rr(nc), nn(nc), ha(nc), bd(nc), scale
-            logical :: was_stuck(nc)
-            real(dp) :: old_sig(nc)
-            type(contact_solve_info) :: info
-            integer :: j, c, nn_c
+    !> The modes of the contacts cand (each at w = 0: stuck, or just reached) from the
+    !! problem at rest: their relative accelerations a_C = af_C + A_CC r_C with the other
+    !! contacts' slip forces fixed, solved jointly by `solve_contacts` (stick preferred).
+    !! With record, every change of mode is an event (kind 1 stick, 2 slip, 3 reversal).
+    subroutine decide(s, cand, record_events, nchanged)
+        type(ed_run), intent(inout) :: s
+        logical, intent(in) :: cand(:)             !! (n_c) the contacts to decide
+        logical, intent(in) :: record_events       !! record the changes as events
+        integer, intent(out), optional :: nchanged !! contacts whose mode changed
+        integer, allocatable :: idx(:), cmode(:)
+        real(dp), allocatable :: amat(:, :), af(:), cap(:), p(:), wv(:), dgl(:)
+        real(dp) :: a(s%nd), rr(s%nc), nn(s%nc), ha(s%nc), bd(s%nc), scale
+        logical :: was_stuck(s%nc)
+        real(dp) :: old_sig(s%nc)
+        type(contact_solve_info) :: info
+        integer :: j, c, nn_c, nd
+        nd = s%nd
+        associate (ms => s%ms, cs => s%ms%cs, t => s%t, y => s%y)
             was_stuck = ms%stuck
             old_sig = ms%sig
-            cand_now = cand
-            idx = pack([(j, j = 1, nc)], cand)
+            s%cand_now = cand
+            idx = pack([(j, j = 1, s%nc)], cand)
             nn_c = size(idx)
             ! the free problem: the candidates carry no force
             ms%stuck(idx) = .false.
-            call free_acceleration(a, rr)
+            call free_acceleration(s, a, rr)
             call cs%apply_h(a, ha)
             call cs%offset_rate(t, bd)
             call cs%normal_forces(t, y(:nd), nn)
@@ -698,10 +820,10 @@ contains
                 call delassus_block(ms, t, y, idx, amat)
                 call solve_contacts(cs%laws(idx), amat, af, cap, .true., scale, 1000, p, wv, cmode, info)
             end if
-            cand_now = .false.
+            s%cand_now = .false.
             if (.not. info%ok) then
-                stats%status = SS_CONTACT_FAILED
-                stats%contact_worst = idx(max(info%worst, 1))
+                s%stats%status = SS_CONTACT_FAILED
+                s%stats%contact_worst = idx(max(info%worst, 1))
                 ms%stuck = was_stuck
                 return
             end if
@@ -716,238 +838,334 @@ contains
                 if (abs(cmode(j)) == 1) ms%sig(c) = real(cmode(j), dp)
                 if (.not. record_events) cycle
                 if (was_stuck(c) .and. .not. ms%stuck(c)) then
-                    call record(c, EVENT_SLIP)
+                    call record(s, c, EVENT_SLIP)
                 else if (.not. was_stuck(c) .and. ms%stuck(c)) then
-                    call record(c, EVENT_STICK)
+                    call record(s, c, EVENT_STICK)
                 else if (.not. ms%stuck(c) .and. ms%sig(c) /= old_sig(c)) then
-                    call record(c, EVENT_REVERSAL)
+                    call record(s, c, EVENT_REVERSAL)
                 end if
             end do
-        end subroutine decide
+        end associate
+    end subroutine decide
 
-        !> The acceleration a and forces rr with the current mode's slip forces and without the
-        !! forces of stuck contacts (used with the candidates marked as not stuck and carrying
-        !! no force: w = 0 gives them the slip force of speed 0, which is removed here).
-        subroutine free_acceleration(a, rr)
-            real(dp), intent(out) :: a(:), rr(:)
-            real(dp) :: f(nd), w(nc), nn(nc)
-            integer :: j
+    !> The acceleration a and forces rr with the current mode's slip forces and without the
+    !! forces of stuck contacts (used with the candidates marked as not stuck and carrying
+    !! no force: w = 0 gives them the slip force of speed 0, which is removed here).
+    subroutine free_acceleration(s, a, rr)
+        type(ed_run), intent(inout) :: s
+        real(dp), intent(out) :: a(:)   !! acceleration [m/s^2]
+        real(dp), intent(out) :: rr(:)  !! the slip forces [N]
+        real(dp) :: f(s%nd), w(s%nc), nn(s%nc)
+        integer :: j, nd
+        nd = s%nd
+        associate (ms => s%ms, cs => s%ms%cs, t => s%t, y => s%y)
             call cs%force(t, y(:nd), y(nd + 1:), f)
             call cs%normal_forces(t, y(:nd), nn)
             call cs%relative_velocities(t, y(nd + 1:), w)
             ms%nfev = ms%nfev + 1
             rr = 0.0_dp
-            do j = 1, nc
-                if (.not. ms%stuck(j) .and. .not. cand_now(j)) &
+            do j = 1, s%nc
+                if (.not. ms%stuck(j) .and. .not. s%cand_now(j)) &
                     rr(j) = -ms%sig(j) * nn(j) * cs%laws(j)%slip_mu(max(ms%sig(j) * w(j), 0.0_dp))
             end do
             a = f
             call cs%add_ht(rr, a)
             call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, a)
-        end subroutine free_acceleration
+        end associate
+    end subroutine free_acceleration
 
-        !> The minimum of a slipping contact i's sigma w in (ta, tstar) (where its rate changes
-        !! sign), by Illinois regula falsi on the rate. If sigma w reaches 0 there, tstar and
-        !! ystar move to that point (a crossing lies in (ta, tstar]) and hit_i is set; if its
-        !! minimum comes within the integration's tolerance of 0 (`w_tolerance`) without
-        !! crossing, the contact touches: tstar moves to the minimum and it is decided there.
-        subroutine graze(i, da, db, hit_i)
-            integer, intent(in) :: i
-            real(dp), intent(in) :: da, db
-            logical, intent(inout) :: hit_i
-            real(dp) :: lo, hi, dlo, dhi, tm, gv(nc), rr(nc), dgv(nc), yq(n), gbest, tbest, ybest(n)
-            integer :: it, side
-            lo = ta
-            hi = tstar
-            dlo = da
-            dhi = db
-            side = 0
-            gbest = huge(1.0_dp)
-            tbest = tstar
-            ybest = ystar
-            do it = 1, 100
-                tm = lo - dlo * (hi - lo) / (dhi - dlo)
-                if (.not. (tm > lo .and. tm < hi)) tm = 0.5_dp * (lo + hi)
-                if (tm <= lo .or. tm >= hi) exit
-                call advance(tm, yq)
-                call event_values(ms, tm, yq, gv, rr, dgv)
-                if (gv(i) <= 0.0_dp) then
-                    tstar = tm
-                    ystar = yq
-                    hit_i = .true.
-                    return
-                end if
-                if (gv(i) < gbest) then
-                    gbest = gv(i)
-                    tbest = tm
-                    ybest = yq
-                end if
-                if (dgv(i) < 0.0_dp) then
-                    lo = tm
-                    dlo = dgv(i)
-                    if (side == 1) dhi = 0.5_dp * dhi
-                    side = 1
-                else
-                    hi = tm
-                    dhi = dgv(i)
-                    if (side == -1) dlo = 0.5_dp * dlo
-                    side = -1
-                end if
-                if (hi - lo <= 1.0e-10_dp * (tstar - ta)) exit
-            end do
-            if (gbest <= w_tolerance(i, ybest)) then
-                tstar = tbest
-                ystar = ybest
-                touch(i) = .true.
-                t_touch = tbest
+    !> The minimum of a slipping contact i's sigma w in (ta, tstar) (where its rate changes
+    !! sign), by Illinois regula falsi on the rate. If sigma w reaches 0 there, tstar and
+    !! ystar move to that point (a crossing lies in (ta, tstar]) and hit_i is set; if its
+    !! minimum comes within the integration's tolerance of 0 (`w_tolerance`) without
+    !! crossing, the contact touches: tstar moves to the minimum and it is decided there.
+    subroutine graze(s, i, da, db, hit_i)
+        type(ed_run), intent(inout) :: s
+        integer, intent(in) :: i              !! the contact
+        real(dp), intent(in) :: da, db        !! its rates at ta and tstar [m/s^2]
+        logical, intent(inout) :: hit_i       !! set when it reaches or touches w = 0
+        real(dp) :: lo, hi, dlo, dhi, tm, gv(s%nc), rr(s%nc), dgv(s%nc), yq(s%n), gbest, tbest, ybest(s%n)
+        integer :: it, side
+        lo = s%ta
+        hi = s%tstar
+        dlo = da
+        dhi = db
+        side = 0
+        gbest = huge(1.0_dp)
+        tbest = s%tstar
+        ybest = s%ystar
+        do it = 1, 100
+            tm = lo - dlo * (hi - lo) / (dhi - dlo)
+            if (.not. (tm > lo .and. tm < hi)) tm = 0.5_dp * (lo + hi)
+            if (tm <= lo .or. tm >= hi) exit
+            call advance(s, tm, yq)
+            call event_values(s%ms, tm, yq, gv, rr, dgv)
+            if (gv(i) <= 0.0_dp) then
+                s%tstar = tm
+                s%ystar = yq
                 hit_i = .true.
+                return
             end if
-        end subroutine graze
-
-        !> The integration's tolerance on contact i's relative velocity at the state yq [m/s]:
-        !! sum over its row of H of |H_ij| (atol_j + rtol_j |u_j|).
-        real(dp) function w_tolerance(i, yq) result(tol)
-            integer, intent(in) :: i
-            real(dp), intent(in) :: yq(:)
-            integer :: kk, j
-            tol = 0.0_dp
-            do kk = cs%h_ptr(i), cs%h_ptr(i + 1) - 1
-                j = nd + cs%h_col(kk)
-                tol = tol + abs(cs%h_val(kk)) * (atol(min(j, size(atol))) + rtol(min(j, size(rtol))) * abs(yq(j)))
-            end do
-        end function w_tolerance
-
-        !> The state at time tq in [ta, tb(k)]: pass 1's continuous extension of step k.
-        subroutine advance(tq, yq)
-            real(dp), intent(in)  :: tq
-            real(dp), intent(out) :: yq(:)
-            if (tq <= ta) then
-                yq = ya
+            if (gv(i) < gbest) then
+                gbest = gv(i)
+                tbest = tm
+                ybest = yq
+            end if
+            if (dgv(i) < 0.0_dp) then
+                lo = tm
+                dlo = dgv(i)
+                if (side == 1) dhi = 0.5_dp * dhi
+                side = 1
             else
-                yq = dopri5_dense(ya, cb(:, k), ta, tq)
+                hi = tm
+                dhi = dgv(i)
+                if (side == -1) dlo = 0.5_dp * dlo
+                side = -1
             end if
-        end subroutine advance
+            if (hi - lo <= 1.0e-10_dp * (s%tstar - s%ta)) exit
+        end do
+        if (gbest <= w_tolerance(s, i, ybest)) then
+            s%tstar = tbest
+            s%ystar = ybest
+            s%touch(i) = .true.
+            s%t_touch = tbest
+            hit_i = .true.
+        end if
+    end subroutine graze
 
-        !> Earliest crossing of contact i's event function in (ta, tstar]: shrink tstar.
-        subroutine locate(i, ga)
-            integer, intent(in) :: i
-            real(dp), intent(in) :: ga
-            real(dp) :: lo, hi, glo, ghi, tm, gm, gv(nc), rr(nc), dgv(nc), yq(n)
-            integer :: it, side
-            lo = ta
-            hi = tstar
-            glo = max(ga, 0.0_dp)
-            ! g_i at the current tstar (it may already have been shrunk by another contact)
-            call event_values(ms, tstar, ystar, gv, rr, dgv)
-            ghi = gv(i)
-            if (.not. crossed(ms%stuck(i), ghi)) return     ! crosses after an earlier event: not now
-            side = 0
-            do it = 1, 200
-                if (hi - lo <= 4.0_dp * epsilon(1.0_dp) * max(abs(lo), abs(hi), 1.0e-300_dp)) exit
-                if (glo > 0.0_dp .and. ghi < 0.0_dp) then
-                    tm = hi - ghi * (hi - lo) / (ghi - glo)
-                else
-                    tm = 0.5_dp * (lo + hi)
-                end if
-                if (.not. (tm > lo .and. tm < hi)) tm = 0.5_dp * (lo + hi)
-                if (tm <= lo .or. tm >= hi) exit
-                call advance(tm, yq)
-                call event_values(ms, tm, yq, gv, rr, dgv)
-                gm = gv(i)
-                if (crossed(ms%stuck(i), gm)) then
-                    hi = tm
-                    ghi = gm
-                    tstar = tm
-                    ystar = yq
-                    if (gm == 0.0_dp) exit
-                    if (side == -1) glo = 0.5_dp * glo   ! Illinois
-                    side = -1
-                else
-                    lo = tm
-                    glo = gm
-                    if (side == 1) ghi = 0.5_dp * ghi
-                    side = 1
-                end if
+    !> The integration's tolerance on contact i's relative velocity at the state yq [m/s]:
+    !! sum over its row of H of |H_ij| (atol_j + rtol_j |u_j|).
+    real(dp) function w_tolerance(s, i, yq) result(tol)
+        type(ed_run), intent(in) :: s
+        integer, intent(in) :: i          !! the contact
+        real(dp), intent(in) :: yq(:)     !! the state (q, u)
+        integer :: kk, j
+        tol = 0.0_dp
+        associate (cs => s%ms%cs)
+            do kk = cs%h_ptr(i), cs%h_ptr(i + 1) - 1
+                j = s%nd + cs%h_col(kk)
+                tol = tol + abs(cs%h_val(kk)) * (s%atol(min(j, size(s%atol))) + &
+                                                 s%rtol(min(j, size(s%rtol))) * abs(yq(j)))
             end do
-        end subroutine locate
+        end associate
+    end function w_tolerance
 
-        !> Switch the mode at (t, y): the contacts whose event functions have crossed and every
-        !! stuck contact are decided together (`decide`); a contact that reached w = 0 and has
-        !! one entry in H gets w = 0 exactly. If that changes no mode although a holding force
-        !! exceeds its limit here (rounding at the limit), that contact gives way.
-        subroutine switch_mode()
-            real(dp) :: gv(nc), rr(nc), dgv(nc), b(nc)
-            integer :: j, kk, nchanged
-            logical :: now(nc), over(nc)
-            call event_values(ms, t, y, gv, rr, dgv)
-            call cs%slip_offset(t, b)
+    !> The state at time tq in [ta, tb(k)]: the continuous extension of the step k searched.
+    subroutine advance(s, tq, yq)
+        type(ed_run), intent(in) :: s
+        real(dp), intent(in)  :: tq       !! time [s]
+        real(dp), intent(out) :: yq(:)    !! the state there
+        if (tq <= s%ta) then
+            yq = s%ya
+        else
+            yq = dopri5_dense(s%ya, s%cb(:, s%k), s%ta, tq)
+        end if
+    end subroutine advance
+
+    !> Earliest crossing of contact i's event function in (ta, tstar]: shrink tstar.
+    subroutine locate(s, i, ga)
+        type(ed_run), intent(inout) :: s
+        integer, intent(in) :: i          !! the contact
+        real(dp), intent(in) :: ga        !! its event function at ta
+        real(dp) :: lo, hi, glo, ghi, tm, gm, gv(s%nc), rr(s%nc), dgv(s%nc), yq(s%n)
+        integer :: it, side
+        lo = s%ta
+        hi = s%tstar
+        glo = max(ga, 0.0_dp)
+        ! g_i at the current tstar (it may already have been shrunk by another contact)
+        call event_values(s%ms, s%tstar, s%ystar, gv, rr, dgv)
+        ghi = gv(i)
+        if (.not. crossed(s%ms%stuck(i), ghi)) return     ! crosses after an earlier event: not now
+        side = 0
+        do it = 1, 200
+            if (hi - lo <= 4.0_dp * epsilon(1.0_dp) * max(abs(lo), abs(hi), 1.0e-300_dp)) exit
+            if (glo > 0.0_dp .and. ghi < 0.0_dp) then
+                tm = hi - ghi * (hi - lo) / (ghi - glo)
+            else
+                tm = 0.5_dp * (lo + hi)
+            end if
+            if (.not. (tm > lo .and. tm < hi)) tm = 0.5_dp * (lo + hi)
+            if (tm <= lo .or. tm >= hi) exit
+            call advance(s, tm, yq)
+            call event_values(s%ms, tm, yq, gv, rr, dgv)
+            gm = gv(i)
+            if (crossed(s%ms%stuck(i), gm)) then
+                hi = tm
+                ghi = gm
+                s%tstar = tm
+                s%ystar = yq
+                if (gm == 0.0_dp) exit
+                if (side == -1) glo = 0.5_dp * glo   ! Illinois
+                side = -1
+            else
+                lo = tm
+                glo = gm
+                if (side == 1) ghi = 0.5_dp * ghi
+                side = 1
+            end if
+        end do
+    end subroutine locate
+
+    !> After a failed mode's run: the output rows and the state up to its step `last` (none
+    !! when last < 1), so that t_reached and the rows written say how far the motion is known.
+    subroutine keep_rows(s, last, t_out, y_out)
+        type(ed_run), intent(inout) :: s
+        integer, intent(in)     :: last          !! the last step of the run to keep
+        real(dp), intent(in)    :: t_out(:)      !! output times [s]
+        real(dp), intent(inout) :: y_out(:, :)   !! output states
+        if (last < 2) return                     ! tb(1) is the run's start: nothing new
+        call output_to(s, s%tb(last), t_out, y_out)
+        s%t = s%tb(last)
+        s%y = s%yb(:, last)
+    end subroutine keep_rows
+
+    !> Earliest crossing of 0 by contact i's normal force in (ta, tstar] (it closes where the
+    !! run started open, or opens where it started closed: `closed`), by bisection on the
+    !! state's continuous extension to 4 units of round-off in t: shrink tstar.
+    subroutine locate_normal(s, i)
+        type(ed_run), intent(inout) :: s
+        integer, intent(in) :: i          !! the contact
+        real(dp) :: lo, hi, tm, yq(s%n)
+        integer :: it
+        if (.not. normal_flipped(s, i, s%tstar, s%ystar)) return   ! after an earlier event: not now
+        lo = s%ta
+        hi = s%tstar
+        do it = 1, 200
+            if (hi - lo <= 4.0_dp * epsilon(1.0_dp) * max(abs(lo), abs(hi), 1.0e-300_dp)) exit
+            tm = 0.5_dp * (lo + hi)
+            if (tm <= lo .or. tm >= hi) exit
+            call advance(s, tm, yq)
+            if (normal_flipped(s, i, tm, yq)) then
+                hi = tm
+                s%tstar = tm
+                s%ystar = yq
+            else
+                lo = tm
+            end if
+        end do
+    end subroutine locate_normal
+
+    !> Has contact i's normal force at (tq, yq) crossed 0 since the mode's run started?
+    logical function normal_flipped(s, i, tq, yq) result(flipped)
+        type(ed_run), intent(inout) :: s
+        integer, intent(in) :: i          !! the contact
+        real(dp), intent(in) :: tq        !! time [s]
+        real(dp), intent(in) :: yq(:)     !! the state (q, u) there
+        real(dp) :: nn(s%nc)
+        call s%ms%cs%normal_forces(min(tq, s%ms%t_cap), yq(:s%nd), nn)
+        flipped = (nn(i) > 0.0_dp) .neqv. s%ms%closed(i)
+    end function normal_flipped
+
+    !> Switch the mode at (t, y): the contacts whose event functions have crossed and every
+    !! stuck contact are decided together (`decide`); a contact that reached w = 0 and has
+    !! one entry in H gets w = 0 exactly. A contact whose normal force rose above 0 (it was
+    !! open where the mode's run started) slips the way it moves, and is decided with the
+    !! others where it closes at w = 0. If that changes no mode although a holding force
+    !! exceeds its limit here (rounding at the limit), that contact gives way. More than
+    !! 4 n_c + 8 switches in a row each within zeno_gap of the last (with or without a change
+    !! of mode) end the run with SS_EVENT_ZENO: no input turns at one instant for ever.
+    subroutine switch_mode(s)
+        type(ed_run), intent(inout) :: s
+        real(dp) :: gv(s%nc), rr(s%nc), dgv(s%nc), b(s%nc), nn(s%nc), w(s%nc)
+        integer :: j, kk, nchanged
+        logical :: now(s%nc), over(s%nc)
+        if (s%t - s%t_last_switch <= s%opts%zeno_gap) then
+            s%close_switches = s%close_switches + 1
+            if (s%close_switches > 4 * s%nc + 8) then
+                s%stats%status = SS_EVENT_ZENO
+                return
+            end if
+        else
+            s%close_switches = 0
+        end if
+        s%t_last_switch = s%t
+        associate (ms => s%ms, cs => s%ms%cs)
+            if (.not. all(ms%closed)) then
+                call cs%normal_forces(min(s%t, ms%t_cap), s%y(:s%nd), nn)
+                call cs%relative_velocities(s%t, s%y(s%nd + 1:), w)
+                where (nn > 0.0_dp .and. .not. ms%closed .and. .not. ms%stuck .and. w /= 0.0_dp) &
+                    ms%sig = sign(1.0_dp, w)
+            end if
+            call event_values(ms, s%t, s%y, gv, rr, dgv)
+            call cs%slip_offset(s%t, b)
             now = crossed(ms%stuck, gv)
-            if (t == t_touch) now = now .or. touch
-            touch = .false.
+            if (s%t == s%t_touch) now = now .or. s%touch
+            s%touch = .false.
             over = now .and. ms%stuck
-            do j = 1, nc
+            do j = 1, s%nc
                 if (.not. now(j) .or. ms%stuck(j)) cycle
                 kk = cs%h_ptr(j)
-                if (cs%h_ptr(j + 1) - kk == 1) y(nd + cs%h_col(kk)) = -b(j) / cs%h_val(kk)
+                if (cs%h_ptr(j + 1) - kk == 1) s%y(s%nd + cs%h_col(kk)) = -b(j) / cs%h_val(kk)
             end do
-            call decide(now .or. ms%stuck, .true., nchanged)
-            if (stats%status /= SS_OK .or. nchanged > 0) return
+            call decide(s, now .or. ms%stuck, .true., nchanged)
+            if (s%stats%status /= SS_OK .or. nchanged > 0) return
             ! nothing changed although a holding force exceeded its limit: rounding at the
             ! limit; the contact gives way against its holding force
-            do j = 1, nc
+            do j = 1, s%nc
                 if (over(j) .and. ms%stuck(j)) then
                     ms%stuck(j) = .false.
                     ms%sig(j) = -sign(1.0_dp, rr(j))
-                    call record(j, EVENT_SLIP)
+                    call record(s, j, EVENT_SLIP)
                 end if
             end do
-        end subroutine switch_mode
+        end associate
+    end subroutine switch_mode
 
-        !> Record an event of contact j at (t, y). Events at one instant count once towards the
-        !! Zeno test (10 instants in a row closer than zeno_gap); more events at one instant than
-        !! 4 n_c + 8 is chatter; more than max_events in all ends with SS_EVENT_BUDGET.
-        subroutine record(j, kind)
-            integer, intent(in) :: j, kind
-            ievent = ievent + 1
-            stats%nevents = ievent
-            if (ievent <= size(events, 2)) events(:, ievent) = [t, real(kind, dp), &
-                cs%contact_displacement(j, y(:nd)), real(j, dp)]
-            if (t == t_last_event) then
-                same_instant = same_instant + 1
-                if (same_instant > 4 * nc + 8) stats%status = SS_EVENT_ZENO
-            else
-                same_instant = 1
-                if (t - t_last_event < opts%zeno_gap) then
-                    zeno_run = zeno_run + 1
-                else
-                    zeno_run = 0
-                end if
+    !> Record an event of contact j at (t, y). Events at one instant count once towards the
+    !! Zeno test (10 instants in a row closer than zeno_gap); more events at one instant than
+    !! 4 n_c + 8 is chatter; more than max_events in all ends with SS_EVENT_BUDGET.
+    subroutine record(s, j, kind)
+        type(ed_run), intent(inout) :: s
+        integer, intent(in) :: j          !! the contact
+        integer, intent(in) :: kind       !! EVENT_STICK, EVENT_SLIP or EVENT_REVERSAL
+        real(dp), allocatable :: grown(:, :)
+        s%ievent = s%ievent + 1
+        s%stats%nevents = s%ievent
+        if (s%ievent <= s%room) then
+            if (s%ievent > size(s%ev, 2)) then
+                allocate(grown(4, min(s%room, 2 * size(s%ev, 2) + 64)))
+                grown(:, :size(s%ev, 2)) = s%ev
+                call move_alloc(grown, s%ev)
             end if
-            t_last_event = t
-            if (zeno_run >= ZENO_ROW) stats%status = SS_EVENT_ZENO
-            if (ievent > opts%max_events .and. stats%status == SS_OK) stats%status = SS_EVENT_BUDGET
-        end subroutine record
+            s%ev(:, s%ievent) = [s%t, real(kind, dp), s%ms%cs%contact_displacement(j, s%y(:s%nd)), real(j, dp)]
+        end if
+        if (s%t == s%t_last_event) then
+            s%same_instant = s%same_instant + 1
+            if (s%same_instant > 4 * s%nc + 8) s%stats%status = SS_EVENT_ZENO
+        else
+            s%same_instant = 1
+            if (s%t - s%t_last_event < s%opts%zeno_gap) then
+                s%zeno_run = s%zeno_run + 1
+            else
+                s%zeno_run = 0
+            end if
+        end if
+        s%t_last_event = s%t
+        if (s%zeno_run >= ZENO_ROW) s%stats%status = SS_EVENT_ZENO
+        if (s%ievent > s%opts%max_events .and. s%stats%status == SS_OK) s%stats%status = SS_EVENT_BUDGET
+    end subroutine record
 
-        !> Grid rows with times in (t, t_to], from pass 1's steps (tb(1) = t, t_to <= tb(nrows)):
-        !! a step's end state where a grid time falls on it, its continuous extension between.
-        subroutine output_to(t_to)
-            real(dp), intent(in) :: t_to
-            integer :: j
-            j = 2
-            do while (next <= m)
-                if (t_out(next) > t_to) exit
-                do while (tb(j) < t_out(next))
-                    j = j + 1
-                end do
-                if (t_out(next) == tb(j)) then
-                    y_out(:, next) = yb(:, j)
-                else
-                    y_out(:, next) = dopri5_dense(yb(:, j - 1), cb(:, j), tb(j - 1), t_out(next))
-                end if
-                next = next + 1
+    !> Grid rows with times in (t, t_to], from the mode's steps (tb(1) = t, t_to <= tb(nrows)):
+    !! a step's end state where a grid time falls on it, its continuous extension between.
+    subroutine output_to(s, t_to, t_out, y_out)
+        type(ed_run), intent(inout) :: s
+        real(dp), intent(in)    :: t_to          !! the last time to write [s]
+        real(dp), intent(in)    :: t_out(:)      !! output times [s]
+        real(dp), intent(inout) :: y_out(:, :)   !! output states
+        integer :: j
+        j = 2
+        do while (s%next <= size(t_out))
+            if (t_out(s%next) > t_to) exit
+            do while (s%tb(j) < t_out(s%next))
+                j = j + 1
             end do
-        end subroutine output_to
-
-    end subroutine event_driven_integrate
+            if (t_out(s%next) == s%tb(j)) then
+                y_out(:, s%next) = s%yb(:, j)
+            else
+                y_out(:, s%next) = dopri5_dense(s%yb(:, j - 1), s%cb(:, j), s%tb(j - 1), t_out(s%next))
+            end if
+            s%next = s%next + 1
+        end do
+    end subroutine output_to
 
 end module stickslip_event_driven

@@ -145,8 +145,11 @@ class IntegrationError(RuntimeError):
     def __init__(self, status: int, result: "Result") -> None:
         self.status = status
         self.result = result
+        # event_driven runs DOPRI5 in each mode and a contact solver at each event: its
+        # failure says that it is event_driven's, whichever of them ended it
+        who = "event_driven: " if getattr(result, "method", None) == "event_driven" else ""
         super().__init__(
-            f"{status_message(status)} (status {status}; reached t = {result.stats['t_reached']:.6g} s "
+            f"{who}{status_message(status)} (status {status}; reached t = {result.stats['t_reached']:.6g} s "
             f"of {result.t_end:.6g} s after {result.stats['nstep']} steps)")
 
     def __reduce__(self):
