@@ -561,13 +561,19 @@ FACTS: dict[str, dict[str, str]] = {
     "gallery/den-hartog.md": {
         "1 N": "k = 1 N/m and P0 = 1 N, the problem's units", "0.1": "a friction ratio F/P0, chosen",
     },
+    "gallery/friction-damper-frame.md": {
+        "4.0": "the records' licence, CC BY-SA 4.0", "0.5": "the frame's natural period [s], chosen",
+        "0.32": "El Centro 1940 NS's peak [g], of the record", "2 ms": "the output grid, chosen",
+        "8 s": "a test's run, chosen", "4 s": "a test's run, chosen",
+        "14 kN": "a bound of the test (8 to 14 kN)", "20 mm": "a bound of the test (1 to 20 mm)",
+    },
 }
 #: Pages whose numbers are not yet read from their sources: this list may only shrink.
 NOT_YET_CONVERTED: frozenset[str] = frozenset({
     "guide/identification.md", "guide/implicit-nonsmooth.md",
     "guide/exact-stick.md", "guide/friction-laws.md", "guide/models.md", "guide/advisor.md",
     "guide/fortran-c.md", "guide/prescribed-motion.md",
-    "gallery/friction-damper-frame.md", "gallery/stacked-blocks.md",
+    "gallery/stacked-blocks.md",
 })
 TABLE_BLOCK = re.compile(r"<!-- table: .*?<!-- end table -->", re.S)
 
