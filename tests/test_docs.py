@@ -369,6 +369,9 @@ def test_a_number_is_shown_from_its_source(tmp_path) -> None:
     assert dn.shown("1.20", "t.md:a / b[n=10]", tmp_path)[0] == "1.15"
     assert dn.shown("90 %", "t.md:solved[n=10|100]@min", tmp_path)[0] == "98 %"
     assert dn.shown("1", "t.md:other[n=4]", tmp_path)[0] == "3"
+    (tmp_path / "g.md").write_text("| law | substeps |\n|---|---|\n| a | 30,009 |\n| b | 1,107,726 (max) |\n")
+    assert dn.shown("30009", "g.md:substeps[law=a]", tmp_path)[0] == "30009"     # thousands grouped
+    assert dn.shown("1107726", "g.md:substeps[law=b]", tmp_path)[0] == "1107726"
     page = "It took {num}`230 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"
     text, changed = dn.refresh_text(page, tmp_path)
     assert text == "It took {num}`231 s <r.json:cpu_s>`, within {num}`8.5e-6 m <r.json:err>`.\n"
