@@ -163,17 +163,21 @@ def test_lmfit_benchmark_writes_the_same_fit(monkeypatch: pytest.MonkeyPatch) ->
 
 def test_prescribed_benchmark_has_a_row_per_case(monkeypatch: pytest.MonkeyPatch) -> None:
     """benchmarks/prescribed_speed.py with one call per case: a row per law and parameter set
-    with positive times and the substep counts, and the two scipy rows."""
+    with positive times and the substep counts, and the two scipy rows; then LuGre's error
+    against scipy's Radau at each rtol, within that rtol of its largest mu."""
     monkeypatch.syspath_prepend(str(ROOT))
     from benchmarks.prescribed_speed import CASES, run_prescribed
 
-    lines = [ln for ln in run_prescribed(lambda s: None, repeats=1).splitlines() if ln.startswith("| ")]
-    body = lines[1:]                    # after the header (the separator starts "|-")
+    cost, accuracy = run_prescribed(lambda s: None, repeats=1).split("| rtol |")
+    body = [ln for ln in cost.splitlines() if ln.startswith("| ")][1:]    # after the header
     assert len(body) == len(CASES) + 2
     for (law, _, label), line in zip(CASES, body):
         cells = [c.strip() for c in line.split("|")[1:-1]]
         assert cells[:2] == [law, label]
         assert float(cells[2].split(" / ")[0]) > 0.0 and int(cells[3].replace(",", "")) >= 0
+    rows = [[float(c) for c in ln.split("|")[1:-1]] for ln in accuracy.splitlines() if ln.startswith("| ")]
+    assert [r[0] for r in rows] == [1e-8, 1e-6]
+    assert all(0.0 < err <= rtol * mu_max for rtol, err, mu_max in rows), rows
 
 
 def test_overhead_alone_replaces_its_block_and_rows(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

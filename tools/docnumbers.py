@@ -143,10 +143,14 @@ def _tables(path: Path) -> list[tuple[list[str], list[list[str]]]]:
 
 
 def _cell(text: str, where: str) -> float:
-    """The number of a cell: the cell itself, or the first number in it ("100 %")."""
+    """The number of a cell: the cell itself, or the first number in it ("100 %"; "30,009" is
+    30009, its thousands grouped)."""
     try:
         return float(text)
     except ValueError:
+        m = re.search(r"(?<![\d.])\d{1,3}(?:,\d{3})+(?![\d,])", text)
+        if m is not None and (n := NUMBER.search(text)) is not None and n.start() == m.start():
+            return float(m.group(0).replace(",", ""))
         m = NUMBER.search(text)
         if m is None:
             raise SourceError(f"{where}: the cell {text!r} holds no number") from None
