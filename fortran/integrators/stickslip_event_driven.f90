@@ -36,9 +36,9 @@
 !! At an event the modes are decided together: every stuck contact and every contact that
 !! has reached w = 0 is a candidate, and the problem at rest (their relative accelerations
 !! a_C = af_C + H_C M^-1 H_C^T r_C, with slip at mu(0+) N, the other contacts' slip forces
-!! fixed) is solved by `stickslip_contact_solver` (exact enumeration up to its ENUM_MAX
-!! candidates, stick preferred where several modes are consistent; the contacts one by one
-!! when the Delassus matrix is diagonal). Every change of mode is an event, recorded as
+!! fixed) is solved by `stickslip_contact_solver` (its one rule where several modes are
+!! consistent, as for moreau's steps; an instant where another solution existed is counted in
+!! stats%nonunique; the contacts one by one when the Delassus matrix is diagonal). Every change of mode is an event, recorded as
 !! (t [s], kind: 1 slip -> stick, 2 stick -> slip, 3 reversal (reached w = 0 and slips
 !! back), the contact's slip displacement H_i q [m], contact index). A contact that touches
 !! w = 0 and slips on in the same direction changes no mode and records nothing. The
@@ -819,6 +819,7 @@ contains
             else
                 call delassus_block(ms, t, y, idx, amat)
                 call solve_contacts(cs%laws(idx), amat, af, cap, .true., scale, 1000, p, wv, cmode, info)
+                if (info%nonunique) s%stats%nonunique = s%stats%nonunique + 1
             end if
             s%cand_now = .false.
             if (.not. info%ok) then
