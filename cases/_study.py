@@ -195,6 +195,7 @@ def plot_table(csv_path: Path, png_path: Path, note: str = "") -> Path:
         ax.semilogx([float(cols[name][i]) for i in rows], y + (k - 1) * 0.2, ("o", "s", "^")[k],
                     ms=5, label=label, color=c._style.SEQUENCE[k], linestyle="none")
     ax.axvline(1.0, color="k", linewidth=0.6)
+    ax.margins(x=0.1, y=0.06)             # no marker clipped at the frame
     ax.set_yticks(y, labels)
     ax.invert_yaxis()
     ax.set_xlabel("cost relative to RK4, h = 1e-3 s [-]")

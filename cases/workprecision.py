@@ -286,13 +286,35 @@ def _reserve_top(axes_row: Sequence[Any], values: list[float], lines: int) -> No
             else f"$10^{{{round(math.log10(value))}}}$"))
 
 
+#: Short names of the references of workprecision.csv (its ref_kind), shown in each row.
+REFERENCE_NAMES: dict[str, str] = {
+    "analytic harmonic orbit": "exact motion (harmonic orbit)",
+    "sticking (Filippov) x = 0": "exact motion (sticks: x = 0)",
+    "dopri5 rtol 1e-13": "the law's own DOPRI5 solution"}
+
+
+def pareto_front(cost: np.ndarray, err: np.ndarray) -> np.ndarray:
+    """Indices of the runs no cheaper run beats in error, by increasing `cost`: the line of a
+    work-precision diagram whose cost is measured (CPU time), which is not monotone in the
+    tolerance."""
+    order = np.argsort(cost, kind="stable")
+    keep, best = [], math.inf
+    for i in order:
+        if err[i] < best:
+            keep.append(i)
+            best = err[i]
+    return np.array(keep, dtype=int)
+
+
 def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
     """Render workprecision.csv: error against function evaluations and against CPU time, one
     figure per scene and cost (workprecision_<cost>_<scene>.png), a row per law and two panels
     a row (fixed-step methods, adaptive methods; at most four methods a panel, each with its
     colour and marker of harness.style), log-log. Lines: discretisation error; grey dashed line:
     the law's model error (its converged solution against the physical truth); grey dotted
-    line: ERR_DRAWN, where exact zeros are drawn; a cross at the top: a failed run. A note in
+    line: ERR_DRAWN, where exact zeros are drawn; a cross at the top: a failed run. Against CPU
+    time (measured, not monotone in the tolerance) every run is a marker and the line joins the
+    front (pareto_front). The left panel of a row names its reference. A note in
     the panel names the methods refused or not run there, and those whose error is exactly 0
     at every point (their markers lie on each other at ERR_DRAWN)."""
     from matplotlib.lines import Line2D
@@ -337,8 +359,14 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                         look = {"color": c._style.color(m), "marker": c._style.METHOD_MARKERS[m],
                                 "ms": 5, "lw": 1.2, "mec": "black" if m == "event_driven" else None,
                                 "mew": 0.5}
-                        legend[short[m]] = ax.loglog(
-                            x[ok], np.maximum(y[ok], ERR_DRAWN), "-", **look)[0]
+                        yd = np.maximum(y[ok], ERR_DRAWN)
+                        if xkey == "cpu [s]":  # a timed sweep is not monotone in CPU time:
+                            # every run a marker, the line through the front (cheapest error)
+                            ax.loglog(x[ok], yd, "none", **look)
+                            front = pareto_front(x[ok], yd)
+                            legend[short[m]] = ax.loglog(x[ok][front], yd[front], "-", **look)[0]
+                        else:
+                            legend[short[m]] = ax.loglog(x[ok], yd, "-", **look)[0]
                         row_values += [max(float(yi), ERR_DRAWN) for yi in y[ok]]
                         if ok.any() and np.all(y[ok] == 0.0):
                             zeros.append(short[m])
@@ -356,7 +384,10 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                     row_notes.append((ax, notes))
                     if a == 0:
                         ax.set_title(group)
-                    if b == 0:
+                    if b == 0:                # the row's one reference, stated in it
+                        kinds = sorted(set(np.array(cols["ref_kind [-]"])[here]))
+                        notes.insert(0, "error against: " + " or ".join(
+                            REFERENCE_NAMES.get(k, k) for k in kinds))
                         ax.set_ylabel(f"{c._style.name(l).split(' (')[0]}: error [m]")
                 _reserve_top(axes[a], row_values or [ERR_DRAWN, 1.0],
                              max(len(n) for _, n in row_notes))
