@@ -26,6 +26,7 @@ FIGURES = ROOT / "docs" / "figures"
 sys.path.insert(0, str(ROOT))
 
 import matplotlib  # noqa: E402
+import matplotlib.text  # noqa: E402
 
 matplotlib.use("Agg")
 from matplotlib.figure import Figure  # noqa: E402
@@ -149,6 +150,20 @@ def check_figure(fig: Figure, name: str, *, fitted: tuple[str, ...] = ("x", "y")
                 if lo < dmin - room or hi > dmax + room:
                     problems.append(f"{where}: {which} axis {lo:.3g} .. {hi:.3g} for data "
                                     f"{dmin:.3g} .. {dmax:.3g} (more than 20 % beyond)")
+    # every text inside the figure (a label cut at the edge is not read)
+    page = fig.bbox
+    ticks = {id(label) for ax in fig.axes for axis in (ax.xaxis, ax.yaxis)
+             for tick in axis.get_major_ticks() + axis.get_minor_ticks()
+             for label in (tick.label1, tick.label2)}
+    drawn = {id(label) for ax in fig.axes for axis in (ax.xaxis, ax.yaxis)
+             for label in _shown_ticks(axis)}
+    for text in fig.findobj(matplotlib.text.Text):
+        if id(text) in ticks and id(text) not in drawn:
+            continue
+        if text.get_visible() and text.get_text().strip() and text.figure is fig:
+            box = text.get_window_extent(renderer)
+            if box.x0 < page.x0 - 1 or box.x1 > page.x1 + 1 or box.y0 < page.y0 - 1 or box.y1 > page.y1 + 1:
+                problems.append(f"{name}: the text {text.get_text()!r} reaches beyond the figure")
     legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
     for legend in legends:
         box = legend.get_window_extent(renderer)
