@@ -252,8 +252,8 @@ def test_fig14_implicit(saved: list[Figure], tmp_path: Path) -> None:
 def test_cli_plot(saved: list[Figure], tmp_path: Path) -> None:
     """python -m stickslip run MODEL.toml --plot: two bodies that stick together (a clutch)."""
     import stickslip as ss
-    from stickslip import signals as S
     from stickslip.__main__ import main
+    S = ss.signal
     m = ss.Model()
     j1 = m.add_body(1.0, x0=0.0, v0=10.0, name="J1")
     j2 = m.add_body(1.0, name="J2")
@@ -265,8 +265,9 @@ def test_cli_plot(saved: list[Figure], tmp_path: Path) -> None:
     path = tmp_path / "clutch.toml"
     m.to_toml(path)
     out = tmp_path / "clutch.csv"
-    assert main(["run", str(path), "--method", "moreau", "--h", "1e-3", "--t-end", "1.5",
-                 "--out", str(out), "--plot"]) == 0
+    with matplotlib.rc_context():         # the CLI sets its fonts for its own process
+        assert main(["run", str(path), "--method", "moreau", "--h", "1e-3", "--t-end", "1.5",
+                     "--out", str(out), "--plot"]) == 0
     (fig,) = saved
     assert check_figure(fig, "cli plot") == []
     # a curve on another stays visible: the bodies' curves differ in line style and marker

@@ -113,7 +113,8 @@ def _steady(args: argparse.Namespace, fail: "Callable[[str], int]") -> int:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(6.0, 4.0), layout="constrained")
+        plt.rcParams.update(_PLOT_FONTS)
+        fig, ax = plt.subplots(figsize=(_PLOT_WIDTH, 3.4), layout="constrained")
         if args.command == "orbit":
             for i, n in enumerate(names):
                 ax.plot(orb.result.x[i], orb.result.v[i], label=n,
@@ -134,6 +135,10 @@ def _steady(args: argparse.Namespace, fail: "Callable[[str], int]") -> int:
     return 0
 
 
+#: Width of the --plot figures [in] and their font size [pt]: 8 pt once scaled to a journal's
+#: column (8.5 cm), the figure checklist of docs/guide/extending.md.
+_PLOT_WIDTH: float = 4.5
+_PLOT_FONTS: dict[str, float] = {"font.size": 8.0 * _PLOT_WIDTH / (8.5 / 2.54)}
 #: Line styles of the bodies' curves, so that a curve on another (bodies that stick together)
 #: stays visible: the later drawn dashed over the earlier.
 _LINE_STYLES: tuple[str, ...] = ("-", "--", ":", "-.")
@@ -153,7 +158,7 @@ def _legend_below(fig: Any, ax: Any) -> None:
     """One legend for the figure, below the axes, where it covers no curve."""
     handles, labels = ax.get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 4),
-               frameon=False, fontsize="small")
+               frameon=False)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -198,7 +203,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(6.0, 4.8), layout="constrained")
+        plt.rcParams.update(_PLOT_FONTS)
+        fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(_PLOT_WIDTH, 4.4), layout="constrained")
         for i, n in enumerate(names):
             ax1.plot(res.t, res.x[i], label=n, **_series_style(i, len(names), res.t.size))
             ax2.plot(res.t, res.v[i], label=n, **_series_style(i, len(names), res.t.size))
