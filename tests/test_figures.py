@@ -253,17 +253,9 @@ def test_fig14_implicit(saved: list[Figure], tmp_path: Path) -> None:
 
 def test_cli_plot(saved: list[Figure], tmp_path: Path) -> None:
     """python -m stickslip run MODEL.toml --plot: two bodies that stick together (a clutch)."""
-    import stickslip as ss
     from stickslip.__main__ import main
-    S = ss.signal
-    m = ss.Model()
-    j1 = m.add_body(1.0, x0=0.0, v0=10.0, name="J1")
-    j2 = m.add_body(1.0, name="J2")
-    m.add_spring(j1, None, k=100.0, rest_length=0.0)
-    m.add_damper(j1, j2, c=2.0)
-    m.add_force(j1, S.sine(10.0, 5.0))
-    m.add_contact(j1, j2, "coulomb", normal_force=20.0 * S.step(0.4), mu_s=0.55, mu_k=0.5)
-    m.add_contact(j2, None, "stribeck", normal_force=98.1, surface_velocity=1.5)
+    from test_model import clutch        # two bodies and a clutch between them
+    m = clutch()
     path = tmp_path / "clutch.toml"
     m.to_toml(path)
     out = tmp_path / "clutch.csv"
