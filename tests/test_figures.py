@@ -30,7 +30,6 @@ import matplotlib.text  # noqa: E402
 
 matplotlib.use("Agg")
 from matplotlib.figure import Figure  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 
 #: How far an axis may reach beyond its data: a factor on a log axis, a fraction of the data's
