@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import inspect
+import math
 import multiprocessing
 import os
 import queue
@@ -94,6 +95,38 @@ def figure_legend(fig: Any, axes: Iterable[Any], ncol: int = 3, caption: str | N
             return legend
         legend.remove()
         n -= 1
+
+
+def log_ticks(ax: Any, axis: str = "y", labels: int = 3) -> None:
+    """Label a log axis of `ax` with at least `labels` ticks inside its limits (the figure
+    checklist: at least three tick labels on a log axis), as few as that takes so that they do
+    not overlap: every k-th decade; where the limits hold fewer decades, the limits widened to
+    the decades around them (less than a decade beyond the data) and, if that is not enough,
+    1, 2 and 5 of each decade. Call it once the limits are final."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+    lo, hi = sorted(ax.get_ylim() if axis == "y" else ax.get_xlim())
+    first, last = math.ceil(math.log10(lo) - 1e-9), math.floor(math.log10(hi) + 1e-9)
+    if last - first < labels - 1:         # widen to the decades around the limits
+        first, last = math.floor(math.log10(lo) + 1e-9), math.ceil(math.log10(hi) - 1e-9)
+        lo, hi = 10.0 ** first, 10.0 ** last
+        (ax.set_ylim if axis == "y" else ax.set_xlim)(lo, hi)
+    decades = last - first
+    if decades >= labels - 1:
+        step = max(1, decades // (labels - 1))
+        ticks = [10.0 ** e for e in range(first, last + 1, step)]
+    else:
+        ticks = [m * 10.0 ** e for e in range(first, last + 1) for m in (1, 2, 5)
+                 if lo <= m * 10.0 ** e <= hi]
+
+    def text(value: float, _: Any) -> str:
+        e = math.floor(math.log10(value) + 1e-9)
+        m = round(value / 10.0 ** e)
+        return f"$10^{{{e}}}$" if m == 1 else f"${m}\\times10^{{{e}}}$"
+
+    target = ax.yaxis if axis == "y" else ax.xaxis
+    target.set_major_locator(FixedLocator(ticks))
+    target.set_major_formatter(FuncFormatter(text))
+    target.set_minor_formatter(NullFormatter())
 
 
 def save_figure(fig: Any, path: str | os.PathLike[str]) -> Path:

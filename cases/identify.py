@@ -319,36 +319,48 @@ def plot(outdir: str | Path) -> list[Path]:
             fig.colorbar(im, ax=ax, label="correlation of the estimates [-]")
             ax.set_title(f"{LAW_NAMES.get(chosen, chosen)} at {g}: correlations")
             files += _save(fig, outdir / f"identify_correlation_{g}")
-    # scores of every law
+    files += plot_scores(outdir / "identify_scores.csv", outdir)
+    return files
+
+
+def plot_scores(csv: str | Path, outdir: str | Path) -> list[Path]:
+    """The scores of every law (identify_scores.csv): the RMS errors (held out: bars, fitted:
+    ticks) and the BIC above the best, a colour per group; axes fitted to the data and one
+    legend below the panels (it covers no data)."""
+    import matplotlib.pyplot as plt
+    scores = _rows(Path(csv))
+    groups = sorted({r["group [-]"] for r in scores})
     laws = list(dict.fromkeys(r["law [-]"] for r in scores))
     width = SCORES_WIDTH
     _style.apply(width)
     fig, axes = plt.subplots(2, 1, figsize=(width, 2.0 * width), sharex=True)
     width = 0.8 / max(len(groups), 1)
+    errors: list[float] = []
+    bics: list[float] = []
     for k, g in enumerate(groups):
         mine = {r["law [-]"]: r for r in scores if r["group [-]"] == g}
         xs = np.arange(len(laws)) + (k - 0.5 * (len(groups) - 1)) * width
         held = [float(mine[l]["nrmse held out [-]"] or "nan") for l in laws]
         fitted = [float(mine[l]["nrmse fitted [-]"]) for l in laws]
+        bic = [float(mine[l]["delta BIC [-]"]) + 1.0 for l in laws]
+        errors += [100 * v for v in held + fitted if np.isfinite(v)]
+        bics += bic
         axes[0].bar(xs, 100 * np.array(held), width, color=GROUP_COLORS[k % len(GROUP_COLORS)],
                     label=g)
         axes[0].plot(xs, 100 * np.array(fitted), "k_", ms=8, label="fitted" if k == 0 else None)
         # points, not bars, on the log axis (a bar's length from an arbitrary baseline means nothing)
-        axes[1].semilogy(xs, [float(mine[l]["delta BIC [-]"]) + 1.0 for l in laws], "o", ms=5,
-                         color=GROUP_COLORS[k % len(GROUP_COLORS)], label=g)
+        axes[1].semilogy(xs, bic, "o", ms=5, color=GROUP_COLORS[k % len(GROUP_COLORS)], label=g)
     axes[1].set_xticks(range(len(laws)), [LAW_NAMES.get(l, l).split(" (")[0] for l in laws], rotation=90)
     axes[0].set_ylabel("RMS error / force range [%]")
     axes[0].set_title("error: held out (bars), fitted (ticks)")
-    axes[1].set_yscale("log")
+    axes[0].set_ylim(0.0, 1.08 * max(errors))             # axes fitted to the data
     axes[1].set_ylabel("BIC - best BIC + 1 [-]")
     axes[1].set_title("BIC of the fits (lower: better)")
-    for ax, room in ((axes[0], 1.6), (axes[1], 1e3)):     # room for the legend above the data
-        low, high = ax.get_ylim()
-        ax.set_ylim(low, high * room)
-        ax.legend(loc="upper right", ncol=len(groups) + (ax is axes[0]), handlelength=1.2,
-                  columnspacing=0.8)
-    files += _save(fig, outdir / "identify_scores")
-    return files
+    axes[1].set_ylim(min(bics) / 2.0, max(bics) * 2.0)
+    c.log_ticks(axes[1], "y")
+    c.figure_legend(fig, axes, ncol=len(groups) + 1)
+    png = c.save_figure(fig, Path(outdir) / "identify_scores.png")
+    return [png, png.with_suffix(".pdf")]
 
 
 def write_correlations(outdir: Path, results: list[dict[str, Any]], scores_path: Path) -> list[Path]:

@@ -297,36 +297,58 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     return c.save_figure(fig, Path(outdir) / "implicit_slope.png")
 
 
+#: Periods of the harmonic orbit the top panels of fig14_implicit show, at the end of the run:
+#: 30 s of oscillation at a column's width is a block of colour; the last periods show where
+#: each method has drifted to.
+FIG14_PERIODS: float = 2.0
+
+
 def plot_fig14(csv: Path, outdir: str | Path) -> Path:
     """fig14_implicit.csv: for each step size, x(t) of implicit Euler and generalized-alpha
-    beside the exact harmonic solution x_k (1 - cos w t) (top), and each method's distance from
-    it on a log axis (bottom), where the variants that lie on each other on top separate."""
+    beside the exact harmonic solution x_k (1 - cos w t) over the last FIG14_PERIODS periods
+    (top), and each method's largest distance from it so far on a log axis over the whole run
+    (bottom), where the variants that lie on each other on top separate; staggered markers keep
+    a curve on another visible."""
     cols = c.read_numeric_csv(csv)
     t = cols["t [s]"]
     w, x_k = harmonic(_belt_params())
     exact = x_k * (1.0 - np.cos(w * t))
+    last = t >= t[-1] - FIG14_PERIODS * 2.0 * np.pi / w
     width = c.figure_width(len(FIG14_H))
     c._style.apply(width)
-    fig, axes = c.plt.subplots(2, len(FIG14_H), figsize=(width, 7.8), sharex=True, squeeze=False)
+    fig, axes = c.plt.subplots(2, len(FIG14_H), figsize=(width, 7.8), squeeze=False,
+                               sharey="row")
+    palette = (c._style.color("implicit_euler"), *GALPHA_COLORS)
     for col, h in enumerate(FIG14_H):
         top, bottom = axes[0][col], axes[1][col]
-        top.plot(t, exact, color="0.6", lw=2.4, label="exact: x_k (1 - cos ωt)")
-        for j, (label, method, rho, hh) in enumerate(v for v in fig14_variants() if v[3] == h):
+        top.plot(t[last], exact[last], color="0.6", lw=3.0, label="exact: x_k (1 - cos ωt)")
+        variants = [v for v in fig14_variants() if v[3] == h]
+        for j, (label, method, rho, hh) in enumerate(variants):
             x = cols[f"x {label} [m]"]
             name = c._style.name(method) + ("" if rho is None else f", ρ∞ = {rho:g}")
-            palette = (c._style.color("implicit_euler"), *GALPHA_COLORS)
-            style = dict(color=palette[j], linestyle=c.VARIANT_STYLES[j % 4], lw=1.2)
+            marker = c._style.METHOD_MARKERS[method] if rho is None else "osD^"[j % 4]
+            style = dict(color=palette[j], linestyle=c.VARIANT_STYLES[j % 4], lw=1.2,
+                         marker=marker, ms=4, mfc="white")
             if rho is None or rho == 0.0:          # the other rho_inf lie on this one on top
-                top.plot(t, x, label=name, **style)
+                n = int(last.sum())
+                top.plot(t[last], x[last], label=name, markevery=(j * n // 12, n // 6), **style)
             worst = np.maximum.accumulate(np.abs(x - exact))
-            bottom.semilogy(t[worst > 0], worst[worst > 0], label=name, **style)
+            pos = worst > 0
+            n = int(pos.sum())
+            bottom.semilogy(t[pos], worst[pos], label=name,
+                            markevery=(j * n // (6 * len(variants)), n // 6), **style)
         # generalized-alpha with rho_inf = 0.5, 0.9, 1 lies on rho_inf = 0 on top: drawn below only
         top.set_title(f"h = {h:g} s")
+        top.set_xlabel("time t [s]")
+        top.set_xlim(t[last][0], t[-1])
         bottom.set_xlabel("time t [s]")
+        bottom.set_xlim(0.0, t[-1])
     axes[0][0].set_ylabel("x [m]")
     axes[1][0].set_ylabel("max |x - exact| so far [m]")
+    for ax in axes[1]:
+        c.log_ticks(ax, "y")
     fig.suptitle("Fig. 14 again: belt, RecurDyn law (μ = μ_k)")
-    c.figure_legend(fig, [ax for row in axes for ax in row], ncol=3)
+    c.figure_legend(fig, [ax for row in axes for ax in row], ncol=2)
     return c.save_figure(fig, Path(outdir) / "fig14_implicit.png")
 
 

@@ -45,7 +45,6 @@ serial (about 400 short simulations).
 from __future__ import annotations
 
 import math
-import textwrap
 import time
 from pathlib import Path
 from typing import Any, Sequence
@@ -365,7 +364,7 @@ FIGURES: dict[str, tuple[str, bool, str, str]] = {
     "rest": ("rate_measured [1/s]", False, "growth rate of the oscillation [1/s]",
              "Belt from rest: growth rates"),
     "hmax": ("h_bounded [s]", True, "largest step h [s]",
-             "Largest bounded step: ○ slope, □ belt"),
+             "Largest step h with a bounded motion"),
 }
 
 
@@ -377,6 +376,15 @@ def series_name(tag: str) -> str:
         return f"{words[0]}: {c._style.name(words[1]) if len(words) > 1 else 'RK4'}"
     text = c._style.name(words[0]) if words else tag
     return text + "".join(f", h = {w[2:]} s" for w in words[1:] if w.startswith("h="))
+
+
+def legend_name(tag: str) -> str:
+    """A method's legend entry without its step (the panel says "set-valued"; the legend says
+    which step is hollow): "moreau h=0.001" -> "Moreau-Jean", "slope rk4" -> "RK4"."""
+    words = tag.split()
+    if words and words[0] in c._style.SCENE_NAMES:
+        words = words[1:] or ["rk4"]
+    return c._style.name(words[0]).removesuffix(" (set-valued)")
 
 
 #: Width of the figures of runs grouped by law [in]; their fonts are scaled to stay legible at a
@@ -431,15 +439,22 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
     tags = [f"{m}" + (f" h={h}" if h else "")
             for m, h in zip(cols[second], cols.get("h [s]", [""] * len(cols[second])))]
     series = list(dict.fromkeys(tags))
-    # a log figure of every method: a panel per family, so that a group holds a few points
-    families = [(name, [t for t in series if t.partition(" h=")[0] in members])
-                for name, members in FAMILIES] if log and kind != "hmax" else [("", series)]
+    # a log figure of every method: a panel per family (per scene for "hmax"), so that a
+    # law's group holds a few points a panel and no marker hides another
+    if kind == "hmax":
+        families = [(c._style.name(scene), [t for t in series if t.partition(" ")[0] == scene])
+                    for scene in ("slope", "belt")]
+    elif log:
+        families = [(name, [t for t in series if t.partition(" h=")[0] in members])
+                    for name, members in FAMILIES]
+    else:
+        families = [("", series)]
     families = [(name, group) for name, group in families if group]
     others = [t for t in series if not any(t in group for _, group in families)]
     if others:
         families.append(("other", others))
     c._style.apply(WIDTH)
-    fig, axes = c.plt.subplots(len(families), 1, figsize=(WIDTH, 4.4 + 2.4 * max(len(families), 2)),
+    fig, axes = c.plt.subplots(len(families), 1, figsize=(WIDTH, 3.6 + 2.3 * max(len(families), 2)),
                                squeeze=False, sharex=True, sharey=True)
     lowest = math.inf                     # the smallest value drawn on a log axis
     marks = False
@@ -448,26 +463,45 @@ def plot(csv: str | Path, outdir: str | Path) -> Path:
         lowest, marks = min(lowest, low), marks or marked
         if family:
             ax.set_title(family, loc="left")
-        if len(families) == 1:
-            ax.set_ylabel(ylabel)
-    if len(families) > 1:
-        fig.supylabel(ylabel, fontsize=c.plt.rcParams["axes.labelsize"])
+    # one y label, beside the panels (not beside the legend below them)
+    middle = axes[len(families) // 2, 0]
+    middle.set_ylabel(ylabel)
+    if len(families) % 2 == 0:            # centred between the two middle panels
+        middle.yaxis.set_label_coords(-0.14, 1.0 + 0.5 * fig.subplotpars.hspace)
+    if kind == "hmax":                    # the step search's upper end: a value there is ">= cap"
+        for ax in axes[:, 0]:
+            ax.axhline(HMAX_CAP, color="0.4", linestyle=":", linewidth=0.9,
+                       label=f"upper end of the search ({HMAX_CAP * 1e3:g} ms)")
+        axes[0, 0].set_ylim(top=HMAX_CAP * 2.5)
     if log and marks and math.isfinite(lowest):   # the foot's marks below every value
-        axes[0, 0].set_ylim(bottom=lowest / 30.0)
-
-    def tick(law: str) -> str:           # "lugre sigma2=0" -> "LuGre, σ2 = 0"
-        base, _, variant = law.partition(" ")
-        name = textwrap.fill(c._style.name(base).split(" (")[0], 12)   # "generalized\nMaxwell-slip"
-        return name + (", " + variant.replace("sigma", "σ").replace("=", " = ") if variant else "")
+        axes[0, 0].set_ylim(bottom=lowest / 8.0)
+    if log:
+        for ax in axes[:, 0]:
+            c.log_ticks(ax, "y")
 
     axes[-1, 0].set_xticks(range(len(laws)))
-    axes[-1, 0].set_xticklabels([tick(law) for law in laws], rotation=90)
+    axes[-1, 0].set_xticklabels([tick_label(law) for law in laws], rotation=90)
+    axes[-1, 0].set_xlim(-0.6, len(laws) - 0.4)
     if len(families) > 1:
         fig.suptitle(title)
     else:
         axes[0, 0].set_title(title)
-    c.figure_legend(fig, axes[:, 0], ncol=2)
+    c.figure_legend(fig, axes[:, 0], ncol=3)
     return c.save_figure(fig, Path(outdir) / f"{csv.stem}.png")
+
+
+#: The upper end of the largest-step search (largest_step's `hi`) [s].
+HMAX_CAP: float = 1e-2
+#: Tick labels of the laws, on one line each (two lines side by side would overlap their
+#: neighbours at the printed size).
+SHORT_NAMES: dict[str, str] = {"gms": "gen. Maxwell-slip"}
+
+
+def tick_label(law: str) -> str:
+    """A law's tick label on one line: "lugre sigma2=0" -> "LuGre, σ2 = 0"."""
+    base, _, variant = law.partition(" ")
+    name = SHORT_NAMES.get(base, c._style.name(base).split(" (")[0])
+    return name + (", " + variant.replace("sigma", "σ").replace("=", " = ") if variant else "")
 
 
 #: The panels of a log figure of laws_compare: the methods grouped by family.
@@ -488,14 +522,15 @@ def _draw_group(ax: Any, kind: str, log: bool, cols: dict[str, list[str]], laws:
     width = 0.8 / max(len(members), 1)
     failed, zero, missing = [], [], []
     lowest = math.inf
+    steps_drawn: dict[str, set[float]] = {"filled": set(), "hollow": set()}
 
     def bar_style(s: str, j: int) -> dict[str, Any]:
         """A method's own colour (harness.style), its second step hatched; on "hmax" (series
         "scene method") the method's colour too, the belt's marked by a square."""
         if kind == "hmax":
-            scene, _, method = s.partition(" ")
-            return {"color": c._style.METHOD_COLORS.get(method or "rk4", "0.3"),
-                    "marker": "s" if scene == "belt" else "o"}
+            method = s.partition(" ")[2] or "rk4"
+            return {"color": c._style.METHOD_COLORS.get(method, "0.3"),
+                    "marker": c._style.METHOD_MARKERS.get(method, "o")}
         method = s.partition(" h=")[0]
         if method not in c._style.METHOD_COLORS:
             return {"color": c._style.SEQUENCE[j % len(c._style.SEQUENCE)]}
@@ -528,21 +563,29 @@ def _draw_group(ax: Any, kind: str, log: bool, cols: dict[str, list[str]], laws:
         if log:                           # points: no bars on a log axis
             lowest = min([lowest, *ys])
             st = bar_style(s, j)
-            ax.plot(xs, ys, linestyle="none", marker=st.get("marker", "o"), markersize=5, label=series_name(s),
+            # one legend entry a method (its second step hollow, explained once: STEP_NOTE)
+            ax.plot(xs, ys, linestyle="none", marker=st.get("marker", "o"), markersize=5,
+                    label="_" if st.get("hatch") else legend_name(s),
                     color=st["color"], markeredgewidth=1.0,
                     markerfacecolor="white" if st.get("hatch") else st["color"])
+            if " h=" in s:
+                steps_drawn["hollow" if st.get("hatch") else "filled"].add(float(s.partition(" h=")[2]))
         else:
             st = {k: v for k, v in bar_style(s, j).items() if k != "marker"}
             ax.bar(xs, ys, width=width, label=series_name(s), **st)
+    if steps_drawn["hollow"]:             # which step is which, once
+        for key, face in (("filled", "0.3"), ("hollow", "white")):
+            hs = " or ".join(f"{h:g}" for h in sorted(steps_drawn[key], reverse=True))
+            ax.plot([], [], "o", color="0.3", mfc=face, ms=5, label=f"{key}: h = {hs} s")
     if failed:
         ax.plot(failed, [0.04] * len(failed), "x", color="k", ms=6, mew=1.5, transform=foot,
                 label="failed run" if kind != "hmax" else "no bounded step")
     if zero:
         ax.plot(zero, [0.04] * len(zero), "o", mfc="none", color="k", ms=6, transform=foot,
-                label="exactly 0 (not on a log axis)")
+                label="exactly 0")
     if missing and log:
         ax.plot(missing, [0.04] * len(missing), "_", color="0.55", ms=6, mew=1.5, transform=foot,
-                label="not run: the method refuses the law")
+                label="refused by the method")
     if kind == "rest":
         ax.plot(range(len(laws)), [float(v) for v in cols["rate_predicted [1/s]"]], "o",
                 color="k", label="predicted: -g μ'(v_b)/2")

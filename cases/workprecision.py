@@ -264,11 +264,15 @@ CAPTION: str = (
     "what the friction law itself gets wrong, which no step or tolerance removes. Errors below "
     f"{ERR_DRAWN:g} m (exact zeros included) are drawn at {ERR_DRAWN:g} m; a failed run is a "
     "cross at the top of its panel; a method without a curve is named in the panel with the "
-    "reason (refused by the library, or not run).")
+    "reason (refused by the library, or not run). Each row names its one reference at its top "
+    "left: \"vs exact motion\" (the set-valued motion, for every method of the row, the "
+    "regularised ones included) or \"vs converged run\" (the law's own DOPRI5 solution at rtol "
+    "= 1e-13). Against CPU time, which is measured and not monotone in the tolerance, every "
+    "run is a marker and the line joins the runs that no cheaper run beats.")
 
 
 #: Height of a line of a panel's note, as a fraction of the panel's height [-].
-NOTE_LINE: float = 0.1
+NOTE_LINE: float = 0.12
 
 
 
@@ -286,13 +290,37 @@ def _reserve_top(axes_row: Sequence[Any], values: list[float], lines: int) -> No
             else f"$10^{{{round(math.log10(value))}}}$"))
 
 
+#: Short names of the references of workprecision.csv (its ref_kind), shown in each row.
+#: "vs exact motion": against the set-valued (physical) motion for every method of the row;
+#: "vs converged run": against the same law's DOPRI5 solution at rtol = 1e-13 (CAPTION).
+REFERENCE_NAMES: dict[str, str] = {
+    "analytic harmonic orbit": "vs exact motion",
+    "sticking (Filippov) x = 0": "vs exact motion",
+    "dopri5 rtol 1e-13": "vs converged run"}
+
+
+def pareto_front(cost: np.ndarray, err: np.ndarray) -> np.ndarray:
+    """Indices of the runs no cheaper run beats in error, by increasing `cost`: the line of a
+    work-precision diagram whose cost is measured (CPU time), which is not monotone in the
+    tolerance."""
+    order = np.argsort(cost, kind="stable")
+    keep, best = [], math.inf
+    for i in order:
+        if err[i] < best:
+            keep.append(i)
+            best = err[i]
+    return np.array(keep, dtype=int)
+
+
 def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
     """Render workprecision.csv: error against function evaluations and against CPU time, one
     figure per scene and cost (workprecision_<cost>_<scene>.png), a row per law and two panels
     a row (fixed-step methods, adaptive methods; at most four methods a panel, each with its
     colour and marker of harness.style), log-log. Lines: discretisation error; grey dashed line:
     the law's model error (its converged solution against the physical truth); grey dotted
-    line: ERR_DRAWN, where exact zeros are drawn; a cross at the top: a failed run. A note in
+    line: ERR_DRAWN, where exact zeros are drawn; a cross at the top: a failed run. Against CPU
+    time (measured, not monotone in the tolerance) every run is a marker and the line joins the
+    front (pareto_front). The left panel of a row names its reference. A note in
     the panel names the methods refused or not run there, and those whose error is exactly 0
     at every point (their markers lie on each other at ERR_DRAWN)."""
     from matplotlib.lines import Line2D
@@ -337,8 +365,14 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                         look = {"color": c._style.color(m), "marker": c._style.METHOD_MARKERS[m],
                                 "ms": 5, "lw": 1.2, "mec": "black" if m == "event_driven" else None,
                                 "mew": 0.5}
-                        legend[short[m]] = ax.loglog(
-                            x[ok], np.maximum(y[ok], ERR_DRAWN), "-", **look)[0]
+                        yd = np.maximum(y[ok], ERR_DRAWN)
+                        if xkey == "cpu [s]":  # a timed sweep is not monotone in CPU time:
+                            # every run a marker, the line through the front (cheapest error)
+                            ax.loglog(x[ok], yd, linestyle="none", **look)
+                            front = pareto_front(x[ok], yd)
+                            legend[short[m]] = ax.loglog(x[ok][front], yd[front], "-", **look)[0]
+                        else:
+                            legend[short[m]] = ax.loglog(x[ok], yd, "-", **look)[0]
                         row_values += [max(float(yi), ERR_DRAWN) for yi in y[ok]]
                         if ok.any() and np.all(y[ok] == 0.0):
                             zeros.append(short[m])
@@ -352,11 +386,12 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                         notes += [f"error 0: {zeros[0]}"] + [f"  {z}" for z in zeros[1:]]
                     ax.grid(True, which="major", alpha=0.3)
                     ax.yaxis.set_major_locator(LogLocator(numticks=5))
-                    ax.xaxis.set_major_locator(LogLocator(numticks=4))
                     row_notes.append((ax, notes))
                     if a == 0:
                         ax.set_title(group)
-                    if b == 0:
+                    if b == 0:                # the row's one reference, stated in it
+                        kinds = sorted(set(np.array(cols["ref_kind [-]"])[here]))
+                        notes.insert(0, " or ".join(REFERENCE_NAMES.get(k, k) for k in kinds))
                         ax.set_ylabel(f"{c._style.name(l).split(' (')[0]}: error [m]")
                 _reserve_top(axes[a], row_values or [ERR_DRAWN, 1.0],
                              max(len(n) for _, n in row_notes))
@@ -365,6 +400,7 @@ def plot(csv: str | Path, outdir: str | Path) -> list[Path]:
                             va="top", color="0.25", linespacing=1.1, in_layout=False)
             for ax in axes[-1]:
                 ax.set_xlabel(xlabel)
+                c.log_ticks(ax, "x")
             fig.suptitle(f"{c._style.name(s)}: error in x({t_end:g} s)")
             order = [short[m] for m in METHODS] + [k for k in legend if k not in short.values()]
             keys = [k for k in order if k in legend]

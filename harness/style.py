@@ -33,9 +33,12 @@ OKABE_ITO: dict[str, str] = {"black": "#000000", "orange": "#E69F00", "sky blue"
                              "bluish green": "#009E73", "yellow": "#F0E442", "blue": "#0072B2",
                              "vermillion": "#D55E00", "reddish purple": "#CC79A7"}
 _C = OKABE_ITO
-#: The colour cycle of every axes (yellow last: it is faint on white).
+#: Paul Tol's "wine": a dark colour for the eighth series, where Okabe & Ito's yellow would be
+#: faint on white (the figure checklist: markers visible on white).
+WINE: str = "#882255"
+#: The colour cycle of every axes (no yellow: it is faint on white).
 SEQUENCE: tuple[str, ...] = (_C["blue"], _C["vermillion"], _C["bluish green"], _C["orange"],
-                             _C["reddish purple"], _C["sky blue"], _C["black"], _C["yellow"])
+                             _C["reddish purple"], _C["sky blue"], _C["black"], WINE)
 
 #: Colours and markers a law or method the choices below do not name takes, in this order,
 #: skipping those already taken: Paul Tol's colour-blind-safe "muted" colours not chosen below,
@@ -92,7 +95,7 @@ LAW_COLORS: dict[str, str] = keyed(LAWS, _LAW_COLORS, SPARE_COLORS)
 _METHOD_COLORS: dict[str, str] = {
     "rk4": _C["blue"], "dopri5": _C["vermillion"], "radau5": _C["bluish green"],
     "implicit_euler": _C["orange"], "galpha": _C["reddish purple"], "dop853": _C["sky blue"],
-    "moreau": _C["black"], "event_driven": _C["yellow"]}
+    "moreau": _C["black"], "event_driven": WINE}
 METHOD_COLORS: dict[str, str] = keyed(METHODS, _METHOD_COLORS, SPARE_COLORS)
 CLASS_COLORS: dict[str, str] = {
     "stable": _C["bluish green"], "chattering": _C["orange"], "spurious": _C["reddish purple"],

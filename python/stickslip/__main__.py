@@ -7,7 +7,7 @@ import io
 import os
 import sys
 import warnings
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -113,25 +113,52 @@ def _steady(args: argparse.Namespace, fail: "Callable[[str], int]") -> int:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(6.0, 4.0))
+        plt.rcParams.update(_PLOT_FONTS)
+        fig, ax = plt.subplots(figsize=(_PLOT_WIDTH, 3.4), layout="constrained")
         if args.command == "orbit":
             for i, n in enumerate(names):
-                ax.plot(orb.result.x[i], orb.result.v[i], label=n)
+                ax.plot(orb.result.x[i], orb.result.v[i], label=n,
+                        **_series_style(i, len(names), orb.result.x[i].size))
             ax.set_xlabel("position [m]")
             ax.set_ylabel("velocity [m/s]")
             ax.set_title(f"period {orb.period:.6g} s")
-            ax.legend(loc="best", fontsize="small")
+            _legend_below(fig, ax)
         else:
             br.plot(ax)
             ax.set_yscale("log")
             ax.set_xlabel("frequency [Hz]")
-        fig.tight_layout()
         buffer = io.BytesIO()
         fig.savefig(buffer, format="png", dpi=150)
         write_whole(os.path.splitext(args.out)[0] + ".png", buffer.getvalue())
         plt.close(fig)
     print(f"{args.out}: {summary}")
     return 0
+
+
+#: Width of the --plot figures [in] and their font size [pt]: 8 pt once scaled to a journal's
+#: column (8.5 cm), the figure checklist of docs/guide/extending.md.
+_PLOT_WIDTH: float = 4.5
+_PLOT_FONTS: dict[str, float] = {"font.size": 8.0 * _PLOT_WIDTH / (8.5 / 2.54)}
+#: Line styles of the bodies' curves, so that a curve on another (bodies that stick together)
+#: stays visible: the later drawn dashed over the earlier.
+_LINE_STYLES: tuple[str, ...] = ("-", "--", ":", "-.")
+_MARKERS: str = "osv^D<>p"
+
+
+def _series_style(i: int, n: int, points: int) -> dict[str, Any]:
+    """Matplotlib keywords of the i-th of n curves of `points` points: its own line style, a
+    marker every 1/8 of the curve, staggered so that markers of curves on each other alternate."""
+    every = max(points // 8, 1)
+    return {"linestyle": _LINE_STYLES[i % len(_LINE_STYLES)], "linewidth": 1.6 if i == 0 else 1.2,
+            "marker": _MARKERS[i % len(_MARKERS)], "markersize": 4, "markerfacecolor": "white",
+            "markevery": ((i * every) // max(n, 1), every)}
+
+
+def _legend_below(fig: Any, ax: Any) -> None:
+    """One legend for the figure, below the axes, where it covers no curve."""
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 4),
+               frameon=False)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -176,15 +203,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(6.0, 4.5))
+        plt.rcParams.update(_PLOT_FONTS)
+        fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(_PLOT_WIDTH, 4.4), layout="constrained")
         for i, n in enumerate(names):
-            ax1.plot(res.t, res.x[i], label=n)
-            ax2.plot(res.t, res.v[i], label=n)
+            ax1.plot(res.t, res.x[i], label=n, **_series_style(i, len(names), res.t.size))
+            ax2.plot(res.t, res.v[i], label=n, **_series_style(i, len(names), res.t.size))
         ax1.set_ylabel("position [m]")
         ax2.set_ylabel("velocity [m/s]")
         ax2.set_xlabel("time [s]")
-        ax1.legend(loc="best", fontsize="small")
-        fig.tight_layout()
+        _legend_below(fig, ax1)
         buffer = io.BytesIO()
         fig.savefig(buffer, format="png", dpi=150)
         write_whole(outs[1], buffer.getvalue())
