@@ -116,7 +116,6 @@ GENERATED: frozenset[str] = frozenset({"stickslip_kernel_instances.inc", "sticks
 #: Today's longer procedures (file, procedure), each being split; any other fails, and so does
 #: an entry here that is no longer long (remove it).
 LONG_PROCEDURES: dict[tuple[str, str], str] = {
-    ("stickslip_event_driven.f90", "event_driven_integrate"): "being split into procedures on a state type",
     ("stickslip_fixed_implicit_body.inc", "KERNEL"): "the fixed-step implicit kernel body, to split "
                                                      "with one contact module (issue 41 item 2)",
     ("stickslip_radau5_body.inc", "KERNEL"): "RADAU5's kernel body (Hairer's RADCOR in one piece), to split",
