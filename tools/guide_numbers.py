@@ -1,0 +1,282 @@
+"""The numbers the guides quote from runs that no study writes: each page's small measurements.
+
+A study of `cases/` or a benchmark writes most of what the guides quote; a guide's own
+illustration (a peak, a difference between two forms of one model, an advice) is measured
+here, one function per page, and written into `docs/figures/guide_<page>.json`
+(tools/docnumbers.py's format) with its provenance sidecar; the page quotes it with the {num}
+role. Each page's runs take seconds.
+
+    python tools/guide_numbers.py --outdir docs/figures [--page models]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import warnings
+import sys
+import time
+from pathlib import Path
+from typing import Callable, Sequence
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+from harness.files import write_text  # noqa: E402 - after the path above
+from harness.provenance import write_provenance  # noqa: E402
+from tools.docnumbers import numbers_json  # noqa: E402
+
+Numbers = dict[str, tuple[float, str, str]]
+
+
+def models() -> Numbers:
+    """docs/guide/models.md: the clutch example's first stick, the driven drill string against
+    its one-body form, the drill string on a turning surface, the rows on threads, the advice."""
+    import stickslip as ss
+    S = ss.signal
+    out: Numbers = {}
+    # the page's first example: J2 on a belt, a clutch engaged at 0.4 s
+    m = ss.Model()
+    j1 = m.add_body(1.0, x0=0.0, v0=10.0, name="J1")
+    j2 = m.add_body(1.0, name="J2")
+    m.add_spring(j1, None, k=100.0, rest_length=0.0)
+    m.add_damper(j1, j2, c=2.0)
+    m.add_force(j1, S.sine(10.0, 5.0))
+    m.add_contact(j1, j2, "coulomb", normal_force=20.0 * S.step(0.4), mu_s=0.55, mu_k=0.5)
+    m.add_contact(j2, None, "stribeck", normal_force=98.1, surface_velocity=1.5)
+    res = ss.simulate(m, method="event_driven", t_end=1.5, n_out=301, rtol=1e-10, atol=1e-12)
+    first = res.events[(res.events["contact"] == 1) & (res.events["kind"] == "stick")]["t"][0]
+    out["example.j2_stick"] = (float(first), "s", "J2's first stick on the belt")
+
+    # the driven drill string and its one-body form (as tests/test_drive.py builds them)
+    def drill(law: str, driven: bool) -> ss.Model:
+        d = ss.Model()
+        if driven:
+            top = d.add_body(50.0, name="top")
+            bit = d.add_body(374.0, name="bit")
+            d.add_spring(top, bit, 473.0)
+            d.add_drive(top, velocity=5.0)
+        else:
+            bit = d.add_body(374.0, name="bit")
+            d.add_spring(bit, None, 473.0)
+            d.add_force(bit, 473.0 * S.ramp(0.0, 20.0, 100.0))
+        d.add_contact(bit, None, law, 1000.0, mu_s=0.8, mu_k=0.5)
+        return d
+
+    for law in ("stribeck", "coulomb"):
+        r2 = ss.simulate(drill(law, True), method="event_driven", t_end=20.0, n_out=401)
+        r1 = ss.simulate(drill(law, False), method="event_driven", t_end=20.0, n_out=401)
+        out[f"drive.{law}_dx"] = (float(np.max(np.abs(r2.x[1] - r1.x[0]))), "rad",
+                                  f"largest |x| difference of the bit, two-body against one-body form, {law}")
+
+    # the drill string's bit on a surface turning at 5 rad/s (as tests/test_model.py builds it)
+    def surface() -> ss.Model:
+        d = ss.Model()
+        b = d.add_body(374.0, v0=5.0, name="bit")
+        d.add_spring(b, None, 473.0)
+        d.add_contact(b, None, "stribeck", 3669.0, 5.0, v_eps=1e-5, mu_s=0.8, mu_k=0.5)
+        return d
+
+    def peak(method: str, **controls: float) -> tuple[float, ss.Result]:
+        r = ss.simulate(surface(), method=method, t_end=8.0, n_out=8001, **controls)
+        return float(np.max(5.0 - r.v[0])), r
+
+    out["surface.exact_peak"] = (peak("event_driven", rtol=1e-12, atol=1e-12)[0], "rad/s",
+                                 "peak slip speed over 8 s, event_driven at rtol 1e-12")
+    out["surface.converged_peak"] = (peak("radau5", rtol=1e-10, atol=1e-12)[0], "rad/s",
+                                     "the same, radau5 at rtol 1e-10 (the regularised law)")
+    for method in ("radau5", "dopri5", "dop853"):
+        p, r = peak(method)
+        out[f"surface.{method}_peak"] = (p, "rad/s", f"the same, {method} at its default tolerances")
+        out[f"surface.{method}_nfev"] = (float(r.stats["nfev"]), "", f"{method}'s evaluations")
+
+    # rows on threads: 8 RK4 rows of the two-body model (h = 1e-4 s, 20 s)
+    m = ss.Model()
+    a = m.add_body(1.0, v0=0.5)
+    b = m.add_body(2.0)
+    m.add_spring(a, None, 50.0)
+    m.add_spring(a, b, 80.0)
+    m.add_force(b, S.step(0.3, 0.0, 4.0))
+    m.add_contact(a, None, "coulomb", 9.81, surface_velocity=0.3, mu_s=0.4, mu_k=0.3)
+    m.add_contact(b, a, "coulomb", 5.0, mu_s=0.5, mu_k=0.3)
+    rows = {"contact 1.mu_k": [0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.45]}
+    for threads in (1, 2):
+        wall = time.perf_counter()
+        batch = ss.simulate_batch(m, rows, method="rk4", h=1e-4, t_end=20.0, threads=threads)
+        wall = time.perf_counter() - wall
+        out[f"threads.{threads}.wall"] = (wall, "s", f"8 RK4 rows' wall time on {threads} thread(s)")
+        out[f"threads.{threads}.rows_sum"] = (float(np.sum(batch.seconds)), "s",
+                                              "the rows' own wall times, summed")
+    out["threads.load_average"] = (os.getloadavg()[0], "", "the machine's load average after the runs")
+
+    # the advice on the two-body model
+    m = ss.Model()
+    a = m.add_body(1.0, v0=0.5)
+    b = m.add_body(2.0)
+    m.add_spring(a, None, 50.0)
+    m.add_spring(a, b, 80.0)
+    m.add_force(b, S.step(0.3, 0.0, 4.0))
+    m.add_contact(a, None, "coulomb", 9.81, surface_velocity=0.3, mu_s=0.4, mu_k=0.3)
+    m.add_contact(b, a, "coulomb", 5.0, mu_s=0.4, mu_k=0.3)
+    wall = time.perf_counter()
+    advice = ss.advise(m, 1e-5, 1.0, body=1)
+    wall = time.perf_counter() - wall
+    r = ss.simulate(advice.model, method=advice.method, t_end=advice.t_end, **advice.controls)
+    exact = ss.simulate(m, method="event_driven", t_end=1.0, rtol=1e-11, atol=1e-13)
+    out["advise.rtol"] = (float(advice.controls.get("rtol", np.nan)), "", f"the advised {advice.method}'s rtol")
+    out["advise.estimated"] = (float(advice.predicted_error), "m", "the advice's estimated error")
+    out["advise.true"] = (float(abs(r.x[1, -1] - exact.x[1, -1])), "m",
+                          "the advised run's error at 1 s against event_driven at rtol 1e-11")
+    out["advise.wall"] = (wall, "s", "the advice's wall time")
+    out["advise.exact_x"] = (float(exact.x[1, -1]), "m", "body 1's x at 1 s, exact stick")
+    for method in ("galpha", "dopri5", "dop853"):
+        controls = dict(h=1e-4) if method == "galpha" else dict(rtol=1e-10, atol=1e-12)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ss.RegularisedLawWarning)     # the event-free form is the point
+            r = ss.simulate(m, method=method, t_end=1.0, **controls)
+        out[f"advise.{method}_x"] = (float(r.x[1, -1]), "m", f"the same under {method} (event-free law), tight")
+
+    # RK4 beyond its stability bound on a spring (w = 100 rad/s, w h = 2.9), as tests/test_energy.py
+    m = ss.Model()
+    b = m.add_body(1.0, v0=1.0)
+    m.add_spring(b, None, 1e4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ss.EnergyBoundWarning)
+        r = ss.simulate(m, method="rk4", h=0.029, t_end=1.0, n_out=11)
+    out["energy.rk4_growth"] = (float(np.hypot(100.0 * r.x[0, -1], r.v[0, -1])), "",
+                                "RK4's amplitude at 1 s over the initial one, w h = 2.9")
+    return out
+
+
+def _rows(path: Path, law: str, methods: Sequence[str]) -> list[dict[str, str]]:
+    """The rows of a laws_compare CSV of `law` under one of `methods`."""
+    from harness.files import read_csv
+    c = read_csv(path)
+    keys = list(c)
+    rows = [dict(zip(keys, r)) for r in zip(*c.values())]
+    return [r for r in rows if r["law [-]"] == law and r["method [-]"] in methods]
+
+
+def _absmax(rows: list[dict[str, str]], *columns: str) -> float:
+    """The largest |cell| of `columns` over `rows` (empty cells skipped)."""
+    return max(abs(float(r[c])) for r in rows for c in columns if r[c])
+
+
+def friction_laws(figures: Path = ROOT / "docs" / "figures") -> Numbers:
+    """docs/guide/friction-laws.md: the brake under Karnopp's and LuGre's laws (runs), and the
+    largest deviations over RK4 and DOPRI5 runs of `python -m cases.laws_compare`'s CSVs."""
+    import stickslip as ss
+    S = ss.signal
+    out: Numbers = {}
+    x_stop = 26.0 / 3.0
+
+    def brake(law: str, **params: float) -> ss.Model:
+        m = ss.Model()
+        b = m.add_body(50.0, v0=10.0, name="brake")
+        m.add_contact(b, None, law, S.ramp(0.0, 0.5, 1000.0), **({"mu_s": 0.4, "mu_k": 0.4} | params))
+        return m
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")       # the regularised law's and the consistency check's
+        for method, controls in (("event_driven", {}), ("moreau", dict(h=1e-3)), ("implicit_euler", dict(h=1e-3)),
+                                 ("galpha", dict(h=1e-3)), ("dopri5", {}), ("dop853", {}), ("radau5", {}),
+                                 ("rk4", dict(h=1e-3))):
+            r = ss.simulate(brake("karnopp", dv=1e-3), method=method, t_end=100.0, n_out=2001, **controls)
+            out[f"karnopp_brake.{method}.dx"] = (float(abs(r.x[0, -1] - x_stop)), "m",
+                                                 f"|x(100 s) - 26/3 m|, Karnopp's brake, {method}")
+            out[f"karnopp_brake.{method}.v_end"] = (float(abs(r.v[0, -1])), "m/s", f"|v(100 s)|, {method}")
+        for name, params in (("default", {}), ("sigma2_0", dict(sigma2=0.0))):
+            r = ss.simulate(brake("lugre", **params), method="radau5", t_end=3.0, n_out=30001, rtol=1e-9,
+                            atol=1e-12)
+            out[f"lugre_brake.{name}.t_stop"] = (float(r.t[np.flatnonzero(r.v[0] <= 1e-6)[0]]), "s",
+                                                 f"first output time (0.1 ms grid) with v <= 1e-6 m/s, LuGre "
+                                                 f"({name}), radau5 at rtol 1e-9")
+            out[f"lugre_brake.{name}.x_end"] = (float(r.x[0, -1]), "m", "x at 3 s, the same run")
+
+    # the study's CSVs: largest deviations over its RK4 and DOPRI5 runs
+    explicit = ("rk4", "dopri5")
+    slope, belt = figures / "laws_compare_slope.csv", figures / "laws_compare_belt.csv"
+    for law in ("elastoplastic", "lugre"):
+        out[f"slope.{law}.rk4_vmax"] = (_absmax(_rows(slope, law, ("rk4",)), "v_20 [m/s]"), "m/s",
+                                        f"largest |v(20 s)| of {law}'s RK4 runs on the slope")
+        out[f"slope.{law}.dopri5_vmax"] = (_absmax(_rows(slope, law, ("dopri5",)), "v_20 [m/s]"), "m/s",
+                                           f"|v(20 s)| of {law}'s DOPRI5 run on the slope")
+    for law in ("coulomb", "recurdyn", "proposed", "stribeck", "karnopp", "lugre sigma2=0",
+                "elastoplastic sigma2=0"):
+        rows = _rows(belt, law, explicit)
+        key = law.replace(" sigma2=0", "_sigma2_0")
+        out[f"belt.{key}.err_x"] = (_absmax(rows, "err_x_max [m]", "err_x_min [m]"), "m",
+                                    f"largest |error| of x_max and x_min, {law}, RK4 and DOPRI5 on the belt")
+        out[f"belt.{key}.err_period"] = (_absmax(rows, "err_period [s]"), "s",
+                                         f"largest |error| of the period, {law}, RK4 and DOPRI5 on the belt")
+        out[f"belt.{key}.dopri5_err_x"] = (_absmax(_rows(belt, law, ("dopri5",)), "err_x_max [m]", "err_x_min [m]"),
+                                           "m", f"the same, DOPRI5 alone")
+    return out
+
+
+def exact_stick() -> Numbers:
+    """docs/guide/exact-stick.md: moreau's theta on the paper's belt, its observed order on a
+    belt cycle, event_driven against the closed-form cycle on three other belts."""
+    import stickslip as ss
+    from cases.laws_compare import coulomb_cycle
+    out: Numbers = {}
+    paper = {"m": 10.0, "k": 300.0, "v_b": 1.5, "mu_s": 0.35, "mu_k": 0.30}
+    x_max = coulomb_cycle(paper["mu_s"], paper["mu_k"], paper["m"], paper["k"], paper["v_b"])[0]
+    for theta in (0.5, 1.0):
+        r = ss.simulate("belt", "coulomb", method="moreau", h=1e-3, t_end=4.0, v0=paper["v_b"], theta=theta,
+                        n_out=4001, **paper)
+        out[f"theta.{theta:g}.amplitude_error"] = (float(abs(r.x.max() - x_max)), "m",
+                                                   f"|largest x - the cycle's x_max|, moreau theta = {theta:g}, "
+                                                   "h = 1e-3 s, the paper's belt started stuck, 4 s")
+    hs = (4e-3, 2e-3, 1e-3, 5e-4)
+    errs = []
+    cycle = {"m": 1.0, "k": 50.0, "v_b": 0.8, "mu_s": 0.5, "mu_k": 0.2}     # tests/test_exact_stick.py's second
+    ref = ss.simulate("belt", "coulomb", method="event_driven", t_end=4.0, v0=cycle["v_b"], n_out=401,
+                      rtol=1e-12, atol=1e-14, **cycle)
+    for h in hs:
+        r = ss.simulate("belt", "coulomb", method="moreau", h=h, t_end=4.0, v0=cycle["v_b"], n_out=401, **cycle)
+        errs.append(float(np.max(np.abs(r.x - ref.x))))
+        out[f"order.err.{h:g}"] = (errs[-1], "m", f"largest |x - event_driven's x| (rtol 1e-12), moreau h = {h:g} s, "
+                                   "m = 1 kg, k = 50 N/m, v_b = 0.8 m/s, mu_s = 0.5, mu_k = 0.2, 4 s, 401 points")
+    for i in range(len(hs) - 1):
+        out[f"order.{i + 1}"] = (float(np.log2(errs[i] / errs[i + 1])), "", f"observed order, h = {hs[i]:g} "
+                                 f"to {hs[i + 1]:g} s")
+    sets = [{"m": 2.0, "k": 500.0, "v_b": 0.3, "mu_s": 0.6, "mu_k": 0.4},
+            {"m": 1.0, "k": 50.0, "v_b": 0.8, "mu_s": 0.5, "mu_k": 0.2},
+            {"m": 5.0, "k": 2000.0, "v_b": 0.1, "mu_s": 0.3, "mu_k": 0.29}]     # tests/test_exact_stick.py's
+    dx = dt = 0.0
+    for p in sets:
+        r = ss.simulate("belt", "coulomb", method="event_driven", t_end=6.0, v0=p["v_b"], n_out=3001,
+                        rtol=1e-12, atol=1e-14, **p)
+        period = coulomb_cycle(p["mu_s"], p["mu_k"], p["m"], p["k"], p["v_b"])[2]
+        slips = r.events["t"][r.events["kind"] == "slip"]
+        ev_x = r.events["x"][r.events["kind"] == "stick"]
+        x_k = p["mu_k"] * p["m"] * 9.81 / p["k"]
+        dx = max(dx, float(np.max(np.abs(ev_x - (2 * x_k - p["mu_s"] * p["m"] * 9.81 / p["k"])))))
+        dt = max(dt, float(np.max(np.abs(np.diff(slips) - period))))
+    out["event_driven.stick_x"] = (dx, "m", "largest |x at a stick event - x_k + d| over three belts, event_driven "
+                                   "at rtol 1e-12, 6 s")
+    out["event_driven.period"] = (dt, "s", "largest |time between slips - the closed-form period|, the same")
+    return out
+
+
+PAGES: dict[str, Callable[[], Numbers]] = {"models": models, "friction-laws": friction_laws,
+                                           "exact-stick": exact_stick}
+
+
+def main(argv: Sequence[str] | None = None) -> list[Path]:
+    p = argparse.ArgumentParser(prog="python tools/guide_numbers.py", description=__doc__.split("\n\n")[0])
+    p.add_argument("--outdir", type=Path, required=True, help="where to write guide_<page>.json")
+    p.add_argument("--page", choices=sorted(PAGES), action="append",
+                   help="a page's numbers only (repeatable; default: every page)")
+    args = p.parse_args(argv)
+    paths = []
+    for page in args.page or sorted(PAGES):
+        paths.append(write_text(args.outdir / f"guide_{page.replace('-', '_')}.json", numbers_json(PAGES[page]())))
+        print(paths[-1])
+    write_provenance(args.outdir, "tools.guide_numbers", paths, argv if argv is not None else sys.argv[1:])
+    return paths
+
+
+if __name__ == "__main__":
+    main()
