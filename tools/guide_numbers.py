@@ -260,8 +260,80 @@ def exact_stick() -> Numbers:
     return out
 
 
+def implicit_nonsmooth() -> Numbers:
+    """docs/guide/implicit-nonsmooth.md: the fixed-step implicit methods on a 5-block Coulomb
+    chain and a 3-block proposed-law chain against references, and RADAU5's forced steps."""
+    import stickslip as ss
+    out: Numbers = {}
+
+    def err(method: str, ref: ss.Result, **kw: float) -> float:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ss.RegularisedLawWarning)     # the band is what is measured
+            return float(np.max(np.abs(ss.simulate("chain", "coulomb", method=method, **kw).x - ref.x)))
+
+    chain5 = dict(n_blocks=5, t_end=10.0, n_out=1001)          # as tests/test_implicit_nonsmooth.py
+    ref = ss.simulate("chain", "coulomb", method="event_driven", rtol=1e-11, atol=1e-13, **chain5)
+    for h in (2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4):
+        out[f"chain5.ie.{h:g}"] = (err("implicit_euler", ref, h=h, **chain5), "m",
+                                   f"implicit_euler's largest |x - event_driven| on the 5-block chain, 10 s, h = {h:g} s")
+    for h in (2.5e-4, 1.25e-4):
+        out[f"chain5.galpha.{h:g}"] = (err("galpha", ref, h=h, **chain5), "m", f"the same, galpha, h = {h:g} s")
+    for v_s in (1e-2, 1e-4):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ss.RegularisedLawWarning)
+            r = ss.simulate("chain", "coulomb", method="implicit_euler", h=5e-4, v_s=v_s, **chain5)
+        m = ss.simulate("chain", "coulomb", method="moreau", theta=1.0, h=5e-4, **chain5)
+        out[f"chain5.gap.{v_s:g}"] = (float(np.max(np.abs(r.x - m.x))), "m", f"implicit_euler (v_s = {v_s:g} m/s) "
+                                      "against moreau with theta = 1, h = 5e-4 s")
+    ref = ss.simulate("chain", "coulomb", method="event_driven", rtol=1e-11, atol=1e-13, v_s=1e-4, **chain5)
+    for h in (1e-3, 5e-4, 2.5e-4, 1.25e-4):
+        out[f"chain5_vs1e-4.galpha.{h:g}"] = (err("galpha", ref, h=h, v_s=1e-4, **chain5), "m",
+                                              f"galpha, v_s = 1e-4 m/s, h = {h:g} s")
+        out[f"chain5_vs1e-4.ie.{h:g}"] = (err("implicit_euler", ref, h=h, v_s=1e-4, **chain5), "m",
+                                          f"implicit_euler, v_s = 1e-4 m/s, h = {h:g} s")
+    slip = dict(n_blocks=5, t_end=0.3, n_out=31, v0=0.0)
+    ref = ss.simulate("chain", "coulomb", method="event_driven", rtol=1e-12, atol=1e-14, **slip)
+    for h in (2e-3, 1e-3, 5e-4, 2.5e-4):
+        out[f"slip.galpha.{h:g}"] = (err("galpha", ref, h=h, rho_inf=0.5, **slip), "m",
+                                     f"galpha (rho_inf 0.5), 5-block chain in slip, 0.3 s, h = {h:g} s")
+        out[f"slip.ie.{h:g}"] = (err("implicit_euler", ref, h=h, **slip), "m", f"the same, implicit_euler")
+    stuck = dict(n_blocks=3, t_end=1.0, v0=ss.DEFAULTS["v_b"], n_out=11)
+    ref = ss.simulate("chain", "proposed", method="radau5", rtol=1e-12, atol=1e-14, **stuck)
+    for method, hs in (("galpha", (1e-2, 1e-3, 1e-4)), ("implicit_euler", (1e-3, 1e-4))):
+        for h in hs:
+            x = ss.simulate("chain", "proposed", method=method, h=h, **stuck).x
+            out[f"stuck3.{method}.{h:g}"] = (float(np.max(np.abs(x - ref.x))), "m",
+                                             f"{method}, 3-block proposed chain started stuck, 1 s, h = {h:g} s")
+    # RADAU5 on Coulomb
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")       # the regularised law's warning: the point here
+        for name, kw in (("auto", {}), ("hmax", dict(hmax=1e-2))):
+            r = ss.simulate("belt", "coulomb", method="radau5", t_end=2.0, rtol=1e-6, **kw)
+            out[f"radau5.belt.{name}.nfev"] = (float(r.stats["nfev"]), "", f"RADAU5, the paper's belt from rest, 2 s ({name})")
+            out[f"radau5.belt.{name}.nstep"] = (float(r.stats["nstep"]), "", "its steps")
+            out[f"radau5.belt.{name}.nforced"] = (float(r.stats["nforced"]), "", "its forced steps")
+        cpu = time.process_time()
+        r = ss.simulate("slope", "coulomb", method="radau5", t_end=2.0, rtol=1e-6, atol=1e-9)
+        cpu = time.process_time() - cpu
+        out["radau5.slope.nstep"] = (float(r.stats["nstep"]), "", "RADAU5, slope at rest, 2 s: steps")
+        out["radau5.slope.nforced"] = (float(r.stats["nforced"]), "", "its forced steps")
+        out["radau5.slope.nfev"] = (float(r.stats["nfev"]), "", "its evaluations")
+        out["radau5.slope.cpu"] = (cpu, "s", "its CPU time")
+        out["radau5.slope.x_end"] = (float(abs(r.x[-1])), "m", "its creep at 2 s")
+        for name, kw in (("grid", {}), ("every_step", dict(every_step=True))):
+            cpu = time.process_time()
+            r = ss.simulate("slope", "coulomb", method="implicit_euler", h=1e-3, t_end=2.0, **kw)
+            cpu = time.process_time() - cpu
+            out[f"ie.slope.{name}.nfev"] = (float(r.stats["nfev"]), "", f"implicit Euler, slope at rest, 2 s ({name})")
+            out[f"ie.slope.{name}.cpu"] = (cpu, "s", "its CPU time")
+        for name, kw in (("auto", {}), ("hmax", dict(hmax=1e-2))):
+            r = ss.simulate("slope", "karnopp", method="radau5", t_end=2.0, rtol=1e-6, atol=1e-9, **kw)
+            out[f"radau5.karnopp.{name}.nfev"] = (float(r.stats["nfev"]), "", f"RADAU5, Karnopp, slope at rest ({name})")
+    return out
+
+
 PAGES: dict[str, Callable[[], Numbers]] = {"models": models, "friction-laws": friction_laws,
-                                           "exact-stick": exact_stick}
+                                           "exact-stick": exact_stick, "implicit-nonsmooth": implicit_nonsmooth}
 
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
