@@ -3,8 +3,9 @@
 A study of `cases/` or a benchmark writes most of what the guides quote; a guide's own
 illustration (a peak, a difference between two forms of one model, an advice) is measured
 here, one function per page, and written into `docs/figures/guide_<page>.json`
-(tools/docnumbers.py's format) with its provenance sidecar; the page quotes it with the {num}
-role. Each page's runs take seconds.
+(tools/docnumbers.py's format), with a page's tables as CSVs beside it (TABLES), and the
+provenance sidecar; the page quotes the numbers with the {num} role and shows the tables as
+generated tables (tools/doctables.py). Each page's runs take seconds.
 
     python tools/guide_numbers.py --outdir docs/figures [--page models]
 """
@@ -254,6 +255,41 @@ def exact_stick() -> Numbers:
     return out
 
 
+def exact_stick_stacked(outdir: Path) -> Path:
+    """docs/guide/exact-stick.md's stacked blocks: for each friction set, moreau's largest
+    position difference from event_driven (rtol 1e-12) over 5 s at h = 1e-3, 1e-4, 1e-5 s,
+    and its `nonunique` count, into guide_exact_stick_stacked.csv."""
+    import stickslip as ss
+    from harness.files import write_csv
+    g = 9.81
+    sets = {"base": [(0.5, 0.35), (0.4, 0.3), (0.3, 0.2)],          # (mu_s, mu_k) belt-A, A-B, B-C
+            "C-B at (0.32, 0.2)": [(0.5, 0.35), (0.4, 0.3), (0.32, 0.2)],
+            "A-B at (0.4, 0.25)": [(0.5, 0.35), (0.4, 0.25), (0.3, 0.2)],
+            "belt-A at (0.45, 0.35)": [(0.45, 0.35), (0.4, 0.3), (0.3, 0.2)],
+            "B-C at (0.3, 0.3)": [(0.5, 0.35), (0.4, 0.3), (0.3, 0.3)]}
+    hs = (1e-3, 1e-4, 1e-5)
+    rows = []
+    for name, friction in sets.items():
+        m = ss.Model()
+        a, b, c = m.add_body(2.0), m.add_body(1.0), m.add_body(0.5)
+        for body, k in zip((a, b, c), (200.0, 60.0, 30.0)):
+            m.add_spring(body, None, k)
+        for (lower, upper, n, w), (mu_s, mu_k) in zip(((a, None, 3.5, 0.3), (b, a, 1.5, 0.0), (c, b, 0.5, 0.0)),
+                                                      friction):
+            m.add_contact(lower, upper, "coulomb", n * g, surface_velocity=w, mu_s=mu_s, mu_k=mu_k)
+        ref = ss.simulate(m, method="event_driven", t_end=5.0, n_out=501, rtol=1e-12)
+        errs, counts = [], []
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)       # the nonunique count: counted here
+            for h in hs:
+                r = ss.simulate(m, method="moreau", h=h, t_end=5.0, n_out=501)
+                errs.append(float(np.abs(r.x - ref.x).max()))
+                counts.append(int(r.stats["nonunique"]))
+        rows.append([name, *errs, *counts])
+    header = ["set [-]", *(f"dx at h {h:g} s [m]" for h in hs), *(f"nonunique at h {h:g} s [-]" for h in hs)]
+    return write_csv(outdir / "guide_exact_stick_stacked.csv", header, rows)
+
+
 def implicit_nonsmooth() -> Numbers:
     """docs/guide/implicit-nonsmooth.md: the fixed-step implicit methods on a 5-block Coulomb
     chain and a 3-block proposed-law chain against references, and RADAU5's forced steps."""
@@ -329,6 +365,9 @@ def implicit_nonsmooth() -> Numbers:
 PAGES: dict[str, Callable[[], Numbers]] = {"models": models, "friction-laws": friction_laws,
                                            "exact-stick": exact_stick, "implicit-nonsmooth": implicit_nonsmooth}
 
+#: The tables a page's measurements also write (page -> writers of outdir).
+TABLES: dict[str, list[Callable[[Path], Path]]] = {"exact-stick": [exact_stick_stacked]}
+
 
 def main(argv: Sequence[str] | None = None) -> list[Path]:
     p = argparse.ArgumentParser(prog="python tools/guide_numbers.py", description=__doc__.split("\n\n")[0])
@@ -342,7 +381,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     paths = []
     for page in args.page or sorted(PAGES):
         paths.append(write_text(args.outdir / f"guide_{page.replace('-', '_')}.json", numbers_json(PAGES[page]())))
-        print(paths[-1])
+        paths += [write(args.outdir) for write in TABLES.get(page, [])]
+        print("\n".join(map(str, paths)))
     write_provenance(args.outdir, "tools.guide_numbers", paths, argv if argv is not None else sys.argv[1:])
     return paths
 
