@@ -106,7 +106,8 @@ def belt_closed_form(v_b: float) -> tuple[float, float]:
 
 
 def belt_rows() -> tuple[list[list[Any]], str, float]:
-    """The branch in v_b: rows of steady_belt.csv, its stop reason and CPU time."""
+    """The branch in v_b: rows of steady_belt.csv (the branch's CPU time repeated on each), its
+    stop reason and CPU time."""
     import stickslip as ss
     t0 = time.process_time()
     br = ss.continuation(belt, *V_B_RANGE, step=BELT_STEP)
@@ -114,14 +115,14 @@ def belt_rows() -> tuple[list[list[Any]], str, float]:
     rows = []
     for p, period, amp, orb in zip(br.p, br.period, br.amplitude, br.orbits):
         t_cf, a_cf = belt_closed_form(float(p))
-        rows.append([float(p), float(period), t_cf, period / t_cf - 1.0, float(amp), a_cf, amp / a_cf - 1.0,
-                     float(np.max(np.abs(orb.nontrivial))), float(orb.stick_fraction[0]), int(orb.stable)])
+        rows.append([float(p), float(period), t_cf, abs(period / t_cf - 1.0), float(amp), a_cf, abs(amp / a_cf - 1.0),
+                     float(np.max(np.abs(orb.nontrivial))), float(orb.stick_fraction[0]), int(orb.stable), cpu])
     return rows, br.stop_reason, cpu
 
 
-BELT_HEADER = ["v_b [m/s]", "period [s]", "period closed form [s]", "period relative error [-]",
-               "amplitude [m]", "amplitude closed form [m]", "amplitude relative error [-]",
-               "nontrivial multiplier [-]", "stick fraction [-]", "stable [-]"]
+BELT_HEADER = ["v_b [m/s]", "period [s]", "period closed form [s]", "period abs relative error [-]",
+               "amplitude [m]", "amplitude closed form [m]", "amplitude abs relative error [-]",
+               "nontrivial multiplier [-]", "stick fraction [-]", "stable [-]", "cpu [s]"]
 
 
 # --------------------------------------------------------------------------------------------
@@ -162,13 +163,13 @@ def denhartog_rows(ratios: Sequence[float], betas: Sequence[np.ndarray]) -> list
                 stick = float(orb.stick_fraction[0])
                 cs = _stop_closed_form(beta, r, orb) if stops == 2 else None
                 rows.append([r, beta, float(amp), cf if math.isfinite(cf) else None, int(valid),
-                             float(amp) / cf - 1.0 if valid else None, stops, stick, cs,
+                             abs(float(amp) / cf - 1.0) if valid else None, stops, stick, cs,
                              abs(stick - cs) if cs is not None else None, int(orb.stable), cpu])
     return rows
 
 
 DH_HEADER = ["r [-]", "beta [-]", "X k/P0 [-]", "closed form X k/P0 [-]", "closed form holds [-]",
-             "relative difference [-]", "stops per period [-]", "stick fraction [-]",
+             "abs relative difference [-]", "stops per period [-]", "stick fraction [-]",
              "stick fraction closed form [-]", "stick fraction difference [-]", "stable [-]", "cpu per point [s]"]
 
 
@@ -239,9 +240,9 @@ def damper(f: float) -> Any:
 
 def damper_rows(freqs: np.ndarray, harmonics: Sequence[int]) -> tuple[list[str], list[list[Any]]]:
     """Header and rows of steady_damper.csv: per frequency the shooting amplitude and, per
-    number of harmonics, harmonic balance's amplitude and its relative difference; the CPU
-    time of each method over the whole curve in the last row's ... (columns `cpu ... [s]`:
-    the curve's total, repeated on every row)."""
+    number of harmonics, harmonic balance's amplitude and its relative difference from
+    shooting's; the CPU time of each method over the whole curve (columns `... cpu [s]`: the
+    curve's total, repeated on every row)."""
     import stickslip as ss
     from stickslip.harmonic import harmonic_balance
     t0 = time.process_time()
@@ -257,12 +258,12 @@ def damper_rows(freqs: np.ndarray, harmonics: Sequence[int]) -> tuple[list[str],
         cpus[h], amps[h] = time.process_time() - t0, np.array(out)
     header = ["f [Hz]", "shooting amplitude [m]", "shooting stable [-]", "shooting cpu [s]"]
     for h in harmonics:
-        header += [f"HB{h} amplitude [m]", f"HB{h} relative difference [-]", f"HB{h} cpu [s]"]
+        header += [f"HB{h} amplitude [m]", f"HB{h} abs relative difference [-]", f"HB{h} cpu [s]"]
     rows = []
     for i, f in enumerate(freqs):
         row: list[Any] = [float(f), float(resp.amplitude[i]), int(resp.stable[i]), cpu_shoot]
         for h in harmonics:
-            row += [amps[h][i], amps[h][i] / resp.amplitude[i] - 1.0, cpus[h]]
+            row += [amps[h][i], abs(amps[h][i] / resp.amplitude[i] - 1.0), cpus[h]]
         rows.append(row)
     return header, rows
 
@@ -406,7 +407,7 @@ def plot_damper(outdir: Path) -> Path:
     for i, h in enumerate(hs):
         col = style.SEQUENCE[i]
         top.plot(f, d[f"HB{h} amplitude [m]"], "-", lw=1.0, color=col, label=f"HB, {h} harmonic{'s' if h > 1 else ''}")
-        bottom.semilogy(f, np.abs(d[f"HB{h} relative difference [-]"]), "-", marker=".", lw=1.0, color=col)
+        bottom.semilogy(f, d[f"HB{h} abs relative difference [-]"], "-", marker=".", lw=1.0, color=col)
     top.set_ylabel("amplitude [m]")
     _gallery.legend_above_data(top, ncol=2, room=0.45)
     bottom.set_ylabel("|HB / shooting - 1| [-]")
