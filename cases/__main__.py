@@ -61,7 +61,7 @@ DRIVERS: tuple[Driver, ...] = (
     Driver("engines", "study", 64.0, False), Driver("gallery_clutches", "study", 13.0, False),
     Driver("gallery_belt2dof", "study", 6.0, False), Driver("gallery_stacked", "study", 12.0, False),
     Driver("gallery_denhartog", "study", 28.0, False), Driver("gallery_frame", "study", 9.0, False),
-    Driver("model_pairs", "study", 13.0, False))
+    Driver("model_pairs", "study", 13.0, False), Driver("gallery_steady", "study", 10.0, False))
 DOCS_DIR: Path = Path(__file__).resolve().parent.parent / "docs" / "figures"
 
 
@@ -196,7 +196,8 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
                         help="run only these drivers")
     parser.add_argument("--all", action="store_true",
                         help="also run the studies (work-precision, stability, laws_compare, implicit, stick, "
-                        "identify, chain, advise_examples, engines, the gallery's gallery_denhartog and gallery_frame)")
+                        "identify, chain, advise_examples, engines, the gallery's gallery_denhartog, gallery_frame and "
+                        "gallery_steady)")
     parser.add_argument("--jobs", type=count, default=min(2, _cores()),
                         help="drivers run at once, each in its own process, >= 1 (default: cores, at most 2)")
     parser.add_argument("--workers", type=count, default=None,

@@ -272,7 +272,8 @@ def test_main_runs_listed_drivers(tmp_path: Path, capsys: pytest.CaptureFixture[
     (["--all", "--threads", "1"], ["laws", "slope", "belt", "workprecision", "stability", "laws_compare",
                                    "implicit", "speedup", "stick", "identify", "chain",
                                    "advise_examples", "engines", "gallery_clutches", "gallery_belt2dof",
-                                   "gallery_stacked", "gallery_denhartog", "gallery_frame", "model_pairs"]),
+                                   "gallery_stacked", "gallery_denhartog", "gallery_frame", "model_pairs",
+                                   "gallery_steady"]),
     (["--only", "stability"], ["stability"]),
 ])
 def test_main_selects_drivers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,

@@ -570,6 +570,14 @@ FACTS: dict[str, dict[str, str]] = {
         "8 s": "a test's run, chosen", "4 s": "a test's run, chosen",
         "14 kN": "a bound of the test (8 to 14 kN)", "20 mm": "a bound of the test (1 to 20 mm)",
     },
+    "gallery/steady-states.md": {
+        "0.2": "the belt branch's lowest speed [m/s], chosen", "2 m/s": "the belt branch's highest speed, chosen",
+        "0.9": "the highest frequency ratio below resonance, chosen", "1.2": "the lowest above it, chosen",
+        "0.5": "a friction ratio F/P0 chosen; the damper law's v_s [m/s]", "0.7": "a friction ratio F/P0, chosen",
+        "0.1": "the damped belt's speed and v_s [m/s], chosen", "0.4": "mu_s; the damper's c [N s/m], chosen",
+        "0.8": "the Hopf branch's start, 0.8 c_H, chosen", "4 N": "the damper's spring [N/m]",
+        "10 N": "the damper's forcing amplitude",
+    },
     "gallery/stacked-blocks.md": {
         "100 N": "block A's spring [N/m]", "0.2": "the belt's speed [m/s], B's mu_k", "0.5": "mu_s, B's mass [kg]",
         "40 N": "block B's spring [N/m]", "140 N": "100 + 40 N/m, arithmetic", "0.25": "B's mu_s",

@@ -223,12 +223,13 @@ def gallery_figures(monkeypatch: pytest.MonkeyPatch) -> dict[str, object]:
     sys.path.insert(0, str(ROOT))
     from harness import style as _style
     from cases import _common, gallery_belt2dof, gallery_clutches, gallery_denhartog
-    from cases import gallery_frame, gallery_stacked
+    from cases import gallery_frame, gallery_stacked, gallery_steady
     drawn: dict[str, object] = {}
     monkeypatch.setattr(_style, "save", lambda fig, path, atomic_write: drawn.setdefault(Path(path).stem, fig))
     figures = ROOT / "docs" / "figures"
     gallery_denhartog.plot(figures)
     gallery_frame.plot(figures)
+    gallery_steady.plot(figures)
     gallery_clutches.plot(_common.read_numeric_csv(figures / "gallery_clutches.csv"), Path("gallery_clutches.png"))
     gallery_belt2dof.plot(figures / "gallery_belt2dof.csv", figures / "gallery_belt2dof_errors.csv",
                           Path("gallery_belt2dof.png"))
@@ -245,7 +246,8 @@ def test_gallery_figures_are_legible_at_a_column_width(monkeypatch: pytest.Monke
     from harness import style as _style
     drawn = gallery_figures(monkeypatch)
     assert set(drawn) == {"denhartog_amplitude", "denhartog_regions", "frame_drift", "frame_loop",
-                          "gallery_clutches", "gallery_belt2dof", "gallery_stacked"}
+                          "gallery_clutches", "gallery_belt2dof", "gallery_stacked",
+                          "steady_belt", "steady_denhartog", "steady_hopf", "steady_damper"}
     for name, fig in drawn.items():
         fig.canvas.draw()
         scale = min(_style.COLUMN_WIDTH / fig.get_figwidth(), 1.0)
