@@ -273,6 +273,8 @@ def test_a_new_guide_page_joins_the_site(tmp_path) -> None:
     shutil.copytree(ROOT / "docs", src, ignore=shutil.ignore_patterns("_build"))
     shutil.copytree(ROOT / "benchmarks" / "results", tmp_path / "benchmarks" / "results")  # a figure
     shutil.copytree(ROOT / "examples", tmp_path / "examples")  # the guide includes examples/model_c.c
+    for package in ("tools", "harness"):                # the {num} role's extension reads with them
+        shutil.copytree(ROOT / package, tmp_path / package, ignore=shutil.ignore_patterns("__pycache__"))
     (src / "guide" / "zz-new-topic.md").write_text("# A new topic\n\nText.\n")
     proc = subprocess.run([sphinx, "-b", "html", "-W", "--keep-going", "-q", str(src),
                            str(tmp_path / "out")], capture_output=True, text=True)

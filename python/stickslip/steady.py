@@ -401,7 +401,7 @@ class Orbit:
     trivial : int or None
         Index in `multipliers` of the trivial multiplier (autonomous), else None.
     trivial_error : float
-        |trivial multiplier - 1|, a check of the monodromy's accuracy (NaN when forced); above
+        abs(trivial multiplier - 1), a check of the monodromy's accuracy (NaN when forced); above
         1e-3 a `MonodromyWarning` was issued.
     stable : bool
         Every nontrivial multiplier inside the unit circle.
@@ -1033,7 +1033,7 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
         The first orbit's guess, as for `periodic_orbit`.
     step, min_step, max_step : float, optional
         Arclength step control in the scaled (p, state, period) space: p is scaled by
-        |stop - start|, so the default first step 1/50 is 2 % of the range. A step is halved
+        abs(stop - start), so the default first step 1/50 is 2 % of the range. A step is halved
         when its corrector fails, lands farther than one step from the prediction, or turns
         the branch by more than 25 degrees (a jump to another branch); it grows 1.5 times
         after a corrector of at most 3 iterations, up to `max_step` (default 0.1; min_step
