@@ -57,6 +57,21 @@ def test_belt_continuation_in_belt_speed_follows_the_closed_form() -> None:
     assert br.stop_reason.startswith("reached stop")
 
 
+def test_default_first_step_stays_on_the_stick_slip_branch() -> None:
+    """The paper's belt (m = 10 kg, k = 300 N/m, mu 0.35/0.30) continued in v_b from 0.2 m/s
+    with the default first step: near steady sliding neutral pure-slip orbits surround the
+    stick-slip cycle, and a first step along p's axis once landed on one (no stick, multiplier
+    1) as an ordinary point. Every point must be the stick-slip cycle of the closed form."""
+    def paper_belt(v_b: float) -> ss.Model:
+        return ss.Model.from_scene("belt", "coulomb", v_b=v_b, mu_s=0.35, mu_k=0.30, v0=v_b)
+    br = ss.continuation(paper_belt, 0.2, 2.0)
+    assert br.stop_reason.startswith("reached stop") and len(br) >= 3
+    for p, t in zip(br.p, br.period):
+        period, _ = belt_closed_form(float(p), mu_s=0.35, mu_k=0.30, m=10.0, k=300.0)
+        assert t == pytest.approx(period, rel=1e-8, abs=0)
+    assert all(np.sort(np.abs(mult))[0] < 1e-10 for mult in br.multipliers)
+
+
 def forced_linear(zeta: float = 0.05, f: float = 0.3) -> ss.Model:
     m = ss.Model()
     b = m.add_body(1.0)

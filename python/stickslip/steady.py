@@ -1035,7 +1035,9 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
         Arclength step control in the scaled (p, state, period) space: p is scaled by
         abs(stop - start), so the default first step 1/50 is 2 % of the range. A step is halved
         when its corrector fails, lands farther than one step from the prediction, or turns
-        the branch by more than 25 degrees (a jump to another branch); it grows 1.5 times
+        the branch by more than 25 degrees (a jump to another branch; on the first step, whose
+        tangent is p's axis: lands on an orbit with another number of events a period than
+        the first); it grows 1.5 times
         after a corrector of at most 3 iterations, up to `max_step` (default 0.1; min_step
         1e-5). The states are scaled by the first orbit's largest |x| and |v|: a response
         whose amplitude grows tenfold is a long branch in these units.
@@ -1096,10 +1098,15 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
                                              orbits[-1], phase)
                 # a corrector that lands far from the prediction, or turns the branch sharply,
                 # may have jumped to another branch: a shorter step (AUTO's and COCO's guards)
-                # (not on the first step, whose tangent is p's axis, not yet the branch's)
+                # (not on the first step, whose tangent is p's axis, not yet the branch's: there
+                # an orbit of another kind, with another number of events a period, is taken
+                # for a jump, so that the step shrinks until it stays on the first orbit's kind)
                 chord = u_new - prev_u
                 turned = float(chord @ tangent) < 0.9 * float(np.linalg.norm(chord))
-                ok = len(orbits) == 1 or not (float(np.linalg.norm(u_new - pred)) > ds or turned)
+                if len(orbits) == 1:
+                    ok = len(orb.events) == len(orbits[0].events)
+                else:
+                    ok = not (float(np.linalg.norm(u_new - pred)) > ds or turned)
                 if not ok:
                     raise SteadyStateError("the step jumped")
             except (SteadyStateError, ValueError, RuntimeError):
