@@ -1036,12 +1036,10 @@ def test_select_calibrates_its_fits_by_the_held_out_records():
             stickslip.select_friction_law(["coulomb", "dahl"], t, x, f, v=v, **kw)
 
 
-def test_a_fit_stopped_short_restarts_from_the_probes_lower_point(monkeypatch):
-    # the first local search stops after two evaluations, as on a tolerance: the probe about
-    # its end finds a lower point, a second search from it reaches the minimum
+def first_search_cut_short(monkeypatch) -> None:
+    """The first local search of the fits that follow stops after two evaluations and reports
+    success, as on a tolerance; the later ones run to their end."""
     import scipy.optimize
-    t, x, v = sine_record(n=201)
-    f = pm("dahl", t, x, v, **DAHL).force + 10.0 * np.random.default_rng(2).standard_normal(t.size)
     real = scipy.optimize.least_squares
     calls = []
 
@@ -1051,9 +1049,16 @@ def test_a_fit_stopped_short_restarts_from_the_probes_lower_point(monkeypatch):
         sol.status, sol.success = 2, True
         return sol
     monkeypatch.setattr(scipy.optimize, "least_squares", first_short)
-    fit = stickslip.fit_friction("dahl", t, x, f, v=v, params0={"mu_k": 500.0, "sigma0": 1e5, "dahl_alpha": 1.0})
-    monkeypatch.setattr(scipy.optimize, "least_squares", real)
+
+
+def test_a_fit_stopped_short_restarts_from_the_probes_lower_point(monkeypatch):
+    # the first local search stops after two evaluations, as on a tolerance: the probe about
+    # its end finds a lower point, a second search from it reaches the minimum
+    t, x, v = sine_record(n=201)
+    f = pm("dahl", t, x, v, **DAHL).force + 10.0 * np.random.default_rng(2).standard_normal(t.size)
     ref = stickslip.fit_friction("dahl", t, x, f, v=v)
+    first_search_cut_short(monkeypatch)
+    fit = stickslip.fit_friction("dahl", t, x, f, v=v, params0={"mu_k": 500.0, "sigma0": 1e5, "dahl_alpha": 1.0})
     assert fit.restarts >= 1 and fit.success and fit.probe_gain <= fit.redchi
     assert fit.chisqr == pytest.approx(ref.chisqr, rel=1e-4)
 
@@ -1064,7 +1069,6 @@ def test_a_profiles_lower_point_counts_only_where_the_model_is_lower(monkeypatch
     # model is far higher, is no lower point: the fit succeeds without a restart. The true
     # lower point of a search cut short (the probe disabled, every parameter profiled) starts
     # a restart that reaches the uncut fit's minimum.
-    import scipy.optimize
     t, x, v = sine_record(n=201)
     f = pm("dahl", t, x, v, **DAHL).force + 10.0 * np.random.default_rng(2).standard_normal(t.size)
     ref = stickslip.fit_friction("dahl", t, x, f, v=v, interval="profile")
@@ -1081,16 +1085,7 @@ def test_a_profiles_lower_point_counts_only_where_the_model_is_lower(monkeypatch
         fit = stickslip.fit_friction("dahl", t, x, f, v=v, interval="profile")
     assert fit.success and fit.restarts == 0 and fit.chisqr == pytest.approx(ref.chisqr, rel=1e-6)
     monkeypatch.setattr(identify, "_profile_intervals", real_profiles)
-
-    real = scipy.optimize.least_squares
-    calls = []
-
-    def first_short(fun, x0, **kw):
-        calls.append(1)
-        sol = real(fun, x0, **(dict(kw, max_nfev=2) if len(calls) == 1 else kw))
-        sol.status, sol.success = 2, True
-        return sol
-    monkeypatch.setattr(scipy.optimize, "least_squares", first_short)
+    first_search_cut_short(monkeypatch)
     monkeypatch.setattr(identify, "_probe", lambda res, u, *a: (0.0, u, ""))
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)

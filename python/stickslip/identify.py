@@ -287,6 +287,10 @@ class _Space:
         return m
 
 
+#: The largest z_ba_ratio a fit tries unless `bounds` says otherwise (see `_coordinates`).
+Z_BA_RATIO_MAX: float = 0.999
+
+
 def _coordinates(free: tuple[str, ...], p0: np.ndarray, bounds: Mapping[str, Any], fixed_all: Mapping[str, float],
                  typical: Mapping[str, float]) -> tuple[_Space, np.ndarray, np.ndarray, np.ndarray]:
     """The optimiser's coordinates of the free parameters (see _Space): the space, the bounds
@@ -315,6 +319,11 @@ def _coordinates(free: tuple[str, ...], p0: np.ndarray, bounds: Mapping[str, Any
             # amplitude); beyond that the states are too stiff to integrate cheaply, and a static
             # law describes the data as well
             high = min(high, 1e3 * p0[i])
+        if n == "z_ba_ratio" and n not in bounds and high > Z_BA_RATIO_MAX:
+            # the elasto-plastic transition narrows as z_ba_ratio nears 1, and its substeps
+            # multiply (one damper record at v_s 0.033 m/s: 0.12 s at 0.999, 0.75 s at
+            # 0.9999, over 15 s at 0.999999)
+            high, high_open = Z_BA_RATIO_MAX, False
         # an open end of the library's range: stay a relative hair inside it
         margin = 1e-9 * max(abs(p0[i]), 1e-300)
         lo[i] = low + margin if low_open and math.isfinite(low) else low
@@ -782,7 +791,9 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         Starting values of fitted parameters (default: derived from the data).
     bounds : dict, optional
         name -> (low, high) for fitted parameters (default: the range the library accepts, and
-        for a stiffness [1/m] at most 1000 times its start).
+        for a stiffness [1/m] at most 1000 times its start, and the elasto-plastic z_ba_ratio at most
+        Z_BA_RATIO_MAX, 0.999: its transition narrows towards 1 and its integration costs in
+        proportion).
         Not for mu_s (or v_d) while mu_k (v_s) is fitted too: the upper member of an ordered pair
         is then fitted as its excess over the lower one.
     backlash : float or "fit"
@@ -1170,18 +1181,24 @@ def _probe(residuals: Any, u: np.ndarray, r: np.ndarray, jac: np.ndarray, q_lo: 
            q_hi: np.ndarray, s2: float, free: Sequence[str]) -> tuple[float, np.ndarray, str]:
     """A cheap search for a lower point near the end u of a local search (residuals r,
     Jacobian jac in the optimiser's coordinates, s2 the reduced chi-square): a Gauss-Newton
-    step (whole, 0.3, 0.1) and a step of two standard errors (s2 (J^T J)^+, at most half the
-    coordinate) up and down each coordinate, within the bounds; 3 + 2k model evaluations. At a
+    step (whole, 0.3, 0.1; shortened so that no coordinate moves by more than half of it) and
+    a step of two standard errors (s2 (J^T J)^+, at most half the coordinate) up and down each
+    coordinate, within the bounds; 3 + 2k model evaluations. At a
     least-squares minimum none lowers the sum of squares (the coordinate steps raise it by
     about 4 s^2 or more). Returns the largest decrease [N^2], its point and what found it."""
     ssr = float(r @ r)
     tries = []
     jac = np.asarray(jac, dtype=float)
     if jac.shape == (r.size, u.size) and np.isfinite(jac).all():
+        # every step at most half a coordinate (or 0.5 where it is below 1): along a flat
+        # valley the whole Gauss-Newton step can reach a bound, such as a stiffness 1000 times
+        # its start, where one evaluation of the elasto-plastic law took minutes
+        reach = 0.5 * np.maximum(np.abs(u), 1.0)
         step = np.linalg.lstsq(jac, -r, rcond=None)[0]
+        step *= min(1.0, float(np.min(reach / np.maximum(np.abs(step), 1e-300))))
         tries += [(u + lam * step, "a Gauss-Newton step") for lam in (1.0, 0.3, 0.1)]
         sd = np.sqrt(np.maximum(s2 * np.diag(np.linalg.pinv(jac.T @ jac)), 0.0))
-        sd = np.minimum(sd, 0.5 * np.maximum(np.abs(u), 1.0))
+        sd = np.minimum(sd, reach)
         for i in range(u.size):
             for sgn in (1.0, -1.0):
                 w = u.copy()
