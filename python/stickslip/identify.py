@@ -453,8 +453,9 @@ class FitResult(_Estimates):
     Gauss-Newton step or two standard errors along a parameter, still lowers the sum of squares
     by more than PROBE_GAIN reduced chi-squares, `probe_gain` [N^2] the best decrease; or a
     profile of the intervals found such a point, the model itself evaluated there and not only
-    on the optimum's frozen substeps), or the fit is no better than predicting zero. `optimality` is the largest cosine between the residual and
-    a free parameter's Jacobian column (0 at a minimum). `report()` prints all of it.
+    on the optimum's frozen substeps), or the fit is no better than predicting zero.
+    `optimality` is the largest cosine between the residual and a free parameter's Jacobian
+    column (0 at a minimum). `report()` prints all of it.
     """
 
     rmse: float
@@ -1086,9 +1087,10 @@ def fit_friction(law: str, t: Any, x: Any = None, force: Any = None, v: Any = No
         # a cheap probe about the end; a lower point found starts a second local search
         # (a decrease below the state integration's own error, (rtol x force range)^2 a sample,
         # is no lower point); the profiles of the intervals may find one too: a search from it.
-        # Each search starts at a point lower than the best end by more than `needed` (its
-        # coordinates on a bound held there) and cannot end above it: the restarts go on while
-        # they lower the cost by that much, MAX_RESTARTS at most
+        # Each search starts at a point lower than the best end by more than `needed` (on the
+        # face of the box its coordinates on a bound are on, where the search moved inside ends
+        # higher: `restart`): the restarts go on while they lower the cost by that much,
+        # MAX_RESTARTS at most
         restarts = 0
         floor = n_total * (rtol * float(np.ptp(all_forces))) ** 2
         progress = True
@@ -1190,9 +1192,9 @@ def _probe(residuals: Any, u: np.ndarray, r: np.ndarray, jac: np.ndarray, q_lo: 
     tries = []
     jac = np.asarray(jac, dtype=float)
     if jac.shape == (r.size, u.size) and np.isfinite(jac).all():
-        # every step at most half a coordinate (or 0.5 where it is below 1): along a flat
-        # valley the whole Gauss-Newton step can reach a bound, such as a stiffness 1000 times
-        # its start, where one evaluation of the elasto-plastic law took minutes
+        # every step at most half a coordinate (or 0.5 where it is below 1), so that the probe
+        # stays near the end: along a flat valley the whole Gauss-Newton step can reach a bound
+        # far away (a stiffness 1000 times its start), where the states may be slow to integrate
         reach = 0.5 * np.maximum(np.abs(u), 1.0)
         step = np.linalg.lstsq(jac, -r, rcond=None)[0]
         step *= min(1.0, float(np.min(reach / np.maximum(np.abs(step), 1e-300))))
