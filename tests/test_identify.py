@@ -1262,3 +1262,14 @@ def test_select_with_screening_chooses_as_at_full_rate():
         stickslip.select_friction_law(["coulomb", "dahl"], t, x, f, v=v, screen=4, **kw)
     with pytest.raises(ValueError, match="screen: screening decimates whole records"):
         stickslip.select_friction_law(["coulomb", "dahl"], t[0], x[0], f[0], v=v[0], screen=48, **kw)
+
+
+
+def test_elastoplastic_z_ba_ratio_is_fitted_up_to_its_cap():
+    # the transition between z_ba and the steady deflection narrows as z_ba_ratio nears 1 and
+    # its integration costs in proportion: the fit's range stops at Z_BA_RATIO_MAX
+    truth, fixed = STATE_CASES["elastoplastic"]
+    t, x, f, v = noisy_records("elastoplastic", truth, 10.0, seed=3, n=201)
+    fit = stickslip.fit_friction("elastoplastic", t, x, f, v=v, fixed=fixed)
+    assert fit.bounds["z_ba_ratio"][1] == pytest.approx(identify.Z_BA_RATIO_MAX, rel=1e-12)
+    assert fit.params["z_ba_ratio"] <= identify.Z_BA_RATIO_MAX
