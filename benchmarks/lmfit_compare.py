@@ -4,9 +4,10 @@ parameters. lmfit is a reference only (a development requirement, never one of s
 
 The same fit: the same model (stickslip.prescribed_motion per record, backlash and asymmetry
 fitted, cases.identify's fixed parameters, subsampling, rtol and finite-difference step), the
-same start (the data-derived one stickslip reports in FitResult.start), the same bounds (the
-library's ranges, a stiffness at most 1000 times its start, mu_s >= mu_k and v_d > v_s as
-excess parameters through lmfit expressions), the same optimiser (lmfit's method
+same start (the data-derived one stickslip reports in FitResult.start), the same bounds (those
+the fit applied, FitResult.bounds: the library's ranges, a stiffness at most 1000 times its
+start, z_ba_ratio at most 0.999; mu_s >= mu_k and v_d > v_s as excess parameters through lmfit
+expressions), the same optimiser (lmfit's method
 "least_squares", scipy's trust-region reflective, x_scale="jac", the same diff_step and
 max_nfev). Parameters are compared in units of stickslip's standard error without the
 correlation inflation (lmfit's covariance has none).
@@ -39,11 +40,7 @@ def _lmfit_fit(law: str, recs: list, fit, rtol: float, diff_step: float):
     params = lmfit.Parameters()
     ordered = {b: a for a, b in I.ORDERED_PAIRS if a in fit.free and b in fit.free}
     for name in sorted(fit.free, key=lambda n: n in ordered):       # expressions after their terms
-        low, high = I._range_of(name)[:2]
-        if I.REGISTRY["param"].get(name, {}).get("unit") == "1/m":
-            high = min(high, 1e3 * fit.start[name])
-        if name == "mu_k":
-            low = max(low, 1e-12 * fit.start[name])
+        low, high = fit.bounds[name]
         if name in ordered:
             params.add("excess_" + name, value=max(fit.start[name] - fit.start[ordered[name]], 1e-9 * fit.start[name]),
                        min=0.0)

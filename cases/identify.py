@@ -449,8 +449,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
     files += plot(args.outdir)
     files.append(report(args.outdir, SPLIT_NOTE))
     c.log(f"cases.identify: {time.perf_counter() - t0:.1f} s", args.quiet)
-    c.print_files(files)
-    return files
+    return c.finish("cases.identify", argv, files)
 
 
 SPLIT_NOTE = ("Records grouped by band tension, each group fitted on its own; within a group the "

@@ -293,7 +293,9 @@ def test_fit_no_better_than_zero_says_so():
 def test_fit_stopped_on_a_slope_says_so(monkeypatch):
     # an optimiser that never moves from its start reports success; the probe about its end
     # (a Gauss-Newton step, steps of two standard errors) finds lower points, the restarts from
-    # them stop at once too, and the fit says it stopped far from a minimum
+    # them stop at once too, and with two restarts allowed the fit says it stopped far from a
+    # minimum; with the default budget the probes' Gauss-Newton steps reach the truth (the data
+    # are noise-free: to the integration's error), and the fit succeeds
     import scipy.optimize
     t, x, v = sine_record(n=201)
     f = pm("dahl", t, x, v, mu_k=0.3, sigma0=2e3).force
@@ -304,9 +306,18 @@ def test_fit_stopped_on_a_slope_says_so(monkeypatch):
         sol.status, sol.success, sol.message = 2, True, "`ftol` termination condition is satisfied."
         return sol
     monkeypatch.setattr(scipy.optimize, "least_squares", early)
-    with pytest.warns(RuntimeWarning, match=rf"far from a minimum: .* after {identify.MAX_RESTARTS} restart\(s\)"):
-        fit = stickslip.fit_friction("dahl", t, x, f, v=v, n_starts=1, params0={"mu_k": 0.1, "sigma0": 300.0})
-    assert not fit.success and fit.restarts == identify.MAX_RESTARTS and fit.probe_gain > 0.0
+    start = {"mu_k": 0.1, "sigma0": 300.0}
+    with monkeypatch.context() as m:
+        m.setattr(identify, "MAX_RESTARTS", 2)
+        with pytest.warns(RuntimeWarning, match=r"far from a minimum: .* after 2 restart\(s\)"):
+            fit = stickslip.fit_friction("dahl", t, x, f, v=v, n_starts=1, params0=start)
+    assert not fit.success and fit.restarts == 2 and fit.probe_gain > 0.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        fit = stickslip.fit_friction("dahl", t, x, f, v=v, n_starts=1, params0=start)
+    assert fit.success and 2 < fit.restarts <= identify.MAX_RESTARTS
+    for k, want in {"mu_k": 0.3, "sigma0": 2e3, "dahl_alpha": 1.0}.items():
+        assert fit.params[k] == pytest.approx(want, rel=1e-5), k
     monkeypatch.setattr(scipy.optimize, "least_squares", real)
     fit = stickslip.fit_friction("dahl", t, x, f, v=v, n_starts=1, params0={"mu_k": 0.1, "sigma0": 300.0})
     assert fit.success and fit.message.startswith("`")
@@ -1042,12 +1053,10 @@ def test_select_calibrates_its_fits_by_the_held_out_records():
             stickslip.select_friction_law(["coulomb", "dahl"], t, x, f, v=v, **kw)
 
 
-def test_a_fit_stopped_short_restarts_from_the_probes_lower_point(monkeypatch):
-    # the first local search stops after two evaluations, as on a tolerance: the probe about
-    # its end finds a lower point, a second search from it reaches the minimum
+def first_search_cut_short(monkeypatch) -> None:
+    """The first local search of the fits that follow stops after two evaluations and reports
+    success, as on a tolerance; the later ones run to their end."""
     import scipy.optimize
-    t, x, v = sine_record(n=201)
-    f = pm("dahl", t, x, v, **DAHL).force + 10.0 * np.random.default_rng(2).standard_normal(t.size)
     real = scipy.optimize.least_squares
     calls = []
 
@@ -1057,11 +1066,94 @@ def test_a_fit_stopped_short_restarts_from_the_probes_lower_point(monkeypatch):
         sol.status, sol.success = 2, True
         return sol
     monkeypatch.setattr(scipy.optimize, "least_squares", first_short)
-    fit = stickslip.fit_friction("dahl", t, x, f, v=v, params0={"mu_k": 500.0, "sigma0": 1e5, "dahl_alpha": 1.0})
-    monkeypatch.setattr(scipy.optimize, "least_squares", real)
+
+
+def test_a_fit_stopped_short_restarts_from_the_probes_lower_point(monkeypatch):
+    # the first local search stops after two evaluations, as on a tolerance: the probe about
+    # its end finds a lower point, a second search from it reaches the minimum
+    t, x, v = sine_record(n=201)
+    f = pm("dahl", t, x, v, **DAHL).force + 10.0 * np.random.default_rng(2).standard_normal(t.size)
     ref = stickslip.fit_friction("dahl", t, x, f, v=v)
+    first_search_cut_short(monkeypatch)
+    fit = stickslip.fit_friction("dahl", t, x, f, v=v, params0={"mu_k": 500.0, "sigma0": 1e5, "dahl_alpha": 1.0})
     assert fit.restarts >= 1 and fit.success and fit.probe_gain <= fit.redchi
     assert fit.chisqr == pytest.approx(ref.chisqr, rel=1e-4)
+
+
+def test_a_profiles_lower_point_counts_only_where_the_model_is_lower(monkeypatch):
+    # the profiles refit on the optimum's frozen substeps; a lower sum of squares they report
+    # is checked with the model itself. A claimed point far off (mu_k doubled), where the
+    # model is far higher, is no lower point: the fit succeeds without a restart. The true
+    # lower point of a search cut short (the probe disabled, every parameter profiled) starts
+    # a restart that reaches the uncut fit's minimum.
+    t, x, v = sine_record(n=201)
+    f = pm("dahl", t, x, v, **DAHL).force + 10.0 * np.random.default_rng(2).standard_normal(t.size)
+    ref = stickslip.fit_friction("dahl", t, x, f, v=v, interval="profile")
+    real_profiles = identify._profile_intervals
+
+    def claims_lower(*args, **kw):
+        out = real_profiles(*args, **kw)
+        p_far = args[6].copy()
+        p_far[0] *= 2.0                        # mu_k
+        return out[:4] + ((out[4][0] - 100.0 * ref.chisqr, "mu_k", float(p_far[0]), p_far),)
+    monkeypatch.setattr(identify, "_profile_intervals", claims_lower)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        fit = stickslip.fit_friction("dahl", t, x, f, v=v, interval="profile")
+    assert fit.success and fit.restarts == 0 and fit.chisqr == pytest.approx(ref.chisqr, rel=1e-6)
+    monkeypatch.setattr(identify, "_profile_intervals", real_profiles)
+    first_search_cut_short(monkeypatch)
+    monkeypatch.setattr(identify, "_probe", lambda res, u, *a: (0.0, u, ""))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        fit = stickslip.fit_friction("dahl", t, x, f, v=v, interval="profile",
+                                     params0={"mu_k": 500.0, "sigma0": 1e5, "dahl_alpha": 1.0})
+    assert fit.restarts >= 1 and fit.success
+    assert fit.chisqr == pytest.approx(ref.chisqr, rel=1e-4)
+
+
+def test_lugre_on_the_damper_holds_its_backlash_at_the_lower_bound():
+    # On the ten 36 lb records the cost of LuGre jumps between a backlash of exactly 0 and one
+    # just above (136-174 reduced chi-squares higher at 1e-12 to 1e-7 m, the other parameters
+    # held): a search moved strictly inside the bounds cannot start from the profile's lower
+    # point at 0. The restart searches on that face: the fit ends at backlash 0 with success,
+    # as low as the fit with the backlash fixed at 0 (to a reduced chi-square)
+    from cases import identify as ci
+    recs = [r for r, _ in ci.load_groups(stickslip.damper_files(36))["36lb"]]
+    kw = dict(fixed=ci.fixed_for("lugre"), asymmetry="fit", rtol=ci.RTOL, diff_step=ci.DIFF_STEP, interval="wald")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        fit = stickslip.fit_friction("lugre", recs, backlash="fit", **kw)
+    at_zero = stickslip.fit_friction("lugre", recs, backlash=0.0, **kw)
+    assert fit.success and fit.restarts >= 1 and fit.params["backlash"] == 0.0 and "backlash" in fit.at_bound
+    assert fit.chisqr <= at_zero.chisqr + fit.redchi
+    data = identify._records(recs, None, None, None, None)
+    forces = np.concatenate([d.force for d in data])
+
+    def ssr(backlash: float) -> float:
+        p = dict(fit.params, backlash=backlash)
+        r = np.concatenate([identify._model("lugre", d, identify._record_params(p, i), ci.RTOL)
+                            for i, d in enumerate(data)]) - forces
+        return float(r @ r)
+    assert ssr(1e-9) - ssr(0.0) > 10.0 * fit.redchi
+
+
+@pytest.mark.parametrize("law", ["lugre", "gms"])
+def test_laws_with_states_on_the_damper_reach_lmfits_minimum(law):
+    # LuGre and GMS on the ten 36 lb records (backlash and asymmetry fitted, as the lmfit
+    # benchmark): success, and a sum of squares at most a reduced chi-square above that of the
+    # same fit written with lmfit from the same start (they used to stop with success=False,
+    # a profile finding a point 1.7 and 3.8 reduced chi-squares lower)
+    pytest.importorskip("lmfit")
+    from benchmarks.lmfit_compare import _lmfit_fit
+    from cases import identify as ci
+    recs = [r for r, _ in ci.load_groups(stickslip.damper_files(36))["36lb"]]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        fit = stickslip.fit_friction(law, recs, fixed=ci.fixed_for(law), backlash="fit", asymmetry="fit",
+                                     rtol=ci.RTOL, diff_step=ci.DIFF_STEP, interval="wald")
+    out, _ = _lmfit_fit(law, recs, fit, ci.RTOL, ci.DIFF_STEP)
+    assert fit.success and fit.chisqr <= float(out.residual @ out.residual) + fit.redchi
 
 
 def test_static_law_with_backlash_fitted_finds_it():
@@ -1187,3 +1279,14 @@ def test_select_with_screening_chooses_as_at_full_rate():
         stickslip.select_friction_law(["coulomb", "dahl"], t, x, f, v=v, screen=4, **kw)
     with pytest.raises(ValueError, match="screen: screening decimates whole records"):
         stickslip.select_friction_law(["coulomb", "dahl"], t[0], x[0], f[0], v=v[0], screen=48, **kw)
+
+
+
+def test_elastoplastic_z_ba_ratio_is_fitted_up_to_its_cap():
+    # the transition between z_ba and the steady deflection narrows as z_ba_ratio nears 1 and
+    # its integration costs in proportion: the fit's range stops at Z_BA_RATIO_MAX
+    truth, fixed = STATE_CASES["elastoplastic"]
+    t, x, f, v = noisy_records("elastoplastic", truth, 10.0, seed=3, n=201)
+    fit = stickslip.fit_friction("elastoplastic", t, x, f, v=v, fixed=fixed)
+    assert fit.bounds["z_ba_ratio"][1] == pytest.approx(identify.Z_BA_RATIO_MAX, rel=1e-12)
+    assert fit.params["z_ba_ratio"] <= identify.Z_BA_RATIO_MAX
