@@ -207,11 +207,14 @@ class Reference:
             now_closed = self._closed(t)     # every table that crossed with them (the same table: halves)
             closing = [i for i in range(nc) if now_closed[i] and not closed[i]] if hit else []
             w = self.h @ u + self.b
+            # a closing contact slips the way it moves; at w = 0 to rounding (a body held by
+            # other contacts) it is decided with the others, not slipped on the sign of noise
+            w_zero = 1e-10 * (1.0 + np.abs(u).max())
+            at_w0 = [i for i in closing if abs(w[i]) <= w_zero]
             new_mode = mode.copy()
-            for i in closing:                             # a closing contact slips the way it moves
-                if mode[i] != 0 and w[i] != 0.0:
+            for i in closing:
+                if mode[i] != 0 and i not in at_w0:
                     new_mode[i] = int(np.sign(w[i]))
-            at_w0 = [i for i in closing if w[i] == 0.0]
             cands = sorted(set(w_hit) | set(at_w0) | set(np.flatnonzero(mode == 0)))
             limit = {i for kind, i in hit if kind == "limit"}
             if limit:      # every stuck contact at its limit with them (the same row: redundant)
