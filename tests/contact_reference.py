@@ -19,6 +19,7 @@ import itertools
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
 
 
 class Reference:
@@ -135,6 +136,34 @@ class Reference:
         """Which contacts carry a normal force just after t (a table at 0 there: by its slope)."""
         return self.normal_raw(t + 1e-9) > 0.0
 
+    def _missed_return(self, sol, mode, closed, per_step=64):
+        """The earliest return of a slipping contact's s w (s its direction) to 0 that
+        solve_ivp's events miss: they look at the steps' ends only, so an excursion that
+        starts at w = 0 to rounding with the wrong sign (after a reversal) and comes back
+        within one step goes unseen. Found on the dense output, `per_step` points a step,
+        as a fall of s w from above 0 to <= 0; (time, contact) or None."""
+        nd = self.m.size
+        slipping = [i for i in range(self.n.size) if mode[i] != 0 and closed[i]]
+        if not slipping or sol.t.size < 2:
+            return None
+        tt = np.concatenate([np.linspace(a, b, per_step, endpoint=False) for a, b in zip(sol.t[:-1], sol.t[1:])]
+                            + [sol.t[-1:]])
+        sw = (mode[slipping, None] * (self.h[slipping] @ sol.sol(tt)[nd:]
+                                      + self.b[slipping, None]))
+        best = None
+        for row, i in enumerate(slipping):
+            s = sw[row]
+            above = np.maximum.accumulate(s > 0.0)
+            falls = np.flatnonzero((s[1:] <= 0.0) & above[:-1])
+            if not falls.size:
+                continue
+            k = falls[0]
+            g = lambda x, i=i: float(mode[i] * (self.h[i] @ sol.sol(x)[nd:] + self.b[i]))
+            tc = brentq(g, tt[k], tt[k + 1], xtol=1e-15, rtol=8.9e-16) if g(tt[k + 1]) < 0.0 else tt[k + 1]
+            if best is None or tc < best[0]:
+                best = (tc, i)
+        return best
+
     def run(self, q0, u0, t_end, t_eval, rtol=1e-11, atol=1e-13, max_segments=100000):
         nd = self.m.size
         nc = self.n.size
@@ -186,10 +215,15 @@ class Reference:
             sol = solve_ivp(rhs, (t, t_stop_at), np.concatenate([q, u]), method="DOP853", rtol=rtol, atol=atol,
                             events=funcs, dense_output=True)
             t_stop = sol.t[-1]
+            y = sol.y[:, -1]
+            missed = self._missed_return(sol, mode, closed)
+            if missed is not None and missed[0] < t_stop:
+                t_stop, y = missed[0], sol.sol(missed[0])
+                sol.status, sol.t_events = 1, [np.array([]) for _ in funcs]
+                sol.t_events[kinds.index(("w", missed[1]))] = np.array([t_stop])
             sel = (t_eval >= t) & (t_eval <= t_stop)
             if sel.any() and t_stop > t:
                 out[:, sel] = sol.sol(t_eval[sel])
-            y = sol.y[:, -1]
             stalled = stalled + 1 if t_stop == t else 0
             q, u, t = y[:nd].copy(), y[nd:].copy(), t_stop
             if sol.status == -1 or (sol.status == 0 and t >= t_end):

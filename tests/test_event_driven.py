@@ -335,8 +335,6 @@ def test_random_models_against_the_reference(seed: int) -> None:
 KNOWN_WRONG: dict[int, str] = {
     1012: "not yet diagnosed", 1026: "at one instant another contact released than the reference's",
     1050: "not yet diagnosed", 1061: "not yet diagnosed",
-    1078: "a grazing touch counted as touching within tolerance; the reference passes through w = 0",
-    1126: "a contact that opens inside a redundant stuck set slips where the reference keeps it stuck",
     1136: "not yet diagnosed", 1145: "the reference has no grazing detection (the library looks right)",
     1171: "not yet diagnosed", 1177: "not yet diagnosed",
     1117: "fails after rows that differ", 1178: "fails after rows that differ",
