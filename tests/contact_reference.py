@@ -104,6 +104,7 @@ class Reference:
         number of slipping ones (fewest first: the first count with a consistent mode holds the
         most stuck contacts), and how many consistent modes hold that many (None, 0: none)."""
         best, best_key, n_best = None, None, 0
+        cap_max = float(np.max(self.mu_s * nn, initial=0.0))
         for n_slip in range(len(cands) + 1):
             for slipping in itertools.combinations(range(len(cands)), n_slip):
                 for signs in itertools.product((1, -1), repeat=n_slip):
@@ -118,6 +119,7 @@ class Reference:
                     for i, c in zip(cands, choice):
                         if c == 0:
                             lim = self.mu_s[i] * nn[i] * (1 - 1e-9 if i in at_limit else 1 + 1e-9)
+                            lim += 1e-12 * cap_max      # a contact closing (N = 0) on a held row
                             ok &= abs(r[i]) <= lim and abs(acc[i]) < 1e-8
                         else:
                             ok &= c * acc[i] > -slack
