@@ -10,7 +10,10 @@ the mode (DOP853) with events for w_i = 0 (slipping, closed), |r_i| = mu_s N_i (
 N_i = 0 (a table crossing zero, either way), and stops at the tables' points. At each event
 the new mode is found by exhaustive search over the modes of the contacts at w = 0, by
 increasing number of slipping contacts (all 3^k of them where none holds), keeping a
-consistent one with the most stuck contacts; a contact that closes slips the way it moves. Where several modes with that many stuck contacts are consistent (a tie), the
+consistent one with the most stuck contacts (contacts on the same row up to sign, which have
+the same w, counted once); a contact that closes slips the way it moves (at w = 0 to rounding
+it is decided with the others). A slipping contact's return to w = 0 inside one step, which
+solve_ivp's events (at the steps' ends) miss, is found on the dense output. Where several modes with that many stuck contacts are consistent (a tie), the
 time is kept in `ties`: another rule may pick another of them.
 """
 from __future__ import annotations
@@ -99,13 +102,24 @@ class Reference:
             self.ties.append(t)
         return best
 
+    def _row_key(self, i):
+        """Contact i's row (H_i, b_i) up to sign: contacts with the same key have the same w."""
+        row = np.append(self.h[i], self.b[i])
+        lead = row[np.flatnonzero(row)[0]]
+        return tuple(row * np.sign(lead))
+
     def _search(self, q, u, cands, mode, at_limit, t, nn, held, guess, slack):
         """The best consistent mode of the candidates (see `decide`), searched by increasing
-        number of slipping ones (fewest first: the first count with a consistent mode holds the
-        most stuck contacts), and how many consistent modes hold that many (None, 0: none)."""
-        best, best_key, n_best = None, None, 0
+        number of slipping ones, and how many consistent modes hold that many stuck contacts
+        (None, 0: none). Contacts on the same row up to sign (the same w: a contact split in
+        halves) count as one stuck contact, as issue 41 states the rule: the search goes on
+        while a count of fewer slipping contacts could still hold as many distinct rows."""
+        best, best_key, counts = None, None, {}
         cap_max = float(np.max(self.mu_s * nn, initial=0.0))
+        keys = [self._row_key(i) for i in cands]
         for n_slip in range(len(cands) + 1):
+            if best is not None and len(cands) - n_slip < -best_key[0]:
+                break
             for slipping in itertools.combinations(range(len(cands)), n_slip):
                 for signs in itertools.product((1, -1), repeat=n_slip):
                     choice = [0] * len(cands)
@@ -125,14 +139,13 @@ class Reference:
                             ok &= c * acc[i] > -slack
                     if not ok:
                         continue
-                    n_best += 1
-                    key = (0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
+                    n_stuck = len({k for k, c in zip(keys, choice) if c == 0})
+                    counts[n_stuck] = counts.get(n_stuck, 0) + 1
+                    key = (-n_stuck, 0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
                            sum(abs(acc[i]) for i, c in zip(cands, choice) if c != 0))
                     if best_key is None or key < best_key:
                         best, best_key = trial, key
-            if best is not None:
-                break
-        return best, n_best
+        return best, (counts[-best_key[0]] if best is not None else 0)
 
     def _closed(self, t):
         """Which contacts carry a normal force just after t (a table at 0 there: by its slope)."""

@@ -334,7 +334,6 @@ def test_random_models_against_the_reference(seed: int) -> None:
 #: removed here.
 KNOWN_WRONG: dict[int, str] = {
     1012: "not yet diagnosed", 1026: "at one instant another contact released than the reference's",
-    1061: "not yet diagnosed",
     1136: "not yet diagnosed",
     1171: "not yet diagnosed", 1177: "not yet diagnosed",
     1117: "fails after rows that differ", 1178: "fails after rows that differ",
