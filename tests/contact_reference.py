@@ -25,6 +25,11 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 
+#: A slip acceleration this small against its direction [m/s^2] is zero to rounding: such a mode
+#: is not chosen, but counts as another solution (a tie).
+ROUNDING_ACC = 1e-12
+
+
 class Reference:
     def __init__(self, m, k, h, b, n, mu_s, mu_k, normal_tables=None):
         self.m = np.asarray(m, float)
@@ -129,18 +134,21 @@ class Reference:
                     trial[cands] = choice
                     r = self.forces(q, u, trial, t)
                     acc = self.h @ self.accel(q, u, trial, t)
-                    ok = True
+                    ok, rounding = True, False
                     for i, c in zip(cands, choice):
                         if c == 0:
                             lim = self.mu_s[i] * nn[i] * (1 - 1e-9 if i in at_limit else 1 + 1e-9)
                             lim += 1e-12 * cap_max      # a contact closing (N = 0) on a held row
                             ok &= abs(r[i]) <= lim and abs(acc[i]) < 1e-8
-                        else:
-                            ok &= c * acc[i] > -slack
+                        elif c * acc[i] <= -slack:
+                            ok &= c * acc[i] > -ROUNDING_ACC      # slips away only to rounding
+                            rounding = True
                     if not ok:
                         continue
                     n_stuck = len({k for k, c in zip(keys, choice) if c == 0})
                     counts[n_stuck] = counts.get(n_stuck, 0) + 1
+                    if rounding:        # another solution to rounding: counted for ties only
+                        continue
                     key = (-n_stuck, 0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
                            sum(abs(acc[i]) for i, c in zip(cands, choice) if c != 0))
                     if best_key is None or key < best_key:
