@@ -26,7 +26,7 @@ from scipy.optimize import brentq
 
 
 #: A slip acceleration this small against its direction [m/s^2] is zero to rounding: such a mode
-#: is not chosen, but counts as another solution (a tie).
+#: is consistent, but one strictly consistent with as many stuck contacts is preferred.
 ROUNDING_ACC = 1e-12
 
 
@@ -147,9 +147,8 @@ class Reference:
                         continue
                     n_stuck = len({k for k, c in zip(keys, choice) if c == 0})
                     counts[n_stuck] = counts.get(n_stuck, 0) + 1
-                    if rounding:        # another solution to rounding: counted for ties only
-                        continue
-                    key = (-n_stuck, 0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
+                    # one consistent only to rounding loses to a strict one with as many stuck
+                    key = (-n_stuck, rounding, 0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
                            sum(abs(acc[i]) for i, c in zip(cands, choice) if c != 0))
                     if best_key is None or key < best_key:
                         best, best_key = trial, key
