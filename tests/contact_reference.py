@@ -26,7 +26,8 @@ from scipy.optimize import brentq
 
 
 #: A slip acceleration this small against its direction [m/s^2] is zero to rounding: such a mode
-#: is consistent, but one strictly consistent with as many stuck contacts is preferred.
+#: is not chosen, but where it holds at least as many stuck contacts as the chosen one the
+#: instant is a tie (which is right depends on the derivatives, which neither side looks at).
 ROUNDING_ACC = 1e-12
 
 
@@ -119,7 +120,7 @@ class Reference:
         (None, 0: none). Contacts on the same row up to sign (the same w: a contact split in
         halves) count as one stuck contact, as issue 41 states the rule: the search goes on
         while a count of fewer slipping contacts could still hold as many distinct rows."""
-        best, best_key, counts = None, None, {}
+        best, best_key, counts, round_max = None, None, {}, -1
         cap_max = float(np.max(self.mu_s * nn, initial=0.0))
         keys = [self._row_key(i) for i in cands]
         for n_slip in range(len(cands) + 1):
@@ -146,13 +147,17 @@ class Reference:
                     if not ok:
                         continue
                     n_stuck = len({k for k, c in zip(keys, choice) if c == 0})
+                    if rounding:        # consistent to rounding only: not chosen, but another solution
+                        round_max = max(round_max, n_stuck)
+                        continue
                     counts[n_stuck] = counts.get(n_stuck, 0) + 1
-                    # one consistent only to rounding loses to a strict one with as many stuck
-                    key = (-n_stuck, rounding, 0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
+                    key = (-n_stuck, 0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
                            sum(abs(acc[i]) for i, c in zip(cands, choice) if c != 0))
                     if best_key is None or key < best_key:
                         best, best_key = trial, key
-        return best, (counts[-best_key[0]] if best is not None else 0)
+        if best is None:
+            return None, 0
+        return best, counts[-best_key[0]] + (1 if round_max >= -best_key[0] else 0)
 
     def _closed(self, t):
         """Which contacts carry a normal force just after t (a table at 0 there: by its slope)."""
