@@ -54,7 +54,8 @@
 !! sine) is an event too: each step's end compares every contact's N > 0 with its state where
 !! the mode's run started (`closed`), and the crossing is located by bisection on the step's
 !! continuous extension to 4 units of round-off in t (`locate_normal`). There a contact that
-!! closes slips the way it moves (at w = 0 it is decided with the others), and every stuck
+!! closes slips the way it moves (at w = 0 to the integration's tolerance, `w_tolerance`: a
+!! body held by other contacts, it is decided with the others), and every stuck
 !! contact is decided afresh. While a contact is open, the steps are kept to 1/16 of the
 !! forces' shortest period as for a stuck one (its normal force does not limit them).
 !!
@@ -1061,7 +1062,8 @@ contains
     !! stuck contact are decided together (`decide`); a contact that reached w = 0 and has
     !! one entry in H gets w = 0 exactly. A contact whose normal force rose above 0 (it was
     !! open where the mode's run started) slips the way it moves, and is decided with the
-    !! others where it closes at w = 0. If that changes no mode although a holding force
+    !! others where it closes at w = 0 to the integration's tolerance (not slipped on the
+    !! sign of rounding). If that changes no mode although a holding force
     !! exceeds its limit here (rounding at the limit), that contact gives way. More than
     !! 4 n_c + 8 switches in a row each within zeno_gap of the last (with or without a change
     !! of mode) end the run with SS_EVENT_ZENO: no input turns at one instant for ever.
