@@ -324,11 +324,14 @@ def merged_agrees(spec: Spec) -> bool:
     return bool(np.all(np.abs(res.x - y_ref[:len(spec.masses)]) < 1e-6))
 
 
-@pytest.mark.parametrize("seed", [1, 2, 5, 9, 11, 14, 6, 1024])
+@pytest.mark.parametrize("seed", [1, 2, 5, 9, 11, 14, 6, 1024, 1050, 1078])
 def test_random_models_against_the_reference(seed: int) -> None:
     """A handful of the random models (6 and 1024 hold cycles of contacts, e.g. two bodies on
     the ground and on each other, whose stuck set has a singular Delassus block: they ended in
-    a contact failure before psd_solve kept its right-hand side for the pseudo-solve)."""
+    a contact failure before psd_solve kept its right-hand side for the pseudo-solve; in 1050
+    a contact closes on a row held by another at w = 0 to rounding, and is decided, not slipped
+    on the sign of rounding; in 1078 a slipping contact's w comes back to 0 within one of the
+    reference's steps)."""
     assert check_against_reference(seed) == "agree"
 
 
