@@ -10,7 +10,10 @@ the mode (DOP853) with events for w_i = 0 (slipping, closed), |r_i| = mu_s N_i (
 N_i = 0 (a table crossing zero, either way), and stops at the tables' points. At each event
 the new mode is found by exhaustive search over the modes of the contacts at w = 0, by
 increasing number of slipping contacts (all 3^k of them where none holds), keeping a
-consistent one with the most stuck contacts; a contact that closes slips the way it moves. Where several modes with that many stuck contacts are consistent (a tie), the
+consistent one with the most stuck contacts (contacts on the same row up to sign, which have
+the same w, counted once); a contact that closes slips the way it moves (at w = 0 to rounding
+it is decided with the others). A slipping contact's return to w = 0 inside one step, which
+solve_ivp's events (at the steps' ends) miss, is found on the dense output. Where several modes with that many stuck contacts are consistent (a tie), the
 time is kept in `ties`: another rule may pick another of them.
 """
 from __future__ import annotations
@@ -19,6 +22,13 @@ import itertools
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+
+#: A slip acceleration this small against its direction [m/s^2] is zero to rounding: such a mode
+#: is not chosen, but where it holds at least as many stuck contacts as the chosen one the
+#: instant is a tie (which is right depends on the derivatives, which neither side looks at).
+ROUNDING_ACC = 1e-12
 
 
 class Reference:
@@ -98,12 +108,24 @@ class Reference:
             self.ties.append(t)
         return best
 
+    def _row_key(self, i):
+        """Contact i's row (H_i, b_i) up to sign: contacts with the same key have the same w."""
+        row = np.append(self.h[i], self.b[i])
+        lead = row[np.flatnonzero(row)[0]]
+        return tuple(row * np.sign(lead))
+
     def _search(self, q, u, cands, mode, at_limit, t, nn, held, guess, slack):
         """The best consistent mode of the candidates (see `decide`), searched by increasing
-        number of slipping ones (fewest first: the first count with a consistent mode holds the
-        most stuck contacts), and how many consistent modes hold that many (None, 0: none)."""
-        best, best_key, n_best = None, None, 0
+        number of slipping ones, and how many consistent modes hold that many stuck contacts
+        (None, 0: none). Contacts on the same row up to sign (the same w: a contact split in
+        halves) count as one stuck contact, as issue 41 states the rule: the search goes on
+        while a count of fewer slipping contacts could still hold as many distinct rows."""
+        best, best_key, counts, round_max = None, None, {}, -1
+        cap_max = float(np.max(self.mu_s * nn, initial=0.0))
+        keys = [self._row_key(i) for i in cands]
         for n_slip in range(len(cands) + 1):
+            if best is not None and len(cands) - n_slip < -best_key[0]:
+                break
             for slipping in itertools.combinations(range(len(cands)), n_slip):
                 for signs in itertools.product((1, -1), repeat=n_slip):
                     choice = [0] * len(cands)
@@ -113,27 +135,61 @@ class Reference:
                     trial[cands] = choice
                     r = self.forces(q, u, trial, t)
                     acc = self.h @ self.accel(q, u, trial, t)
-                    ok = True
+                    ok, rounding = True, False
                     for i, c in zip(cands, choice):
                         if c == 0:
                             lim = self.mu_s[i] * nn[i] * (1 - 1e-9 if i in at_limit else 1 + 1e-9)
+                            lim += 1e-12 * cap_max      # a contact closing (N = 0) on a held row
                             ok &= abs(r[i]) <= lim and abs(acc[i]) < 1e-8
-                        else:
-                            ok &= c * acc[i] > -slack
+                        elif c * acc[i] <= -slack:
+                            ok &= c * acc[i] > -ROUNDING_ACC      # slips away only to rounding
+                            rounding = True
                     if not ok:
                         continue
-                    n_best += 1
-                    key = (0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
+                    n_stuck = len({k for k, c in zip(keys, choice) if c == 0})
+                    if rounding:        # consistent to rounding only: not chosen, but another solution
+                        round_max = max(round_max, n_stuck)
+                        continue
+                    counts[n_stuck] = counts.get(n_stuck, 0) + 1
+                    key = (-n_stuck, 0 if np.array_equal(trial, held) else 1 if np.array_equal(trial, guess) else 2,
                            sum(abs(acc[i]) for i, c in zip(cands, choice) if c != 0))
                     if best_key is None or key < best_key:
                         best, best_key = trial, key
-            if best is not None:
-                break
-        return best, n_best
+        if best is None:
+            return None, 0
+        return best, counts[-best_key[0]] + (1 if round_max >= -best_key[0] else 0)
 
     def _closed(self, t):
         """Which contacts carry a normal force just after t (a table at 0 there: by its slope)."""
         return self.normal_raw(t + 1e-9) > 0.0
+
+    def _missed_return(self, sol, mode, closed, per_step=64):
+        """The earliest return of a slipping contact's s w (s its direction) to 0 that
+        solve_ivp's events miss: they look at the steps' ends only, so an excursion that
+        starts at w = 0 to rounding with the wrong sign (after a reversal) and comes back
+        within one step goes unseen. Found on the dense output, `per_step` points a step,
+        as a fall of s w from above 0 to <= 0; (time, contact) or None."""
+        nd = self.m.size
+        slipping = [i for i in range(self.n.size) if mode[i] != 0 and closed[i]]
+        if not slipping or sol.t.size < 2:
+            return None
+        tt = np.concatenate([np.linspace(a, b, per_step, endpoint=False) for a, b in zip(sol.t[:-1], sol.t[1:])]
+                            + [sol.t[-1:]])
+        sw = (mode[slipping, None] * (self.h[slipping] @ sol.sol(tt)[nd:]
+                                      + self.b[slipping, None]))
+        best = None
+        for row, i in enumerate(slipping):
+            s = sw[row]
+            above = np.maximum.accumulate(s > 0.0)
+            falls = np.flatnonzero((s[1:] <= 0.0) & above[:-1])
+            if not falls.size:
+                continue
+            k = falls[0]
+            g = lambda x, i=i: float(mode[i] * (self.h[i] @ sol.sol(x)[nd:] + self.b[i]))
+            tc = brentq(g, tt[k], tt[k + 1], xtol=1e-15, rtol=8.9e-16) if g(tt[k + 1]) < 0.0 else tt[k + 1]
+            if best is None or tc < best[0]:
+                best = (tc, i)
+        return best
 
     def run(self, q0, u0, t_end, t_eval, rtol=1e-11, atol=1e-13, max_segments=100000):
         nd = self.m.size
@@ -186,10 +242,15 @@ class Reference:
             sol = solve_ivp(rhs, (t, t_stop_at), np.concatenate([q, u]), method="DOP853", rtol=rtol, atol=atol,
                             events=funcs, dense_output=True)
             t_stop = sol.t[-1]
+            y = sol.y[:, -1]
+            missed = self._missed_return(sol, mode, closed)
+            if missed is not None and missed[0] < t_stop:
+                t_stop, y = missed[0], sol.sol(missed[0])
+                sol.status, sol.t_events = 1, [np.array([]) for _ in funcs]
+                sol.t_events[kinds.index(("w", missed[1]))] = np.array([t_stop])
             sel = (t_eval >= t) & (t_eval <= t_stop)
             if sel.any() and t_stop > t:
                 out[:, sel] = sol.sol(t_eval[sel])
-            y = sol.y[:, -1]
             stalled = stalled + 1 if t_stop == t else 0
             q, u, t = y[:nd].copy(), y[nd:].copy(), t_stop
             if sol.status == -1 or (sol.status == 0 and t >= t_end):
@@ -207,11 +268,14 @@ class Reference:
             now_closed = self._closed(t)     # every table that crossed with them (the same table: halves)
             closing = [i for i in range(nc) if now_closed[i] and not closed[i]] if hit else []
             w = self.h @ u + self.b
+            # a closing contact slips the way it moves; at w = 0 to rounding (a body held by
+            # other contacts) it is decided with the others, not slipped on the sign of noise
+            w_zero = 1e-10 * (1.0 + np.abs(u).max())
+            at_w0 = [i for i in closing if abs(w[i]) <= w_zero]
             new_mode = mode.copy()
-            for i in closing:                             # a closing contact slips the way it moves
-                if mode[i] != 0 and w[i] != 0.0:
+            for i in closing:
+                if mode[i] != 0 and i not in at_w0:
                     new_mode[i] = int(np.sign(w[i]))
-            at_w0 = [i for i in closing if w[i] == 0.0]
             cands = sorted(set(w_hit) | set(at_w0) | set(np.flatnonzero(mode == 0)))
             limit = {i for kind, i in hit if kind == "limit"}
             if limit:      # every stuck contact at its limit with them (the same row: redundant)

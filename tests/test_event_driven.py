@@ -286,8 +286,13 @@ def check_against_reference(seed: int) -> str:
     err = np.abs(res.x - y_ref[:len(spec.masses)]).max(axis=0)
     if np.all(err < 1e-6):
         return "agree"
-    t_part = t_grid[np.argmax(err >= 1e-6)]
-    if ref.ties and min(ref.ties) <= t_part + 1e-9:
+    j_part = int(np.argmax(err >= 1e-6))
+    t_part = t_grid[j_part]
+    # a tie counts where they part: after the last row where they still agree to 1e-9 (a
+    # tie earlier than that, where both chose alike, explains nothing)
+    close = np.flatnonzero(err[:j_part] < 1e-9)
+    t_from = t_grid[close[-1]] if close.size else 0.0
+    if any(t_from - 1e-9 <= tt <= t_part + 1e-9 for tt in ref.ties):
         return "tie"
     if "redundant" in spec.notes and merged_agrees(spec):
         # the same model with the two halves as one contact agrees: the contact solver's rule
@@ -319,11 +324,14 @@ def merged_agrees(spec: Spec) -> bool:
     return bool(np.all(np.abs(res.x - y_ref[:len(spec.masses)]) < 1e-6))
 
 
-@pytest.mark.parametrize("seed", [1, 2, 5, 9, 11, 14, 6, 1024])
+@pytest.mark.parametrize("seed", [1, 2, 5, 9, 11, 14, 6, 1024, 1050, 1078])
 def test_random_models_against_the_reference(seed: int) -> None:
     """A handful of the random models (6 and 1024 hold cycles of contacts, e.g. two bodies on
     the ground and on each other, whose stuck set has a singular Delassus block: they ended in
-    a contact failure before psd_solve kept its right-hand side for the pseudo-solve)."""
+    a contact failure before psd_solve kept its right-hand side for the pseudo-solve; in 1050
+    a contact closes on a row held by another at w = 0 to rounding, and is decided, not slipped
+    on the sign of rounding; in 1078 a slipping contact's w comes back to 0 within one of the
+    reference's steps)."""
     assert check_against_reference(seed) == "agree"
 
 
@@ -333,14 +341,14 @@ def test_random_models_against_the_reference(seed: int) -> None:
 #: was seen. A list that may only shrink: a model that agrees again fails the test until it is
 #: removed here.
 KNOWN_WRONG: dict[int, str] = {
-    1012: "not yet diagnosed", 1026: "at one instant another contact released than the reference's",
-    1050: "not yet diagnosed", 1061: "not yet diagnosed",
-    1078: "a grazing touch counted as touching within tolerance; the reference passes through w = 0",
-    1126: "a contact that opens inside a redundant stuck set slips where the reference keeps it stuck",
-    1136: "not yet diagnosed", 1145: "the reference has no grazing detection (the library looks right)",
-    1171: "not yet diagnosed", 1177: "not yet diagnosed",
-    1117: "fails after rows that differ", 1178: "fails after rows that differ",
-    1179: "fails after rows that differ",
+    1012: "the solver's rule drops several contacts to slip in one round (at 0.0625 s contact 5 "
+          "reaches w = 0 as 8 and 9 give way: 5 reverses, where with 8 and 9 slipping it holds, "
+          "the reference's mode with one more stuck contact); a dropped contact is never raised again",
+    1171: "the same as 1012: at 0.2284 s contact 10 reverses and 9 gives way in the same round, "
+          "where with 10 at its slip level 9 holds (at 0.977 of its limit: the reference's mode)",
+    1072: "not yet diagnosed (counted as a tie before ties were required where the runs part)",
+    1190: "not yet diagnosed, 3.6e-6 m: contacts 7 and 9 open and close near 0.636 s (counted as a "
+          "tie before ties were required where the runs part)",
 }
 
 

@@ -54,7 +54,8 @@
 !! sine) is an event too: each step's end compares every contact's N > 0 with its state where
 !! the mode's run started (`closed`), and the crossing is located by bisection on the step's
 !! continuous extension to 4 units of round-off in t (`locate_normal`). There a contact that
-!! closes slips the way it moves (at w = 0 it is decided with the others), and every stuck
+!! closes slips the way it moves (at w = 0 to the integration's tolerance, `w_tolerance`: a
+!! body held by other contacts, it is decided with the others), and every stuck
 !! contact is decided afresh. While a contact is open, the steps are kept to 1/16 of the
 !! forces' shortest period as for a stuck one (its normal force does not limit them).
 !!
@@ -1061,7 +1062,8 @@ contains
     !! stuck contact are decided together (`decide`); a contact that reached w = 0 and has
     !! one entry in H gets w = 0 exactly. A contact whose normal force rose above 0 (it was
     !! open where the mode's run started) slips the way it moves, and is decided with the
-    !! others where it closes at w = 0. If that changes no mode although a holding force
+    !! others where it closes at w = 0 to the integration's tolerance (not slipped on the
+    !! sign of rounding). If that changes no mode although a holding force
     !! exceeds its limit here (rounding at the limit), that contact gives way. More than
     !! 4 n_c + 8 switches in a row each within zeno_gap of the last (with or without a change
     !! of mode) end the run with SS_EVENT_ZENO: no input turns at one instant for ever.
@@ -1069,7 +1071,7 @@ contains
         type(ed_run), intent(inout) :: s
         real(dp) :: gv(s%nc), rr(s%nc), dgv(s%nc), b(s%nc), nn(s%nc), w(s%nc)
         integer :: j, kk, nchanged
-        logical :: now(s%nc), over(s%nc)
+        logical :: now(s%nc), over(s%nc), closing(s%nc)
         if (s%t - s%t_last_switch <= s%opts%zeno_gap) then
             s%close_switches = s%close_switches + 1
             if (s%close_switches > 4 * s%nc + 8) then
@@ -1081,15 +1083,22 @@ contains
         end if
         s%t_last_switch = s%t
         associate (ms => s%ms, cs => s%ms%cs)
+            closing = .false.
             if (.not. all(ms%closed)) then
                 call cs%normal_forces(min(s%t, ms%t_cap), s%y(:s%nd), nn)
                 call cs%relative_velocities(s%t, s%y(s%nd + 1:), w)
-                where (nn > 0.0_dp .and. .not. ms%closed .and. .not. ms%stuck .and. w /= 0.0_dp) &
-                    ms%sig = sign(1.0_dp, w)
+                closing = nn > 0.0_dp .and. .not. ms%closed .and. .not. ms%stuck
+                ! at w = 0 to the integration's tolerance (a body held by other contacts: its
+                ! w is rounding) it is decided with the others; else it slips the way it moves
+                do j = 1, s%nc
+                    if (.not. closing(j)) cycle
+                    closing(j) = abs(w(j)) <= w_tolerance(s, j, s%y)
+                    if (.not. closing(j)) ms%sig(j) = sign(1.0_dp, w(j))
+                end do
             end if
             call event_values(ms, s%t, s%y, gv, rr, dgv)
             call cs%slip_offset(s%t, b)
-            now = crossed(ms%stuck, gv)
+            now = crossed(ms%stuck, gv) .or. closing
             if (s%t == s%t_touch) now = now .or. s%touch
             s%touch = .false.
             over = now .and. ms%stuck
