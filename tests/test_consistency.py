@@ -213,16 +213,21 @@ def test_advice_prints_the_rk4_bound_only_where_rk4_is_the_question():
 
 def test_drill_string_advice_quotes_no_explicit_bound_when_another_method_is_advised():
     """The one-body drill string on a surface turning at 5 rad/s (bit inertia 374, k = 473,
-    Stribeck with v_eps = 1e-5): the advice (a method other than an explicit fixed-step one)
-    quotes no explicit stability bound (it printed h < 6.25e-10 s)."""
+    Stribeck with v_eps = 1e-5): the advice quotes an explicit stability bound only when it
+    advises RK4, and then one its advised step keeps (it printed h < 6.25e-10 s beside another
+    method's advice). Which method is cheapest depends on the machine's timings: both cases
+    are judged."""
     m = ss.Model()
     b = m.add_body(374.0, name="bit")
     m.add_spring(b, None, k=473.0)
     m.add_contact(b, None, "stribeck", normal_force=3669.0, surface_velocity=5.0, mu_s=0.8,
                   mu_k=0.5, v_eps=1e-5)
     advice = ss.advise(m, 1e-3, 20.0)
-    assert advice.method not in ("rk4",)
-    assert "stability bound" not in str(advice).split("\n\n")[0]
+    head = str(advice).split("\n\n")[0]
+    if advice.method == "rk4":
+        assert "stability bound" in head and advice.controls["h"] < advice.stability_bound
+    else:
+        assert "stability bound" not in head
 
 
 # -- no run reports success while failing the check: random laws x methods x small models ------
