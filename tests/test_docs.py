@@ -726,8 +726,6 @@ def test_the_lists_name_only_what_exists() -> None:
 # ---------------------------------------------------------------- the sources' form: no history, no long lines
 MARKDOWN: tuple[Path, ...] = (ROOT / "README.md", *(
     p for p in sorted((ROOT / "docs").rglob("*.md")) if "figures" not in p.relative_to(ROOT / "docs").parts))
-#: Pages that still name an issue of the project, edited elsewhere this round: may only shrink.
-HISTORY_LEFT: frozenset[str] = frozenset({"docs/guide/identification.md"})
 MAX_LINE: int = 400
 
 
@@ -735,9 +733,8 @@ def test_the_docs_speak_of_the_package_not_of_its_history() -> None:
     """No page names an issue of the project ("issue 31"): a reader needs what the package does."""
     named = {p.relative_to(ROOT).as_posix(): re.findall(r"\bissues? #?\d+", p.read_text(), re.I)
              for p in MARKDOWN}
-    found = {page: hits for page, hits in named.items() if hits and page not in HISTORY_LEFT}
+    found = {page: hits for page, hits in named.items() if hits}
     assert not found, found
-    assert all(named[page] for page in HISTORY_LEFT), "remove the page from HISTORY_LEFT"
 
 
 def test_no_paragraph_is_one_long_line() -> None:
