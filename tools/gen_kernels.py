@@ -1,4 +1,4 @@
-"""Write the integrators' specialised kernels from the registry.
+"""Write the integrators' specialised kernels and the laws' dispatch from the registry.
 
     python tools/gen_kernels.py           # rewrite the generated files
     python tools/gen_kernels.py --check   # exit 1 when a committed file differs from what it writes
@@ -209,7 +209,8 @@ def law_entries(source: str, laws: Path = LAWS, friction: Path = FRICTION) -> tu
     shared = specs_of(friction.read_text())
     rows = []
     declared = dict((p, c) for c, p in shared)
-    for name, entry in table_entries(source, "LAW_TABLE"):
+    entries = table_entries(source, "LAW_TABLE")
+    for name, _ in entries:
         path = laws / f"stickslip_law_{name}.f90"
         if not path.exists():
             raise SystemExit(f"gen_kernels: law {name!r} of LAW_TABLE has no module file {path}")
@@ -220,7 +221,7 @@ def law_entries(source: str, laws: Path = LAWS, friction: Path = FRICTION) -> tu
         own = specs_of(text)
         rows.append((name, [c for c, _ in own]))
         declared.update((p, c) for c, p in own)
-    for name, entry in table_entries(source, "LAW_TABLE"):
+    for name, entry in entries:
         params = re.match(r"\s*'\w+'\s*,\s*'([^']*)'", entry)
         missing = [p for p in (params.group(1).split() if params else []) if p not in declared]
         if missing:
