@@ -68,6 +68,11 @@ def test_the_laws_generator_names_what_is_missing(tmp_path: Path):
                                                 "    type, extends(friction_law) :: toy_law\n")
     with pytest.raises(SystemExit, match="law 'toy' reads toy_c, which no law module declares"):
         gen_kernels.law_entries(added, laws=laws)
+    (laws / "stickslip_law_toy.f90").write_text(
+        "module stickslip_law_toy\n    type, extends(friction_law) :: toy_law\n"
+        "    type(param_spec), parameter, public :: TOY_MU = param_spec(name='mu_s', default=1.0_dp)\n")
+    with pytest.raises(SystemExit, match="declares mu_s, which MU_S_SPEC declares already"):
+        gen_kernels.law_entries(added, laws=laws)
 
 
 def test_kernels_follow_the_registry_flags():

@@ -219,6 +219,10 @@ def law_entries(source: str, laws: Path = LAWS, friction: Path = FRICTION) -> tu
                 not re.search(rf"^\s*type\s*,[^:]*::\s*{name}_law\b", text, re.I | re.M):
             raise SystemExit(f"gen_kernels: {path} must hold module stickslip_law_{name} with type {name}_law")
         own = specs_of(text)
+        twice = [p for _, p in own if p in declared]
+        if twice:
+            raise SystemExit(f"gen_kernels: {path} declares {', '.join(twice)}, which "
+                             f"{declared[twice[0]]} declares already (one specification a parameter)")
         rows.append((name, [c for c, _ in own]))
         declared.update((p, c) for c, p in own)
     for name, entry in entries:
