@@ -1030,7 +1030,8 @@ def run_identify(log: Callable[[str], None], repeats: int = 3) -> str:
     lines = ["## Identification (python -m benchmarks --identify)", "",
              f"Machine: {machine()}. Ten 36 lb damper records, {sum(len(r) for r in recs)} samples "
              f"({ci.SAMPLES_PER_CYCLE} per cycle), rtol {ci.RTOL:g}.", "",
-             "| what | median wall time | notes |", "|---|---|---|"]
+             "| what | median wall time | time / first row | max force difference from it [N] | notes |",
+             "|---|---|---|---|---|"]
     for law in ("lugre", "gms"):
         times, fit = [], None
         for _ in range(repeats):
@@ -1040,7 +1041,7 @@ def run_identify(log: Callable[[str], None], repeats: int = 3) -> str:
                 fit = stickslip.fit_friction(law, recs, fixed=ci.fixed_for(law), backlash="fit", asymmetry="fit",
                                              n_starts=1, rtol=ci.RTOL, diff_step=ci.DIFF_STEP)
             times.append(time.perf_counter() - t0)
-        lines.append(f"| {law} fit | {np.median(times):.2f} s | {fit.nfev} evaluations of the model "
+        lines.append(f"| {law} fit | {np.median(times):.2f} s |  |  | {fit.nfev} evaluations of the model "
                      f"(Jacobians not counted), nrmse {fit.nrmse:.3f} |")
         log(lines[-1])
     rec = max(recs, key=len)
@@ -1084,7 +1085,7 @@ def run_identify(log: Callable[[str], None], repeats: int = 3) -> str:
         dt = ref[name + " time"]
         dev = float(np.abs(ref[name] - first).max())
         lines.append(f"| LuGre along {rec.name}, {name} | {1e6 * dt / rec.t.size:.2f} us/sample | "
-                     f"{dt / base:.3g} x the time of the first row; max force difference from it {dev:.3g} N |")
+                     f"{dt / base:.3g} | {dev:.3g} | the first row: prescribed_motion at rtol 1e-8 |")
         log(lines[-1])
     return "\n".join(lines) + "\n"
 
@@ -1164,6 +1165,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     log = (lambda s: print(s, flush=True))
     if args.identify:
         write_text(args.outdir / "identify.md", run_identify(log, 1 if args.quick else 3))
+        write_provenance(args.outdir, "identify", [args.outdir / "identify.md"], argv)
         return 0
     if args.prescribed:
         from .prescribed_speed import run_prescribed
