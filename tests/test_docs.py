@@ -649,7 +649,7 @@ FACTS: dict[str, dict[str, str]] = {
         "0.25": "the data set's lowest frequency [Hz]", "12.7": "the data set's smallest amplitude [mm], 0.5 in",
         "38.1": "its largest [mm], 1.5 in", "4.0": "the records' licence, CC BY-SA 4.0",
         "1 N": "the normal force a fit sets when none is given", "0.999": "identify.Z_BA_RATIO_MAX, a setting",
-        "0.9999": "a z_ba_ratio tried", "0.999999": "a z_ba_ratio tried",
+        "0.999999": "a z_ba_ratio tried",
         "0.5": "a record's frequency [Hz], a default (min_fraction, settle) or a setting named",
         "10 N": "the synthetic records' noise, chosen", "0.975": "the t quantile's probability",
         "2 s": "t(0.975, n - k)^2 s^2, an exponent and the residual variance",
