@@ -666,7 +666,7 @@ FACTS: dict[str, dict[str, str]] = {
         "2e6": "the synthetic truth's sigma0 [N/m]", "0.75": "the presliding length mu_s/sigma0 [mm], a closed form",
         "40 N": "a synthetic load cell's offset, chosen", "0.02": "a synthetic drift [1/s], chosen",
         "25 N": "a synthetic load cell's offset (a test)", "3 N": "a test's bound",
-        # measured, but by runs too long for a helper's session; recorded where they ran
+        # measured, by runs of hundreds of fits too long to repeat for the docs: recorded where they ran
         "20,000": "the yardstick's draws (a run recorded in tests/test_identify.py, not in a results file)",
         "94.8": "that run's coverage, least", "95.3": "that run's coverage, most",
         "1.07": "the profiles' cost over Wald's, static laws: the coverage runs of both kinds (650 fits), "

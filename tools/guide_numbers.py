@@ -395,13 +395,14 @@ def identification() -> Numbers:
     """docs/guide/identification.md: its examples' own numbers (times, intervals, bands), the
     staircase and two-step workflows over noise draws, and the small fits on the damper's
     records (cases.identify's split and settings) that the page quotes."""
-    import dataclasses
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")           # the fits' warnings about bounds: the page reads them
+        return _identification_examples() | _identification_workflows() | _identification_damper()
 
-    import stickslip as ss
-    from cases import identify as ci
-    from stickslip import identify as I
+
+def _identification_examples() -> Numbers:
+    """The identification guide's examples: times as a script, and what the page reads of them."""
     out: Numbers = {}
-
     # the first example: Dahl and LuGre on one record, the other record predicted
     marker = 'dahl = stickslip.fit_friction("dahl", rec'
     ex = _page_example("identification", marker)
@@ -424,11 +425,30 @@ def identification() -> Numbers:
         out[f"ex1.lugre_band.{name}.held"] = (float(np.mean((r.force >= lo) & (r.force <= hi))), "",
                                               f"the fraction of {name}'s samples inside it")
 
-    # the two-step example, and its workflows over noise draws
-    ex = _page_example("identification", "fit_two_step(curve")
     wall, cpu = _script_times("identification", "fit_two_step(curve")
     out["ex2.wall"] = (wall, "s", "the two-step example's wall time, run as a script")
     out["ex2.cpu"] = (cpu, "s", "its CPU time, run as a script")
+    # the offset and drift example
+    ex = _page_example("identification", 'offset="fit", drift="fit"')
+    out["ex3.plain.rmse"] = (ex["plain"].rmse, "N", "the fit without offset and drift: rmse")
+    out["ex3.plain.mu_k_low"] = (1000.0 - ex["plain"].params["mu_k"], "N", "its mu_k below the truth")
+    # the selection example: Dahl's calibrated 95 % half-width
+    ex = _page_example("identification", "select_friction_law([")
+    sel, t3, x3, v3 = ex["sel"], ex["t"], ex["x"], ex["v"]
+    f, lo, hi = sel.fits["dahl"].predict(t3[1], x3[1], v=v3[1], interval=0.95)
+    out["ex4.calibrated_half"] = (float(np.median(0.5 * (hi - lo))), "N", "Dahl's calibrated 95 % half-width")
+    return out
+
+
+def _identification_workflows() -> Numbers:
+    """The experiment workflows on the two-step example's staircase (its truth and motion):
+    the settling, the Stribeck curve's and the two steps' intervals over noise draws, and the
+    refusal of a sine."""
+    import re
+
+    import stickslip as ss
+    out: Numbers = {}
+    ex = _page_example("identification", "fit_two_step(curve")
     truth, t, x, v = ex["truth"], ex["t"], ex["x"], ex["v"]
     exact = ss.prescribed_motion("lugre", t, x, v, **truth).force
     steady = ss.friction_coefficient("lugre", ss.steady_friction(t, x, exact, v=v).speed, **truth)
@@ -454,11 +474,13 @@ def identification() -> Numbers:
         curve = ss.fit_stribeck_curve(ss.steady_friction(t, x, exact + 50.0 * rng.standard_normal(t.size), v=v), "lugre")
         rng = np.random.default_rng(900 + seed)
         ts, xs, vs, fs = [], [], [], []
-        for amp, hz in ((2e-4, 5.0), (5e-4, 2.0)):
+        for amp, hz in ((2e-4, 5.0), (5e-4, 2.0)):          # the example's presliding records
             ti = np.linspace(0.0, 2.0 / hz, 401)
-            xi, vi = amp * np.sin(2 * np.pi * hz * ti), amp * 2 * np.pi * hz * np.cos(2 * np.pi * hz * ti)
-            fi = ss.prescribed_motion("lugre", ti, xi, vi, **truth).force + 2.0 * rng.standard_normal(ti.size)
-            ts.append(ti); xs.append(xi); vs.append(vi); fs.append(fi)
+            ts.append(ti)
+            xs.append(amp * np.sin(2 * np.pi * hz * ti))
+            vs.append(amp * 2 * np.pi * hz * np.cos(2 * np.pi * hz * ti))
+            fs.append(ss.prescribed_motion("lugre", ti, xs[-1], vs[-1], **truth).force
+                      + 2.0 * rng.standard_normal(ti.size))
         two = ss.fit_two_step(curve, ts, xs, fs, v=vs)
         est.append([two.params[k] for k in names])
         own.append([two.dynamic.stderr[k] for k in names])
@@ -480,94 +502,92 @@ def identification() -> Numbers:
         ss.steady_friction(sine)
         raise RuntimeError("steady_friction accepted a sine")
     except ValueError as err:
-        import re
         m = re.search(r"(\d+) run\(s\) .*?\(([0-9.]+)-([0-9.]+) ms\), (\d+) of them .*?covering ([0-9.]+) % of the "
                       r"record's moving time \(([0-9.]+) s\)", str(err))
         for key, g in zip(("runs", "shortest_ms", "longest_ms", "constant", "percent", "moving_s"), m.groups()):
             out[f"sine_refused.{key}"] = (float(g), "", f"the refusal's {key}")
+    return out
 
-    # the offset and drift example
-    ex = _page_example("identification", 'offset="fit", drift="fit"')
-    out["ex3.plain.rmse"] = (ex["plain"].rmse, "N", "the fit without offset and drift: rmse")
-    out["ex3.plain.mu_k_low"] = (1000.0 - ex["plain"].params["mu_k"], "N", "its mu_k below the truth")
 
-    # the selection example: Dahl's calibrated 95 % half-width
-    ex = _page_example("identification", "select_friction_law([")
-    sel, t3, x3, v3 = ex["sel"], ex["t"], ex["x"], ex["v"]
-    f, lo, hi = sel.fits["dahl"].predict(t3[1], x3[1], v=v3[1], interval=0.95)
-    out["ex4.calibrated_half"] = (float(np.median(0.5 * (hi - lo))), "N", "Dahl's calibrated 95 % half-width")
+def _identification_damper() -> Numbers:
+    """Small fits on the damper's records with cases.identify's split and settings: offset and
+    drift, calibrated bands, several starts, LuGre's cost off a zero backlash, GMS's standard
+    errors against the step, the elasto-plastic law's cost against z_ba_ratio."""
+    import dataclasses
 
-    # the damper: cases.identify's records and settings
+    import stickslip as ss
+    from cases import identify as ci
+    from harness.files import read_csv
+    from stickslip import identify as I
+    out: Numbers = {}
     groups = ci.load_groups(ss.damper_files())
     kw = dict(backlash="fit", asymmetry="fit", n_starts=1, rtol=ci.RTOL, diff_step=ci.DIFF_STEP)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        for group in ("30lb", "36lb"):
-            train = [r for r, tr in groups[group] if tr]
-            held_recs = [r for r, tr in groups[group] if not tr]
-            plain = ss.fit_friction("dahl", train, **kw)
-            fit = ss.fit_friction("dahl", train, offset="fit", drift="fit", **kw)
-            out[f"damper.{group}.offset"] = (fit.params["offset"], "N", "Dahl's fitted offset")
-            out[f"damper.{group}.offset_se"] = (fit.stderr["offset"], "N", "its standard error")
-            out[f"damper.{group}.drift_pct"] = (-100.0 * fit.params["drift"], "%/s", "the level's fall a second")
-            out[f"damper.{group}.drift_se_pct"] = (100.0 * fit.stderr["drift"], "%/s", "its standard error")
-            for name, f_ in (("plain", plain), ("drift", fit)):
-                out[f"damper.{group}.{name}.nrmse_pct"] = (100.0 * f_.nrmse, "%", f"fitted nrmse, {name}")
-                out[f"damper.{group}.{name}.heldout_pct"] = (100.0 * f_.score(held_recs)["nrmse"], "%",
-                                                             f"held-out nrmse, {name}")
-        # the calibrated prediction intervals at 36 lb
-        train = [r for r, tr in groups["36lb"] if tr]
-        held_recs = [r for r, tr in groups["36lb"] if not tr]
-        fit, _, cpu = _timed(lambda: ss.fit_friction("dahl", train, calibrate=True, **kw))
-        out["calibrated.cpu"] = (cpu, "s", "Dahl's fit with calibrate=True on five records: CPU")
-        plain = dataclasses.replace(fit, heldout_residuals=None)
-        forces = np.concatenate([r.force for r in held_recs])
-        for name, f_ in (("calibrated", fit), ("alone", plain)):
-            for q in (0.5, 0.95):
-                bands = [f_.predict(r, interval=q) for r in held_recs]
-                lo_, hi_ = np.concatenate([b[1] for b in bands]), np.concatenate([b[2] for b in bands])
-                out[f"calibrated.{name}.{q:g}.held_pct"] = (100.0 * float(np.mean((forces >= lo_) & (forces <= hi_))),
-                                                            "%", f"{name} {q:g} band: held-out samples inside")
-                out[f"calibrated.{name}.{q:g}.half_kN"] = (float(np.median(0.5 * (hi_ - lo_))) / 1e3, "kN",
-                                                           f"{name} {q:g} band: median half-width")
-        out["calibrated.fit_sd_kN"] = (fit.residual_sd / 1e3, "kN", "the fit's residual standard deviation")
-        out["calibrated.heldout_rms_kN"] = (fit.score(held_recs)["rmse"] / 1e3, "kN", "the held-out records' rmse")
+    for group in ("30lb", "36lb"):
+        train = [r for r, tr in groups[group] if tr]
+        held_recs = [r for r, tr in groups[group] if not tr]
+        plain = ss.fit_friction("dahl", train, **kw)
+        fit = ss.fit_friction("dahl", train, offset="fit", drift="fit", **kw)
+        out[f"damper.{group}.offset"] = (fit.params["offset"], "N", "Dahl's fitted offset")
+        out[f"damper.{group}.offset_se"] = (fit.stderr["offset"], "N", "its standard error")
+        out[f"damper.{group}.drift_pct"] = (-100.0 * fit.params["drift"], "%/s", "the level's fall a second")
+        out[f"damper.{group}.drift_se_pct"] = (100.0 * fit.stderr["drift"], "%/s", "its standard error")
+        for name, f_ in (("plain", plain), ("drift", fit)):
+            out[f"damper.{group}.{name}.nrmse_pct"] = (100.0 * f_.nrmse, "%", f"fitted nrmse, {name}")
+            out[f"damper.{group}.{name}.heldout_pct"] = (100.0 * f_.score(held_recs)["nrmse"], "%",
+                                                         f"held-out nrmse, {name}")
+    # the calibrated prediction intervals at 36 lb
+    train = [r for r, tr in groups["36lb"] if tr]
+    held_recs = [r for r, tr in groups["36lb"] if not tr]
+    fit, _, cpu = _timed(lambda: ss.fit_friction("dahl", train, calibrate=True, **kw))
+    out["calibrated.cpu"] = (cpu, "s", "Dahl's fit with calibrate=True on five records: CPU")
+    plain = dataclasses.replace(fit, heldout_residuals=None)
+    forces = np.concatenate([r.force for r in held_recs])
+    for name, f_ in (("calibrated", fit), ("alone", plain)):
+        for q in (0.5, 0.95):
+            bands = [f_.predict(r, interval=q) for r in held_recs]
+            lo_, hi_ = np.concatenate([b[1] for b in bands]), np.concatenate([b[2] for b in bands])
+            out[f"calibrated.{name}.{q:g}.held_pct"] = (100.0 * float(np.mean((forces >= lo_) & (forces <= hi_))),
+                                                        "%", f"{name} {q:g} band: held-out samples inside")
+            out[f"calibrated.{name}.{q:g}.half_kN"] = (float(np.median(0.5 * (hi_ - lo_))) / 1e3, "kN",
+                                                       f"{name} {q:g} band: median half-width")
+    out["calibrated.fit_sd_kN"] = (fit.residual_sd / 1e3, "kN", "the fit's residual standard deviation")
+    out["calibrated.heldout_rms_kN"] = (fit.score(held_recs)["rmse"] / 1e3, "kN", "the held-out records' rmse")
 
-        # the ten 36 lb records
-        ten = [r for r, _ in groups["36lb"]]
-        dahl10 = ss.fit_friction("dahl", ten, **kw)
-        out["ten.dahl.aic"] = (dahl10.aic, "", "Dahl's AIC on the ten 36 lb records")
-        out["ten.dahl.bic"] = (dahl10.bic, "", "its BIC")
-        out["ten.dahl.bic_lmfit"] = (dahl10.bic_lmfit, "", "its BIC in lmfit's definition")
-        # several starts (default rtol and diff_step): each start's cost, the CPU time of one and of three
-        for law in ("lugre", "dahl", "gms"):
-            for n in (1, 3):
-                fit, _, cpu = _timed(lambda: ss.fit_friction(law, ten, backlash="fit", asymmetry="fit", n_starts=n,
-                                                             fixed=ci.fixed_for(law)))
-                out[f"starts.{law}.{n}.cpu"] = (cpu, "s", f"{law}'s CPU time, {n} start(s), default rtol")
-                out[f"starts.{law}.{n}.cost"] = (fit.cost, "N^2", f"{law}'s final cost (half the sum of squares), "
-                                                  f"{n} start(s)")
-            for i, cost in enumerate(fit.start_costs):
-                out[f"starts.{law}.start{i + 1}"] = (float(cost), "N^2", f"{law}: the cost start {i + 1} ended at")
-        lugre10 = ss.fit_friction("lugre", ten, **dict(kw, fixed=ci.fixed_for("lugre")))
-        # LuGre's cost just off a backlash of 0, in reduced chi-squares
-        data = I._records(ten, None, None, None, None)
-        forces = np.concatenate([d.force for d in data])
+    # the ten 36 lb records
+    ten = [r for r, _ in groups["36lb"]]
+    dahl10 = ss.fit_friction("dahl", ten, **kw)
+    out["ten.dahl.aic"] = (dahl10.aic, "", "Dahl's AIC on the ten 36 lb records")
+    out["ten.dahl.bic"] = (dahl10.bic, "", "its BIC")
+    out["ten.dahl.bic_lmfit"] = (dahl10.bic_lmfit, "", "its BIC in lmfit's definition")
+    # several starts (default rtol and diff_step): each start's cost, the CPU time of one and of three
+    for law in ("lugre", "dahl", "gms"):
+        for n in (1, 3):
+            fit, _, cpu = _timed(lambda: ss.fit_friction(law, ten, backlash="fit", asymmetry="fit", n_starts=n,
+                                                         fixed=ci.fixed_for(law)))
+            out[f"starts.{law}.{n}.cpu"] = (cpu, "s", f"{law}'s CPU time, {n} start(s), default rtol")
+            out[f"starts.{law}.{n}.cost"] = (fit.cost, "N^2", f"{law}'s final cost (half the sum of squares), "
+                                              f"{n} start(s)")
+        for i, cost in enumerate(fit.start_costs):
+            out[f"starts.{law}.start{i + 1}"] = (float(cost), "N^2", f"{law}: the cost start {i + 1} ended at")
+    lugre10 = ss.fit_friction("lugre", ten, **dict(kw, fixed=ci.fixed_for("lugre")))
+    # LuGre's cost just off a backlash of 0, in reduced chi-squares
+    data = I._records(ten, None, None, None, None)
+    forces = np.concatenate([d.force for d in data])
 
-        def ssr(backlash: float) -> float:
-            p = dict(lugre10.params, backlash=backlash)
-            r = np.concatenate([I._model("lugre", d, I._record_params(p, i), ci.RTOL) for i, d in enumerate(data)])
-            return float((r - forces) @ (r - forces))
-        jumps = [(ssr(b) - ssr(0.0)) / lugre10.redchi for b in (1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7)]
-        out["lugre_backlash.at_zero"] = (float(lugre10.params["backlash"]), "m", "LuGre's fitted backlash, ten records")
-        out["lugre_backlash.jump_min"] = (min(jumps), "s^2", "the cost's rise at 1e-12 to 1e-7 m, least")
-        out["lugre_backlash.jump_max"] = (max(jumps), "s^2", "the most")
-        # GMS's mu_s standard error against the finite-difference step, five fitted records
-        for step in (1e-2, 3e-3, 1e-3):
-            fit = ss.fit_friction("gms", train, **dict(kw, diff_step=step, fixed=ci.fixed_for("gms")))
-            out[f"gms_se.{step:g}"] = (fit.stderr["mu_s"], "N", f"GMS's mu_s standard error at diff_step {step:g}")
+    def ssr(backlash: float) -> float:
+        p = dict(lugre10.params, backlash=backlash)
+        r = np.concatenate([I._model("lugre", d, I._record_params(p, i), ci.RTOL) for i, d in enumerate(data)])
+        return float((r - forces) @ (r - forces))
+    jumps = [(ssr(b) - ssr(0.0)) / lugre10.redchi for b in (1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7)]
+    out["lugre_backlash.at_zero"] = (float(lugre10.params["backlash"]), "m", "LuGre's fitted backlash, ten records")
+    out["lugre_backlash.jump_min"] = (min(jumps), "s^2", "the cost's rise at 1e-12 to 1e-7 m, least")
+    out["lugre_backlash.jump_max"] = (max(jumps), "s^2", "the most")
+    # GMS's mu_s standard error against the finite-difference step, five fitted records
+    for step in (1e-2, 3e-3, 1e-3):
+        fit = ss.fit_friction("gms", train, **dict(kw, diff_step=step, fixed=ci.fixed_for("gms")))
+        out[f"gms_se.{step:g}"] = (fit.stderr["mu_s"], "N", f"GMS's mu_s standard error at diff_step {step:g}")
     # the elasto-plastic law's transition: one evaluation along a record against z_ba_ratio
-    from harness.files import read_csv
+    sine = ss.load_damper_record(ss.data.DAMPER_DIR / "sine_0.5Hz_1in_36lb.csv.gz")
     c = read_csv(ROOT / "docs" / "figures" / "identify_params.csv")
     p = {name: float(value) for group, law, name, value in zip(c["group [-]"], c["law [-]"], c["parameter [-]"],
                                                                 c["value [unit]"])
@@ -580,7 +600,6 @@ def identification() -> Numbers:
         out[f"z_ba.{ratio:g}.cpu"] = (cpu, "s", f"one evaluation along the full-rate 0.5 Hz 36 lb record at "
                                       f"z_ba_ratio {ratio:g} (cases.identify's 36 lb fit otherwise)")
     return out
-
 
 
 PAGES: dict[str, Callable[[], Numbers]] = {"models": models, "friction-laws": friction_laws,
