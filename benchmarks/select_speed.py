@@ -44,9 +44,10 @@ def run_select_speed(log: Callable[[str], None], laws: Sequence[str] = LAWS) -> 
             sel = stickslip.select_friction_law(list(laws), recs, **kw, **extra)
         row = {"run": label, "samples": sum(len(r) for r in recs), "wall [s]": time.perf_counter() - w0,
                "cpu [s]": time.process_time() - c0, "best": sel.best,
-               "scores": ", ".join(f"{law} {sel.scores[law][0]:.4f} +- {sel.scores[law][1]:.4f}" for law in laws)}
+               "scores": {law: sel.scores[law] for law in laws}}
         rows.append(row)
-        log(f"{label}: {row['cpu [s]']:.1f} s CPU ({row['wall [s]']:.1f} s wall), chose {sel.best}; {row['scores']}")
+        log(f"{label}: {row['cpu [s]']:.1f} s CPU ({row['wall [s]']:.1f} s wall), chose {sel.best}; "
+            + ", ".join(f"{law} {m:.4f} +- {se:.4f}" for law, (m, se) in row["scores"].items()))
     same = rows[0]["best"] == rows[1]["best"]
     lines = ["**Selection at the records' full rate** (`python -m benchmarks.select_speed`)", "",
              f"Machine: {machine()}. `select_friction_law({list(laws)!r}, ...)` over the ten 36 lb damper records "
@@ -56,9 +57,11 @@ def run_select_speed(log: Callable[[str], None], laws: Sequence[str] = LAWS) -> 
              "folds scored on the held-out records at full rate, the chosen law refitted at full rate), and the "
              f"records subsampled to {PER_CYCLE} samples per cycle (cases.identify's). CPU time of the process "
              f"(budget {BUDGET_CPU_S:g} s at full rate); the same choice: {'yes' if same else 'NO'}.", "",
-             "| run | samples | CPU [s] | wall [s] | chosen | CV NRMSE (mean +- s.e.) |", "|---|---|---|---|---|---|"]
-    lines += [f"| {r['run']} | {r['samples']} | {r['cpu [s]']:.1f} | {r['wall [s]']:.1f} | {r['best']} | {r['scores']} |"
-              for r in rows]
+             "| run | samples | CPU [s] | wall [s] | chosen | "
+             + " | ".join(f"{law} CV NRMSE | {law} s.e." for law in laws) + " |",
+             "|---|---|---|---|---|" + "---|---|" * len(laws)]
+    lines += [f"| {r['run']} | {r['samples']} | {r['cpu [s]']:.1f} | {r['wall [s]']:.1f} | {r['best']} | "
+              + " | ".join(f"{m:.4f} | {se:.4f}" for m, se in r["scores"].values()) + " |" for r in rows]
     return rows, "\n".join(lines) + "\n"
 
 

@@ -362,8 +362,249 @@ def implicit_nonsmooth() -> Numbers:
     return out
 
 
+def _script_times(page: str, marker: str) -> tuple[float, float]:
+    """The wall and CPU time [s] of a guide's Python example (the first fenced block of
+    docs/guide/`page`.md that contains `marker`) run as a script in a fresh interpreter, as a
+    reader runs it: its imports included, BLAS on one thread."""
+    import re
+    import resource
+    import subprocess
+    import tempfile
+    text = (ROOT / "docs" / "guide" / f"{page}.md").read_text(encoding="utf-8")
+    block = next(b for b in re.findall(r"^```python\n(.*?)^```", text, re.S | re.M) if marker in b)
+    with tempfile.TemporaryDirectory() as tmp:
+        script = Path(tmp) / "example.py"
+        script.write_text(block, encoding="utf-8")
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        wall = time.perf_counter()
+        subprocess.run([sys.executable, str(script)], cwd=tmp, check=True, capture_output=True,
+                       env=dict(os.environ, OPENBLAS_NUM_THREADS="1", MPLBACKEND="Agg"))
+        wall = time.perf_counter() - wall
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+
+
+def _timed(run: Callable[[], object]) -> tuple[object, float, float]:
+    """run()'s value, its wall time and the process's CPU time [s]."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    value = run()
+    return value, time.perf_counter() - wall, time.process_time() - cpu
+
+
+def identification() -> Numbers:
+    """docs/guide/identification.md: its examples' own numbers (times, intervals, bands), the
+    staircase and two-step workflows over noise draws, and the small fits on the damper's
+    records (cases.identify's split and settings) that the page quotes."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")           # the fits' warnings about bounds: the page reads them
+        return _identification_examples() | _identification_workflows() | _identification_damper()
+
+
+def _identification_examples() -> Numbers:
+    """The identification guide's examples: times as a script, and what the page reads of them."""
+    out: Numbers = {}
+    # the first example: Dahl and LuGre on one record, the other record predicted
+    marker = 'dahl = stickslip.fit_friction("dahl", rec'
+    ex = _page_example("identification", marker)
+    dahl, lugre, rec, other = ex["dahl"], ex["lugre"], ex["rec"], ex["other"]
+    wall, cpu = _script_times("identification", marker)
+    out["ex1.wall"] = (wall, "s", "the first example's wall time, run as a script")
+    out["ex1.cpu"] = (cpu, "s", "the first example's CPU time, run as a script")
+    out["ex1.dbic"] = (lugre.bic - dahl.bic, "", "LuGre's BIC minus Dahl's")
+    for fit in (dahl, lugre):
+        out[f"ex1.{fit.law}.heldout_rmse"] = (fit.score(other)["rmse"], "N", f"{fit.law}'s rmse on the 1 Hz record")
+    out["ex1.dahl.rho"] = (dahl.noise_correlation, "", "Dahl's residuals' lag-1 correlation")
+    out["ex1.dahl.inflation"] = (dahl.variance_inflation, "", "(1 + rho)/(1 - rho)")
+    out["ex1.dahl.widening"] = (dahl.variance_inflation ** 0.5, "", "sqrt of the inflation: the intervals' widening")
+    out["ex1.range"] = (float(np.ptp(rec.force)), "N", "the 0.5 Hz record's force range")
+    for name, r in (("rec", rec), ("other", other)):
+        f, lo, hi = lugre.predict(r, interval=0.95)
+        half = 0.5 * (hi - lo)
+        out[f"ex1.lugre_band.{name}.median"] = (float(np.median(half)), "N", f"LuGre's 95 % band's median half-width, {name}")
+        out[f"ex1.lugre_band.{name}.max"] = (float(np.max(half)), "N", f"its largest half-width, {name}")
+        out[f"ex1.lugre_band.{name}.held"] = (float(np.mean((r.force >= lo) & (r.force <= hi))), "",
+                                              f"the fraction of {name}'s samples inside it")
+
+    wall, cpu = _script_times("identification", "fit_two_step(curve")
+    out["ex2.wall"] = (wall, "s", "the two-step example's wall time, run as a script")
+    out["ex2.cpu"] = (cpu, "s", "its CPU time, run as a script")
+    # the offset and drift example
+    ex = _page_example("identification", 'offset="fit", drift="fit"')
+    out["ex3.plain.rmse"] = (ex["plain"].rmse, "N", "the fit without offset and drift: rmse")
+    out["ex3.plain.mu_k_low"] = (1000.0 - ex["plain"].params["mu_k"], "N", "its mu_k below the truth")
+    # the selection example: Dahl's calibrated 95 % half-width
+    ex = _page_example("identification", "select_friction_law([")
+    sel, t3, x3, v3 = ex["sel"], ex["t"], ex["x"], ex["v"]
+    f, lo, hi = sel.fits["dahl"].predict(t3[1], x3[1], v=v3[1], interval=0.95)
+    out["ex4.calibrated_half"] = (float(np.median(0.5 * (hi - lo))), "N", "Dahl's calibrated 95 % half-width")
+    return out
+
+
+def _identification_workflows() -> Numbers:
+    """The experiment workflows on the two-step example's staircase (its truth and motion):
+    the settling, the Stribeck curve's and the two steps' intervals over noise draws, and the
+    refusal of a sine."""
+    import re
+
+    import stickslip as ss
+    out: Numbers = {}
+    ex = _page_example("identification", "fit_two_step(curve")
+    truth, t, x, v = ex["truth"], ex["t"], ex["x"], ex["v"]
+    exact = ss.prescribed_motion("lugre", t, x, v, **truth).force
+    steady = ss.friction_coefficient("lugre", ss.steady_friction(t, x, exact, v=v).speed, **truth)
+    raw = ss.steady_friction(t, x, exact, v=v, settle=0.0)
+    out["stairs.unsettled"] = (float(np.max(np.abs(raw.force - steady))), "N",
+                               "largest |step mean - steady force| with settle=0, noise-free")
+    curve_names = ("mu_s", "mu_k", "v_s", "sigma2")
+    hits = dict.fromkeys(curve_names, 0)
+    draws = 200
+    for seed in range(draws):
+        rng = np.random.default_rng(100 + seed)
+        curve = ss.fit_stribeck_curve(ss.steady_friction(t, x, exact + 5.0 * rng.standard_normal(t.size), v=v), "lugre")
+        for k in curve_names:
+            hits[k] += curve.ci95[k][0] <= truth[k] <= curve.ci95[k][1]
+    out["stairs.draws"] = (float(draws), "", "noise draws of the staircase (5 N)")
+    out["stairs.held.min"] = (float(min(hits.values())), "", "fewest intervals holding the truth, over the parameters")
+    out["stairs.held.max"] = (float(max(hits.values())), "", "most")
+    names = ("sigma0", "sigma1")
+    est, own, carried, held_own, held = [], [], [], np.zeros(2), np.zeros(2)
+    draws = 40
+    for seed in range(draws):
+        rng = np.random.default_rng(500 + seed)
+        curve = ss.fit_stribeck_curve(ss.steady_friction(t, x, exact + 50.0 * rng.standard_normal(t.size), v=v), "lugre")
+        rng = np.random.default_rng(900 + seed)
+        ts, xs, vs, fs = [], [], [], []
+        for amp, hz in ((2e-4, 5.0), (5e-4, 2.0)):          # the example's presliding records
+            ti = np.linspace(0.0, 2.0 / hz, 401)
+            ts.append(ti)
+            xs.append(amp * np.sin(2 * np.pi * hz * ti))
+            vs.append(amp * 2 * np.pi * hz * np.cos(2 * np.pi * hz * ti))
+            fs.append(ss.prescribed_motion("lugre", ti, xs[-1], vs[-1], **truth).force
+                      + 2.0 * rng.standard_normal(ti.size))
+        two = ss.fit_two_step(curve, ts, xs, fs, v=vs)
+        est.append([two.params[k] for k in names])
+        own.append([two.dynamic.stderr[k] for k in names])
+        carried.append([two.stderr[k] for k in names])
+        held_own += [two.dynamic.ci95[k][0] <= truth[k] <= two.dynamic.ci95[k][1] for k in names]
+        held += [two.ci95[k][0] <= truth[k] <= two.ci95[k][1] for k in names]
+    out["two_step.draws"] = (float(draws), "", "noise draws (50 N on the staircase, 2 N on the presliding records)")
+    for i, k in enumerate(names):
+        out[f"two_step.{k}.scatter"] = (float(np.std(np.array(est)[:, i], ddof=1)), "", f"{k}'s estimates' sd")
+        out[f"two_step.{k}.own_se"] = (float(np.mean(np.array(own)[:, i])), "", f"{k}'s conditional standard error, mean")
+        out[f"two_step.{k}.carried_se"] = (float(np.mean(np.array(carried)[:, i])), "",
+                                           f"{k}'s standard error with step 1's carried, mean")
+    out["two_step.own_held"] = (float(held_own.mean() / draws), "", "fraction of conditional intervals holding the truth")
+    out["two_step.carried_held"] = (float(held.mean() / draws), "", "fraction of carried intervals holding the truth")
+
+    # a sine is not a staircase: the refusal's numbers on the damper's 0.5 Hz record
+    sine = ss.load_damper_record(ss.data.DAMPER_DIR / "sine_0.5Hz_1in_36lb.csv.gz")
+    try:
+        ss.steady_friction(sine)
+        raise RuntimeError("steady_friction accepted a sine")
+    except ValueError as err:
+        m = re.search(r"(\d+) run\(s\) .*?\(([0-9.]+)-([0-9.]+) ms\), (\d+) of them .*?covering ([0-9.]+) % of the "
+                      r"record's moving time \(([0-9.]+) s\)", str(err))
+        for key, g in zip(("runs", "shortest_ms", "longest_ms", "constant", "percent", "moving_s"), m.groups()):
+            out[f"sine_refused.{key}"] = (float(g), "", f"the refusal's {key}")
+    return out
+
+
+def _identification_damper() -> Numbers:
+    """Small fits on the damper's records with cases.identify's split and settings: offset and
+    drift, calibrated bands, several starts, LuGre's cost off a zero backlash, GMS's standard
+    errors against the step, the elasto-plastic law's cost against z_ba_ratio."""
+    import dataclasses
+
+    import stickslip as ss
+    from cases import identify as ci
+    from harness.files import read_csv
+    from stickslip import identify as I
+    out: Numbers = {}
+    groups = ci.load_groups(ss.damper_files())
+    kw = dict(backlash="fit", asymmetry="fit", n_starts=1, rtol=ci.RTOL, diff_step=ci.DIFF_STEP)
+    for group in ("30lb", "36lb"):
+        train = [r for r, tr in groups[group] if tr]
+        held_recs = [r for r, tr in groups[group] if not tr]
+        plain = ss.fit_friction("dahl", train, **kw)
+        fit = ss.fit_friction("dahl", train, offset="fit", drift="fit", **kw)
+        out[f"damper.{group}.offset"] = (fit.params["offset"], "N", "Dahl's fitted offset")
+        out[f"damper.{group}.offset_se"] = (fit.stderr["offset"], "N", "its standard error")
+        out[f"damper.{group}.drift_pct"] = (-100.0 * fit.params["drift"], "%/s", "the level's fall a second")
+        out[f"damper.{group}.drift_se_pct"] = (100.0 * fit.stderr["drift"], "%/s", "its standard error")
+        for name, f_ in (("plain", plain), ("drift", fit)):
+            out[f"damper.{group}.{name}.nrmse_pct"] = (100.0 * f_.nrmse, "%", f"fitted nrmse, {name}")
+            out[f"damper.{group}.{name}.heldout_pct"] = (100.0 * f_.score(held_recs)["nrmse"], "%",
+                                                         f"held-out nrmse, {name}")
+    # the calibrated prediction intervals at 36 lb
+    train = [r for r, tr in groups["36lb"] if tr]
+    held_recs = [r for r, tr in groups["36lb"] if not tr]
+    fit, _, cpu = _timed(lambda: ss.fit_friction("dahl", train, calibrate=True, **kw))
+    out["calibrated.cpu"] = (cpu, "s", "Dahl's fit with calibrate=True on five records: CPU")
+    plain = dataclasses.replace(fit, heldout_residuals=None)
+    forces = np.concatenate([r.force for r in held_recs])
+    for name, f_ in (("calibrated", fit), ("alone", plain)):
+        for q in (0.5, 0.95):
+            bands = [f_.predict(r, interval=q) for r in held_recs]
+            lo_, hi_ = np.concatenate([b[1] for b in bands]), np.concatenate([b[2] for b in bands])
+            out[f"calibrated.{name}.{q:g}.held_pct"] = (100.0 * float(np.mean((forces >= lo_) & (forces <= hi_))),
+                                                        "%", f"{name} {q:g} band: held-out samples inside")
+            out[f"calibrated.{name}.{q:g}.half_kN"] = (float(np.median(0.5 * (hi_ - lo_))) / 1e3, "kN",
+                                                       f"{name} {q:g} band: median half-width")
+    out["calibrated.fit_sd_kN"] = (fit.residual_sd / 1e3, "kN", "the fit's residual standard deviation")
+    out["calibrated.heldout_rms_kN"] = (fit.score(held_recs)["rmse"] / 1e3, "kN", "the held-out records' rmse")
+
+    # the ten 36 lb records
+    ten = [r for r, _ in groups["36lb"]]
+    dahl10 = ss.fit_friction("dahl", ten, **kw)
+    out["ten.dahl.aic"] = (dahl10.aic, "", "Dahl's AIC on the ten 36 lb records")
+    out["ten.dahl.bic"] = (dahl10.bic, "", "its BIC")
+    out["ten.dahl.bic_lmfit"] = (dahl10.bic_lmfit, "", "its BIC in lmfit's definition")
+    # several starts (default rtol and diff_step): each start's cost, the CPU time of one and of three
+    for law in ("lugre", "dahl", "gms"):
+        for n in (1, 3):
+            fit, _, cpu = _timed(lambda: ss.fit_friction(law, ten, backlash="fit", asymmetry="fit", n_starts=n,
+                                                         fixed=ci.fixed_for(law)))
+            out[f"starts.{law}.{n}.cpu"] = (cpu, "s", f"{law}'s CPU time, {n} start(s), default rtol")
+            out[f"starts.{law}.{n}.cost"] = (fit.cost, "N^2", f"{law}'s final cost (half the sum of squares), "
+                                              f"{n} start(s)")
+        for i, cost in enumerate(fit.start_costs):
+            out[f"starts.{law}.start{i + 1}"] = (float(cost), "N^2", f"{law}: the cost start {i + 1} ended at")
+    lugre10 = ss.fit_friction("lugre", ten, **dict(kw, fixed=ci.fixed_for("lugre")))
+    # LuGre's cost just off a backlash of 0, in reduced chi-squares
+    data = I._records(ten, None, None, None, None)
+    forces = np.concatenate([d.force for d in data])
+
+    def ssr(backlash: float) -> float:
+        p = dict(lugre10.params, backlash=backlash)
+        r = np.concatenate([I._model("lugre", d, I._record_params(p, i), ci.RTOL) for i, d in enumerate(data)])
+        return float((r - forces) @ (r - forces))
+    jumps = [(ssr(b) - ssr(0.0)) / lugre10.redchi for b in (1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7)]
+    out["lugre_backlash.at_zero"] = (float(lugre10.params["backlash"]), "m", "LuGre's fitted backlash, ten records")
+    out["lugre_backlash.jump_min"] = (min(jumps), "s^2", "the cost's rise at 1e-12 to 1e-7 m, least")
+    out["lugre_backlash.jump_max"] = (max(jumps), "s^2", "the most")
+    # GMS's mu_s standard error against the finite-difference step, five fitted records
+    for step in (1e-2, 3e-3, 1e-3):
+        fit = ss.fit_friction("gms", train, **dict(kw, diff_step=step, fixed=ci.fixed_for("gms")))
+        out[f"gms_se.{step:g}"] = (fit.stderr["mu_s"], "N", f"GMS's mu_s standard error at diff_step {step:g}")
+    # the elasto-plastic law's transition: one evaluation along a record against z_ba_ratio
+    sine = ss.load_damper_record(ss.data.DAMPER_DIR / "sine_0.5Hz_1in_36lb.csv.gz")
+    c = read_csv(ROOT / "docs" / "figures" / "identify_params.csv")
+    p = {name: float(value) for group, law, name, value in zip(c["group [-]"], c["law [-]"], c["parameter [-]"],
+                                                                c["value [unit]"])
+         if group == "36lb" and law == "elastoplastic"}
+    law_p = {k: p[k] for k in ss.REGISTRY["law"]["elastoplastic"]["params"] if k in p}
+    for ratio in (0.999, 0.999999):
+        _, _, cpu = _timed(lambda: ss.prescribed_motion("elastoplastic", sine.t, sine.x, sine.v, rtol=1e-6,
+                                                        backlash=p["backlash"], asymmetry=p["asymmetry"],
+                                                        **dict(law_p, z_ba_ratio=ratio)))
+        out[f"z_ba.{ratio:g}.cpu"] = (cpu, "s", f"one evaluation along the full-rate 0.5 Hz 36 lb record at "
+                                      f"z_ba_ratio {ratio:g} (cases.identify's 36 lb fit otherwise)")
+    return out
+
+
 PAGES: dict[str, Callable[[], Numbers]] = {"models": models, "friction-laws": friction_laws,
-                                           "exact-stick": exact_stick, "implicit-nonsmooth": implicit_nonsmooth}
+                                           "exact-stick": exact_stick, "implicit-nonsmooth": implicit_nonsmooth,
+                                           "identification": identification}
 
 def implicit_nonsmooth_slope(outdir: Path) -> Path:
     """docs/guide/implicit-nonsmooth.md's slope table: the box on a 25 deg slope (mu_k = 0.6,
