@@ -202,9 +202,12 @@ def test_no_convergence_is_a_named_failure_not_an_orbit() -> None:
 
 
 def test_laws_with_states_are_refused() -> None:
+    """Refused by name before any run (a model's run starts the law states at 0)."""
     m = ss.Model.from_scene("belt", "lugre")
-    with pytest.raises(ValueError, match="internal states"):
+    with pytest.raises(ss.LawStatesUnsupported, match="internal states"):
         ss.periodic_orbit(m, method="dopri5")
+    with pytest.raises(ss.LawStatesUnsupported, match="internal states"):
+        ss.equilibrium(m)
 
 
 def test_den_hartog_curve_followed_by_pseudo_arclength() -> None:
@@ -428,3 +431,41 @@ def test_stribeck_cycle_saltation_with_integrated_variations() -> None:
 def test_bad_options_name_the_parameter(kwargs, match) -> None:
     with pytest.raises(ValueError, match=match):
         ss.periodic_orbit(forced_linear(), method="dopri5", **kwargs)
+
+
+def test_equilibria_continued_to_the_hopf_point_of_steady_sliding() -> None:
+    """Steady sliding on the damped belt continued in the damper c: its eigenvalues equal
+    numpy's of the linearisation x'' = -(k x + (c + N mu'(v_b)) x') / m written here, and the
+    Hopf point is located where c + N mu'(v_b) = 0, at the frequency sqrt(k/m)."""
+    mass, k, n, v_b = 10.0, 300.0, 10.0 * 9.81, 1.5
+    h = 1e-6
+    slope = float(np.diff(ss.friction_coefficient("proposed", np.array([v_b - h, v_b + h])))[0] / (2 * h))
+    c_hopf = -n * slope
+    br = ss.continuation(damped_belt, 0.5, 1.5, kind="equilibrium", step=0.1)
+    assert br.kind == "equilibrium" and len(br) == 11 and br.stop_reason.startswith("reached stop")
+    x_slide = n * float(ss.friction_coefficient("proposed", np.array([v_b]))[0]) / k
+    for c, eq, eig in zip(br.p, br.orbits, br.eigenvalues):
+        assert eq.x0[0] == pytest.approx(x_slide, rel=1e-12) and eq.v0[0] == 0.0 and eq.residual < 1e-12
+        lin = np.array([[0.0, 1.0], [-k / mass, -(c + n * slope) / mass]])
+        exact = np.linalg.eigvals(lin)
+        key = lambda z: (round(float(np.real(z)), 9), float(np.imag(z)))     # noqa: E731
+        np.testing.assert_allclose(sorted(eig.astype(complex), key=key), sorted(exact, key=key),
+                                   rtol=0, atol=1e-8)
+        assert eq.stable == (c > c_hopf)
+    hopf = br.bifurcations
+    assert [b["kind"] for b in hopf] == ["Hopf"]
+    assert hopf[0]["p"] == pytest.approx(c_hopf, rel=1e-9)
+    assert hopf[0]["frequency"] == pytest.approx(math.sqrt(k / mass), rel=1e-9)
+    assert np.all(np.isnan(br.period)) and br.multipliers.shape == (11, 0)
+
+
+def test_equilibrium_refusals_are_named() -> None:
+    """A forced model has no equilibrium; a set-valued contact at rest on its surface has a set
+    of them; both refused by name."""
+    with pytest.raises(ss.NonPeriodicForcing, match="no equilibrium"):
+        ss.equilibrium(forced_linear())
+    at_rest = ss.Model.from_scene("belt", "coulomb", v_b=0.0)
+    with pytest.raises(ss.SteadyStateError, match="set of equilibria|are a set"):
+        ss.equilibrium(at_rest)
+    with pytest.raises(ValueError, match="kind"):
+        ss.continuation(damped_belt, 0.5, 1.5, kind="equilibria")

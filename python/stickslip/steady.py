@@ -53,9 +53,9 @@ from .core import REGISTRY, Result, _count, _finite, _known, friction_coefficien
 from .model import Model, check_method
 from .signal import Signal
 
-__all__ = ["Orbit", "Branch", "SteadyStateError", "NoConvergence", "NonPeriodicForcing", "GuessShapeError", "retuned",
-           "MonodromyWarning",
-           "periodic_orbit", "continuation", "frequency_response"]
+__all__ = ["Orbit", "Branch", "Equilibrium", "SteadyStateError", "NoConvergence", "NonPeriodicForcing",
+           "GuessShapeError", "LawStatesUnsupported", "retuned", "MonodromyWarning",
+           "periodic_orbit", "equilibrium", "continuation", "frequency_response"]
 
 #: Tolerances of the runs when the method is adaptive and none are given.
 DEFAULT_RTOL = 1e-12
@@ -90,6 +90,12 @@ class NonPeriodicForcing(SteadyStateError, ValueError):
 
 class GuessShapeError(SteadyStateError, ValueError):
     """A guess of the wrong shape or kind."""
+
+
+class LawStatesUnsupported(SteadyStateError, ValueError):
+    """A contact whose law has internal states (LuGre, Dahl, elasto-plastic, GMS, ...): a
+    model's run starts its law states at 0, so an orbit's start state cannot be set; refused
+    before any run."""
 
 
 class MonodromyWarning(UserWarning):
@@ -375,7 +381,7 @@ def _check_model(model: Any) -> Model:
         raise ValueError(f"model: must be a stickslip.Model (a scene: Model.from_scene), got {type(model).__name__}")
     for i, c in enumerate(model.contacts):
         if model._law_states(i)[0]:
-            raise ValueError(f"{model.contact_label(i)}: law {c.law!r} has internal states; periodic orbits of "
+            raise LawStatesUnsupported(f"{model.contact_label(i)}: law {c.law!r} has internal states; periodic orbits of "
                              "models whose laws have states are not supported (a run starts them at 0)")
     return model
 
@@ -901,6 +907,224 @@ def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events:
 
 
 # ------------------------------------------------------------------------------------------
+# Equilibria
+# ------------------------------------------------------------------------------------------
+@dataclass
+class Equilibrium:
+    """An equilibrium of an autonomous model (returned by `equilibrium`; the points of a
+    ``continuation(..., kind="equilibrium")`` branch): every body at rest, each contact sliding
+    at its surface's speed (steady sliding on a belt).
+
+    Attributes
+    ----------
+    x0, v0 : numpy.ndarray, shape (n_bodies,)
+        The position [m] and the velocity (zero) [m/s] of each body.
+    eigenvalues : numpy.ndarray, shape (2 n_bodies,)
+        Eigenvalues of `jacobian` [1/s], largest real part first (complex when any is).
+    jacobian : numpy.ndarray, shape (2 n_bodies, 2 n_bodies)
+        d(dy/dt)/dy at the equilibrium, y = (x, v): the springs' and dampers' matrices and each
+        contact's friction slope N mu'(s) at its slip s, by central differences of the law's
+        curve (`friction_coefficient`) of step 1e-6 max(1, abs(s)).
+    stable : bool
+        Every eigenvalue's real part < 0.
+    residual : float
+        Infinity norm of the net force on the bodies at the answer [N].
+    """
+
+    x0: np.ndarray
+    v0: np.ndarray
+    eigenvalues: np.ndarray
+    jacobian: np.ndarray
+    stable: bool
+    residual: float
+
+    @property
+    def y0(self) -> np.ndarray:
+        """The state (x0, v0)."""
+        return np.concatenate([self.x0, self.v0])
+
+    # the fields a Branch reads from its points: an equilibrium has no period nor motion
+    period = math.nan
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        return np.zeros(self.x0.size)
+
+    @property
+    def stick_fraction(self) -> np.ndarray:
+        return np.zeros(0)
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        return np.zeros(0)
+
+
+#: laws that are set-valued at zero slip under event_driven: a contact at rest on its surface
+#: holds a set of equilibria, not one
+_SET_VALUED = ("coulomb", "stribeck")
+
+
+def equilibrium(model: Model, guess: Any = None) -> Equilibrium:
+    """The equilibrium of an autonomous `model` and its eigenvalues.
+
+    With every body at rest each contact slips at minus its surface's speed, so its friction is
+    a constant and the net force is affine in the positions (springs are linear): the
+    equilibrium solves K x = f, one linear solve (no iteration). The Jacobian adds each
+    contact's friction slope N mu'(s) to the damping (a falling law makes it negative: the
+    onset of stick-slip is the Hopf point where the damping of a mode vanishes).
+
+    Parameters
+    ----------
+    model : Model
+        The system; no time signal (constants only), no drive, no law with internal states,
+        and no contact of a set-valued law (coulomb, stribeck) whose surface is at rest (a
+        contact stuck at rest holds a set of equilibria).
+    guess : array_like, optional
+        Not needed (the equilibrium is unique when the stiffness matrix is regular); accepted
+        for symmetry with `periodic_orbit` and ignored.
+
+    Returns
+    -------
+    Equilibrium
+
+    Raises
+    ------
+    SteadyStateError
+        A singular stiffness matrix (a body held by no spring: no isolated equilibrium), or a
+        set-valued contact at rest on its surface.
+    NonPeriodicForcing, LawStatesUnsupported, ValueError
+        A forced model (no equilibrium), a law with states, a model with drives.
+    """
+    del guess
+    model = _check_model(model)
+    if model.drives:
+        raise ValueError("model: has drives (prescribed motions); its equilibria are not computed")
+    if forcing_period(model) is not None:
+        raise NonPeriodicForcing("model: forced by sines; a forced model has no equilibrium (its steady "
+                                 "state is a periodic orbit: periodic_orbit)")
+    for where, s in _model_signals(model):
+        if s.kind != "constant" and float(_signal(s, 0.0)[0]) != float(_signal(s, 1e6)[0]):
+            raise NonPeriodicForcing(f"{where}: changes in time; an equilibrium needs constant signals")
+    sys_ = _System(model)
+    n = sys_.n
+    zero = np.zeros(2 * n)
+    for i, c in enumerate(model.contacts):
+        if c.law in _SET_VALUED and sys_.slip(zero, 0.0)[i] == 0.0:
+            raise SteadyStateError(f"{model.contact_label(i)}: at rest on its surface (slip 0) with the set-valued "
+                                   f"law {c.law!r}: its equilibria are a set (every position where the spring "
+                                   "force is within mu_s N), not one point")
+    f0 = sys_._free(zero, 0.0, None)
+    try:
+        x = np.linalg.solve(sys_.K, f0)
+    except np.linalg.LinAlgError:
+        raise SteadyStateError("model: the stiffness matrix is singular (a body held by no spring): "
+                               "no isolated equilibrium") from None
+    if not np.all(np.isfinite(x)) or np.linalg.cond(sys_.K) > 1e14:
+        raise SteadyStateError("model: the stiffness matrix is singular (a body held by no spring): "
+                               "no isolated equilibrium")
+    y = np.concatenate([x, np.zeros(n)])
+    jac = _equilibrium_jacobian(sys_, y)
+    eig = np.linalg.eigvals(jac)
+    eig = eig[np.argsort(-eig.real, kind="stable")]
+    if np.all(np.abs(eig.imag) == 0.0):
+        eig = eig.real
+    residual = float(np.max(np.abs(sys_._free(y, 0.0, None)))) if n else 0.0
+    return Equilibrium(x0=x, v0=np.zeros(n), eigenvalues=eig, jacobian=jac, stable=bool(np.all(eig.real < 0.0)),
+                       residual=residual)
+
+
+def _equilibrium_jacobian(sys_: _System, y: np.ndarray) -> np.ndarray:
+    """d(dy/dt)/dy at y: x and the springs exactly (K), v by central differences of the
+    forces of step 1e-6 max(1, abs(slip)) (the dampers exactly, the laws' slopes to about 1e-10)."""
+    n = sys_.n
+    jac = np.zeros((2 * n, 2 * n))
+    jac[:n, n:] = np.eye(n)
+    jac[n:, :n] = -sys_.K / sys_.mass[:, None]
+    s = sys_.slip(y, 0.0)
+    h = 1e-6 * max(1.0, float(np.max(np.abs(s)))) if s.size else 1e-6
+    for j in range(n):
+        e = y.copy()
+        e[n + j] += h
+        fp = sys_._free(e, 0.0, None)
+        e[n + j] -= 2 * h
+        fm = sys_._free(e, 0.0, None)
+        jac[n:, n + j] = (fp - fm) / (2 * h) / sys_.mass
+    return jac
+
+
+def _root(g: Callable[[float], float], a: float, b: float, ga: float, gb: float, xtol: float,
+          max_iter: int = 60) -> float:
+    """A root of g between a and b (g(a), g(b) of opposite signs) by the Illinois variant of
+    regula falsi, to xtol."""
+    side = 0
+    for _ in range(max_iter):
+        c = (a * gb - b * ga) / (gb - ga)
+        if abs(b - a) <= xtol:
+            break
+        gc = g(c)
+        if gc == 0.0:
+            return c
+        if (gc > 0) == (gb > 0):
+            b, gb = c, gc
+            if side == -1:
+                ga *= 0.5
+            side = -1
+        else:
+            a, ga = c, gc
+            if side == 1:
+                gb *= 0.5
+            side = 1
+        if abs(b - a) <= xtol:
+            break
+    return (a * gb - b * ga) / (gb - ga)
+
+
+def _hopf_test(eq: Equilibrium) -> float:
+    """The largest real part of a complex eigenvalue (-inf when none is complex): zero at a Hopf point."""
+    ev = np.asarray(eq.eigenvalues)
+    cplx = ev[np.abs(ev.imag) > 0.0]
+    return float(np.max(cplx.real)) if cplx.size else -math.inf
+
+
+def _equilibrium_branch(build: Callable[[float], Model], start: float, stop: float, step: float,
+                        max_points: int, progress: bool) -> "Branch":
+    """Equilibria at equal steps of p from start to stop (a graph over p: see `equilibrium`),
+    Hopf points (a complex pair crossing the imaginary axis) and real eigenvalues through 0
+    ("stability change") located by regula falsi on p to 1e-12 of the range."""
+    n_pts = min(max_points, max(2, int(math.ceil(1.0 / step)) + 1))
+    ps = [float(start) + (float(stop) - float(start)) * k / (n_pts - 1) for k in range(n_pts)]
+    ps[-1] = float(stop)
+    bar = _Progress(progress, float(start), float(stop))
+    eqs: list[Equilibrium] = []
+    for p in ps:
+        eqs.append(equilibrium(build(p)))
+        bar.show(p)
+    bar.close()
+    out: list[dict[str, Any]] = []
+    xtol = 1e-12 * abs(float(stop) - float(start))
+    for i in range(1, len(eqs)):
+        a, b = eqs[i - 1], eqs[i]
+        ua, ub = (int(np.sum(e.eigenvalues.real > 0.0)) for e in (a, b))
+        if ua == ub:
+            continue
+        ga, gb = _hopf_test(a), _hopf_test(b)
+        if math.isfinite(ga) and math.isfinite(gb) and (ga > 0.0) != (gb > 0.0):
+            p = _root(lambda q: _hopf_test(equilibrium(build(q))), ps[i - 1], ps[i], ga, gb, xtol)
+            at = equilibrium(build(p))
+            ev = at.eigenvalues
+            crit = ev[np.argmin(np.where(ev.imag == 0.0, math.inf, np.abs(ev.real)))]
+            out.append({"kind": "Hopf", "index": i, "p": p, "frequency": abs(float(np.imag(crit))),
+                        "eigenvalues": at.eigenvalues})
+        else:
+            def real_test(q: float) -> float:
+                ev = equilibrium(build(q)).eigenvalues
+                return float(np.prod(ev.real[ev.imag == 0.0])) if np.any(ev.imag == 0.0) else 1.0
+            p = _root(real_test, ps[i - 1], ps[i], real_test(ps[i - 1]), real_test(ps[i]), xtol)
+            out.append({"kind": "stability change", "index": i, "p": p})
+    return Branch.from_orbits(ps, eqs, f"reached stop = {stop!r}", out, kind="equilibrium")
+
+
+# ------------------------------------------------------------------------------------------
 # Continuation
 # ------------------------------------------------------------------------------------------
 @dataclass
@@ -933,6 +1157,15 @@ class Branch:
         Why the continuation ended.
     curve : Branch or None
         For `frequency_response`: the whole continued curve, folds included.
+    kind : str
+        "orbit" (periodic orbits; `orbits` holds `Orbit`) or "equilibrium" (``continuation(...,
+        kind="equilibrium")``: `orbits` holds `Equilibrium`, `period` is NaN, `amplitude` 0,
+        `multipliers` empty, and `eigenvalues` of shape (n, 2 n_bodies) the Jacobian's, largest
+        real part first; its bifurcations are "Hopf" (a complex pair crossing the imaginary
+        axis, with its "frequency" [rad/s]) and "stability change" (a real eigenvalue through 0),
+        each located on p to 1e-12 of the range).
+    eigenvalues : numpy.ndarray
+        See `kind` (shape (n, 0) for orbits).
     """
 
     p: np.ndarray
@@ -945,18 +1178,21 @@ class Branch:
     bifurcations: list[dict[str, Any]]
     stop_reason: str
     curve: "Branch | None" = None
+    kind: str = "orbit"
+    eigenvalues: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     @classmethod
-    def from_orbits(cls, ps: Sequence[float], orbits: list[Orbit], stop_reason: str,
-                    bifurcations: list[dict[str, Any]] | None = None) -> "Branch":
+    def from_orbits(cls, ps: Sequence[float], orbits: Sequence[Orbit | Equilibrium], stop_reason: str,
+                    bifurcations: list[dict[str, Any]] | None = None, kind: str = "orbit") -> "Branch":
         amp = np.array([o.amplitude for o in orbits]) if orbits else np.zeros((0, 1))
         if amp.ndim == 2 and amp.shape[1] == 1:
             amp = amp[:, 0]
         mult = np.array([o.multipliers for o in orbits]) if orbits else np.zeros((0, 0))
+        eig = np.array([getattr(o, "eigenvalues", np.zeros(0)) for o in orbits]) if orbits else np.zeros((0, 0))
         return cls(p=np.asarray(ps, dtype=float), period=np.array([o.period for o in orbits]), amplitude=amp,
                    stable=np.array([o.stable for o in orbits], dtype=bool), multipliers=mult,
                    stick_fraction=np.array([o.stick_fraction for o in orbits]), orbits=list(orbits),
-                   bifurcations=list(bifurcations or []), stop_reason=stop_reason)
+                   bifurcations=list(bifurcations or []), stop_reason=stop_reason, kind=kind, eigenvalues=eig)
 
     def __len__(self) -> int:
         return int(self.p.size)
@@ -987,19 +1223,76 @@ def _signature(o: Orbit) -> tuple[tuple[str, int], ...]:
     return tuple((str(k), int(c)) for k, c in zip(kinds, counts))
 
 
-def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float]) -> list[dict[str, Any]]:
+def _test_plus_one(o: Orbit) -> float:
+    """prod(mu - 1) over the nontrivial multipliers: changes sign where a real multiplier
+    passes through +1 (a fold, or a branch point)."""
+    return float(np.real(np.prod(o.nontrivial - 1.0)))
+
+
+def _test_minus_one(o: Orbit) -> float:
+    """prod(mu + 1) over the nontrivial multipliers: changes sign where a real multiplier
+    passes through -1 (period doubling; complex pairs contribute abs(mu + 1)^2 > 0)."""
+    return float(np.real(np.prod(o.nontrivial + 1.0)))
+
+
+def _complex(o: Orbit) -> np.ndarray:
+    m = o.nontrivial
+    return m[np.abs(np.imag(m)) > 1e-9 * np.maximum(1.0, np.abs(m))]
+
+
+def _test_torus(o: Orbit) -> float:
+    """Largest modulus of a complex nontrivial multiplier minus 1 (NaN when none is complex):
+    changes sign where a complex pair leaves the unit circle (Neimark-Sacker)."""
+    c = _complex(o)
+    return float(np.max(np.abs(c))) - 1.0 if c.size else math.nan
+
+
+def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float],
+                  locate: Callable[[int, Callable[[Orbit], float]], float | None] | None = None
+                  ) -> list[dict[str, Any]]:
+    """The bifurcations between the branch's points; `locate(i, g)`, when given, returns the
+    p where the test function g(orbit) vanishes between points i - 1 and i (None if it cannot)."""
+    def where(i: int, g: Callable[[Orbit], float]) -> tuple[float, bool]:
+        ga, gb = g(orbits[i - 1]), g(orbits[i])
+        p = locate(i, g) if locate is not None else None
+        if p is not None:
+            return p, True
+        return ps[i - 1] + ga / (ga - gb) * (ps[i] - ps[i - 1]), False
+
+    def flips(i: int, g: Callable[[Orbit], float]) -> bool:
+        ga, gb = g(orbits[i - 1]), g(orbits[i])
+        return bool(np.isfinite(ga) and np.isfinite(gb) and (ga > 0.0) != (gb > 0.0))
+
     out: list[dict[str, Any]] = []
+    folded: set[int] = set()
     for i in range(1, len(orbits)):
         a, b = orbits[i - 1], orbits[i]
         if i + 1 < len(orbits) and dps[i] * dps[i + 1] < 0.0:
             # p turns back at point i: a fold, or, where the cycle shrinks to nothing there,
             # the Hopf point of the equilibrium the branch passes through
             small = np.max(b.amplitude) < 0.1 * min(np.max(a.amplitude), np.max(orbits[i + 1].amplitude))
-            out.append({"kind": "Hopf" if small else "fold", "index": i, "p": ps[i]})
+            entry: dict[str, Any] = {"kind": "Hopf" if small else "fold", "index": i, "p": ps[i], "located": False}
+            if not small:           # the fold itself: where a multiplier passes +1, either side of point i
+                for j in (i, i + 1):
+                    if flips(j, _test_plus_one):
+                        entry["p"], entry["located"] = where(j, _test_plus_one)
+                        folded.update((j, j + 1) if j == i else (j - 1, j))
+                        break
+            out.append(entry)
         if _signature(a) != _signature(b) or (a.stick_fraction > 0).tolist() != (b.stick_fraction > 0).tolist():
             out.append({"kind": "events", "index": i, "p": 0.5 * (ps[i - 1] + ps[i]),
                         "before": _signature(a), "after": _signature(b)})
-        if a.stable != b.stable:
+        explained = False
+        if flips(i, _test_minus_one):
+            p, ok = where(i, _test_minus_one)
+            out.append({"kind": "period doubling", "index": i, "p": p, "located": ok})
+            explained = True
+        ca, cb = _complex(a), _complex(b)
+        if ca.size and cb.size and int(np.sum(np.abs(ca) > 1.0)) != int(np.sum(np.abs(cb) > 1.0)):
+            p, ok = where(i, _test_torus)
+            out.append({"kind": "Neimark-Sacker", "index": i, "p": p, "located": ok})
+            explained = True
+        if a.stable != b.stable and not explained and i not in folded:
             ma, mb = a.nontrivial, b.nontrivial
             big_a, big_b = ma[np.argmax(np.abs(ma))], mb[np.argmax(np.abs(mb))]
             if abs(np.imag(big_b)) > 1e-9 or abs(np.imag(big_a)) > 1e-9:
@@ -1010,15 +1303,16 @@ def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float]) -> lis
                 kind = "stability change"
             ra, rb = float(np.max(np.abs(ma))), float(np.max(np.abs(mb)))
             s = (1.0 - ra) / (rb - ra) if rb != ra else 0.5
-            out.append({"kind": kind, "index": i, "p": ps[i - 1] + s * (ps[i] - ps[i - 1])})
+            out.append({"kind": kind, "index": i, "p": ps[i - 1] + s * (ps[i] - ps[i - 1]), "located": False})
     return out
 
 
 def continuation(build: Callable[[float], Model], start: float, stop: float, guess: Any = None, *,
                  step: float | None = None, min_step: float | None = None, max_step: float | None = None,
                  max_points: int = 200, method: str = "event_driven", tol: float = 1e-9, progress: bool = False,
-                 **options: Any) -> Branch:
-    """Pseudo-arclength continuation of periodic orbits in a parameter p from `start` to `stop`.
+                 kind: str = "orbit", locate_bifurcations: bool = True, **options: Any) -> Branch:
+    """Pseudo-arclength continuation of periodic orbits (or equilibria, ``kind="equilibrium"``)
+    in a parameter p from `start` to `stop`.
 
     Parameters
     ----------
@@ -1047,6 +1341,19 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
         As for `periodic_orbit` (controls of the method, `n_out`, `transient`).
     progress : bool, optional
         A progress bar on stderr.
+    kind : str, optional
+        "orbit" (default) or "equilibrium": the equilibria of the autonomous models build(p)
+        (`equilibrium`) at equal steps of p, `step` the fraction of the range between points
+        (default 1/50; `max_points` caps their number), with their eigenvalues and Hopf points.
+        An equilibrium of a Model solves a linear system (see `equilibrium`), so its branch is
+        a graph over p: no folds, and no arclength needed. `guess`, `method`, `tol`,
+        `min_step`, `max_step` and `options` do not apply.
+    locate_bifurcations : bool, optional
+        True (default): each fold, period doubling and Neimark-Sacker point found between two
+        points is located by regula falsi on its test function (prod(mu - 1), prod(mu + 1)
+        over the nontrivial multipliers, the largest complex multiplier's modulus minus 1)
+        along the arclength of that step, each trial a corrector solve (about ten per point);
+        its "located" is then True. False: interpolated linearly between the two points.
 
     Returns
     -------
@@ -1055,6 +1362,14 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
     span = float(stop) - float(start)
     if not (math.isfinite(span) and span != 0.0):
         raise ValueError(f"start, stop: must be finite and differ, got {start!r}, {stop!r}")
+    if kind not in ("orbit", "equilibrium"):
+        raise ValueError(f"kind: must be 'orbit' or 'equilibrium', got {kind!r}")
+    if kind == "equilibrium":
+        eq_step = 0.02 if step is None else _finite("step", step, "in (0, 1]")
+        if not 0.0 < eq_step <= 1.0:
+            raise ValueError(f"step: must be in (0, 1] (a fraction of the range) for equilibria, got {step!r}")
+        return _equilibrium_branch(build, float(start), float(stop), eq_step, _count("max_points", max_points, 2),
+                                   progress)
     ds = 0.02 if step is None else float(step)
     ds_min = 1e-5 if min_step is None else float(min_step)
     ds_max = 0.1 if max_step is None else float(max_step)
@@ -1081,6 +1396,8 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
                       [first.period] if autonomous else [])
     scale = np.append(scale, abs(span))
     ps, orbits, dps = [float(start)], [first], [math.copysign(1.0, span)]
+    # how each point was reached: (the previous point's scaled unknowns, the tangent, the step)
+    steps: list[tuple[np.ndarray, np.ndarray, float] | None] = [None]
     prev_u = unknowns(first, float(start)) / scale
     tangent = np.zeros(prev_u.size)
     tangent[-1] = math.copysign(1.0, span)
@@ -1130,6 +1447,7 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
                 ps.append(float(stop))
                 orbits.append(orb)
                 dps.append(new_t[-1])
+                steps.append(None)
                 bar.show(float(stop))
             except SteadyStateError as err:
                 reason = f"the orbit at stop failed: {err}"
@@ -1140,11 +1458,34 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
         ps.append(p_new)
         orbits.append(orb)
         dps.append(float(new_t[-1]))
+        steps.append((prev_u, tangent, ds))
         tangent, prev_u = new_t, u_new
         bar.show(p_new)
         ds = min(ds_max, ds * 1.5) if its <= 3 else max(ds_min, ds * 0.7) if its > 6 else ds
     bar.close()
-    return Branch.from_orbits(ps, orbits, reason, _bifurcations(ps, orbits, dps))
+
+    def locate(i: int, g: Callable[[Orbit], float]) -> float | None:
+        """p where g vanishes between points i - 1 and i: regula falsi on the arclength s of
+        the step that reached point i, each trial the corrector's orbit at s (to 1e-9 of the
+        step); None for the landing on stop or a corrector that fails."""
+        if steps[i] is None:
+            return None
+        u0, tan, ds_i = steps[i]
+        found: dict[float, float] = {}
+
+        def g_at(s: float) -> float:
+            o, w, _ = _corrector(build, u0 + s * tan, tan, scale, autonomous, method, tol, n_out, options,
+                                 orbits[i - 1], phase)
+            found[s] = float(w[-1] * scale[-1])
+            return g(o)
+        try:
+            s = _root(g_at, 0.0, ds_i, g(orbits[i - 1]), g(orbits[i]), 1e-9 * ds_i, max_iter=30)
+            g_at(s)
+        except (SteadyStateError, ValueError, RuntimeError, ZeroDivisionError):
+            return None
+        return found[s]
+    return Branch.from_orbits(ps, orbits, reason, _bifurcations(ps, orbits, dps, locate if locate_bifurcations
+                                                                 else None))
 
 
 def _corrector(build: Callable[[float], Model], pred: np.ndarray, tangent: np.ndarray, scale: np.ndarray,
