@@ -1467,11 +1467,21 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
     def locate(i: int, g: Callable[[Orbit], float]) -> float | None:
         """p where g vanishes between points i - 1 and i: regula falsi on the arclength s of
         the step that reached point i, each trial the corrector's orbit at s (to 1e-9 of the
-        step); None for the landing on stop or a corrector that fails."""
-        if steps[i] is None:
-            return None
-        u0, tan, ds_i = steps[i]
+        step; for the landing on stop, on p between the two points); None where a trial fails."""
         found: dict[float, float] = {}
+        if steps[i] is None:            # the landing on stop: natural parameter between the two points
+            a, b = orbits[i - 1], orbits[i]
+
+            def g_p(p: float) -> float:
+                frac = (p - ps[i - 1]) / (ps[i] - ps[i - 1])
+                y = a.y0 + frac * (b.y0 - a.y0)
+                start = np.append(y, a.period + frac * (b.period - a.period)) if autonomous else y
+                return g(periodic_orbit(build(p), guess=start, method=method, tol=tol, n_out=n_out, **options))
+            try:
+                return _root(g_p, ps[i - 1], ps[i], g(a), g(b), 1e-9 * abs(ps[i] - ps[i - 1]), max_iter=30)
+            except (SteadyStateError, ValueError, RuntimeError, ZeroDivisionError):
+                return None
+        u0, tan, ds_i = steps[i]
 
         def g_at(s: float) -> float:
             o, w, _ = _corrector(build, u0 + s * tan, tan, scale, autonomous, method, tol, n_out, options,
