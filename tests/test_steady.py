@@ -201,13 +201,46 @@ def test_no_convergence_is_a_named_failure_not_an_orbit() -> None:
     assert err.value.residual > 1e-10
 
 
-def test_laws_with_states_are_refused() -> None:
-    """Refused by name before any run (a model's run starts the law states at 0)."""
+@pytest.mark.filterwarnings("ignore::stickslip.ConsistencyWarning")
+def test_lugre_belt_cycle_against_a_long_transient() -> None:
+    """LuGre's bristle state is an unknown of the shooting: the stick-slip cycle on the belt
+    at v_b = 0.1 m/s equals the last periods of a 60 s transient (radau5, rtol 1e-12): its
+    period from the transient's upward crossings of the mid position, its amplitude and the
+    bristle deflection z at that crossing."""
+    m = ss.Model.from_scene("belt", "lugre", v_b=0.1)
+    orb = ss.periodic_orbit(m, method="radau5")
+    assert orb.z0.shape == (1,) and orb.y0.shape == (3,) and orb.multipliers.shape == (3,)
+    assert orb.trivial_error < 1e-5 and orb.stable
+    # from a guess off the cycle, the bristle at rest (z = 0): Newton moves z too
+    off = ss.periodic_orbit(m, guess=[orb.x0[0], orb.v0[0], 0.0, 1.05 * orb.period], method="radau5")
+    assert off.iterations > 0 and off.period == pytest.approx(orb.period, rel=1e-9)
+    r = ss.simulate(m, method="radau5", t_end=60.0, n_out=600001, rtol=1e-12, atol=1e-14)
+    last = r.t >= 60.0 - 10 * orb.period
+    x, t = r.x[0, last], r.t[last]
+    level = 0.5 * (x.max() + x.min())
+    up = np.flatnonzero((x[:-1] < level) & (x[1:] >= level))
+    crossings = t[up] + (level - x[up]) * (t[up + 1] - t[up]) / (x[up + 1] - x[up])
+    assert np.diff(crossings) == pytest.approx(orb.period, rel=1e-6)
+    assert 0.5 * (x.max() - x.min()) == pytest.approx(orb.amplitude[0], rel=1e-6)
+    # the bristle deflection where x rises through the level, on either grid (interpolated)
+    def z_at_level(xs: np.ndarray, zs: np.ndarray) -> float:
+        k = np.flatnonzero((xs[:-1] < level) & (xs[1:] >= level))[-1]
+        return float(zs[k] + (level - xs[k]) * (zs[k + 1] - zs[k]) / (xs[k + 1] - xs[k]))
+    z_orbit = z_at_level(orb.result.x[0], orb.result.z.reshape(-1, orb.result.t.size)[0])
+    assert z_at_level(x, r.z.reshape(-1, r.t.size)[0, last]) == pytest.approx(z_orbit, rel=1e-6)
+    assert orb.result.z.min() <= orb.z0[0] <= orb.result.z.max()
+
+
+def test_laws_with_states_are_refused_where_not_handled() -> None:
+    """Equilibria and harmonic balance refuse laws with states by name, before any run."""
+    from stickslip.harmonic import harmonic_balance
     m = ss.Model.from_scene("belt", "lugre")
     with pytest.raises(ss.LawStatesUnsupported, match="internal states"):
-        ss.periodic_orbit(m, method="dopri5")
-    with pytest.raises(ss.LawStatesUnsupported, match="internal states"):
         ss.equilibrium(m)
+    forced = ss.Model.from_scene("belt", "lugre")
+    forced.add_force(0, ss.signal.sine(1.0, 1.0))
+    with pytest.raises(ss.LawStatesUnsupported, match="internal states"):
+        harmonic_balance(forced, 3)
 
 
 def test_den_hartog_curve_followed_by_pseudo_arclength() -> None:

@@ -26,8 +26,11 @@ Floquet multipliers. Two routes, named in `Orbit.monodromy_method`:
   where 1e-4 was within 1e-5 of scipy's variational equations), so multipliers are good to
   about 1e-5, and a stick phase's zero multipliers appear as numbers of that size.
 
-Models whose laws have internal states (LuGre, Dahl, ...) are not handled: a Model's run
-starts its law states at 0, so an orbit's start state cannot be set.
+Laws with internal states (LuGre, Dahl, elasto-plastic, GMS, ...) are handled: their states
+are unknowns of the shooting with the positions and velocities (each run started from them),
+their rows of the residual weighted by the positions' scale over theirs (a bristle deflection
+of 1e-5 m counts relative to itself), and the monodromy is taken by finite differences over the
+whole state. `equilibrium` and harmonic balance refuse them (`LawStatesUnsupported`).
 
 Examples
 --------
@@ -93,9 +96,9 @@ class GuessShapeError(SteadyStateError, ValueError):
 
 
 class LawStatesUnsupported(SteadyStateError, ValueError):
-    """A contact whose law has internal states (LuGre, Dahl, elasto-plastic, GMS, ...): a
-    model's run starts its law states at 0, so an orbit's start state cannot be set; refused
-    before any run."""
+    """A contact whose law has internal states (LuGre, Dahl, elasto-plastic, GMS, ...) given to
+    a solver that does not handle them (`equilibrium`, harmonic balance); refused before any
+    run. `periodic_orbit` and `continuation` of orbits handle them."""
 
 
 class MonodromyWarning(UserWarning):
@@ -333,10 +336,18 @@ class _System:
 # Runs
 # ------------------------------------------------------------------------------------------
 def _with_state(model: Model, y: np.ndarray) -> Model:
-    """A shallow copy of `model` starting from state y = (x, v)."""
+    """A shallow copy of `model` starting from state y = (x, v, z), z the laws' internal states
+    contact by contact (as `Model.state_labels`)."""
     m = copy.copy(model)
     n = model.n_bodies
     m.bodies = [dataclasses.replace(b, x0=float(y[i]), v0=float(y[n + i])) for i, b in enumerate(model.bodies)]
+    if y.size > 2 * n:
+        first, contacts = 2 * n, []
+        for i, c in enumerate(model.contacts):
+            nz = model._law_states(i)[0]
+            contacts.append(dataclasses.replace(c, z0=tuple(float(q) for q in y[first:first + nz])) if nz else c)
+            first += nz
+        m.contacts = contacts
     return m
 
 
@@ -363,7 +374,12 @@ class _Runner:
 
     def flow(self, y0: np.ndarray, t_end: float, t_start: float = 0.0) -> np.ndarray:
         r = self.run(y0, t_end, t_start=t_start)
-        return np.concatenate([r.x[:, -1], r.v[:, -1]])
+        return _state(r, -1)
+
+
+def _state(r: Result, i: int) -> np.ndarray:
+    """The state (x, v, z) of run r at its output point i."""
+    return np.concatenate([r.x[:, i], r.v[:, i], np.asarray(r.z).reshape(-1, r.t.size)[:, i]])
 
 
 def _controls(model: Model, method: str, controls: dict[str, Any]) -> dict[str, Any]:
@@ -376,13 +392,15 @@ def _controls(model: Model, method: str, controls: dict[str, Any]) -> dict[str, 
     return out
 
 
-def _check_model(model: Any) -> Model:
+def _check_model(model: Any, allow_states: bool = False) -> Model:
+    """`model` if it is a Model (and, unless `allow_states`, no law of it has internal states)."""
     if not isinstance(model, Model):
         raise ValueError(f"model: must be a stickslip.Model (a scene: Model.from_scene), got {type(model).__name__}")
     for i, c in enumerate(model.contacts):
-        if model._law_states(i)[0]:
-            raise LawStatesUnsupported(f"{model.contact_label(i)}: law {c.law!r} has internal states; periodic orbits of "
-                             "models whose laws have states are not supported (a run starts them at 0)")
+        if model._law_states(i)[0] and not allow_states:
+            raise LawStatesUnsupported(f"{model.contact_label(i)}: law {c.law!r} has internal states, which "
+                                       "equilibria and harmonic balance do not handle (periodic_orbit and "
+                                       "continuation of orbits do)")
     return model
 
 
@@ -399,9 +417,10 @@ class Orbit:
         The period [s].
     x0, v0 : numpy.ndarray, shape (n_bodies,)
         The state at the section (t = 0 of `result`) [m], [m/s].
-    z0 : numpy.ndarray, shape (0,)
-        The laws' states at the section (always empty: laws with states are not handled).
-    multipliers : numpy.ndarray, shape (2 n_bodies,)
+    z0 : numpy.ndarray, shape (n_states - 2 n_bodies,)
+        The laws' internal states at the section, contact by contact as `Model.state_labels`
+        (empty when no law has states); unknowns of the shooting like x0 and v0.
+    multipliers : numpy.ndarray, shape (n_states,)
         Floquet multipliers (eigenvalues of `monodromy`), largest modulus first; for an
         autonomous orbit one of them is the trivial 1 (`trivial`).
     trivial : int or None
@@ -420,7 +439,7 @@ class Orbit:
         event_driven's events over one period (empty for the other methods).
     result : Result
         A run over one period from the section, on a grid.
-    monodromy : numpy.ndarray, shape (2 n_bodies, 2 n_bodies)
+    monodromy : numpy.ndarray, shape (n_states, n_states)
         d(state after one period) / d(state at the section).
     monodromy_method : str
         "saltation" or "finite differences" (see the module).
@@ -459,8 +478,8 @@ class Orbit:
 
     @property
     def y0(self) -> np.ndarray:
-        """The state (x0, v0) at the section."""
-        return np.concatenate([self.x0, self.v0])
+        """The state (x0, v0, z0) at the section."""
+        return np.concatenate([self.x0, self.v0, self.z0])
 
     @property
     def nontrivial(self) -> np.ndarray:
@@ -471,9 +490,10 @@ class Orbit:
         return self.multipliers[keep]
 
 
-def _as_guess(guess: Any, n: int, autonomous: bool) -> tuple[np.ndarray | None, float | None]:
-    """(state, period) from a guess: an Orbit, a state (x then v, 2 n_bodies values), or for
-    an autonomous model 2 n_bodies + 1 values (the period last)."""
+def _as_guess(guess: Any, n: int, autonomous: bool, nz: int = 0) -> tuple[np.ndarray | None, float | None]:
+    """(state, period) from a guess: an Orbit, a state (x then v, 2 n_bodies values, then the
+    `nz` law states when the model has any; without them they start at 0), or for an autonomous
+    model the same and the period last."""
     if guess is None:
         return None, None
     if isinstance(guess, Orbit):
@@ -482,16 +502,19 @@ def _as_guess(guess: Any, n: int, autonomous: bool) -> tuple[np.ndarray | None, 
         g = np.asarray(guess, dtype=np.float64)
     except (TypeError, ValueError):
         raise GuessShapeError(f"guess: must be an Orbit or real numbers, got {type(guess).__name__}") from None
-    sizes = (2 * n, 2 * n + 1) if autonomous else (2 * n,)
+    states = sorted({2 * n, 2 * n + nz})
+    sizes = states + [k + 1 for k in states] if autonomous else states
     if g.ndim != 1 or g.size not in sizes or not np.isfinite(g).all():
         want = " or ".join(str(s) for s in sizes)
         raise GuessShapeError(f"guess: must be {want} finite values (x then v of the {n} bodies"
+                              f"{f', optionally the {nz} law states' if nz else ''}"
                               f"{', then the period' if autonomous else ''}), got shape {g.shape}")
-    if g.size == 2 * n + 1:
+    period = None
+    if g.size not in states:
         if not g[-1] > 0.0:
             raise GuessShapeError(f"guess: the period (last value) must be > 0 [s], got {g[-1]!r}")
-        return g[:-1].copy(), float(g[-1])
-    return g.copy(), None
+        g, period = g[:-1], float(g[-1])
+    return np.concatenate([g, np.zeros(2 * n + nz - g.size)]), period
 
 
 def _natural_period(model: Model) -> float:
@@ -509,7 +532,7 @@ def _transient_guess(runner: _Runner, period: float | None, periods: int) -> tup
     the most moving body's velocity is least over the last period (a slip phase on a belt)."""
     model = runner.model
     n = model.n_bodies
-    y0 = np.concatenate([[b.x0 for b in model.bodies], [b.v0 for b in model.bodies]])
+    y0 = np.concatenate([[b.x0 for b in model.bodies], [b.v0 for b in model.bodies], np.zeros(_n_law_states(model))])
     if period is not None:
         return runner.flow(y0, periods * period), period
     tn = _natural_period(model)
@@ -527,7 +550,7 @@ def _transient_guess(runner: _Runner, period: float | None, periods: int) -> tup
     est = float(np.median(np.diff(tc[-5:])))
     last = (r.t >= t_end - est)
     i = np.flatnonzero(last)[int(np.argmin(r.v[body, last]))]
-    return np.concatenate([r.x[:, i], r.v[:, i]]), est
+    return _state(r, i), est
 
 
 def _newton(residual: Callable[[np.ndarray], np.ndarray], u: np.ndarray, scale: np.ndarray, tol: float,
@@ -622,7 +645,7 @@ def periodic_orbit(model: Model, period: float | None = None, guess: Any = None,
     ValueError
         A bad model, method or control (as `simulate`).
     """
-    model = _check_model(model)
+    model = _check_model(model, allow_states=True)
     if period is not None and not _finite("period", period, "> 0 [s]") > 0.0:
         raise ValueError(f"period: must be > 0 [s], got {period!r}")
     _check_options(tol, max_iter, transient, n_out)
@@ -630,7 +653,7 @@ def periodic_orbit(model: Model, period: float | None = None, guess: Any = None,
     runner = _Runner(model, method, _controls(model, method, controls))
     n = model.n_bodies
     autonomous = forced is None
-    y_guess, t_guess = _as_guess(guess, n, autonomous)
+    y_guess, t_guess = _as_guess(guess, n, autonomous, _n_law_states(model))
     if y_guess is None:
         y_guess, t_est = _transient_guess(runner, forced, transient)
         t_guess = t_est if t_guess is None else t_guess
@@ -665,6 +688,12 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
     t_sec = 0.0 if autonomous else _section_phase(runner, y_guess, t_guess) * t_guess
     if t_sec:
         y_guess = runner.flow(y_guess, t_sec)
+    nb = runner.model.n_bodies
+    sc = _scales(y_guess, nb)
+    if y_guess.size > 2 * nb:       # the laws' states scaled by their extent over a period from the guess
+        zs = np.reshape(runner.run(y_guess, t_guess, n_out=201, t_start=t_sec).z, (y_guess.size - 2 * nb, -1))
+        sc[2 * nb:] = max(float(np.max(np.abs(zs))), 1e-12)
+    wts = np.tile(_weights(sc, nb), m)
 
     def residual(u: np.ndarray) -> np.ndarray:
         period = float(u[-1]) if autonomous else t_guess
@@ -673,8 +702,8 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
         ys = u[:m * n2].reshape(m, n2)
         h = period / m
         # an autonomous model's signals are constant: every segment starts at t = 0
-        r = np.concatenate([runner.flow(ys[k], h, 0.0 if autonomous else (t_sec + k * h) % period)
-                            - ys[(k + 1) % m] for k in range(m)])
+        r = wts * np.concatenate([runner.flow(ys[k], h, 0.0 if autonomous else (t_sec + k * h) % period)
+                                  - ys[(k + 1) % m] for k in range(m)])
         if autonomous:
             r = np.append(r, (ys[0] - ref[0]) @ ref[1] / max(float(np.max(np.abs(ref[1]))), 1e-300))
         return r
@@ -682,9 +711,9 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
     starts = [y_guess]
     if m > 1:
         r0 = runner.run(y_guess, t_guess, n_out=m + 1, t_start=t_sec)
-        starts = [np.concatenate([r0.x[:, k], r0.v[:, k]]) for k in range(m)]
+        starts = [_state(r0, k) for k in range(m)]
     u0 = np.concatenate(starts + ([np.array([t_guess])] if autonomous else []))
-    typ = np.tile(_scales(y_guess, runner.model.n_bodies), m)
+    typ = np.tile(sc, m)
     scale = np.append(typ, t_guess) if autonomous else typ
     u, norm, it, _ = _newton(residual, u0, scale, tol, max_iter, "periodic_orbit")
     y0, period = u[:n2], (float(u[-1]) if autonomous else t_guess)
@@ -722,10 +751,24 @@ def _section_phase(runner: _Runner, y0: np.ndarray, period: float) -> float:
 
 
 def _scales(y: np.ndarray, n: int) -> np.ndarray:
-    """A scale per component: the largest |x| (positions) or |v| (velocities), at least 1e-3."""
+    """A scale per component: the largest |x| (positions) or |v| (velocities), at least 1e-3,
+    and for the laws' states (after them) the largest |z|, at least 1e-12."""
     sx = max(float(np.max(np.abs(y[:n]))), 1e-3)
-    sv = max(float(np.max(np.abs(y[n:]))), 1e-3)
-    return np.concatenate([np.full(n, sx), np.full(n, sv)])
+    sv = max(float(np.max(np.abs(y[n:2 * n]))), 1e-3)
+    sz = max(float(np.max(np.abs(y[2 * n:]))), 1e-12) if y.size > 2 * n else 1.0
+    return np.concatenate([np.full(n, sx), np.full(n, sv), np.full(y.size - 2 * n, sz)])
+
+
+def _weights(scale: np.ndarray, n: int) -> np.ndarray:
+    """Weights of the shooting residual's rows: 1 for x and v, (x's scale / z's scale) for the
+    laws' states, so that a state's mismatch counts relative to its own size."""
+    w = np.ones(scale.size)
+    w[2 * n:] = scale[0] / scale[2 * n:]
+    return w
+
+
+def _n_law_states(model: Model) -> int:
+    return model.n_states() - 2 * model.n_bodies
 
 
 def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, norm: float, it: int,
@@ -752,7 +795,7 @@ def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, no
     others = np.delete(np.abs(mult), trivial) if trivial is not None else np.abs(mult)
     stable = bool(np.all(others < 1.0))
     sys_ = _System(model)
-    return Orbit(period=period, x0=y0[:n].copy(), v0=y0[n:].copy(), z0=np.zeros(0), multipliers=mult,
+    return Orbit(period=period, x0=y0[:n].copy(), v0=y0[n:2 * n].copy(), z0=y0[2 * n:].copy(), multipliers=mult,
                  trivial=trivial, trivial_error=trivial_error, stable=stable,
                  amplitude=_amplitude(res, [c.a for c in model.contacts]), stick_fraction=_stick(sys_, res, period),
                  events=events, result=res, monodromy=mono, monodromy_method=how, residual=norm, iterations=it,
@@ -1383,7 +1426,8 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
 
     phase = 0.0
     if not autonomous:                  # the section of a forced branch: a slip phase (see _solve)
-        r0 = _Runner(_check_model(build(float(start))), method, _controls(build(float(start)), method, options))
+        r0 = _Runner(_check_model(build(float(start)), allow_states=True), method,
+                     _controls(build(float(start)), method, options))
         phase = _section_phase(r0, first.y0, first.period)
 
     def unknowns(o: Orbit, p: float) -> np.ndarray:
@@ -1392,7 +1436,9 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
     # the states scaled by the first orbit's largest |x| and |v| over its period (not the
     # section's values, which may be near 0)
     scale = np.append(_scales(np.concatenate([np.max(np.abs(first.result.x), axis=1),
-                                              np.max(np.abs(first.result.v), axis=1)]), first.x0.size),
+                                              np.max(np.abs(first.result.v), axis=1),
+                                              np.max(np.abs(np.reshape(first.result.z, (first.z0.size, -1))), axis=1,
+                                                     initial=0.0)]), first.x0.size),
                       [first.period] if autonomous else [])
     scale = np.append(scale, abs(span))
     ps, orbits, dps = [float(start)], [first], [math.copysign(1.0, span)]
@@ -1505,11 +1551,12 @@ def _corrector(build: Callable[[float], Model], pred: np.ndarray, tangent: np.nd
     a forced branch's state is taken at `phase` of the period."""
     n2 = last.y0.size
     runners: dict[float, _Runner] = {}
+    wts = _weights(scale[:n2], last.x0.size)
     ref = (last.y0, (last.result.y[:n2, 1] - last.result.y[:n2, 0]) / (last.result.t[1] - last.result.t[0]))
 
     def runner_at(p: float) -> tuple[_Runner, float]:
         if p not in runners:
-            m = _check_model(build(p))
+            m = _check_model(build(p), allow_states=True)
             runners[p] = _Runner(m, method, _controls(m, method, options))
         r = runners[p]
         return r, forcing_period(r.model)  # type: ignore[return-value]
@@ -1522,7 +1569,7 @@ def _corrector(build: Callable[[float], Model], pred: np.ndarray, tangent: np.nd
         t = float(u[n2]) if autonomous else t_forced
         if not t > 0.0:
             raise NoConvergence("the period went negative")
-        res = r.flow(y, t, phase * t) - y
+        res = wts * (r.flow(y, t, phase * t) - y)
         extra = [(y - ref[0]) @ ref[1] / max(float(np.max(np.abs(ref[1]))), 1e-300)] if autonomous else []
         return np.concatenate([res, extra, [tangent @ (w - pred)]])
 
