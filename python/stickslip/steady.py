@@ -379,7 +379,7 @@ class _Runner:
 
 def _state(r: Result, i: int) -> np.ndarray:
     """The state (x, v, z) of run r at its output point i."""
-    return np.concatenate([r.x[:, i], r.v[:, i], np.asarray(r.z).reshape(-1, r.t.size)[:, i]])
+    return r.y[:, i].copy()
 
 
 def _controls(model: Model, method: str, controls: dict[str, Any]) -> dict[str, Any]:
@@ -691,7 +691,7 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
     nb = runner.model.n_bodies
     sc = _scales(y_guess, nb)
     if y_guess.size > 2 * nb:       # the laws' states scaled by their extent over a period from the guess
-        zs = np.reshape(runner.run(y_guess, t_guess, n_out=201, t_start=t_sec).z, (y_guess.size - 2 * nb, -1))
+        zs = runner.run(y_guess, t_guess, n_out=201, t_start=t_sec).y[2 * nb:]
         sc[2 * nb:] = max(float(np.max(np.abs(zs))), 1e-12)
     wts = np.tile(_weights(sc, nb), m)
 
@@ -1437,7 +1437,7 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
     # section's values, which may be near 0)
     scale = np.append(_scales(np.concatenate([np.max(np.abs(first.result.x), axis=1),
                                               np.max(np.abs(first.result.v), axis=1),
-                                              np.max(np.abs(np.reshape(first.result.z, (first.z0.size, -1))), axis=1,
+                                              np.max(np.abs(first.result.y[2 * first.x0.size:]), axis=1,
                                                      initial=0.0)]), first.x0.size),
                       [first.period] if autonomous else [])
     scale = np.append(scale, abs(span))
