@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import stickslip as ss
+from benchmarks.steady_bifurcations import damped_belt, forced_belt, scipy_fold, scipy_period_doubling
 from cases import gallery_denhartog as dh
 
 G = 9.81
@@ -341,12 +342,6 @@ def test_shifted_signals_are_the_signals_later() -> None:
     np.testing.assert_allclose(_signal(later, t)[0], _signal(s, t + 0.8)[0], rtol=0, atol=1e-13)
 
 
-def damped_belt(c: float) -> ss.Model:
-    """The paper's belt (m = 10 kg, k = 300 N/m, v_b = 1.5 m/s) with the falling `proposed` law
-    and a damper c to the wall."""
-    m = ss.Model.from_scene("belt", "proposed", v0=1.5)
-    m.add_damper(0, None, c)
-    return m
 
 
 def test_hopf_point_of_steady_sliding_against_the_linearisation() -> None:
@@ -507,82 +502,33 @@ def test_equilibrium_refusals_are_named() -> None:
 # ------------------------------------------------------------------------------------------
 # Folds and period doubling, against independent scipy computations
 # ------------------------------------------------------------------------------------------
-# The system: a unit mass on a unit spring, on a belt at V_B with a falling Stribeck law
-# (regularised by its tanh ramp, so the flow is smooth and every bifurcation is a classical
-# one), forced by F cos(W t). Self-excited near the belt's sliding equilibrium and forced,
-# it locks to the forcing: the period-1 orbit period-doubles as W passes the 1:2 locking
-# region, and at small F it ends in saddle-node folds. No published friction system with
-# tabulated fold or period-doubling values could be read from this project's sources (the
-# papers found, e.g. Leine, van Campen & van de Vrande 2000, Nonlinear Dynamics 23, and Leine
-# & van Campen 2002, Math. Comput. Modelling 36, give theirs only in figures), so each value is
-# checked against its own computation here with scipy: shooting on solve_ivp (DOP853, rtol
-# 1e-12) with the variational equations of the law written out below, and a bracketing root.
-MU_S, MU_K, V_S, DELTA, V_EPS, V_B = 0.4, 0.3, 0.1, 2.0, 0.01, 0.1
-
-
-def forced_belt(w: float = 1.0, amp: float = 0.3) -> ss.Model:
-    model = ss.Model()
-    b = model.add_body(1.0)
-    model.add_spring(b, None, k=1.0)
-    model.add_force(b, ss.signal.sine(amp, w / (2 * math.pi), math.pi / 2))      # amp cos(w t)
-    model.add_contact(b, None, "stribeck", normal_force=1.0, surface_velocity=V_B, mu_s=MU_S, mu_k=MU_K,
-                      v_s=V_S, delta=DELTA, c_v=0.0, v_eps=V_EPS)
-    return model
-
-
-def _mu_and_slope(s: float) -> tuple[float, float]:
-    """The stribeck law mu(s) = g(|s|) tanh(s / v_eps), g = mu_k + (mu_s - mu_k) exp(-(|s|/v_s)^delta),
-    and its derivative."""
-    a = abs(s)
-    e = math.exp(-(a / V_S) ** DELTA)
-    g = MU_K + (MU_S - MU_K) * e
-    dg = -(MU_S - MU_K) * e * DELTA * (a / V_S) ** (DELTA - 1) / V_S
-    th = math.tanh(s / V_EPS)
-    return g * th, dg * abs(th) + g / (V_EPS * math.cosh(s / V_EPS) ** 2)
-
-
-def _scipy_period(y0: np.ndarray, w: float, amp: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The state after one forcing period from y0 at t = 0, its derivatives in y0 (2 x 2) and in amp."""
-    from scipy.integrate import solve_ivp
-
-    def rhs(t: float, z: np.ndarray) -> np.ndarray:
-        mu, dmu = _mu_and_slope(z[1] - V_B)
-        jac = np.array([[0.0, 1.0], [-1.0, -dmu]])
-        return np.concatenate([[z[1], amp * math.cos(w * t) - z[0] - mu], (jac @ z[2:6].reshape(2, 2)).ravel(),
-                               jac @ z[6:] + [0.0, math.cos(w * t)]])
-    z = solve_ivp(rhs, (0.0, 2 * math.pi / w), np.concatenate([y0, np.eye(2).ravel(), [0.0, 0.0]]),
-                  method="DOP853", rtol=1e-12, atol=1e-13).y[:, -1]
-    return z[:2], z[2:6].reshape(2, 2), z[6:]
+# The system (benchmarks/steady_bifurcations.py): a unit mass on a unit spring on a belt at
+# 0.1 m/s with a falling Stribeck law (regularised by its tanh ramp, so the flow is smooth and
+# every bifurcation a classical one), forced by F cos(W t). Self-excited near the belt's sliding
+# equilibrium and forced, it locks to the forcing: the period-1 orbit period-doubles as W
+# passes the 1:2 locking region, and at small F it ends in saddle-node folds. No published
+# friction system with tabulated fold or period-doubling values could be read from this
+# project's sources (the papers found, e.g. Leine, van Campen & van de Vrande 2000, Nonlinear
+# Dynamics 23, and Leine & van Campen 2002, Math. Comput. Modelling 36, give theirs only in
+# figures), so each value is checked against its own computation with scipy there: shooting on
+# solve_ivp (DOP853, rtol 1e-12) with the variational equations of the law written out, and a
+# bracketing root (brentq).
 
 
 def test_period_doublings_against_scipy_shooting() -> None:
     """Continued in W from 0.85 to 1.65 at F = 0.3, the period-1 orbit's multiplier passes -1
     twice (a period-doubling bubble); each located W equals the root of mu_min(W) + 1 of
     scipy shooting with the variational equations, to 1e-8 (measured: 3e-10)."""
-    from scipy.optimize import brentq
     br = ss.continuation(forced_belt, 0.85, 1.65, method="dopri5", step=0.05, max_step=0.1)
     assert br.stop_reason.startswith("reached stop")
     pd = [b for b in br.bifurcations if b["kind"] == "period doubling"]
     assert [b["located"] for b in pd] == [True, True] and len(br.bifurcations) == 2
-    y = np.array([0.05, 0.0])
-
-    def test_function(w: float) -> float:
-        nonlocal y
-        for _ in range(30):
-            y1, m, _ = _scipy_period(y, w, 0.3)
-            dy = np.linalg.solve(m - np.eye(2), y - y1)
-            y = y + dy
-            if np.max(np.abs(dy)) < 1e-12:
-                break
-        return float(np.min(np.linalg.eigvals(_scipy_period(y, w, 0.3)[1]).real)) + 1.0
     for b in pd:
         i = b["index"]
         assert br.p[i - 1] < b["p"] < br.p[i]
-        assert np.min(br.multipliers[i - 1].real) * np.min(br.multipliers[i].real) > 0     # both negative
-        assert (abs(np.min(br.multipliers[i - 1].real)) - 1) * (abs(np.min(br.multipliers[i].real)) - 1) < 0
-        y = br.orbits[i].y0.copy()
-        exact = brentq(test_function, br.p[i - 1], br.p[i], xtol=1e-11)
-        assert b["p"] == pytest.approx(exact, rel=1e-8)
+        before, after = np.min(br.multipliers[i - 1].real), np.min(br.multipliers[i].real)
+        assert before < 0 and after < 0 and (abs(before) - 1) * (abs(after) - 1) < 0
+        assert b["p"] == pytest.approx(scipy_period_doubling(br.p[i - 1], br.p[i], br.orbits[i].y0), rel=1e-8)
     assert not br.stable[(br.p > pd[0]["p"]) & (br.p < pd[1]["p"])].any()
     assert br.stable[(br.p < pd[0]["p"]) | (br.p > pd[1]["p"])].all()
 
@@ -593,25 +539,11 @@ def test_fold_against_scipy_extremum_of_the_branch() -> None:
     the minimum of F along the branch computed with scipy: the branch parametrised by x(0), each
     point by Newton on (v(0), F), dF/dx(0) by the implicit function theorem, and its root
     bracketed (to 1e-9; measured 1e-12)."""
-    from scipy.optimize import brentq
     br = ss.continuation(lambda amp: forced_belt(1.0, amp), 0.06, 0.02, method="dopri5", step=0.05, max_step=0.1)
     folds = [b for b in br.bifurcations if b["kind"] == "fold"]
     assert len(folds) == 2 and all(b["located"] for b in folds)
     i = folds[0]["index"]
-    state = {"v0": float(br.orbits[i].v0[0]), "amp": float(br.p[i])}
-
-    def slope(x0: float) -> float:
-        v0, amp = state["v0"], state["amp"]
-        for _ in range(40):
-            y1, m, da = _scipy_period(np.array([x0, v0]), 1.0, amp)
-            d = np.linalg.solve(np.column_stack([m[:, 1] - [0.0, 1.0], da]), [x0, v0] - y1)
-            v0, amp = v0 + d[0], amp + d[1]
-            if np.max(np.abs(d)) < 1e-13:
-                break
-        _, m, da = _scipy_period(np.array([x0, v0]), 1.0, amp)
-        state.update(v0=v0, amp=amp)
-        return float(np.linalg.solve(np.column_stack([m[:, 1] - [0.0, 1.0], da]), -(m[:, 0] - [1.0, 0.0]))[1])
-    x_fold = brentq(slope, float(br.orbits[i - 1].x0[0]), float(br.orbits[i + 1].x0[0]), xtol=1e-12)
-    slope(x_fold)
-    assert folds[0]["p"] == pytest.approx(state["amp"], rel=1e-9)
+    exact = scipy_fold(float(br.orbits[i - 1].x0[0]), float(br.orbits[i + 1].x0[0]), float(br.orbits[i].v0[0]),
+                       float(br.p[i]))
+    assert folds[0]["p"] == pytest.approx(exact, rel=1e-9)
     assert br.stable[:i].all() and not br.stable[i + 1:].any()
