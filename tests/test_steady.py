@@ -2,6 +2,7 @@
 scipy's variational equations and independent event-driven transients."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -547,3 +548,24 @@ def test_fold_against_scipy_extremum_of_the_branch() -> None:
                        float(br.p[i]))
     assert folds[0]["p"] == pytest.approx(exact, rel=1e-9)
     assert br.stable[:i].all() and not br.stable[i + 1:].any()
+
+
+def test_neimark_sacker_and_period_doubling_from_synthetic_multipliers() -> None:
+    """The classifier on orbits whose multipliers are set by hand (known truth): a complex pair
+    r exp(+-0.7i) with r = 0.9, 0.95, 1.05, 1.1 at p = 0, 1, 2, 3 is a Neimark-Sacker at
+    p = 1.5 (|mu| - 1 interpolated), a real pair -0.8, -0.9, -1.1 and 0.5 a period doubling at
+    p = 1.5; `locate`, when given, decides p."""
+    from stickslip.steady import _bifurcations
+    base = ss.periodic_orbit(forced_linear(), method="dopri5")
+
+    def with_multipliers(mult: list[complex]) -> ss.Orbit:
+        m = np.array(mult)
+        return dataclasses.replace(base, multipliers=m, stable=bool(np.all(np.abs(m) < 1)))
+    ps = [0.0, 1.0, 2.0, 3.0]
+    torus = [with_multipliers([r * np.exp(0.7j), r * np.exp(-0.7j)]) for r in (0.9, 0.95, 1.05, 1.1)]
+    found = _bifurcations(ps, torus, [1.0] * 4)
+    assert [(b["kind"], b["index"], b["located"]) for b in found] == [("Neimark-Sacker", 2, False)]
+    assert found[0]["p"] == pytest.approx(1.5, rel=1e-12)
+    flip = [with_multipliers([m, 0.5]) for m in (-0.8, -0.9, -1.1, -1.2)]
+    found = _bifurcations(ps, flip, [1.0] * 4, locate=lambda i, g: 1.25)
+    assert [(b["kind"], b["index"], b["p"], b["located"]) for b in found] == [("period doubling", 2, 1.25, True)]

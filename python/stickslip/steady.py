@@ -1191,11 +1191,14 @@ class Branch:
     bifurcations : list of dict
         Each with "kind" ("fold": p turns back; "Hopf": p turns back where the cycle's
         amplitude shrinks to under a tenth of its neighbours', the branch passing through
-        the equilibrium it is born from; "period doubling", "Neimark-Sacker", "stability
-        change": a multiplier leaves the unit circle through -1, as a complex pair, through
-        +1; "events": the number or kind of events per period changed, e.g. a stick phase
-        appeared), "index" (the point at the turn, or the point after the change) and "p"
-        (interpolated where the test function is continuous).
+        the equilibrium it is born from; "period doubling": a real multiplier passes -1
+        (prod(mu + 1) changes sign); "Neimark-Sacker": a complex pair leaves or enters the
+        unit circle; "stability change": stability flips otherwise, e.g. a multiplier jumps
+        across the circle at a nonsmooth point; "events": the number or kind of events per
+        period changed, e.g. a stick phase appeared), "index" (the point at the turn, or the
+        point after the change), "p" and "located" (True: p is the root of the kind's test
+        function found by `continuation`'s `locate_bifurcations`; False: interpolated
+        between the points, or for a "Hopf" the turning point).
     stop_reason : str
         Why the continuation ended.
     curve : Branch or None
