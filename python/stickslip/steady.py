@@ -1,5 +1,6 @@
-"""Steady states directly: periodic orbits with their Floquet multipliers, continuation of
-orbits in a parameter, and forced-response curves, on a `Model` with any method.
+"""Steady states directly: periodic orbits with their Floquet multipliers, equilibria with their
+eigenvalues, continuation of either in a parameter (folds, period doubling, Neimark-Sacker and
+Hopf points located), and forced-response curves, on a `Model` with any method.
 
 A periodic orbit is found by single shooting: Newton's method on the state at a section,
 each residual one run of `stickslip.simulate` over a period. When the model is autonomous
@@ -986,19 +987,22 @@ class Equilibrium:
         """The state (x0, v0)."""
         return np.concatenate([self.x0, self.v0])
 
-    # the fields a Branch reads from its points: an equilibrium has no period nor motion
+    #: no period (the field a Branch reads from its points)
     period = math.nan
 
     @property
     def amplitude(self) -> np.ndarray:
+        """Zero for every body: no motion."""
         return np.zeros(self.x0.size)
 
     @property
     def stick_fraction(self) -> np.ndarray:
+        """Empty: no period to be stuck over."""
         return np.zeros(0)
 
     @property
     def multipliers(self) -> np.ndarray:
+        """Empty: an equilibrium's stability is in `eigenvalues`."""
         return np.zeros(0)
 
 
