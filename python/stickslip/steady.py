@@ -446,7 +446,8 @@ class Orbit:
         "saltation" or "finite differences" (see the module).
     residual : float
         Infinity norm of the shooting residual at the answer [state units; the phase
-        condition's row in m or m/s].
+        condition's row in m or m/s; the laws' states' rows weighted by the positions' scale
+        over theirs].
     iterations : int
         Newton iterations made.
     autonomous : bool
