@@ -488,6 +488,40 @@ def test_equilibria_continued_to_the_hopf_point_of_steady_sliding() -> None:
     assert np.all(np.isnan(br.period)) and br.multipliers.shape == (11, 0)
 
 
+def test_two_blocks_equilibrium_eigenvalues_against_the_linearisation() -> None:
+    """The gallery's two blocks on the belt (stribeck with v_s = 0.2 m/s: falling at the belt
+    speed) with a damper c on block 1: equilibrium x = K^-1 (N mu(v_b)), eigenvalues of
+    [[0, I], [-M^-1 K, -M^-1 (C + N mu'(v_b) I)]] by numpy, and one Hopf point (one mode
+    damped out of its instability by c, the other not) where a pair of those crosses."""
+    from cases import gallery_belt2dof as g2
+
+    def build(c: float) -> ss.Model:
+        m = g2.model("stribeck", **law)
+        m.add_damper(0, None, c)
+        return m
+    law = {**g2.LAW, "v_s": 0.2}
+    v, h = g2.V_BELT, 1e-6
+    mu = float(ss.friction_coefficient("stribeck", np.array([v]), **law)[0])
+    slope = float(np.diff(ss.friction_coefficient("stribeck", np.array([v - h, v + h]), **law))[0] / (2 * h))
+    k = np.array([[g2.K1 + g2.K12, -g2.K12], [-g2.K12, g2.K2 + g2.K12]])
+    normal = np.array([g2.M1, g2.M2]) * g2.G
+    mass = np.array([g2.M1, g2.M2])
+
+    def linear(c: float) -> np.ndarray:
+        damping = np.diag([c, 0.0]) + np.diag(normal * slope)
+        return np.block([[np.zeros((2, 2)), np.eye(2)], [-k / mass[:, None], -damping / mass[:, None]]])
+    br = ss.continuation(build, 0.0, 60.0, kind="equilibrium", step=0.05)
+    key = lambda z: (round(float(np.real(z)), 7), float(np.imag(z)))     # noqa: E731
+    for c, eq in zip(br.p, br.orbits):
+        np.testing.assert_allclose(eq.x0, np.linalg.solve(k, normal * mu), rtol=1e-12)
+        np.testing.assert_allclose(sorted(eq.eigenvalues.astype(complex), key=key),
+                                   sorted(np.linalg.eigvals(linear(c)), key=key), rtol=0, atol=1e-7)
+    assert [(b["kind"], b["located"]) for b in br.bifurcations] == [("Hopf", True)]
+    ev = np.linalg.eigvals(linear(br.bifurcations[0]["p"]))
+    crit = ev[np.argmin(np.abs(ev.real))]
+    assert abs(crit.real) < 1e-8 and br.bifurcations[0]["frequency"] == pytest.approx(abs(crit.imag), rel=1e-9)
+
+
 def test_equilibrium_refusals_are_named() -> None:
     """A forced model has no equilibrium; a set-valued contact at rest on its surface has a set
     of them; both refused by name."""

@@ -1128,17 +1128,26 @@ def _root(g: Callable[[float], float], a: float, b: float, ga: float, gb: float,
 
 
 def _hopf_test(eq: Equilibrium) -> float:
-    """The largest real part of a complex eigenvalue (-inf when none is complex): zero at a Hopf point."""
+    """The product of the real parts of the complex eigenvalues in the upper half-plane (1 when
+    none is complex): changes sign where one pair crosses the imaginary axis (a Hopf point)."""
     ev = np.asarray(eq.eigenvalues)
-    cplx = ev[np.abs(ev.imag) > 0.0]
-    return float(np.max(cplx.real)) if cplx.size else -math.inf
+    return float(np.prod(ev.real[ev.imag > 0.0]))
+
+
+def _zero_test(eq: Equilibrium) -> float:
+    """The product of the real eigenvalues (1 when none is real): changes sign where one of
+    them passes 0."""
+    ev = np.asarray(eq.eigenvalues)
+    return float(np.prod(ev.real[ev.imag == 0.0]))
 
 
 def _equilibrium_branch(build: Callable[[float], Model], start: float, stop: float, step: float,
                         max_points: int, progress: bool) -> "Branch":
     """Equilibria at equal steps of p from start to stop (a graph over p: see `equilibrium`),
     Hopf points (a complex pair crossing the imaginary axis) and real eigenvalues through 0
-    ("stability change") located by regula falsi on p to 1e-12 of the range."""
+    ("stability change") located by regula falsi on p to 1e-12 of the range; a change of the
+    number of unstable eigenvalues that neither test function follows (e.g. two crossings
+    between two points) is a "stability change" at the second point, not located."""
     n_pts = min(max_points, max(2, int(math.ceil(1.0 / step)) + 1))
     ps = [float(start) + (float(stop) - float(start)) * k / (n_pts - 1) for k in range(n_pts)]
     ps[-1] = float(stop)
@@ -1152,23 +1161,23 @@ def _equilibrium_branch(build: Callable[[float], Model], start: float, stop: flo
     xtol = 1e-12 * abs(float(stop) - float(start))
     for i in range(1, len(eqs)):
         a, b = eqs[i - 1], eqs[i]
-        ua, ub = (int(np.sum(e.eigenvalues.real > 0.0)) for e in (a, b))
-        if ua == ub:
+        if int(np.sum(a.eigenvalues.real > 0.0)) == int(np.sum(b.eigenvalues.real > 0.0)):
             continue
-        ga, gb = _hopf_test(a), _hopf_test(b)
-        if math.isfinite(ga) and math.isfinite(gb) and (ga > 0.0) != (gb > 0.0):
-            p = _root(lambda q: _hopf_test(equilibrium(build(q))), ps[i - 1], ps[i], ga, gb, xtol)
-            at = equilibrium(build(p))
-            ev = at.eigenvalues
-            crit = ev[np.argmin(np.where(ev.imag == 0.0, math.inf, np.abs(ev.real)))]
-            out.append({"kind": "Hopf", "index": i, "p": p, "frequency": abs(float(np.imag(crit))),
-                        "eigenvalues": at.eigenvalues})
-        else:
-            def real_test(q: float) -> float:
-                ev = equilibrium(build(q)).eigenvalues
-                return float(np.prod(ev.real[ev.imag == 0.0])) if np.any(ev.imag == 0.0) else 1.0
-            p = _root(real_test, ps[i - 1], ps[i], real_test(ps[i - 1]), real_test(ps[i]), xtol)
-            out.append({"kind": "stability change", "index": i, "p": p})
+        same_kinds = int(np.sum(a.eigenvalues.imag > 0.0)) == int(np.sum(b.eigenvalues.imag > 0.0))
+        found = False
+        for kind, test in (("Hopf", _hopf_test), ("stability change", _zero_test)):
+            ga, gb = test(a), test(b)
+            if same_kinds and (ga > 0.0) != (gb > 0.0):
+                p = _root(lambda q: test(equilibrium(build(q))), ps[i - 1], ps[i], ga, gb, xtol)
+                entry: dict[str, Any] = {"kind": kind, "index": i, "p": p, "located": True}
+                if kind == "Hopf":
+                    ev = equilibrium(build(p)).eigenvalues
+                    crit = ev[np.argmin(np.where(ev.imag > 0.0, np.abs(ev.real), math.inf))]
+                    entry.update(frequency=float(np.imag(crit)), eigenvalues=ev)
+                out.append(entry)
+                found = True
+        if not found:
+            out.append({"kind": "stability change", "index": i, "p": ps[i], "located": False})
     return Branch.from_orbits(ps, eqs, f"reached stop = {stop!r}", out, kind="equilibrium")
 
 
