@@ -1223,7 +1223,9 @@ class Branch:
         `multipliers` empty, and `eigenvalues` of shape (n, 2 n_bodies) the Jacobian's, largest
         real part first; its bifurcations are "Hopf" (a complex pair crossing the imaginary
         axis, with its "frequency" [rad/s]) and "stability change" (a real eigenvalue through 0),
-        each located on p to 1e-12 of the range).
+        each located on p to 1e-12 of the range ("located" True), or, when neither test
+        function follows the change (two crossings between two points), a "stability change"
+        at the second point ("located" False)).
     eigenvalues : numpy.ndarray
         See `kind` (shape (n, 0) for orbits).
     """
