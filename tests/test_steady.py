@@ -603,3 +603,17 @@ def test_neimark_sacker_and_period_doubling_from_synthetic_multipliers() -> None
     flip = [with_multipliers([m, 0.5]) for m in (-0.8, -0.9, -1.1, -1.2)]
     found = _bifurcations(ps, flip, [1.0] * 4, locate=lambda i, g: 1.25)
     assert [(b["kind"], b["index"], b["p"], b["located"]) for b in found] == [("period doubling", 2, 1.25, True)]
+
+
+def test_guess_with_law_states_reads_the_period_last() -> None:
+    """An autonomous LuGre model takes x, v, (z,) then the period: [x, v, T] is the state and
+    period with the bristle at 0, not a bristle deflection of T."""
+    from stickslip.steady import _as_guess
+    y, t = _as_guess([0.1, -0.1, 1.2], 1, True, 1)
+    assert t == 1.2 and y.tolist() == [0.1, -0.1, 0.0]
+    y, t = _as_guess([0.1, -0.1, 3e-5, 1.2], 1, True, 1)
+    assert t == 1.2 and y.tolist() == [0.1, -0.1, 3e-5]
+    y, t = _as_guess([0.1, -0.1, 3e-5], 1, False, 1)
+    assert t is None and y.tolist() == [0.1, -0.1, 3e-5]
+    with pytest.raises(ss.GuessShapeError, match="law states"):
+        _as_guess([0.1, -0.1, 3e-5, 1.2, 1.0], 1, True, 1)

@@ -512,7 +512,9 @@ def _as_guess(guess: Any, n: int, autonomous: bool, nz: int = 0) -> tuple[np.nda
                               f"{f', optionally the {nz} law states' if nz else ''}"
                               f"{', then the period' if autonomous else ''}), got shape {g.shape}")
     period = None
-    if g.size not in states:
+    # autonomous: the last value is the period wherever it can be (x, v, T and x, v, z of one
+    # law state have the same size; a state without its period is of no use there)
+    if g.size not in states or autonomous and g.size - 1 in states:
         if not g[-1] > 0.0:
             raise GuessShapeError(f"guess: the period (last value) must be > 0 [s], got {g[-1]!r}")
         g, period = g[:-1], float(g[-1])
