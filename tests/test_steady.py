@@ -2,12 +2,14 @@
 scipy's variational equations and independent event-driven transients."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
 import stickslip as ss
+from benchmarks.steady_bifurcations import damped_belt, forced_belt, scipy_fold, scipy_period_doubling
 from cases import gallery_denhartog as dh
 
 G = 9.81
@@ -201,10 +203,46 @@ def test_no_convergence_is_a_named_failure_not_an_orbit() -> None:
     assert err.value.residual > 1e-10
 
 
-def test_laws_with_states_are_refused() -> None:
+@pytest.mark.filterwarnings("ignore::stickslip.ConsistencyWarning")
+def test_lugre_belt_cycle_against_a_long_transient() -> None:
+    """LuGre's bristle state is an unknown of the shooting: the stick-slip cycle on the belt
+    at v_b = 0.1 m/s equals the last periods of a 60 s transient (radau5, rtol 1e-12): its
+    period from the transient's upward crossings of the mid position, its amplitude and the
+    bristle deflection z at that crossing."""
+    m = ss.Model.from_scene("belt", "lugre", v_b=0.1)
+    orb = ss.periodic_orbit(m, method="radau5")
+    assert orb.z0.shape == (1,) and orb.y0.shape == (3,) and orb.multipliers.shape == (3,)
+    assert orb.trivial_error < 1e-5 and orb.stable
+    # from a guess off the cycle, the bristle at rest (z = 0): Newton moves z too
+    off = ss.periodic_orbit(m, guess=[orb.x0[0], orb.v0[0], 0.0, 1.05 * orb.period], method="radau5")
+    assert off.iterations > 0 and off.period == pytest.approx(orb.period, rel=1e-9)
+    r = ss.simulate(m, method="radau5", t_end=60.0, n_out=600001, rtol=1e-12, atol=1e-14)
+    last = r.t >= 60.0 - 10 * orb.period
+    x, t = r.x[0, last], r.t[last]
+    level = 0.5 * (x.max() + x.min())
+    up = np.flatnonzero((x[:-1] < level) & (x[1:] >= level))
+    crossings = t[up] + (level - x[up]) * (t[up + 1] - t[up]) / (x[up + 1] - x[up])
+    assert np.diff(crossings) == pytest.approx(orb.period, rel=1e-6)
+    assert 0.5 * (x.max() - x.min()) == pytest.approx(orb.amplitude[0], rel=1e-6)
+    # the bristle deflection where x rises through the level, on either grid (interpolated)
+    def z_at_level(xs: np.ndarray, zs: np.ndarray) -> float:
+        k = np.flatnonzero((xs[:-1] < level) & (xs[1:] >= level))[-1]
+        return float(zs[k] + (level - xs[k]) * (zs[k + 1] - zs[k]) / (xs[k + 1] - xs[k]))
+    z_orbit = z_at_level(orb.result.x[0], orb.result.z.reshape(-1, orb.result.t.size)[0])
+    assert z_at_level(x, r.z.reshape(-1, r.t.size)[0, last]) == pytest.approx(z_orbit, rel=1e-6)
+    assert orb.result.z.min() <= orb.z0[0] <= orb.result.z.max()
+
+
+def test_laws_with_states_are_refused_where_not_handled() -> None:
+    """Equilibria and harmonic balance refuse laws with states by name, before any run."""
+    from stickslip.harmonic import harmonic_balance
     m = ss.Model.from_scene("belt", "lugre")
-    with pytest.raises(ValueError, match="internal states"):
-        ss.periodic_orbit(m, method="dopri5")
+    with pytest.raises(ss.LawStatesUnsupported, match="internal states"):
+        ss.equilibrium(m)
+    forced = ss.Model.from_scene("belt", "lugre")
+    forced.add_force(0, ss.signal.sine(1.0, 1.0))
+    with pytest.raises(ss.LawStatesUnsupported, match="internal states"):
+        harmonic_balance(forced, 3)
 
 
 def test_den_hartog_curve_followed_by_pseudo_arclength() -> None:
@@ -305,12 +343,6 @@ def test_shifted_signals_are_the_signals_later() -> None:
     np.testing.assert_allclose(_signal(later, t)[0], _signal(s, t + 0.8)[0], rtol=0, atol=1e-13)
 
 
-def damped_belt(c: float) -> ss.Model:
-    """The paper's belt (m = 10 kg, k = 300 N/m, v_b = 1.5 m/s) with the falling `proposed` law
-    and a damper c to the wall."""
-    m = ss.Model.from_scene("belt", "proposed", v0=1.5)
-    m.add_damper(0, None, c)
-    return m
 
 
 def test_hopf_point_of_steady_sliding_against_the_linearisation() -> None:
@@ -428,3 +460,160 @@ def test_stribeck_cycle_saltation_with_integrated_variations() -> None:
 def test_bad_options_name_the_parameter(kwargs, match) -> None:
     with pytest.raises(ValueError, match=match):
         ss.periodic_orbit(forced_linear(), method="dopri5", **kwargs)
+
+
+def test_equilibria_continued_to_the_hopf_point_of_steady_sliding() -> None:
+    """Steady sliding on the damped belt continued in the damper c: its eigenvalues equal
+    numpy's of the linearisation x'' = -(k x + (c + N mu'(v_b)) x') / m written here, and the
+    Hopf point is located where c + N mu'(v_b) = 0, at the frequency sqrt(k/m)."""
+    mass, k, n, v_b = 10.0, 300.0, 10.0 * 9.81, 1.5
+    h = 1e-6
+    slope = float(np.diff(ss.friction_coefficient("proposed", np.array([v_b - h, v_b + h])))[0] / (2 * h))
+    c_hopf = -n * slope
+    br = ss.continuation(damped_belt, 0.5, 1.5, kind="equilibrium", step=0.1)
+    assert br.kind == "equilibrium" and len(br) == 11 and br.stop_reason.startswith("reached stop")
+    x_slide = n * float(ss.friction_coefficient("proposed", np.array([v_b]))[0]) / k
+    for c, eq, eig in zip(br.p, br.orbits, br.eigenvalues):
+        assert eq.x0[0] == pytest.approx(x_slide, rel=1e-12) and eq.v0[0] == 0.0 and eq.residual < 1e-12
+        lin = np.array([[0.0, 1.0], [-k / mass, -(c + n * slope) / mass]])
+        exact = np.linalg.eigvals(lin)
+        key = lambda z: (round(float(np.real(z)), 9), float(np.imag(z)))     # noqa: E731
+        np.testing.assert_allclose(sorted(eig.astype(complex), key=key), sorted(exact, key=key),
+                                   rtol=0, atol=1e-8)
+        assert eq.stable == (c > c_hopf)
+    hopf = br.bifurcations
+    assert [b["kind"] for b in hopf] == ["Hopf"]
+    assert hopf[0]["p"] == pytest.approx(c_hopf, rel=1e-9)
+    assert hopf[0]["frequency"] == pytest.approx(math.sqrt(k / mass), rel=1e-9)
+    assert np.all(np.isnan(br.period)) and br.multipliers.shape == (11, 0)
+
+
+def test_two_blocks_equilibrium_eigenvalues_against_the_linearisation() -> None:
+    """The gallery's two blocks on the belt (stribeck with v_s = 0.2 m/s: falling at the belt
+    speed) with a damper c on block 1: equilibrium x = K^-1 (N mu(v_b)), eigenvalues of
+    [[0, I], [-M^-1 K, -M^-1 (C + N mu'(v_b) I)]] by numpy, and one Hopf point (one mode
+    damped out of its instability by c, the other not) where a pair of those crosses."""
+    from cases import gallery_belt2dof as g2
+
+    def build(c: float) -> ss.Model:
+        m = g2.model("stribeck", **law)
+        m.add_damper(0, None, c)
+        return m
+    law = {**g2.LAW, "v_s": 0.2}
+    v, h = g2.V_BELT, 1e-6
+    mu = float(ss.friction_coefficient("stribeck", np.array([v]), **law)[0])
+    slope = float(np.diff(ss.friction_coefficient("stribeck", np.array([v - h, v + h]), **law))[0] / (2 * h))
+    k = np.array([[g2.K1 + g2.K12, -g2.K12], [-g2.K12, g2.K2 + g2.K12]])
+    normal = np.array([g2.M1, g2.M2]) * g2.G
+    mass = np.array([g2.M1, g2.M2])
+
+    def linear(c: float) -> np.ndarray:
+        damping = np.diag([c, 0.0]) + np.diag(normal * slope)
+        return np.block([[np.zeros((2, 2)), np.eye(2)], [-k / mass[:, None], -damping / mass[:, None]]])
+    br = ss.continuation(build, 0.0, 60.0, kind="equilibrium", step=0.05)
+    key = lambda z: (round(float(np.real(z)), 7), float(np.imag(z)))     # noqa: E731
+    for c, eq in zip(br.p, br.orbits):
+        np.testing.assert_allclose(eq.x0, np.linalg.solve(k, normal * mu), rtol=1e-12)
+        np.testing.assert_allclose(sorted(eq.eigenvalues.astype(complex), key=key),
+                                   sorted(np.linalg.eigvals(linear(c)), key=key), rtol=0, atol=1e-7)
+    assert [(b["kind"], b["located"]) for b in br.bifurcations] == [("Hopf", True)]
+    ev = np.linalg.eigvals(linear(br.bifurcations[0]["p"]))
+    crit = ev[np.argmin(np.abs(ev.real))]
+    assert abs(crit.real) < 1e-8 and br.bifurcations[0]["frequency"] == pytest.approx(abs(crit.imag), rel=1e-9)
+
+
+def test_equilibrium_refusals_are_named() -> None:
+    """A forced model has no equilibrium; a set-valued contact at rest on its surface has a set
+    of them; both refused by name."""
+    with pytest.raises(ss.NonPeriodicForcing, match="no equilibrium"):
+        ss.equilibrium(forced_linear())
+    at_rest = ss.Model.from_scene("belt", "coulomb", v_b=0.0)
+    with pytest.raises(ss.SteadyStateError, match="set of equilibria|are a set"):
+        ss.equilibrium(at_rest)
+    with pytest.raises(ValueError, match="kind"):
+        ss.continuation(damped_belt, 0.5, 1.5, kind="equilibria")
+
+
+# ------------------------------------------------------------------------------------------
+# Folds and period doubling, against independent scipy computations
+# ------------------------------------------------------------------------------------------
+# The system (benchmarks/steady_bifurcations.py): a unit mass on a unit spring on a belt at
+# 0.1 m/s with a falling Stribeck law (regularised by its tanh ramp, so the flow is smooth and
+# every bifurcation a classical one), forced by F cos(W t). Self-excited near the belt's sliding
+# equilibrium and forced, it locks to the forcing: the period-1 orbit period-doubles as W
+# passes the 1:2 locking region, and at small F it ends in saddle-node folds. No published
+# friction system with tabulated fold or period-doubling values could be read from this
+# project's sources (the papers found, e.g. Leine, van Campen & van de Vrande 2000, Nonlinear
+# Dynamics 23, and Leine & van Campen 2002, Math. Comput. Modelling 36, give theirs only in
+# figures), so each value is checked against its own computation with scipy there: shooting on
+# solve_ivp (DOP853, rtol 1e-12) with the variational equations of the law written out, and a
+# bracketing root (brentq).
+
+
+def test_period_doublings_against_scipy_shooting() -> None:
+    """Continued in W from 0.85 to 1.65 at F = 0.3, the period-1 orbit's multiplier passes -1
+    twice (a period-doubling bubble); each located W equals the root of mu_min(W) + 1 of
+    scipy shooting with the variational equations, to 1e-8 (measured: 3e-10)."""
+    br = ss.continuation(forced_belt, 0.85, 1.65, method="dopri5", step=0.05, max_step=0.1)
+    assert br.stop_reason.startswith("reached stop")
+    pd = [b for b in br.bifurcations if b["kind"] == "period doubling"]
+    assert [b["located"] for b in pd] == [True, True] and len(br.bifurcations) == 2
+    for b in pd:
+        i = b["index"]
+        assert br.p[i - 1] < b["p"] < br.p[i]
+        before, after = np.min(br.multipliers[i - 1].real), np.min(br.multipliers[i].real)
+        assert before < 0 and after < 0 and (abs(before) - 1) * (abs(after) - 1) < 0
+        assert b["p"] == pytest.approx(scipy_period_doubling(br.p[i - 1], br.p[i], br.orbits[i].y0), rel=1e-8)
+    assert not br.stable[(br.p > pd[0]["p"]) & (br.p < pd[1]["p"])].any()
+    assert br.stable[(br.p < pd[0]["p"]) | (br.p > pd[1]["p"])].all()
+
+
+def test_fold_against_scipy_extremum_of_the_branch() -> None:
+    """Continued down in the forcing amplitude F at W = 1, the locked orbit turns back at a
+    saddle-node fold (a multiplier through +1) and again further on; the first fold's F equals
+    the minimum of F along the branch computed with scipy: the branch parametrised by x(0), each
+    point by Newton on (v(0), F), dF/dx(0) by the implicit function theorem, and its root
+    bracketed (to 1e-9; measured 1e-12)."""
+    br = ss.continuation(lambda amp: forced_belt(1.0, amp), 0.06, 0.02, method="dopri5", step=0.05, max_step=0.1)
+    folds = [b for b in br.bifurcations if b["kind"] == "fold"]
+    assert len(folds) == 2 and all(b["located"] for b in folds)
+    i = folds[0]["index"]
+    exact = scipy_fold(float(br.orbits[i - 1].x0[0]), float(br.orbits[i + 1].x0[0]), float(br.orbits[i].v0[0]),
+                       float(br.p[i]))
+    assert folds[0]["p"] == pytest.approx(exact, rel=1e-9)
+    assert br.stable[:i].all() and not br.stable[i + 1:].any()
+
+
+def test_neimark_sacker_and_period_doubling_from_synthetic_multipliers() -> None:
+    """The classifier on orbits whose multipliers are set by hand (known truth): a complex pair
+    r exp(+-0.7i) with r = 0.9, 0.95, 1.05, 1.1 at p = 0, 1, 2, 3 is a Neimark-Sacker at
+    p = 1.5 (|mu| - 1 interpolated), a real pair -0.8, -0.9, -1.1 and 0.5 a period doubling at
+    p = 1.5; `locate`, when given, decides p."""
+    from stickslip.steady import _bifurcations
+    base = ss.periodic_orbit(forced_linear(), method="dopri5")
+
+    def with_multipliers(mult: list[complex]) -> ss.Orbit:
+        m = np.array(mult)
+        return dataclasses.replace(base, multipliers=m, stable=bool(np.all(np.abs(m) < 1)))
+    ps = [0.0, 1.0, 2.0, 3.0]
+    torus = [with_multipliers([r * np.exp(0.7j), r * np.exp(-0.7j)]) for r in (0.9, 0.95, 1.05, 1.1)]
+    found = _bifurcations(ps, torus, [1.0] * 4)
+    assert [(b["kind"], b["index"], b["located"]) for b in found] == [("Neimark-Sacker", 2, False)]
+    assert found[0]["p"] == pytest.approx(1.5, rel=1e-12)
+    flip = [with_multipliers([m, 0.5]) for m in (-0.8, -0.9, -1.1, -1.2)]
+    found = _bifurcations(ps, flip, [1.0] * 4, locate=lambda i, g: 1.25)
+    assert [(b["kind"], b["index"], b["p"], b["located"]) for b in found] == [("period doubling", 2, 1.25, True)]
+
+
+def test_guess_with_law_states_reads_the_period_last() -> None:
+    """An autonomous LuGre model takes x, v, (z,) then the period: [x, v, T] is the state and
+    period with the bristle at 0, not a bristle deflection of T."""
+    from stickslip.steady import _as_guess
+    y, t = _as_guess([0.1, -0.1, 1.2], 1, True, 1)
+    assert t == 1.2 and y.tolist() == [0.1, -0.1, 0.0]
+    y, t = _as_guess([0.1, -0.1, 3e-5, 1.2], 1, True, 1)
+    assert t == 1.2 and y.tolist() == [0.1, -0.1, 3e-5]
+    y, t = _as_guess([0.1, -0.1, 3e-5], 1, False, 1)
+    assert t is None and y.tolist() == [0.1, -0.1, 3e-5]
+    with pytest.raises(ss.GuessShapeError, match="law states"):
+        _as_guess([0.1, -0.1, 3e-5, 1.2, 1.0], 1, True, 1)

@@ -45,8 +45,9 @@ from . import signal
 from .model import Model, ModelWarning
 from .energy import ConsistencyWarning, EnergyBoundWarning
 from .core import RegularisedLawWarning
-from .steady import (Branch, GuessShapeError, MonodromyWarning, NoConvergence, NonPeriodicForcing, Orbit, SteadyStateError,
-                     continuation, frequency_response, periodic_orbit)
+from .steady import (Branch, Equilibrium, GuessShapeError, LawStatesUnsupported, MonodromyWarning, NoConvergence,
+                     NonPeriodicForcing, Orbit, SteadyStateError, continuation, equilibrium, frequency_response,
+                     periodic_orbit)
 
 __all__ = [
     "CONTROL_DEFAULTS", "CONTROLS", "REGISTRY", "DEFAULTS", "LAW_PARAMS", "LAWS", "METHODS", "SCENES", "IntegrationError", "NewtonFailure",
@@ -61,7 +62,7 @@ __all__ = [
     "SteadyPoints", "SteadyCurve", "TwoStepFit", "steady_friction", "fit_stribeck_curve", "fit_two_step",
     "ENGINES", "advise_engine", "engine_creep", "engine_mu",
     "Model", "ModelWarning", "signal", "EnergyBoundWarning", "ConsistencyWarning", "RegularisedLawWarning",
-    "Orbit", "Branch", "SteadyStateError", "NoConvergence", "NonPeriodicForcing", "GuessShapeError", "MonodromyWarning",
-    "periodic_orbit", "continuation", "frequency_response",
+    "Orbit", "Branch", "Equilibrium", "SteadyStateError", "NoConvergence", "NonPeriodicForcing", "GuessShapeError",
+    "LawStatesUnsupported", "MonodromyWarning", "periodic_orbit", "equilibrium", "continuation", "frequency_response",
 ]
 __version__ = "0.1.0"

@@ -77,6 +77,9 @@ class _Contact:
     normal_force: Signal
     surface_velocity: Signal | None
     params: dict[str, float] = field(default_factory=dict)
+    #: the law's initial internal states (empty: all 0); set by stickslip.steady to start a run
+    #: on a periodic orbit
+    z0: tuple[float, ...] = ()
 
 
 class Model:
@@ -638,6 +641,12 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     y0 = np.zeros(n)
     y0[:model.n_bodies] = arrays["bodies"][1]
     y0[model.n_bodies:2 * model.n_bodies] = arrays["bodies"][2]
+    first = 2 * model.n_bodies
+    for i, c in enumerate(model.contacts):
+        nz = model._law_states(i)[0]
+        if c.z0:
+            y0[first:first + nz] = c.z0
+        first += nz
     ckeys, cvals = _keys(ctl)
     stop = np.zeros(1, dtype=np.int32)
     y, drive_force, istats, rstats, status, elem_kind, elem_index, cpu = _ext.run_model(

@@ -1,5 +1,6 @@
-"""Steady states directly: periodic orbits with their Floquet multipliers, continuation of
-orbits in a parameter, and forced-response curves, on a `Model` with any method.
+"""Steady states directly: periodic orbits with their Floquet multipliers, equilibria with their
+eigenvalues, continuation of either in a parameter (folds, period doubling, Neimark-Sacker and
+Hopf points located), and forced-response curves, on a `Model` with any method.
 
 A periodic orbit is found by single shooting: Newton's method on the state at a section,
 each residual one run of `stickslip.simulate` over a period. When the model is autonomous
@@ -26,8 +27,11 @@ Floquet multipliers. Two routes, named in `Orbit.monodromy_method`:
   where 1e-4 was within 1e-5 of scipy's variational equations), so multipliers are good to
   about 1e-5, and a stick phase's zero multipliers appear as numbers of that size.
 
-Models whose laws have internal states (LuGre, Dahl, ...) are not handled: a Model's run
-starts its law states at 0, so an orbit's start state cannot be set.
+Laws with internal states (LuGre, Dahl, elasto-plastic, GMS, ...) are handled: their states
+are unknowns of the shooting with the positions and velocities (each run started from them),
+their rows of the residual weighted by the positions' scale over theirs (a bristle deflection
+of 1e-5 m counts relative to itself), and the monodromy is taken by finite differences over the
+whole state. `equilibrium` and harmonic balance refuse them (`LawStatesUnsupported`).
 
 Examples
 --------
@@ -53,9 +57,9 @@ from .core import REGISTRY, Result, _count, _finite, _known, friction_coefficien
 from .model import Model, check_method
 from .signal import Signal
 
-__all__ = ["Orbit", "Branch", "SteadyStateError", "NoConvergence", "NonPeriodicForcing", "GuessShapeError", "retuned",
-           "MonodromyWarning",
-           "periodic_orbit", "continuation", "frequency_response"]
+__all__ = ["Orbit", "Branch", "Equilibrium", "SteadyStateError", "NoConvergence", "NonPeriodicForcing",
+           "GuessShapeError", "LawStatesUnsupported", "retuned", "MonodromyWarning",
+           "periodic_orbit", "equilibrium", "continuation", "frequency_response"]
 
 #: Tolerances of the runs when the method is adaptive and none are given.
 DEFAULT_RTOL = 1e-12
@@ -90,6 +94,12 @@ class NonPeriodicForcing(SteadyStateError, ValueError):
 
 class GuessShapeError(SteadyStateError, ValueError):
     """A guess of the wrong shape or kind."""
+
+
+class LawStatesUnsupported(SteadyStateError, ValueError):
+    """A contact whose law has internal states (LuGre, Dahl, elasto-plastic, GMS, ...) given to
+    a solver that does not handle them (`equilibrium`, harmonic balance); refused before any
+    run. `periodic_orbit` and `continuation` of orbits handle them."""
 
 
 class MonodromyWarning(UserWarning):
@@ -327,10 +337,18 @@ class _System:
 # Runs
 # ------------------------------------------------------------------------------------------
 def _with_state(model: Model, y: np.ndarray) -> Model:
-    """A shallow copy of `model` starting from state y = (x, v)."""
+    """A shallow copy of `model` starting from state y = (x, v, z), z the laws' internal states
+    contact by contact (as `Model.state_labels`)."""
     m = copy.copy(model)
     n = model.n_bodies
     m.bodies = [dataclasses.replace(b, x0=float(y[i]), v0=float(y[n + i])) for i, b in enumerate(model.bodies)]
+    if y.size > 2 * n:
+        first, contacts = 2 * n, []
+        for i, c in enumerate(model.contacts):
+            nz = model._law_states(i)[0]
+            contacts.append(dataclasses.replace(c, z0=tuple(float(q) for q in y[first:first + nz])) if nz else c)
+            first += nz
+        m.contacts = contacts
     return m
 
 
@@ -357,7 +375,12 @@ class _Runner:
 
     def flow(self, y0: np.ndarray, t_end: float, t_start: float = 0.0) -> np.ndarray:
         r = self.run(y0, t_end, t_start=t_start)
-        return np.concatenate([r.x[:, -1], r.v[:, -1]])
+        return _state(r, -1)
+
+
+def _state(r: Result, i: int) -> np.ndarray:
+    """The state (x, v, z) of run r at its output point i."""
+    return r.y[:, i].copy()
 
 
 def _controls(model: Model, method: str, controls: dict[str, Any]) -> dict[str, Any]:
@@ -370,13 +393,15 @@ def _controls(model: Model, method: str, controls: dict[str, Any]) -> dict[str, 
     return out
 
 
-def _check_model(model: Any) -> Model:
+def _check_model(model: Any, allow_states: bool = False) -> Model:
+    """`model` if it is a Model (and, unless `allow_states`, no law of it has internal states)."""
     if not isinstance(model, Model):
         raise ValueError(f"model: must be a stickslip.Model (a scene: Model.from_scene), got {type(model).__name__}")
     for i, c in enumerate(model.contacts):
-        if model._law_states(i)[0]:
-            raise ValueError(f"{model.contact_label(i)}: law {c.law!r} has internal states; periodic orbits of "
-                             "models whose laws have states are not supported (a run starts them at 0)")
+        if model._law_states(i)[0] and not allow_states:
+            raise LawStatesUnsupported(f"{model.contact_label(i)}: law {c.law!r} has internal states, which "
+                                       "equilibria and harmonic balance do not handle (periodic_orbit and "
+                                       "continuation of orbits do)")
     return model
 
 
@@ -393,9 +418,10 @@ class Orbit:
         The period [s].
     x0, v0 : numpy.ndarray, shape (n_bodies,)
         The state at the section (t = 0 of `result`) [m], [m/s].
-    z0 : numpy.ndarray, shape (0,)
-        The laws' states at the section (always empty: laws with states are not handled).
-    multipliers : numpy.ndarray, shape (2 n_bodies,)
+    z0 : numpy.ndarray, shape (n_states - 2 n_bodies,)
+        The laws' internal states at the section, contact by contact as `Model.state_labels`
+        (empty when no law has states); unknowns of the shooting like x0 and v0.
+    multipliers : numpy.ndarray, shape (n_states,)
         Floquet multipliers (eigenvalues of `monodromy`), largest modulus first; for an
         autonomous orbit one of them is the trivial 1 (`trivial`).
     trivial : int or None
@@ -414,13 +440,14 @@ class Orbit:
         event_driven's events over one period (empty for the other methods).
     result : Result
         A run over one period from the section, on a grid.
-    monodromy : numpy.ndarray, shape (2 n_bodies, 2 n_bodies)
+    monodromy : numpy.ndarray, shape (n_states, n_states)
         d(state after one period) / d(state at the section).
     monodromy_method : str
         "saltation" or "finite differences" (see the module).
     residual : float
         Infinity norm of the shooting residual at the answer [state units; the phase
-        condition's row in m or m/s].
+        condition's row in m or m/s; the laws' states' rows weighted by the positions' scale
+        over theirs].
     iterations : int
         Newton iterations made.
     autonomous : bool
@@ -453,8 +480,8 @@ class Orbit:
 
     @property
     def y0(self) -> np.ndarray:
-        """The state (x0, v0) at the section."""
-        return np.concatenate([self.x0, self.v0])
+        """The state (x0, v0, z0) at the section."""
+        return np.concatenate([self.x0, self.v0, self.z0])
 
     @property
     def nontrivial(self) -> np.ndarray:
@@ -465,9 +492,10 @@ class Orbit:
         return self.multipliers[keep]
 
 
-def _as_guess(guess: Any, n: int, autonomous: bool) -> tuple[np.ndarray | None, float | None]:
-    """(state, period) from a guess: an Orbit, a state (x then v, 2 n_bodies values), or for
-    an autonomous model 2 n_bodies + 1 values (the period last)."""
+def _as_guess(guess: Any, n: int, autonomous: bool, nz: int = 0) -> tuple[np.ndarray | None, float | None]:
+    """(state, period) from a guess: an Orbit, a state (x then v, 2 n_bodies values, then the
+    `nz` law states when the model has any; without them they start at 0), or for an autonomous
+    model the same and the period last."""
     if guess is None:
         return None, None
     if isinstance(guess, Orbit):
@@ -476,16 +504,21 @@ def _as_guess(guess: Any, n: int, autonomous: bool) -> tuple[np.ndarray | None, 
         g = np.asarray(guess, dtype=np.float64)
     except (TypeError, ValueError):
         raise GuessShapeError(f"guess: must be an Orbit or real numbers, got {type(guess).__name__}") from None
-    sizes = (2 * n, 2 * n + 1) if autonomous else (2 * n,)
+    states = sorted({2 * n, 2 * n + nz})
+    sizes = states + [k + 1 for k in states] if autonomous else states
     if g.ndim != 1 or g.size not in sizes or not np.isfinite(g).all():
         want = " or ".join(str(s) for s in sizes)
         raise GuessShapeError(f"guess: must be {want} finite values (x then v of the {n} bodies"
+                              f"{f', optionally the {nz} law states' if nz else ''}"
                               f"{', then the period' if autonomous else ''}), got shape {g.shape}")
-    if g.size == 2 * n + 1:
+    period = None
+    # autonomous: the last value is the period wherever it can be (x, v, T and x, v, z of one
+    # law state have the same size; a state without its period is of no use there)
+    if g.size not in states or autonomous and g.size - 1 in states:
         if not g[-1] > 0.0:
             raise GuessShapeError(f"guess: the period (last value) must be > 0 [s], got {g[-1]!r}")
-        return g[:-1].copy(), float(g[-1])
-    return g.copy(), None
+        g, period = g[:-1], float(g[-1])
+    return np.concatenate([g, np.zeros(2 * n + nz - g.size)]), period
 
 
 def _natural_period(model: Model) -> float:
@@ -503,7 +536,7 @@ def _transient_guess(runner: _Runner, period: float | None, periods: int) -> tup
     the most moving body's velocity is least over the last period (a slip phase on a belt)."""
     model = runner.model
     n = model.n_bodies
-    y0 = np.concatenate([[b.x0 for b in model.bodies], [b.v0 for b in model.bodies]])
+    y0 = np.concatenate([[b.x0 for b in model.bodies], [b.v0 for b in model.bodies], np.zeros(_n_law_states(model))])
     if period is not None:
         return runner.flow(y0, periods * period), period
     tn = _natural_period(model)
@@ -521,7 +554,7 @@ def _transient_guess(runner: _Runner, period: float | None, periods: int) -> tup
     est = float(np.median(np.diff(tc[-5:])))
     last = (r.t >= t_end - est)
     i = np.flatnonzero(last)[int(np.argmin(r.v[body, last]))]
-    return np.concatenate([r.x[:, i], r.v[:, i]]), est
+    return _state(r, i), est
 
 
 def _newton(residual: Callable[[np.ndarray], np.ndarray], u: np.ndarray, scale: np.ndarray, tol: float,
@@ -616,7 +649,7 @@ def periodic_orbit(model: Model, period: float | None = None, guess: Any = None,
     ValueError
         A bad model, method or control (as `simulate`).
     """
-    model = _check_model(model)
+    model = _check_model(model, allow_states=True)
     if period is not None and not _finite("period", period, "> 0 [s]") > 0.0:
         raise ValueError(f"period: must be > 0 [s], got {period!r}")
     _check_options(tol, max_iter, transient, n_out)
@@ -624,7 +657,7 @@ def periodic_orbit(model: Model, period: float | None = None, guess: Any = None,
     runner = _Runner(model, method, _controls(model, method, controls))
     n = model.n_bodies
     autonomous = forced is None
-    y_guess, t_guess = _as_guess(guess, n, autonomous)
+    y_guess, t_guess = _as_guess(guess, n, autonomous, _n_law_states(model))
     if y_guess is None:
         y_guess, t_est = _transient_guess(runner, forced, transient)
         t_guess = t_est if t_guess is None else t_guess
@@ -659,6 +692,12 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
     t_sec = 0.0 if autonomous else _section_phase(runner, y_guess, t_guess) * t_guess
     if t_sec:
         y_guess = runner.flow(y_guess, t_sec)
+    nb = runner.model.n_bodies
+    sc = _scales(y_guess, nb)
+    if y_guess.size > 2 * nb:       # the laws' states scaled by their extent over a period from the guess
+        zs = runner.run(y_guess, t_guess, n_out=201, t_start=t_sec).y[2 * nb:]
+        sc[2 * nb:] = max(float(np.max(np.abs(zs))), 1e-12)
+    wts = np.tile(_weights(sc, nb), m)
 
     def residual(u: np.ndarray) -> np.ndarray:
         period = float(u[-1]) if autonomous else t_guess
@@ -667,8 +706,8 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
         ys = u[:m * n2].reshape(m, n2)
         h = period / m
         # an autonomous model's signals are constant: every segment starts at t = 0
-        r = np.concatenate([runner.flow(ys[k], h, 0.0 if autonomous else (t_sec + k * h) % period)
-                            - ys[(k + 1) % m] for k in range(m)])
+        r = wts * np.concatenate([runner.flow(ys[k], h, 0.0 if autonomous else (t_sec + k * h) % period)
+                                  - ys[(k + 1) % m] for k in range(m)])
         if autonomous:
             r = np.append(r, (ys[0] - ref[0]) @ ref[1] / max(float(np.max(np.abs(ref[1]))), 1e-300))
         return r
@@ -676,9 +715,9 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
     starts = [y_guess]
     if m > 1:
         r0 = runner.run(y_guess, t_guess, n_out=m + 1, t_start=t_sec)
-        starts = [np.concatenate([r0.x[:, k], r0.v[:, k]]) for k in range(m)]
+        starts = [_state(r0, k) for k in range(m)]
     u0 = np.concatenate(starts + ([np.array([t_guess])] if autonomous else []))
-    typ = np.tile(_scales(y_guess, runner.model.n_bodies), m)
+    typ = np.tile(sc, m)
     scale = np.append(typ, t_guess) if autonomous else typ
     u, norm, it, _ = _newton(residual, u0, scale, tol, max_iter, "periodic_orbit")
     y0, period = u[:n2], (float(u[-1]) if autonomous else t_guess)
@@ -716,10 +755,24 @@ def _section_phase(runner: _Runner, y0: np.ndarray, period: float) -> float:
 
 
 def _scales(y: np.ndarray, n: int) -> np.ndarray:
-    """A scale per component: the largest |x| (positions) or |v| (velocities), at least 1e-3."""
+    """A scale per component: the largest |x| (positions) or |v| (velocities), at least 1e-3,
+    and for the laws' states (after them) the largest |z|, at least 1e-12."""
     sx = max(float(np.max(np.abs(y[:n]))), 1e-3)
-    sv = max(float(np.max(np.abs(y[n:]))), 1e-3)
-    return np.concatenate([np.full(n, sx), np.full(n, sv)])
+    sv = max(float(np.max(np.abs(y[n:2 * n]))), 1e-3)
+    sz = max(float(np.max(np.abs(y[2 * n:]))), 1e-12) if y.size > 2 * n else 1.0
+    return np.concatenate([np.full(n, sx), np.full(n, sv), np.full(y.size - 2 * n, sz)])
+
+
+def _weights(scale: np.ndarray, n: int) -> np.ndarray:
+    """Weights of the shooting residual's rows: 1 for x and v, (x's scale / z's scale) for the
+    laws' states, so that a state's mismatch counts relative to its own size."""
+    w = np.ones(scale.size)
+    w[2 * n:] = scale[0] / scale[2 * n:]
+    return w
+
+
+def _n_law_states(model: Model) -> int:
+    return model.n_states() - 2 * model.n_bodies
 
 
 def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, norm: float, it: int,
@@ -746,7 +799,7 @@ def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, no
     others = np.delete(np.abs(mult), trivial) if trivial is not None else np.abs(mult)
     stable = bool(np.all(others < 1.0))
     sys_ = _System(model)
-    return Orbit(period=period, x0=y0[:n].copy(), v0=y0[n:].copy(), z0=np.zeros(0), multipliers=mult,
+    return Orbit(period=period, x0=y0[:n].copy(), v0=y0[n:2 * n].copy(), z0=y0[2 * n:].copy(), multipliers=mult,
                  trivial=trivial, trivial_error=trivial_error, stable=stable,
                  amplitude=_amplitude(res, [c.a for c in model.contacts]), stick_fraction=_stick(sys_, res, period),
                  events=events, result=res, monodromy=mono, monodromy_method=how, residual=norm, iterations=it,
@@ -901,6 +954,236 @@ def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events:
 
 
 # ------------------------------------------------------------------------------------------
+# Equilibria
+# ------------------------------------------------------------------------------------------
+@dataclass
+class Equilibrium:
+    """An equilibrium of an autonomous model (returned by `equilibrium`; the points of a
+    ``continuation(..., kind="equilibrium")`` branch): every body at rest, each contact sliding
+    at its surface's speed (steady sliding on a belt).
+
+    Attributes
+    ----------
+    x0, v0 : numpy.ndarray, shape (n_bodies,)
+        The position [m] and the velocity (zero) [m/s] of each body.
+    eigenvalues : numpy.ndarray, shape (2 n_bodies,)
+        Eigenvalues of `jacobian` [1/s], largest real part first (complex when any is).
+    jacobian : numpy.ndarray, shape (2 n_bodies, 2 n_bodies)
+        d(dy/dt)/dy at the equilibrium, y = (x, v): the springs' and dampers' matrices and each
+        contact's friction slope N mu'(s) at its slip s, by central differences of the law's
+        curve (`friction_coefficient`) of step 1e-6 max(1, abs(s)).
+    stable : bool
+        Every eigenvalue's real part < 0.
+    residual : float
+        Infinity norm of the net force on the bodies at the answer [N].
+    """
+
+    x0: np.ndarray
+    v0: np.ndarray
+    eigenvalues: np.ndarray
+    jacobian: np.ndarray
+    stable: bool
+    residual: float
+
+    @property
+    def y0(self) -> np.ndarray:
+        """The state (x0, v0)."""
+        return np.concatenate([self.x0, self.v0])
+
+    #: no period (the field a Branch reads from its points)
+    period = math.nan
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """Zero for every body: no motion."""
+        return np.zeros(self.x0.size)
+
+    @property
+    def stick_fraction(self) -> np.ndarray:
+        """Empty: no period to be stuck over."""
+        return np.zeros(0)
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        """Empty: an equilibrium's stability is in `eigenvalues`."""
+        return np.zeros(0)
+
+
+#: laws that are set-valued at zero slip under event_driven: a contact at rest on its surface
+#: holds a set of equilibria, not one
+_SET_VALUED = ("coulomb", "stribeck")
+
+
+def equilibrium(model: Model, guess: Any = None) -> Equilibrium:
+    """The equilibrium of an autonomous `model` and its eigenvalues.
+
+    With every body at rest each contact slips at minus its surface's speed, so its friction is
+    a constant and the net force is affine in the positions (springs are linear): the
+    equilibrium solves K x = f, one linear solve (no iteration). The Jacobian adds each
+    contact's friction slope N mu'(s) to the damping (a falling law makes it negative: the
+    onset of stick-slip is the Hopf point where the damping of a mode vanishes).
+
+    Parameters
+    ----------
+    model : Model
+        The system; no time signal (constants only), no drive, no law with internal states,
+        and no contact of a set-valued law (coulomb, stribeck) whose surface is at rest (a
+        contact stuck at rest holds a set of equilibria).
+    guess : array_like, optional
+        Not needed (the equilibrium is unique when the stiffness matrix is regular); accepted
+        for symmetry with `periodic_orbit` and ignored.
+
+    Returns
+    -------
+    Equilibrium
+
+    Raises
+    ------
+    SteadyStateError
+        A singular stiffness matrix (a body held by no spring: no isolated equilibrium), or a
+        set-valued contact at rest on its surface.
+    NonPeriodicForcing, LawStatesUnsupported, ValueError
+        A forced model (no equilibrium), a law with states, a model with drives.
+    """
+    del guess
+    model = _check_model(model)
+    if model.drives:
+        raise ValueError("model: has drives (prescribed motions); its equilibria are not computed")
+    if forcing_period(model) is not None:
+        raise NonPeriodicForcing("model: forced by sines; a forced model has no equilibrium (its steady "
+                                 "state is a periodic orbit: periodic_orbit)")
+    for where, s in _model_signals(model):
+        if s.kind != "constant" and float(_signal(s, 0.0)[0]) != float(_signal(s, 1e6)[0]):
+            raise NonPeriodicForcing(f"{where}: changes in time; an equilibrium needs constant signals")
+    sys_ = _System(model)
+    n = sys_.n
+    zero = np.zeros(2 * n)
+    for i, c in enumerate(model.contacts):
+        if c.law in _SET_VALUED and sys_.slip(zero, 0.0)[i] == 0.0:
+            raise SteadyStateError(f"{model.contact_label(i)}: at rest on its surface (slip 0) with the set-valued "
+                                   f"law {c.law!r}: its equilibria are a set (every position where the spring "
+                                   "force is within mu_s N), not one point")
+    f0 = sys_._free(zero, 0.0, None)
+    try:
+        x = np.linalg.solve(sys_.K, f0)
+    except np.linalg.LinAlgError:
+        raise SteadyStateError("model: the stiffness matrix is singular (a body held by no spring): "
+                               "no isolated equilibrium") from None
+    if not np.all(np.isfinite(x)) or np.linalg.cond(sys_.K) > 1e14:
+        raise SteadyStateError("model: the stiffness matrix is singular (a body held by no spring): "
+                               "no isolated equilibrium")
+    y = np.concatenate([x, np.zeros(n)])
+    jac = _equilibrium_jacobian(sys_, y)
+    eig = np.linalg.eigvals(jac)
+    eig = eig[np.argsort(-eig.real, kind="stable")]
+    if np.all(np.abs(eig.imag) == 0.0):
+        eig = eig.real
+    residual = float(np.max(np.abs(sys_._free(y, 0.0, None)))) if n else 0.0
+    return Equilibrium(x0=x, v0=np.zeros(n), eigenvalues=eig, jacobian=jac, stable=bool(np.all(eig.real < 0.0)),
+                       residual=residual)
+
+
+def _equilibrium_jacobian(sys_: _System, y: np.ndarray) -> np.ndarray:
+    """d(dy/dt)/dy at y: x and the springs exactly (K), v by central differences of the
+    forces of step 1e-6 max(1, abs(slip)) (the dampers exactly, the laws' slopes to about 1e-10)."""
+    n = sys_.n
+    jac = np.zeros((2 * n, 2 * n))
+    jac[:n, n:] = np.eye(n)
+    jac[n:, :n] = -sys_.K / sys_.mass[:, None]
+    s = sys_.slip(y, 0.0)
+    h = 1e-6 * max(1.0, float(np.max(np.abs(s)))) if s.size else 1e-6
+    for j in range(n):
+        e = y.copy()
+        e[n + j] += h
+        fp = sys_._free(e, 0.0, None)
+        e[n + j] -= 2 * h
+        fm = sys_._free(e, 0.0, None)
+        jac[n:, n + j] = (fp - fm) / (2 * h) / sys_.mass
+    return jac
+
+
+def _root(g: Callable[[float], float], a: float, b: float, ga: float, gb: float, xtol: float,
+          max_iter: int = 60) -> float:
+    """A root of g between a and b (g(a), g(b) of opposite signs) by the Illinois variant of
+    regula falsi, to xtol."""
+    side = 0
+    for _ in range(max_iter):
+        c = (a * gb - b * ga) / (gb - ga)
+        if abs(b - a) <= xtol:
+            break
+        gc = g(c)
+        if gc == 0.0:
+            return c
+        if (gc > 0) == (gb > 0):
+            b, gb = c, gc
+            if side == -1:
+                ga *= 0.5
+            side = -1
+        else:
+            a, ga = c, gc
+            if side == 1:
+                gb *= 0.5
+            side = 1
+        if abs(b - a) <= xtol:
+            break
+    return (a * gb - b * ga) / (gb - ga)
+
+
+def _hopf_test(eq: Equilibrium) -> float:
+    """The product of the real parts of the complex eigenvalues in the upper half-plane (1 when
+    none is complex): changes sign where one pair crosses the imaginary axis (a Hopf point)."""
+    ev = np.asarray(eq.eigenvalues)
+    return float(np.prod(ev.real[ev.imag > 0.0]))
+
+
+def _zero_test(eq: Equilibrium) -> float:
+    """The product of the real eigenvalues (1 when none is real): changes sign where one of
+    them passes 0."""
+    ev = np.asarray(eq.eigenvalues)
+    return float(np.prod(ev.real[ev.imag == 0.0]))
+
+
+def _equilibrium_branch(build: Callable[[float], Model], start: float, stop: float, step: float,
+                        max_points: int, progress: bool) -> "Branch":
+    """Equilibria at equal steps of p from start to stop (a graph over p: see `equilibrium`),
+    Hopf points (a complex pair crossing the imaginary axis) and real eigenvalues through 0
+    ("stability change") located by regula falsi on p to 1e-12 of the range; a change of the
+    number of unstable eigenvalues that neither test function follows (e.g. two crossings
+    between two points) is a "stability change" at the second point, not located."""
+    n_pts = min(max_points, max(2, int(math.ceil(1.0 / step)) + 1))
+    ps = [float(start) + (float(stop) - float(start)) * k / (n_pts - 1) for k in range(n_pts)]
+    ps[-1] = float(stop)
+    bar = _Progress(progress, float(start), float(stop))
+    eqs: list[Equilibrium] = []
+    for p in ps:
+        eqs.append(equilibrium(build(p)))
+        bar.show(p)
+    bar.close()
+    out: list[dict[str, Any]] = []
+    xtol = 1e-12 * abs(float(stop) - float(start))
+    for i in range(1, len(eqs)):
+        a, b = eqs[i - 1], eqs[i]
+        if int(np.sum(a.eigenvalues.real > 0.0)) == int(np.sum(b.eigenvalues.real > 0.0)):
+            continue
+        same_kinds = int(np.sum(a.eigenvalues.imag > 0.0)) == int(np.sum(b.eigenvalues.imag > 0.0))
+        found = False
+        for kind, test in (("Hopf", _hopf_test), ("stability change", _zero_test)):
+            ga, gb = test(a), test(b)
+            if same_kinds and (ga > 0.0) != (gb > 0.0):
+                p = _root(lambda q: test(equilibrium(build(q))), ps[i - 1], ps[i], ga, gb, xtol)
+                entry: dict[str, Any] = {"kind": kind, "index": i, "p": p, "located": True}
+                if kind == "Hopf":
+                    ev = equilibrium(build(p)).eigenvalues
+                    crit = ev[np.argmin(np.where(ev.imag > 0.0, np.abs(ev.real), math.inf))]
+                    entry.update(frequency=float(np.imag(crit)), eigenvalues=ev)
+                out.append(entry)
+                found = True
+        if not found:
+            out.append({"kind": "stability change", "index": i, "p": ps[i], "located": False})
+    return Branch.from_orbits(ps, eqs, f"reached stop = {stop!r}", out, kind="equilibrium")
+
+
+# ------------------------------------------------------------------------------------------
 # Continuation
 # ------------------------------------------------------------------------------------------
 @dataclass
@@ -924,15 +1207,29 @@ class Branch:
     bifurcations : list of dict
         Each with "kind" ("fold": p turns back; "Hopf": p turns back where the cycle's
         amplitude shrinks to under a tenth of its neighbours', the branch passing through
-        the equilibrium it is born from; "period doubling", "Neimark-Sacker", "stability
-        change": a multiplier leaves the unit circle through -1, as a complex pair, through
-        +1; "events": the number or kind of events per period changed, e.g. a stick phase
-        appeared), "index" (the point at the turn, or the point after the change) and "p"
-        (interpolated where the test function is continuous).
+        the equilibrium it is born from; "period doubling": a real multiplier passes -1
+        (prod(mu + 1) changes sign); "Neimark-Sacker": a complex pair leaves or enters the
+        unit circle; "stability change": stability flips otherwise, e.g. a multiplier jumps
+        across the circle at a nonsmooth point; "events": the number or kind of events per
+        period changed, e.g. a stick phase appeared), "index" (the point at the turn, or the
+        point after the change), "p" and "located" (True: p is the root of the kind's test
+        function found by `continuation`'s `locate_bifurcations`; False: interpolated
+        between the points, or for a "Hopf" the turning point).
     stop_reason : str
         Why the continuation ended.
     curve : Branch or None
         For `frequency_response`: the whole continued curve, folds included.
+    kind : str
+        "orbit" (periodic orbits; `orbits` holds `Orbit`) or "equilibrium" (``continuation(...,
+        kind="equilibrium")``: `orbits` holds `Equilibrium`, `period` is NaN, `amplitude` 0,
+        `multipliers` empty, and `eigenvalues` of shape (n, 2 n_bodies) the Jacobian's, largest
+        real part first; its bifurcations are "Hopf" (a complex pair crossing the imaginary
+        axis, with its "frequency" [rad/s]) and "stability change" (a real eigenvalue through 0),
+        each located on p to 1e-12 of the range ("located" True), or, when neither test
+        function follows the change (two crossings between two points), a "stability change"
+        at the second point ("located" False)).
+    eigenvalues : numpy.ndarray
+        See `kind` (shape (n, 0) for orbits).
     """
 
     p: np.ndarray
@@ -945,18 +1242,21 @@ class Branch:
     bifurcations: list[dict[str, Any]]
     stop_reason: str
     curve: "Branch | None" = None
+    kind: str = "orbit"
+    eigenvalues: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     @classmethod
-    def from_orbits(cls, ps: Sequence[float], orbits: list[Orbit], stop_reason: str,
-                    bifurcations: list[dict[str, Any]] | None = None) -> "Branch":
+    def from_orbits(cls, ps: Sequence[float], orbits: Sequence[Orbit | Equilibrium], stop_reason: str,
+                    bifurcations: list[dict[str, Any]] | None = None, kind: str = "orbit") -> "Branch":
         amp = np.array([o.amplitude for o in orbits]) if orbits else np.zeros((0, 1))
         if amp.ndim == 2 and amp.shape[1] == 1:
             amp = amp[:, 0]
         mult = np.array([o.multipliers for o in orbits]) if orbits else np.zeros((0, 0))
+        eig = np.array([getattr(o, "eigenvalues", np.zeros(0)) for o in orbits]) if orbits else np.zeros((0, 0))
         return cls(p=np.asarray(ps, dtype=float), period=np.array([o.period for o in orbits]), amplitude=amp,
                    stable=np.array([o.stable for o in orbits], dtype=bool), multipliers=mult,
                    stick_fraction=np.array([o.stick_fraction for o in orbits]), orbits=list(orbits),
-                   bifurcations=list(bifurcations or []), stop_reason=stop_reason)
+                   bifurcations=list(bifurcations or []), stop_reason=stop_reason, kind=kind, eigenvalues=eig)
 
     def __len__(self) -> int:
         return int(self.p.size)
@@ -987,19 +1287,76 @@ def _signature(o: Orbit) -> tuple[tuple[str, int], ...]:
     return tuple((str(k), int(c)) for k, c in zip(kinds, counts))
 
 
-def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float]) -> list[dict[str, Any]]:
+def _test_plus_one(o: Orbit) -> float:
+    """prod(mu - 1) over the nontrivial multipliers: changes sign where a real multiplier
+    passes through +1 (a fold, or a branch point)."""
+    return float(np.real(np.prod(o.nontrivial - 1.0)))
+
+
+def _test_minus_one(o: Orbit) -> float:
+    """prod(mu + 1) over the nontrivial multipliers: changes sign where a real multiplier
+    passes through -1 (period doubling; complex pairs contribute abs(mu + 1)^2 > 0)."""
+    return float(np.real(np.prod(o.nontrivial + 1.0)))
+
+
+def _complex(o: Orbit) -> np.ndarray:
+    m = o.nontrivial
+    return m[np.abs(np.imag(m)) > 1e-9 * np.maximum(1.0, np.abs(m))]
+
+
+def _test_torus(o: Orbit) -> float:
+    """Largest modulus of a complex nontrivial multiplier minus 1 (NaN when none is complex):
+    changes sign where a complex pair leaves the unit circle (Neimark-Sacker)."""
+    c = _complex(o)
+    return float(np.max(np.abs(c))) - 1.0 if c.size else math.nan
+
+
+def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float],
+                  locate: Callable[[int, Callable[[Orbit], float]], float | None] | None = None
+                  ) -> list[dict[str, Any]]:
+    """The bifurcations between the branch's points; `locate(i, g)`, when given, returns the
+    p where the test function g(orbit) vanishes between points i - 1 and i (None if it cannot)."""
+    def where(i: int, g: Callable[[Orbit], float]) -> tuple[float, bool]:
+        ga, gb = g(orbits[i - 1]), g(orbits[i])
+        p = locate(i, g) if locate is not None else None
+        if p is not None:
+            return p, True
+        return ps[i - 1] + ga / (ga - gb) * (ps[i] - ps[i - 1]), False
+
+    def flips(i: int, g: Callable[[Orbit], float]) -> bool:
+        ga, gb = g(orbits[i - 1]), g(orbits[i])
+        return bool(np.isfinite(ga) and np.isfinite(gb) and (ga > 0.0) != (gb > 0.0))
+
     out: list[dict[str, Any]] = []
+    folded: set[int] = set()
     for i in range(1, len(orbits)):
         a, b = orbits[i - 1], orbits[i]
         if i + 1 < len(orbits) and dps[i] * dps[i + 1] < 0.0:
             # p turns back at point i: a fold, or, where the cycle shrinks to nothing there,
             # the Hopf point of the equilibrium the branch passes through
             small = np.max(b.amplitude) < 0.1 * min(np.max(a.amplitude), np.max(orbits[i + 1].amplitude))
-            out.append({"kind": "Hopf" if small else "fold", "index": i, "p": ps[i]})
+            entry: dict[str, Any] = {"kind": "Hopf" if small else "fold", "index": i, "p": ps[i], "located": False}
+            if not small:           # the fold itself: where a multiplier passes +1, either side of point i
+                for j in (i, i + 1):
+                    if flips(j, _test_plus_one):
+                        entry["p"], entry["located"] = where(j, _test_plus_one)
+                        folded.update((j, j + 1) if j == i else (j - 1, j))
+                        break
+            out.append(entry)
         if _signature(a) != _signature(b) or (a.stick_fraction > 0).tolist() != (b.stick_fraction > 0).tolist():
             out.append({"kind": "events", "index": i, "p": 0.5 * (ps[i - 1] + ps[i]),
                         "before": _signature(a), "after": _signature(b)})
-        if a.stable != b.stable:
+        explained = False
+        if flips(i, _test_minus_one):
+            p, ok = where(i, _test_minus_one)
+            out.append({"kind": "period doubling", "index": i, "p": p, "located": ok})
+            explained = True
+        ca, cb = _complex(a), _complex(b)
+        if ca.size and cb.size and int(np.sum(np.abs(ca) > 1.0)) != int(np.sum(np.abs(cb) > 1.0)):
+            p, ok = where(i, _test_torus)
+            out.append({"kind": "Neimark-Sacker", "index": i, "p": p, "located": ok})
+            explained = True
+        if a.stable != b.stable and not explained and i not in folded:
             ma, mb = a.nontrivial, b.nontrivial
             big_a, big_b = ma[np.argmax(np.abs(ma))], mb[np.argmax(np.abs(mb))]
             if abs(np.imag(big_b)) > 1e-9 or abs(np.imag(big_a)) > 1e-9:
@@ -1010,15 +1367,16 @@ def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float]) -> lis
                 kind = "stability change"
             ra, rb = float(np.max(np.abs(ma))), float(np.max(np.abs(mb)))
             s = (1.0 - ra) / (rb - ra) if rb != ra else 0.5
-            out.append({"kind": kind, "index": i, "p": ps[i - 1] + s * (ps[i] - ps[i - 1])})
+            out.append({"kind": kind, "index": i, "p": ps[i - 1] + s * (ps[i] - ps[i - 1]), "located": False})
     return out
 
 
 def continuation(build: Callable[[float], Model], start: float, stop: float, guess: Any = None, *,
                  step: float | None = None, min_step: float | None = None, max_step: float | None = None,
                  max_points: int = 200, method: str = "event_driven", tol: float = 1e-9, progress: bool = False,
-                 **options: Any) -> Branch:
-    """Pseudo-arclength continuation of periodic orbits in a parameter p from `start` to `stop`.
+                 kind: str = "orbit", locate_bifurcations: bool = True, **options: Any) -> Branch:
+    """Pseudo-arclength continuation of periodic orbits (or equilibria, ``kind="equilibrium"``)
+    in a parameter p from `start` to `stop`.
 
     Parameters
     ----------
@@ -1047,6 +1405,19 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
         As for `periodic_orbit` (controls of the method, `n_out`, `transient`).
     progress : bool, optional
         A progress bar on stderr.
+    kind : str, optional
+        "orbit" (default) or "equilibrium": the equilibria of the autonomous models build(p)
+        (`equilibrium`) at equal steps of p, `step` the fraction of the range between points
+        (default 1/50; `max_points` caps their number), with their eigenvalues and Hopf points.
+        An equilibrium of a Model solves a linear system (see `equilibrium`), so its branch is
+        a graph over p: no folds, and no arclength needed. `guess`, `method`, `tol`,
+        `min_step`, `max_step` and `options` do not apply.
+    locate_bifurcations : bool, optional
+        True (default): each fold, period doubling and Neimark-Sacker point found between two
+        points is located by regula falsi on its test function (prod(mu - 1), prod(mu + 1)
+        over the nontrivial multipliers, the largest complex multiplier's modulus minus 1)
+        along the arclength of that step, each trial a corrector solve (about ten per point);
+        its "located" is then True. False: interpolated linearly between the two points.
 
     Returns
     -------
@@ -1055,6 +1426,14 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
     span = float(stop) - float(start)
     if not (math.isfinite(span) and span != 0.0):
         raise ValueError(f"start, stop: must be finite and differ, got {start!r}, {stop!r}")
+    if kind not in ("orbit", "equilibrium"):
+        raise ValueError(f"kind: must be 'orbit' or 'equilibrium', got {kind!r}")
+    if kind == "equilibrium":
+        eq_step = 0.02 if step is None else _finite("step", step, "in (0, 1]")
+        if not 0.0 < eq_step <= 1.0:
+            raise ValueError(f"step: must be in (0, 1] (a fraction of the range) for equilibria, got {step!r}")
+        return _equilibrium_branch(build, float(start), float(stop), eq_step, _count("max_points", max_points, 2),
+                                   progress)
     ds = 0.02 if step is None else float(step)
     ds_min = 1e-5 if min_step is None else float(min_step)
     ds_max = 0.1 if max_step is None else float(max_step)
@@ -1068,7 +1447,8 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
 
     phase = 0.0
     if not autonomous:                  # the section of a forced branch: a slip phase (see _solve)
-        r0 = _Runner(_check_model(build(float(start))), method, _controls(build(float(start)), method, options))
+        r0 = _Runner(_check_model(build(float(start)), allow_states=True), method,
+                     _controls(build(float(start)), method, options))
         phase = _section_phase(r0, first.y0, first.period)
 
     def unknowns(o: Orbit, p: float) -> np.ndarray:
@@ -1077,10 +1457,14 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
     # the states scaled by the first orbit's largest |x| and |v| over its period (not the
     # section's values, which may be near 0)
     scale = np.append(_scales(np.concatenate([np.max(np.abs(first.result.x), axis=1),
-                                              np.max(np.abs(first.result.v), axis=1)]), first.x0.size),
+                                              np.max(np.abs(first.result.v), axis=1),
+                                              np.max(np.abs(first.result.y[2 * first.x0.size:]), axis=1,
+                                                     initial=0.0)]), first.x0.size),
                       [first.period] if autonomous else [])
     scale = np.append(scale, abs(span))
     ps, orbits, dps = [float(start)], [first], [math.copysign(1.0, span)]
+    # how each point was reached: (the previous point's scaled unknowns, the tangent, the step)
+    steps: list[tuple[np.ndarray, np.ndarray, float] | None] = [None]
     prev_u = unknowns(first, float(start)) / scale
     tangent = np.zeros(prev_u.size)
     tangent[-1] = math.copysign(1.0, span)
@@ -1130,6 +1514,7 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
                 ps.append(float(stop))
                 orbits.append(orb)
                 dps.append(new_t[-1])
+                steps.append(None)
                 bar.show(float(stop))
             except SteadyStateError as err:
                 reason = f"the orbit at stop failed: {err}"
@@ -1140,11 +1525,44 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
         ps.append(p_new)
         orbits.append(orb)
         dps.append(float(new_t[-1]))
+        steps.append((prev_u, tangent, ds))
         tangent, prev_u = new_t, u_new
         bar.show(p_new)
         ds = min(ds_max, ds * 1.5) if its <= 3 else max(ds_min, ds * 0.7) if its > 6 else ds
     bar.close()
-    return Branch.from_orbits(ps, orbits, reason, _bifurcations(ps, orbits, dps))
+
+    def locate(i: int, g: Callable[[Orbit], float]) -> float | None:
+        """p where g vanishes between points i - 1 and i: regula falsi on the arclength s of
+        the step that reached point i, each trial the corrector's orbit at s (to 1e-9 of the
+        step; for the landing on stop, on p between the two points); None where a trial fails."""
+        found: dict[float, float] = {}
+        if steps[i] is None:            # the landing on stop: natural parameter between the two points
+            a, b = orbits[i - 1], orbits[i]
+
+            def g_p(p: float) -> float:
+                frac = (p - ps[i - 1]) / (ps[i] - ps[i - 1])
+                y = a.y0 + frac * (b.y0 - a.y0)
+                start = np.append(y, a.period + frac * (b.period - a.period)) if autonomous else y
+                return g(periodic_orbit(build(p), guess=start, method=method, tol=tol, n_out=n_out, **options))
+            try:
+                return _root(g_p, ps[i - 1], ps[i], g(a), g(b), 1e-9 * abs(ps[i] - ps[i - 1]), max_iter=30)
+            except (SteadyStateError, ValueError, RuntimeError, ZeroDivisionError):
+                return None
+        u0, tan, ds_i = steps[i]
+
+        def g_at(s: float) -> float:
+            o, w, _ = _corrector(build, u0 + s * tan, tan, scale, autonomous, method, tol, n_out, options,
+                                 orbits[i - 1], phase)
+            found[s] = float(w[-1] * scale[-1])
+            return g(o)
+        try:
+            s = _root(g_at, 0.0, ds_i, g(orbits[i - 1]), g(orbits[i]), 1e-9 * ds_i, max_iter=30)
+            g_at(s)
+        except (SteadyStateError, ValueError, RuntimeError, ZeroDivisionError):
+            return None
+        return found[s]
+    return Branch.from_orbits(ps, orbits, reason, _bifurcations(ps, orbits, dps, locate if locate_bifurcations
+                                                                 else None))
 
 
 def _corrector(build: Callable[[float], Model], pred: np.ndarray, tangent: np.ndarray, scale: np.ndarray,
@@ -1154,11 +1572,12 @@ def _corrector(build: Callable[[float], Model], pred: np.ndarray, tangent: np.nd
     a forced branch's state is taken at `phase` of the period."""
     n2 = last.y0.size
     runners: dict[float, _Runner] = {}
+    wts = _weights(scale[:n2], last.x0.size)
     ref = (last.y0, (last.result.y[:n2, 1] - last.result.y[:n2, 0]) / (last.result.t[1] - last.result.t[0]))
 
     def runner_at(p: float) -> tuple[_Runner, float]:
         if p not in runners:
-            m = _check_model(build(p))
+            m = _check_model(build(p), allow_states=True)
             runners[p] = _Runner(m, method, _controls(m, method, options))
         r = runners[p]
         return r, forcing_period(r.model)  # type: ignore[return-value]
@@ -1171,7 +1590,7 @@ def _corrector(build: Callable[[float], Model], pred: np.ndarray, tangent: np.nd
         t = float(u[n2]) if autonomous else t_forced
         if not t > 0.0:
             raise NoConvergence("the period went negative")
-        res = r.flow(y, t, phase * t) - y
+        res = wts * (r.flow(y, t, phase * t) - y)
         extra = [(y - ref[0]) @ ref[1] / max(float(np.max(np.abs(ref[1]))), 1e-300)] if autonomous else []
         return np.concatenate([res, extra, [tangent @ (w - pred)]])
 
