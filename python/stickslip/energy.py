@@ -21,6 +21,7 @@ bristles store energy) or whose mu does not oppose the slip are not checked.
 """
 from __future__ import annotations
 
+import functools
 import math
 import threading
 import warnings
@@ -80,10 +81,22 @@ def _features(sig: Signal, corners: list[float]) -> float:
     return max([abs(a[1]) if k == "sine" else 0.0] + [_features(c, corners) for c in sig.children])
 
 
-def _mu_max(law: str, params: dict[str, float]) -> float | None:
+#: The slip velocities at which _mu_max samples a law [m/s]: 0 and 1e-12 .. 1e3 either way.
+_MU_GRID: np.ndarray = np.concatenate([-np.geomspace(1e3, 1e-12, 1500), [0.0], np.geomspace(1e-12, 1e3, 1500)])
+
+
+def _mu_max(law: str, params: Mapping[str, float]) -> float | None:
     """The largest |mu| of `law` over slip velocities up to 1e3 m/s, or None when mu does not
-    oppose the slip there or still grows at 1e3 m/s (no bound)."""
-    v = np.concatenate([-np.geomspace(1e3, 1e-12, 1500), [0.0], np.geomspace(1e-12, 1e3, 1500)])
+    oppose the slip there or still grows at 1e3 m/s (no bound); remembered per law and
+    parameters (every checked run of a model asks for each of its contacts)."""
+    return _mu_max_of(law, tuple(sorted(params.items())))
+
+
+@functools.lru_cache(maxsize=256)
+def _mu_max_of(law: str, items: tuple[tuple[str, float], ...]) -> float | None:
+    """_mu_max of a law and its parameters as sorted (name, value) pairs."""
+    params = dict(items)
+    v = _MU_GRID
     mu = np.asarray(friction_coefficient(law, v, **params), dtype=np.float64)
     if not np.all(np.isfinite(mu)) or np.any(mu * v < 0.0):
         return None
