@@ -16,6 +16,7 @@ prints the list.
 """
 from __future__ import annotations
 
+import json
 import re
 import shutil
 import subprocess
@@ -773,3 +774,18 @@ def test_no_paragraph_is_one_long_line() -> None:
 
 if __name__ == "__main__":
     print("\n".join(all_undocumented()) or "every public entity is documented")
+
+
+def test_results_name_no_path_of_the_machine_that_made_them() -> None:
+    """Every committed provenance record (docs/figures, benchmarks/results) gives its command as a
+    reader can type it in a clone: no absolute path of the machine that ran it (a run into a
+    temporary directory copied in by hand would show one)."""
+    records = sorted((ROOT / "docs" / "figures").glob("*.provenance.json")) \
+        + sorted((ROOT / "benchmarks" / "results").glob("*.provenance.json"))
+    assert records
+    bad = []
+    for path in records:
+        for run in json.loads(path.read_text())["runs"]:
+            if re.search(r"(^|[\s=])/(tmp|work|home|root|usr)/", run["command"]):
+                bad.append(f"{path.relative_to(ROOT)}: {run['command']}")
+    assert not bad, "\n".join(bad)
