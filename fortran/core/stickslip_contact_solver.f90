@@ -198,13 +198,16 @@ contains
         integer, intent(inout)  :: mode(:)
         type(contact_solve_info), intent(inout) :: info
         logical :: active(size(wf))
-        integer :: idx(count(is_active(laws, cap))), na, j, its, piv, act(size(idx)), dir(size(idx)), s
+        integer :: idx(count(is_active(laws, cap))), na, j, act(size(idx)), dir(size(idx)), s
         integer :: m_new(size(wf)), worst, rounds
         real(dp) :: da(size(idx), size(idx)), qa(size(idx)), bound(size(idx)), pa(size(idx)), ya(size(idx))
         real(dp) :: mu(size(idx)), mu_new(size(idx)), wts(size(idx)), ca(size(idx)), dg(size(idx))
         real(dp) :: wtol, pm(size(wf)), wm(size(wf)), r_box, r_mode
         type(contact_law) :: lw(size(idx))
+        real(dp) :: pt(size(idx)), yt(size(idx)), bt(size(idx))
+        integer :: act_t(size(idx))
         logical :: kin(size(idx)), reset(size(idx)), stuck(size(idx)), changed, ok
+        logical :: dropped(size(idx)), raised(size(idx)), solved
         info%method = merge(SOLVER_PIVOTING, SOLVER_RULE, lemke_only)
         active = is_active(laws, cap)
         na = size(idx)
@@ -233,18 +236,18 @@ contains
         mu = lw%mu_s
         where (kin) mu = lw%slip_mu(max(abs(qa) - dg * wts, tiny(1.0_dp)))
         act = -dir           ! a kept slip starts on its bound against its direction
-        ! step 2: rounds of box problems, static first
-        do rounds = 1, 3 * na + 30
-            bound = ca * mu
-            call box_solve(da, qa, -bound, bound, wts, pa, ya, act, its, piv, ok, lemke_only)
-            info%sweeps = info%sweeps + its
-            info%pivots = info%pivots + piv
-            info%rounds = rounds
-            if (.not. ok) then
-                info%ok = .false.
-                info%residual = huge(1.0_dp)
-                return
+        ! step 2: rounds of box problems, static first; a contact that gave way is tried at its
+        ! static level again once the rounds settle, and raised back where it then holds
+        dropped = .false.
+        raised = .false.
+        solved = .false.
+        do rounds = 1, 5 * na + 30
+            if (.not. solved) then
+                bound = ca * mu
+                call round_box(da, qa, wts, bound, lemke_only, pa, ya, act, ok, info)
+                if (.not. ok) return
             end if
+            solved = .false.
             wtol = 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(qa)) + maxval(dg) * maxval(abs(pa)))
             stuck = abs(ya) <= wtol
             changed = .false.
@@ -254,6 +257,7 @@ contains
                 s = slip_sign(ya(j))
                 if (.not. kin(j)) then               ! gives way
                     kin(j) = .true.
+                    dropped(j) = .true.
                     dir(j) = s
                     changed = .true.
                 else if (s /= dir(j)) then
@@ -269,9 +273,38 @@ contains
                 end if
                 mu_new(j) = lw(j)%slip_mu(abs(ya(j)))
             end do
-            if (.not. changed .and. all(abs(mu_new - mu) <= 8.0_dp * epsilon(1.0_dp) * mu)) exit
+            if (.not. changed .and. all(abs(mu_new - mu) <= 8.0_dp * epsilon(1.0_dp) * mu)) then
+                ! settled: a contact that gave way while others gave way with it may hold now
+                ! that they slip; the first (in order) that holds at its static level is raised
+                ! back (once each), and the rounds go on from that box problem's answer
+                do j = 1, na
+                    if (.not. (dropped(j) .and. kin(j)) .or. raised(j)) cycle
+                    raised(j) = .true.
+                    bt = ca * mu
+                    bt(j) = ca(j) * lw(j)%mu_s
+                    act_t = act
+                    call round_box(da, qa, wts, bt, lemke_only, pt, yt, act_t, ok, info)
+                    if (.not. ok) return
+                    if (abs(yt(j)) > 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(qa)) + maxval(dg) * maxval(abs(pt)))) &
+                        cycle
+                    kin(j) = .false.
+                    dir(j) = 0
+                    mu_new(j) = lw(j)%mu_s
+                    bound = bt
+                    pa = pt
+                    ya = yt
+                    act = act_t
+                    solved = .true.
+                    exit
+                end do
+                if (.not. solved) exit
+            end if
             mu = mu_new
         end do
+        if (solved) then     ! the rounds ran out on a raise: its box problem's answer
+            wtol = 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(qa)) + maxval(dg) * maxval(abs(pa)))
+            stuck = abs(ya) <= wtol
+        end if
         ! the answer of the last round, slips exactly on their bounds
         p = 0.0_dp
         where (.not. stuck) pa = -sign(bound, ya)
@@ -296,7 +329,29 @@ contains
         end if
         call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
         info%ok = info%residual <= residual_limit(tol, wf, d, p)
+
     end subroutine rule_solve
+
+    !> One box problem of `rule_solve`'s rounds: |p| <= bound on y = q + D p (act: its warm
+    !! start in, sets out), its work counted in info; ok = .false. (info%ok too) where no
+    !! method solved it.
+    subroutine round_box(da, qa, wts, bound, lemke_only, pb, yb, actb, ok, info)
+        real(dp), intent(in)   :: da(:, :), qa(:), wts(:), bound(:)
+        logical, intent(in)    :: lemke_only
+        real(dp), intent(out)  :: pb(:), yb(:)
+        integer, intent(inout) :: actb(:)
+        logical, intent(out)   :: ok
+        type(contact_solve_info), intent(inout) :: info
+        integer :: its, piv
+        call box_solve(da, qa, -bound, bound, wts, pb, yb, actb, its, piv, ok, lemke_only)
+        info%sweeps = info%sweeps + its
+        info%pivots = info%pivots + piv
+        info%rounds = info%rounds + 1
+        if (.not. ok) then
+            info%ok = .false.
+            info%residual = huge(1.0_dp)
+        end if
+    end subroutine round_box
 
     !> info%nonunique: whether a solution with at least as many stuck contacts as the answer
     !! (w, mode) exists in the neighbourhood the module notes name (each slipping contact that
