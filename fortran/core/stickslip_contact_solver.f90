@@ -180,7 +180,7 @@ contains
         if (na >= 2 .and. .not. (info%method == SOLVER_GAUSS_SEIDEL .and. info%ok)) then
             call rule_solve(laws, d, wf, cap, at_rest, tol, forced == SOLVER_PIVOTING, p, w, mode, info)
             if (.not. info%ok) return
-            call find_other_solution(laws, d, wf, cap, at_rest, w, mode, info)
+            call find_other_solution(laws, d, wf, cap, at_rest, p, w, mode, info)
             return
         end if
         call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
@@ -276,10 +276,12 @@ contains
             if (.not. changed .and. all(abs(mu_new - mu) <= 8.0_dp * epsilon(1.0_dp) * mu)) then
                 ! settled: a contact that gave way while others gave way with it may hold now
                 ! that they slip; the first (in order) that holds at its static level is raised
-                ! back (once each), and the rounds go on from that box problem's answer
+                ! back (once at most), and the rounds go on from that box problem's answer
                 do j = 1, na
                     if (.not. (dropped(j) .and. kin(j)) .or. raised(j)) cycle
-                    raised(j) = .true.
+                    ! raising its bound by (mu_s - mu) c moves its w by at most D_jj times that
+                    ! (the others' answer to it only lessens the change): no hold beyond reach
+                    if (abs(ya(j)) > dg(j) * (lw(j)%mu_s - mu(j)) * ca(j) + wtol) cycle
                     bt = ca * mu
                     bt(j) = ca(j) * lw(j)%mu_s
                     act_t = act
@@ -287,6 +289,7 @@ contains
                     if (.not. ok) return
                     if (abs(yt(j)) > 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(qa)) + maxval(dg) * maxval(abs(pt)))) &
                         cycle
+                    raised(j) = .true.
                     kin(j) = .false.
                     dir(j) = 0
                     mu_new(j) = lw(j)%mu_s
@@ -354,18 +357,22 @@ contains
     end subroutine round_box
 
     !> info%nonunique: whether a solution with at least as many stuck contacts as the answer
-    !! (w, mode) exists in the neighbourhood the module notes name (each slipping contact that
-    !! could stick made stuck, with the stuck contacts it would overload slipping).
-    subroutine find_other_solution(laws, d, wf, cap, at_rest, w, mode, info)
+    !! (p, w, mode) exists in the neighbourhood the module notes name: each slipping contact
+    !! that could stick made stuck, with the stuck contacts it would overload slipping, or else
+    !! with one of the two stuck contacts most coupled to it (|D_jk| / sqrt(D_jj D_kk)) slipping
+    !! against its holding impulse (at most 4 such swaps a problem).
+    subroutine find_other_solution(laws, d, wf, cap, at_rest, p, w, mode, info)
         type(contact_law), intent(in) :: laws(:)
-        real(dp), intent(in) :: d(:, :), wf(:), cap(:), w(:)
+        real(dp), intent(in) :: d(:, :), wf(:), cap(:), p(:), w(:)
         logical, intent(in)  :: at_rest
         integer, intent(in)  :: mode(:)
         type(contact_solve_info), intent(inout) :: info
-        integer :: j, nst, mt(size(wf))
+        integer, parameter :: MAX_PAIR_TRIALS = 4   ! swaps tried in all (a bound on the work)
+        integer :: j, k, kk, it, nst, npair, mt(size(wf))
         real(dp) :: pt(size(wf)), wt(size(wf)), reach
-        logical :: ok, over(size(wf))
+        logical :: ok, over(size(wf)), tried(size(wf))
         nst = count(mode == MODE_STICK)
+        npair = 0
         do j = 1, size(wf)
             if (abs(mode(j)) /= 1) cycle
             reach = d(j, j) * (laws(j)%mu_s + slip_coefficient(laws(j), abs(w(j)), at_rest)) * cap(j)
@@ -374,12 +381,38 @@ contains
             mt(j) = MODE_STICK
             call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
             info%sweeps = info%sweeps + 1
-            if (.not. ok .and. all(ieee_is_finite(pt))) then
+            if (.not. ok .and. all(pt /= huge(1.0_dp)) .and. all(ieee_is_finite(pt))) then
                 over = mt == MODE_STICK .and. abs(pt) > laws%mu_s * cap * (1.0_dp + STICK_RTOL)
-                if (over(j) .or. .not. any(over) .or. count(mt == MODE_STICK) - count(over) < nst) cycle
-                where (over) mt = -nint(sign(1.0_dp, pt))
-                call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
-                info%sweeps = info%sweeps + 1
+                if (.not. over(j) .and. any(over) .and. count(mt == MODE_STICK) - count(over) >= nst) then
+                    where (over) mt = -nint(sign(1.0_dp, pt))
+                    call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
+                    info%sweeps = info%sweeps + 1
+                end if
+            end if
+            if (.not. ok .and. npair < MAX_PAIR_TRIALS) then
+                ! j held in place of one of the (two) stuck contacts most coupled to it (j
+                ! itself overloaded, or the stuck set with j has no solution: rows that conflict)
+                tried = .false.
+                do it = 1, 2
+                    k = 0
+                    do kk = 1, size(wf)
+                        if (mode(kk) /= MODE_STICK .or. tried(kk) .or. p(kk) == 0.0_dp .or. d(j, kk) == 0.0_dp) cycle
+                        if (k == 0) then
+                            k = kk
+                        else if (d(j, kk)**2 * d(k, k) > d(j, k)**2 * d(kk, kk)) then
+                            k = kk
+                        end if
+                    end do
+                    if (k == 0 .or. npair >= MAX_PAIR_TRIALS) exit
+                    tried(k) = .true.
+                    npair = npair + 1
+                    mt = mode
+                    mt(j) = MODE_STICK
+                    mt(k) = -nint(sign(1.0_dp, p(k)))
+                    call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
+                    info%sweeps = info%sweeps + 1
+                    if (ok) exit
+                end do
             end if
             if (ok) then
                 info%nonunique = .true.
@@ -533,6 +566,8 @@ contains
         real(dp) :: s(size(jf)), r(size(jf)), jac(size(jf), size(jf)), step(size(jf), 1), mu(size(jf))
         real(dp) :: cf(size(jf)), dmu(size(jf)), cs(size(is))
         logical :: constant
+        p = huge(1.0_dp)      ! (no solution: every stuck impulse beyond its limit)
+        w = 0.0_dp
         ns = size(is)
         nf = size(jf)
         is = pack([(i, i = 1, size(m))], m == MODE_STICK)

@@ -460,14 +460,14 @@ contains
         !! mprev_i wf_i > D_ii mu_s c_i, every other contact at its static level; rounds of box
         !! problems (`box_brute`), a contact at its static level with w /= 0 giving way to mu_k,
         !! a kept slip whose w turns against it decided again from its static level (once); when
-        !! no contact changes, each contact that gave way (and has not been tried) in turn at its
-        !! static level with the others as they are: the first that holds there is raised back
-        !! and the rounds go on. The modes in mref (0 stuck, +-1 slip).
+        !! no contact changes, each contact that gave way (and has not been raised back before) in
+        !! turn at its static level with the others as they are: the first that holds there is
+        !! raised back and the rounds go on. The modes in mref (0 stuck, +-1 slip).
         subroutine rule_reference(n, mprev, mref)
             integer, intent(in) :: n, mprev(:)
             integer, intent(out) :: mref(:)
             real(dp) :: bound(n), pp(n), yy(n), wtol, bt(n), pt(n), yt(n)
-            logical :: kin(n), reset(n), changed, gave(n), tried(n)
+            logical :: kin(n), reset(n), changed, gave(n), tried(n)   ! tried: raised back once
             integer :: dir(n), i, round, sg
             kin = .false.
             reset = .false.
@@ -510,12 +510,12 @@ contains
                 if (changed) cycle
                 do i = 1, n
                     if (.not. (gave(i) .and. kin(i)) .or. tried(i)) cycle
-                    tried(i) = .true.
                     bt = bound
                     bt(i) = cap(i) * laws(i)%mu_s
                     call box_brute(n, bt, pt, yt)
                     if (abs(yt(i)) > 1.0e-9_dp * (maxval(abs(wf(:n))) + maxval(abs(d(:n, :n))) * maxval(abs(pt)))) &
                         cycle
+                    tried(i) = .true.
                     kin(i) = .false.
                     dir(i) = 0
                     changed = .true.
