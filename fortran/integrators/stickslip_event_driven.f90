@@ -28,9 +28,7 @@
 !! searched for its minimum (`dips`, then `graze`; DOPRI5 starts the mode again after that
 !! step where it does not touch): a grazing touch of w = 0 inside one step is found, and a
 !! minimum within the integration's tolerance of 0 (atol + rtol |u| over the contact's row
-!! of H) counts as touching. Where a slipping contact reaches w = 0, every other slipping
-!! contact whose w is within that tolerance of 0 there (bodies that stop together) is decided
-!! with it. The
+!! of H) counts as touching. The
 !! state at a trial time t comes from the step's continuous extension (DOPRI5's dense output
 !! of order 4, kept for every step of the mode's run: `dopri5_options%dense_rows`), so a
 !! trial costs one force evaluation, not a DOPRI5 run.
@@ -1103,18 +1101,6 @@ contains
             now = crossed(ms%stuck, gv) .or. closing
             if (s%t == s%t_touch) now = now .or. s%touch
             s%touch = .false.
-            ! every other slipping contact at w = 0 to the integration's tolerance goes with them
-            ! (bodies that stop together: w_i and w_j reach 0 at one instant, and the crossing
-            ! located on one leaves the other's at rounding): decided with the others, not left
-            ! slipping at w = 0 with its slip force
-            if (any(now .and. .not. ms%stuck)) then
-                call cs%normal_forces(min(s%t, ms%t_cap), s%y(:s%nd), nn)
-                call cs%relative_velocities(s%t, s%y(s%nd + 1:), w)
-                do j = 1, s%nc
-                    if (ms%stuck(j) .or. now(j) .or. .not. nn(j) > 0.0_dp) cycle
-                    now(j) = abs(w(j)) <= w_tolerance(s, j, s%y)
-                end do
-            end if
             over = now .and. ms%stuck
             do j = 1, s%nc
                 if (.not. now(j) .or. ms%stuck(j)) cycle
