@@ -26,10 +26,15 @@
 !!      same at every solution. A contact at its static level with w_i /= 0 cannot hold given
 !!      the others and gives way: its bound drops to its slip level mu_i(|w_i|) c_i. A contact
 !!      at its slip level whose w_i turns against its slip direction (its velocity crossed
-!!      zero) is decided again from its static level, once. Rounds repeat until no contact
-!!      changes level (at most 3 n + 1 for constant coefficients). So only a contact whose
-!!      static limit cannot hold gives way, and a stuck contact never slips because another
-!!      solution would allow it.
+!!      zero) is decided again from its static level, once. When no contact changes level,
+!!      each contact that gave way (in order) is tried at its static level again with the
+!!      others as they are: several can give way in one round, and one of them may hold once
+!!      the others slip at their lower slip level. The first that holds there (w_i = 0) is
+!!      raised back, once at most, and the rounds go on; a contact whose w_i exceeds
+!!      D_ii (mu_s,i - mu_i) c_i cannot hold there (its static level moves its w by at most
+!!      that) and is not tried. Rounds end when no contact changes level and none is raised
+!!      (at most 5 n + 30). So only a contact whose static limit cannot hold given the others
+!!      gives way, and a stuck contact never slips because another solution would allow it.
 !!   3. Minimum norm: the stuck contacts' impulses are the ones that minimise
 !!      sum p_i^2 / (mu_s,i c_i) among those that hold them (each loaded in proportion to its
 !!      capacity), and the slip speeds solve the slip curves exactly (`solve_mode`).
@@ -38,9 +43,10 @@
 !! counted). On one contact the rule is the closed form `local_solve` (stick when
 !! |wf| <= D c mu_s). info%nonunique reports that another solution with at least as many
 !! stuck contacts exists: for each slipping contact with |w_i| <= D_ii (mu_s,i + mu_i) c_i
-!! (the others cannot let it stick otherwise) the mode with it stuck, and that mode with the
-!! stuck contacts it would overload slipping, are solved and tested (a sufficient test: a
-!! tie it does not reach is not reported).
+!! (the others cannot let it stick otherwise) the mode with it stuck, that mode with the
+!! stuck contacts it would overload slipping, and else that mode with one of the two stuck
+!! contacts most coupled to it slipping (at most 4 such swaps a problem) are solved and
+!! tested (a sufficient test: a tie it does not reach is not reported).
 !!
 !! How. One active contact: its closed form (`local_solve`). More: the rounds of the rule,
 !! each box problem by `box_solve` (an active-set Newton method, 1 to 4 linear solves from the
