@@ -157,7 +157,8 @@ def test_normal_force_acting_between_two_samples_is_no_consistency_failure():
 
 
 @pytest.mark.parametrize("sig", [S.table([0.0, 0.501, 0.505, 0.509, 1.0], [-5.0, -5.0, 50.0, -5.0, -5.0]),
-                                 S.sine(3.0, 7.3, 0.4, 1.0), S.step(0.333, 1.0, -2.0) + S.ramp(0.1, 0.5, 4.0)])
+                                 S.sine(3.0, 7.3, 0.4, 1.0), S.step(0.333, 1.0, -2.0) + S.ramp(0.1, 0.5, 4.0),
+                                 S.ramp(0.0, 1.0, 2.0) * (S.constant(2.0) - S.ramp(0.0, 1.0, 2.3))])
 def test_interval_max_against_dense_sampling(sig):
     """_interval_max: each output interval's largest value of the signal, against 20001 points
     an interval (the sine's sampled peak to 1.2e-3 of its amplitude, 64 points a period; a

@@ -71,14 +71,17 @@ def _value(sig: Signal, t: np.ndarray) -> np.ndarray:
 def _interval_max(sig: Signal, t: np.ndarray) -> np.ndarray:
     """The largest value of the signal over each output interval [t_i, t_(i+1)]: at its ends,
     at the signal's corners inside it (a table's peak, a normal force that rises above 0 and
-    falls back between two samples) and at points in between (8 an interval, and 64 a period of
-    the fastest sine), so that a force that acts only between two samples is not missed."""
+    falls back between two samples) and, for a signal with a sine or a product, at points in
+    between (8 an interval, and 64 a period of the fastest sine), so that a force that acts
+    only between two samples is not missed."""
     if sig.kind == "constant":
         return np.full(t.size - 1, float(sig.args[0]))
     corners: list[float] = []
     freq = _features(sig, corners)
     dt = np.diff(t)
-    parts = np.full(dt.size, 8, dtype=np.int64)
+    # between its corners a signal without sines or products is linear: its ends and corners
+    # hold its largest value; otherwise points between them too
+    parts = np.full(dt.size, 8 if freq > 0.0 or _has_product(sig) else 1, dtype=np.int64)
     if freq > 0.0:
         parts = np.maximum(parts, np.ceil(64.0 * freq * dt).astype(np.int64))
     parts = np.minimum(parts, max(1, MAX_POINTS // max(dt.size, 1)))
@@ -95,6 +98,11 @@ def _interval_max(sig: Signal, t: np.ndarray) -> np.ndarray:
     # reduceat runs each from its start to the next start (the next interval's first point is
     # this one's end): take the end in too
     return np.maximum(out, vals[stop])
+
+
+def _has_product(sig: Signal) -> bool:
+    """Does the signal multiply two signals anywhere in its tree?"""
+    return sig.kind == "mul" or any(_has_product(c) for c in sig.children)
 
 
 def _features(sig: Signal, corners: list[float]) -> float:
