@@ -5,6 +5,7 @@ and slope), and the per-step contact solver on random problems (tests/fortran/
 test_contact_general.f90, which also prints the general systems' runs compared here)."""
 from __future__ import annotations
 
+import itertools
 import math
 import re
 import subprocess
@@ -262,24 +263,86 @@ def test_stacked_sets_moreau_converges_to_event_driven(name):
     assert _order(hs, errs) > 0.9, errs
 
 
+def _first_step_solutions(friction: list[tuple[float, float]], h: float) -> list[tuple[int, ...]]:
+    """Every mode (0 stuck, +-1 slip) of the stacked blocks' first moreau step from rest that
+    solves the step's problem, by brute force over the 27 modes: velocities w = wf + D p with
+    wf = (-0.3, 0, 0) (the belt under A at rest), D = H M^-1 H^T, capacities h N."""
+    h_mat = np.array([[1.0, 0.0, 0.0], [-1.0, 1.0, 0.0], [0.0, -1.0, 1.0]])
+    d = h_mat @ np.diag([1 / 2.0, 1 / 1.0, 1 / 0.5]) @ h_mat.T
+    wf = np.array([-0.3, 0.0, 0.0])
+    cap = h * G * np.array([3.5, 1.5, 0.5])
+    mu_s = np.array([f[0] for f in friction])
+    mu_k = np.array([f[1] for f in friction])
+    found = []
+    for modes in itertools.product((0, 1, -1), repeat=3):
+        m = np.array(modes)
+        st = m == 0
+        p = np.where(st, 0.0, -m * mu_k * cap)
+        if st.any():
+            p[st] = np.linalg.solve(d[np.ix_(st, st)], -(wf[st] + d[np.ix_(st, ~st)] @ p[~st]))
+        w = wf + d @ p
+        if np.all(np.abs(p[st]) <= mu_s[st] * cap[st] * (1 + 1e-12)) and np.all(m[~st] * w[~st] > 0):
+            found.append(tuple(int(x) for x in m))
+    return found
+
+
 def test_nonunique_steps_are_counted_and_warned_once():
-    """A-B at (0.4, 0.25): some steps' problems have another solution with as many stuck
-    contacts; stats["nonunique"] counts them and one RuntimeWarning names the count. The base
-    set at h = 1e-3 has none: no warning."""
+    """The first step from rest of every stacked set has two solutions with one stuck contact
+    (B held on A with C slipping, or C held on B with B slipping: brute force over the 27
+    modes), so each run counts steps with another solution in stats["nonunique"] and one
+    RuntimeWarning names the count. (Before the rule raised a contact back, its answer there
+    slipped all three, and this count stayed at 0 on the base set.) A single contact never has
+    another solution with as many stuck contacts: no count, no warning."""
+    for name in ("A-B (0.4, 0.25)", "base"):
+        sols = _first_step_solutions(STACKED_SETS[name], 1e-3)
+        assert sum(1 for m in sols if m.count(0) == 1) == 2 and max(m.count(0) for m in sols) == 1, sols
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            r = ss.simulate(_stack(STACKED_SETS[name]), method="moreau", h=1e-3, t_end=5.0)
+        n = r.stats["nonunique"]
+        assert n > 0, name
+        said = [w for w in caught if issubclass(w.category, RuntimeWarning) and "another solution" in str(w.message)]
+        assert len(said) == 1 and str(n) in str(said[0].message)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        r = ss.simulate(_stack(STACKED_SETS["A-B (0.4, 0.25)"]), method="moreau", h=1e-3, t_end=5.0)
-    n = r.stats["nonunique"]
-    assert n > 0
-    said = [w for w in caught if issubclass(w.category, RuntimeWarning) and "another solution" in str(w.message)]
-    assert len(said) == 1 and str(n) in str(said[0].message)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        r = ss.simulate(_stack(STACKED_SETS["base"]), method="moreau", h=1e-3, t_end=5.0)
+        r = ss.simulate("belt", "coulomb", method="moreau", h=1e-3, t_end=2.0)
     assert r.stats["nonunique"] == 0
     assert not [w for w in caught if "another solution" in str(w.message)]
-    # a single contact never has another solution with as many stuck contacts
-    assert ss.simulate("belt", "coulomb", method="moreau", h=1e-3, t_end=2.0).stats["nonunique"] == 0
+
+
+def test_a_contact_that_gave_way_with_another_is_raised_back():
+    """Three blocks in a row from rest, springs pulling each forward (A 0.5 kg on the ground,
+    N 10 N, mu 0.6/0.4; B 2 kg on A, N 2 N, mu 0.6/0.4; C 0.5 kg on B, N 10 N, mu 0.4/0.2;
+    spring forces 5, 10 and 2.5 N). With every contact at its static limit, B's 1.2 N on A
+    and the spring's 5 N exceed A's 6 N, and B cannot hold B and C: both give way in the same
+    round. With B slipping at 0.8 N, A carries 5.8 N and holds (by hand: A stuck, B slipping
+    forward, C stuck, B and C together at (12.5 - 0.8) / 2.5 = 4.68 m/s^2, C's holding force
+    0.16 N). The rule raises A back (static first: a contact gives way only where its static
+    limit cannot hold); before, A slid from t = 0. event_driven against the exhaustive-mode
+    reference, and moreau converging to it."""
+    m = ss.Model()
+    a, b, c = m.add_body(0.5, x0=-0.05), m.add_body(2.0, x0=-0.05), m.add_body(0.5, x0=-0.05)
+    for body, k in ((a, 100.0), (b, 200.0), (c, 50.0)):
+        m.add_spring(body, None, k)
+    m.add_contact(a, None, "coulomb", 10.0, mu_s=0.6, mu_k=0.4)
+    m.add_contact(b, a, "coulomb", 2.0, mu_s=0.6, mu_k=0.4)
+    m.add_contact(c, b, "coulomb", 10.0, mu_s=0.4, mu_k=0.2)
+    t_end = 0.3
+    ed = ss.simulate(m, method="event_driven", t_end=t_end, n_out=301, rtol=1e-11, atol=1e-13)
+    # by hand, the first instants: A held, B and C together at 4.68 m/s^2
+    early = (ed.t > 0) & (ed.t <= 0.01)
+    assert np.all(ed.x[0, early] == -0.05)
+    assert np.allclose(ed.x[1, early], -0.05 + 0.5 * 4.68 * ed.t[early] ** 2, rtol=0, atol=2e-6)
+    assert np.allclose(ed.x[2, early], ed.x[1, early], rtol=0, atol=1e-12)
+    h_mat = np.array([[1.0, 0.0, 0.0], [-1.0, 1.0, 0.0], [0.0, -1.0, 1.0]])
+    ref = Reference(m=[0.5, 2.0, 0.5], k=np.diag([100.0, 200.0, 50.0]), h=h_mat, b=np.zeros(3),
+                    n=[10.0, 2.0, 10.0], mu_s=[0.6, 0.6, 0.4], mu_k=[0.4, 0.4, 0.2])
+    y_ref, events = ref.run([-0.05] * 3, [0.0] * 3, t_end, ed.t)
+    assert not ref.ties
+    assert np.abs(ed.x - y_ref[:3]).max() < 1e-8
+    assert np.abs(ed.v - y_ref[3:]).max() < 1e-7
+    errs = [np.abs(ss.simulate(m, method="moreau", h=h, t_end=t_end, n_out=301).x - ed.x).max() for h in (1e-3, 1e-4)]
+    assert errs[1] < 1e-4 and errs[0] / errs[1] > 5.0, errs
 
 
 def _b_on_a(halves: bool) -> ss.Model:

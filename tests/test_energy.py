@@ -127,3 +127,46 @@ def test_cached_bound_follows_a_changed_model():
     assert energy_bound(m, t, x, v)[1][-1] > first[-1]
     m.bodies[0].mass = 8.0
     np.testing.assert_array_equal(energy_bound(m, t, x, v)[1], energy_bound(pushed(6.0, 8.0), t, x, v)[1])
+
+
+def test_normal_force_acting_between_two_samples_is_no_consistency_failure():
+    """A normal force that rises above 0 and falls back between two output samples (a table
+    at -5 N at both, 50 N between): friction acts there, and the check's bound on it takes N
+    at its largest inside the interval, not at the samples (which gave 0 N and a false
+    ConsistencyWarning). The run itself agrees with the independent event-driven reference."""
+    from contact_reference import Reference
+    tab = ([0.0, 0.501, 0.505, 0.509, 1.0], [-5.0, -5.0, 50.0, -5.0, -5.0])
+    m = ss.Model()
+    b = m.add_body(1.0, v0=0.5)
+    m.add_spring(b, None, k=100.0)
+    m.add_contact(b, None, "coulomb", normal_force=S.table(*tab), mu_s=0.5, mu_k=0.4)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = ss.simulate(m, method="event_driven", t_end=1.0, n_out=101, rtol=1e-10, atol=1e-12)
+    assert not [w for w in caught if issubclass(w.category, ss.ConsistencyWarning)]
+    ref = Reference(m=[1.0], k=[[100.0]], h=[[1.0]], b=[0.0], n=[10.0], mu_s=[0.5], mu_k=[0.4], normal_tables=[tab])
+    y_ref, _ = ref.run([0.0], [0.5], 1.0, r.t)
+    assert np.abs(r.x[0] - y_ref[0]).max() < 1e-7
+    # the friction between the samples did act: without the pulse the motion differs
+    m0 = ss.Model()
+    b0 = m0.add_body(1.0, v0=0.5)
+    m0.add_spring(b0, None, k=100.0)
+    m0.add_contact(b0, None, "coulomb", normal_force=S.table(tab[0], [-5.0] * 5), mu_s=0.5, mu_k=0.4)
+    r0 = ss.simulate(m0, method="event_driven", t_end=1.0, n_out=101, rtol=1e-10, atol=1e-12)
+    assert np.abs(r.x[0] - r0.x[0]).max() > 1e-3
+
+
+@pytest.mark.parametrize("sig", [S.table([0.0, 0.501, 0.505, 0.509, 1.0], [-5.0, -5.0, 50.0, -5.0, -5.0]),
+                                 S.sine(3.0, 7.3, 0.4, 1.0), S.step(0.333, 1.0, -2.0) + S.ramp(0.1, 0.5, 4.0),
+                                 S.ramp(0.0, 1.0, 2.0) * (S.constant(2.0) - S.ramp(0.0, 1.0, 2.3))])
+def test_interval_max_against_dense_sampling(sig):
+    """_interval_max: each output interval's largest value of the signal, against 20001 points
+    an interval (the sine's sampled peak to 1.2e-3 of its amplitude, 64 points a period; a
+    step's left limit, which dense sampling approaches from below)."""
+    from stickslip.energy import _interval_max
+    t = np.linspace(0.0, 1.0, 41)
+    got = _interval_max(sig, t)
+    dense = np.array([_value(sig, np.linspace(a, b, 20001)).max() for a, b in zip(t[:-1], t[1:])])
+    assert got.shape == dense.shape
+    assert np.all(got <= dense + 1e-4)
+    assert np.allclose(got, dense, rtol=0.0, atol=1.3e-3 * 3.0)

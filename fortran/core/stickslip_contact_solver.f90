@@ -26,10 +26,15 @@
 !!      same at every solution. A contact at its static level with w_i /= 0 cannot hold given
 !!      the others and gives way: its bound drops to its slip level mu_i(|w_i|) c_i. A contact
 !!      at its slip level whose w_i turns against its slip direction (its velocity crossed
-!!      zero) is decided again from its static level, once. Rounds repeat until no contact
-!!      changes level (at most 3 n + 1 for constant coefficients). So only a contact whose
-!!      static limit cannot hold gives way, and a stuck contact never slips because another
-!!      solution would allow it.
+!!      zero) is decided again from its static level, once. When no contact changes level,
+!!      each contact that gave way (in order) is tried at its static level again with the
+!!      others as they are: several can give way in one round, and one of them may hold once
+!!      the others slip at their lower slip level. The first that holds there (w_i = 0) is
+!!      raised back, once at most, and the rounds go on; a contact whose w_i exceeds
+!!      D_ii (mu_s,i - mu_i) c_i cannot hold there (its static level moves its w by at most
+!!      that) and is not tried. Rounds end when no contact changes level and none is raised
+!!      (at most 5 n + 30). So only a contact whose static limit cannot hold given the others
+!!      gives way, and a stuck contact never slips because another solution would allow it.
 !!   3. Minimum norm: the stuck contacts' impulses are the ones that minimise
 !!      sum p_i^2 / (mu_s,i c_i) among those that hold them (each loaded in proportion to its
 !!      capacity), and the slip speeds solve the slip curves exactly (`solve_mode`).
@@ -38,9 +43,10 @@
 !! counted). On one contact the rule is the closed form `local_solve` (stick when
 !! |wf| <= D c mu_s). info%nonunique reports that another solution with at least as many
 !! stuck contacts exists: for each slipping contact with |w_i| <= D_ii (mu_s,i + mu_i) c_i
-!! (the others cannot let it stick otherwise) the mode with it stuck, and that mode with the
-!! stuck contacts it would overload slipping, are solved and tested (a sufficient test: a
-!! tie it does not reach is not reported).
+!! (the others cannot let it stick otherwise) the mode with it stuck, that mode with the
+!! stuck contacts it would overload slipping, and else that mode with one of the two stuck
+!! contacts most coupled to it slipping (at most 4 such swaps a problem) are solved and
+!! tested (a sufficient test: a tie it does not reach is not reported).
 !!
 !! How. One active contact: its closed form (`local_solve`). More: the rounds of the rule,
 !! each box problem by `box_solve` (an active-set Newton method, 1 to 4 linear solves from the
@@ -180,7 +186,7 @@ contains
         if (na >= 2 .and. .not. (info%method == SOLVER_GAUSS_SEIDEL .and. info%ok)) then
             call rule_solve(laws, d, wf, cap, at_rest, tol, forced == SOLVER_PIVOTING, p, w, mode, info)
             if (.not. info%ok) return
-            call find_other_solution(laws, d, wf, cap, at_rest, w, mode, info)
+            call find_other_solution(laws, d, wf, cap, at_rest, p, w, mode, info)
             return
         end if
         call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
@@ -198,13 +204,16 @@ contains
         integer, intent(inout)  :: mode(:)
         type(contact_solve_info), intent(inout) :: info
         logical :: active(size(wf))
-        integer :: idx(count(is_active(laws, cap))), na, j, its, piv, act(size(idx)), dir(size(idx)), s
+        integer :: idx(count(is_active(laws, cap))), na, j, act(size(idx)), dir(size(idx)), s
         integer :: m_new(size(wf)), worst, rounds
         real(dp) :: da(size(idx), size(idx)), qa(size(idx)), bound(size(idx)), pa(size(idx)), ya(size(idx))
         real(dp) :: mu(size(idx)), mu_new(size(idx)), wts(size(idx)), ca(size(idx)), dg(size(idx))
         real(dp) :: wtol, pm(size(wf)), wm(size(wf)), r_box, r_mode
         type(contact_law) :: lw(size(idx))
+        real(dp) :: pt(size(idx)), yt(size(idx)), bt(size(idx))
+        integer :: act_t(size(idx))
         logical :: kin(size(idx)), reset(size(idx)), stuck(size(idx)), changed, ok
+        logical :: dropped(size(idx)), raised(size(idx)), solved
         info%method = merge(SOLVER_PIVOTING, SOLVER_RULE, lemke_only)
         active = is_active(laws, cap)
         na = size(idx)
@@ -233,18 +242,18 @@ contains
         mu = lw%mu_s
         where (kin) mu = lw%slip_mu(max(abs(qa) - dg * wts, tiny(1.0_dp)))
         act = -dir           ! a kept slip starts on its bound against its direction
-        ! step 2: rounds of box problems, static first
-        do rounds = 1, 3 * na + 30
-            bound = ca * mu
-            call box_solve(da, qa, -bound, bound, wts, pa, ya, act, its, piv, ok, lemke_only)
-            info%sweeps = info%sweeps + its
-            info%pivots = info%pivots + piv
-            info%rounds = rounds
-            if (.not. ok) then
-                info%ok = .false.
-                info%residual = huge(1.0_dp)
-                return
+        ! step 2: rounds of box problems, static first; a contact that gave way is tried at its
+        ! static level again once the rounds settle, and raised back where it then holds
+        dropped = .false.
+        raised = .false.
+        solved = .false.
+        do rounds = 1, 5 * na + 30
+            if (.not. solved) then
+                bound = ca * mu
+                call round_box(da, qa, wts, bound, lemke_only, pa, ya, act, ok, info)
+                if (.not. ok) return
             end if
+            solved = .false.
             wtol = 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(qa)) + maxval(dg) * maxval(abs(pa)))
             stuck = abs(ya) <= wtol
             changed = .false.
@@ -254,6 +263,7 @@ contains
                 s = slip_sign(ya(j))
                 if (.not. kin(j)) then               ! gives way
                     kin(j) = .true.
+                    dropped(j) = .true.
                     dir(j) = s
                     changed = .true.
                 else if (s /= dir(j)) then
@@ -269,9 +279,41 @@ contains
                 end if
                 mu_new(j) = lw(j)%slip_mu(abs(ya(j)))
             end do
-            if (.not. changed .and. all(abs(mu_new - mu) <= 8.0_dp * epsilon(1.0_dp) * mu)) exit
+            if (.not. changed .and. all(abs(mu_new - mu) <= 8.0_dp * epsilon(1.0_dp) * mu)) then
+                ! settled: a contact that gave way while others gave way with it may hold now
+                ! that they slip; the first (in order) that holds at its static level is raised
+                ! back (once at most), and the rounds go on from that box problem's answer
+                do j = 1, na
+                    if (.not. (dropped(j) .and. kin(j)) .or. raised(j)) cycle
+                    ! raising its bound by (mu_s - mu) c moves its w by at most D_jj times that
+                    ! (the others' answer to it only lessens the change): no hold beyond reach
+                    if (abs(ya(j)) > dg(j) * (lw(j)%mu_s - mu(j)) * ca(j) + wtol) cycle
+                    bt = ca * mu
+                    bt(j) = ca(j) * lw(j)%mu_s
+                    act_t = act
+                    call round_box(da, qa, wts, bt, lemke_only, pt, yt, act_t, ok, info)
+                    if (.not. ok) return
+                    if (abs(yt(j)) > 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(qa)) + maxval(dg) * maxval(abs(pt)))) &
+                        cycle
+                    raised(j) = .true.
+                    kin(j) = .false.
+                    dir(j) = 0
+                    mu_new(j) = lw(j)%mu_s
+                    bound = bt
+                    pa = pt
+                    ya = yt
+                    act = act_t
+                    solved = .true.
+                    exit
+                end do
+                if (.not. solved) exit
+            end if
             mu = mu_new
         end do
+        if (solved) then     ! the rounds ran out on a raise: its box problem's answer
+            wtol = 1.0e3_dp * epsilon(1.0_dp) * (maxval(abs(qa)) + maxval(dg) * maxval(abs(pa)))
+            stuck = abs(ya) <= wtol
+        end if
         ! the answer of the last round, slips exactly on their bounds
         p = 0.0_dp
         where (.not. stuck) pa = -sign(bound, ya)
@@ -296,21 +338,47 @@ contains
         end if
         call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
         info%ok = info%residual <= residual_limit(tol, wf, d, p)
+
     end subroutine rule_solve
 
+    !> One box problem of `rule_solve`'s rounds: |p| <= bound on y = q + D p (act: its warm
+    !! start in, sets out), its work counted in info; ok = .false. (info%ok too) where no
+    !! method solved it.
+    subroutine round_box(da, qa, wts, bound, lemke_only, pb, yb, actb, ok, info)
+        real(dp), intent(in)   :: da(:, :), qa(:), wts(:), bound(:)
+        logical, intent(in)    :: lemke_only
+        real(dp), intent(out)  :: pb(:), yb(:)
+        integer, intent(inout) :: actb(:)
+        logical, intent(out)   :: ok
+        type(contact_solve_info), intent(inout) :: info
+        integer :: its, piv
+        call box_solve(da, qa, -bound, bound, wts, pb, yb, actb, its, piv, ok, lemke_only)
+        info%sweeps = info%sweeps + its
+        info%pivots = info%pivots + piv
+        info%rounds = info%rounds + 1
+        if (.not. ok) then
+            info%ok = .false.
+            info%residual = huge(1.0_dp)
+        end if
+    end subroutine round_box
+
     !> info%nonunique: whether a solution with at least as many stuck contacts as the answer
-    !! (w, mode) exists in the neighbourhood the module notes name (each slipping contact that
-    !! could stick made stuck, with the stuck contacts it would overload slipping).
-    subroutine find_other_solution(laws, d, wf, cap, at_rest, w, mode, info)
+    !! (p, w, mode) exists in the neighbourhood the module notes name: each slipping contact
+    !! that could stick made stuck, with the stuck contacts it would overload slipping, or else
+    !! with one of the two stuck contacts most coupled to it (|D_jk| / sqrt(D_jj D_kk)) slipping
+    !! against its holding impulse (at most 4 such swaps a problem).
+    subroutine find_other_solution(laws, d, wf, cap, at_rest, p, w, mode, info)
         type(contact_law), intent(in) :: laws(:)
-        real(dp), intent(in) :: d(:, :), wf(:), cap(:), w(:)
+        real(dp), intent(in) :: d(:, :), wf(:), cap(:), p(:), w(:)
         logical, intent(in)  :: at_rest
         integer, intent(in)  :: mode(:)
         type(contact_solve_info), intent(inout) :: info
-        integer :: j, nst, mt(size(wf))
+        integer, parameter :: MAX_PAIR_TRIALS = 4   ! swaps tried in all (a bound on the work)
+        integer :: j, k, kk, it, nst, npair, mt(size(wf))
         real(dp) :: pt(size(wf)), wt(size(wf)), reach
-        logical :: ok, over(size(wf))
+        logical :: ok, over(size(wf)), tried(size(wf))
         nst = count(mode == MODE_STICK)
+        npair = 0
         do j = 1, size(wf)
             if (abs(mode(j)) /= 1) cycle
             reach = d(j, j) * (laws(j)%mu_s + slip_coefficient(laws(j), abs(w(j)), at_rest)) * cap(j)
@@ -319,12 +387,38 @@ contains
             mt(j) = MODE_STICK
             call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
             info%sweeps = info%sweeps + 1
-            if (.not. ok .and. all(ieee_is_finite(pt))) then
+            if (.not. ok .and. all(pt /= huge(1.0_dp)) .and. all(ieee_is_finite(pt))) then
                 over = mt == MODE_STICK .and. abs(pt) > laws%mu_s * cap * (1.0_dp + STICK_RTOL)
-                if (over(j) .or. .not. any(over) .or. count(mt == MODE_STICK) - count(over) < nst) cycle
-                where (over) mt = -nint(sign(1.0_dp, pt))
-                call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
-                info%sweeps = info%sweeps + 1
+                if (.not. over(j) .and. any(over) .and. count(mt == MODE_STICK) - count(over) >= nst) then
+                    where (over) mt = -nint(sign(1.0_dp, pt))
+                    call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
+                    info%sweeps = info%sweeps + 1
+                end if
+            end if
+            if (.not. ok .and. npair < MAX_PAIR_TRIALS) then
+                ! j held in place of one of the (two) stuck contacts most coupled to it (j
+                ! itself overloaded, or the stuck set with j has no solution: rows that conflict)
+                tried = .false.
+                do it = 1, 2
+                    k = 0
+                    do kk = 1, size(wf)
+                        if (mode(kk) /= MODE_STICK .or. tried(kk) .or. p(kk) == 0.0_dp .or. d(j, kk) == 0.0_dp) cycle
+                        if (k == 0) then
+                            k = kk
+                        else if (d(j, kk)**2 * d(k, k) > d(j, k)**2 * d(kk, kk)) then
+                            k = kk
+                        end if
+                    end do
+                    if (k == 0 .or. npair >= MAX_PAIR_TRIALS) exit
+                    tried(k) = .true.
+                    npair = npair + 1
+                    mt = mode
+                    mt(j) = MODE_STICK
+                    mt(k) = -nint(sign(1.0_dp, p(k)))
+                    call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
+                    info%sweeps = info%sweeps + 1
+                    if (ok) exit
+                end do
             end if
             if (ok) then
                 info%nonunique = .true.
@@ -478,6 +572,8 @@ contains
         real(dp) :: s(size(jf)), r(size(jf)), jac(size(jf), size(jf)), step(size(jf), 1), mu(size(jf))
         real(dp) :: cf(size(jf)), dmu(size(jf)), cs(size(is))
         logical :: constant
+        p = huge(1.0_dp)      ! (no solution: every stuck impulse beyond its limit)
+        w = 0.0_dp
         ns = size(is)
         nf = size(jf)
         is = pack([(i, i = 1, size(m))], m == MODE_STICK)

@@ -459,16 +459,20 @@ contains
         !> The solver's rule (stickslip_contact_solver's notes), written here: a slip kept where
         !! mprev_i wf_i > D_ii mu_s c_i, every other contact at its static level; rounds of box
         !! problems (`box_brute`), a contact at its static level with w /= 0 giving way to mu_k,
-        !! a kept slip whose w turns against it decided again from its static level (once). The
-        !! modes in mref (0 stuck, +-1 slip).
+        !! a kept slip whose w turns against it decided again from its static level (once); when
+        !! no contact changes, each contact that gave way (and has not been raised back before) in
+        !! turn at its static level with the others as they are: the first that holds there is
+        !! raised back and the rounds go on. The modes in mref (0 stuck, +-1 slip).
         subroutine rule_reference(n, mprev, mref)
             integer, intent(in) :: n, mprev(:)
             integer, intent(out) :: mref(:)
-            real(dp) :: bound(n), pp(n), yy(n), wtol
-            logical :: kin(n), reset(n), changed
+            real(dp) :: bound(n), pp(n), yy(n), wtol, bt(n), pt(n), yt(n)
+            logical :: kin(n), reset(n), changed, gave(n), tried(n)   ! tried: raised back once
             integer :: dir(n), i, round, sg
             kin = .false.
             reset = .false.
+            gave = .false.
+            tried = .false.
             dir = 0
             do i = 1, n
                 if (abs(mprev(i)) == 1) then
@@ -478,7 +482,7 @@ contains
                     end if
                 end if
             end do
-            do round = 1, 3 * n + 1
+            do round = 1, 5 * n + 30
                 do i = 1, n
                     bound(i) = cap(i) * merge(laws(i)%mu_k, laws(i)%mu_s, kin(i))
                 end do
@@ -490,6 +494,7 @@ contains
                     sg = nint(sign(1.0_dp, yy(i)))
                     if (.not. kin(i)) then
                         kin(i) = .true.
+                        gave(i) = .true.
                         dir(i) = sg
                         changed = .true.
                     else if (sg /= dir(i)) then
@@ -501,6 +506,20 @@ contains
                             dir(i) = sg
                         end if
                     end if
+                end do
+                if (changed) cycle
+                do i = 1, n
+                    if (.not. (gave(i) .and. kin(i)) .or. tried(i)) cycle
+                    bt = bound
+                    bt(i) = cap(i) * laws(i)%mu_s
+                    call box_brute(n, bt, pt, yt)
+                    if (abs(yt(i)) > 1.0e-9_dp * (maxval(abs(wf(:n))) + maxval(abs(d(:n, :n))) * maxval(abs(pt)))) &
+                        cycle
+                    tried(i) = .true.
+                    kin(i) = .false.
+                    dir(i) = 0
+                    changed = .true.
+                    exit
                 end do
                 if (.not. changed) exit
             end do
