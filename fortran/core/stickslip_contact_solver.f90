@@ -55,17 +55,33 @@
 !! (`contact_residual`) whichever way it was found, and info%ok is .false. when the residual
 !! exceeds the limit of the problem's scale (`residual_limit`) or no method found a solution:
 !! the caller ends with a named status.
+!!
+!! The laws' modes (implicit_euler, galpha). Their step problem is the same, w = wf + D p with
+!! p_i = c_i mu_i (c_i = h N_i), but each contact's graph is its regularised law's with its
+!! jumps filled in (`friction_law%n_modes`, `mode`, `admits`: Coulomb with its band mu_s for
+!! 0 < |v| < v_s and the set-valued point v_s, Karnopp with its band dv), a graph that is not
+!! monotone, so that the box problems of the rounds do not apply. The same rule decides it
+!! contact by contact (`modal_local_solve`): keep a slip (the current slip mode, where it still
+!! holds and the contact cannot stick), else static first (the consistent mode whose velocity
+!! is nearest zero: stuck where the static limit holds, else the slowest slip), and
+!! `solve_modal_contacts` (dense D) or `modal_tridiagonal_sweeps` (W tridiagonal, each contact
+!! on a coordinate of its own, O(n) a sweep) sweep it over the contacts (nonsmooth
+!! Gauss-Seidel) until no mode changes, then check every contact on its mode and w = wf + D p.
+!! nonunique there: some contact, given the others' impulses, had another consistent mode
+!! (exact on one contact; on several, a tie of one contact's problem).
 module stickslip_contact_solver
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law, contact_system, local_solve, CONTACT_COULOMB, STICK_RTOL
     use stickslip_linalg, only: psd_solve, lu_decompose, lu_solve
     use stickslip_lcp, only: box_solve
+    use stickslip_friction, only: friction_law, MODE_MU, MODE_V
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
     public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
     public :: tridiagonal_sweeps
+    public :: modal_law, solve_modal_contacts, modal_tridiagonal_sweeps, modal_local_solve, modal_choose
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
 
     integer, parameter, public :: MODE_STICK = 0    !! mode(i): stuck
@@ -76,6 +92,18 @@ module stickslip_contact_solver
     integer, parameter, public :: SOLVER_RULE = 2           !! the rule's rounds, box problems by active-set Newton
     integer, parameter, public :: SOLVER_GAUSS_SEIDEL = 3   !! projected Gauss-Seidel (forced only)
     integer, parameter, public :: SOLVER_PIVOTING = 4       !! the rule's rounds, box problems by Lemke alone
+
+    !> Tolerance on the contact velocities of a step over the laws' modes, relative to the
+    !! step's largest velocity (at least 1 m/s) [-].
+    real(dp), parameter, public :: MODAL_TOL = 1.0e-12_dp
+    !> Gauss-Seidel sweeps allowed a step over the laws' modes.
+    integer, parameter, public :: MODAL_MAX_SWEEPS = 1000
+
+    !> The friction law of one contact, with modes (`friction_law%n_modes` > 0), for the step
+    !! problem over the laws' modes.
+    type :: modal_law
+        class(friction_law), allocatable :: law   !! the contact's law
+    end type modal_law
 
     !> What the solver did and how well the answer satisfies the problem.
     type :: contact_solve_info
@@ -736,6 +764,284 @@ contains
         end do
         sweeps = min(sweeps, max_iter)
     end subroutine tridiagonal_sweeps
+
+    !> The rule of the module notes among a contact's modes, each solved on its own: the
+    !! current mode jcur kept where it is a slip that still holds and no stuck mode holds (keep
+    !! a slip); otherwise the consistent mode whose velocity is nearest zero (static first:
+    !! stuck where the static limit holds, else the slowest slip, the static level giving way
+    !! only as far as it must), the current mode among equals, else the first. other: a
+    !! consistent mode at another velocity (by more than tie) exists. What
+    !! `modal_local_solve` and the one-contact kernel of the implicit methods decide with.
+    pure subroutine modal_choose(jcur, adm, stick, v, tie, jnew, other)
+        integer, intent(in)   :: jcur        !! current mode (0 or out of range: none)
+        logical, intent(in)   :: adm(:)      !! (modes) each mode's solution lies on it
+        logical, intent(in)   :: stick(:)    !! (modes) the mode is the stuck point (v = 0)
+        real(dp), intent(in)  :: v(:)        !! (modes) each mode's relative velocity [m/s]
+        real(dp), intent(in)  :: tie         !! velocities closer than this are one solution [m/s]
+        integer, intent(out)  :: jnew        !! the mode chosen (0: none consistent)
+        logical, intent(out)  :: other       !! another consistent solution exists
+        integer :: j, nm
+        logical :: cur
+        nm = size(adm)
+        jnew = 0
+        other = .false.
+        cur = jcur >= 1 .and. jcur <= nm
+        if (cur) cur = adm(jcur)
+        if (cur) then
+            if (.not. stick(jcur) .and. .not. any(adm .and. stick)) jnew = jcur     ! keep a slip
+        end if
+        if (jnew == 0) then                  ! static first: the slowest consistent mode
+            do j = 1, nm
+                if (.not. adm(j)) cycle
+                if (jnew == 0) then
+                    jnew = j
+                else if (abs(v(j)) < abs(v(jnew))) then
+                    jnew = j
+                end if
+            end do
+            if (jnew == 0) return
+            if (cur) then
+                if (abs(v(jcur)) <= abs(v(jnew))) jnew = jcur
+            end if
+        end if
+        do j = 1, nm
+            if (adm(j) .and. abs(v(j) - v(jnew)) > tie) other = .true.
+        end do
+    end subroutine modal_choose
+
+    ! ---- The step problem over the laws' modes (implicit_euler, galpha) -----------------------
+
+    !> Nonsmooth Gauss-Seidel over the contacts' modes, on the dense Delassus matrix: contact i
+    !! given the others' impulses has w_i = a_i + D_ii p_i, and its one-contact problem over its
+    !! law's modes is decided by the rule (`modal_local_solve`, the current mode of its
+    !! keep-a-slip the contact's mode at the step's start, in every sweep). Sweeps repeat until no mode
+    !! changes and the largest change of an impulse moves no velocity by more than MODAL_TOL
+    !! (relative to the problem's velocities). The answer is then checked: every contact on its
+    !! mode (`admits`) and w = wf + D p to 1e3 MODAL_TOL. p: warm start in, impulses out [N s];
+    !! mode: each contact's law mode, in (0: none) and out (0: open, no normal force). ok:
+    !! converged and checked, else worst is the contact that failed. nonunique: at the answer
+    !! some contact had another consistent mode given the others' impulses.
+    subroutine solve_modal_contacts(laws, d, wf, w0, c, p, w, mode, sweeps, ok, worst, resid, nonunique)
+        type(modal_law), intent(in) :: laws(:)   !! (n) each contact's law (with modes)
+        real(dp), intent(in)    :: d(:, :)       !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in)    :: wf(:)         !! (n) velocities without friction [m/s]
+        real(dp), intent(in)    :: w0(:)         !! (n) velocities at the step's start [m/s]
+        real(dp), intent(in)    :: c(:)          !! (n) capacities h N_i >= 0 [N s]
+        real(dp), intent(inout) :: p(:)          !! (n) impulses [N s]
+        real(dp), intent(out)   :: w(:)          !! (n) velocities after the impulses [m/s]
+        integer, intent(inout)  :: mode(:)       !! (n) law modes
+        integer, intent(out)    :: sweeps        !! sweeps done
+        logical, intent(out)    :: ok            !! converged and checked
+        integer, intent(out)    :: worst         !! the contact that failed (0: none)
+        real(dp), intent(out)   :: resid         !! the largest |wf + D p - w| [m/s]
+        logical, intent(out)    :: nonunique     !! another consistent mode existed
+        integer :: i, nc, jnew, prev(size(mode))
+        real(dp) :: a, pnew, wnew, change, scale
+        logical :: changed, other
+        nc = size(wf)
+        prev = mode             ! the step's start modes: the rule's current modes in every sweep
+        worst = 0
+        ok = .false.
+        nonunique = .false.
+        resid = huge(1.0_dp)
+        scale = max(maxval(abs(wf)), maxval(abs(w0)), 1.0_dp)
+        do sweeps = 1, MODAL_MAX_SWEEPS
+            changed = .false.
+            change = 0.0_dp
+            do i = 1, nc
+                a = wf(i) + dot_product(d(i, :), p) - d(i, i) * p(i)
+                call modal_local_solve(laws(i)%law, a, d(i, i), c(i), w0(i), prev(i), jnew, pnew, wnew, ok, other)
+                if (.not. ok) then
+                    worst = i
+                    return
+                end if
+                if (jnew /= mode(i)) changed = .true.
+                change = max(change, abs(pnew - p(i)) * maxval(abs(d(:, i))))
+                mode(i) = jnew
+                p(i) = pnew
+                w(i) = wnew
+            end do
+            if (.not. changed .and. change <= MODAL_TOL * scale) exit
+        end do
+        sweeps = min(sweeps, MODAL_MAX_SWEEPS)
+        ! the check: every contact on its mode, w = wf + D p; and whether another mode was open
+        ok = .true.
+        resid = 0.0_dp
+        do i = 1, nc
+            a = wf(i) + dot_product(d(i, :), p) - d(i, i) * p(i)
+            wnew = a + d(i, i) * p(i)
+            resid = max(resid, abs(wnew - w(i)))
+            if (abs(wnew - w(i)) > 1.0e3_dp * MODAL_TOL * scale) ok = .false.
+            if (mode(i) > 0) then
+                if (.not. laws(i)%law%admits(mode(i), -w(i), (w0(i) - a) / (d(i, i) * c(i)), p(i) / c(i))) ok = .false.
+            end if
+            if (.not. ok) then
+                worst = i
+                return
+            end if
+            call modal_local_solve(laws(i)%law, a, d(i, i), c(i), w0(i), prev(i), jnew, pnew, wnew, ok, other)
+            ok = .true.
+            nonunique = nonunique .or. other
+        end do
+    end subroutine solve_modal_contacts
+
+    !> The sweeps of `solve_modal_contacts` on W u1 = W uf + H^T p itself, W tridiagonal (l, dg,
+    !! r) and each contact on one coordinate of its own (`step_layout`): coordinate by
+    !! coordinate, u1_j from its row given its neighbours, through its contact's one-contact
+    !! problem where it has one (w_i = h_i u1_j + b_i; the same rule, `modal_local_solve`), O(n)
+    !! a sweep. u1: velocities out [m/s]; the rest as there, resid the largest residual of a row
+    !! of W, divided by its diagonal [m/s].
+    subroutine modal_tridiagonal_sweeps(laws, cs, l, dg, r, uf, coord_contact, b, c, w0, u1, p, w, mode, &
+                                        sweeps, ok, worst, resid, nonunique)
+        type(modal_law), intent(in) :: laws(:)       !! (n_c) each contact's law (with modes)
+        class(contact_system), intent(in) :: cs      !! the system (its H)
+        real(dp), intent(in)    :: l(:)              !! W(j, j - 1) [kg]
+        real(dp), intent(in)    :: dg(:)             !! W(j, j) [kg]
+        real(dp), intent(in)    :: r(:)              !! W(j, j + 1) [kg]
+        real(dp), intent(in)    :: uf(:)             !! velocities without friction [m/s]
+        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
+        real(dp), intent(in)    :: b(:)              !! offsets of the relative velocities [m/s]
+        real(dp), intent(in)    :: c(:)              !! capacities h N_i >= 0 [N s]
+        real(dp), intent(in)    :: w0(:)             !! relative velocities at the step's start [m/s]
+        real(dp), intent(out)   :: u1(:)             !! velocities [m/s]
+        real(dp), intent(inout) :: p(:)              !! impulses [N s]
+        real(dp), intent(out)   :: w(:)              !! relative velocities [m/s]
+        integer, intent(inout)  :: mode(:)           !! law modes (0: none / open)
+        integer, intent(out)    :: sweeps            !! sweeps done
+        logical, intent(out)    :: ok                !! converged and checked
+        integer, intent(out)    :: worst             !! the contact that failed (0: none)
+        real(dp), intent(out)   :: resid             !! the largest row residual [m/s]
+        logical, intent(out)    :: nonunique         !! another consistent mode existed
+        real(dp) :: rhs(size(uf)), s, a, dii, hv, unew, pnew, wnew, change, scale
+        integer :: j, i, nd, jnew, prev(size(mode))
+        logical :: changed, other
+        nd = size(uf)
+        prev = mode             ! the step's start modes: the rule's current modes in every sweep
+        worst = 0
+        ok = .false.
+        nonunique = .false.
+        resid = huge(1.0_dp)
+        do j = 1, nd
+            rhs(j) = dg(j) * uf(j) + off_diagonal(uf, j)
+        end do
+        scale = max(maxval(abs(uf)), maxval(abs(w0)), 1.0_dp)
+        u1 = uf
+        do sweeps = 1, MODAL_MAX_SWEEPS
+            changed = .false.
+            change = 0.0_dp
+            do j = 1, nd
+                s = rhs(j) - off_diagonal(u1, j)
+                i = coord_contact(j)
+                if (i == 0) then
+                    unew = s / dg(j)
+                else
+                    hv = cs%h_val(cs%h_ptr(i))
+                    a = hv * s / dg(j) + b(i)
+                    dii = hv**2 / dg(j)
+                    call modal_local_solve(laws(i)%law, a, dii, c(i), w0(i), prev(i), jnew, pnew, wnew, ok, other)
+                    if (.not. ok) then
+                        worst = i
+                        return
+                    end if
+                    if (jnew /= mode(i)) changed = .true.
+                    mode(i) = jnew
+                    p(i) = pnew
+                    w(i) = wnew
+                    unew = (wnew - b(i)) / hv
+                end if
+                change = max(change, abs(unew - u1(j)))
+                u1(j) = unew
+            end do
+            if (.not. changed .and. change <= MODAL_TOL * scale) exit
+        end do
+        sweeps = min(sweeps, MODAL_MAX_SWEEPS)
+        ! the check: every row of W u1 = W uf + H^T p, every contact on its mode; and whether
+        ! another mode was open
+        ok = .true.
+        resid = 0.0_dp
+        do j = 1, nd
+            s = dg(j) * u1(j) + off_diagonal(u1, j) - rhs(j)
+            i = coord_contact(j)
+            if (i > 0) s = s - cs%h_val(cs%h_ptr(i)) * p(i)
+            resid = max(resid, abs(s) / dg(j))
+            if (abs(s) / dg(j) > 1.0e3_dp * MODAL_TOL * scale) ok = .false.
+            if (i > 0 .and. ok) then
+                hv = cs%h_val(cs%h_ptr(i))
+                a = hv * (rhs(j) - off_diagonal(u1, j)) / dg(j) + b(i)
+                dii = hv**2 / dg(j)
+                if (mode(i) > 0) ok = laws(i)%law%admits(mode(i), -w(i), (w0(i) - a) / (dii * c(i)), p(i) / c(i))
+                if (ok) then
+                    call modal_local_solve(laws(i)%law, a, dii, c(i), w0(i), prev(i), jnew, pnew, wnew, ok, other)
+                    ok = .true.
+                    nonunique = nonunique .or. other
+                end if
+            end if
+            if (.not. ok) then
+                worst = max(i, 1)
+                return
+            end if
+        end do
+    contains
+        !> W(jj, jj-1) x(jj-1) + W(jj, jj+1) x(jj+1)
+        real(dp) function off_diagonal(x, jj)
+            real(dp), intent(in) :: x(:)
+            integer, intent(in) :: jj
+            off_diagonal = 0.0_dp
+            if (jj > 1) off_diagonal = l(jj) * x(jj - 1)
+            if (jj < nd) off_diagonal = off_diagonal + r(jj) * x(jj + 1)
+        end function off_diagonal
+    end subroutine modal_tridiagonal_sweeps
+
+    !> One contact's problem over its law's modes, w = a + dii p, p = c mu with mu on the law's
+    !! graph at v = -w (the laws' convention): every mode solved (a slip piece fixes mu, a
+    !! point fixes w, the hold keeps w0), the rule's choice among the consistent ones
+    !! (`modal_choose`). An open contact (c = 0) has p = 0, mode 0. other: another consistent
+    !! mode with another solution existed (a tie the rule broke).
+    subroutine modal_local_solve(law, a, dii, c, w0, jcur, jnew, p, w, ok, other)
+        class(friction_law), intent(in) :: law   !! the contact's law (with modes)
+        real(dp), intent(in)  :: a               !! velocity without this contact's impulse [m/s]
+        real(dp), intent(in)  :: dii             !! w per unit impulse, > 0 [1/kg]
+        real(dp), intent(in)  :: c               !! capacity h N >= 0 [N s]
+        real(dp), intent(in)  :: w0              !! velocity at the step's start [m/s]
+        integer, intent(in)   :: jcur            !! current mode (0: none)
+        integer, intent(out)  :: jnew            !! the mode decided (0: open)
+        real(dp), intent(out) :: p               !! impulse [N s]
+        real(dp), intent(out) :: w               !! velocity after it [m/s]
+        logical, intent(out)  :: ok              !! some mode is consistent
+        logical, intent(out)  :: other           !! another consistent solution existed
+        integer :: j, kind, nm
+        real(dp) :: value, pj(law%n_modes()), wj(law%n_modes()), mu_hold
+        logical :: adm(law%n_modes()), stick(law%n_modes())
+        ok = .true.
+        other = .false.
+        jnew = 0
+        p = 0.0_dp
+        w = a
+        if (.not. (c > 0.0_dp)) return
+        nm = law%n_modes()
+        mu_hold = (w0 - a) / (dii * c)
+        do j = 1, nm
+            call law%mode(j, kind, value)
+            select case (kind)
+            case (MODE_MU)
+                pj(j) = c * value
+                wj(j) = a + dii * pj(j)
+            case (MODE_V)
+                wj(j) = -value
+                pj(j) = (wj(j) - a) / dii
+            case default   ! MODE_KEEP
+                wj(j) = w0
+                pj(j) = (wj(j) - a) / dii
+            end select
+            adm(j) = law%admits(j, -wj(j), mu_hold, pj(j) / c)
+            stick(j) = kind == MODE_V .and. value == 0.0_dp
+        end do
+        ok = any(adm)
+        if (.not. ok) return
+        call modal_choose(jcur, adm, stick, wj, 1.0e6_dp * epsilon(1.0_dp) * (abs(a) + maxval(abs(wj))), jnew, other)
+        p = pj(jnew)
+        w = wj(jnew)
+    end subroutine modal_local_solve
 
     !> Room for n numbers in buf (kept where there is enough).
     subroutine reserve(buf, n)

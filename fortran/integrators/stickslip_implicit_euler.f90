@@ -18,6 +18,7 @@ module stickslip_implicit_euler
     use stickslip_modal_contacts, only: scene_modal_contacts, model_modal_contacts
     use stickslip_model_system, only: model_system
     use stickslip_friction, only: MODE_MU, MODE_V, between
+    use stickslip_contact_solver, only: modal_choose
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_recurdyn, only: recurdyn_law
     use stickslip_law_proposed, only: proposed_law
