@@ -813,8 +813,10 @@ contains
 
     !> Nonsmooth Gauss-Seidel over the contacts' modes, on the dense Delassus matrix: contact i
     !! given the others' impulses has w_i = a_i + D_ii p_i, and its one-contact problem over its
-    !! law's modes is decided by the rule (`modal_local_solve`, the current mode of its
-    !! keep-a-slip the contact's mode at the step's start, in every sweep). Sweeps repeat until no mode
+    !! law's modes is decided by the rule (`modal_local_solve`; the current mode of its
+    !! keep-a-slip is the contact's mode at the step's start in the first sweep, then the one
+    !! the sweeps reached: the hysteresis that lets the sweeps settle where the band graph
+    !! is not monotone). Sweeps repeat until no mode
     !! changes and the largest change of an impulse moves no velocity by more than MODAL_TOL
     !! (relative to the problem's velocities). The answer is then checked: every contact on its
     !! mode (`admits`) and w = wf + D p to 1e3 MODAL_TOL. p: warm start in, impulses out [N s];
@@ -835,11 +837,10 @@ contains
         integer, intent(out)    :: worst         !! the contact that failed (0: none)
         real(dp), intent(out)   :: resid         !! the largest |wf + D p - w| [m/s]
         logical, intent(out)    :: nonunique     !! another consistent mode existed
-        integer :: i, nc, jnew, prev(size(mode))
+        integer :: i, nc, jnew
         real(dp) :: a, pnew, wnew, change, scale
         logical :: changed, other
         nc = size(wf)
-        prev = mode             ! the step's start modes: the rule's current modes in every sweep
         worst = 0
         ok = .false.
         nonunique = .false.
@@ -850,7 +851,7 @@ contains
             change = 0.0_dp
             do i = 1, nc
                 a = wf(i) + dot_product(d(i, :), p) - d(i, i) * p(i)
-                call modal_local_solve(laws(i)%law, a, d(i, i), c(i), w0(i), prev(i), jnew, pnew, wnew, ok, other)
+                call modal_local_solve(laws(i)%law, a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
                 if (.not. ok) then
                     worst = i
                     return
@@ -879,7 +880,7 @@ contains
                 worst = i
                 return
             end if
-            call modal_local_solve(laws(i)%law, a, d(i, i), c(i), w0(i), prev(i), jnew, pnew, wnew, ok, other)
+            call modal_local_solve(laws(i)%law, a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
             ok = .true.
             nonunique = nonunique .or. other
         end do
@@ -913,10 +914,9 @@ contains
         real(dp), intent(out)   :: resid             !! the largest row residual [m/s]
         logical, intent(out)    :: nonunique         !! another consistent mode existed
         real(dp) :: rhs(size(uf)), s, a, dii, hv, unew, pnew, wnew, change, scale
-        integer :: j, i, nd, jnew, prev(size(mode))
+        integer :: j, i, nd, jnew
         logical :: changed, other
         nd = size(uf)
-        prev = mode             ! the step's start modes: the rule's current modes in every sweep
         worst = 0
         ok = .false.
         nonunique = .false.
@@ -938,7 +938,7 @@ contains
                     hv = cs%h_val(cs%h_ptr(i))
                     a = hv * s / dg(j) + b(i)
                     dii = hv**2 / dg(j)
-                    call modal_local_solve(laws(i)%law, a, dii, c(i), w0(i), prev(i), jnew, pnew, wnew, ok, other)
+                    call modal_local_solve(laws(i)%law, a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
                     if (.not. ok) then
                         worst = i
                         return
@@ -971,7 +971,7 @@ contains
                 dii = hv**2 / dg(j)
                 if (mode(i) > 0) ok = laws(i)%law%admits(mode(i), -w(i), (w0(i) - a) / (dii * c(i)), p(i) / c(i))
                 if (ok) then
-                    call modal_local_solve(laws(i)%law, a, dii, c(i), w0(i), prev(i), jnew, pnew, wnew, ok, other)
+                    call modal_local_solve(laws(i)%law, a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
                     ok = .true.
                     nonunique = nonunique .or. other
                 end if
