@@ -81,7 +81,7 @@ module stickslip_contact_solver
 
     public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
     public :: tridiagonal_sweeps
-    public :: modal_law, solve_modal_contacts, modal_tridiagonal_sweeps, modal_local_solve, modal_choose
+    public :: modal_law, modal_law_set, solve_modal_contacts, modal_tridiagonal_sweeps, modal_local_solve, modal_choose
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
 
     integer, parameter, public :: MODE_STICK = 0    !! mode(i): stuck
@@ -103,6 +103,9 @@ module stickslip_contact_solver
     !! problem over the laws' modes.
     type :: modal_law
         class(friction_law), allocatable :: law   !! the contact's law
+        integer, allocatable :: kind(:)           !! (modes) each mode's kind (`friction_law%mode`)
+        real(dp), allocatable :: value(:)         !! (modes) its value: mu [-] or v [m/s]
+        integer :: stick = 0                      !! the stuck mode (v = 0; 0: none)
     end type modal_law
 
     !> What the solver did and how well the answer satisfies the problem.
@@ -769,7 +772,8 @@ contains
     !! current mode jcur kept where it is a slip that still holds and no stuck mode holds (keep
     !! a slip); otherwise the consistent mode whose velocity is nearest zero (static first:
     !! stuck where the static limit holds, else the slowest slip, the static level giving way
-    !! only as far as it must), the current mode among equals, else the first. other: a
+    !! only as far as it must), the current mode among equals, else a stuck one, else the
+    !! first. other: a
     !! consistent mode at another velocity (by more than tie) exists. What
     !! `modal_local_solve` and the one-contact kernel of the implicit methods decide with.
     pure subroutine modal_choose(jcur, adm, stick, v, tie, jnew, other)
@@ -795,7 +799,7 @@ contains
                 if (.not. adm(j)) cycle
                 if (jnew == 0) then
                     jnew = j
-                else if (abs(v(j)) < abs(v(jnew))) then
+                else if (abs(v(j)) < abs(v(jnew)) .or. (abs(v(j)) == abs(v(jnew)) .and. stick(j))) then
                     jnew = j
                 end if
             end do
@@ -851,7 +855,7 @@ contains
             change = 0.0_dp
             do i = 1, nc
                 a = wf(i) + dot_product(d(i, :), p) - d(i, i) * p(i)
-                call modal_local_solve(laws(i)%law, a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
+                call modal_local_solve(laws(i), a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok)
                 if (.not. ok) then
                     worst = i
                     return
@@ -880,7 +884,7 @@ contains
                 worst = i
                 return
             end if
-            call modal_local_solve(laws(i)%law, a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
+            call modal_local_solve(laws(i), a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
             ok = .true.
             nonunique = nonunique .or. other
         end do
@@ -938,7 +942,7 @@ contains
                     hv = cs%h_val(cs%h_ptr(i))
                     a = hv * s / dg(j) + b(i)
                     dii = hv**2 / dg(j)
-                    call modal_local_solve(laws(i)%law, a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
+                    call modal_local_solve(laws(i), a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok)
                     if (.not. ok) then
                         worst = i
                         return
@@ -971,7 +975,7 @@ contains
                 dii = hv**2 / dg(j)
                 if (mode(i) > 0) ok = laws(i)%law%admits(mode(i), -w(i), (w0(i) - a) / (dii * c(i)), p(i) / c(i))
                 if (ok) then
-                    call modal_local_solve(laws(i)%law, a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
+                    call modal_local_solve(laws(i), a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
                     ok = .true.
                     nonunique = nonunique .or. other
                 end if
@@ -993,12 +997,14 @@ contains
     end subroutine modal_tridiagonal_sweeps
 
     !> One contact's problem over its law's modes, w = a + dii p, p = c mu with mu on the law's
-    !! graph at v = -w (the laws' convention): every mode solved (a slip piece fixes mu, a
-    !! point fixes w, the hold keeps w0), the rule's choice among the consistent ones
-    !! (`modal_choose`). An open contact (c = 0) has p = 0, mode 0. other: another consistent
-    !! mode with another solution existed (a tie the rule broke).
-    subroutine modal_local_solve(law, a, dii, c, w0, jcur, jnew, p, w, ok, other)
-        class(friction_law), intent(in) :: law   !! the contact's law (with modes)
+    !! graph at v = -w (the laws' convention), decided by the rule (`modal_choose`): the stuck
+    !! mode and the current one are solved first (static first, then keep a slip: the answer
+    !! of most calls), every mode only where neither decides or other is asked for. A slip
+    !! piece fixes mu, a point fixes w, the hold keeps w0. An open contact (c = 0) has p = 0,
+    !! mode 0. other (optional): another consistent mode with another solution existed (a tie
+    !! the rule broke).
+    subroutine modal_local_solve(ml, a, dii, c, w0, jcur, jnew, p, w, ok, other)
+        type(modal_law), intent(in) :: ml        !! the contact's law (with modes)
         real(dp), intent(in)  :: a               !! velocity without this contact's impulse [m/s]
         real(dp), intent(in)  :: dii             !! w per unit impulse, > 0 [1/kg]
         real(dp), intent(in)  :: c               !! capacity h N >= 0 [N s]
@@ -1008,40 +1014,100 @@ contains
         real(dp), intent(out) :: p               !! impulse [N s]
         real(dp), intent(out) :: w               !! velocity after it [m/s]
         logical, intent(out)  :: ok              !! some mode is consistent
-        logical, intent(out)  :: other           !! another consistent solution existed
-        integer :: j, kind, nm
-        real(dp) :: value, pj(law%n_modes()), wj(law%n_modes()), mu_hold
-        logical :: adm(law%n_modes()), stick(law%n_modes())
+        logical, intent(out), optional :: other  !! another consistent solution existed
+        real(dp) :: mu_hold, pc, wc
+        logical :: cur, adm_c
+        integer :: nm
         ok = .true.
-        other = .false.
+        if (present(other)) other = .false.
         jnew = 0
         p = 0.0_dp
         w = a
         if (.not. (c > 0.0_dp)) return
-        nm = law%n_modes()
+        nm = size(ml%kind)
         mu_hold = (w0 - a) / (dii * c)
-        do j = 1, nm
-            call law%mode(j, kind, value)
-            select case (kind)
+        cur = jcur >= 1 .and. jcur <= nm .and. jcur /= ml%stick
+        if (.not. present(other)) then
+            if (ml%stick > 0) then
+                call mode_solution(ml%stick, p, w, ok)
+                if (ok) then                  ! static first (the current mode where it is the same point)
+                    jnew = ml%stick
+                    if (cur) then
+                        call mode_solution(jcur, pc, wc, adm_c)
+                        if (adm_c .and. wc == 0.0_dp) then
+                            jnew = jcur
+                            p = pc
+                            w = wc
+                        end if
+                    end if
+                    return
+                end if
+            end if
+            if (cur) then
+                call mode_solution(jcur, pc, wc, adm_c)
+                if (adm_c) then               ! keep a slip
+                    jnew = jcur
+                    p = pc
+                    w = wc
+                    ok = .true.
+                    return
+                end if
+            end if
+        end if
+        call every_mode(nm)
+    contains
+        !> Every mode solved, the rule's choice among them (`modal_choose`).
+        subroutine every_mode(nmodes)
+            integer, intent(in) :: nmodes
+            real(dp) :: pj(nmodes), wj(nmodes)
+            logical :: adm(nmodes), stick(nmodes), tie
+            integer :: j
+            do j = 1, nmodes
+                call mode_solution(j, pj(j), wj(j), adm(j))
+                stick(j) = j == ml%stick
+            end do
+            ok = any(adm)
+            if (.not. ok) return
+            call modal_choose(jcur, adm, stick, wj, 1.0e6_dp * epsilon(1.0_dp) * (abs(a) + maxval(abs(wj))), jnew, tie)
+            if (present(other)) other = tie
+            p = pj(jnew)
+            w = wj(jnew)
+        end subroutine every_mode
+
+        !> Mode j's solution (pm, wm) and whether it lies on the mode.
+        subroutine mode_solution(j, pm, wm, on)
+            integer, intent(in)   :: j
+            real(dp), intent(out) :: pm, wm
+            logical, intent(out)  :: on
+            select case (ml%kind(j))
             case (MODE_MU)
-                pj(j) = c * value
-                wj(j) = a + dii * pj(j)
+                pm = c * ml%value(j)
+                wm = a + dii * pm
             case (MODE_V)
-                wj(j) = -value
-                pj(j) = (wj(j) - a) / dii
+                wm = -ml%value(j)
+                pm = (wm - a) / dii
             case default   ! MODE_KEEP
-                wj(j) = w0
-                pj(j) = (wj(j) - a) / dii
+                wm = w0
+                pm = (wm - a) / dii
             end select
-            adm(j) = law%admits(j, -wj(j), mu_hold, pj(j) / c)
-            stick(j) = kind == MODE_V .and. value == 0.0_dp
-        end do
-        ok = any(adm)
-        if (.not. ok) return
-        call modal_choose(jcur, adm, stick, wj, 1.0e6_dp * epsilon(1.0_dp) * (abs(a) + maxval(abs(wj))), jnew, other)
-        p = pj(jnew)
-        w = wj(jnew)
+            on = ml%law%admits(j, -wm, mu_hold, pm / c)
+        end subroutine mode_solution
     end subroutine modal_local_solve
+
+    !> A contact's law for the step problem over the laws' modes: a copy of law, its modes'
+    !! table (`friction_law%mode`) and its stuck mode (the point v = 0 of its graph; 0: none).
+    subroutine modal_law_set(ml, law)
+        type(modal_law), intent(out) :: ml       !! the contact's law as the solver reads it
+        class(friction_law), intent(in) :: law   !! a law with modes
+        integer :: j
+        allocate(ml%law, source=law)
+        allocate(ml%kind(law%n_modes()), ml%value(law%n_modes()))
+        ml%stick = 0
+        do j = 1, law%n_modes()
+            call law%mode(j, ml%kind(j), ml%value(j))
+            if (ml%stick == 0 .and. ml%kind(j) == MODE_V .and. ml%value(j) == 0.0_dp) ml%stick = j
+        end do
+    end subroutine modal_law_set
 
     !> Room for n numbers in buf (kept where there is enough).
     subroutine reserve(buf, n)

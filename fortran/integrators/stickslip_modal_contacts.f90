@@ -54,7 +54,7 @@ module stickslip_modal_contacts
                              diverged, linear_output
     use stickslip_friction, only: MODE_MU
     use stickslip_contact, only: contact_system
-    use stickslip_contact_solver, only: modal_law, solve_modal_contacts, modal_tridiagonal_sweeps
+    use stickslip_contact_solver, only: modal_law, modal_law_set, solve_modal_contacts, modal_tridiagonal_sweeps
     use stickslip_scenes, only: friction_scene
     use stickslip_model_system, only: model_system
     implicit none
@@ -262,7 +262,7 @@ contains
         if (allocated(cs)) then
             allocate(laws(cs%n_c))
             do i = 1, cs%n_c
-                allocate(laws(i)%law, source=sys%law)
+                call modal_law_set(laws(i), sys%law)
             end do
         end if
         call run_modal(cs, laws, t0, y0, t_end, ctl, par, t_out, y_out, stats)
@@ -291,7 +291,7 @@ contains
         if (allocated(cs)) then
             allocate(laws(cs%n_c))
             do i = 1, cs%n_c
-                if (sys%laws(i)%law%n_modes() > 0) allocate(laws(i)%law, source=sys%laws(i)%law)
+                if (sys%laws(i)%law%n_modes() > 0) call modal_law_set(laws(i), sys%laws(i)%law)
             end do
         end if
         call run_modal(cs, laws, t0, y0, t_end, ctl, par, t_out, y_out, stats)
