@@ -67,8 +67,9 @@
 !! `solve_modal_contacts` (dense D) or `modal_tridiagonal_sweeps` (W tridiagonal, each contact
 !! on a coordinate of its own, O(n) a sweep) sweep it over the contacts (nonsmooth
 !! Gauss-Seidel) until no mode changes, then check every contact on its mode and w = wf + D p.
-!! nonunique there: some contact, given the others' impulses, had another consistent mode
-!! (exact on one contact; on several, a tie of one contact's problem).
+!! nonunique there: some slipping contact, given the others' impulses, had another consistent
+!! slip mode at another velocity (another solution with as many stuck contacts: exact on one
+!! contact; on several, a tie of one contact's problem).
 module stickslip_contact_solver
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law, contact_system, local_solve, CONTACT_COULOMB, STICK_RTOL
@@ -773,8 +774,9 @@ contains
     !! a slip); otherwise the consistent mode whose velocity is nearest zero (static first:
     !! stuck where the static limit holds, else the slowest slip, the static level giving way
     !! only as far as it must), the current mode among equals, else a stuck one, else the
-    !! first. other: a
-    !! consistent mode at another velocity (by more than tie) exists. What
+    !! first. other: another consistent mode as stuck as the chosen one (a slip where it slips)
+    !! at another velocity (by more than tie) exists: another solution with as many stuck
+    !! contacts, as `solve_contacts` counts them. What
     !! `modal_local_solve` and the one-contact kernel of the implicit methods decide with.
     pure subroutine modal_choose(jcur, adm, stick, v, tie, jnew, other)
         integer, intent(in)   :: jcur        !! current mode (0 or out of range: none)
@@ -808,8 +810,8 @@ contains
                 if (abs(v(jcur)) <= abs(v(jnew))) jnew = jcur
             end if
         end if
-        do j = 1, nm
-            if (adm(j) .and. abs(v(j) - v(jnew)) > tie) other = .true.
+        do j = 1, nm     ! (a slip where it sticks has fewer stuck contacts: not counted)
+            if (adm(j) .and. (stick(j) .eqv. stick(jnew)) .and. abs(v(j) - v(jnew)) > tie) other = .true.
         end do
     end subroutine modal_choose
 
@@ -921,13 +923,13 @@ contains
         integer :: j, i, nd, jnew
         logical :: changed, other
         nd = size(uf)
-        worst = 0
-        ok = .false.
-        nonunique = .false.
-        resid = huge(1.0_dp)
         do j = 1, nd
             rhs(j) = dg(j) * uf(j) + off_diagonal(uf, j)
         end do
+        resid = huge(1.0_dp)
+        nonunique = .false.
+        ok = .false.
+        worst = 0
         scale = max(maxval(abs(uf)), maxval(abs(w0)), 1.0_dp)
         u1 = uf
         do sweeps = 1, MODAL_MAX_SWEEPS

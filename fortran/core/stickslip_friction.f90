@@ -122,7 +122,10 @@ module stickslip_friction
         procedure :: admits => no_admits
         !> The law's set-valued counterpart (module notes): SS_OK, or SS_NOT_SETVALUED (the
         !! default: the law has none).
-        procedure :: set_valued => no_set_valued
+        procedure :: set_valued => kind_set_valued
+        !> The kind of the law's set-valued counterpart (CONTACT_COULOMB: `set_valued` builds it
+        !! from mu_s, mu_k); 0, the default: none.
+        procedure :: set_valued_kind => no_set_valued_kind
         !> The coefficient the law selects at v given the holding coefficient: the element of
         !! its (filled-in) set at v nearest mu_hold (mu(v) where the law is single-valued).
         procedure :: mu_select => static_select
@@ -282,13 +285,23 @@ contains
         no_admits = .false.
     end function no_admits
 
-    !> No set-valued counterpart (the default): SS_NOT_SETVALUED, cl the default Coulomb.
-    pure subroutine no_set_valued(self, cl, status)
+    !> The set-valued counterpart of kind `set_valued_kind` with the law's mu_s, mu_k and v_s
+    !! (Coulomb's: a law with more parameters, Stribeck, overrides this); SS_NOT_SETVALUED where
+    !! the kind is 0 (cl then the default Coulomb).
+    pure subroutine kind_set_valued(self, cl, status)
         class(friction_law), intent(in) :: self
-        type(contact_law), intent(out) :: cl    !! the set-valued counterpart (not set here)
-        integer, intent(out) :: status          !! SS_NOT_SETVALUED
+        type(contact_law), intent(out) :: cl    !! the set-valued counterpart
+        integer, intent(out) :: status          !! SS_OK or SS_NOT_SETVALUED
         status = SS_NOT_SETVALUED
-    end subroutine no_set_valued
+        if (self%set_valued_kind() == 0) return
+        cl = contact_law(kind=self%set_valued_kind(), mu_s=self%mu_s, mu_k=self%mu_k, v_s=self%v_s)
+        status = SS_OK
+    end subroutine kind_set_valued
+
+    pure integer function no_set_valued_kind(self) result(kind)
+        class(friction_law), intent(in) :: self
+        kind = 0
+    end function no_set_valued_kind
 
     elemental function slip_mu(self, s) result(mu)
         class(contact_law), intent(in) :: self

@@ -6,9 +6,9 @@
 !! mu_k and mu_s): seven modes, -mu_k (v <= -v_s), the point -v_s, -mu_s (-v_s <= v <= 0),
 !! the point 0, mu_s (0 <= v <= v_s), the point v_s, mu_k (v >= v_s).
 module stickslip_law_coulomb
-    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_kinds, only: dp
     use stickslip_params, only: param_values
-    use stickslip_friction, only: friction_law, contact_law, CONTACT_COULOMB, MODE_MU, MODE_V, between
+    use stickslip_friction, only: friction_law, CONTACT_COULOMB, MODE_MU, MODE_V, between
     implicit none
     private
 
@@ -31,7 +31,7 @@ module stickslip_law_coulomb
         !! whether (v, mu) lies on a mode
         procedure :: mu_select => coulomb_select
         !! mu(v), and at v = 0 mu_hold clamped to [-mu_s, mu_s]
-        procedure :: set_valued => coulomb_set_valued
+        procedure :: set_valued_kind => coulomb_set_valued_kind
         !! its set-valued counterpart: Coulomb (mu_s, mu_k), the band not read
     end type coulomb_law
 
@@ -152,14 +152,10 @@ contains
         end select
     end function band_admits
 
-    !> The set-valued counterpart: Coulomb with stick up to mu_s and slip at mu_k at any speed
-    !! (the band is the static set's stand-in and is not read).
-    pure subroutine coulomb_set_valued(self, cl, status)
+    !> Set-valued Coulomb (stick up to mu_s, slip at mu_k at any speed; the band not read).
+    pure integer function coulomb_set_valued_kind(self) result(kind)
         class(coulomb_law), intent(in) :: self
-        type(contact_law), intent(out) :: cl    !! kind CONTACT_COULOMB
-        integer, intent(out) :: status          !! SS_OK
-        cl = contact_law(kind=CONTACT_COULOMB, mu_s=self%mu_s, mu_k=self%mu_k, v_s=self%v_s)
-        status = SS_OK
-    end subroutine coulomb_set_valued
+        kind = CONTACT_COULOMB
+    end function coulomb_set_valued_kind
 
 end module stickslip_law_coulomb

@@ -31,9 +31,9 @@
 !! with a = g (mu_k - mu_hold) = 0.49 m/s^2 at the paper's coarser step h = 1e-3 s), while the
 !! stick velocity it allows (up to dv) perturbs the stick-slip cycle by O(dv / v_b).
 module stickslip_law_karnopp
-    use stickslip_kinds, only: dp, SS_OK
+    use stickslip_kinds, only: dp
     use stickslip_params, only: param_spec, param_values, param_read
-    use stickslip_friction, only: friction_law, contact_law, CONTACT_COULOMB
+    use stickslip_friction, only: friction_law, CONTACT_COULOMB
     use stickslip_law_coulomb, only: band_mode, band_admits
     implicit none
     private
@@ -68,7 +68,7 @@ module stickslip_law_karnopp
         procedure :: admits => karnopp_admits
         !> The law itself (it is single-valued given mu_hold).
         procedure :: mu_select => karnopp_select
-        procedure :: set_valued => karnopp_set_valued
+        procedure :: set_valued_kind => karnopp_set_valued_kind
         !! its set-valued counterpart: Coulomb (mu_s, mu_k), the band not read
     end type karnopp_law
 
@@ -160,14 +160,10 @@ contains
         end if
     end function karnopp
 
-    !> The set-valued counterpart: Coulomb with stick up to mu_s and slip at mu_k at any speed
-    !! (the band is the static set's stand-in and is not read).
-    pure subroutine karnopp_set_valued(self, cl, status)
+    !> Set-valued Coulomb (stick up to mu_s, slip at mu_k at any speed; the band not read).
+    pure integer function karnopp_set_valued_kind(self) result(kind)
         class(karnopp_law), intent(in) :: self
-        type(contact_law), intent(out) :: cl    !! kind CONTACT_COULOMB
-        integer, intent(out) :: status          !! SS_OK
-        cl = contact_law(kind=CONTACT_COULOMB, mu_s=self%mu_s, mu_k=self%mu_k, v_s=self%v_s)
-        status = SS_OK
-    end subroutine karnopp_set_valued
+        kind = CONTACT_COULOMB
+    end function karnopp_set_valued_kind
 
 end module stickslip_law_karnopp
