@@ -49,13 +49,15 @@ def run_modal_chain(log: Callable[[str], None], repeats: int = 5, baseline: str 
     for _ in range(repeats):
         ours.append(one_pass(sizes))
         if baseline:
-            text = subprocess.run([baseline, str(Path(__file__).resolve()), "--json", json.dumps(sizes)],
+            text = subprocess.run([str(Path(baseline).absolute()), str(Path(__file__).resolve()), "--json",
+                                   json.dumps(sizes)],
                                   check=True, capture_output=True, text=True, cwd="/").stdout
             base.append(json.loads(text))
     head = ["**implicit_euler and galpha on the chain** (`python -m benchmarks --modal-chain`)", "",
             f"Machine: {machine()}. The chain with Coulomb (its band v_s; h = 1 ms), started at rest on the belt; "
             f"the library's CPU time per step, median of {repeats} passes"
-            + (f"; the baseline ({baseline}) in passes interleaved with these, this / baseline the median "
+            + (f"; the baseline (`{baseline}`, another build's interpreter) in passes interleaved with these, "
+               "this / baseline the median "
                "of the pairs' ratios, max |dx| the largest difference of the final positions." if baseline else "."),
             ""]
     cols = "| method | blocks | steps | [us/step] |" + (" baseline [us/step] | this / baseline | max abs dx [m] |"
