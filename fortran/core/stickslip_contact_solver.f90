@@ -81,7 +81,7 @@ module stickslip_contact_solver
     private
 
     public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
-    public :: tridiagonal_sweeps
+    public :: tridiagonal_sweeps, tridiagonal_rule
     public :: modal_law, modal_law_set, solve_modal_contacts, modal_tridiagonal_sweeps, modal_local_solve, modal_choose
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
 
@@ -696,7 +696,7 @@ contains
     !! not converged).
     !! u1: starting guess in, velocities out [m/s].
     subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
-                                  iworst)
+                                  iworst, laws)
         class(contact_system), intent(in) :: cs  !! the system (its laws and H)
         real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
         real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
@@ -712,6 +712,7 @@ contains
         integer, intent(out)    :: sweeps        !! sweeps done
         real(dp), intent(out)   :: resid         !! final residual [m/s]
         integer, intent(out)    :: iworst        !! the coordinate with the largest residual
+        type(contact_law), intent(in), optional :: laws(:)  !! (n_c) the laws to use instead of cs%laws
         real(dp) :: b(size(u1)), du(size(u1)), s, ufree, hv, w, pnew, rho, resid_prev
         integer :: i, n, c
         n = size(u1)
@@ -733,7 +734,11 @@ contains
                 c = coord_contact(i)
                 if (c > 0) then
                     hv = cs%h_val(cs%h_ptr(c))
-                    call local_solve(cs%laws(c), hv * ufree + boff(c), hv * hv / d(i), hn(c), w, pnew)
+                    if (present(laws)) then
+                        call local_solve(laws(c), hv * ufree + boff(c), hv * hv / d(i), hn(c), w, pnew)
+                    else
+                        call local_solve(cs%laws(c), hv * ufree + boff(c), hv * hv / d(i), hn(c), w, pnew)
+                    end if
                     wloc(c) = w
                     if (w == 0.0_dp) then
                         ufree = -boff(c) / hv
@@ -1110,6 +1115,110 @@ contains
             if (ml%stick == 0 .and. ml%kind(j) == MODE_V .and. ml%value(j) == 0.0_dp) ml%stick = j
         end do
     end subroutine modal_law_set
+
+    !> The rule of the module notes on a chain (W tridiagonal, each contact on one coordinate of
+    !! its own; `tridiagonal_sweeps`' setting), O(n) a sweep: the rounds of `rule_solve`, each
+    !! box problem (every contact between -c mu and c mu at its level mu) solved by the sweeps on
+    !! W itself (`tridiagonal_sweeps` with Coulomb laws of mu_s = mu_k = the level). Step 1
+    !! reads D_ii = h_i^2 (W^-1)_jj (the diagonal of W^-1, O(n)) and the free velocities; on
+    !! a chain D is nonsingular, so the stuck impulses are unique (step 3 has nothing to choose).
+    !! mode: the previous mode in (+-1 slip, 0 stuck, any other value: none), the answer's out.
+    !! resid > tol: a round's sweeps did not converge (the caller solves the step otherwise).
+    subroutine tridiagonal_rule(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, mode, u1, wloc, sweeps, &
+                                resid, iworst)
+        class(contact_system), intent(in) :: cs  !! the system (its laws and H)
+        real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
+        real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
+        real(dp), intent(in)    :: r(:)          !! W(i, i + 1) [-]
+        real(dp), intent(in)    :: uf(:)         !! velocities without friction [m/s]
+        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
+        real(dp), intent(in)    :: boff(:)       !! offsets of the relative velocities [m/s]
+        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
+        real(dp), intent(in)    :: tol           !! tolerance on the sweeps' residual [m/s]
+        integer, intent(in)     :: max_iter      !! sweep limit of a round, >= 1
+        integer, intent(inout)  :: mode(:)       !! (n_c) previous mode in, the answer's out
+        real(dp), intent(inout) :: u1(:)         !! velocities: starting guess in, answer out [m/s]
+        real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
+        integer, intent(out)    :: sweeps        !! sweeps done over all rounds
+        real(dp), intent(out)   :: resid         !! the last round's residual [m/s]
+        integer, intent(out)    :: iworst        !! the coordinate with the largest residual
+        real(dp) :: a(size(d)), bb(size(d)), wf(cs%n_c), dg(cs%n_c), mu(cs%n_c), mu_new(cs%n_c), wts(cs%n_c)
+        type(contact_law) :: box(cs%n_c)
+        logical :: kin(cs%n_c), reset(cs%n_c), act(cs%n_c), changed
+        integer :: dir(cs%n_c), n, i, c, k, sw, rounds, sgn
+        real(dp) :: hv
+        n = size(d)
+        ! pivots from the top (a) and from the bottom (bb): 1 / (W^-1)_ii = a_i + bb_i - d_i
+        a(1) = d(1)
+        do i = 2, n
+            a(i) = d(i) - l(i) * r(i - 1) / a(i - 1)
+        end do
+        bb(n) = d(n)
+        do i = n - 1, 1, -1
+            bb(i) = d(i) - r(i) * l(i + 1) / bb(i + 1)
+        end do
+        do i = 1, n
+            c = coord_contact(i)
+            if (c == 0) cycle
+            hv = cs%h_val(cs%h_ptr(c))
+            wf(c) = hv * uf(i) + boff(c)
+            dg(c) = hv * hv / (a(i) + bb(i) - d(i))
+        end do
+        act = is_active(cs%laws, hn)
+        wts = cs%laws%mu_s * hn
+        ! step 1: a slip kept where its free velocity still goes its way past its static limit
+        kin = .false.
+        dir = 0
+        do c = 1, cs%n_c
+            if (act(c) .and. abs(mode(c)) == 1) then
+                if (mode(c) * wf(c) > dg(c) * wts(c) * (1.0_dp + STICK_RTOL)) then
+                    kin(c) = .true.
+                    dir(c) = mode(c)
+                end if
+            end if
+        end do
+        reset = .false.
+        mu = cs%laws%mu_s
+        where (kin) mu = cs%laws%slip_mu(max(abs(wf) - dg * wts, tiny(1.0_dp)))
+        ! step 2: rounds of box problems, static first
+        sweeps = 0
+        do rounds = 1, 3 * cs%n_c + 30
+            do c = 1, cs%n_c
+                box(c) = contact_law(kind=CONTACT_COULOMB, mu_s=mu(c), mu_k=mu(c))
+            end do
+            call tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sw, resid, &
+                                    iworst, box)
+            sweeps = sweeps + sw
+            if (resid > tol) return
+            changed = .false.
+            mu_new = mu
+            do c = 1, cs%n_c
+                if (.not. act(c) .or. wloc(c) == 0.0_dp) cycle
+                sgn = slip_sign(wloc(c))
+                if (.not. kin(c)) then               ! gives way
+                    kin(c) = .true.
+                    dir(c) = sgn
+                    changed = .true.
+                else if (sgn /= dir(c)) then
+                    if (.not. reset(c)) then         ! crossed zero: decided again from rest
+                        kin(c) = .false.
+                        reset(c) = .true.
+                        dir(c) = 0
+                        mu_new(c) = cs%laws(c)%mu_s
+                        changed = .true.
+                        cycle
+                    end if
+                    dir(c) = sgn
+                end if
+                mu_new(c) = cs%laws(c)%slip_mu(abs(wloc(c)))
+            end do
+            if (.not. changed .and. all(abs(mu_new - mu) <= 8.0_dp * epsilon(1.0_dp) * mu)) exit
+            mu = mu_new
+        end do
+        do k = 1, cs%n_c
+            mode(k) = merge(slip_sign(wloc(k)), MODE_OPEN, act(k))
+        end do
+    end subroutine tridiagonal_rule
 
     !> Room for n numbers in buf (kept where there is enough).
     subroutine reserve(buf, n)

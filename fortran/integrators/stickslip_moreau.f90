@@ -58,7 +58,7 @@ module stickslip_moreau
     use stickslip_ode, only: ode_stats, step_controls, method_info, check_problem, output_start, &
                              fixed_steps, step_end, stop_requested, all_finite
     use stickslip_contact, only: contact_system
-    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, tridiagonal_sweeps
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, tridiagonal_rule
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use stickslip_ode, only: diverged, linear_output
     implicit none
@@ -204,14 +204,11 @@ contains
                 call cs%w_tridiagonal(hs * th, (hs * th)**2, wl, wd, wr, tri)
                 call cs%slip_offset(t1, boff)
                 g = u
-                call tridiagonal_sweeps(cs, wl, wd, wr, du, coord_contact, boff, hn, opts%contact_tol, &
-                                        opts%contact_max_iter, g, wloc, sweeps, resid, iworst)
+                call tridiagonal_rule(cs, wl, wd, wr, du, coord_contact, boff, hn, opts%contact_tol, &
+                                      opts%contact_max_iter, cmode, g, wloc, sweeps, resid, iworst)
                 stats%ncontact_iter = stats%ncontact_iter + sweeps
                 if (resid <= opts%contact_tol) then
                     stats%contact_residual = max(stats%contact_residual, resid)
-                    do c = 1, nc
-                        cmode(c) = merge(0, nint(sign(1.0_dp, wloc(c))), wloc(c) == 0.0_dp)
-                    end do
                     y1(:nd) = q + hs * ((1.0_dp - th) * u + th * g)
                     y1(nd + 1:) = g
                 else if (nc <= DENSE_FALLBACK_MAX) then
