@@ -1,6 +1,7 @@
-"""implicit_euler and galpha on the chain (python -m benchmarks --modal-chain [--baseline PYTHON]):
-the cost per step of their contact problems, which the contact module solves over the laws'
-modes (O(n) sweeps on the chain's tridiagonal W). With --baseline, the same runs by another
+"""implicit_euler, galpha and moreau on the chain (python -m benchmarks --modal-chain [--baseline
+PYTHON]): the cost per step of their contact problems, which the contact module solves with its
+rule, over the laws' modes (implicit_euler, galpha) or set-valued (moreau: the rule's rounds),
+by O(n) sweeps on the chain's tridiagonal W. With --baseline, the same runs by another
 build's interpreter (a checkout of an earlier commit installed in its own environment), in
 pairs interleaved with this build's: the ratio this / baseline is the median of the pairs'
 ratios (the machine's speed drifts between pairs), and the two builds' motions are compared
@@ -20,7 +21,7 @@ from typing import Callable
 
 import numpy as np
 
-METHODS: tuple[str, ...] = ("implicit_euler", "galpha")
+METHODS: tuple[str, ...] = ("implicit_euler", "galpha", "moreau")
 #: blocks -> simulated time [s] (about 0.1 to 2 s of CPU a run)
 SIZES: dict[int, float] = {10: 5.0, 100: 2.0, 1000: 0.5}
 
@@ -53,7 +54,7 @@ def run_modal_chain(log: Callable[[str], None], repeats: int = 5, baseline: str 
                                    json.dumps(sizes)],
                                   check=True, capture_output=True, text=True, cwd="/").stdout
             base.append(json.loads(text))
-    head = ["**implicit_euler and galpha on the chain** (`python -m benchmarks --modal-chain`)", "",
+    head = ["**implicit_euler, galpha and moreau on the chain** (`python -m benchmarks --modal-chain`)", "",
             f"Machine: {machine()}. The chain with Coulomb (its band v_s; h = 1 ms), started at rest on the belt; "
             f"the library's CPU time per step, median of {repeats} passes"
             + (f"; the baseline (`{baseline}`, another build's interpreter) in passes interleaved with these, "

@@ -44,7 +44,7 @@ stickslip and by the same fit written with lmfit, benchmarks/lmfit_compare.py), 
 (prescribed.md: prescribed_motion's CPU time per law, benchmarks/prescribed_speed.py),
 --contact (contact.md: the contact solver), --model (model.md: the model path against the
 chain's own code, benchmarks/model_chain.py), --modal-chain [--baseline PYTHON] (modal_chain.md:
-implicit_euler and galpha on the chain, against another build where given,
+implicit_euler, galpha and moreau on the chain, against another build where given,
 benchmarks/modal_chain.py), --clutches (clutches.md: event_driven on Modelica's
 CoupledClutches against a scipy event-driven solver at equal accuracy, cases/gallery_clutches.py),
 --overhead (the ``overhead`` section alone, put in place of the old one in summary.md and
@@ -1124,8 +1124,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                         help="only the model path against the chain's own code (100 blocks, every method "
                              "family): writes model.md")
     parser.add_argument("--modal-chain", action="store_true",
-                        help="only implicit_euler and galpha on the chain of 10, 100 and 1000 blocks (their "
-                             "contact problems over the laws' modes): writes modal_chain.md")
+                        help="only implicit_euler, galpha and moreau on the chain of 10, 100 and 1000 blocks "
+                             "(their contact problems): writes modal_chain.md")
     parser.add_argument("--baseline", metavar="PYTHON", default=None,
                         help="with --modal-chain: also time another build's interpreter, interleaved, "
                              "and give the ratio")

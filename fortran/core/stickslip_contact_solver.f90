@@ -47,8 +47,9 @@
 !! previous round's sets, with Lemke's method as the exact fallback), then the final mode
 !! solved exactly (`solve_mode`). Cost: O(n^3) a linear solve, a few solves a round, a few
 !! rounds a step; no enumeration of modes. On a chain (W tridiagonal, each contact on a
-!! coordinate of its own) moreau runs `tridiagonal_sweeps` here, nonsmooth Gauss-Seidel on W
-!! itself, O(n) a sweep, and `solve_contacts` on a step it does not solve (its own notes).
+!! coordinate of its own) moreau runs `tridiagonal_rule` here: the same rounds, each box
+!! problem by `tridiagonal_sweeps` (nonsmooth Gauss-Seidel on W itself, O(n) a sweep), and
+!! `solve_contacts` on a step they do not solve (its own notes).
 !! Projected Gauss-Seidel (`gauss_seidel`) is kept
 !! for benchmarks and where a caller forces it (method = SOLVER_GAUSS_SEIDEL); its answer is a
 !! solution when ok but follows no rule. The answer is checked against the problem itself
