@@ -992,8 +992,9 @@ def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 64, re
     if chain:
         lines += ["", "**The chain** (moreau's step problem, h = 1 ms, theta = 1/2; Coulomb mu_s = 0.35, "
                   "mu_k = 0.3): five states of a run of the chain started stuck on the belt (t = 1 to 5 s), "
-                  f"medians of {repeats} passes. \"Tridiagonal\" is what moreau runs on a chain: nonsmooth "
-                  "Gauss-Seidel on W itself, O(n) a sweep, warm-started at the step's start velocities. Up to "
+                  f"medians of {repeats} passes. \"Tridiagonal\" is what moreau runs on a chain: the contact "
+                  "solver's rule on W itself (its rounds, each box problem by nonsmooth Gauss-Seidel, O(n) a "
+                  "sweep), warm-started at the step's start velocities and modes. Up to "
                   "100 blocks the same problems on the dense Delassus matrix D = W^-1, from p = 0: the general "
                   "solver (its rule: rounds of box problems) against Gauss-Seidel alone; their times over the problems both solve, and the "
                   "ratio. Largest velocity difference: tridiagonal against the general solver.", "",

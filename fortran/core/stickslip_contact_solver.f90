@@ -1,7 +1,9 @@
 !> The friction problem of one step (or one instant) of a system with set-valued contacts,
 !! for any number of contacts coupled through any Delassus matrix, and its solver: the one
-!! place where moreau (velocity level) and event_driven (acceleration level, `at_rest`) decide
-!! which contacts stick and which slip.
+!! place where the nonsmooth methods decide which contacts stick and which slip: moreau
+!! (velocity level; on a chain `tridiagonal_rule`), event_driven (acceleration level,
+!! `at_rest`), and implicit_euler and galpha over the laws' modes (the section at the end),
+!! with one rule where the problem has several solutions.
 !!
 !! The problem. Relative velocities w = wf + D p (n contacts; D symmetric positive
 !! semidefinite, [1/kg]: D = H W^-1 H^T of a time step, or H M^-1 H^T at the acceleration
