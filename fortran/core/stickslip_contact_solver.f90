@@ -102,6 +102,10 @@ module stickslip_contact_solver
     real(dp), parameter, public :: MODAL_TOL = 1.0e-12_dp
     !> Gauss-Seidel sweeps allowed a step over the laws' modes.
     integer, parameter, public :: MODAL_MAX_SWEEPS = 1000
+    !> Sweeps after which each contact keeps its current mode wherever it holds (the rule's
+    !! choices cycle where the contacts' ties feed each other: a band far narrower than a
+    !! step's velocity change); such a step counts as nonunique.
+    integer, parameter, public :: MODAL_SETTLE = 100
 
     !> The friction law of one contact, with modes (`friction_law%n_modes` > 0), for the step
     !! problem over the laws' modes.
@@ -865,7 +869,7 @@ contains
             change = 0.0_dp
             do i = 1, nc
                 a = wf(i) + dot_product(d(i, :), p) - d(i, i) * p(i)
-                call modal_local_solve(laws(i), a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok)
+                call modal_local_solve(laws(i), a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok, hold=sweeps > MODAL_SETTLE)
                 if (.not. ok) then
                     worst = i
                     return
@@ -879,6 +883,7 @@ contains
             if (.not. changed .and. change <= MODAL_TOL * scale) exit
         end do
         sweeps = min(sweeps, MODAL_MAX_SWEEPS)
+        nonunique = sweeps > MODAL_SETTLE     ! the rule's choices cycled: held (another solution)
         ! the check: every contact on its mode, w = wf + D p; and whether another mode was open
         ok = .true.
         resid = 0.0_dp
@@ -952,7 +957,7 @@ contains
                     hv = cs%h_val(cs%h_ptr(i))
                     a = hv * s / dg(j) + b(i)
                     dii = hv**2 / dg(j)
-                    call modal_local_solve(laws(i), a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok)
+                    call modal_local_solve(laws(i), a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok, hold=sweeps > MODAL_SETTLE)
                     if (.not. ok) then
                         worst = i
                         return
@@ -969,6 +974,7 @@ contains
             if (.not. changed .and. change <= MODAL_TOL * scale) exit
         end do
         sweeps = min(sweeps, MODAL_MAX_SWEEPS)
+        nonunique = sweeps > MODAL_SETTLE     ! the rule's choices cycled: held (another solution)
         ! the check: every row of W u1 = W uf + H^T p, every contact on its mode; and whether
         ! another mode was open
         ok = .true.
@@ -1013,7 +1019,7 @@ contains
     !! piece fixes mu, a point fixes w, the hold keeps w0. An open contact (c = 0) has p = 0,
     !! mode 0. other (optional): another consistent mode with another solution existed (a tie
     !! the rule broke).
-    subroutine modal_local_solve(ml, a, dii, c, w0, jcur, jnew, p, w, ok, other)
+    subroutine modal_local_solve(ml, a, dii, c, w0, jcur, jnew, p, w, ok, other, hold)
         type(modal_law), intent(in) :: ml        !! the contact's law (with modes)
         real(dp), intent(in)  :: a               !! velocity without this contact's impulse [m/s]
         real(dp), intent(in)  :: dii             !! w per unit impulse, > 0 [1/kg]
@@ -1025,6 +1031,7 @@ contains
         real(dp), intent(out) :: w               !! velocity after it [m/s]
         logical, intent(out)  :: ok              !! some mode is consistent
         logical, intent(out), optional :: other  !! another consistent solution existed
+        logical, intent(in), optional :: hold    !! .true.: the current mode kept wherever it holds
         real(dp) :: mu_hold, pc, wc
         logical :: cur, adm_c
         integer :: nm
@@ -1037,6 +1044,15 @@ contains
         nm = size(ml%kind)
         mu_hold = (w0 - a) / (dii * c)
         cur = jcur >= 1 .and. jcur <= nm .and. jcur /= ml%stick
+        if (present(hold)) then
+            if (hold .and. jcur >= 1 .and. jcur <= nm) then
+                call mode_solution(jcur, p, w, ok)
+                if (ok) then
+                    jnew = jcur
+                    return
+                end if
+            end if
+        end if
         if (.not. present(other)) then
             if (ml%stick > 0) then
                 call mode_solution(ml%stick, p, w, ok)
