@@ -15,8 +15,8 @@
 !! 100, 1000, 10000 blocks (Coulomb mu_s = 0.35, mu_k = 0.3, the scene's springs and masses,
 !! h = 1 ms, theta = 1/2): five states of a run started stuck on the belt (moreau itself, at
 !! t = 1, 2, 3, 4, 5 s), each giving the step's free velocities and capacities as moreau forms
-!! them. Solved by the chain's own path (`tridiagonal_sweeps`: nonsmooth Gauss-Seidel on the
-!! tridiagonal W, what moreau runs on a chain), and, up to 100 blocks, on the dense Delassus
+!! them. Solved by the chain's own path (`tridiagonal_rule`: the contact solver's rule, each box
+!! problem by nonsmooth Gauss-Seidel on the tridiagonal W, what moreau runs on a chain), and, up to 100 blocks, on the dense Delassus
 !! matrix D = W^-1 by the general solver (`solve_contacts`) and by projected Gauss-Seidel alone
 !! (`gauss_seidel`, the solver before its fallback). One line per n:
 !!   chain  n  tri_us  tri_solved  tri_sweeps  solver_us  solver_solved  gs_us  gs_solved
@@ -124,7 +124,7 @@ program bench_contact
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, gauss_seidel, &
-                                        contact_residual, SOLVER_PIVOTING, tridiagonal_sweeps
+                                        contact_residual, SOLVER_PIVOTING, tridiagonal_rule
     use stickslip_linalg, only: psd_solve
     use stickslip_chain, only: chain_contact
     use stickslip_moreau, only: moreau_options, moreau_integrate
@@ -269,7 +269,7 @@ contains
         real(dp) :: ut(n, nst), ud(n), pp(n), ww(n), wl2(n), res, du_max, tm
         real(dp) :: tt(repeats), ts(repeats), tg(repeats)
         real(dp), allocatable :: dm(:, :), dlay(:, :)   ! dlay: step_layout's room for D (none on the chain)
-        integer :: cmap(n), i, j, r, sw, iw, nin, k, ntri, nsol, ngs, nboth, cm(n)
+        integer :: cmap(n), i, j, r, sw, iw, nin, k, ntri, nsol, ngs, nboth, cm(n), pm(n, nst)
         integer :: tri_sweeps, gs_sweeps
         logical :: dense, ok, both(nst)
         ! The chain scene's contact system (chain_contact_model), Coulomb, k_p = 0.
@@ -312,6 +312,8 @@ contains
                 call cc%solve_w(0.0_dp, q, u, h * th, (h * th)**2, uf(:, j))
                 uf(:, j) = u + uf(:, j)
                 call cc%relative_velocities(h, uf(:, j), wf(:, j))
+                call cc%relative_velocities(0.0_dp, u, ww)     ! moreau's previous mode: the step start's
+                pm(:, j) = merge(0, nint(sign(1.0_dp, ww)), ww == 0.0_dp)
             end associate
         end do
         dense = n <= 100     ! the general solver on D: O(n^3) a linear solve
@@ -334,8 +336,9 @@ contains
                 call cpu_time(t0)
                 do k = 1, nin
                     ut(:, j) = y_out(n + 1:, j + 1)
-                    call tridiagonal_sweeps(cc, wl, wd, wr, uf(:, j), cmap, boff, hn, tol, 1000, ut(:, j), wl2, sw, &
-                                            res, iw)
+                    cm = pm(:, j)
+                    call tridiagonal_rule(cc, wl, wd, wr, uf(:, j), cmap, boff, hn, tol, 1000, cm, ut(:, j), wl2, sw, &
+                                          res, iw)
                 end do
                 call cpu_time(t1)
                 tt(r) = tt(r) + (t1 - t0) / (nin * nst)

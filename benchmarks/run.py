@@ -43,7 +43,9 @@ records, prescribed_motion per sample), --lmfit (lmfit.md, lmfit.csv: every law 
 stickslip and by the same fit written with lmfit, benchmarks/lmfit_compare.py), --prescribed
 (prescribed.md: prescribed_motion's CPU time per law, benchmarks/prescribed_speed.py),
 --contact (contact.md: the contact solver), --model (model.md: the model path against the
-chain's own code, benchmarks/model_chain.py), --clutches (clutches.md: event_driven on Modelica's
+chain's own code, benchmarks/model_chain.py), --modal-chain [--baseline PYTHON] (modal_chain.md:
+implicit_euler, galpha and moreau on the chain, against another build where given,
+benchmarks/modal_chain.py), --clutches (clutches.md: event_driven on Modelica's
 CoupledClutches against a scipy event-driven solver at equal accuracy, cases/gallery_clutches.py),
 --overhead (the ``overhead`` section alone, put in place of the old one in summary.md and
 benchmarks.csv).
@@ -990,8 +992,9 @@ def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 64, re
     if chain:
         lines += ["", "**The chain** (moreau's step problem, h = 1 ms, theta = 1/2; Coulomb mu_s = 0.35, "
                   "mu_k = 0.3): five states of a run of the chain started stuck on the belt (t = 1 to 5 s), "
-                  f"medians of {repeats} passes. \"Tridiagonal\" is what moreau runs on a chain: nonsmooth "
-                  "Gauss-Seidel on W itself, O(n) a sweep, warm-started at the step's start velocities. Up to "
+                  f"medians of {repeats} passes. \"Tridiagonal\" is what moreau runs on a chain: the contact "
+                  "solver's rule on W itself (its rounds, each box problem by nonsmooth Gauss-Seidel, O(n) a "
+                  "sweep), warm-started at the step's start velocities and modes. Up to "
                   "100 blocks the same problems on the dense Delassus matrix D = W^-1, from p = 0: the general "
                   "solver (its rule: rounds of box problems) against Gauss-Seidel alone; their times over the problems both solve, and the "
                   "ratio. Largest velocity difference: tridiagonal against the general solver.", "",
@@ -1124,6 +1127,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--model", action="store_true",
                         help="only the model path against the chain's own code (100 blocks, every method "
                              "family): writes model.md")
+    parser.add_argument("--modal-chain", action="store_true",
+                        help="only implicit_euler, galpha and moreau on the chain of 10, 100 and 1000 blocks "
+                             "(their contact problems): writes modal_chain.md")
+    parser.add_argument("--baseline", metavar="PYTHON", default=None,
+                        help="with --modal-chain: also time another build's interpreter, interleaved, "
+                             "and give the ratio")
     parser.add_argument("--clutches", action="store_true",
                         help="only event_driven on Modelica's CoupledClutches against a scipy event-driven "
                              "solver at equal accuracy: writes clutches.md")
@@ -1178,6 +1187,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         from .model_chain import run_model_chain
         write_text(args.outdir / "model.md", run_model_chain(log, 2 if args.quick else 9, 20 if args.quick else 100))
         write_provenance(args.outdir, "model", [args.outdir / "model.md"], argv)
+        return 0
+    if args.modal_chain:
+        from .modal_chain import SIZES, run_modal_chain
+        write_text(args.outdir / "modal_chain.md",
+                   run_modal_chain(log, 1 if args.quick else 5, args.baseline,
+                                   {10: 0.5, 100: 0.1} if args.quick else SIZES))
+        write_provenance(args.outdir, "modal_chain", [args.outdir / "modal_chain.md"], argv)
         return 0
     if args.clutches:
         from cases.gallery_clutches import bench_markdown

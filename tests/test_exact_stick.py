@@ -3,7 +3,9 @@ the box held on the slope, the box sliding to a stop, and the belt's Coulomb sti
 (for several parameter sets, not only the paper's); moreau's observed order; events; bad input."""
 from __future__ import annotations
 
+import itertools
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -239,3 +241,101 @@ def test_stick_study_quick(tmp_path):
     belt = {(r["law [-]"], r["method [-]"]): r for r in rows if r["problem [-]"] == "belt_stuck"}
     assert float(belt["coulomb", "event_driven"]["err_path [m]"]) < 1e-4
     assert "## (c)" in (out / "stick.md").read_text()
+
+
+# --- moreau on a chain: the contact solver's rule on W itself, against the rule written here -------
+def _box(dmat, q, bound):
+    """The box problem w = q + D p, -b <= p <= b, each w_i = 0 inside or of the sign that pushes
+    p_i to its bound (w_i <= 0 at +b, >= 0 at -b), by exhaustive search over the 3^n sets."""
+    n = len(q)
+    for sets in itertools.product((0, 1, -1), repeat=n):
+        p = np.zeros(n)
+        free = [i for i in range(n) if sets[i] == 0]
+        for i in range(n):
+            if sets[i]:
+                p[i] = sets[i] * bound[i]
+        if free:
+            rest = [i for i in range(n) if sets[i]]
+            p[free] = np.linalg.solve(dmat[np.ix_(free, free)], -(q[free] + dmat[np.ix_(free, rest)] @ p[rest]))
+        w = q + dmat @ p
+        tol = 1e-11 * (1.0 + np.max(np.abs(q)))
+        if all(abs(p[i]) <= bound[i] * (1 + 1e-12) if sets[i] == 0 else sets[i] * w[i] <= tol for i in range(n)):
+            w[free] = 0.0
+            return w
+    raise AssertionError("no box solution")
+
+
+def _rule(dmat, wf, cap, mu_s, mu_k, prev):
+    """The rule of docs/guide/exact-stick.md (set-valued Coulomb), written out: keep a slip
+    whose free velocity still drives it past its static limit, else static first, rounds of
+    box problems until no contact changes level."""
+    n = len(wf)
+    dg = np.diag(dmat)
+    kin = [abs(prev[i]) == 1 and prev[i] * wf[i] > dg[i] * mu_s[i] * cap[i] * (1 + 1e-12) for i in range(n)]
+    direction = [prev[i] if kin[i] else 0 for i in range(n)]
+    reset = [False] * n
+    mu = np.where(kin, mu_k, mu_s)
+    for _ in range(3 * n + 30):
+        w = _box(dmat, wf, cap * mu)
+        changed, mu_new = False, mu.copy()
+        for j in range(n):
+            if w[j] == 0.0:
+                continue
+            s = int(np.sign(w[j]))
+            if not kin[j]:
+                kin[j], direction[j], changed = True, s, True
+            elif s != direction[j]:
+                if not reset[j]:
+                    kin[j], reset[j], direction[j], changed = False, True, 0, True
+                    mu_new[j] = mu_s[j]
+                    continue
+                direction[j] = s
+            mu_new[j] = mu_k[j]
+        if not changed and np.all(mu_new == mu):
+            return w
+        mu = mu_new
+    raise AssertionError("rounds did not settle")
+
+
+#: (h, k_c, mu_s, mu_k, masses): a chain with stick-slip at h = 1 ms, and one at h = 20 ms with
+#: stiff couplings where a step has several solutions (the former plain sweeps took another one).
+RULE_CHAINS = [
+    (1e-3, 30.0, [0.5, 0.45, 0.6], [0.3, 0.3, 0.25], [1.0, 0.7, 1.3]),
+    (2e-2, 3000.0, [0.72, 0.803, 0.882], [0.281, 0.473, 0.738], [1.134, 1.384, 0.537]),
+]
+
+
+@pytest.mark.parametrize("h, kc, mu_s, mu_k, masses", RULE_CHAINS)
+def test_moreau_chain_follows_the_rule_step_by_step(h, kc, mu_s, mu_k, masses):
+    """Three blocks on a belt joined by springs (W tridiagonal, one contact on each block: the
+    contact solver's `tridiagonal_rule`), mu_s > mu_k: every step's relative velocities equal
+    those of the rule written out above on the step's own problem (Delassus matrix formed here,
+    box problems by exhaustive search)."""
+    v_b, g, k, th = 0.3, 9.81, 50.0, 0.5
+    mu_s, mu_k, masses = np.array(mu_s), np.array(mu_k), np.array(masses)
+    model = ss.Model()
+    bodies = [model.add_body(mi) for mi in masses]
+    model.add_spring(bodies[0], None, k=k)
+    for i in range(2):
+        model.add_spring(bodies[i], bodies[i + 1], k=kc)
+    for bi, mi, ms, mk in zip(bodies, masses, mu_s, mu_k):
+        model.add_contact(bi, None, "coulomb", normal_force=mi * g, surface_velocity=v_b, mu_s=ms, mu_k=mk)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = ss.simulate(model, method="moreau", h=h, t_end=3.0, every_step=True)
+    kmat = np.array([[k + kc, -kc, 0.0], [-kc, 2 * kc, -kc], [0.0, -kc, kc]])
+    w_mat = np.diag(masses) + (h * th) ** 2 * kmat
+    winv = np.linalg.inv(w_mat)
+    cap = h * masses * g
+    q, u = r.x, r.v
+    prev = [0 if w == 0.0 else int(np.sign(w)) for w in u[:, 0] - v_b]
+    slips = 0
+    for s in range(q.shape[1] - 1):
+        f0, f1 = -kmat @ q[:, s], -kmat @ (q[:, s] + h * u[:, s])
+        uf = u[:, s] + winv @ (h * ((1 - th) * f0 + th * f1))
+        w_rule = _rule(winv, uf - v_b, cap, mu_s, mu_k, prev)
+        w = u[:, s + 1] - v_b
+        np.testing.assert_allclose(w, w_rule, atol=1e-9, err_msg=f"step {s}")
+        prev = [0 if x == 0.0 else int(np.sign(x)) for x in w]
+        slips += any(x != 0.0 for x in w)
+    assert slips > 0

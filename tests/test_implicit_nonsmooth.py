@@ -7,7 +7,9 @@ each succeeds, is refused before running (ValueError), or ends in exactly the In
 that the table below (and the same table in the doc page) predicts."""
 from __future__ import annotations
 
+import itertools
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -378,3 +380,137 @@ def test_gms_chain_banded_equals_dense(method):
     np.testing.assert_allclose(band.x, dense.x, rtol=0, atol=1e-10)
     assert band.stats["nstep"] == dense.stats["nstep"] == 500
     assert band.stats["nfev"] < dense.stats["nfev"]          # grouped differences: fewer evaluations
+
+
+# --- The step problem over the laws' modes, against an exhaustive reference -----------------------
+#: Modes of the Coulomb law with its band (fortran/laws/stickslip_law_coulomb.f90's band_mode),
+#: written out here: (kind, value), kind "mu" a slip piece, "v" a point of the velocity axis.
+def _band_modes(mu_s: float, mu_k: float, v_s: float) -> list[tuple[str, float]]:
+    return [("mu", -mu_k), ("v", -v_s), ("mu", -mu_s), ("v", 0.0), ("mu", mu_s), ("v", v_s), ("mu", mu_k)]
+
+
+def _on_mode(j: int, v: float, mu: float, mu_s: float, mu_k: float, v_s: float, tol: float) -> bool:
+    """(v, mu) on mode j (0-based) of the band graph, to tol (relative to 1)."""
+    lo_hi = [(-np.inf, -v_s), (-mu_s, -mu_k), (-v_s, 0.0), (-mu_s, mu_s), (0.0, v_s), (mu_k, mu_s), (v_s, np.inf)]
+    lo, hi = lo_hi[j]
+    x = v if j % 2 == 0 else mu
+    return lo - tol <= x <= hi + tol
+
+
+def _local_modes(a: float, dii: float, c: float, law: tuple[float, float, float], tol: float):
+    """Contact i's one-contact problem w = a + dii p, p = c mu(v = -w) on the band graph: the
+    velocity w of each consistent mode (None where the mode is not consistent)."""
+    out = []
+    for j, (kind, val) in enumerate(_band_modes(*law)):
+        if kind == "mu":
+            p = c * val
+            w = a + dii * p
+        else:
+            w = -val
+            p = (w - a) / dii
+        out.append(w if _on_mode(j, -w, p / c, *law, tol) else None)
+    return out
+
+
+def _check_modal_steps(r, mass, kmat, hmat, b, normal, laws, h):
+    """Every backward Euler step of `r` (every_step) on the linear system M u' = -K q + H^T r:
+    its impulses p from the output, (a) on the band graph, (b) among the solutions that an
+    exhaustive search over all 7^n mode combinations finds, equal to it where it is the only
+    one, (c) each contact stuck where its own problem given the others' impulses lets it stick
+    (static first) and otherwise on a consistent slip; and the steps where some slipping
+    contact's own problem had another consistent slip counted as stats['nonunique']."""
+    n_dof = len(mass)
+    m = np.diag(mass)
+    w_mat = m + h * h * kmat
+    winv = np.linalg.inv(w_mat)
+    dmat = hmat @ winv @ hmat.T
+    c = h * np.asarray(normal)
+    y = np.vstack([r.x, r.v]) if r.x.ndim == 2 else np.vstack([r.x[None], r.v[None]])
+    q, u = y[:n_dof], y[n_dof:]
+    ties = 0
+    unique_steps = 0
+    for s in range(q.shape[1] - 1):
+        uf = u[:, s] + winv @ (h * (-kmat @ (q[:, s] + h * u[:, s])))
+        wf = hmat @ uf + b
+        p = np.linalg.lstsq(hmat.T, w_mat @ (u[:, s + 1] - uf), rcond=None)[0]
+        w = hmat @ u[:, s + 1] + b
+        scale = max(1.0, np.max(np.abs(wf)))
+        tol = 1e-9 * scale
+        # (a) the graph
+        for i, law in enumerate(laws):
+            assert any(_on_mode(j, -w[i], p[i] / c[i], *law, 1e-7) for j in range(7)), (s, i, w[i], p[i] / c[i])
+        # (b) exhaustive search over the modes of all contacts
+        sols = []
+        for combo in itertools.product(range(7), repeat=len(c)):
+            pp = np.zeros(len(c))
+            fixed = [i for i, j in enumerate(combo) if j % 2 == 1]          # points: w fixed
+            for i, j in enumerate(combo):
+                if j % 2 == 0:
+                    pp[i] = c[i] * _band_modes(*laws[i])[j][1]
+            if fixed:
+                wt = np.array([-_band_modes(*laws[i])[combo[i]][1] for i in fixed])
+                free = [i for i in range(len(c)) if i not in fixed]
+                rhs = wt - wf[fixed] - dmat[np.ix_(fixed, free)] @ pp[free]
+                pp[fixed] = np.linalg.solve(dmat[np.ix_(fixed, fixed)], rhs)
+            ww = wf + dmat @ pp
+            if all(_on_mode(j, -ww[i], pp[i] / c[i], *laws[i], 1e-9) for i, j in enumerate(combo)):
+                if not any(np.max(np.abs(ww - x)) <= tol for x in sols):
+                    sols.append(ww)
+        assert any(np.max(np.abs(w - x)) <= 1e-7 * scale for x in sols), (s, w, sols)
+        unique_steps += len(sols) == 1
+        # (c) the rule, contact by contact given the others
+        other = False
+        for i, law in enumerate(laws):
+            a = w[i] - dmat[i, i] * p[i]
+            ws = _local_modes(a, dmat[i, i], c[i], law, 1e-9)
+            if ws[3] is not None:                       # it can stick: it sticks
+                assert abs(w[i]) <= 1e-9 * scale, (s, i, ws, w[i])
+            assert any(x is not None and abs(x - w[i]) <= 1e-7 * scale for x in ws), (s, i, ws, w[i])
+            if abs(w[i]) > 1e-9 * scale:                # another slip: as many stuck contacts
+                other |= any(x is not None and j != 3 and abs(x - w[i]) > 1e-7 * scale for j, x in enumerate(ws))
+        ties += other
+    assert unique_steps > 0
+    return ties
+
+
+@pytest.mark.parametrize("h", [1e-3, 2e-2])
+def test_modal_steps_of_coupled_contacts_follow_the_rule(h):
+    """Two coupled contacts with the band (block A on a belt, block B on A: the dense Delassus
+    path of the contact module's modal solve) under implicit_euler, step by step against the
+    exhaustive reference above; the steps with another consistent mode are stats['nonunique']."""
+    v_b, v_s, g = 0.2, 0.05, 9.81
+    laws = [(0.5, 0.3, v_s), (0.25, 0.2, v_s)]
+    model = ss.Model()
+    a = model.add_body(1.0)
+    bb = model.add_body(0.5)
+    model.add_spring(a, None, k=100.0)
+    model.add_spring(bb, None, k=40.0)
+    model.add_contact(a, None, "coulomb", normal_force=1.5 * g, surface_velocity=v_b, mu_s=0.5, mu_k=0.3, v_s=v_s)
+    model.add_contact(bb, a, "coulomb", normal_force=0.5 * g, mu_s=0.25, mu_k=0.2, v_s=v_s)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = ss.simulate(model, method="implicit_euler", h=h, t_end=3.0, every_step=True)
+    ties = _check_modal_steps(r, [1.0, 0.5], np.diag([100.0, 40.0]), np.array([[1.0, 0.0], [-1.0, 1.0]]),
+                              np.array([-v_b, 0.0]), [1.5 * g, 0.5 * g], laws, h)
+    assert r.stats["nonunique"] == ties
+
+
+def test_modal_steps_of_a_chain_follow_the_rule():
+    """Three blocks on a belt joined by springs (W tridiagonal, one contact on each coordinate:
+    the contact module's O(n) sweeps on W) under implicit_euler, against the same reference."""
+    v_b, v_s, g, k, kc = 0.3, 0.02, 9.81, 50.0, 30.0
+    laws = [(0.4, 0.3, v_s), (0.35, 0.3, v_s), (0.45, 0.25, v_s)]
+    masses = [1.0, 0.7, 1.3]
+    model = ss.Model()
+    bodies = [model.add_body(mi) for mi in masses]
+    model.add_spring(bodies[0], None, k=k)
+    for i in range(2):
+        model.add_spring(bodies[i], bodies[i + 1], k=kc)
+    for bi, mi, (mu_s, mu_k, vs) in zip(bodies, masses, laws):
+        model.add_contact(bi, None, "coulomb", normal_force=mi * g, surface_velocity=v_b, mu_s=mu_s, mu_k=mu_k, v_s=vs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = ss.simulate(model, method="implicit_euler", h=2e-3, t_end=3.0, every_step=True)
+    kmat = np.array([[k + kc, -kc, 0.0], [-kc, 2 * kc, -kc], [0.0, -kc, kc]])
+    ties = _check_modal_steps(r, masses, kmat, np.eye(3), np.full(3, -v_b), [mi * g for mi in masses], laws, 2e-3)
+    assert r.stats["nonunique"] == ties

@@ -114,9 +114,6 @@ PRESET_MODULES: frozenset[str] = frozenset({"stickslip_scenes", "stickslip_chain
 #: Today's uses against the layers, each with the reason it is still there: (module, used).
 #: A new violation fails; so does an entry here that is no longer needed (remove it).
 KNOWN_LAYER_EXCEPTIONS: dict[tuple[str, str], str] = {
-    **{("stickslip_contact", law): "until one friction interface serves the contact solver "
-       "(issue 41 item 2): the contact module names the set-valued laws"
-       for law in ("stickslip_law_coulomb", "stickslip_law_stribeck", "stickslip_law_karnopp")},
     **{(f"stickslip_{m}", "stickslip_scenes"): "until the scenes become models (issue 41 item 1)"
        for m in ("rk4", "dopri5", "dop853", "radau5", "implicit_euler", "galpha", "modal_contacts")},
 }

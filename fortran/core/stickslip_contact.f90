@@ -22,42 +22,22 @@
 !! M^-1. `w_constant` tells that W depends on a and b only (a linear, time-invariant
 !! system): a method may then factor the contact problem once per step size.
 !!
-!! The set-valued laws (`contact_law`): Coulomb (stick up to mu_s N, slip at mu_k N at any
-!! speed) and the Stribeck curve mu(s) = mu_k + (mu_s - mu_k) exp(-(s/v_s)^delta) + c_v s
-!! (continuous at s = 0+ with the static limit mu_s, no tanh regularisation). The smooth
-!! law's band of the Coulomb law of the paper (mu_s for 0 < |v| < v_s) is a stand-in for the
-!! static set and has no counterpart here: v_s is not read by the set-valued Coulomb.
+!! The set-valued laws (`contact_law`, defined with the laws' interface in `stickslip_friction`
+!! and used from here): Coulomb (stick up to mu_s N, slip at mu_k N at any speed) and the
+!! Stribeck curve without regularisation at rest; each library law says its own
+!! (`friction_law%set_valued`), so this module names no law.
 module stickslip_contact
-    use stickslip_kinds, only: dp, SS_OK, SS_NOT_SETVALUED
-    use stickslip_friction, only: friction_law
-    use stickslip_law_coulomb, only: coulomb_law
-    use stickslip_law_stribeck, only: stribeck_law, stribeck_curve, stribeck_curve_slope
-    use stickslip_law_karnopp, only: karnopp_law
+    use stickslip_kinds, only: dp
+    use stickslip_friction, only: friction_law, contact_law, CONTACT_COULOMB, CONTACT_STRIBECK
     implicit none
     private
 
     public :: contact_law, contact_system, contact_law_of, local_solve
 
-    integer, parameter, public :: CONTACT_COULOMB = 1    !! set-valued Coulomb (mu_s, mu_k)
-    integer, parameter, public :: CONTACT_STRIBECK = 2   !! set-valued Stribeck curve
+    public :: CONTACT_COULOMB, CONTACT_STRIBECK   !! (from stickslip_friction) the set-valued laws' kinds
     !> Relative tolerance of the static limit: a friction force (or impulse) up to
     !! mu_s N (1 + STICK_RTOL) sticks, so that |F| = mu_s N is stuck in every method [-].
     real(dp), parameter, public :: STICK_RTOL = 1.0e-12_dp
-
-    !> A set-valued friction law of one contact.
-    type :: contact_law
-        integer :: kind = CONTACT_COULOMB   !! CONTACT_COULOMB or CONTACT_STRIBECK
-        real(dp) :: mu_s = 0.35_dp          !! static coefficient: stick up to mu_s N [-]
-        real(dp) :: mu_k = 0.30_dp          !! kinetic coefficient [-]
-        real(dp) :: v_s = 0.01_dp           !! Stribeck velocity (Stribeck only) [m/s]
-        real(dp) :: delta = 2.0_dp          !! Stribeck shape exponent (Stribeck only) [-]
-        real(dp) :: c_v = 0.0_dp            !! viscous coefficient (Stribeck only) [s/m]
-    contains
-        !> Coefficient in slip at speed s > 0 [-].
-        procedure :: slip_mu
-        !> d(slip_mu)/ds at s > 0 [s/m].
-        procedure :: slip_dmu
-    end type contact_law
 
     !> A mechanical system with frictional contacts (see the module notes for the model).
     type, abstract :: contact_system
@@ -275,52 +255,14 @@ contains
         end do
     end function contact_displacement
 
-    elemental function slip_mu(self, s) result(mu)
-        class(contact_law), intent(in) :: self
-        real(dp), intent(in) :: s           !! sliding speed |w| > 0 [m/s]
-        real(dp) :: mu                      !! friction coefficient in slip [-]
-        if (self%kind == CONTACT_STRIBECK) then
-            mu = stribeck_curve(s, self%mu_s, self%mu_k, self%v_s, self%delta) + self%c_v * s
-        else
-            mu = self%mu_k
-        end if
-    end function slip_mu
-
-    elemental function slip_dmu(self, s) result(d)
-        class(contact_law), intent(in) :: self
-        real(dp), intent(in) :: s           !! sliding speed |w| > 0 [m/s]
-        real(dp) :: d                       !! d mu / d s [s/m]
-        if (self%kind == CONTACT_STRIBECK) then
-            d = stribeck_curve_slope(s, self%mu_s, self%mu_k, self%v_s, self%delta) + self%c_v
-        else
-            d = 0.0_dp
-        end if
-    end function slip_dmu
-
-    !> The set-valued law of a library law: Coulomb and Stribeck have one (their slip curve
-    !! without the regularisation at rest), Karnopp's is Coulomb's (its stick band dv is the
-    !! static set's stand-in: stick up to mu_s, slip at mu_k); any other law gives
-    !! SS_NOT_SETVALUED.
+    !> The set-valued law of a library law (`friction_law%set_valued`): Coulomb and Stribeck
+    !! have one (their slip curve without the regularisation at rest), Karnopp's is Coulomb's (its
+    !! stick band dv is the static set's stand-in); any other law gives SS_NOT_SETVALUED.
     subroutine contact_law_of(law, cl, status)
         class(friction_law), intent(in) :: law  !! a validated friction law
         type(contact_law), intent(out) :: cl    !! its set-valued counterpart
         integer, intent(out) :: status          !! SS_OK or SS_NOT_SETVALUED
-        status = SS_OK
-        cl%mu_s = law%mu_s
-        cl%mu_k = law%mu_k
-        cl%v_s = law%v_s
-        select type (law)
-        type is (coulomb_law)
-            cl%kind = CONTACT_COULOMB
-        type is (karnopp_law)
-            cl%kind = CONTACT_COULOMB
-        type is (stribeck_law)
-            cl%kind = CONTACT_STRIBECK
-            cl%delta = law%delta
-            cl%c_v = law%c_v
-        class default
-            status = SS_NOT_SETVALUED
-        end select
+        call law%set_valued(cl, status)
     end subroutine contact_law_of
 
     !> The one-contact problem of an implicit step: w = wf + d p with the impulse

@@ -1,7 +1,9 @@
 !> The friction problem of one step (or one instant) of a system with set-valued contacts,
 !! for any number of contacts coupled through any Delassus matrix, and its solver: the one
-!! place where moreau (velocity level) and event_driven (acceleration level, `at_rest`) decide
-!! which contacts stick and which slip.
+!! place where the nonsmooth methods decide which contacts stick and which slip: moreau
+!! (velocity level; on a chain `tridiagonal_rule`), event_driven (acceleration level,
+!! `at_rest`), and implicit_euler and galpha over the laws' modes (the section at the end),
+!! with one rule where the problem has several solutions.
 !!
 !! The problem. Relative velocities w = wf + D p (n contacts; D symmetric positive
 !! semidefinite, [1/kg]: D = H W^-1 H^T of a time step, or H M^-1 H^T at the acceleration
@@ -53,25 +55,43 @@
 !! previous round's sets, with Lemke's method as the exact fallback), then the final mode
 !! solved exactly (`solve_mode`). Cost: O(n^3) a linear solve, a few solves a round, a few
 !! rounds a step; no enumeration of modes. On a chain (W tridiagonal, each contact on a
-!! coordinate of its own) moreau runs `tridiagonal_sweeps` here, nonsmooth Gauss-Seidel on W
-!! itself, O(n) a sweep, and `solve_contacts` on a step it does not solve (its own notes).
+!! coordinate of its own) moreau runs `tridiagonal_rule` here: the same rounds, each box
+!! problem by `tridiagonal_sweeps` (nonsmooth Gauss-Seidel on W itself, O(n) a sweep), and
+!! `solve_contacts` on a step they do not solve (its own notes).
 !! Projected Gauss-Seidel (`gauss_seidel`) is kept
 !! for benchmarks and where a caller forces it (method = SOLVER_GAUSS_SEIDEL); its answer is a
 !! solution when ok but follows no rule. The answer is checked against the problem itself
 !! (`contact_residual`) whichever way it was found, and info%ok is .false. when the residual
 !! exceeds the limit of the problem's scale (`residual_limit`) or no method found a solution:
 !! the caller ends with a named status.
+!!
+!! The laws' modes (implicit_euler, galpha). Their step problem is the same, w = wf + D p with
+!! p_i = c_i mu_i (c_i = h N_i), but each contact's graph is its regularised law's with its
+!! jumps filled in (`friction_law%n_modes`, `mode`, `admits`: Coulomb with its band mu_s for
+!! 0 < |v| < v_s and the set-valued point v_s, Karnopp with its band dv), a graph that is not
+!! monotone, so that the box problems of the rounds do not apply. The same rule decides it
+!! contact by contact (`modal_local_solve`): keep a slip (the current slip mode, where it still
+!! holds and the contact cannot stick), else static first (the consistent mode whose velocity
+!! is nearest zero: stuck where the static limit holds, else the slowest slip), and
+!! `solve_modal_contacts` (dense D) or `modal_tridiagonal_sweeps` (W tridiagonal, each contact
+!! on a coordinate of its own, O(n) a sweep) sweep it over the contacts (nonsmooth
+!! Gauss-Seidel) until no mode changes, then check every contact on its mode and w = wf + D p.
+!! nonunique there: some slipping contact, given the others' impulses, had another consistent
+!! slip mode at another velocity (another solution with as many stuck contacts: exact on one
+!! contact; on several, a tie of one contact's problem).
 module stickslip_contact_solver
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law, contact_system, local_solve, CONTACT_COULOMB, STICK_RTOL
     use stickslip_linalg, only: psd_solve, lu_decompose, lu_solve
     use stickslip_lcp, only: box_solve
+    use stickslip_friction, only: friction_law, MODE_MU, MODE_V
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
     public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
-    public :: tridiagonal_sweeps
+    public :: tridiagonal_sweeps, tridiagonal_rule
+    public :: modal_law, modal_law_set, solve_modal_contacts, modal_tridiagonal_sweeps, modal_local_solve, modal_choose
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
 
     integer, parameter, public :: MODE_STICK = 0    !! mode(i): stuck
@@ -82,6 +102,25 @@ module stickslip_contact_solver
     integer, parameter, public :: SOLVER_RULE = 2           !! the rule's rounds, box problems by active-set Newton
     integer, parameter, public :: SOLVER_GAUSS_SEIDEL = 3   !! projected Gauss-Seidel (forced only)
     integer, parameter, public :: SOLVER_PIVOTING = 4       !! the rule's rounds, box problems by Lemke alone
+
+    !> Tolerance on the contact velocities of a step over the laws' modes, relative to the
+    !! step's largest velocity (at least 1 m/s) [-].
+    real(dp), parameter, public :: MODAL_TOL = 1.0e-12_dp
+    !> Gauss-Seidel sweeps allowed a step over the laws' modes.
+    integer, parameter, public :: MODAL_MAX_SWEEPS = 1000
+    !> Sweeps after which each contact keeps its current mode wherever it holds (the rule's
+    !! choices cycle where the contacts' ties feed each other: a band far narrower than a
+    !! step's velocity change); such a step counts as nonunique.
+    integer, parameter, public :: MODAL_SETTLE = 100
+
+    !> The friction law of one contact, with modes (`friction_law%n_modes` > 0), for the step
+    !! problem over the laws' modes.
+    type :: modal_law
+        class(friction_law), allocatable :: law   !! the contact's law
+        integer, allocatable :: kind(:)           !! (modes) each mode's kind (`friction_law%mode`)
+        real(dp), allocatable :: value(:)         !! (modes) its value: mu [-] or v [m/s]
+        integer :: stick = 0                      !! the stuck mode (v = 0; 0: none)
+    end type modal_law
 
     !> What the solver did and how well the answer satisfies the problem.
     type :: contact_solve_info
@@ -760,7 +799,7 @@ contains
     !! not converged).
     !! u1: starting guess in, velocities out [m/s].
     subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
-                                  iworst)
+                                  iworst, laws)
         class(contact_system), intent(in) :: cs  !! the system (its laws and H)
         real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
         real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
@@ -776,6 +815,7 @@ contains
         integer, intent(out)    :: sweeps        !! sweeps done
         real(dp), intent(out)   :: resid         !! final residual [m/s]
         integer, intent(out)    :: iworst        !! the coordinate with the largest residual
+        type(contact_law), intent(in), optional :: laws(:)  !! (n_c) the laws to use instead of cs%laws
         real(dp) :: b(size(u1)), du(size(u1)), s, ufree, hv, w, pnew, rho, resid_prev
         integer :: i, n, c
         n = size(u1)
@@ -797,7 +837,11 @@ contains
                 c = coord_contact(i)
                 if (c > 0) then
                     hv = cs%h_val(cs%h_ptr(c))
-                    call local_solve(cs%laws(c), hv * ufree + boff(c), hv * hv / d(i), hn(c), w, pnew)
+                    if (present(laws)) then
+                        call local_solve(laws(c), hv * ufree + boff(c), hv * hv / d(i), hn(c), w, pnew)
+                    else
+                        call local_solve(cs%laws(c), hv * ufree + boff(c), hv * hv / d(i), hn(c), w, pnew)
+                    end if
                     wloc(c) = w
                     if (w == 0.0_dp) then
                         ufree = -boff(c) / hv
@@ -832,6 +876,464 @@ contains
         end do
         sweeps = min(sweeps, max_iter)
     end subroutine tridiagonal_sweeps
+
+    !> The rule of the module notes among a contact's modes, each solved on its own: the
+    !! current mode jcur kept where it is a slip that still holds and no stuck mode holds (keep
+    !! a slip); otherwise the consistent mode whose velocity is nearest zero (static first:
+    !! stuck where the static limit holds, else the slowest slip, the static level giving way
+    !! only as far as it must), the current mode among equals, else a stuck one, else the
+    !! first. other: another consistent mode as stuck as the chosen one (a slip where it slips)
+    !! at another velocity (by more than tie) exists: another solution with as many stuck
+    !! contacts, as `solve_contacts` counts them. What
+    !! `modal_local_solve` and the one-contact kernel of the implicit methods decide with.
+    pure subroutine modal_choose(jcur, adm, stick, v, tie, jnew, other)
+        integer, intent(in)   :: jcur        !! current mode (0 or out of range: none)
+        logical, intent(in)   :: adm(:)      !! (modes) each mode's solution lies on it
+        logical, intent(in)   :: stick(:)    !! (modes) the mode is the stuck point (v = 0)
+        real(dp), intent(in)  :: v(:)        !! (modes) each mode's relative velocity [m/s]
+        real(dp), intent(in)  :: tie         !! velocities closer than this are one solution [m/s]
+        integer, intent(out)  :: jnew        !! the mode chosen (0: none consistent)
+        logical, intent(out)  :: other       !! another consistent solution exists
+        integer :: j, nm
+        logical :: cur
+        nm = size(adm)
+        jnew = 0
+        other = .false.
+        cur = jcur >= 1 .and. jcur <= nm
+        if (cur) cur = adm(jcur)
+        if (cur) then
+            if (.not. stick(jcur) .and. .not. any(adm .and. stick)) jnew = jcur     ! keep a slip
+        end if
+        if (jnew == 0) then                  ! static first: the slowest consistent mode
+            do j = 1, nm
+                if (.not. adm(j)) cycle
+                if (jnew == 0) then
+                    jnew = j
+                else if (abs(v(j)) < abs(v(jnew)) .or. (abs(v(j)) == abs(v(jnew)) .and. stick(j))) then
+                    jnew = j
+                end if
+            end do
+            if (jnew == 0) return
+            if (cur) then
+                if (abs(v(jcur)) <= abs(v(jnew))) jnew = jcur
+            end if
+        end if
+        do j = 1, nm     ! (a slip where it sticks has fewer stuck contacts: not counted)
+            if (adm(j) .and. (stick(j) .eqv. stick(jnew)) .and. abs(v(j) - v(jnew)) > tie) other = .true.
+        end do
+    end subroutine modal_choose
+
+    ! ---- The step problem over the laws' modes (implicit_euler, galpha) -----------------------
+
+    !> Nonsmooth Gauss-Seidel over the contacts' modes, on the dense Delassus matrix: contact i
+    !! given the others' impulses has w_i = a_i + D_ii p_i, and its one-contact problem over its
+    !! law's modes is decided by the rule (`modal_local_solve`; the current mode of its
+    !! keep-a-slip is the contact's mode at the step's start in the first sweep, then the one
+    !! the sweeps reached: the hysteresis that lets the sweeps settle where the band graph
+    !! is not monotone). Sweeps repeat until no mode
+    !! changes and the largest change of an impulse moves no velocity by more than MODAL_TOL
+    !! (relative to the problem's velocities). The answer is then checked: every contact on its
+    !! mode (`admits`) and w = wf + D p to 1e3 MODAL_TOL. p: warm start in, impulses out [N s];
+    !! mode: each contact's law mode, in (0: none) and out (0: open, no normal force). ok:
+    !! converged and checked, else worst is the contact that failed. nonunique: at the answer
+    !! some contact had another consistent mode given the others' impulses.
+    subroutine solve_modal_contacts(laws, d, wf, w0, c, p, w, mode, sweeps, ok, worst, resid, nonunique)
+        type(modal_law), intent(in) :: laws(:)   !! (n) each contact's law (with modes)
+        real(dp), intent(in)    :: d(:, :)       !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in)    :: wf(:)         !! (n) velocities without friction [m/s]
+        real(dp), intent(in)    :: w0(:)         !! (n) velocities at the step's start [m/s]
+        real(dp), intent(in)    :: c(:)          !! (n) capacities h N_i >= 0 [N s]
+        real(dp), intent(inout) :: p(:)          !! (n) impulses [N s]
+        real(dp), intent(out)   :: w(:)          !! (n) velocities after the impulses [m/s]
+        integer, intent(inout)  :: mode(:)       !! (n) law modes
+        integer, intent(out)    :: sweeps        !! sweeps done
+        logical, intent(out)    :: ok            !! converged and checked
+        integer, intent(out)    :: worst         !! the contact that failed (0: none)
+        real(dp), intent(out)   :: resid         !! the largest |wf + D p - w| [m/s]
+        logical, intent(out)    :: nonunique     !! another consistent mode existed
+        integer :: i, nc, jnew
+        real(dp) :: a, pnew, wnew, change, scale
+        logical :: changed, other
+        nc = size(wf)
+        worst = 0
+        ok = .false.
+        nonunique = .false.
+        resid = huge(1.0_dp)
+        scale = max(maxval(abs(wf)), maxval(abs(w0)), 1.0_dp)
+        do sweeps = 1, MODAL_MAX_SWEEPS
+            changed = .false.
+            change = 0.0_dp
+            do i = 1, nc
+                a = wf(i) + dot_product(d(i, :), p) - d(i, i) * p(i)
+                call modal_local_solve(laws(i), a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok, hold=sweeps > MODAL_SETTLE)
+                if (.not. ok) then
+                    worst = i
+                    return
+                end if
+                if (jnew /= mode(i)) changed = .true.
+                change = max(change, abs(pnew - p(i)) * maxval(abs(d(:, i))))
+                mode(i) = jnew
+                p(i) = pnew
+                w(i) = wnew
+            end do
+            if (.not. changed .and. change <= MODAL_TOL * scale) exit
+        end do
+        sweeps = min(sweeps, MODAL_MAX_SWEEPS)
+        nonunique = sweeps > MODAL_SETTLE     ! the rule's choices cycled: held (another solution)
+        ! the check: every contact on its mode, w = wf + D p; and whether another mode was open
+        ok = .true.
+        resid = 0.0_dp
+        do i = 1, nc
+            a = wf(i) + dot_product(d(i, :), p) - d(i, i) * p(i)
+            wnew = a + d(i, i) * p(i)
+            resid = max(resid, abs(wnew - w(i)))
+            if (abs(wnew - w(i)) > 1.0e3_dp * MODAL_TOL * scale) ok = .false.
+            if (mode(i) > 0) then
+                if (.not. laws(i)%law%admits(mode(i), -w(i), (w0(i) - a) / (d(i, i) * c(i)), p(i) / c(i))) ok = .false.
+            end if
+            if (.not. ok) then
+                worst = i
+                return
+            end if
+            call modal_local_solve(laws(i), a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
+            ok = .true.
+            nonunique = nonunique .or. other
+        end do
+    end subroutine solve_modal_contacts
+
+    !> The sweeps of `solve_modal_contacts` on W u1 = W uf + H^T p itself, W tridiagonal (l, dg,
+    !! r) and each contact on one coordinate of its own (`step_layout`): coordinate by
+    !! coordinate, u1_j from its row given its neighbours, through its contact's one-contact
+    !! problem where it has one (w_i = h_i u1_j + b_i; the same rule, `modal_local_solve`), O(n)
+    !! a sweep. u1: velocities out [m/s]; the rest as there, resid the largest residual of a row
+    !! of W, divided by its diagonal [m/s].
+    subroutine modal_tridiagonal_sweeps(laws, cs, l, dg, r, uf, coord_contact, b, c, w0, u1, p, w, mode, &
+                                        sweeps, ok, worst, resid, nonunique)
+        type(modal_law), intent(in) :: laws(:)       !! (n_c) each contact's law (with modes)
+        class(contact_system), intent(in) :: cs      !! the system (its H)
+        real(dp), intent(in)    :: l(:)              !! W(j, j - 1) [kg]
+        real(dp), intent(in)    :: dg(:)             !! W(j, j) [kg]
+        real(dp), intent(in)    :: r(:)              !! W(j, j + 1) [kg]
+        real(dp), intent(in)    :: uf(:)             !! velocities without friction [m/s]
+        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
+        real(dp), intent(in)    :: b(:)              !! offsets of the relative velocities [m/s]
+        real(dp), intent(in)    :: c(:)              !! capacities h N_i >= 0 [N s]
+        real(dp), intent(in)    :: w0(:)             !! relative velocities at the step's start [m/s]
+        real(dp), intent(out)   :: u1(:)             !! velocities [m/s]
+        real(dp), intent(inout) :: p(:)              !! impulses [N s]
+        real(dp), intent(out)   :: w(:)              !! relative velocities [m/s]
+        integer, intent(inout)  :: mode(:)           !! law modes (0: none / open)
+        integer, intent(out)    :: sweeps            !! sweeps done
+        logical, intent(out)    :: ok                !! converged and checked
+        integer, intent(out)    :: worst             !! the contact that failed (0: none)
+        real(dp), intent(out)   :: resid             !! the largest row residual [m/s]
+        logical, intent(out)    :: nonunique         !! another consistent mode existed
+        real(dp) :: rhs(size(uf)), s, a, dii, hv, unew, pnew, wnew, change, scale
+        integer :: j, i, nd, jnew
+        logical :: changed, other
+        nd = size(uf)
+        do j = 1, nd
+            rhs(j) = dg(j) * uf(j) + off_diagonal(uf, j)
+        end do
+        resid = huge(1.0_dp)
+        nonunique = .false.
+        ok = .false.
+        worst = 0
+        scale = max(maxval(abs(uf)), maxval(abs(w0)), 1.0_dp)
+        u1 = uf
+        do sweeps = 1, MODAL_MAX_SWEEPS
+            changed = .false.
+            change = 0.0_dp
+            do j = 1, nd
+                s = rhs(j) - off_diagonal(u1, j)
+                i = coord_contact(j)
+                if (i == 0) then
+                    unew = s / dg(j)
+                else
+                    hv = cs%h_val(cs%h_ptr(i))
+                    a = hv * s / dg(j) + b(i)
+                    dii = hv**2 / dg(j)
+                    call modal_local_solve(laws(i), a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok, hold=sweeps > MODAL_SETTLE)
+                    if (.not. ok) then
+                        worst = i
+                        return
+                    end if
+                    if (jnew /= mode(i)) changed = .true.
+                    mode(i) = jnew
+                    p(i) = pnew
+                    w(i) = wnew
+                    unew = (wnew - b(i)) / hv
+                end if
+                change = max(change, abs(unew - u1(j)))
+                u1(j) = unew
+            end do
+            if (.not. changed .and. change <= MODAL_TOL * scale) exit
+        end do
+        sweeps = min(sweeps, MODAL_MAX_SWEEPS)
+        nonunique = sweeps > MODAL_SETTLE     ! the rule's choices cycled: held (another solution)
+        ! the check: every row of W u1 = W uf + H^T p, every contact on its mode; and whether
+        ! another mode was open
+        ok = .true.
+        resid = 0.0_dp
+        do j = 1, nd
+            s = dg(j) * u1(j) + off_diagonal(u1, j) - rhs(j)
+            i = coord_contact(j)
+            if (i > 0) s = s - cs%h_val(cs%h_ptr(i)) * p(i)
+            resid = max(resid, abs(s) / dg(j))
+            if (abs(s) / dg(j) > 1.0e3_dp * MODAL_TOL * scale) ok = .false.
+            if (i > 0 .and. ok) then
+                hv = cs%h_val(cs%h_ptr(i))
+                a = hv * (rhs(j) - off_diagonal(u1, j)) / dg(j) + b(i)
+                dii = hv**2 / dg(j)
+                if (mode(i) > 0) ok = laws(i)%law%admits(mode(i), -w(i), (w0(i) - a) / (dii * c(i)), p(i) / c(i))
+                if (ok) then
+                    call modal_local_solve(laws(i), a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok, other)
+                    ok = .true.
+                    nonunique = nonunique .or. other
+                end if
+            end if
+            if (.not. ok) then
+                worst = max(i, 1)
+                return
+            end if
+        end do
+    contains
+        !> W(jj, jj-1) x(jj-1) + W(jj, jj+1) x(jj+1)
+        real(dp) function off_diagonal(x, jj)
+            real(dp), intent(in) :: x(:)
+            integer, intent(in) :: jj
+            off_diagonal = 0.0_dp
+            if (jj > 1) off_diagonal = l(jj) * x(jj - 1)
+            if (jj < nd) off_diagonal = off_diagonal + r(jj) * x(jj + 1)
+        end function off_diagonal
+    end subroutine modal_tridiagonal_sweeps
+
+    !> One contact's problem over its law's modes, w = a + dii p, p = c mu with mu on the law's
+    !! graph at v = -w (the laws' convention), decided by the rule (`modal_choose`): the stuck
+    !! mode and the current one are solved first (static first, then keep a slip: the answer
+    !! of most calls), every mode only where neither decides or other is asked for. A slip
+    !! piece fixes mu, a point fixes w, the hold keeps w0. An open contact (c = 0) has p = 0,
+    !! mode 0. other (optional): another consistent mode with another solution existed (a tie
+    !! the rule broke).
+    subroutine modal_local_solve(ml, a, dii, c, w0, jcur, jnew, p, w, ok, other, hold)
+        type(modal_law), intent(in) :: ml        !! the contact's law (with modes)
+        real(dp), intent(in)  :: a               !! velocity without this contact's impulse [m/s]
+        real(dp), intent(in)  :: dii             !! w per unit impulse, > 0 [1/kg]
+        real(dp), intent(in)  :: c               !! capacity h N >= 0 [N s]
+        real(dp), intent(in)  :: w0              !! velocity at the step's start [m/s]
+        integer, intent(in)   :: jcur            !! current mode (0: none)
+        integer, intent(out)  :: jnew            !! the mode decided (0: open)
+        real(dp), intent(out) :: p               !! impulse [N s]
+        real(dp), intent(out) :: w               !! velocity after it [m/s]
+        logical, intent(out)  :: ok              !! some mode is consistent
+        logical, intent(out), optional :: other  !! another consistent solution existed
+        logical, intent(in), optional :: hold    !! .true.: the current mode kept wherever it holds
+        real(dp) :: mu_hold, pc, wc
+        logical :: cur, adm_c
+        integer :: nm
+        ok = .true.
+        if (present(other)) other = .false.
+        jnew = 0
+        p = 0.0_dp
+        w = a
+        if (.not. (c > 0.0_dp)) return
+        nm = size(ml%kind)
+        mu_hold = (w0 - a) / (dii * c)
+        cur = jcur >= 1 .and. jcur <= nm .and. jcur /= ml%stick
+        if (present(hold)) then
+            if (hold .and. jcur >= 1 .and. jcur <= nm) then
+                call mode_solution(jcur, p, w, ok)
+                if (ok) then
+                    jnew = jcur
+                    return
+                end if
+            end if
+        end if
+        if (.not. present(other)) then
+            if (ml%stick > 0) then
+                call mode_solution(ml%stick, p, w, ok)
+                if (ok) then                  ! static first (the current mode where it is the same point)
+                    jnew = ml%stick
+                    if (cur) then
+                        call mode_solution(jcur, pc, wc, adm_c)
+                        if (adm_c .and. wc == 0.0_dp) then
+                            jnew = jcur
+                            p = pc
+                            w = wc
+                        end if
+                    end if
+                    return
+                end if
+            end if
+            if (cur) then
+                call mode_solution(jcur, pc, wc, adm_c)
+                if (adm_c) then               ! keep a slip
+                    jnew = jcur
+                    p = pc
+                    w = wc
+                    ok = .true.
+                    return
+                end if
+            end if
+        end if
+        call every_mode(nm)
+    contains
+        !> Every mode solved, the rule's choice among them (`modal_choose`).
+        subroutine every_mode(nmodes)
+            integer, intent(in) :: nmodes
+            real(dp) :: pj(nmodes), wj(nmodes)
+            logical :: adm(nmodes), stick(nmodes), tie
+            integer :: j
+            do j = 1, nmodes
+                call mode_solution(j, pj(j), wj(j), adm(j))
+                stick(j) = j == ml%stick
+            end do
+            ok = any(adm)
+            if (.not. ok) return
+            call modal_choose(jcur, adm, stick, wj, 1.0e6_dp * epsilon(1.0_dp) * (abs(a) + maxval(abs(wj))), jnew, tie)
+            if (present(other)) other = tie
+            p = pj(jnew)
+            w = wj(jnew)
+        end subroutine every_mode
+
+        !> Mode j's solution (pm, wm) and whether it lies on the mode.
+        subroutine mode_solution(j, pm, wm, on)
+            integer, intent(in)   :: j
+            real(dp), intent(out) :: pm, wm
+            logical, intent(out)  :: on
+            select case (ml%kind(j))
+            case (MODE_MU)
+                pm = c * ml%value(j)
+                wm = a + dii * pm
+            case (MODE_V)
+                wm = -ml%value(j)
+                pm = (wm - a) / dii
+            case default   ! MODE_KEEP
+                wm = w0
+                pm = (wm - a) / dii
+            end select
+            on = ml%law%admits(j, -wm, mu_hold, pm / c)
+        end subroutine mode_solution
+    end subroutine modal_local_solve
+
+    !> A contact's law for the step problem over the laws' modes: a copy of law, its modes'
+    !! table (`friction_law%mode`) and its stuck mode (the point v = 0 of its graph; 0: none).
+    subroutine modal_law_set(ml, law)
+        type(modal_law), intent(out) :: ml       !! the contact's law as the solver reads it
+        class(friction_law), intent(in) :: law   !! a law with modes
+        integer :: j
+        allocate(ml%law, source=law)
+        allocate(ml%kind(law%n_modes()), ml%value(law%n_modes()))
+        ml%stick = 0
+        do j = 1, law%n_modes()
+            call law%mode(j, ml%kind(j), ml%value(j))
+            if (ml%stick == 0 .and. ml%kind(j) == MODE_V .and. ml%value(j) == 0.0_dp) ml%stick = j
+        end do
+    end subroutine modal_law_set
+
+    !> The rule of the module notes on a chain (W tridiagonal, each contact on one coordinate of
+    !! its own; `tridiagonal_sweeps`' setting), O(n) a sweep: the rounds of `rule_solve`, each
+    !! box problem (every contact between -c mu and c mu at its level mu) solved by the sweeps on
+    !! W itself (`tridiagonal_sweeps` with Coulomb laws of mu_s = mu_k = the level). Step 1
+    !! reads D_ii = h_i^2 (W^-1)_jj (the diagonal of W^-1, O(n)) and the free velocities; on
+    !! a chain D is nonsingular, so the stuck impulses are unique (step 3 has nothing to choose).
+    !! mode: the previous mode in (+-1 slip, 0 stuck, any other value: none), the answer's out.
+    !! resid > tol: a round's sweeps did not converge (the caller solves the step otherwise).
+    subroutine tridiagonal_rule(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, mode, u1, wloc, sweeps, &
+                                resid, iworst)
+        class(contact_system), intent(in) :: cs  !! the system (its laws and H)
+        real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
+        real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
+        real(dp), intent(in)    :: r(:)          !! W(i, i + 1) [-]
+        real(dp), intent(in)    :: uf(:)         !! velocities without friction [m/s]
+        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
+        real(dp), intent(in)    :: boff(:)       !! offsets of the relative velocities [m/s]
+        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
+        real(dp), intent(in)    :: tol           !! tolerance on the sweeps' residual [m/s]
+        integer, intent(in)     :: max_iter      !! sweep limit of a round, >= 1
+        integer, intent(inout)  :: mode(:)       !! (n_c) previous mode in, the answer's out
+        real(dp), intent(inout) :: u1(:)         !! velocities: starting guess in, answer out [m/s]
+        real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
+        integer, intent(out)    :: sweeps        !! sweeps done over all rounds
+        real(dp), intent(out)   :: resid         !! the last round's residual [m/s]
+        integer, intent(out)    :: iworst        !! the coordinate with the largest residual
+        real(dp) :: a(size(d)), bb(size(d)), wf(cs%n_c), dg(cs%n_c), mu(cs%n_c), mu_new(cs%n_c), wts(cs%n_c)
+        type(contact_law) :: box(cs%n_c)
+        logical :: kin(cs%n_c), reset(cs%n_c), act(cs%n_c), changed
+        integer :: dir(cs%n_c), n, i, c, k, sw, rounds, sgn
+        real(dp) :: hv
+        n = size(d)
+        ! pivots from the top (a) and from the bottom (bb): 1 / (W^-1)_ii = a_i + bb_i - d_i
+        a(1) = d(1)
+        do i = 2, n
+            a(i) = d(i) - l(i) * r(i - 1) / a(i - 1)
+        end do
+        bb(n) = d(n)
+        do i = n - 1, 1, -1
+            bb(i) = d(i) - r(i) * l(i + 1) / bb(i + 1)
+        end do
+        do i = 1, n
+            c = coord_contact(i)
+            if (c == 0) cycle
+            hv = cs%h_val(cs%h_ptr(c))
+            wf(c) = hv * uf(i) + boff(c)
+            dg(c) = hv * hv / (a(i) + bb(i) - d(i))
+        end do
+        act = is_active(cs%laws, hn)
+        wts = cs%laws%mu_s * hn
+        ! step 1: a slip kept where its free velocity still goes its way past its static limit
+        kin = .false.
+        dir = 0
+        do c = 1, cs%n_c
+            if (act(c) .and. abs(mode(c)) == 1) then
+                if (mode(c) * wf(c) > dg(c) * wts(c) * (1.0_dp + STICK_RTOL)) then
+                    kin(c) = .true.
+                    dir(c) = mode(c)
+                end if
+            end if
+        end do
+        reset = .false.
+        mu = cs%laws%mu_s
+        where (kin) mu = cs%laws%slip_mu(max(abs(wf) - dg * wts, tiny(1.0_dp)))
+        ! step 2: rounds of box problems, static first
+        sweeps = 0
+        do rounds = 1, 3 * cs%n_c + 30
+            do c = 1, cs%n_c
+                box(c) = contact_law(kind=CONTACT_COULOMB, mu_s=mu(c), mu_k=mu(c))
+            end do
+            call tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sw, resid, &
+                                    iworst, box)
+            sweeps = sweeps + sw
+            if (resid > tol) return
+            changed = .false.
+            mu_new = mu
+            do c = 1, cs%n_c
+                if (.not. act(c) .or. wloc(c) == 0.0_dp) cycle
+                sgn = slip_sign(wloc(c))
+                if (.not. kin(c)) then               ! gives way
+                    kin(c) = .true.
+                    dir(c) = sgn
+                    changed = .true.
+                else if (sgn /= dir(c)) then
+                    if (.not. reset(c)) then         ! crossed zero: decided again from rest
+                        kin(c) = .false.
+                        reset(c) = .true.
+                        dir(c) = 0
+                        mu_new(c) = cs%laws(c)%mu_s
+                        changed = .true.
+                        cycle
+                    end if
+                    dir(c) = sgn
+                end if
+                mu_new(c) = cs%laws(c)%slip_mu(abs(wloc(c)))
+            end do
+            if (.not. changed .and. all(abs(mu_new - mu) <= 8.0_dp * epsilon(1.0_dp) * mu)) exit
+            mu = mu_new
+        end do
+        do k = 1, cs%n_c
+            mode(k) = merge(slip_sign(wloc(k)), MODE_OPEN, act(k))
+        end do
+    end subroutine tridiagonal_rule
 
     !> Room for n numbers in buf (kept where there is enough).
     subroutine reserve(buf, n)

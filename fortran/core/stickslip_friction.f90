@@ -20,17 +20,25 @@
 !! equation over those modes instead of by Newton across the jump (see
 !! `stickslip_fixed_implicit`). A law with a Lipschitz graph has no modes (the default).
 !!
+!! A law may also have a set-valued counterpart (`set_valued`, a `contact_law`): its graph with
+!! the static set at rest exact (stick up to mu_s, no regularisation) and a slip curve mu(s) for
+!! s = |v| > 0, which the nonsmooth methods' contact solver (`stickslip_contact_solver`) reads.
+!! Coulomb and Karnopp give set-valued Coulomb (mu_s, mu_k), Stribeck its curve without the tanh
+!! ramp; a law without one (the default) gives SS_NOT_SETVALUED. So each law describes itself
+!! once, here: regularised (`mu`), set-valued (`set_valued`) and its modes (`mode`, `admits`).
+!!
 !! A law reads its parameters by name from a resolved `param_values` set (see
 !! `stickslip_params`); the parameters every law shares (mu_s, mu_k, v_s) are declared
 !! here once.
 module stickslip_friction
-    use stickslip_kinds, only: dp, SS_OK, SS_NEWTON_FAILED, SS_SINGULAR
+    use stickslip_kinds, only: dp, SS_OK, SS_NEWTON_FAILED, SS_SINGULAR, SS_NOT_SETVALUED
     use stickslip_params, only: param_spec, param_values, param_read
     use stickslip_linalg, only: lu_decompose, lu_solve
     implicit none
     private
 
     public :: friction_law, havsin, havsin_slope, between, tr_bdf2_advance, relax_linear_target
+    public :: contact_law, stribeck_curve, stribeck_curve_slope
 
     !> Relative slack of a mode's bounds in `between` [-] (a million units of round-off: the
     !! stage is solved to rounding, and a velocity or coefficient on a bound must count as on it).
@@ -42,6 +50,9 @@ module stickslip_friction
     integer, parameter, public :: SS_BAD_MU_S = -101   !! mu_s out of range
     integer, parameter, public :: SS_BAD_MU_K = -102   !! mu_k out of range or > mu_s
     integer, parameter, public :: SS_BAD_V_S = -103    !! v_s out of range
+
+    integer, parameter, public :: CONTACT_COULOMB = 1    !! set-valued Coulomb (mu_s, mu_k)
+    integer, parameter, public :: CONTACT_STRIBECK = 2   !! set-valued Stribeck curve
 
     !> Kinds of a law's mode (see `mode`).
     integer, parameter, public :: MODE_MU = 1     !! slip piece: mu = the mode's value
@@ -57,6 +68,26 @@ module stickslip_friction
     type(param_spec), parameter, public :: V_S_SPEC = param_spec(name='v_s', default=0.01_dp, &
         unit='m/s', lo=0.0_dp, lo_open=.true., code=SS_BAD_V_S, doc='static threshold velocity')
     !! static threshold velocity v_s, > 0 [m/s]
+
+    !> The set-valued counterpart of a friction law (module notes): stick at rest with
+    !! |mu| <= mu_s, slip at speed s > 0 with the coefficient `slip_mu`: Coulomb (mu_k at any
+    !! speed) or the Stribeck curve mu(s) = mu_k + (mu_s - mu_k) exp(-(s/v_s)^delta) + c_v s
+    !! (continuous at s = 0+ with the static limit mu_s, no tanh regularisation). The band of the
+    !! paper's Coulomb law (mu_s for 0 < |v| < v_s) is a stand-in for the static set and has no
+    !! counterpart here: v_s is not read by the set-valued Coulomb.
+    type :: contact_law
+        integer :: kind = CONTACT_COULOMB   !! CONTACT_COULOMB or CONTACT_STRIBECK
+        real(dp) :: mu_s = 0.35_dp          !! static coefficient: stick up to mu_s N [-]
+        real(dp) :: mu_k = 0.30_dp          !! kinetic coefficient [-]
+        real(dp) :: v_s = 0.01_dp           !! Stribeck velocity (Stribeck only) [m/s]
+        real(dp) :: delta = 2.0_dp          !! Stribeck shape exponent (Stribeck only) [-]
+        real(dp) :: c_v = 0.0_dp            !! viscous coefficient (Stribeck only) [s/m]
+    contains
+        !> Coefficient in slip at speed s > 0 [-].
+        procedure :: slip_mu
+        !> d(slip_mu)/ds at s > 0 [s/m].
+        procedure :: slip_dmu
+    end type contact_law
 
     !> A friction law: mu as a function of the relative velocity (and of its internal
     !! states, if it has any).
@@ -89,6 +120,12 @@ module stickslip_friction
         procedure :: mode => no_mode
         !> .true. when (v, mu_hold, mu) lies on mode i (the law's graph, jumps filled in).
         procedure :: admits => no_admits
+        !> The law's set-valued counterpart (module notes): SS_OK, or SS_NOT_SETVALUED (the
+        !! default: the law has none).
+        procedure :: set_valued => kind_set_valued
+        !> The kind of the law's set-valued counterpart (CONTACT_COULOMB: `set_valued` builds it
+        !! from mu_s, mu_k); 0, the default: none.
+        procedure :: set_valued_kind => no_set_valued_kind
         !> The coefficient the law selects at v given the holding coefficient: the element of
         !! its (filled-in) set at v nearest mu_hold (mu(v) where the law is single-valued).
         procedure :: mu_select => static_select
@@ -247,6 +284,68 @@ contains
         real(dp), intent(in) :: mu          !! friction coefficient [-]
         no_admits = .false.
     end function no_admits
+
+    !> The set-valued counterpart of kind `set_valued_kind` with the law's mu_s, mu_k and v_s
+    !! (Coulomb's: a law with more parameters, Stribeck, overrides this); SS_NOT_SETVALUED where
+    !! the kind is 0 (cl then the default Coulomb).
+    pure subroutine kind_set_valued(self, cl, status)
+        class(friction_law), intent(in) :: self
+        type(contact_law), intent(out) :: cl    !! the set-valued counterpart
+        integer, intent(out) :: status          !! SS_OK or SS_NOT_SETVALUED
+        status = SS_NOT_SETVALUED
+        if (self%set_valued_kind() == 0) return
+        cl = contact_law(kind=self%set_valued_kind(), mu_s=self%mu_s, mu_k=self%mu_k, v_s=self%v_s)
+        status = SS_OK
+    end subroutine kind_set_valued
+
+    pure integer function no_set_valued_kind(self) result(kind)
+        class(friction_law), intent(in) :: self
+        kind = 0
+    end function no_set_valued_kind
+
+    elemental function slip_mu(self, s) result(mu)
+        class(contact_law), intent(in) :: self
+        real(dp), intent(in) :: s           !! sliding speed |w| > 0 [m/s]
+        real(dp) :: mu                      !! friction coefficient in slip [-]
+        if (self%kind == CONTACT_STRIBECK) then
+            mu = stribeck_curve(s, self%mu_s, self%mu_k, self%v_s, self%delta) + self%c_v * s
+        else
+            mu = self%mu_k
+        end if
+    end function slip_mu
+
+    elemental function slip_dmu(self, s) result(d)
+        class(contact_law), intent(in) :: self
+        real(dp), intent(in) :: s           !! sliding speed |w| > 0 [m/s]
+        real(dp) :: d                       !! d mu / d s [s/m]
+        if (self%kind == CONTACT_STRIBECK) then
+            d = stribeck_curve_slope(s, self%mu_s, self%mu_k, self%v_s, self%delta) + self%c_v
+        else
+            d = 0.0_dp
+        end if
+    end function slip_dmu
+
+    !> The Stribeck curve g(s) = mu_k + (mu_s - mu_k) exp(-(s/v_s)^delta) [-] at speed s >= 0.
+    elemental function stribeck_curve(s, mu_s, mu_k, v_s, delta) result(g)
+        real(dp), intent(in) :: s       !! sliding speed |v| [m/s]
+        real(dp), intent(in) :: mu_s    !! static coefficient [-]
+        real(dp), intent(in) :: mu_k    !! kinetic coefficient [-]
+        real(dp), intent(in) :: v_s     !! Stribeck velocity [m/s]
+        real(dp), intent(in) :: delta   !! shape exponent [-]
+        real(dp) :: g
+        g = mu_k + (mu_s - mu_k) * exp(-(s / v_s)**delta)
+    end function stribeck_curve
+
+    !> dg/ds [s/m] for s > 0 (infinite at s = 0 when delta < 1).
+    elemental function stribeck_curve_slope(s, mu_s, mu_k, v_s, delta) result(d)
+        real(dp), intent(in) :: s       !! sliding speed |v| > 0 [m/s]
+        real(dp), intent(in) :: mu_s    !! static coefficient [-]
+        real(dp), intent(in) :: mu_k    !! kinetic coefficient [-]
+        real(dp), intent(in) :: v_s     !! Stribeck velocity [m/s]
+        real(dp), intent(in) :: delta   !! shape exponent [-]
+        real(dp) :: d                   !! dg/ds [s/m]
+        d = -(mu_s - mu_k) * delta / v_s * (s / v_s)**(delta - 1.0_dp) * exp(-(s / v_s)**delta)
+    end function stribeck_curve_slope
 
     pure function static_select(self, v, mu_hold) result(mu)
         class(friction_law), intent(in) :: self

@@ -147,8 +147,9 @@ module stickslip_ode
         integer(8) :: ncontact_iter = 0  !! sweeps of the contact solver, all steps together (moreau)
         real(dp)   :: contact_residual = 0.0_dp  !! largest final residual of a step's contact solve (moreau) [m/s]
         integer    :: contact_worst = 0  !! the contact (1-based) whose solve failed (SS_CONTACT_FAILED), else 0
-        integer(8) :: nonunique = 0      !! steps (moreau) or mode decisions (event_driven) whose contact
-                                         !! problem had another solution with as many stuck contacts
+        integer(8) :: nonunique = 0      !! steps (moreau, implicit_euler, galpha) or mode decisions
+                                         !! (event_driven) whose contact problem had another solution
+                                         !! (`stickslip_contact_solver`'s notes say which each finds)
         logical    :: stiff = .false.   !! 15 such tests in a row: the problem is probably stiff
         integer    :: n_written = 0     !! output rows written
         real(dp)   :: t_reached = 0.0_dp  !! time reached when the run ended [s]

@@ -21,6 +21,7 @@ module stickslip_implicit_euler
     ! every law's type, for the kernels of the laws marked kernel=.true. (stickslip_laws is written
     ! from the registry's LAW_TABLE by tools/gen_kernels.py, as the kernels are)
     use stickslip_laws
+    use stickslip_contact_solver, only: modal_choose
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private

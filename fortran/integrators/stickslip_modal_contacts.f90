@@ -20,20 +20,17 @@
 !! v = 0 with |mu| <= mu_s. So this is not moreau with theta = 1 (which has no band): the two
 !! differ where a contact slips slower than v_s, and agree as v_s -> 0.
 !!
-!! How. Nonsmooth Gauss-Seidel over the contacts: contact i given the others' impulses has
-!! w_i = a_i + D_ii p_i, and its one-contact problem is solved over its law's modes
-!! (`friction_law%mode`, `admits`): a slip piece fixes mu (p_i = c_i mu), a point of the
-!! velocity axis fixes w_i (p_i = (w_i - a_i) / D_ii), Karnopp's hold keeps w_i at its value at
-!! the step's start. The contact keeps its mode if that is admissible (no switch without cause),
-!! else takes the admissible mode whose velocity is nearest its velocity at the step's start,
-!! as the one-contact path does. Sweeps repeat until no mode changes and the largest change
-!! of an impulse moves no velocity by more than CONTACT_TOL. The answer is then checked: every
-!! contact on its mode (`admits`) and w = wf + D p to the tolerance; a step whose sweeps do not
-!! converge within MAX_SWEEPS ends the run with SS_CONTACT_FAILED, the step's time in t_reached
-!! and the contact in contact_worst. Stuck contacts of one coordinate keep their relative
-!! velocity exactly. Where W is tridiagonal and each contact lies on one coordinate of its own
-!! (the chain), the same sweeps run on W u1 = W u_free + H^T p itself, O(n) a sweep, as moreau's
-!! chain path; otherwise on the dense D (n_c solves with W a step).
+!! How. The step problem is solved by the contact module (`stickslip_contact_solver`, its
+!! section on the laws' modes), the one that solves every nonsmooth method's contacts, with its
+!! rule for several solutions: keep a slip (the current slip mode, where it still holds and
+!! the contact cannot stick), else static first (the consistent mode whose velocity is nearest
+!! zero), contact by contact in nonsmooth Gauss-Seidel sweeps (`solve_modal_contacts` on the
+!! dense D, n_c solves with W a step; `modal_tridiagonal_sweeps` on W u1 = W u_free + H^T p
+!! itself where W is tridiagonal and each contact lies on one coordinate of its own, the
+!! chain, O(n) a sweep). A step whose sweeps do not converge or whose answer fails the check
+!! ends the run with SS_CONTACT_FAILED, the step's time in t_reached and the contact in
+!! contact_worst; a step where some contact had another consistent mode is counted in
+!! stats%nonunique. Stuck contacts of one coordinate keep their relative velocity exactly.
 !!
 !! Generalized-alpha within slip phases. Where every contact is on a slip piece of its law
 !! (MODE_MU: mu_i fixed) the system is smooth, and galpha takes its own step instead (par =
@@ -55,24 +52,15 @@ module stickslip_modal_contacts
                                SS_CONTACT_FAILED, SS_JUMP_MANY_CONTACTS
     use stickslip_ode, only: ode_stats, step_controls, output_start, fixed_steps, step_end, stop_requested, all_finite, &
                              diverged, linear_output
-    use stickslip_friction, only: friction_law, MODE_MU, MODE_V, MODE_KEEP
+    use stickslip_friction, only: MODE_MU
     use stickslip_contact, only: contact_system
+    use stickslip_contact_solver, only: modal_law, modal_law_set, solve_modal_contacts, modal_tridiagonal_sweeps
     use stickslip_scenes, only: friction_scene
     use stickslip_model_system, only: model_system
     implicit none
     private
 
     public :: modal_law, modal_contacts_integrate, scene_modal_contacts, model_modal_contacts
-
-    !> Tolerance on the contact velocities of a step [m/s].
-    real(dp), parameter, public :: CONTACT_TOL = 1.0e-12_dp
-    !> Gauss-Seidel sweeps allowed per step.
-    integer, parameter, public :: MAX_SWEEPS = 1000
-
-    !> The friction law of one contact (a law with modes).
-    type :: modal_law
-        class(friction_law), allocatable :: law   !! the contact's law (n_modes() > 0)
-    end type modal_law
 
 contains
 
@@ -100,7 +88,7 @@ contains
         real(dp) :: t, t1, hs, t_next, resid
         integer(8) :: i, nsteps, n_total
         integer :: nd, nc, m, next, j, k, sweeps
-        logical :: ok, tri, galpha, kept
+        logical :: ok, tri, galpha, kept, other
 
         nd = cs%n_dof
         galpha = .false.
@@ -151,14 +139,15 @@ contains
                 call cs%slip_offset(t1, b)
                 if (tri) then
                     call cs%w_tridiagonal(hs, hs**2, wl, wd, wr, ok)   ! (structural: still tridiagonal)
-                    call tridiagonal_modes(laws, cs, wl, wd, wr, du, coord_contact, b, c, w0, g, p, w, mode, &
-                                           sweeps, ok, k, resid)
+                    call modal_tridiagonal_sweeps(laws, cs, wl, wd, wr, du, coord_contact, b, c, w0, g, p, w, &
+                                                  mode, sweeps, ok, k, resid, other)
                 else
                     call cs%relative_velocities(t1, du, wf)
                     call cs%delassus(t, q, u, hs, hs**2, d)
-                    call gauss_seidel_modes(laws, d, wf, w0, c, p, w, mode, sweeps, ok, k, resid)
+                    call solve_modal_contacts(laws, d, wf, w0, c, p, w, mode, sweeps, ok, k, resid, other)
                 end if
                 stats%ncontact_iter = stats%ncontact_iter + sweeps
+                if (ok .and. other) stats%nonunique = stats%nonunique + 1
                 stats%contact_residual = max(stats%contact_residual, resid)
                 if (.not. ok) then
                     stats%status = SS_CONTACT_FAILED
@@ -273,7 +262,7 @@ contains
         if (allocated(cs)) then
             allocate(laws(cs%n_c))
             do i = 1, cs%n_c
-                allocate(laws(i)%law, source=sys%law)
+                call modal_law_set(laws(i), sys%law)
             end do
         end if
         call run_modal(cs, laws, t0, y0, t_end, ctl, par, t_out, y_out, stats)
@@ -302,7 +291,7 @@ contains
         if (allocated(cs)) then
             allocate(laws(cs%n_c))
             do i = 1, cs%n_c
-                if (sys%laws(i)%law%n_modes() > 0) allocate(laws(i)%law, source=sys%laws(i)%law)
+                if (sys%laws(i)%law%n_modes() > 0) call modal_law_set(laws(i), sys%laws(i)%law)
             end do
         end if
         call run_modal(cs, laws, t0, y0, t_end, ctl, par, t_out, y_out, stats)
@@ -344,210 +333,5 @@ contains
         call ml%law%mode(j, kind, value)
         fixes_velocity = kind /= MODE_MU
     end function fixes_velocity
-
-    !> The sweeps of `gauss_seidel_modes` on W u1 = W uf + H^T p itself, W tridiagonal (l, dg,
-    !! r) and each contact on one coordinate of its own: coordinate by coordinate, u1_j from its
-    !! row given its neighbours, through its contact's one-contact problem where it has one
-    !! (w_i = h_i u1_j + b_i), O(n) a sweep. u1: velocities out [m/s]; the rest as there, resid
-    !! the largest residual of a row of W, divided by its diagonal [m/s].
-    subroutine tridiagonal_modes(laws, cs, l, dg, r, uf, coord_contact, b, c, w0, u1, p, w, mode, sweeps, &
-                                 ok, worst, resid)
-        type(modal_law), intent(in) :: laws(:)
-        class(contact_system), intent(in) :: cs
-        real(dp), intent(in)    :: l(:), dg(:), r(:), uf(:), b(:), c(:), w0(:)
-        integer, intent(in)     :: coord_contact(:)
-        real(dp), intent(out)   :: u1(:), w(:)
-        real(dp), intent(inout) :: p(:)
-        integer, intent(inout)  :: mode(:)
-        integer, intent(out)    :: sweeps, worst
-        logical, intent(out)    :: ok
-        real(dp), intent(out)   :: resid
-        real(dp) :: rhs(size(uf)), s, a, dii, hv, unew, pnew, wnew, change, scale
-        integer :: j, i, nd, jnew
-        logical :: changed
-        nd = size(uf)
-        worst = 0
-        ok = .false.
-        resid = huge(1.0_dp)
-        do j = 1, nd
-            rhs(j) = dg(j) * uf(j) + off_diagonal(uf, j)
-        end do
-        scale = max(maxval(abs(uf)), maxval(abs(w0)), 1.0_dp)
-        u1 = uf
-        do sweeps = 1, MAX_SWEEPS
-            changed = .false.
-            change = 0.0_dp
-            do j = 1, nd
-                s = rhs(j) - off_diagonal(u1, j)
-                i = coord_contact(j)
-                if (i == 0) then
-                    unew = s / dg(j)
-                else
-                    hv = cs%h_val(cs%h_ptr(i))
-                    a = hv * s / dg(j) + b(i)
-                    dii = hv**2 / dg(j)
-                    call one_contact(laws(i)%law, a, dii, c(i), w0(i), mode(i), jnew, pnew, wnew, ok)
-                    if (.not. ok) then
-                        worst = i
-                        return
-                    end if
-                    if (jnew /= mode(i)) changed = .true.
-                    mode(i) = jnew
-                    p(i) = pnew
-                    w(i) = wnew
-                    unew = (wnew - b(i)) / hv
-                end if
-                change = max(change, abs(unew - u1(j)))
-                u1(j) = unew
-            end do
-            if (.not. changed .and. change <= CONTACT_TOL * scale) exit
-        end do
-        sweeps = min(sweeps, MAX_SWEEPS)
-        ! the check: every row of W u1 = W uf + H^T p, every contact on its mode
-        ok = .true.
-        resid = 0.0_dp
-        do j = 1, nd
-            s = dg(j) * u1(j) + off_diagonal(u1, j) - rhs(j)
-            i = coord_contact(j)
-            if (i > 0) s = s - cs%h_val(cs%h_ptr(i)) * p(i)
-            resid = max(resid, abs(s) / dg(j))
-            if (abs(s) / dg(j) > 1.0e3_dp * CONTACT_TOL * scale) ok = .false.
-            if (i > 0 .and. ok) then
-                if (mode(i) > 0) then
-                    hv = cs%h_val(cs%h_ptr(i))
-                    a = hv * (rhs(j) - off_diagonal(u1, j)) / dg(j) + b(i)
-                    ok = laws(i)%law%admits(mode(i), -w(i), (w0(i) - a) / (hv**2 / dg(j) * c(i)), &
-                                            p(i) / c(i))
-                end if
-            end if
-            if (.not. ok) then
-                worst = max(i, 1)
-                return
-            end if
-        end do
-    contains
-        !> W(j, j-1) x(j-1) + W(j, j+1) x(j+1)
-        real(dp) function off_diagonal(x, jj)
-            real(dp), intent(in) :: x(:)
-            integer, intent(in) :: jj
-            off_diagonal = 0.0_dp
-            if (jj > 1) off_diagonal = l(jj) * x(jj - 1)
-            if (jj < nd) off_diagonal = off_diagonal + r(jj) * x(jj + 1)
-        end function off_diagonal
-    end subroutine tridiagonal_modes
-
-    !> Nonsmooth Gauss-Seidel over the contacts' modes (module notes). p: warm start in,
-    !! impulses out [N s]; w: relative velocities out [m/s]; mode: each contact's mode, in
-    !! (0: none) and out (0: open, no normal force). ok: converged and checked; else worst is the
-    !! contact that failed. resid: the largest |wf + D p - w| [m/s].
-    subroutine gauss_seidel_modes(laws, d, wf, w0, c, p, w, mode, sweeps, ok, worst, resid)
-        type(modal_law), intent(in) :: laws(:)
-        real(dp), intent(in)    :: d(:, :), wf(:), w0(:), c(:)
-        real(dp), intent(inout) :: p(:)
-        real(dp), intent(out)   :: w(:)
-        integer, intent(inout)  :: mode(:)
-        integer, intent(out)    :: sweeps, worst
-        logical, intent(out)    :: ok
-        real(dp), intent(out)   :: resid
-        integer :: i, nc, jnew
-        real(dp) :: a, pnew, wnew, change, scale
-        logical :: changed
-        nc = size(wf)
-        worst = 0
-        ok = .false.
-        resid = huge(1.0_dp)
-        scale = max(maxval(abs(wf)), maxval(abs(w0)), 1.0_dp)
-        do sweeps = 1, MAX_SWEEPS
-            changed = .false.
-            change = 0.0_dp
-            do i = 1, nc
-                a = wf(i) + dot_product(d(i, :), p) - d(i, i) * p(i)
-                call one_contact(laws(i)%law, a, d(i, i), c(i), w0(i), mode(i), jnew, pnew, wnew, ok)
-                if (.not. ok) then
-                    worst = i
-                    return
-                end if
-                if (jnew /= mode(i)) changed = .true.
-                change = max(change, abs(pnew - p(i)) * maxval(abs(d(:, i))))
-                mode(i) = jnew
-                p(i) = pnew
-                w(i) = wnew
-            end do
-            if (.not. changed .and. change <= CONTACT_TOL * scale) exit
-        end do
-        sweeps = min(sweeps, MAX_SWEEPS)
-        ! the check: every contact on its mode, and w = wf + D p
-        ok = .true.
-        resid = 0.0_dp
-        do i = 1, nc
-            wnew = wf(i) + dot_product(d(i, :), p)
-            resid = max(resid, abs(wnew - w(i)))
-            if (abs(wnew - w(i)) > 1.0e3_dp * CONTACT_TOL * scale) ok = .false.
-            if (mode(i) > 0) then
-                if (.not. laws(i)%law%admits(mode(i), -w(i), hold(i), p(i) / c(i))) ok = .false.
-            end if
-            if (.not. ok) then
-                worst = i
-                return
-            end if
-        end do
-    contains
-        !> The coefficient that would keep contact i's velocity at its start value [-].
-        real(dp) function hold(ii)
-            integer, intent(in) :: ii
-            hold = (w0(ii) - (wf(ii) + dot_product(d(ii, :), p) - d(ii, ii) * p(ii))) / (d(ii, ii) * c(ii))
-        end function hold
-    end subroutine gauss_seidel_modes
-
-    !> One contact's problem w = a + dii p, p = c mu with mu on the law's graph at v = -w:
-    !! every mode solved, the current one kept if admissible, else the admissible one whose
-    !! velocity is nearest w0. An open contact (c = 0) has p = 0, mode 0.
-    subroutine one_contact(law, a, dii, c, w0, jcur, jnew, p, w, ok)
-        class(friction_law), intent(in) :: law
-        real(dp), intent(in)  :: a, dii, c, w0
-        integer, intent(in)   :: jcur
-        integer, intent(out)  :: jnew
-        real(dp), intent(out) :: p, w
-        logical, intent(out)  :: ok
-        integer :: j, kind
-        real(dp) :: value, pj, wj, mu_hold, best
-        ok = .true.
-        jnew = 0
-        p = 0.0_dp
-        w = a
-        if (.not. (c > 0.0_dp)) return
-        ok = .false.
-        mu_hold = (w0 - a) / (dii * c)
-        best = huge(1.0_dp)
-        do j = 1, law%n_modes()
-            call law%mode(j, kind, value)
-            select case (kind)
-            case (MODE_MU)
-                pj = c * value
-                wj = a + dii * pj
-            case (MODE_V)
-                wj = -value
-                pj = (wj - a) / dii
-            case default   ! MODE_KEEP
-                wj = w0
-                pj = (wj - a) / dii
-            end select
-            if (.not. law%admits(j, -wj, mu_hold, pj / c)) cycle
-            if (j == jcur) then
-                jnew = j
-                p = pj
-                w = wj
-                ok = .true.
-                return
-            end if
-            if (abs(wj - w0) < best) then
-                best = abs(wj - w0)
-                jnew = j
-                p = pj
-                w = wj
-                ok = .true.
-            end if
-        end do
-    end subroutine one_contact
 
 end module stickslip_modal_contacts

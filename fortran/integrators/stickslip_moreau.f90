@@ -24,19 +24,17 @@
 !! W), otherwise every step. Dense D: fine for a few hundred contacts.
 !!
 !! When W is tridiagonal (`w_tridiagonal`, e.g. a chain of blocks) and every contact acts on
-!! one coordinate of its own, the same problem is solved on W itself (`tridiagonal_sweeps` of
-!! `stickslip_contact_solver`):
-!! W u1 = W u_free + H^T p, coordinate by coordinate, each contact's one-contact problem in
-!! closed form given its neighbours' velocities (nonsmooth Gauss-Seidel; W is symmetric
-!! positive definite, so the sweeps converge). A sweep costs O(n) instead of O(n_c^2), and D
-!! is never formed. Its residual is the same quantity: the largest change that a sweep's
+!! one coordinate of its own, the same problem is solved on W itself by the same rule
+!! (`tridiagonal_rule` of `stickslip_contact_solver`): the rule's rounds, each box problem by
+!! sweeps on W u1 = W u_free + H^T p, coordinate by coordinate, each contact's one-contact
+!! problem in closed form at its level given its neighbours' velocities (nonsmooth
+!! Gauss-Seidel; W is symmetric positive definite, so the sweeps converge). A sweep costs O(n)
+!! instead of O(n_c^2), and D is never formed. Its residual is the same quantity: the largest change that a sweep's
 !! later update of coordinate i + 1 makes to coordinate i's velocity, |W(i, i+1) du_{i+1} /
 !! W(i, i)| [m/s], enlarged where the sweeps contract slowly to the distance to the answer it
-!! leaves. A step whose sweeps do not reach contact_tol within contact_max_iter (W
+!! leaves. A step whose sweeps do not reach contact_tol within contact_max_iter in a round (W
 !! ill-conditioned: two blocks joined by a spring with k h^2 >> m, a mass ratio of 1e-9) is
 !! solved again by `solve_contacts` on D, formed for it (up to DENSE_FALLBACK_MAX contacts).
-!! The sweeps follow the solver's rule only where the step has one solution (stick-slip
-!! transitions of a chain with mu_s > mu_k may differ at O(h)).
 !!
 !! A stuck contact whose row of H has a single entry has its coordinate's velocity set so
 !! that w = 0 exactly (the solve gives it to rounding otherwise).
@@ -58,7 +56,7 @@ module stickslip_moreau
     use stickslip_ode, only: ode_stats, step_controls, method_info, check_problem, output_start, &
                              fixed_steps, step_end, stop_requested, all_finite
     use stickslip_contact, only: contact_system
-    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, tridiagonal_sweeps
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, tridiagonal_rule
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use stickslip_ode, only: diverged, linear_output
     implicit none
@@ -79,7 +77,7 @@ module stickslip_moreau
     type, extends(step_controls) :: moreau_options
         real(dp) :: theta = 0.5_dp          !! theta of the theta-method, in [1/2, 1] [-]
         real(dp) :: contact_tol = 1.0e-12_dp  !! tolerance of the contact solve [m/s]
-        integer  :: contact_max_iter = 1000   !! Gauss-Seidel sweeps per step on a chain (W tridiagonal), >= 1
+        integer  :: contact_max_iter = 1000   !! Gauss-Seidel sweeps per box problem on a chain (W tridiagonal), >= 1
     contains
         procedure :: set => set_moreau_option
         !! set a control by name (the step_controls ones and the method's own)
@@ -204,14 +202,11 @@ contains
                 call cs%w_tridiagonal(hs * th, (hs * th)**2, wl, wd, wr, tri)
                 call cs%slip_offset(t1, boff)
                 g = u
-                call tridiagonal_sweeps(cs, wl, wd, wr, du, coord_contact, boff, hn, opts%contact_tol, &
-                                        opts%contact_max_iter, g, wloc, sweeps, resid, iworst)
+                call tridiagonal_rule(cs, wl, wd, wr, du, coord_contact, boff, hn, opts%contact_tol, &
+                                      opts%contact_max_iter, cmode, g, wloc, sweeps, resid, iworst)
                 stats%ncontact_iter = stats%ncontact_iter + sweeps
                 if (resid <= opts%contact_tol) then
                     stats%contact_residual = max(stats%contact_residual, resid)
-                    do c = 1, nc
-                        cmode(c) = merge(0, nint(sign(1.0_dp, wloc(c))), wloc(c) == 0.0_dp)
-                    end do
                     y1(:nd) = q + hs * ((1.0_dp - th) * u + th * g)
                     y1(nd + 1:) = g
                 else if (nc <= DENSE_FALLBACK_MAX) then

@@ -8,7 +8,7 @@
 module stickslip_law_coulomb
     use stickslip_kinds, only: dp
     use stickslip_params, only: param_values
-    use stickslip_friction, only: friction_law, MODE_MU, MODE_V, between
+    use stickslip_friction, only: friction_law, CONTACT_COULOMB, MODE_MU, MODE_V, between
     implicit none
     private
 
@@ -31,6 +31,8 @@ module stickslip_law_coulomb
         !! whether (v, mu) lies on a mode
         procedure :: mu_select => coulomb_select
         !! mu(v), and at v = 0 mu_hold clamped to [-mu_s, mu_s]
+        procedure :: set_valued_kind => coulomb_set_valued_kind
+        !! its set-valued counterpart: Coulomb (mu_s, mu_k), the band not read
     end type coulomb_law
 
 contains
@@ -149,5 +151,11 @@ contains
         case default; ok = .false.
         end select
     end function band_admits
+
+    !> Set-valued Coulomb (stick up to mu_s, slip at mu_k at any speed; the band not read).
+    pure integer function coulomb_set_valued_kind(self) result(kind)
+        class(coulomb_law), intent(in) :: self
+        kind = CONTACT_COULOMB
+    end function coulomb_set_valued_kind
 
 end module stickslip_law_coulomb

@@ -33,7 +33,7 @@
 module stickslip_law_karnopp
     use stickslip_kinds, only: dp
     use stickslip_params, only: param_spec, param_values, param_read
-    use stickslip_friction, only: friction_law
+    use stickslip_friction, only: friction_law, CONTACT_COULOMB
     use stickslip_law_coulomb, only: band_mode, band_admits
     implicit none
     private
@@ -68,6 +68,8 @@ module stickslip_law_karnopp
         procedure :: admits => karnopp_admits
         !> The law itself (it is single-valued given mu_hold).
         procedure :: mu_select => karnopp_select
+        procedure :: set_valued_kind => karnopp_set_valued_kind
+        !! its set-valued counterpart: Coulomb (mu_s, mu_k), the band not read
     end type karnopp_law
 
 contains
@@ -157,5 +159,11 @@ contains
             mu = sign(mu_k, v)
         end if
     end function karnopp
+
+    !> Set-valued Coulomb (stick up to mu_s, slip at mu_k at any speed; the band not read).
+    pure integer function karnopp_set_valued_kind(self) result(kind)
+        class(karnopp_law), intent(in) :: self
+        kind = CONTACT_COULOMB
+    end function karnopp_set_valued_kind
 
 end module stickslip_law_karnopp

@@ -15,12 +15,12 @@
 !! default, proportional to v_eps.
 !! No internal state.
 !!
-!! `stribeck_curve` (g above) is public: the bristle laws (`stickslip_law_lugre`,
+!! `stribeck_curve` (g above, kept in `stickslip_friction` with the set-valued laws) is public: the bristle laws (`stickslip_law_lugre`,
 !! `stickslip_law_elastoplastic`) use it with delta = 2 as their steady-state force.
 module stickslip_law_stribeck
-    use stickslip_kinds, only: dp
+    use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_spec, param_values, param_read
-    use stickslip_friction, only: friction_law
+    use stickslip_friction, only: friction_law, contact_law, CONTACT_STRIBECK, stribeck_curve, stribeck_curve_slope
     implicit none
     private
 
@@ -53,6 +53,8 @@ module stickslip_law_stribeck
         procedure :: mu => stribeck_mu
         !> d mu / d v [s/m].
         procedure :: dmu => stribeck_dmu
+        !> Its set-valued counterpart: the curve g without the ramp (`contact_law`).
+        procedure :: set_valued => stribeck_set_valued
     end type stribeck_law
 
 contains
@@ -92,26 +94,14 @@ contains
         if (s > 0.0_dp) d = d + stribeck_curve_slope(s, self%mu_s, self%mu_k, self%v_s, self%delta) * th
     end function stribeck_dmu
 
-    !> The Stribeck curve g(s) = mu_k + (mu_s - mu_k) exp(-(s/v_s)^delta) [-] at speed s >= 0.
-    elemental function stribeck_curve(s, mu_s, mu_k, v_s, delta) result(g)
-        real(dp), intent(in) :: s       !! sliding speed |v| [m/s]
-        real(dp), intent(in) :: mu_s    !! static coefficient [-]
-        real(dp), intent(in) :: mu_k    !! kinetic coefficient [-]
-        real(dp), intent(in) :: v_s     !! Stribeck velocity [m/s]
-        real(dp), intent(in) :: delta   !! shape exponent [-]
-        real(dp) :: g
-        g = mu_k + (mu_s - mu_k) * exp(-(s / v_s)**delta)
-    end function stribeck_curve
-
-    !> dg/ds [s/m] for s > 0 (infinite at s = 0 when delta < 1).
-    elemental function stribeck_curve_slope(s, mu_s, mu_k, v_s, delta) result(d)
-        real(dp), intent(in) :: s       !! sliding speed |v| > 0 [m/s]
-        real(dp), intent(in) :: mu_s    !! static coefficient [-]
-        real(dp), intent(in) :: mu_k    !! kinetic coefficient [-]
-        real(dp), intent(in) :: v_s     !! Stribeck velocity [m/s]
-        real(dp), intent(in) :: delta   !! shape exponent [-]
-        real(dp) :: d                   !! dg/ds [s/m]
-        d = -(mu_s - mu_k) * delta / v_s * (s / v_s)**(delta - 1.0_dp) * exp(-(s / v_s)**delta)
-    end function stribeck_curve_slope
+    !> The set-valued counterpart: the Stribeck curve without the tanh ramp, plus c_v s.
+    pure subroutine stribeck_set_valued(self, cl, status)
+        class(stribeck_law), intent(in) :: self
+        type(contact_law), intent(out) :: cl    !! kind CONTACT_STRIBECK
+        integer, intent(out) :: status          !! SS_OK
+        cl = contact_law(kind=CONTACT_STRIBECK, mu_s=self%mu_s, mu_k=self%mu_k, v_s=self%v_s, &
+                         delta=self%delta, c_v=self%c_v)
+        status = SS_OK
+    end subroutine stribeck_set_valued
 
 end module stickslip_law_stribeck

@@ -1229,8 +1229,11 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
           0 for the other methods).
         - ``ncontact_iter``: work of moreau's contact solver, summed over the steps (sweeps of
           the chain's Gauss-Seidel, or linear solves of the coupled solver).
-        - ``nonunique``: the steps (moreau) whose contact problem had another solution with as
-          many stuck contacts (the solver's rule chose one; a RuntimeWarning names the count).
+        - ``nonunique``: the steps (moreau, implicit_euler, galpha) or mode decisions
+          (event_driven) whose contact problem had another solution (moreau, event_driven: one
+          with as many stuck contacts; implicit_euler, galpha: another consistent mode of a
+          contact's law); the contact solver's rule chose one, and a RuntimeWarning names the
+          count.
         - ``contact_residual``: the largest residual of moreau's contact solve [m/s], measured
           on each step's friction problem (its complementarity conditions).
         - ``contact_worst``: the contact (0-based) whose friction problem had no solution
@@ -1343,12 +1346,14 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
 
 
 def _warn_nonunique(result: Result) -> None:
-    """One RuntimeWarning for a run in which some contact problem had another solution with as
-    many stuck contacts (``stats["nonunique"]`` counts them; the rule chose one)."""
+    """One RuntimeWarning for a run in which some contact problem had another solution
+    (``stats["nonunique"]`` counts them; the contact solver's rule chose one)."""
     count = int(result.stats.get("nonunique", 0))
     if count:
-        warnings.warn(f"{count} contact problem(s) of this {result.method} run had another solution with as many "
-                      "stuck contacts; the solver's rule chose one (stats['nonunique']; see the exact-stick "
+        what = ("with as many stuck contacts" if result.method in ("moreau", "event_driven")
+                else "(another consistent mode of a contact's law)")
+        warnings.warn(f"{count} contact problem(s) of this {result.method} run had another solution {what}; "
+                      "the solver's rule chose one (stats['nonunique']; see the exact-stick "
                       "guide, 'When a step has several solutions')", RuntimeWarning, stacklevel=3)
 
 
