@@ -43,7 +43,8 @@ records, prescribed_motion per sample), --lmfit (lmfit.md, lmfit.csv: every law 
 stickslip and by the same fit written with lmfit, benchmarks/lmfit_compare.py), --prescribed
 (prescribed.md: prescribed_motion's CPU time per law, benchmarks/prescribed_speed.py),
 --contact (contact.md: the contact solver), --model (model.md: the model path against the
-chain's own code, benchmarks/model_chain.py), --clutches (clutches.md: event_driven on Modelica's
+chain's own code, benchmarks/model_chain.py), --presets --base SITE (presets.md: the scenes as
+presets against a build of the scene code they replaced, benchmarks/presets.py), --clutches (clutches.md: event_driven on Modelica's
 CoupledClutches against a scipy event-driven solver at equal accuracy, cases/gallery_clutches.py),
 --overhead (the ``overhead`` section alone, put in place of the old one in summary.md and
 benchmarks.csv).
@@ -1121,6 +1122,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--model", action="store_true",
                         help="only the model path against the chain's own code (100 blocks, every method "
                              "family): writes model.md")
+    parser.add_argument("--presets", action="store_true",
+                        help="only the scenes as presets against the scene code they replaced (slope, belt, "
+                             "chain of 10, 100 and 1000 blocks; needs --base): writes presets.md")
+    parser.add_argument("--base", metavar="SITE",
+                        help="with --presets: a directory holding a build of the package before the presets "
+                             "(pip install --target SITE <checkout>)")
     parser.add_argument("--clutches", action="store_true",
                         help="only event_driven on Modelica's CoupledClutches against a scipy event-driven "
                              "solver at equal accuracy: writes clutches.md")
@@ -1174,6 +1181,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         from .model_chain import run_model_chain
         write_text(args.outdir / "model.md", run_model_chain(log, 2 if args.quick else 9, 20 if args.quick else 100))
         write_provenance(args.outdir, "model", [args.outdir / "model.md"], argv)
+        return 0
+    if args.presets:
+        from .presets import run_presets
+        if not args.base:
+            parser.error("argument --presets: needs --base SITE (a build of the package before the presets)")
+        write_text(args.outdir / "presets.md", run_presets(log, args.base, 2 if args.quick else 5))
+        write_provenance(args.outdir, "presets", [args.outdir / "presets.md"], argv)
         return 0
     if args.clutches:
         from cases.gallery_clutches import bench_markdown

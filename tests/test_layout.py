@@ -11,7 +11,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
 import gen_kernels  # noqa: E402
 
-LAYERS = {"core", "laws", "integrators", "scenes", "api"}
+LAYERS = {"core", "laws", "integrators", "scenes", "presets", "api"}
 
 
 def test_generated_kernels_are_current():
@@ -22,16 +22,18 @@ def test_generated_kernels_are_current():
 
 
 def test_kernels_follow_the_registry_flags():
-    """The kernels are those of the registry's kernel=.true. entries, no more: unmarking a law
-    drops its kernels and its dispatch case; the generic kernel always stays."""
+    """The kernels are those of the registry's kernel=.true. laws, no more, each on the model
+    structure of one body with one contact (no scene type): unmarking a law drops its kernels
+    and its dispatch case; the generic kernel always stays."""
     source = gen_kernels.REGISTRY.read_text()
-    assert gen_kernels.kernel_entries(source, "SCENE_TABLE") == ["slope", "belt"]
     assert gen_kernels.kernel_entries(source, "LAW_TABLE") == ["coulomb", "recurdyn", "proposed", "stribeck"]
+    assert gen_kernels.kernel_entries(source, "SCENE_TABLE") == []
     edited = re.sub(r"('stribeck'.*?), kernel=\.true\.\)", r"\1)", source, count=1, flags=re.S)
     laws = gen_kernels.kernel_entries(edited, "LAW_TABLE")
     assert laws == ["coulomb", "recurdyn", "proposed"]
-    text = gen_kernels.instances(["slope", "belt"], laws) + gen_kernels.dispatch(["slope", "belt"], laws)
-    assert "stribeck" not in text and "kernel_belt_proposed" in text and "generic_kernel" in text
+    text = gen_kernels.instances(laws) + gen_kernels.dispatch(laws)
+    assert "stribeck" not in text and "kernel_proposed" in text and "generic_kernel" in text
+    assert "type(one_contact_model)" in text and "_scene" not in text
 
 
 def test_every_module_is_in_a_layer_and_built():
@@ -59,8 +61,8 @@ KNOWN_LAYER_EXCEPTIONS: dict[tuple[str, str], str] = {
     **{("stickslip_contact", law): "until one friction interface serves the contact solver "
        "(issue 41 item 2): the contact module names the set-valued laws"
        for law in ("stickslip_law_coulomb", "stickslip_law_stribeck", "stickslip_law_karnopp")},
-    **{(f"stickslip_{m}", "stickslip_scenes"): "until the scenes become models (issue 41 item 1)"
-       for m in ("rk4", "dopri5", "dop853", "radau5", "implicit_euler", "galpha", "modal_contacts")},
+    ("stickslip_modal_contacts", "stickslip_scenes"): "until the scene types are deleted (issue 41 item 1): "
+    "scene_modal_contacts",
 }
 USE = re.compile(r"^\s*use\s*(?:,\s*\w+\s*)?(?:::\s*)?(stickslip_\w+)", re.I | re.M)
 MODULE = re.compile(r"^\s*module\s+(stickslip_\w+)\s*$", re.I | re.M)

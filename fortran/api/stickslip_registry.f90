@@ -44,6 +44,8 @@ module stickslip_registry
     use stickslip_galpha, only: galpha_options, galpha_integrate, GALPHA_INFO
     use stickslip_contact, only: contact_system
     use stickslip_model_system, only: model_system
+    use stickslip_one_contact, only: specialise
+    use stickslip_presets, only: slope_model, belt_model, chain_model
     use stickslip_moreau, only: moreau_options, moreau_integrate, MOREAU_INFO
     use stickslip_event_driven, only: event_driven_options, event_driven_integrate, EVENT_DRIVEN_INFO, &
                                       EVENT_STICK, EVENT_SLIP, EVENT_REVERSAL
@@ -64,10 +66,10 @@ module stickslip_registry
         character(len=80) :: doc = ''
         !! one line of documentation
         logical :: kernel = .false.
-        !! .true.: every integrator has a kernel for each scene x law pair marked so (a law
-        !! with a static mu(v), type NAME_law; a scene of two states, type NAME_scene, with
-        !! static_rhs and static_jacobian). tools/gen_kernels.py writes them from this table
-        !! into fortran/integrators/stickslip_kernel_instances.inc and _dispatch.inc.
+        !! .true. (laws only): every integrator has a kernel for this law (a static mu(v), type
+        !! NAME_law) on a model of one body with one contact (`one_contact_model`, the slope's
+        !! and the belt's presets). tools/gen_kernels.py writes them from LAW_TABLE into
+        !! fortran/integrators/stickslip_kernel_instances.inc and _dispatch.inc.
     end type entry_info
 
     !> The friction laws; the code of a law is its position.
@@ -98,8 +100,8 @@ module stickslip_registry
 
     !> The scenes; the code of a scene is its position.
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
-        entry_info('slope', 'g theta_deg', 'box on a plane inclined theta_deg', kernel=.true.), &
-        entry_info('belt', 'm g k v_b', 'mass on a belt moving at v_b, spring k to a wall', kernel=.true.), &
+        entry_info('slope', 'g theta_deg', 'box on a plane inclined theta_deg'), &
+        entry_info('belt', 'm g k v_b', 'mass on a belt moving at v_b, spring k to a wall'), &
         entry_info('chain', 'm g k v_b n_blocks k_c perturbation k_p', &
                    'n_blocks masses on the belt, springs k_c and k_p (Burridge-Knopoff)')]
     integer, parameter, public :: SCENE_SLOPE = 1, SCENE_BELT = 2
@@ -211,20 +213,20 @@ contains
         end do
     end function resolve_params
 
-    !> Build a scene with a law from named parameters (the others at their defaults).
-    !! `p` returns every parameter as resolved. SS_OK or the code of the bad input.
+    !> Build a scene's model (its preset, `stickslip_presets`) with a law from named parameters
+    !! (the others at their defaults). `p` returns every parameter as resolved. SS_OK or the
+    !! code of the bad input.
     function new_system(scene, law, keys, vals, sys, p) result(status)
         integer, intent(in) :: scene                            !! scene code
         integer, intent(in) :: law                              !! law code
         character(len=*), intent(in) :: keys(:)                 !! given parameter names
         real(dp), intent(in) :: vals(:)                         !! their values [SI units]
-        class(friction_scene), allocatable, intent(out) :: sys  !! the scene, ready to integrate
+        !> the scene's model, ready to integrate (its structure found: `stickslip_one_contact`)
+        class(model_system), allocatable, intent(out) :: sys
         type(param_values), intent(out) :: p                    !! every parameter, resolved
         integer :: status
         class(friction_law), allocatable :: fl
-        type(slope_scene) :: slope
-        type(belt_scene) :: belt
-        type(chain_scene) :: chain
+        type(model_system) :: ms
 
         if (scene < 1 .or. scene > size(SCENE_TABLE)) then
             status = resolve_params(keys, vals, p)
@@ -235,15 +237,13 @@ contains
         if (status /= SS_OK) return
         select case (scene)
         case (SCENE_SLOPE)
-            status = slope%init(fl, p)
-            if (status == SS_OK) allocate(sys, source=slope)
+            status = slope_model(fl, p, ms)
         case (SCENE_BELT)
-            status = belt%init(fl, p)
-            if (status == SS_OK) allocate(sys, source=belt)
+            status = belt_model(fl, p, ms)
         case (SCENE_CHAIN)
-            status = chain%init(fl, p)
-            if (status == SS_OK) allocate(sys, source=chain)
+            status = chain_model(fl, p, ms)
         end select
+        if (status == SS_OK) call specialise(ms, sys)
     end function new_system
 
     !> Set the named controls on ctl; each must be one the method reads.

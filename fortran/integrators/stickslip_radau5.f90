@@ -50,7 +50,7 @@ module stickslip_radau5
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
                              check_step_controls, all_finite, diverged, output_start, stop_requested, limit_after_forced
     use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
-    use stickslip_scenes, only: slope_scene, belt_scene
+    use stickslip_one_contact, only: one_contact_model
     use stickslip_law_coulomb, only: coulomb_law
     use stickslip_law_recurdyn, only: recurdyn_law
     use stickslip_law_proposed, only: proposed_law
