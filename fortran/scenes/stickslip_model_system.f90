@@ -87,6 +87,10 @@ module stickslip_model_system
         !! (`prepare`): a spring's index, nspr + a damper's, nspr + ndmp + a contact's
         integer, allocatable :: elem_ptr(:)
         integer, allocatable :: elem_of(:)         !! the elements of each body, in index order (`elem_ptr`)
+        !> every law static and every contact's normal force and surface velocity a number
+        !! (`prepare`): `rhs` then takes its short path
+        logical :: fixed_static = .false.
+        logical :: unit_mass = .false.             !! every mass is 1 (`prepare`): no division
     contains
         procedure :: rhs => model_rhs
         !! (x, v, z)' at (t, y)
@@ -322,6 +326,10 @@ contains
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
         integer :: nb
         nb = self%nb
+        if (self%fixed_static) then
+            call fixed_static_rhs(self, t, y, dydt)
+            return
+        end if
         if (.not. allocated(self%work)) allocate(self%work(nb, 2))
         associate (f => self%work(:, 1), f0 => self%work(:, 2))
         call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), f0)
@@ -330,6 +338,37 @@ contains
         dydt(nb + 1:2 * nb) = f / self%mass
         end associate
     end subroutine model_rhs
+
+    !> `rhs` of a model whose laws are all static and whose contacts' signals are numbers
+    !! (`fixed_static`): the same operations in the same order (the same numbers, bit for bit),
+    !! the forces summed in place and the numbers read as they were found by `prepare`.
+    subroutine fixed_static_rhs(self, t, y, dydt)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
+        real(dp) :: fn, s
+        integer :: i, nb, a, b
+        nb = self%nb
+        call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), dydt(nb + 1:2 * nb))
+        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb))
+        do i = 1, size(self%con_a)
+            a = self%con_a(i)
+            b = self%con_b(i)
+            if (a > 0) then
+                s = v(a) - self%con_fixed(2, i)
+            else
+                s = -self%con_fixed(2, i)
+            end if
+            if (b > 0) s = s - v(b)
+            fn = self%laws(i)%law%mu(s) * max(self%con_fixed(1, i), 0.0_dp)
+            if (a > 0) f(a) = f(a) - fn
+            if (b > 0) f(b) = f(b) + fn
+        end do
+        if (.not. self%unit_mass) f = f / self%mass
+        end associate
+        dydt(1:nb) = y(nb + 1:2 * nb)
+    end subroutine fixed_static_rhs
 
     !> The sizes the adaptive methods' relative tolerance scales (`ode_system%error_size`):
     !! |y_i|, except that a body's velocity counts as the smallest max(|s|, band) of its
@@ -542,6 +581,8 @@ contains
             if (self%con_w(c) > 0 .and. self%con_is_fixed(2, c)) self%con_fixed(2, c) = self%sig%number(self%con_w(c))
         end do
         call index_elements(self)
+        self%fixed_static = self%all_static .and. all(self%con_is_fixed)
+        self%unit_mass = all(self%mass == 1.0_dp)
         allocate(pos(n), self%band_perm(n))
         ! positions in the body order
         p = 0

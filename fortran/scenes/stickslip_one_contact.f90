@@ -39,6 +39,7 @@ module stickslip_one_contact
         !> the holding coefficient mu_hold = h_0 + h_x x + h_v v [-, 1/m, s/m] (0 without a
         !! normal force)
         real(dp) :: h_0 = 0.0_dp, h_x = 0.0_dp, h_v = 0.0_dp
+        real(dp) :: dn_m = 0.0_dp                 !! dir n_m [N/kg]
     contains
         procedure :: rhs => oc_rhs
         !! (x, v, z)' at (t, y)
@@ -108,6 +109,7 @@ contains
         oc%u = ms%con_fixed(2, 1)
         oc%dir = merge(1.0_dp, -1.0_dp, ms%con_a(1) == 1)
         if (oc%dir < 0.0_dp) oc%u = -oc%u     ! side b: s = -w - v = u - v with u = -w
+        oc%dn_m = oc%dir * oc%n_m
         if (oc%n_m > 0.0_dp) then
             oc%h_0 = oc%dir * oc%f_c / oc%n_m
             oc%h_x = -oc%dir * oc%k_m / oc%n_m
@@ -122,17 +124,13 @@ contains
         real(dp), intent(in)  :: mu         !! the law's coefficient at the slip [-]
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
         dydt(1) = y(2)
-        dydt(2) = self%f_c - self%k_m * y(1) - self%c_m * y(2) - self%dir * mu * self%n_m
+        dydt(2) = self%f_c - self%k_m * y(1) - self%c_m * y(2) - mu * self%dn_m
     end subroutine oc_static_rhs
 
     pure real(dp) function oc_vrel(self, y) result(s)
         class(one_contact_model), intent(in) :: self
         real(dp), intent(in) :: y(:)        !! state (x, v, z...)
-        if (self%dir > 0.0_dp) then
-            s = y(2) - self%u
-        else
-            s = self%u - y(2)
-        end if
+        s = self%dir * (y(2) - self%u)      ! u - v = -(v - u) exactly
     end function oc_vrel
 
     pure real(dp) function oc_mu_hold(self, y) result(mu_hold)
