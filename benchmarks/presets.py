@@ -30,16 +30,16 @@ CASES: tuple[tuple[str, str, str, dict[str, float], dict[str, float], float], ..
     ("slope", "stribeck", "rk4", {"h": 1e-5}, {"v0": 1.0}, 2.0),
     ("slope", "coulomb", "implicit_euler", {"h": 1e-4}, {"v0": 1.0}, 2.0),
     ("belt", "stribeck", "rk4", {"h": 1e-5}, {}, 2.0),
-    ("belt", "proposed", "dopri5", {"rtol": 1e-8, "atol": 1e-10}, {}, 5.0),
-    ("belt", "recurdyn", "radau5", {"rtol": 1e-6, "atol": 1e-8}, {}, 5.0),
+    ("belt", "proposed", "dopri5", {"rtol": 1e-10, "atol": 1e-12}, {}, 20.0),
+    ("belt", "recurdyn", "radau5", {"rtol": 1e-8, "atol": 1e-10}, {}, 20.0),
     ("belt", "recurdyn", "implicit_euler", {"h": 1e-4}, {}, 2.0),
     ("belt", "coulomb", "galpha", {"h": 1e-4}, {}, 2.0),
     ("belt", "lugre", "dopri5", {"rtol": 1e-6, "atol": 1e-8}, {}, 2.0),
-    ("belt", "coulomb", "moreau", {"h": 1e-4}, {}, 2.0),
-    ("belt", "coulomb", "event_driven", {"rtol": 1e-8, "atol": 1e-10}, {}, 5.0),
+    ("belt", "coulomb", "moreau", {"h": 1e-5}, {}, 2.0),
+    ("belt", "coulomb", "event_driven", {"rtol": 1e-10, "atol": 1e-12}, {}, 50.0),
 ) + tuple(
     ("chain", law, method, ctl, {"n_blocks": n}, t_end)
-    for n, t_end in ((10, 0.5), (100, 0.2), (1000, 0.05))
+    for n, t_end in ((10, 2.0), (100, 0.5), (1000, 0.1))
     for law, method, ctl in (("proposed", "rk4", {"h": 1e-4}),
                              ("lugre", "dopri5", {"rtol": 1e-6, "atol": 1e-8}),
                              ("recurdyn", "implicit_euler", {"h": 1e-3}),
