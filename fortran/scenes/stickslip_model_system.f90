@@ -91,6 +91,7 @@ module stickslip_model_system
         !! (`prepare`): `rhs` then takes its short path
         logical :: fixed_static = .false.
         logical :: unit_mass = .false.             !! every mass is 1 (`prepare`): no division
+        real(dp), allocatable :: con_im(:)         !! (nc) 1 / m_a + 1 / m_b of each contact [1/kg] (`prepare`)
     contains
         procedure :: rhs => model_rhs
         !! (x, v, z)' at (t, y)
@@ -335,7 +336,11 @@ contains
         call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), f0)
         call contact_forces(self, t, y, f0, f, dydt)
         dydt(1:nb) = y(nb + 1:2 * nb)
-        dydt(nb + 1:2 * nb) = f / self%mass
+        if (self%unit_mass) then
+            dydt(nb + 1:2 * nb) = f
+        else
+            dydt(nb + 1:2 * nb) = f / self%mass
+        end if
         end associate
     end subroutine model_rhs
 
@@ -451,13 +456,18 @@ contains
             else
                 z0 = 2 * nb + self%z_first(i)
                 z1 = 2 * nb + self%z_first(i + 1) - 1
-                c = n * inverse_mass(self, i)
+                c = n * self%con_im(i)
                 mu_hold = 0.0_dp
                 if (c > 0.0_dp) then
                     fa = 0.0_dp
-                    if (a > 0) fa = f0(a) / self%mass(a)
                     fb = 0.0_dp
-                    if (b > 0) fb = f0(b) / self%mass(b)
+                    if (self%unit_mass) then
+                        if (a > 0) fa = f0(a)
+                        if (b > 0) fb = f0(b)
+                    else
+                        if (a > 0) fa = f0(a) / self%mass(a)
+                        if (b > 0) fb = f0(b) / self%mass(b)
+                    end if
                     mu_hold = (fa - fb - wdot) / c
                 end if
                 call self%laws(i)%law%evaluate(s, y(z0:z1), mu_hold, mu, dydt(z0:z1))
@@ -552,9 +562,9 @@ contains
     !! order (x_1, v_1, the states of the contacts whose first body is 1, x_2, ...) and the band of the Jacobian in it, from the model's structure: x_i' reads v_i; a
     !! body's acceleration reads the positions and velocities of the bodies joined to it by a
     !! spring or a damper, and the velocities and states of its contacts; a contact's states
-    !! read its bodies' velocities, and, for a law that is not static (its holding
-    !! coefficient), the positions of its bodies and of the bodies joined to them by a spring,
-    !! and the velocities of those joined by a damper. Banded
+    !! read its bodies' velocities, and, for a law that is not static and holds (it has modes:
+    !! it reads its holding coefficient), the positions of its bodies and of the bodies joined
+    !! to them by a spring, and the velocities of those joined by a damper. Banded
     !! when the band LU's storage (2 ml + mu + 1 rows) is smaller than the dense matrix's (n);
     !! dense (-1) otherwise, as for one or two bodies.
     subroutine model_prepare(self)
@@ -583,6 +593,7 @@ contains
         call index_elements(self)
         self%fixed_static = self%all_static .and. all(self%con_is_fixed)
         self%unit_mass = all(self%mass == 1.0_dp)
+        self%con_im = [(inverse_mass(self, c), c = 1, nc)]
         allocate(pos(n), self%band_perm(n))
         ! positions in the body order
         p = 0
@@ -658,8 +669,7 @@ contains
         end subroutine joined
 
         !> The state row reads contact c: its bodies' velocities, its states, and for a law that
-        !! is not static the positions and velocities of its bodies and of the bodies joined
-        !! to them.
+        !! holds (modes, not static) what its holding coefficient reads.
         subroutine reads(row, c)
             integer, intent(in) :: row, c
             integer :: j, q, body
@@ -667,7 +677,8 @@ contains
                 body = merge(self%con_a(c), self%con_b(c), j == 1)
                 if (body == 0) cycle
                 call touch(row, nb + body)
-                if (self%laws(c)%law%is_static()) cycle
+                ! the holding coefficient, read by a law that holds (a mode: Karnopp's band)
+                if (self%laws(c)%law%is_static() .or. self%laws(c)%law%n_modes() == 0) cycle
                 call touch(row, body)
                 call joined(row, body)      ! the holding coefficient
             end do
