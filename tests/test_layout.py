@@ -48,21 +48,18 @@ def test_every_module_is_in_a_layer_and_built():
 
 # --- Fortran: `use` runs one way through the layers -------------------------------------------
 #: The layers of the Fortran library, in order: a module uses only modules of its own layer and
-#: of those before it. A module's layer is its folder's, except the scenes, which become
-#: presets (built on the model and run by the integrators like any other model).
+#: of those before it. A module's layer is its folder's (scenes/ holds the model layer; the
+#: scenes themselves are presets, fortran/presets/, built on the model).
 FORTRAN_LAYERS: tuple[str, ...] = ("core", "laws", "contact", "model", "integrators", "presets", "api")
 FOLDER_LAYER: dict[str, str] = {"core": "core", "laws": "laws", "contact": "contact", "scenes": "model",
                                 "model": "model", "integrators": "integrators", "presets": "presets",
                                 "api": "api"}
-PRESET_MODULES: frozenset[str] = frozenset({"stickslip_scenes", "stickslip_chain"})
 #: Today's uses against the layers, each with the reason it is still there: (module, used).
 #: A new violation fails; so does an entry here that is no longer needed (remove it).
 KNOWN_LAYER_EXCEPTIONS: dict[tuple[str, str], str] = {
     **{("stickslip_contact", law): "until one friction interface serves the contact solver "
        "(issue 41 item 2): the contact module names the set-valued laws"
        for law in ("stickslip_law_coulomb", "stickslip_law_stribeck", "stickslip_law_karnopp")},
-    ("stickslip_modal_contacts", "stickslip_scenes"): "until the scene types are deleted (issue 41 item 1): "
-    "scene_modal_contacts",
 }
 USE = re.compile(r"^\s*use\s*(?:,\s*\w+\s*)?(?:::\s*)?(stickslip_\w+)", re.I | re.M)
 MODULE = re.compile(r"^\s*module\s+(stickslip_\w+)\s*$", re.I | re.M)
@@ -74,7 +71,7 @@ def fortran_layer(path: Path) -> dict[str, tuple[str, set[str]]]:
     for f in sorted(path.glob("*/*.f90")):
         text = f.read_text()
         for name in MODULE.findall(text):
-            layer = "presets" if name.lower() in PRESET_MODULES else FOLDER_LAYER[f.parent.name]
+            layer = FOLDER_LAYER[f.parent.name]
             out[name.lower()] = (layer, {u.lower() for u in USE.findall(text)} - {name.lower()})
     return out
 
@@ -90,7 +87,8 @@ def test_fortran_use_follows_the_layers():
     """core, laws, contact, model, integrators, presets, api: each uses only those before it,
     apart from today's listed exceptions (and every listed exception is still needed)."""
     modules = fortran_layer(ROOT / "fortran")
-    assert {"stickslip_kinds", "stickslip_registry", "stickslip_scenes"} <= modules.keys()
+    assert {"stickslip_kinds", "stickslip_registry", "stickslip_presets"} <= modules.keys()
+    assert modules["stickslip_presets"][0] == "presets" and modules["stickslip_model_system"][0] == "model"
     found = layer_violations(modules)
     new = sorted(found - KNOWN_LAYER_EXCEPTIONS.keys())
     stale = sorted(KNOWN_LAYER_EXCEPTIONS.keys() - found)

@@ -33,9 +33,6 @@ module stickslip_registry
     use stickslip_law_drake_tamsi, only: drake_tamsi_law
     use stickslip_law_capped_viscous, only: capped_viscous_law
     use stickslip_law_mujoco_pyramidal, only: mujoco_pyramidal_law
-    use stickslip_scenes, only: friction_scene, slope_scene, belt_scene, G_SPEC, THETA_SPEC, M_SPEC, &
-                                K_SPEC, V_B_SPEC
-    use stickslip_chain, only: chain_scene, N_BLOCKS_SPEC, K_C_SPEC, K_P_SPEC, PERTURBATION_SPEC, MAX_BLOCKS
     use stickslip_rk4, only: rk4_integrate, RK4_INFO
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, DOPRI5_INFO
     use stickslip_dop853, only: dop853_options, dop853_integrate, DOP853_INFO
@@ -45,7 +42,8 @@ module stickslip_registry
     use stickslip_contact, only: contact_system
     use stickslip_model_system, only: model_system
     use stickslip_one_contact, only: specialise
-    use stickslip_presets, only: slope_model, belt_model, chain_model
+    use stickslip_presets, only: slope_model, belt_model, chain_model, G_SPEC, THETA_SPEC, M_SPEC, K_SPEC, &
+                                 V_B_SPEC, N_BLOCKS_SPEC, K_C_SPEC, K_P_SPEC, PERTURBATION_SPEC, MAX_BLOCKS
     use stickslip_moreau, only: moreau_options, moreau_integrate, MOREAU_INFO
     use stickslip_event_driven, only: event_driven_options, event_driven_integrate, EVENT_DRIVEN_INFO, &
                                       EVENT_STICK, EVENT_SLIP, EVENT_REVERSAL
@@ -98,7 +96,8 @@ module stickslip_registry
         LAW_CAPPED_VISCOUS = 12, LAW_MUJOCO_PYRAMIDAL = 13
     !! law codes of the physics engines' laws (`stickslip.engines`)
 
-    !> The scenes; the code of a scene is its position.
+    !> The scenes, each a preset (`stickslip_presets`: the function that builds its model, run
+    !! by `new_system`); the code of a scene is its position.
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
         entry_info('slope', 'g theta_deg', 'box on a plane inclined theta_deg'), &
         entry_info('belt', 'm g k v_b', 'mass on a belt moving at v_b, spring k to a wall'), &
@@ -417,8 +416,8 @@ contains
     end function new_controls
 
 
-    !> The contact model of a system for the nonsmooth methods: a scene's or a model's `contact_model`;
-    !! SS_NOT_SETVALUED for a law without a set-valued counterpart or another system.
+    !> The contact model of a system for the nonsmooth methods: a model's `contact_model` (the
+    !! presets' too); SS_NOT_SETVALUED for a law without a set-valued counterpart or another system.
     subroutine contact_model_of(sys, cs, status)
         use stickslip_ode, only: ode_system
         use stickslip_kinds, only: SS_NOT_SETVALUED
@@ -426,8 +425,6 @@ contains
         class(contact_system), allocatable, intent(out) :: cs  !! its contact model
         integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
         select type (sys)
-        class is (friction_scene)
-            call sys%contact_model(cs, status)
         class is (model_system)
             call sys%contact_model(cs, status)
         class default

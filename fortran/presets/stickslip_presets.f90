@@ -22,20 +22,73 @@
 !! on the belt and the chain).
 module stickslip_presets
     use stickslip_kinds, only: dp, SS_OK
-    use stickslip_params, only: param_values, param_read
+    use stickslip_params, only: param_spec, param_values, param_read
     use stickslip_friction, only: friction_law
     use stickslip_signal, only: SIG_CONST
     use stickslip_model_system, only: model_system
-    use stickslip_scenes, only: G_SPEC, THETA_SPEC, M_SPEC, K_SPEC, V_B_SPEC
-    use stickslip_chain, only: N_BLOCKS_SPEC, K_C_SPEC, K_P_SPEC, PERTURBATION_SPEC, SS_BAD_N_BLOCKS, chain_r
     implicit none
     private
 
-    public :: slope_model, belt_model, chain_model
+    public :: slope_model, belt_model, chain_model, chain_r
+
+    integer, parameter, public :: SS_BAD_M = -111       !! m out of range
+    integer, parameter, public :: SS_BAD_G = -112       !! g out of range
+    integer, parameter, public :: SS_BAD_THETA = -113   !! theta_deg out of range
+    integer, parameter, public :: SS_BAD_K = -114       !! k out of range
+    integer, parameter, public :: SS_BAD_V_B = -115     !! v_b not finite
+
+    !> The scenes' parameters with the paper's values (Table 1) and ours where it is silent.
+    type(param_spec), parameter, public :: G_SPEC = param_spec(name='g', default=9.81_dp, &
+        unit='m/s^2', lo=0.0_dp, code=SS_BAD_G, doc='gravity')
+    type(param_spec), parameter, public :: THETA_SPEC = param_spec(name='theta_deg', default=10.0_dp, &
+        unit='deg', lo=-90.0_dp, hi=90.0_dp, code=SS_BAD_THETA, doc='slope inclination')
+    !! slope inclination theta_deg in [-90, 90] [deg]
+    type(param_spec), parameter, public :: M_SPEC = param_spec(name='m', default=10.0_dp, &
+        unit='kg', lo=0.0_dp, lo_open=.true., code=SS_BAD_M, doc='mass')
+    !! mass m, > 0 [kg]
+    type(param_spec), parameter, public :: K_SPEC = param_spec(name='k', default=300.0_dp, &
+        unit='N/m', lo=0.0_dp, code=SS_BAD_K, doc='spring stiffness')
+    !! spring stiffness k, >= 0 [N/m]
+    type(param_spec), parameter, public :: V_B_SPEC = param_spec(name='v_b', default=1.5_dp, &
+        unit='m/s', code=SS_BAD_V_B, doc='belt speed')
+    !! belt speed v_b, finite [m/s]
+
+
+    integer, parameter, public :: SS_BAD_N_BLOCKS = -116      !! n_blocks not an integer in range
+    integer, parameter, public :: SS_BAD_K_C = -117           !! k_c out of range
+    integer, parameter, public :: SS_BAD_PERTURBATION = -118  !! perturbation out of range
+    integer, parameter, public :: SS_BAD_K_P = -119           !! k_p out of range
+
+    !> Largest number of blocks: the state (N (2 + nz) values) and the work arrays of every
+    !! method grow linearly in N; 10^6 blocks keep one state under 50 MB for the largest law.
+    integer, parameter, public :: MAX_BLOCKS = 1000000
+
+    type(param_spec), parameter, public :: N_BLOCKS_SPEC = param_spec(name='n_blocks', default=1.0_dp, &
+        unit='-', lo=1.0_dp, hi=real(MAX_BLOCKS, dp), relation='an integer', code=SS_BAD_N_BLOCKS, &
+        doc='number of blocks of the chain')
+    !! number of blocks N, an integer in [1, MAX_BLOCKS] [-]
+    type(param_spec), parameter, public :: K_C_SPEC = param_spec(name='k_c', default=300.0_dp, &
+        unit='N/m', lo=0.0_dp, default_of='k', code=SS_BAD_K_C, doc='coupling spring between blocks')
+    !! coupling spring stiffness k_c, >= 0, default k [N/m]
+    type(param_spec), parameter, public :: PERTURBATION_SPEC = param_spec(name='perturbation', &
+        default=0.01_dp, unit='-', lo=0.0_dp, hi=0.5_dp, code=SS_BAD_PERTURBATION, &
+        doc='relative spread of the blocks'' normal forces')
+    !! amplitude of the deterministic spread of the normal forces, in [0, 0.5] [-]
+    type(param_spec), parameter, public :: K_P_SPEC = param_spec(name='k_p', default=0.0_dp, &
+        unit='N/m', lo=0.0_dp, code=SS_BAD_K_P, doc='loading spring from each block to the wall')
+    !! loading spring stiffness k_p from every block to the wall, >= 0 [N/m]
 
     real(dp), parameter :: deg = acos(-1.0_dp) / 180.0_dp
 
 contains
+
+    !> The perturbation sequence r_i in [-1, 1), r_1 = 0 [-].
+    elemental real(dp) function chain_r(i) result(r)
+        integer, intent(in) :: i    !! block index, >= 1
+        real(dp), parameter :: PHI = 0.6180339887498948482_dp
+        r = 0.5_dp + real(i - 1, dp) * PHI
+        r = 2.0_dp * (r - aint(r)) - 1.0_dp
+    end function chain_r
 
     !> The slope (g, theta_deg in p) with `law` as a model; SS_OK or the code of the bad
     !! parameter.

@@ -63,7 +63,7 @@ program test_core
     use stickslip_ode, only: ode_stats, step_controls, fd_jacobian, step_count
     use stickslip_friction, only: friction_law, SS_BAD_MU_K
     use stickslip_law_recurdyn, only: SS_BAD_V_D
-    use stickslip_scenes, only: SS_BAD_M
+    use stickslip_presets, only: SS_BAD_M
     use stickslip_rk4, only: rk4_integrate
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_dop853, only: dop853_options, dop853_integrate
