@@ -131,6 +131,8 @@ module stickslip_model_system
         procedure :: scalar_stage => model_scalar_stage
         !! a stage of static laws by nonlinear Gauss-Seidel over the bodies, each a bracketed
         !! scalar equation (where Newton's method fails: the proposed law's cusp at rest)
+        procedure :: body_acceleration => model_body_acceleration
+        !! body i's acceleration at (t, x, v) with static laws [m/s^2] (read by `scalar_stage`)
     end type model_system
 
     !> The model with set-valued contacts (see the module notes).
@@ -776,6 +778,16 @@ contains
         end do
     end function body_force
 
+    !> Body i's force over its mass at (t, x, v), the laws static [m/s^2].
+    real(dp) function model_body_acceleration(self, i, t, x, v) result(a)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i            !! the body
+        real(dp), intent(in) :: t           !! time [s]
+        real(dp), intent(in) :: x(:)        !! (nb) positions [m]
+        real(dp), intent(in) :: v(:)        !! (nb) velocities [m/s]
+        a = body_force(self, i, t, x, v) / self%mass(i)
+    end function model_body_acceleration
+
     !> The stage k = f(t, u + c k) of a model whose laws are all static, where Newton's method
     !! fails (the proposed law's infinite slope at rest, where a chain started stuck has every
     !! block): nonlinear Gauss-Seidel over the bodies. Body i's stage velocity v_i solves
@@ -833,7 +845,7 @@ contains
             v_keep = vs(i)
             vs(i) = v
             nfev = nfev + 1
-            phi = v - u(n + i) - c * (body_force(self, i, t, xs, vs) / self%mass(i))
+            phi = v - u(n + i) - c * self%body_acceleration(i, t, xs, vs)
             vs(i) = v_keep
         end function phi
     end subroutine model_scalar_stage

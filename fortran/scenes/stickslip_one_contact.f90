@@ -18,8 +18,6 @@ module stickslip_one_contact
     use stickslip_friction, only: friction_law
     use stickslip_ode, only: fd_jacobian
     use stickslip_model_system, only: model_system
-    use stickslip_roots, only: root_search
-    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
@@ -55,8 +53,8 @@ module stickslip_one_contact
         !! the coefficient that holds s [-]
         procedure :: set_relative_velocity => oc_set_vrel
         !! the velocity at which the slip is w
-        procedure :: scalar_stage => oc_scalar_stage
-        !! a static law's stage as one bracketed scalar equation
+        procedure :: body_acceleration => oc_body_acceleration
+        !! x'' with a static law, folded (the model's `scalar_stage` reads it)
         procedure :: condensed_components => oc_condensed_components
         !! the law's states, when the law solves their stage itself
         procedure :: condense_stage => oc_condense_stage
@@ -195,50 +193,17 @@ contains
         end if
     end subroutine oc_jacobian
 
-    !> The stage k = f(t, u + c k) of a static law (state (x, v), x' = v) as one equation in
-    !! the stage velocity v_s: x_s = u_x + c v_s and phi(v_s) = v_s - u_v - c a(t, x_s, v_s) = 0.
-    !! phi is continuous where f is (the proposed law's mu ~ |s|^(1/3) has an infinite slope at
-    !! s = 0, where Newton's method cycles), so a sign change is bracketed, from v_s = u_v
-    !! outwards in steps that double, and closed by Illinois regula falsi with bisection to
-    !! rounding. k = (v_s, (v_s - u_v) / c): the root's own acceleration, not f at the root,
-    !! which at the cusp jumps between the two floats that hold the root. ok = .false. for a
-    !! law with internal states, or when no bracket is found within 1e6 (1 + |u_v| + |phi(u_v)|).
-    subroutine oc_scalar_stage(self, t, u, c, k, nfev, ok)
-        class(one_contact_model), intent(inout) :: self
-        real(dp), intent(in)    :: t        !! stage time [s]
-        real(dp), intent(in)    :: u(:)     !! the stage state is u + c k
-        real(dp), intent(in)    :: c        !! coefficient of k in the stage state [s]
-        real(dp), intent(inout) :: k(:)     !! stage derivative: a guess in, the solution out
-        integer(8), intent(inout) :: nfev   !! evaluations of f, counted
-        logical, intent(out)    :: ok       !! .true.: k solves the stage
-        type(root_search) :: search
-        ok = .false.
-        if (self%nz /= 0 .or. size(u) /= 2) return
-        call search%start(u(2))
-        do while (.not. search%done)
-            call search%tell(phi(search%x))
-        end do
-        if (search%found) call finish(search%root)
-    contains
-        !> phi(v_s) [m/s]
-        real(dp) function phi(vs)
-            real(dp), intent(in) :: vs
-            real(dp) :: ys(2), f(2)
-            ys = [u(1) + c * vs, vs]
-            call self%rhs(t, ys, f)
-            nfev = nfev + 1
-            phi = vs - u(2) - c * f(2)
-        end function phi
-        subroutine finish(vs)
-            real(dp), intent(in) :: vs
-            real(dp) :: ys(2), f(2)
-            ys = [u(1) + c * vs, vs]
-            call self%rhs(t, ys, f)
-            nfev = nfev + 1
-            k = [f(1), (vs - u(2)) / c]   ! the root's own acceleration (notes)
-            ok = all(ieee_is_finite(k))
-        end subroutine finish
-    end subroutine oc_scalar_stage
+    !> x'' at (x, v) with a static law, what the model's `scalar_stage` solves for [m/s^2].
+    real(dp) function oc_body_acceleration(self, i, t, x, v) result(a)
+        class(one_contact_model), intent(in) :: self
+        integer, intent(in) :: i            !! the body (1)
+        real(dp), intent(in) :: t           !! time [s]
+        real(dp), intent(in) :: x(:)        !! (1) position [m]
+        real(dp), intent(in) :: v(:)        !! (1) velocity [m/s]
+        real(dp) :: f(2)
+        call self%static_rhs([x(1), v(1)], self%law%mu(self%relative_velocity([x(1), v(1)])), f)
+        a = f(2)
+    end function oc_body_acceleration
 
     !> The law's states z (components 3 ..), when the law condenses them.
     subroutine oc_condensed_components(self, mask)
