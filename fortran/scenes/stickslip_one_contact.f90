@@ -122,13 +122,18 @@ contains
         real(dp), intent(in)  :: mu         !! the law's coefficient at the slip [-]
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
         dydt(1) = y(2)
-        dydt(2) = self%f_c - self%k_m * y(1) - self%c_m * y(2) - mu * self%dn_m
+        dydt(2) = self%f_c - self%k_m * y(1) - mu * self%dn_m
+        if (self%c_m /= 0.0_dp) dydt(2) = dydt(2) - self%c_m * y(2)     ! (no damper: skipped)
     end subroutine oc_static_rhs
 
     pure real(dp) function oc_vrel(self, y) result(s)
         class(one_contact_model), intent(in) :: self
         real(dp), intent(in) :: y(:)        !! state (x, v, z...)
-        s = self%dir * (y(2) - self%u)      ! u - v = -(v - u) exactly
+        if (self%dir > 0.0_dp) then
+            s = y(2) - self%u
+        else
+            s = self%u - y(2)
+        end if
     end function oc_vrel
 
     pure real(dp) function oc_mu_hold(self, y) result(mu_hold)
