@@ -126,7 +126,10 @@ program bench_contact
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, gauss_seidel, &
                                         contact_residual, SOLVER_PIVOTING, tridiagonal_rule
     use stickslip_linalg, only: psd_solve
-    use stickslip_chain, only: chain_contact
+    use stickslip_params, only: param_values, NAME_LEN
+    use stickslip_contact, only: contact_system
+    use stickslip_model_system, only: model_system
+    use stickslip_registry, only: new_system, code_of
     use stickslip_moreau, only: moreau_options, moreau_integrate
     use stickslip_ode, only: ode_stats
     use bench_contact_stack, only: stack_system, stack_of
@@ -259,12 +262,15 @@ contains
         integer, intent(in) :: n    !! blocks (and contacts)
         integer, parameter :: nst = 5               ! states (problems)
         real(dp), parameter :: h = 1.0e-3_dp, th = 0.5_dp, tol = 1.0e-12_dp
-        type(chain_contact) :: cc
+        class(model_system), allocatable :: sys
+        class(contact_system), allocatable :: cc
+        type(param_values) :: p
+        integer :: status
         type(moreau_options) :: mo
         type(ode_stats) :: st
         type(contact_solve_info) :: inf
         type(contact_workspace) :: cwk      ! the solvers' room, reused from solve to solve as moreau does
-        real(dp) :: t_out(nst + 1), y_out(2 * n, nst + 1), y0(2 * n), phi, rr
+        real(dp) :: t_out(nst + 1), y_out(2 * n, nst + 1), y0(2 * n)
         real(dp) :: uf(n, nst), wf(n, nst), hn(n), boff(n), wl(n), wd(n), wr(n), f0(n), f1(n), qp(n)
         real(dp) :: ut(n, nst), ud(n), pp(n), ww(n), wl2(n), res, du_max, tm
         real(dp) :: tt(repeats), ts(repeats), tg(repeats)
@@ -272,29 +278,17 @@ contains
         integer :: cmap(n), i, j, r, sw, iw, nin, k, ntri, nsol, ngs, nboth, cm(n), pm(n, nst)
         integer :: tri_sweeps, gs_sweeps
         logical :: dense, ok, both(nst)
-        ! The chain scene's contact system (chain_contact_model), Coulomb, k_p = 0.
-        cc%n_dof = n
-        cc%n_c = n
-        cc%h_ptr = [(i, i = 1, n + 1)]
-        cc%h_col = [(i, i = 1, n)]
-        allocate(cc%h_val(n), source=1.0_dp)
-        allocate(cc%laws(n), source=contact_law(mu_s=0.35_dp, mu_k=0.3_dp))
-        cc%w_constant = .true.
-        cc%k_m = 30.0_dp
-        cc%kp_m = 0.0_dp
-        cc%kc_m = 30.0_dp
-        cc%v_b = 1.5_dp
-        phi = (sqrt(5.0_dp) - 1.0_dp) / 2.0_dp
-        allocate(cc%g(n))
-        do i = 1, n
-            rr = 0.5_dp + (i - 1) * phi
-            cc%g(i) = 9.81_dp * (1.0_dp + 0.01_dp * (2.0_dp * (rr - floor(rr)) - 1.0_dp))
-        end do
+        ! The chain preset's contact system (its model's contact_model), Coulomb, k_p = 0.
+        status = new_system(code_of('scene', 'chain'), code_of('law', 'coulomb'), &
+                            [character(len=NAME_LEN) :: 'n_blocks', 'mu_s', 'mu_k', 'm', 'k', 'k_c', 'v_b'], &
+                            [real(n, dp), 0.35_dp, 0.3_dp, 10.0_dp, 300.0_dp, 300.0_dp, 1.5_dp], sys, p)
+        if (status == 0) call sys%contact_model(cc, status)
+        if (status /= 0) error stop 'bench_contact: the chain preset failed'
         ! States of a run started stuck on the belt.
         mo%h = h
         mo%theta = th
         y0 = 0.0_dp
-        y0(n + 1:) = cc%v_b
+        y0(n + 1:) = 1.5_dp
         t_out = [(real(i, dp), i = 0, nst)]
         call moreau_integrate(cc, 0.0_dp, y0, real(nst, dp), mo, t_out, y_out, st)
         if (st%status /= 0) error stop 'bench_contact: the chain run failed'

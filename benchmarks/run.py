@@ -45,7 +45,8 @@ stickslip and by the same fit written with lmfit, benchmarks/lmfit_compare.py), 
 --contact (contact.md: the contact solver), --model (model.md: the model path against the
 chain's own code, benchmarks/model_chain.py), --modal-chain [--baseline PYTHON] (modal_chain.md:
 implicit_euler, galpha and moreau on the chain, against another build where given,
-benchmarks/modal_chain.py), --clutches (clutches.md: event_driven on Modelica's
+benchmarks/modal_chain.py), --presets --base SITE (presets.md: the scenes as
+presets against a build of the scene code they replaced, benchmarks/presets.py), --clutches (clutches.md: event_driven on Modelica's
 CoupledClutches against a scipy event-driven solver at equal accuracy, cases/gallery_clutches.py),
 --overhead (the ``overhead`` section alone, put in place of the old one in summary.md and
 benchmarks.csv).
@@ -1133,6 +1134,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--baseline", metavar="PYTHON", default=None,
                         help="with --modal-chain: also time another build's interpreter, interleaved, "
                              "and give the ratio")
+    parser.add_argument("--presets", action="store_true",
+                        help="only the scenes as presets against the scene code they replaced (slope, belt, "
+                             "chain of 10, 100 and 1000 blocks; needs --base): writes presets.md")
+    parser.add_argument("--base", metavar="SITE",
+                        help="with --presets: a directory holding a build of the package before the presets "
+                             "(pip install --target SITE <checkout>)")
     parser.add_argument("--clutches", action="store_true",
                         help="only event_driven on Modelica's CoupledClutches against a scipy event-driven "
                              "solver at equal accuracy: writes clutches.md")
@@ -1194,6 +1201,12 @@ def main(argv: Sequence[str] | None = None) -> int:
                    run_modal_chain(log, 1 if args.quick else 5, args.baseline,
                                    {10: 0.5, 100: 0.1} if args.quick else SIZES))
         write_provenance(args.outdir, "modal_chain", [args.outdir / "modal_chain.md"], argv)
+    if args.presets:
+        from .presets import run_presets
+        if not args.base:
+            parser.error("argument --presets: needs --base SITE (a build of the package before the presets)")
+        write_text(args.outdir / "presets.md", run_presets(log, args.base, 2 if args.quick else 5))
+        write_provenance(args.outdir, "presets", [args.outdir / "presets.md"], argv)
         return 0
     if args.clutches:
         from cases.gallery_clutches import bench_markdown

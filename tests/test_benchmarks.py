@@ -263,3 +263,24 @@ def test_replot_draws_position_error_and_refuses_an_old_csv(tmp_path: Path, monk
         w.writerows(old)
     with pytest.raises(SystemExit):
         run.main(["--replot", "--outdir", str(tmp_path)])
+
+
+def test_presets_benchmark_needs_a_base_build(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                             capsys: pytest.CaptureFixture) -> None:
+    """`--presets` compares against a separate build of the package (--base SITE): without one
+    it stops with a message naming --base; a worker of this tree reports every case once, each
+    with its steps and a positive time per step."""
+    import json
+    monkeypatch.syspath_prepend(str(ROOT))
+    from benchmarks import presets
+    from benchmarks.run import main
+
+    with pytest.raises(SystemExit):
+        main(["--presets", "--outdir", str(tmp_path)])
+    assert "--base" in capsys.readouterr().err
+    monkeypatch.setattr(presets, "CASES", (("belt", "coulomb", "rk4", {"h": 1e-3}, {}, 0.1),
+                                           ("chain", "proposed", "rk4", {"h": 1e-3}, {"n_blocks": 3}, 0.1)))
+    presets._worker()
+    runs = json.loads(capsys.readouterr().out)["runs"]
+    assert [r["nstep"] for r in runs] == [100, 100]
+    assert all(r["per_step"] > 0 and len(r["x"]) == n for r, n in zip(runs, (1, 3)))

@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
 import gen_kernels  # noqa: E402
 
-LAYERS = {"core", "laws", "integrators", "scenes", "api"}
+LAYERS = {"core", "laws", "integrators", "scenes", "presets", "api"}
 
 
 def test_generated_kernels_are_current():
@@ -76,16 +76,18 @@ def test_the_laws_generator_names_what_is_missing(tmp_path: Path):
 
 
 def test_kernels_follow_the_registry_flags():
-    """The kernels are those of the registry's kernel=.true. entries, no more: unmarking a law
-    drops its kernels and its dispatch case; the generic kernel always stays."""
+    """The kernels are those of the registry's kernel=.true. laws, no more, each on the model
+    structure of one body with one contact (no scene type): unmarking a law drops its kernels
+    and its dispatch case; the generic kernel always stays."""
     source = gen_kernels.REGISTRY.read_text()
-    assert gen_kernels.kernel_entries(source, "SCENE_TABLE") == ["slope", "belt"]
     assert gen_kernels.kernel_entries(source, "LAW_TABLE") == ["coulomb", "recurdyn", "proposed", "stribeck"]
+    assert gen_kernels.kernel_entries(source, "SCENE_TABLE") == []
     edited = re.sub(r"('stribeck'.*?), kernel=\.true\.\)", r"\1)", source, count=1, flags=re.S)
     laws = gen_kernels.kernel_entries(edited, "LAW_TABLE")
     assert laws == ["coulomb", "recurdyn", "proposed"]
-    text = gen_kernels.instances(["slope", "belt"], laws) + gen_kernels.dispatch(["slope", "belt"], laws)
-    assert "stribeck" not in text and "kernel_belt_proposed" in text and "generic_kernel" in text
+    text = gen_kernels.instances(laws) + gen_kernels.dispatch(laws)
+    assert "stribeck" not in text and "kernel_proposed" in text and "generic_kernel" in text
+    assert "type(one_contact_model)" in text and "_scene" not in text
 
 
 def test_every_module_is_in_a_layer_and_built():
@@ -104,18 +106,15 @@ def test_every_module_is_in_a_layer_and_built():
 
 # --- Fortran: `use` runs one way through the layers -------------------------------------------
 #: The layers of the Fortran library, in order: a module uses only modules of its own layer and
-#: of those before it. A module's layer is its folder's, except the scenes, which become
-#: presets (built on the model and run by the integrators like any other model).
+#: of those before it. A module's layer is its folder's (scenes/ holds the model layer; the
+#: scenes themselves are presets, fortran/presets/, built on the model).
 FORTRAN_LAYERS: tuple[str, ...] = ("core", "laws", "contact", "model", "integrators", "presets", "api")
 FOLDER_LAYER: dict[str, str] = {"core": "core", "laws": "laws", "contact": "contact", "scenes": "model",
                                 "model": "model", "integrators": "integrators", "presets": "presets",
                                 "api": "api"}
-PRESET_MODULES: frozenset[str] = frozenset({"stickslip_scenes", "stickslip_chain"})
 #: Today's uses against the layers, each with the reason it is still there: (module, used).
 #: A new violation fails; so does an entry here that is no longer needed (remove it).
 KNOWN_LAYER_EXCEPTIONS: dict[tuple[str, str], str] = {
-    **{(f"stickslip_{m}", "stickslip_scenes"): "until the scenes become models (issue 41 item 1)"
-       for m in ("rk4", "dopri5", "dop853", "radau5", "implicit_euler", "galpha", "modal_contacts")},
 }
 USE = re.compile(r"^\s*use\s*(?:,\s*\w+\s*)?(?:::\s*)?(stickslip_\w+)", re.I | re.M)
 MODULE = re.compile(r"^\s*module\s+(stickslip_\w+)\s*$", re.I | re.M)
@@ -127,7 +126,7 @@ def fortran_layer(path: Path) -> dict[str, tuple[str, set[str]]]:
     for f in sorted(path.glob("*/*.f90")):
         text = f.read_text()
         for name in MODULE.findall(text):
-            layer = "presets" if name.lower() in PRESET_MODULES else FOLDER_LAYER[f.parent.name]
+            layer = FOLDER_LAYER[f.parent.name]
             out[name.lower()] = (layer, {u.lower() for u in USE.findall(text)} - {name.lower()})
     return out
 
@@ -143,7 +142,8 @@ def test_fortran_use_follows_the_layers():
     """core, laws, contact, model, integrators, presets, api: each uses only those before it,
     apart from today's listed exceptions (and every listed exception is still needed)."""
     modules = fortran_layer(ROOT / "fortran")
-    assert {"stickslip_kinds", "stickslip_registry", "stickslip_scenes"} <= modules.keys()
+    assert {"stickslip_kinds", "stickslip_registry", "stickslip_presets"} <= modules.keys()
+    assert modules["stickslip_presets"][0] == "presets" and modules["stickslip_model_system"][0] == "model"
     found = layer_violations(modules)
     new = sorted(found - KNOWN_LAYER_EXCEPTIONS.keys())
     stale = sorted(KNOWN_LAYER_EXCEPTIONS.keys() - found)

@@ -19,7 +19,7 @@ module stickslip_batch
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_BAD_N_OUT
     use stickslip_params, only: NAME_LEN
     use stickslip_ode, only: ode_stats, stats_integers, stats_reals, STATS_INTEGER_NAMES, STATS_REAL_NAMES
-    use stickslip_scenes, only: friction_scene
+    use stickslip_model_system, only: model_system
     use stickslip_simulate, only: simulate
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
     !$ use omp_lib, only: omp_get_max_threads
@@ -154,7 +154,7 @@ contains
             integer, intent(in) :: i
             real(dp), intent(inout), optional :: y_keep(:, :)
             real(dp), allocatable :: t_out(:), y_out(:, :)
-            class(friction_scene), allocatable :: sys
+            class(model_system), allocatable :: sys
             integer(8) :: c0, c1, rate
             integer :: j, n, n_ok
             logical :: pset(size(pkeys)), cset(size(ckeys))
@@ -201,19 +201,18 @@ contains
     end subroutine simulate_batch
 
     !> Fill the monitor part of s from the grid rows written (t(j), y(:, j)). The velocity
-    !! monitored is the scene's `monitored_body` (block 1 on the chain).
+    !! monitored is body 1's (block 1 on the chain), the relative velocity contact 1's slip.
     subroutine summarise(s, sys, t_end, y0, t, y)
         type(batch_summary), intent(inout) :: s
-        class(friction_scene), intent(in) :: sys   !! the scene run (relative velocity)
+        class(model_system), intent(in) :: sys     !! the scene's model run (relative velocity)
         real(dp), intent(in) :: t_end              !! final time of the run [s]
         real(dp), intent(in) :: y0(:)              !! initial state
         real(dp), intent(in) :: t(:), y(:, :)      !! grid rows written
-        real(dp) :: vr, vr_prev, t_half, dv, dv_prev, vscale, v_prev, vr_b, xv(2), v
+        real(dp) :: vr, vr_prev, t_half, dv, dv_prev, vscale, v_prev, vr_b, v
         integer :: j
         logical :: have_prev, have_dv, in_tail
 
-        xv = sys%monitored_body(y0)
-        s%v_max = abs(xv(2))
+        s%v_max = abs(y0(sys%nb + 1))
         s%vrel_min_tail = huge(1.0_dp)
         s%vrel_max_tail = -huge(1.0_dp)
         t_half = 0.5_dp * t_end
@@ -222,10 +221,9 @@ contains
         vr_prev = 0.0_dp
         dv_prev = 0.0_dp
         v_prev = 0.0_dp
-        vr_b = abs(sys%relative_velocity(spread(0.0_dp, 1, size(y, 1))))   ! |v_ref|: belt speed or 0
+        vr_b = abs(sys%slip(1, 0.0_dp, spread(0.0_dp, 1, size(y, 1))))   ! |v_ref|: belt speed or 0
         do j = 1, size(t)
-            xv = sys%monitored_body(y(:, j))
-            v = xv(2)
+            v = y(sys%nb + 1, j)
             if (.not. ieee_is_finite(v)) exit
             in_tail = t(j) >= t_half
             s%v_max = max(s%v_max, abs(v))
@@ -236,7 +234,7 @@ contains
                     call count_sign_change(dv, in_tail, dv_prev, have_dv, s%n_rev, s%n_rev_tail)
             end if
             v_prev = v
-            vr = sys%relative_velocity(y(:, j))
+            vr = sys%slip(1, t(j), y(:, j))
             if (in_tail) then
                 s%vrel_min_tail = min(s%vrel_min_tail, vr)
                 s%vrel_max_tail = max(s%vrel_max_tail, vr)

@@ -24,9 +24,6 @@ module stickslip_registry
                              STATS_REAL_NAMES, RTOL_MIN
     use stickslip_friction, only: friction_law
     use stickslip_laws, only: new_law, LAW_SPECS
-    use stickslip_scenes, only: friction_scene, slope_scene, belt_scene, G_SPEC, THETA_SPEC, M_SPEC, &
-                                K_SPEC, V_B_SPEC
-    use stickslip_chain, only: chain_scene, N_BLOCKS_SPEC, K_C_SPEC, K_P_SPEC, PERTURBATION_SPEC, MAX_BLOCKS
     use stickslip_rk4, only: rk4_integrate, RK4_INFO
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, DOPRI5_INFO
     use stickslip_dop853, only: dop853_options, dop853_integrate, DOP853_INFO
@@ -35,6 +32,9 @@ module stickslip_registry
     use stickslip_galpha, only: galpha_options, galpha_integrate, GALPHA_INFO
     use stickslip_contact, only: contact_system
     use stickslip_model_system, only: model_system
+    use stickslip_one_contact, only: specialise
+    use stickslip_presets, only: slope_model, belt_model, chain_model, G_SPEC, THETA_SPEC, M_SPEC, K_SPEC, &
+                                 V_B_SPEC, N_BLOCKS_SPEC, K_C_SPEC, K_P_SPEC, PERTURBATION_SPEC, MAX_BLOCKS
     use stickslip_moreau, only: moreau_options, moreau_integrate, MOREAU_INFO
     use stickslip_event_driven, only: event_driven_options, event_driven_integrate, EVENT_DRIVEN_INFO, &
                                       EVENT_STICK, EVENT_SLIP, EVENT_REVERSAL
@@ -55,10 +55,10 @@ module stickslip_registry
         character(len=80) :: doc = ''
         !! one line of documentation
         logical :: kernel = .false.
-        !! .true.: every integrator has a kernel for each scene x law pair marked so (a law
-        !! with a static mu(v), type NAME_law; a scene of two states, type NAME_scene, with
-        !! static_rhs and static_jacobian). tools/gen_kernels.py writes them from this table
-        !! into fortran/integrators/stickslip_kernel_instances.inc and _dispatch.inc.
+        !! .true. (laws only): every integrator has a kernel for this law (a static mu(v), type
+        !! NAME_law) on a model of one body with one contact (`one_contact_model`, the slope's
+        !! and the belt's presets). tools/gen_kernels.py writes them from LAW_TABLE into
+        !! fortran/integrators/stickslip_kernel_instances.inc and _dispatch.inc.
     end type entry_info
 
     !> The friction laws; the code of a law is its position.
@@ -80,10 +80,11 @@ module stickslip_registry
         entry_info('mujoco_pyramidal', 'mu_k v_s', 'MuJoCo pyramidal cone: viscous, slope bent at mu_k/2')]
     ! The codes LAW_<NAME> (positions in LAW_TABLE) are stickslip_laws', written from this table.
 
-    !> The scenes; the code of a scene is its position.
+    !> The scenes, each a preset (`stickslip_presets`: the function that builds its model, run
+    !! by `new_system`); the code of a scene is its position.
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
-        entry_info('slope', 'g theta_deg', 'box on a plane inclined theta_deg', kernel=.true.), &
-        entry_info('belt', 'm g k v_b', 'mass on a belt moving at v_b, spring k to a wall', kernel=.true.), &
+        entry_info('slope', 'g theta_deg', 'box on a plane inclined theta_deg'), &
+        entry_info('belt', 'm g k v_b', 'mass on a belt moving at v_b, spring k to a wall'), &
         entry_info('chain', 'm g k v_b n_blocks k_c perturbation k_p', &
                    'n_blocks masses on the belt, springs k_c and k_p (Burridge-Knopoff)')]
     integer, parameter, public :: SCENE_SLOPE = 1, SCENE_BELT = 2
@@ -170,20 +171,20 @@ contains
         end do
     end function resolve_params
 
-    !> Build a scene with a law from named parameters (the others at their defaults).
-    !! `p` returns every parameter as resolved. SS_OK or the code of the bad input.
+    !> Build a scene's model (its preset, `stickslip_presets`) with a law from named parameters
+    !! (the others at their defaults). `p` returns every parameter as resolved. SS_OK or the
+    !! code of the bad input.
     function new_system(scene, law, keys, vals, sys, p) result(status)
         integer, intent(in) :: scene                            !! scene code
         integer, intent(in) :: law                              !! law code
         character(len=*), intent(in) :: keys(:)                 !! given parameter names
         real(dp), intent(in) :: vals(:)                         !! their values [SI units]
-        class(friction_scene), allocatable, intent(out) :: sys  !! the scene, ready to integrate
+        !> the scene's model, ready to integrate (its structure found: `stickslip_one_contact`)
+        class(model_system), allocatable, intent(out) :: sys
         type(param_values), intent(out) :: p                    !! every parameter, resolved
         integer :: status
         class(friction_law), allocatable :: fl
-        type(slope_scene) :: slope
-        type(belt_scene) :: belt
-        type(chain_scene) :: chain
+        type(model_system) :: ms
 
         if (scene < 1 .or. scene > size(SCENE_TABLE)) then
             status = resolve_params(keys, vals, p)
@@ -194,15 +195,13 @@ contains
         if (status /= SS_OK) return
         select case (scene)
         case (SCENE_SLOPE)
-            status = slope%init(fl, p)
-            if (status == SS_OK) allocate(sys, source=slope)
+            status = slope_model(fl, p, ms)
         case (SCENE_BELT)
-            status = belt%init(fl, p)
-            if (status == SS_OK) allocate(sys, source=belt)
+            status = belt_model(fl, p, ms)
         case (SCENE_CHAIN)
-            status = chain%init(fl, p)
-            if (status == SS_OK) allocate(sys, source=chain)
+            status = chain_model(fl, p, ms)
         end select
+        if (status == SS_OK) call specialise(ms, sys)
     end function new_system
 
     !> Set the named controls on ctl; each must be one the method reads.
@@ -376,8 +375,8 @@ contains
     end function new_controls
 
 
-    !> The contact model of a system for the nonsmooth methods: a scene's or a model's `contact_model`;
-    !! SS_NOT_SETVALUED for a law without a set-valued counterpart or another system.
+    !> The contact model of a system for the nonsmooth methods: a model's `contact_model` (the
+    !! presets' too); SS_NOT_SETVALUED for a law without a set-valued counterpart or another system.
     subroutine contact_model_of(sys, cs, status)
         use stickslip_ode, only: ode_system
         use stickslip_kinds, only: SS_NOT_SETVALUED
@@ -385,8 +384,6 @@ contains
         class(contact_system), allocatable, intent(out) :: cs  !! its contact model
         integer, intent(out) :: status                         !! SS_OK or SS_NOT_SETVALUED
         select type (sys)
-        class is (friction_scene)
-            call sys%contact_model(cs, status)
         class is (model_system)
             call sys%contact_model(cs, status)
         class default

@@ -11,7 +11,7 @@ module stickslip_simulate
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM
     use stickslip_params, only: param_values, NAME_LEN
     use stickslip_ode, only: ode_stats, step_controls
-    use stickslip_scenes, only: friction_scene
+    use stickslip_model_system, only: model_system
     use stickslip_registry, only: new_system, new_controls, integrate
     implicit none
     private
@@ -22,7 +22,7 @@ module stickslip_simulate
     !! the run's initial state, tolerances and end time. Read-only for `run_prepared`.
     type, public :: prepared_simulation
         integer :: method = 0                               !! method code (registry)
-        class(friction_scene), allocatable :: sys          !! the scene with its law, initialised
+        class(model_system), allocatable :: sys             !! the scene's model with its law, prepared
         class(step_controls), allocatable :: ctl           !! the method's options, controls set
         real(dp), allocatable :: y0(:)                     !! initial state
         real(dp), allocatable :: rtol(:)                   !! relative tolerance(s)
@@ -52,7 +52,7 @@ contains
         real(dp), intent(inout) :: y_out(:, :)      !! (size(y0), size(t_out)) states
         type(ode_stats), intent(out) :: stats       !! counters and status
         type(param_values), intent(out), optional :: p_out  !! every parameter as resolved
-        class(friction_scene), allocatable, intent(out), optional :: sys_out  !! the scene run
+        class(model_system), allocatable, intent(out), optional :: sys_out  !! the scene's model run
         !> A flag another thread may set nonzero to stop the run (SS_INTERRUPTED).
         integer, pointer, intent(in), optional :: stop_flag
         !> (4, room): the stick/slip events of event_driven, (t [s], kind, position [m], contact)
@@ -122,7 +122,7 @@ contains
         integer, pointer, intent(in), optional :: stop_flag
         !> (4, room): the stick/slip events of event_driven, (t [s], kind, position [m], contact)
         real(dp), intent(inout), optional :: events(:, :)
-        class(friction_scene), allocatable :: sys
+        class(model_system), allocatable :: sys
 
         if (.not. (allocated(prep%sys) .and. allocated(prep%ctl))) then
             stats%status = SS_BAD_DIM

@@ -14,8 +14,8 @@ module stickslip_implicit_euler
                              stop_requested, all_finite, diverged, hermite
     use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls, ROUNDING_FLOOR
     use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
-    use stickslip_scenes, only: friction_scene, slope_scene, belt_scene
-    use stickslip_modal_contacts, only: scene_modal_contacts, model_modal_contacts
+    use stickslip_one_contact, only: one_contact_model
+    use stickslip_modal_contacts, only: model_modal_contacts
     use stickslip_model_system, only: model_system
     use stickslip_friction, only: MODE_MU, MODE_V, between
     ! every law's type, for the kernels of the laws marked kernel=.true. (stickslip_laws is written

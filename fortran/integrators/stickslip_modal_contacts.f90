@@ -55,12 +55,11 @@ module stickslip_modal_contacts
     use stickslip_friction, only: MODE_MU
     use stickslip_contact, only: contact_system
     use stickslip_contact_solver, only: modal_law, modal_law_set, solve_modal_contacts, modal_tridiagonal_sweeps
-    use stickslip_scenes, only: friction_scene
     use stickslip_model_system, only: model_system
     implicit none
     private
 
-    public :: modal_law, modal_contacts_integrate, scene_modal_contacts, model_modal_contacts
+    public :: modal_law, modal_contacts_integrate, model_modal_contacts
 
 contains
 
@@ -239,34 +238,6 @@ contains
             on_pieces = .true.
         end function on_pieces
     end subroutine modal_contacts_integrate
-
-    !> A friction scene of several contacts whose law has modes (the chain with Coulomb or
-    !! Karnopp), run by `modal_contacts_integrate` on its contact model with the scene's law on
-    !! every contact: what implicit_euler and galpha run there (the input checked by them).
-    !! A system of the user's own plugs in the same way: its `contact_system` and one
-    !! `modal_law` per contact.
-    subroutine scene_modal_contacts(sys, t0, y0, t_end, ctl, par, t_out, y_out, stats)
-        class(friction_scene), intent(inout) :: sys  !! the scene; its law has modes
-        real(dp), intent(in)    :: t0                !! initial time [s]
-        real(dp), intent(in)    :: y0(:)             !! initial state (x, v)
-        real(dp), intent(in)    :: t_end             !! final time, > t0 [s]
-        class(step_controls), intent(in) :: ctl      !! h, max_steps, every_step, y_bound
-        real(dp), intent(in)    :: par(:)            !! the method's parameters (galpha's: module notes)
-        real(dp), intent(inout) :: t_out(:)          !! requested output times, or step times [s]
-        real(dp), intent(inout) :: y_out(:, :)       !! (size(y0), size(t_out)) states
-        type(ode_stats), intent(out) :: stats        !! counters and status
-        class(contact_system), allocatable :: cs
-        type(modal_law), allocatable :: laws(:)
-        integer :: status, i
-        call sys%contact_model(cs, status)   ! (status: the law's set-valued counterpart, not needed)
-        if (allocated(cs)) then
-            allocate(laws(cs%n_c))
-            do i = 1, cs%n_c
-                call modal_law_set(laws(i), sys%law)
-            end do
-        end if
-        call run_modal(cs, laws, t0, y0, t_end, ctl, par, t_out, y_out, stats)
-    end subroutine scene_modal_contacts
 
     !> A user's model (`stickslip_model_system`) whose contacts' laws jump, run by
     !! `modal_contacts_integrate` on its contact model with each contact's own law. Every law

@@ -50,7 +50,7 @@ module stickslip_radau5
     use stickslip_ode, only: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, &
                              check_step_controls, all_finite, diverged, output_start, stop_requested, limit_after_forced
     use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
-    use stickslip_scenes, only: slope_scene, belt_scene
+    use stickslip_one_contact, only: one_contact_model
     ! every law's type, for the kernels of the laws marked kernel=.true. (stickslip_laws is written
     ! from the registry's LAW_TABLE by tools/gen_kernels.py, as the kernels are)
     use stickslip_laws

@@ -10,7 +10,7 @@ module stickslip_rk4
                                SS_NONFINITE, SS_OUTPUT_FULL, SS_INTERRUPTED, SS_DIVERGED
     use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, hermite, fixed_steps, &
                              step_end, STOP_CHECK_MASK
-    use stickslip_scenes, only: slope_scene, belt_scene
+    use stickslip_one_contact, only: one_contact_model
     ! every law's type, for the kernels of the laws marked kernel=.true. (stickslip_laws is written
     ! from the registry's LAW_TABLE by tools/gen_kernels.py, as the kernels are)
     use stickslip_laws

@@ -39,6 +39,8 @@ module stickslip_model_system
     use stickslip_contact, only: contact_system, contact_law_of
     use stickslip_signal, only: signal_set
     use stickslip_linalg, only: lu_decompose, lu_solve, tridiagonal_solve
+    use stickslip_roots, only: root_search
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
@@ -60,7 +62,7 @@ module stickslip_model_system
         real(dp), allocatable :: dmp_c(:)          !! damping [N s/m], >= 0
         integer, allocatable :: frc_body(:)        !! forces' bodies
         integer, allocatable :: frc_sig(:)         !! forces' signals
-        integer, allocatable :: con_a(:), con_b(:) !! contacts' bodies (b = 0: the ground)
+        integer, allocatable :: con_a(:), con_b(:) !! contacts' bodies (0: the ground, on one side at most)
         integer, allocatable :: con_n(:)           !! contacts' normal-force signals
         integer, allocatable :: con_w(:)           !! contacts' surface-velocity signals (0: none)
         type(law_slot), allocatable :: laws(:)     !! contacts' laws
@@ -78,6 +80,18 @@ module stickslip_model_system
         !> (nc) the slip speed over which each contact's law turns, max |mu| / |mu'(0)| (its v_eps
         !! or v_s) [m/s]; huge where mu'(0) is 0 (`prepare`; read by `error_size`)
         real(dp), allocatable :: con_band(:)
+        !> .true.: `error_size` sizes a body's velocity by its contacts' slips; .false.: |y| (the
+        !! presets, whose steps are those the scenes took before they became models)
+        logical :: slip_error_size = .true.
+        !> (nb + 1) body i's springs, dampers and contacts are elem_of(elem_ptr(i) : elem_ptr(i + 1) - 1)
+        !! (`prepare`): a spring's index, nspr + a damper's, nspr + ndmp + a contact's
+        integer, allocatable :: elem_ptr(:)
+        integer, allocatable :: elem_of(:)         !! the elements of each body, in index order (`elem_ptr`)
+        !> every law static and every contact's normal force and surface velocity a number
+        !! (`prepare`): `rhs` then takes its short path
+        logical :: fixed_static = .false.
+        logical :: unit_mass = .false.             !! every mass is 1 (`prepare`): no division
+        real(dp), allocatable :: con_im(:)         !! (nc) 1 / m_a + 1 / m_b of each contact [1/kg] (`prepare`)
     contains
         procedure :: rhs => model_rhs
         !! (x, v, z)' at (t, y)
@@ -96,6 +110,8 @@ module stickslip_model_system
         !! springs, dampers and forces on each body [N]
         procedure :: friction => model_friction
         !! each contact's friction force on its body a at (t, y) [N]
+        procedure :: slip => model_slip
+        !! contact i's slip s at (t, y), what its law sees [m/s]
         procedure :: error_size => model_error_size
         !! a body's velocity sized by the smallest slip of its contacts (what the laws see)
         procedure :: contact_model => model_contact_model
@@ -106,6 +122,17 @@ module stickslip_model_system
         !! .true. when a contact's law has a jump (modes)
         procedure :: state_bound => model_state_bound
         !! BOUND_MARGIN times the energy bound on each |y_i|
+        procedure :: condensed_components => model_condensed_components
+        !! the states of the contacts whose law solves their stage itself (`condensed`)
+        procedure :: condense_stage => model_condense_stage
+        !! their part of the stage from each law's stage_states at its slip
+        procedure :: stage_rhs => model_stage_rhs
+        !! f at a stage state with those states moving at the stage's rates
+        procedure :: scalar_stage => model_scalar_stage
+        !! a stage of static laws by nonlinear Gauss-Seidel over the bodies, each a bracketed
+        !! scalar equation (where Newton's method fails: the proposed law's cusp at rest)
+        procedure :: body_acceleration => model_body_acceleration
+        !! body i's acceleration at (t, x, v) with static laws [m/s^2] (read by `scalar_stage`)
     end type model_system
 
     !> The model with set-valued contacts (see the module notes).
@@ -188,14 +215,15 @@ contains
                     mu_max = max(law%mu_s, law%mu_k)
                     if (v_ref >= 0.0_dp) mu_max = max(mu_max, abs(law%mu(v_ref)), abs(law%mu(-v_ref)))
                 end associate
-                push(self%con_a(c)) = push(self%con_a(c)) + mu_max * self%sig%sup(self%con_n(c))
+                if (self%con_a(c) > 0) push(self%con_a(c)) = push(self%con_a(c)) + mu_max * self%sig%sup(self%con_n(c))
                 if (self%con_b(c) > 0) push(self%con_b(c)) = push(self%con_b(c)) + mu_max * self%sig%sup(self%con_n(c))
             end do
             r = sqrt(e0) + 0.5_dp * tt * sum(push * sqrt(2.0_dp / self%mass))
             vb = r * sqrt(2.0_dp / self%mass)
             speed = 0.0_dp
             do c = 1, size(self%con_a)
-                r = vb(self%con_a(c))
+                r = 0.0_dp
+                if (self%con_a(c) > 0) r = vb(self%con_a(c))
                 if (self%con_b(c) > 0) r = r + vb(self%con_b(c))
                 if (self%con_w(c) > 0) r = r + self%sig%sup(self%con_w(c))
                 speed = max(speed, r)
@@ -252,7 +280,8 @@ contains
         real(dp) :: w
         n = normal_force(self, i, t)
         call surface(self, i, t, w, wdot)
-        s = v(self%con_a(i)) - w
+        s = -w
+        if (self%con_a(i) > 0) s = v(self%con_a(i)) - w
         if (self%con_b(i) > 0) s = s - v(self%con_b(i))
     end subroutine contact_state
 
@@ -288,7 +317,8 @@ contains
     pure real(dp) function inverse_mass(self, i) result(im)
         class(model_system), intent(in) :: self
         integer, intent(in) :: i
-        im = 1.0_dp / self%mass(self%con_a(i))
+        im = 0.0_dp
+        if (self%con_a(i) > 0) im = 1.0_dp / self%mass(self%con_a(i))
         if (self%con_b(i) > 0) im = im + 1.0_dp / self%mass(self%con_b(i))
     end function inverse_mass
 
@@ -299,14 +329,53 @@ contains
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
         integer :: nb
         nb = self%nb
+        if (self%fixed_static) then
+            call fixed_static_rhs(self, t, y, dydt)
+            return
+        end if
         if (.not. allocated(self%work)) allocate(self%work(nb, 2))
         associate (f => self%work(:, 1), f0 => self%work(:, 2))
         call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), f0)
         call contact_forces(self, t, y, f0, f, dydt)
         dydt(1:nb) = y(nb + 1:2 * nb)
-        dydt(nb + 1:2 * nb) = f / self%mass
+        if (self%unit_mass) then
+            dydt(nb + 1:2 * nb) = f
+        else
+            dydt(nb + 1:2 * nb) = f / self%mass
+        end if
         end associate
     end subroutine model_rhs
+
+    !> `rhs` of a model whose laws are all static and whose contacts' signals are numbers
+    !! (`fixed_static`): the same operations in the same order (the same numbers, bit for bit),
+    !! the forces summed in place and the numbers read as they were found by `prepare`.
+    subroutine fixed_static_rhs(self, t, y, dydt)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
+        real(dp) :: fn, s
+        integer :: i, nb, a, b
+        nb = self%nb
+        call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), dydt(nb + 1:2 * nb))
+        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb))
+        do i = 1, size(self%con_a)
+            a = self%con_a(i)
+            b = self%con_b(i)
+            if (a > 0) then
+                s = v(a) - self%con_fixed(2, i)
+            else
+                s = -self%con_fixed(2, i)
+            end if
+            if (b > 0) s = s - v(b)
+            fn = self%laws(i)%law%mu(s) * max(self%con_fixed(1, i), 0.0_dp)
+            if (a > 0) f(a) = f(a) - fn
+            if (b > 0) f(b) = f(b) + fn
+        end do
+        if (.not. self%unit_mass) f = f / self%mass
+        end associate
+        dydt(1:nb) = y(nb + 1:2 * nb)
+    end subroutine fixed_static_rhs
 
     !> The sizes the adaptive methods' relative tolerance scales (`ode_system%error_size`):
     !! |y_i|, except that a body's velocity counts as the smallest max(|s|, band) of its
@@ -325,17 +394,29 @@ contains
         integer :: i, nb, a, b
         nb = self%nb
         size_y = abs(y)
+        if (.not. self%slip_error_size) return
         do i = 1, size(self%con_a)
             a = self%con_a(i)
             b = self%con_b(i)
             call surface(self, i, t, w, wdot)
-            s = y(nb + a) - w
+            s = -w
+            if (a > 0) s = y(nb + a) - w
             if (b > 0) s = s - y(nb + b)
             s = max(abs(s), self%con_band(i))
-            size_y(nb + a) = min(size_y(nb + a), s)
+            if (a > 0) size_y(nb + a) = min(size_y(nb + a), s)
             if (b > 0) size_y(nb + b) = min(size_y(nb + b), s)
         end do
     end subroutine model_error_size
+
+    !> Contact i's slip s = v_a - v_b - w(t) at (t, y) [m/s] (v_0 = 0: the ground).
+    real(dp) function model_slip(self, i, t, y) result(s)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i            !! the contact, from 1
+        real(dp), intent(in) :: t           !! time [s]
+        real(dp), intent(in) :: y(:)        !! (x [m], v [m/s], z)
+        real(dp) :: n, wdot
+        call contact_state(self, i, t, y(self%nb + 1:2 * self%nb), s, n, wdot)
+    end function model_slip
 
     !> Each contact's friction force on its body a at (t, y), -mu N [N] (b gets the opposite).
     subroutine model_friction(self, t, y, fric)
@@ -350,12 +431,15 @@ contains
 
     !> The forces f on each body [N]: f0 (springs, dampers, forces) and every contact's
     !! friction (each also in fric when present); the law states' rates into dydt.
-    subroutine contact_forces(self, t, y, f0, f, dydt, fric)
+    subroutine contact_forces(self, t, y, f0, f, dydt, fric, k)
         class(model_system), intent(inout) :: self
         real(dp), intent(in)  :: t, y(:), f0(:)
         real(dp), intent(out) :: f(:)
         real(dp), intent(inout) :: dydt(:)
         real(dp), intent(out), optional :: fric(:)
+        !> a stage derivative: the condensed contacts' states move at its rates, their mu the
+        !! law's `stage_mu` (`stage_rhs`)
+        real(dp), intent(in), optional :: k(:)
         real(dp) :: s, n, wdot, mu, mu_hold, c, fa, fb
         integer :: i, nb, a, b, z0, z1
         nb = self%nb
@@ -366,24 +450,98 @@ contains
             call contact_state(self, i, t, y(nb + 1:2 * nb), s, n, wdot)
             if (self%all_static) then
                 mu = self%laws(i)%law%mu(s)
+            else if (present(k) .and. condensed(self, i)) then
+                z0 = 2 * nb + self%z_first(i)
+                z1 = 2 * nb + self%z_first(i + 1) - 1
+                dydt(z0:z1) = k(z0:z1)
+                mu = self%laws(i)%law%stage_mu(s, y(z0:z1), dydt(z0:z1))
             else
                 z0 = 2 * nb + self%z_first(i)
                 z1 = 2 * nb + self%z_first(i + 1) - 1
-                c = n * inverse_mass(self, i)
+                c = n * self%con_im(i)
                 mu_hold = 0.0_dp
                 if (c > 0.0_dp) then
-                    fa = f0(a) / self%mass(a)
+                    fa = 0.0_dp
                     fb = 0.0_dp
-                    if (b > 0) fb = f0(b) / self%mass(b)
+                    if (self%unit_mass) then
+                        if (a > 0) fa = f0(a)
+                        if (b > 0) fb = f0(b)
+                    else
+                        if (a > 0) fa = f0(a) / self%mass(a)
+                        if (b > 0) fb = f0(b) / self%mass(b)
+                    end if
                     mu_hold = (fa - fb - wdot) / c
                 end if
                 call self%laws(i)%law%evaluate(s, y(z0:z1), mu_hold, mu, dydt(z0:z1))
             end if
-            f(a) = f(a) - mu * n
+            if (a > 0) f(a) = f(a) - mu * n
             if (b > 0) f(b) = f(b) + mu * n
             if (present(fric)) fric(i) = -mu * n
         end do
     end subroutine contact_forces
+
+    !> Whether contact i's law solves its states' stage itself (`condenses_states`) where its
+    !! surface moves at a constant velocity (the stage's slip needs no time).
+    pure logical function condensed(self, i)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i
+        condensed = self%laws(i)%law%condenses_states() .and. self%con_is_fixed(2, i)
+    end function condensed
+
+    subroutine model_condensed_components(self, mask)
+        class(model_system), intent(in) :: self
+        logical, intent(out) :: mask(:)     !! (n) .true. for the condensed contacts' states
+        integer :: i
+        mask = .false.
+        if (self%all_static) return
+        do i = 1, size(self%con_a)
+            if (condensed(self, i)) mask(2 * self%nb + self%z_first(i):2 * self%nb + self%z_first(i + 1) - 1) = .true.
+        end do
+    end subroutine model_condensed_components
+
+    !> k(z) = (z_s - u(z)) / c for each condensed contact, z_s its law's stage states at the
+    !! slip of the stage velocities u_v + c k_v.
+    subroutine model_condense_stage(self, u, c, k)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)    :: u(:)     !! the stage state is u + c k
+        real(dp), intent(in)    :: c        !! coefficient of k in the stage state [s]
+        real(dp), intent(inout) :: k(:)     !! stage derivative; the condensed states' part on exit
+        real(dp) :: s, n, wdot, vs(self%nb)
+        integer :: i, nb, z0, z1
+        if (self%all_static .or. c <= 0.0_dp) return
+        nb = self%nb
+        vs = u(nb + 1:2 * nb) + c * k(nb + 1:2 * nb)
+        do i = 1, size(self%con_a)
+            if (.not. condensed(self, i)) cycle
+            z0 = 2 * nb + self%z_first(i)
+            z1 = 2 * nb + self%z_first(i + 1) - 1
+            call contact_state(self, i, 0.0_dp, vs, s, n, wdot)     ! (a constant surface: no time read)
+            block
+                real(dp) :: z_s(z1 - z0 + 1)
+                call self%laws(i)%law%stage_states(s, u(z0:z1), c, z_s)
+                k(z0:z1) = (z_s - u(z0:z1)) / c
+            end block
+        end do
+    end subroutine model_condense_stage
+
+    !> f at the stage state y, the condensed contacts' states moving at the rates of the stage
+    !! derivative k and their mu the law's `stage_mu` there.
+    subroutine model_stage_rhs(self, t, y, k, f)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! stage state
+        real(dp), intent(in)  :: k(:)       !! stage derivative (the condensed states' part read)
+        real(dp), intent(out) :: f(:)       !! f at y
+        integer :: nb
+        nb = self%nb
+        if (.not. allocated(self%work)) allocate(self%work(nb, 2))
+        associate (fb => self%work(:, 1), f0 => self%work(:, 2))
+        call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), f0)
+        call contact_forces(self, t, y, f0, fb, f, k=k)
+        f(1:nb) = y(nb + 1:2 * nb)
+        f(nb + 1:2 * nb) = fb / self%mass
+        end associate
+    end subroutine model_stage_rhs
 
     !> df/dy: analytic when every law is static (springs, dampers, and each contact's
     !! d mu/ds N on the velocities of its bodies), finite differences otherwise.
@@ -406,15 +564,16 @@ contains
     !! order (x_1, v_1, the states of the contacts whose first body is 1, x_2, ...) and the band of the Jacobian in it, from the model's structure: x_i' reads v_i; a
     !! body's acceleration reads the positions and velocities of the bodies joined to it by a
     !! spring or a damper, and the velocities and states of its contacts; a contact's states
-    !! read its bodies' velocities, and, for a law that is not static (its holding
-    !! coefficient), the positions and velocities of the bodies joined to its bodies. Banded
+    !! read its bodies' velocities, and, for a law that is not static and holds (it has modes:
+    !! it reads its holding coefficient), the positions of its bodies and of the bodies joined
+    !! to them by a spring, and the velocities of those joined by a damper. Banded
     !! when the band LU's storage (2 ml + mu + 1 rows) is smaller than the dense matrix's (n);
     !! dense (-1) otherwise, as for one or two bodies.
     subroutine model_prepare(self)
         class(model_system), intent(inout) :: self
         !! the model, built
-        integer, allocatable :: pos(:), adj_ptr(:), adj(:), fill(:)
-        integer :: nb, nc, n, i, k, p, a, b, c, e, ends(2), ml, mu, nsd
+        integer, allocatable :: pos(:)
+        integer :: nb, nc, n, i, k, p, c, ends(2), ml, mu
         nb = self%nb
         nc = size(self%con_a)
         n = self%n_states()
@@ -433,6 +592,10 @@ contains
             if (self%con_is_fixed(1, c)) self%con_fixed(1, c) = self%sig%number(self%con_n(c))
             if (self%con_w(c) > 0 .and. self%con_is_fixed(2, c)) self%con_fixed(2, c) = self%sig%number(self%con_w(c))
         end do
+        call index_elements(self)
+        self%fixed_static = self%all_static .and. all(self%con_is_fixed)
+        self%unit_mass = all(self%mass == 1.0_dp)
+        self%con_im = [(inverse_mass(self, c), c = 1, nc)]
         allocate(pos(n), self%band_perm(n))
         ! positions in the body order
         p = 0
@@ -440,37 +603,11 @@ contains
             call place(i)
             call place(nb + i)
             do c = 1, nc
-                if (self%con_a(c) /= i) cycle
+                if (max(self%con_a(c), merge(self%con_b(c), 0, self%con_a(c) == 0)) /= i) cycle
                 do k = 2 * nb + self%z_first(c), 2 * nb + self%z_first(c + 1) - 1
                     call place(k)
                 end do
             end do
-        end do
-        ! the bodies joined to each body by a spring or a damper (CSR)
-        nsd = size(self%spr_a) + size(self%dmp_a)
-        allocate(adj_ptr(nb + 1), fill(nb))
-        adj_ptr = 0
-        do e = 1, nsd
-            call element(e, a, b)
-            if (b == 0) cycle
-            adj_ptr(a) = adj_ptr(a) + 1
-            adj_ptr(b) = adj_ptr(b) + 1
-        end do
-        k = 1
-        do i = 1, nb
-            fill(i) = k
-            k = k + adj_ptr(i)
-            adj_ptr(i) = fill(i)
-        end do
-        adj_ptr(nb + 1) = k
-        allocate(adj(k - 1))
-        do e = 1, nsd
-            call element(e, a, b)
-            if (b == 0) cycle
-            adj(fill(a)) = b
-            fill(a) = fill(a) + 1
-            adj(fill(b)) = a
-            fill(b) = fill(b) + 1
         end do
         ml = 0
         mu = 0
@@ -478,10 +615,7 @@ contains
             call touch(i, nb + i)
             call touch(nb + i, i)
             call touch(nb + i, nb + i)
-            do k = adj_ptr(i), adj_ptr(i + 1) - 1
-                call touch(nb + i, adj(k))
-                call touch(nb + i, nb + adj(k))
-            end do
+            call joined(nb + i, i)
         end do
         do c = 1, nc
             ends = [self%con_a(c), self%con_b(c)]
@@ -509,19 +643,6 @@ contains
             pos(state) = p
         end subroutine place
 
-        !> Spring or damper e's bodies.
-        subroutine element(e, a, b)
-            integer, intent(in) :: e
-            integer, intent(out) :: a, b
-            if (e <= size(self%spr_a)) then
-                a = self%spr_a(e)
-                b = self%spr_b(e)
-            else
-                a = self%dmp_a(e - size(self%spr_a))
-                b = self%dmp_b(e - size(self%spr_a))
-            end if
-        end subroutine element
-
         !> df(row)/dy(col) may be nonzero: widen the band.
         subroutine touch(row, col)
             integer, intent(in) :: row, col
@@ -529,9 +650,28 @@ contains
             mu = max(mu, pos(col) - pos(row))
         end subroutine touch
 
+        !> The state row reads the forces of body's springs and dampers: the positions of the
+        !! bodies joined to it by a spring, the velocities of those joined by a damper.
+        subroutine joined(row, body)
+            integer, intent(in) :: row, body
+            integer :: q, e, other, nspr, ndmp
+            nspr = size(self%spr_a)
+            ndmp = size(self%dmp_a)
+            do q = self%elem_ptr(body), self%elem_ptr(body + 1) - 1
+                e = self%elem_of(q)
+                if (e > nspr + ndmp) exit
+                if (e <= nspr) then
+                    other = self%spr_a(e) + self%spr_b(e) - body
+                    if (other > 0) call touch(row, other)
+                else
+                    other = self%dmp_a(e - nspr) + self%dmp_b(e - nspr) - body
+                    if (other > 0) call touch(row, nb + other)
+                end if
+            end do
+        end subroutine joined
+
         !> The state row reads contact c: its bodies' velocities, its states, and for a law that
-        !! is not static the positions and velocities of its bodies and of the bodies joined
-        !! to them.
+        !! holds (modes, not static) what its holding coefficient reads.
         subroutine reads(row, c)
             integer, intent(in) :: row, c
             integer :: j, q, body
@@ -539,18 +679,176 @@ contains
                 body = merge(self%con_a(c), self%con_b(c), j == 1)
                 if (body == 0) cycle
                 call touch(row, nb + body)
-                if (self%laws(c)%law%is_static()) cycle
+                ! the holding coefficient, read by a law that holds (a mode: Karnopp's band)
+                if (self%laws(c)%law%is_static() .or. self%laws(c)%law%n_modes() == 0) cycle
                 call touch(row, body)
-                do q = adj_ptr(body), adj_ptr(body + 1) - 1
-                    call touch(row, adj(q))
-                    call touch(row, nb + adj(q))
-                end do
+                call joined(row, body)      ! the holding coefficient
             end do
             do q = 2 * nb + self%z_first(c), 2 * nb + self%z_first(c + 1) - 1
                 call touch(row, q)
             end do
         end subroutine reads
     end subroutine model_prepare
+
+    !> Each body's springs, dampers and contacts (elem_ptr, elem_of), in index order.
+    subroutine index_elements(self)
+        class(model_system), intent(inout) :: self
+        integer :: nspr, ndmp, nel, e, j, a, b, nb
+        integer, allocatable :: fill(:)
+        nb = self%nb
+        nspr = size(self%spr_a)
+        ndmp = size(self%dmp_a)
+        nel = nspr + ndmp + size(self%con_a)
+        allocate(self%elem_ptr(nb + 1), fill(nb + 1))
+        fill = 0
+        do e = 1, nel
+            call ends(e, a, b)
+            if (a > 0) fill(a) = fill(a) + 1
+            if (b > 0) fill(b) = fill(b) + 1
+        end do
+        self%elem_ptr(1) = 1
+        do j = 1, nb
+            self%elem_ptr(j + 1) = self%elem_ptr(j) + fill(j)
+        end do
+        allocate(self%elem_of(self%elem_ptr(nb + 1) - 1))
+        fill(1:nb) = self%elem_ptr(1:nb)
+        do e = 1, nel
+            call ends(e, a, b)
+            if (a > 0) call put(a, e)
+            if (b > 0) call put(b, e)
+        end do
+    contains
+        subroutine ends(e, a, b)
+            integer, intent(in) :: e
+            integer, intent(out) :: a, b
+            if (e <= nspr) then
+                a = self%spr_a(e)
+                b = self%spr_b(e)
+            else if (e <= nspr + ndmp) then
+                a = self%dmp_a(e - nspr)
+                b = self%dmp_b(e - nspr)
+            else
+                a = self%con_a(e - nspr - ndmp)
+                b = self%con_b(e - nspr - ndmp)
+            end if
+        end subroutine ends
+        subroutine put(body, e)
+            integer, intent(in) :: body, e
+            self%elem_of(fill(body)) = e
+            fill(body) = fill(body) + 1
+        end subroutine put
+    end subroutine index_elements
+
+    !> The force on body i at (t, x, v) [N] with static laws: its springs, dampers, forces and
+    !! contacts, summed in the order of `rhs` (the same number, bit for bit).
+    real(dp) function body_force(self, i, t, x, v) result(f)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i
+        real(dp), intent(in) :: t, x(:), v(:)
+        real(dp) :: fe, rate, s, n, wdot
+        integer :: q, e, a, b, nspr, ndmp
+        nspr = size(self%spr_a)
+        ndmp = size(self%dmp_a)
+        f = 0.0_dp
+        do q = self%elem_ptr(i), self%elem_ptr(i + 1) - 1
+            e = self%elem_of(q)
+            if (e > nspr + ndmp) exit               ! the contacts come last
+            if (e <= nspr) then
+                a = self%spr_a(e)
+                b = self%spr_b(e)
+                fe = -self%spr_k(e) * (x(a) - merge(x(max(b, 1)), 0.0_dp, b > 0) - self%spr_l0(e))
+            else
+                a = self%dmp_a(e - nspr)
+                b = self%dmp_b(e - nspr)
+                fe = -self%dmp_c(e - nspr) * (v(a) - merge(v(max(b, 1)), 0.0_dp, b > 0))
+            end if
+            f = f + merge(fe, -fe, a == i)
+        end do
+        do e = 1, size(self%frc_body)
+            if (self%frc_body(e) /= i) cycle
+            call self%sig%eval(self%frc_sig(e), t, fe, rate)
+            f = f + fe
+        end do
+        do q = self%elem_ptr(i), self%elem_ptr(i + 1) - 1
+            e = self%elem_of(q) - nspr - ndmp
+            if (e < 1) cycle
+            call contact_state(self, e, t, v, s, n, wdot)
+            fe = self%laws(e)%law%mu(s) * n
+            f = merge(f - fe, f + fe, self%con_a(e) == i)
+        end do
+    end function body_force
+
+    !> Body i's force over its mass at (t, x, v), the laws static [m/s^2].
+    real(dp) function model_body_acceleration(self, i, t, x, v) result(a)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i            !! the body
+        real(dp), intent(in) :: t           !! time [s]
+        real(dp), intent(in) :: x(:)        !! (nb) positions [m]
+        real(dp), intent(in) :: v(:)        !! (nb) velocities [m/s]
+        a = body_force(self, i, t, x, v) / self%mass(i)
+    end function model_body_acceleration
+
+    !> The stage k = f(t, u + c k) of a model whose laws are all static, where Newton's method
+    !! fails (the proposed law's infinite slope at rest, where a chain started stuck has every
+    !! block): nonlinear Gauss-Seidel over the bodies. Body i's stage velocity v_i solves
+    !! phi_i(v_i) = v_i - u_v,i - c F_i(x_s, v_s) / m_i = 0 with x_s = u_x + c v_s and the other
+    !! bodies' stage velocities fixed, by a bracketed root (`root_search`); sweeps repeat until
+    !! no stage velocity changes by more than 8 eps (1 + |v|). Where the springs' and dampers'
+    !! coupling per sweep is below the diagonal (c^2 k_c / m against 1 + c^2 (k + 2 k_c) / m on
+    !! the chain, the law's slope >= 0), the sweeps contract. Each body starts from its velocity
+    !! at the stage's start. k returns f at the roots, except the accelerations, which are the
+    !! roots' own, (v_s - u_v) / c: a body stuck at the cusp has its root between two floats,
+    !! where f jumps. ok = .false. for a law with states, a missing bracket or no convergence in
+    !! 1000 sweeps. One evaluation of a body's force counts as one of f (nfev).
+    subroutine model_scalar_stage(self, t, u, c, k, nfev, ok)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)    :: t        !! stage time [s]
+        real(dp), intent(in)    :: u(:)     !! the stage state is u + c k
+        real(dp), intent(in)    :: c        !! coefficient of k in the stage state [s]
+        real(dp), intent(inout) :: k(:)     !! stage derivative: a guess in, the solution out
+        integer(8), intent(inout) :: nfev   !! evaluations of f, counted
+        logical, intent(out)    :: ok       !! .true.: k solves the stage
+        real(dp) :: vs(self%nb), xs(self%nb), vnew, change
+        integer :: i, n, sweep
+        type(root_search) :: search
+        ok = .false.
+        n = self%nb
+        if (.not. self%all_static .or. size(u) /= 2 * n .or. .not. allocated(self%elem_ptr)) return
+        vs = u(n + 1:2 * n)     ! from the stage's start
+        xs = u(1:n) + c * vs
+        do sweep = 1, 1000
+            change = 0.0_dp
+            do i = 1, n
+                call search%start(vs(i))
+                do while (.not. search%done)
+                    call search%tell(phi(search%x))
+                end do
+                if (.not. search%found) return
+                vnew = search%root
+                change = max(change, abs(vnew - vs(i)) / (1.0_dp + abs(vnew)))
+                vs(i) = vnew
+                xs(i) = u(i) + c * vnew
+            end do
+            if (change <= 8.0_dp * epsilon(1.0_dp) .or. n == 1) exit   ! (one body: its root)
+        end do
+        if (change > 8.0_dp * epsilon(1.0_dp) .and. n > 1) return
+        call self%rhs(t, [xs, vs], k)
+        nfev = nfev + 1
+        k(n + 1:2 * n) = (vs - u(n + 1:2 * n)) / c   ! the roots' own accelerations (notes)
+        ok = all(ieee_is_finite(k))
+    contains
+        !> phi_i(v) [m/s] of the body i of the sweep
+        real(dp) function phi(v)
+            real(dp), intent(in) :: v
+            real(dp) :: v_keep
+            xs(i) = u(i) + c * v
+            v_keep = vs(i)
+            vs(i) = v
+            nfev = nfev + 1
+            phi = v - u(n + i) - c * self%body_acceleration(i, t, xs, vs)
+            vs(i) = v_keep
+        end function phi
+    end subroutine model_scalar_stage
 
     !> The body order and its band (`prepare`), or dense (ml = mu = -1).
     subroutine model_bandwidth(self, perm, ml, mu)
@@ -610,7 +908,11 @@ contains
         end do
         do i = 1, size(self%con_a)
             call contact_state(self, i, t, y(nb + 1:2 * nb), s, n, wdot)
-            call pair(self%con_a(i), self%con_b(i), nb, self%laws(i)%law%dmu(s) * n)
+            if (self%con_a(i) > 0) then
+                call pair(self%con_a(i), self%con_b(i), nb, self%laws(i)%law%dmu(s) * n)
+            else        ! the same force on b alone: -g (0 - u_b) on the ground, the opposite on b
+                call pair(self%con_b(i), 0, nb, self%laws(i)%law%dmu(s) * n)
+            end if
         end do
     contains
         subroutine put(row, col, val)
@@ -707,9 +1009,11 @@ contains
         k = 0
         do i = 1, nc
             mc%h_ptr(i) = k + 1
-            k = k + 1
-            mc%h_col(k) = self%con_a(i)
-            mc%h_val(k) = 1.0_dp
+            if (self%con_a(i) > 0) then
+                k = k + 1
+                mc%h_col(k) = self%con_a(i)
+                mc%h_val(k) = 1.0_dp
+            end if
             if (self%con_b(i) > 0) then
                 k = k + 1
                 mc%h_col(k) = self%con_b(i)

@@ -1107,7 +1107,7 @@ _MAX_OUTPUT_VALUES = 250_000_000
 _MAX_DENSE_STATES = 4000
 
 
-#: Most blocks of the chain (the library's MAX_BLOCKS in stickslip_chain).
+#: Most blocks of the chain (the library's MAX_BLOCKS in stickslip_presets).
 _MAX_BLOCKS = int(REGISTRY["const"]["max_blocks"]["value"])
 
 

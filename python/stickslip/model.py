@@ -476,7 +476,7 @@ class Model:
         nb = _count("n_blocks", known["n_blocks"], 1)
         xs = np.broadcast_to(np.asarray(x0, dtype=np.float64), (nb,))
         vs = np.broadcast_to(np.asarray(v_b if v0 is None else v0, dtype=np.float64), (nb,))
-        phi = 0.6180339887498948482        # the chain's perturbation sequence (stickslip_chain's chain_r)
+        phi = 0.6180339887498948482        # the chain's perturbation sequence (stickslip_presets' chain_r)
         for i in range(nb):
             m.add_body(mass, float(xs[i]), float(vs[i]))
         m.add_spring(0, None, k + known["k_p"])

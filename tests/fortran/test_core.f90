@@ -63,7 +63,7 @@ program test_core
     use stickslip_ode, only: ode_stats, step_controls, fd_jacobian, step_count
     use stickslip_friction, only: friction_law, SS_BAD_MU_K
     use stickslip_law_recurdyn, only: SS_BAD_V_D
-    use stickslip_scenes, only: friction_scene, SS_BAD_M
+    use stickslip_presets, only: SS_BAD_M
     use stickslip_rk4, only: rk4_integrate
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_dop853, only: dop853_options, dop853_integrate
@@ -191,7 +191,7 @@ contains
 
     !> The scenes' analytic Jacobians against the forward-difference default.
     subroutine test_scene_jacobians()
-        class(friction_scene), allocatable :: sys
+        class(model_system), allocatable :: sys
         type(param_values) :: p
         real(dp) :: y(2), f(2), ja(2, 2), jf(2, 2)
         integer(8) :: nfev

@@ -6,7 +6,7 @@
 module test_problems
     use stickslip_kinds, only: dp
     use stickslip_ode, only: ode_system
-    use stickslip_scenes, only: friction_scene
+    use stickslip_model_system, only: model_system
     implicit none
     private
     public :: arenstorf, oscillator, polynomial, van_der_pol, wrapped_scene
@@ -34,7 +34,7 @@ module test_problems
 
     !> A built-in scene seen as a user's own system: it runs the integrators' generic kernel.
     type, extends(ode_system) :: wrapped_scene
-        class(friction_scene), allocatable :: scene
+        class(model_system), allocatable :: scene
     contains
         procedure :: rhs => wrapped_scene_rhs
     end type wrapped_scene

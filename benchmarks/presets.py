@@ -1,0 +1,126 @@
+"""The scenes as presets against the scene code they replaced (python -m benchmarks --presets
+--base SITE): the slope, the belt and the chain of 10, 100 and 1000 blocks, each run by
+`stickslip.simulate(scene, ...)` in this tree (the preset: a model, its structure found once
+when built) and in a build of the package before the presets (its own scene types and kernels),
+installed into the directory SITE (for example
+``git worktree add /tmp/base <commit> && pip install --no-build-isolation --no-deps --target SITE /tmp/base``).
+
+Each side runs in its own process (`python -m benchmarks.presets --worker`), which runs every
+case once and prints its CPU time per step (the library's own, `stats["cpu_seconds"]`: the
+integration alone) and its end state; the two sides alternate `repeats` times, so that the
+machine's drift falls on both alike. The ratio preset / scene is the median of the pairs'
+ratios; both sides take the same steps (checked) and end in the same state (max |dx| reported).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: (scene, law, method, controls, scene parameters, t_end [s]) of the table's rows.
+CASES: tuple[tuple[str, str, str, dict[str, float], dict[str, float], float], ...] = (
+    ("slope", "stribeck", "rk4", {"h": 1e-5}, {"v0": 1.0}, 2.0),
+    ("slope", "coulomb", "implicit_euler", {"h": 1e-4}, {"v0": 1.0}, 2.0),
+    ("belt", "stribeck", "rk4", {"h": 1e-5}, {}, 2.0),
+    ("belt", "proposed", "dopri5", {"rtol": 1e-10, "atol": 1e-12}, {}, 20.0),
+    ("belt", "recurdyn", "radau5", {"rtol": 1e-8, "atol": 1e-10}, {}, 20.0),
+    ("belt", "recurdyn", "implicit_euler", {"h": 1e-4}, {}, 2.0),
+    ("belt", "coulomb", "galpha", {"h": 1e-4}, {}, 2.0),
+    ("belt", "lugre", "dopri5", {"rtol": 1e-6, "atol": 1e-8}, {}, 2.0),
+    ("belt", "coulomb", "moreau", {"h": 1e-5}, {}, 2.0),
+    ("belt", "coulomb", "event_driven", {"rtol": 1e-10, "atol": 1e-12}, {}, 50.0),
+) + tuple(
+    ("chain", law, method, ctl, {"n_blocks": n}, t_end)
+    for n, t_end in ((10, 2.0), (100, 0.5), (1000, 0.1))
+    for law, method, ctl in (("proposed", "rk4", {"h": 1e-4}),
+                             ("lugre", "dopri5", {"rtol": 1e-6, "atol": 1e-8}),
+                             ("recurdyn", "implicit_euler", {"h": 1e-3}),
+                             ("coulomb", "moreau", {"h": 1e-4}))
+)
+
+
+def _worker() -> None:
+    """Run every case once with whatever `stickslip` this process imports; print JSON."""
+    import warnings
+
+    import stickslip as ss
+    out = []
+    for scene, law, method, ctl, params, t_end in CASES:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            r = ss.simulate(scene, law, method=method, t_end=t_end, n_out=2, **ctl, **params)
+        out.append({"per_step": r.stats["cpu_seconds"] / r.stats["nstep"], "nstep": int(r.stats["nstep"]),
+                    "x": np.atleast_2d(r.x)[:, -1].tolist()})
+    print(json.dumps({"file": ss.__file__, "runs": out}))
+
+
+def _run_side(base_site: str | None) -> dict[str, Any]:
+    """One worker process: this tree's package (base_site None) or the one in base_site."""
+    env = dict(os.environ)
+    cmd = [sys.executable, "-m", "benchmarks.presets", "--worker"]
+    if base_site is not None:
+        env["PYTHONPATH"] = base_site
+        # the editable install's finder comes before PYTHONPATH: run without it
+        cmd = [sys.executable, "-c", "import sys; sys.meta_path = [f for f in sys.meta_path "
+               "if 'editable' not in type(f).__module__]; sys.argv = ['presets', '--worker']; "
+               "import runpy; runpy.run_module('benchmarks.presets', run_name='__main__')"]
+    run = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, check=True)
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+def run_presets(log: Callable[[str], None], base_site: str, repeats: int = 5) -> str:
+    """The markdown table: preset / scene per case, medians of `repeats` interleaved pairs."""
+    from harness.provenance import machine
+
+    new, old = [], []
+    for i in range(repeats):
+        old.append(_run_side(base_site))
+        new.append(_run_side(None))
+        log(f"presets: pair {i + 1}/{repeats}")
+    if old[0]["file"] == new[0]["file"]:
+        raise RuntimeError(f"both sides imported {new[0]['file']}: is --base a separate build?")
+    lines = ["**The scenes as presets against the scene code they replaced** (`python -m benchmarks "
+             "--presets --base SITE`)", "",
+             f"Machine: {machine()}. Each scene run by `simulate(scene, ...)` in this tree (a preset: "
+             "the scene's model, its structure found when built) and in a build of the package before "
+             "the presets (the scene types and their kernels); the library's CPU time per step, median "
+             f"of {repeats} runs each, the two alternating in separate processes; preset / scene: the "
+             "median of the pairs' ratios.", "",
+             "| scene | law | method | controls | steps | scene [us/step] | preset [us/step] | preset / scene "
+             "| max abs dx [m] |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for k, (scene, law, method, ctl, params, _) in enumerate(CASES):
+        steps = {run["runs"][k]["nstep"] for run in old + new}
+        if len(steps) != 1:
+            raise RuntimeError(f"{scene}/{law}/{method}: the two builds took {sorted(steps)} steps")
+        s = np.array([o["runs"][k]["per_step"] for o in old])
+        p = np.array([n["runs"][k]["per_step"] for n in new])
+        dx = float(np.max(np.abs(np.array(old[0]["runs"][k]["x"]) - np.array(new[0]["runs"][k]["x"]))))
+        name = scene if scene != "chain" else f"chain {params['n_blocks']}"
+        controls = ", ".join(f"{key} = {v:g}" for key, v in ctl.items())
+        lines.append(f"| {name} | {law} | {method} | {controls} | {steps.pop():,} | {1e6 * np.median(s):.3g} | "
+                     f"{1e6 * np.median(p):.3g} | {np.median(p / s):.3f} | {dx:.1e} |")
+        log(lines[-1])
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> int:
+    """`--worker`: one side's runs (JSON on stdout)."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--worker", action="store_true", help="run every case once and print JSON")
+    args = parser.parse_args(argv)
+    if args.worker:
+        _worker()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
