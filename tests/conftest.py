@@ -11,6 +11,10 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The folders of tests/ beside this one (tests/README.md gives the layout): on sys.path, so that a
+#: test file may import the references another file defines, wherever either lives.
+for _folder in ("cases", "fortran", "project"):
+    sys.path.insert(0, str(Path(__file__).resolve().parent / _folder))
 
 
 def _tool(name: str) -> str:

@@ -11,7 +11,7 @@ two states (type NAME_scene, with static_rhs and static_jacobian) and a law with
 resolves and inlines the calls. This script writes them into
 fortran/integrators/stickslip_kernel_instances.inc, and into stickslip_kernel_dispatch.inc the
 select type that picks one. Both files are committed (fpm cannot run a generator);
-tests/test_layout.py checks that they are what this script writes.
+tests/project/test_layout.py checks that they are what this script writes.
 """
 from __future__ import annotations
 

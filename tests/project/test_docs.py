@@ -11,7 +11,7 @@ it) and lists, as "file:line: what", each of these without a doc comment:
 - the dummy arguments of a public procedure (also inside an interface block).
 
 A doc comment is a `!>` block right before the declaration, or `!!` on the declaration (at its
-end, on a continuation line) or on the lines right after it. `python tests/test_docs.py`
+end, on a continuation line) or on the lines right after it. `python tests/project/test_docs.py`
 prints the list.
 """
 from __future__ import annotations
@@ -25,7 +25,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SOURCES = sorted((ROOT / "fortran").glob("*/*.f90"))
 IDENT = r"[A-Za-z_]\w*"
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.mark.slow     # builds and times the C, Fortran and GSL programs
@@ -114,7 +114,7 @@ def test_quick_contact_benchmark(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
     rule's rounds of box problems) and Lemke's method alone solve every random coupled problem;
     moreau runs the stack of 1 to 8 blocks to the end. No timing assertions. Slow (CI): the
     default run checks the same solver on random coupled problems of 2 to 9 contacts in
-    tests/test_contacts.py::test_contact_solver_random_problems."""
+    tests/fortran/test_stickslip_contact.py::test_contact_solver_random_problems."""
     if shutil.which("gfortran") is None:
         pytest.skip("compilers not found")
     monkeypatch.syspath_prepend(str(ROOT))

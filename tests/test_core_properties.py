@@ -5,7 +5,7 @@ which names are unknown), an IntegrationError whose partial result is finite, or
 result on the requested grid.
 
 The default run explores STICKSLIP_PROPERTY_EXAMPLES examples per test (300); a long run sets
-it higher: STICKSLIP_PROPERTY_EXAMPLES=10000 .venv/bin/python -m pytest tests/test_properties.py
+it higher: STICKSLIP_PROPERTY_EXAMPLES=10000 .venv/bin/python -m pytest tests/test_core_properties.py
 """
 from __future__ import annotations
 

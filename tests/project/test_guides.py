@@ -10,7 +10,7 @@ import pytest
 
 import stickslip as ss
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 GUIDE = ROOT / "docs" / "guide"
 
 #: Which guide must name every entry of which registry list.

@@ -6,7 +6,7 @@ bin first on PATH, nothing of the repository on the path): a Python block as a s
 shell block by `bash -e`. A block that is shown but not meant to run (a job of minutes, a
 cluster it needs, files only a full regeneration writes) is written as a `{code-block}`
 directive instead, which this test does not see. The shell blocks of the Fortran and C guide
-are run by tests/test_install.py, which checks what their programs print.
+are run by tests/project/test_install.py, which checks what their programs print.
 
 Where the page shows what a block prints (a ```text or bare ``` block after it, introduced by a
 sentence that says it "prints" or "printed"), every shown line must be printed, in that order, with the same words
@@ -24,9 +24,9 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 #: Pages whose blocks another test runs exactly as written (and checks more closely).
-RUN_ELSEWHERE: dict[str, str] = {"docs/guide/fortran-c.md": "tests/test_install.py"}
+RUN_ELSEWHERE: dict[str, str] = {"docs/guide/fortran-c.md": "tests/project/test_install.py"}
 BLOCK = re.compile(r"^```(python|sh)[ \t]*\n(.*?)^```[ \t]*$", re.S | re.M)
 #: After a block: a short sentence that says it prints, then the ```text (or bare ```) block of
 #: its output.

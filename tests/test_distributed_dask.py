@@ -15,10 +15,10 @@ import pytest
 distributed = pytest.importorskip("distributed")
 
 import stickslip  # noqa: E402
-from test_sweep_chunks import CHAIN_SWEEP, SWEEP, assert_same_rows  # noqa: E402
+from test_distributed import CHAIN_SWEEP, SWEEP, assert_same_rows  # noqa: E402
 
 # The sweep's RK4 rows include some beyond RK4's stability bound on purpose: the cluster's rows
-# must equal the local ones whatever the rows do (the warning itself: test_inputs.py).
+# must equal the local ones whatever the rows do (the warning itself: test_core_inputs.py).
 pytestmark = pytest.mark.filterwarnings("ignore::stickslip.UnstableStepWarning")
 
 
@@ -109,7 +109,7 @@ def test_study_rows_on_the_cluster(client) -> None:
 def test_model_rows_on_the_cluster(client) -> None:
     """A model's batch (the model sent to the workers as its dict) equals the local one, and
     each row the single run of the overridden model; a bad override names the whole sweep's row."""
-    from test_model_batch import ROWS, by_hand, two_body
+    from test_sweep import ROWS, by_hand, two_body
     kw = dict(method="event_driven", t_end=1.0, n_grid=21, keep_grid=True, rtol=1e-10, atol=1e-12)
     local = stickslip.simulate_batch(two_body(), ROWS, **kw)
     b = stickslip.simulate_batch(two_body(), ROWS, **kw, client=client, chunk_rows=1)

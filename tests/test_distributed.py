@@ -14,7 +14,7 @@ import stickslip.distributed as sd
 
 # The sweep's RK4 rows include small v_s, where h = 1e-3 s is beyond RK4's stability bound on
 # purpose: chunked rows must equal the one-call rows whatever the rows do (the warning is
-# tested in test_inputs.py).
+# tested in test_core_inputs.py).
 pytestmark = pytest.mark.filterwarnings("ignore::stickslip.UnstableStepWarning")
 
 N = 60

@@ -282,7 +282,7 @@ def test_a_range_error_shows_the_values_it_compares(kw, shown) -> None:
 
 def test_rtol_zero_is_a_purely_absolute_error_test_for_dopri5_and_refused_by_radau5() -> None:
     """From rest the Karnopp law's belt motion is x = x_k (1 - cos w t) exactly
-    (test_laws_more.test_constant_kinetic_from_rest_is_harmonic)."""
+    (test_laws_scenes.test_constant_kinetic_from_rest_is_harmonic)."""
     w, x_k = math.sqrt(300.0 / 10.0), 0.3 * 9.81 * 10.0 / 300.0
     r = ss.simulate("belt", "karnopp", method="dopri5", t_end=10.0, rtol=0.0, atol=1e-10)
     assert np.max(np.abs(r.x - x_k * (1 - np.cos(w * r.t)))) < 1e-8

@@ -25,7 +25,7 @@ def test_fortran_integrator_suite(native_build):
 
 
 def test_fortran_implicit_suite(native_build):
-    exe = compile_target(native_build, "test_implicit")
+    exe = compile_target(native_build, "test_integrators_implicit")
     proc = subprocess.run([str(exe)], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout  # (labels name SS_NEWTON_FAILED)
@@ -74,9 +74,9 @@ def test_meson_test_suite(native_build):
 
 
 def test_fortran_contact_suite(native_build):
-    """tests/fortran/test_contact.f90: two blocks on a belt (two coupled contacts) under
+    """tests/fortran/test_stickslip_contact.f90: two blocks on a belt (two coupled contacts) under
     moreau and event_driven, and the one-contact Stribeck solve."""
-    exe = compile_target(native_build, "test_contact")
+    exe = compile_target(native_build, "test_stickslip_contact")
     proc = subprocess.run([str(exe)], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout

@@ -21,7 +21,7 @@ from typing import Any, Callable, Iterator
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 FIGURES = ROOT / "docs" / "figures"
 sys.path.insert(0, str(ROOT))
 

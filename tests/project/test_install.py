@@ -22,7 +22,7 @@ import pytest
 #: A copy of the repository, a fresh meson build and install, and four programs: minutes.
 pytestmark = pytest.mark.slow
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 GUIDE = ROOT / "docs" / "guide" / "fortran-c.md"
 EXAMPLES = {"lotka_volterra.f90": "fortran", "friction_c.c": "c"}
 CLEAN_PATH = "/usr/local/bin:/usr/bin:/bin"

@@ -2,7 +2,7 @@
 contacts under moreau and event_driven, against independent references (a scipy event-driven
 solver with exhaustive mode search, tests/contact_reference.py; the closed-form Coulomb belt
 and slope), and the per-step contact solver on random problems (tests/fortran/
-test_contact_general.f90, which also prints the general systems' runs compared here)."""
+test_stickslip_contact_general.f90, which also prints the general systems' runs compared here)."""
 from __future__ import annotations
 
 import math
@@ -17,7 +17,7 @@ import pytest
 import stickslip as ss
 from conftest import compile_target
 from contact_reference import Reference
-from test_exact_stick import BELT_SETS, belt_cycle
+from test_integrators_exact_stick import BELT_SETS, belt_cycle
 
 G = 9.81
 
@@ -25,7 +25,7 @@ G = 9.81
 @pytest.fixture(scope="module")
 def general(native_build):
     """The Fortran program's checks and its runs: {(scene, method, h): rows}, events."""
-    exe = compile_target(native_build, "test_contact_general")
+    exe = compile_target(native_build, "test_stickslip_contact_general")
     proc = subprocess.run([str(exe)], capture_output=True, text=True)
     assert proc.returncode == 0 and "all general contact checks passed" in proc.stdout, proc.stdout
     dump = subprocess.run([str(exe), "dump"], capture_output=True, text=True, check=True).stdout

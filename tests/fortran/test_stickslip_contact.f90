@@ -97,7 +97,7 @@ contains
 
 end module test_contact_chain
 
-program test_contact
+program test_stickslip_contact
     use test_support, only: check, finish
     use stickslip_kinds, only: dp, SS_OK, SS_DIVERGED
     use stickslip_ode, only: ode_stats
@@ -246,4 +246,4 @@ contains
         call check(ok, 'stribeck one-contact solve: stick inside the cone, slip equation to rounding')
     end subroutine test_stribeck_local_solve
 
-end program test_contact
+end program test_stickslip_contact

@@ -10,7 +10,7 @@
 !! those of the solver's rule as written here (`rule_reference`: the same rounds of box
 !! problems, each solved by exhaustive search over the 3^n active sets), and where it reports
 !! another solution (info%nonunique) the brute force finds one with as many stuck contacts. With the argument `dump` it prints the scenes' trajectories
-!! under event_driven and moreau for tests/test_contacts.py, which compares them with
+!! under event_driven and moreau for tests/fortran/test_stickslip_contact.py, which compares them with
 !! a scipy event-driven reference and the closed-form belt cycle.
 module test_linear_contact
     use stickslip_kinds, only: dp
@@ -109,7 +109,7 @@ contains
 
 end module test_linear_contact
 
-program test_contact_general
+program test_stickslip_contact_general
     use test_support, only: check, finish
     use stickslip_kinds, only: dp
     use stickslip_ode, only: ode_stats
@@ -576,4 +576,4 @@ contains
             yy(:n) = wf(:n) + matmul(d(:n, :n), pp(:n))
         end subroutine solve_free
 
-end program test_contact_general
+end program test_stickslip_contact_general

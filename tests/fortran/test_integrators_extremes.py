@@ -13,7 +13,7 @@ import pytest
 
 import stickslip
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 from cases import stability  # noqa: E402
 
 # (name, simulate_batch keyword arguments, expected status)

@@ -171,7 +171,7 @@ def test_committed_study_rows_are_inside_the_energy_bound():
     import csv
     from pathlib import Path
 
-    figures = Path(__file__).resolve().parents[1] / "docs" / "figures"
+    figures = Path(__file__).resolve().parents[2] / "docs" / "figures"
     diverged = ss.REGISTRY["status"]["DIVERGED"]
     with open(figures / "laws_compare_belt.csv", newline="") as f:
         belt = list(csv.DictReader(f))

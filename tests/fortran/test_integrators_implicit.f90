@@ -210,7 +210,7 @@ contains
 
 end module implicit_problems
 
-program test_implicit
+program test_integrators_implicit
     use test_support, only: check, finish
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_H, SS_BAD_RHO_INF, SS_BAD_NIT, SS_BAD_NEWTON_TOL, &
                                SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_BAD_ATOL, SS_BAD_HMIN, &
@@ -827,4 +827,4 @@ contains
         end do
     end subroutine test_stiff_newton
 
-end program test_implicit
+end program test_integrators_implicit

@@ -11,7 +11,7 @@ import pytest
 
 import stickslip as ss
 from cases import implicit
-from test_cases import G, K, M, MU_K, creep_speed_ref
+from test_cases_study import G, K, M, MU_K, creep_speed_ref
 
 FIXED = [("implicit_euler", {}), ("galpha", {"rho_inf": 0.0}), ("galpha", {"rho_inf": 0.5}),
          ("galpha", {"rho_inf": 1.0})]
