@@ -260,3 +260,134 @@ def test_the_guides_layout_names_the_tree():
     missing += [str(p.relative_to(ROOT)) for p in sorted((ROOT / "cases").glob("_*.py"))
                 if not p.stem.startswith("__") and p.name not in block]
     assert not missing, f"not in docs/guide/extending.md's layout section: {missing}"
+
+
+# --- tests/ mirrors the package (tests/README.md) ------------------------------------------------
+#: What each file of tests/project/ checks: the house's tests, of no one module (the docs, the
+#: figures, the layout, the installed library, fpm, the examples, the benchmarks' driver).
+PROJECT_TESTS: dict[str, str] = {
+    "test_benchmarks.py": "the benchmark driver's quick run",
+    "test_docs.py": "FORD doc comments, the docs site, the generated tables and the guides' numbers",
+    "test_examples.py": "every python and sh block of README.md and docs/ runs as written",
+    "test_figures.py": "the figure checklist, measured on the committed figures and the CLI's plot",
+    "test_fpm.py": "fpm builds and tests the library from the same sources",
+    "test_guides.py": "the guides name every registered law, scene and method",
+    "test_imports.py": "imports run one way (cases never imports benchmarks; no cycle)",
+    "test_install.py": "the installed library, as docs/guide/fortran-c.md shows it",
+    "test_layout.py": "the source layout and this test layout",
+    "test_run_anywhere.py": "python -m cases from any directory",
+}
+#: The Fortran modules whose tests are those of the Python module they serve (the Python module
+#: is the only way in, and its tests cover the module): Fortran module -> test file.
+FORTRAN_TESTED_THROUGH: dict[str, str] = {
+    "stickslip_batch": "tests/test_batch.py",
+    "stickslip_simulate": "tests/test_core.py",
+    "stickslip_model_system": "tests/test_model.py",
+    "stickslip_user_model": "tests/test_model.py",
+    "stickslip_prescribed": "tests/test_prescribed.py",
+}
+#: Files of tests/ that are no test file: the shared fixtures, references several files use and
+#: the C and Fortran sources the tests build.
+TEST_SUPPORT: frozenset[str] = frozenset({
+    "tests/README.md", "tests/conftest.py", "tests/contact_reference.py", "tests/fortran/test_support.f90",
+    "tests/c/capi_model_cases.c", "tests/gsl/gsl_reference.c"})
+#: The runner of the Fortran unit test programs (tests/fortran/*.f90), each of which has its owner.
+FORTRAN_RUNNER = "tests/fortran/test_fortran.py"
+
+
+def _owner(stem: str, names: set[str]) -> str | None:
+    """The longest name n of `names` with stem == "test_" + n or stem starting "test_" + n + "_"."""
+    body = stem.removeprefix("test_")
+    found = [n for n in names if body == n or body.startswith(n + "_")]
+    return max(found, key=len) if found else None
+
+
+def layout_of_tests(root: Path) -> tuple[dict[str, str], list[str], list[str]]:
+    """The test files under root/tests with the module (or layer, gallery, house set) each
+    tests, the files that test nothing of the tree ("extra") and the modules without a test
+    file ("missing"). The rules, README's and tests/README.md's:
+
+    - python/stickslip/<m>.py: tests/test_<m>.py (__main__.py: tests/test_main.py); a module's
+      further files tests/test_<m>_<topic>.py;
+    - fortran/<layer>/stickslip_<x>.f90: tests/fortran/test_stickslip_<x>[_<topic>].py or .f90,
+      or a file of its layer, tests/fortran/test_<layer>[_<topic>].py or .f90 (tests of several
+      modules of the layer: every law, every method), or FORTRAN_TESTED_THROUGH;
+    - cases/gallery_<x>.py: tests/cases/test_gallery_<x>.py; another module of cases/ (<x>.py
+      or _<x>.py) may have tests/cases/test_cases_<x>[_<topic>].py;
+    - the house's tests: tests/project/, the files of PROJECT_TESTS.
+    """
+    tests = root / "tests"
+    py = {p.stem for p in (root / "python" / "stickslip").glob("*.py") if not p.stem.startswith("_")} | {"main"}
+    layers = {p.parent.name for p in (root / "fortran").glob("*/stickslip_*.f90")}
+    fortran = {p.stem: p.parent.name for p in (root / "fortran").glob("*/stickslip_*.f90")}
+    cases = {p.stem.lstrip("_") for p in (root / "cases").glob("*.py") if not p.stem.startswith("__")}
+    galleries = {c for c in cases if c.startswith("gallery_")}
+    owners: dict[str, str] = {}
+    extra: list[str] = []
+    for p in sorted(tests.rglob("*")):
+        rel = str(p.relative_to(root))
+        if p.is_dir() or "__pycache__" in rel or p.suffix == ".pyc" or rel in TEST_SUPPORT or rel == FORTRAN_RUNNER:
+            continue
+        folder, stem = p.parent.relative_to(tests).as_posix(), p.stem
+        owner = None
+        if folder == "." and p.suffix == ".py":
+            owner = _owner(stem, py)
+            owner = owner and f"python/stickslip/{'__main__' if owner == 'main' else owner}.py"
+        elif folder == "fortran" and p.suffix in (".py", ".f90"):
+            module, layer = _owner(stem, set(fortran)), _owner(stem, layers)
+            owner = (module and f"fortran/{fortran[module]}/{module}.f90") or (layer and f"fortran/{layer}/")
+        elif folder == "cases" and p.suffix == ".py":
+            name = _owner(stem, galleries) or (stem.startswith("test_cases_") and _owner(stem.replace("test_cases_", "test_", 1),
+                                                                                            cases - galleries))
+            owner = name and next(f"cases/{f.name}" for f in (root / "cases").glob("*.py") if f.stem.lstrip("_") == name)
+        elif folder == "project" and p.name in PROJECT_TESTS:
+            owner = "the house"
+        if owner:
+            owners[rel] = owner
+        else:
+            extra.append(rel)
+    covered = set(owners.values())
+    missing = [f"tests/test_{m}.py" for m in sorted(py)
+               if f"python/stickslip/{'__main__' if m == 'main' else m}.py" not in covered]
+    for module, layer in sorted(fortran.items()):
+        through = FORTRAN_TESTED_THROUGH.get(module)
+        if not ({f"fortran/{layer}/{module}.f90", f"fortran/{layer}/"} & covered
+                or (through and through in owners)):
+            missing.append(f"tests/fortran/test_{module}.py (or .f90) for fortran/{layer}/{module}.f90")
+    missing += [f"tests/cases/test_{g}.py" for g in sorted(galleries) if f"cases/{g}.py" not in covered]
+    missing += [f"tests/project/{n}" for n in sorted(PROJECT_TESTS) if not (tests / "project" / n).exists()]
+    return owners, extra, missing
+
+
+def test_every_module_has_its_test_file_and_every_test_file_a_module():
+    """The layout of tests/ (layout_of_tests's rules): a module without a test file or a test file
+    that maps to no module fails, with its name; no two test files share a name (pytest
+    imports them by name)."""
+    owners, extra, missing = layout_of_tests(ROOT)
+    assert "tests/test_core.py" in owners and "tests/fortran/test_stickslip_chain.py" in owners
+    assert not extra, f"test files that map to no module (tests/README.md gives the rules): {extra}"
+    assert not missing, f"modules without their test file: {missing}"
+    names = [Path(p).name for p in owners if p.endswith(".py")]
+    assert len(names) == len(set(names)), sorted(n for n in names if names.count(n) > 1)
+    stale = sorted(m for m, f in FORTRAN_TESTED_THROUGH.items() if not (ROOT / f).exists())
+    assert not stale, f"FORTRAN_TESTED_THROUGH names absent files: {stale}"
+
+
+def test_the_test_layout_check_finds_a_missing_and_an_extra_file(tmp_path: Path):
+    """On a small tree: a Python module without tests/test_<m>.py, a Fortran module of a layer
+    without a file, and a test file named after nothing are each reported by name."""
+    for rel in ("python/stickslip/core.py", "python/stickslip/model.py", "python/stickslip/_wrap.py",
+                "fortran/laws/stickslip_law_dahl.f90", "fortran/integrators/stickslip_rk4.f90",
+                "cases/gallery_frame.py", "cases/_common.py", "tests/test_core.py", "tests/test_core_errors.py",
+                "tests/fortran/test_laws.f90", "tests/test_gallery1.py", "tests/cases/test_cases_common.py",
+                *(f"tests/project/{n}" for n in PROJECT_TESTS)):
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / rel).write_text("")
+    owners, extra, missing = layout_of_tests(tmp_path)
+    assert owners["tests/test_core_errors.py"] == "python/stickslip/core.py"
+    assert owners["tests/fortran/test_laws.f90"] == "fortran/laws/"
+    assert owners["tests/cases/test_cases_common.py"] == "cases/_common.py"
+    assert extra == ["tests/test_gallery1.py"]
+    assert missing == ["tests/test_main.py", "tests/test_model.py",
+                       "tests/fortran/test_stickslip_rk4.py (or .f90) for fortran/integrators/stickslip_rk4.f90",
+                       "tests/cases/test_gallery_frame.py"]
