@@ -15,6 +15,7 @@ from cases._scipy_events import ScipyContacts  # noqa: E402
 from cases import gallery_belt2dof as belt  # noqa: E402
 
 import stickslip as ss  # noqa: E402
+from test_gallery_clutches import _quick  # noqa: E402  (each gallery driver's quick run)
 
 
 def _stribeck_curve(w: float) -> float:
@@ -54,12 +55,6 @@ def test_two_block_belt_regularised_measures_approach_the_exact_ones():
         errs.append(abs(mm["period"] - m_exact["period"]) / m_exact["period"])
     assert errs[1] < errs[0]
 
-
-
-def _quick(module, tmp_path):
-    files = module.run(tmp_path, quick=True, quiet=True)
-    assert all(Path(f).exists() for f in files)
-    return files
 
 
 def test_belt2dof_driver_writes_its_files(tmp_path):

@@ -17,6 +17,7 @@ from cases._scipy_events import ScipyContacts  # noqa: E402
 from cases import gallery_stacked as st  # noqa: E402
 
 import stickslip as ss  # noqa: E402
+from test_gallery_clutches import _quick  # noqa: E402  (each gallery driver's quick run)
 
 
 def test_closed_form_agrees_with_scipy():
@@ -74,12 +75,6 @@ def test_moreau_converges_on_the_stacked_systems(model):
     # between steps, so a single decade can show 5x or 40x)
     assert 0.7 < math.log10(errs[0] / errs[1]) / 2.0 < 1.5, errs
 
-
-
-def _quick(module, tmp_path):
-    files = module.run(tmp_path, quick=True, quiet=True)
-    assert all(Path(f).exists() for f in files)
-    return files
 
 
 def test_stacked_driver_writes_its_files(tmp_path):
