@@ -1,7 +1,7 @@
-!> Fortran tests of what Python does not reach: the registry's tables and messages, the
-!! laws' derivatives against finite differences, the scenes' analytic Jacobians against
-!! the finite-difference default, dispatch by name, and regressions of the core's defects
-!! (zero-length RK4 steps, counters on a full buffer).
+!> Fortran tests of what Python does not reach (the registry's tables and messages:
+!! test_stickslip_registry.f90): the laws' derivatives against finite differences, the
+!! scenes' analytic Jacobians against the finite-difference default, dispatch by name, and
+!! regressions of the core's defects (zero-length RK4 steps, counters on a full buffer).
 !! Prints one line per check; exits with status 1 if any check fails.
 module test_core_problems
     use stickslip_kinds, only: dp
@@ -28,7 +28,6 @@ module test_core_problems
         procedure :: state_bound => ten
     end type bounded_growth
 
-
 contains
 
     subroutine decay_rhs(self, t, y, dydt)
@@ -52,37 +51,29 @@ contains
         bound = 10.0_dp
     end function ten
 
-
 end module test_core_problems
 
 program test_core
     use test_support, only: check, finish
-    use stickslip_kinds, only: dp, SS_OK, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_METHOD, &
-                               SS_BAD_CONTROL_NAME, SS_BAD_PARAM_NAME, SS_BAD_DIM, STATUS_CODES, SS_DIVERGED
-    use stickslip_params, only: param_values, param_rule, NAME_LEN
+    use stickslip_kinds, only: dp, SS_OK, SS_OUTPUT_FULL, SS_BAD_CONTROL_NAME, SS_BAD_DIM, SS_DIVERGED
+    use stickslip_params, only: param_values, NAME_LEN
     use stickslip_ode, only: ode_stats, step_controls, fd_jacobian, step_count
-    use stickslip_friction, only: friction_law, SS_BAD_MU_K
-    use stickslip_law_recurdyn, only: SS_BAD_V_D
-    use stickslip_scenes, only: friction_scene, SS_BAD_M
+    use stickslip_friction, only: friction_law
+    use stickslip_scenes, only: friction_scene
     use stickslip_rk4, only: rk4_integrate
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_dop853, only: dop853_options, dop853_integrate
     use stickslip_radau5, only: radau5_options, radau5_integrate
     use stickslip_implicit_euler, only: implicit_euler_options, implicit_euler_integrate
     use stickslip_galpha, only: galpha_options, galpha_integrate
-    use stickslip_registry, only: PARAMS, LAW_TABLE, SCENE_TABLE, METHOD_TABLE, stickslip_message, &
-                                  code_of, split_names, make_law, new_system, apply_controls, &
-                                  resolve_params, new_controls, HMIN_DEFAULT
+    use stickslip_registry, only: LAW_TABLE, SCENE_TABLE, METHOD_TABLE, split_names, make_law, new_system, &
+                                  apply_controls, new_controls, HMIN_DEFAULT
     use stickslip_simulate, only: simulate
     use stickslip_user_model, only: stickslip_model
     use stickslip_model_system, only: model_system
     use test_core_problems, only: decay, growth, bounded_growth
     implicit none
 
-
-    call test_tables()
-    call test_messages()
-    call test_params()
     call test_law_derivatives()
     call test_scene_jacobians()
     call test_model_band()
@@ -94,75 +85,6 @@ program test_core
     call finish('core')
 
 contains
-
-    !> Names and codes are unique; every law and scene parameter is in PARAMS.
-    subroutine test_tables()
-        integer :: i, j
-        logical :: unique, listed
-        character(len=NAME_LEN), allocatable :: names(:)
-        unique = .true.
-        do i = 1, size(PARAMS)
-            do j = i + 1, size(PARAMS)
-                if (PARAMS(i)%name == PARAMS(j)%name .or. PARAMS(i)%code == PARAMS(j)%code) unique = .false.
-            end do
-            if (any(STATUS_CODES == PARAMS(i)%code) .or. PARAMS(i)%code > -100) unique = .false.
-        end do
-        call check(unique, 'registry: parameter names and codes unique, <= -100, apart from the status codes')
-        listed = .true.
-        do i = 1, size(LAW_TABLE)
-            names = split_names(LAW_TABLE(i)%params)
-            do j = 1, size(names)
-                if (findloc(PARAMS%name, names(j), dim=1) == 0) listed = .false.
-            end do
-        end do
-        do i = 1, size(SCENE_TABLE)
-            names = split_names(SCENE_TABLE(i)%params)
-            do j = 1, size(names)
-                if (findloc(PARAMS%name, names(j), dim=1) == 0) listed = .false.
-            end do
-        end do
-        call check(listed, 'registry: every law and scene parameter has a specification')
-        call check(code_of('law', 'proposed') == 3 .and. code_of('method', 'dopri5') == 2 .and. &
-                   code_of('scene', 'belt') == 2 .and. code_of('law', 'nope') == 0, 'registry: codes by name')
-        names = split_names('a, b,,c  d')
-        call check(size(names) == 4 .and. names(4) == 'd', 'registry: split_names on commas and blanks')
-    end subroutine test_tables
-
-    !> Messages name the parameter, its range, and the accepted names.
-    subroutine test_messages()
-        block
-            integer :: i
-            logical :: ok
-            ok = index(stickslip_message(SS_BAD_LAW), 'law: unknown friction law (accepted: coulomb, ' // &
-                       'recurdyn, proposed') == 1
-            do i = 1, size(LAW_TABLE)
-                ok = ok .and. index(stickslip_message(SS_BAD_LAW), trim(LAW_TABLE(i)%name)) > 0
-            end do
-            call check(ok, 'message: law list, every law of the registry')
-        end block
-        call check(index(stickslip_message(SS_BAD_METHOD), 'rk4, dopri5, radau5') > 0, 'message: method list')
-        call check(stickslip_message(SS_BAD_MU_K) == 'mu_k: must be finite and >= 0 and <= mu_s', &
-                   'message: mu_k range and relation')
-        call check(stickslip_message(SS_BAD_V_D) == 'v_d: must be finite and > v_s [m/s]', 'message: v_d')
-        call check(stickslip_message(SS_BAD_M) == 'm: must be finite and > 0 [kg]', 'message: m with unit')
-        call check(param_rule(PARAMS(findloc(PARAMS%name, 'theta_deg', dim=1))) == &
-                   'theta_deg: must be finite and in [-90, 90] [deg]', 'message: closed interval')
-    end subroutine test_messages
-
-    !> Defaults, derived defaults, range checks of unused parameters, unknown names.
-    subroutine test_params()
-        type(param_values) :: p
-        integer :: status, iv
-        status = resolve_params([character(len=NAME_LEN) :: 'v_s'], [0.02_dp], p)
-        iv = findloc(p%names, 'v_d', dim=1)
-        call check(status == SS_OK .and. abs(p%values(iv) - 0.03_dp) < 1e-17_dp, 'params: v_d defaults to 1.5 v_s')
-        status = resolve_params([character(len=NAME_LEN) :: 'm'], [-1.0_dp], p)
-        call check(status == SS_BAD_M, 'params: m = -1 rejected whatever the scene')
-        status = resolve_params([character(len=NAME_LEN) :: 'mass'], [1.0_dp], p)
-        call check(status == SS_BAD_PARAM_NAME, 'params: unknown name')
-        status = resolve_params([character(len=NAME_LEN) :: 'mu_s', 'mu_k'], [0.3_dp], p)
-        call check(status == SS_BAD_DIM, 'params: names and values of different sizes')
-    end subroutine test_params
 
     !> Each law's dmu against a central difference of its mu, away from its kinks.
     subroutine test_law_derivatives()

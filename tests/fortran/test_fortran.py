@@ -43,8 +43,17 @@ def test_fortran_implicit_suite(native_build):
         assert all(lo < float(g) < hi for g in m.groups()), m.group(0)
 
 
+def test_fortran_registry_suite(native_build):
+    """tests/fortran/test_stickslip_registry.f90: the registry's tables, messages and parameters."""
+    exe = compile_target(native_build, "test_stickslip_registry")
+    proc = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout
+    assert "all registry checks passed" in proc.stdout
+
+
 def test_fortran_core_suite(native_build):
-    """Registry, laws' derivatives, scenes' Jacobians, controls by name, core regressions."""
+    """Laws' derivatives, scenes' Jacobians, controls by name, core regressions."""
     exe = compile_target(native_build, "test_core")
     proc = subprocess.run([str(exe)], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
@@ -62,7 +71,7 @@ def test_fortran_law_suite(native_build):
 
 @pytest.mark.slow     # every program again (the suites above run each), and the four examples
 def test_meson_test_suite(native_build):
-    """`meson test`: the Fortran unit tests (six programs) and the four examples (Lotka-Volterra,
+    """`meson test`: the Fortran unit tests (seven programs) and the four examples (Lotka-Volterra,
     the C friction example, the Fortran model that stops and the C clutch model, each as its
     closed form says) built in-tree."""
     from conftest import _tool, build_lock
@@ -70,7 +79,7 @@ def test_meson_test_suite(native_build):
         proc = subprocess.run([_tool("meson"), "test", "-C", str(native_build), "--print-errorlogs"],
                               capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert re.search(r"Ok:\s+10\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+    assert re.search(r"Ok:\s+11\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
     assert "example_model_stop" in proc.stdout and "example_model_c" in proc.stdout
 
 
