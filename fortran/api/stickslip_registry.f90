@@ -5,8 +5,11 @@
 !! Everything that lists names comes from the tables here: the messages' "accepted: ..."
 !! lists (`stickslip_message`), the Python facade's tuples and defaults (it reads
 !! `registry_text` at import) and the C header's constants (generated from
-!! `registry_text` at build time). Adding a law: one module extending `friction_law`,
-!! plus its entry in LAW_TABLE, its parameters in PARAMS and a line in `new_law`.
+!! `registry_text` at build time). Adding a law: one module extending `friction_law`
+!! (fortran/laws/stickslip_law_NAME.f90, type NAME_law, its own parameters' specifications as
+!! public param_spec constants), plus its entry in LAW_TABLE, then `python tools/gen_kernels.py`,
+!! which writes the laws' dispatch from LAW_TABLE (stickslip_laws: the law modules' `use`, the
+!! codes LAW_<NAME>, LAW_SPECS and `new_law`) and meson's list of law sources.
 !! Adding a method: one module with its `method_info`, options type and
 !! `<method>_integrate`, plus its entry in METHOD_TABLE, a case in `new_controls` (its
 !! options type) and a `type is` in `integrate`.
@@ -19,20 +22,8 @@ module stickslip_registry
     use stickslip_params, only: param_spec, param_values, param_ok, param_rule, NAME_LEN
     use stickslip_ode, only: ode_stats, step_controls, method_info, STATS_INTEGER_NAMES, &
                              STATS_REAL_NAMES, RTOL_MIN
-    use stickslip_friction, only: friction_law, MU_S_SPEC, MU_K_SPEC, V_S_SPEC
-    use stickslip_law_coulomb, only: coulomb_law
-    use stickslip_law_recurdyn, only: recurdyn_law, V_D_SPEC
-    use stickslip_law_proposed, only: proposed_law, BETA_SPEC, A_SPEC
-    use stickslip_law_stribeck, only: stribeck_law, DELTA_SPEC, C_V_SPEC, V_EPS_SPEC
-    use stickslip_law_karnopp, only: karnopp_law, DV_SPEC
-    use stickslip_law_lugre, only: lugre_law, SIGMA0_SPEC, SIGMA1_SPEC, SIGMA2_SPEC
-    use stickslip_law_elastoplastic, only: elastoplastic_law, Z_BA_RATIO_SPEC
-    use stickslip_law_dahl, only: dahl_law, DAHL_ALPHA_SPEC
-    use stickslip_law_gms, only: gms_law, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC
-    use stickslip_law_drake_continuous, only: drake_continuous_law
-    use stickslip_law_drake_tamsi, only: drake_tamsi_law
-    use stickslip_law_capped_viscous, only: capped_viscous_law
-    use stickslip_law_mujoco_pyramidal, only: mujoco_pyramidal_law
+    use stickslip_friction, only: friction_law
+    use stickslip_laws, only: new_law, LAW_SPECS
     use stickslip_scenes, only: friction_scene, slope_scene, belt_scene, G_SPEC, THETA_SPEC, M_SPEC, &
                                 K_SPEC, V_B_SPEC
     use stickslip_chain, only: chain_scene, N_BLOCKS_SPEC, K_C_SPEC, K_P_SPEC, PERTURBATION_SPEC, MAX_BLOCKS
@@ -87,14 +78,7 @@ module stickslip_registry
         entry_info('drake_tamsi', 'mu_k v_s', 'Drake TAMSI: mu_k s (2 - s) below s = v/v_s = 1'), &
         entry_info('capped_viscous', 'mu_k v_s', 'mu_k min(v/v_s, 1): Newton semi-implicit, MuJoCo elliptic cone'), &
         entry_info('mujoco_pyramidal', 'mu_k v_s', 'MuJoCo pyramidal cone: viscous, slope bent at mu_k/2')]
-    integer, parameter, public :: LAW_COULOMB = 1, LAW_RECURDYN = 2, LAW_PROPOSED = 3, &
-        LAW_STRIBECK = 4, LAW_KARNOPP = 5, LAW_LUGRE = 6, LAW_ELASTOPLASTIC = 7
-    !! law codes: positions in LAW_TABLE
-    integer, parameter, public :: LAW_DAHL = 8, LAW_GMS = 9
-    !! law codes of the presliding-hysteresis laws
-    integer, parameter, public :: LAW_DRAKE_CONTINUOUS = 10, LAW_DRAKE_TAMSI = 11, &
-        LAW_CAPPED_VISCOUS = 12, LAW_MUJOCO_PYRAMIDAL = 13
-    !! law codes of the physics engines' laws (`stickslip.engines`)
+    ! The codes LAW_<NAME> (positions in LAW_TABLE) are stickslip_laws', written from this table.
 
     !> The scenes; the code of a scene is its position.
     type(entry_info), parameter, public :: SCENE_TABLE(*) = [ &
@@ -117,10 +101,9 @@ module stickslip_registry
     integer, parameter, public :: METHOD_DOP853 = 8   !! method code of dop853
 
     !> Every physical parameter of every law and scene, each once.
-    type(param_spec), parameter, public :: PARAMS(*) = [MU_S_SPEC, MU_K_SPEC, V_S_SPEC, V_D_SPEC, &
-        BETA_SPEC, A_SPEC, DELTA_SPEC, C_V_SPEC, V_EPS_SPEC, DV_SPEC, SIGMA0_SPEC, SIGMA1_SPEC, &
-        SIGMA2_SPEC, Z_BA_RATIO_SPEC, M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC, &
-        DAHL_ALPHA_SPEC, N_ELEMENTS_SPEC, GMS_SHAPE_SPEC, GMS_C_SPEC, N_BLOCKS_SPEC, K_C_SPEC, PERTURBATION_SPEC, &
+    !! The laws' (LAW_SPECS, written from LAW_TABLE by tools/gen_kernels.py), then the scenes'.
+    type(param_spec), parameter, public :: PARAMS(*) = [LAW_SPECS, &
+        M_SPEC, G_SPEC, THETA_SPEC, K_SPEC, V_B_SPEC, N_BLOCKS_SPEC, K_C_SPEC, PERTURBATION_SPEC, &
         K_P_SPEC]
     !> The default step size floor of the adaptive methods [s], the same through every entry
     !! point: `new_controls` (Fortran and Python runs, models), the C API's option defaults
@@ -136,30 +119,6 @@ module stickslip_registry
         [(findloc(PARAMS%name, PARAMS(jp)%default_of, dim=1), jp = 1, size(PARAMS))]
 
 contains
-
-    !> The law of code `code`, not yet initialised; SS_BAD_LAW for an unknown code.
-    function new_law(code, law) result(status)
-        integer, intent(in) :: code                          !! law code
-        class(friction_law), allocatable, intent(out) :: law !! the law
-        integer :: status
-        status = SS_OK
-        select case (code)
-        case (LAW_COULOMB);  allocate(coulomb_law :: law)
-        case (LAW_RECURDYN); allocate(recurdyn_law :: law)
-        case (LAW_PROPOSED); allocate(proposed_law :: law)
-        case (LAW_STRIBECK); allocate(stribeck_law :: law)
-        case (LAW_KARNOPP);  allocate(karnopp_law :: law)
-        case (LAW_LUGRE);    allocate(lugre_law :: law)
-        case (LAW_ELASTOPLASTIC); allocate(elastoplastic_law :: law)
-        case (LAW_DAHL);     allocate(dahl_law :: law)
-        case (LAW_GMS);      allocate(gms_law :: law)
-        case (LAW_DRAKE_CONTINUOUS); allocate(drake_continuous_law :: law)
-        case (LAW_DRAKE_TAMSI);      allocate(drake_tamsi_law :: law)
-        case (LAW_CAPPED_VISCOUS);   allocate(capped_viscous_law :: law)
-        case (LAW_MUJOCO_PYRAMIDAL); allocate(mujoco_pyramidal_law :: law)
-        case default;        status = SS_BAD_LAW
-        end select
-    end function new_law
 
     !> A law with its parameters given by name (the others at their defaults), checked
     !! and ready; `p` returns every parameter as resolved.

@@ -20,10 +20,9 @@ module stickslip_dopri5
                              check_step_controls, all_finite, diverged, output_start, RTOL_MIN, stop_requested, &
                              limit_after_forced, set_erk_constant, check_erk_constants
     use stickslip_scenes, only: slope_scene, belt_scene
-    use stickslip_law_coulomb, only: coulomb_law
-    use stickslip_law_recurdyn, only: recurdyn_law
-    use stickslip_law_proposed, only: proposed_law
-    use stickslip_law_stribeck, only: stribeck_law
+    ! every law's type, for the kernels of the laws marked kernel=.true. (stickslip_laws is written
+    ! from the registry's LAW_TABLE by tools/gen_kernels.py, as the kernels are)
+    use stickslip_laws
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private

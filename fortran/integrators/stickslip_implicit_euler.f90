@@ -18,10 +18,9 @@ module stickslip_implicit_euler
     use stickslip_modal_contacts, only: scene_modal_contacts, model_modal_contacts
     use stickslip_model_system, only: model_system
     use stickslip_friction, only: MODE_MU, MODE_V, between
-    use stickslip_law_coulomb, only: coulomb_law
-    use stickslip_law_recurdyn, only: recurdyn_law
-    use stickslip_law_proposed, only: proposed_law
-    use stickslip_law_stribeck, only: stribeck_law
+    ! every law's type, for the kernels of the laws marked kernel=.true. (stickslip_laws is written
+    ! from the registry's LAW_TABLE by tools/gen_kernels.py, as the kernels are)
+    use stickslip_laws
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private

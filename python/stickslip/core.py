@@ -1046,10 +1046,11 @@ def model_notes(model: Any, method: str, stacklevel: int = 2) -> list[str]:
 
 def _checked(law: str, method: str) -> bool:
     """Whether runs of `law` under `method` take simulate's Python path for the consistency
-    check (`_after_run`): the laws that jump or stick in a band (coulomb, karnopp, stribeck)
-    under the methods without stick/slip events, whose output can leave x and v inconsistent
-    (RK4's frozen states). The others keep the fast path, unchecked."""
-    return law in ("coulomb", "karnopp", "stribeck") and REGISTRY["method"][method]["laws"] is None
+    check (`_after_run`): the laws that jump or stick in a band (those with a set-valued
+    counterpart, which the registry gives event_driven: coulomb, stribeck, karnopp) under the
+    methods without stick/slip events, whose output can leave x and v inconsistent (RK4's
+    frozen states). The others keep the fast path, unchecked."""
+    return law in REGISTRY["method"]["event_driven"]["laws"] and REGISTRY["method"][method]["laws"] is None
 
 
 #: The consistency check of a result, `stickslip.energy.check_result`: energy, which imports

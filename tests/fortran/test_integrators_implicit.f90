@@ -216,7 +216,8 @@ program test_integrators_implicit
                                SS_BAD_RADAU5_CONTROL, SS_BAD_RTOL_POSITIVE, SS_BAD_ATOL, SS_BAD_HMIN, &
                                SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_STEP_BUDGET, SS_DIVERGED, &
                                SS_STEP_TOO_SMALL, SS_OUTPUT_FULL
-    use stickslip_registry, only: stickslip_message, new_system, SCENE_TABLE, LAW_COULOMB, LAW_STRIBECK
+    use stickslip_registry, only: stickslip_message, new_system, SCENE_TABLE
+    use stickslip_laws, only: LAW_COULOMB, LAW_STRIBECK
     use stickslip_params, only: param_values, NAME_LEN
     use stickslip_scenes, only: friction_scene
     use stickslip_ode, only: ode_stats

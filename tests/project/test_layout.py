@@ -3,9 +3,12 @@ integrators' specialised kernels as tools/gen_kernels.py writes them from the re
 from __future__ import annotations
 
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
+
+import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
@@ -19,6 +22,57 @@ def test_generated_kernels_are_current():
     run = subprocess.run([sys.executable, str(ROOT / "tools" / "gen_kernels.py"), "--check"],
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
+
+
+def test_generated_files_equal_a_fresh_run(tmp_path: Path):
+    """The generator run into an empty directory writes every generated file (the kernels'
+    includes, the laws' dispatch and meson's list of law sources) equal to the committed one:
+    the build never needs the generator, only an edit of the registry does."""
+    run = subprocess.run([sys.executable, str(ROOT / "tools" / "gen_kernels.py"), "--outdir", str(tmp_path)],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    written = sorted(str(p.relative_to(tmp_path)) for p in tmp_path.rglob("*") if p.is_file())
+    assert written == sorted(["fortran/integrators/stickslip_kernel_instances.inc",
+                              "fortran/integrators/stickslip_kernel_dispatch.inc",
+                              "fortran/laws/stickslip_laws.f90", "fortran/laws/meson.build"])
+    stale = [f for f in written if (tmp_path / f).read_text() != (ROOT / f).read_text()]
+    assert not stale, f"stale (run python tools/gen_kernels.py): {stale}"
+
+
+def test_the_laws_dispatch_follows_law_table():
+    """stickslip_laws holds a `use`, a code and a `new_law` case for every LAW_TABLE row in
+    order, and every law parameter's specification once; meson compiles every law module."""
+    source = gen_kernels.REGISTRY.read_text()
+    names = [name for name, _ in gen_kernels.table_entries(source, "LAW_TABLE")]
+    shared, rows = gen_kernels.law_entries(source)
+    assert [name for name, _ in rows] == names and shared == ["MU_S_SPEC", "MU_K_SPEC", "V_S_SPEC"]
+    module = (ROOT / "fortran" / "laws" / "stickslip_laws.f90").read_text()
+    assert re.findall(r"^    use stickslip_law_(\w+)", module, re.M) == names
+    assert re.findall(r"LAW_(\w+) = (\d+)$", module, re.M) == [(n.upper(), str(i)) for i, n in enumerate(names, 1)]
+    assert re.findall(r"allocate\((\w+)_law :: law\)", module) == names
+    specs = [c for _, own in rows for c in own]
+    assert len(set(specs)) == len(specs) and {"V_D_SPEC", "DV_SPEC", "GMS_C_SPEC"} <= set(specs)
+
+
+def test_the_laws_generator_names_what_is_missing(tmp_path: Path):
+    """A row without its module, or naming a parameter no module declares, stops the generator
+    with the law and what is missing."""
+    source = gen_kernels.REGISTRY.read_text()
+    row = "entry_info('toy', 'mu_k toy_c', 'a toy'), &\n        "
+    added = source.replace("entry_info('coulomb',", row + "entry_info('coulomb',", 1)
+    with pytest.raises(SystemExit, match="law 'toy' of LAW_TABLE has no module file"):
+        gen_kernels.law_entries(added, laws=tmp_path)
+    laws = tmp_path / "laws"
+    shutil.copytree(gen_kernels.LAWS, laws)
+    (laws / "stickslip_law_toy.f90").write_text("module stickslip_law_toy\n"
+                                                "    type, extends(friction_law) :: toy_law\n")
+    with pytest.raises(SystemExit, match="law 'toy' reads toy_c, which no law module declares"):
+        gen_kernels.law_entries(added, laws=laws)
+    (laws / "stickslip_law_toy.f90").write_text(
+        "module stickslip_law_toy\n    type, extends(friction_law) :: toy_law\n"
+        "    type(param_spec), parameter, public :: TOY_MU = param_spec(name='mu_s', default=1.0_dp)\n")
+    with pytest.raises(SystemExit, match="declares mu_s, which MU_S_SPEC declares already"):
+        gen_kernels.law_entries(added, laws=laws)
 
 
 def test_kernels_follow_the_registry_flags():
@@ -40,6 +94,10 @@ def test_every_module_is_in_a_layer_and_built():
     assert {p.name for p in (ROOT / "fortran").iterdir() if p.is_dir()} == LAYERS
     meson = (ROOT / "meson.build").read_text()
     listed = set(re.findall(r"'(fortran/\w+/stickslip\w*\.f90)'", meson))
+    # the laws' sources: fortran/laws/meson.build, written from the registry (tools/gen_kernels.py)
+    assert "subdir('fortran/laws')" in meson and "+ law_src +" in meson
+    listed |= {f"fortran/laws/{f}" for f in re.findall(r"'(stickslip\w*\.f90)'",
+                                                       (ROOT / "fortran" / "laws" / "meson.build").read_text())}
     on_disk = {str(p.relative_to(ROOT)) for p in (ROOT / "fortran").glob("*/*.f90")}
     assert listed == on_disk
 
@@ -112,7 +170,8 @@ def test_the_layer_check_finds_a_violation(tmp_path: Path):
 # --- Fortran: no procedure over MAX_PROCEDURE_LINES ----------------------------------------------
 MAX_PROCEDURE_LINES = 250
 #: Generated sources (tools/gen_kernels.py), not measured.
-GENERATED: frozenset[str] = frozenset({"stickslip_kernel_instances.inc", "stickslip_kernel_dispatch.inc"})
+GENERATED: frozenset[str] = frozenset({"stickslip_kernel_instances.inc", "stickslip_kernel_dispatch.inc",
+                                       "stickslip_laws.f90"})
 #: Today's longer procedures (file, procedure), each being split; any other fails, and so does
 #: an entry here that is no longer long (remove it).
 LONG_PROCEDURES: dict[tuple[str, str], str] = {
