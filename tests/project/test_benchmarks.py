@@ -15,6 +15,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.mark.slow     # builds and times the C, Fortran and GSL programs
+@pytest.mark.xdist_group("build/bench")     # both build in benchmarks' build/bench: one worker
 def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     if shutil.which("gfortran") is None or shutil.which("cc") is None:
         pytest.skip("compilers not found")
@@ -109,6 +110,7 @@ def test_quick_benchmarks(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> No
 
 
 @pytest.mark.slow     # builds the contact benchmark's Fortran program (minutes on two busy cores)
+@pytest.mark.xdist_group("build/bench")     # both build in benchmarks' build/bench: one worker
 def test_quick_contact_benchmark(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """`python -m benchmarks --contact --quick`: a table row per n up to 8; the solver (its
     rule's rounds of box problems) and Lemke's method alone solve every random coupled problem;
