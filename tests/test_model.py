@@ -69,7 +69,7 @@ def test_banded_and_dense_take_the_same_steps(method, law):
     """The model's banded Jacobian (body order: analytic for static laws, grouped differences
     otherwise) against the dense one in the state order: with an analytic Jacobian the same
     steps and states to rounding; with differences fewer evaluations per Jacobian than n and
-    the same motion to the tolerance (tests/fortran/test_core.f90 checks the band's entries)."""
+    the same motion to the tolerance (tests/fortran/test_stickslip_model_system.f90 checks the band's entries)."""
     m = _ladder(law)
     kw = dict(rtol=1e-7, atol=1e-9) if method == "radau5" else dict(h=2e-3)
     band = ss.simulate(m, method=method, t_end=1.0, n_out=11, **kw)

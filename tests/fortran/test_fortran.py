@@ -52,9 +52,27 @@ def test_fortran_registry_suite(native_build):
     assert "all registry checks passed" in proc.stdout
 
 
+def test_fortran_scene_suite(native_build):
+    """tests/fortran/test_stickslip_scenes.f90: every scene's analytic Jacobian."""
+    exe = compile_target(native_build, "test_stickslip_scenes")
+    proc = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout
+    assert "all scene checks passed" in proc.stdout
+
+
+def test_fortran_model_system_suite(native_build):
+    """tests/fortran/test_stickslip_model_system.f90: a model's banded Jacobian."""
+    exe = compile_target(native_build, "test_stickslip_model_system")
+    proc = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout
+    assert "all model system checks passed" in proc.stdout
+
+
 def test_fortran_core_suite(native_build):
-    """Laws' derivatives, scenes' Jacobians, controls by name, core regressions."""
-    exe = compile_target(native_build, "test_core")
+    """tests/fortran/test_integrators_common.f90: controls by name, the integrators' regressions."""
+    exe = compile_target(native_build, "test_integrators_common")
     proc = subprocess.run([str(exe)], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout
@@ -62,7 +80,7 @@ def test_fortran_core_suite(native_build):
 
 
 def test_fortran_law_suite(native_build):
-    """tests/fortran/test_laws.f90: dmu, evaluate, alpha and the parameter table."""
+    """tests/fortran/test_laws.f90: dmu, evaluate, alpha, the parameter table and every law's dmu."""
     exe = compile_target(native_build, "test_laws")
     proc = subprocess.run([str(exe)], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
@@ -71,7 +89,7 @@ def test_fortran_law_suite(native_build):
 
 @pytest.mark.slow     # every program again (the suites above run each), and the four examples
 def test_meson_test_suite(native_build):
-    """`meson test`: the Fortran unit tests (seven programs) and the four examples (Lotka-Volterra,
+    """`meson test`: the Fortran unit tests (nine programs) and the four examples (Lotka-Volterra,
     the C friction example, the Fortran model that stops and the C clutch model, each as its
     closed form says) built in-tree."""
     from conftest import _tool, build_lock
@@ -79,7 +97,7 @@ def test_meson_test_suite(native_build):
         proc = subprocess.run([_tool("meson"), "test", "-C", str(native_build), "--print-errorlogs"],
                               capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert re.search(r"Ok:\s+11\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+    assert re.search(r"Ok:\s+13\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
     assert "example_model_stop" in proc.stdout and "example_model_c" in proc.stdout
 
 

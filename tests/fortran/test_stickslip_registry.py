@@ -1,6 +1,6 @@
 """The registry drives the Python side (issue 41 item 7): the facade's constants are read from
 the library (stickslip_registry's registry_text) rather than copied, one hmin default holds for
-Python, Fortran and C (the Fortran and C halves: tests/fortran/test_core.f90 and
+Python, Fortran and C (the Fortran and C halves: tests/fortran/test_integrators_common.f90 and
 test_integrators.f90), and the figure style gives a law or method the registry adds a name,
 a colour and a marker of its own with no edit."""
 from __future__ import annotations

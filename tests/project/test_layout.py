@@ -336,14 +336,22 @@ PROJECT_TESTS: dict[str, str] = {
     "test_layout.py": "the source layout and this test layout",
     "test_run_anywhere.py": "python -m cases from any directory",
 }
-#: The Fortran modules whose tests are those of the Python module they serve (the Python module
-#: is the only way in, and its tests cover the module): Fortran module -> test file.
+#: The Fortran modules tested by another module's test file, each the way in to it (a Python
+#: module the Fortran module serves, or the module that uses it): Fortran module -> test file.
 FORTRAN_TESTED_THROUGH: dict[str, str] = {
     "stickslip_batch": "tests/test_batch.py",
     "stickslip_simulate": "tests/test_core.py",
-    "stickslip_model_system": "tests/test_model.py",
     "stickslip_user_model": "tests/test_model.py",
     "stickslip_prescribed": "tests/test_prescribed.py",
+    "stickslip_signal": "tests/test_signal.py",
+    "stickslip_kinds": "tests/fortran/test_stickslip_registry.f90",
+    "stickslip_params": "tests/fortran/test_stickslip_registry.f90",
+    "stickslip_friction": "tests/fortran/test_laws.f90",
+    "stickslip_ode": "tests/fortran/test_integrators_common.f90",
+    "stickslip_linalg": "tests/fortran/test_integrators_implicit.f90",
+    "stickslip_roots": "tests/fortran/test_stickslip_event_driven.py",
+    "stickslip_contact_solver": "tests/fortran/test_stickslip_contact_general.f90",
+    "stickslip_lcp": "tests/fortran/test_stickslip_contact_general.f90",
 }
 #: Files of tests/ that are no test file: the shared fixtures, references several files use and
 #: the C and Fortran sources the tests build.

@@ -1,7 +1,8 @@
-!> Fortran tests of what Python does not reach (the registry's tables and messages:
-!! test_stickslip_registry.f90): the laws' derivatives against finite differences, the
-!! scenes' analytic Jacobians against the finite-difference default, dispatch by name, and
-!! regressions of the core's defects (zero-length RK4 steps, counters on a full buffer).
+!> Fortran tests of what Python does not reach, beside the modules' own programs (the registry's
+!! tables and messages: test_stickslip_registry.f90; the laws' derivatives: test_laws.f90; the
+!! scenes' Jacobians: test_stickslip_scenes.f90; a model's band: test_stickslip_model_system.f90):
+!! controls and dispatch by name, and regressions of the core's defects (zero-length RK4 steps,
+!! counters on a full buffer, the state bounds of every method).
 !! Prints one line per check; exits with status 1 if any check fails.
 module test_core_problems
     use stickslip_kinds, only: dp
@@ -53,30 +54,22 @@ contains
 
 end module test_core_problems
 
-program test_core
+program test_integrators_common
     use test_support, only: check, finish
     use stickslip_kinds, only: dp, SS_OK, SS_OUTPUT_FULL, SS_BAD_CONTROL_NAME, SS_BAD_DIM, SS_DIVERGED
-    use stickslip_params, only: param_values, NAME_LEN
-    use stickslip_ode, only: ode_stats, step_controls, fd_jacobian, step_count
-    use stickslip_friction, only: friction_law
-    use stickslip_scenes, only: friction_scene
+    use stickslip_params, only: NAME_LEN
+    use stickslip_ode, only: ode_stats, step_controls, step_count
     use stickslip_rk4, only: rk4_integrate
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate
     use stickslip_dop853, only: dop853_options, dop853_integrate
     use stickslip_radau5, only: radau5_options, radau5_integrate
     use stickslip_implicit_euler, only: implicit_euler_options, implicit_euler_integrate
     use stickslip_galpha, only: galpha_options, galpha_integrate
-    use stickslip_registry, only: LAW_TABLE, SCENE_TABLE, METHOD_TABLE, split_names, make_law, new_system, &
-                                  apply_controls, new_controls, HMIN_DEFAULT
+    use stickslip_registry, only: METHOD_TABLE, split_names, apply_controls, new_controls, HMIN_DEFAULT
     use stickslip_simulate, only: simulate
-    use stickslip_user_model, only: stickslip_model
-    use stickslip_model_system, only: model_system
     use test_core_problems, only: decay, growth, bounded_growth
     implicit none
 
-    call test_law_derivatives()
-    call test_scene_jacobians()
-    call test_model_band()
     call test_controls_by_name()
     call test_rk4_no_zero_step()
     call test_output_full_counters()
@@ -85,111 +78,6 @@ program test_core
     call finish('core')
 
 contains
-
-    !> Each law's dmu against a central difference of its mu, away from its kinks.
-    subroutine test_law_derivatives()
-        class(friction_law), allocatable :: fl
-        type(param_values) :: p
-        real(dp), parameter :: v(6) = [-0.3_dp, -0.012_dp, -0.004_dp, 0.003_dp, 0.0125_dp, 0.7_dp]
-        real(dp) :: d, fd, dv
-        integer :: law, i, status
-        logical :: ok
-        do law = 1, size(LAW_TABLE)
-            status = make_law(law, [character(len=NAME_LEN) ::], [real(dp) ::], fl, p)
-            ok = status == SS_OK
-            do i = 1, size(v)
-                dv = 1.0e-7_dp
-                fd = (fl%mu(v(i) + dv) - fl%mu(v(i) - dv)) / (2.0_dp * dv)
-                d = fl%dmu(v(i))
-                ok = ok .and. abs(d - fd) <= 1.0e-5_dp * max(1.0_dp, abs(fd))
-                ok = ok .and. fl%mu(-v(i)) == -fl%mu(v(i))
-            end do
-            call check(ok, 'law ' // trim(LAW_TABLE(law)%name) // ': dmu = central difference, mu odd')
-        end do
-        status = make_law(3, [character(len=NAME_LEN) ::], [real(dp) ::], fl, p)
-        call check(fl%dmu(0.0_dp) > 0.0_dp .and. fl%dmu(0.0_dp) < huge(1.0_dp) .and. &
-                   fl%dmu(0.0_dp) == fl%dmu(1.0e-12_dp), 'law proposed: dmu finite at rest (floor at 1e-6 v_s)')
-    end subroutine test_law_derivatives
-
-    !> The scenes' analytic Jacobians against the forward-difference default.
-    subroutine test_scene_jacobians()
-        class(friction_scene), allocatable :: sys
-        type(param_values) :: p
-        real(dp) :: y(2), f(2), ja(2, 2), jf(2, 2)
-        integer(8) :: nfev
-        integer :: scene, law, status
-        logical :: ok
-        do scene = 1, size(SCENE_TABLE)
-            do law = 2, 3
-                status = new_system(scene, law, [character(len=NAME_LEN) ::], [real(dp) ::], sys, p)
-                y = [0.01_dp, merge(0.004_dp, 1.5_dp - 0.004_dp, scene == 1)]
-                call sys%rhs(0.0_dp, y, f)
-                nfev = 0
-                call sys%jacobian(0.0_dp, y, f, ja, nfev)
-                ok = status == SS_OK .and. nfev == 0
-                call fd_jacobian(sys, 0.0_dp, y, f, jf, nfev)
-                ok = ok .and. nfev == 2 .and. all(abs(ja - jf) <= 1.0e-5_dp * max(1.0_dp, abs(jf)))
-                call check(ok, 'scene ' // trim(SCENE_TABLE(scene)%name) // ' / ' // trim(LAW_TABLE(law)%name) // &
-                           ': analytic Jacobian = finite differences, no evaluation counted')
-            end do
-        end do
-    end subroutine test_scene_jacobians
-
-    !> A model's band (body order) against its dense Jacobian, for a static law (analytic),
-    !! laws with states and Karnopp (holding coefficient; grouped differences): every entry
-    !! outside the band is exactly zero in the dense Jacobian (the structure misses none),
-    !! every entry inside agrees with it, and the band is narrower than the matrix.
-    subroutine test_model_band()
-        character(len=16), parameter :: laws(4) = [character(len=16) :: 'stribeck', 'lugre', 'karnopp', 'dahl']
-        type(stickslip_model) :: m
-        type(model_system) :: sys
-        real(dp), allocatable :: y(:), f(:), jd(:, :), jb(:, :)
-        integer, allocatable :: perm(:)
-        integer(8) :: nfev
-        integer :: law, i, j, nb, n, ml, mu, status, ek, ei, body, sig_n
-        real(dp) :: err_in, max_out
-        nb = 12
-        do law = 1, size(laws)
-            m = stickslip_model()
-            do i = 1, nb
-                body = m%add_body(1.0_dp + 0.1_dp * i, 0.01_dp * i, 0.3_dp * sin(real(i, dp)))
-            end do
-            sig_n = m%constant(9.81_dp)
-            do i = 1, nb
-                call m%add_spring(i, i - 1, 80.0_dp, 0.0_dp)
-                if (i > 2) call m%add_spring(i, i - 2, 15.0_dp, 0.0_dp)
-                call m%add_damper(i, 0, 0.2_dp)
-                call m%add_contact(i, 0, trim(laws(law)), sig_n, m%constant(0.2_dp))
-                if (mod(i, 3) == 2) call m%add_contact(i, i - 1, trim(laws(law)), m%constant(2.0_dp))
-            end do
-            call m%build(sys, status, ek, ei)
-            n = sys%n_states()
-            y = m%initial_state(sys)
-            allocate(f(n), jd(n, n), perm(n))
-            call sys%rhs(0.1_dp, y, f)
-            nfev = 0
-            call sys%jacobian(0.1_dp, y, f, jd, nfev)
-            call sys%bandwidth(perm, ml, mu)
-            allocate(jb(max(ml + mu + 1, 1), n))
-            if (ml >= 0) call sys%band_jacobian(0.1_dp, y, f, jb, nfev)
-            err_in = 0.0_dp
-            max_out = 0.0_dp
-            do j = 1, n
-                do i = 1, n
-                    if (i - j > ml .or. j - i > mu) then
-                        max_out = max(max_out, abs(jd(perm(i), perm(j))))
-                    else
-                        err_in = max(err_in, abs(jb(mu + 1 + i - j, j) - jd(perm(i), perm(j))) &
-                                             / max(1.0_dp, abs(jd(perm(i), perm(j)))))
-                    end if
-                end do
-            end do
-            call check(status == SS_OK .and. ml >= 0 .and. 2 * ml + mu + 1 < n .and. max_out == 0.0_dp &
-                       .and. err_in <= 1.0e-5_dp, 'model ' // trim(laws(law)) // &
-                       ': band in the body order holds every nonzero of the dense Jacobian')
-            deallocate(f, jd, jb, perm)
-        end do
-    end subroutine test_model_band
 
     !> Every control a method lists is accepted by its options; others are refused.
     subroutine test_controls_by_name()
@@ -319,4 +207,4 @@ contains
                    'rk4: y'' = y to t = 80 stops where it passes the default bound 1e30 (t = 69.08)')
     end subroutine test_state_bounds
 
-end program test_core
+end program test_integrators_common
