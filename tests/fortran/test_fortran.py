@@ -9,6 +9,17 @@ import pytest
 from conftest import compile_target
 
 
+def run_program(native_build, target: str, name: str) -> str:
+    """Build and run one Fortran test program; it passes when it exits 0, prints no FAIL line
+    and ends with its verdict, "all <name> checks passed". Returns what it printed."""
+    exe = compile_target(native_build, target)
+    proc = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout
+    assert f"all {name} checks passed" in proc.stdout, proc.stdout
+    return proc.stdout
+
+
 def test_fortran_integrator_suite(native_build):
     exe = compile_target(native_build, "test_integrators")
     proc = subprocess.run([str(exe)], capture_output=True, text=True)
@@ -45,29 +56,17 @@ def test_fortran_implicit_suite(native_build):
 
 def test_fortran_registry_suite(native_build):
     """tests/fortran/test_stickslip_registry.f90: the registry's tables, messages and parameters."""
-    exe = compile_target(native_build, "test_stickslip_registry")
-    proc = subprocess.run([str(exe)], capture_output=True, text=True)
-    assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout
-    assert "all registry checks passed" in proc.stdout
+    run_program(native_build, "test_stickslip_registry", "registry")
 
 
 def test_fortran_scene_suite(native_build):
     """tests/fortran/test_stickslip_scenes.f90: every scene's analytic Jacobian."""
-    exe = compile_target(native_build, "test_stickslip_scenes")
-    proc = subprocess.run([str(exe)], capture_output=True, text=True)
-    assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout
-    assert "all scene checks passed" in proc.stdout
+    run_program(native_build, "test_stickslip_scenes", "scene")
 
 
 def test_fortran_model_system_suite(native_build):
     """tests/fortran/test_stickslip_model_system.f90: a model's banded Jacobian."""
-    exe = compile_target(native_build, "test_stickslip_model_system")
-    proc = subprocess.run([str(exe)], capture_output=True, text=True)
-    assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert not re.search(r"^FAIL", proc.stdout, re.M), proc.stdout
-    assert "all model system checks passed" in proc.stdout
+    run_program(native_build, "test_stickslip_model_system", "model system")
 
 
 def test_fortran_core_suite(native_build):
