@@ -5,7 +5,7 @@ time from the signal to the KeyboardInterrupt is printed, with its ratio to the 
 integrators look at a stop flag every 4096 steps, so the latency should be a small fraction of
 the delay. The last case is a setting kept from a first call run whole, which the facade runs
 from C (stickslip._runner's fast path); its first call's duration is printed too, and the
-ratio of the latency to it. tests/test_inputs.py checks that every case is interrupted; the
+ratio of the latency to it. tests/test_core_inputs.py checks that every case is interrupted; the
 times live here, since a test reads no clock.
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ import subprocess
 import sys
 from typing import Sequence
 
-#: (label, code run before the call, the call): the long calls of tests/test_inputs.py.
+#: (label, code run before the call, the call): the long calls of tests/test_core_inputs.py.
 CASES: tuple[tuple[str, str, str], ...] = (
     ("simulate, Coulomb DOPRI5", "", 'ss.simulate("slope", "coulomb", method="dopri5", t_end=1e6, '
                                      "max_steps=10**12)"),

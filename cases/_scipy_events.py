@@ -1,7 +1,7 @@
 """An event-driven solver for bodies on one axis coupled by set-valued Coulomb contacts with time-
 varying normal forces, written with numpy and scipy only (no stickslip code): the independent
 reference and the competitor of `python -m cases.gallery_clutches` (Modelica's CoupledClutches)
-and of tests/test_gallery1.py.
+and of the gallery's tests (tests/cases/test_gallery_*.py).
 
 The bodies have masses (inertias) m and forces f(t, x) (external ones and springs); contact i
 acts between bodies a_i and b_i (b_i = None: the ground) with the slip w_i = v_a - v_b - s_i

@@ -10,7 +10,7 @@ at 0.5 m/s, 1 s is simulated. Fixed-step methods run at h = 1e-3 s, adaptive one
 defaults of `stickslip.simulate` with at most MAX_STEPS steps. Each cell is the run's outcome:
 "ok" (t_end reached), "refused" (a ValueError before running: the method does not take the
 law on a model) or the name of the IntegrationError it ended with. The table is a pivot: a row
-per law, a column per method. tests/test_model_batch.py runs every pair again and checks it
+per law, a column per method. tests/test_sweep.py runs every pair again and checks it
 ends as the committed file says.
 """
 from __future__ import annotations

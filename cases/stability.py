@@ -416,7 +416,7 @@ def boundary_caption(n_h: int) -> str:
             "the first non-stable one, h_next [s] = that first non-stable h (empty: none in the "
             "window). The true boundary lies between h_obs and h_next, so h_obs/h_lin = "
             f"{1 / step:.2f} with h_next/h_lin = 1 means a boundary in [{1 / step:.2f}, 1] h_lin: the grid's resolution, "
-            "not a miss of the bound (a 2%-step scan, tests/test_extremes.py, finds the RecurDyn slope "
+            "not a miss of the bound (a 2%-step scan, tests/fortran/test_integrators_extremes.py, finds the RecurDyn slope "
             "boundary within 2% of h_lin). Belt runs cover only the 0.03 s stick phase, so larger "
             "steps may leave it before an instability shows. Coulomb has no linear bound (mu' = 0 "
             "off its jump) and is left out.")

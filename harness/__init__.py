@@ -3,5 +3,5 @@ lines and the rule for output paths (`cli`), where a results file came from (`pr
 timing (`timing`) and the style of every figure (`style`).
 
 It imports the library (stickslip) and nothing of cases/, benchmarks/ or tools/, which import
-it (tests/test_layout.py).
+it (tests/project/test_layout.py).
 """

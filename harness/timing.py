@@ -4,7 +4,7 @@ written in plain Python (the right-hand side and Jacobian a scipy user would wri
 reference for solve_ivp.
 
 benchmarks/ imports this module; nothing in cases/ imports benchmarks/ (one-way dependencies,
-tests/test_imports.py).
+tests/project/test_imports.py).
 """
 from __future__ import annotations
 

@@ -1,17 +1,15 @@
 """The energy bound on results of models (stickslip.energy): exact for a free body pushed along
 its velocity, a warning for an explicit run beyond its stability bound that returned success,
-silence on correct runs with a moving surface (whose input the bound counts), and the signals
-as the library evaluates them."""
+silence on correct runs with a moving surface (whose input the bound counts)."""
 from __future__ import annotations
 
-import math
 import warnings
 
 import numpy as np
 import pytest
 
 import stickslip as ss
-from stickslip.energy import _value, energy_bound
+from stickslip.energy import energy_bound
 
 S = ss.signal
 
@@ -87,23 +85,6 @@ def test_laws_with_internal_states_are_not_checked():
     m = ss.Model.from_scene("belt", "lugre")
     r = ss.simulate(m, method="radau5", t_end=0.5, n_out=11)
     assert energy_bound(m, r.t, r.x, r.v) is None
-
-
-def test_signals_evaluate_as_the_library_does():
-    """A free body under a force made of every kind of signal: the library's velocity equals
-    v0 + int F/m with F evaluated here (_value, integrated by the midpoint rule on a fine grid
-    through the corners)."""
-    force = (2.0 * S.step(0.2, -1.0, 3.0) + S.ramp(0.1, 0.3, 4.0) - S.sine(1.5, 3.0, 0.4, 0.2)
-             + S.table([0.0, 0.5, 0.7], [1.0, -2.0, 0.5]) * S.constant(0.5))
-    m = ss.Model()
-    b = m.add_body(2.0, v0=0.3)
-    m.add_force(b, force)
-    r = ss.simulate(m, method="event_driven", t_end=1.0, n_out=11, rtol=1e-12, atol=1e-14)   # restarts at the corners
-    fine = np.union1d(np.linspace(0.0, 1.0, 400_001), [0.1, 0.2, 0.4, 0.5, 0.7])
-    mid = 0.5 * (fine[1:] + fine[:-1])            # the midpoint rule: no point on a corner
-    cum = np.concatenate([[0.0], np.cumsum(_value(force, mid) * np.diff(fine))])
-    np.testing.assert_allclose(r.v[0], 0.3 + np.interp(r.t, fine, cum) / 2.0, rtol=0, atol=1e-10)
-    assert math.isclose(float(_value(S.step(0.2), np.array([0.2]))[0]), 1.0)   # right-continuous
 
 
 def test_cached_bound_follows_a_changed_model():

@@ -69,7 +69,7 @@ def test_banded_and_dense_take_the_same_steps(method, law):
     """The model's banded Jacobian (body order: analytic for static laws, grouped differences
     otherwise) against the dense one in the state order: with an analytic Jacobian the same
     steps and states to rounding; with differences fewer evaluations per Jacobian than n and
-    the same motion to the tolerance (tests/fortran/test_core.f90 checks the band's entries)."""
+    the same motion to the tolerance (tests/fortran/test_stickslip_model_system.f90 checks the band's entries)."""
     m = _ladder(law)
     kw = dict(rtol=1e-7, atol=1e-9) if method == "radau5" else dict(h=2e-3)
     band = ss.simulate(m, method=method, t_end=1.0, n_out=11, **kw)
@@ -361,27 +361,6 @@ def test_docs_toml_schema_example(tmp_path):
     assert np.array_equal(r1.x, r2.x)
 
 
-def test_command_line_run(tmp_path, capsys):
-    """python -m stickslip run: the CSV holds the run's numbers; an existing file is kept
-    without --force; a bad method is one line, exit status 2."""
-    from stickslip.__main__ import main
-    clutch().to_toml(tmp_path / "c.toml")
-    out = tmp_path / "c.csv"
-    assert main(["run", str(tmp_path / "c.toml"), "--method", "moreau", "--h", "1e-3", "--t-end", "1.0",
-                 "--n-out", "11", "--out", str(out)]) == 0
-    data = np.loadtxt(out, delimiter=",", skiprows=1)
-    res = ss.simulate(clutch(), method="moreau", h=1e-3, t_end=1.0, n_out=11)
-    assert np.array_equal(data[:, 1:3].T, res.x) and out.read_text().startswith("t,x_J1,x_J2,v_J1,v_J2")
-    before = out.read_text()
-    assert main(["run", str(tmp_path / "c.toml"), "--method", "moreau", "--h", "1e-3", "--t-end", "1.0",
-                 "--out", str(out)]) == 2
-    assert out.read_text() == before and "exists" in capsys.readouterr().err
-    assert main(["run", str(tmp_path / "c.toml"), "--method", "euler", "--t-end", "1.0",
-                 "--out", str(tmp_path / "d.csv")]) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "method" in err and not (tmp_path / "d.csv").exists()
-
-
 # -- issue 42's smaller items: negative normal forces, values and names in messages, TOML words --
 def test_negative_normal_force_is_warned_with_its_value_and_names():
     """A constant negative normal force, or a signal that stays negative, is warned as the
@@ -398,20 +377,6 @@ def test_negative_normal_force_is_warned_with_its_value_and_names():
         warnings.simplefilter("error")
         m.add_contact(j1, None, "coulomb", S.ramp(0.0, 1.0, 10.0) - 2.0)     # positive after 0.2 s
         m.add_contact(j1, None, "coulomb", 0.0)                             # an open contact, said so
-
-
-def test_signal_bounds_contain_the_signal():
-    """Signal.bounds encloses the signal's values, sampled here, and is exact for primitives."""
-    t = np.linspace(-1.0, 4.0, 5001)
-    sig = 2.0 * S.sine(1.5, 0.7, 0.3, -0.5) - S.table([0.0, 1.0, 2.0], [1.0, -3.0, 2.0]) * S.step(1.0, 0.5, 2.0) \
-        + S.ramp(0.5, 1.0, -4.0)
-    low, high = sig.bounds()
-    values = (2.0 * (1.5 * np.sin(2 * np.pi * 0.7 * t + 0.3) - 0.5)
-              - np.interp(t, [0.0, 1.0, 2.0], [1.0, -3.0, 2.0]) * np.where(t >= 1.0, 2.0, 0.5)
-              - 4.0 * np.clip(t - 0.5, 0.0, 1.0))
-    assert low <= values.min() and values.max() <= high
-    assert S.sine(1.5, 0.7, 0.3, -0.5).bounds() == (-2.0, 1.0)
-    assert S.table([0.0, 1.0], [3.0, -1.0]).bounds() == (-1.0, 3.0)
 
 
 def test_library_errors_name_elements_by_the_users_names():

@@ -259,38 +259,6 @@ def test_den_hartog_curve_followed_by_pseudo_arclength() -> None:
     np.testing.assert_allclose(curve.amplitude, exact, rtol=1e-8)
 
 
-def proposed_oscillator() -> ss.Model:
-    model = ss.Model()
-    b = model.add_body(1.0)
-    model.add_spring(b, None, k=4.0)
-    model.add_force(b, ss.signal.sine(10.0, 0.25))
-    model.add_contact(b, None, "proposed", normal_force=G, mu_s=0.4, mu_k=0.3, v_s=0.5)
-    return model
-
-
-def test_harmonic_balance_converges_to_shooting() -> None:
-    from stickslip.harmonic import harmonic_balance
-    model = proposed_oscillator()
-    orb = ss.periodic_orbit(model, method="dopri5")
-    errors, prev = [], None
-    for h in (1, 5, 15, 41):
-        hb = harmonic_balance(model, h, guess=prev)
-        prev = hb
-        assert hb.residual < 1e-9
-        errors.append(abs(hb.amplitude[0] / orb.amplitude[0] - 1.0))
-    assert all(b < a for a, b in zip(errors, errors[1:])), errors
-    assert errors[-1] < 1e-3
-
-
-def test_harmonic_balance_of_a_linear_oscillator_is_exact_with_one_harmonic() -> None:
-    from stickslip.harmonic import harmonic_balance
-    hb = harmonic_balance(forced_linear(0.05, 0.3), 1)
-    w = 2 * math.pi * 0.3
-    assert hb.amplitude[0] == pytest.approx(1.0 / math.hypot(4.0 - w**2, 0.2 * w), rel=1e-10)
-    with pytest.raises(ValueError, match="jumps at zero slip"):
-        harmonic_balance(dh.model(2.0, 0.3), 3)
-
-
 def test_retuned_and_the_cli(tmp_path) -> None:
     from stickslip.__main__ import main
     from stickslip.steady import retuned

@@ -29,7 +29,7 @@ date and machine that wrote it. HTML comments show in neither GitHub's rendering
 A number in the prose is written as a role that names its source, {num}`0.1005 m <PATH:KEY>`
 (tools/docnumbers.py); this command refreshes and checks those numbers too.
 
-scripts/docs refreshes before it builds; tests/test_docs.py runs the check.
+scripts/docs refreshes before it builds; tests/project/test_docs.py runs the check.
 """
 from __future__ import annotations
 

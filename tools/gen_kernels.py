@@ -23,7 +23,7 @@ law modules, and `new_law`, the law of a code) and fortran/laws/meson.build (the
 meson compiles). Adding a law is its module, its LAW_TABLE row and one run of this script.
 
 Every file is committed (fpm cannot run a generator, and a build never needs this script);
-tests/test_layout.py checks that they are what this script writes.
+tests/project/test_layout.py checks that they are what this script writes.
 """
 from __future__ import annotations
 

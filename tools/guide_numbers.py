@@ -55,7 +55,7 @@ def models() -> Numbers:
     first = res.events[(res.events["contact"] == 1) & (res.events["kind"] == "stick")]["t"][0]
     out["example.j2_stick"] = (float(first), "s", "J2's first stick on the belt")
 
-    # the driven drill string and its one-body form (as tests/test_drive.py builds them)
+    # the driven drill string and its one-body form (as tests/test_model_drive.py builds them)
     def drill(law: str, driven: bool) -> ss.Model:
         d = ss.Model()
         if driven:
@@ -225,7 +225,7 @@ def exact_stick() -> Numbers:
                                                    "h = 1e-3 s, the paper's belt started stuck, 4 s")
     hs = (4e-3, 2e-3, 1e-3, 5e-4)
     errs = []
-    cycle = {"m": 1.0, "k": 50.0, "v_b": 0.8, "mu_s": 0.5, "mu_k": 0.2}     # tests/test_exact_stick.py's second
+    cycle = {"m": 1.0, "k": 50.0, "v_b": 0.8, "mu_s": 0.5, "mu_k": 0.2}     # tests/fortran/test_integrators_exact_stick.py's second
     ref = ss.simulate("belt", "coulomb", method="event_driven", t_end=4.0, v0=cycle["v_b"], n_out=401,
                       rtol=1e-12, atol=1e-14, **cycle)
     for h in hs:
@@ -238,7 +238,7 @@ def exact_stick() -> Numbers:
                                  f"to {hs[i + 1]:g} s")
     sets = [{"m": 2.0, "k": 500.0, "v_b": 0.3, "mu_s": 0.6, "mu_k": 0.4},
             {"m": 1.0, "k": 50.0, "v_b": 0.8, "mu_s": 0.5, "mu_k": 0.2},
-            {"m": 5.0, "k": 2000.0, "v_b": 0.1, "mu_s": 0.3, "mu_k": 0.29}]     # tests/test_exact_stick.py's
+            {"m": 5.0, "k": 2000.0, "v_b": 0.1, "mu_s": 0.3, "mu_k": 0.29}]     # tests/fortran/test_integrators_exact_stick.py's
     dx = dt = 0.0
     for p in sets:
         r = ss.simulate("belt", "coulomb", method="event_driven", t_end=6.0, v0=p["v_b"], n_out=3001,
@@ -301,7 +301,7 @@ def implicit_nonsmooth() -> Numbers:
             warnings.simplefilter("ignore", ss.RegularisedLawWarning)     # the band is what is measured
             return float(np.max(np.abs(ss.simulate("chain", "coulomb", method=method, **kw).x - ref.x)))
 
-    chain5 = dict(n_blocks=5, t_end=10.0, n_out=1001)          # as tests/test_implicit_nonsmooth.py
+    chain5 = dict(n_blocks=5, t_end=10.0, n_out=1001)          # as tests/fortran/test_stickslip_fixed_implicit.py
     ref = ss.simulate("chain", "coulomb", method="event_driven", rtol=1e-11, atol=1e-13, **chain5)
     for h in (2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4):
         out[f"chain5.ie.{h:g}"] = (err("implicit_euler", ref, h=h, **chain5), "m",

@@ -3,7 +3,7 @@
 (`stickslip.distributed`).
 
 This module sits above both, so that the dependencies run one way: sweep -> distributed ->
-batch -> core (tests/test_imports.py checks that the package has no import cycle).
+batch -> core (tests/project/test_imports.py checks that the package has no import cycle).
 """
 from __future__ import annotations
 

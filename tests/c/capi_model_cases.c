@@ -1,4 +1,4 @@
-/* Cases of the model C API (ss_model_*) for tests/test_capi_model.py, which builds the same
+/* Cases of the model C API (ss_model_*) for tests/fortran/test_stickslip_capi.py, which builds the same
  * models with stickslip.Model and compares, and checks the status of every bad input.
  *
  * Prints one record per line, fields separated by blanks:

@@ -7,7 +7,7 @@
 program test_laws
     use test_support, only: check, finish
     use stickslip_kinds, only: dp, SS_OK
-    use stickslip_params, only: param_values
+    use stickslip_params, only: param_values, NAME_LEN
     use stickslip_friction, only: friction_law
     use stickslip_registry, only: PARAMS, LAW_TABLE, make_law, code_of, resolve_params
     implicit none
@@ -19,6 +19,7 @@ program test_laws
     call test_karnopp()
     call test_lugre()
     call test_elastoplastic()
+    call test_law_derivatives()
 
     call finish('law')
 
@@ -158,5 +159,30 @@ contains
         call check(abs(dz(1) - (-v + 0.5_dp * s0 * v * 0.5_dp * (z_ss + z_ba) / g)) < 1.0e-15_dp, &
                    'elastoplastic: alpha = 1/2 half way between z_ba and z_ss (v < 0)')
     end subroutine test_elastoplastic
+
+    !> Each law's dmu against a central difference of its mu, away from its kinks.
+    subroutine test_law_derivatives()
+        class(friction_law), allocatable :: fl
+        type(param_values) :: p
+        real(dp), parameter :: v(6) = [-0.3_dp, -0.012_dp, -0.004_dp, 0.003_dp, 0.0125_dp, 0.7_dp]
+        real(dp) :: d, fd, dv
+        integer :: law, i, status
+        logical :: ok
+        do law = 1, size(LAW_TABLE)
+            status = make_law(law, [character(len=NAME_LEN) ::], [real(dp) ::], fl, p)
+            ok = status == SS_OK
+            do i = 1, size(v)
+                dv = 1.0e-7_dp
+                fd = (fl%mu(v(i) + dv) - fl%mu(v(i) - dv)) / (2.0_dp * dv)
+                d = fl%dmu(v(i))
+                ok = ok .and. abs(d - fd) <= 1.0e-5_dp * max(1.0_dp, abs(fd))
+                ok = ok .and. fl%mu(-v(i)) == -fl%mu(v(i))
+            end do
+            call check(ok, 'law ' // trim(LAW_TABLE(law)%name) // ': dmu = central difference, mu odd')
+        end do
+        status = make_law(3, [character(len=NAME_LEN) ::], [real(dp) ::], fl, p)
+        call check(fl%dmu(0.0_dp) > 0.0_dp .and. fl%dmu(0.0_dp) < huge(1.0_dp) .and. &
+                   fl%dmu(0.0_dp) == fl%dmu(1.0e-12_dp), 'law proposed: dmu finite at rest (floor at 1e-6 v_s)')
+    end subroutine test_law_derivatives
 
 end program test_laws
