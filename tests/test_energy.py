@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import stickslip as ss
-from stickslip.energy import energy_bound
+from stickslip.energy import _value, energy_bound
 
 S = ss.signal
 

@@ -170,7 +170,8 @@ contains
     !! the law's largest |mu| up to the largest relative speed, `contact_speed_bound`), so
     !! E' <= sum P_i |v_i| <= a sqrt(E) with a = sum P_i sqrt(2 / m_i), and
     !! sqrt(E) <= R = sqrt(E0) + a T / 2 over T = t_end - t0: |v_i| <= V_i = R sqrt(2 / m_i),
-    !! |x_i| <= |x0_i| + V_i T; a law's states move at most twice their relative speed,
+    !! |x_i| <= |x0_i| + V_i T, and |x_a| <= |l0| + R sqrt(2 / k) for a spring k from body a to
+    !! the ground (its energy is at most E); a law's states move at most twice their relative speed,
     !! |z| <= max |z0| + 2 S T (S the largest relative speed: V_a + V_b + sup |w|).
     !! BOUND_MARGIN times these.
     function model_state_bound(self, t0, y0, t_end) result(bound)
@@ -179,7 +180,7 @@ contains
         real(dp), intent(in) :: y0(:)       !! initial state (x [m], v [m/s], z...)
         real(dp), intent(in) :: t_end       !! final time [s]
         real(dp) :: bound(size(y0))         !! bounds on |x_i| [m], |v_i| [m/s], |z| [m]
-        real(dp) :: tt, e0, d, vb(self%nb), speed
+        real(dp) :: tt, e0, d, vb(self%nb), speed, root_e
         integer :: i, nb
         nb = self%nb
         bound = huge(1.0_dp)
@@ -192,18 +193,23 @@ contains
             e0 = e0 + 0.5_dp * self%spr_k(i) * d * d
         end do
         ! first with mu_s and mu_k, then with each law's |mu| up to the speeds that allows
-        call body_speeds(-1.0_dp, vb, speed)
-        call body_speeds(speed, vb, speed)
+        call body_speeds(-1.0_dp, vb, speed, root_e)
+        call body_speeds(speed, vb, speed, root_e)
         bound(1:nb) = BOUND_MARGIN * (abs(y0(1:nb)) + vb * tt)
+        ! a spring to the ground holds its body: k (x_a - l0)^2 / 2 <= E <= R^2
+        do i = 1, size(self%spr_k)
+            if (self%spr_b(i) == 0 .and. self%spr_k(i) > 0.0_dp) bound(self%spr_a(i)) = &
+                min(bound(self%spr_a(i)), BOUND_MARGIN * (abs(self%spr_l0(i)) + root_e * sqrt(2.0_dp / self%spr_k(i))))
+        end do
         bound(nb + 1:2 * nb) = BOUND_MARGIN * vb
         if (size(y0) > 2 * nb) bound(2 * nb + 1:) = BOUND_MARGIN * (maxval(abs(y0(2 * nb + 1:))) + 2.0_dp * speed * tt)
     contains
         !> vb: each body's speed bound V_i [m/s] with each law's |mu| bounded at relative speeds up
         !! to v_ref (< 0: by mu_s and mu_k alone); speed: the largest relative speed of a
-        !! contact that allows [m/s].
-        subroutine body_speeds(v_ref, vb, speed)
+        !! contact that allows [m/s]; root_e: R, the bound on sqrt(E) [sqrt(J)].
+        subroutine body_speeds(v_ref, vb, speed, root_e)
             real(dp), intent(in)  :: v_ref
-            real(dp), intent(out) :: vb(:), speed
+            real(dp), intent(out) :: vb(:), speed, root_e
             real(dp) :: push(nb), mu_max, r
             integer :: j, c
             push = 0.0_dp
@@ -219,6 +225,7 @@ contains
                 if (self%con_b(c) > 0) push(self%con_b(c)) = push(self%con_b(c)) + mu_max * self%sig%sup(self%con_n(c))
             end do
             r = sqrt(e0) + 0.5_dp * tt * sum(push * sqrt(2.0_dp / self%mass))
+            root_e = r
             vb = r * sqrt(2.0_dp / self%mass)
             speed = 0.0_dp
             do c = 1, size(self%con_a)
