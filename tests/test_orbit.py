@@ -122,7 +122,7 @@ def test_six_multipliers_of_a_linear_chain(cases) -> None:
 
 
 @pytest.mark.parametrize("name,code,word", [("period", "BAD_PERIOD", "period"), ("guess", "BAD_GUESS", "guess"),
-                                            ("options", "BAD_ORBIT_OPTION", "tol"),
+                                            ("options", "BAD_ORBIT_OPTION", "orbit options: tol"),
                                             ("scene_period", "BAD_PERIOD", "period"),
                                             ("scene_guess", "BAD_GUESS", "guess")])
 def test_bad_input_is_named(cases, name: str, code: str, word: str) -> None:
