@@ -767,7 +767,7 @@ contains
         type(model_handle), pointer :: box
         type(model_system) :: sys
         type(ode_stats) :: st
-        real(c_double), pointer :: cv(:), t(:), xo(:, :), vo(:, :), ev(:, :)
+        real(c_double), pointer :: t(:), xo(:, :), vo(:, :), ev(:, :)
         real(c_double), allocatable, target :: no_events(:, :)
         real(dp), allocatable :: y(:, :), vals(:)
         character(len=NAME_LEN), allocatable :: keys(:)
@@ -783,19 +783,12 @@ contains
             call box%model%build(sys, box%status, box%elem_kind, box%elem_index)
             status = int(box%status, c_int)
         end if
-        if (status == SS_OK) status = c_array(cvals, nc, cv)
         if (status == SS_OK .and. n_out < 1) status = SS_BAD_N_OUT
         if (status == SS_OK .and. .not. (c_associated(t_out) .and. c_associated(x) .and. c_associated(v) .and. &
                                          events_room >= 0 .and. (events_room == 0 .or. c_associated(events)))) &
             status = SS_BAD_DIM
-        if (status == SS_OK .and. (method < 1 .or. method > size(METHOD_TABLE))) status = SS_BAD_METHOD
+        if (status == SS_OK) status = model_controls(method, h, ckeys, nc, cvals, keys, vals)
         if (status == SS_OK) then
-            keys = split_names(c_string_at(ckeys))
-            if (size(keys) /= nc) status = SS_BAD_DIM
-        end if
-        if (status == SS_OK) then
-            vals = cv
-            call with_step(method, h, keys, vals)
             nb = size(box%model%mass)
             call c_f_pointer(t_out, t, [n_out])
             call c_f_pointer(x, xo, [n_out, nb])
@@ -900,20 +893,12 @@ contains
         type(model_handle), pointer :: box
         type(orbit_options) :: o
         type(orbit_result) :: orb
-        real(c_double), pointer :: cv(:)
         real(dp), allocatable :: vals(:)
         character(len=NAME_LEN), allocatable :: keys(:)
         status = handle(model, box)
-        if (status == SS_OK) status = c_array(cvals, nc, cv)
         if (status == SS_OK .and. n < 1) status = SS_BAD_DIM
-        if (status == SS_OK .and. (method < 1 .or. method > size(METHOD_TABLE))) status = SS_BAD_METHOD
+        if (status == SS_OK) status = model_controls(method, h, ckeys, nc, cvals, keys, vals)
         if (status == SS_OK) then
-            keys = split_names(c_string_at(ckeys))
-            if (size(keys) /= nc) status = SS_BAD_DIM
-        end if
-        if (status == SS_OK) then
-            vals = cv
-            call with_step(method, h, keys, vals)
             o = orbit_options_of(opts, monodromy, mult_re, mult_im)
             call model_periodic_orbit(box%model, trim(METHOD_TABLE(method)%name), y0(1:n), period, autonomous /= 0, &
                                       [rtol], [atol], keys, vals, o, orb, box%elem_kind, box%elem_index)
@@ -1046,17 +1031,31 @@ contains
         end if
     end function put_orbit
 
-    !> The step h of a fixed-step method as the control "h", unless the controls name it.
-    subroutine with_step(method, h, keys, vals)
-        integer(c_int), intent(in) :: method
+    !> A model call's controls from C: the method's code checked, ckeys split and valued by
+    !! cvals (nc values), and the step h as the control "h" of a fixed-step method unless
+    !! ckeys names it. SS_OK, SS_BAD_METHOD or SS_BAD_DIM.
+    function model_controls(method, h, ckeys, nc, cvals, keys, vals) result(status)
+        integer(c_int), intent(in) :: method, nc
         real(c_double), intent(in) :: h
-        character(len=NAME_LEN), allocatable, intent(inout) :: keys(:)
-        real(dp), allocatable, intent(inout) :: vals(:)
+        type(c_ptr), intent(in) :: ckeys, cvals
+        character(len=NAME_LEN), allocatable, intent(out) :: keys(:)
+        real(dp), allocatable, intent(out) :: vals(:)
+        integer(c_int) :: status
+        real(c_double), pointer :: cv(:)
+        status = c_array(cvals, nc, cv)
+        if (status == SS_OK .and. (method < 1 .or. method > size(METHOD_TABLE))) status = SS_BAD_METHOD
+        if (status /= SS_OK) return
+        keys = split_names(c_string_at(ckeys))
+        if (size(keys) /= nc) then
+            status = SS_BAD_DIM
+            return
+        end if
+        vals = cv
         if (any(split_names(METHOD_TABLE(method)%controls) == 'h') .and. .not. any(keys == 'h')) then
             keys = [character(len=NAME_LEN) :: 'h', keys]
             vals = [h, vals]
         end if
-    end subroutine with_step
+    end function model_controls
 
     !> *p = value for a C int pointer (NULL: nothing).
     subroutine put_int(p, value)

@@ -24,7 +24,9 @@ Floquet multipliers. Two routes, named in `Orbit.monodromy_method`:
   adaptive method's flow jitters with its step-size choices at smaller steps: on a forced
   oscillator with the `proposed` law, steps of 1e-5 and 1e-6 moved the multipliers by 3e-4
   where 1e-4 was within 1e-5 of scipy's variational equations), so multipliers are good to
-  about 1e-5, and a stick phase's zero multipliers appear as numbers of that size.
+  about 1e-5, and a stick phase's zero multipliers appear as numbers of that size. On this
+  route single shooting (Newton's iteration, the differences and the eigenvalues) runs in the
+  library's Fortran solver, stickslip_orbit, the one Fortran and C programs call.
 
 Models whose laws have internal states (LuGre, Dahl, ...) are not handled: a Model's run
 starts its law states at 0, so an orbit's start state cannot be set.
