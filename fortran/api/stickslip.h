@@ -145,6 +145,51 @@ int ss_dop853(ss_rhs f, void *data, int n, double t0, const double *y0, double t
 int ss_rk4(ss_rhs f, void *data, int n, double t0, const double *y0, double t_end, double h,
            const ss_dopri5_options *opts, int n_out, double *t_out, double *y_out, ss_stats *stats);
 
+/* ---- Periodic orbits: single shooting with Newton at a section (stickslip_orbit).
+ *
+ * The unknowns are the state y0 at t = 0 and, when autonomous = 1, the period (a phase
+ * condition fixes the section: y0 - guess orthogonal to the flow at the guess); with
+ * autonomous = 0 the period is the forcing period. Each residual is one run of the method;
+ * the Jacobian by forward differences (increment fd_newton times each unknown's scale), the
+ * Newton step halved up to 12 times until the residual's infinity norm decreases; converged
+ * when it is at most tol * max(1, |guess|_inf). The monodromy (d y(T) / d y0) by central
+ * differences of the same method's flow, increment fd_monodromy times each component's
+ * scale (positions share max(|x|_inf, 1e-3), velocities max(|v|_inf, 1e-3), law states
+ * max(|z|_inf, 1e-9)); the Floquet multipliers are its eigenvalues (Hessenberg QR),
+ * largest modulus first. Failures: SS_NO_ORBIT (info->residual tells how far),
+ * SS_ORBIT_COLLAPSED (the period fell below 1e-3 of its guess), SS_BAD_PERIOD,
+ * SS_BAD_GUESS (n is not the system's state size, or a value is not finite),
+ * SS_BAD_ORBIT_OPTION, and any code of ss_run / ss_model_simulate. */
+typedef struct {
+    double tol;           /* Newton's tolerance, relative to max(1, |guess|_inf) (1e-9) */
+    int max_iter;         /* Newton iterations at most (30; 0: the monodromy at the guess) */
+    double fd_newton;     /* forward-difference increment of the Jacobian, relative (1e-5) */
+    double fd_monodromy;  /* central-difference increment of the monodromy, relative (1e-4) */
+} ss_orbit_options;
+
+typedef struct {
+    double period;     /* the period [s] */
+    double residual;   /* the shooting residual's infinity norm at the answer [state units] */
+    int iterations;    /* Newton iterations made */
+    int runs;          /* runs of the method made */
+    int trivial;       /* index (from 0) of the trivial multiplier (autonomous); -1 when forced */
+    int stable;        /* 1: every nontrivial multiplier inside the unit circle */
+} ss_orbit_info;
+
+void ss_orbit_options_default(ss_orbit_options *o);
+
+/* A scene with a law (codes; parameters by name as in ss_run). y0[n]: the guess of the state
+ * at the section on entry, the orbit's on return (the last iterate when Newton failed;
+ * untouched for bad input). period [s]: the forcing period, or with autonomous = 1 the guess
+ * of the period (the answer in info->period). opts NULL: defaults. monodromy[n * n] (row i:
+ * d y_i(T) / d y0_j), mult_re[n], mult_im[n] and info may each be NULL; with the three arrays
+ * NULL no monodromy is computed. */
+int ss_periodic_orbit(int scene, int law, int method, const char *pkeys, int np, const double *pvals,
+                      int n, double *y0, double period, int autonomous, int ntol, const double *rtol,
+                      const double *atol, const char *ckeys, int nc, const double *cvals,
+                      const ss_orbit_options *opts, double *monodromy, double *mult_re, double *mult_im,
+                      ss_orbit_info *info);
+
 /* ---- Your own system: a model of bodies, springs, dampers, forces, signals and friction contacts.
  *
  * The model of stickslip_user_model (Fortran) and stickslip.Model (Python) behind an opaque
@@ -239,6 +284,14 @@ int ss_model_simulate(ss_model *m, int method, double t_end, double h, double rt
  * t_out[i], n = n_drives * n_out (NaN where a contact joins a driven body under event_driven
  * or moreau: the stick force is set-valued there). SS_OK, or SS_BAD_DIM for another n. */
 int ss_model_drive_forces(ss_model *m, int n, double *force);
+
+/* A periodic orbit of a model, y0[n] = (x of every body, v of every body): h, rtol, atol,
+ * ckeys, nc, cvals as for ss_model_simulate; the rest as for ss_periodic_orbit. A bad element
+ * is named as by ss_model_check (ss_model_error, ss_model_message). */
+int ss_model_periodic_orbit(ss_model *m, int method, int n, double *y0, double period, int autonomous,
+                            double h, double rtol, double atol, const char *ckeys, int nc,
+                            const double *cvals, const ss_orbit_options *opts, double *monodromy,
+                            double *mult_re, double *mult_im, ss_orbit_info *info);
 
 #ifdef __cplusplus
 }

@@ -36,6 +36,7 @@ module stickslip_capi
     use stickslip_model_system, only: model_system
     use stickslip_user_model, only: stickslip_model, ELEM_SPRING, ELEM_DAMPER, ELEM_FORCE, ELEM_CONTACT, &
                                     ELEM_DRIVE
+    use stickslip_orbit, only: orbit_options, orbit_result, scene_periodic_orbit, model_periodic_orbit
     implicit none
     private
 
@@ -46,6 +47,7 @@ module stickslip_capi
               ss_model_add_force, ss_model_add_contact, ss_signal_constant, ss_signal_step, ss_signal_ramp, &
               ss_signal_sine, ss_signal_table, ss_signal_add, ss_signal_sub, ss_signal_mul, ss_model_check, &
               ss_model_error, ss_model_message, ss_model_simulate, ss_model_add_drive, ss_model_drive_forces
+    public :: ss_orbit_options, ss_orbit_info, ss_orbit_options_default, ss_periodic_orbit, ss_model_periodic_orbit
 
     !> Physical parameters of both scenes and all laws (C struct `ss_params`).
     type, bind(C) :: ss_params
@@ -95,6 +97,25 @@ module stickslip_capi
         integer(c_int64_t) :: ndec      !! LU decompositions (implicit methods)
         integer(c_int64_t) :: nsol      !! forward-backward substitutions (implicit methods)
     end type ss_stats
+
+    !> The periodic-orbit solver's options (C struct `ss_orbit_options`; stickslip_orbit's
+    !! orbit_options).
+    type, bind(C) :: ss_orbit_options
+        real(c_double) :: tol            !! Newton's tolerance, relative to max(1, |guess|_inf)
+        integer(c_int) :: max_iter       !! Newton iterations at most (0: the monodromy at the guess)
+        real(c_double) :: fd_newton      !! forward-difference increment of the Jacobian, relative
+        real(c_double) :: fd_monodromy   !! central-difference increment of the monodromy, relative
+    end type ss_orbit_options
+
+    !> What the periodic-orbit solver found (C struct `ss_orbit_info`).
+    type, bind(C) :: ss_orbit_info
+        real(c_double) :: period         !! the period [s]
+        real(c_double) :: residual       !! the shooting residual's infinity norm at the answer
+        integer(c_int) :: iterations     !! Newton iterations made
+        integer(c_int) :: runs           !! runs of the method made
+        integer(c_int) :: trivial        !! index (from 0) of the trivial multiplier; -1 when forced
+        integer(c_int) :: stable         !! 1: every nontrivial multiplier inside the unit circle
+    end type ss_orbit_info
 
     !> A C user's ODE: dydt = f(t, y) through `void f(double t, const double *y,
     !! double *dydt, int n, void *data)`.
@@ -746,7 +767,7 @@ contains
         type(model_handle), pointer :: box
         type(model_system) :: sys
         type(ode_stats) :: st
-        real(c_double), pointer :: cv(:), t(:), xo(:, :), vo(:, :), ev(:, :)
+        real(c_double), pointer :: t(:), xo(:, :), vo(:, :), ev(:, :)
         real(c_double), allocatable, target :: no_events(:, :)
         real(dp), allocatable :: y(:, :), vals(:)
         character(len=NAME_LEN), allocatable :: keys(:)
@@ -762,22 +783,12 @@ contains
             call box%model%build(sys, box%status, box%elem_kind, box%elem_index)
             status = int(box%status, c_int)
         end if
-        if (status == SS_OK) status = c_array(cvals, nc, cv)
         if (status == SS_OK .and. n_out < 1) status = SS_BAD_N_OUT
         if (status == SS_OK .and. .not. (c_associated(t_out) .and. c_associated(x) .and. c_associated(v) .and. &
                                          events_room >= 0 .and. (events_room == 0 .or. c_associated(events)))) &
             status = SS_BAD_DIM
-        if (status == SS_OK .and. (method < 1 .or. method > size(METHOD_TABLE))) status = SS_BAD_METHOD
+        if (status == SS_OK) status = model_controls(method, h, ckeys, nc, cvals, keys, vals)
         if (status == SS_OK) then
-            keys = split_names(c_string_at(ckeys))
-            if (size(keys) /= nc) status = SS_BAD_DIM
-        end if
-        if (status == SS_OK) then
-            vals = cv
-            if (any(split_names(METHOD_TABLE(method)%controls) == 'h') .and. .not. any(keys == 'h')) then
-                keys = [character(len=NAME_LEN) :: 'h', keys]
-                vals = [h, vals]
-            end if
             nb = size(box%model%mass)
             call c_f_pointer(t_out, t, [n_out])
             call c_f_pointer(x, xo, [n_out, nb])
@@ -802,6 +813,99 @@ contains
         if (associated(box)) box%status = status
         call put_stats(st, status, stats)
     end function ss_model_simulate
+
+    ! -- periodic orbits (stickslip_orbit) --------------------------------------------
+
+    !> The periodic-orbit solver's defaults: tol 1e-9, max_iter 30, fd_newton 1e-5,
+    !! fd_monodromy 1e-4 (those of stickslip.periodic_orbit).
+    subroutine ss_orbit_options_default(o) bind(C, name='ss_orbit_options_default')
+        type(ss_orbit_options), intent(out) :: o   !! the options
+        type(orbit_options) :: f
+        o = ss_orbit_options(f%tol, int(f%max_iter, c_int), f%fd_newton, f%fd_monodromy)
+    end subroutine ss_orbit_options_default
+
+    !> A periodic orbit of a scene with a law (codes, parameters by name as in ss_run) by
+    !! single shooting with a method (code) and its controls by name: y0[n] the guess of the
+    !! state at the section on entry, the orbit's state on return (the last iterate when
+    !! Newton did not converge; untouched for bad input); period: the forcing period
+    !! (autonomous = 0) or the guess of the period (autonomous = 1) [s]. opts NULL: defaults.
+    !! monodromy[n * n] (row i: d y_i(T) / d y0_j, j < n), mult_re[n], mult_im[n] (the
+    !! multipliers, largest modulus first) and info may each be NULL; when the three arrays
+    !! are NULL no monodromy is computed.
+    function ss_periodic_orbit(scene, law, method, pkeys, np, pvals, n, y0, period, autonomous, ntol, rtol, atol, &
+                               ckeys, nc, cvals, opts, monodromy, mult_re, mult_im, info) result(status) &
+                               bind(C, name='ss_periodic_orbit')
+        integer(c_int), value :: scene, law, method       !! codes
+        character(kind=c_char), intent(in) :: pkeys(*)    !! parameter names, NUL-terminated
+        integer(c_int), value :: np                       !! number of parameter values
+        real(c_double), intent(in) :: pvals(*)            !! parameter values (np) [SI units]
+        integer(c_int), value :: n                        !! state size
+        real(c_double), intent(inout) :: y0(*)            !! guess in, orbit's state out (n)
+        real(c_double), value :: period                   !! forcing period or its guess [s]
+        integer(c_int), value :: autonomous               !! 1: the period is an unknown
+        integer(c_int), value :: ntol                     !! 1 or n
+        real(c_double), intent(in) :: rtol(*), atol(*)    !! tolerances (ntol)
+        character(kind=c_char), intent(in) :: ckeys(*)    !! control names, NUL-terminated
+        integer(c_int), value :: nc                       !! number of control values
+        real(c_double), intent(in) :: cvals(*)            !! control values (nc)
+        type(c_ptr), value :: opts                        !! const ss_orbit_options * (NULL: defaults)
+        type(c_ptr), value :: monodromy                   !! double *: n * n, or NULL
+        type(c_ptr), value :: mult_re, mult_im            !! double *: n each, or NULL
+        type(c_ptr), value :: info                        !! ss_orbit_info *, or NULL
+        integer(c_int) :: status
+        type(orbit_options) :: o
+        type(orbit_result) :: orb
+        if (n < 1 .or. np < 0 .or. nc < 0 .or. (ntol /= 1 .and. ntol /= n)) then
+            status = SS_BAD_DIM
+            return
+        end if
+        o = orbit_options_of(opts, monodromy, mult_re, mult_im)
+        call scene_periodic_orbit(int(scene), int(law), split_names(c_string(pkeys)), pvals(1:np), int(method), &
+                                  y0(1:n), period, autonomous /= 0, rtol(1:ntol), atol(1:ntol), &
+                                  split_names(c_string(ckeys)), cvals(1:nc), o, orb)
+        status = put_orbit(orb, y0, monodromy, mult_re, mult_im, info)
+    end function ss_periodic_orbit
+
+    !> A periodic orbit of a model (its handle) by single shooting with a method (code):
+    !! y0[n] = (x of every body, v of every body) the guess on entry and the orbit's state on
+    !! return (as ss_periodic_orbit); h, rtol, atol, ckeys, nc, cvals as for ss_model_simulate;
+    !! period, autonomous, opts, monodromy, mult_re, mult_im, info as for ss_periodic_orbit.
+    !! A bad element is named as by ss_model_check (ss_model_error, ss_model_message).
+    function ss_model_periodic_orbit(model, method, n, y0, period, autonomous, h, rtol, atol, ckeys, nc, cvals, &
+                                     opts, monodromy, mult_re, mult_im, info) result(status) &
+                                     bind(C, name='ss_model_periodic_orbit')
+        type(c_ptr), value :: model                       !! the model's handle
+        integer(c_int), value :: method                   !! the method's code (SS_METHOD_*)
+        integer(c_int), value :: n                        !! state size
+        real(c_double), intent(inout) :: y0(*)            !! guess in, orbit's state out (n)
+        real(c_double), value :: period                   !! forcing period or its guess [s]
+        integer(c_int), value :: autonomous               !! 1: the period is an unknown
+        real(c_double), value :: h                        !! step of the fixed-step methods [s]
+        real(c_double), value :: rtol, atol               !! tolerances of the adaptive methods
+        type(c_ptr), value :: ckeys                       !! const char *: control names (NULL: none)
+        integer(c_int), value :: nc                       !! number of control values
+        type(c_ptr), value :: cvals                       !! const double *: their values (nc)
+        type(c_ptr), value :: opts                        !! const ss_orbit_options * (NULL: defaults)
+        type(c_ptr), value :: monodromy                   !! double *: n * n, or NULL
+        type(c_ptr), value :: mult_re, mult_im            !! double *: n each, or NULL
+        type(c_ptr), value :: info                        !! ss_orbit_info *, or NULL
+        integer(c_int) :: status
+        type(model_handle), pointer :: box
+        type(orbit_options) :: o
+        type(orbit_result) :: orb
+        real(dp), allocatable :: vals(:)
+        character(len=NAME_LEN), allocatable :: keys(:)
+        status = handle(model, box)
+        if (status == SS_OK .and. n < 1) status = SS_BAD_DIM
+        if (status == SS_OK) status = model_controls(method, h, ckeys, nc, cvals, keys, vals)
+        if (status == SS_OK) then
+            o = orbit_options_of(opts, monodromy, mult_re, mult_im)
+            call model_periodic_orbit(box%model, trim(METHOD_TABLE(method)%name), y0(1:n), period, autonomous /= 0, &
+                                      [rtol], [atol], keys, vals, o, orb, box%elem_kind, box%elem_index)
+            status = put_orbit(orb, y0, monodromy, mult_re, mult_im, info)
+        end if
+        if (associated(box)) box%status = status
+    end function ss_model_periodic_orbit
 
     ! -- helpers -------------------------------------------------------------------
 
@@ -876,6 +980,82 @@ contains
         allocate(character(len=n) :: f)
         f = transfer(s, f)
     end function c_string_at
+
+    !> The solver's options from a C struct (NULL: the defaults); no monodromy when no array
+    !! would receive it.
+    function orbit_options_of(opts, monodromy, mult_re, mult_im) result(o)
+        type(c_ptr), intent(in) :: opts, monodromy, mult_re, mult_im
+        type(orbit_options) :: o
+        type(ss_orbit_options), pointer :: c
+        if (c_associated(opts)) then
+            call c_f_pointer(opts, c)
+            o%tol = c%tol
+            o%max_iter = int(c%max_iter)
+            o%fd_newton = c%fd_newton
+            o%fd_monodromy = c%fd_monodromy
+        end if
+        o%monodromy = c_associated(monodromy) .or. c_associated(mult_re) .or. c_associated(mult_im)
+    end function orbit_options_of
+
+    !> An orbit's results into the C arrays and struct that are not NULL; its status.
+    function put_orbit(orb, y0, monodromy, mult_re, mult_im, info) result(status)
+        type(orbit_result), intent(in) :: orb
+        real(c_double), intent(inout) :: y0(*)
+        type(c_ptr), intent(in) :: monodromy, mult_re, mult_im, info
+        integer(c_int) :: status
+        real(c_double), pointer :: a(:, :), w(:)
+        type(ss_orbit_info), pointer :: s
+        integer :: n
+        status = int(orb%status, c_int)
+        if (.not. allocated(orb%y0)) return          ! the system could not be built
+        n = size(orb%y0)
+        if (status > -100) y0(1:n) = orb%y0
+        if (size(orb%monodromy, 1) == n .and. n > 0 .and. allocated(orb%mult_re)) then
+            if (c_associated(monodromy)) then
+                call c_f_pointer(monodromy, a, [n, n])
+                a = transpose(orb%monodromy)          ! C row i: d y_i(T) / d y0_j
+            end if
+            if (c_associated(mult_re)) then
+                call c_f_pointer(mult_re, w, [n])
+                w = orb%mult_re
+            end if
+            if (c_associated(mult_im)) then
+                call c_f_pointer(mult_im, w, [n])
+                w = orb%mult_im
+            end if
+        end if
+        if (c_associated(info)) then
+            call c_f_pointer(info, s)
+            s = ss_orbit_info(orb%period, orb%residual, int(orb%iterations, c_int), int(orb%runs, c_int), &
+                              int(orb%trivial - 1, c_int), merge(1_c_int, 0_c_int, orb%stable))
+        end if
+    end function put_orbit
+
+    !> A model call's controls from C: the method's code checked, ckeys split and valued by
+    !! cvals (nc values), and the step h as the control "h" of a fixed-step method unless
+    !! ckeys names it. SS_OK, SS_BAD_METHOD or SS_BAD_DIM.
+    function model_controls(method, h, ckeys, nc, cvals, keys, vals) result(status)
+        integer(c_int), intent(in) :: method, nc
+        real(c_double), intent(in) :: h
+        type(c_ptr), intent(in) :: ckeys, cvals
+        character(len=NAME_LEN), allocatable, intent(out) :: keys(:)
+        real(dp), allocatable, intent(out) :: vals(:)
+        integer(c_int) :: status
+        real(c_double), pointer :: cv(:)
+        status = c_array(cvals, nc, cv)
+        if (status == SS_OK .and. (method < 1 .or. method > size(METHOD_TABLE))) status = SS_BAD_METHOD
+        if (status /= SS_OK) return
+        keys = split_names(c_string_at(ckeys))
+        if (size(keys) /= nc) then
+            status = SS_BAD_DIM
+            return
+        end if
+        vals = cv
+        if (any(split_names(METHOD_TABLE(method)%controls) == 'h') .and. .not. any(keys == 'h')) then
+            keys = [character(len=NAME_LEN) :: 'h', keys]
+            vals = [h, vals]
+        end if
+    end function model_controls
 
     !> *p = value for a C int pointer (NULL: nothing).
     subroutine put_int(p, value)

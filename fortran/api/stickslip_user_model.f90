@@ -30,7 +30,7 @@ module stickslip_user_model
     implicit none
     private
 
-    public :: stickslip_model
+    public :: stickslip_model, model_from_arrays
 
     !> Kinds of model element, as `build` names the bad one.
     integer, parameter, public :: ELEM_BODY = 1, ELEM_SPRING = 2, ELEM_DAMPER = 3, ELEM_FORCE = 4, &
@@ -711,5 +711,54 @@ contains
         end do
         if (present(drive_force)) call self%drive_forces(sys, plan, method, t_out, y_out, drive_force)
     end subroutine model_simulate
+
+    !> A model from arrays, one per kind of element (body indices as reals, from 1, 0 the
+    !! ground), as the Python layer passes it: bodies(3, nb) = (mass, x0, v0), springs(4, ns) =
+    !! (a, b, k, rest length), dampers(3, nd) = (a, b, c), forces(2, nf) = (body, signal),
+    !! contacts(5, nc) = (a, b, law code, normal-force signal, surface-velocity signal or 0),
+    !! their law parameters (names keys, values vals; contact i's from con_ptr(i) to
+    !! con_ptr(i+1)-1), signals(5, nop) = (operation, its 4 arguments) with sig_start and
+    !! tables(2, ntab) = (t, value) (stickslip_signal), drives(3, ndr) = (body, kind, signal).
+    !! Checked by `build`, not here.
+    subroutine model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, vals, signals, &
+                                 sig_start, tables, drives)
+        type(stickslip_model), intent(out) :: m   !! the model
+        real(dp), intent(in) :: bodies(:, :), springs(:, :), dampers(:, :), forces(:, :), contacts(:, :)
+        integer, intent(in) :: con_ptr(:)         !! (nc + 1) first parameter of each contact
+        character(len=*), intent(in) :: keys(:)   !! the contacts' parameter names
+        real(dp), intent(in) :: vals(:)           !! their values [SI units]
+        real(dp), intent(in) :: signals(:, :)     !! (5, nop) the signals' operations
+        integer, intent(in) :: sig_start(:)       !! first operation of each signal
+        real(dp), intent(in) :: tables(:, :)      !! (2, ntab) the tables' points
+        real(dp), intent(in) :: drives(:, :)      !! (3, ndr) the drives
+        m%mass = bodies(1, :)
+        m%x0 = bodies(2, :)
+        m%v0 = bodies(3, :)
+        m%spr_a = nint(springs(1, :))
+        m%spr_b = nint(springs(2, :))
+        m%spr_k = springs(3, :)
+        m%spr_l0 = springs(4, :)
+        m%dmp_a = nint(dampers(1, :))
+        m%dmp_b = nint(dampers(2, :))
+        m%dmp_c = dampers(3, :)
+        m%frc_body = nint(forces(1, :))
+        m%frc_sig = nint(forces(2, :))
+        m%con_a = nint(contacts(1, :))
+        m%con_b = nint(contacts(2, :))
+        m%con_law = nint(contacts(3, :))
+        m%con_n = nint(contacts(4, :))
+        m%con_w = nint(contacts(5, :))
+        m%con_ptr = con_ptr
+        m%keys = keys
+        m%vals = vals
+        m%sig%op = nint(signals(1, :))
+        m%sig%arg = signals(2:5, :)
+        m%sig%start = sig_start
+        m%sig%tab_t = tables(1, :)
+        m%sig%tab_v = tables(2, :)
+        m%drv_body = nint(drives(1, :))
+        m%drv_kind = nint(drives(2, :))
+        m%drv_sig = nint(drives(3, :))
+    end subroutine model_from_arrays
 
 end module stickslip_user_model

@@ -30,6 +30,10 @@ module stickslip_kinds
     integer, parameter, public :: SS_CONTACT_FAILED = -21 !! moreau's contact solver missed contact_tol
     integer, parameter, public :: SS_EVENT_ZENO = -22    !! event_driven: events accumulate (Zeno, chatter)
     integer, parameter, public :: SS_EVENT_BUDGET = -23  !! event_driven: more than max_events events
+    !> periodic orbit (stickslip_orbit): Newton's method did not reach its tolerance (the residual returned)
+    integer, parameter, public :: SS_NO_ORBIT = -31
+    !> periodic orbit: the period collapsed below 1e-3 of its guess (an equilibrium, not an orbit)
+    integer, parameter, public :: SS_ORBIT_COLLAPSED = -32
 
     ! -- bad input, one code per parameter ---------------------------------------
     integer, parameter, public :: SS_BAD_LAW = -100         !! unknown friction law code
@@ -76,6 +80,10 @@ module stickslip_kinds
     integer, parameter, public :: SS_BAD_DAMPER = -189      !! a damping coefficient not finite or < 0
     integer, parameter, public :: SS_BAD_SIGNAL = -190      !! a signal malformed (see stickslip_signal)
     integer, parameter, public :: SS_BAD_HANDLE = -191      !! a C model handle that is NULL or not one of ss_model_new
+    ! periodic orbits (stickslip_orbit)
+    integer, parameter, public :: SS_BAD_PERIOD = -201      !! a period not finite or <= 0
+    integer, parameter, public :: SS_BAD_GUESS = -202       !! a guess of the wrong size (not the system's state) or not finite
+    integer, parameter, public :: SS_BAD_ORBIT_OPTION = -203 !! tol, max_iter, fd_newton or fd_monodromy out of range
 
     !> Names of the status codes above, for the generated C header (`SS_` + name).
     character(len=*), parameter, public :: STATUS_NAMES = 'OK STEP_BUDGET STEP_TOO_SMALL STIFF ' // &
@@ -85,9 +93,10 @@ module stickslip_kinds
         'BAD_NIT BAD_NEWTON_TOL BAD_RADAU5_CONTROL BAD_RTOL_POSITIVE INTERRUPTED BAD_FORCED_GROWTH' // &
         ' CONTACT_FAILED EVENT_ZENO EVENT_BUDGET BAD_THETA_MJ BAD_CONTACT_CTL BAD_EVENT_CTL' // &
         ' NOT_SETVALUED JUMP_MANY_CONTACTS BAD_TIMES BAD_MOTION BAD_BACKLASH BAD_ASYMMETRY BAD_NORMAL_FORCE' // &
-        ' DIVERGED BAD_MODEL_EMPTY BAD_BODY BAD_MASS BAD_SPRING BAD_DAMPER BAD_SIGNAL BAD_HANDLE'
+        ' DIVERGED BAD_MODEL_EMPTY BAD_BODY BAD_MASS BAD_SPRING BAD_DAMPER BAD_SIGNAL BAD_HANDLE' // &
+        ' NO_ORBIT ORBIT_COLLAPSED BAD_PERIOD BAD_GUESS BAD_ORBIT_OPTION'
     !> Their values, in the same order.
-    integer, parameter, public :: STATUS_CODES(54) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
+    integer, parameter, public :: STATUS_CODES(59) = [SS_OK, SS_STEP_BUDGET, SS_STEP_TOO_SMALL, &
         SS_STIFF, SS_NONFINITE, SS_OUTPUT_FULL, SS_BAD_LAW, SS_BAD_SCENE, SS_BAD_METHOD, SS_BAD_H, &
         SS_BAD_T_END, SS_BAD_RTOL, SS_BAD_ATOL, SS_BAD_HMIN, SS_BAD_HMAX, SS_BAD_N_OUT, &
         SS_BAD_MAX_STEPS, SS_BAD_Y0, SS_BAD_H0, SS_BAD_CONTROL, SS_BAD_DIM, SS_BAD_CONTROL_NAME, &
@@ -97,7 +106,8 @@ module stickslip_kinds
         SS_BAD_CONTACT_CTL, SS_BAD_EVENT_CTL, SS_NOT_SETVALUED, SS_JUMP_MANY_CONTACTS, SS_BAD_TIMES, &
         SS_BAD_MOTION, &
         SS_BAD_BACKLASH, SS_BAD_ASYMMETRY, SS_BAD_NORMAL_FORCE, SS_DIVERGED, SS_BAD_MODEL_EMPTY, SS_BAD_BODY, &
-        SS_BAD_MASS, SS_BAD_SPRING, SS_BAD_DAMPER, SS_BAD_SIGNAL, SS_BAD_HANDLE]
+        SS_BAD_MASS, SS_BAD_SPRING, SS_BAD_DAMPER, SS_BAD_SIGNAL, SS_BAD_HANDLE, SS_NO_ORBIT, &
+        SS_ORBIT_COLLAPSED, SS_BAD_PERIOD, SS_BAD_GUESS, SS_BAD_ORBIT_OPTION]
 
 contains
 
@@ -183,6 +193,17 @@ contains
         case (SS_BAD_SIGNAL);     msg = 'signal: malformed (a ramp''s duration must be > 0, a table''s times' // &
                                         ' finite and strictly increasing, every number finite)'
         case (SS_BAD_HANDLE);     msg = 'model: not a live handle of ss_model_new (NULL, freed, or another pointer)'
+        case (SS_NO_ORBIT); msg = 'periodic orbit: Newton''s method did not reach its tolerance' // &
+                                        ' within max_iter iterations (or a step halved 12 times did not lower' // &
+                                        ' the residual, or the Jacobian was singular); the residual is returned:' // &
+                                        ' give a better guess or looser tolerances'
+        case (SS_ORBIT_COLLAPSED); msg = 'periodic orbit: the period collapsed below 1e-3 of its guess' // &
+                                        ' (an equilibrium, not an orbit); give a guess on the orbit'
+        case (SS_BAD_PERIOD);     msg = 'period: must be finite and > 0 [s]'
+        case (SS_BAD_GUESS);      msg = 'guess: must be finite, one value per state component of the system' // &
+                                        ' (x then v of every body, then the laws'' states)'
+        case (SS_BAD_ORBIT_OPTION); msg = 'orbit options: tol must be finite and > 0, max_iter >= 0,' // &
+                                        ' fd_newton and fd_monodromy in (0, 0.1]'
         case default;             msg = 'unknown status code'
         end select
     end function status_text

@@ -13,12 +13,12 @@
 !! the matrix is safely regular and by a Jacobi eigendecomposition where it is not.
 module stickslip_linalg
     use stickslip_kinds, only: dp
-    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
     implicit none
     private
 
     public :: lu_decompose, lu_solve, band_decompose, band_solve, psd_solve, tridiagonal_solve
-    public :: psd_factors, psd_factor
+    public :: psd_factors, psd_factor, real_eigenvalues
 
     !> The LU factors of a symmetric positive semidefinite matrix A for `psd_solve`, formed
     !! once (`psd_factor`) where A stays the same over many solves with other weights.
@@ -280,5 +280,209 @@ contains
         end do
         lam = [(b(i, i), i = 1, m)]
     end subroutine jacobi_eigen
+
+    !> The eigenvalues of a real n x n matrix (wr + i wi; a complex pair adjacent, the one
+    !! with wi > 0 first), for the small matrices of this library (the orbit solver's
+    !! monodromy; the build links no LAPACK): reduction to upper Hessenberg form by
+    !! elimination with partial pivoting (EISPACK's ELMHES), then Francis' double-shift QR
+    !! iteration on it (EISPACK's HQR, Wilkinson and Reinsch 1971, with its exceptional
+    !! shifts after 10 and 20 iterations), without balancing. info = 0 on success; k > 0
+    !! when the k-th eigenvalue (counted from the last) did not converge within 30 n
+    !! iterations, or the matrix has a NaN or infinite entry (info = n, wr and wi NaN).
+    pure subroutine real_eigenvalues(a, wr, wi, info)
+        real(dp), intent(in) :: a(:, :)     !! (n, n) the matrix
+        real(dp), intent(out) :: wr(:)      !! (n) real parts of the eigenvalues
+        real(dp), intent(out) :: wi(:)      !! (n) imaginary parts
+        integer, intent(out) :: info        !! 0, or the eigenvalue that did not converge
+        real(dp) :: h(size(a, 1), size(a, 1)), x, y, w, s, t, p, q, r, zz, norm, tst1, tst2
+        real(dp) :: row(size(a, 1))
+        integer :: n, m, i, j, k, l, en, na, enm2, its, itn, mp2
+        logical :: notlas
+
+        n = size(a, 1)
+        info = 0
+        wr = 0.0_dp
+        wi = 0.0_dp
+        if (n == 0) return
+        if (.not. all(ieee_is_finite(a))) then
+            info = n
+            wr = ieee_value(0.0_dp, ieee_quiet_nan)
+            wi = wr
+            return
+        end if
+        h = a
+        ! ELMHES: eliminate below the subdiagonal, column m - 1, pivot of largest size
+        do m = 2, n - 1
+            x = 0.0_dp
+            i = m
+            do j = m, n
+                if (abs(h(j, m - 1)) > abs(x)) then
+                    x = h(j, m - 1)
+                    i = j
+                end if
+            end do
+            if (i /= m) then
+                row(m - 1:n) = h(i, m - 1:n)
+                h(i, m - 1:n) = h(m, m - 1:n)
+                h(m, m - 1:n) = row(m - 1:n)
+                row = h(:, i)
+                h(:, i) = h(:, m)
+                h(:, m) = row
+            end if
+            if (x == 0.0_dp) cycle
+            do i = m + 1, n
+                y = h(i, m - 1)
+                if (y == 0.0_dp) cycle
+                y = y / x
+                h(i, m - 1) = 0.0_dp
+                h(i, m:n) = h(i, m:n) - y * h(m, m:n)
+                h(:, m) = h(:, m) + y * h(:, i)
+            end do
+        end do
+        norm = 0.0_dp
+        do i = 1, n
+            norm = norm + sum(abs(h(i, max(i - 1, 1):n)))
+        end do
+        ! HQR: deflate from the bottom, one real root or a pair at a time
+        en = n
+        t = 0.0_dp
+        itn = 30 * n
+        do while (en >= 1)
+            its = 0
+            na = en - 1
+            enm2 = na - 1
+            do
+                ! a small subdiagonal element h(l, l - 1) splits the matrix
+                do l = en, 2, -1
+                    s = abs(h(l - 1, l - 1)) + abs(h(l, l))
+                    if (s == 0.0_dp) s = norm
+                    tst1 = s
+                    tst2 = tst1 + abs(h(l, l - 1))
+                    if (tst2 == tst1) exit
+                end do
+                l = max(l, 1)
+                x = h(en, en)
+                if (l == en) then                    ! one real root
+                    wr(en) = x + t
+                    wi(en) = 0.0_dp
+                    en = na
+                    exit
+                end if
+                y = h(na, na)
+                w = h(en, na) * h(na, en)
+                if (l == na) then                    ! two roots
+                    p = (y - x) / 2.0_dp
+                    q = p * p + w
+                    zz = sqrt(abs(q))
+                    x = x + t
+                    if (q >= 0.0_dp) then
+                        zz = p + sign(zz, p)
+                        wr(na) = x + zz
+                        wr(en) = wr(na)
+                        if (zz /= 0.0_dp) wr(en) = x - w / zz
+                        wi(na) = 0.0_dp
+                        wi(en) = 0.0_dp
+                    else
+                        wr(na) = x + p
+                        wr(en) = x + p
+                        wi(na) = zz
+                        wi(en) = -zz
+                    end if
+                    en = enm2
+                    exit
+                end if
+                if (itn == 0) then
+                    info = en
+                    return
+                end if
+                if (its == 10 .or. its == 20) then   ! exceptional shift
+                    t = t + x
+                    do i = 1, en
+                        h(i, i) = h(i, i) - x
+                    end do
+                    s = abs(h(en, na)) + abs(h(na, enm2))
+                    x = 0.75_dp * s
+                    y = x
+                    w = -0.4375_dp * s * s
+                end if
+                its = its + 1
+                itn = itn - 1
+                ! two consecutive small subdiagonal elements: where the double step starts
+                do m = enm2, l, -1
+                    zz = h(m, m)
+                    r = x - zz
+                    s = y - zz
+                    p = (r * s - w) / h(m + 1, m) + h(m, m + 1)
+                    q = h(m + 1, m + 1) - zz - r - s
+                    r = h(m + 2, m + 1)
+                    s = abs(p) + abs(q) + abs(r)
+                    p = p / s
+                    q = q / s
+                    r = r / s
+                    if (m == l) exit
+                    tst1 = abs(p) * (abs(h(m - 1, m - 1)) + abs(zz) + abs(h(m + 1, m + 1)))
+                    tst2 = tst1 + abs(h(m, m - 1)) * (abs(q) + abs(r))
+                    if (tst2 == tst1) exit
+                end do
+                mp2 = m + 2
+                do i = mp2, en
+                    h(i, i - 2) = 0.0_dp
+                    if (i /= mp2) h(i, i - 3) = 0.0_dp
+                end do
+                ! the double QR step on rows l .. en and columns m .. en
+                do k = m, na
+                    notlas = k /= na
+                    if (k /= m) then
+                        p = h(k, k - 1)
+                        q = h(k + 1, k - 1)
+                        r = 0.0_dp
+                        if (notlas) r = h(k + 2, k - 1)
+                        x = abs(p) + abs(q) + abs(r)
+                        if (x == 0.0_dp) cycle
+                        p = p / x
+                        q = q / x
+                        r = r / x
+                    end if
+                    s = sign(sqrt(p * p + q * q + r * r), p)
+                    if (k /= m) then
+                        h(k, k - 1) = -s * x
+                    else if (l /= m) then
+                        h(k, k - 1) = -h(k, k - 1)
+                    end if
+                    p = p + s
+                    x = p / s
+                    y = q / s
+                    zz = r / s
+                    q = q / p
+                    r = r / p
+                    if (notlas) then
+                        do j = k, en
+                            p = h(k, j) + q * h(k + 1, j) + r * h(k + 2, j)
+                            h(k, j) = h(k, j) - p * x
+                            h(k + 1, j) = h(k + 1, j) - p * y
+                            h(k + 2, j) = h(k + 2, j) - p * zz
+                        end do
+                        do i = l, min(en, k + 3)
+                            p = x * h(i, k) + y * h(i, k + 1) + zz * h(i, k + 2)
+                            h(i, k) = h(i, k) - p
+                            h(i, k + 1) = h(i, k + 1) - p * q
+                            h(i, k + 2) = h(i, k + 2) - p * r
+                        end do
+                    else
+                        do j = k, en
+                            p = h(k, j) + q * h(k + 1, j)
+                            h(k, j) = h(k, j) - p * x
+                            h(k + 1, j) = h(k + 1, j) - p * y
+                        end do
+                        do i = l, min(en, k + 3)
+                            p = x * h(i, k) + y * h(i, k + 1)
+                            h(i, k) = h(i, k) - p
+                            h(i, k + 1) = h(i, k + 1) - p * q
+                        end do
+                    end if
+                end do
+            end do
+        end do
+    end subroutine real_eigenvalues
 
 end module stickslip_linalg

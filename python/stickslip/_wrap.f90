@@ -365,7 +365,7 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
     use stickslip_ode, only: ode_stats, stats_integers, stats_reals
     use stickslip_params, only: NAME_LEN
     use stickslip_registry, only: split_names
-    use stickslip_user_model, only: stickslip_model
+    use stickslip_user_model, only: stickslip_model, model_from_arrays
     use stickslip_wrap_interrupt, only: arm, disarm, cpu_seconds
     implicit none
     integer(c_int), intent(in) :: nb, ns, nd, nf, nc, ncp, npv, nop, nss, ntab, ndr, n, nrt, nat, ncv, nrow, ni, nr, nev
@@ -434,34 +434,8 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
         status = SS_BAD_DIM
         return
     end if
-    m%mass = bodies(1, :)
-    m%x0 = bodies(2, :)
-    m%v0 = bodies(3, :)
-    m%spr_a = nint(springs(1, :))
-    m%spr_b = nint(springs(2, :))
-    m%spr_k = springs(3, :)
-    m%spr_l0 = springs(4, :)
-    m%dmp_a = nint(dampers(1, :))
-    m%dmp_b = nint(dampers(2, :))
-    m%dmp_c = dampers(3, :)
-    m%frc_body = nint(forces(1, :))
-    m%frc_sig = nint(forces(2, :))
-    m%con_a = nint(contacts(1, :))
-    m%con_b = nint(contacts(2, :))
-    m%con_law = nint(contacts(3, :))
-    m%con_n = nint(contacts(4, :))
-    m%con_w = nint(contacts(5, :))
-    m%con_ptr = con_ptr
-    m%keys = keys
-    m%vals = pvals
-    m%sig%op = nint(signals(1, :))
-    m%sig%arg = signals(2:5, :)
-    m%sig%start = sig_start
-    m%sig%tab_t = tables(1, :)
-    m%sig%tab_v = tables(2, :)
-    m%drv_body = nint(drives(1, :))
-    m%drv_kind = nint(drives(2, :))
-    m%drv_sig = nint(drives(3, :))
+    call model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, pvals, signals, sig_start, &
+                           tables, drives)
 
     flag => stop(1)
     call arm(stop(1), armed)
@@ -480,3 +454,109 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
     istats = real(stats_integers(st), c_double)
     rstats = stats_reals(st)
 end subroutine run_model
+
+!> A periodic orbit of a user's model given as run_model's arrays (stickslip_orbit's
+!! model_periodic_orbit): from the guess y0 (x, v of every body) and the period (the forcing
+!! period, or the guess of the period when autonomous = 1) with the method named `method`
+!! and its controls; the solver's options tol, max_iter (0: the monodromy at the guess only),
+!! fd_newton, fd_monodromy. Returns the state y_out, the period, the monodromy (want_mono = 1)
+!! and its eigenvalues largest modulus first, info = (residual, iterations, runs, trivial
+!! index from 1 or 0, stable 1/0), the status and a bad element's kind and index.
+subroutine orbit_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts, nc, con_ptr, ncp, &
+                       pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
+                       method, y0, n, period, autonomous, rtol, nrt, atol, nat, ckeys, cvals, ncv, &
+                       tol, max_iter, fd_newton, fd_monodromy, want_mono, y_out, period_out, mono, mult_re, &
+                       mult_im, info, status, elem_kind, elem_index)
+    use, intrinsic :: iso_c_binding, only: c_int, c_double
+    use stickslip_kinds, only: SS_BAD_DIM
+    use stickslip_params, only: NAME_LEN
+    use stickslip_registry, only: split_names
+    use stickslip_user_model, only: stickslip_model, model_from_arrays
+    use stickslip_orbit, only: orbit_options, orbit_result, model_periodic_orbit
+    implicit none
+    integer(c_int), intent(in) :: nb, ns, nd, nf, nc, ncp, npv, nop, nss, ntab, ndr, n, nrt, nat, ncv
+    real(c_double), intent(in) :: bodies(3, nb)
+    !f2py integer intent(hide), depend(bodies) :: nb = shape(bodies, 1)
+    real(c_double), intent(in) :: springs(4, ns)
+    !f2py integer intent(hide), depend(springs) :: ns = shape(springs, 1)
+    real(c_double), intent(in) :: dampers(3, nd)
+    !f2py integer intent(hide), depend(dampers) :: nd = shape(dampers, 1)
+    real(c_double), intent(in) :: forces(2, nf)
+    !f2py integer intent(hide), depend(forces) :: nf = shape(forces, 1)
+    real(c_double), intent(in) :: contacts(5, nc)
+    !f2py integer intent(hide), depend(contacts) :: nc = shape(contacts, 1)
+    integer(c_int), intent(in) :: con_ptr(ncp)
+    !f2py integer intent(hide), depend(con_ptr) :: ncp = len(con_ptr)
+    character(len=*), intent(in) :: pkeys, ckeys, method
+    real(c_double), intent(in) :: pvals(npv)
+    !f2py integer intent(hide), depend(pvals) :: npv = len(pvals)
+    real(c_double), intent(in) :: signals(5, nop)
+    !f2py integer intent(hide), depend(signals) :: nop = shape(signals, 1)
+    integer(c_int), intent(in) :: sig_start(nss)
+    !f2py integer intent(hide), depend(sig_start) :: nss = len(sig_start)
+    real(c_double), intent(in) :: tables(2, ntab)
+    !f2py integer intent(hide), depend(tables) :: ntab = shape(tables, 1)
+    real(c_double), intent(in) :: drives(3, ndr)
+    !f2py integer intent(hide), depend(drives) :: ndr = shape(drives, 1)
+    real(c_double), intent(in) :: y0(n)
+    !f2py integer intent(hide), depend(y0) :: n = len(y0)
+    real(c_double), intent(in) :: period
+    integer(c_int), intent(in) :: autonomous
+    real(c_double), intent(in) :: rtol(nrt)
+    !f2py integer intent(hide), depend(rtol) :: nrt = len(rtol)
+    real(c_double), intent(in) :: atol(nat)
+    !f2py integer intent(hide), depend(atol) :: nat = len(atol)
+    real(c_double), intent(in) :: cvals(ncv)
+    !f2py integer intent(hide), depend(cvals) :: ncv = len(cvals)
+    real(c_double), intent(in) :: tol, fd_newton, fd_monodromy
+    integer(c_int), intent(in) :: max_iter, want_mono
+    real(c_double), intent(out) :: y_out(n)
+    real(c_double), intent(out) :: period_out
+    real(c_double), intent(out) :: mono(n, n)
+    real(c_double), intent(out) :: mult_re(n), mult_im(n)
+    real(c_double), intent(out) :: info(5)
+    integer(c_int), intent(out) :: status, elem_kind, elem_index
+    !f2py threadsafe
+    type(stickslip_model) :: m
+    type(orbit_options) :: opts
+    type(orbit_result) :: orb
+    integer :: ek, ei
+    character(len=NAME_LEN), allocatable :: keys(:)
+
+    y_out = y0
+    period_out = period
+    mono = 0.0_c_double
+    mult_re = 0.0_c_double
+    mult_im = 0.0_c_double
+    info = 0.0_c_double
+    elem_kind = 0
+    elem_index = 0
+    keys = split_names(pkeys)
+    if (size(keys) /= npv .or. ncp /= nc + 1) then
+        status = SS_BAD_DIM
+        return
+    end if
+    call model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, pvals, signals, sig_start, &
+                           tables, drives)
+    opts%tol = tol
+    opts%max_iter = max_iter
+    opts%fd_newton = fd_newton
+    opts%fd_monodromy = fd_monodromy
+    opts%monodromy = want_mono /= 0
+    call model_periodic_orbit(m, method, y0, period, autonomous /= 0, rtol, atol, split_names(ckeys), cvals, &
+                              opts, orb, ek, ei)
+    status = orb%status
+    elem_kind = ek
+    elem_index = ei
+    if (.not. allocated(orb%y0)) return
+    if (size(orb%y0) /= n) return
+    y_out = orb%y0
+    period_out = orb%period
+    info = [orb%residual, real(orb%iterations, c_double), real(orb%runs, c_double), real(orb%trivial, c_double), &
+            merge(1.0_c_double, 0.0_c_double, orb%stable)]
+    if (size(orb%monodromy, 1) == n .and. size(orb%mult_re) == n) then
+        mono = orb%monodromy
+        mult_re = orb%mult_re
+        mult_im = orb%mult_im
+    end if
+end subroutine orbit_model

@@ -593,19 +593,25 @@ def check_method(model: Model, method: str) -> None:
                              "or none)")
 
 
-def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None = None,
-                   every_step: bool = False, max_steps: int | None = None, **controls: Any) -> Result:
-    """Run `model` (what ``stickslip.simulate(model, method=..., ...)`` does; see there)."""
-    if not isinstance(model, Model):
-        raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
-    check_method(model, method)
-    notes = model_notes(model, method, stacklevel=4)
-    _warn_model_steps(model, method, t_end, controls, stacklevel=5)    # the caller of simulate
+def _input_error(model: Model, status: int, elem_kind: int, elem_index: int) -> ValueError:
+    """The ValueError of a bad-input status of a model's call, naming the element it names."""
+    message = status_message(status)
+    if elem_kind == 5:
+        c = model.contacts[elem_index - 1]
+        message = f"{model.contact_label(elem_index - 1)}: " + _with_values(message, _known(c.params))
+    elif elem_kind:
+        message = f"{model.element_label(_ELEMENTS[elem_kind], elem_index - 1)}: {message}"
+    return ValueError(message)
+
+
+def run_controls(model: Model, method: str, controls: Mapping[str, Any], max_steps: int | None = None,
+                 every_step: bool = False) -> tuple[dict[str, float], np.ndarray, np.ndarray]:
+    """The controls of a run of `model` by `method` (the method's defaults, then the given
+    ones, each checked), and the tolerances rtol, atol as arrays: what `simulate_model`
+    passes to the wrapper (and `stickslip.steady` to the orbit solver). ValueError naming a
+    control that is not the method's, a value that is not finite, or h missing."""
     info = REGISTRY["method"][method]
-    laws = [c.law for c in model.contacts]
-    arrays = model.arrays()
     n = model.n_states()
-    t_end = _end_time(t_end)
     ctl = {k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]}
     for name, value in controls.items():
         if name not in info["controls"]:
@@ -623,6 +629,50 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     if max_steps is None:
         max_steps = 10**6 if (every_step and info["adaptive"]) else 10**8
     ctl["max_steps"] = float(_count("max_steps", max_steps))
+    return ctl, rtol, atol
+
+
+def orbit_model(model: Model, method: str, y0: np.ndarray, period: float, autonomous: bool,
+                controls: Mapping[str, Any], *, tol: float, max_iter: int, fd_newton: float,
+                fd_monodromy: float) -> dict[str, Any]:
+    """One call of the Fortran orbit solver (stickslip_orbit) on `model`: single shooting by
+    `method` from the guess (y0, period), forced or autonomous, and the monodromy by central
+    differences with its eigenvalues; max_iter = 0: the monodromy at the guess only. Returns
+    y0, period, monodromy, multipliers (largest modulus first), residual, iterations, runs,
+    trivial (index or None), stable and status (STATUS_OK, the solver's SS_ORBIT_* or a run's
+    outcome); ValueError for bad input, naming the element as `simulate` does."""
+    ctl, rtol, atol = run_controls(model, method, controls)
+    arrays = model.arrays()
+    ckeys, cvals = _keys(ctl)
+    y, period_out, mono, mre, mim, info, status, elem_kind, elem_index = _ext.orbit_model(
+        *(arrays[k] for k in ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals",
+                              "signals", "sig_start", "tables", "drives")),
+        method, np.asarray(y0, dtype=np.float64), float(period), int(autonomous), rtol, atol, ckeys, cvals,
+        float(tol), int(max_iter), float(fd_newton), float(fd_monodromy), 1)
+    status = int(status)
+    if status <= _FIRST_INPUT_CODE:
+        raise _input_error(model, status, int(elem_kind), int(elem_index))
+    mult = mre + 1j * mim
+    if np.all(mim == 0.0):
+        mult = mre.copy()
+    return {"y0": y, "period": float(period_out), "monodromy": mono, "multipliers": mult, "residual": float(info[0]),
+            "iterations": int(info[1]), "runs": int(info[2]), "trivial": int(info[3]) - 1 if info[3] else None,
+            "stable": bool(info[4]), "status": status}
+
+
+def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None = None,
+                   every_step: bool = False, max_steps: int | None = None, **controls: Any) -> Result:
+    """Run `model` (what ``stickslip.simulate(model, method=..., ...)`` does; see there)."""
+    if not isinstance(model, Model):
+        raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
+    check_method(model, method)
+    notes = model_notes(model, method, stacklevel=4)
+    _warn_model_steps(model, method, t_end, controls, stacklevel=5)    # the caller of simulate
+    info = REGISTRY["method"][method]
+    laws = [c.law for c in model.contacts]
+    arrays = model.arrays()
+    t_end = _end_time(t_end)
+    ctl, rtol, atol = run_controls(model, method, controls, max_steps, every_step)
     if every_step:
         if n_out is not None:
             raise ValueError("n_out: give either n_out or every_step, not both")
@@ -638,7 +688,7 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
         if "max_events" in info["controls"] else 0
     raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
-    y0 = np.zeros(n)
+    y0 = np.zeros(model.n_states())
     y0[:model.n_bodies] = arrays["bodies"][1]
     y0[model.n_bodies:2 * model.n_bodies] = arrays["bodies"][2]
     first = 2 * model.n_bodies
@@ -655,13 +705,7 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         method, y0, t_end, rtol, atol, ckeys, cvals, t_grid, _SIZES[0], _SIZES[1], stop, raw_events)
     status = int(status)
     if status <= _FIRST_INPUT_CODE:
-        message = status_message(status)
-        if elem_kind == 5:
-            c = model.contacts[elem_index - 1]
-            message = f"{model.contact_label(elem_index - 1)}: " + _with_values(message, _known(c.params))
-        elif elem_kind:
-            message = f"{model.element_label(_ELEMENTS[int(elem_kind)], int(elem_index) - 1)}: {message}"
-        raise ValueError(message)
+        raise _input_error(model, status, int(elem_kind), int(elem_index))
     if status != STATUS_OK or rows:
         written = int(istats[_I_WRITTEN])
         y, t_grid, drive_force = y[:, :written], t_grid[:written].copy(), drive_force[:, :written]

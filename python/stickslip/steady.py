@@ -25,7 +25,9 @@ Floquet multipliers. Two routes, named in `Orbit.monodromy_method`:
   adaptive method's flow jitters with its step-size choices at smaller steps: on a forced
   oscillator with the `proposed` law, steps of 1e-5 and 1e-6 moved the multipliers by 3e-4
   where 1e-4 was within 1e-5 of scipy's variational equations), so multipliers are good to
-  about 1e-5, and a stick phase's zero multipliers appear as numbers of that size.
+  about 1e-5, and a stick phase's zero multipliers appear as numbers of that size. On this
+  route single shooting (Newton's iteration, the differences and the eigenvalues) runs in the
+  library's Fortran solver, stickslip_orbit, the one Fortran and C programs call.
 
 Laws with internal states (LuGre, Dahl, elasto-plastic, GMS, ...) are handled: their states
 are unknowns of the shooting with the positions and velocities (each run started from them),
@@ -53,8 +55,9 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from .core import REGISTRY, Result, _count, _finite, _known, friction_coefficient, simulate
-from .model import Model, check_method
+from .core import REGISTRY, STATUS_OK, Result, _count, _finite, _known, friction_coefficient, simulate, \
+    status_message
+from .model import Model, check_method, orbit_model
 from .signal import Signal
 
 __all__ = ["Orbit", "Branch", "Equilibrium", "SteadyStateError", "NoConvergence", "NonPeriodicForcing",
@@ -68,6 +71,9 @@ DEFAULT_ATOL = 1e-14
 #: finite-difference monodromy, relative to each component's scale.
 _FD_NEWTON = 1e-5
 _FD_MONODROMY = 1e-4
+#: The orbit solver's own failures (stickslip_orbit).
+_NO_ORBIT = REGISTRY["status"]["NO_ORBIT"]
+_ORBIT_COLLAPSED = REGISTRY["status"]["ORBIT_COLLAPSED"]
 
 
 # ------------------------------------------------------------------------------------------
@@ -397,6 +403,9 @@ def _check_model(model: Any, allow_states: bool = False) -> Model:
     """`model` if it is a Model (and, unless `allow_states`, no law of it has internal states)."""
     if not isinstance(model, Model):
         raise ValueError(f"model: must be a stickslip.Model (a scene: Model.from_scene), got {type(model).__name__}")
+    if model.drives:
+        raise ValueError(f"model: has {len(model.drives)} drive(s); periodic orbits of models with drives are not "
+                         "supported (a driven body's motion is prescribed, not part of the orbit's state)")
     for i, c in enumerate(model.contacts):
         if model._law_states(i)[0] and not allow_states:
             raise LawStatesUnsupported(f"{model.contact_label(i)}: law {c.law!r} has internal states, which "
@@ -684,6 +693,12 @@ def _solve(runner: _Runner, y_guess: np.ndarray, t_guess: float, autonomous: boo
     direction (default: the guess and the flow there)."""
     n2 = y_guess.size
     m = segments
+    if m == 1 and ref is None and _fortran_route(runner):
+        # single shooting with the finite-difference monodromy: the library's solver
+        # (stickslip_orbit), the same Newton iteration and differences in Fortran (its section
+        # is t = 0, as here on this route: _section_phase moves only event_driven's)
+        fo = _fortran_orbit(runner, y_guess, t_guess, autonomous, tol, max_iter)
+        return _finish(runner, fo["y0"], fo["period"], autonomous, fo["residual"], fo["iterations"], n_out, fo)
     if autonomous and ref is None:
         eps = 1e-6 * t_guess
         ref = (y_guess, (runner.flow(y_guess, eps) - y_guess) / eps)
@@ -776,18 +791,20 @@ def _n_law_states(model: Model) -> int:
 
 
 def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, norm: float, it: int,
-            n_out: int) -> Orbit:
+            n_out: int, fortran: dict[str, Any] | None = None) -> Orbit:
+    """The Orbit at (y0, period): a run over the period on the grid, the monodromy (the one
+    `fortran`, the Fortran solver's answer, brings, or the route's) and its multipliers."""
     model = runner.model
     n = model.n_bodies
     res = runner.run(y0, period, n_out=n_out)
     events = res.events
-    if runner.method == "event_driven" and model.contacts \
-            and all(c.law in ("coulomb", "stribeck") for c in model.contacts):
+    if not _fortran_route(runner):
         mono, how = _saltation_monodromy(runner, y0, period, events), "saltation"
+        mult = np.linalg.eigvals(mono)
+        mult = mult[np.argsort(-np.abs(mult), kind="stable")]
     else:
-        mono, how = _fd_monodromy(runner, y0, period), "finite differences"
-    mult = np.linalg.eigvals(mono)
-    mult = mult[np.argsort(-np.abs(mult), kind="stable")]
+        fortran = fortran or _fortran_orbit(runner, y0, period, False, 1.0, 0)
+        mono, mult, how = fortran["monodromy"], fortran["multipliers"], "finite differences"
     if np.all(np.abs(mult.imag) <= 1e-14 * np.maximum(1.0, np.abs(mult))):
         mult = mult.real
     trivial = int(np.argmin(np.abs(mult - 1.0))) if autonomous else None
@@ -867,15 +884,43 @@ def _stick(sys_: _System, res: Result, period: float) -> np.ndarray:
 
 
 def _fd_monodromy(runner: _Runner, y0: np.ndarray, period: float) -> np.ndarray:
-    """Central differences of the flow over the period."""
-    scale = _scales(y0, runner.model.n_bodies)
-    mono = np.empty((y0.size, y0.size))
-    for j in range(y0.size):
-        h = _FD_MONODROMY * scale[j]
-        e = np.zeros(y0.size)
-        e[j] = h
-        mono[:, j] = (runner.flow(y0 + e, period) - runner.flow(y0 - e, period)) / (2 * h)
-    return mono
+    """Central differences of the flow over the period (the Fortran solver's, at y0)."""
+    return _fortran_orbit(runner, y0, period, False, 1.0, 0)["monodromy"]
+
+
+def _fortran_route(runner: _Runner) -> bool:
+    """Whether the orbit's monodromy is by finite differences (every case but event_driven on
+    a model whose contacts all use coulomb or stribeck, where saltation matrices make it exact)."""
+    model = runner.model
+    return not (runner.method == "event_driven" and model.contacts
+                and all(c.law in ("coulomb", "stribeck") for c in model.contacts))
+
+
+def _fortran_orbit(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, tol: float,
+                   max_iter: int) -> dict[str, Any]:
+    """The library's orbit solver (stickslip_orbit, through `model.orbit_model`) on the
+    runner's model from (y0, period): Newton's method as `_newton` (forward differences of
+    step _FD_NEWTON times `_scales`, halving, the tolerance relative to max(1, |u|)) and the
+    central-difference monodromy of step _FD_MONODROMY times `_scales` with its eigenvalues;
+    max_iter = 0: the monodromy at (y0, period) only. Its failures as this module's."""
+    with warnings.catch_warnings():        # as the runs of _Runner.run
+        warnings.simplefilter("ignore")
+        out = orbit_model(runner.model, runner.method, y0, period, autonomous, runner.controls, tol=tol,
+                          max_iter=max_iter, fd_newton=_FD_NEWTON, fd_monodromy=_FD_MONODROMY)
+    runner.runs += out["runs"]
+    status = out["status"]
+    if status == _NO_ORBIT:
+        u = np.append(y0, period) if autonomous else y0
+        tol_abs = tol * max(1.0, float(np.max(np.abs(u))))
+        raise NoConvergence(f"periodic_orbit: Newton's method did not converge (residual {out['residual']:.3g} "
+                            f"after {out['iterations']} iterations, tolerance {tol_abs:.3g}); give a better guess "
+                            "or looser tolerances", out["residual"], out["iterations"])
+    if status == _ORBIT_COLLAPSED:
+        _check_period(out["period"], period)
+    if status != STATUS_OK:
+        raise SteadyStateError(f"periodic_orbit ({runner.method}): a run failed: {status_message(status)} "
+                               f"(status {status})")
+    return out
 
 
 def _expm(a: np.ndarray) -> np.ndarray:

@@ -354,7 +354,7 @@ FORTRAN_TESTED_THROUGH: dict[str, str] = {
 #: the C and Fortran sources the tests build.
 TEST_SUPPORT: frozenset[str] = frozenset({
     "tests/README.md", "tests/conftest.py", "tests/contact_reference.py", "tests/fortran/test_support.f90",
-    "tests/c/capi_model_cases.c", "tests/gsl/gsl_reference.c"})
+    "tests/c/capi_model_cases.c", "tests/c/capi_orbit_cases.c", "tests/gsl/gsl_reference.c"})
 #: The runner of the Fortran unit test programs (tests/fortran/*.f90), each of which has its owner.
 FORTRAN_RUNNER = "tests/fortran/test_fortran.py"
 
