@@ -347,12 +347,11 @@ contains
     !> A periodic orbit of a scene (code) with a law (code) and its parameters by name, the
     !! others at their defaults (as `stickslip_simulate`): the scene built by `new_system`
     !! (a bad parameter's code on failure) and solved by `periodic_orbit`; its bodies are
-    !! the chain's blocks, or the one body of the slope and the belt.
+    !! the preset model's (the chain's blocks, or the one body of the slope and the belt).
     subroutine scene_periodic_orbit(scene, law, pkeys, pvals, method, y_guess, period, autonomous, rtol, atol, &
                                     ckeys, cvals, opts, orb)
         use stickslip_registry, only: new_system
-        use stickslip_scenes, only: friction_scene
-        use stickslip_chain, only: chain_scene
+        use stickslip_model_system, only: model_system
         use stickslip_params, only: param_values
         integer, intent(in) :: scene                  !! scene code (registry)
         integer, intent(in) :: law                    !! law code (registry)
@@ -367,17 +366,11 @@ contains
         real(dp), intent(in) :: cvals(:)              !! their values
         type(orbit_options), intent(in) :: opts       !! the solver's options
         type(orbit_result), intent(out) :: orb        !! the orbit, or the failure's status
-        class(friction_scene), allocatable :: sys
+        class(model_system), allocatable :: sys
         type(param_values) :: p
-        integer :: nb
         orb%status = new_system(scene, law, pkeys, pvals, sys, p)
         if (orb%status /= SS_OK) return
-        nb = 1
-        select type (sys)
-        type is (chain_scene)
-            nb = sys%nb
-        end select
-        call periodic_orbit(sys, method, y_guess, period, autonomous, rtol, atol, ckeys, cvals, opts, orb, nb, &
+        call periodic_orbit(sys, method, y_guess, period, autonomous, rtol, atol, ckeys, cvals, opts, orb, sys%nb, &
                             sys%n_states())
     end subroutine scene_periodic_orbit
 
