@@ -42,8 +42,7 @@ Single studies instead of the whole run: --identify (identify.md: two fits of th
 records, prescribed_motion per sample), --lmfit (lmfit.md, lmfit.csv: every law fitted by
 stickslip and by the same fit written with lmfit, benchmarks/lmfit_compare.py), --prescribed
 (prescribed.md: prescribed_motion's CPU time per law, benchmarks/prescribed_speed.py),
---contact (contact.md: the contact solver), --model (model.md: the model path against the
-chain's own code, benchmarks/model_chain.py), --modal-chain [--baseline PYTHON] (modal_chain.md:
+--contact (contact.md: the contact solver), --modal-chain [--baseline PYTHON] (modal_chain.md:
 implicit_euler, galpha and moreau on the chain, against another build where given,
 benchmarks/modal_chain.py), --presets --base SITE (presets.md: the scenes as
 presets against a build of the scene code they replaced, benchmarks/presets.py), --clutches (clutches.md: event_driven on Modelica's
@@ -1125,9 +1124,6 @@ def main(argv: Sequence[str] | None = None) -> int:
                         help="only the contact-solver benchmark (random coupled problems of 2 to 64 "
                              "contacts, against Gauss-Seidel alone; moreau on a stack of 1 to 64 blocks; "
                              "the chain): writes contact.md")
-    parser.add_argument("--model", action="store_true",
-                        help="only the model path against the chain's own code (100 blocks, every method "
-                             "family): writes model.md")
     parser.add_argument("--modal-chain", action="store_true",
                         help="only implicit_euler, galpha and moreau on the chain of 10, 100 and 1000 blocks "
                              "(their contact problems): writes modal_chain.md")
@@ -1189,11 +1185,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         from .prescribed_speed import run_prescribed
         write_text(args.outdir / "prescribed.md", run_prescribed(log, 3 if args.quick else 15))
         write_provenance(args.outdir, "prescribed", [args.outdir / "prescribed.md"], argv)
-        return 0
-    if args.model:
-        from .model_chain import run_model_chain
-        write_text(args.outdir / "model.md", run_model_chain(log, 2 if args.quick else 9, 20 if args.quick else 100))
-        write_provenance(args.outdir, "model", [args.outdir / "model.md"], argv)
         return 0
     if args.modal_chain:
         from .modal_chain import SIZES, run_modal_chain
