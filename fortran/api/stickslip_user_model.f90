@@ -723,7 +723,11 @@ contains
     subroutine model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, vals, signals, &
                                  sig_start, tables, drives)
         type(stickslip_model), intent(out) :: m   !! the model
-        real(dp), intent(in) :: bodies(:, :), springs(:, :), dampers(:, :), forces(:, :), contacts(:, :)
+        real(dp), intent(in) :: bodies(:, :)      !! (3, nb) mass [kg], x0 [m], v0 [m/s] of each body
+        real(dp), intent(in) :: springs(:, :)     !! (4, ns) a, b, k [N/m], rest length [m]
+        real(dp), intent(in) :: dampers(:, :)     !! (3, nd) a, b, c [N s/m]
+        real(dp), intent(in) :: forces(:, :)      !! (2, nf) body, signal
+        real(dp), intent(in) :: contacts(:, :)    !! (5, nc) a, b, law code, normal force, surface velocity
         integer, intent(in) :: con_ptr(:)         !! (nc + 1) first parameter of each contact
         character(len=*), intent(in) :: keys(:)   !! the contacts' parameter names
         real(dp), intent(in) :: vals(:)           !! their values [SI units]

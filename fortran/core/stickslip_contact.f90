@@ -244,9 +244,9 @@ contains
         end if
     end subroutine step_layout
 
-    !> The displacement of contact i, H_i q, signed by its row's first entry: a contact of one
-    !! body on the ground reports that body's position whichever side the body is on (the
-    !! presets put the block on side b), a contact between two bodies x_a - x_b [m].
+    !> The displacement of contact i, H_i q [m]; a row of one entry (one body on the ground)
+    !! reports that body's position whichever side of the contact it is on (the presets put
+    !! the block on side b): |H_i| q.
     pure real(dp) function contact_displacement(self, i, q) result(x)
         class(contact_system), intent(in) :: self
         integer, intent(in) :: i            !! contact index, 1 .. n_c
@@ -256,7 +256,7 @@ contains
         do k = self%h_ptr(i), self%h_ptr(i + 1) - 1
             x = x + self%h_val(k) * q(self%h_col(k))
         end do
-        if (self%h_ptr(i + 1) > self%h_ptr(i)) x = sign(1.0_dp, self%h_val(self%h_ptr(i))) * x
+        if (self%h_ptr(i + 1) - self%h_ptr(i) == 1) x = sign(1.0_dp, self%h_val(self%h_ptr(i))) * x
     end function contact_displacement
 
     !> The set-valued law of a library law (`friction_law%set_valued`): Coulomb and Stribeck
