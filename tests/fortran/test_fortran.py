@@ -86,17 +86,17 @@ def test_fortran_law_suite(native_build):
     assert "FAIL" not in proc.stdout and "all law checks passed" in proc.stdout, proc.stdout
 
 
-@pytest.mark.slow     # every program again (the suites above run each), and the four examples
+@pytest.mark.slow     # every program again (the suites above run each), and the five examples
 def test_meson_test_suite(native_build):
-    """`meson test`: the Fortran unit tests (nine programs) and the four examples (Lotka-Volterra,
-    the C friction example, the Fortran model that stops and the C clutch model, each as its
-    closed form says) built in-tree."""
+    """`meson test`: the Fortran unit tests (nine programs) and the five examples (Lotka-Volterra,
+    the C friction example, the Fortran model that stops, the C clutch model and the C belt
+    orbit, each as its closed form says) built in-tree."""
     from conftest import _tool, build_lock
     with build_lock(native_build):        # it compiles every target, as other workers may
         proc = subprocess.run([_tool("meson"), "test", "-C", str(native_build), "--print-errorlogs"],
                               capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert re.search(r"Ok:\s+13\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
+    assert re.search(r"Ok:\s+14\b", proc.stdout) and re.search(r"Fail:\s+0\b", proc.stdout), proc.stdout
     assert "example_model_stop" in proc.stdout and "example_model_c" in proc.stdout
 
 

@@ -104,7 +104,7 @@ def test_readme_installs_the_library_alone(guide_builds: dict) -> None:
     for want in ("libstickslip.a", "libstickslip.so", "pkgconfig/stickslip.pc"):
         assert any(f.startswith("lib") and f.endswith(want) for f in files), (want, files)
     assert "include/stickslip/stickslip.h" in files and "include/stickslip/stickslip_codes.h" in files
-    for mod in ("kinds", "friction", "ode", "rk4", "dopri5", "radau5", "scenes", "registry", "simulate", "capi"):
+    for mod in ("kinds", "friction", "ode", "rk4", "dopri5", "radau5", "presets", "registry", "simulate", "capi"):
         assert f"include/stickslip/stickslip_{mod}.mod" in files, mod
     library = re.compile(r"include/stickslip/stickslip(_\w+\.mod|_codes\.h|\.h)"
                          r"|lib[^/]*/([^/]+/)?(libstickslip\.(a|so[.\d]*)|pkgconfig/stickslip\.pc)")
