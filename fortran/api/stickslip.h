@@ -147,7 +147,8 @@ int ss_rk4(ss_rhs f, void *data, int n, double t0, const double *y0, double t_en
 
 /* ---- Periodic orbits: single shooting with Newton at a section (stickslip_orbit).
  *
- * The unknowns are the state y0 at t = 0 and, when autonomous = 1, the period (a phase
+ * The unknowns are the state y0 at the section's time t0 (opts->t0, default 0: each run goes
+ * from t0 to t0 + period) and, when autonomous = 1, the period (a phase
  * condition fixes the section: y0 - guess orthogonal to the flow at the guess); with
  * autonomous = 0 the period is the forcing period. Each residual is one run of the method;
  * the Jacobian by forward differences (increment fd_newton times each unknown's scale), the
@@ -165,6 +166,7 @@ typedef struct {
     int max_iter;         /* Newton iterations at most (30; 0: the monodromy at the guess) */
     double fd_newton;     /* forward-difference increment of the Jacobian, relative (1e-5) */
     double fd_monodromy;  /* central-difference increment of the monodromy, relative (1e-4) */
+    double t0;            /* the section's time [s]: y0 is the state at t = t0 (0); finite */
 } ss_orbit_options;
 
 typedef struct {

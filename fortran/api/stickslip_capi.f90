@@ -105,6 +105,7 @@ module stickslip_capi
         integer(c_int) :: max_iter       !! Newton iterations at most (0: the monodromy at the guess)
         real(c_double) :: fd_newton      !! forward-difference increment of the Jacobian, relative
         real(c_double) :: fd_monodromy   !! central-difference increment of the monodromy, relative
+        real(c_double) :: t0             !! the section's time [s]: y0 is the state at t0 (default 0)
     end type ss_orbit_options
 
     !> What the periodic-orbit solver found (C struct `ss_orbit_info`).
@@ -817,11 +818,11 @@ contains
     ! -- periodic orbits (stickslip_orbit) --------------------------------------------
 
     !> The periodic-orbit solver's defaults: tol 1e-9, max_iter 30, fd_newton 1e-5,
-    !! fd_monodromy 1e-4 (those of stickslip.periodic_orbit).
+    !! fd_monodromy 1e-4 (those of stickslip.periodic_orbit), the section at t0 = 0.
     subroutine ss_orbit_options_default(o) bind(C, name='ss_orbit_options_default')
         type(ss_orbit_options), intent(out) :: o   !! the options
         type(orbit_options) :: f
-        o = ss_orbit_options(f%tol, int(f%max_iter, c_int), f%fd_newton, f%fd_monodromy)
+        o = ss_orbit_options(f%tol, int(f%max_iter, c_int), f%fd_newton, f%fd_monodromy, f%t0)
     end subroutine ss_orbit_options_default
 
     !> A periodic orbit of a scene with a law (codes, parameters by name as in ss_run) by
@@ -993,6 +994,7 @@ contains
             o%max_iter = int(c%max_iter)
             o%fd_newton = c%fd_newton
             o%fd_monodromy = c%fd_monodromy
+            o%t0 = c%t0
         end if
         o%monodromy = c_associated(monodromy) .or. c_associated(mult_re) .or. c_associated(mult_im)
     end function orbit_options_of

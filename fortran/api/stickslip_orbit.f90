@@ -5,7 +5,9 @@
 !!
 !! The unknowns are the state y0 at the section and, for an autonomous system, the period T.
 !! The residual is flow(y0, T) - y0, each flow one run of `integrate` with the chosen method
-!! from t = 0 (a forced system's section is t = 0), plus for an autonomous system the phase
+!! from the section's time t0 to t0 + T (`orbit_options%t0`, default 0: a forced system's
+!! section is t = t0, y0 the state there; an autonomous system's signals are constant, so t0
+!! changes nothing there), plus for an autonomous system the phase
 !! condition (y0 - g) . f / |f|_inf = 0, with g the guess and f the flow's direction at the
 !! guess, (flow(g, 1e-6 T) - g) / (1e-6 T) (the start state orthogonal to the flow at the
 !! reference, as AUTO and COCO fix the section).
@@ -59,6 +61,8 @@ module stickslip_orbit
         !! central-difference increment of the monodromy, relative to each component's scale
         logical :: monodromy = .true.
         !! compute the monodromy and the multipliers
+        real(dp) :: t0 = 0.0_dp
+        !! the section's time [s]: y0 is the state at t0, each run from t0 over the period
     end type orbit_options
 
     !> A periodic orbit, or how the search for one ended (`status`).
@@ -66,7 +70,7 @@ module stickslip_orbit
         integer :: status = SS_OK
         !! SS_OK, or the code of the failure (see the module)
         real(dp), allocatable :: y0(:)
-        !! the state at the section (t = 0) [m, m/s, law states]; the last iterate on failure
+        !! the state at the section (t = opts%t0) [m, m/s, law states]; the last iterate on failure
         real(dp) :: period = 0.0_dp
         !! the period [s]
         real(dp) :: residual = huge(1.0_dp)
@@ -92,6 +96,7 @@ module stickslip_orbit
         real(dp), allocatable :: rtol(:), atol(:)
         logical :: autonomous = .false.
         real(dp) :: period = 0.0_dp                   ! the forcing period [s] (forced)
+        real(dp) :: t0 = 0.0_dp                       ! the section's time [s]: each run starts there
         real(dp), allocatable :: ref(:), dir(:)       ! the phase condition's reference and direction
         integer :: runs = 0
     end type shooting
@@ -136,6 +141,7 @@ contains
         sh%atol = atol
         sh%autonomous = autonomous
         sh%period = period
+        sh%t0 = opts%t0
         if (autonomous) then
             h = 1.0e-6_dp * period
             call flow(sys, sh, y_guess, h, e, status)
@@ -228,6 +234,7 @@ contains
         else if (size(y_guess) /= n_states .or. .not. all(ieee_is_finite(y_guess))) then
             status = SS_BAD_GUESS
         else if (.not. (ieee_is_finite(opts%tol) .and. opts%tol > 0.0_dp) .or. opts%max_iter < 0 .or. &
+                 .not. ieee_is_finite(opts%t0) .or. &
                  .not. (opts%fd_newton > 0.0_dp .and. opts%fd_newton <= 0.1_dp) .or. &
                  .not. (opts%fd_monodromy > 0.0_dp .and. opts%fd_monodromy <= 0.1_dp)) then
             status = SS_BAD_ORBIT_OPTION
@@ -251,7 +258,7 @@ contains
         if (size(y) > 2 * nb) s(2 * nb + 1:) = max(maxval(abs(y(2 * nb + 1:))), 1.0e-9_dp)
     end function orbit_scales
 
-    !> The state after t_len seconds from y at t = 0: one run of the method.
+    !> The state after t_len seconds from y at the section's time sh%t0: one run of the method.
     subroutine flow(sys, sh, y, t_len, y_end, status)
         class(ode_system), intent(inout) :: sys
         type(shooting), intent(inout) :: sh
@@ -260,10 +267,10 @@ contains
         integer, intent(out) :: status
         real(dp) :: t_out(2), y_out(size(y), 2)
         type(ode_stats) :: stats
-        t_out = [0.0_dp, t_len]
+        t_out = [sh%t0, sh%t0 + t_len]
         y_out = 0.0_dp
         sh%runs = sh%runs + 1
-        call integrate(sh%method, sys, 0.0_dp, y, t_len, sh%rtol, sh%atol, [character(len=NAME_LEN) ::], &
+        call integrate(sh%method, sys, sh%t0, y, sh%t0 + t_len, sh%rtol, sh%atol, [character(len=NAME_LEN) ::], &
                        [real(dp) ::], t_out, y_out, stats, controls=sh%ctl)
         status = stats%status
         y_end = y_out(:, 2)

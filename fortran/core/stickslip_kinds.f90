@@ -203,7 +203,7 @@ contains
         case (SS_BAD_GUESS);      msg = 'guess: must be finite, one value per state component of the system' // &
                                         ' (x then v of every body, then the laws'' states)'
         case (SS_BAD_ORBIT_OPTION); msg = 'orbit options: tol must be finite and > 0, max_iter >= 0,' // &
-                                        ' fd_newton and fd_monodromy in (0, 0.1]'
+                                        ' fd_newton and fd_monodromy in (0, 0.1], t0 finite'
         case default;             msg = 'unknown status code'
         end select
     end function status_text

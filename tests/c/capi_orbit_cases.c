@@ -71,6 +71,15 @@ int main(void) {
     status = ss_model_periodic_orbit(dh, SS_METHOD_EVENT_DRIVEN, 2, y, M_PI, 0, 0.0, 1e-12, 1e-14, NULL, 0, NULL,
                                      NULL, mono, re, im, &info);
     print_orbit("den_hartog", status, 2, y, re, im, mono, &info);
+
+    /* the same orbit with its section at t0 = 0.7 s: y0 the state at t = 0.7 */
+    ss_orbit_options shifted;
+    ss_orbit_options_default(&shifted);
+    shifted.t0 = 0.7;
+    y[0] = y[1] = 0.0;
+    status = ss_model_periodic_orbit(dh, SS_METHOD_EVENT_DRIVEN, 2, y, M_PI, 0, 0.0, 1e-12, 1e-14, NULL, 0, NULL,
+                                     &shifted, mono, re, im, &info);
+    print_orbit("den_hartog_t0", status, 2, y, re, im, mono, &info);
     ss_model_free(dh);
 
     /* the smooth forced oscillator under dopri5, from a rough guess (the tolerance is relative
@@ -81,6 +90,14 @@ int main(void) {
     status = ss_model_periodic_orbit(sm, SS_METHOD_DOPRI5, 2, y, 4.0, 0, 0.0, 1e-12, 1e-14, NULL, 0, NULL, NULL,
                                      mono, re, im, &info);
     print_orbit("smooth", status, 2, y, re, im, mono, &info);
+
+    /* the smooth oscillator with its section at t0 = 1.3 s (a quarter and more of the period) */
+    shifted.t0 = 1.3;
+    y[0] = -2.0;
+    y[1] = 8.0;
+    status = ss_model_periodic_orbit(sm, SS_METHOD_DOPRI5, 2, y, 4.0, 0, 0.0, 1e-12, 1e-14, NULL, 0, NULL,
+                                     &shifted, mono, re, im, &info);
+    print_orbit("smooth_t0", status, 2, y, re, im, mono, &info);
 
     /* three bodies in a row, springs and dampers, the first forced: linear, 6 x 6 monodromy */
     ss_model *ch = ss_model_new();
@@ -112,6 +129,11 @@ int main(void) {
     status = ss_model_periodic_orbit(sm, SS_METHOD_DOPRI5, 2, y, 4.0, 0, 0.0, 1e-12, 1e-14, NULL, 0, NULL, &o,
                                      NULL, NULL, NULL, &info);
     print_case("options", status, NAN);
+    ss_orbit_options_default(&o);
+    o.t0 = INFINITY;
+    status = ss_model_periodic_orbit(sm, SS_METHOD_DOPRI5, 2, y, 4.0, 0, 0.0, 1e-12, 1e-14, NULL, 0, NULL, &o,
+                                     NULL, NULL, NULL, &info);
+    print_case("options_t0", status, NAN);
     status = ss_periodic_orbit(SS_SCENE_BELT, SS_LAW_COULOMB, SS_METHOD_EVENT_DRIVEN, "m", 1, belt, 2, y, 0.0, 1,
                                1, tol, atol, "", 0, NULL, NULL, NULL, NULL, NULL, &info);
     print_case("scene_period", status, NAN);

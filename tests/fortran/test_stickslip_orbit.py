@@ -78,6 +78,38 @@ def test_den_hartog_matches_periodic_orbit(cases) -> None:
     assert o["trivial"] == -1 and o["stable"] == ref.stable
 
 
+@pytest.mark.parametrize("name,t0,method", [("den_hartog_t0", 0.7, "event_driven"), ("smooth_t0", 1.3, "dopri5")])
+def test_section_at_t0_against_periodic_orbit_of_the_shifted_model(cases, name: str, t0: float,
+                                                                   method: str) -> None:
+    """ss_orbit_options.t0: the C solver's state with the section at t0 equals
+    stickslip.periodic_orbit's at t = 0 on the model whose signals are advanced by t0
+    (steady._shifted: s(t + t0)), and the state the t = 0 orbit reaches at t0; the multipliers
+    do not depend on the section."""
+    from stickslip import steady
+    o = cases["orbits"][name]
+    base = dh.model(2.0, 0.3) if name == "den_hartog_t0" else _smooth_model()
+    ref = ss.periodic_orbit(steady._shifted(base, t0), method=method)
+    assert o["status"] == 0 and o["trivial"] == -1
+    np.testing.assert_allclose(o["y0"], ref.y0, rtol=0, atol=1e-8)
+    at_zero = ss.periodic_orbit(base, method=method)
+    later = ss.simulate(steady._with_state(base, at_zero.y0), method=method, t_end=t0, n_out=2, rtol=1e-12,
+                        atol=1e-14)
+    np.testing.assert_allclose(o["y0"], [later.x[0, -1], later.v[0, -1]], rtol=0, atol=1e-8)
+    np.testing.assert_allclose(np.sort_complex(o["mult"]), np.sort_complex(at_zero.multipliers), rtol=0, atol=3e-5)
+    assert np.max(np.abs(o["y0"] - at_zero.y0)) > 0.1        # the section did move
+
+
+def _smooth_model() -> ss.Model:
+    """tests/c/capi_orbit_cases.c's smooth oscillator: m = 1, k = 4, 10 sin(2 pi 0.25 t), the
+    `proposed` law on N = 9.81."""
+    m = ss.Model()
+    b = m.add_body(1.0)
+    m.add_spring(b, None, k=4.0)
+    m.add_force(b, ss.signal.sine(10.0, 0.25))
+    m.add_contact(b, None, "proposed", normal_force=9.81, mu_s=0.4, mu_k=0.3, v_s=0.5)
+    return m
+
+
 def test_smooth_multipliers_against_scipy_variational_equations(cases) -> None:
     """The forced oscillator with the smooth `proposed` law under dopri5: the orbit closes under
     scipy, and the multipliers (finite differences of DOPRI5's flow) equal those of the
@@ -123,6 +155,7 @@ def test_six_multipliers_of_a_linear_chain(cases) -> None:
 
 @pytest.mark.parametrize("name,code,word", [("period", "BAD_PERIOD", "period"), ("guess", "BAD_GUESS", "guess"),
                                             ("options", "BAD_ORBIT_OPTION", "orbit options: tol"),
+                                            ("options_t0", "BAD_ORBIT_OPTION", "orbit options: tol"),
                                             ("scene_period", "BAD_PERIOD", "period"),
                                             ("scene_guess", "BAD_GUESS", "guess")])
 def test_bad_input_is_named(cases, name: str, code: str, word: str) -> None:
