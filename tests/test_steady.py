@@ -585,3 +585,90 @@ def test_guess_with_law_states_reads_the_period_last() -> None:
     assert t is None and y.tolist() == [0.1, -0.1, 3e-5]
     with pytest.raises(ss.GuessShapeError, match="law states"):
         _as_guess([0.1, -0.1, 3e-5, 1.2, 1.0], 1, True, 1)
+
+
+# ------------------------------------------------------------------------------------------
+# Neimark-Sacker on a mechanical model, against a brute-force multiplier scan with scipy
+# ------------------------------------------------------------------------------------------
+# A unit mass on a unit spring on a belt at 0.1 m/s, the stribeck law (N = 1; mu_s 0.4, mu_k
+# 0.3, v_s 0.1, delta 2, c_v 0.5 s/m, v_eps 0.01): at the belt speed the law falls (N mu' =
+# -0.236 N s/m, a negative damper), so steady sliding is self-excited, and the viscous c_v
+# stops the growth before the mass sticks. Forced by F cos(1.3 t), away from the natural
+# frequency 1 rad/s, the period-1 response is locked (stable) at larger F; as F falls it loses
+# stability to the free oscillation: a complex pair of multipliers leaves the unit circle (a
+# Neimark-Sacker point, the motion beyond it quasi-periodic), as at the edge of the locking
+# region of a forced van der Pol oscillator.
+NS_LAW = {"mu_s": 0.4, "mu_k": 0.3, "v_s": 0.1, "delta": 2.0, "c_v": 0.5, "v_eps": 0.01}
+NS_VB, NS_W = 0.1, 1.3
+
+
+def sliding_belt(amp: float) -> ss.Model:
+    """The self-excited sliding belt forced by amp cos(NS_W t) (see above)."""
+    model = ss.Model()
+    b = model.add_body(1.0)
+    model.add_spring(b, None, k=1.0)
+    model.add_force(b, ss.signal.sine(amp, NS_W / (2 * math.pi), math.pi / 2))
+    model.add_contact(b, None, "stribeck", normal_force=1.0, surface_velocity=NS_VB, **NS_LAW)
+    return model
+
+
+def scipy_sliding_belt_multipliers(amp: float, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The period-1 orbit of `sliding_belt(amp)` (Newton from y) and its multipliers, by scipy's
+    DOP853 (rtol 1e-12) on the equations and their variations, the law and its slope written
+    out here: mu(s) = g(|s|) tanh(s/v_eps) + c_v s, g = mu_k + (mu_s - mu_k) exp(-(|s|/v_s)^2)."""
+    from scipy.integrate import solve_ivp
+    p = NS_LAW
+
+    def law(s: float) -> tuple[float, float]:
+        a = abs(s)
+        e = math.exp(-(a / p["v_s"]) ** 2)
+        g = p["mu_k"] + (p["mu_s"] - p["mu_k"]) * e
+        dg = -(p["mu_s"] - p["mu_k"]) * e * 2.0 * a / p["v_s"] ** 2
+        th = math.tanh(s / p["v_eps"])
+        return g * th + p["c_v"] * s, dg * abs(th) + g / (p["v_eps"] * math.cosh(s / p["v_eps"]) ** 2) + p["c_v"]
+
+    def period(y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        def rhs(t: float, z: np.ndarray) -> np.ndarray:
+            mu, dmu = law(z[1] - NS_VB)
+            jac = np.array([[0.0, 1.0], [-1.0, -dmu]])
+            return np.concatenate([[z[1], amp * math.cos(NS_W * t) - z[0] - mu], (jac @ z[2:].reshape(2, 2)).ravel()])
+        z = solve_ivp(rhs, (0.0, 2 * math.pi / NS_W), np.concatenate([y0, np.eye(2).ravel()]), method="DOP853",
+                      rtol=1e-12, atol=1e-14).y[:, -1]
+        return z[:2], z[2:].reshape(2, 2)
+    y = np.array(y, dtype=float)
+    for _ in range(30):
+        y1, m = period(y)
+        dy = np.linalg.solve(m - np.eye(2), y - y1)
+        y = y + dy
+        if np.max(np.abs(dy)) < 1e-12:
+            break
+    return y, np.linalg.eigvals(period(y)[1])
+
+
+def test_neimark_sacker_of_a_forced_self_excited_belt_against_a_multiplier_scan() -> None:
+    """Continued down in F from 0.06 to 0.02, the branch has one bifurcation, a Neimark-Sacker
+    point located by `continuation`; a brute-force scan of scipy's multipliers on a grid of F
+    (step 5e-4) brackets the crossing of |mu| = 1 by the complex pair, the located F lies in
+    that bracket, and equals the root of |mu|(F) - 1 (brentq on scipy's multipliers) to 1e-6
+    relative (the continuation's multipliers are finite differences, good to about 1e-5)."""
+    from scipy.optimize import brentq
+    br = ss.continuation(sliding_belt, 0.06, 0.02, method="dopri5", step=0.05, max_step=0.1)
+    assert br.stop_reason.startswith("reached stop")
+    assert [b["kind"] for b in br.bifurcations] == ["Neimark-Sacker"] and br.bifurcations[0]["located"]
+    f_ns = br.bifurcations[0]["p"]
+    i = br.bifurcations[0]["index"]
+    assert np.all(np.abs(np.imag(br.multipliers[i - 1:i + 1])) > 1e-3)      # a complex pair either side
+    assert br.stable[br.p > f_ns].all() and not br.stable[br.p < f_ns].any()
+    y = br.orbits[i].y0
+    grid = np.arange(0.030, 0.0501, 5e-4)
+    radius = []
+    for f in grid:
+        y, mu = scipy_sliding_belt_multipliers(f, y)
+        assert np.all(np.abs(np.imag(mu)) > 1e-3)
+        radius.append(np.max(np.abs(mu)))
+    k = int(np.flatnonzero(np.diff(np.array(radius) < 1.0))[0])      # one crossing: outside below, inside above
+    assert radius[k] > 1.0 > radius[k + 1] and np.sum(np.diff(np.array(radius) < 1.0)) == 1
+    assert grid[k] < f_ns < grid[k + 1]
+    exact = brentq(lambda f: float(np.max(np.abs(scipy_sliding_belt_multipliers(f, y)[1]))) - 1.0,
+                   grid[k], grid[k + 1], xtol=1e-13)
+    assert f_ns == pytest.approx(exact, rel=1e-6)
