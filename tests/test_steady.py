@@ -672,3 +672,83 @@ def test_neimark_sacker_of_a_forced_self_excited_belt_against_a_multiplier_scan(
     exact = brentq(lambda f: float(np.max(np.abs(scipy_sliding_belt_multipliers(f, y)[1]))) - 1.0,
                    grid[k], grid[k + 1], xtol=1e-13)
     assert f_ns == pytest.approx(exact, rel=1e-6)
+
+
+# ------------------------------------------------------------------------------------------
+# A pitchfork of the forced Coulomb oscillator with stops, against its closed form
+# ------------------------------------------------------------------------------------------
+# Shaw (S. W. Shaw, "On the dynamic response of a system with dry friction", J. Sound Vib.
+# 108(2), 305-325, 1986) extended Den Hartog's oscillator to a static coefficient above the
+# kinetic one and showed that "the symmetric motions with two stops per period can be unstable
+# and that pairs of unsymmetric motions are born at the bifurcation points" (his abstract; his
+# values are in figures this project could not read). The location follows in closed form
+# (derived here, m = k = 1, P0 cos(beta t), P0 = 1, kinetic friction r, static r_s): stuck at
+# -X, the mass breaks away at the phase theta where X + cos(theta) = r_s (sin(theta) < 0), slips
+# up with x(tau) = a cos(tau) + b sin(tau) + V cos(beta tau + theta) - r (V = 1 / (1 - beta^2),
+# a = -X + r - V cos(theta), b = V beta sin(theta)) and stops at x(tau_s) = X' where x'(tau_s)
+# = 0. The stick forgets the velocity, so the half period is a map X -> X' = g(X) (mirrored),
+# the symmetric motion its fixed point, and the monodromy's multipliers are 0 (the stick) and
+# g'(X)^2, with g'(X) = -cos(tau_s) + dx/dtheta / sin(theta) (dtheta/dX = 1 / sin(theta); the
+# stop time's variation drops out as x'(tau_s) = 0), dx/dtheta = V sin(theta) cos(tau_s) +
+# V beta cos(theta) sin(tau_s) - V sin(beta tau_s + theta). Where g' passes -1 the full
+# multiplier passes +1 while the symmetric motion goes on: the pitchfork.
+def symmetric_stop_motion(beta: float, r: float, r_s: float, guess: tuple[float, float] = (-2.2, 4.2)
+                          ) -> tuple[float, float]:
+    """The stop position X and g'(X) of the symmetric motion with two stops per period (see
+    above), (theta, tau_s) by scipy's fsolve from `guess`, with the motion's checks."""
+    from scipy.optimize import fsolve
+    v = 1.0 / (1.0 - beta ** 2)
+
+    def slip(theta: float, tau: Any) -> tuple[float, Any, Any]:
+        x_stop = r_s - math.cos(theta)
+        a, b = -x_stop + r - v * math.cos(theta), v * beta * math.sin(theta)
+        return (x_stop, a * np.cos(tau) + b * np.sin(tau) + v * np.cos(beta * tau + theta) - r,
+                -a * np.sin(tau) + b * np.cos(tau) - v * beta * np.sin(beta * tau + theta))
+
+    def eqs(u: np.ndarray) -> list[float]:
+        x_stop, x, xd = slip(u[0], u[1])
+        return [x - x_stop, xd]
+    theta, ts = fsolve(eqs, np.asarray(guess, dtype=float), xtol=1e-12)
+    x_stop, _, _ = slip(theta, ts)
+    assert max(abs(e) for e in eqs(np.array([theta, ts]))) < 1e-13
+    assert math.sin(theta) < 0.0 and 0.0 < ts < math.pi / beta
+    tau = np.linspace(0.0, ts, 2001)[1:-1]
+    assert np.all(slip(theta, tau)[2] > 0.0)                     # one way up, then the stop at +X ...
+    phases = np.linspace(theta + beta * ts, theta + math.pi, 2001)
+    assert np.all(np.abs(-x_stop + np.cos(phases)) <= r_s * (1 + 1e-9))   # ... holds half a period
+    dx_dtheta = (v * math.sin(theta) * math.cos(ts) + v * beta * math.cos(theta) * math.sin(ts)
+                 - v * math.sin(beta * ts + theta))
+    return x_stop, -math.cos(ts) + dx_dtheta / math.sin(theta)
+
+
+def stop_oscillator(beta: float, r: float = 0.3, r_s: float = 0.9) -> ss.Model:
+    """Den Hartog's oscillator (cases.gallery_denhartog) with static friction r_s > r."""
+    model = ss.Model()
+    b = model.add_body(1.0)
+    model.add_spring(b, None, k=1.0)
+    model.add_force(b, ss.signal.sine(1.0, beta / (2 * math.pi), math.pi / 2))
+    model.add_contact(b, None, "coulomb", normal_force=r, mu_s=r_s / r, mu_k=1.0)
+    return model
+
+
+def test_pitchfork_of_the_symmetric_stop_motion_against_its_closed_form() -> None:
+    """r = 0.3, r_s = 0.9, continued in beta from 0.3 to 0.48 on the symmetric two-stop motion:
+    every point's stop position and nontrivial multiplier equal the closed form's X and g'(X)^2
+    (saltation route, exact: 1e-9), the one bifurcation is a located "branch point" at the
+    closed form's root of g'(X) = -1 (brentq, 1e-14) to 3e-8 (measured 8e-9), stable before
+    and unstable after; and beyond it the transient settles on an asymmetric motion (one of
+    the pair born there)."""
+    from scipy.optimize import brentq
+    br = ss.continuation(stop_oscillator, 0.3, 0.48, step=0.05, max_step=0.1)
+    assert br.stop_reason.startswith("reached stop")
+    for beta, orb in zip(br.p, br.orbits):
+        x_stop, slope = symmetric_stop_motion(beta, 0.3, 0.9)
+        assert orb.amplitude[0] == pytest.approx(x_stop, rel=1e-9)
+        assert np.sort(np.abs(orb.multipliers)) == pytest.approx([0.0, slope ** 2], abs=1e-9)
+    exact = brentq(lambda b: symmetric_stop_motion(b, 0.3, 0.9)[1] + 1.0, 0.44, 0.47, xtol=1e-14)
+    assert [(b["kind"], b["located"]) for b in br.bifurcations] == [("branch point", True)]
+    bp = br.bifurcations[0]["p"]
+    assert bp == pytest.approx(exact, rel=3e-8)
+    assert br.stable[br.p < bp].all() and not br.stable[br.p > bp].any()
+    beyond = ss.periodic_orbit(stop_oscillator(0.47))
+    assert beyond.stable and abs(np.max(beyond.result.x) + np.min(beyond.result.x)) > 1e-2

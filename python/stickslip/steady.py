@@ -1252,7 +1252,10 @@ class Branch:
     bifurcations : list of dict
         Each with "kind" ("fold": p turns back; "Hopf": p turns back where the cycle's
         amplitude shrinks to under a tenth of its neighbours', the branch passing through
-        the equilibrium it is born from; "period doubling": a real multiplier passes -1
+        the equilibrium it is born from; "branch point": a real multiplier passes +1 (prod(mu -
+        1) changes sign) where p goes on and the events per period stay the same, another
+        branch crossing this one (a pitchfork: e.g. a symmetric orbit giving birth to a pair
+        of asymmetric ones); "period doubling": a real multiplier passes -1
         (prod(mu + 1) changes sign); "Neimark-Sacker": a complex pair leaves or enters the
         unit circle; "stability change": stability flips otherwise, e.g. a multiplier jumps
         across the circle at a nonsmooth point; "events": the number or kind of events per
@@ -1392,6 +1395,13 @@ def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float],
             out.append({"kind": "events", "index": i, "p": 0.5 * (ps[i - 1] + ps[i]),
                         "before": _signature(a), "after": _signature(b)})
         explained = False
+        turning = any(0 < j + 1 < len(orbits) and dps[j] * dps[j + 1] < 0.0 for j in (i - 1, i))
+        if flips(i, _test_plus_one) and i not in folded and not turning and _signature(a) == _signature(b):
+            # a real multiplier through +1 where p goes on: another branch crosses this one
+            # (a pitchfork, e.g. where a symmetric orbit gives birth to a pair of asymmetric ones)
+            p, ok = where(i, _test_plus_one)
+            out.append({"kind": "branch point", "index": i, "p": p, "located": ok})
+            explained = True
         if flips(i, _test_minus_one):
             p, ok = where(i, _test_minus_one)
             out.append({"kind": "period doubling", "index": i, "p": p, "located": ok})
