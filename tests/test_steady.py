@@ -752,3 +752,71 @@ def test_pitchfork_of_the_symmetric_stop_motion_against_its_closed_form() -> Non
     assert br.stable[br.p < bp].all() and not br.stable[br.p > bp].any()
     beyond = ss.periodic_orbit(stop_oscillator(0.47))
     assert beyond.stable and abs(np.max(beyond.result.x) + np.min(beyond.result.x)) > 1e-2
+
+
+# Beyond the pitchfork (r = 0.3, r_s = 0.9) the asymmetric motions lose their second stop (at
+# beta near 0.55 the mass turns at the top without sticking) and the motion with one stop and
+# one reversal per period period-doubles. Its map is again in closed form: stuck at -X, the mass
+# breaks away at t_b (X + cos(beta t_b) = r_s, sin(beta t_b) < 0), slips up to a reversal at
+# (t_1, x_1), slips down and stops at (t_2, -X'); X -> X' = F(X) is the period's map, the
+# motion its fixed point and the multipliers 0 and F'(X). Each slip from rest at (t0, x0) under
+# x'' + x = cos(beta t) + s (s = -r up, +r down) is x = A cos(t - t0) + B sin(t - t0) + V cos(beta
+# t) + s with A = x0 - V cos(beta t0) - s, B = V beta sin(beta t0), and ends where x' = 0; its
+# end (x_1, t_1) varies with (x0, t0) as dx_1 = cos(d) dx0 + (A + B') sin(d) dt0 and dt_1 =
+# (sin(d) dx0 - (A + B') cos(d) dt0) / a_1, d = t_1 - t0, B' = V beta^2 cos(beta t0), a_1 the
+# acceleration at the end (x' = 0 there, so the end time's variation does not move x_1).
+def _slip_from_rest(beta: float, t0: float, x0: float, s: float) -> tuple[float, float, np.ndarray]:
+    """End time and position of a slip from rest at (t0, x0) and their derivatives in (x0, t0)."""
+    from scipy.optimize import brentq
+    v = 1.0 / (1.0 - beta ** 2)
+    a, b = x0 - v * math.cos(beta * t0) - s, v * beta * math.sin(beta * t0)
+    b1 = v * beta ** 2 * math.cos(beta * t0)
+
+    def vel(t: float) -> float:
+        return -a * math.sin(t - t0) + b * math.cos(t - t0) - v * beta * math.sin(beta * t)
+    grid = t0 + np.arange(1, 4001) * (4 * math.pi / beta) / 4000
+    vals = np.array([vel(t) for t in grid])
+    k = int(np.flatnonzero(np.sign(vals[1:]) != np.sign(vals[:-1]))[0])
+    t1 = brentq(vel, grid[k], grid[k + 1], xtol=1e-15)
+    x1 = a * math.cos(t1 - t0) + b * math.sin(t1 - t0) + v * math.cos(beta * t1) + s
+    acc = -x1 + math.cos(beta * t1) + s
+    c, sn = math.cos(t1 - t0), math.sin(t1 - t0)
+    return t1, x1, np.array([[c, (a + b1) * sn], [sn / acc, -(a + b1) * c / acc]])
+
+
+def one_stop_motion(beta: float, r: float = 0.3, r_s: float = 0.9) -> tuple[float, float]:
+    """The stop position X and F'(X) of the motion with one stop and one reversal per period
+    (see above): X the root of F(X) = X (brentq in [1.2, r_s + 0.99]), with the motion's checks."""
+    from scipy.optimize import brentq
+
+    def period_map(x_stop: float) -> tuple[float, float, tuple[float, float, float, float]]:
+        tb = (2 * math.pi - math.acos(r_s - x_stop)) / beta
+        t1, x1, j1 = _slip_from_rest(beta, tb, -x_stop, -r)
+        t2, x2, j2 = _slip_from_rest(beta, t1, x1, r)
+        d_start = np.array([-1.0, 1.0 / (beta * math.sin(beta * tb))])    # d(x0, t_b) / dX
+        return -x2, float(-(j2 @ j1 @ d_start)[0]), (tb, t1, x1, t2)
+    x_stop = brentq(lambda x: period_map(x)[0] - x, 1.2, r_s + 0.99, xtol=1e-15)
+    _, slope, (tb, t1, x1, t2) = period_map(x_stop)
+    assert abs(-x1 + math.cos(beta * t1)) > r_s                       # a reversal, not a stop, at the top
+    t = np.linspace(t2, tb + 2 * math.pi / beta, 2001)
+    assert np.all(np.abs(x_stop + np.cos(beta * t)) <= r_s * (1 + 1e-9))   # the stop holds till t_b + T
+    return x_stop, slope
+
+
+def test_period_doubling_of_the_one_stop_motion_against_its_closed_form() -> None:
+    """r = 0.3, r_s = 0.9, continued in beta from 0.56 to 0.68 on the motion with one stop and
+    one reversal: every point's stop position and nontrivial multiplier equal the closed form's
+    X (1e-9) and F'(X) (1e-8: the orbits are found to 1e-9; measured 2e-9), and the one bifurcation is a located period doubling at the closed
+    form's root of F'(X) = -1 (brentq, 1e-14) to 1e-9 (measured 6e-12)."""
+    from scipy.optimize import brentq
+    br = ss.continuation(stop_oscillator, 0.56, 0.68, step=0.05, max_step=0.1)
+    assert br.stop_reason.startswith("reached stop")
+    for beta, orb in zip(br.p, br.orbits):
+        x_stop, slope = one_stop_motion(beta)
+        assert sorted(orb.events["kind"]) == ["reversal", "slip", "stick"]
+        assert abs(orb.events["x"][orb.events["kind"] == "stick"][0]) == pytest.approx(x_stop, rel=1e-9)
+        assert np.sort(orb.multipliers.real) == pytest.approx([slope, 0.0], abs=1e-8)
+    exact = brentq(lambda b: one_stop_motion(b)[1] + 1.0, 0.63, 0.65, xtol=1e-14)
+    assert [(b["kind"], b["located"]) for b in br.bifurcations] == [("period doubling", True)]
+    assert br.bifurcations[0]["p"] == pytest.approx(exact, rel=1e-9)
+    assert br.stable[br.p < exact].all() and not br.stable[br.p > exact].any()
