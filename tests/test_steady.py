@@ -820,3 +820,34 @@ def test_period_doubling_of_the_one_stop_motion_against_its_closed_form() -> Non
     assert [(b["kind"], b["located"]) for b in br.bifurcations] == [("period doubling", True)]
     assert br.bifurcations[0]["p"] == pytest.approx(exact, rel=1e-9)
     assert br.stable[br.p < exact].all() and not br.stable[br.p > exact].any()
+
+
+@pytest.mark.parametrize("beta", [0.45, 0.55, 1.5, 2.5])
+def test_den_hartog_multipliers_in_closed_form(beta: float) -> None:
+    """Each multiplier of Den Hartog's non-stop motion (m = k = 1, r = 0.05), not only their
+    product: by the x -> -x symmetry the period is twice the same half: the free flow over
+    T / 2 = pi / beta rotates (x, v) by theta = pi / beta, and the reversal's saltation matrix is
+    diag(1, rho), rho = (X beta^2 - r) / (X beta^2 + r) (see the product's test), so the
+    multipliers are the squares of the roots of lambda^2 - (1 + rho) cos(theta) lambda + rho.
+    Where cos(theta) = 1, beta = 1 / (2n), a root is 1: the marginally stable non-sticking
+    motions Csernak, Stepan & Shaw published at Omega = 1 / (2n) (G. Csernak, G. Stepan, S. W.
+    Shaw, "Sub-harmonic resonant solutions of a harmonically excited dry friction oscillator",
+    Nonlinear Dyn. 50, 93-109, 2007, abstract): see the next test."""
+    r = 0.05
+    assert dh.nonstop_valid(beta, r)
+    orb = ss.periodic_orbit(dh.model(beta, r))
+    x = dh.amplitude(beta, r)
+    rho = (x * beta ** 2 - r) / (x * beta ** 2 + r)
+    lam = np.roots([1.0, -(1.0 + rho) * math.cos(math.pi / beta), rho])
+    np.testing.assert_allclose(np.sort_complex(orb.multipliers), np.sort_complex(lam ** 2), rtol=0, atol=1e-9)
+
+
+def test_den_hartog_is_marginally_stable_at_half_the_natural_frequency() -> None:
+    """At beta = 1/2 (Csernak, Stepan & Shaw 2007, above) the orbit is one of a family and a
+    multiplier is 1: the solver's largest is 1 to 1e-4 (its Newton meets a singular Jacobian
+    there; measured 6e-6), at Den Hartog's amplitude X = 4/3 (friction free there, U = 0). The
+    member of the family it lands on comes to rest for an instant at one turn (a stick event),
+    which collapses the other multiplier to 0."""
+    orb = ss.periodic_orbit(dh.model(0.5, 0.05))
+    assert orb.amplitude[0] == pytest.approx(4.0 / 3.0, rel=1e-9)
+    assert np.sort(np.abs(orb.multipliers)) == pytest.approx([0.0, 1.0], abs=1e-4)
