@@ -12,6 +12,15 @@ numbers docs/guide/steady-states.md quotes::
   solve_ivp (DOP853, rtol 1e-12) with the variational equations of the law written out, and a
   bracketing root (brentq) of mu_min + 1 over W for the period doubling, and of dF/dx(0) along
   the branch (Newton on (v(0), F) at fixed x(0), the implicit function theorem) for the fold.
+* Neimark-Sacker: a unit mass and spring on a belt at 0.1 m/s, a falling stribeck law with a
+  viscous term (self-excited sliding that saturates before a stick), forced by F cos(1.3 t)
+  (`sliding_belt`); continued down in F, a complex pair leaves the unit circle. Against the
+  root of |mu| - 1 of scipy's multipliers (variational equations, brentq).
+* A pitchfork and a period doubling of Den Hartog's oscillator with static friction above the
+  kinetic one (`stop_oscillator`; Shaw, J. Sound Vib. 108, 1986): the symmetric motion with two
+  stops per period, continued in the frequency ratio, has a multiplier through +1 where pairs
+  of asymmetric motions are born; the motion with one stop and one reversal then period-doubles.
+  Both against the maps of the stop position in closed form (`stop_motion`).
 * The Hopf point of steady sliding on the damped belt (m = 10 kg, k = 300 N/m, v_b = 1.5 m/s,
   the `proposed` law, a damper c), continued as equilibria in c: against c + N mu'(v_b) = 0.
 * A LuGre stick-slip cycle (the belt at v_b = 0.1 m/s, radau5): its bristle state among the
@@ -110,6 +119,170 @@ def scipy_fold(x_lo: float, x_hi: float, v0: float, amp: float, w: float = 1.0) 
     return float(state["amp"])
 
 
+# ------------------------------------------------------------------------------------------
+# Neimark-Sacker: a forced self-excited sliding belt
+# ------------------------------------------------------------------------------------------
+#: the sliding belt's law (stribeck, N = 1), belt speed [m/s] and forcing frequency [rad/s]
+NS_LAW = {"mu_s": 0.4, "mu_k": 0.3, "v_s": 0.1, "delta": 2.0, "c_v": 0.5, "v_eps": 0.01}
+NS_VB, NS_W = 0.1, 1.3
+
+
+def sliding_belt(amp: float) -> Any:
+    """A unit mass on a unit spring on a belt at NS_VB with the stribeck law NS_LAW, forced by
+    amp cos(NS_W t). At the belt speed the law falls (N mu' = -0.236 N s/m, a negative damper),
+    so steady sliding is self-excited, and the viscous c_v stops the growth before the mass
+    sticks; forced away from the natural frequency (1 rad/s) the period-1 response is locked at
+    larger amp and, as amp falls, a complex pair of multipliers leaves the unit circle (a
+    Neimark-Sacker point, as at the edge of a forced van der Pol oscillator's locking region)."""
+    import stickslip as ss
+    model = ss.Model()
+    b = model.add_body(1.0)
+    model.add_spring(b, None, k=1.0)
+    model.add_force(b, ss.signal.sine(amp, NS_W / (2 * math.pi), math.pi / 2))
+    model.add_contact(b, None, "stribeck", normal_force=1.0, surface_velocity=NS_VB, **NS_LAW)
+    return model
+
+
+def scipy_sliding_belt_multipliers(amp: float, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The period-1 orbit of `sliding_belt(amp)` (Newton from y) and its multipliers, by scipy's
+    DOP853 (rtol 1e-12) on the equations and their variations, the law and its slope written
+    out here: mu(s) = g(|s|) tanh(s/v_eps) + c_v s, g = mu_k + (mu_s - mu_k) exp(-(|s|/v_s)^2)."""
+    from scipy.integrate import solve_ivp
+    p = NS_LAW
+
+    def law(s: float) -> tuple[float, float]:
+        a = abs(s)
+        e = math.exp(-(a / p["v_s"]) ** 2)
+        g = p["mu_k"] + (p["mu_s"] - p["mu_k"]) * e
+        dg = -(p["mu_s"] - p["mu_k"]) * e * 2.0 * a / p["v_s"] ** 2
+        th = math.tanh(s / p["v_eps"])
+        return g * th + p["c_v"] * s, dg * abs(th) + g / (p["v_eps"] * math.cosh(s / p["v_eps"]) ** 2) + p["c_v"]
+
+    def period(y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        def rhs(t: float, z: np.ndarray) -> np.ndarray:
+            mu, dmu = law(z[1] - NS_VB)
+            jac = np.array([[0.0, 1.0], [-1.0, -dmu]])
+            return np.concatenate([[z[1], amp * math.cos(NS_W * t) - z[0] - mu], (jac @ z[2:].reshape(2, 2)).ravel()])
+        z = solve_ivp(rhs, (0.0, 2 * math.pi / NS_W), np.concatenate([y0, np.eye(2).ravel()]), method="DOP853",
+                      rtol=1e-12, atol=1e-14).y[:, -1]
+        return z[:2], z[2:].reshape(2, 2)
+    y = np.array(y, dtype=float)
+    for _ in range(30):
+        y1, m = period(y)
+        dy = np.linalg.solve(m - np.eye(2), y - y1)
+        y = y + dy
+        if np.max(np.abs(dy)) < 1e-12:
+            break
+    return y, np.linalg.eigvals(period(y)[1])
+
+
+def scipy_neimark_sacker(amp_lo: float, amp_hi: float, y: np.ndarray) -> float:
+    """The forcing amplitude in [amp_lo, amp_hi] where the sliding belt's complex pair has
+    modulus 1: brentq (to 1e-13) on scipy's multipliers, each orbit by Newton from y."""
+    from scipy.optimize import brentq
+    return float(brentq(lambda a: float(np.max(np.abs(scipy_sliding_belt_multipliers(a, y)[1]))) - 1.0,
+                        amp_lo, amp_hi, xtol=1e-13))
+
+
+# ------------------------------------------------------------------------------------------
+# A pitchfork and a period doubling of the forced oscillator with static friction
+# ------------------------------------------------------------------------------------------
+# Shaw (S. W. Shaw, "On the dynamic response of a system with dry friction", J. Sound Vib.
+# 108(2), 305-325, 1986) extended Den Hartog's oscillator to a static coefficient above the
+# kinetic one and showed that "the symmetric motions with two stops per period can be unstable
+# and that pairs of unsymmetric motions are born at the bifurcation points" (his abstract; his
+# values are in figures this project could not read). Both maps below are in closed form
+# (derived here; m = k = 1, P0 cos(beta t), P0 = 1, kinetic friction r, static r_s). A slip from
+# rest at (t0, x0) under x'' + x = cos(beta t) + s (s = -r up, +r down) is x = A cos(t - t0) +
+# B sin(t - t0) + V cos(beta t) + s, V = 1 / (1 - beta^2), A = x0 - V cos(beta t0) - s,
+# B = V beta sin(beta t0); it ends where x' = 0, and its end (x_1, t_1) varies with (x0, t0) as
+# dx_1 = cos(d) dx0 + (A + B') sin(d) dt0 and dt_1 = (sin(d) dx0 - (A + B') cos(d) dt0) / a_1,
+# d = t_1 - t0, B' = V beta^2 cos(beta t0), a_1 the acceleration at the end (x' = 0 there, so the
+# end time's variation does not move x_1). Stuck at -X, the mass breaks away up at t_b where
+# X + cos(beta t_b) = r_s (sin(beta t_b) < 0), so dt_b / dX = 1 / (beta sin(beta t_b)). A stick
+# forgets the velocity, so the motion is the fixed point of a map of the stop position X, and
+# the monodromy's multipliers are 0 (the stick) and the map's derivative:
+# * the symmetric motion with two stops per period: the half period's map g (slip up from -X,
+#   stop at +X' = g(X), mirrored), multipliers 0 and g'(X)^2. Where g' passes -1 the full
+#   multiplier passes +1 while the symmetric motion goes on: the pitchfork (a "branch point").
+# * beyond it the asymmetric motions lose their second stop (near beta = 0.55 at r = 0.3,
+#   r_s = 0.9, the mass turns at the top without sticking): the period's map F (slip up from
+#   -X, a reversal, slip down, stop at -X' = -F(X)), multipliers 0 and F'(X); where F' passes
+#   -1, a period doubling.
+def stop_oscillator(beta: float, r: float = 0.3, r_s: float = 0.9) -> Any:
+    """Den Hartog's oscillator (cases.gallery_denhartog) with static friction r_s > r."""
+    import stickslip as ss
+    model = ss.Model()
+    b = model.add_body(1.0)
+    model.add_spring(b, None, k=1.0)
+    model.add_force(b, ss.signal.sine(1.0, beta / (2 * math.pi), math.pi / 2))
+    model.add_contact(b, None, "coulomb", normal_force=r, mu_s=r_s / r, mu_k=1.0)
+    return model
+
+
+def _slip_from_rest(beta: float, t0: float, x0: float, s: float) -> tuple[float, float, np.ndarray]:
+    """End time and position of a slip from rest at (t0, x0) (see above) and d(x_1, t_1) /
+    d(x0, t0); the end is the first zero of x' after t0 (a scan of 4000 steps over two periods,
+    then brentq to 1e-15)."""
+    from scipy.optimize import brentq
+    v = 1.0 / (1.0 - beta ** 2)
+    a, b = x0 - v * math.cos(beta * t0) - s, v * beta * math.sin(beta * t0)
+    b1 = v * beta ** 2 * math.cos(beta * t0)
+
+    def vel(t: float) -> float:
+        return -a * math.sin(t - t0) + b * math.cos(t - t0) - v * beta * math.sin(beta * t)
+    grid = t0 + np.arange(1, 4001) * (4 * math.pi / beta) / 4000
+    vals = np.array([vel(t) for t in grid])
+    k = int(np.flatnonzero(np.sign(vals[1:]) != np.sign(vals[:-1]))[0])
+    t1 = brentq(vel, grid[k], grid[k + 1], xtol=1e-15)
+    x1 = a * math.cos(t1 - t0) + b * math.sin(t1 - t0) + v * math.cos(beta * t1) + s
+    acc = -x1 + math.cos(beta * t1) + s
+    c, sn = math.cos(t1 - t0), math.sin(t1 - t0)
+    return t1, x1, np.array([[c, (a + b1) * sn], [sn / acc, -(a + b1) * c / acc]])
+
+
+def _stop_map(beta: float, r: float, r_s: float, x_stop: float, reversal: bool
+              ) -> tuple[float, float, tuple[float, float, float]]:
+    """From a stop at -x_stop: the next stop position (mirrored: +X' for the half map, -X' for
+    the period's map with a reversal), the map's derivative, and (t_b, the end of the last
+    slip, the force check at the reversal or 0)."""
+    tb = (2 * math.pi - math.acos(r_s - x_stop)) / beta
+    d = np.array([-1.0, 1.0 / (beta * math.sin(beta * tb))])          # d(x0, t_b) / dX
+    t1, x1, j = _slip_from_rest(beta, tb, -x_stop, -r)
+    turn = 0.0
+    if reversal:
+        turn = abs(-x1 + math.cos(beta * t1))
+        t1, x1, j2 = _slip_from_rest(beta, t1, x1, r)
+        j = j2 @ j
+        x1, j = -x1, -j
+    return x1, float((j @ d)[0]), (tb, t1, turn)
+
+
+def stop_motion(beta: float, reversal: bool, r: float = 0.3, r_s: float = 0.9) -> tuple[float, float]:
+    """The stop position X of the symmetric two-stop motion (reversal False) or of the motion
+    with one stop and one reversal (True), the fixed point of its map (brentq in [1.0, r_s +
+    0.99] to 1e-15), and the map's derivative there (g'(X); the multiplier is its square, or
+    F'(X), the multiplier). ValueError when the motion fails its checks: a reversal where the
+    force exceeds r_s, a stop that holds until the next breakaway."""
+    from scipy.optimize import brentq
+    x_stop = brentq(lambda x: _stop_map(beta, r, r_s, x, reversal)[0] - x, 1.0, r_s + 0.99, xtol=1e-15)
+    _, slope, (tb, t_end, turn) = _stop_map(beta, r, r_s, x_stop, reversal)
+    # stuck at the stop (at +X, mirrored: -X + cos) until the next breakaway, half a period or a period after t_b
+    sign, until = (1.0, tb + 2 * math.pi / beta) if reversal else (-1.0, tb + math.pi / beta)
+    t = np.linspace(t_end, until, 2001)
+    held = bool(np.all(np.abs(sign * x_stop + np.cos(beta * t)) <= r_s * (1 + 1e-9)))
+    if not held or (reversal and not turn > r_s):
+        raise ValueError(f"beta = {beta}: not the motion of the closed form (stop held {held}, reversal force {turn})")
+    return x_stop, slope
+
+
+def closed_form_bifurcation(beta_lo: float, beta_hi: float, reversal: bool) -> float:
+    """The forcing frequency ratio in [beta_lo, beta_hi] where the map's derivative is -1 (the
+    pitchfork of the symmetric motion, or the one-stop motion's period doubling): brentq to 1e-14."""
+    from scipy.optimize import brentq
+    return float(brentq(lambda b: stop_motion(b, reversal)[1] + 1.0, beta_lo, beta_hi, xtol=1e-14))
+
+
 def damped_belt(c: float) -> Any:
     """The paper's belt (m = 10 kg, k = 300 N/m, v_b = 1.5 m/s), `proposed` law, a damper c."""
     import stickslip as ss
@@ -148,6 +321,7 @@ def guide_numbers() -> dict[str, tuple[float, str, str]]:
     exact = scipy_fold(float(br.orbits[i - 1].x0[0]), float(br.orbits[i + 1].x0[0]), float(br.orbits[i].v0[0]),
                        float(br.p[i]))
     out["fold.err1"] = (abs(folds[0]["p"] / exact - 1), "", "relative distance of fold 1 to scipy's")
+    out.update(_closed_form_numbers())
     rough = ss.continuation(lambda a: forced_belt(1.0, a), 0.06, 0.02, method="dopri5", step=0.05, max_step=0.1,
                             locate_bifurcations=False)
     out["fold.rough_err1"] = (abs(rough.bifurcations[0]["p"] / exact - 1), "", "the same, at the turning point")
@@ -165,6 +339,39 @@ def guide_numbers() -> dict[str, tuple[float, str, str]]:
     out["lugre.period"] = (orb.period, "s", "its period")
     out["lugre.z0"] = (float(orb.z0[0]), "m", "the bristle deflection at the section")
     out["lugre.multiplier"] = (float(np.abs(orb.nontrivial).max()), "", "largest nontrivial multiplier")
+    return out
+
+
+def _closed_form_numbers() -> dict[str, tuple[float, str, str]]:
+    """The Neimark-Sacker point of the sliding belt and the stop oscillator's pitchfork and
+    period doubling, each (value, unit, what), against their independent computations."""
+    import stickslip as ss
+    out: dict[str, tuple[float, str, str]] = {}
+    br, cpu = _cpu(lambda: ss.continuation(sliding_belt, 0.06, 0.02, method="dopri5", step=0.05, max_step=0.1))
+    b = br.bifurcations[0]
+    i = b["index"]
+    exact = scipy_neimark_sacker(br.p[i], br.p[i - 1], br.orbits[i].y0)
+    out["ns.points"] = (len(br), "", "points of the sliding belt's branch in F from 0.06 to 0.02")
+    out["ns.cpu"] = (cpu, "s", "its CPU time, the Neimark-Sacker point located included")
+    out["ns.f"] = (b["p"], "N", "the Neimark-Sacker point")
+    out["ns.err"] = (abs(b["p"] / exact - 1), "", "relative distance to scipy's")
+    out["ns.angle"] = (float(np.max(np.angle(br.multipliers[i]))), "rad", "the pair's angle there")
+    for key, lo, hi, reversal, kind in (("bp", 0.3, 0.48, False, "branch point"),
+                                         ("pd_stop", 0.56, 0.68, True, "period doubling")):
+        br, cpu = _cpu(lambda: ss.continuation(stop_oscillator, lo, hi, step=0.05, max_step=0.1))
+        b = br.bifurcations[0]
+        i = b["index"]
+        exact = closed_form_bifurcation(br.p[i - 1], br.p[i], reversal)
+        worst = 0.0
+        for p, o in zip(br.p, br.orbits):
+            slope = stop_motion(p, reversal)[1]
+            found = o.multipliers[np.argmax(np.abs(o.multipliers))].real
+            worst = max(worst, float(abs(found - (slope if reversal else slope ** 2))))
+        out[f"{key}.points"] = (len(br), "", f"points of the stop oscillator's branch in beta from {lo} to {hi}")
+        out[f"{key}.cpu"] = (cpu, "s", f"its CPU time, the {kind} located included")
+        out[f"{key}.beta"] = (b["p"], "", f"the {kind}")
+        out[f"{key}.err"] = (abs(b["p"] / exact - 1), "", "relative distance to the closed form's")
+        out[f"{key}.mult_err"] = (worst, "", "largest distance of a multiplier to the closed form's")
     return out
 
 

@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 import stickslip as ss
-from benchmarks.steady_bifurcations import damped_belt, forced_belt, scipy_fold, scipy_period_doubling
+from benchmarks.steady_bifurcations import closed_form_bifurcation, damped_belt, forced_belt, scipy_fold, \
+    scipy_neimark_sacker, scipy_period_doubling, scipy_sliding_belt_multipliers, sliding_belt, stop_motion, \
+    stop_oscillator
 from cases import gallery_denhartog as dh
 
 G = 9.81
@@ -590,68 +592,17 @@ def test_guess_with_law_states_reads_the_period_last() -> None:
 # ------------------------------------------------------------------------------------------
 # Neimark-Sacker on a mechanical model, against a brute-force multiplier scan with scipy
 # ------------------------------------------------------------------------------------------
-# A unit mass on a unit spring on a belt at 0.1 m/s, the stribeck law (N = 1; mu_s 0.4, mu_k
-# 0.3, v_s 0.1, delta 2, c_v 0.5 s/m, v_eps 0.01): at the belt speed the law falls (N mu' =
-# -0.236 N s/m, a negative damper), so steady sliding is self-excited, and the viscous c_v
-# stops the growth before the mass sticks. Forced by F cos(1.3 t), away from the natural
-# frequency 1 rad/s, the period-1 response is locked (stable) at larger F; as F falls it loses
-# stability to the free oscillation: a complex pair of multipliers leaves the unit circle (a
-# Neimark-Sacker point, the motion beyond it quasi-periodic), as at the edge of the locking
-# region of a forced van der Pol oscillator.
-NS_LAW = {"mu_s": 0.4, "mu_k": 0.3, "v_s": 0.1, "delta": 2.0, "c_v": 0.5, "v_eps": 0.01}
-NS_VB, NS_W = 0.1, 1.3
-
-
-def sliding_belt(amp: float) -> ss.Model:
-    """The self-excited sliding belt forced by amp cos(NS_W t) (see above)."""
-    model = ss.Model()
-    b = model.add_body(1.0)
-    model.add_spring(b, None, k=1.0)
-    model.add_force(b, ss.signal.sine(amp, NS_W / (2 * math.pi), math.pi / 2))
-    model.add_contact(b, None, "stribeck", normal_force=1.0, surface_velocity=NS_VB, **NS_LAW)
-    return model
-
-
-def scipy_sliding_belt_multipliers(amp: float, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The period-1 orbit of `sliding_belt(amp)` (Newton from y) and its multipliers, by scipy's
-    DOP853 (rtol 1e-12) on the equations and their variations, the law and its slope written
-    out here: mu(s) = g(|s|) tanh(s/v_eps) + c_v s, g = mu_k + (mu_s - mu_k) exp(-(|s|/v_s)^2)."""
-    from scipy.integrate import solve_ivp
-    p = NS_LAW
-
-    def law(s: float) -> tuple[float, float]:
-        a = abs(s)
-        e = math.exp(-(a / p["v_s"]) ** 2)
-        g = p["mu_k"] + (p["mu_s"] - p["mu_k"]) * e
-        dg = -(p["mu_s"] - p["mu_k"]) * e * 2.0 * a / p["v_s"] ** 2
-        th = math.tanh(s / p["v_eps"])
-        return g * th + p["c_v"] * s, dg * abs(th) + g / (p["v_eps"] * math.cosh(s / p["v_eps"]) ** 2) + p["c_v"]
-
-    def period(y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        def rhs(t: float, z: np.ndarray) -> np.ndarray:
-            mu, dmu = law(z[1] - NS_VB)
-            jac = np.array([[0.0, 1.0], [-1.0, -dmu]])
-            return np.concatenate([[z[1], amp * math.cos(NS_W * t) - z[0] - mu], (jac @ z[2:].reshape(2, 2)).ravel()])
-        z = solve_ivp(rhs, (0.0, 2 * math.pi / NS_W), np.concatenate([y0, np.eye(2).ravel()]), method="DOP853",
-                      rtol=1e-12, atol=1e-14).y[:, -1]
-        return z[:2], z[2:].reshape(2, 2)
-    y = np.array(y, dtype=float)
-    for _ in range(30):
-        y1, m = period(y)
-        dy = np.linalg.solve(m - np.eye(2), y - y1)
-        y = y + dy
-        if np.max(np.abs(dy)) < 1e-12:
-            break
-    return y, np.linalg.eigvals(period(y)[1])
-
-
+# benchmarks/steady_bifurcations.py: `sliding_belt(F)`, a unit mass on a unit spring on a belt
+# at 0.1 m/s with a falling stribeck law and a viscous term c_v (self-excited steady sliding
+# that saturates before the mass sticks), forced by F cos(1.3 t); scipy's multipliers of its
+# period-1 orbit with the law written out.
 def test_neimark_sacker_of_a_forced_self_excited_belt_against_a_multiplier_scan() -> None:
     """Continued down in F from 0.06 to 0.02, the branch has one bifurcation, a Neimark-Sacker
     point located by `continuation`; a brute-force scan of scipy's multipliers on a grid of F
     (step 5e-4) brackets the crossing of |mu| = 1 by the complex pair, the located F lies in
     that bracket, and equals the root of |mu|(F) - 1 (brentq on scipy's multipliers) to 1e-6
-    relative (the continuation's multipliers are finite differences, good to about 1e-5)."""
-    from scipy.optimize import brentq
+    relative (the continuation's multipliers are finite differences, good to about 1e-5;
+    measured 1e-7)."""
     br = ss.continuation(sliding_belt, 0.06, 0.02, method="dopri5", step=0.05, max_step=0.1)
     assert br.stop_reason.startswith("reached stop")
     assert [b["kind"] for b in br.bifurcations] == ["Neimark-Sacker"] and br.bifurcations[0]["located"]
@@ -669,68 +620,18 @@ def test_neimark_sacker_of_a_forced_self_excited_belt_against_a_multiplier_scan(
     k = int(np.flatnonzero(np.diff(np.array(radius) < 1.0))[0])      # one crossing: outside below, inside above
     assert radius[k] > 1.0 > radius[k + 1] and np.sum(np.diff(np.array(radius) < 1.0)) == 1
     assert grid[k] < f_ns < grid[k + 1]
-    exact = brentq(lambda f: float(np.max(np.abs(scipy_sliding_belt_multipliers(f, y)[1]))) - 1.0,
-                   grid[k], grid[k + 1], xtol=1e-13)
-    assert f_ns == pytest.approx(exact, rel=1e-6)
+    assert f_ns == pytest.approx(scipy_neimark_sacker(grid[k], grid[k + 1], y), rel=1e-6)
 
 
 # ------------------------------------------------------------------------------------------
-# A pitchfork of the forced Coulomb oscillator with stops, against its closed form
+# A pitchfork and a period doubling of the forced Coulomb oscillator with static friction
 # ------------------------------------------------------------------------------------------
-# Shaw (S. W. Shaw, "On the dynamic response of a system with dry friction", J. Sound Vib.
-# 108(2), 305-325, 1986) extended Den Hartog's oscillator to a static coefficient above the
-# kinetic one and showed that "the symmetric motions with two stops per period can be unstable
-# and that pairs of unsymmetric motions are born at the bifurcation points" (his abstract; his
-# values are in figures this project could not read). The location follows in closed form
-# (derived here, m = k = 1, P0 cos(beta t), P0 = 1, kinetic friction r, static r_s): stuck at
-# -X, the mass breaks away at the phase theta where X + cos(theta) = r_s (sin(theta) < 0), slips
-# up with x(tau) = a cos(tau) + b sin(tau) + V cos(beta tau + theta) - r (V = 1 / (1 - beta^2),
-# a = -X + r - V cos(theta), b = V beta sin(theta)) and stops at x(tau_s) = X' where x'(tau_s)
-# = 0. The stick forgets the velocity, so the half period is a map X -> X' = g(X) (mirrored),
-# the symmetric motion its fixed point, and the monodromy's multipliers are 0 (the stick) and
-# g'(X)^2, with g'(X) = -cos(tau_s) + dx/dtheta / sin(theta) (dtheta/dX = 1 / sin(theta); the
-# stop time's variation drops out as x'(tau_s) = 0), dx/dtheta = V sin(theta) cos(tau_s) +
-# V beta cos(theta) sin(tau_s) - V sin(beta tau_s + theta). Where g' passes -1 the full
-# multiplier passes +1 while the symmetric motion goes on: the pitchfork.
-def symmetric_stop_motion(beta: float, r: float, r_s: float, guess: tuple[float, float] = (-2.2, 4.2)
-                          ) -> tuple[float, float]:
-    """The stop position X and g'(X) of the symmetric motion with two stops per period (see
-    above), (theta, tau_s) by scipy's fsolve from `guess`, with the motion's checks."""
-    from scipy.optimize import fsolve
-    v = 1.0 / (1.0 - beta ** 2)
-
-    def slip(theta: float, tau: Any) -> tuple[float, Any, Any]:
-        x_stop = r_s - math.cos(theta)
-        a, b = -x_stop + r - v * math.cos(theta), v * beta * math.sin(theta)
-        return (x_stop, a * np.cos(tau) + b * np.sin(tau) + v * np.cos(beta * tau + theta) - r,
-                -a * np.sin(tau) + b * np.cos(tau) - v * beta * np.sin(beta * tau + theta))
-
-    def eqs(u: np.ndarray) -> list[float]:
-        x_stop, x, xd = slip(u[0], u[1])
-        return [x - x_stop, xd]
-    theta, ts = fsolve(eqs, np.asarray(guess, dtype=float), xtol=1e-12)
-    x_stop, _, _ = slip(theta, ts)
-    assert max(abs(e) for e in eqs(np.array([theta, ts]))) < 1e-13
-    assert math.sin(theta) < 0.0 and 0.0 < ts < math.pi / beta
-    tau = np.linspace(0.0, ts, 2001)[1:-1]
-    assert np.all(slip(theta, tau)[2] > 0.0)                     # one way up, then the stop at +X ...
-    phases = np.linspace(theta + beta * ts, theta + math.pi, 2001)
-    assert np.all(np.abs(-x_stop + np.cos(phases)) <= r_s * (1 + 1e-9))   # ... holds half a period
-    dx_dtheta = (v * math.sin(theta) * math.cos(ts) + v * beta * math.cos(theta) * math.sin(ts)
-                 - v * math.sin(beta * ts + theta))
-    return x_stop, -math.cos(ts) + dx_dtheta / math.sin(theta)
-
-
-def stop_oscillator(beta: float, r: float = 0.3, r_s: float = 0.9) -> ss.Model:
-    """Den Hartog's oscillator (cases.gallery_denhartog) with static friction r_s > r."""
-    model = ss.Model()
-    b = model.add_body(1.0)
-    model.add_spring(b, None, k=1.0)
-    model.add_force(b, ss.signal.sine(1.0, beta / (2 * math.pi), math.pi / 2))
-    model.add_contact(b, None, "coulomb", normal_force=r, mu_s=r_s / r, mu_k=1.0)
-    return model
-
-
+# benchmarks/steady_bifurcations.py: `stop_oscillator(beta)`, Den Hartog's oscillator with
+# kinetic friction r = 0.3 P0 and static r_s = 0.9 P0, where Shaw (J. Sound Vib. 108(2),
+# 305-325, 1986, abstract) showed that the symmetric motions with two stops per period can lose
+# stability with pairs of asymmetric motions born there; `stop_motion` gives the stop position
+# and the multiplier of the symmetric motion and of the motion with one stop and one reversal
+# from their maps in closed form, derived there.
 def test_pitchfork_of_the_symmetric_stop_motion_against_its_closed_form() -> None:
     """r = 0.3, r_s = 0.9, continued in beta from 0.3 to 0.48 on the symmetric two-stop motion:
     every point's stop position and nontrivial multiplier equal the closed form's X and g'(X)^2
@@ -738,14 +639,13 @@ def test_pitchfork_of_the_symmetric_stop_motion_against_its_closed_form() -> Non
     closed form's root of g'(X) = -1 (brentq, 1e-14) to 3e-8 (measured 8e-9), stable before
     and unstable after; and beyond it the transient settles on an asymmetric motion (one of
     the pair born there)."""
-    from scipy.optimize import brentq
     br = ss.continuation(stop_oscillator, 0.3, 0.48, step=0.05, max_step=0.1)
     assert br.stop_reason.startswith("reached stop")
     for beta, orb in zip(br.p, br.orbits):
-        x_stop, slope = symmetric_stop_motion(beta, 0.3, 0.9)
+        x_stop, slope = stop_motion(beta, reversal=False)
         assert orb.amplitude[0] == pytest.approx(x_stop, rel=1e-9)
         assert np.sort(np.abs(orb.multipliers)) == pytest.approx([0.0, slope ** 2], abs=1e-9)
-    exact = brentq(lambda b: symmetric_stop_motion(b, 0.3, 0.9)[1] + 1.0, 0.44, 0.47, xtol=1e-14)
+    exact = closed_form_bifurcation(0.44, 0.47, reversal=False)
     assert [(b["kind"], b["located"]) for b in br.bifurcations] == [("branch point", True)]
     bp = br.bifurcations[0]["p"]
     assert bp == pytest.approx(exact, rel=3e-8)
@@ -754,69 +654,20 @@ def test_pitchfork_of_the_symmetric_stop_motion_against_its_closed_form() -> Non
     assert beyond.stable and abs(np.max(beyond.result.x) + np.min(beyond.result.x)) > 1e-2
 
 
-# Beyond the pitchfork (r = 0.3, r_s = 0.9) the asymmetric motions lose their second stop (at
-# beta near 0.55 the mass turns at the top without sticking) and the motion with one stop and
-# one reversal per period period-doubles. Its map is again in closed form: stuck at -X, the mass
-# breaks away at t_b (X + cos(beta t_b) = r_s, sin(beta t_b) < 0), slips up to a reversal at
-# (t_1, x_1), slips down and stops at (t_2, -X'); X -> X' = F(X) is the period's map, the
-# motion its fixed point and the multipliers 0 and F'(X). Each slip from rest at (t0, x0) under
-# x'' + x = cos(beta t) + s (s = -r up, +r down) is x = A cos(t - t0) + B sin(t - t0) + V cos(beta
-# t) + s with A = x0 - V cos(beta t0) - s, B = V beta sin(beta t0), and ends where x' = 0; its
-# end (x_1, t_1) varies with (x0, t0) as dx_1 = cos(d) dx0 + (A + B') sin(d) dt0 and dt_1 =
-# (sin(d) dx0 - (A + B') cos(d) dt0) / a_1, d = t_1 - t0, B' = V beta^2 cos(beta t0), a_1 the
-# acceleration at the end (x' = 0 there, so the end time's variation does not move x_1).
-def _slip_from_rest(beta: float, t0: float, x0: float, s: float) -> tuple[float, float, np.ndarray]:
-    """End time and position of a slip from rest at (t0, x0) and their derivatives in (x0, t0)."""
-    from scipy.optimize import brentq
-    v = 1.0 / (1.0 - beta ** 2)
-    a, b = x0 - v * math.cos(beta * t0) - s, v * beta * math.sin(beta * t0)
-    b1 = v * beta ** 2 * math.cos(beta * t0)
-
-    def vel(t: float) -> float:
-        return -a * math.sin(t - t0) + b * math.cos(t - t0) - v * beta * math.sin(beta * t)
-    grid = t0 + np.arange(1, 4001) * (4 * math.pi / beta) / 4000
-    vals = np.array([vel(t) for t in grid])
-    k = int(np.flatnonzero(np.sign(vals[1:]) != np.sign(vals[:-1]))[0])
-    t1 = brentq(vel, grid[k], grid[k + 1], xtol=1e-15)
-    x1 = a * math.cos(t1 - t0) + b * math.sin(t1 - t0) + v * math.cos(beta * t1) + s
-    acc = -x1 + math.cos(beta * t1) + s
-    c, sn = math.cos(t1 - t0), math.sin(t1 - t0)
-    return t1, x1, np.array([[c, (a + b1) * sn], [sn / acc, -(a + b1) * c / acc]])
-
-
-def one_stop_motion(beta: float, r: float = 0.3, r_s: float = 0.9) -> tuple[float, float]:
-    """The stop position X and F'(X) of the motion with one stop and one reversal per period
-    (see above): X the root of F(X) = X (brentq in [1.2, r_s + 0.99]), with the motion's checks."""
-    from scipy.optimize import brentq
-
-    def period_map(x_stop: float) -> tuple[float, float, tuple[float, float, float, float]]:
-        tb = (2 * math.pi - math.acos(r_s - x_stop)) / beta
-        t1, x1, j1 = _slip_from_rest(beta, tb, -x_stop, -r)
-        t2, x2, j2 = _slip_from_rest(beta, t1, x1, r)
-        d_start = np.array([-1.0, 1.0 / (beta * math.sin(beta * tb))])    # d(x0, t_b) / dX
-        return -x2, float(-(j2 @ j1 @ d_start)[0]), (tb, t1, x1, t2)
-    x_stop = brentq(lambda x: period_map(x)[0] - x, 1.2, r_s + 0.99, xtol=1e-15)
-    _, slope, (tb, t1, x1, t2) = period_map(x_stop)
-    assert abs(-x1 + math.cos(beta * t1)) > r_s                       # a reversal, not a stop, at the top
-    t = np.linspace(t2, tb + 2 * math.pi / beta, 2001)
-    assert np.all(np.abs(x_stop + np.cos(beta * t)) <= r_s * (1 + 1e-9))   # the stop holds till t_b + T
-    return x_stop, slope
-
-
 def test_period_doubling_of_the_one_stop_motion_against_its_closed_form() -> None:
     """r = 0.3, r_s = 0.9, continued in beta from 0.56 to 0.68 on the motion with one stop and
     one reversal: every point's stop position and nontrivial multiplier equal the closed form's
-    X (1e-9) and F'(X) (1e-8: the orbits are found to 1e-9; measured 2e-9), and the one bifurcation is a located period doubling at the closed
-    form's root of F'(X) = -1 (brentq, 1e-14) to 1e-9 (measured 6e-12)."""
-    from scipy.optimize import brentq
+    X (1e-9) and F'(X) (1e-8: the orbits are found to 1e-9; measured 2e-9), and the one
+    bifurcation is a located period doubling at the closed form's root of F'(X) = -1 (brentq,
+    1e-14) to 1e-9 (measured 1e-10)."""
     br = ss.continuation(stop_oscillator, 0.56, 0.68, step=0.05, max_step=0.1)
     assert br.stop_reason.startswith("reached stop")
     for beta, orb in zip(br.p, br.orbits):
-        x_stop, slope = one_stop_motion(beta)
+        x_stop, slope = stop_motion(beta, reversal=True)
         assert sorted(orb.events["kind"]) == ["reversal", "slip", "stick"]
         assert abs(orb.events["x"][orb.events["kind"] == "stick"][0]) == pytest.approx(x_stop, rel=1e-9)
         assert np.sort(orb.multipliers.real) == pytest.approx([slope, 0.0], abs=1e-8)
-    exact = brentq(lambda b: one_stop_motion(b)[1] + 1.0, 0.63, 0.65, xtol=1e-14)
+    exact = closed_form_bifurcation(0.63, 0.65, reversal=True)
     assert [(b["kind"], b["located"]) for b in br.bifurcations] == [("period doubling", True)]
     assert br.bifurcations[0]["p"] == pytest.approx(exact, rel=1e-9)
     assert br.stable[br.p < exact].all() and not br.stable[br.p > exact].any()
