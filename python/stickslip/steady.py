@@ -1,5 +1,5 @@
 """Steady states directly: periodic orbits with their Floquet multipliers, equilibria with their
-eigenvalues, continuation of either in a parameter (folds, period doubling, Neimark-Sacker and
+eigenvalues, continuation of either in a parameter (folds, branch points, period doubling, Neimark-Sacker and
 Hopf points located), and forced-response curves, on a `Model` with any method.
 
 A periodic orbit is found by single shooting: Newton's method on the state at a section,
@@ -1468,8 +1468,9 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
         a graph over p: no folds, and no arclength needed. `guess`, `method`, `tol`,
         `min_step`, `max_step` and `options` do not apply.
     locate_bifurcations : bool, optional
-        True (default): each fold, period doubling and Neimark-Sacker point found between two
-        points is located by regula falsi on its test function (prod(mu - 1), prod(mu + 1)
+        True (default): each fold, branch point, period doubling and Neimark-Sacker point
+        found between two points is located by regula falsi on its test function (prod(mu -
+        1) for the first two, prod(mu + 1)
         over the nontrivial multipliers, the largest complex multiplier's modulus minus 1)
         along the arclength of that step, each trial a corrector solve (about ten per point);
         its "located" is then True. False: interpolated linearly between the two points.
