@@ -1,6 +1,7 @@
 """Steady states directly: periodic orbits with their Floquet multipliers, equilibria with their
-eigenvalues, continuation of either in a parameter (folds, branch points, period doubling, Neimark-Sacker and
-Hopf points located), and forced-response curves, on a `Model` with any method.
+eigenvalues, continuation of either in a parameter (folds, branch points, period doubling,
+Neimark-Sacker and Hopf points located), and forced-response curves, on a `Model` with any
+method.
 
 A periodic orbit is found by single shooting: Newton's method on the state at a section,
 each residual one run of `stickslip.simulate` over a period. When the model is autonomous
