@@ -701,12 +701,14 @@ def test_den_hartog_multipliers_in_closed_form(beta: float) -> None:
     np.testing.assert_allclose(np.sort_complex(orb.multipliers), np.sort_complex(lam ** 2), rtol=0, atol=1e-9)
 
 
-def test_den_hartog_is_marginally_stable_at_half_the_natural_frequency() -> None:
-    """At beta = 1/2 (Csernak, Stepan & Shaw 2007, above) the orbit is one of a family and a
+@pytest.mark.parametrize("n", [1, 2])
+def test_den_hartog_is_marginally_stable_at_half_the_natural_frequency(n: int) -> None:
+    """At beta = 1/(2n) (Csernak, Stepan & Shaw 2007, above) the orbit is one of a family and a
     multiplier is 1: the solver's largest is 1 to 1e-4 (its Newton meets a singular Jacobian
-    there; measured 6e-6), at Den Hartog's amplitude X = 4/3 (friction free there, U = 0). The
-    member of the family it lands on comes to rest for an instant at one turn (a stick event),
-    which collapses the other multiplier to 0."""
-    orb = ss.periodic_orbit(dh.model(0.5, 0.05))
-    assert orb.amplitude[0] == pytest.approx(4.0 / 3.0, rel=1e-9)
+    there; measured 6e-6 and 3e-5), at Den Hartog's amplitude X = 1 / (1 - beta^2) (friction
+    free there, U = 0). The member of the family it lands on comes to rest for an instant at
+    one turn (a stick event), which collapses the other multiplier to 0."""
+    beta = 1.0 / (2 * n)
+    orb = ss.periodic_orbit(dh.model(beta, 0.05))
+    assert orb.amplitude[0] == pytest.approx(1.0 / (1.0 - beta ** 2), rel=1e-9)
     assert np.sort(np.abs(orb.multipliers)) == pytest.approx([0.0, 1.0], abs=1e-4)
