@@ -558,8 +558,9 @@ def test_neimark_sacker_and_period_doubling_from_synthetic_multipliers() -> None
     """The classifier on orbits whose multipliers are set by hand (known truth): a complex pair
     r exp(+-0.7i) with r = 0.9, 0.95, 1.05, 1.1 at p = 0, 1, 2, 3 is a Neimark-Sacker at
     p = 1.5 (|mu| - 1 interpolated), a real pair -0.8, -0.9, -1.1 and 0.5 a period doubling at
-    p = 1.5; `locate`, when given, decides p; 0.8, 0.9, 1.1, 1.2 is a branch point at p = 1.5,
-    or a fold where p turns back at the crossing."""
+    p = 1.5; `locate`, when given, decides p; 0.8, 0.9, 1.1, 1.2 is a branch point where its
+    test function is located at a root, a stability change otherwise, or a fold where p turns
+    back at the crossing."""
     from stickslip.steady import _bifurcations
     base = ss.periodic_orbit(forced_linear(), method="dopri5")
 
@@ -572,13 +573,17 @@ def test_neimark_sacker_and_period_doubling_from_synthetic_multipliers() -> None
     assert [(b["kind"], b["index"], b["located"]) for b in found] == [("Neimark-Sacker", 2, False)]
     assert found[0]["p"] == pytest.approx(1.5, rel=1e-12)
     flip = [with_multipliers([m, 0.5]) for m in (-0.8, -0.9, -1.1, -1.2)]
-    found = _bifurcations(ps, flip, [1.0] * 4, locate=lambda i, g: 1.25)
+    found = _bifurcations(ps, flip, [1.0] * 4, locate=lambda i, g: (1.25, 0.0))
     assert [(b["kind"], b["index"], b["p"], b["located"]) for b in found] == [("period doubling", 2, 1.25, True)]
     # a real multiplier through +1: a branch point where p goes on, a fold where p turns back
     plus = [with_multipliers([m, 0.5]) for m in (0.8, 0.9, 1.1, 1.2)]
-    found = _bifurcations(ps, plus, [1.0] * 4)
-    assert [(b["kind"], b["index"], b["located"]) for b in found] == [("branch point", 2, False)]
-    assert found[0]["p"] == pytest.approx(1.5, rel=1e-12)
+    found = _bifurcations(ps, plus, [1.0] * 4, locate=lambda i, g: (1.4, 1e-9))
+    assert [(b["kind"], b["index"], b["p"], b["located"]) for b in found] == [("branch point", 2, 1.4, True)]
+    # ... unless prod(mu - 1) only jumps across 0 there (not located, not near 0 where located,
+    # or far from where the points predict it): a multiplier jumping across, a stability change
+    for locate in (None, lambda i, g: (1.4, 0.03), lambda i, g: (1.9, 1e-9)):
+        found = _bifurcations(ps, plus, [1.0] * 4, locate=locate)
+        assert [(b["kind"], b["index"], b["located"]) for b in found] == [("stability change", 2, False)]
     found = _bifurcations([0.0, 1.0, 2.0, 1.0], plus, [1.0, 1.0, 1.0, -1.0])
     assert [(b["kind"], b["index"]) for b in found] == [("fold", 2)]
 

@@ -1256,7 +1256,10 @@ class Branch:
         the equilibrium it is born from; "branch point": a real multiplier passes +1 (prod(mu -
         1) changes sign) where p goes on and the events per period stay the same, another
         branch crossing this one (a pitchfork: e.g. a symmetric orbit giving birth to a pair
-        of asymmetric ones); "period doubling": a real multiplier passes -1
+        of asymmetric ones), reported only where `locate_bifurcations` finds a smooth root of
+        prod(mu - 1) (within 1e-3 of its values at the points, and within a quarter of the
+        step of the linear interpolation's root; otherwise a "stability change", the
+        multiplier jumping across +1); "period doubling": a real multiplier passes -1
         (prod(mu + 1) changes sign); "Neimark-Sacker": a complex pair leaves or enters the
         unit circle; "stability change": stability flips otherwise, e.g. a multiplier jumps
         across the circle at a nonsmooth point; "events": the number or kind of events per
@@ -1361,16 +1364,22 @@ def _test_torus(o: Orbit) -> float:
 
 
 def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float],
-                  locate: Callable[[int, Callable[[Orbit], float]], float | None] | None = None
+                  locate: Callable[[int, Callable[[Orbit], float]], tuple[float, float] | None] | None = None
                   ) -> list[dict[str, Any]]:
     """The bifurcations between the branch's points; `locate(i, g)`, when given, returns the
-    p where the test function g(orbit) vanishes between points i - 1 and i (None if it cannot)."""
-    def where(i: int, g: Callable[[Orbit], float]) -> tuple[float, bool]:
+    p where the test function g(orbit) vanishes between points i - 1 and i and g's value at
+    the orbit found there (None if it cannot)."""
+    def where(i: int, g: Callable[[Orbit], float], smooth: bool = False) -> tuple[float, bool]:
+        """p and whether it was located; with `smooth`, located only at a root of g that is
+        smooth over the step: g there within 1e-3 of its values at the two points, and p within
+        a quarter of the step of the linear interpolation's root (not a jump of g across 0)."""
         ga, gb = g(orbits[i - 1]), g(orbits[i])
-        p = locate(i, g) if locate is not None else None
-        if p is not None:
-            return p, True
-        return ps[i - 1] + ga / (ga - gb) * (ps[i] - ps[i - 1]), False
+        linear = ps[i - 1] + ga / (ga - gb) * (ps[i] - ps[i - 1])
+        found = locate(i, g) if locate is not None else None
+        if found is not None and (not smooth or (abs(found[1]) <= 1e-3 * max(abs(ga), abs(gb)) and
+                                                 abs(found[0] - linear) <= 0.25 * abs(ps[i] - ps[i - 1]))):
+            return found[0], True
+        return linear, False
 
     def flips(i: int, g: Callable[[Orbit], float]) -> bool:
         ga, gb = g(orbits[i - 1]), g(orbits[i])
@@ -1400,9 +1409,13 @@ def _bifurcations(ps: list[float], orbits: list[Orbit], dps: list[float],
         if flips(i, _test_plus_one) and i not in folded and not turning and _signature(a) == _signature(b):
             # a real multiplier through +1 where p goes on: another branch crosses this one
             # (a pitchfork, e.g. where a symmetric orbit gives birth to a pair of asymmetric ones)
-            p, ok = where(i, _test_plus_one)
-            out.append({"kind": "branch point", "index": i, "p": p, "located": ok})
-            explained = True
+            # where prod(mu - 1) has a smooth root; where it jumps across 0 (a multiplier jumping
+            # across the circle at a nonsmooth point, or at a steep regularisation of one), a
+            # stability change below
+            p, ok = where(i, _test_plus_one, smooth=True)
+            if ok:
+                out.append({"kind": "branch point", "index": i, "p": p, "located": ok})
+                explained = True
         if flips(i, _test_minus_one):
             p, ok = where(i, _test_minus_one)
             out.append({"kind": "period doubling", "index": i, "p": p, "located": ok})
@@ -1588,11 +1601,12 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
         ds = min(ds_max, ds * 1.5) if its <= 3 else max(ds_min, ds * 0.7) if its > 6 else ds
     bar.close()
 
-    def locate(i: int, g: Callable[[Orbit], float]) -> float | None:
-        """p where g vanishes between points i - 1 and i: regula falsi on the arclength s of
-        the step that reached point i, each trial the corrector's orbit at s (to 1e-9 of the
-        step; for the landing on stop, on p between the two points); None where a trial fails."""
-        found: dict[float, float] = {}
+    def locate(i: int, g: Callable[[Orbit], float]) -> tuple[float, float] | None:
+        """p where g vanishes between points i - 1 and i, and g there: regula falsi on the
+        arclength s of the step that reached point i, each trial the corrector's orbit at s (to
+        1e-9 of the step; for the landing on stop, on p between the two points); None where a
+        trial fails."""
+        found: dict[float, tuple[float, float]] = {}
         if steps[i] is None:            # the landing on stop: natural parameter between the two points
             a, b = orbits[i - 1], orbits[i]
 
@@ -1600,9 +1614,12 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
                 frac = (p - ps[i - 1]) / (ps[i] - ps[i - 1])
                 y = a.y0 + frac * (b.y0 - a.y0)
                 start = np.append(y, a.period + frac * (b.period - a.period)) if autonomous else y
-                return g(periodic_orbit(build(p), guess=start, method=method, tol=tol, n_out=n_out, **options))
+                found[p] = (p, g(periodic_orbit(build(p), guess=start, method=method, tol=tol, n_out=n_out,
+                                                **options)))
+                return found[p][1]
             try:
-                return _root(g_p, ps[i - 1], ps[i], g(a), g(b), 1e-9 * abs(ps[i] - ps[i - 1]), max_iter=30)
+                p = _root(g_p, ps[i - 1], ps[i], g(a), g(b), 1e-9 * abs(ps[i] - ps[i - 1]), max_iter=30)
+                return p, g_p(p)
             except (SteadyStateError, ValueError, RuntimeError, ZeroDivisionError):
                 return None
         u0, tan, ds_i = steps[i]
@@ -1610,8 +1627,8 @@ def continuation(build: Callable[[float], Model], start: float, stop: float, gue
         def g_at(s: float) -> float:
             o, w, _ = _corrector(build, u0 + s * tan, tan, scale, autonomous, method, tol, n_out, options,
                                  orbits[i - 1], phase)
-            found[s] = float(w[-1] * scale[-1])
-            return g(o)
+            found[s] = (float(w[-1] * scale[-1]), g(o))
+            return found[s][1]
         try:
             s = _root(g_at, 0.0, ds_i, g(orbits[i - 1]), g(orbits[i]), 1e-9 * ds_i, max_iter=30)
             g_at(s)
