@@ -1,7 +1,8 @@
 """The library's periodic-orbit solver (fortran/api/stickslip_orbit.f90) through its C entry
 points (ss_periodic_orbit, ss_model_periodic_orbit): tests/c/capi_orbit_cases.c finds the
-belt's stick-slip cycle, Den Hartog's forced orbit, a smooth forced oscillator's orbit and a
-linear three-body chain's, and feeds it bad input; here they are checked against the closed
+belt's stick-slip cycle, Den Hartog's forced orbit, a smooth forced oscillator's orbit (the
+last two also with the section at t0 > 0) and a linear three-body chain's, and feeds it bad
+input; here they are checked against the closed
 form of the belt's cycle, stickslip.periodic_orbit's saltation route, scipy's variational
 equations and the matrix exponential, and the multipliers against numpy's eigenvalues of the
 printed monodromy (the Hessenberg QR of stickslip_linalg)."""
