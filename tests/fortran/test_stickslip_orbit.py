@@ -79,23 +79,25 @@ def test_den_hartog_matches_periodic_orbit(cases) -> None:
     assert o["trivial"] == -1 and o["stable"] == ref.stable
 
 
-@pytest.mark.parametrize("name,t0,method", [("den_hartog_t0", 0.7, "event_driven"), ("smooth_t0", 1.3, "dopri5")])
-def test_section_at_t0_against_periodic_orbit_of_the_shifted_model(cases, name: str, t0: float,
-                                                                   method: str) -> None:
+@pytest.mark.parametrize("name,t0,method,atol", [("den_hartog_t0", 0.7, "event_driven", 1e-8),
+                                                 ("smooth_t0", 1.3, "dopri5", 5e-8)])
+def test_section_at_t0_against_periodic_orbit_of_the_shifted_model(cases, name: str, t0: float, method: str,
+                                                                   atol: float) -> None:
     """ss_orbit_options.t0: the C solver's state with the section at t0 equals
     stickslip.periodic_orbit's at t = 0 on the model whose signals are advanced by t0
-    (steady._shifted: s(t + t0)), and the state the t = 0 orbit reaches at t0; the multipliers
-    do not depend on the section."""
+    (steady._shifted: s(t + t0)), and the state the t = 0 orbit reaches at t0, to `atol`
+    (both orbits are found to a residual of 1e-9 max(1, |guess|); measured 2e-14 and 8e-9);
+    the multipliers do not depend on the section."""
     from stickslip import steady
     o = cases["orbits"][name]
     base = dh.model(2.0, 0.3) if name == "den_hartog_t0" else _smooth_model()
     ref = ss.periodic_orbit(steady._shifted(base, t0), method=method)
     assert o["status"] == 0 and o["trivial"] == -1
-    np.testing.assert_allclose(o["y0"], ref.y0, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(o["y0"], ref.y0, rtol=0, atol=atol)
     at_zero = ss.periodic_orbit(base, method=method)
     later = ss.simulate(steady._with_state(base, at_zero.y0), method=method, t_end=t0, n_out=2, rtol=1e-12,
                         atol=1e-14)
-    np.testing.assert_allclose(o["y0"], [later.x[0, -1], later.v[0, -1]], rtol=0, atol=1e-8)
+    np.testing.assert_allclose(o["y0"], [later.x[0, -1], later.v[0, -1]], rtol=0, atol=atol)
     np.testing.assert_allclose(np.sort_complex(o["mult"]), np.sort_complex(at_zero.multipliers), rtol=0, atol=3e-5)
     assert np.max(np.abs(o["y0"] - at_zero.y0)) > 0.1        # the section did move
 
