@@ -517,7 +517,8 @@ def test_equilibrium_refusals_are_named() -> None:
 # Dynamics 23, and Leine & van Campen 2002, Math. Comput. Modelling 36, give theirs only in
 # figures), so each value is checked against its own computation with scipy there: shooting on
 # solve_ivp (DOP853, rtol 1e-12) with the variational equations of the law written out, and a
-# bracketing root (brentq).
+# bracketing root (brentq). A period doubling and a pitchfork of a system whose bifurcations
+# are published (Shaw 1986) are checked against closed forms further below.
 
 
 def test_period_doublings_against_scipy_shooting() -> None:
