@@ -697,6 +697,18 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
     return result
 
 
+def simulate_rows(args: Mapping[str, Any]) -> BatchResult:
+    """The local batch of a sweep's arguments (what `stickslip.simulate_batch` and each chunk of
+    `stickslip.distributed` run): a model's rows when args has "model" (a Model or its dict,
+    Model.to_dict, with "overrides": `simulate_model_batch`), else a scene's (`simulate_batch`)."""
+    if "model" not in args:
+        return simulate_batch(**args)
+    from .model import Model
+    rest = {k: v for k, v in args.items() if k != "model"}
+    model = args["model"]
+    return simulate_model_batch(model if isinstance(model, Model) else Model.from_dict(model), **rest)
+
+
 @dataclass
 class _Row:
     """A model row's run as the consistency check (stickslip.energy.check_result) reads it."""
@@ -710,5 +722,5 @@ class _Row:
     scene: str = "model"
 
 
-__all__ = ["BatchResult", "simulate_batch", "simulate_model_batch", "parse_override", "OVERRIDE_FIELDS",
+__all__ = ["BatchResult", "simulate_batch", "simulate_model_batch", "simulate_rows", "parse_override", "OVERRIDE_FIELDS",
            "MAX_GRID_VALUES", "MAX_BATCH_VALUES", "CHATTER_FRACTION"]
