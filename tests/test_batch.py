@@ -206,3 +206,21 @@ def test_model_rows_in_chunks_equal_one_call(monkeypatch: pytest.MonkeyPatch) ->
         m_i.springs[0] = (0, None, k, 0.0)
         r = stickslip.simulate(m_i, t_end=2.0, n_out=41, method="event_driven", rtol=1e-10, atol=1e-12)
         assert np.array_equal(one.x[i], r.x) and one.nevents[i] == r.stats["nevents"]
+
+
+def test_a_bad_model_row_stops_the_batch_before_any_row_runs() -> None:
+    """The Fortran model batch builds every row's model before running any: a row whose model
+    the library refuses (a mass of -1 kg, past the Python checks) names its element (body 1,
+    kind 1 = ELEM_BODY) and no row runs (no steps anywhere)."""
+    from stickslip import batch
+    from stickslip.core import status_message
+    m = _brake()
+    rows = [dict(arrays=m.arrays(), y0=np.array([0.0, 10.0]), ctl={"h": 1e-3, "max_steps": 1e8},
+                 rtol=np.array([1.0]), atol=np.array([1.0]), room=0) for _ in range(3)]
+    rows[1]["arrays"] = dict(rows[1]["arrays"], bodies=np.asfortranarray([[-1.0], [0.0], [10.0]]))
+    istats, _, _, _, elem, status, _ = batch._run_model_rows(
+        rows, np.array(["rk4"] * 3), np.full(3, 1.0), 11, 2, np.zeros(1, dtype=np.int32))
+    row_status = istats[batch._BATCH_INT.index("status")]
+    assert int(status) == 0 and row_status[0] == 0 and row_status[2] == 0
+    assert "mass" in status_message(int(row_status[1])) and elem[:, 1].tolist() == [1, 1]
+    assert istats[batch._BATCH_INT.index("nstep")].tolist() == [0, 0, 0]

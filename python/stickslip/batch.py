@@ -12,7 +12,6 @@ Units are SI: m, s, kg, m/s; angles in degrees.
 """
 from __future__ import annotations
 
-import copy
 import re
 import warnings
 from dataclasses import dataclass, field
@@ -471,12 +470,15 @@ def parse_override(model: Any, address: str) -> tuple[str, int, str]:
 
 
 def _overridden(base: dict[str, Any], targets: list[tuple[str, int, str]], values: list[float]) -> dict[str, Any]:
-    """The model's dict (Model.to_dict) with the fields of `targets` set to `values`."""
-    data = copy.deepcopy(base)
+    """The model's dict (Model.to_dict) with the fields of `targets` set to `values`: the
+    entries overridden copied, the rest shared with `base` (which is not changed)."""
+    data = dict(base)
     for (kind, index, name), value in zip(targets, values):
-        entry = data[kind][index]
+        if data[kind] is base[kind]:
+            data[kind] = list(base[kind])
+        entry = data[kind][index] = dict(data[kind][index])
         if kind == "contact" and name not in OVERRIDE_FIELDS["contact"]:
-            entry.setdefault("params", {})[name] = value
+            entry["params"] = {**entry.get("params", {}), name: value}
         else:
             entry[name] = value
     return data
@@ -540,9 +542,11 @@ def _initial_state(model: Any, arrays: Mapping[str, Any]) -> np.ndarray:
 
 
 def _run_model_rows(prep: list[dict[str, Any]], method: np.ndarray, t_end: np.ndarray, n_grid: int,
-                    keep: bool, threads: int, stop: np.ndarray) -> tuple[Any, ...]:
+                    threads: int, stop: np.ndarray) -> tuple[Any, ...]:
     """One call of the Fortran model batch (run_model_batch) on the rows `prep`: their arrays
-    concatenated with their offsets, controls by name (NaN where a row has none)."""
+    concatenated with their offsets, controls by name (NaN where a row has none). Returns its
+    outputs (istats, rstats, yend, y_grid: always kept, for the check; elem, status) and the
+    rows' event buffer."""
     n = len(prep)
     offsets = np.ones((len(_MODEL_ARRAYS), n + 1), dtype=np.int32, order="F")
     cat = {}
@@ -643,7 +647,7 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
     for start in range(0, n, chunk):
         part = slice(start, min(n, start + chunk))
         istats, rstats, yend, grid, elem, call_status, events = interruptible(lambda stop: _run_model_rows(
-            prep[part], rows["method"][part], rows["t_end"][part], int(n_grid), True, threads, stop))
+            prep[part], rows["method"][part], rows["t_end"][part], int(n_grid), threads, stop))
         if int(call_status) != STATUS_OK:
             raise ValueError(status_message(int(call_status)))
         bad = np.flatnonzero(istats[_BATCH_INT.index("status")] <= first_input)
