@@ -727,4 +727,4 @@ class _Row:
 
 
 __all__ = ["BatchResult", "simulate_batch", "simulate_model_batch", "simulate_rows", "parse_override", "OVERRIDE_FIELDS",
-           "MAX_GRID_VALUES", "MAX_BATCH_VALUES", "CHATTER_FRACTION"]
+           "MAX_GRID_VALUES", "MAX_BATCH_VALUES", "MODEL_CHUNK_VALUES", "CHATTER_FRACTION"]
