@@ -1,6 +1,8 @@
-!> Many simulations in one call: a loop of `stickslip_simulate::simulate` over parameter
-!! sets, in parallel with OpenMP (the thread count is an argument), each set reduced to a
-!! compact summary so that memory stays bounded whatever the number of steps.
+!> Many simulations in one call: a loop over parameter sets, in parallel with OpenMP (the
+!! thread count is an argument), each set a scene's (`stickslip_simulate::simulate`,
+!! `simulate_batch`) or a user's model (`stickslip_user_model`, `simulate_model_batch`), run
+!! and reduced to a compact summary by the same loop, so that memory stays bounded whatever
+!! the number of steps.
 !!
 !! Every set runs on a uniform monitor grid of n_grid times on [0, t_end] (grid mode of
 !! the integrators: dense/Hermite output, no every-step storage). The summary holds the
@@ -14,7 +16,8 @@
 !! a single `simulate` call on that grid bit for bit.
 !!
 !! Thread safety: `simulate` keeps its right-hand side in a local allocatable, and the core
-!! has no mutable module variables, so sets share nothing but their read-only inputs.
+!! has no mutable module variables, so sets share nothing but their read-only inputs; a
+!! model row builds its own system from its own `stickslip_model` (one per set).
 module stickslip_batch
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_DIM, SS_BAD_N_OUT
     use stickslip_params, only: NAME_LEN
