@@ -224,3 +224,23 @@ def test_a_bad_model_row_stops_the_batch_before_any_row_runs() -> None:
     assert int(status) == 0 and row_status[0] == 0 and row_status[2] == 0
     assert "mass" in status_message(int(row_status[1])) and elem[:, 1].tolist() == [1, 1]
     assert istats[batch._BATCH_INT.index("nstep")].tolist() == [0, 0, 0]
+
+
+def test_model_rows_on_a_one_point_grid() -> None:
+    """n_grid = 1 (t_end alone, nothing for the consistency check to compare) on a model without
+    contacts: each row's final state is its single run's, which the closed form of the damped
+    oscillator confirms."""
+    m = stickslip.Model()
+    a = m.add_body(1.0, v0=1.0)
+    m.add_spring(a, None, 10.0)
+    m.add_damper(a, None, 0.5)
+    b = stickslip.simulate_batch(m, {"body 0.v0": [1.0, 2.0]}, method="dopri5", t_end=1.0, n_grid=1,
+                                 rtol=1e-10, atol=1e-12)
+    assert b.status.tolist() == [0, 0] and b.notes == [] and b.law.tolist() == ["", ""]
+    wd = np.sqrt(10.0 - 0.25 ** 2)
+    for i, v0 in enumerate([1.0, 2.0]):
+        r = stickslip.simulate(m if i == 0 else stickslip.Model.from_dict(
+            {**m.to_dict(), "body": [dict(m.to_dict()["body"][0], v0=v0)]}), method="dopri5", t_end=1.0, n_out=1,
+            rtol=1e-10, atol=1e-12)
+        assert b.x_end[i] == r.x[0, -1] and b.v_end[i] == r.v[0, -1]
+        assert b.x_end[i] == pytest.approx(v0 / wd * np.exp(-0.25) * np.sin(wd), abs=1e-8)

@@ -674,7 +674,7 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
             if status[i] != STATUS_OK:
                 continue
             t_i = np.linspace(0.0, rows["t_end"][i], int(n_grid)) if n_grid > 1 else rows["t_end"][i:i + 1]
-            run = _Row(t=t_i, x=y_i[:nb], v=y_i[nb:2 * nb], law=laws, stats={"nstep": int(st["nstep"])},
+            run = _Row(t=t_i, x=y_i[:nb], v=y_i[nb:2 * nb], law=laws, stats={"nstep": int(st["nstep"]), "notes": []},
                        events=_events(events[:, :, j], int(st["nevents"])) if prep[i]["room"] else None)
             p = prep[i]
             check_result(run, str(rows["method"][i]), {**p["ctl"], "rtol": p["rtol"], "atol": p["atol"]},
