@@ -678,7 +678,7 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
                        events=_events(events[:, :, j], int(st["nevents"])) if prep[i]["room"] else None)
             p = prep[i]
             check_result(run, str(rows["method"][i]), {**p["ctl"], "rtol": p["rtol"], "atol": p["atol"]},
-                         p["model"], p["arrays"], stacklevel=3)
+                         p["model"], p["arrays"], stacklevel=4)
             notes[i] = p["notes"] + run.stats["notes"]
     fields["stiff"] = fields["stiff"].astype(bool)
     fields["chattered"] = fields["n_rev_tail"] >= CHATTER_FRACTION * (int(n_grid) - 1) / 2
