@@ -129,3 +129,118 @@ def test_chain_bad_input_raises_value_error(kwargs: dict, match: str) -> None:
     kw = dict(method="moreau", h=1e-3, t_end=1.0) | kwargs
     with pytest.raises(ValueError, match=match):
         stickslip.simulate_batch("chain", "coulomb", **kw)
+
+
+# -- rows of a model: the same Fortran batch ------------------------------------------------------
+def _brake() -> stickslip.Model:
+    """A 50 kg brake at 10 m/s whose normal force ramps to 1000 N over 0.5 s (coulomb, mu 0.4):
+    under RK4 at h = 1e-3 .. 1e-2 s its x leaves the integral of v (tests/test_energy_consistency.py)."""
+    m = stickslip.Model()
+    b = m.add_body(50.0, v0=10.0, name="brake")
+    m.add_contact(b, None, "coulomb", stickslip.signal.ramp(0.0, 0.5, 1000.0), mu_s=0.4, mu_k=0.4)
+    return m
+
+
+def test_model_rows_of_a_scene_equal_the_scene_rows() -> None:
+    """The slope as a model (Model.from_scene) in the model batch is the scene batch's system
+    run by the same loop: every grid value and every field but the wall clock equal, bit for bit
+    (its relative velocity is the body's velocity, which a model row monitors)."""
+    v0 = [0.5, 1.0, 2.0]
+    for law, method, ctl in (("stribeck", "dopri5", dict(rtol=1e-8, atol=1e-10)), ("recurdyn", "rk4", dict(h=1e-3))):
+        scene = stickslip.simulate_batch("slope", law, method=method, t_end=3.0, n_grid=101, keep_grid=True,
+                                         v0=v0, threads=2, **ctl)
+        model = stickslip.simulate_batch(stickslip.Model.from_scene("slope", law), {"body 0.v0": v0},
+                                         method=method, t_end=3.0, n_grid=101, keep_grid=True, threads=2, **ctl)
+        assert np.array_equal(scene.y_grid, model.y_grid) and np.array_equal(scene.y_end, model.y_end)
+        for k in scene.fields:
+            if k != "seconds":
+                assert np.array_equal(scene.fields[k], model.fields[k]), (law, method, k)
+
+
+def _notes_by_rows(notes: list[str]) -> list[tuple[set[int], str]]:
+    """A batch's notes ("rows 0, 2 (2 of 3): sentence") as (the rows, the sentence)."""
+    out = []
+    for n in notes:
+        head, sentence = n.split(": ", 1)
+        out.append(({int(k) for k in head.split("(")[0].replace("rows", "").replace("row", "").split(",")}, sentence))
+    return out
+
+
+def test_model_rows_are_checked_as_single_runs() -> None:
+    """Each model row that reached t_end gets simulate's consistency check: the sentences its
+    single run puts in stats["notes"] are the batch's notes for that row (the brake under RK4
+    at two steps, and a step that leaves it consistent)."""
+    hs = [1e-2, 1e-3, 1e-4]
+    with pytest.warns(UserWarning):
+        b = stickslip.simulate_batch(_brake(), {}, method="rk4", t_end=5.0, n_grid=1001, h=hs)
+    assert b.status.tolist() == [0, 0, 0]
+    for i, h in enumerate(hs):
+        with pytest.warns(UserWarning):
+            r = stickslip.simulate(_brake(), method="rk4", t_end=5.0, n_out=1001, h=h)
+        mine = {note for rows, note in _notes_by_rows(b.notes) if i in rows}
+        assert mine == set(r.stats["notes"]), (h, mine, r.stats["notes"])
+        assert b.x_end[i] == r.x[0, -1] and b.v_end[i] == r.v[0, -1]
+    assert any("integral of v" in n for n in b.notes)
+
+
+def test_model_rows_in_chunks_equal_one_call(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Rows run in chunks of MODEL_CHUNK_VALUES grid and event values (event_driven's events kept
+    for the check): one row per chunk gives the rows and notes of one call, bit for bit."""
+    from stickslip import batch
+    m = stickslip.Model()
+    a = m.add_body(1.0, v0=0.5)
+    m.add_spring(a, None, 50.0)
+    m.add_contact(a, None, "coulomb", 9.81, surface_velocity=0.3, mu_s=0.4, mu_k=0.3)
+    kw = dict(method="event_driven", t_end=2.0, n_grid=41, keep_grid=True, rtol=1e-10, atol=1e-12)
+    rows = {"spring 0.k": [20.0, 50.0, 200.0, 400.0]}
+    one = batch.simulate_model_batch(m, rows, threads=2, **kw)
+    monkeypatch.setattr(batch, "MODEL_CHUNK_VALUES", 1)
+    chunked = batch.simulate_model_batch(m, rows, threads=2, **kw)
+    assert np.array_equal(one.y_grid, chunked.y_grid) and one.notes == chunked.notes
+    for k in one.fields:
+        if k != "seconds":
+            assert np.array_equal(one.fields[k], chunked.fields[k]), k
+    assert one.nevents.min() > 0
+    for i, k in enumerate(rows["spring 0.k"]):
+        m_i = stickslip.Model.from_dict(m.to_dict())
+        m_i.springs[0] = (0, None, k, 0.0)
+        r = stickslip.simulate(m_i, t_end=2.0, n_out=41, method="event_driven", rtol=1e-10, atol=1e-12)
+        assert np.array_equal(one.x[i], r.x) and one.nevents[i] == r.stats["nevents"]
+
+
+def test_a_bad_model_row_stops_the_batch_before_any_row_runs() -> None:
+    """The Fortran model batch builds every row's model before running any: a row whose model
+    the library refuses (a mass of -1 kg, past the Python checks) names its element (body 1,
+    kind 1 = ELEM_BODY) and no row runs (no steps anywhere)."""
+    from stickslip import batch
+    from stickslip.core import status_message
+    m = _brake()
+    rows = [dict(arrays=m.arrays(), y0=np.array([0.0, 10.0]), ctl={"h": 1e-3, "max_steps": 1e8},
+                 rtol=np.array([1.0]), atol=np.array([1.0]), room=0) for _ in range(3)]
+    rows[1]["arrays"] = dict(rows[1]["arrays"], bodies=np.asfortranarray([[-1.0], [0.0], [10.0]]))
+    istats, _, _, _, elem, status, _ = batch._run_model_rows(
+        rows, np.array(["rk4"] * 3), np.full(3, 1.0), 11, 2, np.zeros(1, dtype=np.int32))
+    row_status = istats[batch._BATCH_INT.index("status")]
+    assert int(status) == 0 and row_status[0] == 0 and row_status[2] == 0
+    assert "mass" in status_message(int(row_status[1])) and elem[:, 1].tolist() == [1, 1]
+    assert istats[batch._BATCH_INT.index("nstep")].tolist() == [0, 0, 0]
+
+
+def test_model_rows_on_a_one_point_grid() -> None:
+    """n_grid = 1 (t_end alone, nothing for the consistency check to compare) on a model without
+    contacts: each row's final state is its single run's, which the closed form of the damped
+    oscillator confirms."""
+    m = stickslip.Model()
+    a = m.add_body(1.0, v0=1.0)
+    m.add_spring(a, None, 10.0)
+    m.add_damper(a, None, 0.5)
+    b = stickslip.simulate_batch(m, {"body 0.v0": [1.0, 2.0]}, method="dopri5", t_end=1.0, n_grid=1,
+                                 rtol=1e-10, atol=1e-12)
+    assert b.status.tolist() == [0, 0] and b.notes == [] and b.law.tolist() == ["", ""]
+    wd = np.sqrt(10.0 - 0.25 ** 2)
+    for i, v0 in enumerate([1.0, 2.0]):
+        r = stickslip.simulate(m if i == 0 else stickslip.Model.from_dict(
+            {**m.to_dict(), "body": [dict(m.to_dict()["body"][0], v0=v0)]}), method="dopri5", t_end=1.0, n_out=1,
+            rtol=1e-10, atol=1e-12)
+        assert b.x_end[i] == r.x[0, -1] and b.v_end[i] == r.v[0, -1]
+        assert b.x_end[i] == pytest.approx(v0 / wd * np.exp(-0.25) * np.sin(wd), abs=1e-8)

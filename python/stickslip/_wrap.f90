@@ -189,8 +189,8 @@ subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y
                      ckeys, nc, cvals, n_grid, nkeep, threads, ni, istats, nr, rstats, yend, y_grid, &
                      stop, status)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
-    use stickslip_kinds, only: SS_OK, SS_BAD_DIM
-    use stickslip_batch, only: batch_summary, simulate_batch, batch_integers, batch_reals
+    use stickslip_kinds, only: SS_OK
+    use stickslip_batch, only: batch_summary, simulate_batch, batch_tables
     use stickslip_registry, only: split_names
     use stickslip_wrap_interrupt, only: arm, disarm
     implicit none
@@ -213,7 +213,6 @@ subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y
     integer(c_int), intent(out) :: status
     !f2py threadsafe
     type(batch_summary), allocatable :: s(:)
-    integer :: i
     integer, pointer :: flag
     logical :: armed
     flag => stop(1)
@@ -233,16 +232,114 @@ subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y
     end if
     call disarm(armed)
     if (status /= SS_OK) return
-    if (ni /= size(batch_integers(s(1))) .or. nr /= size(batch_reals(s(1)))) then
-        status = SS_BAD_DIM
-        return
-    end if
-    do i = 1, nset
-        istats(:, i) = real(batch_integers(s(i)), c_double)   ! exact below 2^53
-        rstats(:, i) = batch_reals(s(i))
-        yend(:, i) = s(i)%y_end
-    end do
+    call batch_tables(s, istats, rstats, yend, status)
 end subroutine run_batch
+
+!> Simulate nset models (stickslip_batch's simulate_model_batch), OpenMP over the sets, each
+!! given as run_model's arrays, those of every set concatenated: set i's columns of bodies,
+!! springs, dampers, forces, contacts, its entries of con_ptr (from 1 for its own parameters),
+!! of the parameter names pkeys (space-separated) and values pvals, its columns of signals,
+!! its entries of sig_start (from 1 for its own operations), its columns of tables and drives
+!! start at offsets(k, i) for k = 1 .. 11 in that order and end before offsets(k, i + 1).
+!! method(i): method code; nstate, y0, t_end, rtol, atol, ckeys, cvals, n_grid, nkeep, threads
+!! and the outputs as run_batch's; events(:, :, i): set i's stick/slip events under event_driven
+!! (as run_model's, room nev each; 0: none kept); elem(:, i): a set's bad element (kind, index from 1; 0: none),
+!! when its status (istats) is a bad-input code, and then no set ran.
+subroutine run_model_batch(nset, method, bodies, nbt, springs, nst, dampers, ndt, forces, nft, contacts, nct, &
+                           con_ptr, ncpt, pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
+                           offsets, nstate, nmax, y0, t_end, rtol, atol, ckeys, nc, cvals, n_grid, nkeep, threads, &
+                           events, nev, ni, istats, nr, rstats, yend, y_grid, elem, stop, status)
+    use, intrinsic :: iso_c_binding, only: c_int, c_double
+    use stickslip_kinds, only: SS_OK, SS_BAD_DIM
+    use stickslip_params, only: NAME_LEN
+    use stickslip_batch, only: batch_summary, simulate_model_batch, batch_tables
+    use stickslip_registry, only: split_names
+    use stickslip_user_model, only: stickslip_model, model_from_arrays
+    use stickslip_wrap_interrupt, only: arm, disarm
+    implicit none
+    integer(c_int), intent(in) :: nset, nbt, nst, ndt, nft, nct, ncpt, npv, nop, nss, ntab, ndr, nmax, nc
+    integer(c_int), intent(in) :: n_grid, nkeep, threads, ni, nr, nev
+    integer(c_int), intent(in) :: method(nset), nstate(nset)
+    !f2py integer intent(hide), depend(method) :: nset = len(method)
+    real(c_double), intent(in) :: bodies(3, nbt)
+    !f2py integer intent(hide), depend(bodies) :: nbt = shape(bodies, 1)
+    real(c_double), intent(in) :: springs(4, nst)
+    !f2py integer intent(hide), depend(springs) :: nst = shape(springs, 1)
+    real(c_double), intent(in) :: dampers(3, ndt)
+    !f2py integer intent(hide), depend(dampers) :: ndt = shape(dampers, 1)
+    real(c_double), intent(in) :: forces(2, nft)
+    !f2py integer intent(hide), depend(forces) :: nft = shape(forces, 1)
+    real(c_double), intent(in) :: contacts(5, nct)
+    !f2py integer intent(hide), depend(contacts) :: nct = shape(contacts, 1)
+    integer(c_int), intent(in) :: con_ptr(ncpt)
+    !f2py integer intent(hide), depend(con_ptr) :: ncpt = len(con_ptr)
+    character(len=*), intent(in) :: pkeys, ckeys
+    real(c_double), intent(in) :: pvals(npv)
+    !f2py integer intent(hide), depend(pvals) :: npv = len(pvals)
+    real(c_double), intent(in) :: signals(5, nop)
+    !f2py integer intent(hide), depend(signals) :: nop = shape(signals, 1)
+    integer(c_int), intent(in) :: sig_start(nss)
+    !f2py integer intent(hide), depend(sig_start) :: nss = len(sig_start)
+    real(c_double), intent(in) :: tables(2, ntab)
+    !f2py integer intent(hide), depend(tables) :: ntab = shape(tables, 1)
+    real(c_double), intent(in) :: drives(3, ndr)
+    !f2py integer intent(hide), depend(drives) :: ndr = shape(drives, 1)
+    integer(c_int), intent(in) :: offsets(11, nset + 1)
+    real(c_double), intent(in) :: y0(nmax, nset)
+    !f2py integer intent(hide), depend(y0) :: nmax = shape(y0, 0)
+    real(c_double), intent(in) :: t_end(nset), rtol(nset), atol(nset)
+    real(c_double), intent(in) :: cvals(nc, nset)
+    !f2py integer intent(hide), depend(cvals) :: nc = shape(cvals, 0)
+    real(c_double), intent(inout) :: events(4, nev, nset)
+    !f2py integer intent(hide), depend(events) :: nev = shape(events, 1)
+    real(c_double), intent(out) :: istats(ni, nset)
+    real(c_double), intent(out) :: rstats(nr, nset)
+    real(c_double), intent(out) :: yend(nmax, nset)
+    real(c_double), intent(out) :: y_grid(nmax, nkeep, nset)
+    integer(c_int), intent(out) :: elem(2, nset)
+    integer(c_int), intent(inout), target :: stop(1)
+    integer(c_int), intent(out) :: status
+    !f2py threadsafe
+    type(batch_summary), allocatable :: s(:)
+    type(stickslip_model), allocatable :: models(:)
+    character(len=NAME_LEN), allocatable :: keys(:)
+    integer :: i
+    integer, pointer :: flag
+    logical :: armed
+
+    istats = 0.0_c_double
+    rstats = 0.0_c_double
+    y_grid = 0.0_c_double
+    yend = 0.0_c_double
+    elem = 0
+    keys = split_names(pkeys)
+    status = SS_BAD_DIM
+    if (size(keys) /= npv .or. any(offsets < 1) .or. any(offsets(:, 2:) < offsets(:, :nset))) return
+    if (any(offsets(:, nset + 1) /= [nbt, nst, ndt, nft, nct, ncpt, npv, nop, nss, ntab, ndr] + 1)) return
+    allocate(models(nset), s(nset))
+    do i = 1, nset
+        associate (a => offsets(:, i), b => offsets(:, i + 1) - 1)
+            call model_from_arrays(models(i), bodies(:, a(1):b(1)), springs(:, a(2):b(2)), dampers(:, a(3):b(3)), &
+                                   forces(:, a(4):b(4)), contacts(:, a(5):b(5)), con_ptr(a(6):b(6)), &
+                                   keys(a(7):b(7)), pvals(a(7):b(7)), signals(:, a(8):b(8)), sig_start(a(9):b(9)), &
+                                   tables(:, a(10):b(10)), drives(:, a(11):b(11)))
+        end associate
+    end do
+    flag => stop(1)
+    call arm(stop(1), armed)
+    if (nkeep > 0) then
+        call simulate_model_batch(models, method, nstate, y0, t_end, rtol, atol, split_names(ckeys), cvals, &
+                                  n_grid, threads, events, s, status, y_grid, stop_flag=flag)
+    else
+        call simulate_model_batch(models, method, nstate, y0, t_end, rtol, atol, split_names(ckeys), cvals, &
+                                  n_grid, threads, events, s, status, stop_flag=flag)
+    end if
+    call disarm(armed)
+    if (status /= SS_OK) return
+    elem(1, :) = s%elem_kind
+    elem(2, :) = s%elem_index
+    call batch_tables(s, istats, rstats, yend, status)
+end subroutine run_model_batch
 
 !> Names of the integer and real summary fields of run_batch, as 'ints|reals'.
 subroutine batch_names(text)

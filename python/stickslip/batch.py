@@ -12,11 +12,8 @@ Units are SI: m, s, kg, m/s; angles in degrees.
 """
 from __future__ import annotations
 
-import copy
 import re
-import time
 import warnings
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
@@ -473,42 +470,108 @@ def parse_override(model: Any, address: str) -> tuple[str, int, str]:
 
 
 def _overridden(base: dict[str, Any], targets: list[tuple[str, int, str]], values: list[float]) -> dict[str, Any]:
-    """The model's dict (Model.to_dict) with the fields of `targets` set to `values`."""
-    data = copy.deepcopy(base)
+    """The model's dict (Model.to_dict) with the fields of `targets` set to `values`: the
+    entries overridden copied, the rest shared with `base` (which is not changed)."""
+    data = dict(base)
     for (kind, index, name), value in zip(targets, values):
-        entry = data[kind][index]
+        if data[kind] is base[kind]:
+            data[kind] = list(base[kind])
+        entry = data[kind][index] = dict(data[kind][index])
         if kind == "contact" and name not in OVERRIDE_FIELDS["contact"]:
-            entry.setdefault("params", {})[name] = value
+            entry["params"] = {**entry.get("params", {}), name: value}
         else:
             entry[name] = value
     return data
 
 
-def _model_summary(t: np.ndarray, y: np.ndarray, nb: int, t_end: float, v_first: float) -> dict[str, float]:
-    """The monitor's fields of a model row (the scene batch's, stickslip_batch's summarise), for
-    body 0's velocity, which is also the "relative velocity" counted by n_flip."""
-    out = dict(v_max=abs(v_first), n_flip=0, n_flip_tail=0, n_rev=0, n_rev_tail=0,
-               vrel_min_tail=0.0, vrel_max_tail=0.0)
-    v = y[nb] if y.size else np.zeros(0)
-    finite = np.flatnonzero(~np.isfinite(v))
-    if finite.size:
-        v, t = v[:finite[0]], t[:finite[0]]
-    if v.size:
-        out["v_max"] = max(out["v_max"], float(np.max(np.abs(v))))
-    tail = t >= 0.5 * t_end
-    if np.any(tail):
-        out["vrel_min_tail"], out["vrel_max_tail"] = float(v[tail].min()), float(v[tail].max())
+#: The arrays of a model (Model.arrays) in the order of the wrapper's offsets (run_model_batch).
+_MODEL_ARRAYS = ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pvals", "signals", "sig_start",
+                 "tables", "drives")
+#: Most values (doubles) of the grids and event rows a model batch holds at once for its rows'
+#: consistency check (32 MB): the rows run in chunks of that size, one Fortran call each.
+MODEL_CHUNK_VALUES = 4_000_000
 
-    def changes(x: np.ndarray, keep: np.ndarray, in_tail: np.ndarray) -> tuple[int, int]:
-        xs, ts = x[keep], in_tail[keep]
-        flip = (xs[1:] > 0.0) != (xs[:-1] > 0.0)
-        return int(flip.sum()), int((flip & ts[1:]).sum())
-    out["n_flip"], out["n_flip_tail"] = changes(v, np.abs(v) > 0.0, tail)
-    if v.size > 1:
-        dv = np.diff(v)
-        scale = np.maximum(np.abs(v[1:]), np.abs(v[:-1]))
-        out["n_rev"], out["n_rev_tail"] = changes(dv, np.abs(dv) > 64.0 * np.finfo(float).eps * scale, tail[1:])
+
+def _model_rows(model: Any, addresses: list[str], targets: list[tuple[str, int, str]],
+                rows: Mapping[str, np.ndarray], n: int, controls: Sequence[str]) -> list[dict[str, Any]]:
+    """Each row's model (`model` with the row's overrides) and what `simulate_model` would pass
+    the library for it: its arrays, initial state, controls and tolerances, and its notes; the
+    warnings of that call issued. ValueError naming the row for a bad row, before anything runs."""
+    from .core import _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _end_time, _physical, friction_coefficient, \
+        model_notes, _warn_model_steps
+    from .model import Model, check_method, run_controls
+    base = model.to_dict()
+    out = []
+    for i in range(n):
+        meth = str(rows["method"][i])
+        kw: dict[str, Any] = {}
+        for k in controls:
+            val = float(rows["c:" + k][i])
+            if k in REGISTRY["method"][meth]["controls"] and not np.isnan(val):
+                kw[k] = int(val) if k == "max_steps" else val
+        try:
+            m_i = Model.from_dict(_overridden(base, targets, [float(rows["o:" + a][i]) for a in addresses])) \
+                if targets else model
+            for j, c in enumerate(m_i.contacts):
+                try:
+                    friction_coefficient(c.law, 0.0, **_physical(dict(c.params)))
+                except ValueError as exc:
+                    raise ValueError(f"{m_i.contact_label(j)}: {exc}") from None
+            m_i.n_states()
+            check_method(m_i, meth)
+            notes = model_notes(m_i, meth, stacklevel=5)
+            t_end = _end_time(float(rows["t_end"][i]))
+            _warn_model_steps(m_i, meth, t_end, kw, stacklevel=6)
+            ctl, rtol, atol = run_controls(m_i, meth, {k: v for k, v in kw.items() if k != "max_steps"},
+                                           kw.get("max_steps"))
+            arrays = m_i.arrays()
+        except ValueError as exc:
+            raise ValueError(f"row {i} ({meth}): {exc}") from None
+        room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
+            if "max_events" in REGISTRY["method"][meth]["controls"] else 0
+        out.append(dict(model=m_i, arrays=arrays, y0=_initial_state(m_i, arrays), ctl=ctl, rtol=rtol, atol=atol,
+                        room=room, notes=notes, given=kw))
     return out
+
+
+def _initial_state(model: Any, arrays: Mapping[str, Any]) -> np.ndarray:
+    """The state a model's run starts from: x0, v0, then each contact's z0 (0 when not given)."""
+    z = [np.broadcast_to(np.asarray(c.z0 or 0.0, dtype=np.float64), (model._law_states(i)[0],))
+         for i, c in enumerate(model.contacts)]
+    return np.concatenate([arrays["bodies"][1], arrays["bodies"][2], *z])
+
+
+def _run_model_rows(prep: list[dict[str, Any]], method: np.ndarray, t_end: np.ndarray, n_grid: int,
+                    threads: int, stop: np.ndarray) -> tuple[Any, ...]:
+    """One call of the Fortran model batch (run_model_batch) on the rows `prep`: their arrays
+    concatenated with their offsets, controls by name (NaN where a row has none). Returns its
+    outputs (istats, rstats, yend, y_grid: always kept, for the check; elem, status) and the
+    rows' event buffer."""
+    n = len(prep)
+    offsets = np.ones((len(_MODEL_ARRAYS), n + 1), dtype=np.int32, order="F")
+    cat = {}
+    for k, name in enumerate(_MODEL_ARRAYS):
+        parts = [p["arrays"][name] for p in prep]
+        offsets[k, 1:] = 1 + np.cumsum([a.shape[-1] for a in parts])
+        cat[name] = np.asfortranarray(np.concatenate(parts, axis=-1))
+    pkeys = " ".join(p["arrays"]["pkeys"] for p in prep if p["arrays"]["pkeys"])
+    nstate = np.array([p["y0"].size for p in prep], dtype=np.int32)
+    y0 = np.zeros((int(nstate.max()), n), order="F")
+    for i, p in enumerate(prep):
+        y0[:nstate[i], i] = p["y0"]
+    cnames = list(dict.fromkeys(k for p in prep for k in p["ctl"]))
+    cvals = np.full((len(cnames), n), np.nan, order="F")
+    for i, p in enumerate(prep):
+        for j, k in enumerate(cnames):
+            cvals[j, i] = p["ctl"].get(k, np.nan)
+    tol = {k: np.array([float(np.max(p[k])) for p in prep]) for k in ("rtol", "atol")}
+    events = np.zeros((4, max(p["room"] for p in prep), n), order="F")
+    codes = np.array([REGISTRY["method"][m]["code"] for m in method], dtype=np.int32)
+    out = _ext.run_model_batch(codes, *(cat[k] for k in _MODEL_ARRAYS[:6]), pkeys,
+                               *(cat[k] for k in _MODEL_ARRAYS[6:]), offsets, nstate, y0, t_end,
+                               tol["rtol"], tol["atol"], ",".join(cnames), cvals, int(n_grid), int(n_grid),
+                               int(threads), events, len(_BATCH_INT), len(_BATCH_REAL), stop)
+    return (*out, events)
 
 
 def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None, *, method: Any,
@@ -522,20 +585,25 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
     sequence of numbers; `method`, `t_end` and the controls (h, rtol, atol, ..., max_steps; a
     control is passed only to the rows whose method reads it, NaN or None: not given) are a
     scalar or a 1-D sequence too, all broadcast to one row each. Row i runs the model with its
-    overrides (a force, normal force or surface velocity becomes that constant) through
-    `stickslip.simulate(model_i, method=..., t_end=..., n_out=n_grid, ...)`, so its grid equals
-    that run's bit for bit. `threads` Python threads run the rows; each row's integration runs
-    in Fortran without the interpreter lock, so the threads run in parallel.
+    overrides (a force, normal force or surface velocity becomes that constant) with what
+    `stickslip.simulate(model_i, method=..., t_end=..., n_out=n_grid, ...)` passes the library,
+    so its grid equals that run's bit for bit. The rows run in the Fortran batch of the scene
+    rows (`simulate_batch`: the same loop, `threads` OpenMP threads, the same summary), in
+    chunks of at most MODEL_CHUNK_VALUES grid and event values, whose grids the consistency
+    check reads.
 
-    Every row's model and law parameters are checked before any row runs (a ValueError naming
-    the row and the element); run-time failures are per-row status codes. The summary is that of
-    the scene batches with body 0 monitored: x_end, v_end, v_max, n_rev are body 0's, and
-    n_flip, vrel_min_tail, vrel_max_tail count and bound body 0's velocity (relative to the
-    ground; a model has no single relative velocity). With keep_grid: x and v are
-    (n_sets, n_bodies, n_grid), one row per body, and y_grid the whole state.
+    Every row's model, law parameters and controls are checked before any row runs (a
+    ValueError naming the row and the element), with the warnings `simulate` gives for it;
+    run-time failures are per-row status codes. A row that reached t_end gets `simulate`'s
+    consistency check (its failures in `notes`, warned). The summary is that of the scene
+    batches with body 0 monitored: x_end, v_end, v_max, n_rev are body 0's, and n_flip,
+    vrel_min_tail, vrel_max_tail count and bound body 0's velocity (relative to the ground; a
+    model has no single relative velocity). With keep_grid: x and v are (n_sets, n_bodies,
+    n_grid), one row per body, and y_grid the whole state.
     """
-    from .core import IntegrationError, friction_coefficient, _physical
-    from .model import Model, check_method, simulate_model
+    from .core import _FIRST_INPUT_CODE as first_input, _events
+    from .energy import check_result
+    from .model import Model, _input_error
     if not isinstance(model, Model):
         raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
     threads = _count("threads", threads)
@@ -561,88 +629,70 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
         if not any(k in REGISTRY["method"][m]["controls"] for m in methods):
             raise ValueError(f"{k}: not a control of any row's method ({', '.join(methods)})")
 
-    base = model.to_dict()
-    models: list[Model] = []
-    kwargs: list[dict[str, Any]] = []
-    for i in range(n):
-        values = [float(rows["o:" + a][i]) for a in overrides]
-        meth = str(rows["method"][i])
-        kw: dict[str, Any] = {}
-        for k in controls:
-            val = float(rows["c:" + k][i])
-            if k in REGISTRY["method"][meth]["controls"] and not np.isnan(val):
-                kw[k] = int(val) if k == "max_steps" else val
-        try:
-            m_i = Model.from_dict(_overridden(base, targets, values)) if targets else model
-            for j, c in enumerate(m_i.contacts):
-                try:
-                    friction_coefficient(c.law, 0.0, **_physical(dict(c.params)))
-                except ValueError as exc:
-                    raise ValueError(f"{m_i.contact_label(j)}: {exc}") from None
-            m_i.n_states()
-            check_method(m_i, meth)
-        except ValueError as exc:
-            raise ValueError(f"row {i} ({meth}): {exc}") from None
-        models.append(m_i)
-        kwargs.append(kw)
-    nstate = np.array([m.n_states() for m in models], dtype=np.int64)
+    prep = _model_rows(model, list(overrides), targets, rows, n, list(controls))
+    nstate = np.array([p["y0"].size for p in prep], dtype=np.int64)
     nmax = int(nstate.max())
     nb = model.n_bodies
     _check_memory(nstate, n, int(n_grid), bool(keep_grid), threads)
-
-    def run(i: int) -> tuple[Any, float]:
-        start = time.perf_counter()
-        try:
-            res = simulate_model(models[i], method=str(rows["method"][i]), t_end=float(rows["t_end"][i]),
-                                 n_out=int(n_grid), **kwargs[i])
-        except IntegrationError as exc:
-            res = exc.result
-        except ValueError as exc:
-            raise ValueError(f"row {i} ({rows['method'][i]}): {exc}") from None
-        return res, time.perf_counter() - start
-
-    if threads == 1 or n == 1:
-        done = [run(i) for i in range(n)]
-    else:
-        with ThreadPoolExecutor(max_workers=min(threads, n)) as pool:
-            done = list(pool.map(run, range(n)))
-
+    laws = "+".join(dict.fromkeys(c.law for c in model.contacts))
     int_names = [k for k in _BATCH_INT if k not in ("status", "n_written")]
     fields: dict[str, Any] = {k: np.zeros(n, dtype=np.int64) for k in int_names}
     fields.update({k: np.zeros(n) for k in _BATCH_REAL})
     status = np.zeros(n, dtype=np.int64)
     y_end = np.full((n, nmax), np.nan)
     y_grid = np.full((n, nmax, int(n_grid)), np.nan) if keep_grid else None
-    for i, (res, secs) in enumerate(done):
-        stats = res.stats
-        status[i] = int(stats["status"])
-        written = res.x.shape[1]
-        y = np.vstack([res.x, res.v, np.asarray(res.z).reshape(-1, written)]) if written else np.zeros((nstate[i], 0))
-        t_i = res.t[:written]
-        y_end[i, :nstate[i]] = y[:, -1] if written else np.concatenate(
-            [[b.x0 for b in models[i].bodies], [b.v0 for b in models[i].bodies], np.zeros(nstate[i] - 2 * nb)])
-        if y_grid is not None:
-            y_grid[i, :nstate[i], :written] = y
-        summary = _model_summary(t_i, y, nb, float(rows["t_end"][i]), models[i].bodies[0].v0)
-        summary.update(t_last=float(t_i[-1]) if written else 0.0, seconds=secs)
-        for k in int_names:
-            fields[k][i] = stats[k] + 1 if k == "contact_worst" else stats.get(k, summary.get(k, 0))
-        for k in _BATCH_REAL:
-            fields[k][i] = stats[k] if k in stats else summary[k]
+    notes: list[list[str]] = [[] for _ in range(n)]
+    per_row = nmax * int(n_grid) + 4 * max(p["room"] for p in prep)
+    chunk = max(1, MODEL_CHUNK_VALUES // per_row)
+    for start in range(0, n, chunk):
+        part = slice(start, min(n, start + chunk))
+        istats, rstats, yend, grid, elem, call_status, events = interruptible(lambda stop: _run_model_rows(
+            prep[part], rows["method"][part], rows["t_end"][part], int(n_grid), threads, stop))
+        if int(call_status) != STATUS_OK:
+            raise ValueError(status_message(int(call_status)))
+        bad = np.flatnonzero(istats[_BATCH_INT.index("status")] <= first_input)
+        if bad.size:
+            j = int(bad[0])
+            i = start + j
+            err = _input_error(prep[i]["model"], int(istats[_BATCH_INT.index("status"), j]), int(elem[0, j]),
+                               int(elem[1, j]))
+            raise ValueError(f"row {i} ({rows['method'][i]}): {err}")
+        for j in range(part.stop - start):
+            i = start + j
+            st = {k: istats[m, j] for m, k in enumerate(_BATCH_INT)}
+            st.update({k: rstats[m, j] for m, k in enumerate(_BATCH_REAL)})
+            status[i] = int(st["status"])
+            for k in int_names:
+                fields[k][i] = int(st[k])
+            for k in _BATCH_REAL:
+                fields[k][i] = st[k]
+            y_end[i, :nstate[i]] = yend[:nstate[i], j]
+            written = int(st["n_written"]) if status[i] != STATUS_OK else int(n_grid)
+            y_i = grid[:nstate[i], :written, j]
+            if y_grid is not None:
+                y_grid[i, :nstate[i], :written] = y_i
+            if status[i] != STATUS_OK:
+                continue
+            t_i = np.linspace(0.0, rows["t_end"][i], int(n_grid)) if n_grid > 1 else rows["t_end"][i:i + 1]
+            run = _Row(t=t_i, x=y_i[:nb], v=y_i[nb:2 * nb], law=laws, stats={"nstep": int(st["nstep"]), "notes": []},
+                       events=_events(events[:, :, j], int(st["nevents"])) if prep[i]["room"] else None)
+            p = prep[i]
+            check_result(run, str(rows["method"][i]), {**p["ctl"], "rtol": p["rtol"], "atol": p["atol"]},
+                         p["model"], p["arrays"], stacklevel=4)
+            notes[i] = p["notes"] + run.stats["notes"]
     fields["stiff"] = fields["stiff"].astype(bool)
     fields["chattered"] = fields["n_rev_tail"] >= CHATTER_FRACTION * (int(n_grid) - 1) / 2
     fields["forced"] = fields["nforced"] > 0
     fields["n_state"] = nstate
     params = {a: rows["o:" + a] for a in overrides}
     params["n_blocks"] = np.full(n, float(nb))
-    h = np.array([kw.get("h", 0.0) for kw in kwargs])
-    tol = {k: np.array([kw.get(k, float(CONTROL_DEFAULTS[k])) if k in REGISTRY["method"][m]["controls"] else 1.0
-                        for kw, m in zip(kwargs, rows["method"])]) for k in ("rtol", "atol")}
-    laws = "+".join(dict.fromkeys(c.law for c in model.contacts))
+    h = np.array([p["given"].get("h", 0.0) for p in prep])
+    tol = {k: np.array([p["given"].get(k, float(CONTROL_DEFAULTS[k])) if k in REGISTRY["method"][m]["controls"]
+                        else 1.0 for p, m in zip(prep, rows["method"])]) for k in ("rtol", "atol")}
     result = BatchResult(
         scene=np.full(n, "model"), law=np.full(n, laws), method=rows["method"].astype(str), params=params,
         t_end=rows["t_end"], h=h, rtol=tol["rtol"], atol=tol["atol"], status=status, fields=fields,
-        y_end=y_end, threads=int(threads), notes=_grouped_notes([res.stats["notes"] for res, _ in done]))
+        y_end=y_end, threads=int(threads), notes=_grouped_notes(notes))
     if y_grid is not None:
         result.t = np.array([np.linspace(0.0, te, int(n_grid)) if n_grid > 1 else np.array([te])
                              for te in rows["t_end"]])
@@ -651,5 +701,30 @@ def simulate_model_batch(model: Any, overrides: Mapping[str, Any] | None = None,
     return result
 
 
-__all__ = ["BatchResult", "simulate_batch", "simulate_model_batch", "parse_override", "OVERRIDE_FIELDS",
-           "MAX_GRID_VALUES", "MAX_BATCH_VALUES", "CHATTER_FRACTION"]
+def simulate_rows(args: Mapping[str, Any]) -> BatchResult:
+    """The local batch of a sweep's arguments (what `stickslip.simulate_batch` and each chunk of
+    `stickslip.distributed` run): a model's rows when args has "model" (a Model or its dict,
+    Model.to_dict, with "overrides": `simulate_model_batch`), else a scene's (`simulate_batch`)."""
+    if "model" not in args:
+        return simulate_batch(**args)
+    from .model import Model
+    rest = {k: v for k, v in args.items() if k != "model"}
+    model = args["model"]
+    return simulate_model_batch(model if isinstance(model, Model) else Model.from_dict(model), **rest)
+
+
+@dataclass
+class _Row:
+    """A model row's run as the consistency check (stickslip.energy.check_result) reads it."""
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    law: str
+    stats: dict[str, Any]
+    events: np.ndarray | None
+    scene: str = "model"
+
+
+__all__ = ["BatchResult", "simulate_batch", "simulate_model_batch", "simulate_rows", "parse_override", "OVERRIDE_FIELDS",
+           "MAX_GRID_VALUES", "MAX_BATCH_VALUES", "MODEL_CHUNK_VALUES", "CHATTER_FRACTION"]

@@ -36,8 +36,7 @@ from typing import Any, Iterator
 
 import numpy as np
 
-from .batch import BatchResult, simulate_batch, simulate_model_batch
-from .model import Model
+from .batch import BatchResult, simulate_rows
 from .outputs import atomic_write
 
 #: Largest default chunk [rows].
@@ -137,13 +136,10 @@ def default_chunk_rows(n_rows: int, workers: int | None = None) -> int:
 
 def run_chunk(args: dict[str, Any], start: int) -> BatchResult:
     """One chunk through the local simulate_batch (what a Dask task runs). A ValueError names
-    rows by their number in the whole sweep (start + the row in the chunk). A model's batch
-    (args["model"]: the model as Model.to_dict) runs through simulate_model_batch."""
+    rows by their number in the whole sweep (start + the row in the chunk). A model's rows
+    (args["model"]: the model as Model.to_dict) or a scene's: `stickslip.batch.simulate_rows`."""
     try:
-        if "model" in args:
-            rest = {k: v for k, v in args.items() if k != "model"}
-            return simulate_model_batch(Model.from_dict(args["model"]), **rest)
-        return simulate_batch(**args)
+        return simulate_rows(args)
     except ValueError as exc:
         msg = re.sub(r"\brow (\d+)", lambda m: f"row {int(m.group(1)) + start}", str(exc))
         raise ValueError(msg) from None

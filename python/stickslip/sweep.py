@@ -33,7 +33,8 @@ def simulate_batch(scene: str | Sequence[str] | Model, law: str | Sequence[str] 
     A model (your own system) takes rows of parameter overrides instead:
     ``simulate_batch(model, {"contact 0.mu_k": [...], "body 1.v0": [...]}, method=...,
     t_end=..., **controls)`` (`stickslip.batch.simulate_model_batch`: the addresses, the
-    summary, x and v per body); the model goes to Dask workers as its dict (TOML) form.
+    summary, x and v per body), run by the same Fortran batch as a scene's rows; the model goes
+    to Dask workers as its dict (TOML) form.
 
     Parameters
     ----------
@@ -105,6 +106,7 @@ def simulate_batch(scene: str | Sequence[str] | Model, law: str | Sequence[str] 
     >>> b.status.tolist()
     [0, 0, 0]
     """
+    local = client is None and chunk_rows is None and out is None and not progress
     if isinstance(scene, Model):
         if x0 != 0.0 or v0 is not None or ignore_unused:
             raise ValueError("x0, v0, ignore_unused: not for a model (override \"body i.x0\", "
@@ -112,21 +114,20 @@ def simulate_batch(scene: str | Sequence[str] | Model, law: str | Sequence[str] 
         if law is not None and not isinstance(law, dict):
             raise ValueError(f"overrides: must be a dict of \"kind index.field\" -> values (e.g. "
                              f"{{\"contact 0.mu_k\": [0.2, 0.3]}}), got {type(law).__name__}")
-        model_args = dict(overrides=dict(law or {}), method=method, t_end=t_end, n_grid=n_grid,
-                          keep_grid=keep_grid, threads=threads, **params)
-        if client is None and chunk_rows is None and out is None and not progress:
-            return batch.simulate_model_batch(scene, **model_args)
-        return run_chunked(dict(model=scene.to_dict(), **model_args), client=client,
-                           chunk_rows=chunk_rows, out=out, progress=progress)
-    if law is None:
+        # chunks take the model as its dict (TOML) form, as Dask workers and the sweep's
+        # fingerprint need it
+        args: dict[str, Any] = dict(model=scene if local else scene.to_dict(), overrides=dict(law or {}),
+                                    method=method, t_end=t_end, n_grid=n_grid, keep_grid=keep_grid,
+                                    threads=threads, **params)
+    elif law is None:
         raise ValueError("law: required for a scene (a name of LAWS, or one per row); a model takes "
                          "its overrides there instead")
-    kwargs: dict[str, Any] = dict(method=method, t_end=t_end, x0=x0, v0=v0, n_grid=n_grid,
-                                  keep_grid=keep_grid, threads=threads, **params)
-    if ignore_unused:
-        kwargs["ignore_unused"] = True     # the sweep's fingerprint as before that option
-    if client is None and chunk_rows is None and out is None and not progress:
-        return batch.simulate_batch(scene, law, **kwargs)
-    # every argument of the local call, defaults included (the sweep's fingerprint names them)
-    args = dict(scene=scene, law=law, **kwargs)
+    else:
+        # every argument of the local call, defaults included (the sweep's fingerprint names them)
+        args = dict(scene=scene, law=law, method=method, t_end=t_end, x0=x0, v0=v0, n_grid=n_grid,
+                    keep_grid=keep_grid, threads=threads, **params)
+        if ignore_unused:
+            args["ignore_unused"] = True     # the sweep's fingerprint as before that option
+    if local:
+        return batch.simulate_rows(args)
     return run_chunked(args, client=client, chunk_rows=chunk_rows, out=out, progress=progress)
