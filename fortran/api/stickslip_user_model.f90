@@ -25,6 +25,7 @@ module stickslip_user_model
                                 SIG_SUB, SIG_MUL, signal_combine, signal_affine, signal_derivative, &
                                 signal_integral
     use stickslip_model_system, only: model_system
+    use stickslip_one_contact, only: specialise
     use stickslip_registry, only: make_law, code_of, integrate
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
     implicit none
@@ -68,6 +69,9 @@ module stickslip_user_model
         integer, allocatable :: drv_kind(:)        !! drives' kinds (DRIVE_POSITION, DRIVE_VELOCITY)
         integer, allocatable :: drv_sig(:)         !! drives' signals [m or m/s]
         type(signal_set) :: sig                    !! the signals
+        !> .true.: the adaptive methods' relative tolerance acts on each contact's slip
+        !! (`model_system`'s `error_size`); .false.: on |y|, as in the presets (a scene's model)
+        logical :: slip_error_size = .true.
     contains
         !> Add a body of mass (inertia) m [kg] at x0 [m] moving at v0 [m/s]; its index (from 1).
         procedure :: add_body
@@ -384,9 +388,12 @@ contains
         allocate(sys%laws(nc), sys%z_first(nc + 1))
         sys%z_first(1) = 1
         do i = 1, nc
-            if (.not. pair_ok(self%con_a(i), self%con_b(i))) then
+            ! a contact's side a may be the ground when its side b is a body (the presets'
+            ! belt: the law sees the surface's slip under the body)
+            if (.not. (pair_ok(self%con_a(i), self%con_b(i)) .or. &
+                       (self%con_a(i) == 0 .and. pair_ok(self%con_b(i), 0)))) then
                 call fail(SS_BAD_BODY, ELEM_CONTACT, i)
-            else if (driven(self%con_a(i)) /= 0 .and. (self%con_b(i) == 0 .or. driven(self%con_b(i)) /= 0)) then
+            else if (.not. (free(self%con_a(i)) .or. free(self%con_b(i)))) then
                 call fail(SS_BAD_BODY, ELEM_CONTACT, i)     ! no free body: it moves nothing
             end if
             if (self%con_n(i) < 1 .or. self%con_n(i) > nsig .or. self%con_w(i) < 0 .or. self%con_w(i) > nsig) &
@@ -406,12 +413,20 @@ contains
         call reduce(dp_)
         if (status /= SS_OK) return
         if (present(plan)) plan = dp_
+        sys%slip_error_size = self%slip_error_size
         call sys%prepare()
     contains
         logical function pair_ok(a, b)
             integer, intent(in) :: a, b
             pair_ok = a >= 1 .and. a <= nb .and. b >= 0 .and. b <= nb .and. a /= b
         end function pair_ok
+
+        !> Whether body j (0: the ground) is a body without a drive.
+        logical function free(j)
+            integer, intent(in) :: j
+            free = j >= 1 .and. j <= nb
+            if (free) free = driven(j) == 0
+        end function free
 
         !> The system of the free bodies: each element joined to a driven body acts on the
         !! other body as an element on the ground plus a signal (a spring k to a body at x_d(t):
@@ -648,6 +663,7 @@ contains
         !> (number of drives, size(t_out)): each drive's force on its body [N] (`drive_forces`)
         real(dp), intent(out), optional :: drive_force(:, :)
         type(model_system) :: sys
+        class(model_system), allocatable :: run   ! sys with its structure found (`specialise`)
         type(drive_plan) :: plan
         real(dp), allocatable :: rt(:), at(:), y_init(:), y_free(:, :)
         real(dp) :: rate
@@ -689,8 +705,11 @@ contains
                 return
             end if
         end if
+        ! the model's structure, found once as for a scene's (`new_system`): a model of one body
+        ! with one contact and constant signals runs the integrators' specialised kernels
+        call specialise(sys, run)
         if (size(self%drv_body) == 0) then
-            call integrate(code, sys, 0.0_dp, y_init, t_end, rt, at, ck, cv, t_out, y_out, stats, stop_flag, events)
+            call integrate(code, run, 0.0_dp, y_init, t_end, rt, at, ck, cv, t_out, y_out, stats, stop_flag, events)
             return
         end if
         ! the free bodies' state; then every body's, the driven ones' from their signals
@@ -698,7 +717,7 @@ contains
         nf = sys%nb
         allocate(y_free(sys%n_states(), size(t_out)))
         y_free = 0.0_dp
-        call integrate(code, sys, 0.0_dp, [y_init(plan%free), y_init(nb + plan%free), y_init(2 * nb + 1:)], &
+        call integrate(code, run, 0.0_dp, [y_init(plan%free), y_init(nb + plan%free), y_init(2 * nb + 1:)], &
                        t_end, rt, at, ck, cv, t_out, y_free, stats, stop_flag, events)
         y_out(plan%free, :) = y_free(1:nf, :)
         y_out(nb + plan%free, :) = y_free(nf + 1:2 * nf, :)
@@ -721,7 +740,7 @@ contains
     !! tables(2, ntab) = (t, value) (stickslip_signal), drives(3, ndr) = (body, kind, signal).
     !! Checked by `build`, not here.
     subroutine model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, vals, signals, &
-                                 sig_start, tables, drives)
+                                 sig_start, tables, drives, slip_error_size)
         type(stickslip_model), intent(out) :: m   !! the model
         real(dp), intent(in) :: bodies(:, :)      !! (3, nb) mass [kg], x0 [m], v0 [m/s] of each body
         real(dp), intent(in) :: springs(:, :)     !! (4, ns) a, b, k [N/m], rest length [m]
@@ -735,6 +754,10 @@ contains
         integer, intent(in) :: sig_start(:)       !! first operation of each signal
         real(dp), intent(in) :: tables(:, :)      !! (2, ntab) the tables' points
         real(dp), intent(in) :: drives(:, :)      !! (3, ndr) the drives
+        !> the adaptive methods' error size: on the contacts' slips (default) or on |y| (a
+        !! scene's model: `stickslip_model`'s slip_error_size)
+        logical, intent(in), optional :: slip_error_size
+        if (present(slip_error_size)) m%slip_error_size = slip_error_size
         m%mass = bodies(1, :)
         m%x0 = bodies(2, :)
         m%v0 = bodies(3, :)
