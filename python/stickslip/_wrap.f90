@@ -470,7 +470,7 @@ subroutine orbit_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contact
                        pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
                        method, y0, n, period, autonomous, rtol, nrt, atol, nat, ckeys, cvals, ncv, &
                        tol, max_iter, fd_newton, fd_monodromy, want_mono, y_out, period_out, mono, mult_re, &
-                       mult_im, info, status, elem_kind, elem_index)
+                       mult_im, info, status, elem_kind, elem_index, slip_size)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_BAD_DIM
     use stickslip_params, only: NAME_LEN
@@ -520,6 +520,9 @@ subroutine orbit_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contact
     real(c_double), intent(out) :: mult_re(n), mult_im(n)
     real(c_double), intent(out) :: info(5)
     integer(c_int), intent(out) :: status, elem_kind, elem_index
+    !> 1: the adaptive methods' tolerance on the contacts' slips; 0: on |y| (as run_model's)
+    integer(c_int), intent(in) :: slip_size
+    !f2py integer optional, intent(in) :: slip_size = 1
     !f2py threadsafe
     type(stickslip_model) :: m
     type(orbit_options) :: opts
@@ -541,7 +544,7 @@ subroutine orbit_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contact
         return
     end if
     call model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, pvals, signals, sig_start, &
-                           tables, drives)
+                           tables, drives, slip_size /= 0)
     opts%tol = tol
     opts%max_iter = max_iter
     opts%fd_newton = fd_newton

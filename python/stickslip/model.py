@@ -666,7 +666,7 @@ def orbit_model(model: Model, method: str, y0: np.ndarray, period: float, autono
         *(arrays[k] for k in ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals",
                               "signals", "sig_start", "tables", "drives")),
         method, np.asarray(y0, dtype=np.float64), float(period), int(autonomous), rtol, atol, ckeys, cvals,
-        float(tol), int(max_iter), float(fd_newton), float(fd_monodromy), 1)
+        float(tol), int(max_iter), float(fd_newton), float(fd_monodromy), 1, int(model.slip_error_size))
     status = int(status)
     if status <= _FIRST_INPUT_CODE:
         raise _input_error(model, status, int(elem_kind), int(elem_index))
