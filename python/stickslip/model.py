@@ -32,7 +32,7 @@ from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
                    _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _end_time, _events, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
                    IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
-                   _physical, MAX_ROWS, model_notes, _warn_model_steps)
+                   _physical, MAX_ROWS, model_notes, _warn_model_steps, preset_arrays)
 from .outputs import atomic_write
 from .signal import Signal, SignalLike, as_signal
 from .energy import check_result
@@ -471,21 +471,15 @@ class Model:
         on |y|). `x0`, `v0` as for `simulate` (v0 on the chain defaults to v_b, on the others
         to 0); other keywords are the scene's and the law's parameters.
         """
-        scene_code = _choice("scene", scene, tuple(REGISTRY["scene"]))
-        law_code = _choice("law", law, LAWS)
+        _choice("scene", scene, tuple(REGISTRY["scene"]))
+        _choice("law", law, LAWS)
         given = _physical(params)
         scene_params = set(REGISTRY["scene"][scene]["params"])
         law_names = set(REGISTRY["law"][law]["params"])
         unknown = set(given) - scene_params - law_names
         if unknown:
             raise ValueError(f"{', '.join(sorted(unknown))}: not a parameter of scene {scene!r} or law {law!r}")
-        pkeys, pvals = _keys(given)
-        sizes, status = _ext.preset_sizes(scene_code, law_code, pkeys, pvals)
-        if status == STATUS_OK:
-            *arrays, status = _ext.preset_arrays(scene_code, law_code, pkeys, pvals, *sizes)
-        if status != STATUS_OK:
-            raise ValueError(_with_values(status_message(int(status)), _known(given)))
-        mass, springs, dampers, forces, contacts = arrays
+        mass, springs, dampers, forces, contacts = preset_arrays(scene, law, given)
         nb = mass.size
         if scene == "chain" and v0 is None:
             v0 = _known(given)["v_b"]          # every block stuck on the belt, as simulate's chain
