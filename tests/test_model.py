@@ -25,7 +25,7 @@ def _controls(method: str) -> dict[str, float]:
     info = ss.REGISTRY["method"][method]
     if "h" in info["controls"]:
         return dict(h=2e-3)
-    return dict(rtol=1e-8, atol=1e-10)
+    return dict(rtol=1e-6, atol=1e-8)
 
 
 @pytest.mark.parametrize("scene,params", IDENTITY_SCENES, ids=[s for s, _ in IDENTITY_SCENES])
@@ -35,15 +35,16 @@ def test_scene_as_model_is_bit_identical(scene, params, method):
     arrays, read from the library) through the same structure detection (`specialise`):
     x, v, the law states, the status and every integer counter equal, not close. A law the
     method does not take fails alike (the same exception type) both ways."""
+    t_end = 0.5 if scene == "chain" else 1.5       # ten blocks: the costly runs
     compared = 0
     for law in IDENTITY_LAWS:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             outcomes = []
-            for run in (lambda: ss.simulate(scene, law, method=method, t_end=1.5, n_out=16,
+            for run in (lambda: ss.simulate(scene, law, method=method, t_end=t_end, n_out=16,
                                             **_controls(method), **params),
                         lambda: ss.simulate(ss.Model.from_scene(scene, law, **params), method=method,
-                                            t_end=1.5, n_out=16, **_controls(method))):
+                                            t_end=t_end, n_out=16, **_controls(method))):
                 try:
                     outcomes.append(run())
                 except (ValueError, ss.IntegrationError) as err:
