@@ -270,7 +270,22 @@ def test_toml_round_trip(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["clutch.toml"]      # no temporary file left
 
 
+def test_toml_round_trip_of_a_scene(tmp_path):
+    """A scene's model through a file: the contact with the ground on side a and the error size
+    on |y| ([[settings]]) come back, and the file's model runs the scene to the last bit."""
+    m = ss.Model.from_scene("belt", "lugre", v_b=0.4)
+    path = tmp_path / "belt.toml"
+    m.to_toml(path)
+    m2 = ss.Model.from_toml(path)
+    assert m2.to_dict() == m.to_dict() and not m2.slip_error_size and m2.contacts[0].a is None
+    r1 = ss.simulate("belt", "lugre", v_b=0.4, method="dopri5", t_end=2.0, n_out=21, rtol=1e-7, atol=1e-9)
+    r2 = ss.simulate(m2, method="dopri5", t_end=2.0, n_out=21, rtol=1e-7, atol=1e-9)
+    assert np.array_equal(r1.x, r2.x[0]) and np.array_equal(r1.z, r2.z[0])
+    assert r1.stats["nstep"] == r2.stats["nstep"]
+
+
 TOML_ERRORS = [
+    ('[[body]]\nmass = 1.0\n[[settings]]\nslip_error_size = 1\n', r"settings: slip_error_size must be true or false"),
     ('[[body]]\nmass = 1.0\n[[spring]]\na = "body0"\nb = "nobody"\nk = 1.0\n', r"spring 0: unknown body 'nobody'"),
     ('[[body]]\nmass = 1.0\ncolour = "red"\n', r"body 0: unknown field\(s\) colour"),
     # issue 42: in TOML's words (a missing table, not Python's add_body), with the file's path
