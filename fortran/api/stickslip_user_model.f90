@@ -103,6 +103,8 @@ module stickslip_user_model
         procedure :: times
         !> Check the model and make its system; SS_OK or the code, with the bad element.
         procedure :: build
+        !> `build`, then the system as its structure allows (`specialise`): what every run takes.
+        procedure :: build_run
         !> The initial state (x0, v0, law states 0).
         procedure :: initial_state
         !> The size of the model's state (every body's x, v, then the law states).
@@ -553,6 +555,21 @@ contains
         end subroutine fail
     end subroutine build
 
+    !> `build`, then the system with its structure found once (`stickslip_one_contact`'s
+    !! `specialise`, as for a scene's preset): a model of one body with one contact with the
+    !! ground and only numbers as signals runs the integrators' kernels for that structure.
+    subroutine build_run(self, sys, run, status, elem_kind, elem_index, plan)
+        class(stickslip_model), intent(inout) :: self
+        type(model_system), intent(out) :: sys                   !! the system as built
+        class(model_system), allocatable, intent(out) :: run     !! the same, specialised (on SS_OK)
+        integer, intent(out) :: status              !! SS_OK or the error's code
+        integer, intent(out) :: elem_kind           !! ELEM_* of the bad element (0: none)
+        integer, intent(out) :: elem_index          !! its index, from 1 (0: none)
+        type(drive_plan), intent(out), optional :: plan  !! how the model maps onto sys (its drives)
+        call self%build(sys, status, elem_kind, elem_index, plan)
+        if (status == SS_OK) call specialise(sys, run)
+    end subroutine build_run
+
     !> (x0, v0, 0 for every law state) of a built system.
     function initial_state(self, sys) result(y0)
         class(stickslip_model), intent(in) :: self
@@ -671,7 +688,7 @@ contains
         character(len=NAME_LEN), allocatable :: ck(:)
         real(dp), allocatable :: cv(:)
         integer :: ek, ei, code
-        call self%build(sys, stats%status, ek, ei, plan)
+        call self%build_run(sys, run, stats%status, ek, ei, plan)
         if (present(elem_kind)) elem_kind = ek
         if (present(elem_index)) elem_index = ei
         if (stats%status /= SS_OK) return
@@ -705,9 +722,6 @@ contains
                 return
             end if
         end if
-        ! the model's structure, found once as for a scene's (`new_system`): a model of one body
-        ! with one contact and constant signals runs the integrators' specialised kernels
-        call specialise(sys, run)
         if (size(self%drv_body) == 0) then
             call integrate(code, run, 0.0_dp, y_init, t_end, rt, at, ck, cv, t_out, y_out, stats, stop_flag, events)
             return
