@@ -180,7 +180,9 @@ contains
 
     subroutine add_contact(self, a, b, law, normal_force, surface_velocity, keys, vals)
         class(stickslip_model), intent(inout) :: self
-        integer, intent(in) :: a                    !! body, >= 1 (the friction force -mu N acts on it)
+        !> body, >= 1 (the friction force -mu N acts on it), or 0 for the ground when b is a
+        !! body (the law then sees the ground's slip under b, -v_b - w: the belt preset's contact)
+        integer, intent(in) :: a
         integer, intent(in) :: b                    !! body, or 0 for the ground (it gets +mu N)
         character(len=*), intent(in) :: law         !! the law's name (registry)
         integer, intent(in) :: normal_force         !! the normal force's signal [N] (<= 0: open)
