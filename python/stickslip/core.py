@@ -1375,11 +1375,17 @@ def _warn_nonunique(result: Result) -> None:
 
 
 def _failed(call: _Call, result: Result) -> NoReturn:
-    """Raise for a run of `call` that did not reach t_end: ValueError for a bad input the
-    library named, else the IntegrationError of its status, holding `result`."""
+    """Raise for a run of `call` that did not reach t_end (`_raise_failure`)."""
+    _raise_failure(result, call.known)
+
+
+def _raise_failure(result: Result, known: Mapping[str, Any]) -> NoReturn:
+    """Raise for a run that did not reach t_end, a scene's or a Model's: ValueError for a bad
+    input the library named (with the values of `known` it names), else the IntegrationError
+    of its status, holding `result` (the motion up to where it stopped)."""
     status = result._raw[2]
     if status <= _FIRST_INPUT_CODE:
-        raise ValueError(_with_values(status_message(status), call.known))
+        raise ValueError(_with_values(status_message(status), known))
     raise _ERRORS.get(status, IntegrationError)(status, result)
 
 

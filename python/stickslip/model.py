@@ -28,11 +28,11 @@ from typing import Any, Mapping
 import numpy as np
 
 from . import _stickslip as _ext
-from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result, _ERRORS,
+from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
                    _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _end_time, _events, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
-                   IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
-                   _physical, MAX_ROWS, model_notes, _warn_model_steps, preset_arrays)
+                   _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
+                   _physical, MAX_ROWS, model_notes, _warn_model_steps, preset_arrays, _raise_failure)
 from .outputs import atomic_write
 from .signal import Signal, SignalLike, as_signal
 from .energy import check_result
@@ -732,7 +732,7 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
     result.drive_force = drive_force.T
     if status != STATUS_OK:
-        raise _ERRORS.get(status, IntegrationError)(status, result)
+        _raise_failure(result, {})
     result.stats["notes"].extend(notes)
     check_result(result, method, {**ctl, "rtol": rtol, "atol": atol}, model, arrays, stacklevel=4)
     return result
