@@ -57,6 +57,7 @@ def test_scene_as_model_is_bit_identical(scene, params, method):
         assert np.array_equal(np.reshape(r1.x, (nb, -1)), r2.x), law
         assert np.array_equal(np.reshape(r1.v, (nb, -1)), r2.v), law
         assert np.array_equal(np.reshape(r1.z, r2.z.shape), r2.z), law
+        assert np.array_equal(r1.events, r2.events), law
         ints = ss.REGISTRY["stats_int"]
         assert {k: r1.stats[k] for k in ints if k in r1.stats} == {k: r2.stats[k] for k in ints if k in r2.stats}, law
         assert r1.stats["status"] == r2.stats["status"]
