@@ -215,8 +215,10 @@ def test_lugre_belt_cycle_against_a_long_transient() -> None:
     orb = ss.periodic_orbit(m, method="radau5")
     assert orb.z0.shape == (1,) and orb.y0.shape == (3,) and orb.multipliers.shape == (3,)
     assert orb.trivial_error < 1e-5 and orb.stable
-    # from a guess off the cycle, the bristle at rest (z = 0): Newton moves z too
-    off = ss.periodic_orbit(m, guess=[orb.x0[0], orb.v0[0], 0.0, 1.05 * orb.period], method="radau5")
+    # from a guess off the cycle, the bristle deflected the other way: Newton moves z too (z = 0
+    # exactly gives the orbit solver's differences a step of 1e-9 times fd_newton in z, below
+    # rounding: stickslip_orbit's orbit_scales)
+    off = ss.periodic_orbit(m, guess=[orb.x0[0], orb.v0[0], -orb.z0[0], 1.05 * orb.period], method="radau5")
     assert off.iterations > 0 and off.period == pytest.approx(orb.period, rel=1e-9)
     r = ss.simulate(m, method="radau5", t_end=60.0, n_out=600001, rtol=1e-12, atol=1e-14)
     last = r.t >= 60.0 - 10 * orb.period

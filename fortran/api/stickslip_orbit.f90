@@ -405,17 +405,18 @@ contains
         integer, intent(out) :: elem_index           !! its index (0: none)
         type(stickslip_model) :: m
         type(model_system) :: sys
+        class(model_system), allocatable :: run     ! sys with its structure found (`build_run`)
         type(drive_plan) :: plan
         integer :: code
         m = model
-        call m%build(sys, orb%status, elem_kind, elem_index, plan)
+        call m%build_run(sys, run, orb%status, elem_kind, elem_index, plan)
         if (orb%status /= SS_OK) return
         code = code_of('method', method)
         if (code == 0) then
             orb%status = SS_BAD_METHOD
             return
         end if
-        call periodic_orbit(sys, code, y_guess, period, autonomous, rtol, atol, ckeys, cvals, opts, orb, sys%nb, &
+        call periodic_orbit(run, code, y_guess, period, autonomous, rtol, atol, ckeys, cvals, opts, orb, sys%nb, &
                             sys%n_states())
     end subroutine model_periodic_orbit
 

@@ -42,7 +42,7 @@ module stickslip_registry
     private
 
     public :: entry_info, stickslip_message, registry_text, code_of, split_names
-    public :: resolve_params, new_law, make_law, new_system, integrate, apply_controls
+    public :: resolve_params, new_law, make_law, new_system, preset_model, integrate, apply_controls
     public :: new_controls
 
     !> A law or scene: its name, the parameters it reads (space-separated), a line of doc, and
@@ -172,8 +172,8 @@ contains
     end function resolve_params
 
     !> Build a scene's model (its preset, `stickslip_presets`) with a law from named parameters
-    !! (the others at their defaults). `p` returns every parameter as resolved. SS_OK or the
-    !! code of the bad input.
+    !! (the others at their defaults), its structure found (`specialise`, as for every model).
+    !! `p` returns every parameter as resolved. SS_OK or the code of the bad input.
     function new_system(scene, law, keys, vals, sys, p) result(status)
         integer, intent(in) :: scene                            !! scene code
         integer, intent(in) :: law                              !! law code
@@ -183,8 +183,23 @@ contains
         class(model_system), allocatable, intent(out) :: sys
         type(param_values), intent(out) :: p                    !! every parameter, resolved
         integer :: status
-        class(friction_law), allocatable :: fl
         type(model_system) :: ms
+        status = preset_model(scene, law, keys, vals, ms, p)
+        if (status == SS_OK) call specialise(ms, sys)
+    end function new_system
+
+    !> A scene's model as its preset builds it (`stickslip_presets`), prepared and not yet
+    !! specialised: what `new_system` runs, and what a user's model of the same arrays is
+    !! (the Python `Model.from_scene` reads it). SS_OK or the code of the bad input.
+    function preset_model(scene, law, keys, vals, ms, p) result(status)
+        integer, intent(in) :: scene                            !! scene code
+        integer, intent(in) :: law                              !! law code
+        character(len=*), intent(in) :: keys(:)                 !! given parameter names
+        real(dp), intent(in) :: vals(:)                         !! their values [SI units]
+        type(model_system), intent(out) :: ms                   !! the scene's model, prepared
+        type(param_values), intent(out) :: p                    !! every parameter, resolved
+        integer :: status
+        class(friction_law), allocatable :: fl
 
         if (scene < 1 .or. scene > size(SCENE_TABLE)) then
             status = resolve_params(keys, vals, p)
@@ -201,8 +216,7 @@ contains
         case (SCENE_CHAIN)
             status = chain_model(fl, p, ms)
         end select
-        if (status == SS_OK) call specialise(ms, sys)
-    end function new_system
+    end function preset_model
 
     !> Set the named controls on ctl; each must be one the method reads.
     function apply_controls(ctl, info, keys, vals) result(status)

@@ -25,6 +25,7 @@ module stickslip_user_model
                                 SIG_SUB, SIG_MUL, signal_combine, signal_affine, signal_derivative, &
                                 signal_integral
     use stickslip_model_system, only: model_system
+    use stickslip_one_contact, only: specialise
     use stickslip_registry, only: make_law, code_of, integrate
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
     implicit none
@@ -68,6 +69,9 @@ module stickslip_user_model
         integer, allocatable :: drv_kind(:)        !! drives' kinds (DRIVE_POSITION, DRIVE_VELOCITY)
         integer, allocatable :: drv_sig(:)         !! drives' signals [m or m/s]
         type(signal_set) :: sig                    !! the signals
+        !> .true.: the adaptive methods' relative tolerance acts on each contact's slip
+        !! (`model_system`'s `error_size`); .false.: on |y|, as in the presets (a scene's model)
+        logical :: slip_error_size = .true.
     contains
         !> Add a body of mass (inertia) m [kg] at x0 [m] moving at v0 [m/s]; its index (from 1).
         procedure :: add_body
@@ -99,6 +103,8 @@ module stickslip_user_model
         procedure :: times
         !> Check the model and make its system; SS_OK or the code, with the bad element.
         procedure :: build
+        !> `build`, then the system as its structure allows (`specialise`): what every run takes.
+        procedure :: build_run
         !> The initial state (x0, v0, law states 0).
         procedure :: initial_state
         !> The size of the model's state (every body's x, v, then the law states).
@@ -174,7 +180,9 @@ contains
 
     subroutine add_contact(self, a, b, law, normal_force, surface_velocity, keys, vals)
         class(stickslip_model), intent(inout) :: self
-        integer, intent(in) :: a                    !! body, >= 1 (the friction force -mu N acts on it)
+        !> body, >= 1 (the friction force -mu N acts on it), or 0 for the ground when b is a
+        !! body (the law then sees the ground's slip under b, -v_b - w: the belt preset's contact)
+        integer, intent(in) :: a
         integer, intent(in) :: b                    !! body, or 0 for the ground (it gets +mu N)
         character(len=*), intent(in) :: law         !! the law's name (registry)
         integer, intent(in) :: normal_force         !! the normal force's signal [N] (<= 0: open)
@@ -384,9 +392,12 @@ contains
         allocate(sys%laws(nc), sys%z_first(nc + 1))
         sys%z_first(1) = 1
         do i = 1, nc
-            if (.not. pair_ok(self%con_a(i), self%con_b(i))) then
+            ! a contact's side a may be the ground when its side b is a body (the presets'
+            ! belt: the law sees the surface's slip under the body)
+            if (.not. (pair_ok(self%con_a(i), self%con_b(i)) .or. &
+                       (self%con_a(i) == 0 .and. pair_ok(self%con_b(i), 0)))) then
                 call fail(SS_BAD_BODY, ELEM_CONTACT, i)
-            else if (driven(self%con_a(i)) /= 0 .and. (self%con_b(i) == 0 .or. driven(self%con_b(i)) /= 0)) then
+            else if (.not. (free(self%con_a(i)) .or. free(self%con_b(i)))) then
                 call fail(SS_BAD_BODY, ELEM_CONTACT, i)     ! no free body: it moves nothing
             end if
             if (self%con_n(i) < 1 .or. self%con_n(i) > nsig .or. self%con_w(i) < 0 .or. self%con_w(i) > nsig) &
@@ -406,12 +417,20 @@ contains
         call reduce(dp_)
         if (status /= SS_OK) return
         if (present(plan)) plan = dp_
+        sys%slip_error_size = self%slip_error_size
         call sys%prepare()
     contains
         logical function pair_ok(a, b)
             integer, intent(in) :: a, b
             pair_ok = a >= 1 .and. a <= nb .and. b >= 0 .and. b <= nb .and. a /= b
         end function pair_ok
+
+        !> Whether body j (0: the ground) is a body without a drive.
+        logical function free(j)
+            integer, intent(in) :: j
+            free = j >= 1 .and. j <= nb
+            if (free) free = driven(j) == 0
+        end function free
 
         !> The system of the free bodies: each element joined to a driven body acts on the
         !! other body as an element on the ground plus a signal (a spring k to a body at x_d(t):
@@ -538,6 +557,21 @@ contains
         end subroutine fail
     end subroutine build
 
+    !> `build`, then the system with its structure found once (`stickslip_one_contact`'s
+    !! `specialise`, as for a scene's preset): a model of one body with one contact with the
+    !! ground and only numbers as signals runs the integrators' kernels for that structure.
+    subroutine build_run(self, sys, run, status, elem_kind, elem_index, plan)
+        class(stickslip_model), intent(inout) :: self
+        type(model_system), intent(out) :: sys                   !! the system as built
+        class(model_system), allocatable, intent(out) :: run     !! the same, specialised (on SS_OK)
+        integer, intent(out) :: status              !! SS_OK or the error's code
+        integer, intent(out) :: elem_kind           !! ELEM_* of the bad element (0: none)
+        integer, intent(out) :: elem_index          !! its index, from 1 (0: none)
+        type(drive_plan), intent(out), optional :: plan  !! how the model maps onto sys (its drives)
+        call self%build(sys, status, elem_kind, elem_index, plan)
+        if (status == SS_OK) call specialise(sys, run)
+    end subroutine build_run
+
     !> (x0, v0, 0 for every law state) of a built system.
     function initial_state(self, sys) result(y0)
         class(stickslip_model), intent(in) :: self
@@ -648,6 +682,7 @@ contains
         !> (number of drives, size(t_out)): each drive's force on its body [N] (`drive_forces`)
         real(dp), intent(out), optional :: drive_force(:, :)
         type(model_system) :: sys
+        class(model_system), allocatable :: run   ! sys with its structure found (`specialise`)
         type(drive_plan) :: plan
         real(dp), allocatable :: rt(:), at(:), y_init(:), y_free(:, :)
         real(dp) :: rate
@@ -655,7 +690,7 @@ contains
         character(len=NAME_LEN), allocatable :: ck(:)
         real(dp), allocatable :: cv(:)
         integer :: ek, ei, code
-        call self%build(sys, stats%status, ek, ei, plan)
+        call self%build_run(sys, run, stats%status, ek, ei, plan)
         if (present(elem_kind)) elem_kind = ek
         if (present(elem_index)) elem_index = ei
         if (stats%status /= SS_OK) return
@@ -690,7 +725,7 @@ contains
             end if
         end if
         if (size(self%drv_body) == 0) then
-            call integrate(code, sys, 0.0_dp, y_init, t_end, rt, at, ck, cv, t_out, y_out, stats, stop_flag, events)
+            call integrate(code, run, 0.0_dp, y_init, t_end, rt, at, ck, cv, t_out, y_out, stats, stop_flag, events)
             return
         end if
         ! the free bodies' state; then every body's, the driven ones' from their signals
@@ -698,7 +733,7 @@ contains
         nf = sys%nb
         allocate(y_free(sys%n_states(), size(t_out)))
         y_free = 0.0_dp
-        call integrate(code, sys, 0.0_dp, [y_init(plan%free), y_init(nb + plan%free), y_init(2 * nb + 1:)], &
+        call integrate(code, run, 0.0_dp, [y_init(plan%free), y_init(nb + plan%free), y_init(2 * nb + 1:)], &
                        t_end, rt, at, ck, cv, t_out, y_free, stats, stop_flag, events)
         y_out(plan%free, :) = y_free(1:nf, :)
         y_out(nb + plan%free, :) = y_free(nf + 1:2 * nf, :)
@@ -721,7 +756,7 @@ contains
     !! tables(2, ntab) = (t, value) (stickslip_signal), drives(3, ndr) = (body, kind, signal).
     !! Checked by `build`, not here.
     subroutine model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, vals, signals, &
-                                 sig_start, tables, drives)
+                                 sig_start, tables, drives, slip_error_size)
         type(stickslip_model), intent(out) :: m   !! the model
         real(dp), intent(in) :: bodies(:, :)      !! (3, nb) mass [kg], x0 [m], v0 [m/s] of each body
         real(dp), intent(in) :: springs(:, :)     !! (4, ns) a, b, k [N/m], rest length [m]
@@ -735,6 +770,10 @@ contains
         integer, intent(in) :: sig_start(:)       !! first operation of each signal
         real(dp), intent(in) :: tables(:, :)      !! (2, ntab) the tables' points
         real(dp), intent(in) :: drives(:, :)      !! (3, ndr) the drives
+        !> the adaptive methods' error size: on the contacts' slips (default) or on |y| (a
+        !! scene's model: `stickslip_model`'s slip_error_size)
+        logical, intent(in), optional :: slip_error_size
+        if (present(slip_error_size)) m%slip_error_size = slip_error_size
         m%mass = bodies(1, :)
         m%x0 = bodies(2, :)
         m%v0 = bodies(3, :)

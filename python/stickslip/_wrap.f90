@@ -456,7 +456,8 @@ end subroutine prescribed
 subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts, nc, con_ptr, ncp, &
                      pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
                      method, y0, n, t_end, rtol, nrt, atol, nat, ckeys, cvals, ncv, nrow, t_out, y_out, &
-                     drive_force, ni, istats, nr, rstats, stop, events, nev, status, elem_kind, elem_index, cpu)
+                     drive_force, ni, istats, nr, rstats, stop, events, nev, status, elem_kind, elem_index, cpu, &
+                     slip_size)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_BAD_DIM
     use stickslip_ode, only: ode_stats, stats_integers, stats_reals
@@ -509,6 +510,9 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
     !f2py integer intent(hide), depend(events) :: nev = shape(events, 1)
     integer(c_int), intent(out) :: status, elem_kind, elem_index
     real(c_double), intent(out) :: cpu
+    !> 1: the adaptive methods' tolerance on the contacts' slips; 0: on |y| (a scene's model)
+    integer(c_int), intent(in) :: slip_size
+    !f2py integer optional, intent(in) :: slip_size = 1
     !f2py threadsafe
     type(stickslip_model) :: m
     type(ode_stats) :: st
@@ -532,7 +536,7 @@ subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts,
         return
     end if
     call model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, pvals, signals, sig_start, &
-                           tables, drives)
+                           tables, drives, slip_size /= 0)
 
     flag => stop(1)
     call arm(stop(1), armed)
@@ -563,7 +567,7 @@ subroutine orbit_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contact
                        pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
                        method, y0, n, period, autonomous, rtol, nrt, atol, nat, ckeys, cvals, ncv, &
                        tol, max_iter, fd_newton, fd_monodromy, want_mono, y_out, period_out, mono, mult_re, &
-                       mult_im, info, status, elem_kind, elem_index)
+                       mult_im, info, status, elem_kind, elem_index, slip_size)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_BAD_DIM
     use stickslip_params, only: NAME_LEN
@@ -613,6 +617,9 @@ subroutine orbit_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contact
     real(c_double), intent(out) :: mult_re(n), mult_im(n)
     real(c_double), intent(out) :: info(5)
     integer(c_int), intent(out) :: status, elem_kind, elem_index
+    !> 1: the adaptive methods' tolerance on the contacts' slips; 0: on |y| (as run_model's)
+    integer(c_int), intent(in) :: slip_size
+    !f2py integer optional, intent(in) :: slip_size = 1
     !f2py threadsafe
     type(stickslip_model) :: m
     type(orbit_options) :: opts
@@ -634,7 +641,7 @@ subroutine orbit_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contact
         return
     end if
     call model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, pvals, signals, sig_start, &
-                           tables, drives)
+                           tables, drives, slip_size /= 0)
     opts%tol = tol
     opts%max_iter = max_iter
     opts%fd_newton = fd_newton
@@ -657,3 +664,73 @@ subroutine orbit_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contact
         mult_im = orb%mult_im
     end if
 end subroutine orbit_model
+
+!> The sizes of a scene's model as its preset builds it (stickslip_registry's preset_model):
+!! sizes = (bodies, springs, dampers, forces, contacts), for preset_arrays.
+subroutine preset_sizes(scene, law, pkeys, pvals, np, sizes, status)
+    use, intrinsic :: iso_c_binding, only: c_int, c_double
+    use stickslip_kinds, only: SS_OK
+    use stickslip_params, only: param_values
+    use stickslip_model_system, only: model_system
+    use stickslip_registry, only: preset_model, split_names
+    implicit none
+    integer(c_int), intent(in) :: scene, law
+    character(len=*), intent(in) :: pkeys
+    integer(c_int), intent(in) :: np
+    real(c_double), intent(in) :: pvals(np)
+    !f2py integer intent(hide), depend(pvals) :: np = len(pvals)
+    integer(c_int), intent(out) :: sizes(5)
+    integer(c_int), intent(out) :: status
+    type(model_system) :: ms
+    type(param_values) :: p
+    sizes = 0
+    status = preset_model(scene, law, split_names(pkeys), pvals, ms, p)
+    if (status == SS_OK) sizes = [ms%nb, size(ms%spr_k), size(ms%dmp_c), size(ms%frc_body), size(ms%con_a)]
+end subroutine preset_sizes
+
+!> A scene's model as its preset builds it, as the arrays of a user's model (body indices
+!! from 1, 0 the ground; its signals are numbers, given by value): mass(nb) [kg],
+!! springs(4, ns) = (a, b, k [N/m], rest length [m]), dampers(3, nd) = (a, b, c [N s/m]),
+!! forces(2, nf) = (body, force [N]), contacts(4, nc) = (a, b, normal force [N], surface
+!! velocity [m/s]); the sizes from preset_sizes. The law is the contacts' own (law, pkeys).
+subroutine preset_arrays(scene, law, pkeys, pvals, np, nb, ns, nd, nf, nc, mass, springs, dampers, forces, &
+                         contacts, status)
+    use, intrinsic :: iso_c_binding, only: c_int, c_double
+    use stickslip_kinds, only: SS_OK, SS_BAD_DIM
+    use stickslip_params, only: param_values
+    use stickslip_model_system, only: model_system
+    use stickslip_registry, only: preset_model, split_names
+    implicit none
+    integer(c_int), intent(in) :: scene, law
+    character(len=*), intent(in) :: pkeys
+    integer(c_int), intent(in) :: np, nb, ns, nd, nf, nc
+    real(c_double), intent(in) :: pvals(np)
+    !f2py integer intent(hide), depend(pvals) :: np = len(pvals)
+    real(c_double), intent(out) :: mass(nb), springs(4, ns), dampers(3, nd), forces(2, nf), contacts(4, nc)
+    integer(c_int), intent(out) :: status
+    type(model_system) :: ms
+    type(param_values) :: p
+    integer :: i
+    mass = 0.0_c_double
+    springs = 0.0_c_double
+    dampers = 0.0_c_double
+    forces = 0.0_c_double
+    contacts = 0.0_c_double
+    status = preset_model(scene, law, split_names(pkeys), pvals, ms, p)
+    if (status /= SS_OK) return
+    if (nb /= ms%nb .or. ns /= size(ms%spr_k) .or. nd /= size(ms%dmp_c) .or. nf /= size(ms%frc_body) .or. &
+        nc /= size(ms%con_a)) then
+        status = SS_BAD_DIM
+        return
+    end if
+    mass = ms%mass
+    springs = reshape([(real([ms%spr_a(i), ms%spr_b(i)], c_double), ms%spr_k(i), ms%spr_l0(i), i = 1, ns)], [4, ns])
+    dampers = reshape([(real([ms%dmp_a(i), ms%dmp_b(i)], c_double), ms%dmp_c(i), i = 1, nd)], [3, nd])
+    do i = 1, nf
+        forces(:, i) = [real(ms%frc_body(i), c_double), ms%sig%number(ms%frc_sig(i))]
+    end do
+    do i = 1, nc
+        contacts(1:3, i) = [real(ms%con_a(i), c_double), real(ms%con_b(i), c_double), ms%sig%number(ms%con_n(i))]
+        if (ms%con_w(i) > 0) contacts(4, i) = ms%sig%number(ms%con_w(i))
+    end do
+end subroutine preset_arrays

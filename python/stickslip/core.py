@@ -791,24 +791,31 @@ class _Oscillators:
     slope: tuple[str, tuple[tuple[str, float], ...]] | None = None
 
 
-def _scene_oscillators(scene: str, law: str, given: Mapping[str, Any], n_blocks: int) -> _Oscillators:
-    """A scene's bodies and springs (the system `Model.from_scene` builds): the slope one body
-    and no spring, the belt mass m on spring k, the chain n_blocks masses m, spring k + k_p to
-    the ground for block 0, k_p for the others, k_c between neighbours."""
-    def value(name: str) -> float:
-        v = given.get(name, DEFAULTS.get(name))
-        return float(given.get("k", DEFAULTS["k"]) if v is None and name == "k_c" else v)
+def _scene_oscillators(scene: str, law: str, given: Mapping[str, Any]) -> _Oscillators:
+    """A scene's bodies and springs, read from the model its preset builds in the library (the
+    one `Model.from_scene` returns: `preset_arrays`), seen as `_model_oscillators` sees a
+    Model's. A bad parameter: ValueError naming it."""
+    mass, springs, _dampers, forces, contacts = preset_arrays(scene, law, given)
+    rows = np.column_stack([springs[0] - 1.0, springs[1] - 1.0, springs[2]]) if springs.size else np.zeros((0, 3))
+    one_contact = contacts.shape[1] == 1 and not springs.size and not _dampers.size
+    law_params = {k: v for k, v in given.items() if k in REGISTRY["law"][law]["params"]}
+    slope = _slope(law, law_params, mass, forces[1].tolist(),
+                   (bool(contacts[1, 0] == 0.0), float(contacts[2, 0]), float(contacts[3, 0])) if one_contact else None)
+    return _Oscillators(mass, rows, slope)
 
-    if scene == "slope":
-        return _Oscillators(np.ones(1), np.zeros((0, 3)), (law, tuple(sorted(given.items()))))
-    m, k = value("m"), value("k")
-    if scene == "belt":
-        return _Oscillators(np.full(1, m), np.array([[0.0, -1.0, k]]))
-    k_p, k_c = value("k_p"), value("k_c")
-    i = np.arange(1, n_blocks, dtype=np.float64)
-    springs = np.concatenate([[[0.0, -1.0, k + k_p]], np.column_stack([i, np.full_like(i, -1.0), np.full_like(i, k_p)]),
-                              np.column_stack([i, i - 1.0, np.full_like(i, k_c)])])
-    return _Oscillators(np.full(n_blocks, m), springs)
+
+def preset_arrays(scene: str, law: str, given: Mapping[str, Any]) -> tuple[np.ndarray, ...]:
+    """The model of `scene` with `law` as its preset builds it (stickslip_presets, per unit
+    mass): (mass (nb,) [kg], springs (4, ns) = (a, b, k, rest length), dampers (3, nd), forces
+    (2, nf) = (body, force [N]), contacts (4, nc) = (a, b, normal force [N], surface velocity
+    [m/s])), body indices from 1, 0 the ground. ValueError naming a bad parameter."""
+    pkeys, pvals = _keys(given)
+    codes = _choice("scene", scene, SCENES), _choice("law", law, LAWS)
+    sizes, status = _ext.preset_sizes(*codes, pkeys, pvals)
+    if status == STATUS_OK:
+        *arrays, status = _ext.preset_arrays(*codes, pkeys, pvals, *sizes)
+    _check_code(int(status), given)
+    return tuple(arrays)
 
 
 def _constant(signal: Any) -> float | None:
@@ -816,25 +823,36 @@ def _constant(signal: Any) -> float | None:
     return float(signal.args[0]) if signal.kind == "constant" else None
 
 
+def _slope(law: str, params: Mapping[str, Any], masses: np.ndarray, forces: list[float | None],
+           contact: tuple[bool, float | None, float | None] | None) -> tuple[str, tuple[tuple[str, float], ...]] | None:
+    """RK4's creep-bound setting (`rk4_stability_bound`) of a box on a slope: one body, no
+    spring or damper (the caller checks), constant forces F and one contact (ground on side b,
+    normal force N, surface velocity) with the still ground under N > 0: theta = atan(F / N),
+    g = |(F, N)| / m; else None."""
+    if len(masses) != 1 or contact is None:
+        return None
+    ground_b, normal, surface = contact
+    if ground_b and surface == 0.0 and normal is not None and normal > 0.0 and None not in forces:
+        f = math.fsum(forces)
+        return (law, tuple(sorted({**params, "theta_deg": math.degrees(math.atan2(f, normal)),
+                                   "g": math.hypot(f, normal) / masses[0]}.items())))
+    return None
+
+
 def _model_oscillators(model: Any) -> _Oscillators:
-    """A Model's bodies and springs; a box on a slope where it has one body, no spring or
-    damper, constant forces F and one contact with the still ground under a constant normal
-    force N > 0: theta = atan(F / N), g = |(F, N)| / m, as `Model.from_scene("slope", ...)`
-    builds it."""
+    """A Model's bodies and springs, and its slope setting (`_slope`) where it is a box on a
+    slope, as `Model.from_scene("slope", ...)` builds it."""
     masses = np.array([b.mass for b in model.bodies], dtype=np.float64)
     springs = np.array([(a, -1 if b is None else b, k) for a, b, k, *_ in model.springs],
                        dtype=np.float64).reshape(-1, 3)
-    slope = None
-    if len(masses) == 1 and not model.springs and not model.dampers and len(model.contacts) == 1:
+    contact = None
+    if not model.springs and not model.dampers and len(model.contacts) == 1:
         c = model.contacts[0]
-        forces = [_constant(s) for _, s in model.forces]
-        normal = _constant(c.normal_force)
-        still = c.surface_velocity is None or _constant(c.surface_velocity) == 0.0
-        if c.b is None and still and normal is not None and normal > 0.0 and None not in forces:
-            f = math.fsum(forces)
-            slope = (c.law, tuple(sorted({**c.params, "theta_deg": math.degrees(math.atan2(f, normal)),
-                                          "g": math.hypot(f, normal) / masses[0]}.items())))
-    return _Oscillators(masses, springs, slope)
+        contact = (c.b is None, _constant(c.normal_force),
+                   0.0 if c.surface_velocity is None else _constant(c.surface_velocity))
+    law = "+".join(dict.fromkeys(c.law for c in model.contacts))
+    params = model.contacts[0].params if len(model.contacts) == 1 else {}
+    return _Oscillators(masses, springs, _slope(law, params, masses, [_constant(s) for _, s in model.forces], contact))
 
 
 @functools.lru_cache(maxsize=256)
@@ -902,8 +920,7 @@ def shortest_period(system: Any, law: str = "coulomb", **params: Any) -> float |
     if isinstance(system, str):
         _choice("scene", system, SCENES)
         given = {k: v for k, v in params.items() if k in _PARAM_SET}
-        osc = _scene_oscillators(system, law, given, int(given.get("n_blocks", DEFAULTS["n_blocks"]))
-                                 if system == "chain" else 1)
+        osc = _scene_oscillators(system, law, given)
     else:
         osc = _model_oscillators(system)
     found = _system_period(osc)
@@ -1358,11 +1375,17 @@ def _warn_nonunique(result: Result) -> None:
 
 
 def _failed(call: _Call, result: Result) -> NoReturn:
-    """Raise for a run of `call` that did not reach t_end: ValueError for a bad input the
-    library named, else the IntegrationError of its status, holding `result`."""
+    """Raise for a run of `call` that did not reach t_end (`_raise_failure`)."""
+    _raise_failure(result, call.known)
+
+
+def _raise_failure(result: Result, known: Mapping[str, Any]) -> NoReturn:
+    """Raise for a run that did not reach t_end, a scene's or a Model's: ValueError for a bad
+    input the library named (with the values of `known` it names), else the IntegrationError
+    of its status, holding `result` (the motion up to where it stopped)."""
     status = result._raw[2]
     if status <= _FIRST_INPUT_CODE:
-        raise ValueError(_with_values(status_message(status), call.known))
+        raise ValueError(_with_values(status_message(status), known))
     raise _ERRORS.get(status, IntegrationError)(status, result)
 
 
@@ -1416,7 +1439,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     if plan.needs_h:
         if "h" not in ctl:
             raise ValueError(f"h: required for method {method!r} (finite, > 0 [s])")
-        for message, category in _step_warnings(_scene_oscillators(scene, law, given, n_blocks), method,
+        for message, category in _step_warnings(_scene_oscillators(scene, law, given), method,
                                                 ctl["h"], t_end):
             warn(message, category)
     if scene == "chain":

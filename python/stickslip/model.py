@@ -28,11 +28,11 @@ from typing import Any, Mapping
 import numpy as np
 
 from . import _stickslip as _ext
-from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result, _ERRORS,
+from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
                    _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _end_time, _events, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
-                   IntegrationError, _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
-                   _physical, MAX_ROWS, model_notes, _warn_model_steps)
+                   _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
+                   _physical, MAX_ROWS, model_notes, _warn_model_steps, preset_arrays, _raise_failure)
 from .outputs import atomic_write
 from .signal import Signal, SignalLike, as_signal
 from .energy import check_result
@@ -99,6 +99,10 @@ class Model:
         self.forces: list[tuple[int, Signal]] = []
         self.contacts: list[_Contact] = []
         self.drives: list[_Drive] = []
+        #: True: the adaptive methods' relative tolerance acts on each contact's slip (a body's
+        #: velocity sized by its contacts' slips); False: on |y| component by component, as a
+        #: scene's preset runs (`from_scene` sets it, so that its model runs as the scene)
+        self.slip_error_size: bool = True
 
     # -- building ----------------------------------------------------------------------
     @property
@@ -117,9 +121,9 @@ class Model:
                              f"{' or None (the ground)' if ground else ''}, got {index!r}")
         return int(index)
 
-    def _pair(self, element: str, a: Any, b: Any) -> tuple[int, int | None]:
-        ia = self._body(element, "a", a, ground=False)
-        ib = self._body(element, "b", b)
+    def _pair(self, element: str, a: Any, b: Any, ground_a: bool = False) -> tuple[int | None, int | None]:
+        ia = self._body(element, "a", a, ground=ground_a and b is not None)
+        ib = self._body(element, "b", b, ground=ia is not None)
         if ia == ib:
             raise ValueError(f"{element}: a and b are the same body ({ia}); b = None is the ground")
         return ia, ib  # type: ignore[return-value]
@@ -176,7 +180,9 @@ class Model:
         ----------
         a, b : int or None
             The bodies; the friction force on `a` opposes the slip
-            s = v_a - v_b - surface_velocity and `b` gets the opposite force.
+            s = v_a - v_b - surface_velocity and `b` gets the opposite force. One of them may
+            be the ground (None): with ``a=None`` the law sees the ground's slip under body
+            `b`, s = -v_b - surface_velocity (the scenes' belt, `from_scene`).
         law : str
             The contact's friction law, one of `stickslip.LAWS`.
         normal_force : float or Signal
@@ -189,7 +195,7 @@ class Model:
             defaults as for the scenes), range-checked when the model runs.
         """
         n = len(self.contacts)
-        ia, ib = self._pair(f"contact {n}", a, b)
+        ia, ib = self._pair(f"contact {n}", a, b, ground_a=True)
         where = f"contact {n} ({self.label(ia)}-{self.label(ib)})"
         _choice("law", law, LAWS)
         allowed = REGISTRY["law"][law]["params"]
@@ -298,7 +304,7 @@ class Model:
             raise ValueError(f"model: every body has a drive ({', '.join(b.name for b in self.bodies)}): "
                              "leave at least one body free")
         for i, c in enumerate(self.contacts):
-            if self.driven(c.a) and (c.b is None or self.driven(c.b)):
+            if all(body is None or self.driven(body) for body in (c.a, c.b)):
                 raise ValueError(f"{self.contact_label(i)}: each side is driven or the ground, so its friction "
                                  "moves no free body; remove the contact or a drive")
         one = lambda i: 0 if i is None else i + 1  # noqa: E731
@@ -364,15 +370,17 @@ class Model:
                 out["contact"].append(row)
         if self.drives:
             out["drive"] = [{"body": name(d.body), d.kind: d.signal.to_dict()} for d in self.drives]
+        if not self.slip_error_size:
+            out["settings"] = [{"slip_error_size": False}]
         return out
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> "Model":
         """The inverse of `to_dict`; ValueError naming the bad entry."""
-        unknown = set(data) - {"body", "spring", "damper", "force", "contact", "drive"}
+        unknown = set(data) - {"body", "spring", "damper", "force", "contact", "drive", "settings"}
         if unknown:
             raise ValueError(f"model file: unknown section(s) {', '.join(sorted(unknown))} "
-                             "(accepted: body, spring, damper, force, contact, drive)")
+                             "(accepted: body, spring, damper, force, contact, drive, settings)")
         if not data.get("body"):
             raise ValueError("model file: no [[body]] table: a model needs at least one body "
                              "([[body]] with mass = ..., and optionally name, x0, v0)")
@@ -416,6 +424,15 @@ class Model:
                 raise ValueError(f"{where}: give exactly one of position and velocity, got "
                                  f"{', '.join(given) if given else 'neither'}")
             m.add_drive(body(where, d["body"], False), **given)
+        settings = data.get("settings", [])
+        if len(settings) > 1:
+            raise ValueError(f"model file: at most one [[settings]] table, got {len(settings)}")
+        for row in settings:
+            _fields("settings", row, set(), {"slip_error_size"})
+            value = row.get("slip_error_size", True)
+            if not isinstance(value, bool):
+                raise ValueError(f"settings: slip_error_size must be true or false, got {value!r}")
+            m.slip_error_size = value
         return m
 
     def to_toml(self, path: str | os.PathLike) -> None:
@@ -439,55 +456,50 @@ class Model:
     # -- the built-in scenes ----------------------------------------------------------------
     @classmethod
     def from_scene(cls, scene: str, law: str, x0: Any = 0.0, v0: Any = None, **params: float) -> "Model":
-        """A built-in scene as a model: ``simulate`` gives the scene's result (to rounding).
+        """A built-in scene as a model: the model its preset builds in the library
+        (``stickslip_presets``, read through the wrapper: one definition), which ``simulate``
+        runs with the same kernel as the scene, to the last bit.
 
-        "slope": one body of unit mass (the slope's mass cancels) pulled down the slope by
-        g sin(theta) on a contact with the ground, normal force g cos(theta); "belt": mass m
-        on a spring k to the ground, on a surface moving at v_b, normal force m g; "chain":
-        n_blocks such blocks, springs k (+ k_p) to the ground for block 0, k_p for the others,
-        k_c between neighbours, normal forces m g (1 + perturbation r_i) as in the scene.
-        `x0`, `v0` as for `simulate` (v0 on the belt and chain defaults to v_b on the chain, 0
-        on the belt, as there); other keywords are the scene's and the law's parameters.
+        Every preset is per unit mass, as the scene's equations: "slope": one body of mass 1
+        pulled down the slope by g sin(theta) on a contact with the ground, normal force
+        g cos(theta); "belt": a body of mass 1 on a spring k/m to the ground, on a belt
+        moving at v_b (the contact's side a is the ground, its surface velocity -v_b: the law
+        sees the belt's slip v_b - v under the body, as in the scene), normal force g;
+        "chain": n_blocks such bodies, springs (k + k_p)/m to the ground for block 0, k_p/m
+        for the others, k_c/m between neighbours, normal forces g (1 + perturbation r_i). The
+        model's `slip_error_size` is False, as the scenes' (the adaptive methods' tolerance
+        on |y|). `x0`, `v0` as for `simulate` (v0 on the chain defaults to v_b, on the others
+        to 0); other keywords are the scene's and the law's parameters.
         """
         _choice("scene", scene, tuple(REGISTRY["scene"]))
         _choice("law", law, LAWS)
         given = _physical(params)
-        known = _known(given)
         scene_params = set(REGISTRY["scene"][scene]["params"])
         law_names = set(REGISTRY["law"][law]["params"])
         unknown = set(given) - scene_params - law_names
         if unknown:
             raise ValueError(f"{', '.join(sorted(unknown))}: not a parameter of scene {scene!r} or law {law!r}")
-        lp = {k: v for k, v in given.items() if k in law_names}
+        mass, springs, dampers, forces, contacts = preset_arrays(scene, law, given)
+        nb = mass.size
+        if scene == "chain" and v0 is None:
+            v0 = _known(given)["v_b"]          # every block stuck on the belt, as simulate's chain
+        xs = np.broadcast_to(np.asarray(_finite("x0", x0, "[m]") if nb == 1 else x0, dtype=np.float64), (nb,))
+        vs = np.broadcast_to(np.asarray(_finite("v0", 0.0 if v0 is None else v0, "[m/s]") if nb == 1 else v0,
+                                        dtype=np.float64), (nb,))
+        body = lambda j: None if j == 0 else int(j) - 1  # noqa: E731  (the library's index: 0 the ground)
         m = cls()
-        g = known["g"]
-        if scene == "slope":
-            th = math.radians(known["theta_deg"])
-            b = m.add_body(1.0, _finite("x0", x0, "[m]"), _finite("v0", 0.0 if v0 is None else v0, "[m/s]"))
-            m.add_force(b, g * math.sin(th))
-            m.add_contact(b, None, law, g * math.cos(th), **lp)
-            return m
-        mass, k, v_b = known["m"], known["k"], known["v_b"]
-        if scene == "belt":
-            b = m.add_body(mass, _finite("x0", x0, "[m]"), _finite("v0", 0.0 if v0 is None else v0, "[m/s]"))
-            m.add_spring(b, None, k)
-            m.add_contact(b, None, law, mass * g, v_b, **lp)
-            return m
-        nb = _count("n_blocks", known["n_blocks"], 1)
-        xs = np.broadcast_to(np.asarray(x0, dtype=np.float64), (nb,))
-        vs = np.broadcast_to(np.asarray(v_b if v0 is None else v0, dtype=np.float64), (nb,))
-        phi = 0.6180339887498948482        # the chain's perturbation sequence (stickslip_presets' chain_r)
+        m.slip_error_size = False
         for i in range(nb):
-            m.add_body(mass, float(xs[i]), float(vs[i]))
-        m.add_spring(0, None, k + known["k_p"])
-        for i in range(1, nb):
-            if known["k_p"] > 0.0:
-                m.add_spring(i, None, known["k_p"])
-            m.add_spring(i, i - 1, known["k_c"])
-        for i in range(nb):
-            r = 0.5 + i * phi
-            r = 2.0 * (r - math.trunc(r)) - 1.0
-            m.add_contact(i, None, law, mass * g * (1.0 + known["perturbation"] * r), v_b, **lp)
+            m.add_body(float(mass[i]), float(xs[i]), float(vs[i]))
+        for a, b, k, rest in springs.T:
+            m.add_spring(body(a), body(b), float(k), float(rest))
+        for a, b, c in dampers.T:
+            m.add_damper(body(a), body(b), float(c))
+        for j, f in forces.T:
+            m.add_force(body(j), float(f))
+        lp = {k: v for k, v in given.items() if k in law_names}
+        for a, b, normal, surface in contacts.T:
+            m.add_contact(body(a), body(b), law, float(normal), float(surface), **lp)
         return m
 
     def run_model(self, **kwargs: Any) -> Result:
@@ -648,7 +660,7 @@ def orbit_model(model: Model, method: str, y0: np.ndarray, period: float, autono
         *(arrays[k] for k in ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals",
                               "signals", "sig_start", "tables", "drives")),
         method, np.asarray(y0, dtype=np.float64), float(period), int(autonomous), rtol, atol, ckeys, cvals,
-        float(tol), int(max_iter), float(fd_newton), float(fd_monodromy), 1)
+        float(tol), int(max_iter), float(fd_newton), float(fd_monodromy), 1, int(model.slip_error_size))
     status = int(status)
     if status <= _FIRST_INPUT_CODE:
         raise _input_error(model, status, int(elem_kind), int(elem_index))
@@ -702,7 +714,8 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     y, drive_force, istats, rstats, status, elem_kind, elem_index, cpu = _ext.run_model(
         *(arrays[k] for k in ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals",
                               "signals", "sig_start", "tables", "drives")),
-        method, y0, t_end, rtol, atol, ckeys, cvals, t_grid, _SIZES[0], _SIZES[1], stop, raw_events)
+        method, y0, t_end, rtol, atol, ckeys, cvals, t_grid, _SIZES[0], _SIZES[1], stop, raw_events,
+        int(model.slip_error_size))
     status = int(status)
     if status <= _FIRST_INPUT_CODE:
         raise _input_error(model, status, int(elem_kind), int(elem_index))
@@ -719,7 +732,7 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
     result.drive_force = drive_force.T
     if status != STATUS_OK:
-        raise _ERRORS.get(status, IntegrationError)(status, result)
+        _raise_failure(result, {})
     result.stats["notes"].extend(notes)
     check_result(result, method, {**ctl, "rtol": rtol, "atol": atol}, model, arrays, stacklevel=4)
     return result

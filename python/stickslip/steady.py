@@ -231,7 +231,8 @@ class _System:
         self.affine = all(c.law == "coulomb" for c in model.contacts)
         self.params = []
         for i, c in enumerate(model.contacts):
-            self.G[i, c.a] = 1.0
+            if c.a is not None:                 # side a the ground: a scene's belt (Model.from_scene)
+                self.G[i, c.a] = 1.0
             if c.b is not None:
                 self.G[i, c.b] = -1.0
             self.params.append(_known(c.params))
@@ -819,7 +820,7 @@ def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, no
     sys_ = _System(model)
     return Orbit(period=period, x0=y0[:n].copy(), v0=y0[n:2 * n].copy(), z0=y0[2 * n:].copy(), multipliers=mult,
                  trivial=trivial, trivial_error=trivial_error, stable=stable,
-                 amplitude=_amplitude(res, [c.a for c in model.contacts]), stick_fraction=_stick(sys_, res, period),
+                 amplitude=_amplitude(res, [c.b if c.a is None else c.a for c in model.contacts]), stick_fraction=_stick(sys_, res, period),
                  events=events, result=res, monodromy=mono, monodromy_method=how, residual=norm, iterations=it,
                  autonomous=autonomous, method=runner.method, runs=runner.runs)
 
@@ -827,7 +828,7 @@ def _finish(runner: _Runner, y0: np.ndarray, period: float, autonomous: bool, no
 def _amplitude(res: Result, contacts: Sequence[int]) -> np.ndarray:
     """Half the peak-to-peak x of each body over the run: the grid's extremes refined by the
     cubic (Hermite, from x and v) through the two grid points around each, and the positions
-    at events (of body `contacts[c]`, the first body of contact c)."""
+    at events (of body `contacts[c]`, the first body of contact c that is not the ground)."""
     t, x, v = res.t, res.x, res.v
     out = np.empty(x.shape[0])
     # an interval with an event (a kink in x'') is not refined: the event's position stands in
