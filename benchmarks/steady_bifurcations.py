@@ -287,7 +287,7 @@ def damped_belt(c: float) -> Any:
     """The paper's belt (m = 10 kg, k = 300 N/m, v_b = 1.5 m/s), `proposed` law, a damper c."""
     import stickslip as ss
     m = ss.Model.from_scene("belt", "proposed", v0=1.5)
-    m.add_damper(0, None, c / ss.DEFAULTS["m"])      # the preset is per unit mass (mass 1)
+    m.add_damper(0, None, c)
     return m
 
 

@@ -127,7 +127,7 @@ def guide_numbers() -> dict[str, tuple[float, str, str]]:
     # the Hopf point of steady sliding on the damped belt with the proposed law
     def damped(c: float) -> Any:
         m = ss.Model.from_scene("belt", "proposed", v0=1.5)
-        m.add_damper(0, None, c / ss.DEFAULTS["m"])      # the preset is per unit mass (mass 1)
+        m.add_damper(0, None, c)
         return m
     n = 10.0 * g
     slope = np.diff(ss.friction_coefficient("proposed", np.array([1.5 - 1e-6, 1.5 + 1e-6])))[0] / 2e-6

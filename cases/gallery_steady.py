@@ -181,7 +181,7 @@ def damped_belt(c_damp: float) -> Any:
     `c_damp` [N s/m] to the wall, started sliding at rest."""
     import stickslip as ss
     m = ss.Model.from_scene("belt", "stribeck", v_b=HOPF_VB, v0=HOPF_VB, m=BELT["m"], k=BELT["k"], g=G, **HOPF_LAW)
-    m.add_damper(0, None, c_damp / BELT["m"])      # the preset is per unit mass (mass 1)
+    m.add_damper(0, None, c_damp)
     return m
 
 

@@ -144,7 +144,9 @@ def _brake() -> stickslip.Model:
 def test_model_rows_of_a_scene_equal_the_scene_rows() -> None:
     """The slope as a model (Model.from_scene) in the model batch is the scene batch's system
     run by the same loop: every grid value and every field but the wall clock equal, bit for bit
-    (its relative velocity is the body's velocity, which a model row monitors)."""
+    (its relative velocity is the body's velocity, which a model row monitors). The belt's preset
+    (per_unit_mass=True, its error sized on |y| as the scene's) gives the scene rows' states and
+    steps bit for bit (its monitor counts the body's velocity, the scene's the belt's slip)."""
     v0 = [0.5, 1.0, 2.0]
     for law, method, ctl in (("stribeck", "dopri5", dict(rtol=1e-8, atol=1e-10)), ("recurdyn", "rk4", dict(h=1e-3))):
         scene = stickslip.simulate_batch("slope", law, method=method, t_end=3.0, n_grid=101, keep_grid=True,
@@ -155,6 +157,13 @@ def test_model_rows_of_a_scene_equal_the_scene_rows() -> None:
         for k in scene.fields:
             if k != "seconds":
                 assert np.array_equal(scene.fields[k], model.fields[k]), (law, method, k)
+    for method, ctl in (("dopri5", dict(rtol=1e-8, atol=1e-10)), ("radau5", dict(rtol=1e-8, atol=1e-10))):
+        scene = stickslip.simulate_batch("belt", "stribeck", method=method, t_end=2.0, n_grid=51, keep_grid=True,
+                                         v0=[0.0, 0.1], **ctl)
+        model = stickslip.simulate_batch(stickslip.Model.from_scene("belt", "stribeck", per_unit_mass=True),
+                                         {"body 0.v0": [0.0, 0.1]}, method=method, t_end=2.0, n_grid=51,
+                                         keep_grid=True, **ctl)
+        assert np.array_equal(scene.y_grid, model.y_grid) and np.array_equal(scene.nstep, model.nstep), method
 
 
 def _notes_by_rows(notes: list[str]) -> list[tuple[set[int], str]]:
@@ -215,7 +224,7 @@ def test_a_bad_model_row_stops_the_batch_before_any_row_runs() -> None:
     from stickslip import batch
     from stickslip.core import status_message
     m = _brake()
-    rows = [dict(arrays=m.arrays(), y0=np.array([0.0, 10.0]), ctl={"h": 1e-3, "max_steps": 1e8},
+    rows = [dict(model=m, arrays=m.arrays(), y0=np.array([0.0, 10.0]), ctl={"h": 1e-3, "max_steps": 1e8},
                  rtol=np.array([1.0]), atol=np.array([1.0]), room=0) for _ in range(3)]
     rows[1]["arrays"] = dict(rows[1]["arrays"], bodies=np.asfortranarray([[-1.0], [0.0], [10.0]]))
     istats, _, _, _, elem, status, _ = batch._run_model_rows(

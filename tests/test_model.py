@@ -31,7 +31,7 @@ def _controls(method: str) -> dict[str, float]:
 @pytest.mark.parametrize("scene,params", IDENTITY_SCENES, ids=[s for s, _ in IDENTITY_SCENES])
 @pytest.mark.parametrize("method", ss.METHODS)
 def test_scene_as_model_is_bit_identical(scene, params, method):
-    """simulate(scene) and simulate(Model.from_scene(scene)) run the same model (the preset's
+    """simulate(scene) and simulate(Model.from_scene(scene, per_unit_mass=True)) run the same model (the preset's
     arrays, read from the library) through the same structure detection (`specialise`):
     x, v, the law states, the status and every integer counter equal, not close. A law the
     method does not take fails alike (the same exception type) both ways."""
@@ -43,8 +43,8 @@ def test_scene_as_model_is_bit_identical(scene, params, method):
             outcomes = []
             for run in (lambda: ss.simulate(scene, law, method=method, t_end=t_end, n_out=16,
                                             **_controls(method), **params),
-                        lambda: ss.simulate(ss.Model.from_scene(scene, law, **params), method=method,
-                                            t_end=t_end, n_out=16, **_controls(method))):
+                        lambda: ss.simulate(ss.Model.from_scene(scene, law, per_unit_mass=True, **params),
+                                            method=method, t_end=t_end, n_out=16, **_controls(method))):
                 try:
                     outcomes.append(run())
                 except (ValueError, ss.IntegrationError) as err:
@@ -66,23 +66,51 @@ def test_scene_as_model_is_bit_identical(scene, params, method):
 
 
 def test_scene_model_arrays_are_the_presets():
-    """Model.from_scene is the library's preset, per unit mass: the belt's body has mass 1, its
-    spring k/m, its contact the ground on side a with the surface velocity -v_b (the law sees
-    v_b - v) and the normal force g; the chain's coupling springs k_c/m and normal forces
-    g (1 + perturbation r_i) with r_i the golden-ratio sequence (r_1 = 0)."""
-    m = ss.Model.from_scene("belt", "coulomb", m=2.0, k=50.0, v_b=0.4, g=9.0)
+    """Model.from_scene(per_unit_mass=True) is the library's preset, per unit mass: the belt's
+    body has mass 1, its spring k/m, its contact the ground on side a with the surface velocity
+    -v_b (the law sees v_b - v) and the normal force g; the chain's coupling springs k_c/m and
+    normal forces g (1 + perturbation r_i) with r_i the golden-ratio sequence (r_1 = 0). By
+    default every mass, spring and normal force is the scene's physical one (times m)."""
+    m = ss.Model.from_scene("belt", "coulomb", m=2.0, k=50.0, v_b=0.4, g=9.0, per_unit_mass=True)
     assert [b.mass for b in m.bodies] == [1.0] and m.springs == [(0, None, 25.0, 0.0)]
     (c,) = m.contacts
     assert (c.a, c.b) == (None, 0)
     assert c.normal_force.args == (9.0,) and c.surface_velocity.args == (-0.4,)
     assert not m.slip_error_size
-    ch = ss.Model.from_scene("chain", "coulomb", n_blocks=3, m=2.0, k=50.0, k_c=30.0, perturbation=0.1, g=9.0)
+    phys = ss.Model.from_scene("belt", "coulomb", m=2.0, k=50.0, v_b=0.4, g=9.0)
+    assert [b.mass for b in phys.bodies] == [2.0] and phys.springs == [(0, None, 50.0, 0.0)]
+    assert phys.contacts[0].normal_force.args == (18.0,) and phys.contacts[0].surface_velocity.args == (-0.4,)
+    ch = ss.Model.from_scene("chain", "coulomb", n_blocks=3, m=2.0, k=50.0, k_c=30.0, perturbation=0.1, g=9.0,
+                             per_unit_mass=True)
     assert [s for s in ch.springs if s[1] is not None] == [(1, 0, 15.0, 0.0), (2, 1, 15.0, 0.0)]
     phi = (math.sqrt(5.0) - 1.0) / 2.0
     r = [2.0 * ((0.5 + i * phi) % 1.0) - 1.0 for i in range(3)]
     assert [c.normal_force.args[0] for c in ch.contacts] == pytest.approx([9.0 * (1 + 0.1 * x) for x in r], rel=1e-15)
+    chp = ss.Model.from_scene("chain", "coulomb", n_blocks=3, m=2.0, k=50.0, k_c=30.0, perturbation=0.1, g=9.0)
+    assert [b.mass for b in chp.bodies] == [2.0] * 3
+    assert [s for s in chp.springs if s[1] is not None] == [(1, 0, 30.0, 0.0), (2, 1, 30.0, 0.0)]
+    assert [c.normal_force.args[0] for c in chp.contacts] == pytest.approx([18.0 * (1 + 0.1 * x) for x in r],
+                                                                           rel=1e-15)
     with pytest.raises(ValueError, match="n_blocks"):
         ss.Model.from_scene("chain", "coulomb", n_blocks=2.5)
+    with pytest.raises(ValueError, match="per_unit_mass"):
+        ss.Model.from_scene("belt", "coulomb", per_unit_mass=1)
+
+
+def test_physical_scene_model_moves_as_the_scene():
+    """The physical model (every element times m) moves as the scene, to rounding: a damper added
+    to it is in N s/m."""
+    for method, ctl in (("rk4", dict(h=1e-4)), ("dopri5", dict(rtol=1e-10, atol=1e-12))):
+        r1 = ss.simulate("belt", "stribeck", method=method, t_end=2.0, n_out=41, m=3.0, **ctl)
+        r2 = ss.simulate(ss.Model.from_scene("belt", "stribeck", m=3.0), method=method, t_end=2.0, n_out=41, **ctl)
+        assert np.max(np.abs(np.ravel(r1.x) - np.ravel(r2.x))) < 1e-8, method
+    damped = ss.Model.from_scene("belt", "stribeck", m=3.0)
+    damped.add_damper(0, None, 3.0 * 0.5)
+    unit = ss.Model.from_scene("belt", "stribeck", m=3.0, per_unit_mass=True)
+    unit.add_damper(0, None, 0.5)
+    ra = ss.simulate(damped, method="rk4", h=1e-4, t_end=2.0, n_out=41)
+    rb = ss.simulate(unit, method="rk4", h=1e-4, t_end=2.0, n_out=41)
+    assert np.max(np.abs(ra.x - rb.x)) < 1e-10
 
 
 def test_contact_with_the_ground_on_side_a():

@@ -247,8 +247,8 @@ end subroutine run_batch
 !! when its status (istats) is a bad-input code, and then no set ran.
 subroutine run_model_batch(nset, method, bodies, nbt, springs, nst, dampers, ndt, forces, nft, contacts, nct, &
                            con_ptr, ncpt, pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
-                           offsets, nstate, nmax, y0, t_end, rtol, atol, ckeys, nc, cvals, n_grid, nkeep, threads, &
-                           events, nev, ni, istats, nr, rstats, yend, y_grid, elem, stop, status)
+                           offsets, slip_size, nstate, nmax, y0, t_end, rtol, atol, ckeys, nc, cvals, n_grid, nkeep, &
+                           threads, events, nev, ni, istats, nr, rstats, yend, y_grid, elem, stop, status)
     use, intrinsic :: iso_c_binding, only: c_int, c_double
     use stickslip_kinds, only: SS_OK, SS_BAD_DIM
     use stickslip_params, only: NAME_LEN
@@ -261,6 +261,8 @@ subroutine run_model_batch(nset, method, bodies, nbt, springs, nst, dampers, ndt
     integer(c_int), intent(in) :: n_grid, nkeep, threads, ni, nr, nev
     integer(c_int), intent(in) :: method(nset), nstate(nset)
     !f2py integer intent(hide), depend(method) :: nset = len(method)
+    !> each row's model's slip_error_size (1: the error sized on the contacts' slips; 0: on |y|)
+    integer(c_int), intent(in) :: slip_size(nset)
     real(c_double), intent(in) :: bodies(3, nbt)
     !f2py integer intent(hide), depend(bodies) :: nbt = shape(bodies, 1)
     real(c_double), intent(in) :: springs(4, nst)
@@ -322,7 +324,7 @@ subroutine run_model_batch(nset, method, bodies, nbt, springs, nst, dampers, ndt
             call model_from_arrays(models(i), bodies(:, a(1):b(1)), springs(:, a(2):b(2)), dampers(:, a(3):b(3)), &
                                    forces(:, a(4):b(4)), contacts(:, a(5):b(5)), con_ptr(a(6):b(6)), &
                                    keys(a(7):b(7)), pvals(a(7):b(7)), signals(:, a(8):b(8)), sig_start(a(9):b(9)), &
-                                   tables(:, a(10):b(10)), drives(:, a(11):b(11)))
+                                   tables(:, a(10):b(10)), drives(:, a(11):b(11)), slip_size(i) /= 0)
         end associate
     end do
     flag => stop(1)

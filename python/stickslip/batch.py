@@ -567,8 +567,9 @@ def _run_model_rows(prep: list[dict[str, Any]], method: np.ndarray, t_end: np.nd
     tol = {k: np.array([float(np.max(p[k])) for p in prep]) for k in ("rtol", "atol")}
     events = np.zeros((4, max(p["room"] for p in prep), n), order="F")
     codes = np.array([REGISTRY["method"][m]["code"] for m in method], dtype=np.int32)
+    slip_size = np.array([int(p["model"].slip_error_size) for p in prep], dtype=np.int32)
     out = _ext.run_model_batch(codes, *(cat[k] for k in _MODEL_ARRAYS[:6]), pkeys,
-                               *(cat[k] for k in _MODEL_ARRAYS[6:]), offsets, nstate, y0, t_end,
+                               *(cat[k] for k in _MODEL_ARRAYS[6:]), offsets, slip_size, nstate, y0, t_end,
                                tol["rtol"], tol["atol"], ",".join(cnames), cvals, int(n_grid), int(n_grid),
                                int(threads), events, len(_BATCH_INT), len(_BATCH_REAL), stop)
     return (*out, events)

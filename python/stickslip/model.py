@@ -455,7 +455,8 @@ class Model:
 
     # -- the built-in scenes ----------------------------------------------------------------
     @classmethod
-    def from_scene(cls, scene: str, law: str, x0: Any = 0.0, v0: Any = None, **params: float) -> "Model":
+    def from_scene(cls, scene: str, law: str, x0: Any = 0.0, v0: Any = None, *, per_unit_mass: bool = False,
+                   **params: float) -> "Model":
         """A built-in scene as a model: the model its preset builds in the library
         (``stickslip_presets``, read through the wrapper: one definition), which ``simulate``
         runs with the same kernel as the scene, to the last bit.
@@ -466,10 +467,17 @@ class Model:
         moving at v_b (the contact's side a is the ground, its surface velocity -v_b: the law
         sees the belt's slip v_b - v under the body, as in the scene), normal force g;
         "chain": n_blocks such bodies, springs (k + k_p)/m to the ground for block 0, k_p/m
-        for the others, k_c/m between neighbours, normal forces g (1 + perturbation r_i). The
-        model's `slip_error_size` is False, as the scenes' (the adaptive methods' tolerance
-        on |y|). `x0`, `v0` as for `simulate` (v0 on the chain defaults to v_b, on the others
-        to 0); other keywords are the scene's and the law's parameters.
+        for the others, k_c/m between neighbours, normal forces g (1 + perturbation r_i).
+
+        The model returned has the scene's physical masses (per_unit_mass=False, the default):
+        on the belt and the chain each body of mass m, and every spring, damper, force and normal
+        force of the preset times m, so that an element you add (a damper c [N s/m], a second
+        body) means what it says and the contact forces are in newtons; it gives the scene's
+        motion to rounding. per_unit_mass=True returns the preset itself, which ``simulate``
+        runs with the same kernel as the scene, to the last bit. The model's `slip_error_size`
+        is False, as the scenes' (the adaptive methods' tolerance on |y|). `x0`, `v0` as for
+        `simulate` (v0 on the chain defaults to v_b, on the others to 0); other keywords are
+        the scene's and the law's parameters.
         """
         _choice("scene", scene, tuple(REGISTRY["scene"]))
         _choice("law", law, LAWS)
@@ -480,6 +488,10 @@ class Model:
         if unknown:
             raise ValueError(f"{', '.join(sorted(unknown))}: not a parameter of scene {scene!r} or law {law!r}")
         mass, springs, dampers, forces, contacts = preset_arrays(scene, law, given)
+        if not isinstance(per_unit_mass, bool):
+            raise ValueError(f"per_unit_mass: must be True or False, got {per_unit_mass!r}")
+        # the scene's mass (the slope's cancels: its preset's body is the slope's unit mass)
+        scale = 1.0 if per_unit_mass or "m" not in scene_params else float(_known(given)["m"])
         nb = mass.size
         if scene == "chain" and v0 is None:
             v0 = _known(given)["v_b"]          # every block stuck on the belt, as simulate's chain
@@ -490,16 +502,16 @@ class Model:
         m = cls()
         m.slip_error_size = False
         for i in range(nb):
-            m.add_body(float(mass[i]), float(xs[i]), float(vs[i]))
+            m.add_body(scale * float(mass[i]), float(xs[i]), float(vs[i]))
         for a, b, k, rest in springs.T:
-            m.add_spring(body(a), body(b), float(k), float(rest))
+            m.add_spring(body(a), body(b), scale * float(k), float(rest))
         for a, b, c in dampers.T:
-            m.add_damper(body(a), body(b), float(c))
+            m.add_damper(body(a), body(b), scale * float(c))
         for j, f in forces.T:
-            m.add_force(body(j), float(f))
+            m.add_force(body(j), scale * float(f))
         lp = {k: v for k, v in given.items() if k in law_names}
         for a, b, normal, surface in contacts.T:
-            m.add_contact(body(a), body(b), law, float(normal), float(surface), **lp)
+            m.add_contact(body(a), body(b), law, scale * float(normal), float(surface), **lp)
         return m
 
     def run_model(self, **kwargs: Any) -> Result:

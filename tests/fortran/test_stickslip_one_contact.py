@@ -44,8 +44,8 @@ def test_the_specialised_kernel_equals_the_general_model(scene, law, method, con
         # the paper's discontinuous laws warn by design (RegularisedLawWarning): not the subject
         warnings.simplefilter("ignore")
         fast = ss.simulate(scene, law, method=method, t_end=t_end, n_out=201, **kw, **controls)
-        general = ss.simulate(_general(ss.Model.from_scene(scene, law, **kw)), method=method, t_end=t_end,
-                              n_out=201, **controls)
+        general = ss.simulate(_general(ss.Model.from_scene(scene, law, per_unit_mass=True, **kw)), method=method,
+                              t_end=t_end, n_out=201, **controls)
     assert fast.stats["status"] == general.stats["status"]
     x, v = np.atleast_2d(fast.x)[0], np.atleast_2d(fast.v)[0]   # a scene's one body: 1-D rows
     assert np.max(np.abs(x - general.x[0])) <= 1e-11 * max(1.0, float(np.max(np.abs(general.x))))
