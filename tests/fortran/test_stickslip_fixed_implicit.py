@@ -536,3 +536,29 @@ def test_one_contact_steps_stick_first_where_both_hold(method, h):
     assert holds.any() and r.v[first] > v_s            # it could stick while still slipping
     assert np.all(r.v[first + 1:] == 0.0) and np.all(r.x[first + 1:] == r.x[first])
     assert np.all(r.v[1:first + 1] > v_s)               # and slipped until then
+
+
+@pytest.mark.parametrize("h", [1e-2, 3e-3])
+def test_galpha_slip_steps_of_several_contacts_stick_first(h):
+    """Generalized-alpha's own steps while every contact slips (stickslip_modal_contacts) are
+    kept only where no contact could stick in the backward Euler step: two bodies sliding down
+    slopes (force g sin th, normal force g cos th, Coulomb's band far narrower than a step's
+    velocity change), from 1.0 and 0.6 m/s. Each body is checked step by step from the output:
+    where its backward Euler step could end stuck, |v/h + g sin th| <= mu_s g cos th, the step
+    ends stuck and it stays there; until then it slips."""
+    theta, mu_s, mu_k, v_s = 10.0, 0.7, 0.3, 1e-3
+    th = math.radians(theta)
+    m = ss.Model()
+    for v0 in (1.0, 0.6):
+        b = m.add_body(1.0, v0=v0)
+        m.add_force(b, G * math.sin(th))
+        m.add_contact(b, None, "coulomb", normal_force=G * math.cos(th), mu_s=mu_s, mu_k=mu_k, v_s=v_s)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = ss.simulate(m, method="galpha", h=h, t_end=1.0, every_step=True)
+    for x, v in zip(r.x, r.v):
+        holds = np.abs(v[:-1] / h + G * math.sin(th)) <= mu_s * G * math.cos(th) * (1.0 + 1e-12)
+        first = int(np.argmax(holds))
+        assert holds.any() and v[first] > v_s
+        assert np.all(v[first + 1:] == 0.0) and np.all(x[first + 1:] == x[first])
+        assert np.all(v[1:first + 1] > v_s)
