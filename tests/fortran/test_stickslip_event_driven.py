@@ -342,7 +342,7 @@ def test_random_models_against_the_reference(seed: int) -> None:
 #: the contact solver's rounds raised back a contact that gave way with others; 1190 left it when
 #: a slipping contact locked at w = 0 by a closed loop of stuck ones lost its w event, which had
 #: made its release chatter. 1113 entered it then: it ended in a named failure before, and now
-#: ends at a tie that the reference records but outside the window where the runs part.)
+#: parts at a tie that the reference records, before the window where the test credits one.)
 KNOWN_WRONG: dict[int, str] = {
     1072: "bodies 0, 2 and 4 stop together at 0.1993 s and contacts 4, 7 and 10 stick there as in the "
           "reference (the slipping contacts at w = 0 to tolerance are decided with the one that "
@@ -351,12 +351,12 @@ KNOWN_WRONG: dict[int, str] = {
           "reference's do not, and the two runs hold the loop with different stuck sets (the same "
           "motion, to 1e-6, while it holds); they part at 0.63 s where the reference's contact 4 "
           "breaks away under its own set's forces",
-    1113: "a tie that the reference records at 0.12857 s: contacts 7 and 10 (halves of one row) or "
-          "contact 2 may give way; event_driven releases 7 and 10, locked at w = 0 by the closed "
-          "loop of stuck contacts, the reference releases 2 (it does not choose a slip that leaves "
-          "w = 0 only to rounding); the motions agree to 5e-12 m at 0.13 s and part from 0.1309 s, "
-          "where the reference's 7 and 10 slip, so the tie is not in the window where they part. "
-          "Before the loop's contacts were decided by the mode's forces it ended in a named failure",
+    1113: "a tie that the reference records at 0.12857 s, where the two runs choose differently: "
+          "event_driven releases contacts 7 and 10 (halves of one row), the reference contact 2 (it "
+          "releases 7 and 10 at 0.1309 s); the motions, both starting from rest there, still agree "
+          "to 5e-12 m at the grid's 0.13 s and part by 0.14 s, so the tie lies before the window "
+          "where the test credits one. It ended in a named failure before the changes that mended "
+          "1190",
 }
 
 
