@@ -233,8 +233,8 @@ contains
     end subroutine solve_contacts
 
     !> The contact forces r [N] of a system at (t, q, u) under its set-valued laws, as the
-    !! event-driven method's mode gives them: a contact that slips (|w_i| > wtol) carries its
-    !! slip force -sign(w_i) N_i mu_i(|w_i|); the contacts at rest (|w_i| <= wtol: stuck, or
+    !! event-driven method's mode gives them: a contact that slips (|w_i| > wtol_i) carries its
+    !! slip force -sign(w_i) N_i mu_i(|w_i|); the contacts at rest (|w_i| <= wtol_i: stuck, or
     !! reversing) take the forces of the problem at rest, their relative accelerations
     !! a_C = af_C + D_CC r_C (D = H M^-1 H^T, the slip forces of the others in af, the offsets'
     !! rates db/dt included) decided by `solve_contacts` (its rule; slip at mu(0+) N). A stuck
@@ -245,7 +245,7 @@ contains
         real(dp), intent(in)  :: t                !! time [s]
         real(dp), intent(in)  :: q(:)             !! (n_dof) coordinates [m]
         real(dp), intent(in)  :: u(:)             !! (n_dof) velocities [m/s]
-        real(dp), intent(in)  :: wtol             !! |w| up to which a contact is at rest [m/s]
+        real(dp), intent(in)  :: wtol(:)          !! (n_c) |w_i| up to which contact i is at rest [m/s]
         real(dp), intent(out) :: r(:)             !! (n_c) each contact's force [N]
         type(contact_solve_info), intent(out) :: info
         real(dp) :: w(cs%n_c), nn(cs%n_c), ha(cs%n_c), bd(cs%n_c), a(cs%n_dof), dall(cs%n_c, cs%n_c)
@@ -256,7 +256,7 @@ contains
         call cs%normal_forces(t, q, nn)
         r = 0.0_dp
         do i = 1, cs%n_c
-            if (abs(w(i)) > wtol) r(i) = -sign(1.0_dp, w(i)) * nn(i) * cs%laws(i)%slip_mu(abs(w(i)))
+            if (abs(w(i)) > wtol(i)) r(i) = -sign(1.0_dp, w(i)) * nn(i) * cs%laws(i)%slip_mu(abs(w(i)))
         end do
         idx = pack([(i, i = 1, cs%n_c)], abs(w) <= wtol)
         if (size(idx) == 0) return
