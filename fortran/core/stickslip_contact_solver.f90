@@ -247,7 +247,7 @@ contains
         real(dp), intent(in)  :: u(:)             !! (n_dof) velocities [m/s]
         real(dp), intent(in)  :: wtol(:)          !! (n_c) |w_i| up to which contact i is at rest [m/s]
         real(dp), intent(out) :: r(:)             !! (n_c) each contact's force [N]
-        type(contact_solve_info), intent(out) :: info
+        type(contact_solve_info), intent(out) :: info   !! the solve's residual, rounds and status
         real(dp) :: w(cs%n_c), nn(cs%n_c), ha(cs%n_c), bd(cs%n_c), a(cs%n_dof), dall(cs%n_c, cs%n_c)
         integer, allocatable :: idx(:), mode(:)
         real(dp), allocatable :: p(:), wc(:)
