@@ -579,8 +579,8 @@ contains
     subroutine model_prepare(self)
         class(model_system), intent(inout) :: self
         !! the model, built
-        integer, allocatable :: pos(:)
-        integer :: nb, nc, n, i, k, p, c, ends(2), ml, mu
+        integer, allocatable :: pos(:), first(:), owned(:)
+        integer :: nb, nc, n, i, k, p, c, q, ends(2), ml, mu
         nb = self%nb
         nc = size(self%con_a)
         n = self%n_states()
@@ -604,13 +604,31 @@ contains
         self%unit_mass = all(self%mass == 1.0_dp)
         self%con_im = [(inverse_mass(self, c), c = 1, nc)]
         allocate(pos(n), self%band_perm(n))
+        ! each body's contacts in their order (a contact's states follow its body a, or b
+        ! when a is the ground), bucketed once: O(nb + nc)
+        allocate(first(nb + 2), owned(nc))
+        first = 0
+        do c = 1, nc
+            i = owner(c)
+            first(i + 2) = first(i + 2) + 1
+        end do
+        first(1) = 1
+        first(2) = 1
+        do i = 3, nb + 2
+            first(i) = first(i) + first(i - 1)
+        end do
+        do c = 1, nc
+            i = owner(c)
+            owned(first(i + 1)) = c
+            first(i + 1) = first(i + 1) + 1
+        end do
         ! positions in the body order
         p = 0
         do i = 1, nb
             call place(i)
             call place(nb + i)
-            do c = 1, nc
-                if (max(self%con_a(c), merge(self%con_b(c), 0, self%con_a(c) == 0)) /= i) cycle
+            do q = first(i), first(i + 1) - 1
+                c = owned(q)
                 do k = 2 * nb + self%z_first(c), 2 * nb + self%z_first(c + 1) - 1
                     call place(k)
                 end do
@@ -643,6 +661,12 @@ contains
             self%band_perm = [(i, i = 1, n)]
         end if
     contains
+        !> The body whose states a contact's states follow: a, or b where a is the ground.
+        pure integer function owner(c)
+            integer, intent(in) :: c
+            owner = max(self%con_a(c), merge(self%con_b(c), 0, self%con_a(c) == 0))
+        end function owner
+
         subroutine place(state)
             integer, intent(in) :: state
             p = p + 1
