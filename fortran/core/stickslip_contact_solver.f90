@@ -134,12 +134,22 @@ module stickslip_contact_solver
         integer :: worst = 0            !! the contact with the largest residual (0: none)
     end type contact_solve_info
 
-    !> Work room of `solve_contacts` and `gauss_seidel`, for a caller that solves one problem
-    !! after another (a time step each): passed to every call, it is sized on the first and then
-    !! reused, so that a Gauss-Seidel solve allocates nothing (without it each call allocates its
-    !! own). One per caller and per thread: the solver keeps no state in it between calls.
+    !> Work room of `solve_contacts`, `gauss_seidel` and `tridiagonal_rule`, for a caller that
+    !! solves one problem after another (a time step each): passed to every call, it is sized on
+    !! the first and then reused, so that a Gauss-Seidel solve and a step of the rule on a chain
+    !! allocate nothing (without it each call allocates its own). One per caller and per thread:
+    !! the solver keeps no state in it between calls.
     type :: contact_workspace
         real(dp), allocatable :: gap(:)  !! (n) Gauss-Seidel's gap, wf + D p - w at its answer [m/s]
+        !> (n_dof, 4) `tridiagonal_rule`'s pivots from the top and from the bottom, and its
+        !! sweeps' W uf and changes of a sweep
+        real(dp), allocatable :: tri_dof(:, :)
+        !> (n_c, 5) `tridiagonal_rule`'s free velocities, D_ii, levels, next levels and static
+        !! limits of the contacts
+        real(dp), allocatable :: tri_con(:, :)
+        logical, allocatable :: tri_flag(:, :)      !! (n_c, 3) its kinetic, reset and active flags
+        integer, allocatable :: tri_dir(:)          !! (n_c) its slip directions
+        type(contact_law), allocatable :: tri_box(:)  !! (n_c) its box problem's laws
     end type contact_workspace
 
 contains
@@ -816,7 +826,33 @@ contains
         real(dp), intent(out)   :: resid         !! final residual [m/s]
         integer, intent(out)    :: iworst        !! the coordinate with the largest residual
         type(contact_law), intent(in), optional :: laws(:)  !! (n_c) the laws to use instead of cs%laws
-        real(dp) :: b(size(u1)), du(size(u1)), s, ufree, hv, w, pnew, rho, resid_prev
+        real(dp) :: room(size(u1), 2)
+        call sweeps_on(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, iworst, &
+                       room(:, 1), room(:, 2), laws)
+    end subroutine tridiagonal_sweeps
+
+    !> `tridiagonal_sweeps` in the room b, du given (W uf and a sweep's changes).
+    subroutine sweeps_on(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
+                         iworst, b, du, laws)
+        class(contact_system), intent(in) :: cs  !! the system (its laws and H)
+        real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
+        real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
+        real(dp), intent(in)    :: r(:)          !! W(i, i + 1) [-]
+        real(dp), intent(in)    :: uf(:)         !! velocities without friction [m/s]
+        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
+        real(dp), intent(in)    :: boff(:)       !! offsets of the relative velocities [m/s]
+        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
+        real(dp), intent(in)    :: tol           !! tolerance on the residual [m/s]
+        integer, intent(in)     :: max_iter      !! sweep limit, >= 1
+        real(dp), intent(inout) :: u1(:)         !! velocities [m/s]
+        real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
+        integer, intent(out)    :: sweeps        !! sweeps done
+        real(dp), intent(out)   :: resid         !! final residual [m/s]
+        integer, intent(out)    :: iworst        !! the coordinate with the largest residual
+        real(dp), intent(out)   :: b(size(u1))   !! room: W uf [N s]
+        real(dp), intent(out)   :: du(size(u1))  !! room: a sweep's changes [m/s]
+        type(contact_law), intent(in), optional :: laws(:)  !! (n_c) the laws to use instead of cs%laws
+        real(dp) :: s, ufree, hv, w, pnew, rho, resid_prev
         integer :: i, n, c
         n = size(u1)
         resid = 0.0_dp
@@ -875,7 +911,7 @@ contains
             end if
         end do
         sweeps = min(sweeps, max_iter)
-    end subroutine tridiagonal_sweeps
+    end subroutine sweeps_on
 
     !> The rule of the module notes among a contact's modes, each solved on its own: the
     !! current mode jcur kept where it is a slip that still holds and no stuck mode holds (keep
@@ -1239,8 +1275,9 @@ contains
     !! a chain D is nonsingular, so the stuck impulses are unique (step 3 has nothing to choose).
     !! mode: the previous mode in (+-1 slip, 0 stuck, any other value: none), the answer's out.
     !! resid > tol: a round's sweeps did not converge (the caller solves the step otherwise).
+    !! work: room reused from call to call (a step of the rule then allocates nothing).
     subroutine tridiagonal_rule(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, mode, u1, wloc, sweeps, &
-                                resid, iworst)
+                                resid, iworst, work)
         class(contact_system), intent(in) :: cs  !! the system (its laws and H)
         real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
         real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
@@ -1257,10 +1294,57 @@ contains
         integer, intent(out)    :: sweeps        !! sweeps done over all rounds
         real(dp), intent(out)   :: resid         !! the last round's residual [m/s]
         integer, intent(out)    :: iworst        !! the coordinate with the largest residual
-        real(dp) :: a(size(d)), bb(size(d)), wf(cs%n_c), dg(cs%n_c), mu(cs%n_c), mu_new(cs%n_c), wts(cs%n_c)
-        type(contact_law) :: box(cs%n_c)
-        logical :: kin(cs%n_c), reset(cs%n_c), act(cs%n_c), changed
-        integer :: dir(cs%n_c), n, i, c, k, sw, rounds, sgn
+        type(contact_workspace), intent(inout), optional, target :: work  !! room reused between calls
+        type(contact_workspace), target :: own
+        type(contact_workspace), pointer :: ws
+        integer :: n, nc
+        n = size(d)
+        nc = cs%n_c
+        ws => own
+        if (present(work)) ws => work
+        if (allocated(ws%tri_dof)) then
+            if (size(ws%tri_dof, 1) /= n) deallocate(ws%tri_dof)
+        end if
+        if (.not. allocated(ws%tri_dof)) allocate(ws%tri_dof(n, 4))
+        if (allocated(ws%tri_con)) then
+            if (size(ws%tri_con, 1) /= nc) deallocate(ws%tri_con, ws%tri_flag, ws%tri_dir, ws%tri_box)
+        end if
+        if (.not. allocated(ws%tri_con)) allocate(ws%tri_con(nc, 5), ws%tri_flag(nc, 3), ws%tri_dir(nc), &
+                                                  ws%tri_box(nc))
+        call rule_on(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, mode, u1, wloc, sweeps, resid, iworst, &
+                     ws%tri_dof(:, 1), ws%tri_dof(:, 2), ws%tri_dof(:, 3), ws%tri_dof(:, 4), ws%tri_con(:, 1), &
+                     ws%tri_con(:, 2), ws%tri_con(:, 3), ws%tri_con(:, 4), ws%tri_con(:, 5), ws%tri_box, &
+                     ws%tri_flag(:, 1), ws%tri_flag(:, 2), ws%tri_flag(:, 3), ws%tri_dir)
+    end subroutine tridiagonal_rule
+
+    !> `tridiagonal_rule` in the room given (its arrays, each overwritten).
+    subroutine rule_on(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, mode, u1, wloc, sweeps, resid, &
+                       iworst, a, bb, wb, du, wf, dg, mu, mu_new, wts, box, kin, reset, act, dir)
+        class(contact_system), intent(in) :: cs  !! the system (its laws and H)
+        real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
+        real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
+        real(dp), intent(in)    :: r(:)          !! W(i, i + 1) [-]
+        real(dp), intent(in)    :: uf(:)         !! velocities without friction [m/s]
+        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
+        real(dp), intent(in)    :: boff(:)       !! offsets of the relative velocities [m/s]
+        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
+        real(dp), intent(in)    :: tol           !! tolerance on the sweeps' residual [m/s]
+        integer, intent(in)     :: max_iter      !! sweep limit of a round, >= 1
+        integer, intent(inout)  :: mode(:)       !! (n_c) previous mode in, the answer's out
+        real(dp), intent(inout) :: u1(:)         !! velocities: starting guess in, answer out [m/s]
+        real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
+        integer, intent(out)    :: sweeps        !! sweeps done over all rounds
+        real(dp), intent(out)   :: resid         !! the last round's residual [m/s]
+        integer, intent(out)    :: iworst        !! the coordinate with the largest residual
+        real(dp), intent(out) :: a(size(d)), bb(size(d))   !! room: the pivots from the top and the bottom
+        real(dp), intent(out) :: wb(size(d)), du(size(d))  !! room: the sweeps' W uf and changes
+        !> room: the contacts' free velocities, D_ii, levels, next levels, static limits
+        real(dp), intent(out) :: wf(cs%n_c), dg(cs%n_c), mu(cs%n_c), mu_new(cs%n_c), wts(cs%n_c)
+        type(contact_law), intent(inout) :: box(cs%n_c)    !! room: the box problem's laws (each set)
+        logical, intent(out) :: kin(cs%n_c), reset(cs%n_c), act(cs%n_c)  !! room: the rule's flags
+        integer, intent(out) :: dir(cs%n_c)                !! room: the slip directions
+        logical :: changed
+        integer :: n, i, c, k, sw, rounds, sgn
         real(dp) :: hv
         n = size(d)
         ! pivots from the top (a) and from the bottom (bb): 1 / (W^-1)_ii = a_i + bb_i - d_i
@@ -1301,8 +1385,8 @@ contains
             do c = 1, cs%n_c
                 box(c) = contact_law(kind=CONTACT_COULOMB, mu_s=mu(c), mu_k=mu(c))
             end do
-            call tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sw, resid, &
-                                    iworst, box)
+            call sweeps_on(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sw, resid, iworst, &
+                           wb, du, box)
             sweeps = sweeps + sw
             if (resid > tol) return
             changed = .false.
@@ -1333,7 +1417,7 @@ contains
         do k = 1, cs%n_c
             mode(k) = merge(slip_sign(wloc(k)), MODE_OPEN, act(k))
         end do
-    end subroutine tridiagonal_rule
+    end subroutine rule_on
 
     !> Room for n numbers in buf (kept where there is enough).
     subroutine reserve(buf, n)

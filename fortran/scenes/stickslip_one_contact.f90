@@ -17,11 +17,12 @@ module stickslip_one_contact
     use stickslip_kinds, only: dp
     use stickslip_friction, only: friction_law
     use stickslip_ode, only: fd_jacobian
-    use stickslip_model_system, only: model_system
+    use stickslip_model_system, only: model_system, model_contact
+    use stickslip_contact, only: contact_system
     implicit none
     private
 
-    public :: one_contact_model, specialise
+    public :: one_contact_model, one_contact_contact, specialise
 
     !> A model of one body with one contact and constant signals, folded (see the module notes).
     type, extends(model_system) :: one_contact_model
@@ -61,7 +62,27 @@ module stickslip_one_contact
         !! their part of the stage from the law's stage_states
         procedure :: stage_rhs => oc_stage_rhs
         !! f at a stage state with the law's states moving at the stage's rates
+        procedure :: contact_model => oc_contact_model
+        !! the model as a `one_contact_contact`
     end type one_contact_model
+
+    !> The contact model of a `one_contact_model` (moreau, event_driven): the model's own
+    !! `model_contact`, its forces, normal force, offset and solves with W = m + a c + b k
+    !! written for its one body and one contact: the general model's operations in the same
+    !! order (the same numbers, bit for bit), without its loops over bodies and signals.
+    type, extends(model_contact) :: one_contact_contact
+        real(dp) :: c_w = 0.0_dp        !! the dampers' part of W, C(1, 1) [N s/m]
+        real(dp) :: k_w = 0.0_dp        !! the springs' part of W, K(1, 1) [N/m]
+    contains
+        procedure :: force => occ_force
+        !! springs, dampers and forces on the body [N]
+        procedure :: solve_w => occ_solve_w
+        !! x / (m + a c + b k)
+        procedure :: normal_forces => occ_normal
+        !! the normal force (a number), clipped at 0 [N]
+        procedure :: slip_offset => occ_offset
+        !! -w, the surface's velocity (a number) [m/s]
+    end type one_contact_contact
 
 contains
 
@@ -247,5 +268,83 @@ contains
         call self%static_rhs(y, self%law%stage_mu(self%relative_velocity(y), y(3:), k(3:)), f)
         f(3:) = k(3:)
     end subroutine oc_stage_rhs
+
+    !> The model's `model_contact` as a `one_contact_contact` (see the type).
+    subroutine oc_contact_model(self, cs, status)
+        class(one_contact_model), intent(in) :: self
+        class(contact_system), allocatable, intent(out) :: cs   !! the contact model
+        integer, intent(out) :: status                          !! SS_OK or SS_NOT_SETVALUED
+        class(contact_system), allocatable :: general
+        type(one_contact_contact), allocatable :: occ
+        call self%model_system%contact_model(general, status)
+        select type (general)
+        type is (model_contact)
+            allocate(occ)
+            occ%model_contact = general
+            occ%c_w = general%ctri(2, 1)    ! (one body: W is its diagonal, tridiagonal)
+            occ%k_w = general%ktri(2, 1)
+            call move_alloc(occ, cs)
+        class default
+            call move_alloc(general, cs)
+        end select
+    end subroutine oc_contact_model
+
+    !> `free_forces` of the model for its one body: f = 0, then each spring's, damper's and
+    !! force's term added in the model's order.
+    subroutine occ_force(self, t, q, u, f)
+        class(one_contact_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! (1) position [m]
+        real(dp), intent(in)  :: u(:)       !! (1) velocity [m/s]
+        real(dp), intent(out) :: f(:)       !! (1) springs, dampers and forces [N]
+        real(dp) :: fe, rate, fsum
+        integer :: i
+        associate (m => self%m)
+            fsum = 0.0_dp
+            do i = 1, size(m%spr_k)       ! (each to the ground: x_b = 0)
+                fsum = fsum + (-m%spr_k(i) * (q(1) - m%spr_l0(i)))
+            end do
+            do i = 1, size(m%dmp_c)
+                fsum = fsum + (-m%dmp_c(i) * u(1))
+            end do
+            do i = 1, size(m%frc_body)
+                call m%sig%eval(m%frc_sig(i), t, fe, rate)
+                fsum = fsum + fe
+            end do
+        end associate
+        f(1) = fsum
+    end subroutine occ_force
+
+    !> x / W with W = m + a c + b k, as the model's tridiagonal solve of one row (x / M where
+    !! a = b = 0).
+    subroutine occ_solve_w(self, t, q, u, a, b, x)
+        class(one_contact_contact), intent(in) :: self
+        real(dp), intent(in)    :: t        !! time [s]
+        real(dp), intent(in)    :: q(:)     !! position [m]
+        real(dp), intent(in)    :: u(:)     !! velocity [m/s]
+        real(dp), intent(in)    :: a        !! weight of C [s]
+        real(dp), intent(in)    :: b        !! weight of K [s^2]
+        real(dp), intent(inout) :: x(:)     !! (1) right-hand side [N s], then the solution [m/s]
+        if (a == 0.0_dp .and. b == 0.0_dp) then
+            x(1) = x(1) / self%m%mass(1)
+        else
+            x(1) = x(1) / (self%m%mass(1) + a * self%c_w + b * self%k_w)
+        end if
+    end subroutine occ_solve_w
+
+    subroutine occ_normal(self, t, q, n)
+        class(one_contact_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! position [m]
+        real(dp), intent(out) :: n(:)       !! (1) normal force, >= 0 [N]
+        n(1) = max(self%m%con_fixed(1, 1), 0.0_dp)
+    end subroutine occ_normal
+
+    subroutine occ_offset(self, t, b)
+        class(one_contact_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(out) :: b(:)       !! (1) -w of the contact [m/s]
+        b(1) = -self%m%con_fixed(2, 1)
+    end subroutine occ_offset
 
 end module stickslip_one_contact
