@@ -69,10 +69,13 @@ module stickslip_one_contact
     !> The contact model of a `one_contact_model` (moreau, event_driven): the model's own
     !! `model_contact`, its forces, normal force, offset and solves with W = m + a c + b k
     !! written for its one body and one contact: the general model's operations in the same
-    !! order (the same numbers, bit for bit), without its loops over bodies and signals.
+    !! order (the same numbers, bit for bit), without its loops over bodies and signals; the
+    !! normal force and the offset, numbers, read once when it is built.
     type, extends(model_contact) :: one_contact_contact
         real(dp) :: c_w = 0.0_dp        !! the dampers' part of W, C(1, 1) [N s/m]
         real(dp) :: k_w = 0.0_dp        !! the springs' part of W, K(1, 1) [N/m]
+        real(dp) :: n_fix = 0.0_dp      !! the normal force, clipped at 0 [N]
+        real(dp) :: b_fix = 0.0_dp      !! the offset -w [m/s]
     contains
         procedure :: force => occ_force
         !! springs, dampers and forces on the body [N]
@@ -82,6 +85,8 @@ module stickslip_one_contact
         !! the normal force (a number), clipped at 0 [N]
         procedure :: slip_offset => occ_offset
         !! -w, the surface's velocity (a number) [m/s]
+        procedure :: offset_rate => occ_offset_rate
+        !! -w' = -0 (the surface's velocity is a number)
     end type one_contact_contact
 
 contains
@@ -276,6 +281,7 @@ contains
         integer, intent(out) :: status                          !! SS_OK or SS_NOT_SETVALUED
         class(contact_system), allocatable :: general
         type(one_contact_contact), allocatable :: occ
+        real(dp) :: nb(1), bb(1)
         call self%model_system%contact_model(general, status)
         select type (general)
         type is (model_contact)
@@ -283,6 +289,10 @@ contains
             occ%model_contact = general
             occ%c_w = general%ctri(2, 1)    ! (one body: W is its diagonal, tridiagonal)
             occ%k_w = general%ktri(2, 1)
+            call general%normal_forces(0.0_dp, [0.0_dp], nb)      ! (numbers: any t, q)
+            call general%slip_offset(0.0_dp, bb)
+            occ%n_fix = nb(1)
+            occ%b_fix = bb(1)
             call move_alloc(occ, cs)
         class default
             call move_alloc(general, cs)
@@ -337,14 +347,21 @@ contains
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: q(:)       !! position [m]
         real(dp), intent(out) :: n(:)       !! (1) normal force, >= 0 [N]
-        n(1) = max(self%m%con_fixed(1, 1), 0.0_dp)
+        n(1) = self%n_fix
     end subroutine occ_normal
 
     subroutine occ_offset(self, t, b)
         class(one_contact_contact), intent(in) :: self
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(out) :: b(:)       !! (1) -w of the contact [m/s]
-        b(1) = -self%m%con_fixed(2, 1)
+        b(1) = self%b_fix
     end subroutine occ_offset
+
+    subroutine occ_offset_rate(self, t, b)
+        class(one_contact_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(out) :: b(:)       !! (1) -w' of the contact [m/s^2]
+        b(1) = -0.0_dp      ! (the model's -w' of a number: w' = 0)
+    end subroutine occ_offset_rate
 
 end module stickslip_one_contact
