@@ -332,7 +332,7 @@ contains
                     ut(:, j) = y_out(n + 1:, j + 1)
                     cm = pm(:, j)
                     call tridiagonal_rule(cc, wl, wd, wr, uf(:, j), cmap, boff, hn, tol, 1000, cm, ut(:, j), wl2, sw, &
-                                          res, iw)
+                                          res, iw, work=cwk)
                 end do
                 call cpu_time(t1)
                 tt(r) = tt(r) + (t1 - t0) / (nin * nst)

@@ -64,6 +64,8 @@ module stickslip_one_contact
         !! f at a stage state with the law's states moving at the stage's rates
         procedure :: contact_model => oc_contact_model
         !! the model as a `one_contact_contact`
+        procedure :: error_size => oc_error_size
+        !! the model's error sizes for its one body and contact (the same numbers)
     end type one_contact_model
 
     !> The contact model of a `one_contact_model` (moreau, event_driven): the model's own
@@ -273,6 +275,19 @@ contains
         call self%static_rhs(y, self%law%stage_mu(self%relative_velocity(y), y(3:), k(3:)), f)
         f(3:) = k(3:)
     end subroutine oc_stage_rhs
+
+    !> The model's `error_size` (|y|; the body's velocity sized by its contact's slip where
+    !! `slip_error_size`) for its one body and contact, the same numbers without the loop over
+    !! contacts: a call the specialised kernels resolve and can inline.
+    pure subroutine oc_error_size(self, t, y, size_y)
+        class(one_contact_model), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out) :: size_y(:)  !! the size of each component
+        size_y = abs(y)
+        if (.not. self%slip_error_size) return
+        size_y(2) = min(size_y(2), max(abs(self%relative_velocity(y)), self%con_band(1)))
+    end subroutine oc_error_size
 
     !> The model's `model_contact` as a `one_contact_contact` (see the type).
     subroutine oc_contact_model(self, cs, status)
