@@ -23,9 +23,8 @@
 !! contact_worst. When `w_constant` is set, D is formed once per step size (n_c solves with
 !! W), otherwise every step. Dense D: fine for a few hundred contacts.
 !!
-!! When W is tridiagonal (`w_tridiagonal`, e.g. a chain of blocks), there are two contacts or
-!! more and every contact acts on one coordinate of its own, the same problem is solved on W
-!! itself by the same rule
+!! When W is tridiagonal (`w_tridiagonal`, e.g. a chain of blocks) and every contact acts on
+!! one coordinate of its own, the same problem is solved on W itself by the same rule
 !! (`tridiagonal_rule` of `stickslip_contact_solver`): the rule's rounds, each box problem by
 !! sweeps on W u1 = W u_free + H^T p, coordinate by coordinate, each contact's one-contact
 !! problem in closed form at its level given its neighbours' velocities (nonsmooth
@@ -162,11 +161,6 @@ contains
         call cs%relative_velocities(t0, y0(nd + 1:), wloc)
         cmode = merge(0, nint(sign(1.0_dp, wloc)), wloc == 0.0_dp)
         call cs%step_layout(opts%h * th, (opts%h * th)**2, wl, wd, wr, coord_contact, tri, dmat)
-        if (tri .and. nc == 1) then    ! one contact: its closed form on D (1 x 1), no rounds of sweeps
-            tri = .false.
-            deallocate(dmat)
-            allocate(dmat(1, 1))
-        end if
         m = size(t_out)
         call fixed_steps(t0, t_end, opts%h, opts%max_steps, n_total, nsteps)
 
