@@ -994,21 +994,24 @@ def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 64, re
                   "mu_k = 0.3): five states of a run of the chain started stuck on the belt (t = 1 to 5 s), "
                   f"medians of {repeats} passes. \"Tridiagonal\" is what moreau runs on a chain: the contact "
                   "solver's rule on W itself (its rounds, each box problem by nonsmooth Gauss-Seidel, O(n) a "
-                  "sweep), warm-started at the step's start velocities and modes. Up to "
+                  "sweep), warm-started at the step's start velocities and modes; \"sweeps alone\" the same "
+                  "problems by one set of those sweeps with the contacts' own laws and no rounds (moreau's "
+                  "chain path before the rule), warm-started alike, and the rule's cost over theirs. Up to "
                   "100 blocks the same problems on the dense Delassus matrix D = W^-1, from p = 0: the general "
                   "solver (its rule: rounds of box problems) against Gauss-Seidel alone; their times over the problems both solve, and the "
                   "ratio. Largest velocity difference: tridiagonal against the general solver.", "",
-                  "| n | tridiagonal [us/solve] | solved | sweeps | general solver on D [us/solve] | solved "
+                  "| n | tridiagonal [us/solve] | solved | sweeps | sweeps alone [us/solve] | rule / sweeps alone "
+                  "| general solver on D [us/solve] | solved "
                   "| Gauss-Seidel alone on D [us/solve] | solved | sweeps | solver / Gauss-Seidel "
                   "| largest velocity difference [m/s] |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|"]
-        for n, tus, tok, tsw, sus, sok, gus, gok, gsw, both, du in chain:
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        for n, tus, tok, tsw, aus, sus, sok, gus, gok, gsw, both, du in chain:
+            head = (f"| {n} | {float(tus):.3g} | {100 * float(tok):.0f} % | {float(tsw):.1f} "
+                    f"| {float(aus):.3g} | {float(tus) / float(aus):.2f} ")
             if float(sus) < 0:
-                lines.append(f"| {n} | {float(tus):.3g} | {100 * float(tok):.0f} % | {float(tsw):.1f} "
-                             "| (dense D not formed) | | | | | | |")
+                lines.append(head + "| (dense D not formed) | | | | | | |")
             else:
-                lines.append(f"| {n} | {float(tus):.3g} | {100 * float(tok):.0f} % | {float(tsw):.1f} "
-                             f"| {float(sus):.3g} | {100 * float(sok):.0f} % | {float(gus):.3g} "
+                lines.append(head + f"| {float(sus):.3g} | {100 * float(sok):.0f} % | {float(gus):.3g} "
                              f"| {100 * float(gok):.0f} % | {float(gsw):.1f} | {float(sus) / float(gus):.2f} "
                              f"| {float(du):.2g} |")
             log(f"contact chain n={n}: tridiagonal {float(tus):.3g} us")

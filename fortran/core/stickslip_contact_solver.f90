@@ -809,7 +809,7 @@ contains
     !! not converged).
     !! u1: starting guess in, velocities out [m/s].
     subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
-                                  iworst, laws)
+                                  iworst, laws, room)
         class(contact_system), intent(in) :: cs  !! the system (its laws and H)
         real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
         real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
@@ -826,35 +826,21 @@ contains
         real(dp), intent(out)   :: resid         !! final residual [m/s]
         integer, intent(out)    :: iworst        !! the coordinate with the largest residual
         type(contact_law), intent(in), optional :: laws(:)  !! (n_c) the laws to use instead of cs%laws
-        real(dp) :: room(size(u1), 2)
-        call sweeps_on(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, iworst, &
-                       room(:, 1), room(:, 2), laws)
-    end subroutine tridiagonal_sweeps
-
-    !> `tridiagonal_sweeps` in the room b, du given (W uf and a sweep's changes).
-    subroutine sweeps_on(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
-                         iworst, b, du, laws)
-        class(contact_system), intent(in) :: cs  !! the system (its laws and H)
-        real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
-        real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
-        real(dp), intent(in)    :: r(:)          !! W(i, i + 1) [-]
-        real(dp), intent(in)    :: uf(:)         !! velocities without friction [m/s]
-        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
-        real(dp), intent(in)    :: boff(:)       !! offsets of the relative velocities [m/s]
-        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
-        real(dp), intent(in)    :: tol           !! tolerance on the residual [m/s]
-        integer, intent(in)     :: max_iter      !! sweep limit, >= 1
-        real(dp), intent(inout) :: u1(:)         !! velocities [m/s]
-        real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
-        integer, intent(out)    :: sweeps        !! sweeps done
-        real(dp), intent(out)   :: resid         !! final residual [m/s]
-        integer, intent(out)    :: iworst        !! the coordinate with the largest residual
-        real(dp), intent(out)   :: b(size(u1))   !! room: W uf [N s]
-        real(dp), intent(out)   :: du(size(u1))  !! room: a sweep's changes [m/s]
-        type(contact_law), intent(in), optional :: laws(:)  !! (n_c) the laws to use instead of cs%laws
+        !> (n, 2) room for W uf and a sweep's changes, reused between calls (without it, its own)
+        real(dp), intent(inout), optional, target, contiguous :: room(:, :)
+        real(dp), allocatable, target :: own(:, :)
+        real(dp), pointer, contiguous :: b(:), du(:)
         real(dp) :: s, ufree, hv, w, pnew, rho, resid_prev
         integer :: i, n, c
         n = size(u1)
+        if (present(room)) then
+            b => room(:n, 1)
+            du => room(:n, 2)
+        else
+            allocate(own(n, 2))
+            b => own(:, 1)
+            du => own(:, 2)
+        end if
         resid = 0.0_dp
         iworst = 1
         ! b = W uf
@@ -911,7 +897,7 @@ contains
             end if
         end do
         sweeps = min(sweeps, max_iter)
-    end subroutine sweeps_on
+    end subroutine tridiagonal_sweeps
 
     !> The rule of the module notes among a contact's modes, each solved on its own: the
     !! current mode jcur kept where it is a slip that still holds and no stuck mode holds (keep
@@ -1297,7 +1283,9 @@ contains
         type(contact_workspace), intent(inout), optional, target :: work  !! room reused between calls
         type(contact_workspace), target :: own
         type(contact_workspace), pointer :: ws
-        integer :: n, nc
+        logical :: changed
+        integer :: n, nc, i, c, k, sw, rounds, sgn
+        real(dp) :: hv
         n = size(d)
         nc = cs%n_c
         ws => own
@@ -1311,42 +1299,11 @@ contains
         end if
         if (.not. allocated(ws%tri_con)) allocate(ws%tri_con(nc, 5), ws%tri_flag(nc, 3), ws%tri_dir(nc), &
                                                   ws%tri_box(nc))
-        call rule_on(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, mode, u1, wloc, sweeps, resid, iworst, &
-                     ws%tri_dof(:, 1), ws%tri_dof(:, 2), ws%tri_dof(:, 3), ws%tri_dof(:, 4), ws%tri_con(:, 1), &
-                     ws%tri_con(:, 2), ws%tri_con(:, 3), ws%tri_con(:, 4), ws%tri_con(:, 5), ws%tri_box, &
-                     ws%tri_flag(:, 1), ws%tri_flag(:, 2), ws%tri_flag(:, 3), ws%tri_dir)
-    end subroutine tridiagonal_rule
-
-    !> `tridiagonal_rule` in the room given (its arrays, each overwritten).
-    subroutine rule_on(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, mode, u1, wloc, sweeps, resid, &
-                       iworst, a, bb, wb, du, wf, dg, mu, mu_new, wts, box, kin, reset, act, dir)
-        class(contact_system), intent(in) :: cs  !! the system (its laws and H)
-        real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
-        real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
-        real(dp), intent(in)    :: r(:)          !! W(i, i + 1) [-]
-        real(dp), intent(in)    :: uf(:)         !! velocities without friction [m/s]
-        integer, intent(in)     :: coord_contact(:)  !! the contact on each coordinate (0: none)
-        real(dp), intent(in)    :: boff(:)       !! offsets of the relative velocities [m/s]
-        real(dp), intent(in)    :: hn(:)         !! step times normal force of each contact [N s]
-        real(dp), intent(in)    :: tol           !! tolerance on the sweeps' residual [m/s]
-        integer, intent(in)     :: max_iter      !! sweep limit of a round, >= 1
-        integer, intent(inout)  :: mode(:)       !! (n_c) previous mode in, the answer's out
-        real(dp), intent(inout) :: u1(:)         !! velocities: starting guess in, answer out [m/s]
-        real(dp), intent(out)   :: wloc(:)       !! each contact's relative velocity (0: stuck) [m/s]
-        integer, intent(out)    :: sweeps        !! sweeps done over all rounds
-        real(dp), intent(out)   :: resid         !! the last round's residual [m/s]
-        integer, intent(out)    :: iworst        !! the coordinate with the largest residual
-        real(dp), intent(out) :: a(size(d)), bb(size(d))   !! room: the pivots from the top and the bottom
-        real(dp), intent(out) :: wb(size(d)), du(size(d))  !! room: the sweeps' W uf and changes
-        !> room: the contacts' free velocities, D_ii, levels, next levels, static limits
-        real(dp), intent(out) :: wf(cs%n_c), dg(cs%n_c), mu(cs%n_c), mu_new(cs%n_c), wts(cs%n_c)
-        type(contact_law), intent(inout) :: box(cs%n_c)    !! room: the box problem's laws (each set)
-        logical, intent(out) :: kin(cs%n_c), reset(cs%n_c), act(cs%n_c)  !! room: the rule's flags
-        integer, intent(out) :: dir(cs%n_c)                !! room: the slip directions
-        logical :: changed
-        integer :: n, i, c, k, sw, rounds, sgn
-        real(dp) :: hv
-        n = size(d)
+        ! the room's columns: the pivots a, bb (the sweeps' W uf and changes in columns 3, 4); the
+        ! contacts' free velocities, D_ii, levels, next levels and static limits; the flags
+        associate (a => ws%tri_dof(:, 1), bb => ws%tri_dof(:, 2), wf => ws%tri_con(:, 1), dg => ws%tri_con(:, 2), &
+                   mu => ws%tri_con(:, 3), mu_new => ws%tri_con(:, 4), wts => ws%tri_con(:, 5), box => ws%tri_box, &
+                   kin => ws%tri_flag(:, 1), reset => ws%tri_flag(:, 2), act => ws%tri_flag(:, 3), dir => ws%tri_dir)
         ! pivots from the top (a) and from the bottom (bb): 1 / (W^-1)_ii = a_i + bb_i - d_i
         a(1) = d(1)
         do i = 2, n
@@ -1385,8 +1342,8 @@ contains
             do c = 1, cs%n_c
                 box(c) = contact_law(kind=CONTACT_COULOMB, mu_s=mu(c), mu_k=mu(c))
             end do
-            call sweeps_on(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sw, resid, iworst, &
-                           wb, du, box)
+            call tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sw, resid, &
+                                    iworst, box, ws%tri_dof(:, 3:4))
             sweeps = sweeps + sw
             if (resid > tol) return
             changed = .false.
@@ -1417,7 +1374,8 @@ contains
         do k = 1, cs%n_c
             mode(k) = merge(slip_sign(wloc(k)), MODE_OPEN, act(k))
         end do
-    end subroutine rule_on
+        end associate
+    end subroutine tridiagonal_rule
 
     !> Room for n numbers in buf (kept where there is enough).
     subroutine reserve(buf, n)
