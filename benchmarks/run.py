@@ -1113,7 +1113,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                         help="run nothing: draw benchmarks.png and .pdf again from the "
                              "benchmarks.csv already in the output directory")
     parser.add_argument("--repeats", type=int_at_least(1), default=None,
-                        help="samples per median, >= 1")
+                        help="samples per median (with --presets: the interleaved pairs, 5 by default), >= 1")
     parser.add_argument("--no-scipy", action="store_true", help="leave out solve_ivp")
     parser.add_argument("--identify", action="store_true",
                         help="only the identification benchmark (LuGre and GMS fits on the 36 lb damper "
@@ -1199,7 +1199,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         from .presets import run_presets
         if not args.base:
             parser.error("argument --presets: needs --base SITE (a build of the package before the presets)")
-        write_text(args.outdir / "presets.md", run_presets(log, args.base, 2 if args.quick else 5))
+        write_text(args.outdir / "presets.md", run_presets(log, args.base, args.repeats or (2 if args.quick else 5)))
         write_provenance(args.outdir, "presets", [args.outdir / "presets.md"], argv)
         return 0
     if args.clutches:

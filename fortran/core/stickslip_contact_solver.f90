@@ -1304,35 +1304,38 @@ contains
         associate (a => ws%tri_dof(:, 1), bb => ws%tri_dof(:, 2), wf => ws%tri_con(:, 1), dg => ws%tri_con(:, 2), &
                    mu => ws%tri_con(:, 3), mu_new => ws%tri_con(:, 4), wts => ws%tri_con(:, 5), box => ws%tri_box, &
                    kin => ws%tri_flag(:, 1), reset => ws%tri_flag(:, 2), act => ws%tri_flag(:, 3), dir => ws%tri_dir)
-        ! pivots from the top (a) and from the bottom (bb): 1 / (W^-1)_ii = a_i + bb_i - d_i
-        a(1) = d(1)
-        do i = 2, n
-            a(i) = d(i) - l(i) * r(i - 1) / a(i - 1)
-        end do
-        bb(n) = d(n)
-        do i = n - 1, 1, -1
-            bb(i) = d(i) - r(i) * l(i + 1) / bb(i + 1)
-        end do
-        do i = 1, n
-            c = coord_contact(i)
-            if (c == 0) cycle
-            hv = cs%h_val(cs%h_ptr(c))
-            wf(c) = hv * uf(i) + boff(c)
-            dg(c) = hv * hv / (a(i) + bb(i) - d(i))
-        end do
         act = is_active(cs%laws, hn)
         wts = cs%laws%mu_s * hn
         ! step 1: a slip kept where its free velocity still goes its way past its static limit
+        ! (read only where a contact slipped before: the free velocities and D_ii)
         kin = .false.
         dir = 0
-        do c = 1, cs%n_c
-            if (act(c) .and. abs(mode(c)) == 1) then
-                if (mode(c) * wf(c) > dg(c) * wts(c) * (1.0_dp + STICK_RTOL)) then
-                    kin(c) = .true.
-                    dir(c) = mode(c)
+        if (any(act .and. abs(mode) == 1)) then
+            ! pivots from the top (a) and from the bottom (bb): 1 / (W^-1)_ii = a_i + bb_i - d_i
+            ! (the two recursions in one loop, so that their divisions overlap)
+            a(1) = d(1)
+            bb(n) = d(n)
+            do i = 2, n
+                a(i) = d(i) - l(i) * r(i - 1) / a(i - 1)
+                k = n + 1 - i
+                bb(k) = d(k) - r(k) * l(k + 1) / bb(k + 1)
+            end do
+            do i = 1, n
+                c = coord_contact(i)
+                if (c == 0) cycle
+                hv = cs%h_val(cs%h_ptr(c))
+                wf(c) = hv * uf(i) + boff(c)
+                dg(c) = hv * hv / (a(i) + bb(i) - d(i))
+            end do
+            do c = 1, cs%n_c
+                if (act(c) .and. abs(mode(c)) == 1) then
+                    if (mode(c) * wf(c) > dg(c) * wts(c) * (1.0_dp + STICK_RTOL)) then
+                        kin(c) = .true.
+                        dir(c) = mode(c)
+                    end if
                 end if
-            end if
-        end do
+            end do
+        end if
         reset = .false.
         mu = cs%laws%mu_s
         where (kin) mu = cs%laws%slip_mu(max(abs(wf) - dg * wts, tiny(1.0_dp)))
