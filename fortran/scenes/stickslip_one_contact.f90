@@ -69,18 +69,17 @@ module stickslip_one_contact
     end type one_contact_model
 
     !> The contact model of a `one_contact_model` (moreau, event_driven): the model's own
-    !! `model_contact`, its forces, normal force, offset and solves with W = m + a c + b k
-    !! written for its one body and one contact: the general model's operations in the same
-    !! order (the same numbers, bit for bit), without its loops over bodies and signals; the
-    !! normal force and the offset, numbers, read once when it is built.
+    !! `model_contact`, its normal force, offset and solves with W = m + a c + b k written for
+    !! its one body and one contact: the general model's operations in the same order (the
+    !! same numbers, bit for bit), without its loops over contacts and signals; the normal
+    !! force and the offset, numbers, read once when it is built. (Its forces stay the
+    !! model's: a one-body copy measured slower under event_driven.)
     type, extends(model_contact) :: one_contact_contact
         real(dp) :: c_w = 0.0_dp        !! the dampers' part of W, C(1, 1) [N s/m]
         real(dp) :: k_w = 0.0_dp        !! the springs' part of W, K(1, 1) [N/m]
         real(dp) :: n_fix = 0.0_dp      !! the normal force, clipped at 0 [N]
         real(dp) :: b_fix = 0.0_dp      !! the offset -w [m/s]
     contains
-        procedure :: force => occ_force
-        !! springs, dampers and forces on the body [N]
         procedure :: solve_w => occ_solve_w
         !! x / (m + a c + b k)
         procedure :: normal_forces => occ_normal
@@ -313,32 +312,6 @@ contains
             call move_alloc(general, cs)
         end select
     end subroutine oc_contact_model
-
-    !> `free_forces` of the model for its one body: f = 0, then each spring's, damper's and
-    !! force's term added in the model's order.
-    subroutine occ_force(self, t, q, u, f)
-        class(one_contact_contact), intent(in) :: self
-        real(dp), intent(in)  :: t          !! time [s]
-        real(dp), intent(in)  :: q(:)       !! (1) position [m]
-        real(dp), intent(in)  :: u(:)       !! (1) velocity [m/s]
-        real(dp), intent(out) :: f(:)       !! (1) springs, dampers and forces [N]
-        real(dp) :: fe, rate, fsum
-        integer :: i
-        associate (m => self%m)
-            fsum = 0.0_dp
-            do i = 1, size(m%spr_k)       ! (each to the ground: x_b = 0)
-                fsum = fsum + (-m%spr_k(i) * (q(1) - m%spr_l0(i)))
-            end do
-            do i = 1, size(m%dmp_c)
-                fsum = fsum + (-m%dmp_c(i) * u(1))
-            end do
-            do i = 1, size(m%frc_body)
-                call m%sig%eval(m%frc_sig(i), t, fe, rate)
-                fsum = fsum + fe
-            end do
-        end associate
-        f(1) = fsum
-    end subroutine occ_force
 
     !> x / W with W = m + a c + b k, as the model's tridiagonal solve of one row (x / M where
     !! a = b = 0).

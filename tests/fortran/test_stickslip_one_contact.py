@@ -62,8 +62,8 @@ def _block(law: str, idle_body: bool, damper: bool) -> ss.Model:
 @pytest.mark.parametrize("law", ["coulomb", "stribeck"])
 @pytest.mark.parametrize("damper", [False, True])
 def test_the_one_contact_contact_model_equals_the_general_one(law, damper):
-    """moreau on the one-contact model's own contact model (`one_contact_contact`: its force,
-    normal force, offset and W solve written for one body) against the general model's
+    """moreau on the one-contact model's own contact model (`one_contact_contact`: its normal
+    force, offset and W solve written for one body) against the general model's
     (`model_contact`) on the same block beside an idle body: the same operations in the same
     order, so the block's motion is the same to the last bit, step for step."""
     with warnings.catch_warnings():
