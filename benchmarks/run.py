@@ -1200,7 +1200,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not args.base:
             parser.error("argument --presets: needs --base SITE (a build of the package before the presets)")
         write_text(args.outdir / "presets.md", run_presets(log, args.base, args.repeats or (2 if args.quick else 5)))
-        write_provenance(args.outdir, "presets", [args.outdir / "presets.md"], argv)
+        # the command as run, the base build's directory (a path of this machine) written SITE
+        shown = [("SITE" if a == args.base else a) for a in (sys.argv[1:] if argv is None else argv)]
+        write_provenance(args.outdir, "presets", [args.outdir / "presets.md"], shown)
         return 0
     if args.clutches:
         from cases.gallery_clutches import bench_markdown
