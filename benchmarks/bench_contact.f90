@@ -18,9 +18,11 @@
 !! them. Solved by the chain's own path (`tridiagonal_rule`: the contact solver's rule, each box
 !! problem by nonsmooth Gauss-Seidel on the tridiagonal W, what moreau runs on a chain), and, up to 100 blocks, on the dense Delassus
 !! matrix D = W^-1 by the general solver (`solve_contacts`) and by projected Gauss-Seidel alone
-!! (`gauss_seidel`, the solver before its fallback). One line per n:
-!!   chain  n  tri_us  tri_solved  tri_sweeps  solver_us  solver_solved  gs_us  gs_solved
-!!   gs_sweeps  both_solved  max_du
+!! (`gauss_seidel`, the solver before its fallback); and by the sweeps alone
+!! (`tridiagonal_sweeps` with the contacts' own laws, no rounds: moreau's chain path before the
+!! rule). One line per n:
+!!   chain  n  tri_us  tri_solved  tri_sweeps  sweeps_us  solver_us  solver_solved  gs_us
+!!   gs_solved  gs_sweeps  both_solved  max_du
 !! (microseconds a solve, medians of `repeats` passes; solver and Gauss-Seidel columns -1 beyond
 !! 100 blocks; both_solved: problems that both dense solvers solved, over which their times
 !! are taken; max_du: the largest difference of the step's velocities between the
@@ -124,7 +126,8 @@ program bench_contact
     use stickslip_kinds, only: dp
     use stickslip_contact, only: contact_law
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, gauss_seidel, &
-                                        contact_residual, SOLVER_PIVOTING, tridiagonal_rule
+                                        contact_residual, SOLVER_PIVOTING, tridiagonal_rule, &
+                                        tridiagonal_sweeps
     use stickslip_linalg, only: psd_solve
     use stickslip_params, only: param_values, NAME_LEN
     use stickslip_contact, only: contact_system
@@ -273,7 +276,7 @@ contains
         real(dp) :: t_out(nst + 1), y_out(2 * n, nst + 1), y0(2 * n)
         real(dp) :: uf(n, nst), wf(n, nst), hn(n), boff(n), wl(n), wd(n), wr(n), f0(n), f1(n), qp(n)
         real(dp) :: ut(n, nst), ud(n), pp(n), ww(n), wl2(n), res, du_max, tm
-        real(dp) :: tt(repeats), ts(repeats), tg(repeats)
+        real(dp) :: tt(repeats), ts(repeats), tg(repeats), ta(repeats), ut2(n)
         real(dp), allocatable :: dm(:, :), dlay(:, :)   ! dlay: step_layout's room for D (none on the chain)
         integer :: cmap(n), i, j, r, sw, iw, nin, k, ntri, nsol, ngs, nboth, cm(n), pm(n, nst)
         integer :: tri_sweeps, gs_sweeps
@@ -332,12 +335,24 @@ contains
                     ut(:, j) = y_out(n + 1:, j + 1)
                     cm = pm(:, j)
                     call tridiagonal_rule(cc, wl, wd, wr, uf(:, j), cmap, boff, hn, tol, 1000, cm, ut(:, j), wl2, sw, &
-                                          res, iw)
+                                          res, iw, work=cwk)
                 end do
                 call cpu_time(t1)
                 tt(r) = tt(r) + (t1 - t0) / (nin * nst)
                 if (r == 1 .and. res <= tol) ntri = ntri + 1
                 if (r == 1) tri_sweeps = tri_sweeps + sw
+            end do
+            ! the sweeps alone (moreau's chain path before the rule: one set of sweeps with the
+            ! contacts' own laws, no rounds), warm-started the same way
+            ta(r) = 0.0_dp
+            do j = 1, nst
+                call cpu_time(t0)
+                do k = 1, nin
+                    ut2 = y_out(n + 1:, j + 1)
+                    call tridiagonal_sweeps(cc, wl, wd, wr, uf(:, j), cmap, boff, hn, tol, 1000, ut2, wl2, sw, res, iw)
+                end do
+                call cpu_time(t1)
+                ta(r) = ta(r) + (t1 - t0) / (nin * nst)
             end do
             if (.not. dense) cycle
             ! the general solver and Gauss-Seidel alone on D, from p = 0
@@ -381,13 +396,13 @@ contains
         end do
         nboth = count(both)
         if (dense) then
-            print '(a, i7, es12.4, f8.3, f8.1, es12.4, f8.3, es12.4, f8.3, f8.1, f8.3, es12.4)', 'chain', n, &
-                1.0e6_dp * median(tt), real(ntri, dp) / nst, real(tri_sweeps, dp) / nst, &
+            print '(a, i7, es12.4, f8.3, f8.1, es12.4, es12.4, f8.3, es12.4, f8.3, f8.1, f8.3, es12.4)', 'chain', n, &
+                1.0e6_dp * median(tt), real(ntri, dp) / nst, real(tri_sweeps, dp) / nst, 1.0e6_dp * median(ta), &
                 1.0e6_dp * median(ts) / max(nboth, 1), real(nsol, dp) / nst, 1.0e6_dp * median(tg) / max(nboth, 1), &
                 real(ngs, dp) / nst, real(gs_sweeps, dp) / nst, real(nboth, dp) / nst, du_max
         else
-            print '(a, i7, es12.4, f8.3, f8.1, a)', 'chain', n, 1.0e6_dp * median(tt), real(ntri, dp) / nst, &
-                real(tri_sweeps, dp) / nst, '  -1  -1  -1  -1  -1  -1  -1'
+            print '(a, i7, es12.4, f8.3, f8.1, es12.4, a)', 'chain', n, 1.0e6_dp * median(tt), real(ntri, dp) / nst, &
+                real(tri_sweeps, dp) / nst, 1.0e6_dp * median(ta), '  -1  -1  -1  -1  -1  -1  -1'
         end if
     end subroutine bench_chain
 

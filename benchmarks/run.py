@@ -994,21 +994,24 @@ def run_contact(build_dir: Path, log: Callable[[str], None], n_max: int = 64, re
                   "mu_k = 0.3): five states of a run of the chain started stuck on the belt (t = 1 to 5 s), "
                   f"medians of {repeats} passes. \"Tridiagonal\" is what moreau runs on a chain: the contact "
                   "solver's rule on W itself (its rounds, each box problem by nonsmooth Gauss-Seidel, O(n) a "
-                  "sweep), warm-started at the step's start velocities and modes. Up to "
+                  "sweep), warm-started at the step's start velocities and modes; \"sweeps alone\" the same "
+                  "problems by one set of those sweeps with the contacts' own laws and no rounds (moreau's "
+                  "chain path before the rule), warm-started alike, and the rule's cost over theirs. Up to "
                   "100 blocks the same problems on the dense Delassus matrix D = W^-1, from p = 0: the general "
                   "solver (its rule: rounds of box problems) against Gauss-Seidel alone; their times over the problems both solve, and the "
                   "ratio. Largest velocity difference: tridiagonal against the general solver.", "",
-                  "| n | tridiagonal [us/solve] | solved | sweeps | general solver on D [us/solve] | solved "
+                  "| n | tridiagonal [us/solve] | solved | sweeps | sweeps alone [us/solve] | rule / sweeps alone "
+                  "| general solver on D [us/solve] | solved "
                   "| Gauss-Seidel alone on D [us/solve] | solved | sweeps | solver / Gauss-Seidel "
                   "| largest velocity difference [m/s] |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|"]
-        for n, tus, tok, tsw, sus, sok, gus, gok, gsw, both, du in chain:
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        for n, tus, tok, tsw, aus, sus, sok, gus, gok, gsw, both, du in chain:
+            head = (f"| {n} | {float(tus):.3g} | {100 * float(tok):.0f} % | {float(tsw):.1f} "
+                    f"| {float(aus):.3g} | {float(tus) / float(aus):.2f} ")
             if float(sus) < 0:
-                lines.append(f"| {n} | {float(tus):.3g} | {100 * float(tok):.0f} % | {float(tsw):.1f} "
-                             "| (dense D not formed) | | | | | | |")
+                lines.append(head + "| (dense D not formed) | | | | | | |")
             else:
-                lines.append(f"| {n} | {float(tus):.3g} | {100 * float(tok):.0f} % | {float(tsw):.1f} "
-                             f"| {float(sus):.3g} | {100 * float(sok):.0f} % | {float(gus):.3g} "
+                lines.append(head + f"| {float(sus):.3g} | {100 * float(sok):.0f} % | {float(gus):.3g} "
                              f"| {100 * float(gok):.0f} % | {float(gsw):.1f} | {float(sus) / float(gus):.2f} "
                              f"| {float(du):.2g} |")
             log(f"contact chain n={n}: tridiagonal {float(tus):.3g} us")
@@ -1110,7 +1113,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                         help="run nothing: draw benchmarks.png and .pdf again from the "
                              "benchmarks.csv already in the output directory")
     parser.add_argument("--repeats", type=int_at_least(1), default=None,
-                        help="samples per median, >= 1")
+                        help="samples per median (with --presets: the interleaved pairs, 5 by default), >= 1")
     parser.add_argument("--no-scipy", action="store_true", help="leave out solve_ivp")
     parser.add_argument("--identify", action="store_true",
                         help="only the identification benchmark (LuGre and GMS fits on the 36 lb damper "
@@ -1196,8 +1199,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         from .presets import run_presets
         if not args.base:
             parser.error("argument --presets: needs --base SITE (a build of the package before the presets)")
-        write_text(args.outdir / "presets.md", run_presets(log, args.base, 2 if args.quick else 5))
-        write_provenance(args.outdir, "presets", [args.outdir / "presets.md"], argv)
+        write_text(args.outdir / "presets.md", run_presets(log, args.base, args.repeats or (2 if args.quick else 5)))
+        # the command as run, the base build's directory (a path of this machine) written SITE
+        shown = [("SITE" if a == args.base else a) for a in (sys.argv[1:] if argv is None else argv)]
+        write_provenance(args.outdir, "presets", [args.outdir / "presets.md"], shown)
         return 0
     if args.clutches:
         from cases.gallery_clutches import bench_markdown

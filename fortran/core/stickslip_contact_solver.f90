@@ -134,12 +134,22 @@ module stickslip_contact_solver
         integer :: worst = 0            !! the contact with the largest residual (0: none)
     end type contact_solve_info
 
-    !> Work room of `solve_contacts` and `gauss_seidel`, for a caller that solves one problem
-    !! after another (a time step each): passed to every call, it is sized on the first and then
-    !! reused, so that a Gauss-Seidel solve allocates nothing (without it each call allocates its
-    !! own). One per caller and per thread: the solver keeps no state in it between calls.
+    !> Work room of `solve_contacts`, `gauss_seidel` and `tridiagonal_rule`, for a caller that
+    !! solves one problem after another (a time step each): passed to every call, it is sized on
+    !! the first and then reused, so that a Gauss-Seidel solve and a step of the rule on a chain
+    !! allocate nothing (without it each call allocates its own). One per caller and per thread:
+    !! the solver keeps no state in it between calls.
     type :: contact_workspace
         real(dp), allocatable :: gap(:)  !! (n) Gauss-Seidel's gap, wf + D p - w at its answer [m/s]
+        !> (n_dof, 4) `tridiagonal_rule`'s pivots from the top and from the bottom, and its
+        !! sweeps' W uf and changes of a sweep
+        real(dp), allocatable :: tri_dof(:, :)
+        !> (n_c, 5) `tridiagonal_rule`'s free velocities, D_ii, levels, next levels and static
+        !! limits of the contacts
+        real(dp), allocatable :: tri_con(:, :)
+        logical, allocatable :: tri_flag(:, :)      !! (n_c, 3) its kinetic, reset and active flags
+        integer, allocatable :: tri_dir(:)          !! (n_c) its slip directions
+        type(contact_law), allocatable :: tri_box(:)  !! (n_c) its box problem's laws
     end type contact_workspace
 
 contains
@@ -841,7 +851,7 @@ contains
     !! not converged).
     !! u1: starting guess in, velocities out [m/s].
     subroutine tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sweeps, resid, &
-                                  iworst, laws)
+                                  iworst, laws, room)
         class(contact_system), intent(in) :: cs  !! the system (its laws and H)
         real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
         real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
@@ -858,9 +868,21 @@ contains
         real(dp), intent(out)   :: resid         !! final residual [m/s]
         integer, intent(out)    :: iworst        !! the coordinate with the largest residual
         type(contact_law), intent(in), optional :: laws(:)  !! (n_c) the laws to use instead of cs%laws
-        real(dp) :: b(size(u1)), du(size(u1)), s, ufree, hv, w, pnew, rho, resid_prev
+        !> (n, 2) room for W uf and a sweep's changes, reused between calls (without it, its own)
+        real(dp), intent(inout), optional, target, contiguous :: room(:, :)
+        real(dp), allocatable, target :: own(:, :)
+        real(dp), pointer, contiguous :: b(:), du(:)
+        real(dp) :: s, ufree, hv, w, pnew, rho, resid_prev
         integer :: i, n, c
         n = size(u1)
+        if (present(room)) then
+            b => room(:n, 1)
+            du => room(:n, 2)
+        else
+            allocate(own(n, 2))
+            b => own(:, 1)
+            du => own(:, 2)
+        end if
         resid = 0.0_dp
         iworst = 1
         ! b = W uf
@@ -1281,8 +1303,9 @@ contains
     !! a chain D is nonsingular, so the stuck impulses are unique (step 3 has nothing to choose).
     !! mode: the previous mode in (+-1 slip, 0 stuck, any other value: none), the answer's out.
     !! resid > tol: a round's sweeps did not converge (the caller solves the step otherwise).
+    !! work: room reused from call to call (a step of the rule then allocates nothing).
     subroutine tridiagonal_rule(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, mode, u1, wloc, sweeps, &
-                                resid, iworst)
+                                resid, iworst, work)
         class(contact_system), intent(in) :: cs  !! the system (its laws and H)
         real(dp), intent(in)    :: l(:)          !! W(i, i - 1) [-]
         real(dp), intent(in)    :: d(:)          !! W(i, i) [-]
@@ -1299,41 +1322,62 @@ contains
         integer, intent(out)    :: sweeps        !! sweeps done over all rounds
         real(dp), intent(out)   :: resid         !! the last round's residual [m/s]
         integer, intent(out)    :: iworst        !! the coordinate with the largest residual
-        real(dp) :: a(size(d)), bb(size(d)), wf(cs%n_c), dg(cs%n_c), mu(cs%n_c), mu_new(cs%n_c), wts(cs%n_c)
-        type(contact_law) :: box(cs%n_c)
-        logical :: kin(cs%n_c), reset(cs%n_c), act(cs%n_c), changed
-        integer :: dir(cs%n_c), n, i, c, k, sw, rounds, sgn
+        type(contact_workspace), intent(inout), optional, target :: work  !! room reused between calls
+        type(contact_workspace), target :: own
+        type(contact_workspace), pointer :: ws
+        logical :: changed
+        integer :: n, nc, i, c, k, sw, rounds, sgn
         real(dp) :: hv
         n = size(d)
-        ! pivots from the top (a) and from the bottom (bb): 1 / (W^-1)_ii = a_i + bb_i - d_i
-        a(1) = d(1)
-        do i = 2, n
-            a(i) = d(i) - l(i) * r(i - 1) / a(i - 1)
-        end do
-        bb(n) = d(n)
-        do i = n - 1, 1, -1
-            bb(i) = d(i) - r(i) * l(i + 1) / bb(i + 1)
-        end do
-        do i = 1, n
-            c = coord_contact(i)
-            if (c == 0) cycle
-            hv = cs%h_val(cs%h_ptr(c))
-            wf(c) = hv * uf(i) + boff(c)
-            dg(c) = hv * hv / (a(i) + bb(i) - d(i))
-        end do
+        nc = cs%n_c
+        ws => own
+        if (present(work)) ws => work
+        if (allocated(ws%tri_dof)) then
+            if (size(ws%tri_dof, 1) /= n) deallocate(ws%tri_dof)
+        end if
+        if (.not. allocated(ws%tri_dof)) allocate(ws%tri_dof(n, 4))
+        if (allocated(ws%tri_con)) then
+            if (size(ws%tri_con, 1) /= nc) deallocate(ws%tri_con, ws%tri_flag, ws%tri_dir, ws%tri_box)
+        end if
+        if (.not. allocated(ws%tri_con)) allocate(ws%tri_con(nc, 5), ws%tri_flag(nc, 3), ws%tri_dir(nc), &
+                                                  ws%tri_box(nc))
+        ! the room's columns: the pivots a, bb (the sweeps' W uf and changes in columns 3, 4); the
+        ! contacts' free velocities, D_ii, levels, next levels and static limits; the flags
+        associate (a => ws%tri_dof(:, 1), bb => ws%tri_dof(:, 2), wf => ws%tri_con(:, 1), dg => ws%tri_con(:, 2), &
+                   mu => ws%tri_con(:, 3), mu_new => ws%tri_con(:, 4), wts => ws%tri_con(:, 5), box => ws%tri_box, &
+                   kin => ws%tri_flag(:, 1), reset => ws%tri_flag(:, 2), act => ws%tri_flag(:, 3), dir => ws%tri_dir)
         act = is_active(cs%laws, hn)
         wts = cs%laws%mu_s * hn
         ! step 1: a slip kept where its free velocity still goes its way past its static limit
+        ! (read only where a contact slipped before: the free velocities and D_ii)
         kin = .false.
         dir = 0
-        do c = 1, cs%n_c
-            if (act(c) .and. abs(mode(c)) == 1) then
-                if (mode(c) * wf(c) > dg(c) * wts(c) * (1.0_dp + STICK_RTOL)) then
-                    kin(c) = .true.
-                    dir(c) = mode(c)
+        if (any(act .and. abs(mode) == 1)) then
+            ! pivots from the top (a) and from the bottom (bb): 1 / (W^-1)_ii = a_i + bb_i - d_i
+            ! (the two recursions in one loop, so that their divisions overlap)
+            a(1) = d(1)
+            bb(n) = d(n)
+            do i = 2, n
+                a(i) = d(i) - l(i) * r(i - 1) / a(i - 1)
+                k = n + 1 - i
+                bb(k) = d(k) - r(k) * l(k + 1) / bb(k + 1)
+            end do
+            do i = 1, n
+                c = coord_contact(i)
+                if (c == 0) cycle
+                hv = cs%h_val(cs%h_ptr(c))
+                wf(c) = hv * uf(i) + boff(c)
+                dg(c) = hv * hv / (a(i) + bb(i) - d(i))
+            end do
+            do c = 1, cs%n_c
+                if (act(c) .and. abs(mode(c)) == 1) then
+                    if (mode(c) * wf(c) > dg(c) * wts(c) * (1.0_dp + STICK_RTOL)) then
+                        kin(c) = .true.
+                        dir(c) = mode(c)
+                    end if
                 end if
-            end if
-        end do
+            end do
+        end if
         reset = .false.
         mu = cs%laws%mu_s
         where (kin) mu = cs%laws%slip_mu(max(abs(wf) - dg * wts, tiny(1.0_dp)))
@@ -1344,7 +1388,7 @@ contains
                 box(c) = contact_law(kind=CONTACT_COULOMB, mu_s=mu(c), mu_k=mu(c))
             end do
             call tridiagonal_sweeps(cs, l, d, r, uf, coord_contact, boff, hn, tol, max_iter, u1, wloc, sw, resid, &
-                                    iworst, box)
+                                    iworst, box, ws%tri_dof(:, 3:4))
             sweeps = sweeps + sw
             if (resid > tol) return
             changed = .false.
@@ -1375,6 +1419,7 @@ contains
         do k = 1, cs%n_c
             mode(k) = merge(slip_sign(wloc(k)), MODE_OPEN, act(k))
         end do
+        end associate
     end subroutine tridiagonal_rule
 
     !> Room for n numbers in buf (kept where there is enough).

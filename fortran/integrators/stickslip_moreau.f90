@@ -130,7 +130,7 @@ contains
         type(contact_solve_info) :: cinfo
         type(contact_workspace) :: cwork   ! the contact solver's room, reused from step to step
         logical :: tri, dense
-        real(dp) :: t, t1, hs, th, h_d, resid, t_next
+        real(dp) :: t, t1, hs, th, h_d, h_w, resid, t_next
         integer(8) :: i, nsteps, n_total
         integer :: nd, nc, m, next, sweeps, c, k, iworst
 
@@ -170,6 +170,7 @@ contains
         t = t0
         p = 0.0_dp
         h_d = -1.0_dp      ! step size D was formed for (none yet)
+        h_w = -1.0_dp      ! step size W's diagonals were formed for (none yet)
         call output_start(t0, y0, t_out, y_out, opts%every_step, next)
         t_next = huge(1.0_dp)
         if (.not. opts%every_step .and. next <= m) t_next = t_out(next)
@@ -199,11 +200,14 @@ contains
             hn = hs * hn
             dense = .not. tri
             if (tri) then   ! on W itself: u1 from W u1 = W u_free + H^T p
-                call cs%w_tridiagonal(hs * th, (hs * th)**2, wl, wd, wr, tri)
+                if (hs /= h_w) then     ! W's diagonals: once per step size
+                    call cs%w_tridiagonal(hs * th, (hs * th)**2, wl, wd, wr, tri)
+                    h_w = hs
+                end if
                 call cs%slip_offset(t1, boff)
                 g = u
                 call tridiagonal_rule(cs, wl, wd, wr, du, coord_contact, boff, hn, opts%contact_tol, &
-                                      opts%contact_max_iter, cmode, g, wloc, sweeps, resid, iworst)
+                                      opts%contact_max_iter, cmode, g, wloc, sweeps, resid, iworst, work=cwork)
                 stats%ncontact_iter = stats%ncontact_iter + sweeps
                 if (resid <= opts%contact_tol) then
                     stats%contact_residual = max(stats%contact_residual, resid)

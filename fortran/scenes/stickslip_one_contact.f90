@@ -17,11 +17,12 @@ module stickslip_one_contact
     use stickslip_kinds, only: dp
     use stickslip_friction, only: friction_law
     use stickslip_ode, only: fd_jacobian
-    use stickslip_model_system, only: model_system
+    use stickslip_model_system, only: model_system, model_contact
+    use stickslip_contact, only: contact_system
     implicit none
     private
 
-    public :: one_contact_model, specialise
+    public :: one_contact_model, one_contact_contact, specialise
 
     !> A model of one body with one contact and constant signals, folded (see the module notes).
     type, extends(model_system) :: one_contact_model
@@ -61,7 +62,33 @@ module stickslip_one_contact
         !! their part of the stage from the law's stage_states
         procedure :: stage_rhs => oc_stage_rhs
         !! f at a stage state with the law's states moving at the stage's rates
+        procedure :: contact_model => oc_contact_model
+        !! the model as a `one_contact_contact`
+        procedure :: error_size => oc_error_size
+        !! the model's error sizes for its one body and contact (the same numbers)
     end type one_contact_model
+
+    !> The contact model of a `one_contact_model` (moreau, event_driven): the model's own
+    !! `model_contact`, its normal force, offset and solves with W = m + a c + b k written for
+    !! its one body and one contact: the general model's operations in the same order (the
+    !! same numbers, bit for bit), without its loops over contacts and signals; the normal
+    !! force and the offset, numbers, read once when it is built. (Its forces stay the
+    !! model's: a one-body copy measured slower under event_driven.)
+    type, extends(model_contact) :: one_contact_contact
+        real(dp) :: c_w = 0.0_dp        !! the dampers' part of W, C(1, 1) [N s/m]
+        real(dp) :: k_w = 0.0_dp        !! the springs' part of W, K(1, 1) [N/m]
+        real(dp) :: n_fix = 0.0_dp      !! the normal force, clipped at 0 [N]
+        real(dp) :: b_fix = 0.0_dp      !! the offset -w [m/s]
+    contains
+        procedure :: solve_w => occ_solve_w
+        !! x / (m + a c + b k)
+        procedure :: normal_forces => occ_normal
+        !! the normal force (a number), clipped at 0 [N]
+        procedure :: slip_offset => occ_offset
+        !! -w, the surface's velocity (a number) [m/s]
+        procedure :: offset_rate => occ_offset_rate
+        !! -w' = -0 (the surface's velocity is a number)
+    end type one_contact_contact
 
 contains
 
@@ -247,5 +274,82 @@ contains
         call self%static_rhs(y, self%law%stage_mu(self%relative_velocity(y), y(3:), k(3:)), f)
         f(3:) = k(3:)
     end subroutine oc_stage_rhs
+
+    !> The model's `error_size` (|y|; the body's velocity sized by its contact's slip where
+    !! `slip_error_size`) for its one body and contact, the same numbers without the loop over
+    !! contacts: a call the specialised kernels resolve and can inline.
+    pure subroutine oc_error_size(self, t, y, size_y)
+        class(one_contact_model), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out) :: size_y(:)  !! the size of each component
+        size_y = abs(y)
+        if (.not. self%slip_error_size) return
+        size_y(2) = min(size_y(2), max(abs(self%relative_velocity(y)), self%con_band(1)))
+    end subroutine oc_error_size
+
+    !> The model's `model_contact` as a `one_contact_contact` (see the type).
+    subroutine oc_contact_model(self, cs, status)
+        class(one_contact_model), intent(in) :: self
+        class(contact_system), allocatable, intent(out) :: cs   !! the contact model
+        integer, intent(out) :: status                          !! SS_OK or SS_NOT_SETVALUED
+        class(contact_system), allocatable :: general
+        type(one_contact_contact), allocatable :: occ
+        real(dp) :: nb(1), bb(1)
+        call self%model_system%contact_model(general, status)
+        select type (general)
+        type is (model_contact)
+            allocate(occ)
+            occ%model_contact = general
+            occ%c_w = general%ctri(2, 1)    ! (one body: W is its diagonal, tridiagonal)
+            occ%k_w = general%ktri(2, 1)
+            call general%normal_forces(0.0_dp, [0.0_dp], nb)      ! (numbers: any t, q)
+            call general%slip_offset(0.0_dp, bb)
+            occ%n_fix = nb(1)
+            occ%b_fix = bb(1)
+            call move_alloc(occ, cs)
+        class default
+            call move_alloc(general, cs)
+        end select
+    end subroutine oc_contact_model
+
+    !> x / W with W = m + a c + b k, as the model's tridiagonal solve of one row (x / M where
+    !! a = b = 0).
+    subroutine occ_solve_w(self, t, q, u, a, b, x)
+        class(one_contact_contact), intent(in) :: self
+        real(dp), intent(in)    :: t        !! time [s]
+        real(dp), intent(in)    :: q(:)     !! position [m]
+        real(dp), intent(in)    :: u(:)     !! velocity [m/s]
+        real(dp), intent(in)    :: a        !! weight of C [s]
+        real(dp), intent(in)    :: b        !! weight of K [s^2]
+        real(dp), intent(inout) :: x(:)     !! (1) right-hand side [N s], then the solution [m/s]
+        if (a == 0.0_dp .and. b == 0.0_dp) then
+            x(1) = x(1) / self%m%mass(1)
+        else
+            x(1) = x(1) / (self%m%mass(1) + a * self%c_w + b * self%k_w)
+        end if
+    end subroutine occ_solve_w
+
+    subroutine occ_normal(self, t, q, n)
+        class(one_contact_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! position [m]
+        real(dp), intent(out) :: n(:)       !! (1) normal force, >= 0 [N]
+        n(1) = self%n_fix
+    end subroutine occ_normal
+
+    subroutine occ_offset(self, t, b)
+        class(one_contact_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(out) :: b(:)       !! (1) -w of the contact [m/s]
+        b(1) = self%b_fix
+    end subroutine occ_offset
+
+    subroutine occ_offset_rate(self, t, b)
+        class(one_contact_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(out) :: b(:)       !! (1) -w' of the contact [m/s^2]
+        b(1) = -0.0_dp      ! (the model's -w' of a number: w' = 0)
+    end subroutine occ_offset_rate
 
 end module stickslip_one_contact

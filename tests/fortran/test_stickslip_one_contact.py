@@ -52,3 +52,37 @@ def test_the_specialised_kernel_equals_the_general_model(scene, law, method, con
     assert np.max(np.abs(v - general.v[0])) <= 1e-11 * max(1.0, float(np.max(np.abs(general.v))))
     assert (fast.stats["nstep"], fast.stats["nfev"]) == (general.stats["nstep"], general.stats["nfev"])
 
+
+
+def _block(law: str, idle_body: bool, damper: bool) -> ss.Model:
+    """A block on a spring to the wall and on a belt (a force and a damper where asked); with
+    idle_body a second body, free and at rest, that no element touches: the model is then not
+    one body with one contact and runs the general model path (`model_contact`)."""
+    m = ss.Model()
+    m.add_body(2.0, x0=0.01, v0=0.1)
+    m.add_spring(0, None, k=50.0, rest_length=0.02)
+    if damper:
+        m.add_damper(0, None, c=0.4)
+        m.add_force(0, 1.5)
+    m.add_contact(0, None, law, normal_force=19.6, surface_velocity=0.3)
+    if idle_body:
+        m.add_body(1.0)
+    return m
+
+
+@pytest.mark.parametrize("law", ["coulomb", "stribeck"])
+@pytest.mark.parametrize("damper", [False, True])
+def test_the_one_contact_contact_model_equals_the_general_one(law, damper):
+    """moreau on the one-contact model's own contact model (`one_contact_contact`: its normal
+    force, offset and W solve written for one body) against the general model's
+    (`model_contact`) on the same block beside an idle body: the same operations in the same
+    order, so the block's motion is the same to the last bit, step for step."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fast = ss.simulate(_block(law, False, damper), method="moreau", h=1e-4, t_end=1.5, n_out=151)
+        general = ss.simulate(_block(law, True, damper), method="moreau", h=1e-4, t_end=1.5, n_out=151)
+    assert fast.stats["status"] == general.stats["status"] == 0
+    assert np.array_equal(np.atleast_2d(fast.x)[0], general.x[0])
+    assert np.array_equal(np.atleast_2d(fast.v)[0], general.v[0])
+    assert np.all(general.x[1] == 0.0)
+    assert fast.stats["nstep"] == general.stats["nstep"]
