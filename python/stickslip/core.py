@@ -1095,7 +1095,7 @@ class _Call:
 
     __slots__ = ("scene", "law", "method", "t_end", "grid", "n_out", "rows", "warnings",
                  "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "arm",
-                 "handle", "n", "resolved", "fast")
+                 "handle", "n", "resolved", "fast", "model")
 
     def __init__(self, **kw: Any) -> None:
         for k, v in kw.items():
@@ -1115,6 +1115,13 @@ class _Call:
 #: _CALLS_MAX; cleared when full. Only settings the library accepted are kept.
 _CALLS: dict[tuple, _Call] = {}
 _CALLS_MAX = 512
+
+
+def _keep(key: tuple, call: _Call) -> None:
+    """Keep a validated setting in _CALLS (a scene's or a Model's), clearing it when full."""
+    if len(_CALLS) >= _CALLS_MAX:
+        _CALLS.clear()
+    _CALLS[key] = call
 
 
 #: Most output values (state components x rows) a run may fill: 2 GB of float64.
@@ -1352,9 +1359,7 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     if status == STATUS_OK:
         _warn_nonunique(result)
     if key is not None and status > _FIRST_INPUT_CODE:     # new, and the library named no bad input
-        if len(_CALLS) >= _CALLS_MAX:
-            _CALLS.clear()
-        _CALLS[key] = call
+        _keep(key, call)
     if status != STATUS_OK:
         _failed(call, result)
     if not call.fast:
@@ -1508,7 +1513,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     return _Call(scene=scene, law=law, method=method, t_end=t_end, handle=int(handle), n=y0.size,
                  resolved=resolved, grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
                  state_labels=state_labels, used=plan.used, known=known, events_room=room,
-                 n_blocks=n_blocks, arm=arm,
+                 n_blocks=n_blocks, arm=arm, model=False,
                  fast=not said and (rows > 0 or grid is not None) and not _checked(law, method))
 
 
