@@ -708,11 +708,10 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         t_grid = np.zeros(rows)
     else:
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
-        t_grid = _linspace(t_end, n_out)
+        t_grid = None                        # the grid a kept setting holds, or made for the run
         rows = 0
     room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
         if "max_events" in info["controls"] else 0
-    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
     y0 = np.zeros(model.n_states())
     y0[:model.n_bodies] = arrays["bodies"][1]
     y0[model.n_bodies:2 * model.n_bodies] = arrays["bodies"][2]
@@ -728,9 +727,12 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         # as a scene's is: run_prepared through _runner, which builds the Result
         call = _model_call(model, arrays, method, t_end, y0, rtol, atol, ckeys, cvals, rows, n_out, room,
                            info["adaptive"] or _fixed_steps(t_end, ctl.get("h", 0.0)) >= _STOP_CHECK_STEPS // 2)
-        result = _execute(call, None if call.grid is not None or rows else t_grid)
+        result = _execute(call, None if call.grid is not None or rows else _linspace(t_end, n_out))
         return _checked_run(model, method, result, notes, {**ctl, "rtol": rtol, "atol": atol}, arrays)
     stop = np.zeros(1, dtype=np.int32)
+    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
+    if t_grid is None:
+        t_grid = _linspace(t_end, n_out)
     y, drive_force, istats, rstats, status, elem_kind, elem_index, cpu = _ext.run_model(
         *(arrays[k] for k in ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals",
                               "signals", "sig_start", "tables", "drives")),
