@@ -563,6 +563,8 @@ def test_kept_model_setting_follows_the_model_content():
     first = run()
     assert first.x.shape == (1, 21) and first.z.shape == (0, 21) and first.drive_force.shape == (21, 0)
     assert first.params == {} and first.scene == "model"
+    scene = ss.simulate("belt", "recurdyn", method="rk4", h=1e-3, t_end=0.1, n_out=11)   # the same Result
+    assert scene.drive_force.shape == (11, 0) and scene.x.shape == (11,)
     assert closed(first, 100.0, 0.1) < 1e-9
     again = run()
     assert np.array_equal(again.x, first.x) and np.array_equal(again.v, first.v)

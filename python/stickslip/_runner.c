@@ -49,7 +49,7 @@ enum {
 };
 static const char *const result_slot_names[N_RESULT_SLOTS] = {
     "scene", "law", "method", "t_end", "state_labels", "t", "x", "v", "z", "events", "_params",
-    "_stats", "_raw", "drive_force"
+    "_stats", "_raw", "_drive_force"
 };
 static PyTypeObject *call_type = NULL;    /* core._Call */
 static PyMemberDef *call_slots[N_CALL_SLOTS], *result_slots[N_RESULT_SLOTS];
@@ -244,8 +244,8 @@ static PyObject *execute_call(PyObject *call, PyObject *t) {
         result_set(result, R_V, rows_of(y, nb, 2 * nb, one)) ||
         result_set(result, R_Z, rows_of(y, 2 * nb, n_v, one && nz == 1)))
         goto fail;
-    npy_intp ddims[2] = {PyArray_DIM((PyArrayObject *)t_out, 0), 0};   /* no drives: (n_t, 0) */
-    if (result_set(result, R_DRIVE_FORCE, PyArray_ZEROS(2, ddims, NPY_DOUBLE, 0)))
+    /* no drives: Result.drive_force makes its (n_t, 0) array on first use */
+    if (result_set(result, R_DRIVE_FORCE, Py_NewRef(Py_None)))
         goto fail;
     /* the counters and real counters in one vector; params and stats are built on first use */
     PyObject *raw = PyTuple_New(6);

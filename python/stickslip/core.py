@@ -311,7 +311,7 @@ class Result:
     """
 
     __slots__ = ("scene", "law", "method", "t_end", "t", "x", "v", "z", "state_labels",
-                 "events", "drive_force", "_params", "_stats", "_raw")
+                 "events", "_drive_force", "_params", "_stats", "_raw")
 
     def __init__(self, scene: str, law: str, method: str, t_end: float, params: dict[str, float],
                  t: np.ndarray, x: np.ndarray, v: np.ndarray, stats: dict[str, Any] | None = None,
@@ -322,8 +322,20 @@ class Result:
         self.z = np.zeros((0, np.size(t))) if z is None else z
         self.state_labels = state_labels
         self.events = _NO_EVENTS if events is None else events
-        self.drive_force = np.zeros((np.size(t), 0))
+        self._drive_force = None
         self._params, self._stats, self._raw = params, ({} if stats is None else stats), None
+
+    @property
+    def drive_force(self) -> np.ndarray:
+        """A model's drives' forces on their bodies [N], shape (n_t, n_drives); (n_t, 0)
+        without drives (made on first use)."""
+        if self._drive_force is None:
+            self._drive_force = np.zeros((np.size(self.t), 0))
+        return self._drive_force
+
+    @drive_force.setter
+    def drive_force(self, value: np.ndarray) -> None:
+        self._drive_force = value
 
     @property
     def params(self) -> dict[str, float]:
