@@ -176,18 +176,51 @@ def test_contact_on_driven_body_is_a_moving_surface():
         assert np.max(np.abs(r.z - r0.z)) < 1e-12       # the law sees the free body's slip
 
 
-def test_drive_force_nan_where_stick_force_is_set_valued():
-    """Under event_driven a contact on the driven body sticks with a set-valued force: the
-    drive's force is NaN (said in the docs), not a number of the regularised law."""
+@pytest.mark.parametrize("method,controls,tol_x,tol_f", [("event_driven", dict(rtol=1e-10, atol=1e-12), 1e-10, 1e-8),
+                                                         ("moreau", dict(h=1e-3), 1e-6, 1e-4),
+                                                         ("moreau", dict(h=1e-4), 1e-8, 1e-6)])
+def test_drive_force_of_a_stuck_block_is_the_closed_form(method, controls, tol_x, tol_f):
+    """A platform (md) driven at x_d = A sin(w t) carries a block (mb, spring k to the ground)
+    that stays stuck on it (|k - mb w^2| A < mu_s N): the block moves as x_d, its friction is
+    F = mb a_d + k x_d, and the drive supplies md a_d + F, in closed form. The holding force
+    is set-valued; the contact solver's problem at rest gives it (before: NaN)."""
+    md, mb, k, n, amp, f = 2.0, 1.0, 50.0, 9.81, 0.05, 0.5
+    w = 2.0 * math.pi * f
+    m = ss.Model()
+    b = m.add_body(mb, v0=amp * w, name="block")
+    d = m.add_body(md, name="platform")
+    m.add_spring(b, None, k)
+    m.add_contact(b, d, "coulomb", n, mu_s=0.6, mu_k=0.4)
+    m.add_drive(d, position=S.sine(amp, f))
+    r = ss.simulate(m, method=method, t_end=3.0, n_out=77, **controls)   # rows between moreau's steps
+    assert abs(k - mb * w * w) * amp < 0.6 * n
+    xd = amp * np.sin(w * r.t)
+    expected = (k - (md + mb) * w * w) * xd
+    assert np.max(np.abs(r.x[0] - xd)) < tol_x     # the block stays on the platform
+    assert np.max(np.abs(r.drive_force[:, 0] - expected)) < tol_f
+
+
+@pytest.mark.parametrize("method,controls", [("event_driven", dict(rtol=1e-10, atol=1e-12)),
+                                             ("moreau", dict(h=1e-4))])
+def test_drive_force_under_stick_slip_follows_the_mode(method, controls):
+    """A block on a spring to the ground on a belt driven at 0.2 m/s sticks and slips: the
+    drive's force is the block's friction, k x where it is stuck (|k x| <= mu_s N) and mu_k N
+    against the slip where it slips (from rest at t = 0 too), everywhere finite."""
+    k, n, mu_s, mu_k = 50.0, 9.81, 0.6, 0.4
     m = ss.Model()
     b = m.add_body(1.0, name="block")
     d = m.add_body(1.0, name="belt")
-    m.add_spring(b, None, 50.0)
-    m.add_contact(b, d, "coulomb", 9.81, mu_s=0.6, mu_k=0.4)
+    m.add_spring(b, None, k)
+    m.add_contact(b, d, "coulomb", n, mu_s=mu_s, mu_k=mu_k)
     m.add_drive(d, velocity=0.2)
-    r = ss.simulate(m, method="event_driven", t_end=2.0, n_out=11)
-    assert np.all(np.isnan(r.drive_force))
-    assert np.all(np.isfinite(r.x))
+    r = ss.simulate(m, method=method, t_end=4.0, n_out=401, **controls)
+    slip = r.v[0] - 0.2
+    stuck = np.abs(slip) < 1e-9
+    assert 0 < stuck.sum() < stuck.size
+    assert np.all(np.isfinite(r.drive_force))
+    assert np.max(np.abs(r.drive_force[stuck, 0] - k * r.x[0, stuck])) < 1e-8
+    assert np.all(np.abs(k * r.x[0, stuck]) <= mu_s * n * (1 + 1e-9))
+    assert np.max(np.abs(r.drive_force[~stuck, 0] + mu_k * n * np.sign(slip[~stuck]))) < 1e-9
 
 
 def test_drive_errors_name_the_drive_and_value():

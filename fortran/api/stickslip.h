@@ -283,8 +283,9 @@ int ss_model_simulate(ss_model *m, int method, double t_end, double h, double rt
                       int64_t *n_events);
 /* The forces [N] the drives applied to their bodies in the last ss_model_simulate, m_d a_d
  * minus the other forces on the driven body: force[(d - 1) * n_out + i] = drive d at
- * t_out[i], n = n_drives * n_out (NaN where a contact joins a driven body under event_driven
- * or moreau: the stick force is set-valued there). SS_OK, or SS_BAD_DIM for another n. */
+ * t_out[i], n = n_drives * n_out (a stuck contact's holding force from the contact solver's
+ * problem at rest under event_driven and moreau; NaN where a contact joins a driven body under
+ * implicit_euler or galpha with coulomb or karnopp). SS_OK, or SS_BAD_DIM for another n. */
 int ss_model_drive_forces(ss_model *m, int n, double *force);
 
 /* A periodic orbit of a model, y0[n] = (x of every body, v of every body): h, rtol, atol,

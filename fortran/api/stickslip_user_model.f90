@@ -27,6 +27,8 @@ module stickslip_user_model
     use stickslip_model_system, only: model_system
     use stickslip_one_contact, only: specialise
     use stickslip_registry, only: make_law, code_of, integrate
+    use stickslip_contact, only: contact_system
+    use stickslip_contact_solver, only: forces_at_rest, contact_solve_info
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
     implicit none
     private
@@ -595,11 +597,15 @@ contains
 
     !> The force each drive applies to its body at the rows (t(j), y(:, j)) of a run of the
     !! model: m_d a_d minus the other forces on the driven body (springs, dampers, forces,
-    !! and the friction of its contacts as their laws give it at that state). NaN where a
-    !! contact joins the driven body under a method that solves the laws' jumps (event_driven,
-    !! moreau; implicit_euler and galpha with coulomb or karnopp): the stick force is not a
-    !! function of the state there.
-    subroutine drive_forces(self, sys, plan, method, t, y, force)
+    !! and the friction of its contacts as their laws give it at that state). Under the
+    !! set-valued methods (event_driven, moreau) the friction is the set-valued laws': a
+    !! contact at rest (|w| <= tol: event_driven's atol + rtol times the largest velocity,
+    !! moreau's MOREAU_REST_TOL times it, at least 1 m/s) holds
+    !! with the force that keeps its relative acceleration at zero, from the contact solver's
+    !! problem at rest (`forces_at_rest`); NaN where that problem has no solution. NaN where a
+    !! contact joins the driven body under implicit_euler or galpha with coulomb or karnopp
+    !! (the force of a law's band or jump is not a function of the state there).
+    subroutine drive_forces(self, sys, plan, method, t, y, force, rtol, atol, h)
         class(stickslip_model), intent(in) :: self
         type(model_system), intent(inout) :: sys    !! the model's system (`build`)
         type(drive_plan), intent(in) :: plan        !! its drives (`build`)
@@ -607,21 +613,53 @@ contains
         real(dp), intent(in) :: t(:)                !! output times [s]
         real(dp), intent(in) :: y(:, :)             !! (state_size, size(t)) every body's state [m, m/s, ...]
         real(dp), intent(out) :: force(:, :)        !! (number of drives, size(t)) [N]
+        real(dp), intent(in) :: rtol                !! the run's relative tolerance (event_driven) [-]
+        real(dp), intent(in) :: atol                !! the run's absolute tolerance (event_driven) [m/s]
+        real(dp), intent(in) :: h                   !! the run's step (moreau; 0: none) [s]
         real(dp) :: fric(size(self%con_a)), x(size(self%mass)), v(size(self%mass)), yr(sys%n_states())
-        real(dp) :: f, fe, rate, pos, acc
-        integer :: j, k, i, d, nb, nf
+        real(dp) :: f, fe, rate, pos, acc, ta, tb
+        real(dp) :: wtol(size(self%con_a)), bt(size(self%con_a)), ba(size(self%con_a)), bb(size(self%con_a))
+        integer :: j, k, i, d, nb, nf, status
         logical :: set_valued, jumps
+        class(contact_system), allocatable :: cs
+        type(contact_solve_info) :: info
+        !> |w| at rest relative to the largest velocity under moreau, whose stuck contacts
+        !! have w = 0 at the steps to rounding (and output rows between steps to O(h^2)) [-]
+        real(dp), parameter :: MOREAU_REST_TOL = 1.0e-8_dp
         nb = size(self%mass)
         nf = sys%nb
         set_valued = method == 'event_driven' .or. method == 'moreau'
         jumps = (method == 'implicit_euler' .or. method == 'galpha') .and. sys%has_jumps()
+        if (set_valued) call sys%contact_model(cs, status)
         do j = 1, size(t)
             x = y(1:nb, j)
             v = y(nb + 1:2 * nb, j)
             yr(1:nf) = x(plan%free)
             yr(nf + 1:2 * nf) = v(plan%free)
             yr(2 * nf + 1:) = y(2 * nb + 1:, j)
-            call sys%friction(t(j), yr, fric)
+            if (set_valued) then
+                ! at rest: w within the integration's tolerance (event_driven), or within
+                ! MOREAU_REST_TOL of the largest velocity plus what the output's linear
+                ! interpolation between moreau's steps (of size h) leaves of a stuck contact's
+                ! w = 0: its offset b(t) less b interpolated (rtol, atol are not moreau's)
+                wtol = MOREAU_REST_TOL * max(maxval(abs(v)), 1.0_dp)
+                if (method == 'event_driven') then
+                    wtol = atol + rtol * max(maxval(abs(v)), 1.0_dp)
+                else if (h > 0.0_dp) then
+                    ta = h * aint(t(j) / h)
+                    tb = min(ta + h, t(size(t)))
+                    if (tb > ta .and. t(j) > ta) then
+                        call cs%slip_offset(t(j), bt)
+                        call cs%slip_offset(ta, ba)
+                        call cs%slip_offset(tb, bb)
+                        wtol = wtol + abs(bt - (ba * (tb - t(j)) + bb * (t(j) - ta)) / (tb - ta))
+                    end if
+                end if
+                call forces_at_rest(cs, t(j), yr(1:nf), yr(nf + 1:2 * nf), wtol, fric, info)
+                if (.not. info%ok) fric = ieee_value(f, ieee_quiet_nan)
+            else
+                call sys%friction(t(j), yr, fric)
+            end if
             do k = 1, size(self%drv_body)
                 d = self%drv_body(k)
                 call sys%sig%eval(plan%vel(k), t(j), pos, acc)
@@ -648,7 +686,7 @@ contains
                 do i = 1, size(self%con_a)     ! the friction on d is the opposite of that on its free side
                     if (self%con_a(i) /= d .and. self%con_b(i) /= d) cycle
                     f = f + fric(i)
-                    if (set_valued .or. jumps) f = ieee_value(f, ieee_quiet_nan)
+                    if (jumps) f = ieee_value(f, ieee_quiet_nan)
                 end do
                 force(k, j) = f
             end do
@@ -744,7 +782,13 @@ contains
                 call sys%sig%eval(plan%vel(k), t_out(j), y_out(nb + self%drv_body(k), j), rate)
             end do
         end do
-        if (present(drive_force)) call self%drive_forces(sys, plan, method, t_out, y_out, drive_force)
+        if (present(drive_force)) then
+            rate = 0.0_dp                   ! the step h of a fixed-step method (moreau's), if given
+            do j = 1, size(ck)
+                if (ck(j) == 'h') rate = cv(j)
+            end do
+            call self%drive_forces(sys, plan, method, t_out, y_out, drive_force, rt(1), at(1), rate)
+        end if
     end subroutine model_simulate
 
     !> A model from arrays, one per kind of element (body indices as reals, from 1, 0 the

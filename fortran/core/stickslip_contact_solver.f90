@@ -90,7 +90,7 @@ module stickslip_contact_solver
     private
 
     public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
-    public :: tridiagonal_sweeps, tridiagonal_rule
+    public :: tridiagonal_sweeps, tridiagonal_rule, forces_at_rest
     public :: modal_law, modal_law_set, solve_modal_contacts, modal_tridiagonal_sweeps, modal_local_solve, modal_choose
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
 
@@ -231,6 +231,48 @@ contains
         call contact_residual(laws, d, wf, cap, at_rest, p, w, mode, info%residual, info%worst)
         info%ok = info%residual <= residual_limit(tol, wf, d, p)
     end subroutine solve_contacts
+
+    !> The contact forces r [N] of a system at (t, q, u) under its set-valued laws, as the
+    !! event-driven method's mode gives them: a contact that slips (|w_i| > wtol_i) carries its
+    !! slip force -sign(w_i) N_i mu_i(|w_i|); the contacts at rest (|w_i| <= wtol_i: stuck, or
+    !! reversing) take the forces of the problem at rest, their relative accelerations
+    !! a_C = af_C + D_CC r_C (D = H M^-1 H^T, the slip forces of the others in af, the offsets'
+    !! rates db/dt included) decided by `solve_contacts` (its rule; slip at mu(0+) N). A stuck
+    !! contact's holding force is thus the one that keeps its relative acceleration at zero,
+    !! within its static limit. info: the solve's (info%ok .false.: r is not a solution).
+    subroutine forces_at_rest(cs, t, q, u, wtol, r, info)
+        class(contact_system), intent(in) :: cs   !! the system
+        real(dp), intent(in)  :: t                !! time [s]
+        real(dp), intent(in)  :: q(:)             !! (n_dof) coordinates [m]
+        real(dp), intent(in)  :: u(:)             !! (n_dof) velocities [m/s]
+        real(dp), intent(in)  :: wtol(:)          !! (n_c) |w_i| up to which contact i is at rest [m/s]
+        real(dp), intent(out) :: r(:)             !! (n_c) each contact's force [N]
+        type(contact_solve_info), intent(out) :: info   !! the solve's residual, rounds and status
+        real(dp) :: w(cs%n_c), nn(cs%n_c), ha(cs%n_c), bd(cs%n_c), a(cs%n_dof), dall(cs%n_c, cs%n_c)
+        integer, allocatable :: idx(:), mode(:)
+        real(dp), allocatable :: p(:), wc(:)
+        integer :: i
+        call cs%relative_velocities(t, u, w)
+        call cs%normal_forces(t, q, nn)
+        r = 0.0_dp
+        do i = 1, cs%n_c
+            if (abs(w(i)) > wtol(i)) r(i) = -sign(1.0_dp, w(i)) * nn(i) * cs%laws(i)%slip_mu(abs(w(i)))
+        end do
+        idx = pack([(i, i = 1, cs%n_c)], abs(w) <= wtol)
+        if (size(idx) == 0) return
+        call cs%force(t, q, u, a)
+        call cs%add_ht(r, a)
+        call cs%solve_w(t, q, u, 0.0_dp, 0.0_dp, a)
+        call cs%apply_h(a, ha)
+        call cs%offset_rate(t, bd)
+        call cs%delassus(t, q, u, 0.0_dp, 0.0_dp, dall)
+        allocate(p(size(idx)), wc(size(idx)), mode(size(idx)))
+        p = 0.0_dp
+        mode = MODE_STICK
+        call solve_contacts(cs%laws(idx), dall(idx, idx), ha(idx) + bd(idx), nn(idx), .true., &
+                            1.0e-9_dp * max(maxval(abs(ha(idx) + bd(idx))), tiny(1.0_dp)), 1000, p, wc, mode, info)
+        r(idx) = p
+    end subroutine forces_at_rest
 
     !> The rule of the module notes (steps 1 to 3) on the active contacts, and its answer
     !! checked (`contact_residual`). info: method, rounds, linear solves, pivots, residual, ok.

@@ -38,7 +38,16 @@
 !! a_C = af_C + H_C M^-1 H_C^T r_C, with slip at mu(0+) N, the other contacts' slip forces
 !! fixed) is solved by `stickslip_contact_solver` (its one rule where several modes are
 !! consistent, as for moreau's steps; an instant where another solution existed is counted in
-!! stats%nonunique; the contacts one by one when the Delassus matrix is diagonal). Every change of mode is an event, recorded as
+!! stats%nonunique; the contacts one by one when the Delassus matrix is diagonal). Where a
+!! slipping contact reaches w = 0, every other slipping contact at w = 0 to the integration's
+!! tolerance there (bodies that stop together) is decided with it. Where the stuck contacts
+!! form a closed loop (their holding forces are not unique), the solver's answer may hold
+!! them by a distribution other than the mode's weighted minimum-norm forces: a contact
+!! that these exceed slips against its holding force and the others are decided again, so
+!! that the decision and the mode's break-away test use the same forces. A contact not stuck
+!! whose row of H is a combination of the stuck ones' rows (`locked_contacts`) keeps w = 0
+!! while they hold: it carries its slip force and has no event of its own (rounding of its
+!! w would otherwise reverse it at every step). Every change of mode is an event, recorded as
 !! (t [s], kind: 1 slip -> stick, 2 stick -> slip, 3 reversal (reached w = 0 and slips
 !! back), the contact's slip displacement H_i q [m], contact index). A contact that touches
 !! w = 0 and slips on in the same direction changes no mode and records nothing. The
@@ -149,6 +158,9 @@ module stickslip_event_driven
         !> (n_c) its normal force has crossed 0 since (`closed` differs at the last step's end)
         logical, allocatable :: flip(:)
         integer :: singular_contact = 0   !! a contact of the stuck set found singular
+        !> (n_c) a contact not stuck whose row of H is a combination of the stuck contacts'
+        !! rows (a closed loop of contacts): its w stays 0 while they hold (`stuck_set`)
+        logical, allocatable :: locked(:)
         real(dp) :: t_prev = 0.0_dp   !! the time of ga, dga [s]
     contains
         procedure :: rhs => mode_rhs
@@ -248,7 +260,10 @@ contains
             a = f
             call cs%add_ht(r, a)
             call cs%solve_w(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, a)
-            if (.not. any(self%stuck)) return
+            if (.not. any(self%stuck)) then
+                self%locked = .false.
+                return
+            end if
             call stuck_set(self, t, y)
             ns = size(self%idx)
             call cs%apply_h(a, ha)
@@ -302,8 +317,32 @@ contains
             allocate(self%amat(ns, ns))
             call delassus_block(self, t, y, self%idx, self%amat)
             call psd_factor(self%amat, self%fac)
+            if (.not. same) call locked_contacts(self, t, y)
         end if
     end subroutine stuck_set
+
+    !> self%locked: each contact i not stuck whose row of H lies in the span of the stuck
+    !! contacts' rows, D_ii - D_iS D_SS^+ D_Si = 0 (to 1e-10 D_ii) with D = H M^-1 H^T at
+    !! (t, y) and the stuck set's block formed (`stuck_set`). Its w cannot leave 0 (nor
+    !! reach it) while the stuck set holds: a slipping contact there carries its slip force
+    !! at w = 0 and has no event of its own (rounding of w would make one at every step).
+    subroutine locked_contacts(self, t, y)
+        class(mode_system), intent(inout) :: self
+        real(dp), intent(in) :: t, y(:)
+        real(dp) :: dall(self%cs%n_c, self%cs%n_c), x(size(self%idx), 1)
+        integer :: i, nd, ns_i
+        logical :: ok
+        nd = self%cs%n_dof
+        call self%cs%delassus(t, y(:nd), y(nd + 1:), 0.0_dp, 0.0_dp, dall)
+        self%locked = .false.
+        do i = 1, self%cs%n_c
+            if (self%stuck(i)) cycle
+            x(:, 1) = dall(self%idx, i)
+            call psd_solve(self%amat, x, [(1.0_dp, ns_i = 1, size(self%idx))], ok, self%fac)
+            if (.not. ok) cycle
+            self%locked(i) = dall(i, i) - dot_product(dall(self%idx, i), x(:, 1)) <= 1.0e-10_dp * dall(i, i)
+        end do
+    end subroutine locked_contacts
 
     !> x := the forces r_S of the stuck contacts (self%idx) that give them the relative
     !! accelerations H_S M^-1 H_S^T r_S = x, with the block `stuck_set` formed: from its
@@ -425,7 +464,7 @@ contains
         where (ms%stuck)
             gv = ms%cs%laws%mu_s * ms%wn * (1.0_dp + 2.0_dp * STICK_RTOL) - abs(r)
             dg = 0.0_dp
-        elsewhere (ms%wn > 0.0_dp)
+        elsewhere (ms%wn > 0.0_dp .and. .not. ms%locked)
             gv = ms%sig * ms%ww
             dg = ms%sig * (dg + ms%wb)
         elsewhere     ! an open contact (N = 0) carries no force: no event until it closes
@@ -589,7 +628,7 @@ contains
                  s%ms%wcap(nc), s%ms%rhs2(nc, 1), s%ms%wr(nc))
         allocate(s%ms%stuck(nc), s%ms%sig(nc), s%r(nc))
         allocate(s%ms%ga(nc), s%ms%dga(nc), s%ms%gb(nc), s%ms%dgb(nc))
-        allocate(s%ms%closed(nc), s%ms%flip(nc), source=.false.)
+        allocate(s%ms%closed(nc), s%ms%flip(nc), s%ms%locked(nc), source=.false.)
         allocate(s%cand_now(nc), s%touch(nc), source=.false.)
         s%t_touch = -huge(1.0_dp)
         allocate(s%tb(CHUNK), s%yb(n, CHUNK), s%y(n), s%ya(n), s%ystar(n), s%cb(DOPRI5_DENSE_ROWS * n + 1, CHUNK))
@@ -774,25 +813,75 @@ contains
     end subroutine time_event
 
     !> The modes of the contacts cand (each at w = 0: stuck, or just reached) from the
-    !! problem at rest: their relative accelerations a_C = af_C + A_CC r_C with the other
-    !! contacts' slip forces fixed, solved jointly by `solve_contacts` (stick preferred).
-    !! With record, every change of mode is an event (kind 1 stick, 2 slip, 3 reversal).
+    !! problem at rest (`decide_set`), and then from the mode itself: a stuck set whose holding
+    !! forces are not unique (a closed loop of contacts) holds in the mode with its weighted
+    !! minimum-norm forces (`mode_forces`), which may exceed a limit where the solver's box
+    !! answer held it by another distribution; such a contact slips against its holding force
+    !! and the others are decided again (at most once each), so that the stick test here and
+    !! the break-away test of the mode use the same forces. With record, every change of mode
+    !! is an event (kind 1 stick, 2 slip, 3 reversal).
     subroutine decide(s, cand, record_events, nchanged)
         type(ed_run), intent(inout) :: s
         logical, intent(in) :: cand(:)             !! (n_c) the contacts to decide
         logical, intent(in) :: record_events       !! record the changes as events
         integer, intent(out), optional :: nchanged !! contacts whose mode changed
+        logical :: was_stuck(s%nc), c(s%nc), over(s%nc)
+        real(dp) :: old_sig(s%nc), a(s%nd), r(s%nc), nn(s%nc)
+        integer :: j, round
+        associate (ms => s%ms)
+            was_stuck = ms%stuck
+            old_sig = ms%sig
+            c = cand
+            do round = 1, count(cand)
+                call decide_set(s, c)
+                if (s%stats%status /= SS_OK) then
+                    ms%stuck = was_stuck
+                    return
+                end if
+                if (.not. any(c .and. ms%stuck)) exit
+                call mode_forces(ms, s%t, s%y, a, r)
+                if (ms%singular) exit
+                call ms%cs%normal_forces(min(s%t, ms%t_cap), s%y(:s%nd), nn)
+                over = c .and. ms%stuck .and. abs(r) > ms%cs%laws%mu_s * nn * (1.0_dp + 2.0_dp * STICK_RTOL)
+                if (.not. any(over)) exit
+                where (over)
+                    ms%stuck = .false.
+                    ms%sig = -sign(1.0_dp, r)
+                    c = .false.
+                end where
+                if (.not. any(c)) exit
+            end do
+            if (present(nchanged)) nchanged = count(cand .and. ((ms%stuck .neqv. was_stuck) .or. &
+                                                                 (.not. ms%stuck .and. ms%sig /= old_sig)))
+            if (.not. record_events) return
+            do j = 1, s%nc
+                if (.not. cand(j)) cycle
+                if (was_stuck(j) .and. .not. ms%stuck(j)) then
+                    call record(s, j, EVENT_SLIP)
+                else if (.not. was_stuck(j) .and. ms%stuck(j)) then
+                    call record(s, j, EVENT_STICK)
+                else if (.not. ms%stuck(j) .and. ms%sig(j) /= old_sig(j)) then
+                    call record(s, j, EVENT_REVERSAL)
+                end if
+            end do
+        end associate
+    end subroutine decide
+
+    !> The modes of the contacts cand (each at w = 0: stuck, or just reached) from the
+    !! problem at rest: their relative accelerations a_C = af_C + A_CC r_C with the other
+    !! contacts' slip forces fixed, solved jointly by `solve_contacts` (stick preferred).
+    subroutine decide_set(s, cand)
+        type(ed_run), intent(inout) :: s
+        logical, intent(in) :: cand(:)             !! (n_c) the contacts to decide
         integer, allocatable :: idx(:), cmode(:)
         real(dp), allocatable :: amat(:, :), af(:), cap(:), p(:), wv(:), dgl(:)
         real(dp) :: a(s%nd), rr(s%nc), nn(s%nc), ha(s%nc), bd(s%nc), scale
         logical :: was_stuck(s%nc)
-        real(dp) :: old_sig(s%nc)
         type(contact_solve_info) :: info
         integer :: j, c, nn_c, nd
         nd = s%nd
         associate (ms => s%ms, cs => s%ms%cs, t => s%t, y => s%y)
             was_stuck = ms%stuck
-            old_sig = ms%sig
             s%cand_now = cand
             idx = pack([(j, j = 1, s%nc)], cand)
             nn_c = size(idx)
@@ -829,26 +918,13 @@ contains
                 ms%stuck = was_stuck
                 return
             end if
-            if (present(nchanged)) nchanged = 0
             do j = 1, nn_c
                 c = idx(j)
-                if (present(nchanged)) then
-                    if (((cmode(j) == MODE_STICK) .neqv. was_stuck(c)) .or. &
-                        (abs(cmode(j)) == 1 .and. cmode(j) /= nint(old_sig(c)))) nchanged = nchanged + 1
-                end if
                 ms%stuck(c) = cmode(j) == MODE_STICK
                 if (abs(cmode(j)) == 1) ms%sig(c) = real(cmode(j), dp)
-                if (.not. record_events) cycle
-                if (was_stuck(c) .and. .not. ms%stuck(c)) then
-                    call record(s, c, EVENT_SLIP)
-                else if (.not. was_stuck(c) .and. ms%stuck(c)) then
-                    call record(s, c, EVENT_STICK)
-                else if (.not. ms%stuck(c) .and. ms%sig(c) /= old_sig(c)) then
-                    call record(s, c, EVENT_REVERSAL)
-                end if
             end do
         end associate
-    end subroutine decide
+    end subroutine decide_set
 
     !> The acceleration a and forces rr with the current mode's slip forces and without the
     !! forces of stuck contacts (used with the candidates marked as not stuck and carrying
@@ -1101,6 +1177,18 @@ contains
             now = crossed(ms%stuck, gv) .or. closing
             if (s%t == s%t_touch) now = now .or. s%touch
             s%touch = .false.
+            ! every other slipping contact at w = 0 to the integration's tolerance goes with them
+            ! (bodies that stop together: w_i and w_j reach 0 at one instant, and the crossing
+            ! located on one leaves the other's at rounding): decided with the others, not left
+            ! slipping at w = 0 with its slip force
+            if (any(now .and. .not. ms%stuck)) then
+                call cs%normal_forces(min(s%t, ms%t_cap), s%y(:s%nd), nn)
+                call cs%relative_velocities(s%t, s%y(s%nd + 1:), w)
+                do j = 1, s%nc
+                    if (ms%stuck(j) .or. now(j) .or. .not. nn(j) > 0.0_dp) cycle
+                    now(j) = abs(w(j)) <= w_tolerance(s, j, s%y)
+                end do
+            end if
             over = now .and. ms%stuck
             do j = 1, s%nc
                 if (.not. now(j) .or. ms%stuck(j)) cycle

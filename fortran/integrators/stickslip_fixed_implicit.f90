@@ -31,12 +31,17 @@
 !!
 !! Laws with jumps. On a friction scene (x, v) whose law has modes (`friction_law%n_modes`
 !! > 0: Coulomb, Karnopp) the methods run their nonsmooth instance instead: no Newton across
-!! a jump, the stage is a generalized equation on the law's graph with its jumps filled in.
-!! A step is the method's own stage in the current slip mode (mu fixed, Newton as above) when
-!! that mode still holds at the stage and at the step's end, or a backward Euler step in the
-!! current stick or band mode when the friction it needs is admissible; otherwise a backward
-!! Euler step (Moreau's catching-up scheme) solved in every mode, keeping the admissible
-!! solution whose relative velocity is nearest that at the step's start. A slip mode is
+!! a jump, the stage is a generalized equation on the law's graph with its jumps filled in,
+!! decided by the contact module's rule (static first, then keep a slip, then the slowest
+!! consistent slip: `modal_choose`). A step keeps the current mode when the rule would: the
+!! stick mode where it still holds; any other mode where it holds and the backward Euler step
+!! could not end stuck (its stick mode is tried first, two evaluations of f: where
+!! h g (mu_s - mu_k) > v_s a body can be stopped within a step while its slip would still
+!! hold). It is then the method's own stage in the current slip mode (mu fixed, Newton as
+!! above) when that mode still holds at the stage and at the step's end, or a backward Euler
+!! step in the current stick mode or band point when the friction it needs is admissible;
+!! otherwise a backward Euler step (Moreau's catching-up scheme) solved in every mode, the
+!! rule choosing among the admissible solutions. A slip mode is
 !! solved with mu fixed; a set-valued point or Karnopp's hold fixes the stage's relative
 !! velocity (v from it, x = u_x + c h v) and takes mu from the scene's force (affine in mu),
 !! so that a stuck body keeps its relative velocity exactly. Generalized-alpha's derivative

@@ -39,7 +39,9 @@
 !! step above is, linearly implicit: W = M + ch C + ch^2 K at the step's start, forces and
 !! normal forces at the stage's base point (exact for linear forces, as the chain's; otherwise
 !! one Newton iteration, whose O(h^2) error in k keeps second order). The step is kept if every
-!! contact stays on its piece at the stage and at the step's end (`admits`); otherwise the
+!! contact stays on its piece at the stage and at the step's end (`admits`) and none could
+!! stick in the backward Euler step with the pieces' impulses (`may_stick`, a screen by
+!! H_i M^-1 H_i^T: the rule's static first, where h N (mu_s - mu_k) / m exceeds v_s); otherwise the
 !! step is the backward Euler step over the modes, and galpha's derivative restarts from that
 !! step's stage derivative (u1, (u1 - u) / h), as on one contact (stickslip_fixed_implicit).
 !!
@@ -83,6 +85,7 @@ contains
 
         real(dp), allocatable :: q(:), u(:), qp(:), f1(:), du(:), g(:), y(:), y1(:), ydot(:)
         real(dp), allocatable :: wf(:), w0(:), p(:), c(:), d(:, :), w(:), b(:), wl(:), wd(:), wr(:)
+        real(dp), allocatable :: dm(:)     ! (n_c) H_i M^-1 H_i^T [1/kg] (galpha's stick screen)
         integer, allocatable :: mode(:), coord_contact(:)
         real(dp) :: t, t1, hs, t_next, resid
         integer(8) :: i, nsteps, n_total
@@ -108,6 +111,18 @@ contains
         u = y0(nd + 1:)
         t = t0
         p = 0.0_dp
+        if (galpha) then
+            allocate(dm(nc))
+            do j = 1, nc
+                w = 0.0_dp
+                w(j) = 1.0_dp
+                g = 0.0_dp
+                call cs%add_ht(w, g)
+                call cs%solve_w(t, q, u, 0.0_dp, 0.0_dp, g)
+                call cs%apply_h(g, w)
+                dm(j) = w(j)
+            end do
+        end if
         call output_start(t0, y0, t_out, y_out, ctl%every_step, next)
         t_next = huge(1.0_dp)
         if (.not. ctl%every_step .and. next <= m) t_next = t_out(next)
@@ -191,7 +206,8 @@ contains
 
         !> Generalized-alpha's own step from (t, y) to t1 where every contact slips on a piece
         !! of its law (module notes): .true. with y1 and ydot updated if every contact stays on
-        !! its piece at the stage and at the step's end; .false. (nothing changed) otherwise.
+        !! its piece at the stage and at the step's end and none could stick in the backward
+        !! Euler step (`may_stick`: static first, as the rule); .false. (nothing changed) otherwise.
         logical function galpha_slip_step() result(kept)
             real(dp) :: tau, ch, mu(nc), yu(2 * nd), k(2 * nd), ydot1(2 * nd)
             integer :: kind, jj
@@ -220,9 +236,36 @@ contains
                 y1 = y + hs * ydot + (gamma * hs) * (ydot1 - ydot)
             end associate
             if (.not. on_pieces(t1, y1(nd + 1:))) return
+            if (may_stick(mu)) return
             ydot = ydot1
             kept = .true.
         end function galpha_slip_step
+
+        !> Whether some contact could stick in the backward Euler step from (t, y) with every
+        !! contact at its piece's coefficient mu (its impulse h N mu): contact i, given the
+        !! others, sticks where |w_i| <= D_ii (mu_s,i - |mu_i|) h N_i at the velocities w after
+        !! that step; screened with H_i M^-1 H_i^T >= D_ii (W = M + h C + h^2 K >= M for
+        !! positive semidefinite C and K, as a model's dampers and springs), so that a step
+        !! it passes is decided by the rule (the backward Euler step over the modes).
+        logical function may_stick(mu)
+            real(dp), intent(in) :: mu(:)    !! (n_c) each contact's coefficient [-]
+            real(dp) :: qq(nd), cc(nc), wb(nc), gb(nd), mus(nc)
+            integer :: jj
+            qq = q + hs * u
+            call cs%force(t1, qq, u, gb)
+            call cs%normal_forces(t1, qq, cc)
+            stats%nfev = stats%nfev + 1
+            cc = hs * cc
+            gb = hs * gb
+            call cs%add_ht(cc * mu, gb)
+            call cs%solve_w(t, q, u, hs, hs**2, gb)
+            gb = u + gb
+            call cs%relative_velocities(t1, gb, wb)
+            do jj = 1, nc
+                mus(jj) = laws(jj)%law%mu_s
+            end do
+            may_stick = any(cc > 0.0_dp .and. abs(wb) <= dm * (mus - abs(mu)) * cc * (1.0_dp + 1.0e-9_dp))
+        end function may_stick
 
         !> Every contact on its slip piece (mode) at velocities uu at time tt.
         logical function on_pieces(tt, uu)

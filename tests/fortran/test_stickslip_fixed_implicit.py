@@ -514,3 +514,51 @@ def test_modal_steps_of_a_chain_follow_the_rule():
     kmat = np.array([[k + kc, -kc, 0.0], [-kc, 2 * kc, -kc], [0.0, -kc, kc]])
     ties = _check_modal_steps(r, masses, kmat, np.eye(3), np.full(3, -v_b), [mi * g for mi in masses], laws, 2e-3)
     assert r.stats["nonunique"] == ties
+
+
+@pytest.mark.parametrize("method", FIXED)
+@pytest.mark.parametrize("h", [1e-2, 3e-3])
+def test_one_contact_steps_stick_first_where_both_hold(method, h):
+    """The slope with Coulomb's band far narrower than a step's velocity change under static
+    friction (h g (mu_s - mu_k) cos th > v_s): near the stop, a step could end stuck or still
+    slipping at mu_k. The contact module's rule (static first, then keep a slip) sticks there;
+    each step is checked against it from the output alone: where the backward Euler step could
+    end stuck, |v/h + g sin th| <= mu_s g cos th, it ends stuck (v = 0, x unchanged); otherwise
+    it keeps slipping. (Before, the kept slip mode of the one-contact path slid on for three
+    steps past that point, from 0.044 m/s at h = 1e-2.)"""
+    theta, mu_s, mu_k, v_s, v0 = 10.0, 0.7, 0.3, 1e-3, 1.0
+    th = math.radians(theta)
+    assert h * G * (mu_s - mu_k) * math.cos(th) > v_s
+    r = ss.simulate("slope", "coulomb", method=method, h=h, t_end=1.0, every_step=True, v0=v0,
+                    theta_deg=theta, mu_k=mu_k, mu_s=mu_s, v_s=v_s)
+    holds = np.abs(r.v[:-1] / h + G * math.sin(th)) <= mu_s * G * math.cos(th) * (1.0 + 1e-12)
+    first = int(np.argmax(holds))
+    assert holds.any() and r.v[first] > v_s            # it could stick while still slipping
+    assert np.all(r.v[first + 1:] == 0.0) and np.all(r.x[first + 1:] == r.x[first])
+    assert np.all(r.v[1:first + 1] > v_s)               # and slipped until then
+
+
+@pytest.mark.parametrize("h", [1e-2, 3e-3])
+def test_galpha_slip_steps_of_several_contacts_stick_first(h):
+    """Generalized-alpha's own steps while every contact slips (stickslip_modal_contacts) are
+    kept only where no contact could stick in the backward Euler step: two bodies sliding down
+    slopes (force g sin th, normal force g cos th, Coulomb's band far narrower than a step's
+    velocity change), from 1.0 and 0.6 m/s. Each body is checked step by step from the output:
+    where its backward Euler step could end stuck, |v/h + g sin th| <= mu_s g cos th, the step
+    ends stuck and it stays there; until then it slips."""
+    theta, mu_s, mu_k, v_s = 10.0, 0.7, 0.3, 1e-3
+    th = math.radians(theta)
+    m = ss.Model()
+    for v0 in (1.0, 0.6):
+        b = m.add_body(1.0, v0=v0)
+        m.add_force(b, G * math.sin(th))
+        m.add_contact(b, None, "coulomb", normal_force=G * math.cos(th), mu_s=mu_s, mu_k=mu_k, v_s=v_s)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = ss.simulate(m, method="galpha", h=h, t_end=1.0, every_step=True)
+    for x, v in zip(r.x, r.v):
+        holds = np.abs(v[:-1] / h + G * math.sin(th)) <= mu_s * G * math.cos(th) * (1.0 + 1e-12)
+        first = int(np.argmax(holds))
+        assert holds.any() and v[first] > v_s
+        assert np.all(v[first + 1:] == 0.0) and np.all(x[first + 1:] == x[first])
+        assert np.all(v[1:first + 1] > v_s)
