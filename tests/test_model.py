@@ -617,3 +617,21 @@ def test_prepared_model_run_equals_the_one_call_run(method, controls):
     n = int(istats[names.index("nevents")])
     if method == "event_driven":
         assert n > 0 and np.array_equal(r.events["t"], events[0, :n])
+
+
+def test_kept_model_setting_runs_on_several_threads():
+    """The kept setting of a Model is run on a copy (run_prepared): threads running one model
+    at once each get the serial run's motion and events, bit for bit."""
+    from concurrent.futures import ThreadPoolExecutor
+    m = ss.Model()
+    a, b = m.add_body(1.0, v0=0.3), m.add_body(0.5)
+    m.add_spring(a, None, 100.0)
+    m.add_spring(a, b, 50.0)
+    m.add_contact(a, None, "coulomb", 5.0, 0.2)
+    m.add_contact(b, a, "coulomb", 2.0)
+    run = lambda _: ss.simulate(m, method="event_driven", t_end=2.0, n_out=41, rtol=1e-10, atol=1e-12)  # noqa: E731
+    serial = run(0)
+    assert serial.stats["nevents"] > 0
+    with ThreadPoolExecutor(4) as pool:
+        for r in pool.map(run, range(16)):
+            assert np.array_equal(r.y, serial.y) and np.array_equal(r.events, serial.events)
