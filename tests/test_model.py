@@ -542,3 +542,96 @@ def test_band_narrower_than_rtol_times_slip_is_warned():
     with warnings.catch_warnings():
         warnings.simplefilter("error", ss.ModelWarning)
         ss.simulate(drill_on_surface(), method="event_driven", t_end=0.1, rtol=1e-4)
+
+
+def _oscillator(k: float, v0: float) -> ss.Model:
+    m = ss.Model()
+    m.add_spring(m.add_body(1.0, v0=v0), None, k)
+    return m
+
+
+def test_kept_model_setting_follows_the_model_content():
+    """simulate keeps a Model's setting keyed on its content, not on the object: a model
+    changed in place after a run (a body's v0, a spring's k) runs as changed, each against
+    the closed form v0 / w sin(w t), w = sqrt(k / m), and equal content runs bit-identically."""
+    def closed(r, k, v0):
+        w = math.sqrt(k)
+        return np.max(np.abs(r.x[0] - v0 / w * np.sin(w * r.t)))
+
+    m = _oscillator(100.0, 0.1)
+    run = lambda: ss.simulate(m, method="rk4", h=1e-3, t_end=1.0, n_out=21)  # noqa: E731
+    first = run()
+    assert first.x.shape == (1, 21) and first.z.shape == (0, 21) and first.drive_force.shape == (21, 0)
+    assert first.params == {} and first.scene == "model"
+    scene = ss.simulate("belt", "recurdyn", method="rk4", h=1e-3, t_end=0.1, n_out=11)   # the same Result
+    assert scene.drive_force.shape == (11, 0) and scene.x.shape == (11,)
+    assert closed(first, 100.0, 0.1) < 1e-9
+    again = run()
+    assert np.array_equal(again.x, first.x) and np.array_equal(again.v, first.v)
+    assert again.stats["nstep"] == first.stats["nstep"] == 1000
+    m.bodies[0].v0 = 0.2                     # changed in place: the kept setting is not this one
+    assert closed(run(), 100.0, 0.2) < 2e-9
+    m.springs[0] = (0, None, 400.0, 0.0)
+    assert closed(run(), 400.0, 0.2) < 2e-8
+    assert np.array_equal(ss.simulate(_oscillator(400.0, 0.2), method="rk4", h=1e-3, t_end=1.0, n_out=21).x,
+                          run().x)
+
+
+@pytest.mark.parametrize("method, controls", [("event_driven", dict(rtol=1e-10, atol=1e-12)),
+                                              ("moreau", dict(h=1e-3)), ("radau5", dict(rtol=1e-6, atol=1e-8))])
+def test_prepared_model_run_equals_the_one_call_run(method, controls):
+    """A Model without drives runs through the prepared setting (prepare_model_run, run by
+    _runner as a scene's); the wrapper's one-call run_model (built, run, freed) gives the
+    same motion, events and counters bit for bit: two contacts, a force and a normal force
+    as signals."""
+    from stickslip import _stickslip as ext
+    from stickslip.core import _SIZES, _keys, _linspace
+    from stickslip.model import _ARRAY_KEYS, run_controls
+    m = ss.Model()
+    a, b = m.add_body(1.0, v0=0.2), m.add_body(0.5)
+    m.add_spring(a, None, 100.0)
+    m.add_spring(a, b, 50.0)
+    m.add_force(b, ss.signal.sine(0.5, 2.0))
+    law = "coulomb" if method != "radau5" else "recurdyn"
+    m.add_contact(a, None, law, 5.0, 0.3)
+    m.add_contact(b, a, law, ss.signal.table([0.0, 0.3, 0.6], [2.0, 1.0, 2.0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = ss.simulate(m, method=method, t_end=1.5, n_out=31, **controls)
+    ctl, rtol, atol = run_controls(m, method, controls)
+    ckeys, cvals = _keys(ctl)
+    arrays = m.arrays()
+    t = _linspace(1.5, 31)
+    events = np.zeros((4, 1000), order="F")
+    y0 = np.zeros(m.n_states())
+    y0[:2], y0[2:4] = arrays["bodies"][1], arrays["bodies"][2]
+    y, _, istats, rstats, status, *_ = ext.run_model(
+        *(arrays[k] for k in _ARRAY_KEYS), method, y0, 1.5, rtol, atol, ckeys, cvals, t, _SIZES[0], _SIZES[1],
+        np.zeros(1, dtype=np.int32), events, 1)
+    assert status == 0
+    assert np.array_equal(r.y, y) and np.array_equal(r.t, t)
+    names = ss.core._STATS_INT
+    for i, name in enumerate(names):
+        if name != "n_written":
+            assert r.stats[name] == int(istats[i]) or name in ("stiff", "contact_worst"), name
+    n = int(istats[names.index("nevents")])
+    if method == "event_driven":
+        assert n > 0 and np.array_equal(r.events["t"], events[0, :n])
+
+
+def test_kept_model_setting_runs_on_several_threads():
+    """The kept setting of a Model is run on a copy (run_prepared): threads running one model
+    at once each get the serial run's motion and events, bit for bit."""
+    from concurrent.futures import ThreadPoolExecutor
+    m = ss.Model()
+    a, b = m.add_body(1.0, v0=0.3), m.add_body(0.5)
+    m.add_spring(a, None, 100.0)
+    m.add_spring(a, b, 50.0)
+    m.add_contact(a, None, "coulomb", 5.0, 0.2)
+    m.add_contact(b, a, "coulomb", 2.0)
+    run = lambda _: ss.simulate(m, method="event_driven", t_end=2.0, n_out=41, rtol=1e-10, atol=1e-12)  # noqa: E731
+    serial = run(0)
+    assert serial.stats["nevents"] > 0
+    with ThreadPoolExecutor(4) as pool:
+        for r in pool.map(run, range(16)):
+            assert np.array_equal(r.y, serial.y) and np.array_equal(r.events, serial.events)

@@ -37,19 +37,19 @@ static Py_ssize_t n_counters = 0, i_written = 0, i_nevents = 0;
  * slot without the attribute lookup. The types are checked exactly before any slot is used. */
 enum {
     C_FAST, C_HANDLE, C_N, C_ROWS, C_EVENTS_ROOM, C_N_BLOCKS, C_N_STATES, C_GRID, C_SCENE, C_LAW,
-    C_METHOD, C_T_END, C_STATE_LABELS, C_RESOLVED, C_USED, C_ARM, N_CALL_SLOTS
+    C_METHOD, C_T_END, C_STATE_LABELS, C_RESOLVED, C_USED, C_ARM, C_MODEL, N_CALL_SLOTS
 };
 static const char *const call_slot_names[N_CALL_SLOTS] = {
     "fast", "handle", "n", "rows", "events_room", "n_blocks", "n_states", "grid", "scene", "law",
-    "method", "t_end", "state_labels", "resolved", "used", "arm"
+    "method", "t_end", "state_labels", "resolved", "used", "arm", "model"
 };
 enum {
     R_SCENE, R_LAW, R_METHOD, R_T_END, R_STATE_LABELS, R_T, R_X, R_V, R_Z, R_EVENTS, R_PARAMS,
-    R_STATS, R_RAW, N_RESULT_SLOTS
+    R_STATS, R_RAW, R_DRIVE_FORCE, N_RESULT_SLOTS
 };
 static const char *const result_slot_names[N_RESULT_SLOTS] = {
     "scene", "law", "method", "t_end", "state_labels", "t", "x", "v", "z", "events", "_params",
-    "_stats", "_raw"
+    "_stats", "_raw", "_drive_force"
 };
 static PyTypeObject *call_type = NULL;    /* core._Call */
 static PyMemberDef *call_slots[N_CALL_SLOTS], *result_slots[N_RESULT_SLOTS];
@@ -142,10 +142,12 @@ static PyObject *execute_call(PyObject *call, PyObject *t) {
     Py_ssize_t handle_v = call_int(call, C_HANDLE), n_v = call_int(call, C_N);
     Py_ssize_t room = call_int(call, C_EVENTS_ROOM), rows_mode = call_int(call, C_ROWS);
     Py_ssize_t nb = call_int(call, C_N_BLOCKS), nz = call_int(call, C_N_STATES);
-    Py_ssize_t arm = call_int(call, C_ARM);
+    Py_ssize_t arm = call_int(call, C_ARM), model = call_int(call, C_MODEL);
     if (PyErr_Occurred()) return NULL;
+    /* a scene's state: nb blocks of (x, v, nz law states), stored x..., v..., z...; a model's:
+     * nb bodies' x, their v, then its contacts' law states (nz in all) */
     if (handle_v == 0 || n_v < 1 || n_v > INT_MAX || room < 0 || room > INT_MAX || nb < 1 || nz < 0 ||
-        n_v != nb * (2 + nz) || rows_mode < 0) {
+        n_v != (model ? 2 * nb + nz : nb * (2 + nz)) || rows_mode < 0) {
         PyErr_SetString(PyExc_ValueError, "_runner.execute: not a prepared setting");
         return NULL;
     }
@@ -235,10 +237,15 @@ static PyObject *execute_call(PyObject *call, PyObject *t) {
         copy_slot(result, R_METHOD, call, C_METHOD) || copy_slot(result, R_T_END, call, C_T_END) ||
         copy_slot(result, R_STATE_LABELS, call, C_STATE_LABELS) || result_set(result, R_T, Py_NewRef(t_out)))
         goto fail;
-    /* x, v, then the law's states (a row each, or all of them); on the chain a row per block */
-    if (result_set(result, R_X, rows_of(y, 0, nb, nb == 1)) ||
-        result_set(result, R_V, rows_of(y, nb, 2 * nb, nb == 1)) ||
-        result_set(result, R_Z, rows_of(y, 2 * nb, n_v, nb == 1 && nz == 1)))
+    /* x, v, then the law's states (a row each, or all of them); on the chain a row per block;
+     * a model's always (bodies or states, rows) */
+    int one = !model && nb == 1;
+    if (result_set(result, R_X, rows_of(y, 0, nb, one)) ||
+        result_set(result, R_V, rows_of(y, nb, 2 * nb, one)) ||
+        result_set(result, R_Z, rows_of(y, 2 * nb, n_v, one && nz == 1)))
+        goto fail;
+    /* no drives: Result.drive_force makes its (n_t, 0) array on first use */
+    if (result_set(result, R_DRIVE_FORCE, Py_NewRef(Py_None)))
         goto fail;
     /* the counters and real counters in one vector; params and stats are built on first use */
     PyObject *raw = PyTuple_New(6);
@@ -255,7 +262,8 @@ static PyObject *execute_call(PyObject *call, PyObject *t) {
             goto fail;
         }
     }
-    if (result_set(result, R_RAW, raw) || result_set(result, R_PARAMS, Py_NewRef(Py_None)) ||
+    /* a scene's params are built from the resolved values on first use; a model has none */
+    if (result_set(result, R_RAW, raw) || result_set(result, R_PARAMS, model ? PyDict_New() : Py_NewRef(Py_None)) ||
         result_set(result, R_STATS, Py_NewRef(Py_None)))
         goto fail;
     PyObject *ev = room ? PyObject_CallFunction(make_events, "On", events, (Py_ssize_t)s_data[i_nevents])

@@ -167,7 +167,96 @@ subroutine run_prepared(handle, nrow, t_out, n, y_out, nst, stats, stop, events,
     call timed_run(prep, t_out, y_out, stop(1), events, stats, status, cpu)
 end subroutine run_prepared
 
-!> Release a setting of prepare_run (handle 0: nothing to do). The handle is invalid after.
+!> prepare_run for a model without drives (its arguments as run_model's up to slip_size): the
+!! model built from its arrays once, specialised (`build_run`), with the method's options and
+!! the run (y0, rtol, atol, t_end), for run_prepared to run and free_prepared to release, as a
+!! scene's setting. handle: 0 on bad input; status: SS_OK or the bad input's code, with
+!! (elem_kind, elem_index) naming a bad element as run_model does; SS_BAD_DIM for a model with
+!! drives (run_model runs those: their bodies' states come from their signals).
+subroutine prepare_model_run(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts, nc, con_ptr, ncp, &
+                             pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
+                             method, y0, n, t_end, rtol, nrt, atol, nat, ckeys, cvals, ncv, slip_size, &
+                             handle, status, elem_kind, elem_index)
+    use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_loc
+    use stickslip_kinds, only: SS_OK, SS_BAD_DIM, SS_BAD_METHOD
+    use stickslip_params, only: NAME_LEN
+    use stickslip_registry, only: split_names, code_of, new_controls
+    use stickslip_model_system, only: model_system
+    use stickslip_simulate, only: prepared_simulation
+    use stickslip_user_model, only: stickslip_model, model_from_arrays
+    implicit none
+    integer(c_int), intent(in) :: nb, ns, nd, nf, nc, ncp, npv, nop, nss, ntab, ndr, n, nrt, nat, ncv
+    real(c_double), intent(in) :: bodies(3, nb)
+    !f2py integer intent(hide), depend(bodies) :: nb = shape(bodies, 1)
+    real(c_double), intent(in) :: springs(4, ns)
+    !f2py integer intent(hide), depend(springs) :: ns = shape(springs, 1)
+    real(c_double), intent(in) :: dampers(3, nd)
+    !f2py integer intent(hide), depend(dampers) :: nd = shape(dampers, 1)
+    real(c_double), intent(in) :: forces(2, nf)
+    !f2py integer intent(hide), depend(forces) :: nf = shape(forces, 1)
+    real(c_double), intent(in) :: contacts(5, nc)
+    !f2py integer intent(hide), depend(contacts) :: nc = shape(contacts, 1)
+    integer(c_int), intent(in) :: con_ptr(ncp)
+    !f2py integer intent(hide), depend(con_ptr) :: ncp = len(con_ptr)
+    character(len=*), intent(in) :: pkeys, ckeys, method
+    real(c_double), intent(in) :: pvals(npv)
+    !f2py integer intent(hide), depend(pvals) :: npv = len(pvals)
+    real(c_double), intent(in) :: signals(5, nop)
+    !f2py integer intent(hide), depend(signals) :: nop = shape(signals, 1)
+    integer(c_int), intent(in) :: sig_start(nss)
+    !f2py integer intent(hide), depend(sig_start) :: nss = len(sig_start)
+    real(c_double), intent(in) :: tables(2, ntab)
+    !f2py integer intent(hide), depend(tables) :: ntab = shape(tables, 1)
+    real(c_double), intent(in) :: drives(3, ndr)
+    !f2py integer intent(hide), depend(drives) :: ndr = shape(drives, 1)
+    real(c_double), intent(in) :: y0(n)
+    !f2py integer intent(hide), depend(y0) :: n = len(y0)
+    real(c_double), intent(in) :: t_end
+    real(c_double), intent(in) :: rtol(nrt)
+    !f2py integer intent(hide), depend(rtol) :: nrt = len(rtol)
+    real(c_double), intent(in) :: atol(nat)
+    !f2py integer intent(hide), depend(atol) :: nat = len(atol)
+    real(c_double), intent(in) :: cvals(ncv)
+    !f2py integer intent(hide), depend(cvals) :: ncv = len(cvals)
+    !> 1: the adaptive methods' tolerance on the contacts' slips; 0: on |y| (a scene's model)
+    integer(c_int), intent(in) :: slip_size
+    integer(c_int64_t), intent(out) :: handle
+    integer(c_int), intent(out) :: status, elem_kind, elem_index
+    type(stickslip_model) :: m
+    type(model_system) :: sys
+    type(prepared_simulation), pointer :: prep
+    character(len=NAME_LEN), allocatable :: keys(:)
+    integer :: ek, ei, code
+
+    handle = 0
+    elem_kind = 0
+    elem_index = 0
+    status = SS_BAD_DIM
+    keys = split_names(pkeys)
+    if (size(keys) /= npv .or. ncp /= nc + 1 .or. ndr /= 0) return
+    call model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, pvals, signals, sig_start, &
+                           tables, drives, slip_size /= 0)
+    allocate(prep)
+    call m%build_run(sys, prep%sys, status, ek, ei)
+    elem_kind = ek
+    elem_index = ei
+    code = code_of('method', method)
+    if (status == SS_OK .and. code == 0) status = SS_BAD_METHOD
+    if (status == SS_OK .and. n /= m%state_size(sys)) status = SS_BAD_DIM
+    if (status == SS_OK) status = new_controls(code, prep%sys, split_names(ckeys), cvals, prep%ctl)
+    if (status /= SS_OK) then
+        deallocate(prep)
+        return
+    end if
+    prep%method = code
+    prep%y0 = y0
+    prep%rtol = rtol
+    prep%atol = atol
+    prep%t_end = t_end
+    handle = transfer(c_loc(prep), handle)
+end subroutine prepare_model_run
+
+!> Release a setting of prepare_run or prepare_model_run (handle 0: nothing to do). The handle is invalid after.
 subroutine free_prepared(handle)
     use, intrinsic :: iso_c_binding, only: c_int64_t, c_ptr, c_null_ptr, c_f_pointer
     use stickslip_simulate, only: prepared_simulation

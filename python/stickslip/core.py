@@ -311,7 +311,7 @@ class Result:
     """
 
     __slots__ = ("scene", "law", "method", "t_end", "t", "x", "v", "z", "state_labels",
-                 "events", "drive_force", "_params", "_stats", "_raw")
+                 "events", "_drive_force", "_params", "_stats", "_raw")
 
     def __init__(self, scene: str, law: str, method: str, t_end: float, params: dict[str, float],
                  t: np.ndarray, x: np.ndarray, v: np.ndarray, stats: dict[str, Any] | None = None,
@@ -322,8 +322,20 @@ class Result:
         self.z = np.zeros((0, np.size(t))) if z is None else z
         self.state_labels = state_labels
         self.events = _NO_EVENTS if events is None else events
-        self.drive_force = np.zeros((np.size(t), 0))
+        self._drive_force = None
         self._params, self._stats, self._raw = params, ({} if stats is None else stats), None
+
+    @property
+    def drive_force(self) -> np.ndarray:
+        """A model's drives' forces on their bodies [N], shape (n_t, n_drives); (n_t, 0)
+        without drives (made on first use)."""
+        if self._drive_force is None:
+            self._drive_force = np.zeros((np.size(self.t), 0))
+        return self._drive_force
+
+    @drive_force.setter
+    def drive_force(self, value: np.ndarray) -> None:
+        self._drive_force = value
 
     @property
     def params(self) -> dict[str, float]:
@@ -1095,7 +1107,7 @@ class _Call:
 
     __slots__ = ("scene", "law", "method", "t_end", "grid", "n_out", "rows", "warnings",
                  "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "arm",
-                 "handle", "n", "resolved", "fast")
+                 "handle", "n", "resolved", "fast", "model")
 
     def __init__(self, **kw: Any) -> None:
         for k, v in kw.items():
@@ -1115,6 +1127,13 @@ class _Call:
 #: _CALLS_MAX; cleared when full. Only settings the library accepted are kept.
 _CALLS: dict[tuple, _Call] = {}
 _CALLS_MAX = 512
+
+
+def _keep(key: tuple, call: _Call) -> None:
+    """Keep a validated setting in _CALLS (a scene's or a Model's), clearing it when full."""
+    if len(_CALLS) >= _CALLS_MAX:
+        _CALLS.clear()
+    _CALLS[key] = call
 
 
 #: Most output values (state components x rows) a run may fill: 2 GB of float64.
@@ -1352,9 +1371,7 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
     if status == STATUS_OK:
         _warn_nonunique(result)
     if key is not None and status > _FIRST_INPUT_CODE:     # new, and the library named no bad input
-        if len(_CALLS) >= _CALLS_MAX:
-            _CALLS.clear()
-        _CALLS[key] = call
+        _keep(key, call)
     if status != STATUS_OK:
         _failed(call, result)
     if not call.fast:
@@ -1508,7 +1525,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     return _Call(scene=scene, law=law, method=method, t_end=t_end, handle=int(handle), n=y0.size,
                  resolved=resolved, grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
                  state_labels=state_labels, used=plan.used, known=known, events_room=room,
-                 n_blocks=n_blocks, arm=arm,
+                 n_blocks=n_blocks, arm=arm, model=False,
                  fast=not said and (rows > 0 or grid is not None) and not _checked(law, method))
 
 

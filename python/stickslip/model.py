@@ -30,9 +30,10 @@ import numpy as np
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
                    _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _end_time, _events, _finite,
-                   _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message,
+                   _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message, _fixed_steps,
                    _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
-                   _physical, MAX_ROWS, model_notes, _warn_model_steps, preset_arrays, _raise_failure)
+                   _physical, MAX_ROWS, model_notes, _warn_model_steps, preset_arrays, _raise_failure,
+                   _Call, _CALLS, _GRID_CACHE_ROWS, _STOP_CHECK_STEPS, _execute, _keep)
 from .outputs import atomic_write
 from .signal import Signal, SignalLike, as_signal
 from .energy import check_result
@@ -707,11 +708,10 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         t_grid = np.zeros(rows)
     else:
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
-        t_grid = _linspace(t_end, n_out)
+        t_grid = None                        # the grid a kept setting holds, or made for the run
         rows = 0
     room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
         if "max_events" in info["controls"] else 0
-    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
     y0 = np.zeros(model.n_states())
     y0[:model.n_bodies] = arrays["bodies"][1]
     y0[model.n_bodies:2 * model.n_bodies] = arrays["bodies"][2]
@@ -722,7 +722,17 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
             y0[first:first + nz] = c.z0
         first += nz
     ckeys, cvals = _keys(ctl)
+    if not model.drives:
+        # the model's setting built once (kept in simulate's cache, keyed on its arrays) and run
+        # as a scene's is: run_prepared through _runner, which builds the Result
+        call = _model_call(model, arrays, method, t_end, y0, rtol, atol, ckeys, cvals, rows, n_out, room,
+                           info["adaptive"] or _fixed_steps(t_end, ctl.get("h", 0.0)) >= _STOP_CHECK_STEPS // 2)
+        result = _execute(call, None if call.grid is not None or rows else _linspace(t_end, n_out))
+        return _checked_run(model, method, result, notes, {**ctl, "rtol": rtol, "atol": atol}, arrays)
     stop = np.zeros(1, dtype=np.int32)
+    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
+    if t_grid is None:
+        t_grid = _linspace(t_end, n_out)
     y, drive_force, istats, rstats, status, elem_kind, elem_index, cpu = _ext.run_model(
         *(arrays[k] for k in ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals",
                               "signals", "sig_start", "tables", "drives")),
@@ -743,11 +753,56 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     result._raw = (istats, rstats, status, cpu, None, ())
     result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
     result.drive_force = drive_force.T
-    if status != STATUS_OK:
+    return _checked_run(model, method, result, notes, {**ctl, "rtol": rtol, "atol": atol}, arrays)
+
+
+def _checked_run(model: Model, method: str, result: Result, notes: list[str], controls: Mapping[str, Any],
+                 arrays: Mapping[str, Any]) -> Result:
+    """`result` of a run of `model`, raised for an early end (`_raise_failure`), else with the
+    notes of its warnings and its consistency check (`check_result`, warned from simulate's
+    caller)."""
+    if result._raw[2] != STATUS_OK:
         _raise_failure(result, {})
     result.stats["notes"].extend(notes)
-    check_result(result, method, {**ctl, "rtol": rtol, "atol": atol}, model, arrays, stacklevel=4)
+    check_result(result, method, controls, model, arrays, stacklevel=5)
     return result
+
+
+#: The arrays of `Model.arrays` that make a model's setting, in prepare_model_run's order.
+_ARRAY_KEYS = ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals", "signals",
+               "sig_start", "tables", "drives")
+
+
+def _model_call(model: Model, arrays: Mapping[str, Any], method: str, t_end: float, y0: np.ndarray,
+                rtol: np.ndarray, atol: np.ndarray, ckeys: str, cvals: np.ndarray, rows: int,
+                n_out: int | None, room: int, arm: bool) -> _Call:
+    """The _Call of a run of `model` without drives (prepare_model_run: the model built,
+    specialised, with the method's options, once), from simulate's cache when a model of equal
+    arrays ran so before (the cache is keyed on the model's content, not on the object: a
+    Model is mutable); ValueError naming a bad element."""
+    key = ("model", method, t_end, rows, n_out, room, bool(model.slip_error_size), ckeys, cvals.tobytes(),
+           rtol.tobytes(), atol.tobytes(), y0.tobytes(),
+           *((a if isinstance(a, str) else (a.shape, a.tobytes())) for a in (arrays[k] for k in _ARRAY_KEYS)))
+    call = _CALLS.get(key)
+    if call is not None:
+        return call
+    handle, status, elem_kind, elem_index = _ext.prepare_model_run(
+        *(arrays[k] for k in _ARRAY_KEYS), method, y0, t_end, rtol, atol, ckeys, cvals,
+        int(model.slip_error_size))
+    status = int(status)
+    if status != STATUS_OK:
+        raise _input_error(model, status, int(elem_kind), int(elem_index))
+    grid = None
+    if not rows and n_out <= _GRID_CACHE_ROWS:
+        grid = _linspace(t_end, n_out)
+        grid.setflags(write=False)           # copied for each call (_runner)
+    nb = model.n_bodies
+    call = _Call(scene="model", law="+".join(dict.fromkeys(c.law for c in model.contacts)), method=method,
+                 t_end=t_end, handle=int(handle), n=y0.size, resolved=None, grid=grid, n_out=n_out, rows=rows,
+                 warnings=(), n_states=y0.size - 2 * nb, state_labels=model.state_labels(), used=(), known={},
+                 events_room=room, n_blocks=nb, arm=arm, model=True, fast=False)
+    _keep(key, call)
+    return call
 
 
 def slip_scale(model: Model, i: int) -> float:
