@@ -887,7 +887,22 @@ def _verify(prob: _Problem, advice: Advice, cand: Candidate, setting: float | No
             return False
         setting = new
     cand.note += f"; verification missed {MAX_TIGHTEN} times"
+    _exact_gap(prob, cand, run, target)
     return False
+
+
+def _exact_gap(prob: _Problem, cand: Candidate, run: Run, target: float) -> None:
+    """Where a candidate's own ladder did not verify but the model has an exact-stick reference
+    run accurately enough to judge, say how far its last run is from it (a method that converges
+    to another motion often fails its own verification on the way)."""
+    exact = _exact_reference(prob)
+    if exact is None or exact.error is None or exact.error > target or run.q is None:
+        return
+    gap = abs(run.q - exact.q)
+    if gap > target + exact.error:
+        cand.note += (f"; its last run differs from the exact-stick reference {exact.method} "
+                      f"({exact.setting()}) by {gap:.2g} > target + its error "
+                      f"{error_text(exact.error, prob.floor)}")
 
 
 def _agrees(prob: _Problem, advice: Advice, cand: Candidate, run: Run, err: float,
