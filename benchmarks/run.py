@@ -1201,8 +1201,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             parser.error("argument --presets: needs --base SITE (a build of the package before the presets)")
         write_text(args.outdir / "presets.md", run_presets(log, args.base, args.repeats or (2 if args.quick else 5)))
         # the command as run, the base build's directory (a path of this machine) written SITE
-        shown = [("SITE" if a == args.base else a) for a in (sys.argv[1:] if argv is None else argv)]
-        write_provenance(args.outdir, "presets", [args.outdir / "presets.md"], shown)
+        write_provenance(args.outdir, "presets", [args.outdir / "presets.md"], argv, shown={str(args.base): "SITE"})
         return 0
     if args.clutches:
         from cases.gallery_clutches import bench_markdown

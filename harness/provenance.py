@@ -21,7 +21,7 @@ import shlex
 import subprocess
 import sys
 from pathlib import Path
-from typing import Any, Iterable, Sequence
+from typing import Any, Iterable, Mapping, Sequence
 
 ROOT: Path = Path(__file__).resolve().parent.parent
 SUFFIX: str = ".provenance.json"
@@ -58,10 +58,11 @@ def _relative(word: str) -> str:
     return word
 
 
-def command_line(module: str, argv: Sequence[str] | None) -> str:
+def command_line(module: str, argv: Sequence[str] | None, shown: Mapping[str, str] | None = None) -> str:
     """The command as a user would type it: the command this process was started with when it
     is a module of this repository (python -m cases --all runs every driver as a child), else
-    `python -m <module> <argv>` (a driver called from Python, e.g. by a test)."""
+    `python -m <module> <argv>` (a driver called from Python, e.g. by a test). A word that is a
+    key of `shown` is written as its value (a path of this machine as its placeholder)."""
     start = Path(sys.argv[0]).resolve() if sys.argv and sys.argv[0] else None
     if start is not None and start.suffix == ".py" and start.is_relative_to(ROOT) \
             and start.parent != ROOT and start.parent.name in ("cases", "benchmarks"):
@@ -70,7 +71,8 @@ def command_line(module: str, argv: Sequence[str] | None) -> str:
         words = sys.argv[1:]
     else:
         mod, words = module, list(argv if argv is not None else [])
-    return shlex.join(["python", "-m", mod, *(_relative(str(w)) for w in words)])
+    shown = shown or {}
+    return shlex.join(["python", "-m", mod, *(shown.get(str(w), _relative(str(w))) for w in words)])
 
 
 def _commit() -> str | None:
@@ -87,13 +89,15 @@ def _commit() -> str | None:
     return head + ("+changes" if dirty else "")
 
 
-def provenance(module: str, argv: Sequence[str] | None = None) -> dict[str, Any]:
-    """The provenance record of a run of `module` with `argv` (no file list)."""
+def provenance(module: str, argv: Sequence[str] | None = None,
+               shown: Mapping[str, str] | None = None) -> dict[str, Any]:
+    """The provenance record of a run of `module` with `argv` (no file list); `shown` as for
+    `command_line`."""
     try:
         from stickslip import __version__ as version
     except ImportError:                         # benchmarks may run without the package
         version = None
-    return {"command": command_line(module, argv),
+    return {"command": command_line(module, argv, shown),
             "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
             "machine": machine(), "load_average": round(os.getloadavg()[0], 2),
             "python": platform.python_version(),
@@ -101,7 +105,7 @@ def provenance(module: str, argv: Sequence[str] | None = None) -> dict[str, Any]
 
 
 def write_provenance(outdir: str | os.PathLike[str], module: str, files: Iterable[Path],
-                     argv: Sequence[str] | None = None) -> Path:
+                     argv: Sequence[str] | None = None, shown: Mapping[str, str] | None = None) -> Path:
     """Write `<outdir>/<module>.provenance.json` naming `files` (those in outdir) and return
     its path. A sidecar left by an earlier run of the same module keeps the names of files this
     run did not write again (a --only or --quick run rewrites part of a directory), each with the
@@ -109,7 +113,7 @@ def write_provenance(outdir: str | os.PathLike[str], module: str, files: Iterabl
     from .files import write_text                 # atomic, like every results file
     outdir = Path(outdir)
     path = outdir / f"{module}{SUFFIX}"
-    record = provenance(module, argv)
+    record = provenance(module, argv, shown)
     names = sorted({Path(f).name for f in files if Path(f).parent.resolve() == outdir.resolve()})
     runs: list[dict[str, Any]] = [dict(record, files=names)]
     try:
