@@ -789,3 +789,16 @@ def test_results_name_no_path_of_the_machine_that_made_them() -> None:
             if re.search(r"(^|[\s=])/(tmp|work|home|root|usr)/", run["command"]):
                 bad.append(f"{path.relative_to(ROOT)}: {run['command']}")
     assert not bad, "\n".join(bad)
+
+
+def test_a_path_of_this_machine_is_written_as_its_placeholder(tmp_path, monkeypatch) -> None:
+    """A command whose argument is a path of this machine (the presets benchmark's --base SITE)
+    is recorded with the placeholder the caller names, whichever way the command was started."""
+    from harness.provenance import command_line, write_provenance
+    site = str(tmp_path / "base_site")
+    monkeypatch.setattr(sys, "argv", [str(ROOT / "benchmarks" / "__main__.py"), "--presets", "--base", site])
+    assert command_line("benchmarks", None, {site: "SITE"}) == "python -m benchmarks --presets --base SITE"
+    assert site in command_line("benchmarks", None)          # without it the path would show
+    monkeypatch.setattr(sys, "argv", ["pytest"])
+    path = write_provenance(tmp_path, "demo", [], ["--base", site], shown={site: "SITE"})
+    assert json.loads(path.read_text())["runs"][0]["command"] == "python -m demo --base SITE"
