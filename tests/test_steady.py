@@ -238,7 +238,8 @@ def test_lugre_belt_cycle_against_a_long_transient() -> None:
 
 
 def test_laws_with_states_are_refused_where_not_handled() -> None:
-    """Equilibria and harmonic balance refuse laws with states by name, before any run."""
+    """Equilibria refuse laws with states by name, before any run; harmonic balance those on a
+    moving surface (the belt)."""
     from stickslip.harmonic import harmonic_balance
     m = ss.Model.from_scene("belt", "lugre")
     with pytest.raises(ss.LawStatesUnsupported, match="internal states"):
