@@ -456,6 +456,12 @@ def _jenkins_numbers() -> dict[str, tuple[float, str, str]]:
     out["jk.gap_far"] = (float(np.max(np.abs(gap[far]))), "", "largest relative gap from 0.8 rad/s on")
     a = [ss.periodic_orbit(jenkins_oscillator(0.8, r), method="radau5").amplitude[0] for r in (0.999, 0.9999)]
     out["jk.limit"] = (float(abs(a[0] / a[1] - 1.0)), "", "amplitude at 0.8 rad/s, z_ba_ratio 0.999 against 0.9999")
+    from stickslip.harmonic import harmonic_balance
+    for n_t in (256, 2048):
+        hb, cpu = _cpu(lambda: [harmonic_balance(jenkins_oscillator(w, 0.9999), 1, n_samples=n_t) for w in (0.9, 1.2)])
+        err = float(max(abs(h.amplitude[0] / caughey_amplitudes(w)[0] - 1.0) for h, w in zip(hb, (0.9, 1.2))))
+        out[f"jk.hb{n_t}_err"] = (err, "", f"one harmonic, {n_t} instants: largest relative gap to Caughey's")
+        out[f"jk.hb{n_t}_cpu"] = (cpu / 2, "s", "its CPU time per frequency")
     return out
 
 
