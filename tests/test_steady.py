@@ -596,6 +596,33 @@ def test_bilinear_hysteresis_response_against_caugheys_one_harmonic_closed_form(
     assert limit[0] == pytest.approx(limit[1], rel=1e-5)
 
 
+def test_a_light_slider_on_coulomb_converges_to_the_jenkins_limit() -> None:
+    """The Jenkins element of `jenkins_oscillator` built instead from a light body eps (the
+    slider, on set-valued coulomb) on the spring k_t, shot event-driven with the saltation
+    monodromy: its amplitude at 0.8 rad/s tends to the elastoplastic law's limit linearly in
+    eps (measured -8.2e-3 at eps = 1e-3, -7.5e-2 at 1e-2). At eps = 1e-3 the slider sticks
+    within 1e-9 of a period after the section, which the saltation monodromy once ran to a
+    negative end time."""
+    from benchmarks.steady_bifurcations import JK_C, JK_K, JK_P
+
+    def light_slider(eps: float) -> ss.Model:
+        m = ss.Model()
+        b, s = m.add_body(1.0), m.add_body(eps)
+        m.add_spring(b, None, k=JK_K)
+        m.add_spring(b, s, k=JK_KT)
+        m.add_damper(b, None, c=JK_C)
+        m.add_force(b, ss.signal.sine(JK_P, 0.8 / (2 * math.pi), math.pi / 2))
+        m.add_contact(s, None, "coulomb", normal_force=1.0, mu_s=JK_FS, mu_k=JK_FS)
+        return m
+    limit = ss.periodic_orbit(jenkins_oscillator(0.8, 0.9999), method="radau5").amplitude[0]
+    gaps = []
+    for eps in (1e-2, 1e-3):
+        orb = ss.periodic_orbit(light_slider(eps))
+        assert orb.monodromy_method == "saltation" and orb.stable
+        gaps.append(orb.amplitude[0] / limit - 1.0)
+    assert -1e-2 < gaps[1] < 0 and 5 < gaps[0] / gaps[1] < 15
+
+
 def test_neimark_sacker_and_period_doubling_from_synthetic_multipliers() -> None:
     """The classifier on orbits whose multipliers are set by hand (known truth): a complex pair
     r exp(+-0.7i) with r = 0.9, 0.95, 1.05, 1.1 at p = 0, 1, 2, 3 is a Neimark-Sacker at

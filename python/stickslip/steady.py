@@ -968,8 +968,8 @@ def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events:
             continue
         # the state at the event: a run that ends just before it (one ending on an event can
         # fail at h_min), then the Taylor step of the affine mode over the last delta
-        delta = 1e-9 * period
-        y = runner.flow(y0, t - delta)
+        delta = min(1e-9 * period, t)       # an event within delta of the section: from y0
+        y = runner.flow(y0, t - delta) if t > delta else y0
         jac, _ = sys_.jacobian(y, t, modes)
         rate = sys_.rates(y, t - delta, modes)[0]
         y = y + delta * rate + 0.5 * delta**2 * (jac @ rate)
