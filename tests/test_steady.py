@@ -566,10 +566,10 @@ def test_bilinear_hysteresis_response_against_caugheys_one_harmonic_closed_form(
     cos(beta) = 1 - 2 x_y / a the element's describing function is C = k_t a (beta - sin(2
     beta) / 2) / pi in phase and S = 4 F_s (1 - x_y / a) / pi in quadrature, and
     (k a + C - m w^2 a)^2 + (S + c w a)^2 = P^2 (benchmarks/steady_bifurcations.py,
-    `caughey_residual`). That curve has one amplitude at every frequency (it bends to lower
-    frequency but never folds: no jump, as Iwan 1961 found for this model; Iwan's 1965 double
-    bilinear model is the one that jumps), and the exact curve, continued by shooting, has no
-    fold either. Where the motion stays elastic (a <= x_y) it is linear and the closed form is
+    `caughey_residual`). That curve has one amplitude at every frequency, checked here on a
+    grid (it bends to lower frequency but never folds; the jump phenomenon Iwan, J. Appl. Mech.
+    32(4) 921-925, 1965, reports is that of his double bilinear model), and the exact curve,
+    continued by shooting, has no fold either. Where the motion stays elastic (a <= x_y) it is linear and the closed form is
     exact: equal to 1e-8 (measured 1.5e-9); where the slider slips the exact amplitude departs
     from the one-harmonic one by at most 4 % (measured 3.3 % at 0.7 rad/s, where slip sets
     in) and by 3e-3 from 0.8 rad/s on (measured 2.2e-3). The Jenkins element is the
