@@ -23,6 +23,11 @@ numbers docs/guide/steady-states.md quotes::
   Both against the maps of the stop position in closed form (`stop_motion`).
 * The Hopf point of steady sliding on the damped belt (m = 10 kg, k = 300 N/m, v_b = 1.5 m/s,
   the `proposed` law, a damper c), continued as equilibria in c: against c + N mu'(v_b) = 0.
+* Bilinear hysteresis (Caughey, J. Appl. Mech. 27, 1960): a mass on a spring and a Jenkins
+  element (the elastoplastic law in its Jenkins limit, `jenkins_oscillator`), forced; its
+  response curve by shooting against Caughey's one-harmonic closed form (`caughey_amplitudes`),
+  which has one amplitude at every frequency (no fold, no jump: the jumps of Iwan's 1965 double
+  bilinear model do not occur with one Jenkins element).
 * A LuGre stick-slip cycle (the belt at v_b = 0.1 m/s, radau5): its bristle state among the
   shooting unknowns; its period against a 60 s transient's.
 
@@ -291,6 +296,56 @@ def damped_belt(c: float) -> Any:
     return m
 
 
+# ------------------------------------------------------------------------------------------
+# Bilinear hysteresis (Caughey 1960): a mass on a spring and a Jenkins element
+# ------------------------------------------------------------------------------------------
+#: mass [kg], linear spring k [N/m], the Jenkins element's spring k_t [N/m] and slip force F_s
+#: [N], a light damper c [N s/m] and the forcing amplitude P [N] (P < 4 F_s / pi: bounded)
+JK_M, JK_K, JK_KT, JK_FS, JK_C, JK_P = 1.0, 0.25, 0.75, 0.75, 0.05, 0.6
+
+
+def jenkins_oscillator(w: float, ratio: float = 0.999) -> Any:
+    """m x'' + c x' + k x + f_J = P cos(w t), f_J the force of a Jenkins element (a spring k_t
+    in series with a Coulomb slider of limit F_s): the elastoplastic law with N = 1, sigma0 =
+    k_t, mu_s = mu_k = F_s (g constant), sigma1 = sigma2 = 0 and z_ba = `ratio` F_s / k_t; it
+    is a Jenkins element except between z_ba and F_s / k_t, where the law's attachment ramps
+    the slip in (the limit ratio -> 1)."""
+    import stickslip as ss
+    model = ss.Model()
+    b = model.add_body(JK_M)
+    model.add_spring(b, None, k=JK_K)
+    model.add_damper(b, None, c=JK_C)
+    model.add_force(b, ss.signal.sine(JK_P, w / (2 * math.pi), math.pi / 2))
+    model.add_contact(b, None, "elastoplastic", normal_force=1.0, mu_s=JK_FS, mu_k=JK_FS, sigma0=JK_KT,
+                      sigma1=0.0, sigma2=0.0, z_ba_ratio=ratio)
+    return model
+
+
+def caughey_residual(a: Any, w: float) -> Any:
+    """The one-harmonic balance of `jenkins_oscillator` at amplitude(s) a [m] and frequency w
+    [rad/s] (Caughey 1960, J. Appl. Mech. 27(4) 640-643): the Jenkins element's describing
+    function under x = a cos(theta), with x_y = F_s / k_t and cos(beta) = 1 - 2 x_y / a, has the
+    in-phase part C = k_t a (beta - sin(2 beta) / 2) / pi and the quadrature part S = 4 F_s (1
+    - x_y / a) / pi (k_t a and 0 for a <= x_y); the amplitude solves
+    (k a + C - m w^2 a)^2 + (S + c w a)^2 = P^2. Returns the left side minus P^2 [N^2]."""
+    a = np.asarray(a, dtype=float)
+    xy = JK_FS / JK_KT
+    beta = np.arccos(np.clip(1.0 - 2.0 * xy / a, -1.0, 1.0))
+    c_in = np.where(a > xy, JK_KT * a * (beta - 0.5 * np.sin(2.0 * beta)) / math.pi, JK_KT * a)
+    s_q = np.where(a > xy, 4.0 * JK_FS * (1.0 - xy / a) / math.pi, 0.0)
+    return (JK_K * a + c_in - JK_M * w * w * a) ** 2 + (s_q + JK_C * w * a) ** 2 - JK_P ** 2
+
+
+def caughey_amplitudes(w: float, a_max: float = 100.0, n: int = 20001) -> list[float]:
+    """Every root a in (0, a_max] of `caughey_residual` at w: sign changes on a geometric grid
+    of n amplitudes, each refined by brentq (to 1e-14)."""
+    from scipy.optimize import brentq
+    a = np.geomspace(1e-4, a_max, n)
+    g = caughey_residual(a, w)
+    roots = np.nonzero(np.sign(g[1:]) != np.sign(g[:-1]))[0]
+    return [float(brentq(lambda x: float(caughey_residual(x, w)), a[i], a[i + 1], xtol=1e-14)) for i in roots]
+
+
 def _cpu(fn: Callable[[], Any]) -> tuple[Any, float]:
     t0 = time.process_time()
     out = fn()
@@ -322,6 +377,7 @@ def guide_numbers() -> dict[str, tuple[float, str, str]]:
                        float(br.p[i]))
     out["fold.err1"] = (abs(folds[0]["p"] / exact - 1), "", "relative distance of fold 1 to scipy's")
     out.update(_closed_form_numbers())
+    out.update(_jenkins_numbers())
     rough = ss.continuation(lambda a: forced_belt(1.0, a), 0.06, 0.02, method="dopri5", step=0.05, max_step=0.1,
                             locate_bifurcations=False)
     out["fold.rough_err1"] = (abs(rough.bifurcations[0]["p"] / exact - 1), "", "the same, at the turning point")
@@ -372,6 +428,40 @@ def _closed_form_numbers() -> dict[str, tuple[float, str, str]]:
         out[f"{key}.beta"] = (b["p"], "", f"the {kind}")
         out[f"{key}.err"] = (abs(b["p"] / exact - 1), "", "relative distance to the closed form's")
         out[f"{key}.mult_err"] = (worst, "", "largest distance of a multiplier to the closed form's")
+    return out
+
+
+def _jenkins_numbers() -> dict[str, tuple[float, str, str]]:
+    """The response curve of `jenkins_oscillator` by shooting against Caughey's one-harmonic
+    closed form, each (value, unit, what)."""
+    import stickslip as ss
+    out: dict[str, tuple[float, str, str]] = {}
+    ws = np.linspace(0.3, 1.6, 27)
+    br, cpu = _cpu(lambda: ss.frequency_response(lambda f: jenkins_oscillator(2 * math.pi * f), ws / (2 * math.pi),
+                                                  method="radau5"))
+    one = np.array([caughey_amplitudes(float(w)) for w in ws], dtype=object)
+    roots = [len(r) for r in one]
+    a1 = np.array([r[0] for r in one], dtype=float)
+    gap = br.amplitude / a1 - 1.0
+    yielding = a1 > JK_FS / JK_KT
+    out["jk.points"] = (len(br.curve), "", "points of the continued curve from 0.3 to 1.6 rad/s")
+    out["jk.cpu"] = (cpu, "s", "CPU time of the response at 27 frequencies")
+    out["jk.folds"] = (sum(b["kind"] == "fold" for b in br.curve.bifurcations), "", "folds on the continued curve")
+    out["jk.roots_max"] = (max(roots), "", "most one-harmonic amplitudes at one frequency")
+    out["jk.elastic_err"] = (float(np.max(np.abs(gap[~yielding]))), "", "largest relative gap, elastic motions")
+    k = int(np.argmax(np.abs(gap)))
+    out["jk.gap_max"] = (float(abs(gap[k])), "", "largest relative gap of the exact amplitude to the one-harmonic")
+    out["jk.gap_w"] = (float(ws[k]), "rad/s", "where")
+    far = yielding & (ws >= 0.8)
+    out["jk.gap_far"] = (float(np.max(np.abs(gap[far]))), "", "largest relative gap from 0.8 rad/s on")
+    a = [ss.periodic_orbit(jenkins_oscillator(0.8, r), method="radau5").amplitude[0] for r in (0.999, 0.9999)]
+    out["jk.limit"] = (float(abs(a[0] / a[1] - 1.0)), "", "amplitude at 0.8 rad/s, z_ba_ratio 0.999 against 0.9999")
+    from stickslip.harmonic import harmonic_balance
+    for n_t in (256, 2048):
+        hb, cpu = _cpu(lambda: [harmonic_balance(jenkins_oscillator(w, 0.9999), 1, n_samples=n_t) for w in (0.9, 1.2)])
+        err = float(max(abs(h.amplitude[0] / caughey_amplitudes(w)[0] - 1.0) for h, w in zip(hb, (0.9, 1.2))))
+        out[f"jk.hb{n_t}_err"] = (err, "", f"one harmonic, {n_t} instants: largest relative gap to Caughey's")
+        out[f"jk.hb{n_t}_cpu"] = (cpu / 2, "s", "its CPU time per frequency")
     return out
 
 

@@ -1,11 +1,14 @@
 """Harmonic balance with alternating frequency-time (AFT), as NLvib does, beside shooting.
 
-The forced periodic motion of a `Model` with regularised friction laws (no internal states)
-is written as a truncated Fourier series, x_i(t) = a_i0 + sum_k (a_ik cos(k w t) + b_ik
+The forced periodic motion of a `Model` with regularised friction laws is written as a truncated Fourier series, x_i(t) = a_i0 + sum_k (a_ik cos(k w t) + b_ik
 sin(k w t)), k = 1 .. n_harmonics. The equations of motion, M x'' = F(x, x', t), are sampled
 at `n_samples` instants of the period (the forces and the friction law evaluated in time),
 and their residual is projected back on the same harmonics; Newton's method
-(stickslip.steady's, forward-difference Jacobian) zeroes the projected residual. Laws that
+(stickslip.steady's, forward-difference Jacobian) zeroes the projected residual. A law with
+internal states (a bristle, a Jenkins element's presliding) is evaluated along the series'
+motion by `prescribed_motion` over three periods from zero states, the last one used (the
+hysteresis loop settled; a contact whose states still move from the second period to the
+third, by more than 1e-9 of the friction coefficient, is a named failure). Laws that
 jump at zero slip (coulomb, karnopp) are refused: the friction force is evaluated as the law's
 curve mu(s) N, which jumps there; use `periodic_orbit` for exact stick.
 
@@ -31,7 +34,9 @@ from typing import Any
 import numpy as np
 
 from .model import _JUMP_LAWS, Model
-from .steady import GuessShapeError, Orbit, _check_model, _newton, _signal, _System, forcing_period
+from .prescribed import prescribed_motion
+from .steady import GuessShapeError, LawStatesUnsupported, NoConvergence, Orbit, _check_model, _newton, _signal, \
+    _System, forcing_period
 
 __all__ = ["HarmonicSolution", "harmonic_balance"]
 
@@ -91,8 +96,9 @@ def harmonic_balance(model: Model, n_harmonics: int = 5, period: float | None = 
     Parameters
     ----------
     model : Model
-        A forced model whose contacts all have laws without internal states whose curve is
-        continuous at zero slip (not coulomb or karnopp).
+        A forced model whose contacts all have laws whose curve is continuous at zero slip
+        (not coulomb or karnopp); a law with internal states needs a contact without surface
+        velocity.
     n_harmonics : int, optional
         Harmonics of the series (default 5), >= 1.
     period : float, optional
@@ -117,12 +123,19 @@ def harmonic_balance(model: Model, n_harmonics: int = 5, period: float | None = 
     Raises
     ------
     ValueError
-        A law that jumps at zero slip, a law with states, an autonomous model, or bad
-        arguments.
+        A law that jumps at zero slip, a law with states on a moving surface, an autonomous
+        model, or bad arguments.
     stickslip.NoConvergence
-        Newton's method did not converge.
+        Newton's method did not converge, or a law's states are not periodic after three
+        periods of the solution.
     """
-    model = _check_model(model)
+    model = _check_model(model, allow_states=True)
+    stated = [i for i in range(len(model.contacts)) if model._law_states(i)[0]]
+    for i in stated:
+        if model.contacts[i].surface_velocity is not None:
+            raise LawStatesUnsupported(f"{model.contact_label(i)}: law {model.contacts[i].law!r} has internal states; "
+                                       "harmonic balance evaluates them along the motion of a contact without "
+                                       "surface velocity only (periodic_orbit for a moving surface)")
     for i, c in enumerate(model.contacts):
         if c.law in _JUMP_LAWS:
             raise ValueError(f"{model.contact_label(i)}: law {c.law!r} jumps at zero slip; harmonic balance needs "
@@ -145,15 +158,37 @@ def harmonic_balance(model: Model, n_harmonics: int = 5, period: float | None = 
     n = sys_.n
     coef0 = _start(guess, sys_, h, w, period)
 
+    run = np.arange(3 * n_t) * (period / n_t)          # three periods for the laws' states
+    b3, db3, _ = _basis(h, w, run)
+
+    def states_mu(c: np.ndarray) -> tuple[dict[int, np.ndarray], float]:
+        """The stated contacts' mu over the last period, and their largest change from the
+        second period to the third."""
+        mus, drift = {}, 0.0
+        for i in stated:
+            con = model.contacts[i]
+            pr = prescribed_motion(con.law, run, sys_.G[i] @ (c @ b3), sys_.G[i] @ (c @ db3), rtol=1e-12,
+                                   normal_force=np.maximum(_signal(con.normal_force, run)[0], 0.0) + 0.0 * run,
+                                   **con.params)
+            mus[i] = pr.mu[2 * n_t:]
+            drift = max(drift, float(np.max(np.abs(pr.mu[2 * n_t:] - pr.mu[n_t:2 * n_t]))))
+        return mus, drift
+
     def residual(u: np.ndarray) -> np.ndarray:
         c = u.reshape(n, 2 * h + 1)
         y = np.vstack([c @ basis, c @ d1])
-        r = sys_.mass[:, None] * (c @ d2) - sys_._free(y, t, None)
+        r = sys_.mass[:, None] * (c @ d2) - sys_._free(y, t, None, states_mu(c)[0] if stated else None)
         return (r @ project).ravel()
 
     scale = np.full(coef0.size, max(float(np.max(np.abs(coef0))), 1e-3))
     u, norm, it, _ = _newton(residual, coef0.ravel(), scale, tol, max_iter, "harmonic_balance")
     coef = u.reshape(n, 2 * h + 1)
+    if stated:
+        drift = states_mu(coef)[1]
+        if drift > 1e-9:
+            raise NoConvergence(f"harmonic_balance: the laws' states are not periodic: their friction coefficient "
+                                f"changes by {drift:.3g} from the second period to the third (a contact that never "
+                                "slips keeps its initial states; periodic_orbit solves for them)", norm, it)
     b0, db0, _ = _basis(h, w, np.zeros(1))
     return HarmonicSolution(period=period, n_harmonics=h, coefficients=coef, x0=(coef @ b0)[:, 0],
                             v0=(coef @ db0)[:, 0], amplitude=_amplitude(coef, h, w, period), residual=norm,

@@ -258,12 +258,14 @@ class _System:
              for c in self.contacts]
         return self.G @ y[self.n:] - np.array(w).reshape((len(self.contacts),) + np.shape(t))
 
-    def _free(self, y: np.ndarray, t: Any, modes: Sequence[int] | None) -> np.ndarray:
+    def _free(self, y: np.ndarray, t: Any, modes: Sequence[int] | None,
+              given: dict[int, np.ndarray] | None = None) -> np.ndarray:
         """Every force but the holding forces of stuck contacts [N], at state y (shape (2n,)
         or (2n, n_t)) and time(s) t; `modes` None: every contact's law regularised (its
         friction at the signed slip); else every law set-valued, Coulomb (mu_k N in slip) or
         Stribeck (its curve, the tanh ramp at rest narrowed to 1e-100 m/s, as event_driven's
-        slip modes have it)."""
+        slip modes have it). `given`: the friction coefficients of some contacts at t (laws
+        with states, evaluated along the motion by the caller)."""
         x, v = y[:self.n], y[self.n:]
         col = (slice(None),) + (None,) * (y.ndim - 1)
         f = -self.K @ x - self.C @ v + self.f0[col]
@@ -272,7 +274,9 @@ class _System:
         s = self.slip(y, t)
         for i, c in enumerate(self.contacts):
             normal = np.maximum(_signal(c.normal_force, t)[0], 0.0)
-            if modes is None:
+            if given is not None and i in given:
+                mu = given[i]
+            elif modes is None:
                 mu = friction_coefficient(c.law, s[i], **c.params)
             elif modes[i] == 0:
                 continue
@@ -411,8 +415,8 @@ def _check_model(model: Any, allow_states: bool = False) -> Model:
     for i, c in enumerate(model.contacts):
         if model._law_states(i)[0] and not allow_states:
             raise LawStatesUnsupported(f"{model.contact_label(i)}: law {c.law!r} has internal states, which "
-                                       "equilibria and harmonic balance do not handle (periodic_orbit and "
-                                       "continuation of orbits do)")
+                                       "equilibria do not handle (periodic_orbit, continuation of orbits and "
+                                       "harmonic_balance do)")
     return model
 
 
@@ -964,8 +968,8 @@ def _saltation_monodromy(runner: _Runner, y0: np.ndarray, period: float, events:
             continue
         # the state at the event: a run that ends just before it (one ending on an event can
         # fail at h_min), then the Taylor step of the affine mode over the last delta
-        delta = 1e-9 * period
-        y = runner.flow(y0, t - delta)
+        delta = min(1e-9 * period, t)       # an event within delta of the section: from y0
+        y = runner.flow(y0, t - delta) if t > delta else y0
         jac, _ = sys_.jacobian(y, t, modes)
         rate = sys_.rates(y, t - delta, modes)[0]
         y = y + delta * rate + 0.5 * delta**2 * (jac @ rate)
