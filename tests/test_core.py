@@ -239,6 +239,23 @@ def test_result_pickles_whole() -> None:
         repr(back)
 
 
+def test_a_driven_models_result_pickles_with_its_drive_force() -> None:
+    """The drive's force (Result.drive_force) survives pickling; a Result without drives keeps
+    its (n_t, 0) array."""
+    import pickle
+    m = ss.Model()
+    d = m.add_body(1.0, name="platform")
+    b = m.add_body(2.0, name="block")
+    m.add_spring(b, d, 10.0)
+    m.add_drive(d, position=ss.signal.sine(0.01, 2.0))
+    r = ss.simulate(m, method="rk4", h=1e-3, t_end=0.5, n_out=11)
+    assert r.drive_force.shape == (11, 1) and np.any(r.drive_force != 0.0)
+    back = pickle.loads(pickle.dumps(r))
+    assert np.array_equal(back.drive_force, r.drive_force) and np.array_equal(back.x, r.x)
+    plain = pickle.loads(pickle.dumps(ss.simulate("belt", "lugre", **RK4)))
+    assert plain.drive_force.shape == (plain.t.size, 0)
+
+
 # -- the API's shapes, warnings and messages --------------------------------------------------
 
 def test_z_has_the_shape_of_x_for_one_state_and_y_stacks_every_component() -> None:

@@ -370,10 +370,14 @@ class Result:
     def __getstate__(self) -> dict[str, Any]:
         return {"scene": self.scene, "law": self.law, "method": self.method, "t_end": self.t_end,
                 "params": self.params, "t": self.t, "x": self.x, "v": self.v, "stats": self.stats,
-                "z": self.z, "state_labels": self.state_labels, "events": self.events}
+                "z": self.z, "state_labels": self.state_labels, "events": self.events,
+                "drive_force": self._drive_force}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
+        state = dict(state)
+        drive_force = state.pop("drive_force", None)    # absent from a state pickled before
         self.__init__(**state)
+        self._drive_force = drive_force
 
     def __repr__(self) -> str:
         return (f"Result(scene={self.scene!r}, law={self.law!r}, method={self.method!r}, "
