@@ -497,9 +497,9 @@ def _model_rows(model: Any, addresses: list[str], targets: list[tuple[str, int, 
     """Each row's model (`model` with the row's overrides) and what `simulate_model` would pass
     the library for it: its arrays, initial state, controls and tolerances, and its notes; the
     warnings of that call issued. ValueError naming the row for a bad row, before anything runs."""
-    from .core import _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _end_time, _physical, friction_coefficient, \
+    from .core import _end_time, _physical, friction_coefficient, \
         model_notes, _warn_model_steps
-    from .model import Model, check_method, run_controls
+    from .model import Model, check_method, event_room, initial_state, run_controls
     base = model.to_dict()
     out = []
     for i in range(n):
@@ -527,18 +527,9 @@ def _model_rows(model: Any, addresses: list[str], targets: list[tuple[str, int, 
             arrays = m_i.arrays()
         except ValueError as exc:
             raise ValueError(f"row {i} ({meth}): {exc}") from None
-        room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
-            if "max_events" in REGISTRY["method"][meth]["controls"] else 0
-        out.append(dict(model=m_i, arrays=arrays, y0=_initial_state(m_i, arrays), ctl=ctl, rtol=rtol, atol=atol,
-                        room=room, notes=notes, given=kw))
+        out.append(dict(model=m_i, arrays=arrays, y0=initial_state(m_i, arrays), ctl=ctl, rtol=rtol, atol=atol,
+                        room=event_room(meth, ctl), notes=notes, given=kw))
     return out
-
-
-def _initial_state(model: Any, arrays: Mapping[str, Any]) -> np.ndarray:
-    """The state a model's run starts from: x0, v0, then each contact's z0 (0 when not given)."""
-    z = [np.broadcast_to(np.asarray(c.z0 or 0.0, dtype=np.float64), (model._law_states(i)[0],))
-         for i, c in enumerate(model.contacts)]
-    return np.concatenate([arrays["bodies"][1], arrays["bodies"][2], *z])
 
 
 def _run_model_rows(prep: list[dict[str, Any]], method: np.ndarray, t_end: np.ndarray, n_grid: int,

@@ -685,6 +685,29 @@ def orbit_model(model: Model, method: str, y0: np.ndarray, period: float, autono
             "stable": bool(info[4]), "status": status}
 
 
+def event_room(method: str, ctl: Mapping[str, Any]) -> int:
+    """Rows kept for a run's stick/slip events: its max_events (default, capped) where the
+    method reads that control, none otherwise."""
+    if "max_events" not in REGISTRY["method"][method]["controls"]:
+        return 0
+    return int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM))
+
+
+def initial_state(model: "Model", arrays: Mapping[str, Any]) -> np.ndarray:
+    """The state a model's run starts from: every body's x0, then v0, then each contact's law
+    states z0 (0 where not given); `arrays` is `model.arrays()`."""
+    y0 = np.zeros(model.n_states())
+    y0[:model.n_bodies] = arrays["bodies"][1]
+    y0[model.n_bodies:2 * model.n_bodies] = arrays["bodies"][2]
+    first = 2 * model.n_bodies
+    for i, c in enumerate(model.contacts):
+        nz = model._law_states(i)[0]
+        if c.z0:
+            y0[first:first + nz] = c.z0
+        first += nz
+    return y0
+
+
 def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None = None,
                    every_step: bool = False, max_steps: int | None = None, **controls: Any) -> Result:
     """Run `model` (what ``stickslip.simulate(model, method=..., ...)`` does; see there)."""
@@ -710,17 +733,8 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
         t_grid = None                        # the grid a kept setting holds, or made for the run
         rows = 0
-    room = int(min(max(ctl.get("max_events", _DEFAULT_MAX_EVENTS), 0), _EVENT_ROOM)) \
-        if "max_events" in info["controls"] else 0
-    y0 = np.zeros(model.n_states())
-    y0[:model.n_bodies] = arrays["bodies"][1]
-    y0[model.n_bodies:2 * model.n_bodies] = arrays["bodies"][2]
-    first = 2 * model.n_bodies
-    for i, c in enumerate(model.contacts):
-        nz = model._law_states(i)[0]
-        if c.z0:
-            y0[first:first + nz] = c.z0
-        first += nz
+    room = event_room(method, ctl)
+    y0 = initial_state(model, arrays)
     ckeys, cvals = _keys(ctl)
     if not model.drives:
         # the model's setting built once (kept in simulate's cache, keyed on its arrays) and run
