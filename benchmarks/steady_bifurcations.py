@@ -444,6 +444,7 @@ def guide_numbers() -> dict[str, tuple[float, str, str]]:
     out["fold.err1"] = (abs(folds[0]["p"] / exact - 1), "", "relative distance of fold 1 to scipy's")
     out.update(_closed_form_numbers())
     out.update(_jenkins_numbers())
+    out.update(_locking_numbers())
     rough = ss.continuation(lambda a: forced_belt(1.0, a), 0.06, 0.02, method="dopri5", step=0.05, max_step=0.1,
                             locate_bifurcations=False)
     out["fold.rough_err1"] = (abs(rough.bifurcations[0]["p"] / exact - 1), "", "the same, at the turning point")
@@ -531,11 +532,49 @@ def _jenkins_numbers() -> dict[str, tuple[float, str, str]]:
     return out
 
 
+def _locking_numbers() -> dict[str, tuple[float, str, str]]:
+    """The folds of `locking_belt` continued down in F, against the first-order averaged
+    equations' (`averaged_locking`) as eps halves, the first against scipy's at eps = 0.01, and
+    the averaged lower fold against Adler's edge 2 a0 |sigma| as sigma / eps shrinks; each
+    (value, unit, what)."""
+    import stickslip as ss
+    out: dict[str, tuple[float, str, str]] = {}
+    for k, eps in enumerate((0.04, 0.02, 0.01, 0.005)):
+        a0, f_min, f_max = averaged_locking(eps, LK_KAPPA * eps)
+        br, cpu = _cpu(lambda: ss.continuation(lambda f: locking_belt(f, eps), 2.5 * f_min, 0.5 * f_min,
+                                               method="dopri5", step=0.05, max_step=0.1))
+        folds = [b for b in br.bifurcations if b["kind"] == "fold"]
+        out[f"lock.e{k}"] = (eps, "1/s", f"growth rate {k}")
+        out[f"lock.a0_e{k}"] = (a0, "m", "the free cycle's first-order amplitude")
+        out[f"lock.fmin_e{k}"] = (f_min, "N", "the averaged equations' lower fold (locking edge)")
+        out[f"lock.f1_e{k}"] = (folds[0]["p"], "N", "the continuation's first fold")
+        out[f"lock.gap1_e{k}"] = (folds[0]["p"] / f_min - 1, "", "its relative gap to the averaged one")
+        out[f"lock.gap2_e{k}"] = (folds[1]["p"] / f_max - 1, "", "the second fold's to the averaged upper fold")
+        out[f"lock.folds_e{k}"] = (len(folds), "", "folds found")
+        if eps == 0.01:
+            out["lock.points"] = (len(br), "", "points of the branch at eps = 0.01")
+            out["lock.cpu"] = (cpu, "s", "its CPU time, the two folds located included")
+            i = folds[0]["index"]
+            exact = scipy_fold(float(br.orbits[i - 1].x0[0]), float(br.orbits[i + 1].x0[0]),
+                               float(br.orbits[i].v0[0]), float(br.p[i]), 1.0 + LK_KAPPA * eps, locking_c_v(eps),
+                               LK_VB)
+            out["lock.scipy_err"] = (abs(folds[0]["p"] / exact - 1), "", "first fold: relative distance to scipy's")
+    for k, kappa in enumerate((0.2, 0.1, 0.05)):
+        a0, f_min, _ = averaged_locking(0.01, kappa * 0.01)
+        out[f"lock.adler_k{k}"] = (kappa, "", "sigma / eps")
+        out[f"lock.adler_gap_k{k}"] = (f_min / (2 * a0 * kappa * 0.01) - 1, "",
+                                       "averaged lower fold against Adler's 2 a0 sigma, eps = 0.01")
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> dict[str, tuple[float, str, str]]:
     p = argparse.ArgumentParser(prog="python -m benchmarks.steady_bifurcations", description=__doc__.split("\n\n")[0])
     p.add_argument("--outdir", help="write the numbers into OUTDIR/steady_bifurcations.json (with its provenance)")
+    p.add_argument("--only", choices=("locking",), help="compute and print only this entry (no --outdir)")
     args = p.parse_args(argv)
-    numbers = guide_numbers()
+    if args.only and args.outdir:
+        p.error(f"--only {args.only}: prints only; the results file is written by the whole run")
+    numbers = _locking_numbers() if args.only == "locking" else guide_numbers()
     if args.outdir:
         import sys
         from pathlib import Path
