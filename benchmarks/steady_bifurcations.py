@@ -12,6 +12,13 @@ numbers docs/guide/steady-states.md quotes::
   solve_ivp (DOP853, rtol 1e-12) with the variational equations of the law written out, and a
   bracketing root (brentq) of mu_min + 1 over W for the period doubling, and of dF/dx(0) along
   the branch (Newton on (v(0), F) at fixed x(0), the implicit function theorem) for the fold.
+* Folds at the edge of frequency locking: the forced belt weakly self-excited (growth rate eps:
+  a viscous term c_v cancels all but -2 eps of the law's falling slope, `locking_belt`) and
+  forced at W = 1 + eps / 4, continued down in F: its two folds against those of the
+  first-order averaged equations (`averaged_locking`) as eps halves (the gap should halve),
+  the first also against scipy's, and the averaged lower fold against Adler's locking edge
+  F = 2 a0 |W - 1| (Proc. IRE 34, 1946) as (W - 1) / eps shrinks.
+  `python -m benchmarks.steady_bifurcations --only locking` prints this entry alone.
 * Neimark-Sacker: a unit mass and spring on a belt at 0.1 m/s, a falling stribeck law with a
   viscous term (self-excited sliding that saturates before a stick), forced by F cos(1.3 t)
   (`sliding_belt`); continued down in F, a complex pair leaves the unit circle. Against the
@@ -551,6 +558,10 @@ def _locking_numbers() -> dict[str, tuple[float, str, str]]:
         out[f"lock.gap1_e{k}"] = (folds[0]["p"] / f_min - 1, "", "its relative gap to the averaged one")
         out[f"lock.gap2_e{k}"] = (folds[1]["p"] / f_max - 1, "", "the second fold's to the averaged upper fold")
         out[f"lock.folds_e{k}"] = (len(folds), "", "folds found")
+        if k:
+            for j in (1, 2):
+                out[f"lock.rate{j}_e{k}"] = (out[f"lock.gap{j}_e{k}"][0] / out[f"lock.gap{j}_e{k - 1}"][0], "",
+                                             f"fold {j}: the gap over the last one's (first order: 1/2)")
         if eps == 0.01:
             out["lock.points"] = (len(br), "", "points of the branch at eps = 0.01")
             out["lock.cpu"] = (cpu, "s", "its CPU time, the two folds located included")

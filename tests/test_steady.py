@@ -522,7 +522,9 @@ def test_equilibrium_refusals_are_named() -> None:
 # figures), so each value is checked against its own computation with scipy there: shooting on
 # solve_ivp (DOP853, rtol 1e-12) with the variational equations of the law written out, and a
 # bracketing root (brentq). A period doubling and a pitchfork of a system whose bifurcations
-# are published (Shaw 1986) are checked against closed forms further below.
+# are published (Shaw 1986) are checked against closed forms further below, and the folds at
+# the edge of frequency locking of a weakly self-excited belt against the first-order averaged
+# equations and Adler's (1946) locking edge right after the scipy fold.
 
 
 def test_period_doublings_against_scipy_shooting() -> None:
