@@ -53,14 +53,15 @@ import numpy as np
 MU_S, MU_K, V_S, DELTA, V_EPS, V_B = 0.4, 0.3, 0.1, 2.0, 0.01, 0.1
 
 
-def forced_belt(w: float = 1.0, amp: float = 0.3, c_v: float = 0.0, v_b: float = V_B) -> Any:
+def forced_belt(w: float = 1.0, amp: float | None = 0.3, c_v: float = 0.0, v_b: float = V_B) -> Any:
     """Unit mass and spring on a belt at v_b, stribeck friction (N = 1, viscous term c_v),
-    forced by amp cos(w t)."""
+    forced by amp cos(w t) (unforced, an autonomous model, for amp None)."""
     import stickslip as ss
     model = ss.Model()
     b = model.add_body(1.0)
     model.add_spring(b, None, k=1.0)
-    model.add_force(b, ss.signal.sine(amp, w / (2 * math.pi), math.pi / 2))
+    if amp is not None:
+        model.add_force(b, ss.signal.sine(amp, w / (2 * math.pi), math.pi / 2))
     model.add_contact(b, None, "stribeck", normal_force=1.0, surface_velocity=v_b, mu_s=MU_S, mu_k=MU_K,
                       v_s=V_S, delta=DELTA, c_v=c_v, v_eps=V_EPS)
     return model
@@ -541,7 +542,8 @@ def _jenkins_numbers() -> dict[str, tuple[float, str, str]]:
 
 def _locking_numbers() -> dict[str, tuple[float, str, str]]:
     """The folds of `locking_belt` continued down in F, against the first-order averaged
-    equations' (`averaged_locking`) as eps halves, the first against scipy's at eps = 0.01, and
+    equations' (`averaged_locking`) as eps halves, the first against scipy's at eps = 0.01, the
+    free cycle's own frequency (second order in eps, what the lower fold's gap mostly is), and
     the averaged lower fold against Adler's edge 2 a0 |sigma| as sigma / eps shrinks; each
     (value, unit, what)."""
     import stickslip as ss
@@ -558,6 +560,12 @@ def _locking_numbers() -> dict[str, tuple[float, str, str]]:
         out[f"lock.gap1_e{k}"] = (folds[0]["p"] / f_min - 1, "", "its relative gap to the averaged one")
         out[f"lock.gap2_e{k}"] = (folds[1]["p"] / f_max - 1, "", "the second fold's to the averaged upper fold")
         out[f"lock.folds_e{k}"] = (len(folds), "", "folds found")
+        x_e = -float(_mu_and_slope(-LK_VB, locking_c_v(eps))[0])
+        free = ss.periodic_orbit(forced_belt(1.0, None, locking_c_v(eps), LK_VB), guess=[x_e + a0, 0.0, 2 * math.pi],
+                                 method="dopri5")
+        shift = 2 * math.pi / free.period - 1.0
+        out[f"lock.omega_e{k}"] = (shift, "rad/s", "the free cycle's frequency minus 1 (periodic_orbit, unforced)")
+        out[f"lock.detune_e{k}"] = (-shift / (LK_KAPPA * eps), "", "W - that frequency, over sigma, minus 1")
         if k:
             for j in (1, 2):
                 out[f"lock.rate{j}_e{k}"] = (out[f"lock.gap{j}_e{k}"][0] / out[f"lock.gap{j}_e{k - 1}"][0], "",
