@@ -12,6 +12,13 @@ numbers docs/guide/steady-states.md quotes::
   solve_ivp (DOP853, rtol 1e-12) with the variational equations of the law written out, and a
   bracketing root (brentq) of mu_min + 1 over W for the period doubling, and of dF/dx(0) along
   the branch (Newton on (v(0), F) at fixed x(0), the implicit function theorem) for the fold.
+* Folds at the edge of frequency locking: the forced belt weakly self-excited (growth rate eps:
+  a viscous term c_v cancels all but -2 eps of the law's falling slope, `locking_belt`) and
+  forced at W = 1 + eps / 4, continued down in F: its two folds against those of the
+  first-order averaged equations (`averaged_locking`) as eps halves (the gap should halve),
+  the first also against scipy's, and the averaged lower fold against Adler's locking edge
+  F = 2 a0 |W - 1| (Proc. IRE 34, 1946) as (W - 1) / eps shrinks.
+  `python -m benchmarks.steady_bifurcations --only locking` prints this entry alone.
 * Neimark-Sacker: a unit mass and spring on a belt at 0.1 m/s, a falling stribeck law with a
   viscous term (self-excited sliding that saturates before a stick), forced by F cos(1.3 t)
   (`sliding_belt`); continued down in F, a complex pair leaves the unit circle. Against the
@@ -46,36 +53,40 @@ import numpy as np
 MU_S, MU_K, V_S, DELTA, V_EPS, V_B = 0.4, 0.3, 0.1, 2.0, 0.01, 0.1
 
 
-def forced_belt(w: float = 1.0, amp: float = 0.3) -> Any:
-    """Unit mass and spring on a belt at V_B, stribeck friction (N = 1), forced by amp cos(w t)."""
+def forced_belt(w: float = 1.0, amp: float | None = 0.3, c_v: float = 0.0, v_b: float = V_B) -> Any:
+    """Unit mass and spring on a belt at v_b, stribeck friction (N = 1, viscous term c_v),
+    forced by amp cos(w t) (unforced, an autonomous model, for amp None)."""
     import stickslip as ss
     model = ss.Model()
     b = model.add_body(1.0)
     model.add_spring(b, None, k=1.0)
-    model.add_force(b, ss.signal.sine(amp, w / (2 * math.pi), math.pi / 2))
-    model.add_contact(b, None, "stribeck", normal_force=1.0, surface_velocity=V_B, mu_s=MU_S, mu_k=MU_K,
-                      v_s=V_S, delta=DELTA, c_v=0.0, v_eps=V_EPS)
+    if amp is not None:
+        model.add_force(b, ss.signal.sine(amp, w / (2 * math.pi), math.pi / 2))
+    model.add_contact(b, None, "stribeck", normal_force=1.0, surface_velocity=v_b, mu_s=MU_S, mu_k=MU_K,
+                      v_s=V_S, delta=DELTA, c_v=c_v, v_eps=V_EPS)
     return model
 
 
-def _mu_and_slope(s: float) -> tuple[float, float]:
-    """The stribeck law mu(s) = g(|s|) tanh(s / v_eps), g = mu_k + (mu_s - mu_k)
-    exp(-(|s|/v_s)^delta) (c_v = 0), and its derivative, written out."""
-    a = abs(s)
-    e = math.exp(-(a / V_S) ** DELTA)
+def _mu_and_slope(s: Any, c_v: float = 0.0) -> tuple[Any, Any]:
+    """The stribeck law mu(s) = g(|s|) tanh(s / v_eps) + c_v s, g = mu_k + (mu_s - mu_k)
+    exp(-(|s|/v_s)^delta), and its derivative, written out (s a float or an array)."""
+    a = np.abs(s)
+    e = np.exp(-(a / V_S) ** DELTA)
     g = MU_K + (MU_S - MU_K) * e
     dg = -(MU_S - MU_K) * e * DELTA * (a / V_S) ** (DELTA - 1) / V_S
-    th = math.tanh(s / V_EPS)
-    return g * th, dg * abs(th) + g / (V_EPS * math.cosh(s / V_EPS) ** 2)
+    th = np.tanh(s / V_EPS)
+    return g * th + c_v * s, dg * np.abs(th) + g / (V_EPS * np.cosh(s / V_EPS) ** 2) + c_v
 
 
-def scipy_period(y0: np.ndarray, w: float, amp: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def scipy_period(y0: np.ndarray, w: float, amp: float, c_v: float = 0.0, v_b: float = V_B
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The forced belt's state after one forcing period from y0 at t = 0, its derivative in y0
-    (2 x 2) and in amp, by scipy's DOP853 on the equations and their variations."""
+    (2 x 2) and in amp, by scipy's DOP853 on the equations and their variations (the law's
+    viscous term c_v and the belt speed v_b as given: `forced_belt`'s by default)."""
     from scipy.integrate import solve_ivp
 
     def rhs(t: float, z: np.ndarray) -> np.ndarray:
-        mu, dmu = _mu_and_slope(z[1] - V_B)
+        mu, dmu = _mu_and_slope(z[1] - v_b, c_v)
         jac = np.array([[0.0, 1.0], [-1.0, -dmu]])
         return np.concatenate([[z[1], amp * math.cos(w * t) - z[0] - mu], (jac @ z[2:6].reshape(2, 2)).ravel(),
                                jac @ z[6:] + [0.0, math.cos(w * t)]])
@@ -102,22 +113,24 @@ def scipy_period_doubling(w_lo: float, w_hi: float, y0: np.ndarray, amp: float =
     return float(brentq(test_function, w_lo, w_hi, xtol=1e-12))
 
 
-def scipy_fold(x_lo: float, x_hi: float, v0: float, amp: float, w: float = 1.0) -> float:
+def scipy_fold(x_lo: float, x_hi: float, v0: float, amp: float, w: float = 1.0, c_v: float = 0.0,
+               v_b: float = V_B) -> float:
     """The forcing amplitude at the fold of the period-1 orbits at forcing frequency w, the
     branch parametrised by x(0) in [x_lo, x_hi]: each point by Newton on (v(0), F), dF/dx(0) by
-    the implicit function theorem, its root by brentq (to 1e-12); (v0, amp) a start on it."""
+    the implicit function theorem, its root by brentq (to 1e-12); (v0, amp) a start on it; c_v
+    and v_b as for `scipy_period`."""
     from scipy.optimize import brentq
     state = {"v0": v0, "amp": amp}
 
     def slope(x0: float) -> float:
         v, a = state["v0"], state["amp"]
         for _ in range(40):
-            y1, m, da = scipy_period(np.array([x0, v]), w, a)
+            y1, m, da = scipy_period(np.array([x0, v]), w, a, c_v, v_b)
             d = np.linalg.solve(np.column_stack([m[:, 1] - [0.0, 1.0], da]), [x0, v] - y1)
             v, a = v + d[0], a + d[1]
             if np.max(np.abs(d)) < 1e-13:
                 break
-        _, m, da = scipy_period(np.array([x0, v]), w, a)
+        _, m, da = scipy_period(np.array([x0, v]), w, a, c_v, v_b)
         state.update(v0=v, amp=a)
         return float(np.linalg.solve(np.column_stack([m[:, 1] - [0.0, 1.0], da]), -(m[:, 0] - [1.0, 0.0]))[1])
     slope(brentq(slope, x_lo, x_hi, xtol=1e-12))
@@ -187,6 +200,67 @@ def scipy_neimark_sacker(amp_lo: float, amp_hi: float, y: np.ndarray) -> float:
     from scipy.optimize import brentq
     return float(brentq(lambda a: float(np.max(np.abs(scipy_sliding_belt_multipliers(a, y)[1]))) - 1.0,
                         amp_lo, amp_hi, xtol=1e-13))
+
+
+# ------------------------------------------------------------------------------------------
+# Folds at the edges of frequency locking: first-order averaging and Adler's limit
+# ------------------------------------------------------------------------------------------
+# A weakly self-excited oscillator forced near its natural frequency locks to the forcing when
+# the forcing is strong enough; the locked orbit ends in saddle-node folds. With y = x - x_e
+# (x_e the sliding equilibrium), the belt is y'' + y + D(y') = F cos(W t), D(v) = mu(v - v_b)
+# - mu(-v_b) (unit mass, spring and normal force). For small D, F and sigma = W - 1, the
+# first-order averaged equations (Krylov and Bogoliubov; multiple scales as Nayfeh and Mook,
+# Nonlinear Oscillations, 1979, treat the forced van der Pol oscillator) of y = a cos(W t + phi)
+# are a' = Q(a)/2 - (F/2) sin(phi) and a phi' = -sigma a - (F/2) cos(phi), with Q(a) = (1/pi)
+# int_0^2pi D(-a sin t) sin t dt. The free cycle has Q(a0) = 0; locked orbits satisfy F^2 =
+# Q(a)^2 + 4 sigma^2 a^2, and its extrema in a are the folds. Near a0 the phase equation is
+# Adler's (R. Adler, "A study of locking phenomena in oscillators", Proc. IRE 34, 351-357,
+# 1946): a0 phi' = -sigma a0 - (F/2) cos(phi), locked for F >= 2 a0 |sigma|, the edge the
+# lower fold tends to as sigma / Q'(a0) -> 0 (F_min = 2 a0 |sigma| / sqrt(1 + 4 sigma^2 /
+# Q'(a0)^2) to leading order). The belt speed is at the inflection of g (v_s / sqrt(2),
+# delta = 2), so that D has no quadratic term, and c_v sets D'(0) = -2 eps: the growth rate
+# eps is the small parameter, with sigma = LK_KAPPA eps and F of order eps^(3/2).
+#: the locking belt's speed [m/s] and detuning over growth rate sigma / eps
+LK_VB, LK_KAPPA = V_S / math.sqrt(2.0), 0.25
+
+
+def locking_c_v(eps: float) -> float:
+    """The viscous term [s/m] that makes D'(0) = c_v + mu'(-LK_VB) = -2 eps at the belt speed."""
+    return float(-_mu_and_slope(-LK_VB)[1] - 2.0 * eps)
+
+
+def locking_belt(amp: float, eps: float, kappa: float = LK_KAPPA) -> Any:
+    """`forced_belt` at LK_VB with D'(0) = -2 eps, forced by amp cos((1 + kappa eps) t)."""
+    return forced_belt(1.0 + kappa * eps, amp, locking_c_v(eps), LK_VB)
+
+
+def averaged_locking(eps: float, sigma: float, n: int = 4096) -> tuple[float, float, float]:
+    """The free cycle's amplitude a0 [m] (Q(a0) = 0, brentq to 1e-15) and the folds of the
+    averaged equations above at detuning sigma [rad/s]: the local minimum of F(a) = sqrt(Q(a)^2
+    + 4 sigma^2 a^2) near a0 (the locking edge) and its local maximum at smaller a (where the
+    saddle meets the small-amplitude orbit) [N]. Q by the trapezoidal rule on n points (spectral
+    for the periodic integrand), the extrema bracketed on a grid and refined by bounded Brent."""
+    from scipy.optimize import brentq, minimize_scalar
+    c_v = locking_c_v(eps)
+    t = np.linspace(0.0, 2.0 * math.pi, n, endpoint=False)
+
+    def q(a: float) -> float:
+        d = _mu_and_slope(-a * np.sin(t) - LK_VB, c_v)[0] - _mu_and_slope(-LK_VB, c_v)[0]
+        return float(2.0 * np.mean(d * np.sin(t)))
+
+    def f2(a: float) -> float:
+        return q(a) ** 2 + 4.0 * sigma ** 2 * a ** 2
+    a0 = brentq(q, 1e-6, 0.99 * LK_VB, xtol=1e-15)
+    grid = np.linspace(0.02, 1.5, 300) * a0
+    vals = np.array([f2(a) for a in grid])
+    i_min = int(np.argmin(vals[grid > 0.5 * a0])) + int(np.sum(grid <= 0.5 * a0))
+    i_max = int(np.argmax(vals[:i_min]))
+    folds = []
+    for i, sign in ((i_min, 1.0), (i_max, -1.0)):
+        r = minimize_scalar(lambda a: sign * f2(a), bounds=(grid[i - 1], grid[i + 1]), method="bounded",
+                            options={"xatol": 1e-14 * a0})
+        folds.append(math.sqrt(f2(r.x)))
+    return float(a0), folds[0], folds[1]
 
 
 # ------------------------------------------------------------------------------------------
@@ -378,6 +452,7 @@ def guide_numbers() -> dict[str, tuple[float, str, str]]:
     out["fold.err1"] = (abs(folds[0]["p"] / exact - 1), "", "relative distance of fold 1 to scipy's")
     out.update(_closed_form_numbers())
     out.update(_jenkins_numbers())
+    out.update(_locking_numbers())
     rough = ss.continuation(lambda a: forced_belt(1.0, a), 0.06, 0.02, method="dopri5", step=0.05, max_step=0.1,
                             locate_bifurcations=False)
     out["fold.rough_err1"] = (abs(rough.bifurcations[0]["p"] / exact - 1), "", "the same, at the turning point")
@@ -465,11 +540,60 @@ def _jenkins_numbers() -> dict[str, tuple[float, str, str]]:
     return out
 
 
+def _locking_numbers() -> dict[str, tuple[float, str, str]]:
+    """The folds of `locking_belt` continued down in F, against the first-order averaged
+    equations' (`averaged_locking`) as eps halves, the first against scipy's at eps = 0.01, the
+    free cycle's own frequency (second order in eps, what the lower fold's gap mostly is), and
+    the averaged lower fold against Adler's edge 2 a0 |sigma| as sigma / eps shrinks; each
+    (value, unit, what)."""
+    import stickslip as ss
+    out: dict[str, tuple[float, str, str]] = {}
+    for k, eps in enumerate((0.04, 0.02, 0.01, 0.005)):
+        a0, f_min, f_max = averaged_locking(eps, LK_KAPPA * eps)
+        br, cpu = _cpu(lambda: ss.continuation(lambda f: locking_belt(f, eps), 2.5 * f_min, 0.5 * f_min,
+                                               method="dopri5", step=0.05, max_step=0.1))
+        folds = [b for b in br.bifurcations if b["kind"] == "fold"]
+        out[f"lock.e{k}"] = (eps, "1/s", f"growth rate {k}")
+        out[f"lock.a0_e{k}"] = (a0, "m", "the free cycle's first-order amplitude")
+        out[f"lock.fmin_e{k}"] = (f_min, "N", "the averaged equations' lower fold (locking edge)")
+        out[f"lock.f1_e{k}"] = (folds[0]["p"], "N", "the continuation's first fold")
+        out[f"lock.gap1_e{k}"] = (folds[0]["p"] / f_min - 1, "", "its relative gap to the averaged one")
+        out[f"lock.gap2_e{k}"] = (folds[1]["p"] / f_max - 1, "", "the second fold's to the averaged upper fold")
+        out[f"lock.folds_e{k}"] = (len(folds), "", "folds found")
+        x_e = -float(_mu_and_slope(-LK_VB, locking_c_v(eps))[0])
+        free = ss.periodic_orbit(forced_belt(1.0, None, locking_c_v(eps), LK_VB), guess=[x_e + a0, 0.0, 2 * math.pi],
+                                 method="dopri5")
+        shift = 2 * math.pi / free.period - 1.0
+        out[f"lock.omega_e{k}"] = (shift, "rad/s", "the free cycle's frequency minus 1 (periodic_orbit, unforced)")
+        out[f"lock.detune_e{k}"] = (-shift / (LK_KAPPA * eps), "", "W - that frequency, over sigma, minus 1")
+        if k:
+            for j in (1, 2):
+                out[f"lock.rate{j}_e{k}"] = (out[f"lock.gap{j}_e{k}"][0] / out[f"lock.gap{j}_e{k - 1}"][0], "",
+                                             f"fold {j}: the gap over the last one's (first order: 1/2)")
+        if eps == 0.01:
+            out["lock.points"] = (len(br), "", "points of the branch at eps = 0.01")
+            out["lock.cpu"] = (cpu, "s", "its CPU time, the two folds located included")
+            i = folds[0]["index"]
+            exact = scipy_fold(float(br.orbits[i - 1].x0[0]), float(br.orbits[i + 1].x0[0]),
+                               float(br.orbits[i].v0[0]), float(br.p[i]), 1.0 + LK_KAPPA * eps, locking_c_v(eps),
+                               LK_VB)
+            out["lock.scipy_err"] = (abs(folds[0]["p"] / exact - 1), "", "first fold: relative distance to scipy's")
+    for k, kappa in enumerate((0.2, 0.1, 0.05)):
+        a0, f_min, _ = averaged_locking(0.01, kappa * 0.01)
+        out[f"lock.adler_k{k}"] = (kappa, "", "sigma / eps")
+        out[f"lock.adler_gap_k{k}"] = (f_min / (2 * a0 * kappa * 0.01) - 1, "",
+                                       "averaged lower fold against Adler's 2 a0 sigma, eps = 0.01")
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> dict[str, tuple[float, str, str]]:
     p = argparse.ArgumentParser(prog="python -m benchmarks.steady_bifurcations", description=__doc__.split("\n\n")[0])
     p.add_argument("--outdir", help="write the numbers into OUTDIR/steady_bifurcations.json (with its provenance)")
+    p.add_argument("--only", choices=("locking",), help="compute and print only this entry (no --outdir)")
     args = p.parse_args(argv)
-    numbers = guide_numbers()
+    if args.only and args.outdir:
+        p.error(f"--only {args.only}: prints only; the results file is written by the whole run")
+    numbers = _locking_numbers() if args.only == "locking" else guide_numbers()
     if args.outdir:
         import sys
         from pathlib import Path

@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 import stickslip as ss
-from benchmarks.steady_bifurcations import JK_FS, JK_KT, caughey_amplitudes, closed_form_bifurcation, damped_belt, \
-    forced_belt, jenkins_oscillator, scipy_fold, scipy_neimark_sacker, scipy_period_doubling, \
-    scipy_sliding_belt_multipliers, sliding_belt, stop_motion, stop_oscillator
+from benchmarks.steady_bifurcations import JK_FS, JK_KT, LK_KAPPA, LK_VB, averaged_locking, caughey_amplitudes, \
+    closed_form_bifurcation, damped_belt, forced_belt, jenkins_oscillator, locking_belt, locking_c_v, scipy_fold, \
+    scipy_neimark_sacker, scipy_period_doubling, scipy_sliding_belt_multipliers, sliding_belt, stop_motion, \
+    stop_oscillator
 from cases import gallery_denhartog as dh
 
 G = 9.81
@@ -521,7 +522,9 @@ def test_equilibrium_refusals_are_named() -> None:
 # figures), so each value is checked against its own computation with scipy there: shooting on
 # solve_ivp (DOP853, rtol 1e-12) with the variational equations of the law written out, and a
 # bracketing root (brentq). A period doubling and a pitchfork of a system whose bifurcations
-# are published (Shaw 1986) are checked against closed forms further below.
+# are published (Shaw 1986) are checked against closed forms further below, and the folds at
+# the edge of frequency locking of a weakly self-excited belt against the first-order averaged
+# equations and Adler's (1946) locking edge right after the scipy fold.
 
 
 def test_period_doublings_against_scipy_shooting() -> None:
@@ -556,6 +559,47 @@ def test_fold_against_scipy_extremum_of_the_branch() -> None:
                        float(br.p[i]))
     assert folds[0]["p"] == pytest.approx(exact, rel=1e-9)
     assert br.stable[:i].all() and not br.stable[i + 1:].any()
+
+
+def test_folds_at_the_edge_of_frequency_locking_tend_to_the_averaged_equations_and_adlers_edge() -> None:
+    """A weakly self-excited belt (growth rate eps: D'(0) = -2 eps, no quadratic term in D)
+    forced by F cos(W t) at W = 1 + sigma, sigma = eps / 4, continued down in F: the locked
+    orbit turns at a saddle-node fold (the edge of 1:1 locking) and again at a second fold
+    (where the saddle meets the small-amplitude orbit). To first order in eps (Krylov-Bogoliubov
+    averaging, or multiple scales as Nayfeh & Mook, Nonlinear Oscillations, Wiley 1979, do for
+    the forced van der Pol oscillator), locked orbits of amplitude a satisfy F^2 = Q(a)^2 +
+    4 sigma^2 a^2, Q(a) = (1/pi) int D(-a sin t) sin t dt (`averaged_locking`), and the folds
+    are its extrema in a: each continued fold tends to the averaged one at the first-order
+    rate (the relative gap halves with eps; measured 0.45 and 0.49 for the lower fold, 0.48
+    and 0.50 for the upper). The lower fold of the averaged equations tends to Adler's
+    locking edge F = 2 a0 |sigma| (R. Adler, Proc. IRE 34, 351-357, 1946; a0 the free cycle's
+    amplitude, Q(a0) = 0) as sigma / eps -> 0, the gap quartering as sigma halves (measured
+    0.246 and 0.249). The first fold also equals scipy's minimum of F along the branch at
+    eps = 0.01 to 1e-8 (measured 3e-10)."""
+    gaps = []
+    for eps in (0.02, 0.01, 0.005):
+        a0, f_min, f_max = averaged_locking(eps, LK_KAPPA * eps)
+        br = ss.continuation(lambda f: locking_belt(f, eps), 2.5 * f_min, 0.5 * f_min, method="dopri5", step=0.05,
+                             max_step=0.1)
+        folds = [b for b in br.bifurcations if b["kind"] == "fold"]
+        assert [b["located"] for b in folds] == [True, True] and len(br.bifurcations) == 2
+        i = folds[0]["index"]
+        assert br.stable[:i].all() and not br.stable[i + 1:].any()
+        gaps.append([folds[0]["p"] / f_min - 1, folds[1]["p"] / f_max - 1])
+        assert np.all(np.abs(gaps[-1]) < 1.2 * eps)
+        if eps == 0.01:
+            exact = scipy_fold(float(br.orbits[i - 1].x0[0]), float(br.orbits[i + 1].x0[0]),
+                               float(br.orbits[i].v0[0]), float(br.p[i]), 1.0 + LK_KAPPA * eps, locking_c_v(eps),
+                               LK_VB)
+            assert folds[0]["p"] == pytest.approx(exact, rel=1e-8)
+    ratios = np.array(gaps[1:]) / np.array(gaps[:-1])
+    assert np.all((ratios > 0.4) & (ratios < 0.6)), ratios
+    adler = []
+    for kappa in (0.2, 0.1, 0.05):
+        a0, f_min, _ = averaged_locking(0.01, kappa * 0.01)
+        adler.append(f_min / (2.0 * a0 * kappa * 0.01) - 1.0)
+    assert adler[0] < 0 and abs(adler[0]) < 0.2 ** 2
+    assert np.all((np.array(adler[1:]) / adler[:-1] > 0.2) & (np.array(adler[1:]) / adler[:-1] < 0.3)), adler
 
 
 def test_bilinear_hysteresis_response_against_caugheys_one_harmonic_closed_form() -> None:
