@@ -579,14 +579,14 @@ def test_kept_model_setting_follows_the_model_content():
 
 @pytest.mark.parametrize("method, controls", [("event_driven", dict(rtol=1e-10, atol=1e-12)),
                                               ("moreau", dict(h=1e-3)), ("radau5", dict(rtol=1e-6, atol=1e-8))])
-def test_prepared_model_run_equals_the_one_call_run(method, controls):
-    """A Model without drives runs through the prepared setting (prepare_model_run, run by
-    _runner as a scene's); the wrapper's one-call run_model (built, run, freed) gives the
-    same motion, events and counters bit for bit: two contacts, a force and a normal force
-    as signals."""
-    from stickslip import _stickslip as ext
-    from stickslip.core import _SIZES, _keys, _linspace
-    from stickslip.model import _ARRAY_KEYS, run_controls
+@pytest.mark.parametrize("driven", [False, True])
+def test_prepared_model_run_equals_the_one_call_run(method, controls, driven):
+    """A Model runs through the prepared setting (prepare_model_run, run by _runner as a
+    scene's), with or without drives; the model batch, which builds, runs and frees each
+    row's model in one call (stickslip_user_model's simulate), gives the same motion and
+    counters bit for bit: two contacts, a force and a normal force as signals, and a body
+    driven by a velocity signal."""
+    from stickslip.batch import simulate_model_batch
     m = ss.Model()
     a, b = m.add_body(1.0, v0=0.2), m.add_body(0.5)
     m.add_spring(a, None, 100.0)
@@ -595,28 +595,20 @@ def test_prepared_model_run_equals_the_one_call_run(method, controls):
     law = "coulomb" if method != "radau5" else "recurdyn"
     m.add_contact(a, None, law, 5.0, 0.3)
     m.add_contact(b, a, law, ss.signal.table([0.0, 0.3, 0.6], [2.0, 1.0, 2.0]))
+    if driven:
+        belt = m.add_body(2.0)
+        m.add_contact(b, belt, law, 1.5)
+        m.add_drive(belt, velocity=ss.signal.ramp(0.0, 0.5, 0.4))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         r = ss.simulate(m, method=method, t_end=1.5, n_out=31, **controls)
-    ctl, rtol, atol = run_controls(m, method, controls)
-    ckeys, cvals = _keys(ctl)
-    arrays = m.arrays()
-    t = _linspace(1.5, 31)
-    events = np.zeros((4, 1000), order="F")
-    y0 = np.zeros(m.n_states())
-    y0[:2], y0[2:4] = arrays["bodies"][1], arrays["bodies"][2]
-    y, _, istats, rstats, status, *_ = ext.run_model(
-        *(arrays[k] for k in _ARRAY_KEYS), method, y0, 1.5, rtol, atol, ckeys, cvals, t, _SIZES[0], _SIZES[1],
-        np.zeros(1, dtype=np.int32), events, 1)
-    assert status == 0
-    assert np.array_equal(r.y, y) and np.array_equal(r.t, t)
-    names = ss.core._STATS_INT
-    for i, name in enumerate(names):
-        if name != "n_written":
-            assert r.stats[name] == int(istats[i]) or name in ("stiff", "contact_worst"), name
-    n = int(istats[names.index("nevents")])
+        one = simulate_model_batch(m, method=method, t_end=1.5, n_grid=31, keep_grid=True, **controls)
+    assert one.status[0] == 0 and r.drive_force.shape == (31, len(m.drives))
+    assert np.array_equal(r.y, one.y_grid[0]) and np.array_equal(r.t, one.t[0])
+    for name in ("nfev", "nstep", "naccept", "nreject", "nforced", "njac", "ndec", "nsol", "nevents"):
+        assert r.stats[name] == one.fields[name][0], name
     if method == "event_driven":
-        assert n > 0 and np.array_equal(r.events["t"], events[0, :n])
+        assert r.stats["nevents"] > 0
 
 
 def test_kept_model_setting_runs_on_several_threads():

@@ -29,9 +29,9 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
-                   _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _end_time, _events, _finite,
+                   _FIRST_INPUT_CODE, _choice, _count, _end_time, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message, _fixed_steps,
-                   _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
+                   _DEFAULT_MAX_EVENTS, _EVENT_ROOM,
                    _physical, MAX_ROWS, model_notes, _warn_model_steps, preset_arrays, _raise_failure,
                    _Call, _CALLS, _GRID_CACHE_ROWS, _STOP_CHECK_STEPS, _execute, _keep)
 from .outputs import atomic_write
@@ -717,7 +717,6 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
     notes = model_notes(model, method, stacklevel=4)
     _warn_model_steps(model, method, t_end, controls, stacklevel=5)    # the caller of simulate
     info = REGISTRY["method"][method]
-    laws = [c.law for c in model.contacts]
     arrays = model.arrays()
     t_end = _end_time(t_end)
     ctl, rtol, atol = run_controls(model, method, controls, max_steps, every_step)
@@ -728,45 +727,18 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         if not info["adaptive"] and ctl.get("h", 0.0) > 0.0:
             rows = min(rows, int(math.ceil(t_end / ctl["h"])) + 2)
         ctl["every_step"] = 1.0
-        t_grid = np.zeros(rows)
     else:
         n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
-        t_grid = None                        # the grid a kept setting holds, or made for the run
         rows = 0
     room = event_room(method, ctl)
     y0 = initial_state(model, arrays)
     ckeys, cvals = _keys(ctl)
-    if not model.drives:
-        # the model's setting built once (kept in simulate's cache, keyed on its arrays) and run
-        # as a scene's is: run_prepared through _runner, which builds the Result
-        call = _model_call(model, arrays, method, t_end, y0, rtol, atol, ckeys, cvals, rows, n_out, room,
-                           info["adaptive"] or _fixed_steps(t_end, ctl.get("h", 0.0)) >= _STOP_CHECK_STEPS // 2)
-        result = _execute(call, None if call.grid is not None or rows else _linspace(t_end, n_out))
-        return _checked_run(model, method, result, notes, {**ctl, "rtol": rtol, "atol": atol}, arrays)
-    stop = np.zeros(1, dtype=np.int32)
-    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
-    if t_grid is None:
-        t_grid = _linspace(t_end, n_out)
-    y, drive_force, istats, rstats, status, elem_kind, elem_index, cpu = _ext.run_model(
-        *(arrays[k] for k in ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals",
-                              "signals", "sig_start", "tables", "drives")),
-        method, y0, t_end, rtol, atol, ckeys, cvals, t_grid, _SIZES[0], _SIZES[1], stop, raw_events,
-        int(model.slip_error_size))
-    status = int(status)
-    if status <= _FIRST_INPUT_CODE:
-        raise _input_error(model, status, int(elem_kind), int(elem_index))
-    if status != STATUS_OK or rows:
-        written = int(istats[_I_WRITTEN])
-        y, t_grid, drive_force = y[:, :written], t_grid[:written].copy(), drive_force[:, :written]
-    nb = model.n_bodies
-    result = Result.__new__(Result)
-    result.scene, result.law, result.method, result.t_end = "model", "+".join(dict.fromkeys(laws)), method, t_end
-    result.t, result.x, result.v, result.z = t_grid, y[:nb], y[nb:2 * nb], y[2 * nb:]
-    result.state_labels = model.state_labels()
-    result._params, result._stats = {}, None
-    result._raw = (istats, rstats, status, cpu, None, ())
-    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
-    result.drive_force = drive_force.T
+    # the model's setting built once (kept in simulate's cache, keyed on its arrays) and run
+    # as a scene's is: run_prepared through _runner, which builds the Result (with its drives'
+    # forces)
+    call = _model_call(model, arrays, method, t_end, y0, rtol, atol, ckeys, cvals, rows, n_out, room,
+                       info["adaptive"] or _fixed_steps(t_end, ctl.get("h", 0.0)) >= _STOP_CHECK_STEPS // 2)
+    result = _execute(call, None if call.grid is not None or rows else _linspace(t_end, n_out))
     return _checked_run(model, method, result, notes, {**ctl, "rtol": rtol, "atol": atol}, arrays)
 
 
@@ -790,8 +762,8 @@ _ARRAY_KEYS = ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", 
 def _model_call(model: Model, arrays: Mapping[str, Any], method: str, t_end: float, y0: np.ndarray,
                 rtol: np.ndarray, atol: np.ndarray, ckeys: str, cvals: np.ndarray, rows: int,
                 n_out: int | None, room: int, arm: bool) -> _Call:
-    """The _Call of a run of `model` without drives (prepare_model_run: the model built,
-    specialised, with the method's options, once), from simulate's cache when a model of equal
+    """The _Call of a run of `model` (prepare_model_run: the model built, specialised, with
+    the method's options and its drives, once), from simulate's cache when a model of equal
     arrays ran so before (the cache is keyed on the model's content, not on the object: a
     Model is mutable); ValueError naming a bad element."""
     key = ("model", method, t_end, rows, n_out, room, bool(model.slip_error_size), ckeys, cvals.tobytes(),
@@ -814,7 +786,7 @@ def _model_call(model: Model, arrays: Mapping[str, Any], method: str, t_end: flo
     call = _Call(scene="model", law="+".join(dict.fromkeys(c.law for c in model.contacts)), method=method,
                  t_end=t_end, handle=int(handle), n=y0.size, resolved=None, grid=grid, n_out=n_out, rows=rows,
                  warnings=(), n_states=y0.size - 2 * nb, state_labels=model.state_labels(), used=(), known={},
-                 events_room=room, n_blocks=nb, arm=arm, model=True, fast=False)
+                 events_room=room, n_blocks=nb, arm=arm, model=True, n_drives=len(model.drives), fast=False)
     _keep(key, call)
     return call
 
