@@ -611,9 +611,11 @@ def test_prepared_model_run_equals_the_one_call_run(method, controls, driven):
         assert r.stats["nevents"] > 0
 
 
-def test_kept_model_setting_runs_on_several_threads():
-    """The kept setting of a Model is run on a copy (run_prepared): threads running one model
-    at once each get the serial run's motion and events, bit for bit."""
+@pytest.mark.parametrize("driven", [False, True])
+def test_kept_model_setting_runs_on_several_threads(driven):
+    """The kept setting of a Model is run on a copy (run_prepared; a driven model's system for
+    its drives' forces too): threads running one model at once each get the serial run's
+    motion, events and drive forces, bit for bit."""
     from concurrent.futures import ThreadPoolExecutor
     m = ss.Model()
     a, b = m.add_body(1.0, v0=0.3), m.add_body(0.5)
@@ -621,9 +623,15 @@ def test_kept_model_setting_runs_on_several_threads():
     m.add_spring(a, b, 50.0)
     m.add_contact(a, None, "coulomb", 5.0, 0.2)
     m.add_contact(b, a, "coulomb", 2.0)
+    if driven:
+        belt = m.add_body(1.0)
+        m.add_contact(b, belt, "coulomb", 1.0)
+        m.add_drive(belt, velocity=ss.signal.sine(0.3, 1.0))
     run = lambda _: ss.simulate(m, method="event_driven", t_end=2.0, n_out=41, rtol=1e-10, atol=1e-12)  # noqa: E731
     serial = run(0)
     assert serial.stats["nevents"] > 0
+    assert serial.drive_force.shape == (41, len(m.drives)) and np.all(np.isfinite(serial.drive_force))
     with ThreadPoolExecutor(4) as pool:
         for r in pool.map(run, range(16)):
             assert np.array_equal(r.y, serial.y) and np.array_equal(r.events, serial.events)
+            assert np.array_equal(r.drive_force, serial.drive_force)
