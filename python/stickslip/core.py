@@ -970,22 +970,24 @@ def _step_warnings(system: _Oscillators, method: str, h: float, t_end: float) ->
 
 
 def _warn_model_steps(model: Any, method: Any, t_end: Any, controls: Mapping[str, Any],
-                      stacklevel: int = 3) -> None:
+                      stacklevel: int = 3) -> list[tuple[str, type[Warning]]]:
     """Issue `_step_warnings` for a Model run with a fixed-step method, as simulate issues them
     for a scene (before the run, after the law's notes as for a scene; input that is not a
     positive finite h and t_end is left to the model's own validation). stacklevel: that of
-    the warnings, counted from this function."""
+    the warnings, counted from this function. Returns them (message, category), in order."""
     info = REGISTRY["method"].get(method) if isinstance(method, str) else None
     if info is None or "h" not in info["controls"]:
-        return
+        return []
     try:
         h, t = float(controls.get("h")), float(t_end)
     except (TypeError, ValueError):
-        return
+        return []
     if not (math.isfinite(h) and math.isfinite(t) and h > 0.0 and t > 0.0):
-        return
-    for message, category in _step_warnings(_model_oscillators(model), method, h, t):
+        return []
+    said = _step_warnings(_model_oscillators(model), method, h, t)
+    for message, category in said:
         warnings.warn(message, category, stacklevel=stacklevel)
+    return said
 
 
 def _check_code(status: int, given: Mapping[str, Any] | None = None) -> None:
