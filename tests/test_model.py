@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import Any
 
 import numpy as np
 import pytest
@@ -575,6 +576,49 @@ def test_kept_model_setting_follows_the_model_content():
     assert closed(run(), 400.0, 0.2) < 2e-8
     assert np.array_equal(ss.simulate(_oscillator(400.0, 0.2), method="rk4", h=1e-3, t_end=1.0, n_out=21).x,
                           run().x)
+
+
+def _run_and_warnings(m: ss.Model, **kw: Any) -> tuple[Any, list[tuple[Any, ...]]]:
+    """A run of `m` and every warning it issued: (category, message, file, line)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = ss.simulate(m, **kw)
+    return r, [(w.category, str(w.message), w.filename, w.lineno) for w in caught]
+
+
+@pytest.mark.parametrize("kw", [dict(method="dopri5", t_end=0.1, n_out=11, rtol=1e-4),
+                                dict(method="rk4", t_end=12.0, n_out=11, h=6.0)])
+def test_kept_model_run_warns_again_as_the_first(kw):
+    """A run of a model seen before (equal content, equal arguments) is not validated again,
+    but issues the same warnings in the same order from the same place (category, message,
+    file, line: the law's note and the steps' at simulate's caller, the band's as before), with
+    the same notes and motion. A model changed in place is validated as new: a body renamed
+    (the messages name it), a law parameter (the note quotes it), a signal replaced, x0 = -0.0
+    (its bits are kept)."""
+    m = drill_on_surface()
+    first, said_first = _run_and_warnings(m, **kw)
+    again, said_again = _run_and_warnings(m, **kw)
+    assert len(said_first) >= 2 and ss.RegularisedLawWarning in [w[0] for w in said_first]
+    assert said_again == said_first
+    assert any(w[2] == __file__ for w in said_first)          # at simulate's caller, here
+    assert again.stats["notes"] == first.stats["notes"] and len(first.stats["notes"]) >= 1
+    assert np.array_equal(again.y, first.y) and np.array_equal(again.t, first.t)
+    m.bodies[0].name = "drill bit"
+    _, said = _run_and_warnings(m, **kw)
+    assert [w[1] for w in said] == [w[1].replace("(bit-ground)", "(drill bit-ground)") for w in said_first]
+    m.contacts[0].params["mu_s"] = 0.9
+    _, said = _run_and_warnings(m, **kw)
+    assert any("mu_s = 0.9" in w[1] for w in said) and not any("mu_s = 0.8" in w[1] for w in said)
+    fresh = drill_on_surface()
+    fresh.bodies[0].name, fresh.contacts[0].params["mu_s"] = "drill bit", 0.9
+    m.contacts[0].surface_velocity = ss.signal.constant(4.0)
+    fresh.contacts[0].surface_velocity = ss.signal.constant(4.0)
+    changed, said = _run_and_warnings(m, **kw)
+    assert np.array_equal(changed.y, _run_and_warnings(fresh, **kw)[0].y)
+    assert not np.array_equal(changed.y, first.y)
+    m.bodies[0].x0 = -0.0
+    signed = _run_and_warnings(m, **kw)[0]
+    assert math.copysign(1.0, signed.x[0, 0]) == -1.0 and math.copysign(1.0, changed.x[0, 0]) == 1.0
 
 
 @pytest.mark.parametrize("method, controls", [("event_driven", dict(rtol=1e-10, atol=1e-12)),
