@@ -147,7 +147,7 @@ contains
         !> (prepared_sizes' nd, size(t_out)): each drive's force on its body [N]
         real(dp), intent(out), optional :: drive_force(:, :)
         class(model_system), allocatable :: sys
-        type(model_system) :: built               ! the drives' copy of the model's system
+        type(model_system) :: built               ! this run's copy of the drives' system (its friction writes)
         real(dp), allocatable :: y_free(:, :)
 
         if (.not. (allocated(prep%sys) .and. allocated(prep%ctl))) then

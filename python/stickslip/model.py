@@ -32,8 +32,8 @@ from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
                    _FIRST_INPUT_CODE, _choice, _count, _end_time, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message, _fixed_steps,
-                   _DEFAULT_MAX_EVENTS, _EVENT_ROOM,
-                   _physical, MAX_ROWS, model_notes, RegularisedLawWarning, _warn_model_steps, preset_arrays, _raise_failure,
+                   _DEFAULT_MAX_EVENTS, _EVENT_ROOM, RegularisedLawWarning,
+                   _physical, MAX_ROWS, model_notes, _warn_model_steps, preset_arrays, _raise_failure,
                    _Call, _CALLS, _GRID_CACHE_ROWS, _STOP_CHECK_STEPS, _execute, _keep)
 from .outputs import atomic_write
 from .signal import Signal, SignalLike, as_signal
@@ -895,7 +895,8 @@ def slip_scale(model: Model, i: int) -> float:
     return scale
 
 
-def _check_band(model: Model, method: str, rtol: float, said: list[tuple[str, type[Warning]]] | None = None) -> None:
+def _check_band(model: Model, method: str, rtol: float,
+                said: list[tuple[str, type[Warning]]] | None = None) -> None:
     """A ModelWarning for each contact whose law has a velocity band (v_eps, v_s) narrower than
     rtol times the contact's slip scale (`slip_scale`): an error of rtol times the slip may
     then cross the band the law turns in. Each is also appended to `said` (when given) as
