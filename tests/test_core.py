@@ -169,9 +169,10 @@ def test_calls_from_another_thread_work_and_match() -> None:
 def test_bare_call_is_the_call_simulate_makes() -> None:
     """The benchmarks' reference: the same arguments, hence the same numbers."""
     bare = core.bare_call("belt", "proposed", **RK4)
-    y, stats, status, cpu = bare()
+    y, stats, status, cpu, drive_force = bare()
     r = ss.simulate("belt", "proposed", **RK4)
     assert status == 0 and np.array_equal(y[0], r.x) and np.array_equal(y[1], r.v)
+    assert drive_force.shape == (0, r.t.size)          # a scene has no drives
     ni, nr = len(core._STATS_INT), len(core._STATS_REAL)
     assert stats.size == ni + nr
     assert stats[core._STATS_INT.index("nstep")] == r.stats["nstep"] == 10

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import Any
 
 import numpy as np
 import pytest
@@ -577,16 +578,59 @@ def test_kept_model_setting_follows_the_model_content():
                           run().x)
 
 
+def _run_and_warnings(m: ss.Model, **kw: Any) -> tuple[Any, list[tuple[Any, ...]]]:
+    """A run of `m` and every warning it issued: (category, message, file, line)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = ss.simulate(m, **kw)
+    return r, [(w.category, str(w.message), w.filename, w.lineno) for w in caught]
+
+
+@pytest.mark.parametrize("kw", [dict(method="dopri5", t_end=0.1, n_out=11, rtol=1e-4),
+                                dict(method="rk4", t_end=12.0, n_out=11, h=6.0)])
+def test_kept_model_run_warns_again_as_the_first(kw):
+    """A run of a model seen before (equal content, equal arguments) is not validated again,
+    but issues the same warnings in the same order from the same place (category, message,
+    file, line: the law's note and the steps' at simulate's caller, the band's as before), with
+    the same notes and motion. A model changed in place is validated as new: a body renamed
+    (the messages name it), a law parameter (the note quotes it), a signal replaced, x0 = -0.0
+    (its bits are kept)."""
+    m = drill_on_surface()
+    first, said_first = _run_and_warnings(m, **kw)
+    again, said_again = _run_and_warnings(m, **kw)
+    assert len(said_first) >= 2 and ss.RegularisedLawWarning in [w[0] for w in said_first]
+    assert said_again == said_first
+    assert any(w[2] == __file__ for w in said_first)          # at simulate's caller, here
+    assert again.stats["notes"] == first.stats["notes"] and len(first.stats["notes"]) >= 1
+    assert np.array_equal(again.y, first.y) and np.array_equal(again.t, first.t)
+    m.bodies[0].name = "drill bit"
+    _, said = _run_and_warnings(m, **kw)
+    assert [w[1] for w in said] == [w[1].replace("(bit-ground)", "(drill bit-ground)") for w in said_first]
+    m.contacts[0].params["mu_s"] = 0.9
+    _, said = _run_and_warnings(m, **kw)
+    assert any("mu_s = 0.9" in w[1] for w in said) and not any("mu_s = 0.8" in w[1] for w in said)
+    fresh = drill_on_surface()
+    fresh.bodies[0].name, fresh.contacts[0].params["mu_s"] = "drill bit", 0.9
+    m.contacts[0].surface_velocity = ss.signal.constant(4.0)
+    fresh.contacts[0].surface_velocity = ss.signal.constant(4.0)
+    changed, said = _run_and_warnings(m, **kw)
+    assert np.array_equal(changed.y, _run_and_warnings(fresh, **kw)[0].y)
+    assert not np.array_equal(changed.y, first.y)
+    m.bodies[0].x0 = -0.0
+    signed = _run_and_warnings(m, **kw)[0]
+    assert math.copysign(1.0, signed.x[0, 0]) == -1.0 and math.copysign(1.0, changed.x[0, 0]) == 1.0
+
+
 @pytest.mark.parametrize("method, controls", [("event_driven", dict(rtol=1e-10, atol=1e-12)),
                                               ("moreau", dict(h=1e-3)), ("radau5", dict(rtol=1e-6, atol=1e-8))])
-def test_prepared_model_run_equals_the_one_call_run(method, controls):
-    """A Model without drives runs through the prepared setting (prepare_model_run, run by
-    _runner as a scene's); the wrapper's one-call run_model (built, run, freed) gives the
-    same motion, events and counters bit for bit: two contacts, a force and a normal force
-    as signals."""
-    from stickslip import _stickslip as ext
-    from stickslip.core import _SIZES, _keys, _linspace
-    from stickslip.model import _ARRAY_KEYS, run_controls
+@pytest.mark.parametrize("driven", [False, True])
+def test_prepared_model_run_equals_the_one_call_run(method, controls, driven):
+    """A Model runs through the prepared setting (prepare_model_run, run by _runner as a
+    scene's), with or without drives; the model batch, which builds, runs and frees each
+    row's model in one call (stickslip_user_model's simulate), gives the same motion and
+    counters bit for bit: two contacts, a force and a normal force as signals, and a body
+    driven by a velocity signal."""
+    from stickslip.batch import simulate_model_batch
     m = ss.Model()
     a, b = m.add_body(1.0, v0=0.2), m.add_body(0.5)
     m.add_spring(a, None, 100.0)
@@ -595,33 +639,27 @@ def test_prepared_model_run_equals_the_one_call_run(method, controls):
     law = "coulomb" if method != "radau5" else "recurdyn"
     m.add_contact(a, None, law, 5.0, 0.3)
     m.add_contact(b, a, law, ss.signal.table([0.0, 0.3, 0.6], [2.0, 1.0, 2.0]))
+    if driven:
+        belt = m.add_body(2.0)
+        m.add_contact(b, belt, law, 1.5)
+        m.add_drive(belt, velocity=ss.signal.ramp(0.0, 0.5, 0.4))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         r = ss.simulate(m, method=method, t_end=1.5, n_out=31, **controls)
-    ctl, rtol, atol = run_controls(m, method, controls)
-    ckeys, cvals = _keys(ctl)
-    arrays = m.arrays()
-    t = _linspace(1.5, 31)
-    events = np.zeros((4, 1000), order="F")
-    y0 = np.zeros(m.n_states())
-    y0[:2], y0[2:4] = arrays["bodies"][1], arrays["bodies"][2]
-    y, _, istats, rstats, status, *_ = ext.run_model(
-        *(arrays[k] for k in _ARRAY_KEYS), method, y0, 1.5, rtol, atol, ckeys, cvals, t, _SIZES[0], _SIZES[1],
-        np.zeros(1, dtype=np.int32), events, 1)
-    assert status == 0
-    assert np.array_equal(r.y, y) and np.array_equal(r.t, t)
-    names = ss.core._STATS_INT
-    for i, name in enumerate(names):
-        if name != "n_written":
-            assert r.stats[name] == int(istats[i]) or name in ("stiff", "contact_worst"), name
-    n = int(istats[names.index("nevents")])
+        one = simulate_model_batch(m, method=method, t_end=1.5, n_grid=31, keep_grid=True, **controls)
+    assert one.status[0] == 0 and r.drive_force.shape == (31, len(m.drives))
+    assert np.array_equal(r.y, one.y_grid[0]) and np.array_equal(r.t, one.t[0])
+    for name in ("nfev", "nstep", "naccept", "nreject", "nforced", "njac", "ndec", "nsol", "nevents"):
+        assert r.stats[name] == one.fields[name][0], name
     if method == "event_driven":
-        assert n > 0 and np.array_equal(r.events["t"], events[0, :n])
+        assert r.stats["nevents"] > 0
 
 
-def test_kept_model_setting_runs_on_several_threads():
-    """The kept setting of a Model is run on a copy (run_prepared): threads running one model
-    at once each get the serial run's motion and events, bit for bit."""
+@pytest.mark.parametrize("driven", [False, True])
+def test_kept_model_setting_runs_on_several_threads(driven):
+    """The kept setting of a Model is run on a copy (run_prepared; a driven model's system for
+    its drives' forces too): threads running one model at once each get the serial run's
+    motion, events and drive forces, bit for bit."""
     from concurrent.futures import ThreadPoolExecutor
     m = ss.Model()
     a, b = m.add_body(1.0, v0=0.3), m.add_body(0.5)
@@ -629,9 +667,15 @@ def test_kept_model_setting_runs_on_several_threads():
     m.add_spring(a, b, 50.0)
     m.add_contact(a, None, "coulomb", 5.0, 0.2)
     m.add_contact(b, a, "coulomb", 2.0)
+    if driven:
+        belt = m.add_body(1.0)
+        m.add_contact(b, belt, "coulomb", 1.0)
+        m.add_drive(belt, velocity=ss.signal.sine(0.3, 1.0))
     run = lambda _: ss.simulate(m, method="event_driven", t_end=2.0, n_out=41, rtol=1e-10, atol=1e-12)  # noqa: E731
     serial = run(0)
     assert serial.stats["nevents"] > 0
+    assert serial.drive_force.shape == (41, len(m.drives)) and np.all(np.isfinite(serial.drive_force))
     with ThreadPoolExecutor(4) as pool:
         for r in pool.map(run, range(16)):
             assert np.array_equal(r.y, serial.y) and np.array_equal(r.events, serial.events)
+            assert np.array_equal(r.drive_force, serial.drive_force)

@@ -13,13 +13,16 @@ module stickslip_simulate
     use stickslip_ode, only: ode_stats, step_controls
     use stickslip_model_system, only: model_system
     use stickslip_registry, only: new_system, new_controls, integrate
+    use stickslip_user_model, only: drive_run
     implicit none
     private
 
-    public :: simulate, prepare_simulation, run_prepared
+    public :: simulate, prepare_simulation, run_prepared, prepared_sizes
 
     !> A setting of `simulate` built once: the scene with its law, the method's options and
-    !! the run's initial state, tolerances and end time. Read-only for `run_prepared`.
+    !! the run's initial state, tolerances and end time; for a model with drives, its
+    !! system is that of the free bodies (y0 theirs) and `drives` the rest. Read-only for
+    !! `run_prepared`.
     type, public :: prepared_simulation
         integer :: method = 0                               !! method code (registry)
         class(model_system), allocatable :: sys             !! the scene's model with its law, prepared
@@ -28,6 +31,9 @@ module stickslip_simulate
         real(dp), allocatable :: rtol(:)                   !! relative tolerance(s)
         real(dp), allocatable :: atol(:)                   !! absolute tolerance(s)
         real(dp) :: t_end = 0.0_dp                         !! final time [s]
+        !> A model's drives (`stickslip_user_model`'s drive_run): its output is every body's
+        !! state, its driven bodies' from their signals, and each drive's force
+        type(drive_run), allocatable :: drives
     end type prepared_simulation
 
 contains
@@ -110,28 +116,61 @@ contains
         prep%t_end = t_end
     end function prepare_simulation
 
-    !> Run a setting built by `prepare_simulation` on a copy of its scene and options, so
-    !! that runs of one setting on several threads at once share nothing they write. Output
-    !! and status as for `simulate`; SS_BAD_DIM for a setting that was not prepared.
-    subroutine run_prepared(prep, t_out, y_out, stats, stop_flag, events)
+    !> The sizes of a run of a prepared setting: n, its output state's (y0's, or every body's
+    !! state for a model with drives), and nd, its drives' (0 without).
+    subroutine prepared_sizes(prep, n, nd)
+        type(prepared_simulation), intent(in) :: prep  !! the setting
+        integer, intent(out) :: n                   !! rows of y_out
+        integer, intent(out) :: nd                  !! rows of drive_force
+        n = 0
+        nd = 0
+        if (allocated(prep%y0)) n = size(prep%y0)
+        if (.not. allocated(prep%drives)) return
+        n = prep%drives%model%state_size(prep%drives%sys)
+        nd = size(prep%drives%model%drv_body)
+    end subroutine prepared_sizes
+
+    !> Run a setting built by `prepare_simulation` (or a model's, with its drives) on a copy
+    !! of its system and options, so that runs of one setting on several threads at once share
+    !! nothing they write. Output and status as for `simulate`; SS_BAD_DIM for a setting that
+    !! was not prepared. A model with drives runs its free bodies, then gives every body's
+    !! state (`prepared_sizes`) and, when asked, each drive's force.
+    subroutine run_prepared(prep, t_out, y_out, stats, stop_flag, events, drive_force)
         type(prepared_simulation), intent(in) :: prep  !! the setting (prepare_simulation)
         real(dp), intent(inout) :: t_out(:)         !! requested output times, or step times [s]
-        real(dp), intent(inout) :: y_out(:, :)      !! (size(y0), size(t_out)) states
+        real(dp), intent(inout) :: y_out(:, :)      !! (prepared_sizes' n, size(t_out)) states
         type(ode_stats), intent(out) :: stats       !! counters and status
         !> A flag another thread may set nonzero to stop the run (SS_INTERRUPTED).
         integer, pointer, intent(in), optional :: stop_flag
         !> (4, room): the stick/slip events of event_driven, (t [s], kind, position [m], contact)
         real(dp), intent(inout), optional :: events(:, :)
+        !> (prepared_sizes' nd, size(t_out)): each drive's force on its body [N]
+        real(dp), intent(out), optional :: drive_force(:, :)
         class(model_system), allocatable :: sys
+        type(model_system) :: built               ! this run's copy of the drives' system (its friction writes)
+        real(dp), allocatable :: y_free(:, :)
 
         if (.not. (allocated(prep%sys) .and. allocated(prep%ctl))) then
             stats%status = SS_BAD_DIM
             return
         end if
         allocate(sys, source=prep%sys)       ! integrate copies the options
+        if (.not. allocated(prep%drives)) then
+            call integrate(prep%method, sys, 0.0_dp, prep%y0, prep%t_end, prep%rtol, prep%atol, &
+                           [character(len=NAME_LEN) ::], [real(dp) ::], t_out, y_out, stats, stop_flag, events, &
+                           controls=prep%ctl)
+            return
+        end if
+        allocate(y_free(size(prep%y0), size(t_out)))
+        y_free = 0.0_dp
         call integrate(prep%method, sys, 0.0_dp, prep%y0, prep%t_end, prep%rtol, prep%atol, &
-                       [character(len=NAME_LEN) ::], [real(dp) ::], t_out, y_out, stats, stop_flag, events, &
+                       [character(len=NAME_LEN) ::], [real(dp) ::], t_out, y_free, stats, stop_flag, events, &
                        controls=prep%ctl)
+        built = prep%drives%sys
+        associate (d => prep%drives)
+            call d%model%finish_drives(built, d%plan, d%method, d%rtol, d%atol, d%h, t_out, y_free, y_out, &
+                                       drive_force)
+        end associate
     end subroutine run_prepared
 
 end module stickslip_simulate

@@ -33,7 +33,7 @@ module stickslip_user_model
     implicit none
     private
 
-    public :: stickslip_model, model_from_arrays
+    public :: stickslip_model, model_from_arrays, control_step
 
     !> Kinds of model element, as `build` names the bad one.
     integer, parameter, public :: ELEM_BODY = 1, ELEM_SPRING = 2, ELEM_DAMPER = 3, ELEM_FORCE = 4, &
@@ -113,9 +113,27 @@ module stickslip_user_model
         procedure :: state_size
         !> Each drive's force on its body at the output rows of a run [N].
         procedure :: drive_forces
+        !> Every body's initial state from the free bodies' and the law states (`build`'s plan).
+        procedure :: free_state
+        !> Every body's output from a run of the free bodies, and each drive's force.
+        procedure :: finish_drives
         !> Run the model with a method by name from t = 0 to t_end.
         procedure :: simulate => model_simulate
     end type stickslip_model
+
+    !> What a prepared run of a model with drives (`stickslip_simulate`'s prepared_simulation)
+    !! adds to its system's run: the model (its bodies, elements and drives), its system as
+    !! built (unspecialised: `drive_forces` reads it), the plan mapping the free bodies onto
+    !! every body, and the run's method, first tolerances and step, which the forces read.
+    type, public :: drive_run
+        type(stickslip_model) :: model              !! the model
+        type(model_system) :: sys                   !! its system as built (`build`)
+        type(drive_plan) :: plan                    !! its drives (`build`)
+        character(len=NAME_LEN) :: method = ''      !! the run's method (registry name)
+        real(dp) :: rtol = 0.0_dp                   !! the run's first relative tolerance [-]
+        real(dp) :: atol = 0.0_dp                   !! the run's first absolute tolerance [m/s]
+        real(dp) :: h = 0.0_dp                      !! the run's step h (0: none given) [s]
+    end type drive_run
 
 contains
 
@@ -693,6 +711,61 @@ contains
         end do
     end subroutine drive_forces
 
+    !> The state a run of the free bodies starts from (`build`'s plan): the free bodies' x
+    !! and v of y, then the law states.
+    pure function free_state(self, plan, y) result(y_free)
+        class(stickslip_model), intent(in) :: self
+        type(drive_plan), intent(in) :: plan        !! its drives (`build`)
+        real(dp), intent(in) :: y(:)                !! every body's x [m], v [m/s], then the law states
+        real(dp), allocatable :: y_free(:)          !! the free bodies' x, v, then the law states
+        integer :: nb
+        nb = size(self%mass)
+        y_free = [y(plan%free), y(nb + plan%free), y(2 * nb + 1:)]
+    end function free_state
+
+    !> Every body's output rows from a run of the free bodies (the driven ones' x and v from
+    !! their signals) and, when asked, each drive's force (`drive_forces`): what a run of a
+    !! model with drives ends with, one call or prepared.
+    subroutine finish_drives(self, sys, plan, method, rtol, atol, h, t_out, y_free, y_out, drive_force)
+        class(stickslip_model), intent(in) :: self
+        type(model_system), intent(inout) :: sys    !! the model's system (`build`)
+        type(drive_plan), intent(in) :: plan        !! its drives (`build`)
+        character(len=*), intent(in) :: method      !! the run's method
+        real(dp), intent(in) :: rtol                !! the run's relative tolerance [-]
+        real(dp), intent(in) :: atol                !! the run's absolute tolerance [m/s]
+        real(dp), intent(in) :: h                   !! the run's step (0: none) [s]
+        real(dp), intent(in) :: t_out(:)            !! output times [s]
+        real(dp), intent(in) :: y_free(:, :)        !! (sys%n_states(), size(t_out)) the free bodies' run
+        real(dp), intent(inout) :: y_out(:, :)      !! (state_size, size(t_out)) every body's state
+        !> (number of drives, size(t_out)): each drive's force on its body [N]
+        real(dp), intent(out), optional :: drive_force(:, :)
+        real(dp) :: rate
+        integer :: nb, nf, j, k
+        nb = size(self%mass)
+        nf = sys%nb
+        y_out(plan%free, :) = y_free(1:nf, :)
+        y_out(nb + plan%free, :) = y_free(nf + 1:2 * nf, :)
+        y_out(2 * nb + 1:, :) = y_free(2 * nf + 1:, :)
+        do j = 1, size(t_out)
+            do k = 1, size(self%drv_body)
+                call sys%sig%eval(plan%pos(k), t_out(j), y_out(self%drv_body(k), j), rate)
+                call sys%sig%eval(plan%vel(k), t_out(j), y_out(nb + self%drv_body(k), j), rate)
+            end do
+        end do
+        if (present(drive_force)) call self%drive_forces(sys, plan, method, t_out, y_out, drive_force, rtol, atol, h)
+    end subroutine finish_drives
+
+    !> The step h among named controls (the value of the last named 'h'; 0 when none) [s].
+    pure real(dp) function control_step(ckeys, cvals) result(h)
+        character(len=*), intent(in) :: ckeys(:)    !! names of the controls
+        real(dp), intent(in) :: cvals(:)            !! their values
+        integer :: j
+        h = 0.0_dp
+        do j = 1, size(ckeys)
+            if (ckeys(j) == 'h') h = cvals(j)
+        end do
+    end function control_step
+
     !> Run the model from t = 0 (its bodies' x0, v0; law states 0) to t_end with a method by
     !! name and its controls by name; output as `stickslip_simulate`'s. implicit_euler and
     !! galpha take laws with jumps (coulomb, karnopp) through `stickslip_modal_contacts` (all
@@ -723,8 +796,6 @@ contains
         class(model_system), allocatable :: run   ! sys with its structure found (`specialise`)
         type(drive_plan) :: plan
         real(dp), allocatable :: rt(:), at(:), y_init(:), y_free(:, :)
-        real(dp) :: rate
-        integer :: nb, nf, j, k
         character(len=NAME_LEN), allocatable :: ck(:)
         real(dp), allocatable :: cv(:)
         integer :: ek, ei, code
@@ -767,28 +838,12 @@ contains
             return
         end if
         ! the free bodies' state; then every body's, the driven ones' from their signals
-        nb = size(self%mass)
-        nf = sys%nb
         allocate(y_free(sys%n_states(), size(t_out)))
         y_free = 0.0_dp
-        call integrate(code, run, 0.0_dp, [y_init(plan%free), y_init(nb + plan%free), y_init(2 * nb + 1:)], &
-                       t_end, rt, at, ck, cv, t_out, y_free, stats, stop_flag, events)
-        y_out(plan%free, :) = y_free(1:nf, :)
-        y_out(nb + plan%free, :) = y_free(nf + 1:2 * nf, :)
-        y_out(2 * nb + 1:, :) = y_free(2 * nf + 1:, :)
-        do j = 1, size(t_out)
-            do k = 1, size(self%drv_body)
-                call sys%sig%eval(plan%pos(k), t_out(j), y_out(self%drv_body(k), j), rate)
-                call sys%sig%eval(plan%vel(k), t_out(j), y_out(nb + self%drv_body(k), j), rate)
-            end do
-        end do
-        if (present(drive_force)) then
-            rate = 0.0_dp                   ! the step h of a fixed-step method (moreau's), if given
-            do j = 1, size(ck)
-                if (ck(j) == 'h') rate = cv(j)
-            end do
-            call self%drive_forces(sys, plan, method, t_out, y_out, drive_force, rt(1), at(1), rate)
-        end if
+        call integrate(code, run, 0.0_dp, self%free_state(plan, y_init), t_end, rt, at, ck, cv, t_out, y_free, &
+                       stats, stop_flag, events)
+        call self%finish_drives(sys, plan, method, rt(1), at(1), control_step(ck, cv), t_out, y_free, y_out, &
+                                drive_force)
     end subroutine model_simulate
 
     !> A model from arrays, one per kind of element (body indices as reals, from 1, 0 the

@@ -88,8 +88,8 @@ contains
     !! time [s], the process's CPU time for a long run, the monotonic wall time for a short one
     !! (two reads of the CPU clock are system calls that cost more than such a run). stats:
     !! the integer counters (as reals, exact below 2^53), then the real counters; status
-    !! SS_BAD_DIM when its size is not theirs.
-    subroutine timed_run(prep, t_out, y_out, stop, events, stats, status, cpu)
+    !! SS_BAD_DIM when its size is not theirs. drive_force: a model's drives' forces, when given.
+    subroutine timed_run(prep, t_out, y_out, stop, events, stats, status, cpu, drive_force)
         use stickslip_kinds, only: SS_BAD_DIM
         use stickslip_ode, only: ode_stats, stats_integers, stats_reals
         use stickslip_simulate, only: prepared_simulation, run_prepared
@@ -101,6 +101,7 @@ contains
         real(c_double), intent(out) :: stats(:)         !! the counters (see above)
         integer(c_int), intent(out) :: status           !! the run's status
         real(c_double), intent(out) :: cpu              !! the run's time [s]
+        real(c_double), intent(out), optional :: drive_force(:, :)  !! (drives, rows) their forces [N]
         type(ode_stats) :: st
         integer, pointer :: flag
         logical :: armed, long_run
@@ -113,7 +114,7 @@ contains
         else
             cpu = wall_seconds()
         end if
-        call run_prepared(prep, t_out, y_out, st, stop_flag=flag, events=events)
+        call run_prepared(prep, t_out, y_out, st, stop_flag=flag, events=events, drive_force=drive_force)
         if (long_run) then
             cpu = cpu_seconds() - cpu
         else

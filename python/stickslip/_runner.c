@@ -22,7 +22,8 @@
  * order, the hidden sizes nrow and nev included. */
 typedef void (*run_prepared_f)(const int64_t *handle, const int *nrow, double *t_out, const int *n,
                                double *y_out, const int *nst, double *stats, int *stop,
-                               double *events, const int *nev, int *status, double *cpu);
+                               double *events, const int *nev, int *status, double *cpu, const int *nd,
+                               double *drive_force);
 
 static run_prepared_f run_prepared = NULL;
 static PyTypeObject *result_type = NULL;  /* core.Result */
@@ -37,11 +38,11 @@ static Py_ssize_t n_counters = 0, i_written = 0, i_nevents = 0;
  * slot without the attribute lookup. The types are checked exactly before any slot is used. */
 enum {
     C_FAST, C_HANDLE, C_N, C_ROWS, C_EVENTS_ROOM, C_N_BLOCKS, C_N_STATES, C_GRID, C_SCENE, C_LAW,
-    C_METHOD, C_T_END, C_STATE_LABELS, C_RESOLVED, C_USED, C_ARM, C_MODEL, N_CALL_SLOTS
+    C_METHOD, C_T_END, C_STATE_LABELS, C_RESOLVED, C_USED, C_ARM, C_MODEL, C_N_DRIVES, N_CALL_SLOTS
 };
 static const char *const call_slot_names[N_CALL_SLOTS] = {
     "fast", "handle", "n", "rows", "events_room", "n_blocks", "n_states", "grid", "scene", "law",
-    "method", "t_end", "state_labels", "resolved", "used", "arm", "model"
+    "method", "t_end", "state_labels", "resolved", "used", "arm", "model", "n_drives"
 };
 enum {
     R_SCENE, R_LAW, R_METHOD, R_T_END, R_STATE_LABELS, R_T, R_X, R_V, R_Z, R_EVENTS, R_PARAMS,
@@ -128,11 +129,12 @@ static unsigned long main_thread = 0;
  * The library looks at the stop flag as a run starts, then every 4096 steps; a run the _Call
  * marks long (arm) is told so (-1 on the main thread, where the library arms a SIGINT handler
  * that sets the flag: KeyboardInterrupt once the run returns; -2 elsewhere, where Python's own
- * SIGINT handling stays). The flag also tells the library which clock times the run.
+ * SIGINT handling stays). The flag also tells the library which clock times the run. A model's
+ * setting with drives (n_drives > 0) also returns each drive's force (Result.drive_force).
  * Returns the Result whatever the run's status (its _raw[2]); the output is cut to the rows
  * written when the run ended early or output every step. */
 static PyObject *execute_call(PyObject *call, PyObject *t) {
-    PyObject *t_out = NULL, *y = NULL, *stats = NULL, *events = NULL, *result = NULL;
+    PyObject *t_out = NULL, *y = NULL, *stats = NULL, *events = NULL, *forces = NULL, *result = NULL;
     int local_stop = 0, *stop_ptr = &local_stop, on_main = 0;
 
     if (!Py_IS_TYPE(call, call_type)) {
@@ -142,12 +144,12 @@ static PyObject *execute_call(PyObject *call, PyObject *t) {
     Py_ssize_t handle_v = call_int(call, C_HANDLE), n_v = call_int(call, C_N);
     Py_ssize_t room = call_int(call, C_EVENTS_ROOM), rows_mode = call_int(call, C_ROWS);
     Py_ssize_t nb = call_int(call, C_N_BLOCKS), nz = call_int(call, C_N_STATES);
-    Py_ssize_t arm = call_int(call, C_ARM), model = call_int(call, C_MODEL);
+    Py_ssize_t arm = call_int(call, C_ARM), model = call_int(call, C_MODEL), nd = call_int(call, C_N_DRIVES);
     if (PyErr_Occurred()) return NULL;
     /* a scene's state: nb blocks of (x, v, nz law states), stored x..., v..., z...; a model's:
      * nb bodies' x, their v, then its contacts' law states (nz in all) */
     if (handle_v == 0 || n_v < 1 || n_v > INT_MAX || room < 0 || room > INT_MAX || nb < 1 || nz < 0 ||
-        n_v != (model ? 2 * nb + nz : nb * (2 + nz)) || rows_mode < 0) {
+        n_v != (model ? 2 * nb + nz : nb * (2 + nz)) || rows_mode < 0 || nd < 0 || nd > (model ? nb : 0)) {
         PyErr_SetString(PyExc_ValueError, "_runner.execute: not a prepared setting");
         return NULL;
     }
@@ -195,29 +197,34 @@ static PyObject *execute_call(PyObject *call, PyObject *t) {
         }
     }
 
-    npy_intp ydims[2] = {n_v, nrow}, sdims[1] = {n_counters}, edims[2] = {4, room};
+    npy_intp ydims[2] = {n_v, nrow}, sdims[1] = {n_counters}, edims[2] = {4, room}, fdims[2] = {nd, nrow};
     y = PyArray_EMPTY(2, ydims, NPY_DOUBLE, 1);   /* Fortran order; the library writes all of it */
     stats = PyArray_EMPTY(1, sdims, NPY_DOUBLE, 0);
     events = room ? PyArray_ZEROS(2, edims, NPY_DOUBLE, 1) : Py_NewRef(no_event_rows);
-    if (y == NULL || stats == NULL || events == NULL) goto fail;
+    /* a model's drives: each one's force at each row (Fortran order), written by the library */
+    forces = nd ? PyArray_EMPTY(2, fdims, NPY_DOUBLE, 1) : Py_NewRef(Py_None);
+    if (y == NULL || stats == NULL || events == NULL || forces == NULL) goto fail;
 
     int64_t handle = (int64_t)handle_v;
-    int nrow_i = (int)nrow, n_i = (int)n_v, nst = (int)n_counters, nev = (int)room, status = 0;
-    double cpu = 0.0;
+    int nrow_i = (int)nrow, n_i = (int)n_v, nst = (int)n_counters, nev = (int)room, nd_i = (int)nd, status = 0;
+    double cpu = 0.0, no_force = 0.0;
     double *t_data = (double *)PyArray_DATA((PyArrayObject *)t_out);
     double *s_data = (double *)PyArray_DATA((PyArrayObject *)stats);
     double *y_data = (double *)PyArray_DATA((PyArrayObject *)y);
     double *e_data = (double *)PyArray_DATA((PyArrayObject *)events);
+    double *f_data = nd ? (double *)PyArray_DATA((PyArrayObject *)forces) : &no_force;
     Py_BEGIN_ALLOW_THREADS
-    run_prepared(&handle, &nrow_i, t_data, &n_i, y_data, &nst, s_data, stop_ptr, e_data, &nev, &status, &cpu);
+    run_prepared(&handle, &nrow_i, t_data, &n_i, y_data, &nst, s_data, stop_ptr, e_data, &nev, &status, &cpu,
+                 &nd_i, f_data);
     Py_END_ALLOW_THREADS
     if (on_main && main_stop == 1) {               /* Ctrl-C during the run */
         PyErr_SetNone(PyExc_KeyboardInterrupt);
         goto fail;
     }
 
+    npy_intp written = nrow;
     if (status != 0 || rows_mode) {                /* an early end, or every step: the rows written */
-        npy_intp written = (npy_intp)s_data[i_written];
+        written = (npy_intp)s_data[i_written];
         if (written < 0) written = 0;
         if (written > nrow) written = nrow;
         PyObject *t_cut = PyArray_EMPTY(1, &written, NPY_DOUBLE, 0);   /* a copy: an every-step
@@ -244,9 +251,16 @@ static PyObject *execute_call(PyObject *call, PyObject *t) {
         result_set(result, R_V, rows_of(y, nb, 2 * nb, one)) ||
         result_set(result, R_Z, rows_of(y, 2 * nb, n_v, one && nz == 1)))
         goto fail;
-    /* no drives: Result.drive_force makes its (n_t, 0) array on first use */
-    if (result_set(result, R_DRIVE_FORCE, Py_NewRef(Py_None)))
+    /* drives: a (n_t, n_drives) view of the rows written; none: Result.drive_force makes its
+     * (n_t, 0) array on first use */
+    if (nd) {
+        PyArrayObject *fa = (PyArrayObject *)forces;
+        npy_intp tdims[2] = {written, nd}, tstrides[2] = {PyArray_STRIDE(fa, 1), PyArray_STRIDE(fa, 0)};
+        if (result_set(result, R_DRIVE_FORCE, view_of(forces, 2, tdims, tstrides, PyArray_BYTES(fa))))
+            goto fail;
+    } else if (result_set(result, R_DRIVE_FORCE, Py_NewRef(Py_None))) {
         goto fail;
+    }
     /* the counters and real counters in one vector; params and stats are built on first use */
     PyObject *raw = PyTuple_New(6);
     if (raw == NULL) goto fail;
@@ -269,11 +283,12 @@ static PyObject *execute_call(PyObject *call, PyObject *t) {
     PyObject *ev = room ? PyObject_CallFunction(make_events, "On", events, (Py_ssize_t)s_data[i_nevents])
                         : Py_NewRef(no_events);
     if (result_set(result, R_EVENTS, ev)) goto fail;
-    Py_DECREF(t_out); Py_DECREF(y); Py_DECREF(stats); Py_DECREF(events);
+    Py_DECREF(t_out); Py_DECREF(y); Py_DECREF(stats); Py_DECREF(events); Py_DECREF(forces);
     return result;
 
 fail:
-    Py_XDECREF(t_out); Py_XDECREF(y); Py_XDECREF(stats); Py_XDECREF(events); Py_XDECREF(result);
+    Py_XDECREF(t_out); Py_XDECREF(y); Py_XDECREF(stats); Py_XDECREF(events); Py_XDECREF(forces);
+    Py_XDECREF(result);
     return NULL;
 }
 

@@ -129,21 +129,23 @@ subroutine prepare_run(scene, law, method, keys, vals, nv, np, n, nrt, nat, t_en
     handle = transfer(c_loc(prep), handle)
 end subroutine prepare_run
 
-!> Run a setting of prepare_run: output, counters and status as run_simulation's, stats(nst)
-!! without the resolved parameters (nst = ni + nr, the registry's counts), y_out(n, nrow) with
-!! n the setting's state size. stop(1) on entry: -1 a long run on the main thread (arm the
-!! SIGINT handler), -2 a long run elsewhere, 0 a run too short for the integrators to look at
-!! the flag. cpu: the run's time [s], the process's CPU time for a long run, the monotonic wall
-!! time for a short one (two reads of the CPU clock are system calls that cost more than such
-!! a run). SS_BAD_DIM for handle 0 or sizes that are not the setting's.
-subroutine run_prepared(handle, nrow, t_out, n, y_out, nst, stats, stop, events, nev, status, cpu)
+!> Run a setting of prepare_run or prepare_model_run: output, counters and status as
+!! run_simulation's, stats(nst) without the resolved parameters (nst = ni + nr, the registry's
+!! counts), y_out(n, nrow) with n the setting's output state size (a model's: every body's
+!! state, its driven ones' too), drive_force(nd, nrow) each drive's force [N] (nd: the
+!! model's drives, 0 for a setting without). stop(1) on entry: -1 a long run on the main
+!! thread (arm the SIGINT handler), -2 a long run elsewhere, 0 a run too short for the
+!! integrators to look at the flag. cpu: the run's time [s], the process's CPU time for a long
+!! run, the monotonic wall time for a short one (two reads of the CPU clock are system calls
+!! that cost more than such a run). SS_BAD_DIM for handle 0 or sizes that are not the setting's.
+subroutine run_prepared(handle, nrow, t_out, n, y_out, nst, stats, stop, events, nev, status, cpu, nd, drive_force)
     use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_double, c_ptr, c_null_ptr, c_f_pointer
     use stickslip_kinds, only: SS_BAD_DIM
-    use stickslip_simulate, only: prepared_simulation
+    use stickslip_simulate, only: prepared_simulation, prepared_sizes
     use stickslip_wrap_interrupt, only: timed_run
     implicit none
     integer(c_int64_t), intent(in) :: handle
-    integer(c_int), intent(in) :: nrow, n, nst, nev
+    integer(c_int), intent(in) :: nrow, n, nst, nev, nd
     real(c_double), intent(inout) :: t_out(nrow)
     !f2py integer intent(hide), depend(t_out) :: nrow = len(t_out)
     real(c_double), intent(out) :: y_out(n, nrow)
@@ -153,26 +155,38 @@ subroutine run_prepared(handle, nrow, t_out, n, y_out, nst, stats, stop, events,
     !f2py integer intent(hide), depend(events) :: nev = shape(events, 1)
     integer(c_int), intent(out) :: status
     real(c_double), intent(out) :: cpu
+    !f2py integer optional, intent(in) :: nd = 0
+    real(c_double), intent(out) :: drive_force(nd, nrow)
     !f2py threadsafe
     type(prepared_simulation), pointer :: prep
     type(c_ptr) :: address
+    integer :: n_prep, nd_prep
     y_out = 0.0_c_double
     stats = 0.0_c_double
+    drive_force = 0.0_c_double
     cpu = 0.0_c_double
     status = SS_BAD_DIM
     if (handle == 0) return
     address = transfer(handle, c_null_ptr)
     call c_f_pointer(address, prep)
-    if (n /= size(prep%y0)) return
-    call timed_run(prep, t_out, y_out, stop(1), events, stats, status, cpu)
+    call prepared_sizes(prep, n_prep, nd_prep)
+    if (n /= n_prep .or. nd /= nd_prep) return
+    call timed_run(prep, t_out, y_out, stop(1), events, stats, status, cpu, drive_force)
 end subroutine run_prepared
 
-!> prepare_run for a model without drives (its arguments as run_model's up to slip_size): the
-!! model built from its arrays once, specialised (`build_run`), with the method's options and
-!! the run (y0, rtol, atol, t_end), for run_prepared to run and free_prepared to release, as a
-!! scene's setting. handle: 0 on bad input; status: SS_OK or the bad input's code, with
-!! (elem_kind, elem_index) naming a bad element as run_model does; SS_BAD_DIM for a model with
-!! drives (run_model runs those: their bodies' states come from their signals).
+!> prepare_run for a model given as arrays, one per kind of element (body indices as reals,
+!! from 1, 0 the ground; one array per kind so that f2py sees each size once): bodies(3, nb) =
+!! (mass, x0, v0), springs(4, ns) = (a, b, k, rest length), dampers(3, nd) = (a, b, c),
+!! forces(2, nf) = (body, signal), contacts(5, nc) = (a, b, law code, normal-force signal,
+!! surface-velocity signal or 0), their law parameters (names pkeys, values pvals; contact i's
+!! from con_ptr(i) to con_ptr(i+1)-1), signals(5, nop) = (operation, its 4 arguments) with
+!! sig_start and tables(2, ntab) = (t, value) (stickslip_signal), drives(3, ndr) = (body,
+!! kind, signal). The model is built from its arrays once, specialised (`build_run`), with the
+!! method named `method`, its controls and the run (y0: every body's x, v, then the law
+!! states; rtol, atol, t_end), for run_prepared to run (a model with drives: its free bodies,
+!! the driven ones' states and each drive's force from the signals) and free_prepared to
+!! release, as a scene's setting. handle: 0 on bad input; status: SS_OK or the bad input's
+!! code, with (elem_kind, elem_index) naming a bad element.
 subroutine prepare_model_run(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts, nc, con_ptr, ncp, &
                              pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
                              method, y0, n, t_end, rtol, nrt, atol, nat, ckeys, cvals, ncv, slip_size, &
@@ -183,7 +197,7 @@ subroutine prepare_model_run(bodies, nb, springs, ns, dampers, nd, forces, nf, c
     use stickslip_registry, only: split_names, code_of, new_controls
     use stickslip_model_system, only: model_system
     use stickslip_simulate, only: prepared_simulation
-    use stickslip_user_model, only: stickslip_model, model_from_arrays
+    use stickslip_user_model, only: stickslip_model, model_from_arrays, drive_plan, control_step
     implicit none
     integer(c_int), intent(in) :: nb, ns, nd, nf, nc, ncp, npv, nop, nss, ntab, ndr, n, nrt, nat, ncv
     real(c_double), intent(in) :: bodies(3, nb)
@@ -225,7 +239,8 @@ subroutine prepare_model_run(bodies, nb, springs, ns, dampers, nd, forces, nf, c
     type(stickslip_model) :: m
     type(model_system) :: sys
     type(prepared_simulation), pointer :: prep
-    character(len=NAME_LEN), allocatable :: keys(:)
+    type(drive_plan) :: plan
+    character(len=NAME_LEN), allocatable :: keys(:), ck(:)
     integer :: ek, ei, code
 
     handle = 0
@@ -233,23 +248,35 @@ subroutine prepare_model_run(bodies, nb, springs, ns, dampers, nd, forces, nf, c
     elem_index = 0
     status = SS_BAD_DIM
     keys = split_names(pkeys)
-    if (size(keys) /= npv .or. ncp /= nc + 1 .or. ndr /= 0) return
+    if (size(keys) /= npv .or. ncp /= nc + 1) return
     call model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, pvals, signals, sig_start, &
                            tables, drives, slip_size /= 0)
     allocate(prep)
-    call m%build_run(sys, prep%sys, status, ek, ei)
+    call m%build_run(sys, prep%sys, status, ek, ei, plan)
     elem_kind = ek
     elem_index = ei
     code = code_of('method', method)
+    ck = split_names(ckeys)
     if (status == SS_OK .and. code == 0) status = SS_BAD_METHOD
     if (status == SS_OK .and. n /= m%state_size(sys)) status = SS_BAD_DIM
-    if (status == SS_OK) status = new_controls(code, prep%sys, split_names(ckeys), cvals, prep%ctl)
+    if (status == SS_OK) status = new_controls(code, prep%sys, ck, cvals, prep%ctl)
     if (status /= SS_OK) then
         deallocate(prep)
         return
     end if
     prep%method = code
     prep%y0 = y0
+    if (ndr > 0) then                   ! the free bodies run; the drives give the others
+        prep%y0 = m%free_state(plan, y0)
+        allocate(prep%drives)
+        prep%drives%method = method
+        prep%drives%rtol = rtol(1)
+        prep%drives%atol = atol(1)
+        prep%drives%h = control_step(ck, cvals)
+        prep%drives%plan = plan
+        prep%drives%sys = sys
+        prep%drives%model = m
+    end if
     prep%rtol = rtol
     prep%atol = atol
     prep%t_end = t_end
@@ -325,14 +352,14 @@ subroutine run_batch(nset, scene, law, method, pkeys, np, pvals, nstate, nmax, y
 end subroutine run_batch
 
 !> Simulate nset models (stickslip_batch's simulate_model_batch), OpenMP over the sets, each
-!! given as run_model's arrays, those of every set concatenated: set i's columns of bodies,
+!! given as prepare_model_run's arrays, those of every set concatenated: set i's columns of bodies,
 !! springs, dampers, forces, contacts, its entries of con_ptr (from 1 for its own parameters),
 !! of the parameter names pkeys (space-separated) and values pvals, its columns of signals,
 !! its entries of sig_start (from 1 for its own operations), its columns of tables and drives
 !! start at offsets(k, i) for k = 1 .. 11 in that order and end before offsets(k, i + 1).
 !! method(i): method code; nstate, y0, t_end, rtol, atol, ckeys, cvals, n_grid, nkeep, threads
 !! and the outputs as run_batch's; events(:, :, i): set i's stick/slip events under event_driven
-!! (as run_model's, room nev each; 0: none kept); elem(:, i): a set's bad element (kind, index from 1; 0: none),
+!! (as prepare_model_run's, room nev each; 0: none kept); elem(:, i): a set's bad element (kind, index from 1; 0: none),
 !! when its status (istats) is a bad-input code, and then no set ran.
 subroutine run_model_batch(nset, method, bodies, nbt, springs, nst, dampers, ndt, forces, nft, contacts, nct, &
                            con_ptr, ncpt, pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
@@ -535,119 +562,7 @@ subroutine prescribed(law, pkeys, pvals, np, t, x, v, n, nf, nnf, z0, nz, backla
     counters = [real(st%n_advance, c_double), real(st%n_unconverged, c_double), real(st%max_substeps, c_double)]
 end subroutine prescribed
 
-!> Run a user's model (stickslip_user_model) given as arrays, one per kind of element (body
-!! indices as reals, from 1, 0 the ground; one array per kind so that f2py sees each size
-!! once): bodies(3, nb) = (mass, x0, v0), springs(4, ns) = (a, b, k, rest length),
-!! dampers(3, nd) = (a, b, c), forces(2, nf) = (body, signal), contacts(5, nc) = (a, b, law
-!! code, normal-force signal, surface-velocity signal or 0), their law parameters (names pkeys,
-!! values pvals; contact i's from con_ptr(i) to con_ptr(i+1)-1), signals(5, nop) = (operation,
-!! its 4 arguments) with sig_start and tables(2, ntab) = (t, value) (stickslip_signal). From
-!! y0 at t = 0 to t_end with the method named `method`; output as run_simulation's; on a bad
-!! element, status and (elem_kind, elem_index) name it.
-subroutine run_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contacts, nc, con_ptr, ncp, &
-                     pkeys, pvals, npv, signals, nop, sig_start, nss, tables, ntab, drives, ndr, &
-                     method, y0, n, t_end, rtol, nrt, atol, nat, ckeys, cvals, ncv, nrow, t_out, y_out, &
-                     drive_force, ni, istats, nr, rstats, stop, events, nev, status, elem_kind, elem_index, cpu, &
-                     slip_size)
-    use, intrinsic :: iso_c_binding, only: c_int, c_double
-    use stickslip_kinds, only: SS_BAD_DIM
-    use stickslip_ode, only: ode_stats, stats_integers, stats_reals
-    use stickslip_params, only: NAME_LEN
-    use stickslip_registry, only: split_names
-    use stickslip_user_model, only: stickslip_model, model_from_arrays
-    use stickslip_wrap_interrupt, only: arm, disarm, cpu_seconds
-    implicit none
-    integer(c_int), intent(in) :: nb, ns, nd, nf, nc, ncp, npv, nop, nss, ntab, ndr, n, nrt, nat, ncv, nrow, ni, nr, nev
-    real(c_double), intent(in) :: bodies(3, nb)
-    !f2py integer intent(hide), depend(bodies) :: nb = shape(bodies, 1)
-    real(c_double), intent(in) :: springs(4, ns)
-    !f2py integer intent(hide), depend(springs) :: ns = shape(springs, 1)
-    real(c_double), intent(in) :: dampers(3, nd)
-    !f2py integer intent(hide), depend(dampers) :: nd = shape(dampers, 1)
-    real(c_double), intent(in) :: forces(2, nf)
-    !f2py integer intent(hide), depend(forces) :: nf = shape(forces, 1)
-    real(c_double), intent(in) :: contacts(5, nc)
-    !f2py integer intent(hide), depend(contacts) :: nc = shape(contacts, 1)
-    integer(c_int), intent(in) :: con_ptr(ncp)
-    !f2py integer intent(hide), depend(con_ptr) :: ncp = len(con_ptr)
-    character(len=*), intent(in) :: pkeys, ckeys, method
-    real(c_double), intent(in) :: pvals(npv)
-    !f2py integer intent(hide), depend(pvals) :: npv = len(pvals)
-    real(c_double), intent(in) :: signals(5, nop)
-    !f2py integer intent(hide), depend(signals) :: nop = shape(signals, 1)
-    integer(c_int), intent(in) :: sig_start(nss)
-    !f2py integer intent(hide), depend(sig_start) :: nss = len(sig_start)
-    real(c_double), intent(in) :: tables(2, ntab)
-    !f2py integer intent(hide), depend(tables) :: ntab = shape(tables, 1)
-    real(c_double), intent(in) :: drives(3, ndr)
-    !f2py integer intent(hide), depend(drives) :: ndr = shape(drives, 1)
-    real(c_double), intent(in) :: y0(n)
-    !f2py integer intent(hide), depend(y0) :: n = len(y0)
-    real(c_double), intent(in) :: t_end
-    real(c_double), intent(in) :: rtol(nrt)
-    !f2py integer intent(hide), depend(rtol) :: nrt = len(rtol)
-    real(c_double), intent(in) :: atol(nat)
-    !f2py integer intent(hide), depend(atol) :: nat = len(atol)
-    real(c_double), intent(in) :: cvals(ncv)
-    !f2py integer intent(hide), depend(cvals) :: ncv = len(cvals)
-    real(c_double), intent(inout) :: t_out(nrow)
-    !f2py integer intent(hide), depend(t_out) :: nrow = len(t_out)
-    real(c_double), intent(out) :: y_out(n, nrow)
-    real(c_double), intent(out) :: drive_force(ndr, nrow)
-    real(c_double), intent(out) :: istats(ni)
-    real(c_double), intent(out) :: rstats(nr)
-    integer(c_int), intent(inout), target :: stop(1)
-    real(c_double), intent(inout) :: events(4, nev)
-    !f2py integer intent(hide), depend(events) :: nev = shape(events, 1)
-    integer(c_int), intent(out) :: status, elem_kind, elem_index
-    real(c_double), intent(out) :: cpu
-    !> 1: the adaptive methods' tolerance on the contacts' slips; 0: on |y| (a scene's model)
-    integer(c_int), intent(in) :: slip_size
-    !f2py integer optional, intent(in) :: slip_size = 1
-    !f2py threadsafe
-    type(stickslip_model) :: m
-    type(ode_stats) :: st
-    integer, pointer :: flag
-    integer :: ek, ei
-    logical :: armed
-    character(len=NAME_LEN), allocatable :: keys(:)
-
-    y_out = 0.0_c_double
-    drive_force = 0.0_c_double
-    istats = 0.0_c_double
-    rstats = 0.0_c_double
-    elem_kind = 0
-    elem_index = 0
-    cpu = 0.0_c_double
-    ! gfortran -Wuninitialized on keys here (its offset and bounds): a false positive; an
-    ! unallocated allocatable array assigned is allocated by the assignment
-    keys = split_names(pkeys)
-    if (size(keys) /= npv .or. ncp /= nc + 1) then
-        status = SS_BAD_DIM
-        return
-    end if
-    call model_from_arrays(m, bodies, springs, dampers, forces, contacts, con_ptr, keys, pvals, signals, sig_start, &
-                           tables, drives, slip_size /= 0)
-
-    flag => stop(1)
-    call arm(stop(1), armed)
-    cpu = cpu_seconds()
-    call m%simulate(method, t_end, t_out, y_out, st, rtol, atol, split_names(ckeys), cvals, ek, ei, &
-                    flag, events, y0, drive_force)
-    cpu = cpu_seconds() - cpu
-    call disarm(armed)
-    status = st%status
-    elem_kind = ek
-    elem_index = ei
-    if (ni /= size(stats_integers(st)) .or. nr /= size(stats_reals(st))) then
-        status = SS_BAD_DIM
-        return
-    end if
-    istats = real(stats_integers(st), c_double)
-    rstats = stats_reals(st)
-end subroutine run_model
-
-!> A periodic orbit of a user's model given as run_model's arrays (stickslip_orbit's
+!> A periodic orbit of a user's model given as prepare_model_run's arrays (stickslip_orbit's
 !! model_periodic_orbit): from the guess y0 (x, v of every body) and the period (the forcing
 !! period, or the guess of the period when autonomous = 1) with the method named `method`
 !! and its controls; the solver's options tol, max_iter (0: the monodromy at the guess only),
@@ -708,7 +623,7 @@ subroutine orbit_model(bodies, nb, springs, ns, dampers, nd, forces, nf, contact
     real(c_double), intent(out) :: mult_re(n), mult_im(n)
     real(c_double), intent(out) :: info(5)
     integer(c_int), intent(out) :: status, elem_kind, elem_index
-    !> 1: the adaptive methods' tolerance on the contacts' slips; 0: on |y| (as run_model's)
+    !> 1: the adaptive methods' tolerance on the contacts' slips; 0: on |y| (as prepare_model_run's)
     integer(c_int), intent(in) :: slip_size
     !f2py integer optional, intent(in) :: slip_size = 1
     !f2py threadsafe

@@ -970,22 +970,24 @@ def _step_warnings(system: _Oscillators, method: str, h: float, t_end: float) ->
 
 
 def _warn_model_steps(model: Any, method: Any, t_end: Any, controls: Mapping[str, Any],
-                      stacklevel: int = 3) -> None:
+                      stacklevel: int = 3) -> list[tuple[str, type[Warning]]]:
     """Issue `_step_warnings` for a Model run with a fixed-step method, as simulate issues them
     for a scene (before the run, after the law's notes as for a scene; input that is not a
     positive finite h and t_end is left to the model's own validation). stacklevel: that of
-    the warnings, counted from this function."""
+    the warnings, counted from this function. Returns them (message, category), in order."""
     info = REGISTRY["method"].get(method) if isinstance(method, str) else None
     if info is None or "h" not in info["controls"]:
-        return
+        return []
     try:
         h, t = float(controls.get("h")), float(t_end)
     except (TypeError, ValueError):
-        return
+        return []
     if not (math.isfinite(h) and math.isfinite(t) and h > 0.0 and t > 0.0):
-        return
-    for message, category in _step_warnings(_model_oscillators(model), method, h, t):
+        return []
+    said = _step_warnings(_model_oscillators(model), method, h, t)
+    for message, category in said:
         warnings.warn(message, category, stacklevel=stacklevel)
+    return said
 
 
 def _check_code(status: int, given: Mapping[str, Any] | None = None) -> None:
@@ -1104,14 +1106,15 @@ class _Call:
     """One distinct setting of `simulate`, validated once (_prepare): the library's handle of
     the setting it built (prepare_run: the scene, its law and the method's options, run by
     run_prepared on a copy, so that threads may run one setting at once), its size `n` and
-    resolved parameters, and what its Result needs; `fast` when _runner's fast path may run
-    it without Python (no warnings to repeat; a kept grid or output every step). Never changed
+    resolved parameters, and what its Result needs (a Model's: `n_drives`, the rows of its
+    drives' forces); `fast` when _runner's fast path may run it without Python (no warnings
+    to repeat; a kept grid or output every step). Never changed
     after _prepare; the handle is released with the _Call (never copied: a copy would release
     it twice)."""
 
     __slots__ = ("scene", "law", "method", "t_end", "grid", "n_out", "rows", "warnings",
                  "n_states", "state_labels", "used", "known", "events_room", "n_blocks", "arm",
-                 "handle", "n", "resolved", "fast", "model")
+                 "handle", "n", "resolved", "fast", "model", "n_drives")
 
     def __init__(self, **kw: Any) -> None:
         for k, v in kw.items():
@@ -1529,7 +1532,7 @@ def _prepare(scene: Any, law: Any, method: Any, t_end: Any, n_out: Any, every_st
     return _Call(scene=scene, law=law, method=method, t_end=t_end, handle=int(handle), n=y0.size,
                  resolved=resolved, grid=grid, n_out=n_out, rows=rows, warnings=tuple(said), n_states=n_states,
                  state_labels=state_labels, used=plan.used, known=known, events_room=room,
-                 n_blocks=n_blocks, arm=arm, model=False,
+                 n_blocks=n_blocks, arm=arm, model=False, n_drives=0,
                  fast=not said and (rows > 0 or grid is not None) and not _checked(law, method))
 
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import os
+import struct
 import tomllib
 import warnings
 from dataclasses import dataclass, field
@@ -29,9 +30,9 @@ import numpy as np
 
 from . import _stickslip as _ext
 from .core import (CONTROL_DEFAULTS, LAWS, METHODS, REGISTRY, STATUS_OK, Result,
-                   _FIRST_INPUT_CODE, _SIZES, _I_NEVENTS, _I_WRITTEN, _choice, _count, _end_time, _events, _finite,
+                   _FIRST_INPUT_CODE, _choice, _count, _end_time, _finite,
                    _flag, _keys, _linspace, _states, _tolerance, _with_values, _known, status_message, _fixed_steps,
-                   _DEFAULT_MAX_EVENTS, _EVENT_ROOM, _NO_EVENTS, _NO_EVENT_ROWS,
+                   _DEFAULT_MAX_EVENTS, _EVENT_ROOM, RegularisedLawWarning,
                    _physical, MAX_ROWS, model_notes, _warn_model_steps, preset_arrays, _raise_failure,
                    _Call, _CALLS, _GRID_CACHE_ROWS, _STOP_CHECK_STEPS, _execute, _keep)
 from .outputs import atomic_write
@@ -630,11 +631,13 @@ def _input_error(model: Model, status: int, elem_kind: int, elem_index: int) -> 
 
 
 def run_controls(model: Model, method: str, controls: Mapping[str, Any], max_steps: int | None = None,
-                 every_step: bool = False) -> tuple[dict[str, float], np.ndarray, np.ndarray]:
+                 every_step: bool = False, said: list[tuple[str, type[Warning]]] | None = None
+                 ) -> tuple[dict[str, float], np.ndarray, np.ndarray]:
     """The controls of a run of `model` by `method` (the method's defaults, then the given
     ones, each checked), and the tolerances rtol, atol as arrays: what `simulate_model`
     passes to the wrapper (and `stickslip.steady` to the orbit solver). ValueError naming a
-    control that is not the method's, a value that is not finite, or h missing."""
+    control that is not the method's, a value that is not finite, or h missing. `said`: a
+    list that receives the warnings issued (`_check_band`'s), (message, category) in order."""
     info = REGISTRY["method"][method]
     n = model.n_states()
     ctl = {k: _flag(v) for k, v in CONTROL_DEFAULTS.items() if k in info["controls"]}
@@ -646,7 +649,7 @@ def run_controls(model: Model, method: str, controls: Mapping[str, Any], max_ste
     rtol = _tolerance("rtol", ctl.pop("rtol", 1.0), n)
     atol = _tolerance("atol", ctl.pop("atol", 1.0), n)
     if info["adaptive"] and not info["laws"]:        # dopri5, dop853, radau5: the laws' bands
-        _check_band(model, method, float(np.max(rtol)))
+        _check_band(model, method, float(np.max(rtol)), said)
     for name, value in ctl.items():
         ctl[name] = _finite(name, value, "see simulate()")
     if "h" in info["controls"] and "h" not in ctl:
@@ -710,67 +713,123 @@ def initial_state(model: "Model", arrays: Mapping[str, Any]) -> np.ndarray:
 
 def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None = None,
                    every_step: bool = False, max_steps: int | None = None, **controls: Any) -> Result:
-    """Run `model` (what ``stickslip.simulate(model, method=..., ...)`` does; see there)."""
+    """Run `model` (what ``stickslip.simulate(model, method=..., ...)`` does; see there). A run
+    of equal arguments on a model of equal content (`_run_key`) is not validated again: the
+    warnings its validation issued are issued again, as they were, and its setting is run."""
     if not isinstance(model, Model):
         raise ValueError(f"model: must be a stickslip.Model, got {type(model).__name__}")
-    check_method(model, method)
-    notes = model_notes(model, method, stacklevel=4)
-    _warn_model_steps(model, method, t_end, controls, stacklevel=5)    # the caller of simulate
-    info = REGISTRY["method"][method]
-    laws = [c.law for c in model.contacts]
-    arrays = model.arrays()
-    t_end = _end_time(t_end)
-    ctl, rtol, atol = run_controls(model, method, controls, max_steps, every_step)
-    if every_step:
-        if n_out is not None:
-            raise ValueError("n_out: give either n_out or every_step, not both")
-        rows = int(min(ctl["max_steps"], MAX_ROWS - 1)) + 1
-        if not info["adaptive"] and ctl.get("h", 0.0) > 0.0:
-            rows = min(rows, int(math.ceil(t_end / ctl["h"])) + 2)
-        ctl["every_step"] = 1.0
-        t_grid = np.zeros(rows)
+    key, signals = _run_key(model, method, t_end, n_out, every_step, max_steps, controls)
+    run = _CALLS.get(key) if key is not None else None
+    if run is not None:
+        for message, category, level in run.warnings:
+            warnings.warn(message, category, stacklevel=level)
     else:
-        n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
-        t_grid = None                        # the grid a kept setting holds, or made for the run
-        rows = 0
-    room = event_room(method, ctl)
-    y0 = initial_state(model, arrays)
-    ckeys, cvals = _keys(ctl)
-    if not model.drives:
+        check_method(model, method)
+        notes = model_notes(model, method, stacklevel=4)
+        steps = _warn_model_steps(model, method, t_end, controls, stacklevel=5)    # the caller of simulate
+        info = REGISTRY["method"][method]
+        arrays = model.arrays()
+        t_end = _end_time(t_end)
+        band: list[tuple[str, type[Warning]]] = []
+        ctl, rtol, atol = run_controls(model, method, controls, max_steps, every_step, band)
+        if every_step:
+            if n_out is not None:
+                raise ValueError("n_out: give either n_out or every_step, not both")
+            rows = int(min(ctl["max_steps"], MAX_ROWS - 1)) + 1
+            if not info["adaptive"] and ctl.get("h", 0.0) > 0.0:
+                rows = min(rows, int(math.ceil(t_end / ctl["h"])) + 2)
+            ctl["every_step"] = 1.0
+        else:
+            n_out = _count("n_out", 1001 if n_out is None else n_out, 1, MAX_ROWS)
+            rows = 0
+        ckeys, cvals = _keys(ctl)
         # the model's setting built once (kept in simulate's cache, keyed on its arrays) and run
-        # as a scene's is: run_prepared through _runner, which builds the Result
-        call = _model_call(model, arrays, method, t_end, y0, rtol, atol, ckeys, cvals, rows, n_out, room,
+        # as a scene's is: run_prepared through _runner, which builds the Result (with its
+        # drives' forces)
+        call = _model_call(model, arrays, method, t_end, initial_state(model, arrays), rtol, atol, ckeys, cvals,
+                           rows, n_out, event_room(method, ctl),
                            info["adaptive"] or _fixed_steps(t_end, ctl.get("h", 0.0)) >= _STOP_CHECK_STEPS // 2)
-        result = _execute(call, None if call.grid is not None or rows else _linspace(t_end, n_out))
-        return _checked_run(model, method, result, notes, {**ctl, "rtol": rtol, "atol": atol}, arrays)
-    stop = np.zeros(1, dtype=np.int32)
-    raw_events = np.zeros((4, room), order="F") if room else _NO_EVENT_ROWS
-    if t_grid is None:
-        t_grid = _linspace(t_end, n_out)
-    y, drive_force, istats, rstats, status, elem_kind, elem_index, cpu = _ext.run_model(
-        *(arrays[k] for k in ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", "pkeys", "pvals",
-                              "signals", "sig_start", "tables", "drives")),
-        method, y0, t_end, rtol, atol, ckeys, cvals, t_grid, _SIZES[0], _SIZES[1], stop, raw_events,
-        int(model.slip_error_size))
-    status = int(status)
-    if status <= _FIRST_INPUT_CODE:
-        raise _input_error(model, status, int(elem_kind), int(elem_index))
-    if status != STATUS_OK or rows:
-        written = int(istats[_I_WRITTEN])
-        y, t_grid, drive_force = y[:, :written], t_grid[:written].copy(), drive_force[:, :written]
-    nb = model.n_bodies
-    result = Result.__new__(Result)
-    result.scene, result.law, result.method, result.t_end = "model", "+".join(dict.fromkeys(laws)), method, t_end
-    result.t, result.x, result.v, result.z = t_grid, y[:nb], y[nb:2 * nb], y[2 * nb:]
-    result.state_labels = model.state_labels()
-    result._params, result._stats = {}, None
-    result._raw = (istats, rstats, status, cpu, None, ())
-    result.events = _events(raw_events, int(istats[_I_NEVENTS])) if room else _NO_EVENTS
-    result.drive_force = drive_force.T
-    return _checked_run(model, method, result, notes, {**ctl, "rtol": rtol, "atol": atol}, arrays)
+        # the warnings again with their stacklevels counted from here: the notes' and the
+        # steps' at simulate's caller, _check_band's at Model.run_model
+        said = ([(m, RegularisedLawWarning, 4) for m in notes] + [(m, c, 4) for m, c in steps]
+                + [(m, c, 2) for m, c in band])
+        run = _ModelRun(call, tuple(said), tuple(notes), {**ctl, "rtol": rtol, "atol": atol}, arrays, signals)
+        if key is not None:
+            _keep(key, run)
+    call = run.call
+    result = _execute(call, None if call.grid is not None or call.rows else _linspace(call.t_end, call.n_out))
+    return _checked_run(model, method, result, run.notes, run.controls, run.arrays)
 
 
-def _checked_run(model: Model, method: str, result: Result, notes: list[str], controls: Mapping[str, Any],
+class _ModelRun:
+    """A run of a Model as simulate was called (`_run_key`), validated once and kept in
+    simulate's cache: the _Call of its setting (shared by the runs of models of equal arrays,
+    `_model_call`), the warnings its validation issued (message, category, stacklevel counted
+    from simulate_model), the notes among them, the controls its consistency check reads, the
+    model's arrays, and the model's signals, whose ids its key holds (kept here, so that no
+    other signal takes one of those ids while the key is kept)."""
+
+    __slots__ = ("call", "warnings", "notes", "controls", "arrays", "signals")
+
+    def __init__(self, call: _Call, said: tuple[tuple[str, type[Warning], int], ...], notes: tuple[str, ...],
+                 controls: Mapping[str, Any], arrays: Mapping[str, Any], signals: tuple[Any, ...] | None) -> None:
+        self.call, self.warnings, self.notes = call, said, notes
+        self.controls, self.arrays, self.signals = controls, arrays, signals
+
+
+#: The first item of the key of a Model's run in simulate's cache: no key of a scene's run
+#: (simulate's arguments, the scene's name first) equals one of these.
+_RUN_KEY = object()
+#: The types of simulate's arguments a run's key takes (others: validated each time).
+_KEY_TYPES = (int, float, bool, str, type(None))
+
+
+def _run_key(model: Model, method: Any, t_end: Any, n_out: Any, every_step: Any, max_steps: Any,
+             controls: Mapping[str, Any]) -> tuple[tuple | None, tuple[Any, ...] | None]:
+    """The key of a run of `model` in simulate's cache, made without the model's arrays, and
+    the model's signals: the counts of each kind of element, the body indices, the names of the
+    bodies, laws and law parameters, the signals by id (a Signal is immutable; the kept run
+    holds them), every number of the model by its bits (packed as doubles: -0.0 is not 0.0),
+    and the arguments with their types (floats by repr, exact). (None, None) for an element
+    or argument of another kind (a tolerance per component): such a run is validated each
+    time."""
+    args = (method, t_end, n_out, every_step, max_steps, *controls.values())
+    if any(type(a) not in _KEY_TYPES for a in args):
+        return None, None
+    try:
+        nums: list[float] = []
+        shape: list[Any] = [model.slip_error_size, len(model.bodies), len(model.springs), len(model.dampers),
+                            len(model.forces), len(model.contacts), len(model.drives)]
+        signals: list[Any] = []
+        for body in model.bodies:
+            nums += (body.mass, body.x0, body.v0)
+            shape.append(body.name)
+        for a, b, k, rest in model.springs:
+            nums += (k, rest)
+            shape += (a, b)
+        for a, b, c in model.dampers:
+            nums.append(c)
+            shape += (a, b)
+        for a, sig in model.forces:
+            shape += (a, id(sig))
+            signals.append(sig)
+        for con in model.contacts:
+            nums += con.params.values()
+            nums += con.z0
+            shape += (con.a, con.b, con.law, id(con.normal_force), id(con.surface_velocity), len(con.params),
+                      *con.params, len(con.z0))
+            signals += (con.normal_force, con.surface_velocity)
+        for drive in model.drives:
+            shape += (drive.body, drive.kind, id(drive.signal))
+            signals.append(drive.signal)
+        packed = struct.pack(f"{len(nums)}d", *nums)
+    except (TypeError, ValueError, struct.error):
+        return None, None
+    given = tuple((k, type(v), repr(v)) for k, v in controls.items())
+    return ((_RUN_KEY, tuple(shape), packed, *((type(a), repr(a)) for a in args[:5]), given), tuple(signals))
+
+
+def _checked_run(model: Model, method: str, result: Result, notes: tuple[str, ...], controls: Mapping[str, Any],
                  arrays: Mapping[str, Any]) -> Result:
     """`result` of a run of `model`, raised for an early end (`_raise_failure`), else with the
     notes of its warnings and its consistency check (`check_result`, warned from simulate's
@@ -790,8 +849,8 @@ _ARRAY_KEYS = ("bodies", "springs", "dampers", "forces", "contacts", "con_ptr", 
 def _model_call(model: Model, arrays: Mapping[str, Any], method: str, t_end: float, y0: np.ndarray,
                 rtol: np.ndarray, atol: np.ndarray, ckeys: str, cvals: np.ndarray, rows: int,
                 n_out: int | None, room: int, arm: bool) -> _Call:
-    """The _Call of a run of `model` without drives (prepare_model_run: the model built,
-    specialised, with the method's options, once), from simulate's cache when a model of equal
+    """The _Call of a run of `model` (prepare_model_run: the model built, specialised, with
+    the method's options and its drives, once), from simulate's cache when a model of equal
     arrays ran so before (the cache is keyed on the model's content, not on the object: a
     Model is mutable); ValueError naming a bad element."""
     key = ("model", method, t_end, rows, n_out, room, bool(model.slip_error_size), ckeys, cvals.tobytes(),
@@ -814,7 +873,7 @@ def _model_call(model: Model, arrays: Mapping[str, Any], method: str, t_end: flo
     call = _Call(scene="model", law="+".join(dict.fromkeys(c.law for c in model.contacts)), method=method,
                  t_end=t_end, handle=int(handle), n=y0.size, resolved=None, grid=grid, n_out=n_out, rows=rows,
                  warnings=(), n_states=y0.size - 2 * nb, state_labels=model.state_labels(), used=(), known={},
-                 events_room=room, n_blocks=nb, arm=arm, model=True, fast=False)
+                 events_room=room, n_blocks=nb, arm=arm, model=True, n_drives=len(model.drives), fast=False)
     _keep(key, call)
     return call
 
@@ -836,10 +895,12 @@ def slip_scale(model: Model, i: int) -> float:
     return scale
 
 
-def _check_band(model: Model, method: str, rtol: float) -> None:
+def _check_band(model: Model, method: str, rtol: float,
+                said: list[tuple[str, type[Warning]]] | None = None) -> None:
     """A ModelWarning for each contact whose law has a velocity band (v_eps, v_s) narrower than
     rtol times the contact's slip scale (`slip_scale`): an error of rtol times the slip may
-    then cross the band the law turns in."""
+    then cross the band the law turns in. Each is also appended to `said` (when given) as
+    (message, category)."""
     for i, c in enumerate(model.contacts):
         names = [k for k in ("v_eps", "v_s") if k in REGISTRY["law"][c.law]["params"]]
         if not names:
@@ -848,7 +909,10 @@ def _check_band(model: Model, method: str, rtol: float) -> None:
         band_name = min(names, key=lambda k: known[k])
         band, scale = known[band_name], slip_scale(model, i)
         if rtol * scale > band:
-            warnings.warn(f"{model.contact_label(i)}: rtol = {rtol:.3g} times the slip scale {scale:.6g} m/s "
-                          f"(its surface's and bodies' speeds) is {rtol * scale:.3g} m/s, more than its law's "
-                          f"{band_name} = {band:.3g} m/s: {method}'s error test may not resolve the law's band; "
-                          f"take rtol <= {band / scale:.3g}", ModelWarning, stacklevel=4)
+            message = (f"{model.contact_label(i)}: rtol = {rtol:.3g} times the slip scale {scale:.6g} m/s "
+                       f"(its surface's and bodies' speeds) is {rtol * scale:.3g} m/s, more than its law's "
+                       f"{band_name} = {band:.3g} m/s: {method}'s error test may not resolve the law's band; "
+                       f"take rtol <= {band / scale:.3g}")
+            warnings.warn(message, ModelWarning, stacklevel=4)
+            if said is not None:
+                said.append((message, ModelWarning))
