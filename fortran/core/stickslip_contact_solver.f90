@@ -90,7 +90,7 @@ module stickslip_contact_solver
     private
 
     public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
-    public :: tridiagonal_sweeps, tridiagonal_rule, forces_at_rest
+    public :: tridiagonal_sweeps, tridiagonal_rule, forces_at_rest, other_solution_exists
     public :: modal_law, modal_law_set, solve_modal_contacts, modal_tridiagonal_sweeps, modal_local_solve, modal_choose
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
 
@@ -475,7 +475,7 @@ contains
             reach = d(j, j) * (laws(j)%mu_s + slip_coefficient(laws(j), abs(w(j)), at_rest)) * cap(j)
             if (abs(w(j)) > reach * (1.0_dp + 1.0e-9_dp)) cycle
             mt = mode
-            mt(j) = MODE_STICK
+            call set_with_twins(d, wf, j, MODE_STICK, mt)      ! a contact split in halves: both held
             call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
             info%sweeps = info%sweeps + 1
             if (.not. ok .and. all(pt /= huge(1.0_dp)) .and. all(ieee_is_finite(pt))) then
@@ -504,8 +504,8 @@ contains
                     tried(k) = .true.
                     npair = npair + 1
                     mt = mode
-                    mt(j) = MODE_STICK
-                    mt(k) = -nint(sign(1.0_dp, p(k)))
+                    call set_with_twins(d, wf, j, MODE_STICK, mt)
+                    call set_with_twins(d, wf, k, -nint(sign(1.0_dp, p(k))), mt)
                     call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
                     info%sweeps = info%sweeps + 1
                     if (ok) exit
@@ -517,6 +517,47 @@ contains
             end if
         end do
     end subroutine find_other_solution
+
+    !> nonunique: whether the problem (laws, d, wf, cap, at_rest) has another solution with at
+    !! least as many stuck contacts than its solution (p, w, mode), by the sufficient test of
+    !! `solve_contacts` (info%nonunique; the module notes). For a caller whose answer was not
+    !! (only) the solver's: event_driven, where the mode's minimum-norm forces let a stuck
+    !! contact of a closed loop go.
+    subroutine other_solution_exists(laws, d, wf, cap, at_rest, p, w, mode, nonunique)
+        type(contact_law), intent(in) :: laws(:)   !! (n) each contact's law
+        real(dp), intent(in) :: d(:, :)            !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in) :: wf(:)              !! (n) velocities without friction [m/s] (or [m/s^2])
+        real(dp), intent(in) :: cap(:)             !! (n) capacities [N s] (or [N])
+        logical, intent(in)  :: at_rest            !! slip coefficient fixed at mu(0+)
+        real(dp), intent(in) :: p(:)               !! (n) the solution's impulses (or forces)
+        real(dp), intent(in) :: w(:)               !! (n) its velocities (or accelerations)
+        integer, intent(in)  :: mode(:)            !! (n) its modes
+        logical, intent(out) :: nonunique          !! another solution was found
+        type(contact_solve_info) :: info
+        call find_other_solution(laws, d, wf, cap, at_rest, p, w, mode, info)
+        nonunique = info%nonunique
+    end subroutine other_solution_exists
+
+    !> mt(i) := m, and the same for every contact on the same row as i up to sign (the same
+    !! free velocity and the same row of D, up to sign: a contact split in halves), whose slip
+    !! direction is then m times that sign.
+    subroutine set_with_twins(d, wf, i, m, mt)
+        real(dp), intent(in)   :: d(:, :), wf(:)
+        integer, intent(in)    :: i, m
+        integer, intent(inout) :: mt(:)
+        integer :: k
+        real(dp) :: sg
+        mt(i) = m
+        do k = 1, size(wf)
+            if (k == i .or. abs(mt(k)) /= 1 .and. mt(k) /= MODE_STICK) cycle
+            sg = sign(1.0_dp, d(i, k))
+            if (abs(d(k, k) - d(i, i)) > 1.0e-12_dp * d(i, i) .or. abs(d(i, k) - sg * d(i, i)) > 1.0e-12_dp * d(i, i)) &
+                cycle
+            if (abs(wf(k) - sg * wf(i)) > 1.0e-12_dp * max(maxval(abs(wf)), tiny(1.0_dp))) cycle
+            if (any(abs(d(k, :) - sg * d(i, :)) > 1.0e-12_dp * d(i, i))) cycle
+            mt(k) = nint(sg) * m
+        end do
+    end subroutine set_with_twins
 
     !> Velocities of open contacts from the impulses, wf + D p.
     subroutine open_velocities(d, wf, p, mode, w)
