@@ -48,7 +48,10 @@
 !! (the others cannot let it stick otherwise) the mode with it stuck, that mode with the
 !! stuck contacts it would overload slipping, and else that mode with one of the two stuck
 !! contacts most coupled to it slipping (at most 4 such swaps a problem) are solved and
-!! tested (a sufficient test: a tie it does not reach is not reported).
+!! tested (a sufficient test: a tie it does not reach is not reported); a contact on the same
+!! row as one held or let go in a trial (its other half) is held or let go with it.
+!! `other_solution_exists` runs the same test on an answer found otherwise (event_driven's
+!! modes, decided with its minimum-norm forces).
 !!
 !! How. One active contact: its closed form (`local_solve`). More: the rounds of the rule,
 !! each box problem by `box_solve` (an active-set Newton method, 1 to 4 linear solves from the
@@ -473,14 +476,20 @@ contains
         do j = 1, size(wf)
             if (abs(mode(j)) /= 1) cycle
             reach = d(j, j) * (laws(j)%mu_s + slip_coefficient(laws(j), abs(w(j)), at_rest)) * cap(j)
+            ! at rest (event_driven's decisions, a few an event) also what the stuck contacts'
+            ! swings between their limits could change (a swap of j with one of them)
+            if (at_rest) reach = reach + sum(abs(d(j, :)) * (laws%mu_s + slip_coefficient(laws, 0.0_dp, at_rest)) &
+                                             * cap, mask=mode == MODE_STICK)
             if (abs(w(j)) > reach * (1.0_dp + 1.0e-9_dp)) cycle
             mt = mode
             call set_with_twins(d, wf, j, MODE_STICK, mt)      ! a contact split in halves: both held
             call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
             info%sweeps = info%sweeps + 1
             if (.not. ok .and. all(pt /= huge(1.0_dp)) .and. all(ieee_is_finite(pt))) then
-                over = mt == MODE_STICK .and. abs(pt) > laws%mu_s * cap * (1.0_dp + STICK_RTOL)
-                if (.not. over(j) .and. any(over) .and. count(mt == MODE_STICK) - count(over) >= nst) then
+                ! the stuck contacts that j's hold overloads slip (j itself, and its halves, held:
+                ! once the others slip it may be within its limit)
+                over = mt == MODE_STICK .and. mode == MODE_STICK .and. abs(pt) > laws%mu_s * cap * (1.0_dp + STICK_RTOL)
+                if (any(over) .and. count(mt == MODE_STICK) - count(over) >= nst) then
                     where (over) mt = -nint(sign(1.0_dp, pt))
                     call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
                     info%sweeps = info%sweeps + 1
@@ -519,7 +528,7 @@ contains
     end subroutine find_other_solution
 
     !> nonunique: whether the problem (laws, d, wf, cap, at_rest) has another solution with at
-    !! least as many stuck contacts than its solution (p, w, mode), by the sufficient test of
+    !! least as many stuck contacts as its solution (p, w, mode), by the sufficient test of
     !! `solve_contacts` (info%nonunique; the module notes). For a caller whose answer was not
     !! (only) the solver's: event_driven, where the mode's minimum-norm forces let a stuck
     !! contact of a closed loop go.

@@ -37,8 +37,13 @@
 !! has reached w = 0 is a candidate, and the problem at rest (their relative accelerations
 !! a_C = af_C + H_C M^-1 H_C^T r_C, with slip at mu(0+) N, the other contacts' slip forces
 !! fixed) is solved by `stickslip_contact_solver` (its one rule where several modes are
-!! consistent, as for moreau's steps; an instant where another solution existed is counted in
-!! stats%nonunique; the contacts one by one when the Delassus matrix is diagonal). Where a
+!! consistent, as for moreau's steps; the contacts one by one when the Delassus matrix is
+!! diagonal). A decision where another solution existed is counted once in stats%nonunique:
+!! (a) the solver's test finds another mode set with as many stuck contacts, or (b) a stuck
+!! contact let go because the mode's minimum-norm forces exceed its limit, in a stuck set with
+!! a singular Delassus block, that the solver's answer held by other forces within every limit
+!! (`held_otherwise`) or that another mode set with as many stuck contacts holds (`loop_tie`,
+!! by the solver's test `other_solution_exists`). Where a
 !! slipping contact reaches w = 0, every other slipping contact at w = 0 to the integration's
 !! tolerance there (bodies that stop together) is decided with it. Where the stuck contacts
 !! form a closed loop (their holding forces are not unique), the solver's answer may hold

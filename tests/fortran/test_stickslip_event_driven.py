@@ -8,6 +8,7 @@ campaign (200 models) is marked slow; the default run takes a handful."""
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -355,6 +356,53 @@ def test_random_models_against_the_reference(seed: int) -> None:
     on the sign of rounding; in 1078 a slipping contact's w comes back to 0 within one of the
     reference's steps)."""
     assert check_against_reference(seed) == "agree"
+
+
+def _nonunique_and_warnings(model: ss.Model, t_end: float) -> tuple[int, list[str]]:
+    """event_driven's stats["nonunique"] on `model` up to t_end, and its RuntimeWarnings about
+    another solution."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = ss.simulate(model, method="event_driven", t_end=t_end, n_out=2, rtol=1e-10, atol=1e-12)
+    said = [str(w.message) for w in caught
+            if issubclass(w.category, RuntimeWarning) and "another solution" in str(w.message)]
+    return int(res.stats["nonunique"]), said
+
+
+def test_a_closed_loop_let_go_by_its_forces_is_counted_and_warned_once() -> None:
+    """Model 1113: bodies 1 and 2 each on the ground and on each other (contacts 1, 2 and the
+    halves 7 and 10), a closed loop of stuck contacts whose holding forces are not unique. At
+    0.12857 s the mode's minimum-norm forces take 7 and 10 to their limit and event_driven lets
+    them go; contact 2 slipping instead, with 7 and 10 held, is another solution with as many
+    stuck contacts, where the reference (exhaustive search) goes. The decision is counted
+    (stats["nonunique"]) and the run warns once, naming the count; nothing before it is
+    counted, and the reference records its tie between the two times too."""
+    spec = random_spec(1113)
+    before, said_before = _nonunique_and_warnings(spec.model(), 0.1285)
+    after, said = _nonunique_and_warnings(spec.model(), 0.1287)
+    assert before == 0 and not said_before
+    assert after >= 1
+    assert len(said) == 1 and f"{after} contact problem(s)" in said[0]
+    ref = spec.reference()
+    ref.run(spec.x0, spec.v0, 0.1287, np.array([0.0, 0.1287]), rtol=1e-11, atol=1e-13)
+    assert any(0.1285 < t <= 0.1287 for t in ref.ties), ref.ties
+
+
+def test_stacked_blocks_tie_at_rest_is_counted_and_a_unique_run_is_not() -> None:
+    """The stacked blocks of issue 41 (base set) from rest: at t = 0 two mode sets with one stuck
+    contact each are consistent (the reference records its tie at 0): event_driven's first
+    decision counts one and warns once. The closed-form example (one contact) never has another
+    solution: no count, no warning."""
+    from test_stickslip_contact import STACKED_SETS, _stack, G
+    friction = STACKED_SETS["base"]
+    n, said = _nonunique_and_warnings(_stack(friction), 1e-6)
+    assert n == 1 and len(said) == 1 and "1 contact problem(s)" in said[0]
+    ref = Reference(m=[2.0, 1.0, 0.5], k=np.diag([200.0, 60.0, 30.0]), h=[[1, 0, 0], [-1, 1, 0], [0, -1, 1]],
+                    b=[-0.3, 0.0, 0.0], n=[3.5 * G, 1.5 * G, 0.5 * G], mu_s=[f[0] for f in friction],
+                    mu_k=[f[1] for f in friction])
+    ref.run([0.0] * 3, [0.0] * 3, 1e-6, np.array([0.0, 1e-6]))
+    assert 0.0 in ref.ties
+    assert _nonunique_and_warnings(example_model(), 1.0) == (0, [])
 
 
 #: The campaign's models on which event_driven still ends in success with another motion than
