@@ -99,12 +99,9 @@ class Reference:
             guess[i] = -int(np.sign(r[i]))
         cands = list(cands)
         for slack in (0.0, 1e-9):      # slipping away from w = 0 (then to rounding: at mu_s = mu_k)
-            best, n_best, more = self._search(q, u, cands, mode, at_limit, t, nn, held, guess, slack)
-            if best is not None and not more:
+            best, n_best = self._search(q, u, cands, mode, at_limit, t, nn, held, guess, slack)
+            if best is not None:
                 break
-            # none, or a mode consistent to rounding only (a slip that starts with zero relative
-            # acceleration: a contact let go at its limit with mu_s = mu_k) holds more stuck
-            # contacts than the best: the rule (most stuck first) takes it, with rounding allowed
         if best is None:
             raise RuntimeError("no consistent mode")
         if n_best > 1 and any(self.mu_s[i] > self.mu_k[i] for i in cands):
@@ -119,8 +116,8 @@ class Reference:
 
     def _search(self, q, u, cands, mode, at_limit, t, nn, held, guess, slack):
         """The best consistent mode of the candidates (see `decide`), searched by increasing
-        number of slipping ones, how many consistent modes hold that many stuck contacts
-        (None, 0: none), and whether a mode consistent to rounding only holds more. Contacts on the same row up to sign (the same w: a contact split in
+        number of slipping ones, and how many consistent modes hold that many stuck contacts
+        (None, 0: none). Contacts on the same row up to sign (the same w: a contact split in
         halves) count as one stuck contact, as issue 41 states the rule: the search goes on
         while a count of fewer slipping contacts could still hold as many distinct rows."""
         best, best_key, counts, round_max = None, None, {}, -1
@@ -159,8 +156,8 @@ class Reference:
                     if best_key is None or key < best_key:
                         best, best_key = trial, key
         if best is None:
-            return None, 0, False
-        return best, counts[-best_key[0]] + (1 if round_max >= -best_key[0] else 0), round_max > -best_key[0]
+            return None, 0
+        return best, counts[-best_key[0]] + (1 if round_max >= -best_key[0] else 0)
 
     def _closed(self, t):
         """Which contacts carry a normal force just after t (a table at 0 there: by its slope)."""

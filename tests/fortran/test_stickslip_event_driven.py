@@ -412,8 +412,24 @@ def test_stacked_blocks_tie_at_rest_is_counted_and_a_unique_run_is_not() -> None
 #: until it is removed here. (1072 and 1113 left it when event_driven counted the decisions where
 #: a closed loop of stuck contacts lets a contact go that another holding, or another stuck set,
 #: would keep: both part from the reference after such a decision, at 0.1094 s and 0.12857 s,
-#: instants the reference records as ties too.)
-KNOWN_WRONG: dict[int, str] = {}
+#: instants the reference records as ties too; 1124 when the contact solver's test at rest also
+#: tried a held contact with the neighbours it overloads slipping.)
+KNOWN_WRONG: dict[int, str] = {
+    1117: "contacts 7, 10 and 11 (bodies 2, 3 and 6) form a closed loop of stuck contacts; at 0.064283 s "
+          "the minimum-norm forces (the same in both runs) take 10, with mu_s = mu_k, to its limit. "
+          "event_driven lets 10 alone slip, the mode with the most stuck contacts, whose slip starts with a "
+          "relative acceleration of 0 (mu_s = mu_k: the force does not change), and follows it (7 slips at "
+          "0.068867 s); the reference rejects that mode as consistent to rounding only and lets 7 and 10 "
+          "slip, a mode with one stuck contact less. There is no other solution with as many stuck "
+          "contacts, so nothing is counted: the two differ on a first-order degenerate instant, which "
+          "only higher derivatives decide. (A reference that takes such a mode where it holds more stuck "
+          "contacts, tried: 1117 then parts after a counted decision and 1136 agrees, but 1169 parts the "
+          "other way, event_driven letting two contacts go where the reference lets one, and three more "
+          "models stall the reference)",
+    1136: "the same instant as 1117 on a loop 1-3-6: at 0.149122 s contact 1 (mu_s = mu_k) reaches its limit; "
+          "event_driven lets 1 slip (zero relative acceleration at the start), the reference lets 1 and 6 "
+          "slip; event_driven's 6 slips at 0.15466 s",
+}
 
 
 @pytest.mark.slow
