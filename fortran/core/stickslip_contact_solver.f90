@@ -48,7 +48,10 @@
 !! (the others cannot let it stick otherwise) the mode with it stuck, that mode with the
 !! stuck contacts it would overload slipping, and else that mode with one of the two stuck
 !! contacts most coupled to it slipping (at most 4 such swaps a problem) are solved and
-!! tested (a sufficient test: a tie it does not reach is not reported).
+!! tested (a sufficient test: a tie it does not reach is not reported); a contact on the same
+!! row as one held or let go in a trial (its other half) is held or let go with it.
+!! `other_solution_exists` runs the same test on an answer found otherwise (event_driven's
+!! modes, decided with its minimum-norm forces).
 !!
 !! How. One active contact: its closed form (`local_solve`). More: the rounds of the rule,
 !! each box problem by `box_solve` (an active-set Newton method, 1 to 4 linear solves from the
@@ -90,7 +93,7 @@ module stickslip_contact_solver
     private
 
     public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
-    public :: tridiagonal_sweeps, tridiagonal_rule, forces_at_rest
+    public :: tridiagonal_sweeps, tridiagonal_rule, forces_at_rest, other_solution_exists
     public :: modal_law, modal_law_set, solve_modal_contacts, modal_tridiagonal_sweeps, modal_local_solve, modal_choose
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
 
@@ -473,14 +476,20 @@ contains
         do j = 1, size(wf)
             if (abs(mode(j)) /= 1) cycle
             reach = d(j, j) * (laws(j)%mu_s + slip_coefficient(laws(j), abs(w(j)), at_rest)) * cap(j)
+            ! at rest (event_driven's decisions, a few an event) also what the stuck contacts'
+            ! swings between their limits could change (a swap of j with one of them)
+            if (at_rest) reach = reach + sum(abs(d(j, :)) * (laws%mu_s + slip_coefficient(laws, 0.0_dp, at_rest)) &
+                                             * cap, mask=mode == MODE_STICK)
             if (abs(w(j)) > reach * (1.0_dp + 1.0e-9_dp)) cycle
             mt = mode
-            mt(j) = MODE_STICK
+            call set_with_twins(d, wf, j, MODE_STICK, mt)      ! a contact split in halves: both held
             call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
             info%sweeps = info%sweeps + 1
             if (.not. ok .and. all(pt /= huge(1.0_dp)) .and. all(ieee_is_finite(pt))) then
-                over = mt == MODE_STICK .and. abs(pt) > laws%mu_s * cap * (1.0_dp + STICK_RTOL)
-                if (.not. over(j) .and. any(over) .and. count(mt == MODE_STICK) - count(over) >= nst) then
+                ! the stuck contacts that j's hold overloads slip (j itself, and its halves, held:
+                ! once the others slip it may be within its limit)
+                over = mt == MODE_STICK .and. mode == MODE_STICK .and. abs(pt) > laws%mu_s * cap * (1.0_dp + STICK_RTOL)
+                if (any(over) .and. count(mt == MODE_STICK) - count(over) >= nst) then
                     where (over) mt = -nint(sign(1.0_dp, pt))
                     call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
                     info%sweeps = info%sweeps + 1
@@ -504,8 +513,8 @@ contains
                     tried(k) = .true.
                     npair = npair + 1
                     mt = mode
-                    mt(j) = MODE_STICK
-                    mt(k) = -nint(sign(1.0_dp, p(k)))
+                    call set_with_twins(d, wf, j, MODE_STICK, mt)
+                    call set_with_twins(d, wf, k, -nint(sign(1.0_dp, p(k))), mt)
                     call solve_mode(laws, d, wf, cap, at_rest, mt, pt, wt, ok)
                     info%sweeps = info%sweeps + 1
                     if (ok) exit
@@ -517,6 +526,47 @@ contains
             end if
         end do
     end subroutine find_other_solution
+
+    !> nonunique: whether the problem (laws, d, wf, cap, at_rest) has another solution with at
+    !! least as many stuck contacts as its solution (p, w, mode), by the sufficient test of
+    !! `solve_contacts` (info%nonunique; the module notes). For a caller whose answer was not
+    !! (only) the solver's: event_driven, where the mode's minimum-norm forces let a stuck
+    !! contact of a closed loop go.
+    subroutine other_solution_exists(laws, d, wf, cap, at_rest, p, w, mode, nonunique)
+        type(contact_law), intent(in) :: laws(:)   !! (n) each contact's law
+        real(dp), intent(in) :: d(:, :)            !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in) :: wf(:)              !! (n) velocities without friction [m/s] (or [m/s^2])
+        real(dp), intent(in) :: cap(:)             !! (n) capacities [N s] (or [N])
+        logical, intent(in)  :: at_rest            !! slip coefficient fixed at mu(0+)
+        real(dp), intent(in) :: p(:)               !! (n) the solution's impulses (or forces)
+        real(dp), intent(in) :: w(:)               !! (n) its velocities (or accelerations)
+        integer, intent(in)  :: mode(:)            !! (n) its modes
+        logical, intent(out) :: nonunique          !! another solution was found
+        type(contact_solve_info) :: info
+        call find_other_solution(laws, d, wf, cap, at_rest, p, w, mode, info)
+        nonunique = info%nonunique
+    end subroutine other_solution_exists
+
+    !> mt(i) := m, and the same for every contact on the same row as i up to sign (the same
+    !! free velocity and the same row of D, up to sign: a contact split in halves), whose slip
+    !! direction is then m times that sign.
+    subroutine set_with_twins(d, wf, i, m, mt)
+        real(dp), intent(in)   :: d(:, :), wf(:)
+        integer, intent(in)    :: i, m
+        integer, intent(inout) :: mt(:)
+        integer :: k
+        real(dp) :: sg
+        mt(i) = m
+        do k = 1, size(wf)
+            if (k == i .or. abs(mt(k)) /= 1 .and. mt(k) /= MODE_STICK) cycle
+            sg = sign(1.0_dp, d(i, k))
+            if (abs(d(k, k) - d(i, i)) > 1.0e-12_dp * d(i, i) .or. abs(d(i, k) - sg * d(i, i)) > 1.0e-12_dp * d(i, i)) &
+                cycle
+            if (abs(wf(k) - sg * wf(i)) > 1.0e-12_dp * max(maxval(abs(wf)), tiny(1.0_dp))) cycle
+            if (any(abs(d(k, :) - sg * d(i, :)) > 1.0e-12_dp * d(i, i))) cycle
+            mt(k) = nint(sg) * m
+        end do
+    end subroutine set_with_twins
 
     !> Velocities of open contacts from the impulses, wf + D p.
     subroutine open_velocities(d, wf, p, mode, w)

@@ -37,8 +37,13 @@
 !! has reached w = 0 is a candidate, and the problem at rest (their relative accelerations
 !! a_C = af_C + H_C M^-1 H_C^T r_C, with slip at mu(0+) N, the other contacts' slip forces
 !! fixed) is solved by `stickslip_contact_solver` (its one rule where several modes are
-!! consistent, as for moreau's steps; an instant where another solution existed is counted in
-!! stats%nonunique; the contacts one by one when the Delassus matrix is diagonal). Where a
+!! consistent, as for moreau's steps; the contacts one by one when the Delassus matrix is
+!! diagonal). A decision where another solution existed is counted once in stats%nonunique:
+!! (a) the solver's test finds another mode set with as many stuck contacts, or (b) a stuck
+!! contact let go because the mode's minimum-norm forces exceed its limit, in a stuck set with
+!! a singular Delassus block, that the solver's answer held by other forces within every limit
+!! (`held_otherwise`) or that another mode set with as many stuck contacts holds (`loop_tie`,
+!! by the solver's test `other_solution_exists`). Where a
 !! slipping contact reaches w = 0, every other slipping contact at w = 0 to the integration's
 !! tolerance there (bodies that stop together) is decided with it. Where the stuck contacts
 !! form a closed loop (their holding forces are not unique), the solver's answer may hold
@@ -98,7 +103,8 @@ module stickslip_event_driven
     use stickslip_dopri5, only: dopri5_options, dopri5_integrate, dopri5_dense, DOPRI5_DENSE_ROWS
     use stickslip_contact, only: contact_system
     use stickslip_linalg, only: psd_solve, psd_factors, psd_factor
-    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, STICK_RTOL, MODE_STICK, MODE_OPEN
+    use stickslip_contact_solver, only: solve_contacts, contact_solve_info, STICK_RTOL, MODE_STICK, MODE_OPEN, &
+                                        other_solution_exists
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use stickslip_ode, only: diverged, stop_requested
     implicit none
@@ -194,6 +200,9 @@ module stickslip_event_driven
         integer :: room = 0                        !! columns of the caller's events array
         logical, allocatable :: cand_now(:)        !! the contacts being decided (`decide`)
         logical, allocatable :: touch(:)           !! contacts whose w came within tolerance of 0 at t_touch
+        real(dp), allocatable :: p_dec(:)          !! (n_c) the contact solver's forces at the last decision [N]
+        !> the decision under way had another solution (`decide`: counted once in stats%nonunique)
+        logical :: tie = .false.
         real(dp) :: t = 0.0_dp                     !! time [s]
         real(dp) :: ta = 0.0_dp                    !! the start of the step being searched [s]
         real(dp) :: tstar = 0.0_dp                 !! the earliest crossing found in it so far [s]
@@ -630,6 +639,7 @@ contains
         allocate(s%ms%ga(nc), s%ms%dga(nc), s%ms%gb(nc), s%ms%dgb(nc))
         allocate(s%ms%closed(nc), s%ms%flip(nc), s%ms%locked(nc), source=.false.)
         allocate(s%cand_now(nc), s%touch(nc), source=.false.)
+        allocate(s%p_dec(nc), source=0.0_dp)
         s%t_touch = -huge(1.0_dp)
         allocate(s%tb(CHUNK), s%yb(n, CHUNK), s%y(n), s%ya(n), s%ystar(n), s%cb(DOPRI5_DENSE_ROWS * n + 1, CHUNK))
         s%d5%every_step = .true.
@@ -825,13 +835,15 @@ contains
         logical, intent(in) :: cand(:)             !! (n_c) the contacts to decide
         logical, intent(in) :: record_events       !! record the changes as events
         integer, intent(out), optional :: nchanged !! contacts whose mode changed
-        logical :: was_stuck(s%nc), c(s%nc), over(s%nc)
+        logical :: was_stuck(s%nc), c(s%nc), over(s%nc), let_go(s%nc)
         real(dp) :: old_sig(s%nc), a(s%nd), r(s%nc), nn(s%nc)
         integer :: j, round
         associate (ms => s%ms)
             was_stuck = ms%stuck
             old_sig = ms%sig
             c = cand
+            s%tie = .false.
+            let_go = .false.
             do round = 1, count(cand)
                 call decide_set(s, c)
                 if (s%stats%status /= SS_OK) then
@@ -844,6 +856,8 @@ contains
                 call ms%cs%normal_forces(min(s%t, ms%t_cap), s%y(:s%nd), nn)
                 over = c .and. ms%stuck .and. abs(r) > ms%cs%laws%mu_s * nn * (1.0_dp + 2.0_dp * STICK_RTOL)
                 if (.not. any(over)) exit
+                s%tie = s%tie .or. held_otherwise(s, c .and. ms%stuck, r, nn)
+                let_go = let_go .or. over
                 where (over)
                     ms%stuck = .false.
                     ms%sig = -sign(1.0_dp, r)
@@ -851,6 +865,8 @@ contains
                 end where
                 if (.not. any(c)) exit
             end do
+            if (any(let_go) .and. .not. s%tie) s%tie = loop_tie(s, cand, let_go)
+            if (s%tie) s%stats%nonunique = s%stats%nonunique + 1
             if (present(nchanged)) nchanged = count(cand .and. ((ms%stuck .neqv. was_stuck) .or. &
                                                                  (.not. ms%stuck .and. ms%sig /= old_sig)))
             if (.not. record_events) return
@@ -909,7 +925,7 @@ contains
             else
                 call delassus_block(ms, t, y, idx, amat)
                 call solve_contacts(cs%laws(idx), amat, af, cap, .true., scale, 1000, p, wv, cmode, info)
-                if (info%nonunique) s%stats%nonunique = s%stats%nonunique + 1
+                s%tie = s%tie .or. info%nonunique
             end if
             s%cand_now = .false.
             if (.not. info%ok) then
@@ -918,6 +934,7 @@ contains
                 ms%stuck = was_stuck
                 return
             end if
+            s%p_dec(idx) = p
             do j = 1, nn_c
                 c = idx(j)
                 ms%stuck(c) = cmode(j) == MODE_STICK
@@ -925,6 +942,74 @@ contains
             end do
         end associate
     end subroutine decide_set
+
+    !> Did the contact solver's answer at the decision under way (s%p_dec) hold the stuck
+    !! contacts `held` by other forces than the mode's weighted minimum-norm ones r, within
+    !! every static limit? Then a contact that r takes beyond its limit, and that therefore
+    !! slips, could have been held (another solution, as many stuck contacts or more): the
+    !! set's holding forces are not unique (a singular Delassus block: a closed loop of
+    !! contacts, or redundant rows) and the choice decides. Forces that differ by no more than
+    !! 1e-9 of the largest static limit are the same forces to rounding (a unique set at its
+    !! limit), and are not counted.
+    logical function held_otherwise(s, held, r, nn) result(other)
+        type(ed_run), intent(in) :: s
+        logical, intent(in)  :: held(:)     !! (n_c) the stuck contacts compared
+        real(dp), intent(in) :: r(:)        !! (n_c) the mode's forces [N]
+        real(dp), intent(in) :: nn(:)       !! (n_c) the normal forces [N]
+        real(dp) :: lim(s%nc), gap
+        lim = s%ms%cs%laws%mu_s * nn
+        gap = 1.0e-9_dp * maxval(lim, mask=held, dim=1)
+        other = any(held .and. abs(s%p_dec - r) > gap) .and. &
+                all(abs(s%p_dec) <= lim * (1.0_dp + 2.0_dp * STICK_RTOL) .or. .not. held)
+    end function held_otherwise
+
+    !> Where a decision let stuck contacts go (let_go) because the mode's weighted minimum-norm
+    !! forces took them beyond their limits, and the stuck set with them has a singular Delassus
+    !! block (their holding forces are not unique: a closed loop of contacts): has the problem
+    !! at rest of the candidates cand another solution with as many stuck contacts, one that
+    !! holds a contact let go (`other_solution_exists`: the solver's test, on the modes decided)?
+    logical function loop_tie(s, cand, let_go) result(other)
+        type(ed_run), intent(inout) :: s
+        logical, intent(in) :: cand(:)      !! (n_c) the contacts decided
+        logical, intent(in) :: let_go(:)    !! (n_c) the ones let go against their holding forces
+        integer, allocatable :: idx(:), cm(:), js(:)
+        real(dp), allocatable :: amat(:, :), af(:), cap(:), p(:), wv(:), x(:, :)
+        real(dp) :: a(s%nd), r(s%nc), rr(s%nc), ha(s%nc), bd(s%nc), nn(s%nc)
+        logical :: stuck(s%nc), ok
+        integer :: j, nfev
+        other = .false.
+        if (s%ms%diagonal) return
+        associate (ms => s%ms, cs => s%ms%cs)
+            nfev = ms%nfev                     ! a check: not counted as the run's evaluations
+            idx = pack([(j, j = 1, s%nc)], cand)
+            allocate(amat(size(idx), size(idx)))
+            call delassus_block(ms, s%t, s%y, idx, amat)
+            js = pack([(j, j = 1, size(idx))], ms%stuck(idx) .or. let_go(idx))
+            allocate(x(size(js), 1), source=1.0_dp)
+            call psd_solve(amat(js, js), x, [(1.0_dp, j = 1, size(js))], ok, regular_only=.true.)
+            if (ok) return                     ! regular: the holding forces are unique
+            call mode_forces(ms, s%t, s%y, a, r)
+            if (ms%singular) return
+            stuck = ms%stuck
+            s%cand_now = cand
+            ms%stuck(idx) = .false.
+            call free_acceleration(s, a, rr)
+            ms%stuck = stuck
+            s%cand_now = .false.
+            ms%nfev = nfev
+            call cs%apply_h(a, ha)
+            call cs%offset_rate(s%t, bd)
+            call cs%normal_forces(min(s%t, ms%t_cap), s%y(:s%nd), nn)
+            af = ha(idx) + bd(idx)
+            cap = nn(idx)
+            p = r(idx)
+            cm = merge(MODE_STICK, nint(ms%sig(idx)), ms%stuck(idx))
+            where (.not. cap > 0.0_dp) cm = MODE_OPEN
+            wv = af + matmul(amat, p)
+            where (cm == MODE_STICK) wv = 0.0_dp
+            call other_solution_exists(cs%laws(idx), amat, af, cap, .true., p, wv, cm, other)
+        end associate
+    end function loop_tie
 
     !> The acceleration a and forces rr with the current mode's slip forces and without the
     !! forces of stuck contacts (used with the candidates marked as not stuck and carrying
@@ -1147,7 +1232,7 @@ contains
         type(ed_run), intent(inout) :: s
         real(dp) :: gv(s%nc), rr(s%nc), dgv(s%nc), b(s%nc), nn(s%nc), w(s%nc)
         integer :: j, kk, nchanged
-        logical :: now(s%nc), over(s%nc), closing(s%nc)
+        logical :: now(s%nc), over(s%nc), closing(s%nc), cand(s%nc), tie
         if (s%t - s%t_last_switch <= s%opts%zeno_gap) then
             s%close_switches = s%close_switches + 1
             if (s%close_switches > 4 * s%nc + 8) then
@@ -1198,14 +1283,28 @@ contains
             call decide(s, now .or. ms%stuck, .true., nchanged)
             if (s%stats%status /= SS_OK .or. nchanged > 0) return
             ! nothing changed although a holding force exceeded its limit: rounding at the
-            ! limit; the contact gives way against its holding force
+            ! limit (or, where the solver held the set by other forces, a choice of forces:
+            ! counted as another solution); the contact gives way against its holding force
+            over = over .and. ms%stuck
+            if (.not. any(over)) return
+            cand = now .or. ms%stuck
+            tie = .false.
+            if (.not. s%tie) then           ! (a decision with another solution is counted once)
+                call cs%normal_forces(min(s%t, ms%t_cap), s%y(:s%nd), nn)
+                tie = held_otherwise(s, ms%stuck, rr, nn)
+            end if
             do j = 1, s%nc
-                if (over(j) .and. ms%stuck(j)) then
+                if (over(j)) then
                     ms%stuck(j) = .false.
                     ms%sig(j) = -sign(1.0_dp, rr(j))
                     call record(s, j, EVENT_SLIP)
                 end if
             end do
+            if (.not. (s%tie .or. tie)) tie = loop_tie(s, cand, over)
+            if (tie) then
+                s%tie = .true.
+                s%stats%nonunique = s%stats%nonunique + 1
+            end if
         end associate
     end subroutine switch_mode
 
