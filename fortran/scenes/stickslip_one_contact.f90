@@ -187,7 +187,7 @@ contains
         j(1, 1) = 0.0_dp
         j(2, 1) = -self%k_m
         j(1, 2) = 1.0_dp
-        j(2, 2) = -self%c_m - self%n_m * self%law%dmu(self%relative_velocity(y))
+        j(2, 2) = -self%c_m - self%n_m * self%law%dmu(oc_vrel(self, y))   ! (its own slip, inlined)
     end function oc_static_jacobian
 
     subroutine oc_rhs(self, t, y, dydt)
