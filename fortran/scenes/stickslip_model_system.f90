@@ -87,9 +87,9 @@ module stickslip_model_system
         !! (`prepare`): a spring's index, nspr + a damper's, nspr + ndmp + a contact's
         integer, allocatable :: elem_ptr(:)
         integer, allocatable :: elem_of(:)         !! the elements of each body, in index order (`elem_ptr`)
-        !> every law static and every contact's normal force and surface velocity a number
-        !! (`prepare`): `rhs` then takes its short path
-        logical :: fixed_static = .false.
+        !> every contact's normal force and surface velocity a number (`prepare`): `rhs` then
+        !! takes its short path (`fixed_rhs`), reading them as found
+        logical :: fixed_contacts = .false.
         logical :: unit_mass = .false.             !! every mass is 1 (`prepare`): no division
         real(dp), allocatable :: con_im(:)         !! (nc) 1 / m_a + 1 / m_b of each contact [1/kg] (`prepare`)
     contains
@@ -336,8 +336,8 @@ contains
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
         integer :: nb
         nb = self%nb
-        if (self%fixed_static) then
-            call fixed_static_rhs(self, t, y, dydt)
+        if (self%fixed_contacts) then
+            call fixed_rhs(self, t, y, dydt)
             return
         end if
         if (.not. allocated(self%work)) allocate(self%work(nb, 2))
@@ -353,36 +353,49 @@ contains
         end associate
     end subroutine model_rhs
 
-    !> `rhs` of a model whose laws are all static and whose contacts' signals are numbers
-    !! (`fixed_static`): the same operations in the same order (the same numbers, bit for bit),
-    !! the forces summed in place and the numbers read as they were found by `prepare`.
-    subroutine fixed_static_rhs(self, t, y, dydt)
-        class(model_system), intent(in) :: self
+    !> `rhs` of a model whose contacts' normal forces and surface velocities are all numbers
+    !! (`fixed_contacts`): `contact_forces`' operations in the same order (the same numbers, bit
+    !! for bit), the forces summed in place and the numbers read as `prepare` found them (a
+    !! surface's acceleration 0); the free forces kept apart (for the holding coefficients)
+    !! only where a law has states.
+    subroutine fixed_rhs(self, t, y, dydt)
+        class(model_system), intent(inout) :: self
         real(dp), intent(in)  :: t          !! time [s]
-        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
-        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
-        real(dp) :: fn, s
-        integer :: i, nb, a, b
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
+        real(dp) :: s, n, mu
+        integer :: i, nb, a, b, z0, z1
         nb = self%nb
-        call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), dydt(nb + 1:2 * nb))
+        if (.not. self%all_static .and. .not. allocated(self%work)) allocate(self%work(nb, 2))
         associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb))
+        if (self%all_static) then
+            call self%free_forces(t, y(1:nb), v, f)
+        else
+            call self%free_forces(t, y(1:nb), v, self%work(:, 2))
+            f = self%work(:, 2)
+        end if
         do i = 1, size(self%con_a)
             a = self%con_a(i)
             b = self%con_b(i)
-            if (a > 0) then
-                s = v(a) - self%con_fixed(2, i)
-            else
-                s = -self%con_fixed(2, i)
-            end if
+            s = -self%con_fixed(2, i)
+            if (a > 0) s = v(a) - self%con_fixed(2, i)
             if (b > 0) s = s - v(b)
-            fn = self%laws(i)%law%mu(s) * max(self%con_fixed(1, i), 0.0_dp)
-            if (a > 0) f(a) = f(a) - fn
-            if (b > 0) f(b) = f(b) + fn
+            n = max(self%con_fixed(1, i), 0.0_dp)
+            if (self%all_static) then
+                mu = self%laws(i)%law%mu(s)
+            else
+                z0 = 2 * nb + self%z_first(i)
+                z1 = 2 * nb + self%z_first(i + 1) - 1
+                call self%laws(i)%law%evaluate(s, y(z0:z1), holding(self, i, n, self%work(:, 2), 0.0_dp), mu, &
+                                               dydt(z0:z1))
+            end if
+            if (a > 0) f(a) = f(a) - mu * n
+            if (b > 0) f(b) = f(b) + mu * n
         end do
         if (.not. self%unit_mass) f = f / self%mass
         end associate
         dydt(1:nb) = y(nb + 1:2 * nb)
-    end subroutine fixed_static_rhs
+    end subroutine fixed_rhs
 
     !> The sizes the adaptive methods' relative tolerance scales (`ode_system%error_size`):
     !! |y_i|, except that a body's velocity counts as the smallest max(|s|, band) of its
@@ -447,7 +460,7 @@ contains
         !> a stage derivative: the condensed contacts' states move at its rates, their mu the
         !! law's `stage_mu` (`stage_rhs`)
         real(dp), intent(in), optional :: k(:)
-        real(dp) :: s, n, wdot, mu, mu_hold, c, fa, fb
+        real(dp) :: s, n, wdot, mu, mu_hold
         integer :: i, nb, a, b, z0, z1
         nb = self%nb
         f = f0
@@ -465,20 +478,7 @@ contains
             else
                 z0 = 2 * nb + self%z_first(i)
                 z1 = 2 * nb + self%z_first(i + 1) - 1
-                c = n * self%con_im(i)
-                mu_hold = 0.0_dp
-                if (c > 0.0_dp) then
-                    fa = 0.0_dp
-                    fb = 0.0_dp
-                    if (self%unit_mass) then
-                        if (a > 0) fa = f0(a)
-                        if (b > 0) fb = f0(b)
-                    else
-                        if (a > 0) fa = f0(a) / self%mass(a)
-                        if (b > 0) fb = f0(b) / self%mass(b)
-                    end if
-                    mu_hold = (fa - fb - wdot) / c
-                end if
+                mu_hold = holding(self, i, n, f0, wdot)
                 call self%laws(i)%law%evaluate(s, y(z0:z1), mu_hold, mu, dydt(z0:z1))
             end if
             if (a > 0) f(a) = f(a) - mu * n
@@ -486,6 +486,32 @@ contains
             if (present(fric)) fric(i) = -mu * n
         end do
     end subroutine contact_forces
+
+    !> Contact i's holding coefficient given the free forces f0 [N] on the bodies, its normal
+    !! force n [N] and its surface's acceleration wdot [m/s^2]: the mu that keeps its slip
+    !! constant, (f0_a / m_a - f0_b / m_b - w') / (n (1 / m_a + 1 / m_b)) (0 without a normal force).
+    pure real(dp) function holding(self, i, n, f0, wdot) result(mu_hold)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i
+        real(dp), intent(in) :: n, f0(:), wdot
+        real(dp) :: c, fa, fb
+        integer :: a, b
+        mu_hold = 0.0_dp
+        c = n * self%con_im(i)
+        if (.not. c > 0.0_dp) return
+        a = self%con_a(i)
+        b = self%con_b(i)
+        fa = 0.0_dp
+        fb = 0.0_dp
+        if (self%unit_mass) then
+            if (a > 0) fa = f0(a)
+            if (b > 0) fb = f0(b)
+        else
+            if (a > 0) fa = f0(a) / self%mass(a)
+            if (b > 0) fb = f0(b) / self%mass(b)
+        end if
+        mu_hold = (fa - fb - wdot) / c
+    end function holding
 
     !> Whether contact i's law solves its states' stage itself (`condenses_states`) where its
     !! surface moves at a constant velocity (the stage's slip needs no time).
@@ -600,7 +626,7 @@ contains
             if (self%con_w(c) > 0 .and. self%con_is_fixed(2, c)) self%con_fixed(2, c) = self%sig%number(self%con_w(c))
         end do
         call index_elements(self)
-        self%fixed_static = self%all_static .and. all(self%con_is_fixed)
+        self%fixed_contacts = all(self%con_is_fixed)
         self%unit_mass = all(self%mass == 1.0_dp)
         self%con_im = [(inverse_mass(self, c), c = 1, nc)]
         allocate(pos(n), self%band_perm(n))
