@@ -73,6 +73,11 @@ module stickslip_model_system
         integer :: band_ml = -1                    !! lower bandwidth in that order (-1: dense)
         integer :: band_mu = -1                    !! upper bandwidth in that order (-1: dense)
         real(dp), allocatable :: work(:, :)        !! (nb, 2) the forces of `rhs`, kept between calls (no allocation a call)
+        !> the static Jacobian's constant part (x' = v, springs, dampers) as `static_jacobian`
+        !! assembles it, in the layout of lower bandwidth jac_fixed_ml (-1: dense); formed on its
+        !! first use after `prepare` and copied then, the contacts' part added each call
+        real(dp), allocatable :: jac_fixed(:, :)
+        integer :: jac_fixed_ml = -2               !! the layout jac_fixed holds (-2: none)
         !> (2, nc) contact i's normal force [N] and surface velocity [m/s] where their signals
         !! are numbers (`prepare`), read without evaluating the signal
         real(dp), allocatable :: con_fixed(:, :)
@@ -366,13 +371,13 @@ contains
         real(dp) :: s, n, mu
         integer :: i, nb, a, b, z0, z1
         nb = self%nb
-        if (.not. self%all_static .and. .not. allocated(self%work)) allocate(self%work(nb, 2))
-        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb))
+        if (.not. allocated(self%work)) allocate(self%work(nb, 2))
+        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb), f0 => self%work(:, 2))
         if (self%all_static) then
             call self%free_forces(t, y(1:nb), v, f)
         else
-            call self%free_forces(t, y(1:nb), v, self%work(:, 2))
-            f = self%work(:, 2)
+            call self%free_forces(t, y(1:nb), v, f0)
+            f = f0
         end if
         do i = 1, size(self%con_a)
             a = self%con_a(i)
@@ -386,8 +391,7 @@ contains
             else
                 z0 = 2 * nb + self%z_first(i)
                 z1 = 2 * nb + self%z_first(i + 1) - 1
-                call self%laws(i)%law%evaluate(s, y(z0:z1), holding(self, i, n, self%work(:, 2), 0.0_dp), mu, &
-                                               dydt(z0:z1))
+                call self%laws(i)%law%evaluate(s, y(z0:z1), holding(self, i, n, f0, 0.0_dp), mu, dydt(z0:z1))
             end if
             if (a > 0) f(a) = f(a) - mu * n
             if (b > 0) f(b) = f(b) + mu * n
@@ -626,6 +630,8 @@ contains
             if (self%con_w(c) > 0 .and. self%con_is_fixed(2, c)) self%con_fixed(2, c) = self%sig%number(self%con_w(c))
         end do
         call index_elements(self)
+        if (allocated(self%jac_fixed)) deallocate(self%jac_fixed)   ! (formed again on first use)
+        self%jac_fixed_ml = -2
         self%fixed_contacts = all(self%con_is_fixed)
         self%unit_mass = all(self%mass == 1.0_dp)
         self%con_im = [(inverse_mass(self, c), c = 1, nc)]
@@ -944,25 +950,37 @@ contains
 
     !> df/dy of a model whose laws are all static, dense (ml < 0: jm(i, j) = J(i, j)) or in
     !! band storage in the order perm (jm(mu + 1 + i - j, j) = J(perm(i), perm(j))).
+    !! The constant part (x' = v, springs, dampers) is assembled once per layout (`jac_fixed`)
+    !! and copied; the contacts' terms are added to it in the same order as before (the same
+    !! sums, bit for bit).
     subroutine static_jacobian(self, t, y, perm, ml, mu, jm)
-        class(model_system), intent(in) :: self
+        class(model_system), intent(inout) :: self
         real(dp), intent(in)  :: t, y(:)
         integer, intent(in)   :: perm(:), ml, mu
         real(dp), intent(out) :: jm(:, :)
         integer :: ip(size(y)), i, nb
         real(dp) :: s, n, wdot
+        logical :: formed
         nb = self%nb
         ip(perm) = [(i, i = 1, size(y))]
-        jm = 0.0_dp
-        do i = 1, nb
-            call put(i, nb + i, 1.0_dp)
-        end do
-        do i = 1, size(self%spr_k)
-            call pair(self%spr_a(i), self%spr_b(i), 0, self%spr_k(i))
-        end do
-        do i = 1, size(self%dmp_c)
-            call pair(self%dmp_a(i), self%dmp_b(i), nb, self%dmp_c(i))
-        end do
+        formed = allocated(self%jac_fixed) .and. self%jac_fixed_ml == ml
+        if (formed) formed = all(shape(self%jac_fixed) == shape(jm))
+        if (formed) then
+            jm = self%jac_fixed
+        else
+            jm = 0.0_dp
+            do i = 1, nb
+                call put(i, nb + i, 1.0_dp)
+            end do
+            do i = 1, size(self%spr_k)
+                call pair(self%spr_a(i), self%spr_b(i), 0, self%spr_k(i))
+            end do
+            do i = 1, size(self%dmp_c)
+                call pair(self%dmp_a(i), self%dmp_b(i), nb, self%dmp_c(i))
+            end do
+            self%jac_fixed = jm
+            self%jac_fixed_ml = ml
+        end if
         do i = 1, size(self%con_a)
             call contact_state(self, i, t, y(nb + 1:2 * nb), s, n, wdot)
             if (self%con_a(i) > 0) then
