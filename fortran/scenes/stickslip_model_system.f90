@@ -93,7 +93,8 @@ module stickslip_model_system
         integer, allocatable :: elem_ptr(:)
         integer, allocatable :: elem_of(:)         !! the elements of each body, in index order (`elem_ptr`)
         !> every contact's normal force and surface velocity a number (`prepare`): `rhs` then
-        !! takes its short path (`fixed_rhs`), reading them as found
+        !! takes its short path (`fixed_static_rhs`, or `fixed_rhs` for laws with states),
+        !! reading them as found
         logical :: fixed_contacts = .false.
         logical :: unit_mass = .false.             !! every mass is 1 (`prepare`): no division
         real(dp), allocatable :: con_im(:)         !! (nc) 1 / m_a + 1 / m_b of each contact [1/kg] (`prepare`)
@@ -341,7 +342,10 @@ contains
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
         integer :: nb
         nb = self%nb
-        if (self%fixed_contacts) then
+        if (self%fixed_contacts .and. self%all_static) then
+            call fixed_static_rhs(self, t, y, dydt)
+            return
+        else if (self%fixed_contacts) then
             call fixed_rhs(self, t, y, dydt)
             return
         end if
@@ -358,11 +362,41 @@ contains
         end associate
     end subroutine model_rhs
 
-    !> `rhs` of a model whose contacts' normal forces and surface velocities are all numbers
-    !! (`fixed_contacts`): `contact_forces`' operations in the same order (the same numbers, bit
-    !! for bit), the forces summed in place and the numbers read as `prepare` found them (a
-    !! surface's acceleration 0); the free forces kept apart (for the holding coefficients)
-    !! only where a law has states.
+    !> `rhs` of a model whose laws are all static and whose contacts' signals are numbers
+    !! (`fixed_contacts`): the same operations in the same order (the same numbers, bit for bit),
+    !! the forces summed in place and the numbers read as they were found by `prepare`.
+    subroutine fixed_static_rhs(self, t, y, dydt)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
+        real(dp) :: fn, s
+        integer :: i, nb, a, b
+        nb = self%nb
+        call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), dydt(nb + 1:2 * nb))
+        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb))
+        do i = 1, size(self%con_a)
+            a = self%con_a(i)
+            b = self%con_b(i)
+            if (a > 0) then
+                s = v(a) - self%con_fixed(2, i)
+            else
+                s = -self%con_fixed(2, i)
+            end if
+            if (b > 0) s = s - v(b)
+            fn = self%laws(i)%law%mu(s) * max(self%con_fixed(1, i), 0.0_dp)
+            if (a > 0) f(a) = f(a) - fn
+            if (b > 0) f(b) = f(b) + fn
+        end do
+        if (.not. self%unit_mass) f = f / self%mass
+        end associate
+        dydt(1:nb) = y(nb + 1:2 * nb)
+    end subroutine fixed_static_rhs
+
+    !> `rhs` of a model whose contacts' signals are numbers (`fixed_contacts`) and whose laws
+    !! have states: `contact_forces`' operations in the same order (the same numbers, bit for
+    !! bit), the numbers read as `prepare` found them (a surface's acceleration 0), the forces
+    !! summed in place beside the free forces (the holding coefficients read those).
     subroutine fixed_rhs(self, t, y, dydt)
         class(model_system), intent(inout) :: self
         real(dp), intent(in)  :: t          !! time [s]
@@ -373,26 +407,18 @@ contains
         nb = self%nb
         if (.not. allocated(self%work)) allocate(self%work(nb, 2))
         associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb), f0 => self%work(:, 2))
-        if (self%all_static) then
-            call self%free_forces(t, y(1:nb), v, f)
-        else
-            call self%free_forces(t, y(1:nb), v, f0)
-            f = f0
-        end if
+        call self%free_forces(t, y(1:nb), v, f0)
+        f = f0
         do i = 1, size(self%con_a)
             a = self%con_a(i)
             b = self%con_b(i)
+            n = max(self%con_fixed(1, i), 0.0_dp)
+            z0 = 2 * nb + self%z_first(i)
+            z1 = 2 * nb + self%z_first(i + 1) - 1
             s = -self%con_fixed(2, i)
             if (a > 0) s = v(a) - self%con_fixed(2, i)
             if (b > 0) s = s - v(b)
-            n = max(self%con_fixed(1, i), 0.0_dp)
-            if (self%all_static) then
-                mu = self%laws(i)%law%mu(s)
-            else
-                z0 = 2 * nb + self%z_first(i)
-                z1 = 2 * nb + self%z_first(i + 1) - 1
-                call self%laws(i)%law%evaluate(s, y(z0:z1), holding(self, i, n, f0, 0.0_dp), mu, dydt(z0:z1))
-            end if
+            call self%laws(i)%law%evaluate(s, y(z0:z1), holding(self, i, n, f0, 0.0_dp), mu, dydt(z0:z1))
             if (a > 0) f(a) = f(a) - mu * n
             if (b > 0) f(b) = f(b) + mu * n
         end do
