@@ -988,7 +988,9 @@ contains
         real(dp) :: s, n, wdot
         logical :: formed
         nb = self%nb
-        ip(perm) = [(i, i = 1, size(y))]
+        do i = 1, size(y)       ! (a loop: the array constructor's temporary is allocated a call)
+            ip(perm(i)) = i
+        end do
         formed = allocated(self%jac_fixed) .and. self%jac_fixed_ml == ml
         if (formed) formed = all(shape(self%jac_fixed) == shape(jm))
         if (formed) then
