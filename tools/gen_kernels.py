@@ -119,7 +119,7 @@ def instances(laws: list[str]) -> str:
 ! static_jacobian: the laws with modes are piecewise constant, d mu / d v = 0 in each mode).
 #define KERNEL nonsmooth_kernel
 #define NONSMOOTH
-#define SYS_DECL class(one_contact_model), intent(inout) :: sys
+#define SYS_DECL type(one_contact_model), intent(inout) :: sys
 #define LAW_ARG
 #define LAW_DECL
 #define NSTATE 2

@@ -1380,6 +1380,13 @@ contains
         real(dp) :: hv
         n = size(d)
         nc = cs%n_c
+        if (n == 1 .and. nc == 1) then
+            call one_coordinate_rule(cs, d(1), uf(1), boff(1), hn(1), mode(1), u1(1), wloc(1))
+            sweeps = 1
+            resid = 0.0_dp
+            iworst = 1
+            return
+        end if
         ws => own
         if (present(work)) ws => work
         if (allocated(ws%tri_dof)) then
@@ -1471,6 +1478,32 @@ contains
         end do
         end associate
     end subroutine tridiagonal_rule
+
+    !> `tridiagonal_rule` on one coordinate with its one contact (W = d, a 1 x 1 matrix): the
+    !! rule on one contact is its closed form `local_solve` with the contact's own law (step 1
+    !! keeps a slip exactly where local_solve slips; the rounds' levels converge to the slip
+    !! speed that local_solve solves for), the same numbers as `solve_contacts` on the
+    !! Delassus matrix D = h^2 / d and moreau's u1 = u_free + W^-1 H^T p there (a stuck
+    !! contact's velocity set so that w = 0 exactly), without the rounds' sweeps.
+    subroutine one_coordinate_rule(cs, d, uf, boff, hn, mode, u1, wloc)
+        class(contact_system), intent(in) :: cs  !! the system (one contact on coordinate 1)
+        real(dp), intent(in)    :: d             !! W(1, 1) [kg]
+        real(dp), intent(in)    :: uf            !! velocity without friction [m/s]
+        real(dp), intent(in)    :: boff          !! offset of the relative velocity [m/s]
+        real(dp), intent(in)    :: hn            !! step times normal force [N s]
+        integer, intent(inout)  :: mode          !! the answer's mode (+-1 slip, 0 stuck, open)
+        real(dp), intent(out)   :: u1            !! velocity after the step [m/s]
+        real(dp), intent(out)   :: wloc          !! relative velocity (0: stuck) [m/s]
+        real(dp) :: hv, p
+        hv = cs%h_val(cs%h_ptr(1))
+        call local_solve(cs%laws(1), hv * uf + boff, hv * (hv / d), hn, wloc, p)
+        if (wloc == 0.0_dp) then
+            u1 = -boff / hv
+        else
+            u1 = uf + hv * p / d
+        end if
+        mode = merge(slip_sign(wloc), MODE_OPEN, is_active(cs%laws(1), hn))
+    end subroutine one_coordinate_rule
 
     !> Room for n numbers in buf (kept where there is enough).
     subroutine reserve(buf, n)

@@ -73,6 +73,11 @@ module stickslip_model_system
         integer :: band_ml = -1                    !! lower bandwidth in that order (-1: dense)
         integer :: band_mu = -1                    !! upper bandwidth in that order (-1: dense)
         real(dp), allocatable :: work(:, :)        !! (nb, 2) the forces of `rhs`, kept between calls (no allocation a call)
+        !> the static Jacobian's constant part (x' = v, springs, dampers) as `static_jacobian`
+        !! assembles it, in the layout of lower bandwidth jac_fixed_ml (-1: dense); formed on its
+        !! first use after `prepare` and copied then, the contacts' part added each call
+        real(dp), allocatable :: jac_fixed(:, :)
+        integer :: jac_fixed_ml = -2               !! the layout jac_fixed holds (-2: none)
         !> (2, nc) contact i's normal force [N] and surface velocity [m/s] where their signals
         !! are numbers (`prepare`), read without evaluating the signal
         real(dp), allocatable :: con_fixed(:, :)
@@ -87,9 +92,10 @@ module stickslip_model_system
         !! (`prepare`): a spring's index, nspr + a damper's, nspr + ndmp + a contact's
         integer, allocatable :: elem_ptr(:)
         integer, allocatable :: elem_of(:)         !! the elements of each body, in index order (`elem_ptr`)
-        !> every law static and every contact's normal force and surface velocity a number
-        !! (`prepare`): `rhs` then takes its short path
-        logical :: fixed_static = .false.
+        !> every contact's normal force and surface velocity a number (`prepare`): `rhs` then
+        !! takes its short path (`fixed_static_rhs`, or `fixed_rhs` for laws with states),
+        !! reading them as found
+        logical :: fixed_contacts = .false.
         logical :: unit_mass = .false.             !! every mass is 1 (`prepare`): no division
         real(dp), allocatable :: con_im(:)         !! (nc) 1 / m_a + 1 / m_b of each contact [1/kg] (`prepare`)
     contains
@@ -336,8 +342,11 @@ contains
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
         integer :: nb
         nb = self%nb
-        if (self%fixed_static) then
+        if (self%fixed_contacts .and. self%all_static) then
             call fixed_static_rhs(self, t, y, dydt)
+            return
+        else if (self%fixed_contacts) then
+            call fixed_rhs(self, t, y, dydt)
             return
         end if
         if (.not. allocated(self%work)) allocate(self%work(nb, 2))
@@ -354,7 +363,7 @@ contains
     end subroutine model_rhs
 
     !> `rhs` of a model whose laws are all static and whose contacts' signals are numbers
-    !! (`fixed_static`): the same operations in the same order (the same numbers, bit for bit),
+    !! (`fixed_contacts`): the same operations in the same order (the same numbers, bit for bit),
     !! the forces summed in place and the numbers read as they were found by `prepare`.
     subroutine fixed_static_rhs(self, t, y, dydt)
         class(model_system), intent(in) :: self
@@ -383,6 +392,40 @@ contains
         end associate
         dydt(1:nb) = y(nb + 1:2 * nb)
     end subroutine fixed_static_rhs
+
+    !> `rhs` of a model whose contacts' signals are numbers (`fixed_contacts`) and whose laws
+    !! have states: `contact_forces`' operations in the same order (the same numbers, bit for
+    !! bit), the numbers read as `prepare` found them (a surface's acceleration 0), the forces
+    !! summed in place beside the free forces (the holding coefficients read those).
+    subroutine fixed_rhs(self, t, y, dydt)
+        class(model_system), intent(inout) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
+        real(dp) :: s, n, mu
+        integer :: i, nb, a, b, z0, z1
+        nb = self%nb
+        if (.not. allocated(self%work)) allocate(self%work(nb, 2))
+        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb), f0 => self%work(:, 2))
+        call self%free_forces(t, y(1:nb), v, f0)
+        f = f0
+        do i = 1, size(self%con_a)
+            a = self%con_a(i)
+            b = self%con_b(i)
+            n = max(self%con_fixed(1, i), 0.0_dp)
+            z0 = 2 * nb + self%z_first(i)
+            z1 = 2 * nb + self%z_first(i + 1) - 1
+            s = -self%con_fixed(2, i)
+            if (a > 0) s = v(a) - self%con_fixed(2, i)
+            if (b > 0) s = s - v(b)
+            call self%laws(i)%law%evaluate(s, y(z0:z1), holding(self, i, n, f0, 0.0_dp), mu, dydt(z0:z1))
+            if (a > 0) f(a) = f(a) - mu * n
+            if (b > 0) f(b) = f(b) + mu * n
+        end do
+        if (.not. self%unit_mass) f = f / self%mass
+        end associate
+        dydt(1:nb) = y(nb + 1:2 * nb)
+    end subroutine fixed_rhs
 
     !> The sizes the adaptive methods' relative tolerance scales (`ode_system%error_size`):
     !! |y_i|, except that a body's velocity counts as the smallest max(|s|, band) of its
@@ -447,7 +490,7 @@ contains
         !> a stage derivative: the condensed contacts' states move at its rates, their mu the
         !! law's `stage_mu` (`stage_rhs`)
         real(dp), intent(in), optional :: k(:)
-        real(dp) :: s, n, wdot, mu, mu_hold, c, fa, fb
+        real(dp) :: s, n, wdot, mu, mu_hold
         integer :: i, nb, a, b, z0, z1
         nb = self%nb
         f = f0
@@ -465,20 +508,7 @@ contains
             else
                 z0 = 2 * nb + self%z_first(i)
                 z1 = 2 * nb + self%z_first(i + 1) - 1
-                c = n * self%con_im(i)
-                mu_hold = 0.0_dp
-                if (c > 0.0_dp) then
-                    fa = 0.0_dp
-                    fb = 0.0_dp
-                    if (self%unit_mass) then
-                        if (a > 0) fa = f0(a)
-                        if (b > 0) fb = f0(b)
-                    else
-                        if (a > 0) fa = f0(a) / self%mass(a)
-                        if (b > 0) fb = f0(b) / self%mass(b)
-                    end if
-                    mu_hold = (fa - fb - wdot) / c
-                end if
+                mu_hold = holding(self, i, n, f0, wdot)
                 call self%laws(i)%law%evaluate(s, y(z0:z1), mu_hold, mu, dydt(z0:z1))
             end if
             if (a > 0) f(a) = f(a) - mu * n
@@ -486,6 +516,32 @@ contains
             if (present(fric)) fric(i) = -mu * n
         end do
     end subroutine contact_forces
+
+    !> Contact i's holding coefficient given the free forces f0 [N] on the bodies, its normal
+    !! force n [N] and its surface's acceleration wdot [m/s^2]: the mu that keeps its slip
+    !! constant, (f0_a / m_a - f0_b / m_b - w') / (n (1 / m_a + 1 / m_b)) (0 without a normal force).
+    pure real(dp) function holding(self, i, n, f0, wdot) result(mu_hold)
+        class(model_system), intent(in) :: self
+        integer, intent(in) :: i
+        real(dp), intent(in) :: n, f0(:), wdot
+        real(dp) :: c, fa, fb
+        integer :: a, b
+        mu_hold = 0.0_dp
+        c = n * self%con_im(i)
+        if (.not. c > 0.0_dp) return
+        a = self%con_a(i)
+        b = self%con_b(i)
+        fa = 0.0_dp
+        fb = 0.0_dp
+        if (self%unit_mass) then
+            if (a > 0) fa = f0(a)
+            if (b > 0) fb = f0(b)
+        else
+            if (a > 0) fa = f0(a) / self%mass(a)
+            if (b > 0) fb = f0(b) / self%mass(b)
+        end if
+        mu_hold = (fa - fb - wdot) / c
+    end function holding
 
     !> Whether contact i's law solves its states' stage itself (`condenses_states`) where its
     !! surface moves at a constant velocity (the stage's slip needs no time).
@@ -600,7 +656,9 @@ contains
             if (self%con_w(c) > 0 .and. self%con_is_fixed(2, c)) self%con_fixed(2, c) = self%sig%number(self%con_w(c))
         end do
         call index_elements(self)
-        self%fixed_static = self%all_static .and. all(self%con_is_fixed)
+        if (allocated(self%jac_fixed)) deallocate(self%jac_fixed)   ! (formed again on first use)
+        self%jac_fixed_ml = -2
+        self%fixed_contacts = all(self%con_is_fixed)
         self%unit_mass = all(self%mass == 1.0_dp)
         self%con_im = [(inverse_mass(self, c), c = 1, nc)]
         allocate(pos(n), self%band_perm(n))
@@ -918,25 +976,39 @@ contains
 
     !> df/dy of a model whose laws are all static, dense (ml < 0: jm(i, j) = J(i, j)) or in
     !! band storage in the order perm (jm(mu + 1 + i - j, j) = J(perm(i), perm(j))).
+    !! The constant part (x' = v, springs, dampers) is assembled once per layout (`jac_fixed`)
+    !! and copied; the contacts' terms are added to it in the same order as before (the same
+    !! sums, bit for bit).
     subroutine static_jacobian(self, t, y, perm, ml, mu, jm)
-        class(model_system), intent(in) :: self
+        class(model_system), intent(inout) :: self
         real(dp), intent(in)  :: t, y(:)
         integer, intent(in)   :: perm(:), ml, mu
         real(dp), intent(out) :: jm(:, :)
         integer :: ip(size(y)), i, nb
         real(dp) :: s, n, wdot
+        logical :: formed
         nb = self%nb
-        ip(perm) = [(i, i = 1, size(y))]
-        jm = 0.0_dp
-        do i = 1, nb
-            call put(i, nb + i, 1.0_dp)
+        do i = 1, size(y)       ! (a loop: the array constructor's temporary is allocated a call)
+            ip(perm(i)) = i
         end do
-        do i = 1, size(self%spr_k)
-            call pair(self%spr_a(i), self%spr_b(i), 0, self%spr_k(i))
-        end do
-        do i = 1, size(self%dmp_c)
-            call pair(self%dmp_a(i), self%dmp_b(i), nb, self%dmp_c(i))
-        end do
+        formed = allocated(self%jac_fixed) .and. self%jac_fixed_ml == ml
+        if (formed) formed = all(shape(self%jac_fixed) == shape(jm))
+        if (formed) then
+            jm = self%jac_fixed
+        else
+            jm = 0.0_dp
+            do i = 1, nb
+                call put(i, nb + i, 1.0_dp)
+            end do
+            do i = 1, size(self%spr_k)
+                call pair(self%spr_a(i), self%spr_b(i), 0, self%spr_k(i))
+            end do
+            do i = 1, size(self%dmp_c)
+                call pair(self%dmp_a(i), self%dmp_b(i), nb, self%dmp_c(i))
+            end do
+            self%jac_fixed = jm
+            self%jac_fixed_ml = ml
+        end if
         do i = 1, size(self%con_a)
             call contact_state(self, i, t, y(nb + 1:2 * nb), s, n, wdot)
             if (self%con_a(i) > 0) then

@@ -39,6 +39,7 @@ module stickslip_one_contact
         !! normal force)
         real(dp) :: h_0 = 0.0_dp, h_x = 0.0_dp, h_v = 0.0_dp
         real(dp) :: dn_m = 0.0_dp                 !! dir n_m [N/kg]
+        real(dp) :: du = 0.0_dp                   !! dir u [m/s]
     contains
         procedure :: rhs => oc_rhs
         !! (x, v, z)' at (t, y)
@@ -135,6 +136,7 @@ contains
         oc%dir = merge(1.0_dp, -1.0_dp, ms%con_a(1) == 1)
         if (oc%dir < 0.0_dp) oc%u = -oc%u     ! side b: s = -w - v = u - v with u = -w
         oc%dn_m = oc%dir * oc%n_m
+        oc%du = oc%dir * oc%u
         if (oc%n_m > 0.0_dp) then
             oc%h_0 = oc%dir * oc%f_c / oc%n_m
             oc%h_x = -oc%dir * oc%k_m / oc%n_m
@@ -156,11 +158,9 @@ contains
     pure real(dp) function oc_vrel(self, y) result(s)
         class(one_contact_model), intent(in) :: self
         real(dp), intent(in) :: y(:)        !! state (x, v, z...)
-        if (self%dir > 0.0_dp) then
-            s = y(2) - self%u
-        else
-            s = self%u - y(2)
-        end if
+        ! dir v - dir u: v - u, or (-v) - (-u), which rounds as u - v does (zero included: x - x
+        ! is +0), without a branch
+        s = self%dir * y(2) - self%du
     end function oc_vrel
 
     pure real(dp) function oc_mu_hold(self, y) result(mu_hold)
@@ -187,7 +187,7 @@ contains
         j(1, 1) = 0.0_dp
         j(2, 1) = -self%k_m
         j(1, 2) = 1.0_dp
-        j(2, 2) = -self%c_m - self%n_m * self%law%dmu(self%relative_velocity(y))
+        j(2, 2) = -self%c_m - self%n_m * self%law%dmu(oc_vrel(self, y))   ! (its own slip, inlined)
     end function oc_static_jacobian
 
     subroutine oc_rhs(self, t, y, dydt)

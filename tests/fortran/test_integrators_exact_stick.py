@@ -298,32 +298,38 @@ def _rule(dmat, wf, cap, mu_s, mu_k, prev):
 
 
 #: (h, k_c, mu_s, mu_k, masses): a chain with stick-slip at h = 1 ms, and one at h = 20 ms with
-#: stiff couplings where a step has several solutions (the former plain sweeps took another one).
+#: stiff couplings where a step has several solutions (the former plain sweeps took another one);
+#: one block alone (the rule's one-contact closed form, `one_coordinate_rule`).
 RULE_CHAINS = [
     (1e-3, 30.0, [0.5, 0.45, 0.6], [0.3, 0.3, 0.25], [1.0, 0.7, 1.3]),
     (2e-2, 3000.0, [0.72, 0.803, 0.882], [0.281, 0.473, 0.738], [1.134, 1.384, 0.537]),
+    (1e-3, 0.0, [0.5], [0.3], [1.0]),
 ]
 
 
 @pytest.mark.parametrize("h, kc, mu_s, mu_k, masses", RULE_CHAINS)
 def test_moreau_chain_follows_the_rule_step_by_step(h, kc, mu_s, mu_k, masses):
-    """Three blocks on a belt joined by springs (W tridiagonal, one contact on each block: the
-    contact solver's `tridiagonal_rule`), mu_s > mu_k: every step's relative velocities equal
-    those of the rule written out above on the step's own problem (Delassus matrix formed here,
-    box problems by exhaustive search)."""
+    """Blocks on a belt joined by springs (W tridiagonal, one contact on each block: the
+    contact solver's `tridiagonal_rule`; one block: its one-contact closed form), mu_s > mu_k:
+    every step's relative velocities equal those of the rule written out above on the step's
+    own problem (Delassus matrix formed here, box problems by exhaustive search)."""
     v_b, g, k, th = 0.3, 9.81, 50.0, 0.5
     mu_s, mu_k, masses = np.array(mu_s), np.array(mu_k), np.array(masses)
+    n = len(masses)
     model = ss.Model()
     bodies = [model.add_body(mi) for mi in masses]
     model.add_spring(bodies[0], None, k=k)
-    for i in range(2):
+    for i in range(n - 1):
         model.add_spring(bodies[i], bodies[i + 1], k=kc)
     for bi, mi, ms, mk in zip(bodies, masses, mu_s, mu_k):
         model.add_contact(bi, None, "coulomb", normal_force=mi * g, surface_velocity=v_b, mu_s=ms, mu_k=mk)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         r = ss.simulate(model, method="moreau", h=h, t_end=3.0, every_step=True)
-    kmat = np.array([[k + kc, -kc, 0.0], [-kc, 2 * kc, -kc], [0.0, -kc, kc]])
+    kmat = np.zeros((n, n))
+    kmat[0, 0] = k
+    for i in range(n - 1):
+        kmat[i:i + 2, i:i + 2] += kc * np.array([[1.0, -1.0], [-1.0, 1.0]])
     w_mat = np.diag(masses) + (h * th) ** 2 * kmat
     winv = np.linalg.inv(w_mat)
     cap = h * masses * g

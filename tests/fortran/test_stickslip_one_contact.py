@@ -76,13 +76,21 @@ def test_the_one_contact_contact_model_equals_the_general_one(law, damper):
     """moreau on the one-contact model's own contact model (`one_contact_contact`: its normal
     force, offset and W solve written for one body) against the general model's
     (`model_contact`) on the same block beside an idle body: the same operations in the same
-    order, so the block's motion is the same to the last bit, step for step."""
+    order. The one body's step problem is solved by the rule's one-contact closed form
+    (`local_solve`), the two bodies' by the rule's rounds: Coulomb's levels are constants, so
+    the block's motion is the same to the last bit, step for step; Stribeck's slip speed is
+    solved by Newton on the slip curve in the one and by the rounds' levels in the other, the
+    same answer to rounding."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fast = ss.simulate(_block(law, False, damper), method="moreau", h=1e-4, t_end=1.5, n_out=151)
         general = ss.simulate(_block(law, True, damper), method="moreau", h=1e-4, t_end=1.5, n_out=151)
     assert fast.stats["status"] == general.stats["status"] == 0
-    assert np.array_equal(np.atleast_2d(fast.x)[0], general.x[0])
-    assert np.array_equal(np.atleast_2d(fast.v)[0], general.v[0])
+    if law == "coulomb":
+        assert np.array_equal(np.atleast_2d(fast.x)[0], general.x[0])
+        assert np.array_equal(np.atleast_2d(fast.v)[0], general.v[0])
+    else:
+        np.testing.assert_allclose(np.atleast_2d(fast.x)[0], general.x[0], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(np.atleast_2d(fast.v)[0], general.v[0], rtol=0, atol=1e-12)
     assert np.all(general.x[1] == 0.0)
     assert fast.stats["nstep"] == general.stats["nstep"]
