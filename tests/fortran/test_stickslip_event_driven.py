@@ -411,7 +411,9 @@ def test_a_slip_from_the_limit_at_zero_acceleration_is_counted_where_a_strict_mo
     the mode with the most stuck contacts, whose slip starts with zero relative acceleration
     (consistent to first order only); the reference lets 1 and 6 slip at that instant, a mode
     with one stuck contact less that holds strictly. Which continuation is right depends on
-    higher derivatives: the decision is counted and warned once, and nothing before it."""
+    higher derivatives: the decision is counted and warned once, and nothing before it. Both
+    continuations hold beyond first order (event_driven's slipping contact stays at w = 0, held
+    by the loop; the reference's two move)."""
     spec = random_spec(1136)
     before, said_before = _nonunique_and_warnings(spec.model(), 0.14912)
     after, said = _nonunique_and_warnings(spec.model(), 0.14913)
@@ -424,6 +426,20 @@ def test_a_slip_from_the_limit_at_zero_acceleration_is_counted_where_a_strict_mo
     theirs = sorted(int(i) for t, i, _ in ref_events if t > 0.14912)
     assert mine == [(1, "slip")]
     assert theirs == [1, 6]
+    # two continuations, not one wrong: 1 ms on, event_driven's contact 1 (slipping, its row a
+    # combination of 3's and 6's, which hold) still has w = 0 to rounding, its force at its
+    # limit, a motion consistent beyond first order; in the reference's 1 and 6 move
+
+    def w_of(v: np.ndarray, i: int) -> float:
+        a, b, _, _, sv, _, _ = spec.contacts[i]
+        return float(v[a] - (v[b] if b is not None else sv))
+
+    t1 = 0.15012
+    v_ed = ss.simulate(spec.model(), method="event_driven", t_end=t1, n_out=2, rtol=1e-10, atol=1e-12).v[:, -1]
+    y_ref, _ = spec.reference().run(spec.x0, spec.v0, t1, np.array([0.0, t1]), rtol=1e-11, atol=1e-13)
+    v_ref = y_ref[len(spec.masses):, -1]
+    assert max(abs(w_of(v_ed, 1)), abs(w_of(v_ed, 6))) < 1e-12
+    assert min(abs(w_of(v_ref, 1)), abs(w_of(v_ref, 6))) > 1e-6
 
 
 def test_a_break_away_at_mu_s_equal_mu_k_with_no_other_mode_is_not_counted() -> None:
