@@ -51,7 +51,12 @@
 !! tested (a sufficient test: a tie it does not reach is not reported); a contact on the same
 !! row as one held or let go in a trial (its other half) is held or let go with it.
 !! `other_solution_exists` runs the same test on an answer found otherwise (event_driven's
-!! modes, decided with its minimum-norm forces).
+!! modes, decided with its minimum-norm forces). At the acceleration level a mode may also be
+!! consistent to first order only: a contact that starts to slip with zero relative
+!! acceleration (mu_s = mu(0+) at its limit: only the derivative of the forces moves it);
+!! `first_order_alternative` says whether a mode with a stuck contact coupled to it slipping
+!! too is consistent strictly (another solution, with fewer stuck contacts, which only higher
+!! derivatives tell apart).
 !!
 !! How. One active contact: its closed form (`local_solve`). More: the rounds of the rule,
 !! each box problem by `box_solve` (an active-set Newton method, 1 to 4 linear solves from the
@@ -93,7 +98,7 @@ module stickslip_contact_solver
     private
 
     public :: contact_solve_info, contact_workspace, solve_contacts, contact_residual, gauss_seidel
-    public :: tridiagonal_sweeps, tridiagonal_rule, forces_at_rest, other_solution_exists
+    public :: tridiagonal_sweeps, tridiagonal_rule, forces_at_rest, other_solution_exists, first_order_alternative
     public :: modal_law, modal_law_set, solve_modal_contacts, modal_tridiagonal_sweeps, modal_local_solve, modal_choose
     public :: STICK_RTOL   !! (from stickslip_contact) |p| <= mu_s c (1 + STICK_RTOL) sticks [-]
 
@@ -546,6 +551,47 @@ contains
         call find_other_solution(laws, d, wf, cap, at_rest, p, w, mode, info)
         nonunique = info%nonunique
     end subroutine other_solution_exists
+
+    !> found: at the acceleration level (event_driven's decisions, forces at rest), the mode
+    !! (p, w, mode) is consistent to first order only, and another mode with fewer stuck
+    !! contacts is consistent strictly. The first: a slipping contact j with |w_j| <= tol (it
+    !! starts to slip with no relative acceleration: mu_s = mu(0+) at its limit, moved only by
+    !! the derivative of the forces). The second: that mode with one stuck contact k coupled to
+    !! j (D_jk /= 0; with its other half) slipping against its holding force, whose every
+    !! slipping contact accelerates in its direction by more than tol and whose every stuck
+    !! force is within its limit. Which continuation is right then depends on higher
+    !! derivatives. A sufficient test (at most MAX_TRIALS modes solved); nothing is tried where
+    !! no slipping contact is at |w_j| <= tol (an ordinary break-away, mu_s > mu_k).
+    subroutine first_order_alternative(laws, d, wf, cap, tol, p, w, mode, found)
+        type(contact_law), intent(in) :: laws(:)   !! (n) each contact's law
+        real(dp), intent(in) :: d(:, :)            !! (n, n) Delassus matrix [1/kg]
+        real(dp), intent(in) :: wf(:)              !! (n) accelerations without friction [m/s^2]
+        real(dp), intent(in) :: cap(:)             !! (n) capacities (normal forces) [N]
+        real(dp), intent(in) :: tol                !! a relative acceleration this small is zero [m/s^2]
+        real(dp), intent(in) :: p(:)               !! (n) the mode's forces [N]
+        real(dp), intent(in) :: w(:)               !! (n) its relative accelerations [m/s^2]
+        integer, intent(in)  :: mode(:)            !! (n) its modes (MODE_STICK, +-1, MODE_OPEN)
+        logical, intent(out) :: found              !! another mode is consistent strictly
+        integer, parameter :: MAX_TRIALS = 16      ! modes solved in all (a bound on the work)
+        integer :: j, k, ntr, mt(size(wf))
+        real(dp) :: pt(size(wf)), wt(size(wf))
+        logical :: ok
+        found = .false.
+        ntr = 0
+        do j = 1, size(wf)
+            if (abs(mode(j)) /= 1 .or. abs(w(j)) > tol) cycle
+            do k = 1, size(wf)
+                if (mode(k) /= MODE_STICK .or. p(k) == 0.0_dp .or. d(j, k) == 0.0_dp) cycle
+                if (ntr >= MAX_TRIALS) return
+                ntr = ntr + 1
+                mt = mode
+                call set_with_twins(d, wf, k, -nint(sign(1.0_dp, p(k))), mt)
+                call solve_mode(laws, d, wf, cap, .true., mt, pt, wt, ok)
+                found = ok .and. .not. any(abs(mt) == 1 .and. mt * wt <= tol)
+                if (found) return
+            end do
+        end do
+    end subroutine first_order_alternative
 
     !> mt(i) := m, and the same for every contact on the same row as i up to sign (the same
     !! free velocity and the same row of D, up to sign: a contact split in halves), whose slip

@@ -43,7 +43,11 @@
 !! contact let go because the mode's minimum-norm forces exceed its limit, in a stuck set with
 !! a singular Delassus block, that the solver's answer held by other forces within every limit
 !! (`held_otherwise`) or that another mode set with as many stuck contacts holds (`loop_tie`,
-!! by the solver's test `other_solution_exists`). Where a
+!! by the solver's test `other_solution_exists`), or (c) the mode decided is consistent to
+!! first order only (a contact that starts to slip with zero relative acceleration: mu_s =
+!! mu(0+) at its limit) where a mode with a stuck contact coupled to it slipping too is
+!! consistent strictly (`first_order_tie`, by the solver's `first_order_alternative`): which
+!! continuation is right depends on higher derivatives. Where a
 !! slipping contact reaches w = 0, every other slipping contact at w = 0 to the integration's
 !! tolerance there (bodies that stop together) is decided with it. Where the stuck contacts
 !! form a closed loop (their holding forces are not unique), the solver's answer may hold
@@ -104,7 +108,7 @@ module stickslip_event_driven
     use stickslip_contact, only: contact_system
     use stickslip_linalg, only: psd_solve, psd_factors, psd_factor
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, STICK_RTOL, MODE_STICK, MODE_OPEN, &
-                                        other_solution_exists
+                                        other_solution_exists, first_order_alternative
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use stickslip_ode, only: diverged, stop_requested
     implicit none
@@ -866,6 +870,7 @@ contains
                 if (.not. any(c)) exit
             end do
             if (any(let_go) .and. .not. s%tie) s%tie = loop_tie(s, cand, let_go)
+            if (.not. s%tie) s%tie = first_order_tie(s, cand)
             if (s%tie) s%stats%nonunique = s%stats%nonunique + 1
             if (present(nchanged)) nchanged = count(cand .and. ((ms%stuck .neqv. was_stuck) .or. &
                                                                  (.not. ms%stuck .and. ms%sig /= old_sig)))
@@ -974,22 +979,70 @@ contains
         logical, intent(in) :: let_go(:)    !! (n_c) the ones let go against their holding forces
         integer, allocatable :: idx(:), cm(:), js(:)
         real(dp), allocatable :: amat(:, :), af(:), cap(:), p(:), wv(:), x(:, :)
-        real(dp) :: a(s%nd), r(s%nc), rr(s%nc), ha(s%nc), bd(s%nc), nn(s%nc)
-        logical :: stuck(s%nc), ok
-        integer :: j, nfev
+        logical :: ok
+        integer :: j
         other = .false.
         if (s%ms%diagonal) return
+        idx = pack([(j, j = 1, s%nc)], cand)
+        allocate(amat(size(idx), size(idx)))
+        call delassus_block(s%ms, s%t, s%y, idx, amat)
+        js = pack([(j, j = 1, size(idx))], s%ms%stuck(idx) .or. let_go(idx))
+        allocate(x(size(js), 1), source=1.0_dp)
+        call psd_solve(amat(js, js), x, [(1.0_dp, j = 1, size(js))], ok, regular_only=.true.)
+        if (ok) return                     ! regular: the holding forces are unique
+        call problem_at_rest(s, cand, idx, amat, af, cap, p, wv, cm, ok)
+        if (ok) call other_solution_exists(s%ms%cs%laws(idx), amat, af, cap, .true., p, wv, cm, other)
+    end function loop_tie
+
+    !> Is the mode just decided for the candidates cand consistent to first order only, with
+    !! another mode (fewer stuck contacts) consistent strictly? A slipping candidate whose
+    !! relative acceleration is 0 to the decision's tolerance (1e-9 of the largest free one, as
+    !! `decide_set`) starts to slip only through the derivative of its forces (mu_s = mu(0+) at
+    !! its limit), and where a stuck contact coupled to it slipping too gives a strict mode
+    !! (`first_order_alternative`), which continuation is right depends on higher derivatives:
+    !! a decision with another solution. Not tried where the Delassus matrix is diagonal (no
+    !! coupling) or no candidate slips.
+    logical function first_order_tie(s, cand) result(other)
+        type(ed_run), intent(inout) :: s
+        logical, intent(in) :: cand(:)      !! (n_c) the contacts decided
+        integer, allocatable :: idx(:), cm(:)
+        real(dp), allocatable :: amat(:, :), af(:), cap(:), p(:), wv(:)
+        logical :: ok
+        integer :: j
+        other = .false.
+        if (s%ms%diagonal .or. .not. any(cand .and. .not. s%ms%stuck)) return
+        idx = pack([(j, j = 1, s%nc)], cand)
+        allocate(amat(size(idx), size(idx)))
+        call delassus_block(s%ms, s%t, s%y, idx, amat)
+        call problem_at_rest(s, cand, idx, amat, af, cap, p, wv, cm, ok)
+        if (ok) call first_order_alternative(s%ms%cs%laws(idx), amat, af, cap, &
+                                             1.0e-9_dp * max(maxval(abs(af)), tiny(1.0_dp)), p, wv, cm, other)
+    end function first_order_tie
+
+    !> The problem at rest of the candidates idx (with their Delassus block amat) as
+    !! `decide_set` poses it, with the current mode's forces (`mode_forces`) as its answer:
+    !! af their free relative accelerations, cap their normal forces, p the mode's forces, cm
+    !! its modes and wv = af + amat p (0 where stuck). ok: the mode's holding forces exist. A
+    !! check: its evaluations are not counted as the run's.
+    subroutine problem_at_rest(s, cand, idx, amat, af, cap, p, wv, cm, ok)
+        type(ed_run), intent(inout) :: s
+        logical, intent(in) :: cand(:)                    !! (n_c) the candidates
+        integer, intent(in) :: idx(:)                     !! their indices
+        real(dp), intent(in) :: amat(:, :)                !! their Delassus block [1/kg]
+        real(dp), allocatable, intent(out) :: af(:)       !! free relative accelerations [m/s^2]
+        real(dp), allocatable, intent(out) :: cap(:)      !! normal forces [N]
+        real(dp), allocatable, intent(out) :: p(:)        !! the mode's forces [N]
+        real(dp), allocatable, intent(out) :: wv(:)       !! the mode's relative accelerations [m/s^2]
+        integer, allocatable, intent(out) :: cm(:)        !! the mode (MODE_STICK, +-1, MODE_OPEN)
+        logical, intent(out) :: ok                        !! the mode's holding forces exist
+        real(dp) :: a(s%nd), r(s%nc), rr(s%nc), ha(s%nc), bd(s%nc), nn(s%nc)
+        logical :: stuck(s%nc)
+        integer :: nfev
         associate (ms => s%ms, cs => s%ms%cs)
-            nfev = ms%nfev                     ! a check: not counted as the run's evaluations
-            idx = pack([(j, j = 1, s%nc)], cand)
-            allocate(amat(size(idx), size(idx)))
-            call delassus_block(ms, s%t, s%y, idx, amat)
-            js = pack([(j, j = 1, size(idx))], ms%stuck(idx) .or. let_go(idx))
-            allocate(x(size(js), 1), source=1.0_dp)
-            call psd_solve(amat(js, js), x, [(1.0_dp, j = 1, size(js))], ok, regular_only=.true.)
-            if (ok) return                     ! regular: the holding forces are unique
             call mode_forces(ms, s%t, s%y, a, r)
-            if (ms%singular) return
+            ok = .not. ms%singular
+            if (.not. ok) return
+            nfev = ms%nfev
             stuck = ms%stuck
             s%cand_now = cand
             ms%stuck(idx) = .false.
@@ -1007,9 +1060,8 @@ contains
             where (.not. cap > 0.0_dp) cm = MODE_OPEN
             wv = af + matmul(amat, p)
             where (cm == MODE_STICK) wv = 0.0_dp
-            call other_solution_exists(cs%laws(idx), amat, af, cap, .true., p, wv, cm, other)
         end associate
-    end function loop_tie
+    end subroutine problem_at_rest
 
     !> The acceleration a and forces rr with the current mode's slip forces and without the
     !! forces of stuck contacts (used with the candidates marked as not stuck and carrying
@@ -1301,6 +1353,7 @@ contains
                 end if
             end do
             if (.not. (s%tie .or. tie)) tie = loop_tie(s, cand, over)
+            if (.not. (s%tie .or. tie)) tie = first_order_tie(s, cand)
             if (tie) then
                 s%tie = .true.
                 s%stats%nonunique = s%stats%nonunique + 1

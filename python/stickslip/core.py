@@ -1274,7 +1274,9 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
           the chain's Gauss-Seidel, or linear solves of the coupled solver).
         - ``nonunique``: the steps (moreau, implicit_euler, galpha) or mode decisions
           (event_driven) whose contact problem had another solution (moreau, event_driven: one
-          with as many stuck contacts; implicit_euler, galpha: another consistent mode of a
+          with as many stuck contacts; event_driven also a mode consistent to first order only,
+          a slip from the limit at zero relative acceleration, where a mode with fewer stuck
+          contacts is consistent strictly; implicit_euler, galpha: another consistent mode of a
           contact's law); the contact solver's rule chose one, and a RuntimeWarning names the
           count.
         - ``contact_residual``: the largest residual of moreau's contact solve [m/s], measured
@@ -1391,8 +1393,10 @@ def _warn_nonunique(result: Result) -> None:
     (``stats["nonunique"]`` counts them; the contact solver's rule chose one)."""
     count = int(result.stats.get("nonunique", 0))
     if count:
-        what = ("with as many stuck contacts" if result.method in ("moreau", "event_driven")
-                else "(another consistent mode of a contact's law)")
+        what = {"moreau": "with as many stuck contacts",
+                "event_driven": "(as many stuck contacts, or a mode consistent to first order only "
+                                "where one with fewer holds strictly)"}.get(
+            result.method, "(another consistent mode of a contact's law)")
         warnings.warn(f"{count} contact problem(s) of this {result.method} run had another solution {what}; "
                       "the solver's rule chose one (stats['nonunique']; see the exact-stick "
                       "guide, 'When a step has several solutions')", RuntimeWarning, stacklevel=3)

@@ -405,6 +405,63 @@ def test_stacked_blocks_tie_at_rest_is_counted_and_a_unique_run_is_not() -> None
     assert _nonunique_and_warnings(example_model(), 1.0) == (0, [])
 
 
+def test_a_slip_from_the_limit_at_zero_acceleration_is_counted_where_a_strict_mode_exists() -> None:
+    """Model 1136: contacts 1, 3 and 6 (0-based) form a closed loop of stuck contacts; at
+    0.149122 s contact 1, with mu_s = mu_k, reaches its limit. event_driven lets it alone slip,
+    the mode with the most stuck contacts, whose slip starts with zero relative acceleration
+    (consistent to first order only); the reference lets 1 and 6 slip at that instant, a mode
+    with one stuck contact less that holds strictly. Which continuation is right depends on
+    higher derivatives: the decision is counted and warned once, and nothing before it. Both
+    continuations hold beyond first order (event_driven's slipping contact stays at w = 0, held
+    by the loop; the reference's two move)."""
+    spec = random_spec(1136)
+    before, said_before = _nonunique_and_warnings(spec.model(), 0.14912)
+    after, said = _nonunique_and_warnings(spec.model(), 0.14913)
+    assert before == 0 and not said_before
+    assert after == 1 and len(said) == 1 and "first order" in said[0]
+    res = ss.simulate(spec.model(), method="event_driven", t_end=0.14913, n_out=2, rtol=1e-10, atol=1e-12)
+    mine = [(int(e["contact"]), str(e["kind"])) for e in res.events if e["t"] > 0.14912]
+    _, ref_events = spec.reference().run(spec.x0, spec.v0, 0.14913, np.array([0.0, 0.14913]), rtol=1e-11,
+                                         atol=1e-13)
+    theirs = sorted(int(i) for t, i, _ in ref_events if t > 0.14912)
+    assert mine == [(1, "slip")]
+    assert theirs == [1, 6]
+    # two continuations, not one wrong: 1 ms on, event_driven's contact 1 (slipping, its row a
+    # combination of 3's and 6's, which hold) still has w = 0 to rounding, its force at its
+    # limit, a motion consistent beyond first order; in the reference's 1 and 6 move
+
+    def w_of(v: np.ndarray, i: int) -> float:
+        a, b, _, _, sv, _, _ = spec.contacts[i]
+        return float(v[a] - (v[b] if b is not None else sv))
+
+    t1 = 0.15012
+    v_ed = ss.simulate(spec.model(), method="event_driven", t_end=t1, n_out=2, rtol=1e-10, atol=1e-12).v[:, -1]
+    y_ref, _ = spec.reference().run(spec.x0, spec.v0, t1, np.array([0.0, t1]), rtol=1e-11, atol=1e-13)
+    v_ref = y_ref[len(spec.masses):, -1]
+    assert max(abs(w_of(v_ed, 1)), abs(w_of(v_ed, 6))) < 1e-12
+    assert min(abs(w_of(v_ref, 1)), abs(w_of(v_ref, 6))) > 1e-6
+
+
+def test_a_break_away_at_mu_s_equal_mu_k_with_no_other_mode_is_not_counted() -> None:
+    """B on A, A on a belt (0.2 m/s) with a spring to the wall: both stuck, A's ground contact
+    (mu_s = mu_k = 0.3, N = 20 N) reaches its limit at t = mu N / (k v) = 0.3 s and slips with
+    zero relative acceleration (consistent to first order only, as in 1136), but B slipping on A
+    too is not consistent (B, pulled by its friction alone, would accelerate against its slip):
+    no other mode, nothing counted, and the motion is the reference's."""
+    spec = Spec(masses=[1.0, 1.0], springs=[(0, None, 100.0)],
+                contacts=[(0, None, 20.0, None, 0.2, 0.3, 0.3), (1, 0, 10.0, None, 0.0, 0.5, 0.5)],
+                x0=[0.0, 0.0], v0=[0.2, 0.2], t_end=1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        res = ss.simulate(spec.model(), method="event_driven", t_end=1.0, n_out=101, rtol=1e-10, atol=1e-12)
+    assert res.stats["nonunique"] == 0
+    first = res.events[0]
+    assert (int(first["contact"]), str(first["kind"])) == (0, "slip")
+    assert abs(first["t"] - 0.3 * 20.0 / (100.0 * 0.2)) < 1e-9
+    y_ref, _ = spec.reference().run(spec.x0, spec.v0, 1.0, np.linspace(0.0, 1.0, 101), rtol=1e-11, atol=1e-13)
+    assert np.max(np.abs(res.x - y_ref[:2])) < 1e-6
+
+
 #: The campaign's models on which event_driven still ends in success with another motion than
 #: the reference's, or fails after rows that differ from it, with no decision with another
 #: solution counted before they part: the open part of the work on event_driven's inputs, each
@@ -413,23 +470,11 @@ def test_stacked_blocks_tie_at_rest_is_counted_and_a_unique_run_is_not() -> None
 #: a closed loop of stuck contacts lets a contact go that another holding, or another stuck set,
 #: would keep: both part from the reference after such a decision, at 0.1094 s and 0.12857 s,
 #: instants the reference records as ties too; 1124 when the contact solver's test at rest also
-#: tried a held contact with the neighbours it overloads slipping.)
-KNOWN_WRONG: dict[int, str] = {
-    1117: "contacts 7, 10 and 11 (bodies 2, 3 and 6) form a closed loop of stuck contacts; at 0.064283 s "
-          "the minimum-norm forces (the same in both runs) take 10, with mu_s = mu_k, to its limit. "
-          "event_driven lets 10 alone slip, the mode with the most stuck contacts, whose slip starts with a "
-          "relative acceleration of 0 (mu_s = mu_k: the force does not change), and follows it (7 slips at "
-          "0.068867 s); the reference rejects that mode as consistent to rounding only and lets 7 and 10 "
-          "slip, a mode with one stuck contact less. There is no other solution with as many stuck "
-          "contacts, so nothing is counted: the two differ on a first-order degenerate instant, which "
-          "only higher derivatives decide. (A reference that takes such a mode where it holds more stuck "
-          "contacts, tried: 1117 then parts after a counted decision and 1136 agrees, but 1169 parts the "
-          "other way, event_driven letting two contacts go where the reference lets one, and three more "
-          "models stall the reference)",
-    1136: "the same instant as 1117 on a loop 1-3-6: at 0.149122 s contact 1 (mu_s = mu_k) reaches its limit; "
-          "event_driven lets 1 slip (zero relative acceleration at the start), the reference lets 1 and 6 "
-          "slip; event_driven's 6 slips at 0.15466 s",
-}
+#: tried a held contact with the neighbours it overloads slipping; 1117 and 1136 when it counted a
+#: decision consistent to first order only: a contact of a closed loop with mu_s = mu_k let slip
+#: from its limit at zero relative acceleration, where the reference's mode, with a second
+#: contact slipping, holds strictly.)
+KNOWN_WRONG: dict[int, str] = {}
 
 
 @pytest.mark.slow
