@@ -147,52 +147,114 @@ def _mu_max_of(law: str, items: tuple[tuple[str, float], ...]) -> float | None:
 
 
 def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray,
-                 arrays: Mapping[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray] | None:
+                 arrays: Mapping[str, Any] | None = None, memo: list[Any] | None = None
+                 ) -> tuple[np.ndarray, np.ndarray] | None:
     """The mechanical energy E [J] of `model` at the output times `t` [s] (positions x and
     velocities v, shape (n_bodies, n_t), t[0] = 0) and its bound B [J] (see the module): a
     correct run has E <= B. None when the model is not checked (a law with internal states, a
     law whose mu does not oppose the slip or has no bound, signals too fast for the grid, a
     drive, whose work no force of the model bounds).
-    `arrays`: `model.arrays()` where the caller has it (it identifies the model in the cache of
-    the bounds)."""
-    if t.size == 0 or t[0] != 0.0 or getattr(model, "drives", None):
+    `arrays`: `model.arrays()` where the caller has it; `memo`: the list that keeps what the
+    check read of this model's content (`_plan`; its arrays identify it otherwise)."""
+    if not _bounded(model, t):
         return None
-    mass = np.array([b.mass for b in model.bodies])
-    e = (0.5 * mass) @ np.square(v)
+    return _energy_and_bound(model, _plan(model, t, arrays, memo), x, v)
+
+
+def _bounded(model: Any, t: np.ndarray) -> bool:
+    """Whether `energy_bound` may bound the model's energy on the grid t: t from 0, no drive."""
+    return t.size > 0 and t[0] == 0.0 and not getattr(model, "drives", None)
+
+
+def _energy_and_bound(model: Any, plan: "_Plan", x: np.ndarray, v: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray] | None:
+    """`energy_bound` of a model without drives on its plan's grid (t[0] = 0)."""
+    e = (0.5 * plan.mass) @ np.square(v)
     for a, b, k, l0 in model.springs:
         d = x[a] - (x[b] if b is not None else 0.0) - l0
         e = e + 0.5 * k * d * d
-    bound = _cached_bound(model, t, model.arrays() if arrays is None else arrays, float(e[0]))
-    return None if bound is None else (e, bound)
+    integrals = plan.integrals(model)
+    return None if integrals is None else (e, _bound(float(e[0]), *integrals))
 
 
-#: The bounds of the last CACHE_SIZE (model, output grid, initial energy) triples, by the
-#: model's arrays, the grid and E(0): the same model run again on the same grid (a benchmark, a
-#: study repeating a run) does not integrate its signals again.
+#: What the check read of the last CACHE_SIZE (model, output grid) pairs it was not given a
+#: memo for (`_plan`), by the model's arrays and the grid: the same model run again on the
+#: same grid (a benchmark, a study repeating a run, the batch's rows) does not integrate its
+#: signals again.
 CACHE_SIZE: int = 16
-_CACHE: OrderedDict[bytes, np.ndarray | None] = OrderedDict()
+_CACHE: OrderedDict[bytes, "_Plan"] = OrderedDict()
 _CACHE_LOCK = threading.Lock()
+#: Grids a memo keeps plans for (`_plan`): a model run on a fixed grid needs one; a run with
+#: every_step output has a grid of its own each time.
+MEMO_GRIDS: int = 4
+#: A part of a _Plan not computed yet.
+_UNSET: Any = object()
 
 
-def _cached_bound(model: Any, t: np.ndarray, arrays: Mapping[str, Any], e0: float) -> np.ndarray | None:
-    """`_bound(e0, *_signal_integrals(model, t))` (None where that is None), from the cache
-    where the model (its `arrays`), the grid and e0 were seen."""
+class _Plan:
+    """What the consistency check reads of a model on an output grid t (shape (n_t,)), which
+    depends on neither its motion nor the method: the bodies' masses, whether its laws are
+    checked (no internal states), its driven bodies, whether nothing puts energy in (no force,
+    drive or moving surface), and, computed when first asked, the signals' integrals of the
+    energy bound (`_signal_integrals`) and the friction check's terms (`_friction_terms`). One
+    for a model's content and grid (`_plan`); the model is passed to the parts computed later
+    (a model of that content)."""
+
+    __slots__ = ("t", "mass", "checked", "driven", "closed", "_integrals", "_friction")
+
+    def __init__(self, model: Any, t: np.ndarray) -> None:
+        self.t = np.array(t, dtype=np.float64)
+        self.t.flags.writeable = False
+        self.mass = np.array([b.mass for b in model.bodies], dtype=np.float64)
+        self.checked = not any(REGISTRY["law"][c.law]["n_states"] != 0 or c.law == "gms" for c in model.contacts)
+        self.driven = np.array([model.driven(j) for j in range(len(model.bodies))], dtype=bool)
+        self.closed = not (model.forces or getattr(model, "drives", None)
+                           or any(c.surface_velocity is not None for c in model.contacts))
+        self._integrals: Any = _UNSET
+        self._friction: Any = _UNSET
+
+    def integrals(self, model: Any) -> tuple[np.ndarray, np.ndarray] | None:
+        """`_signal_integrals(model, t)`, computed once."""
+        if self._integrals is _UNSET:
+            self._integrals = _signal_integrals(model, self.t)
+        return self._integrals
+
+    def friction(self, model: Any) -> tuple[list[tuple[int, np.ndarray, np.ndarray]], np.ndarray] | None:
+        """`_friction_terms(model, t)`, computed once."""
+        if self._friction is _UNSET:
+            self._friction = _friction_terms(model, self.t, self.mass.size)
+        return self._friction
+
+
+def _plan(model: Any, t: np.ndarray, arrays: Mapping[str, Any] | None = None,
+          memo: list[Any] | None = None) -> _Plan:
+    """The _Plan of `model` on the grid `t`: from `memo` (a list kept with the run of the
+    model's content in simulate's cache, `stickslip.model.simulate_model`: its plans by grid,
+    newest first, at most MEMO_GRIDS) where given, else from _CACHE by the model's `arrays`
+    (`model.arrays()` where None) and the grid."""
+    if memo is not None:
+        with _CACHE_LOCK:
+            for plan in memo:
+                if plan.t.shape == t.shape and np.array_equal(plan.t, t):
+                    return plan
+        plan = _Plan(model, t)
+        with _CACHE_LOCK:
+            memo.insert(0, plan)
+            del memo[MEMO_GRIDS:]
+        return plan
+    arrays = model.arrays() if arrays is None else arrays
     key = b"|".join([np.ascontiguousarray(arrays[k]).tobytes() for k in sorted(arrays) if k != "pkeys"]
-                    + [arrays["pkeys"].encode(), np.ascontiguousarray(t, dtype=np.float64).tobytes(),
-                       np.float64(e0).tobytes()])
+                    + [arrays["pkeys"].encode(), np.ascontiguousarray(t, dtype=np.float64).tobytes()])
     with _CACHE_LOCK:
         if key in _CACHE:
             _CACHE.move_to_end(key)
             return _CACHE[key]
-    integrals = _signal_integrals(model, t)
-    found = None if integrals is None else _bound(e0, *integrals)
-    if found is not None:
-        found.flags.writeable = False      # shared by the calls that find it here
+    plan = _Plan(model, t)
     with _CACHE_LOCK:
-        _CACHE[key] = found
+        _CACHE[key] = plan
         while len(_CACHE) > CACHE_SIZE:
             _CACHE.popitem(last=False)
-    return found
+    return plan
 
 
 def _signal_integrals(model: Any, t: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
@@ -271,41 +333,44 @@ MIN_INTERVALS: int = 64
 TINY: float = 1e-20
 
 
-def _resolved(v: np.ndarray) -> bool:
-    """Whether an output grid resolves a body's motion (rows of v at distinct times): at least
-    MIN_INTERVALS intervals, and v reversing its direction between fewer than CHATTER_FRACTION
-    of them (as stickslip.batch counts a row's reversals)."""
-    dv = np.diff(v)
-    if dv.size < MIN_INTERVALS:
-        return False
-    big = np.abs(dv) > ROUNDING * np.finfo(float).eps * np.max(np.abs(v))
-    reversals = np.count_nonzero((dv[1:] * dv[:-1] < 0.0) & big[1:] & big[:-1])
-    return reversals < CHATTER_FRACTION * (dv.size - 1)
+def _resolved(v: np.ndarray) -> np.ndarray:
+    """Whether an output grid resolves each body's motion (v: one row a body, at distinct
+    times): at least MIN_INTERVALS intervals, and v reversing its direction between fewer than
+    CHATTER_FRACTION of them (as stickslip.batch counts a row's reversals); one bool a row."""
+    dv = np.diff(v, axis=1)
+    if dv.shape[1] < MIN_INTERVALS:
+        return np.zeros(v.shape[0], dtype=bool)
+    big = np.abs(dv) > ROUNDING * np.finfo(float).eps * np.max(np.abs(v), axis=1, keepdims=True)
+    reversals = np.count_nonzero((dv[:, 1:] * dv[:, :-1] < 0.0) & big[:, 1:] & big[:, :-1], axis=1)
+    return reversals < CHATTER_FRACTION * (dv.shape[1] - 1)
 
 
 def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str, Any], h: float | None,
-               tol_x: float, nstep: int, kinks: np.ndarray | None = None) -> str | None:
+               tol_x: np.ndarray, nstep: int, kinks: np.ndarray | None, resolved: np.ndarray
+               ) -> tuple[int, str] | None:
     """The change of x against the trapezoid integral of v on the output grid, per interval
-    and from t = 0 (one body's row x, v; see the results guide): the defect beyond SAFETY
-    times its allowance, as a sentence, or None. tol_x: atol + rtol max|x| of an adaptive
-    method's error test on x [m]; nstep: its steps; kinks: the times of the run's events (stick,
-    slip, reversal, a normal force through 0) [s]: an interval that holds one strictly inside has
-    a corner of a that its neighbours do not show (on a grid that samples once a period, every
+    and from t = 0, for each body (rows of x, v, at the distinct times of t; see the results
+    guide; `resolved`: the bodies whose motion the grid resolves, `_resolved`, the others not
+    checked): the first body whose defect is beyond SAFETY times its allowance and its failure
+    as a sentence, or None. tol_x: atol + rtol max|x| of an adaptive method's error test on
+    each body's x [m]; nstep: its steps; kinks: the times of the run's events (stick, slip,
+    reversal, a normal force through 0) [s]: an interval that holds one strictly inside has a
+    corner of a that its neighbours do not show (on a grid that samples once a period, every
     interval may), and it and the sums over it are not checked."""
-    dt = np.diff(t)
-    keep = dt > 0.0
-    if not keep.all():                       # repeated times (every_step at an event): one row each
-        idx = np.concatenate([[0], 1 + np.flatnonzero(keep)])
-        t, x, v, dt = t[idx], x[idx], v[idx], dt[keep]
-    if not _resolved(v):
+    if not resolved.any():
         return None
-    dv = np.diff(v)
-    d = np.diff(x) - dt * 0.5 * (v[1:] + v[:-1])
+    bodies = np.flatnonzero(resolved)
+    if bodies.size < resolved.size:
+        x, v, tol_x = x[bodies], v[bodies], tol_x[bodies]
+    tol_x = tol_x[:, None]
+    dt = np.diff(t)
+    dv = np.diff(v, axis=1)
+    d = np.diff(x, axis=1) - dt * 0.5 * (v[:, 1:] + v[:, :-1])
     s = dv / dt                               # mean acceleration of each interval
-    jump = np.abs(np.diff(s))
+    jump = np.abs(np.diff(s, axis=1))
     # the variation of a on each interval, from its neighbours' mean accelerations (the first
     # and last intervals, with one neighbour, count its difference twice)
-    tv = np.concatenate([[2.0 * jump[0]], jump]) + np.concatenate([jump, [2.0 * jump[-1]]])
+    tv = np.concatenate([2.0 * jump[:, :1], jump], axis=1) + np.concatenate([jump, 2.0 * jump[:, -1:]], axis=1)
     step = np.maximum(dt, h or 0.0)
     change = np.abs(dv)
     span = max(float(t[-1] - t[0]), 1e-300)
@@ -323,7 +388,7 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
         k = np.searchsorted(t, kinks, side="right") - 1
         inside = (k >= 0) & (k < dt.size)
         k, tk = k[inside], kinks[inside]
-        q[k[(tk > t[k]) & (tk < t[k + 1])]] = np.inf
+        q[:, k[(tk > t[k]) & (tk < t[k + 1])]] = np.inf
     if h and (method["order"] == 1 or method["implicit"]):
         # x1 = x0 + h v1 (backward Euler; moreau's theta; galpha's steps across transitions):
         # a defect of h |dv| / 2 a step
@@ -332,33 +397,39 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
         q = q + tol_x * nstep * dt / span
     # rounding: each step rounds x, of size up to max|x| + dt max|v|
     steps = np.maximum(nstep * dt / span, dt / h if h else 1.0) + 1.0
-    q = q + ROUNDING / SAFETY * np.finfo(float).eps * steps * (np.max(np.abs(x)) + dt * np.max(np.abs(v))) \
-        + TINY / SAFETY
+    q = q + ROUNDING / SAFETY * np.finfo(float).eps * steps \
+        * (np.max(np.abs(x), axis=1, keepdims=True) + dt * np.max(np.abs(v), axis=1, keepdims=True)) + TINY / SAFETY
     # an adaptive method's x at the two ends of an interval (or of the run) may each be off by
     # what its error test allows: once per interval, once for the whole run
     ends = 2.0 * tol_x if method["adaptive"] else 0.0
     local = np.abs(d) > SAFETY * (q + ends)
-    big_d, big_q = np.cumsum(d), np.cumsum(q) + ends
+    big_d, big_q = np.cumsum(d, axis=1), np.cumsum(q, axis=1) + ends
     total = np.abs(big_d) > SAFETY * big_q
-    if not (local.any() or total.any()):
+    failed = np.flatnonzero(local.any(axis=1) | total.any(axis=1))
+    if not failed.size:
         return None
-    if total.any():
-        j = int(np.flatnonzero(total)[0])
-        return (f"x changed by {x[j + 1] - x[0]:.6g} m from t = {t[0]:.6g} to {t[j + 1]:.6g} s while the "
-                f"integral of v over that time is {x[j + 1] - x[0] - big_d[j]:.6g} m: a defect of "
-                f"{big_d[j]:.3g} m, more than {SAFETY:g} x its allowance {big_q[j]:.3g} m (the output grid's "
-                f"quadrature and the method's error; {abs(big_d[-1]):.3g} m at t = {t[-1]:.6g} s)")
-    j = int(np.flatnonzero(local)[0])
-    return (f"x changed by {x[j + 1] - x[j]:.6g} m from t = {t[j]:.6g} to {t[j + 1]:.6g} s while the "
-            f"integral of v over that interval is {x[j + 1] - x[j] - d[j]:.6g} m: a defect of {d[j]:.3g} m, "
-            f"more than {SAFETY:g} x its allowance {q[j] + ends:.3g} m")
+    r = int(failed[0])
+    x, d, q, big_d, big_q = x[r], d[r], q[r], big_d[r], big_q[r]
+    ends = float(ends[r, 0]) if method["adaptive"] else 0.0
+    if total[r].any():
+        j = int(np.flatnonzero(total[r])[0])
+        return int(bodies[r]), (
+            f"x changed by {x[j + 1] - x[0]:.6g} m from t = {t[0]:.6g} to {t[j + 1]:.6g} s while the "
+            f"integral of v over that time is {x[j + 1] - x[0] - big_d[j]:.6g} m: a defect of "
+            f"{big_d[j]:.3g} m, more than {SAFETY:g} x its allowance {big_q[j]:.3g} m (the output grid's "
+            f"quadrature and the method's error; {abs(big_d[-1]):.3g} m at t = {t[-1]:.6g} s)")
+    j = int(np.flatnonzero(local[r])[0])
+    return int(bodies[r]), (
+        f"x changed by {x[j + 1] - x[j]:.6g} m from t = {t[j]:.6g} to {t[j + 1]:.6g} s while the "
+        f"integral of v over that interval is {x[j + 1] - x[j] - d[j]:.6g} m: a defect of {d[j]:.3g} m, "
+        f"more than {SAFETY:g} x its allowance {q[j] + ends:.3g} m")
 
 
 def _window_sum(a: np.ndarray, w: int) -> np.ndarray:
-    """a[i - w] + ... + a[i + w] for each i (the terms that exist)."""
-    c = np.concatenate([[0.0], np.cumsum(a)])
-    i = np.arange(a.size)
-    return c[np.minimum(i + w + 1, a.size)] - c[np.maximum(i - w, 0)]
+    """a[..., i - w] + ... + a[..., i + w] for each i (the terms that exist), along the last axis."""
+    c = np.concatenate([np.zeros(a.shape[:-1] + (1,)), np.cumsum(a, axis=-1)], axis=-1)
+    i = np.arange(a.shape[-1])
+    return c[..., np.minimum(i + w + 1, a.shape[-1])] - c[..., np.maximum(i - w, 0)]
 
 
 def _tolerances(method: Mapping[str, Any], controls: Mapping[str, Any], n_bodies: int,
@@ -396,14 +467,14 @@ def _velocity_allowance(method: Mapping[str, Any], controls: Mapping[str, Any], 
     return float(controls.get("h", 0.0)) * np.max(s, axis=1)
 
 
-def _energy_rise(model: Any, t: np.ndarray, e: np.ndarray, v: np.ndarray, dv: np.ndarray) -> str | None:
-    """Where `model` is conservative apart from friction and dampers (no force, no moving
-    surface), its energy E [J] cannot rise: E(t) against its smallest earlier value, allowing
-    SAFETY sum m |v|max dv + m dv^2 / 2 (dv: `_velocity_allowance`). A sentence, or None."""
-    if model.forces or model.drives or any(c.surface_velocity is not None for c in model.contacts):
+def _energy_rise(plan: _Plan, t: np.ndarray, e: np.ndarray, v: np.ndarray, dv: np.ndarray) -> str | None:
+    """Where the model (its `plan`) is conservative apart from friction and dampers (no force,
+    drive or moving surface), its energy E [J] cannot rise: E(t) against its smallest earlier
+    value, allowing SAFETY sum m |v|max dv + m dv^2 / 2 (dv: `_velocity_allowance`). A
+    sentence, or None."""
+    if not plan.closed:
         return None
-    mass = np.array([b.mass for b in model.bodies])
-    allow = SAFETY * float(np.sum(mass * (np.max(np.abs(v), axis=1) * dv + 0.5 * dv * dv))) \
+    allow = SAFETY * float(np.sum(plan.mass * (np.max(np.abs(v), axis=1) * dv + 0.5 * dv * dv))) \
         + ROUNDING * np.finfo(float).eps * float(np.max(e))
     low = np.minimum.accumulate(e)
     rise = e - low
@@ -416,24 +487,52 @@ def _energy_rise(model: Any, t: np.ndarray, e: np.ndarray, v: np.ndarray, dv: np
             "friction and dampers act (they only take energy out)")
 
 
-def _friction_excess(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray, dv: np.ndarray) -> str | None:
+def _friction_terms(model: Any, t: np.ndarray, n_bodies: int
+                    ) -> tuple[list[tuple[int, np.ndarray, np.ndarray]], np.ndarray] | None:
+    """What `_friction_excess` reads of the model's signals on the grid t (its _Plan keeps
+    it): each force's body, its trapezoid mean over each output interval and that mean's
+    allowance (half its change) [N]; and each body's sum of mu_max N+ over its contacts (N+ at
+    its largest in each interval, `_interval_max`) [N], shape (n_bodies, n_t - 1). None when a
+    contact's law has no bound (`_mu_max`): the friction is not checked."""
+    mus = [_mu_max(c.law, dict(c.params)) for c in model.contacts]
+    if any(mu is None for mu in mus):
+        return None
+    forces = []
+    for i, sig in model.forces:
+        f = _value(sig, t)
+        forces.append((i, 0.5 * (f[1:] + f[:-1]), 0.5 * np.abs(np.diff(f))))
+    limit = np.zeros((n_bodies, t.size - 1))            # sum of mu_max N+ [N]
+    for c, mu in zip(model.contacts, mus):
+        cap = mu * np.maximum(_interval_max(c.normal_force, t), 0.0)   # N+ at its largest in the interval
+        for body in (c.a, c.b):
+            if body is not None:
+                limit[body] += cap
+    return forces, limit
+
+
+def _friction_excess(model: Any, plan: _Plan, t: np.ndarray, x: np.ndarray, v: np.ndarray, dv: np.ndarray,
+                     resolved: np.ndarray) -> str | None:
     """Each body's mean friction force over each output interval, m dv/dt minus the mean of its
     springs, dampers and forces (trapezoids), against the sum of mu_max N+ of its contacts
     (laws without internal states whose mu has a bound; others not checked): the first excess
     beyond SAFETY times the allowance (the trapezoids' error for a monotone quantity, half its
-    change, and m dv over the interval), as a sentence, or None."""
-    if t.size < 2 or any(REGISTRY["law"][c.law]["n_states"] != 0 or c.law == "gms" for c in model.contacts):
+    change, and m dv over the interval), as a sentence, or None. `plan`: the model's on the
+    grid t; `resolved`: the bodies whose motion the grid resolves (`_resolved`), the others and
+    the driven bodies (whose force includes their drive's) not checked."""
+    if t.size < 2 or not plan.checked:
         return None
-    dt = np.diff(t)
-    ok = dt > 0.0
-    resolved = np.array([_resolved(row[np.concatenate([[True], ok])]) and not model.driven(j)
-                         for j, row in enumerate(v)])     # a driven body's force includes its drive's
+    resolved = resolved & ~plan.driven
     if not resolved.any():
         return None
-    nb = model.n_bodies
-    mass = np.array([b.mass for b in model.bodies])
-    mean_f = np.zeros((nb, dt.size))                    # mean non-friction force [N]
-    slack = np.zeros((nb, dt.size))                     # its trapezoid's allowance [N]
+    terms = plan.friction(model)
+    if terms is None:
+        return None
+    forces, limit = terms
+    dt = np.diff(t)
+    ok = dt > 0.0
+    mass = plan.mass
+    mean_f = np.zeros((mass.size, dt.size))             # mean non-friction force [N]
+    slack = np.zeros((mass.size, dt.size))              # its trapezoid's allowance [N]
     for a, b, k, l0 in model.springs:
         f = -k * (x[a] - (x[b] if b is not None else 0.0) - l0)
         for body, sign in ((a, 1.0), (b, -1.0)):
@@ -446,19 +545,9 @@ def _friction_excess(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray, dv
             if body is not None:
                 mean_f[body] += sign * 0.5 * (f[1:] + f[:-1])
                 slack[body] += 0.5 * np.abs(np.diff(f))
-    limit = np.zeros((nb, dt.size))                     # sum of mu_max N+ [N]
-    for i, sig in model.forces:
-        f = _value(sig, t)
-        mean_f[i] += 0.5 * (f[1:] + f[:-1])
-        slack[i] += 0.5 * np.abs(np.diff(f))
-    for c in model.contacts:
-        mu = _mu_max(c.law, dict(c.params))
-        if mu is None:
-            return None
-        cap = mu * np.maximum(_interval_max(c.normal_force, t), 0.0)   # N+ at its largest in the interval
-        for body in (c.a, c.b):
-            if body is not None:
-                limit[body] += cap
+    for i, mean, half in forces:
+        mean_f[i] += mean
+        slack[i] += half
     with np.errstate(divide="ignore", invalid="ignore"):
         friction = mass[:, None] * np.diff(v, axis=1) / dt - mean_f
         allow = SAFETY * (slack + mass[:, None] * dv[:, None] / dt) \
@@ -474,7 +563,8 @@ def _friction_excess(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray, dv
 
 
 def check_result(result: Any, method: str, controls: Mapping[str, Any], model: Any = None,
-                 arrays: Mapping[str, Any] | None = None, stacklevel: int = 2) -> list[str]:
+                 arrays: Mapping[str, Any] | None = None, stacklevel: int = 2,
+                 memo: list[Any] | None = None) -> list[str]:
     """The consistency check of a run that reached t_end (docs/guide/results.md): x against
     the integral of v for every body, and for a `model` the energy bound (`energy_bound`), the
     energy of a model conservative apart from friction against its friction's work (it cannot
@@ -496,6 +586,10 @@ def check_result(result: Any, method: str, controls: Mapping[str, Any], model: A
         ``model.arrays()`` where the caller has it.
     stacklevel : int
         The warnings' stacklevel, counted from this function's caller.
+    memo : list, optional
+        A list kept with the model's content (simulate's cache keeps one with each run of a
+        model): what the check reads of the model and its output grid, not of the motion, is
+        computed once and kept there (`_plan`). An empty list to start.
     """
     info = REGISTRY["method"][method]
     t = np.asarray(result.t, dtype=np.float64)
@@ -509,14 +603,19 @@ def check_result(result: Any, method: str, controls: Mapping[str, Any], model: A
     tol_x = _tolerances(info, controls, x.shape[0], x)
     events = getattr(result, "events", None)
     kinks = np.asarray(events["t"], dtype=np.float64) if events is not None and len(events) else None
-    for j in range(x.shape[0]):
-        said = _kinematic(t, x[j], v[j], info, h, float(tol_x[j]), nstep, kinks)
-        if said is not None:
-            who = model.label(j) if model is not None else ("" if x.shape[0] == 1 else f"block {j}")
-            found.append((f"{where}: {who + ': ' if who else ''}{said}", ConsistencyWarning))
-            break
+    # one row each of repeated times (every_step at an event)
+    distinct = np.concatenate([[True], np.diff(t) > 0.0])
+    td, xd, vd = (t, x, v) if distinct.all() else (t[distinct], x[:, distinct], v[:, distinct])
+    resolved = _resolved(vd)
+    said = _kinematic(td, xd, vd, info, h, tol_x, nstep, kinks, resolved)
+    if said is not None:
+        j, sentence = said
+        who = model.label(j) if model is not None else ("" if x.shape[0] == 1 else f"block {j}")
+        found.append((f"{where}: {who + ': ' if who else ''}{sentence}", ConsistencyWarning))
     if model is not None:
-        checked = energy_bound(model, t, x, v, arrays)
+        plan = _plan(model, t, arrays, memo)
+        dv = _velocity_allowance(info, controls, t, v, nstep)
+        checked = _energy_and_bound(model, plan, x, v) if _bounded(model, t) else None
         if checked is not None:
             e, bound = checked
             over = np.flatnonzero(~(e <= bound))
@@ -527,12 +626,10 @@ def check_result(result: Any, method: str, controls: Mapping[str, Any], model: A
                               "(stickslip.energy): the result is wrong; take a smaller step or tolerance",
                               EnergyBoundWarning))
             else:
-                dv = _velocity_allowance(info, controls, t, v, nstep)
-                rise = _energy_rise(model, t, e, v, dv)
+                rise = _energy_rise(plan, t, e, v, dv)
                 if rise is not None:
                     found.append((f"{where}: {rise}", ConsistencyWarning))
-        dv = _velocity_allowance(info, controls, t, v, nstep)
-        excess = _friction_excess(model, t, x, v, dv)
+        excess = _friction_excess(model, plan, t, x, v, dv, resolved)
         if excess is not None:
             found.append((f"{where}: {excess}", ConsistencyWarning))
     notes = result.stats.setdefault("notes", [])
