@@ -333,11 +333,33 @@ MIN_INTERVALS: int = 64
 TINY: float = 1e-20
 
 
-def _resolved(v: np.ndarray) -> np.ndarray:
-    """Whether an output grid resolves each body's motion (v: one row a body, at distinct
-    times): at least MIN_INTERVALS intervals, and v reversing its direction between fewer than
-    CHATTER_FRACTION of them (as stickslip.batch counts a row's reversals); one bool a row."""
-    dv = np.diff(v, axis=1)
+class _Rows:
+    """A run's output as the check reads it: the times t [s], the positions x [m] and
+    velocities v [m/s] (a row a body), and their differences over the output intervals
+    (dt, dx, dv; ok: dt > 0), each taken once."""
+
+    __slots__ = ("t", "x", "v", "dt", "ok", "dx", "dv")
+
+    def __init__(self, t: np.ndarray, x: np.ndarray, v: np.ndarray, dt: np.ndarray | None = None) -> None:
+        self.t, self.x, self.v = t, x, v
+        self.dt = np.diff(t) if dt is None else dt
+        self.ok = self.dt > 0.0
+        self.dx, self.dv = np.diff(x, axis=1), np.diff(v, axis=1)
+
+    def distinct(self) -> "_Rows":
+        """The rows at distinct times: one row each of repeated times (every_step at an
+        event), the first."""
+        if self.ok.all():
+            return self
+        keep = np.concatenate([[True], self.ok])
+        return _Rows(self.t[keep], self.x[:, keep], self.v[:, keep], self.dt[self.ok])
+
+
+def _resolved(rows: _Rows) -> np.ndarray:
+    """Whether an output grid resolves each body's motion (`rows` at distinct times): at least
+    MIN_INTERVALS intervals, and v reversing its direction between fewer than CHATTER_FRACTION
+    of them (as stickslip.batch counts a row's reversals); one bool a body."""
+    v, dv = rows.v, rows.dv
     if dv.shape[1] < MIN_INTERVALS:
         return np.zeros(v.shape[0], dtype=bool)
     big = np.abs(dv) > ROUNDING * np.finfo(float).eps * np.max(np.abs(v), axis=1, keepdims=True)
@@ -345,12 +367,10 @@ def _resolved(v: np.ndarray) -> np.ndarray:
     return reversals < CHATTER_FRACTION * (dv.shape[1] - 1)
 
 
-def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str, Any], h: float | None,
-               tol_x: np.ndarray, nstep: int, kinks: np.ndarray | None, resolved: np.ndarray
-               ) -> tuple[int, str] | None:
+def _kinematic(rows: _Rows, method: Mapping[str, Any], h: float | None, tol_x: np.ndarray, nstep: int,
+               kinks: np.ndarray | None, resolved: np.ndarray) -> tuple[int, str] | None:
     """The change of x against the trapezoid integral of v on the output grid, per interval
-    and from t = 0, for each body (rows of x, v, at the distinct times of t; see the results
-    guide; `resolved`: the bodies whose motion the grid resolves, `_resolved`, the others not
+    and from t = 0, for each body (`rows` at distinct times; see the results guide; `resolved`: the bodies whose motion the grid resolves, `_resolved`, the others not
     checked): the first body whose defect is beyond SAFETY times its allowance and its failure
     as a sentence, or None. tol_x: atol + rtol max|x| of an adaptive method's error test on
     each body's x [m]; nstep: its steps; kinks: the times of the run's events (stick, slip,
@@ -360,12 +380,11 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
     if not resolved.any():
         return None
     bodies = np.flatnonzero(resolved)
+    t, x, v, dt, dx, dv = rows.t, rows.x, rows.v, rows.dt, rows.dx, rows.dv
     if bodies.size < resolved.size:
-        x, v, tol_x = x[bodies], v[bodies], tol_x[bodies]
+        x, v, dx, dv, tol_x = x[bodies], v[bodies], dx[bodies], dv[bodies], tol_x[bodies]
     tol_x = tol_x[:, None]
-    dt = np.diff(t)
-    dv = np.diff(v, axis=1)
-    d = np.diff(x, axis=1) - dt * 0.5 * (v[:, 1:] + v[:, :-1])
+    d = dx - dt * 0.5 * (v[:, 1:] + v[:, :-1])
     s = dv / dt                               # mean acceleration of each interval
     jump = np.abs(np.diff(s, axis=1))
     # the variation of a on each interval, from its neighbours' mean accelerations (the first
@@ -405,10 +424,9 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
     local = np.abs(d) > SAFETY * (q + ends)
     big_d, big_q = np.cumsum(d, axis=1), np.cumsum(q, axis=1) + ends
     total = np.abs(big_d) > SAFETY * big_q
-    failed = np.flatnonzero(local.any(axis=1) | total.any(axis=1))
-    if not failed.size:
+    if not (local.any() or total.any()):
         return None
-    r = int(failed[0])
+    r = int(np.flatnonzero(local.any(axis=1) | total.any(axis=1))[0])
     x, d, q, big_d, big_q = x[r], d[r], q[r], big_d[r], big_q[r]
     ends = float(ends[r, 0]) if method["adaptive"] else 0.0
     if total[r].any():
@@ -426,10 +444,18 @@ def _kinematic(t: np.ndarray, x: np.ndarray, v: np.ndarray, method: Mapping[str,
 
 
 def _window_sum(a: np.ndarray, w: int) -> np.ndarray:
-    """a[..., i - w] + ... + a[..., i + w] for each i (the terms that exist), along the last axis."""
-    c = np.concatenate([np.zeros(a.shape[:-1] + (1,)), np.cumsum(a, axis=-1)], axis=-1)
-    i = np.arange(a.shape[-1])
-    return c[..., np.minimum(i + w + 1, a.shape[-1])] - c[..., np.maximum(i - w, 0)]
+    """a[..., i - w] + ... + a[..., i + w] for each i (the terms that exist), along the last
+    axis: c[min(i + w + 1, n)] - c[max(i - w, 0)] of the partial sums c (c[0] = 0)."""
+    n = a.shape[-1]
+    c = np.zeros(a.shape[:-1] + (n + 1,))
+    np.cumsum(a, axis=-1, out=c[..., 1:])
+    m = max(n - w, 0)                         # the i whose window ends inside: i + w + 1 <= n
+    hi = np.empty_like(a)
+    hi[..., :m] = c[..., w + 1:]
+    hi[..., m:] = c[..., -1:]
+    lo = np.zeros_like(a)                     # c[0] for i < w
+    lo[..., w:] = c[..., :m]
+    return hi - lo
 
 
 def _tolerances(method: Mapping[str, Any], controls: Mapping[str, Any], n_bodies: int,
@@ -450,20 +476,19 @@ def _tolerance_of(controls: Mapping[str, Any], name: str, start: int, n: int) ->
     return a[start:start + n] if a.size >= start + n else np.full(n, a[0])
 
 
-def _velocity_allowance(method: Mapping[str, Any], controls: Mapping[str, Any], t: np.ndarray, v: np.ndarray,
+def _velocity_allowance(method: Mapping[str, Any], controls: Mapping[str, Any], rows: _Rows,
                         nstep: int) -> np.ndarray:
     """How far each body's velocity may be off without the run being wrong [m/s]: an adaptive
     method's error test summed over its steps (nstep (atol + rtol max|v|)), a fixed step's
     velocity change at the largest mean acceleration of the output grid (h max|dv/dt|)."""
-    nb = v.shape[0]
+    nb = rows.v.shape[0]
     if method["adaptive"]:
         return nstep * (_tolerance_of(controls, "atol", nb, nb)
-                        + _tolerance_of(controls, "rtol", nb, nb) * np.max(np.abs(v), axis=1))
-    dt = np.diff(t)
-    ok = dt > 0.0
+                        + _tolerance_of(controls, "rtol", nb, nb) * np.max(np.abs(rows.v), axis=1))
+    ok = rows.ok
     if not ok.any():
         return np.zeros(nb)
-    s = np.abs(np.diff(v, axis=1)[:, ok]) / dt[ok]
+    s = np.abs(rows.dv) / rows.dt if ok.all() else np.abs(rows.dv[:, ok]) / rows.dt[ok]
     return float(controls.get("h", 0.0)) * np.max(s, axis=1)
 
 
@@ -510,15 +535,15 @@ def _friction_terms(model: Any, t: np.ndarray, n_bodies: int
     return forces, limit
 
 
-def _friction_excess(model: Any, plan: _Plan, t: np.ndarray, x: np.ndarray, v: np.ndarray, dv: np.ndarray,
-                     resolved: np.ndarray) -> str | None:
+def _friction_excess(model: Any, plan: _Plan, rows: _Rows, dv: np.ndarray, resolved: np.ndarray) -> str | None:
     """Each body's mean friction force over each output interval, m dv/dt minus the mean of its
     springs, dampers and forces (trapezoids), against the sum of mu_max N+ of its contacts
     (laws without internal states whose mu has a bound; others not checked): the first excess
     beyond SAFETY times the allowance (the trapezoids' error for a monotone quantity, half its
     change, and m dv over the interval), as a sentence, or None. `plan`: the model's on the
-    grid t; `resolved`: the bodies whose motion the grid resolves (`_resolved`), the others and
+    grid of `rows` (the run's output); `resolved`: the bodies whose motion the grid resolves (`_resolved`), the others and
     the driven bodies (whose force includes their drive's) not checked."""
+    t, x, v = rows.t, rows.x, rows.v
     if t.size < 2 or not plan.checked:
         return None
     resolved = resolved & ~plan.driven
@@ -528,8 +553,7 @@ def _friction_excess(model: Any, plan: _Plan, t: np.ndarray, x: np.ndarray, v: n
     if terms is None:
         return None
     forces, limit = terms
-    dt = np.diff(t)
-    ok = dt > 0.0
+    dt, ok = rows.dt, rows.ok
     mass = plan.mass
     mean_f = np.zeros((mass.size, dt.size))             # mean non-friction force [N]
     slack = np.zeros((mass.size, dt.size))              # its trapezoid's allowance [N]
@@ -549,14 +573,14 @@ def _friction_excess(model: Any, plan: _Plan, t: np.ndarray, x: np.ndarray, v: n
         mean_f[i] += mean
         slack[i] += half
     with np.errstate(divide="ignore", invalid="ignore"):
-        friction = mass[:, None] * np.diff(v, axis=1) / dt - mean_f
+        friction = mass[:, None] * rows.dv / dt - mean_f
         allow = SAFETY * (slack + mass[:, None] * dv[:, None] / dt) \
             + ROUNDING * np.finfo(float).eps * (np.abs(mean_f) + limit)
         excess = (np.abs(friction) - limit - allow) * ok * resolved[:, None]
-    bad = np.argwhere(excess > 0.0)
-    if bad.size == 0:
+    bad = excess > 0.0
+    if not bad.any():
         return None
-    j, i = (int(u) for u in bad[0])
+    j, i = (int(u) for u in np.argwhere(bad)[0])
     return (f"{model.label(j)}: its mean friction force from t = {t[i]:.6g} to {t[i + 1]:.6g} s is "
             f"{friction[j, i]:.6g} N (m dv/dt minus its other forces), beyond the {limit[j, i]:.6g} N its "
             f"contacts' laws can give (mu_max N) and the {allow[j, i]:.3g} N of error allowance")
@@ -603,18 +627,17 @@ def check_result(result: Any, method: str, controls: Mapping[str, Any], model: A
     tol_x = _tolerances(info, controls, x.shape[0], x)
     events = getattr(result, "events", None)
     kinks = np.asarray(events["t"], dtype=np.float64) if events is not None and len(events) else None
-    # one row each of repeated times (every_step at an event)
-    distinct = np.concatenate([[True], np.diff(t) > 0.0])
-    td, xd, vd = (t, x, v) if distinct.all() else (t[distinct], x[:, distinct], v[:, distinct])
-    resolved = _resolved(vd)
-    said = _kinematic(td, xd, vd, info, h, tol_x, nstep, kinks, resolved)
+    rows = _Rows(t, x, v)
+    distinct = rows.distinct()
+    resolved = _resolved(distinct)
+    said = _kinematic(distinct, info, h, tol_x, nstep, kinks, resolved)
     if said is not None:
         j, sentence = said
         who = model.label(j) if model is not None else ("" if x.shape[0] == 1 else f"block {j}")
         found.append((f"{where}: {who + ': ' if who else ''}{sentence}", ConsistencyWarning))
     if model is not None:
         plan = _plan(model, t, arrays, memo)
-        dv = _velocity_allowance(info, controls, t, v, nstep)
+        dv = _velocity_allowance(info, controls, rows, nstep)
         checked = _energy_and_bound(model, plan, x, v) if _bounded(model, t) else None
         if checked is not None:
             e, bound = checked
@@ -629,7 +652,7 @@ def check_result(result: Any, method: str, controls: Mapping[str, Any], model: A
                 rise = _energy_rise(plan, t, e, v, dv)
                 if rise is not None:
                     found.append((f"{where}: {rise}", ConsistencyWarning))
-        excess = _friction_excess(model, plan, t, x, v, dv, resolved)
+        excess = _friction_excess(model, plan, rows, dv, resolved)
         if excess is not None:
             found.append((f"{where}: {excess}", ConsistencyWarning))
     notes = result.stats.setdefault("notes", [])
