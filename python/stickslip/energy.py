@@ -335,16 +335,17 @@ TINY: float = 1e-20
 
 class _Rows:
     """A run's output as the check reads it: the times t [s], the positions x [m] and
-    velocities v [m/s] (a row a body), and their differences over the output intervals
-    (dt, dx, dv; ok: dt > 0), each taken once."""
+    velocities v [m/s] (a row a body), their differences over the output intervals (dt, dx,
+    dv; ok: dt > 0), |dv| (adv) and each body's max |v| (vmax), each taken once."""
 
-    __slots__ = ("t", "x", "v", "dt", "ok", "dx", "dv")
+    __slots__ = ("t", "x", "v", "dt", "ok", "dx", "dv", "adv", "vmax")
 
     def __init__(self, t: np.ndarray, x: np.ndarray, v: np.ndarray, dt: np.ndarray | None = None) -> None:
         self.t, self.x, self.v = t, x, v
         self.dt = np.diff(t) if dt is None else dt
         self.ok = self.dt > 0.0
         self.dx, self.dv = np.diff(x, axis=1), np.diff(v, axis=1)
+        self.adv, self.vmax = np.abs(self.dv), np.max(np.abs(v), axis=1)
 
     def distinct(self) -> "_Rows":
         """The rows at distinct times: one row each of repeated times (every_step at an
@@ -359,10 +360,10 @@ def _resolved(rows: _Rows) -> np.ndarray:
     """Whether an output grid resolves each body's motion (`rows` at distinct times): at least
     MIN_INTERVALS intervals, and v reversing its direction between fewer than CHATTER_FRACTION
     of them (as stickslip.batch counts a row's reversals); one bool a body."""
-    v, dv = rows.v, rows.dv
+    dv = rows.dv
     if dv.shape[1] < MIN_INTERVALS:
-        return np.zeros(v.shape[0], dtype=bool)
-    big = np.abs(dv) > ROUNDING * np.finfo(float).eps * np.max(np.abs(v), axis=1, keepdims=True)
+        return np.zeros(dv.shape[0], dtype=bool)
+    big = rows.adv > ROUNDING * np.finfo(float).eps * rows.vmax[:, None]
     reversals = np.count_nonzero((dv[:, 1:] * dv[:, :-1] < 0.0) & big[:, 1:] & big[:, :-1], axis=1)
     return reversals < CHATTER_FRACTION * (dv.shape[1] - 1)
 
@@ -380,9 +381,9 @@ def _kinematic(rows: _Rows, method: Mapping[str, Any], h: float | None, tol_x: n
     if not resolved.any():
         return None
     bodies = np.flatnonzero(resolved)
-    t, x, v, dt, dx, dv = rows.t, rows.x, rows.v, rows.dt, rows.dx, rows.dv
+    t, x, v, dt, dx, dv, change, vmax = rows.t, rows.x, rows.v, rows.dt, rows.dx, rows.dv, rows.adv, rows.vmax
     if bodies.size < resolved.size:
-        x, v, dx, dv, tol_x = x[bodies], v[bodies], dx[bodies], dv[bodies], tol_x[bodies]
+        x, v, dx, dv, change, vmax, tol_x = (a[bodies] for a in (x, v, dx, dv, change, vmax, tol_x))
     tol_x = tol_x[:, None]
     d = dx - dt * 0.5 * (v[:, 1:] + v[:, :-1])
     s = dv / dt                               # mean acceleration of each interval
@@ -391,7 +392,6 @@ def _kinematic(rows: _Rows, method: Mapping[str, Any], h: float | None, tol_x: n
     # and last intervals, with one neighbour, count its difference twice)
     tv = np.concatenate([2.0 * jump[:, :1], jump], axis=1) + np.concatenate([jump, 2.0 * jump[:, -1:]], axis=1)
     step = np.maximum(dt, h or 0.0)
-    change = np.abs(dv)
     span = max(float(t[-1] - t[0]), 1e-300)
     if h and span < h * dt.size:
         # an output grid finer than the fixed step: its points interpolate within a step, and an
@@ -417,7 +417,7 @@ def _kinematic(rows: _Rows, method: Mapping[str, Any], h: float | None, tol_x: n
     # rounding: each step rounds x, of size up to max|x| + dt max|v|
     steps = np.maximum(nstep * dt / span, dt / h if h else 1.0) + 1.0
     q = q + ROUNDING / SAFETY * np.finfo(float).eps * steps \
-        * (np.max(np.abs(x), axis=1, keepdims=True) + dt * np.max(np.abs(v), axis=1, keepdims=True)) + TINY / SAFETY
+        * (np.max(np.abs(x), axis=1, keepdims=True) + dt * vmax[:, None]) + TINY / SAFETY
     # an adaptive method's x at the two ends of an interval (or of the run) may each be off by
     # what its error test allows: once per interval, once for the whole run
     ends = 2.0 * tol_x if method["adaptive"] else 0.0
@@ -484,22 +484,22 @@ def _velocity_allowance(method: Mapping[str, Any], controls: Mapping[str, Any], 
     nb = rows.v.shape[0]
     if method["adaptive"]:
         return nstep * (_tolerance_of(controls, "atol", nb, nb)
-                        + _tolerance_of(controls, "rtol", nb, nb) * np.max(np.abs(rows.v), axis=1))
+                        + _tolerance_of(controls, "rtol", nb, nb) * rows.vmax)
     ok = rows.ok
     if not ok.any():
         return np.zeros(nb)
-    s = np.abs(rows.dv) / rows.dt if ok.all() else np.abs(rows.dv[:, ok]) / rows.dt[ok]
+    s = rows.adv / rows.dt if ok.all() else rows.adv[:, ok] / rows.dt[ok]
     return float(controls.get("h", 0.0)) * np.max(s, axis=1)
 
 
-def _energy_rise(plan: _Plan, t: np.ndarray, e: np.ndarray, v: np.ndarray, dv: np.ndarray) -> str | None:
+def _energy_rise(plan: _Plan, t: np.ndarray, e: np.ndarray, vmax: np.ndarray, dv: np.ndarray) -> str | None:
     """Where the model (its `plan`) is conservative apart from friction and dampers (no force,
     drive or moving surface), its energy E [J] cannot rise: E(t) against its smallest earlier
-    value, allowing SAFETY sum m |v|max dv + m dv^2 / 2 (dv: `_velocity_allowance`). A
-    sentence, or None."""
+    value, allowing SAFETY sum m |v|max dv + m dv^2 / 2 (vmax: each body's |v|max [m/s]; dv:
+    `_velocity_allowance`). A sentence, or None."""
     if not plan.closed:
         return None
-    allow = SAFETY * float(np.sum(plan.mass * (np.max(np.abs(v), axis=1) * dv + 0.5 * dv * dv))) \
+    allow = SAFETY * float(np.sum(plan.mass * (vmax * dv + 0.5 * dv * dv))) \
         + ROUNDING * np.finfo(float).eps * float(np.max(e))
     low = np.minimum.accumulate(e)
     rise = e - low
@@ -617,7 +617,8 @@ def check_result(result: Any, method: str, controls: Mapping[str, Any], model: A
     """
     info = REGISTRY["method"][method]
     t = np.asarray(result.t, dtype=np.float64)
-    x, v = np.atleast_2d(result.x), np.atleast_2d(result.v)
+    # each body's row contiguous (a Result's rows are strided views of the state's columns)
+    x, v = np.ascontiguousarray(np.atleast_2d(result.x)), np.ascontiguousarray(np.atleast_2d(result.v))
     if t.size < 2:
         return []
     nstep = int(result.stats.get("nstep", 0))
@@ -649,7 +650,7 @@ def check_result(result: Any, method: str, controls: Mapping[str, Any], model: A
                               "(stickslip.energy): the result is wrong; take a smaller step or tolerance",
                               EnergyBoundWarning))
             else:
-                rise = _energy_rise(plan, t, e, v, dv)
+                rise = _energy_rise(plan, t, e, rows.vmax, dv)
                 if rise is not None:
                     found.append((f"{where}: {rise}", ConsistencyWarning))
         excess = _friction_excess(model, plan, rows, dv, resolved)
