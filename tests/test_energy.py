@@ -267,3 +267,14 @@ def test_kinematic_check_names_the_first_inconsistent_resolved_body():
         result.x[1] = 1.02 * np.sin(t)
         found = [f for f in check_result(result, "rk4", {"h": 5e-4}, m) if "x changed" in f]
     assert len(found) == 1 and found[0].startswith("model (no contact, rk4): good: x changed by")
+
+
+@pytest.mark.parametrize("n, w", [(1, 0), (5, 2), (64, 3), (64, 63), (64, 100), (1000, 10)])
+def test_window_sum_against_direct_sums(n, w):
+    """_window_sum along each row: a[i - w] + ... + a[i + w] (the terms that exist), against
+    the sums of the slices."""
+    from stickslip.energy import _window_sum
+    a = np.random.default_rng(n + w).random((3, n))
+    direct = np.array([[row[max(i - w, 0):i + w + 1].sum() for i in range(n)] for row in a])
+    np.testing.assert_allclose(_window_sum(a, w), direct, rtol=1e-12, atol=1e-12 * n)
+    np.testing.assert_array_equal(_window_sum(a[1], w), _window_sum(a, w)[1])
