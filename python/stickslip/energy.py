@@ -228,32 +228,33 @@ class _Plan:
 
 def _plan(model: Any, t: np.ndarray, arrays: Mapping[str, Any] | None = None,
           memo: list[Any] | None = None) -> _Plan:
-    """The _Plan of `model` on the grid `t`: from `memo` (a list kept with the run of the
-    model's content in simulate's cache, `stickslip.model.simulate_model`: its plans by grid,
-    newest first, at most MEMO_GRIDS) where given, else from _CACHE by the model's `arrays`
-    (`model.arrays()` where None) and the grid."""
+    """The _Plan of `model` on the grid `t`: from `memo` where given (a list kept with the run
+    of the model's content in simulate's cache, `stickslip.model.simulate_model`: its plans by
+    grid, newest first, at most MEMO_GRIDS), else, and for a grid the memo has not seen (which
+    then keeps it), from _CACHE by the model's `arrays` (`model.arrays()` where None) and the
+    grid: a model built again with the same content finds it there."""
     if memo is not None:
         with _CACHE_LOCK:
             for plan in memo:
                 if plan.t.shape == t.shape and np.array_equal(plan.t, t):
                     return plan
-        plan = _Plan(model, t)
-        with _CACHE_LOCK:
-            memo.insert(0, plan)
-            del memo[MEMO_GRIDS:]
-        return plan
     arrays = model.arrays() if arrays is None else arrays
     key = b"|".join([np.ascontiguousarray(arrays[k]).tobytes() for k in sorted(arrays) if k != "pkeys"]
                     + [arrays["pkeys"].encode(), np.ascontiguousarray(t, dtype=np.float64).tobytes()])
     with _CACHE_LOCK:
-        if key in _CACHE:
+        plan = _CACHE.get(key)
+        if plan is not None:
             _CACHE.move_to_end(key)
-            return _CACHE[key]
-    plan = _Plan(model, t)
-    with _CACHE_LOCK:
-        _CACHE[key] = plan
-        while len(_CACHE) > CACHE_SIZE:
-            _CACHE.popitem(last=False)
+    if plan is None:
+        plan = _Plan(model, t)
+        with _CACHE_LOCK:
+            _CACHE[key] = plan
+            while len(_CACHE) > CACHE_SIZE:
+                _CACHE.popitem(last=False)
+    if memo is not None:
+        with _CACHE_LOCK:
+            memo.insert(0, plan)
+            del memo[MEMO_GRIDS:]
     return plan
 
 
