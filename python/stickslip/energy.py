@@ -150,7 +150,7 @@ def energy_bound(model: Any, t: np.ndarray, x: np.ndarray, v: np.ndarray,
                  arrays: Mapping[str, Any] | None = None, memo: list[Any] | None = None
                  ) -> tuple[np.ndarray, np.ndarray] | None:
     """The mechanical energy E [J] of `model` at the output times `t` [s] (positions x and
-    velocities v, shape (n_bodies, n_t), t[0] = 0) and its bound B [J] (see the module): a
+    velocities v, shape (n_bodies, n_t), t[0] = 0) and its bound B [J] (see the module; read-only): a
     correct run has E <= B. None when the model is not checked (a law with internal states, a
     law whose mu does not oppose the slip or has no bound, signals too fast for the grid, a
     drive, whose work no force of the model bounds).
@@ -173,8 +173,8 @@ def _energy_and_bound(model: Any, plan: "_Plan", x: np.ndarray, v: np.ndarray
     for a, b, k, l0 in model.springs:
         d = x[a] - (x[b] if b is not None else 0.0) - l0
         e = e + 0.5 * k * d * d
-    integrals = plan.integrals(model)
-    return None if integrals is None else (e, _bound(float(e[0]), *integrals))
+    bound = plan.bound(model, float(e[0]))
+    return None if bound is None else (e, bound)
 
 
 #: What the check read of the last CACHE_SIZE (model, output grid) pairs it was not given a
@@ -200,7 +200,7 @@ class _Plan:
     for a model's content and grid (`_plan`); the model is passed to the parts computed later
     (a model of that content)."""
 
-    __slots__ = ("t", "mass", "checked", "driven", "closed", "_integrals", "_friction")
+    __slots__ = ("t", "mass", "checked", "driven", "closed", "_integrals", "_friction", "_bound")
 
     def __init__(self, model: Any, t: np.ndarray) -> None:
         self.t = np.array(t, dtype=np.float64)
@@ -212,6 +212,21 @@ class _Plan:
                            or any(c.surface_velocity is not None for c in model.contacts))
         self._integrals: Any = _UNSET
         self._friction: Any = _UNSET
+        self._bound: tuple[float, np.ndarray] | None = None
+
+    def bound(self, model: Any, e0: float) -> np.ndarray | None:
+        """`_bound(e0, *integrals)` (None where the integrals are None); the last one kept (a
+        run of the model again starts from the same energy). Read-only: shared by the calls."""
+        integrals = self.integrals(model)
+        if integrals is None:
+            return None
+        last = self._bound
+        if last is not None and last[0] == e0:
+            return last[1]
+        found = _bound(e0, *integrals)
+        found.flags.writeable = False
+        self._bound = (e0, found)
+        return found
 
     def integrals(self, model: Any) -> tuple[np.ndarray, np.ndarray] | None:
         """`_signal_integrals(model, t)`, computed once."""
