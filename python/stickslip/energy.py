@@ -170,9 +170,11 @@ def _energy_and_bound(model: Any, plan: "_Plan", x: np.ndarray, v: np.ndarray
                       ) -> tuple[np.ndarray, np.ndarray] | None:
     """`energy_bound` of a model without drives on its plan's grid (t[0] = 0)."""
     e = (0.5 * plan.mass) @ np.square(v)
-    for a, b, k, l0 in model.springs:
-        d = x[a] - (x[b] if b is not None else 0.0) - l0
-        e = e + 0.5 * k * d * d
+    springs = plan.springs
+    if springs.count:
+        d = springs.stretch(x) - springs.rest[:, None]
+        # E + each spring's 1/2 k d^2 in turn (a reduction over the rows adds them in order)
+        e = np.add.reduce(np.concatenate([e[None, :], 0.5 * springs.coef[:, None] * d * d]), axis=0)
     bound = plan.bound(model, float(e[0]))
     return None if bound is None else (e, bound)
 
@@ -191,6 +193,40 @@ MEMO_GRIDS: int = 4
 _UNSET: Any = object()
 
 
+class _Links:
+    """The springs or the dampers of a model as arrays: each one's bodies a and b (b = n, the
+    ground's row, for None), its coefficient k or c [N/m] or [N s/m] and rest length [m]
+    (0 for a damper), and the order in which the check adds their forces to the bodies: for
+    each element, a with the sign +1, then b with -1 (not the ground)."""
+
+    __slots__ = ("count", "a", "b", "coef", "rest", "elem", "body", "sign")
+
+    def __init__(self, links: list[tuple[Any, ...]], n: int) -> None:
+        self.count = len(links)
+        self.a = np.array([link[0] for link in links], dtype=np.intp)
+        self.b = np.array([n if link[1] is None else link[1] for link in links], dtype=np.intp)
+        self.coef = np.array([link[2] for link in links], dtype=np.float64)
+        self.rest = np.array([link[3] if len(link) > 3 else 0.0 for link in links], dtype=np.float64)
+        order = [(i, body, sign) for i, link in enumerate(links) for body, sign in ((link[0], 1.0), (link[1], -1.0))
+                 if body is not None]
+        self.elem = np.array([i for i, _, _ in order], dtype=np.intp)
+        self.body = np.array([body for _, body, _ in order], dtype=np.intp)
+        self.sign = np.array([sign for _, _, sign in order], dtype=np.float64)
+
+    def stretch(self, y: np.ndarray) -> np.ndarray:
+        """y_a - y_b of each element (y_b = 0 for the ground) from the bodies' rows y, one row
+        an element."""
+        ground = np.concatenate([y, np.zeros((1, y.shape[1]))])
+        return ground[self.a] - ground[self.b]
+
+    def add_means(self, f: np.ndarray, mean_f: np.ndarray, slack: np.ndarray) -> None:
+        """Add each element's force f (one row an element, at the output times) to its bodies'
+        trapezoid means over the output intervals (mean_f, +f on a and -f on b) and half its
+        change to their allowances (slack), in the order of `body`."""
+        np.add.at(mean_f, self.body, self.sign[:, None] * 0.5 * (f[:, 1:] + f[:, :-1])[self.elem])
+        np.add.at(slack, self.body, (0.5 * np.abs(np.diff(f, axis=1)))[self.elem])
+
+
 class _Plan:
     """What the consistency check reads of a model on an output grid t (shape (n_t,)), which
     depends on neither its motion nor the method: the bodies' masses, whether its laws are
@@ -200,12 +236,15 @@ class _Plan:
     for a model's content and grid (`_plan`); the model is passed to the parts computed later
     (a model of that content)."""
 
-    __slots__ = ("t", "mass", "checked", "driven", "closed", "_integrals", "_friction", "_bound")
+    __slots__ = ("t", "mass", "springs", "dampers", "checked", "driven", "closed", "_integrals", "_friction",
+                 "_bound")
 
     def __init__(self, model: Any, t: np.ndarray) -> None:
         self.t = np.array(t, dtype=np.float64)
         self.t.flags.writeable = False
         self.mass = np.array([b.mass for b in model.bodies], dtype=np.float64)
+        self.springs = _Links(model.springs, self.mass.size)
+        self.dampers = _Links(model.dampers, self.mass.size)
         self.checked = not any(REGISTRY["law"][c.law]["n_states"] != 0 or c.law == "gms" for c in model.contacts)
         self.driven = np.array([model.driven(j) for j in range(len(model.bodies))], dtype=bool)
         self.closed = not (model.forces or getattr(model, "drives", None)
@@ -573,18 +612,11 @@ def _friction_excess(model: Any, plan: _Plan, rows: _Rows, dv: np.ndarray, resol
     mass = plan.mass
     mean_f = np.zeros((mass.size, dt.size))             # mean non-friction force [N]
     slack = np.zeros((mass.size, dt.size))              # its trapezoid's allowance [N]
-    for a, b, k, l0 in model.springs:
-        f = -k * (x[a] - (x[b] if b is not None else 0.0) - l0)
-        for body, sign in ((a, 1.0), (b, -1.0)):
-            if body is not None:
-                mean_f[body] += sign * 0.5 * (f[1:] + f[:-1])
-                slack[body] += 0.5 * np.abs(np.diff(f))
-    for a, b, c in model.dampers:
-        f = -c * (v[a] - (v[b] if b is not None else 0.0))
-        for body, sign in ((a, 1.0), (b, -1.0)):
-            if body is not None:
-                mean_f[body] += sign * 0.5 * (f[1:] + f[:-1])
-                slack[body] += 0.5 * np.abs(np.diff(f))
+    springs, dampers = plan.springs, plan.dampers
+    if springs.count:
+        springs.add_means(-springs.coef[:, None] * (springs.stretch(x) - springs.rest[:, None]), mean_f, slack)
+    if dampers.count:
+        dampers.add_means(-dampers.coef[:, None] * dampers.stretch(v), mean_f, slack)
     for i, mean, half in forces:
         mean_f[i] += mean
         slack[i] += half
