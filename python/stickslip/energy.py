@@ -197,9 +197,11 @@ class _Links:
     """The springs or the dampers of a model as arrays: each one's bodies a and b (b = n, the
     ground's row, for None), its coefficient k or c [N/m] or [N s/m] and rest length [m]
     (0 for a damper), and the order in which the check adds their forces to the bodies: for
-    each element, a with the sign +1, then b with -1 (not the ground)."""
+    each element, a with the sign +1, then b with -1 (not the ground); `layers` splits that
+    order into rounds in which each body comes once (a body's k-th term in round k), so that
+    each round is one array addition and every body's terms are added in order."""
 
-    __slots__ = ("count", "a", "b", "coef", "rest", "elem", "body", "sign")
+    __slots__ = ("count", "a", "b", "coef", "rest", "elem", "body", "sign", "layers")
 
     def __init__(self, links: list[tuple[Any, ...]], n: int) -> None:
         self.count = len(links)
@@ -212,6 +214,14 @@ class _Links:
         self.elem = np.array([i for i, _, _ in order], dtype=np.intp)
         self.body = np.array([body for _, body, _ in order], dtype=np.intp)
         self.sign = np.array([sign for _, _, sign in order], dtype=np.float64)
+        seen: dict[int, int] = {}
+        rounds: list[list[int]] = []
+        for k, (_, body, _) in enumerate(order):
+            seen[body] = seen.get(body, -1) + 1
+            if seen[body] == len(rounds):
+                rounds.append([])
+            rounds[seen[body]].append(k)
+        self.layers = [np.array(r, dtype=np.intp) for r in rounds]
 
     def stretch(self, y: np.ndarray) -> np.ndarray:
         """y_a - y_b of each element (y_b = 0 for the ground) from the bodies' rows y, one row
@@ -223,8 +233,12 @@ class _Links:
         """Add each element's force f (one row an element, at the output times) to its bodies'
         trapezoid means over the output intervals (mean_f, +f on a and -f on b) and half its
         change to their allowances (slack), in the order of `body`."""
-        np.add.at(mean_f, self.body, self.sign[:, None] * 0.5 * (f[:, 1:] + f[:, :-1])[self.elem])
-        np.add.at(slack, self.body, (0.5 * np.abs(np.diff(f, axis=1)))[self.elem])
+        mean = self.sign[:, None] * 0.5 * (f[:, 1:] + f[:, :-1])[self.elem]
+        half = (0.5 * np.abs(np.diff(f, axis=1)))[self.elem]
+        for k in self.layers:
+            body = self.body[k]
+            mean_f[body] += mean[k]
+            slack[body] += half[k]
 
 
 class _Plan:
