@@ -278,3 +278,23 @@ def test_window_sum_against_direct_sums(n, w):
     direct = np.array([[row[max(i - w, 0):i + w + 1].sum() for i in range(n)] for row in a])
     np.testing.assert_allclose(_window_sum(a, w), direct, rtol=1e-12, atol=1e-12 * n)
     np.testing.assert_array_equal(_window_sum(a[1], w), _window_sum(a, w)[1])
+
+
+def test_energy_of_springs_between_bodies_and_to_the_ground():
+    """energy_bound's E: sum 1/2 m v^2 + sum 1/2 k (x_a - x_b - l0)^2 over springs between two
+    bodies, to the ground and several on one body, against the sum written out here."""
+    m = ss.Model()
+    for mass in (1.0, 2.0, 3.0):
+        m.add_body(mass)
+    springs = [(0, None, 10.0, 0.1), (0, 1, 20.0, -0.2), (1, 2, 30.0, 0.0), (2, None, 40.0, 0.3), (2, 0, 50.0, 0.05)]
+    for a, b, k, l0 in springs:
+        m.add_spring(a, b, k, l0)
+    m.add_damper(1, None, 2.0)
+    t = np.linspace(0.0, 1.0, 11)
+    rng = np.random.default_rng(7)
+    x, v = rng.standard_normal((3, t.size)), rng.standard_normal((3, t.size))
+    e, bound = energy_bound(m, t, x, v)
+    want = sum(0.5 * mass * v[i] ** 2 for i, mass in enumerate((1.0, 2.0, 3.0)))
+    want = want + sum(0.5 * k * (x[a] - (0.0 if b is None else x[b]) - l0) ** 2 for a, b, k, l0 in springs)
+    np.testing.assert_allclose(e, want, rtol=1e-14)
+    np.testing.assert_allclose(bound, e[0] * (1.0 + 1e-3) + 1e-14 * e[0], rtol=1e-14)   # nothing puts energy in
