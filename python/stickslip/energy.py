@@ -447,11 +447,12 @@ def _kinematic(rows: _Rows, method: Mapping[str, Any], h: float | None, tol_x: n
     reversal, a normal force through 0) [s]: an interval that holds one strictly inside has a
     corner of a that its neighbours do not show (on a grid that samples once a period, every
     interval may), and it and the sums over it are not checked."""
-    if not resolved.any():
-        return None
-    bodies = np.flatnonzero(resolved)
     t, x, v, dt, dx, dv, change, vmax = rows.t, rows.x, rows.v, rows.dt, rows.dx, rows.dv, rows.adv, rows.vmax
-    if bodies.size < resolved.size:
+    bodies = None                             # all of them
+    if not resolved.all():
+        if not resolved.any():
+            return None
+        bodies = np.flatnonzero(resolved)
         x, v, dx, dv, change, vmax, tol_x = (a[bodies] for a in (x, v, dx, dv, change, vmax, tol_x))
     tol_x = tol_x[:, None]
     d = dx - dt * 0.5 * (v[:, 1:] + v[:, :-1])
@@ -496,17 +497,18 @@ def _kinematic(rows: _Rows, method: Mapping[str, Any], h: float | None, tol_x: n
     if not (local.any() or total.any()):
         return None
     r = int(np.flatnonzero(local.any(axis=1) | total.any(axis=1))[0])
+    body = r if bodies is None else int(bodies[r])
     x, d, q, big_d, big_q = x[r], d[r], q[r], big_d[r], big_q[r]
     ends = float(ends[r, 0]) if method["adaptive"] else 0.0
     if total[r].any():
         j = int(np.flatnonzero(total[r])[0])
-        return int(bodies[r]), (
+        return body, (
             f"x changed by {x[j + 1] - x[0]:.6g} m from t = {t[0]:.6g} to {t[j + 1]:.6g} s while the "
             f"integral of v over that time is {x[j + 1] - x[0] - big_d[j]:.6g} m: a defect of "
             f"{big_d[j]:.3g} m, more than {SAFETY:g} x its allowance {big_q[j]:.3g} m (the output grid's "
             f"quadrature and the method's error; {abs(big_d[-1]):.3g} m at t = {t[-1]:.6g} s)")
     j = int(np.flatnonzero(local[r])[0])
-    return int(bodies[r]), (
+    return body, (
         f"x changed by {x[j + 1] - x[j]:.6g} m from t = {t[j]:.6g} to {t[j + 1]:.6g} s while the "
         f"integral of v over that interval is {x[j + 1] - x[j] - d[j]:.6g} m: a defect of {d[j]:.3g} m, "
         f"more than {SAFETY:g} x its allowance {q[j] + ends:.3g} m")
