@@ -4,12 +4,13 @@ silence on correct runs with a moving surface (whose input the bound counts)."""
 from __future__ import annotations
 
 import warnings
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 import stickslip as ss
-from stickslip.energy import _value, energy_bound
+from stickslip.energy import _value, check_result, energy_bound
 
 S = ss.signal
 
@@ -151,3 +152,149 @@ def test_interval_max_against_dense_sampling(sig):
     assert got.shape == dense.shape
     assert np.all(got <= dense + 1e-4)
     assert np.allclose(got, dense, rtol=0.0, atol=1.3e-3 * 3.0)
+
+
+# -- the check's cached parts (_Plan: per model content and output grid) -----------------------
+
+def _decelerating(mass: float, normal: float) -> tuple[ss.Model, SimpleNamespace]:
+    """A body of `mass` on a coulomb contact (mu 0.5, normal force `normal`), and a synthetic
+    result in which it decelerates at 8 m/s^2 from 10 m/s (exact samples of x = 10 t - 4 t^2,
+    v = 10 - 8 t): its friction is 8 mass N, which the check finds beyond 0.5 normal N."""
+    m = ss.Model()
+    b = m.add_body(mass, v0=10.0, name="slider")
+    m.add_contact(b, None, "coulomb", normal, mu_s=0.5, mu_k=0.5)
+    t = np.linspace(0.0, 1.0, 201)
+    result = SimpleNamespace(t=t, x=(10.0 * t - 4.0 * t * t)[None, :], v=(10.0 - 8.0 * t)[None, :],
+                             stats={"nstep": 100_000}, scene="model", law="coulomb", events=None)
+    return m, result
+
+
+def _check_quiet(result: SimpleNamespace, model: ss.Model, memo: list | None = None) -> list[str]:
+    result.stats["notes"] = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        found = check_result(result, "rk4", {"h": 1e-5}, model, memo=memo)
+    assert [str(w.message) for w in caught] == found == result.stats["notes"]
+    return found
+
+
+def test_friction_excess_fires_again_from_the_memo():
+    """A friction of 8 N against a limit of mu N = 5 N (a synthetic motion): the check fires on
+    the first call and again on the second with the memo's plan reused (the same plan object,
+    no second one), and not where the limit (N = 20 N: 10 N) exceeds the friction."""
+    model, result = _decelerating(1.0, 10.0)
+    memo: list = []
+    first = _check_quiet(result, model, memo)
+    assert len(first) == 1 and "slider: its mean friction force" in first[0] and "beyond the 5 N" in first[0]
+    plan = memo[0]
+    assert _check_quiet(result, model, memo) == first
+    assert memo == [plan]
+    strong, result = _decelerating(1.0, 20.0)
+    assert _check_quiet(result, strong, []) == []
+
+
+def test_friction_excess_follows_a_model_changed_in_place():
+    """Without a memo the plan is found by the model's arrays: the silent model (8 N of friction
+    within 10 N) made twice as heavy in place (16 N beyond 10 N) fires; the normal force then
+    doubled in place (20 N) silences it again; each as a model built new with the change."""
+    model, result = _decelerating(1.0, 20.0)
+    assert _check_quiet(result, model) == _check_quiet(result, model) == []
+    model.bodies[0].mass = 2.0
+    fired = _check_quiet(result, model)
+    assert len(fired) == 1 and "beyond the 10 N" in fired[0]
+    assert fired == _check_quiet(result, _decelerating(2.0, 20.0)[0])
+    model.contacts[0].normal_force = S.constant(40.0)
+    assert _check_quiet(result, model) == []
+
+
+def _spring_on_stribeck(amplitude: float) -> ss.Model:
+    """The spring of 1e4 N/m (RK4 unstable at h = 0.029 s) with a stribeck contact of 100 N and
+    a sine force of `amplitude` [N] at 1 Hz."""
+    m = ss.Model()
+    b = m.add_body(1.0, v0=1.0)
+    m.add_spring(b, None, 1e4)
+    m.add_contact(b, None, "stribeck", 100.0, mu_s=0.5, mu_k=0.4)
+    m.add_force(b, S.sine(amplitude, 1.0))
+    return m
+
+
+def _simulate_recorded(model: ss.Model) -> tuple[ss.Result, list[tuple[type, str]]]:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = ss.simulate(model, method="rk4", h=0.029, t_end=2.0, n_out=101)
+    return r, [(w.category, str(w.message)) for w in caught
+               if issubclass(w.category, (ss.EnergyBoundWarning, ss.ConsistencyWarning))]
+
+
+def test_energy_bound_fires_again_on_a_kept_run_and_after_a_change_in_place(monkeypatch):
+    """simulate: RK4 at h = 0.029 s gains energy (0.568 J beyond the bound 0.5005 J of the
+    force of 1e-6 N): warned on the first run, and on the second, whose check reuses the plan
+    kept with the run (the signals integrated once); a force of 100 N loosens the bound (no
+    warning); that model changed in place to the force of 1e-6 N warns as the model built new
+    with it (its plan is not the 100 N model's)."""
+    from stickslip import energy
+    calls = []
+    integrals = energy._signal_integrals
+    monkeypatch.setattr(energy, "_signal_integrals", lambda *a: calls.append(1) or integrals(*a))
+    weak = _spring_on_stribeck(1e-6)
+    r1, said1 = _simulate_recorded(weak)
+    assert [c for c, _ in said1] == [ss.EnergyBoundWarning] and "exceeds 0.5005 J" in said1[0][1]
+    r2, said2 = _simulate_recorded(weak)
+    assert said2 == said1 and r2.stats["notes"] == r1.stats["notes"] and len(calls) == 1
+    loose = _spring_on_stribeck(100.0)
+    assert _simulate_recorded(loose)[1] == []
+    loose.forces[0] = (0, S.sine(1e-6, 1.0))
+    r3, said3 = _simulate_recorded(loose)
+    assert said3 == said1 and r3.stats["notes"] == r1.stats["notes"]
+
+
+def test_kinematic_check_names_the_first_inconsistent_resolved_body():
+    """Three bodies checked at once: body 0 chatters (v reverses every interval: not
+    resolved, not checked, however wrong its x), body 1 is consistent, body 2's x runs 1 % ahead
+    of the integral of its v: the check names body 2; with body 1 off too, body 1 (the first).
+    (Their friction, with no contact and no force, is reported too.)"""
+    m = ss.Model()
+    for name in ("chatter", "good", "bad"):
+        m.add_body(1.0, name=name)
+    t = np.linspace(0.0, 1.0, 201)
+    v = np.vstack([np.where(np.arange(t.size) % 2 == 0, 1.0, -1.0), np.cos(t), np.cos(t)])
+    x = np.vstack([5.0 * t, np.sin(t), 1.01 * np.sin(t)])
+    result = SimpleNamespace(t=t, x=x, v=v, stats={"nstep": 2000, "notes": []}, scene="model", law="", events=None)
+    with warnings.catch_warnings(record=True):
+        warnings.simplefilter("always")
+        found = [f for f in check_result(result, "rk4", {"h": 5e-4}, m) if "x changed" in f]
+        assert len(found) == 1 and found[0].startswith("model (no contact, rk4): bad: x changed by")
+        result.x[1] = 1.02 * np.sin(t)
+        found = [f for f in check_result(result, "rk4", {"h": 5e-4}, m) if "x changed" in f]
+    assert len(found) == 1 and found[0].startswith("model (no contact, rk4): good: x changed by")
+
+
+@pytest.mark.parametrize("n, w", [(1, 0), (5, 2), (64, 3), (64, 63), (64, 100), (1000, 10)])
+def test_window_sum_against_direct_sums(n, w):
+    """_window_sum along each row: a[i - w] + ... + a[i + w] (the terms that exist), against
+    the sums of the slices."""
+    from stickslip.energy import _window_sum
+    a = np.random.default_rng(n + w).random((3, n))
+    direct = np.array([[row[max(i - w, 0):i + w + 1].sum() for i in range(n)] for row in a])
+    np.testing.assert_allclose(_window_sum(a, w), direct, rtol=1e-12, atol=1e-12 * n)
+    np.testing.assert_array_equal(_window_sum(a[1], w), _window_sum(a, w)[1])
+
+
+def test_energy_of_springs_between_bodies_and_to_the_ground():
+    """energy_bound's E: sum 1/2 m v^2 + sum 1/2 k (x_a - x_b - l0)^2 over springs between two
+    bodies, to the ground and several on one body, against the sum written out here."""
+    m = ss.Model()
+    for mass in (1.0, 2.0, 3.0):
+        m.add_body(mass)
+    springs = [(0, None, 10.0, 0.1), (0, 1, 20.0, -0.2), (1, 2, 30.0, 0.0), (2, None, 40.0, 0.3), (2, 0, 50.0, 0.05)]
+    for a, b, k, l0 in springs:
+        m.add_spring(a, b, k, l0)
+    m.add_damper(1, None, 2.0)
+    t = np.linspace(0.0, 1.0, 11)
+    rng = np.random.default_rng(7)
+    x, v = rng.standard_normal((3, t.size)), rng.standard_normal((3, t.size))
+    e, bound = energy_bound(m, t, x, v)
+    want = sum(0.5 * mass * v[i] ** 2 for i, mass in enumerate((1.0, 2.0, 3.0)))
+    want = want + sum(0.5 * k * (x[a] - (0.0 if b is None else x[b]) - l0) ** 2 for a, b, k, l0 in springs)
+    np.testing.assert_allclose(e, want, rtol=1e-14)
+    np.testing.assert_allclose(bound, e[0] * (1.0 + 1e-3) + 1e-14 * e[0], rtol=1e-14)   # nothing puts energy in

@@ -753,12 +753,13 @@ def simulate_model(model: Model, *, method: str, t_end: float, n_out: int | None
         # steps' at simulate's caller, _check_band's at Model.run_model
         said = ([(m, RegularisedLawWarning, 4) for m in notes] + [(m, c, 4) for m, c in steps]
                 + [(m, c, 2) for m, c in band])
-        run = _ModelRun(call, tuple(said), tuple(notes), {**ctl, "rtol": rtol, "atol": atol}, arrays, signals)
+        run = _ModelRun(call, tuple(said), tuple(notes), {**ctl, "rtol": rtol, "atol": atol}, arrays, signals,
+                        [] if key is not None else None)
         if key is not None:
             _keep(key, run)
     call = run.call
     result = _execute(call, None if call.grid is not None or call.rows else _linspace(call.t_end, call.n_out))
-    return _checked_run(model, method, result, run.notes, run.controls, run.arrays)
+    return _checked_run(model, method, result, run.notes, run.controls, run.arrays, run.memo)
 
 
 class _ModelRun:
@@ -766,15 +767,18 @@ class _ModelRun:
     simulate's cache: the _Call of its setting (shared by the runs of models of equal arrays,
     `_model_call`), the warnings its validation issued (message, category, stacklevel counted
     from simulate_model), the notes among them, the controls its consistency check reads, the
-    model's arrays, and the model's signals, whose ids its key holds (kept here, so that no
-    other signal takes one of those ids while the key is kept)."""
+    model's arrays, the model's signals, whose ids its key holds (kept here, so that no
+    other signal takes one of those ids while the key is kept), and the memo of its
+    consistency check (`check_result`: what it reads of the model and the output grid; None
+    for a run not kept, whose check finds those by the model's arrays)."""
 
-    __slots__ = ("call", "warnings", "notes", "controls", "arrays", "signals")
+    __slots__ = ("call", "warnings", "notes", "controls", "arrays", "signals", "memo")
 
     def __init__(self, call: _Call, said: tuple[tuple[str, type[Warning], int], ...], notes: tuple[str, ...],
-                 controls: Mapping[str, Any], arrays: Mapping[str, Any], signals: tuple[Any, ...] | None) -> None:
+                 controls: Mapping[str, Any], arrays: Mapping[str, Any], signals: tuple[Any, ...] | None,
+                 memo: list[Any] | None) -> None:
         self.call, self.warnings, self.notes = call, said, notes
-        self.controls, self.arrays, self.signals = controls, arrays, signals
+        self.controls, self.arrays, self.signals, self.memo = controls, arrays, signals, memo
 
 
 #: The first item of the key of a Model's run in simulate's cache: no key of a scene's run
@@ -830,14 +834,14 @@ def _run_key(model: Model, method: Any, t_end: Any, n_out: Any, every_step: Any,
 
 
 def _checked_run(model: Model, method: str, result: Result, notes: tuple[str, ...], controls: Mapping[str, Any],
-                 arrays: Mapping[str, Any]) -> Result:
+                 arrays: Mapping[str, Any], memo: list[Any] | None) -> Result:
     """`result` of a run of `model`, raised for an early end (`_raise_failure`), else with the
     notes of its warnings and its consistency check (`check_result`, warned from simulate's
     caller)."""
     if result._raw[2] != STATUS_OK:
         _raise_failure(result, {})
     result.stats["notes"].extend(notes)
-    check_result(result, method, controls, model, arrays, stacklevel=5)
+    check_result(result, method, controls, model, arrays, stacklevel=5, memo=memo)
     return result
 
 
