@@ -159,14 +159,8 @@ contains
         class(one_contact_model), intent(in) :: self
         real(dp), intent(in) :: y(:)        !! state (x, v, z...)
         ! dir v - dir u: v - u, or (-v) - (-u), which rounds as u - v does (zero included: x - x
-        ! is +0); written as one subtraction each way, (-du) - v rounding as -v - du does (the
-        ! same sum): no multiplication on the evaluation's critical path (a branch the step
-        ! predicts: dir is fixed)
-        if (self%dir > 0.0_dp) then
-            s = y(2) - self%du
-        else
-            s = -self%du - y(2)
-        end if
+        ! is +0), without a branch
+        s = self%dir * y(2) - self%du
     end function oc_vrel
 
     pure real(dp) function oc_mu_hold(self, y) result(mu_hold)
