@@ -112,8 +112,6 @@ module stickslip_friction
         procedure :: state_label => no_label
         !> .true. when mu depends on v alone, so scenes may call `mu` instead of `evaluate`.
         procedure :: is_static => static_law
-        !> .false. when `evaluate` ignores its holding coefficient (a model then forms none).
-        procedure :: reads_holding => holding_read
         !> mu and the rates of the internal states at (v, z) with the holding coefficient.
         procedure :: evaluate => static_evaluate
         !> Number of modes of a law with a discontinuous graph (0: none, the default).
@@ -220,11 +218,6 @@ contains
         class(friction_law), intent(in) :: self
         static_law = .true.
     end function static_law
-
-    pure logical function holding_read(self)
-        class(friction_law), intent(in) :: self
-        holding_read = .true.
-    end function holding_read
 
     pure logical function no_condensed_states(self)
         class(friction_law), intent(in) :: self

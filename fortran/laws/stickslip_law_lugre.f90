@@ -78,8 +78,6 @@ module stickslip_law_lugre
         procedure :: state_label => lugre_label
         !> .true. when mu depends on v alone.
         procedure :: is_static => lugre_is_static
-        !> .false.: `evaluate` ignores the holding coefficient
-        procedure :: reads_holding => lugre_reads_holding
         !> mu and the internal-state rates at (v, z, mu_hold).
         procedure :: evaluate => lugre_evaluate
         !> Exponential flow of z over a substep of prescribed motion (z' is linear in z).
@@ -143,11 +141,6 @@ contains
         class(lugre_law), intent(in) :: self
         lugre_is_static = .false.
     end function lugre_is_static
-
-    pure logical function lugre_reads_holding(self)
-        class(lugre_law), intent(in) :: self
-        lugre_reads_holding = .false.
-    end function lugre_reads_holding
 
     !> mu = sigma0 z + sigma1 z' + sigma2 v with z' = v - alpha sigma0 |v| z / g(v).
     subroutine lugre_evaluate(self, v, z, mu_hold, mu, dz)

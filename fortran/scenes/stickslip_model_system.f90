@@ -98,10 +98,6 @@ module stickslip_model_system
         logical :: fixed_contacts = .false.
         logical :: unit_mass = .false.             !! every mass is 1 (`prepare`): no division
         real(dp), allocatable :: con_im(:)         !! (nc) 1 / m_a + 1 / m_b of each contact [1/kg] (`prepare`)
-        !> (nc) whether each contact's law reads its holding coefficient (`reads_holding`,
-        !! `prepare`): `fixed_rhs` forms it for those only
-        logical, allocatable :: con_holds(:)
-        logical :: any_holding = .true.            !! any(con_holds): `fixed_rhs` keeps the free forces apart
     contains
         procedure :: rhs => model_rhs
         !! (x, v, z)' at (t, y)
@@ -400,24 +396,19 @@ contains
     !> `rhs` of a model whose contacts' signals are numbers (`fixed_contacts`) and whose laws
     !! have states: `contact_forces`' operations in the same order (the same numbers, bit for
     !! bit), the numbers read as `prepare` found them (a surface's acceleration 0), the forces
-    !! summed in place beside the free forces (the holding coefficients read those), or over
-    !! them where no law reads its holding coefficient (`con_holds`: 0 passed, not formed).
+    !! summed in place beside the free forces (the holding coefficients read those).
     subroutine fixed_rhs(self, t, y, dydt)
         class(model_system), intent(inout) :: self
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
-        real(dp) :: s, n, mu, mu_hold
+        real(dp) :: s, n, mu
         integer :: i, nb, a, b, z0, z1
         nb = self%nb
         if (.not. allocated(self%work)) allocate(self%work(nb, 2))
         associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb), f0 => self%work(:, 2))
-        if (self%any_holding) then
-            call self%free_forces(t, y(1:nb), v, f0)
-            f = f0
-        else
-            call self%free_forces(t, y(1:nb), v, f)
-        end if
+        call self%free_forces(t, y(1:nb), v, f0)
+        f = f0
         do i = 1, size(self%con_a)
             a = self%con_a(i)
             b = self%con_b(i)
@@ -427,9 +418,7 @@ contains
             s = -self%con_fixed(2, i)
             if (a > 0) s = v(a) - self%con_fixed(2, i)
             if (b > 0) s = s - v(b)
-            mu_hold = 0.0_dp
-            if (self%con_holds(i)) mu_hold = holding(self, i, n, f0, 0.0_dp)
-            call self%laws(i)%law%evaluate(s, y(z0:z1), mu_hold, mu, dydt(z0:z1))
+            call self%laws(i)%law%evaluate(s, y(z0:z1), holding(self, i, n, f0, 0.0_dp), mu, dydt(z0:z1))
             if (a > 0) f(a) = f(a) - mu * n
             if (b > 0) f(b) = f(b) + mu * n
         end do
@@ -672,8 +661,6 @@ contains
         self%fixed_contacts = all(self%con_is_fixed)
         self%unit_mass = all(self%mass == 1.0_dp)
         self%con_im = [(inverse_mass(self, c), c = 1, nc)]
-        self%con_holds = [(self%laws(c)%law%reads_holding(), c = 1, nc)]
-        self%any_holding = any(self%con_holds)
         allocate(pos(n), self%band_perm(n))
         ! each body's contacts in their order (a contact's states follow its body a, or b
         ! when a is the ground), bucketed once: O(nb + nc)
