@@ -409,8 +409,9 @@ contains
             status = SS_BAD_DIM
             return
         end if
-        allocate(sys%laws(nc), sys%z_first(nc + 1))
+        allocate(sys%laws(nc), sys%z_first(nc + 1), sys%con_same_law(nc))
         sys%z_first(1) = 1
+        sys%con_same_law = .false.
         do i = 1, nc
             ! a contact's side a may be the ground when its side b is a body (the presets'
             ! belt: the law sees the surface's slip under the body)
@@ -432,6 +433,7 @@ contains
                 return
             end if
             sys%z_first(i + 1) = sys%z_first(i) + sys%laws(i)%law%n_states()
+            if (i > 1) sys%con_same_law(i) = same_law(self, i - 1, i)
             if (.not. sys%laws(i)%law%is_static()) sys%all_static = .false.
         end do
         call reduce(dp_)
@@ -576,6 +578,21 @@ contains
             elem_index = index
         end subroutine fail
     end subroutine build
+
+    !> Contacts i and j name the same law with the same parameters, given alike (so their
+    !! laws are equal; `model_system%con_same_law`).
+    pure logical function same_law(self, i, j)
+        class(stickslip_model), intent(in) :: self
+        integer, intent(in) :: i, j          !! contacts, from 1
+        integer :: i0, j0, ni
+        i0 = self%con_ptr(i)
+        j0 = self%con_ptr(j)
+        ni = self%con_ptr(i + 1) - i0
+        same_law = self%con_law(i) == self%con_law(j) .and. ni == self%con_ptr(j + 1) - j0
+        if (.not. same_law .or. ni == 0) return
+        same_law = all(self%keys(i0:i0 + ni - 1) == self%keys(j0:j0 + ni - 1)) .and. &
+                   all(self%vals(i0:i0 + ni - 1) == self%vals(j0:j0 + ni - 1))
+    end function same_law
 
     !> `build`, then the system with its structure found once (`stickslip_one_contact`'s
     !! `specialise`, as for a scene's preset): a model of one body with one contact with the

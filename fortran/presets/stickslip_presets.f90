@@ -218,6 +218,7 @@ contains
         do i = 1, nc
             allocate(sys%laws(i)%law, source=law)
         end do
+        sys%con_same_law = [(i > 1, i = 1, nc)]
         sys%all_static = law%is_static()
         sys%slip_error_size = .false.
         call sys%prepare()

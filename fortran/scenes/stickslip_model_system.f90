@@ -98,6 +98,16 @@ module stickslip_model_system
         logical :: fixed_contacts = .false.
         logical :: unit_mass = .false.             !! every mass is 1 (`prepare`): no division
         real(dp), allocatable :: con_im(:)         !! (nc) 1 / m_a + 1 / m_b of each contact [1/kg] (`prepare`)
+        !> (nc) contact i's law is contact i - 1's: the same law with the same parameters, as
+        !! the model's builder made it (unallocated: no two contacts share a law)
+        logical, allocatable :: con_same_law(:)
+        !> (runs + 1) the runs of contacts that share a law (`prepare`): contacts
+        !! law_run(r) .. law_run(r + 1) - 1 share contact law_run(r)'s law, whose `evaluate_many`
+        !! evaluates them all in one call (`fixed_rhs`)
+        integer, allocatable :: law_run(:)
+        !> (nc, 3) each contact's slip [m/s], holding coefficient and mu [-] (`fixed_rhs`'s
+        !! workspace, allocated by `prepare`)
+        real(dp), allocatable :: con_work(:, :)
     contains
         procedure :: rhs => model_rhs
         !! (x, v, z)' at (t, y)
@@ -368,8 +378,8 @@ contains
     subroutine fixed_static_rhs(self, t, y, dydt)
         class(model_system), intent(in) :: self
         real(dp), intent(in)  :: t          !! time [s]
-        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
-        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
+        real(dp), intent(in), contiguous  :: y(:)       !! (x [m], v [m/s])
+        real(dp), intent(out), contiguous :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
         real(dp) :: fn, s
         integer :: i, nb, a, b
         nb = self%nb
@@ -394,33 +404,44 @@ contains
     end subroutine fixed_static_rhs
 
     !> `rhs` of a model whose contacts' signals are numbers (`fixed_contacts`) and whose laws
-    !! have states: `contact_forces`' operations in the same order (the same numbers, bit for
-    !! bit), the numbers read as `prepare` found them (a surface's acceleration 0), the forces
-    !! summed in place beside the free forces (the holding coefficients read those).
+    !! have states: `contact_forces`' numbers in the same order (the same, bit for bit), the
+    !! numbers read as `prepare` found them (a surface's acceleration 0). Every contact's slip
+    !! and holding coefficient (from the free forces alone, before any friction is added) are
+    !! formed first; then each run of contacts that share a law (`law_run`) is evaluated in one
+    !! call (`evaluate_many`), and the friction forces are summed in contact order.
     subroutine fixed_rhs(self, t, y, dydt)
         class(model_system), intent(inout) :: self
-        real(dp), intent(in)  :: t          !! time [s]
-        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
-        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
-        real(dp) :: s, n, mu
-        integer :: i, nb, a, b, z0, z1
+        real(dp), intent(in)  :: t                      !! time [s]
+        real(dp), intent(in), contiguous  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out), contiguous :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
+        real(dp) :: n
+        integer :: i, r, nb, nc, a, b, z0, z1
         nb = self%nb
-        if (.not. allocated(self%work)) allocate(self%work(nb, 2))
-        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb), f0 => self%work(:, 2))
-        call self%free_forces(t, y(1:nb), v, f0)
-        f = f0
-        do i = 1, size(self%con_a)
+        nc = size(self%con_a)
+        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb), s => self%con_work(:, 1), &
+                   hold => self%con_work(:, 2), mu => self%con_work(:, 3))
+        call self%free_forces(t, y(1:nb), v, f)
+        do i = 1, nc
+            a = self%con_a(i)
+            b = self%con_b(i)
+            s(i) = -self%con_fixed(2, i)
+            if (a > 0) s(i) = v(a) - self%con_fixed(2, i)
+            if (b > 0) s(i) = s(i) - v(b)
+            hold(i) = holding(self, i, max(self%con_fixed(1, i), 0.0_dp), f, 0.0_dp)
+        end do
+        do r = 1, size(self%law_run) - 1
+            i = self%law_run(r)
+            z0 = 2 * nb + self%z_first(i)
+            z1 = 2 * nb + self%z_first(self%law_run(r + 1)) - 1
+            call self%laws(i)%law%evaluate_many(s(i:self%law_run(r + 1) - 1), y(z0:z1), &
+                                                hold(i:self%law_run(r + 1) - 1), mu(i:self%law_run(r + 1) - 1), dydt(z0:z1))
+        end do
+        do i = 1, nc
             a = self%con_a(i)
             b = self%con_b(i)
             n = max(self%con_fixed(1, i), 0.0_dp)
-            z0 = 2 * nb + self%z_first(i)
-            z1 = 2 * nb + self%z_first(i + 1) - 1
-            s = -self%con_fixed(2, i)
-            if (a > 0) s = v(a) - self%con_fixed(2, i)
-            if (b > 0) s = s - v(b)
-            call self%laws(i)%law%evaluate(s, y(z0:z1), holding(self, i, n, f0, 0.0_dp), mu, dydt(z0:z1))
-            if (a > 0) f(a) = f(a) - mu * n
-            if (b > 0) f(b) = f(b) + mu * n
+            if (a > 0) f(a) = f(a) - mu(i) * n
+            if (b > 0) f(b) = f(b) + mu(i) * n
         end do
         if (.not. self%unit_mass) f = f / self%mass
         end associate
@@ -661,6 +682,9 @@ contains
         self%fixed_contacts = all(self%con_is_fixed)
         self%unit_mass = all(self%mass == 1.0_dp)
         self%con_im = [(inverse_mass(self, c), c = 1, nc)]
+        call find_law_runs(self)
+        if (allocated(self%con_work)) deallocate(self%con_work)
+        allocate(self%con_work(nc, 3))
         allocate(pos(n), self%band_perm(n))
         ! each body's contacts in their order (a contact's states follow its body a, or b
         ! when a is the ground), bucketed once: O(nb + nc)
@@ -778,6 +802,17 @@ contains
             end do
         end subroutine reads
     end subroutine model_prepare
+
+    !> The runs of contacts that share a law (`law_run`), from `con_same_law`.
+    subroutine find_law_runs(self)
+        class(model_system), intent(inout) :: self
+        logical :: starts(size(self%con_a))
+        integer :: c, nc
+        nc = size(self%con_a)
+        starts = .true.
+        if (allocated(self%con_same_law)) starts(2:) = .not. self%con_same_law(2:)
+        self%law_run = [pack([(c, c = 1, nc)], starts), nc + 1]
+    end subroutine find_law_runs
 
     !> Each body's springs, dampers and contacts (elem_ptr, elem_of), in index order.
     subroutine index_elements(self)

@@ -1,8 +1,9 @@
 !> Fortran tests of the friction laws' behaviour that Python cannot reach: the analytic
 !! derivatives `dmu` against central differences of `mu`, `evaluate` with a holding
 !! coefficient and internal states at hand-computed points, the elasto-plastic alpha, the
-!! law metadata (states, labels, static or not), and the registry's parameter table (names
-!! and status codes unique; the new laws' codes in -140 .. -199).
+!! law metadata (states, labels, static or not), the registry's parameter table (names
+!! and status codes unique; the new laws' codes in -140 .. -199), and `evaluate_many` against
+!! `evaluate` contact by contact.
 !! Prints one line per check; exits with status 1 if any check fails.
 program test_laws
     use test_support, only: check, finish
@@ -20,6 +21,7 @@ program test_laws
     call test_lugre()
     call test_elastoplastic()
     call test_law_derivatives()
+    call test_evaluate_many()
 
     call finish('law')
 
@@ -184,5 +186,34 @@ contains
         call check(fl%dmu(0.0_dp) > 0.0_dp .and. fl%dmu(0.0_dp) < huge(1.0_dp) .and. &
                    fl%dmu(0.0_dp) == fl%dmu(1.0e-12_dp), 'law proposed: dmu finite at rest (floor at 1e-6 v_s)')
     end subroutine test_law_derivatives
+
+    !> Each law's `evaluate_many` over five contacts (slips on both sides of rest and in the
+    !! law's band, states away from 0, holding coefficients inside and outside mu_s) gives
+    !! `evaluate`'s numbers at each contact, bit for bit: LuGre's own loop and the default
+    !! alike, and GMS, which extends LuGre and evaluates its own way.
+    subroutine test_evaluate_many()
+        class(friction_law), allocatable :: fl
+        type(param_values) :: p
+        real(dp), parameter :: v(5) = [-0.2_dp, -0.004_dp, 0.0_dp, 0.003_dp, 0.5_dp]
+        real(dp), parameter :: hold(5) = [0.1_dp, -0.5_dp, 0.2_dp, 0.34_dp, 0.0_dp]
+        real(dp), allocatable :: z(:), dz(:), dz1(:)
+        real(dp) :: mu(5), mu1
+        integer :: law, i, nz, status
+        logical :: ok
+        do law = 1, size(LAW_TABLE)
+            status = make_law(law, [character(len=NAME_LEN) ::], [real(dp) ::], fl, p)
+            nz = fl%n_states()
+            z = [(1.0e-6_dp * real(modulo(7 * i, 11) - 5, dp), i = 1, 5 * nz)]
+            allocate(dz(5 * nz), dz1(nz))
+            call fl%evaluate_many(v, z, hold, mu, dz)
+            ok = status == SS_OK
+            do i = 1, 5
+                call fl%evaluate(v(i), z((i - 1) * nz + 1:i * nz), hold(i), mu1, dz1)
+                ok = ok .and. mu1 == mu(i) .and. all(dz1 == dz((i - 1) * nz + 1:i * nz))
+            end do
+            call check(ok, 'law ' // trim(LAW_TABLE(law)%name) // ': evaluate_many = evaluate at each contact')
+            deallocate(dz, dz1)
+        end do
+    end subroutine test_evaluate_many
 
 end program test_laws
