@@ -1133,6 +1133,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--baseline", metavar="PYTHON", default=None,
                         help="with --modal-chain: also time another build's interpreter, interleaved, "
                              "and give the ratio")
+    parser.add_argument("--instructions", action="store_true",
+                        help="with --presets: also count each side's instructions a step under valgrind's "
+                             "callgrind (needs valgrind)")
     parser.add_argument("--presets", action="store_true",
                         help="only the scenes as presets against the scene code they replaced (slope, belt, "
                              "chain of 10, 100 and 1000 blocks; needs --base): writes presets.md")
@@ -1195,11 +1198,14 @@ def main(argv: Sequence[str] | None = None) -> int:
                    run_modal_chain(log, 1 if args.quick else 5, args.baseline,
                                    {10: 0.5, 100: 0.1} if args.quick else SIZES))
         write_provenance(args.outdir, "modal_chain", [args.outdir / "modal_chain.md"], argv)
+    if args.instructions and not args.presets:
+        parser.error("argument --instructions: only with --presets")
     if args.presets:
         from .presets import run_presets
         if not args.base:
             parser.error("argument --presets: needs --base SITE (a build of the package before the presets)")
-        write_text(args.outdir / "presets.md", run_presets(log, args.base, args.repeats or (2 if args.quick else 5)))
+        write_text(args.outdir / "presets.md", run_presets(log, args.base, args.repeats or (2 if args.quick else 5),
+                                                           args.instructions))
         # the command as run, the base build's directory (a path of this machine) written SITE
         write_provenance(args.outdir, "presets", [args.outdir / "presets.md"], argv, shown={str(args.base): "SITE"})
         return 0

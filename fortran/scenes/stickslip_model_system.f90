@@ -378,8 +378,8 @@ contains
     subroutine fixed_static_rhs(self, t, y, dydt)
         class(model_system), intent(in) :: self
         real(dp), intent(in)  :: t          !! time [s]
-        real(dp), intent(in), contiguous  :: y(:)       !! (x [m], v [m/s])
-        real(dp), intent(out), contiguous :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
         real(dp) :: fn, s
         integer :: i, nb, a, b
         nb = self%nb
@@ -412,8 +412,8 @@ contains
     subroutine fixed_rhs(self, t, y, dydt)
         class(model_system), intent(inout) :: self
         real(dp), intent(in)  :: t                      !! time [s]
-        real(dp), intent(in), contiguous  :: y(:)       !! (x [m], v [m/s], z)
-        real(dp), intent(out), contiguous :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
+        real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
+        real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
         real(dp) :: n
         integer :: i, r, nb, nc, a, b, z0, z1
         nb = self%nb

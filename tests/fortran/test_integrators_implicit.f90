@@ -238,6 +238,7 @@ program test_integrators_implicit
     call test_output_and_budget()
     call test_kernels_match_generic()
     call test_band_lu()
+    call test_lu_two_rows()
     call test_stiff_newton()
 
     call finish('implicit')
@@ -311,6 +312,58 @@ contains
         call band_decompose(ab, ml, mu, ipb, info_b)
         call check(info_b == 5, 'band lu: a zero column is reported (info = its index)')
     end subroutine test_band_lu
+
+    !> The dense LU's two-row path (unrolled) against its loop: A embedded as the leading block
+    !! of diag(A, 1), which the loop factorises with the same operations on that block (the third
+    !! row and column only add zeros), so that its factors, interchanges and solution must
+    !! equal the two-row path's bit for bit: real and complex, with and without an interchange,
+    !! and the failures (a zero first column: info 1; a singular matrix: info 2).
+    subroutine test_lu_two_rows()
+        use stickslip_linalg, only: lu_decompose, lu_solve
+        real(dp) :: a2(2, 2), a3(3, 3), b2(2), b3(3), r(2, 2)
+        complex(dp) :: c2(2, 2), c3(3, 3), d2(2), d3(3)
+        integer :: ip2(2), ip3(3), info2, info3, trial, i
+        logical :: same, swapped
+        call random_seed(put=[(777 + i, i = 1, 64)])
+        same = .true.
+        swapped = .false.
+        do trial = 1, 200
+            call random_number(r)
+            a2 = r - 0.5_dp
+            if (mod(trial, 3) == 0) a2(1, 1) = 1.0e-3_dp * a2(1, 1)     ! an interchange
+            a3 = 0.0_dp
+            a3(1:2, 1:2) = a2
+            a3(3, 3) = 1.0_dp
+            b2 = [sin(real(trial, dp)), cos(real(trial, dp))]
+            b3 = [b2, 0.0_dp]
+            call lu_decompose(a2, ip2, info2)
+            call lu_decompose(a3, ip3, info3)
+            call lu_solve(a2, ip2, b2)
+            call lu_solve(a3, ip3, b3)
+            same = same .and. info2 == 0 .and. info3 == 0 .and. all(ip2 == ip3(1:2)) .and. &
+                   all(a2 == a3(1:2, 1:2)) .and. all(b2 == b3(1:2))
+            swapped = swapped .or. ip2(1) == 2
+            c2 = cmplx(r - 0.5_dp, transpose(r) - 0.25_dp, kind=dp)
+            c3 = (0.0_dp, 0.0_dp)
+            c3(1:2, 1:2) = c2
+            c3(3, 3) = (1.0_dp, 0.0_dp)
+            d2 = cmplx(b2, 1.0_dp, kind=dp)
+            d3 = [d2, (0.0_dp, 0.0_dp)]
+            call lu_decompose(c2, ip2, info2)
+            call lu_decompose(c3, ip3, info3)
+            call lu_solve(c2, ip2, d2)
+            call lu_solve(c3, ip3, d3)
+            same = same .and. info2 == 0 .and. info3 == 0 .and. all(ip2 == ip3(1:2)) .and. &
+                   all(c2 == c3(1:2, 1:2)) .and. all(d2 == d3(1:2))
+        end do
+        call check(same .and. swapped, 'dense lu: two rows unrolled = the loop on diag(A, 1), bit for bit')
+        a2 = reshape([0.0_dp, 0.0_dp, 1.0_dp, 2.0_dp], [2, 2])
+        call lu_decompose(a2, ip2, info2)
+        call check(info2 == 1, 'dense lu: two rows, a zero first column is reported (info 1)')
+        a2 = reshape([1.0_dp, 2.0_dp, 2.0_dp, 4.0_dp], [2, 2])
+        call lu_decompose(a2, ip2, info2)
+        call check(info2 == 2 .and. ip2(1) == 2, 'dense lu: two rows, a singular matrix is reported (info 2)')
+    end subroutine test_lu_two_rows
 
     !> Hairer's radau5.f (version of July 9, 1996, latest correction January 18, 2002;
     !! decsol.f and dc_decsol.f as distributed with it), built with gfortran 12 -O2 and run
