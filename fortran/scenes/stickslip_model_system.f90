@@ -70,6 +70,7 @@ module stickslip_model_system
         logical :: all_static = .true.             !! every law is static (no states)
         type(signal_set) :: sig                    !! the signals
         integer, allocatable :: band_perm(:)       !! (n) state at each position of the body order (`prepare`)
+        integer, allocatable :: band_pos(:)        !! (n) the position of each state in that order (`prepare`)
         integer :: band_ml = -1                    !! lower bandwidth in that order (-1: dense)
         integer :: band_mu = -1                    !! upper bandwidth in that order (-1: dense)
         real(dp), allocatable :: work(:, :)        !! (nb, 2) the forces of `rhs`, kept between calls (no allocation a call)
@@ -636,12 +637,11 @@ contains
         real(dp), intent(in)    :: f(:)          !! f(t, y), already evaluated
         real(dp), intent(out)   :: dfdy(:, :)    !! (n, n) Jacobian
         integer(8), intent(inout) :: nfev        !! evaluation counter (+ 0: analytic)
-        integer :: i
         if (.not. self%all_static) then
             call fd_jacobian(self, t, y, f, dfdy, nfev)
             return
         end if
-        call static_jacobian(self, t, y, [(i, i = 1, size(y))], -1, -1, dfdy)
+        call static_jacobian(self, t, y, -1, -1, dfdy)
     end subroutine model_jacobian
 
     !> The contacts' signals that are numbers (read without evaluating them), and the body
@@ -737,10 +737,12 @@ contains
         if (2 * ml + mu + 1 < n) then
             self%band_ml = ml
             self%band_mu = mu
+            self%band_pos = pos
         else
             self%band_ml = -1
             self%band_mu = -1
             self%band_perm = [(i, i = 1, n)]
+            self%band_pos = self%band_perm
         end if
     contains
         !> The body whose states a contact's states follow: a, or b where a is the ground.
@@ -1001,31 +1003,29 @@ contains
         real(dp), intent(out)   :: jb(:, :)      !! (ml + mu + 1, n) band of the reordered Jacobian
         integer(8), intent(inout) :: nfev        !! evaluation counter
         integer :: perm(size(y)), ml, mu
-        call self%bandwidth(perm, ml, mu)
         if (self%all_static) then
-            call static_jacobian(self, t, y, perm, ml, mu, jb)
+            call static_jacobian(self, t, y, self%band_ml, self%band_mu, jb)
         else
+            call self%bandwidth(perm, ml, mu)
             call fd_band_jacobian(self, t, y, f, perm, ml, mu, jb, nfev)
         end if
     end subroutine model_band_jacobian
 
     !> df/dy of a model whose laws are all static, dense (ml < 0: jm(i, j) = J(i, j)) or in
-    !! band storage in the order perm (jm(mu + 1 + i - j, j) = J(perm(i), perm(j))).
+    !! band storage in the body order (jm(mu + 1 + i - j, j) = J(perm(i), perm(j)), perm the
+    !! model's `band_perm`, ml and mu its band).
     !! The constant part (x' = v, springs, dampers) is assembled once per layout (`jac_fixed`)
     !! and copied; the contacts' terms are added to it in the same order as before (the same
     !! sums, bit for bit).
-    subroutine static_jacobian(self, t, y, perm, ml, mu, jm)
+    subroutine static_jacobian(self, t, y, ml, mu, jm)
         class(model_system), intent(inout) :: self
         real(dp), intent(in)  :: t, y(:)
-        integer, intent(in)   :: perm(:), ml, mu
+        integer, intent(in)   :: ml, mu
         real(dp), intent(out) :: jm(:, :)
-        integer :: ip(size(y)), i, nb
+        integer :: i, nb
         real(dp) :: s, n, wdot
         logical :: formed
         nb = self%nb
-        do i = 1, size(y)       ! (a loop: the array constructor's temporary is allocated a call)
-            ip(perm(i)) = i
-        end do
         formed = allocated(self%jac_fixed) .and. self%jac_fixed_ml == ml
         if (formed) formed = all(shape(self%jac_fixed) == shape(jm))
         if (formed) then
@@ -1056,10 +1056,13 @@ contains
         subroutine put(row, col, val)
             integer, intent(in) :: row, col
             real(dp), intent(in) :: val
+            integer :: i, j
             if (ml < 0) then
                 jm(row, col) = jm(row, col) + val
             else
-                jm(mu + 1 + ip(row) - ip(col), ip(col)) = jm(mu + 1 + ip(row) - ip(col), ip(col)) + val
+                i = self%band_pos(row)
+                j = self%band_pos(col)
+                jm(mu + 1 + i - j, j) = jm(mu + 1 + i - j, j) + val
             end if
         end subroutine put
 
@@ -1068,12 +1071,20 @@ contains
         subroutine pair(a, b, off, g)
             integer, intent(in) :: a, b, off
             real(dp), intent(in) :: g
-            call put(nb + a, off + a, -g / self%mass(a))
+            call put(nb + a, off + a, per_mass(-g, a))
             if (b == 0) return
-            call put(nb + a, off + b, g / self%mass(a))
-            call put(nb + b, off + b, -g / self%mass(b))
-            call put(nb + b, off + a, g / self%mass(b))
+            call put(nb + a, off + b, per_mass(g, a))
+            call put(nb + b, off + b, per_mass(-g, b))
+            call put(nb + b, off + a, per_mass(g, b))
         end subroutine pair
+
+        !> x / m_body (x itself where every mass is 1: the same number, without a division).
+        pure real(dp) function per_mass(x, body)
+            real(dp), intent(in) :: x
+            integer, intent(in) :: body
+            per_mass = x
+            if (.not. self%unit_mass) per_mass = x / self%mass(body)
+        end function per_mass
     end subroutine static_jacobian
 
     !> K = -df/dx [N/m] and C = -df/dv [N s/m] of the springs and dampers (dense).
