@@ -74,14 +74,16 @@ module stickslip_one_contact
     !! `model_contact`, its normal force, offset and solves with W = m + a c + b k written for
     !! its one body and one contact: the general model's operations in the same order (the
     !! same numbers, bit for bit), without its loops over contacts and signals; the normal
-    !! force and the offset, numbers, read once when it is built. (Its forces stay the
-    !! model's: a one-body copy measured slower under event_driven.)
+    !! force, the offset and the external forces, numbers, read once when it is built.
     type, extends(model_contact) :: one_contact_contact
         real(dp) :: c_w = 0.0_dp        !! the dampers' part of W, C(1, 1) [N s/m]
         real(dp) :: k_w = 0.0_dp        !! the springs' part of W, K(1, 1) [N/m]
         real(dp) :: n_fix = 0.0_dp      !! the normal force, clipped at 0 [N]
         real(dp) :: b_fix = 0.0_dp      !! the offset -w [m/s]
+        real(dp), allocatable :: frc_fix(:)   !! the external forces' values, numbers [N]
     contains
+        procedure :: force => occ_force
+        !! springs, dampers and forces on the one body, the model's sums in its order
         procedure :: solve_w => occ_solve_w
         !! x / (m + a c + b k)
         procedure :: normal_forces => occ_normal
@@ -299,6 +301,7 @@ contains
         class(contact_system), allocatable :: general
         type(one_contact_contact), allocatable :: occ
         real(dp) :: nb(1), bb(1)
+        integer :: i
         call self%model_system%contact_model(general, status)
         select type (general)
         type is (model_contact)
@@ -310,11 +313,39 @@ contains
             call general%slip_offset(0.0_dp, bb)
             occ%n_fix = nb(1)
             occ%b_fix = bb(1)
+            occ%frc_fix = [(self%sig%number(self%frc_sig(i)), i = 1, size(self%frc_sig))]
             call move_alloc(occ, cs)
         class default
             call move_alloc(general, cs)
         end select
     end subroutine oc_contact_model
+
+    !> The springs, dampers and forces on the one body [N]: `model_free_forces`' terms and sums
+    !! in its order (each element joins the body, side a, to the ground), the forces' signals
+    !! read as the numbers they are.
+    subroutine occ_force(self, t, q, u, f)
+        class(one_contact_contact), intent(in) :: self
+        real(dp), intent(in)  :: t          !! time [s]
+        real(dp), intent(in)  :: q(:)       !! (1) position [m]
+        real(dp), intent(in)  :: u(:)       !! (1) velocity [m/s]
+        real(dp), intent(out) :: f(:)       !! (1) springs, dampers and forces [N]
+        real(dp) :: xb, vb
+        integer :: i
+        xb = 0.0_dp
+        vb = 0.0_dp
+        f(1) = 0.0_dp
+        associate (m => self%m)
+            do i = 1, size(m%spr_k)
+                f(1) = f(1) + (-m%spr_k(i) * (q(1) - xb - m%spr_l0(i)))
+            end do
+            do i = 1, size(m%dmp_c)
+                f(1) = f(1) + (-m%dmp_c(i) * (u(1) - vb))
+            end do
+        end associate
+        do i = 1, size(self%frc_fix)
+            f(1) = f(1) + self%frc_fix(i)
+        end do
+    end subroutine occ_force
 
     !> x / W with W = m + a c + b k, as the model's tridiagonal solve of one row (x / M where
     !! a = b = 0).
