@@ -19,8 +19,10 @@ It also writes the laws' dispatch from every LAW_TABLE entry (a law NAME lives i
 fortran/laws/stickslip_law_NAME.f90 as type NAME_law): fortran/laws/stickslip_laws.f90 (the
 `use` of each law module, the codes LAW_<NAME>, LAW_SPECS: every law parameter's specification,
 found as the `type(param_spec), parameter, public` constants of stickslip_friction and of the
-law modules, and `new_law`, the law of a code) and fortran/laws/meson.build (the law sources
-meson compiles). Adding a law is its module, its LAW_TABLE row and one run of this script.
+law modules, `new_law`, the law of a code, and `evaluate_run` and `mu_run`, which evaluate a law
+at each of several contacts through its own type's procedures, resolved once for the run rather
+than once a contact) and fortran/laws/meson.build (the law sources meson compiles). Adding a
+law is its module, its LAW_TABLE row and one run of this script.
 
 Every file is committed (fpm cannot run a generator, and a build never needs this script);
 tests/project/test_layout.py checks that they are what this script writes.
@@ -247,13 +249,13 @@ def laws_module(shared: list[str], rows: list[tuple[str, list[str]]]) -> str:
     out = [LAWS_HEADER, "\n", """!> The laws of the registry by code: each law module's type, the codes LAW_<NAME> (positions
 !! in LAW_TABLE), every law parameter's specification and `new_law`, written from LAW_TABLE.
 module stickslip_laws
-    use stickslip_kinds, only: SS_OK, SS_BAD_LAW
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_LAW
     use stickslip_params, only: param_spec
 """]
     out.append(_wrapped("    use stickslip_friction, only:", ["friction_law", *shared]))
     for name, own in rows:
         out.append(_wrapped(f"    use stickslip_law_{name}, only:", [f"{name}_law", *own]))
-    out.append("    implicit none\n    private\n\n    public :: new_law\n")
+    out.append("    implicit none\n    private\n\n    public :: new_law, evaluate_run, mu_run\n")
     out.append(_wrapped("    public ::", [f"{name}_law" for name, _ in rows]))
     out.append("\n")
     for code, (name, _) in enumerate(rows, 1):
@@ -280,10 +282,65 @@ contains
             status = SS_BAD_LAW
         end select
     end function new_law
+""")
+    out.append(RUN_HEAD)
+    for name, _ in rows:
+        out.append(f"        type is ({name}_law)\n" + RUN_LOOP)
+    out.append("        class default\n" + RUN_LOOP + RUN_MIDDLE)
+    for name, _ in rows:
+        out.append(f"        type is ({name}_law)\n" + MU_LOOP)
+    out.append("        class default\n" + MU_LOOP + RUN_TAIL)
+    return "".join(out)
+
+
+#: `evaluate_run` and `mu_run` of stickslip_laws: one select type a run of contacts, each branch
+#: the law's own type, so that its procedures are called (and inlined) without a dispatch a contact.
+#: Their loops are not vectorised (!GCC$ NOVECTOR): the vectorised exp, pow and tanh of glibc's
+#: libmvec round otherwise than the scalar functions, and a run must give the numbers of its
+#: contacts one by one (Stribeck's chain under dopri5 moved by 6.5e-19 m in its first step).
+RUN_HEAD = """
+    !> `evaluate` of `law` at each of several contacts that share it (their slips v, their states
+    !! z one contact after another, their holding coefficients mu_hold): the numbers `evaluate`
+    !! gives contact by contact, its procedure found once for the run (the law's own type;
+    !! a law that extends another is its own case).
+    subroutine evaluate_run(law, v, z, mu_hold, mu, dz)
+        class(friction_law), intent(inout) :: law  !! the law the contacts share
+        real(dp), intent(in)  :: v(:)       !! (m) relative sliding velocities [m/s]
+        real(dp), intent(in)  :: z(:)       !! (m n_states) internal states, contact by contact
+        real(dp), intent(in)  :: mu_hold(:) !! (m) holding coefficients [-]
+        real(dp), intent(out) :: mu(:)      !! (m) friction coefficients [-]
+        real(dp), intent(out) :: dz(:)      !! (m n_states) rates of the internal states
+        integer :: i, nz
+        nz = law%n_states()
+        select type (law)
+"""
+RUN_LOOP = """            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+"""
+RUN_MIDDLE = """        end select
+    end subroutine evaluate_run
+
+    !> `mu` of a static law at each of several contacts that share it: the numbers of `mu`
+    !! contact by contact, its procedure found once for the run (as `evaluate_run`).
+    subroutine mu_run(law, v, mu)
+        class(friction_law), intent(in) :: law  !! the law the contacts share
+        real(dp), intent(in)  :: v(:)       !! (m) relative sliding velocities [m/s]
+        real(dp), intent(out) :: mu(:)      !! (m) friction coefficients [-]
+        integer :: i
+        select type (law)
+"""
+MU_LOOP = """            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+"""
+RUN_TAIL = """        end select
+    end subroutine mu_run
 
 end module stickslip_laws
-""")
-    return "".join(out)
+"""
 
 
 def laws_meson(rows: list[tuple[str, list[str]]], laws: Path = LAWS) -> str:

@@ -37,7 +37,7 @@ module stickslip_friction
     implicit none
     private
 
-    public :: friction_law, loop_evaluate, havsin, havsin_slope, between, tr_bdf2_advance, relax_linear_target
+    public :: friction_law, havsin, havsin_slope, between, tr_bdf2_advance, relax_linear_target
     public :: contact_law, stribeck_curve, stribeck_curve_slope
 
     !> Relative slack of a mode's bounds in `between` [-] (a million units of round-off: the
@@ -114,10 +114,6 @@ module stickslip_friction
         procedure :: is_static => static_law
         !> mu and the rates of the internal states at (v, z) with the holding coefficient.
         procedure :: evaluate => static_evaluate
-        !> `evaluate` at each of several contacts that share this law (their slips, their states
-        !! one contact after another, their holding coefficients): the same numbers, without a
-        !! call per contact where a law overrides it.
-        procedure :: evaluate_many => loop_evaluate
         !> Number of modes of a law with a discontinuous graph (0: none, the default).
         procedure :: n_modes => no_modes
         !> Kind (MODE_MU, MODE_V, MODE_KEEP) and value (mu [-] or v [m/s]) of mode i.
@@ -265,21 +261,6 @@ contains
         real(dp), intent(out) :: dz(:)      !! rates of the internal states
         mu = self%mu(v)
     end subroutine static_evaluate
-
-    !> `evaluate` contact by contact (the default of `evaluate_many`).
-    subroutine loop_evaluate(self, v, z, mu_hold, mu, dz)
-        class(friction_law), intent(inout) :: self   !! the law the contacts share
-        real(dp), intent(in)  :: v(:)       !! (m) relative sliding velocities [m/s]
-        real(dp), intent(in)  :: z(:)       !! (m n_states) internal states, contact by contact
-        real(dp), intent(in)  :: mu_hold(:) !! (m) holding coefficients [-]
-        real(dp), intent(out) :: mu(:)      !! (m) friction coefficients [-]
-        real(dp), intent(out) :: dz(:)      !! (m n_states) rates of the internal states
-        integer :: i, nz
-        nz = self%n_states()
-        do i = 1, size(v)
-            call self%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
-        end do
-    end subroutine loop_evaluate
 
     pure integer function no_modes(self)
         class(friction_law), intent(in) :: self

@@ -30,7 +30,7 @@
 module stickslip_law_lugre
     use stickslip_kinds, only: dp, SS_OK
     use stickslip_params, only: param_spec, param_values, param_read
-    use stickslip_friction, only: friction_law, SS_BAD_MU_K, relax_linear_target, loop_evaluate
+    use stickslip_friction, only: friction_law, SS_BAD_MU_K, relax_linear_target
     use stickslip_law_stribeck, only: stribeck_curve, stribeck_curve_slope
     implicit none
     private
@@ -80,8 +80,6 @@ module stickslip_law_lugre
         procedure :: is_static => lugre_is_static
         !> mu and the internal-state rates at (v, z, mu_hold).
         procedure :: evaluate => lugre_evaluate
-        !> `evaluate` at several contacts, without a call per contact for LuGre itself.
-        procedure :: evaluate_many => lugre_evaluate_many
         !> Exponential flow of z over a substep of prescribed motion (z' is linear in z).
         procedure :: advance => lugre_advance
         !> Factor alpha in [0, 1] of the relaxation term of z' (1 for LuGre).
@@ -157,26 +155,6 @@ contains
         dz(1) = v - self%attachment(z(1), v, g) * self%sigma0 * abs(v) * z(1) / g
         mu = self%sigma0 * z(1) + self%sigma1 * dz(1) + self%sigma2 * v
     end subroutine lugre_evaluate
-
-    !> `evaluate` at each contact: LuGre's own directly, an extension's (GMS overrides
-    !! `evaluate`) contact by contact.
-    subroutine lugre_evaluate_many(self, v, z, mu_hold, mu, dz)
-        class(lugre_law), intent(inout) :: self
-        real(dp), intent(in)  :: v(:)       !! (m) relative sliding velocities [m/s]
-        real(dp), intent(in)  :: z(:)       !! (m) bristle deflections [m]
-        real(dp), intent(in)  :: mu_hold(:) !! (m) holding coefficients [-] (unused)
-        real(dp), intent(out) :: mu(:)      !! (m) friction coefficients [-]
-        real(dp), intent(out) :: dz(:)      !! (m) bristle deflection rates [m/s]
-        integer :: i
-        select type (self)
-        type is (lugre_law)
-            do i = 1, size(v)
-                call lugre_evaluate(self, v(i), z(i:i), mu_hold(i), mu(i), dz(i:i))
-            end do
-        class default
-            call loop_evaluate(self, v, z, mu_hold, mu, dz)
-        end select
-    end subroutine lugre_evaluate_many
 
     !> In the travel u (du = |v| dt) the state equation is dz/du = sgn(v) - z/z_g(v), z_g =
     !! g(v)/sigma0: a relaxation over the length z_g to the steady deflection z_ss = z_g sgn(v).

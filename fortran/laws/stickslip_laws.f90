@@ -4,7 +4,7 @@
 !> The laws of the registry by code: each law module's type, the codes LAW_<NAME> (positions
 !! in LAW_TABLE), every law parameter's specification and `new_law`, written from LAW_TABLE.
 module stickslip_laws
-    use stickslip_kinds, only: SS_OK, SS_BAD_LAW
+    use stickslip_kinds, only: dp, SS_OK, SS_BAD_LAW
     use stickslip_params, only: param_spec
     use stickslip_friction, only: friction_law, MU_S_SPEC, MU_K_SPEC, V_S_SPEC
     use stickslip_law_coulomb, only: coulomb_law
@@ -23,7 +23,7 @@ module stickslip_laws
     implicit none
     private
 
-    public :: new_law
+    public :: new_law, evaluate_run, mu_run
     public :: coulomb_law, recurdyn_law, proposed_law, stribeck_law, karnopp_law, lugre_law, &
         elastoplastic_law, dahl_law, gms_law, drake_continuous_law, drake_tamsi_law, &
         capped_viscous_law, mujoco_pyramidal_law
@@ -101,5 +101,173 @@ contains
             status = SS_BAD_LAW
         end select
     end function new_law
+
+    !> `evaluate` of `law` at each of several contacts that share it (their slips v, their states
+    !! z one contact after another, their holding coefficients mu_hold): the numbers `evaluate`
+    !! gives contact by contact, its procedure found once for the run (the law's own type;
+    !! a law that extends another is its own case).
+    subroutine evaluate_run(law, v, z, mu_hold, mu, dz)
+        class(friction_law), intent(inout) :: law  !! the law the contacts share
+        real(dp), intent(in)  :: v(:)       !! (m) relative sliding velocities [m/s]
+        real(dp), intent(in)  :: z(:)       !! (m n_states) internal states, contact by contact
+        real(dp), intent(in)  :: mu_hold(:) !! (m) holding coefficients [-]
+        real(dp), intent(out) :: mu(:)      !! (m) friction coefficients [-]
+        real(dp), intent(out) :: dz(:)      !! (m n_states) rates of the internal states
+        integer :: i, nz
+        nz = law%n_states()
+        select type (law)
+        type is (coulomb_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (recurdyn_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (proposed_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (stribeck_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (karnopp_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (lugre_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (elastoplastic_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (dahl_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (gms_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (drake_continuous_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (drake_tamsi_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (capped_viscous_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        type is (mujoco_pyramidal_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        class default
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                call law%evaluate(v(i), z((i - 1) * nz + 1:i * nz), mu_hold(i), mu(i), dz((i - 1) * nz + 1:i * nz))
+            end do
+        end select
+    end subroutine evaluate_run
+
+    !> `mu` of a static law at each of several contacts that share it: the numbers of `mu`
+    !! contact by contact, its procedure found once for the run (as `evaluate_run`).
+    subroutine mu_run(law, v, mu)
+        class(friction_law), intent(in) :: law  !! the law the contacts share
+        real(dp), intent(in)  :: v(:)       !! (m) relative sliding velocities [m/s]
+        real(dp), intent(out) :: mu(:)      !! (m) friction coefficients [-]
+        integer :: i
+        select type (law)
+        type is (coulomb_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (recurdyn_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (proposed_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (stribeck_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (karnopp_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (lugre_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (elastoplastic_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (dahl_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (gms_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (drake_continuous_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (drake_tamsi_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (capped_viscous_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        type is (mujoco_pyramidal_law)
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        class default
+            !GCC$ NOVECTOR
+            do i = 1, size(v)
+                mu(i) = law%mu(v(i))
+            end do
+        end select
+    end subroutine mu_run
 
 end module stickslip_laws

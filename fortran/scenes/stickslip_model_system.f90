@@ -35,6 +35,7 @@
 module stickslip_model_system
     use stickslip_kinds, only: dp, SS_OK, SS_NOT_SETVALUED
     use stickslip_friction, only: friction_law
+    use stickslip_laws, only: evaluate_run, mu_run
     use stickslip_ode, only: ode_system, fd_jacobian, fd_band_jacobian, BOUND_MARGIN
     use stickslip_contact, only: contact_system, contact_law_of
     use stickslip_signal, only: signal_set
@@ -103,8 +104,8 @@ module stickslip_model_system
         !! the model's builder made it (unallocated: no two contacts share a law)
         logical, allocatable :: con_same_law(:)
         !> (runs + 1) the runs of contacts that share a law (`prepare`): contacts
-        !! law_run(r) .. law_run(r + 1) - 1 share contact law_run(r)'s law, whose `evaluate_many`
-        !! evaluates them all in one call (`fixed_rhs`)
+        !! law_run(r) .. law_run(r + 1) - 1 share contact law_run(r)'s law, which `evaluate_run`
+        !! and `mu_run` evaluate for them all in one call (`fixed_rhs`, `fixed_static_rhs`)
         integer, allocatable :: law_run(:)
         !> (nc, 3) each contact's slip [m/s], holding coefficient and mu [-] (`fixed_rhs`'s
         !! workspace, allocated by `prepare`)
@@ -374,28 +375,39 @@ contains
     end subroutine model_rhs
 
     !> `rhs` of a model whose laws are all static and whose contacts' signals are numbers
-    !! (`fixed_contacts`): the same operations in the same order (the same numbers, bit for bit),
-    !! the forces summed in place and the numbers read as they were found by `prepare`.
+    !! (`fixed_contacts`): the same operations in the same order (the same numbers, bit for
+    !! bit), the numbers read as they were found by `prepare`: every contact's slip first, then
+    !! each run of contacts that share a law (`law_run`) in one call (`mu_run`), then the
+    !! forces summed in contact order.
     subroutine fixed_static_rhs(self, t, y, dydt)
-        class(model_system), intent(in) :: self
+        class(model_system), intent(inout) :: self
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
-        real(dp) :: fn, s
-        integer :: i, nb, a, b
+        real(dp) :: fn
+        integer :: i, r, nb, a, b
         nb = self%nb
         call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), dydt(nb + 1:2 * nb))
-        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb))
+        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb), s => self%con_work(:, 1), &
+                   mu => self%con_work(:, 3))
         do i = 1, size(self%con_a)
             a = self%con_a(i)
             b = self%con_b(i)
             if (a > 0) then
-                s = v(a) - self%con_fixed(2, i)
+                s(i) = v(a) - self%con_fixed(2, i)
             else
-                s = -self%con_fixed(2, i)
+                s(i) = -self%con_fixed(2, i)
             end if
-            if (b > 0) s = s - v(b)
-            fn = self%laws(i)%law%mu(s) * max(self%con_fixed(1, i), 0.0_dp)
+            if (b > 0) s(i) = s(i) - v(b)
+        end do
+        do r = 1, size(self%law_run) - 1
+            i = self%law_run(r)
+            call mu_run(self%laws(i)%law, s(i:self%law_run(r + 1) - 1), mu(i:self%law_run(r + 1) - 1))
+        end do
+        do i = 1, size(self%con_a)
+            a = self%con_a(i)
+            b = self%con_b(i)
+            fn = mu(i) * max(self%con_fixed(1, i), 0.0_dp)
             if (a > 0) f(a) = f(a) - fn
             if (b > 0) f(b) = f(b) + fn
         end do
@@ -409,7 +421,7 @@ contains
     !! numbers read as `prepare` found them (a surface's acceleration 0). Every contact's slip
     !! and holding coefficient (from the free forces alone, before any friction is added) are
     !! formed first; then each run of contacts that share a law (`law_run`) is evaluated in one
-    !! call (`evaluate_many`), and the friction forces are summed in contact order.
+    !! call (`evaluate_run`), and the friction forces are summed in contact order.
     subroutine fixed_rhs(self, t, y, dydt)
         class(model_system), intent(inout) :: self
         real(dp), intent(in)  :: t                      !! time [s]
@@ -434,8 +446,8 @@ contains
             i = self%law_run(r)
             z0 = 2 * nb + self%z_first(i)
             z1 = 2 * nb + self%z_first(self%law_run(r + 1)) - 1
-            call self%laws(i)%law%evaluate_many(s(i:self%law_run(r + 1) - 1), y(z0:z1), &
-                                                hold(i:self%law_run(r + 1) - 1), mu(i:self%law_run(r + 1) - 1), dydt(z0:z1))
+            call evaluate_run(self%laws(i)%law, s(i:self%law_run(r + 1) - 1), y(z0:z1), &
+                              hold(i:self%law_run(r + 1) - 1), mu(i:self%law_run(r + 1) - 1), dydt(z0:z1))
         end do
         do i = 1, nc
             a = self%con_a(i)

@@ -2,8 +2,8 @@
 !! derivatives `dmu` against central differences of `mu`, `evaluate` with a holding
 !! coefficient and internal states at hand-computed points, the elasto-plastic alpha, the
 !! law metadata (states, labels, static or not), the registry's parameter table (names
-!! and status codes unique; the new laws' codes in -140 .. -199), and `evaluate_many` against
-!! `evaluate` contact by contact.
+!! and status codes unique; the new laws' codes in -140 .. -199), and `evaluate_run` and
+!! `mu_run` against `evaluate` and `mu` contact by contact.
 !! Prints one line per check; exits with status 1 if any check fails.
 program test_laws
     use test_support, only: check, finish
@@ -21,7 +21,7 @@ program test_laws
     call test_lugre()
     call test_elastoplastic()
     call test_law_derivatives()
-    call test_evaluate_many()
+    call test_runs()
 
     call finish('law')
 
@@ -187,17 +187,18 @@ contains
                    fl%dmu(0.0_dp) == fl%dmu(1.0e-12_dp), 'law proposed: dmu finite at rest (floor at 1e-6 v_s)')
     end subroutine test_law_derivatives
 
-    !> Each law's `evaluate_many` over five contacts (slips on both sides of rest and in the
+    !> Each law's `evaluate_run` over five contacts (slips on both sides of rest and in the
     !! law's band, states away from 0, holding coefficients inside and outside mu_s) gives
-    !! `evaluate`'s numbers at each contact, bit for bit: LuGre's own loop and the default
-    !! alike, and GMS, which extends LuGre and evaluates its own way.
-    subroutine test_evaluate_many()
+    !! `evaluate`'s numbers at each contact, bit for bit, and `mu_run` gives `mu`'s: GMS too,
+    !! which extends LuGre and evaluates its own way.
+    subroutine test_runs()
+        use stickslip_laws, only: evaluate_run, mu_run
         class(friction_law), allocatable :: fl
         type(param_values) :: p
         real(dp), parameter :: v(5) = [-0.2_dp, -0.004_dp, 0.0_dp, 0.003_dp, 0.5_dp]
         real(dp), parameter :: hold(5) = [0.1_dp, -0.5_dp, 0.2_dp, 0.34_dp, 0.0_dp]
         real(dp), allocatable :: z(:), dz(:), dz1(:)
-        real(dp) :: mu(5), mu1
+        real(dp) :: mu(5), mus(5), mu1
         integer :: law, i, nz, status
         logical :: ok
         do law = 1, size(LAW_TABLE)
@@ -205,15 +206,16 @@ contains
             nz = fl%n_states()
             z = [(1.0e-6_dp * real(modulo(7 * i, 11) - 5, dp), i = 1, 5 * nz)]
             allocate(dz(5 * nz), dz1(nz))
-            call fl%evaluate_many(v, z, hold, mu, dz)
+            call evaluate_run(fl, v, z, hold, mu, dz)
+            call mu_run(fl, v, mus)
             ok = status == SS_OK
             do i = 1, 5
                 call fl%evaluate(v(i), z((i - 1) * nz + 1:i * nz), hold(i), mu1, dz1)
-                ok = ok .and. mu1 == mu(i) .and. all(dz1 == dz((i - 1) * nz + 1:i * nz))
+                ok = ok .and. mu1 == mu(i) .and. all(dz1 == dz((i - 1) * nz + 1:i * nz)) .and. mus(i) == fl%mu(v(i))
             end do
-            call check(ok, 'law ' // trim(LAW_TABLE(law)%name) // ': evaluate_many = evaluate at each contact')
+            call check(ok, 'law ' // trim(LAW_TABLE(law)%name) // ': evaluate_run and mu_run = evaluate and mu at each contact')
             deallocate(dz, dz1)
         end do
-    end subroutine test_evaluate_many
+    end subroutine test_runs
 
 end program test_laws
