@@ -183,6 +183,32 @@ def test_banded_and_dense_take_the_same_steps(method, law):
     np.testing.assert_allclose(band.v, dense.v, rtol=0, atol=10 * tol)
 
 
+@pytest.mark.parametrize("method,law", [("dopri5", "stribeck"), ("dopri5", "lugre"), ("rk4", "proposed"),
+                                        ("radau5", "recurdyn"), ("dop853", "dahl"), ("rk4", "gms")])
+def test_contacts_sharing_a_law_move_as_contacts_alone(method, law):
+    """Contacts that name one law with the same parameters share it: the model evaluates each
+    run of them in one call (`law_run`, the registry's `evaluate_run` and `mu_run`). The same
+    chain with every other contact given its law's default mu_k explicitly (the same law, but
+    not given alike, so that no two contacts share it) must move bit for bit alike: a run gives
+    the numbers of its contacts one by one (libmvec's vectorised exp, pow and tanh, which round
+    otherwise, must not enter)."""
+    def chain(alone: bool) -> ss.Model:
+        m = ss.Model()
+        for i in range(8):
+            m.add_body(mass=1.0 + 0.1 * i, x0=0.002 * i, v0=0.01 * math.sin(i))
+            m.add_spring(i, i - 1 if i else None, k=60.0 + 5.0 * i)
+        for i in range(8):
+            given = {"mu_k": ss.REGISTRY["param"]["mu_k"]["default"]} if alone and i % 2 else {}
+            m.add_contact(i, None, law, normal_force=9.81, surface_velocity=0.1, **given)
+        return m
+    kw = dict(h=1e-4) if method == "rk4" else dict(rtol=1e-7, atol=1e-9)
+    shared = ss.simulate(chain(False), method=method, t_end=0.4, **kw)
+    alone = ss.simulate(chain(True), method=method, t_end=0.4, **kw)
+    assert shared.stats["status"] == 0 and shared.stats["nstep"] == alone.stats["nstep"]
+    assert np.array_equal(shared.x, alone.x) and np.array_equal(shared.v, alone.v)
+    assert np.array_equal(shared.z, alone.z)
+
+
 def test_box_sliding_to_a_stop():
     """A body sliding on the ground under Coulomb friction stops at t = v0 / (mu_k g) after
     v0^2 / (2 mu_k g), and stays (mu_s holds it with no other force)."""

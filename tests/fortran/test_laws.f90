@@ -190,7 +190,8 @@ contains
     !> Each law's `evaluate_run` over five contacts (slips on both sides of rest and in the
     !! law's band, states away from 0, holding coefficients inside and outside mu_s) gives
     !! `evaluate`'s numbers at each contact, bit for bit, and `mu_run` gives `mu`'s: GMS too,
-    !! which extends LuGre and evaluates its own way.
+    !! which extends LuGre and evaluates its own way; and `mu_run` at 4000 slips spread over
+    !! the band and beyond gives `mu`'s numbers.
     subroutine test_runs()
         use stickslip_laws, only: evaluate_run, mu_run
         class(friction_law), allocatable :: fl
@@ -198,7 +199,7 @@ contains
         real(dp), parameter :: v(5) = [-0.2_dp, -0.004_dp, 0.0_dp, 0.003_dp, 0.5_dp]
         real(dp), parameter :: hold(5) = [0.1_dp, -0.5_dp, 0.2_dp, 0.34_dp, 0.0_dp]
         real(dp), allocatable :: z(:), dz(:), dz1(:)
-        real(dp) :: mu(5), mus(5), mu1
+        real(dp) :: mu(5), mus(5), mu1, vs(4000), mus_many(4000)
         integer :: law, i, nz, status
         logical :: ok
         do law = 1, size(LAW_TABLE)
@@ -214,6 +215,14 @@ contains
                 ok = ok .and. mu1 == mu(i) .and. all(dz1 == dz((i - 1) * nz + 1:i * nz)) .and. mus(i) == fl%mu(v(i))
             end do
             call check(ok, 'law ' // trim(LAW_TABLE(law)%name) // ': evaluate_run and mu_run = evaluate and mu at each contact')
+            call random_number(vs)
+            vs = 0.05_dp * (vs - 0.5_dp)
+            call mu_run(fl, vs, mus_many)
+            ok = .true.
+            do i = 1, size(vs)
+                ok = ok .and. mus_many(i) == fl%mu(vs(i))
+            end do
+            call check(ok, 'law ' // trim(LAW_TABLE(law)%name) // ': mu_run = mu at 4000 slips, bit for bit')
             deallocate(dz, dz1)
         end do
     end subroutine test_runs
