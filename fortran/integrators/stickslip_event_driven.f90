@@ -869,8 +869,7 @@ contains
                 end where
                 if (.not. any(c)) exit
             end do
-            if (any(let_go) .and. .not. s%tie) s%tie = loop_tie(s, cand, let_go)
-            if (.not. s%tie) s%tie = first_order_tie(s, cand)
+            if (.not. s%tie) s%tie = other_decision(s, cand, let_go)
             if (s%tie) s%stats%nonunique = s%stats%nonunique + 1
             if (present(nchanged)) nchanged = count(cand .and. ((ms%stuck .neqv. was_stuck) .or. &
                                                                  (.not. ms%stuck .and. ms%sig /= old_sig)))
@@ -968,6 +967,32 @@ contains
                 all(abs(s%p_dec) <= lim * (1.0_dp + 2.0_dp * STICK_RTOL) .or. .not. held)
     end function held_otherwise
 
+    !> Had the decision just made for the candidates cand another solution? Where it let
+    !! stuck contacts go against their holding forces (let_go), one with as many stuck contacts
+    !! that holds one of them (`loop_tie`); else, or if not, a mode consistent to first order
+    !! only with a strict alternative (`first_order_tie`). The one test of `decide` and
+    !! `switch_mode`.
+    logical function other_decision(s, cand, let_go) result(other)
+        type(ed_run), intent(inout) :: s
+        logical, intent(in) :: cand(:)      !! (n_c) the contacts decided
+        logical, intent(in) :: let_go(:)    !! (n_c) the ones let go against their holding forces
+        other = .false.
+        if (any(let_go)) other = loop_tie(s, cand, let_go)
+        if (.not. other) other = first_order_tie(s, cand)
+    end function other_decision
+
+    !> The candidates cand's indices and their Delassus block [1/kg].
+    subroutine candidates_block(s, cand, idx, amat)
+        type(ed_run), intent(inout) :: s
+        logical, intent(in) :: cand(:)                    !! (n_c) the candidates
+        integer, allocatable, intent(out) :: idx(:)       !! their indices
+        real(dp), allocatable, intent(out) :: amat(:, :)  !! their Delassus block [1/kg]
+        integer :: j
+        idx = pack([(j, j = 1, s%nc)], cand)
+        allocate(amat(size(idx), size(idx)))
+        call delassus_block(s%ms, s%t, s%y, idx, amat)
+    end subroutine candidates_block
+
     !> Where a decision let stuck contacts go (let_go) because the mode's weighted minimum-norm
     !! forces took them beyond their limits, and the stuck set with them has a singular Delassus
     !! block (their holding forces are not unique: a closed loop of contacts): has the problem
@@ -983,9 +1008,7 @@ contains
         integer :: j
         other = .false.
         if (s%ms%diagonal) return
-        idx = pack([(j, j = 1, s%nc)], cand)
-        allocate(amat(size(idx), size(idx)))
-        call delassus_block(s%ms, s%t, s%y, idx, amat)
+        call candidates_block(s, cand, idx, amat)
         js = pack([(j, j = 1, size(idx))], s%ms%stuck(idx) .or. let_go(idx))
         allocate(x(size(js), 1), source=1.0_dp)
         call psd_solve(amat(js, js), x, [(1.0_dp, j = 1, size(js))], ok, regular_only=.true.)
@@ -1008,12 +1031,9 @@ contains
         integer, allocatable :: idx(:), cm(:)
         real(dp), allocatable :: amat(:, :), af(:), cap(:), p(:), wv(:)
         logical :: ok
-        integer :: j
         other = .false.
         if (s%ms%diagonal .or. .not. any(cand .and. .not. s%ms%stuck)) return
-        idx = pack([(j, j = 1, s%nc)], cand)
-        allocate(amat(size(idx), size(idx)))
-        call delassus_block(s%ms, s%t, s%y, idx, amat)
+        call candidates_block(s, cand, idx, amat)
         call problem_at_rest(s, cand, idx, amat, af, cap, p, wv, cm, ok)
         if (ok) call first_order_alternative(s%ms%cs%laws(idx), amat, af, cap, &
                                              1.0e-9_dp * max(maxval(abs(af)), tiny(1.0_dp)), p, wv, cm, other)
@@ -1352,8 +1372,7 @@ contains
                     call record(s, j, EVENT_SLIP)
                 end if
             end do
-            if (.not. (s%tie .or. tie)) tie = loop_tie(s, cand, over)
-            if (.not. (s%tie .or. tie)) tie = first_order_tie(s, cand)
+            if (.not. (s%tie .or. tie)) tie = other_decision(s, cand, over)
             if (tie) then
                 s%tie = .true.
                 s%stats%nonunique = s%stats%nonunique + 1
