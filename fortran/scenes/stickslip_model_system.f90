@@ -424,7 +424,7 @@ contains
     !! call (`evaluate_run`), and the friction forces are summed in contact order.
     subroutine fixed_rhs(self, t, y, dydt)
         class(model_system), intent(inout) :: self
-        real(dp), intent(in)  :: t                      !! time [s]
+        real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
         real(dp) :: n

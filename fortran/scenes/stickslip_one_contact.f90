@@ -163,8 +163,8 @@ contains
         class(one_contact_model), intent(in) :: self
         real(dp), intent(in) :: y(:)        !! state (x, v, z...)
         ! dir v - dir u: v - u, or (-v) - (-u), which rounds as u - v does (zero included: x - x
-        ! is +0), without a branch; dir v as a sign flip, not a product (which lengthened the
-        ! stages' chain of dependences: 5 % on the belt under dopri5)
+        ! is +0); dir v as a sign flip (a branch taken alike at every call), not a product on the
+        ! stages' chain of dependences
         s = merge(-y(2), y(2), self%neg) - self%du
     end function oc_vrel
 
