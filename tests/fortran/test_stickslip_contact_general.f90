@@ -115,7 +115,7 @@ program test_stickslip_contact_general
     use stickslip_ode, only: ode_stats
     use stickslip_contact, only: contact_law, CONTACT_STRIBECK
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, SOLVER_PIVOTING, SOLVER_GAUSS_SEIDEL, &
-                                        gauss_seidel
+                                        gauss_seidel, first_order_alternative, MODE_STICK
     use stickslip_linalg, only: lu_decompose, lu_solve, psd_solve
     use stickslip_moreau, only: moreau_options, moreau_integrate
     use stickslip_event_driven, only: event_driven_options, event_driven_integrate
@@ -145,10 +145,46 @@ program test_stickslip_contact_general
         call random_problems('large sets', 8, NMAX, NMAX / 2 + 1, 40, 0, .false.)
         ! the same with Stribeck curves (slip speeds by Newton's method in every mode)
         call random_problems('large Stribeck sets', 8, 32, 17, 40, 0, .false., stribeck=.true.)
+        call first_order_cases()
         call finish('general contact')
     end if
 
 contains
+
+    !> `first_order_alternative` on two coupled contacts at rest, written out by hand (Coulomb,
+    !! mu_s 0.5, mu_k 0.3, normal forces 10 N: static limits 5 N, slip forces 3 N; accelerations
+    !! w = wf + D p): contact 1 slips (+1) at w_1 = 0, so that its mode holds to first order
+    !! only; contact 2 is stuck with the force p_2. Released against its holding force, contact
+    !! 2 slips (-1) with the force +3 N: with D = [2 -1; -1 2] and p_2 = 4 N (above its slip
+    !! force) the accelerations become w = (1, -2), both strictly in their slip directions, so
+    !! another mode is consistent strictly (found); with p_2 = 2 N (below it) they become
+    !! (-1, 2), inconsistent; uncoupled (D_12 = 0), or with contact 1 accelerating (w_1 = 0.5,
+    !! an ordinary slip), nothing is tried.
+    subroutine first_order_cases()
+        type(contact_law) :: two(2)
+        real(dp) :: dd(2, 2), pp(2)
+        logical :: found
+        integer, parameter :: STICK_SLIP(2) = [1, MODE_STICK]   ! contact 1 slipping (+1), 2 held
+        two = contact_law(mu_s=0.5_dp, mu_k=0.3_dp)
+        dd = reshape([2.0_dp, -1.0_dp, -1.0_dp, 2.0_dp], [2, 2])
+        ! p_2 = 4 N: wf = -D p with p = (-3, 4) -> (10, -11)
+        pp = [-3.0_dp, 4.0_dp]
+        call first_order_alternative(two, dd, -matmul(dd, pp), [10.0_dp, 10.0_dp], 1.0e-9_dp, pp, &
+                                     [0.0_dp, 0.0_dp], STICK_SLIP, found)
+        call check(found, 'first-order mode: a stuck contact above its slip force released is a strict mode')
+        pp = [-3.0_dp, 2.0_dp]
+        call first_order_alternative(two, dd, -matmul(dd, pp), [10.0_dp, 10.0_dp], 1.0e-9_dp, pp, &
+                                     [0.0_dp, 0.0_dp], STICK_SLIP, found)
+        call check(.not. found, 'first-order mode: a stuck contact below its slip force released is not')
+        pp = [-3.0_dp, 4.0_dp]
+        call first_order_alternative(two, reshape([2.0_dp, 0.0_dp, 0.0_dp, 2.0_dp], [2, 2]), &
+                                     -matmul(reshape([2.0_dp, 0.0_dp, 0.0_dp, 2.0_dp], [2, 2]), pp), &
+                                     [10.0_dp, 10.0_dp], 1.0e-9_dp, pp, [0.0_dp, 0.0_dp], STICK_SLIP, found)
+        call check(.not. found, 'first-order mode: uncoupled contacts have no alternative')
+        call first_order_alternative(two, dd, [0.5_dp, 0.0_dp] - matmul(dd, pp), [10.0_dp, 10.0_dp], 1.0e-9_dp, &
+                                     pp, [0.5_dp, 0.0_dp], STICK_SLIP, found)
+        call check(.not. found, 'first-order mode: an ordinary slip (w_1 > tol) tries nothing')
+    end subroutine first_order_cases
 
     !> Trajectories of one scene on a grid of 401 points: event_driven (rtol 1e-11) and moreau
     !! at h = 4e-3, 2e-3, 1e-3, 5e-4, as lines 'TRAJ scene method h status t q.. u..', and the
