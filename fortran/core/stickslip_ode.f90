@@ -20,7 +20,7 @@ module stickslip_ode
     private
 
     public :: ode_system, ode_stats, step_controls, method_info, check_problem, check_tolerances, fd_jacobian, fd_band_jacobian, &
-              check_step_controls, all_finite, output_start, stats_integers, stats_reals, hermite, &
+              check_step_controls, all_finite, output_start, stats_integers, stats_reals, count_nonunique, hermite, &
               step_count, fixed_steps, step_end, stop_requested, limit_after_forced, set_erk_constant, check_erk_constants, &
               diverged, default_state_bound, linear_output
 
@@ -150,6 +150,7 @@ module stickslip_ode
         integer(8) :: nonunique = 0      !! steps (moreau, implicit_euler, galpha) or mode decisions
                                          !! (event_driven) whose contact problem had another solution
                                          !! (`stickslip_contact_solver`'s notes say which each finds)
+        real(dp)   :: t_nonunique = 0.0_dp  !! the time of the first of them (`count_nonunique`; 0 where none) [s]
         logical    :: stiff = .false.   !! 15 such tests in a row: the problem is probably stiff
         integer    :: n_written = 0     !! output rows written
         real(dp)   :: t_reached = 0.0_dp  !! time reached when the run ended [s]
@@ -174,7 +175,7 @@ module stickslip_ode
     character(len=*), parameter, public :: STATS_INTEGER_NAMES = &
         'nfev nstep naccept nreject nforced nstiff stiff njac ndec nsol n_written status nevents ncontact_iter' // &
         ' contact_worst nonunique'
-    character(len=*), parameter, public :: STATS_REAL_NAMES = 't_reached h_last contact_residual'
+    character(len=*), parameter, public :: STATS_REAL_NAMES = 't_reached h_last contact_residual t_nonunique'
     !! names of the real counters, in the order of `stats_reals`
 
 contains
@@ -211,9 +212,18 @@ contains
     !> The real counters of st in the order of STATS_REAL_NAMES.
     pure function stats_reals(st) result(v)
         type(ode_stats), intent(in) :: st   !! counters of a run
-        real(dp) :: v(3)
-        v = [st%t_reached, st%h_last, st%contact_residual]
+        real(dp) :: v(4)
+        v = [st%t_reached, st%h_last, st%contact_residual, st%t_nonunique]
     end function stats_reals
+
+    !> Count a step or decision at time t whose contact problem had another solution
+    !! (st%nonunique), the first one's time kept in st%t_nonunique.
+    pure subroutine count_nonunique(st, t)
+        type(ode_stats), intent(inout) :: st   !! counters of a run
+        real(dp), intent(in) :: t              !! the step's or decision's time [s]
+        if (st%nonunique == 0) st%t_nonunique = t
+        st%nonunique = st%nonunique + 1
+    end subroutine count_nonunique
 
     function set_step_control(self, name, value) result(status)
         class(step_controls), intent(inout) :: self

@@ -110,7 +110,7 @@ module stickslip_event_driven
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, STICK_RTOL, MODE_STICK, MODE_OPEN, &
                                         other_solution_exists, first_order_alternative
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-    use stickslip_ode, only: diverged, stop_requested
+    use stickslip_ode, only: diverged, stop_requested, count_nonunique
     implicit none
     private
 
@@ -870,7 +870,7 @@ contains
                 if (.not. any(c)) exit
             end do
             if (.not. s%tie) s%tie = other_decision(s, cand, let_go)
-            if (s%tie) s%stats%nonunique = s%stats%nonunique + 1
+            if (s%tie) call count_nonunique(s%stats, s%t)
             if (present(nchanged)) nchanged = count(cand .and. ((ms%stuck .neqv. was_stuck) .or. &
                                                                  (.not. ms%stuck .and. ms%sig /= old_sig)))
             if (.not. record_events) return
@@ -1375,7 +1375,7 @@ contains
             if (.not. (s%tie .or. tie)) tie = other_decision(s, cand, over)
             if (tie) then
                 s%tie = .true.
-                s%stats%nonunique = s%stats%nonunique + 1
+                call count_nonunique(s%stats, s%t)
             end if
         end associate
     end subroutine switch_mode

@@ -19,7 +19,7 @@ module stickslip_galpha
     use stickslip_kinds, only: dp, SS_OK, SS_BAD_RHO_INF, SS_STEP_BUDGET, SS_NONFINITE, SS_OUTPUT_FULL, &
                                SS_INTERRUPTED, SS_NEWTON_FAILED, SS_SINGULAR, SS_JAC_NONFINITE, SS_JUMP_MANY_CONTACTS
     use stickslip_ode, only: ode_system, ode_stats, method_info, check_problem, output_start, fixed_steps, step_end, &
-                             stop_requested, all_finite, diverged, hermite
+                             stop_requested, all_finite, diverged, hermite, count_nonunique
     use stickslip_fixed_implicit, only: newton_controls, NEWTON_CONTROL_NAMES, check_newton_controls, ROUNDING_FLOOR
     use stickslip_linalg, only: lu_decompose, lu_solve, band_decompose, band_solve
     use stickslip_one_contact, only: one_contact_model

@@ -52,6 +52,7 @@
 module stickslip_modal_contacts
     use stickslip_kinds, only: dp, SS_OK, SS_NONFINITE, SS_OUTPUT_FULL, SS_STEP_BUDGET, SS_INTERRUPTED, &
                                SS_CONTACT_FAILED, SS_JUMP_MANY_CONTACTS
+    use stickslip_ode, only: count_nonunique
     use stickslip_ode, only: ode_stats, step_controls, output_start, fixed_steps, step_end, stop_requested, all_finite, &
                              diverged, linear_output
     use stickslip_friction, only: MODE_MU
@@ -161,7 +162,7 @@ contains
                     call solve_modal_contacts(laws, d, wf, w0, c, p, w, mode, sweeps, ok, k, resid, other)
                 end if
                 stats%ncontact_iter = stats%ncontact_iter + sweeps
-                if (ok .and. other) stats%nonunique = stats%nonunique + 1
+                if (ok .and. other) call count_nonunique(stats, t1)
                 stats%contact_residual = max(stats%contact_residual, resid)
                 if (.not. ok) then
                     stats%status = SS_CONTACT_FAILED

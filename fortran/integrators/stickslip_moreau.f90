@@ -58,7 +58,7 @@ module stickslip_moreau
     use stickslip_contact, only: contact_system
     use stickslip_contact_solver, only: solve_contacts, contact_solve_info, contact_workspace, tridiagonal_rule
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-    use stickslip_ode, only: diverged, linear_output
+    use stickslip_ode, only: diverged, linear_output, count_nonunique
     implicit none
     private
 
@@ -235,7 +235,7 @@ contains
                 call solve_contacts(cs%laws, dmat, wfree, hn, .false., opts%contact_tol, opts%contact_max_iter, &
                                     p, wloc, cmode, cinfo, work=cwork)
                 stats%ncontact_iter = stats%ncontact_iter + cinfo%sweeps
-                if (cinfo%nonunique) stats%nonunique = stats%nonunique + 1
+                if (cinfo%nonunique) call count_nonunique(stats, t1)
                 stats%contact_residual = max(stats%contact_residual, cinfo%residual)
                 resid = 0.0_dp
                 if (.not. cinfo%ok) then

@@ -1278,7 +1278,8 @@ def simulate(scene: Any, law: str | None = None, *, method: str, t_end: float, n
           a slip from the limit at zero relative acceleration, where a mode with fewer stuck
           contacts is consistent strictly; implicit_euler, galpha: another consistent mode of a
           contact's law); the contact solver's rule chose one, and a RuntimeWarning names the
-          count.
+          count and the first one's time.
+        - ``t_nonunique``: the time of the first of them [s] (0 where ``nonunique`` is 0).
         - ``contact_residual``: the largest residual of moreau's contact solve [m/s], measured
           on each step's friction problem (its complementarity conditions).
         - ``contact_worst``: the contact (0-based) whose friction problem had no solution
@@ -1397,9 +1398,10 @@ def _warn_nonunique(result: Result) -> None:
                 "event_driven": "(as many stuck contacts, or a mode consistent to first order only "
                                 "where one with fewer holds strictly)"}.get(
             result.method, "(another consistent mode of a contact's law)")
-        warnings.warn(f"{count} contact problem(s) of this {result.method} run had another solution {what}; "
-                      "the solver's rule chose one (stats['nonunique']; see the exact-stick "
-                      "guide, 'When a step has several solutions')", RuntimeWarning, stacklevel=3)
+        warnings.warn(f"{count} contact problem(s) of this {result.method} run had another solution {what}, "
+                      f"the first at t = {result.stats['t_nonunique']:.6g} s; the solver's rule chose one "
+                      "(stats['nonunique'], stats['t_nonunique']; see the exact-stick guide, 'When a step "
+                      "has several solutions')", RuntimeWarning, stacklevel=3)
 
 
 def _failed(call: _Call, result: Result) -> NoReturn:

@@ -289,8 +289,8 @@ def _first_step_solutions(friction: list[tuple[float, float]], h: float) -> list
 def test_nonunique_steps_are_counted_and_warned_once():
     """The first step from rest of every stacked set has two solutions with one stuck contact
     (B held on A with C slipping, or C held on B with B slipping: brute force over the 27
-    modes), so each run counts steps with another solution in stats["nonunique"] and one
-    RuntimeWarning names the count. (Before the rule raised a contact back, its answer there
+    modes), so each run counts steps with another solution in stats["nonunique"], the first at
+    the first step's end (stats["t_nonunique"]), and one RuntimeWarning names the count. (Before the rule raised a contact back, its answer there
     slipped all three, and this count stayed at 0 on the base set.) A single contact never has
     another solution with as many stuck contacts: no count, no warning."""
     for name in ("A-B (0.4, 0.25)", "base"):
@@ -300,7 +300,7 @@ def test_nonunique_steps_are_counted_and_warned_once():
             warnings.simplefilter("always")
             r = ss.simulate(_stack(STACKED_SETS[name]), method="moreau", h=1e-3, t_end=5.0)
         n = r.stats["nonunique"]
-        assert n > 0, name
+        assert n > 0 and abs(r.stats["t_nonunique"] - 1e-3) <= 1e-15, (name, r.stats["t_nonunique"])
         said = [w for w in caught if issubclass(w.category, RuntimeWarning) and "another solution" in str(w.message)]
         assert len(said) == 1 and str(n) in str(said[0].message)
     with warnings.catch_warnings(record=True) as caught:

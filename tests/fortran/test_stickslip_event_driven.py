@@ -358,15 +358,15 @@ def test_random_models_against_the_reference(seed: int) -> None:
     assert check_against_reference(seed) == "agree"
 
 
-def _nonunique_and_warnings(model: ss.Model, t_end: float) -> tuple[int, list[str]]:
-    """event_driven's stats["nonunique"] on `model` up to t_end, and its RuntimeWarnings about
-    another solution."""
+def _nonunique_and_warnings(model: ss.Model, t_end: float) -> tuple[int, list[str], float]:
+    """event_driven's stats["nonunique"] on `model` up to t_end, its RuntimeWarnings about
+    another solution, and stats["t_nonunique"] (the first one's time)."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         res = ss.simulate(model, method="event_driven", t_end=t_end, n_out=2, rtol=1e-10, atol=1e-12)
     said = [str(w.message) for w in caught
             if issubclass(w.category, RuntimeWarning) and "another solution" in str(w.message)]
-    return int(res.stats["nonunique"]), said
+    return int(res.stats["nonunique"]), said, float(res.stats["t_nonunique"])
 
 
 def test_a_closed_loop_let_go_by_its_forces_is_counted_and_warned_once() -> None:
@@ -375,14 +375,15 @@ def test_a_closed_loop_let_go_by_its_forces_is_counted_and_warned_once() -> None
     0.12857 s the mode's minimum-norm forces take 7 and 10 to their limit and event_driven lets
     them go; contact 2 slipping instead, with 7 and 10 held, is another solution with as many
     stuck contacts, where the reference (exhaustive search) goes. The decision is counted
-    (stats["nonunique"]) and the run warns once, naming the count; nothing before it is
-    counted, and the reference records its tie between the two times too."""
+    (stats["nonunique"], the first one's time in stats["t_nonunique"]) and the run warns once,
+    naming the count and that time; nothing before it is counted, and the reference records
+    its tie between the two times too."""
     spec = random_spec(1113)
-    before, said_before = _nonunique_and_warnings(spec.model(), 0.1285)
-    after, said = _nonunique_and_warnings(spec.model(), 0.1287)
+    before, said_before, _ = _nonunique_and_warnings(spec.model(), 0.1285)
+    after, said, first = _nonunique_and_warnings(spec.model(), 0.1287)
     assert before == 0 and not said_before
-    assert after >= 1
-    assert len(said) == 1 and f"{after} contact problem(s)" in said[0]
+    assert after >= 1 and 0.1285 < first <= 0.1287
+    assert len(said) == 1 and f"{after} contact problem(s)" in said[0] and f"the first at t = {first:.6g} s" in said[0]
     ref = spec.reference()
     ref.run(spec.x0, spec.v0, 0.1287, np.array([0.0, 0.1287]), rtol=1e-11, atol=1e-13)
     assert any(0.1285 < t <= 0.1287 for t in ref.ties), ref.ties
@@ -395,14 +396,15 @@ def test_stacked_blocks_tie_at_rest_is_counted_and_a_unique_run_is_not() -> None
     solution: no count, no warning."""
     from test_stickslip_contact import STACKED_SETS, _stack, G
     friction = STACKED_SETS["base"]
-    n, said = _nonunique_and_warnings(_stack(friction), 1e-6)
-    assert n == 1 and len(said) == 1 and "1 contact problem(s)" in said[0]
+    n, said, first = _nonunique_and_warnings(_stack(friction), 1e-6)
+    assert n == 1 and first == 0.0 and len(said) == 1 and "1 contact problem(s)" in said[0]
+    assert "the first at t = 0 s" in said[0]
     ref = Reference(m=[2.0, 1.0, 0.5], k=np.diag([200.0, 60.0, 30.0]), h=[[1, 0, 0], [-1, 1, 0], [0, -1, 1]],
                     b=[-0.3, 0.0, 0.0], n=[3.5 * G, 1.5 * G, 0.5 * G], mu_s=[f[0] for f in friction],
                     mu_k=[f[1] for f in friction])
     ref.run([0.0] * 3, [0.0] * 3, 1e-6, np.array([0.0, 1e-6]))
     assert 0.0 in ref.ties
-    assert _nonunique_and_warnings(example_model(), 1.0) == (0, [])
+    assert _nonunique_and_warnings(example_model(), 1.0) == (0, [], 0.0)
 
 
 def test_a_slip_from_the_limit_at_zero_acceleration_is_counted_where_a_strict_mode_exists() -> None:
@@ -415,10 +417,10 @@ def test_a_slip_from_the_limit_at_zero_acceleration_is_counted_where_a_strict_mo
     continuations hold beyond first order (event_driven's slipping contact stays at w = 0, held
     by the loop; the reference's two move)."""
     spec = random_spec(1136)
-    before, said_before = _nonunique_and_warnings(spec.model(), 0.14912)
-    after, said = _nonunique_and_warnings(spec.model(), 0.14913)
+    before, said_before, _ = _nonunique_and_warnings(spec.model(), 0.14912)
+    after, said, first = _nonunique_and_warnings(spec.model(), 0.14913)
     assert before == 0 and not said_before
-    assert after == 1 and len(said) == 1 and "first order" in said[0]
+    assert after == 1 and 0.14912 < first <= 0.14913 and len(said) == 1 and "first order" in said[0]
     res = ss.simulate(spec.model(), method="event_driven", t_end=0.14913, n_out=2, rtol=1e-10, atol=1e-12)
     mine = [(int(e["contact"]), str(e["kind"])) for e in res.events if e["t"] > 0.14912]
     _, ref_events = spec.reference().run(spec.x0, spec.v0, 0.14913, np.array([0.0, 0.14913]), rtol=1e-11,

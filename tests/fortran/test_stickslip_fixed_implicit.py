@@ -418,7 +418,8 @@ def _check_modal_steps(r, mass, kmat, hmat, b, normal, laws, h):
     exhaustive search over all 7^n mode combinations finds, equal to it where it is the only
     one, (c) each contact stuck where its own problem given the others' impulses lets it stick
     (static first) and otherwise on a consistent slip; and the steps where some slipping
-    contact's own problem had another consistent slip counted as stats['nonunique']."""
+    contact's own problem had another consistent slip counted as stats['nonunique'], the first
+    of them at stats['t_nonunique']. Returns the count."""
     n_dof = len(mass)
     m = np.diag(mass)
     w_mat = m + h * h * kmat
@@ -468,6 +469,8 @@ def _check_modal_steps(r, mass, kmat, hmat, b, normal, laws, h):
             assert any(x is not None and abs(x - w[i]) <= 1e-7 * scale for x in ws), (s, i, ws, w[i])
             if abs(w[i]) > 1e-9 * scale:                # another slip: as many stuck contacts
                 other |= any(x is not None and j != 3 and abs(x - w[i]) > 1e-7 * scale for j, x in enumerate(ws))
+        if other and not ties:
+            assert abs(r.stats["t_nonunique"] - r.t[s + 1]) <= 1e-12 * max(1.0, r.t[-1]), (r.stats["t_nonunique"], s)
         ties += other
     assert unique_steps > 0
     return ties
