@@ -44,8 +44,9 @@ stickslip and by the same fit written with lmfit, benchmarks/lmfit_compare.py), 
 (prescribed.md: prescribed_motion's CPU time per law, benchmarks/prescribed_speed.py),
 --contact (contact.md: the contact solver), --modal-chain [--baseline PYTHON] (modal_chain.md:
 implicit_euler, galpha and moreau on the chain, against another build where given,
-benchmarks/modal_chain.py), --presets --base SITE (presets.md: the scenes as
-presets against a build of the scene code they replaced, benchmarks/presets.py), --clutches (clutches.md: event_driven on Modelica's
+benchmarks/modal_chain.py), --presets --base SITE [--instructions] (presets.md: the scenes as
+presets against a build of the scene code they replaced, with valgrind's instruction counts
+where asked, benchmarks/presets.py), --clutches (clutches.md: event_driven on Modelica's
 CoupledClutches against a scipy event-driven solver at equal accuracy, cases/gallery_clutches.py),
 --overhead (the ``overhead`` section alone, put in place of the old one in summary.md and
 benchmarks.csv).
