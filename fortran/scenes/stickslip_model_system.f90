@@ -384,33 +384,16 @@ contains
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s])
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2])
-        real(dp) :: fn
-        integer :: i, r, nb, a, b
+        integer :: i, r, nb
         nb = self%nb
         call self%free_forces(t, y(1:nb), y(nb + 1:2 * nb), dydt(nb + 1:2 * nb))
-        associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb), s => self%con_work(:, 1), &
-                   mu => self%con_work(:, 3))
-        do i = 1, size(self%con_a)
-            a = self%con_a(i)
-            b = self%con_b(i)
-            if (a > 0) then
-                s(i) = v(a) - self%con_fixed(2, i)
-            else
-                s(i) = -self%con_fixed(2, i)
-            end if
-            if (b > 0) s(i) = s(i) - v(b)
-        end do
+        associate (f => dydt(nb + 1:2 * nb), s => self%con_work(:, 1), mu => self%con_work(:, 3))
+        call fixed_slips(self, y(nb + 1:2 * nb), s)
         do r = 1, size(self%law_run) - 1
             i = self%law_run(r)
             call mu_run(self%laws(i)%law, s(i:self%law_run(r + 1) - 1), mu(i:self%law_run(r + 1) - 1))
         end do
-        do i = 1, size(self%con_a)
-            a = self%con_a(i)
-            b = self%con_b(i)
-            fn = mu(i) * max(self%con_fixed(1, i), 0.0_dp)
-            if (a > 0) f(a) = f(a) - fn
-            if (b > 0) f(b) = f(b) + fn
-        end do
+        call add_friction(self, mu, f)
         if (.not. self%unit_mass) f = f / self%mass
         end associate
         dydt(1:nb) = y(nb + 1:2 * nb)
@@ -427,19 +410,13 @@ contains
         real(dp), intent(in)  :: t          !! time [s]
         real(dp), intent(in)  :: y(:)       !! (x [m], v [m/s], z)
         real(dp), intent(out) :: dydt(:)    !! (v [m/s], acceleration [m/s^2], z rates)
-        real(dp) :: n
-        integer :: i, r, nb, nc, a, b, z0, z1
+        integer :: i, r, nb, z0, z1
         nb = self%nb
-        nc = size(self%con_a)
         associate (v => y(nb + 1:2 * nb), f => dydt(nb + 1:2 * nb), s => self%con_work(:, 1), &
                    hold => self%con_work(:, 2), mu => self%con_work(:, 3))
         call self%free_forces(t, y(1:nb), v, f)
-        do i = 1, nc
-            a = self%con_a(i)
-            b = self%con_b(i)
-            s(i) = -self%con_fixed(2, i)
-            if (a > 0) s(i) = v(a) - self%con_fixed(2, i)
-            if (b > 0) s(i) = s(i) - v(b)
+        call fixed_slips(self, v, s)
+        do i = 1, size(self%con_a)
             hold(i) = holding(self, i, max(self%con_fixed(1, i), 0.0_dp), f, 0.0_dp)
         end do
         do r = 1, size(self%law_run) - 1
@@ -449,17 +426,40 @@ contains
             call evaluate_run(self%laws(i)%law, s(i:self%law_run(r + 1) - 1), y(z0:z1), &
                               hold(i:self%law_run(r + 1) - 1), mu(i:self%law_run(r + 1) - 1), dydt(z0:z1))
         end do
-        do i = 1, nc
-            a = self%con_a(i)
-            b = self%con_b(i)
-            n = max(self%con_fixed(1, i), 0.0_dp)
-            if (a > 0) f(a) = f(a) - mu(i) * n
-            if (b > 0) f(b) = f(b) + mu(i) * n
-        end do
+        call add_friction(self, mu, f)
         if (.not. self%unit_mass) f = f / self%mass
         end associate
         dydt(1:nb) = y(nb + 1:2 * nb)
     end subroutine fixed_rhs
+
+    !> Every contact's slip s = v_a - v_b - w [m/s] of a model whose surface velocities are
+    !! numbers (`fixed_contacts`, read as `prepare` found them).
+    pure subroutine fixed_slips(self, v, s)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in)  :: v(:)       !! (nb) velocities [m/s]
+        real(dp), intent(out) :: s(:)       !! (nc) slips [m/s]
+        integer :: i
+        do i = 1, size(self%con_a)
+            s(i) = -self%con_fixed(2, i)
+            if (self%con_a(i) > 0) s(i) = v(self%con_a(i)) - self%con_fixed(2, i)
+            if (self%con_b(i) > 0) s(i) = s(i) - v(self%con_b(i))
+        end do
+    end subroutine fixed_slips
+
+    !> f += each contact's friction -mu N on its body a and +mu N on b, in contact order, the
+    !! normal forces numbers (`fixed_contacts`) [N].
+    pure subroutine add_friction(self, mu, f)
+        class(model_system), intent(in) :: self
+        real(dp), intent(in)    :: mu(:)    !! (nc) friction coefficients [-]
+        real(dp), intent(inout) :: f(:)     !! (nb) forces [N]
+        real(dp) :: fn
+        integer :: i
+        do i = 1, size(self%con_a)
+            fn = mu(i) * max(self%con_fixed(1, i), 0.0_dp)
+            if (self%con_a(i) > 0) f(self%con_a(i)) = f(self%con_a(i)) - fn
+            if (self%con_b(i) > 0) f(self%con_b(i)) = f(self%con_b(i)) + fn
+        end do
+    end subroutine add_friction
 
     !> The sizes the adaptive methods' relative tolerance scales (`ode_system%error_size`):
     !! |y_i|, except that a body's velocity counts as the smallest max(|s|, band) of its
